@@ -1,0 +1,1 @@
+//! clipplane (to be written)

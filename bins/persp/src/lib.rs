@@ -1,0 +1,1 @@
+//! persp (to be written)

@@ -1,0 +1,1 @@
+//! scanconv (to be written)

@@ -1,0 +1,1 @@
+//! viewxf (to be written)

@@ -1,0 +1,1 @@
+//! zbuf (to be written)

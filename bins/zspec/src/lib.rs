@@ -1,0 +1,1 @@
+//! zspec (to be written)

@@ -1,0 +1,351 @@
+//! Geometry shared by the clipper, the splitter, the scan converter and the reference:
+//! classifying a point against a plane, intersecting an edge with it (thesis Appendix 2),
+//! and Newell's plane of a polygon (Appendix 3.4).
+//!
+//! Planes are half-spaces in homogeneous eye coordinates `(x_e, y_e, z_e, w)`:
+//! the inside is `n·v + k ≥ 0`. The six planes of the clipping pyramid
+//! (−a·w ≤ x_e ≤ a·w, −w ≤ y_e ≤ w, K1 ≤ z_e ≤ K2) and the splitter's planes through the
+//! eye (x_e = K·a·w, y_e = K·w) are all of this form, and so is any plane a user gives
+//! by its coefficients: the thesis's clipping volume "may be any convenient shape
+//! defined by any number of planes".
+
+use crate::header::View;
+use glam::{DVec3, DVec4};
+use std::fmt;
+use std::str::FromStr;
+
+/// Which side of a plane a point is on.
+///
+/// A point is [`Side::On`] when its distance is within the rounding error of evaluating
+/// the distance at all, so a vertex that the intersection put on the plane is classified
+/// on it when read again: clipping twice then equals clipping once.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Side {
+    Inside,
+    On,
+    Outside,
+}
+
+/// A half-space `n·v + k ≥ 0` of homogeneous eye space.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Plane {
+    pub n: DVec4,
+    pub k: f64,
+}
+
+/// Rounding allowance: distances within this many machine epsilons of the sum of the
+/// magnitudes of their terms count as zero. A dot product of four terms plus a constant
+/// is correct to about 2.5 epsilons of that sum, so exact-arithmetic signs are only
+/// uncertain inside this band.
+const ON_PLANE_EPSILONS: f64 = 4.0;
+
+impl Plane {
+    pub const fn new(n: DVec4, k: f64) -> Self {
+        Plane { n, k }
+    }
+
+    /// The signed distance measure of Appendix 2 (`w − y` for the top plane, and so on):
+    /// positive inside, zero on the plane, negative outside. Not normalised; only its sign
+    /// and the ratio of two of them (α) matter.
+    ///
+    /// The terms are summed in one fixed order, which [`Plane::intersect`] relies on to
+    /// put intersections exactly on single-coordinate planes.
+    #[inline]
+    pub fn distance(&self, v: DVec4) -> f64 {
+        (((self.n.x * v.x + self.n.y * v.y) + self.n.z * v.z) + self.n.w * v.w) + self.k
+    }
+
+    /// The point's side, and its distance.
+    #[inline]
+    pub fn classify(&self, v: DVec4) -> (Side, f64) {
+        let d = self.distance(v);
+        let scale = (self.n * v).abs().element_sum() + self.k.abs();
+        let side = if d.abs() <= ON_PLANE_EPSILONS * f64::EPSILON * scale {
+            Side::On
+        } else if d > 0.0 {
+            Side::Inside
+        } else {
+            Side::Outside
+        };
+        (side, d)
+    }
+
+    /// Whether the point is inside or on the plane.
+    #[inline]
+    pub fn contains(&self, v: DVec4) -> bool {
+        self.classify(v).0 != Side::Outside
+    }
+
+    /// Where the edge from `a` (distance `da`) to `b` (distance `db`) crosses the plane,
+    /// given that they lie strictly on opposite sides (Appendix 2.2).
+    ///
+    /// α = |P1 I| / |P1 P2| is the ratio of distances, I = P1 + α (P2 − P1). The result is
+    /// the same to the last bit whichever way the edge is walked (we always interpolate
+    /// from the inside end), so two polygons that share an edge get the same new vertex
+    /// and the clipped mesh keeps no crack. The coordinate with the largest coefficient is
+    /// then solved for from the others, which puts the point exactly on the six pyramid
+    /// planes and on the splitter's planes, and within rounding of any other.
+    #[inline]
+    pub fn intersect(&self, a: DVec4, da: f64, b: DVec4, db: f64) -> DVec4 {
+        let (p, dp, q, dq) = if da >= db {
+            (a, da, b, db)
+        } else {
+            (b, db, a, da)
+        };
+        // dp > 0 > dq, so the divisor is positive and at least dp: α lies in [0, 1].
+        let alpha = dp / (dp - dq);
+        let mut v = p + (q - p) * alpha;
+        self.snap(&mut v);
+        v
+    }
+
+    /// Moves `v` onto the plane along the axis of its largest coefficient.
+    fn snap(&self, v: &mut DVec4) {
+        let n = self.n.to_array();
+        let axis = (0..4)
+            .max_by(|&i, &j| n[i].abs().total_cmp(&n[j].abs()))
+            .unwrap_or(0);
+        if n[axis] == 0.0 {
+            return;
+        }
+        let mut c = v.to_array();
+        // The other terms, summed in the same order as `distance` sums them.
+        let mut rest = 0.0;
+        for i in 0..4 {
+            if i != axis {
+                rest += n[i] * c[i];
+            }
+        }
+        rest += self.k;
+        c[axis] = -rest / n[axis];
+        let snapped = DVec4::from_array(c);
+        // Keep the snapped point only where it is no worse (a general plane's other terms
+        // may round differently); on single-coordinate planes it is exact.
+        if self.distance(snapped).abs() <= self.distance(*v).abs() {
+            *v = snapped;
+        }
+    }
+
+    /// The plane x_e = K·a·w (a column boundary on the screen at x_s = K), inside where
+    /// x_e ≤ K·a·w.
+    pub fn column(k: f64, aspect: f64) -> Plane {
+        Plane::new(DVec4::new(-1.0, 0.0, 0.0, k * aspect), 0.0)
+    }
+
+    /// The plane y_e = K·w (a row boundary at y_s = K), inside where y_e ≤ K·w.
+    pub fn row(k: f64) -> Plane {
+        Plane::new(DVec4::new(0.0, -1.0, 0.0, k), 0.0)
+    }
+
+    /// The same plane with its inside and outside exchanged.
+    pub fn flipped(&self) -> Plane {
+        Plane::new(-self.n, -self.k)
+    }
+}
+
+/// The six planes of the clipping pyramid (Appendix 2.1's table, with the aspect ratio a).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum PyramidPlane {
+    Left,
+    Right,
+    Top,
+    Bottom,
+    Hither,
+    Yon,
+}
+
+impl PyramidPlane {
+    pub const ALL: [PyramidPlane; 6] = [
+        PyramidPlane::Left,
+        PyramidPlane::Right,
+        PyramidPlane::Top,
+        PyramidPlane::Bottom,
+        PyramidPlane::Hither,
+        PyramidPlane::Yon,
+    ];
+
+    /// The half-space whose inside is the inside of the pyramid:
+    ///
+    /// | plane  | inside if      |
+    /// |--------|----------------|
+    /// | left   | x_e ≥ −a·w     |
+    /// | right  | x_e ≤ a·w      |
+    /// | top    | y_e ≤ w        |
+    /// | bottom | y_e ≥ −w       |
+    /// | hither | z_e ≥ K1       |
+    /// | yon    | z_e ≤ K2       |
+    pub fn plane(self, view: &View) -> Plane {
+        let a = view.aspect;
+        match self {
+            PyramidPlane::Left => Plane::new(DVec4::new(1.0, 0.0, 0.0, a), 0.0),
+            PyramidPlane::Right => Plane::new(DVec4::new(-1.0, 0.0, 0.0, a), 0.0),
+            PyramidPlane::Top => Plane::new(DVec4::new(0.0, -1.0, 0.0, 1.0), 0.0),
+            PyramidPlane::Bottom => Plane::new(DVec4::new(0.0, 1.0, 0.0, 1.0), 0.0),
+            PyramidPlane::Hither => Plane::new(DVec4::new(0.0, 0.0, 1.0, 0.0), -view.hither),
+            PyramidPlane::Yon => Plane::new(DVec4::new(0.0, 0.0, -1.0, 0.0), view.yon),
+        }
+    }
+
+    pub fn name(self) -> &'static str {
+        match self {
+            PyramidPlane::Left => "left",
+            PyramidPlane::Right => "right",
+            PyramidPlane::Top => "top",
+            PyramidPlane::Bottom => "bottom",
+            PyramidPlane::Hither => "hither",
+            PyramidPlane::Yon => "yon",
+        }
+    }
+}
+
+impl fmt::Display for PyramidPlane {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
+impl FromStr for PyramidPlane {
+    type Err = String;
+    fn from_str(s: &str) -> Result<Self, String> {
+        PyramidPlane::ALL
+            .into_iter()
+            .find(|p| p.name() == s)
+            .ok_or_else(|| {
+                format!("unknown plane `{s}` (expected left, right, top, bottom, hither or yon)")
+            })
+    }
+}
+
+/// Newell's normal of a polygon (Appendix 3.4): for each edge (i, j = i+1 mod n)
+///
+///   a = Σ (y_i − y_j)(z_i + z_j),  b = Σ (z_i − z_j)(x_i + x_j),  c = Σ (x_i − x_j)(y_i + y_j).
+///
+/// Unlike the occam code, which used the first three vertices and so failed when they
+/// were collinear, this sums over every edge: it is twice the polygon's vector area, the
+/// least-squares best plane orientation of a non-planar polygon, and zero only for a
+/// polygon of no area.
+pub fn newell_normal(points: &[DVec3]) -> DVec3 {
+    let n = points.len();
+    let mut normal = DVec3::ZERO;
+    for i in 0..n {
+        let p = points[i];
+        let q = points[(i + 1) % n];
+        normal.x += (p.y - q.y) * (p.z + q.z);
+        normal.y += (p.z - q.z) * (p.x + q.x);
+        normal.z += (p.x - q.x) * (p.y + q.y);
+    }
+    normal
+}
+
+/// Newell's plane `a·x + b·y + c·z + d = 0`, returned as `(a, b, c, d)`. The constant is
+/// found through the centroid of the vertices rather than one vertex, which is the best
+/// fit for a polygon that is not quite planar.
+pub fn newell_plane(points: &[DVec3]) -> DVec4 {
+    let normal = newell_normal(points);
+    if points.is_empty() {
+        return DVec4::ZERO;
+    }
+    let centroid = points.iter().copied().sum::<DVec3>() / points.len() as f64;
+    normal.extend(-normal.dot(centroid))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn view() -> View {
+        View::default()
+    }
+
+    #[test]
+    fn pyramid_sides_match_appendix_2() {
+        let v = view();
+        let p = |x, y, z: f64| DVec4::new(x, y, z, z * 10.0 / 16.0);
+        // z_e = 16 gives w = 10.
+        assert_eq!(
+            PyramidPlane::Left.plane(&v).classify(p(-11.0, 0.0, 16.0)).0,
+            Side::Outside
+        );
+        assert_eq!(
+            PyramidPlane::Left.plane(&v).classify(p(-10.0, 0.0, 16.0)).0,
+            Side::On
+        );
+        assert_eq!(
+            PyramidPlane::Left.plane(&v).classify(p(-9.0, 0.0, 16.0)).0,
+            Side::Inside
+        );
+        assert_eq!(
+            PyramidPlane::Right.plane(&v).classify(p(11.0, 0.0, 16.0)).0,
+            Side::Outside
+        );
+        assert_eq!(
+            PyramidPlane::Top.plane(&v).classify(p(0.0, 11.0, 16.0)).0,
+            Side::Outside
+        );
+        assert_eq!(
+            PyramidPlane::Bottom
+                .plane(&v)
+                .classify(p(0.0, -9.0, 16.0))
+                .0,
+            Side::Inside
+        );
+        assert_eq!(
+            PyramidPlane::Hither.plane(&v).classify(p(0.0, 0.0, 0.5)).0,
+            Side::Outside
+        );
+        assert_eq!(
+            PyramidPlane::Yon.plane(&v).classify(p(0.0, 0.0, 30.0)).0,
+            Side::On
+        );
+    }
+
+    #[test]
+    fn intersections_land_exactly_on_pyramid_planes() {
+        let v = view();
+        let a = DVec4::new(0.3, 0.7, 5.0, 5.0 * 0.625);
+        let b = DVec4::new(-40.1, -33.3, 0.1, 0.1 * 0.625);
+        for which in PyramidPlane::ALL {
+            let plane = which.plane(&v);
+            let (sa, da) = plane.classify(a);
+            let (sb, db) = plane.classify(b);
+            if sa == sb || sa == Side::On || sb == Side::On {
+                continue;
+            }
+            let i = plane.intersect(a, da, b, db);
+            assert_eq!(plane.distance(i), 0.0, "{which}");
+            assert_eq!(
+                plane.intersect(b, db, a, da),
+                i,
+                "{which} is walk-order independent"
+            );
+        }
+    }
+
+    #[test]
+    fn newell_ignores_collinear_leading_vertices() {
+        // The first three vertices are collinear: a three-vertex plane would be 0.
+        let pts = [
+            DVec3::new(0.0, 0.0, 2.0),
+            DVec3::new(1.0, 0.0, 2.0),
+            DVec3::new(2.0, 0.0, 2.0),
+            DVec3::new(2.0, 2.0, 2.0),
+            DVec3::new(0.0, 2.0, 2.0),
+        ];
+        let p = newell_plane(&pts);
+        assert_eq!(p, DVec4::new(0.0, 0.0, 8.0, -16.0));
+    }
+
+    #[test]
+    fn column_and_row_planes_pass_through_the_eye() {
+        let c = Plane::column(0.5, 2.0);
+        // x_e = 0.5·2·w
+        assert_eq!(c.classify(DVec4::new(5.0, 0.0, 8.0, 5.0)).0, Side::On);
+        assert_eq!(c.classify(DVec4::new(4.0, 0.0, 8.0, 5.0)).0, Side::Inside);
+        let r = Plane::row(-0.25);
+        assert_eq!(r.classify(DVec4::new(0.0, -1.0, 8.0, 4.0)).0, Side::On);
+        assert_eq!(
+            r.flipped().classify(DVec4::new(0.0, 0.0, 8.0, 4.0)).0,
+            Side::Inside
+        );
+    }
+}

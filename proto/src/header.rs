@@ -1,0 +1,177 @@
+//! The stream header: magic, version and coordinate space (DESIGN.md, "The token stream").
+//!
+//! Every stream starts with one. The binary form starts with [`BINARY_MAGIC`], eight
+//! bytes whose first is not ASCII, so a reader tells the two forms apart from the first
+//! byte alone; the text form starts with the word `polypipe`.
+
+use serde::{Deserialize, Serialize};
+use std::fmt;
+
+/// First bytes of a binary stream. The high-bit first byte and the CR LF pair catch a
+/// stream that went through a text-mode channel, as PNG's signature does.
+pub const BINARY_MAGIC: [u8; 8] = *b"\x89PPIPE\r\n";
+
+/// The first word of a text stream.
+pub const TEXT_MAGIC: &str = "polypipe";
+
+/// The stream format version this code reads and writes.
+pub const VERSION: u32 = 1;
+
+/// The view volume that eye coordinates were computed for: the clipping pyramid
+/// −a·w ≤ x_e ≤ a·w, −w ≤ y_e ≤ w, K1 ≤ z_e ≤ K2 (DESIGN.md, "Conventions").
+///
+/// `viewxf` records it in the eye-space header so that the clipper chain and `persp`
+/// agree on the aspect ratio and the hither/yon distances without repeating options.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub struct View {
+    /// a = W/H, the screen's aspect ratio.
+    pub aspect: f64,
+    /// K1: the hither plane z_e = K1.
+    pub hither: f64,
+    /// K2: the yon plane z_e = K2.
+    pub yon: f64,
+}
+
+impl Default for View {
+    /// The thesis's volume: a square screen, K1 = 1, K2 = 30 (Appendix 4's constants).
+    fn default() -> Self {
+        View {
+            aspect: 1.0,
+            hither: 1.0,
+            yon: 30.0,
+        }
+    }
+}
+
+/// The coordinate space a stream's numbers are in.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub enum Space {
+    /// Right-handed world coordinates; a vertex is `x y z`.
+    World,
+    /// Left-handed eye coordinates with w = z_e·s/d; a vertex is `x y z w`.
+    Eye(View),
+    /// Device coordinates of a `width`×`height` screen; a vertex is `X Y depth`.
+    Screen { width: u32, height: u32 },
+    /// The scan converter's output: pixels and spans of a `width`×`height` screen.
+    Fragments { width: u32, height: u32 },
+}
+
+impl Space {
+    /// How many numbers a vertex has in this space's text form.
+    pub fn vertex_arity(&self) -> usize {
+        match self {
+            Space::World | Space::Screen { .. } => 3,
+            Space::Eye(_) => 4,
+            Space::Fragments { .. } => 0,
+        }
+    }
+
+    /// The space's name as the header spells it.
+    pub fn name(&self) -> &'static str {
+        match self {
+            Space::World => "world",
+            Space::Eye(_) => "eye",
+            Space::Screen { .. } => "screen",
+            Space::Fragments { .. } => "fragments",
+        }
+    }
+
+    /// The screen size, for the spaces that have one.
+    pub fn screen_size(&self) -> Option<(u32, u32)> {
+        match *self {
+            Space::Screen { width, height } | Space::Fragments { width, height } => {
+                Some((width, height))
+            }
+            _ => None,
+        }
+    }
+}
+
+impl fmt::Display for Space {
+    /// The text header's spelling after the version, e.g. `screen 500 500`.
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            Space::World => write!(f, "world"),
+            Space::Eye(v) => write!(
+                f,
+                "eye aspect {} hither {} yon {}",
+                v.aspect, v.hither, v.yon
+            ),
+            Space::Screen { width, height } => write!(f, "screen {width} {height}"),
+            Space::Fragments { width, height } => write!(f, "fragments {width} {height}"),
+        }
+    }
+}
+
+/// A stream's header. The magic is implied by the form; the version is checked on read.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Header {
+    pub version: u32,
+    pub space: Space,
+}
+
+impl Header {
+    /// A header of the current version.
+    pub fn new(space: Space) -> Self {
+        Header {
+            version: VERSION,
+            space,
+        }
+    }
+
+    /// Checks that the stream is in the space a stage consumes, with a message that tells
+    /// the user which stage to put in front (e.g. `input is world-space; put viewxf first`).
+    pub fn expect(&self, wanted: SpaceKind) -> Result<(), crate::StreamError> {
+        let got = SpaceKind::of(&self.space);
+        if got == wanted {
+            return Ok(());
+        }
+        let hint = match (got, wanted) {
+            (SpaceKind::World, SpaceKind::Eye) => "; put viewxf first",
+            (SpaceKind::World, SpaceKind::Screen) => {
+                "; put viewxf, the clipper chain and persp first"
+            }
+            (SpaceKind::Eye, SpaceKind::Screen) => "; put persp first",
+            (SpaceKind::Eye, SpaceKind::World) | (SpaceKind::Screen, SpaceKind::World) => {
+                "; this stage takes a scene as the source writes it"
+            }
+            (_, SpaceKind::Fragments) => "; put scanconv first",
+            (SpaceKind::Fragments, _) => "; this is scan converter output, for zbuf",
+            _ => "",
+        };
+        Err(crate::StreamError::WrongSpace(format!(
+            "input is {}-space, expected {}-space{hint}",
+            got.name(),
+            wanted.name()
+        )))
+    }
+}
+
+/// A [`Space`] without its parameters, for stages to say what they consume.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum SpaceKind {
+    World,
+    Eye,
+    Screen,
+    Fragments,
+}
+
+impl SpaceKind {
+    pub fn of(space: &Space) -> Self {
+        match space {
+            Space::World => SpaceKind::World,
+            Space::Eye(_) => SpaceKind::Eye,
+            Space::Screen { .. } => SpaceKind::Screen,
+            Space::Fragments { .. } => SpaceKind::Fragments,
+        }
+    }
+
+    pub fn name(&self) -> &'static str {
+        match self {
+            SpaceKind::World => "world",
+            SpaceKind::Eye => "eye",
+            SpaceKind::Screen => "screen",
+            SpaceKind::Fragments => "fragments",
+        }
+    }
+}
