@@ -447,8 +447,14 @@ impl<T: Record, W: Write> Writer<T, W> {
         }
         match record.control() {
             Control::Polygon => self.polygons_in_frame += 1,
-            Control::NextFrame => self.polygons_in_frame = 0,
-            Control::Data | Control::End => {}
+            // A frame boundary is flushed at once. In the splitter tree zbuf waits at
+            // NEXT.FRAME for every input; a boundary left in one branch's buffer while
+            // the stage blocks on another branch would deadlock the tree.
+            Control::NextFrame | Control::End => {
+                self.polygons_in_frame = 0;
+                self.out.flush()?;
+            }
+            Control::Data => {}
         }
         Ok(())
     }

@@ -6,6 +6,7 @@
 //! ([`raster`]) and the way every binary reports errors ([`cli`]) are written here once
 //! and used by every stage.
 
+pub mod camera;
 pub mod cli;
 pub mod codec;
 pub mod error;
