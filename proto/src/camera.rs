@@ -164,3 +164,109 @@ mod tests {
         assert_eq!(dev.projective_depth(30.0), 1.0);
     }
 }
+
+/// The camera and view-volume options, shared by every binary that views a world-space
+/// scene (`viewxf`, and the exact reference `zspec`) so that they read the same words.
+#[derive(Clone, Debug, clap::Args)]
+pub struct ViewArgs {
+    /// Where the eye is, `X,Y,Z` (default: the thesis's 0,0,20).
+    #[arg(long, value_parser = parse_triple, allow_hyphen_values = true, value_name = "X,Y,Z")]
+    pub eye: Option<DVec3>,
+    /// The point looked at, `X,Y,Z` (default 0,0,0).
+    #[arg(long, value_parser = parse_triple, allow_hyphen_values = true, value_name = "X,Y,Z")]
+    pub at: Option<DVec3>,
+    /// Which way is up, `X,Y,Z` (default 0,1,0).
+    #[arg(long, value_parser = parse_triple, allow_hyphen_values = true, value_name = "X,Y,Z")]
+    pub up: Option<DVec3>,
+    /// s: half the screen height, in eye units at distance d.
+    #[arg(long, default_value_t = 10.0)]
+    pub s: f64,
+    /// d: the eye-to-screen distance.
+    #[arg(long, default_value_t = 16.0)]
+    pub d: f64,
+    /// The screen's aspect ratio W/H (default 1, or W/H of --size).
+    #[arg(long, conflicts_with = "size")]
+    pub aspect: Option<f64>,
+    /// The screen size the scene will be drawn at, `WxH`; sets the aspect ratio.
+    #[arg(long, value_parser = parse_size, value_name = "WxH")]
+    pub size: Option<(u32, u32)>,
+    /// K1: the hither plane z_e = K1.
+    #[arg(long, default_value_t = 1.0)]
+    pub hither: f64,
+    /// K2: the yon plane z_e = K2.
+    #[arg(long, default_value_t = 30.0)]
+    pub yon: f64,
+}
+
+impl ViewArgs {
+    /// The camera the options describe.
+    pub fn camera(&self) -> Camera {
+        let default = Camera::default();
+        Camera {
+            eye: self.eye.unwrap_or(default.eye),
+            at: self.at.unwrap_or(default.at),
+            up: self.up.unwrap_or(default.up),
+            s: self.s,
+            d: self.d,
+        }
+    }
+
+    /// The view volume the options describe, checked.
+    pub fn view(&self) -> Result<View, String> {
+        let aspect = match (self.aspect, self.size) {
+            (Some(a), _) => a,
+            (None, Some((w, h))) => w as f64 / h as f64,
+            (None, None) => 1.0,
+        };
+        if !(aspect.is_finite() && aspect > 0.0) {
+            return Err(format!("aspect ratio {aspect} must be positive"));
+        }
+        if !(self.hither.is_finite()
+            && self.yon.is_finite()
+            && 0.0 < self.hither
+            && self.hither < self.yon)
+        {
+            return Err(format!(
+                "hither {} and yon {} must satisfy 0 < hither < yon",
+                self.hither, self.yon
+            ));
+        }
+        Ok(View {
+            aspect,
+            hither: self.hither,
+            yon: self.yon,
+        })
+    }
+}
+
+/// Parses `X,Y,Z`.
+pub fn parse_triple(s: &str) -> Result<DVec3, String> {
+    let parts: Vec<&str> = s.split(',').map(str::trim).collect();
+    if parts.len() != 3 {
+        return Err(format!("expected X,Y,Z, found `{s}`"));
+    }
+    let mut v = [0.0; 3];
+    for (slot, p) in v.iter_mut().zip(&parts) {
+        *slot = p
+            .parse::<f64>()
+            .ok()
+            .filter(|x| x.is_finite())
+            .ok_or_else(|| format!("`{p}` in `{s}` is not a finite number"))?;
+    }
+    Ok(DVec3::from_array(v))
+}
+
+/// Parses a screen size `WxH` (each 1 to 65536).
+pub fn parse_size(s: &str) -> Result<(u32, u32), String> {
+    let (w, h) = s
+        .split_once(['x', 'X'])
+        .ok_or_else(|| format!("expected WxH, e.g. 500x500, found `{s}`"))?;
+    let dim = |t: &str| {
+        t.trim()
+            .parse::<u32>()
+            .ok()
+            .filter(|v| (1..=65536).contains(v))
+            .ok_or_else(|| format!("`{t}` in `{s}` is not a size from 1 to 65536"))
+    };
+    Ok((dim(w)?, dim(h)?))
+}
