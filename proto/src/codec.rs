@@ -259,7 +259,7 @@ impl<T: Record, R: Read> Reader<T, R> {
             }
             Source::Text(lex) => {
                 if lex.peek()?.is_none() {
-                    return Err(lex.error("the stream ends without END (cut short?)"));
+                    return Err(lex.error_at_end("the stream ends without END (cut short?)"));
                 }
                 T::read_text(lex, &self.header.space, first_in_frame)?
             }
@@ -342,6 +342,7 @@ fn read_text_header<R: BufRead>(lex: &mut Lexer<R>) -> Result<Header, StreamErro
         )));
     }
     let space_word = lex.expect_word("a coordinate space (world, eye, screen W H)")?;
+    let space_at = lex.mark();
     let space = match space_word.as_str() {
         "world" => Space::World,
         "eye" => {
@@ -374,7 +375,7 @@ fn read_text_header<R: BufRead>(lex: &mut Lexer<R>) -> Result<Header, StreamErro
             )))
         }
     };
-    check_space(&space).map_err(|m| lex.error(m))?;
+    check_space(&space).map_err(|m| lex.error_at(space_at, m))?;
     Ok(Header { version, space })
 }
 

@@ -43,8 +43,22 @@ impl<R: BufRead> Lexer<R> {
         }
     }
 
+    /// Where the word last peeked or taken starts, for an error found later.
+    pub fn mark(&self) -> (u64, usize) {
+        self.at
+    }
+
+    /// An error located at a [`Lexer::mark`].
+    pub fn error_at(&self, at: (u64, usize), msg: impl Into<String>) -> StreamError {
+        StreamError::Text {
+            line: at.0,
+            column: at.1,
+            msg: msg.into(),
+        }
+    }
+
     /// An error located just past the end of the input.
-    fn error_at_end(&self, msg: impl Into<String>) -> StreamError {
+    pub fn error_at_end(&self, msg: impl Into<String>) -> StreamError {
         StreamError::Text {
             line: self.line_no.max(1),
             column: self.line.len() + 1,
@@ -62,7 +76,7 @@ impl<R: BufRead> Lexer<R> {
         self.line_no += 1;
         self.line.clear();
         match std::str::from_utf8(&self.raw) {
-            Ok(s) => self.line.push_str(s),
+            Ok(s) => self.line.push_str(s.trim_end_matches(['\n', '\r'])),
             Err(e) => return Err(StreamError::Text {
                 line: self.line_no,
                 column: e.valid_up_to() + 1,
@@ -187,7 +201,7 @@ mod tests {
         let e = lx.number("x").unwrap_err();
         assert_eq!(
             e.to_string(),
-            "line 3, column 16: expected x, found the end of the input"
+            "line 3, column 15: expected x, found the end of the input"
         );
     }
 

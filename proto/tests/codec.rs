@@ -1,0 +1,262 @@
+//! The codec's contract: text and binary carry the same records, every malformed stream
+//! is refused with its position, and nothing is read past END.
+
+use proptest::prelude::*;
+use proto::fragment::Fragment;
+use proto::{Form, Header, Polygon, Reader, Space, Token, View, Writer};
+
+fn encode<T: proto::Record>(header: Header, records: &[T], form: Form) -> Vec<u8> {
+    let mut w = Writer::new(Vec::new(), header, form).unwrap();
+    for r in records {
+        w.write(r).unwrap();
+    }
+    w.into_inner().unwrap()
+}
+
+fn decode<T: proto::Record>(bytes: &[u8]) -> Result<(Header, Vec<T>), proto::StreamError> {
+    let mut r = Reader::<T, _>::new(bytes)?;
+    let mut out = Vec::new();
+    while let Some(rec) = r.next_record()? {
+        out.push(rec);
+    }
+    Ok((*r.header(), out))
+}
+
+fn decode_err<T: proto::Record>(bytes: &[u8]) -> String {
+    match decode::<T>(bytes) {
+        Ok(_) => panic!("stream was accepted"),
+        Err(e) => e.to_string(),
+    }
+}
+
+const EXAMPLE: &str = "polypipe 1 world
+colour 255 60 60
+-8 -4 0
+0 7 0
+8 -4 0
+NEXT.POLYGON
+colour 60 60 255
+-9 5 4
+-7 7 4
+7 -7 -4
+5 -9 -4
+END
+";
+
+#[test]
+fn design_example_reads_and_prints_back_identically() {
+    let (header, tokens) = decode::<Token>(EXAMPLE.as_bytes()).unwrap();
+    assert_eq!(header.space, Space::World);
+    assert_eq!(
+        tokens,
+        vec![
+            Token::Polygon(Polygon::from_xyz(
+                [255, 60, 60],
+                &[[-8., -4., 0.], [0., 7., 0.], [8., -4., 0.]]
+            )),
+            Token::Polygon(Polygon::from_xyz(
+                [60, 60, 255],
+                &[[-9., 5., 4.], [-7., 7., 4.], [7., -7., -4.], [5., -9., -4.]]
+            )),
+            Token::End,
+        ]
+    );
+    let text = encode(header, &tokens, Form::Text);
+    assert_eq!(String::from_utf8(text).unwrap(), EXAMPLE);
+}
+
+#[test]
+fn empty_polygons_and_frames_survive() {
+    let text = "polypipe 1 eye aspect 1.5 hither 2 yon 40\ncolour 1 2 3\nNEXT.POLYGON\ncolour 4 5 6\n1 2 3 4\nNEXT.FRAME\nNEXT.FRAME\ncolour 0 0 0\nEND\n";
+    let (header, tokens) = decode::<Token>(text.as_bytes()).unwrap();
+    assert_eq!(
+        header.space,
+        Space::Eye(View {
+            aspect: 1.5,
+            hither: 2.0,
+            yon: 40.0
+        })
+    );
+    assert_eq!(tokens.len(), 6);
+    assert_eq!(
+        String::from_utf8(encode(header, &tokens, Form::Text)).unwrap(),
+        text
+    );
+    let bin = encode(header, &tokens, Form::Binary);
+    assert_eq!(decode::<Token>(&bin).unwrap(), (header, tokens));
+}
+
+#[test]
+fn fragments_round_trip() {
+    let header = Header::new(Space::Fragments {
+        width: 8,
+        height: 4,
+    });
+    let records = vec![
+        Fragment::Polygon([9, 8, 7]),
+        Fragment::Span {
+            y: 3,
+            x0: 1,
+            x1: 8,
+            z0: -5,
+            dz: 1 << 40,
+        },
+        Fragment::Pixel { x: 7, y: 0, z: 12 },
+        Fragment::Polygon([1, 1, 1]),
+        Fragment::NextFrame,
+        Fragment::End,
+    ];
+    for form in [Form::Text, Form::Binary] {
+        let bytes = encode(header, &records, form);
+        assert_eq!(
+            decode::<Fragment>(&bytes).unwrap(),
+            (header, records.clone())
+        );
+    }
+    let text = String::from_utf8(encode(header, &records, Form::Text)).unwrap();
+    assert_eq!(
+        text,
+        "polypipe 1 fragments 8 4\ncolour 9 8 7\nspan 3 1 8 -5 1099511627776\npixel 7 0 12\nNEXT.POLYGON\ncolour 1 1 1\nNEXT.FRAME\nEND\n"
+    );
+}
+
+#[test]
+fn text_errors_say_line_and_column() {
+    let cases: &[(&str, &str)] = &[
+        ("", "empty input: expected a polypipe stream header"),
+        ("hello 1 world\nEND\n", "line 1, column 1: not a polypipe stream: expected the header `polypipe 1 SPACE`, found `hello`"),
+        ("polypipe 2 world\nEND\n", "line 1, column 10: stream version 2 is not supported (this is version 1)"),
+        ("polypipe 1 mars\nEND\n", "line 1, column 12: unknown coordinate space `mars` (expected world, eye, screen or fragments)"),
+        ("polypipe 1 world\ncolour 256 0 0\nEND\n", "line 2, column 8: the red component of the colour is 256, out of range 0..=255"),
+        ("polypipe 1 world\ncolour 1 2 3\n1 2\nEND\n", "line 4, column 1: expected z of vertex 0 (3 numbers a vertex in world space), found `END`"),
+        ("polypipe 1 world\ncolour 1 2 3\n1 2 nan\nEND\n", "line 3, column 5: z of vertex 0 (3 numbers a vertex in world space) is `nan`; coordinates must be finite"),
+        ("polypipe 1 world\ncolour 1 2 3\n1 2 3\n", "line 3, column 6: the stream ends without END (cut short?)"),
+        ("polypipe 1 world\nEND\ncolour 1 2 3\n", "line 3, column 1: data after END: `colour`"),
+        ("polypipe 1 world\ncolour 1 2 3\ncolour 1 2 3\nEND\n", "line 3, column 1: expected NEXT.POLYGON between polygons, found `colour`"),
+        ("polypipe 1 world\nNEXT.POLYGON\nEND\n", "line 2, column 1: NEXT.POLYGON before the frame's first polygon (expected `colour`)"),
+        ("polypipe 1 screen 0 10\nEND\n", "line 1, column 12: screen size 0x10 must be between 1x1 and 65536x65536"),
+        ("polypipe 1 eye hither 5 yon 2\nEND\n", "line 1, column 12: hither 5 and yon 2 must satisfy 0 < hither < yon"),
+    ];
+    for (input, want) in cases {
+        assert_eq!(
+            &decode_err::<Token>(input.as_bytes()),
+            want,
+            "input: {input:?}"
+        );
+    }
+}
+
+#[test]
+fn binary_errors_say_byte_offset() {
+    let header = Header::new(Space::World);
+    let tokens = vec![
+        Token::Polygon(Polygon::from_xyz([1, 2, 3], &[[1., 2., 3.], [4., 5., 6.]])),
+        Token::End,
+    ];
+    let good = encode(header, &tokens, Form::Binary);
+    // Every proper prefix is refused, never accepted and never a panic.
+    for cut in 0..good.len() {
+        let e = decode::<Token>(&good[..cut]);
+        assert!(e.is_err(), "prefix of {cut} bytes accepted");
+    }
+    let end_at = good.len() - 4;
+    assert_eq!(
+        decode_err::<Token>(&good[..end_at]),
+        format!("byte {end_at}: the stream ends without END (cut short?)")
+    );
+    assert!(decode_err::<Token>(&good[..end_at - 3])
+        .ends_with("the stream ends in the middle of a record (cut short?)"));
+    let mut trailing = good.clone();
+    trailing.push(0);
+    assert_eq!(
+        decode_err::<Token>(&trailing),
+        format!("byte {}: data after END", good.len())
+    );
+    let mut bad_magic = good.clone();
+    bad_magic[3] ^= 1;
+    assert_eq!(
+        decode_err::<Token>(&bad_magic),
+        "byte 0: not a polypipe stream (bad magic)"
+    );
+    let mut nan = good.clone();
+    // The first vertex's x is the first f64 after magic, header, tag, colour and length.
+    let x_at = nan.len() - 4 - 2 * 32;
+    nan[x_at..x_at + 8].copy_from_slice(&f64::NAN.to_le_bytes());
+    assert!(decode_err::<Token>(&nan).contains(
+        "(frame 0, polygon 0): vertex 0 is [NaN, 2.0, 3.0, 1.0]; coordinates must be finite"
+    ));
+    // A length field claiming a billion vertices reads what is there and no more.
+    let mut huge = good.clone();
+    let len_at = x_at - 8;
+    huge[len_at..len_at + 8].copy_from_slice(&(1u64 << 30).to_le_bytes());
+    assert_eq!(
+        decode_err::<Token>(&huge),
+        format!(
+            "byte {}: the stream ends in the middle of a record (cut short?)",
+            len_at - 7
+        )
+    );
+    // A polygon past the record limit is refused once the limit is reached, so memory
+    // stays bounded however many vertices follow.
+    huge.truncate(len_at + 8);
+    huge.resize(len_at + 8 + proto::codec::MAX_RECORD_BYTES as usize + 64, 0);
+    let msg = decode_err::<Token>(&huge);
+    assert!(msg.contains("record larger than 67108864 bytes"), "{msg}");
+}
+
+#[test]
+fn wrong_space_messages_name_the_missing_stage() {
+    let world = Header::new(Space::World);
+    assert_eq!(
+        world.expect(proto::SpaceKind::Screen).unwrap_err().to_string(),
+        "input is world-space, expected screen-space; put viewxf, the clipper chain and persp first"
+    );
+    assert_eq!(
+        world.expect(proto::SpaceKind::Eye).unwrap_err().to_string(),
+        "input is world-space, expected eye-space; put viewxf first"
+    );
+}
+
+fn arb_vertex() -> impl Strategy<Value = proto::Vertex> {
+    (any::<f64>(), any::<f64>(), any::<f64>(), any::<f64>())
+        .prop_filter("finite", |(a, b, c, d)| {
+            a.is_finite() && b.is_finite() && c.is_finite() && d.is_finite()
+        })
+        .prop_map(|(a, b, c, d)| proto::Vertex::new(a, b, c, d))
+}
+
+fn arb_tokens() -> impl Strategy<Value = Vec<Token>> {
+    let polygon = (any::<[u8; 3]>(), prop::collection::vec(arb_vertex(), 0..6))
+        .prop_map(|(c, v)| Token::Polygon(Polygon::new(c, v)));
+    let token = prop_oneof![8 => polygon, 1 => Just(Token::NextFrame)];
+    prop::collection::vec(token, 0..20).prop_map(|mut v| {
+        v.push(Token::End);
+        v
+    })
+}
+
+proptest! {
+    /// Text ↔ binary round trip: the same records come back from either form, and text
+    /// printed from either is identical (floats print as their shortest exact form).
+    #[test]
+    fn text_and_binary_round_trip(tokens in arb_tokens()) {
+        let header = Header::new(Space::Eye(View::default()));
+        let bin = encode(header, &tokens, Form::Binary);
+        let text = encode(header, &tokens, Form::Text);
+        let (_, from_bin) = decode::<Token>(&bin).unwrap();
+        let (_, from_text) = decode::<Token>(&text).unwrap();
+        prop_assert_eq!(&from_bin, &tokens);
+        prop_assert_eq!(&from_text, &tokens);
+        prop_assert_eq!(encode(header, &from_text, Form::Binary), bin);
+    }
+
+    /// Random bytes are refused or read, never a panic.
+    #[test]
+    fn random_bytes_never_panic(bytes in prop::collection::vec(any::<u8>(), 0..200)) {
+        let _ = decode::<Token>(&bytes);
+        let mut framed = proto::header::BINARY_MAGIC.to_vec();
+        framed.extend_from_slice(&bytes);
+        let _ = decode::<Token>(&framed);
+        let _ = decode::<Fragment>(&framed);
+    }
+}
