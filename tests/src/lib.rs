@@ -1,0 +1,159 @@
+//! Helpers for the end-to-end tests: where the built binaries and scripts are, how to run
+//! a shell pipeline of them, and how to read the PPM frames they write.
+//!
+//! Cargo gives a test the path of its own package's binaries only; the stages are other
+//! packages, so the tests find them beside the test executable in the target directory,
+//! building them once first if they are missing.
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output, Stdio};
+use std::sync::OnceLock;
+
+/// The repository's root folder.
+pub fn repo_root() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .parent()
+        .expect("tests/ lives in the repository root")
+        .to_path_buf()
+}
+
+/// The folder with the built binaries (the profile the tests were built with), after
+/// making sure every stage binary is built and current.
+pub fn bin_dir() -> &'static Path {
+    static DIR: OnceLock<PathBuf> = OnceLock::new();
+    DIR.get_or_init(|| {
+        let exe = std::env::current_exe().expect("test executable path");
+        // target/<profile>/deps/<test> → target/<profile>
+        let dir = exe
+            .parent()
+            .and_then(Path::parent)
+            .expect("test executable inside target/<profile>/deps")
+            .to_path_buf();
+        let release = dir.file_name().is_some_and(|n| n == "release");
+        let cargo = std::env::var("CARGO").unwrap_or_else(|_| "cargo".into());
+        let mut build = Command::new(cargo);
+        build
+            .current_dir(repo_root())
+            .args(["build", "--quiet", "--bins"]);
+        if release {
+            build.arg("--release");
+        }
+        let status = build.status().expect("run cargo build");
+        assert!(status.success(), "cargo build --bins failed");
+        dir
+    })
+}
+
+/// The path of a built stage binary.
+pub fn bin(name: &str) -> PathBuf {
+    bin_dir().join(name)
+}
+
+/// Runs a shell command line with the stage binaries first on PATH and the repository
+/// as the working folder; `stdin` is fed to it.
+pub fn sh(script: &str, stdin: &[u8]) -> Output {
+    use std::io::Write;
+    let path = format!(
+        "{}:{}",
+        bin_dir().display(),
+        std::env::var("PATH").unwrap_or_default()
+    );
+    let mut child = Command::new("bash")
+        .args(["-o", "pipefail", "-c", script])
+        .current_dir(repo_root())
+        .env("PATH", path)
+        .env("POLYPIPE_BIN", bin_dir())
+        .stdin(Stdio::piped())
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .expect("spawn bash");
+    let mut input = child.stdin.take().expect("stdin");
+    let data = stdin.to_vec();
+    let feeder = std::thread::spawn(move || {
+        let _ = input.write_all(&data);
+    });
+    let out = child.wait_with_output().expect("wait for bash");
+    let _ = feeder.join();
+    out
+}
+
+/// One frame of a PPM stream.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Frame {
+    pub width: usize,
+    pub height: usize,
+    /// Row-major RGB pixels, row 0 at the top.
+    pub pixels: Vec<[u8; 3]>,
+}
+
+impl Frame {
+    pub fn at(&self, x: usize, y: usize) -> [u8; 3] {
+        self.pixels[y * self.width + x]
+    }
+
+    /// The frame as characters, one per pixel, from a colour → character table; any
+    /// other colour prints as `?`.
+    pub fn as_chars(&self, table: &[([u8; 3], char)]) -> String {
+        let mut s = String::new();
+        for y in 0..self.height {
+            for x in 0..self.width {
+                let p = self.at(x, y);
+                s.push(
+                    table
+                        .iter()
+                        .find(|(c, _)| *c == p)
+                        .map_or('?', |(_, ch)| *ch),
+                );
+            }
+            s.push('\n');
+        }
+        s
+    }
+}
+
+/// Parses a stream of binary PPM (P6, maxval 255) frames.
+pub fn parse_ppm_stream(mut bytes: &[u8]) -> Result<Vec<Frame>, String> {
+    let mut frames = Vec::new();
+    while !bytes.is_empty() {
+        let mut fields = Vec::new();
+        let mut i = 0;
+        while fields.len() < 4 {
+            while i < bytes.len() && bytes[i].is_ascii_whitespace() {
+                i += 1;
+            }
+            let start = i;
+            while i < bytes.len() && !bytes[i].is_ascii_whitespace() {
+                i += 1;
+            }
+            if start == i {
+                return Err(format!("frame {}: PPM header cut short", frames.len()));
+            }
+            fields.push(String::from_utf8_lossy(&bytes[start..i]).into_owned());
+        }
+        i += 1; // the single whitespace byte after maxval
+        if fields[0] != "P6" || fields[3] != "255" {
+            return Err(format!(
+                "frame {}: not a P6/255 header: {fields:?}",
+                frames.len()
+            ));
+        }
+        let width: usize = fields[1].parse().map_err(|_| "bad width".to_string())?;
+        let height: usize = fields[2].parse().map_err(|_| "bad height".to_string())?;
+        let n = width * height * 3;
+        if bytes.len() < i + n {
+            return Err(format!("frame {}: pixel data cut short", frames.len()));
+        }
+        let pixels = bytes[i..i + n]
+            .chunks(3)
+            .map(|c| [c[0], c[1], c[2]])
+            .collect();
+        frames.push(Frame {
+            width,
+            height,
+            pixels,
+        });
+        bytes = &bytes[i + n..];
+    }
+    Ok(frames)
+}
