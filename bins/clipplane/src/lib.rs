@@ -1,1 +1,248 @@
-//! clipplane (to be written)
+//! # clipplane: Sutherland–Hodgman clipping against one plane (thesis chapter 3)
+//!
+//! The thesis clips a polygon against the clipping pyramid as a pipeline of six stages,
+//! one plane each (section 3.1); this crate is one such stage, `CLIP.PLANE_plane`, which
+//! satisfies `right ← f_plane(left)` (section 3.2). The subject polygon's vertices are
+//! taken in pairs (s, p) around the polygon, the first vertex remembered rather than
+//! repeated (footnote to 3.1), and each pair outputs 0, 1 or 2 vertices:
+//!
+//! | s       | p       | output                    |
+//! |---------|---------|---------------------------|
+//! | inside  | inside  | p                         |
+//! | inside  | outside | intersection(s, p)        |
+//! | outside | outside | nothing                   |
+//! | outside | inside  | intersection(s, p), p     |
+//!
+//! `inside` and `intersection` are Appendix 2's, written once in [`proto::geometry`]:
+//! a point on the plane counts as inside, and an intersection is computed only for an
+//! edge whose ends are strictly on opposite sides, so a vertex on the plane is never
+//! output twice. The clipping volume may be any convex shape given by planes (3.1), so a
+//! general half-space `a·x_e + b·y_e + c·z_e + d·w + k ≥ 0` is accepted as well as the
+//! six pyramid planes of Appendix 2.1.
+
+use proto::geometry::{Plane, PyramidPlane, Side};
+use proto::{DVec4, Vertex, View};
+
+/// Clips the closed polygon `vertices` against `plane` (f_plane of section 3.2), writing
+/// the clipped polygon to `out` (cleared first, its capacity reused). A polygon wholly
+/// outside gives no vertices; one wholly inside (or on) the plane comes out unchanged,
+/// vertex for vertex. Degenerate inputs (1 or 2 vertices) follow the same rule.
+#[inline]
+pub fn clip_against(vertices: &[Vertex], plane: &Plane, out: &mut Vec<Vertex>) {
+    out.clear();
+    let Some(&last) = vertices.last() else {
+        return;
+    };
+    // A convex polygon gains at most one vertex from one plane.
+    out.reserve(vertices.len() + 1);
+    // s starts as the last vertex, so the closing edge (v_n, v_1) comes first and the
+    // output starts where the input does.
+    let mut s = last;
+    let (mut s_side, mut s_dist) = plane.classify(s);
+    for &p in vertices {
+        let (p_side, p_dist) = plane.classify(p);
+        if matches!(
+            (s_side, p_side),
+            (Side::Inside, Side::Outside) | (Side::Outside, Side::Inside)
+        ) {
+            out.push(plane.intersect(s, s_dist, p, p_dist));
+        }
+        if p_side != Side::Outside {
+            out.push(p);
+        }
+        (s, s_side, s_dist) = (p, p_side, p_dist);
+    }
+}
+
+/// Which plane a clipping stage clips against.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum ClipPlane {
+    /// One of the six planes of the pyramid; `at` overrides the hither or yon distance
+    /// (K1 or K2) of the stream's view volume.
+    Pyramid { which: PyramidPlane, at: Option<f64> },
+    /// A half-space given by its coefficients.
+    General(Plane),
+}
+
+impl ClipPlane {
+    /// Checks the options: `at` makes sense only for hither and yon, and must put the
+    /// plane in front of the eye (z_e > 0, where w > 0 and persp can project).
+    pub fn new(which: PyramidPlane, at: Option<f64>) -> Result<Self, String> {
+        if let Some(k) = at {
+            if !matches!(which, PyramidPlane::Hither | PyramidPlane::Yon) {
+                return Err(format!(
+                    "--at sets the distance of the hither or yon plane, not of {which}"
+                ));
+            }
+            if !(k.is_finite() && k > 0.0) {
+                return Err(format!("--at {k}: the plane z_e = {k} must be in front of the eye (positive)"));
+            }
+        }
+        Ok(ClipPlane::Pyramid { which, at })
+    }
+
+    /// The half-space, for the view volume the eye-space stream was computed with.
+    pub fn plane(&self, view: &View) -> Plane {
+        match *self {
+            ClipPlane::General(plane) => plane,
+            ClipPlane::Pyramid { which, at } => {
+                let mut view = *view;
+                match (which, at) {
+                    (PyramidPlane::Hither, Some(k)) => view.hither = k,
+                    (PyramidPlane::Yon, Some(k)) => view.yon = k,
+                    _ => {}
+                }
+                which.plane(&view)
+            }
+        }
+    }
+}
+
+/// Parses `a,b,c,d,k`: the half-space a·x_e + b·y_e + c·z_e + d·w + k ≥ 0.
+pub fn parse_general_plane(s: &str) -> Result<Plane, String> {
+    let parts: Vec<&str> = s.split(',').map(str::trim).collect();
+    if parts.len() != 5 {
+        return Err(format!("expected a,b,c,d,k (five numbers), found `{s}`"));
+    }
+    let mut c = [0.0; 5];
+    for (slot, p) in c.iter_mut().zip(&parts) {
+        *slot = p
+            .parse::<f64>()
+            .ok()
+            .filter(|x| x.is_finite())
+            .ok_or_else(|| format!("`{p}` in `{s}` is not a finite number"))?;
+    }
+    let n = DVec4::new(c[0], c[1], c[2], c[3]);
+    if n == DVec4::ZERO {
+        return Err(format!("`{s}` is not a plane: a, b, c and d are all zero"));
+    }
+    Ok(Plane::new(n, c[4]))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use proptest::prelude::*;
+
+    /// Eye point at z_e = 16 (w = 10 with the default s/d).
+    fn e(x: f64, y: f64) -> Vertex {
+        DVec4::new(x, y, 16.0, 10.0)
+    }
+
+    fn clip(v: &[Vertex], plane: &Plane) -> Vec<Vertex> {
+        let mut out = vec![DVec4::splat(99.0)]; // stale contents must be cleared
+        clip_against(v, plane, &mut out);
+        out
+    }
+
+    #[test]
+    fn four_cases_against_left() {
+        let left = PyramidPlane::Left.plane(&View::default()); // x_e ≥ −w = −10
+        // (s,p) = (e(2,0) in, e(-22,8) out): α = 12/24, intersection (−10, 4).
+        let tri = [e(2.0, 0.0), e(-22.0, 8.0), e(2.0, 8.0)];
+        assert_eq!(
+            clip(&tri, &left),
+            vec![e(2.0, 0.0), e(-10.0, 4.0), e(-10.0, 8.0), e(2.0, 8.0)]
+        );
+        // Wholly outside: empty.
+        assert_eq!(clip(&[e(-22.0, 0.0), e(-30.0, 1.0)], &left), vec![]);
+        assert_eq!(clip(&[], &left), vec![]);
+    }
+
+    #[test]
+    fn vertices_on_the_plane_are_inside_and_never_doubled() {
+        let left = PyramidPlane::Left.plane(&View::default());
+        let poly = [e(2.0, 0.0), e(-10.0, 5.0), e(-22.0, 0.0), e(-10.0, -5.0)];
+        assert_eq!(
+            clip(&poly, &left),
+            vec![e(2.0, 0.0), e(-10.0, 5.0), e(-10.0, -5.0)]
+        );
+    }
+
+    #[test]
+    fn at_moves_hither_and_yon_only() {
+        let view = View::default();
+        let h = ClipPlane::new(PyramidPlane::Hither, Some(4.0)).unwrap();
+        assert_eq!(h.plane(&view), Plane::new(DVec4::new(0.0, 0.0, 1.0, 0.0), -4.0));
+        let y = ClipPlane::new(PyramidPlane::Yon, Some(12.0)).unwrap();
+        assert_eq!(y.plane(&view), Plane::new(DVec4::new(0.0, 0.0, -1.0, 0.0), 12.0));
+        assert!(ClipPlane::new(PyramidPlane::Left, Some(4.0)).is_err());
+        assert!(ClipPlane::new(PyramidPlane::Hither, Some(0.0)).is_err());
+    }
+
+    #[test]
+    fn general_plane_parsing() {
+        assert_eq!(
+            parse_general_plane("1, 0,0,-0.5,3"),
+            Ok(Plane::new(DVec4::new(1.0, 0.0, 0.0, -0.5), 3.0))
+        );
+        assert!(parse_general_plane("0,0,0,0,1").is_err());
+        assert!(parse_general_plane("1,2,3").is_err());
+        assert!(parse_general_plane("1,2,3,4,nan").is_err());
+    }
+
+    fn eye_point() -> impl Strategy<Value = Vertex> {
+        // Points around the pyramid, some behind the eye; w = z_e·s/d as viewxf makes it.
+        (-60.0..60.0f64, -60.0..60.0f64, -10.0..50.0f64)
+            .prop_map(|(x, y, z)| DVec4::new(x, y, z, z * 0.625))
+    }
+
+    fn any_plane() -> impl Strategy<Value = Plane> {
+        let view = (0.25..4.0f64, 0.5..5.0f64, 10.0..40.0f64).prop_map(|(aspect, hither, yon)| View {
+            aspect,
+            hither,
+            yon,
+        });
+        prop_oneof![
+            (0..6usize, view).prop_map(|(i, v)| PyramidPlane::ALL[i].plane(&v)),
+            (
+                -1.0..1.0f64,
+                -1.0..1.0f64,
+                -1.0..1.0f64,
+                -1.0..1.0f64,
+                -20.0..20.0f64
+            )
+                .prop_filter("a plane", |(a, b, c, d, _)| a.abs() + b.abs() + c.abs() + d.abs() > 1e-3)
+                .prop_map(|(a, b, c, d, k)| Plane::new(DVec4::new(a, b, c, d), k)),
+        ]
+    }
+
+    proptest! {
+        #[test]
+        fn wholly_inside_is_the_identity(
+            plane in any_plane(),
+            poly in prop::collection::vec(eye_point(), 0..9),
+        ) {
+            let inside: Vec<Vertex> = poly.into_iter().filter(|v| plane.contains(*v)).collect();
+            prop_assert_eq!(clip(&inside, &plane), inside);
+        }
+
+        #[test]
+        fn clipping_twice_equals_clipping_once(
+            plane in any_plane(),
+            poly in prop::collection::vec(eye_point(), 0..9),
+        ) {
+            let once = clip(&poly, &plane);
+            prop_assert_eq!(clip(&once, &plane), once);
+        }
+
+        #[test]
+        fn every_output_vertex_is_inside_or_on(
+            plane in any_plane(),
+            poly in prop::collection::vec(eye_point(), 0..9),
+        ) {
+            for v in clip(&poly, &plane) {
+                prop_assert_ne!(plane.classify(v).0, Side::Outside, "{:?}", v);
+            }
+        }
+
+        #[test]
+        fn a_convex_polygon_gains_at_most_one_vertex(
+            plane in any_plane(),
+            a in eye_point(), b in eye_point(), c in eye_point(),
+        ) {
+            // A triangle is convex: the output has at most 4 vertices.
+            prop_assert!(clip(&[a, b, c], &plane).len() <= 4);
+        }
+    }
+}
