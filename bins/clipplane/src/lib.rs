@@ -59,7 +59,10 @@ pub fn clip_against(vertices: &[Vertex], plane: &Plane, out: &mut Vec<Vertex>) {
 pub enum ClipPlane {
     /// One of the six planes of the pyramid; `at` overrides the hither or yon distance
     /// (K1 or K2) of the stream's view volume.
-    Pyramid { which: PyramidPlane, at: Option<f64> },
+    Pyramid {
+        which: PyramidPlane,
+        at: Option<f64>,
+    },
     /// A half-space given by its coefficients.
     General(Plane),
 }
@@ -75,7 +78,9 @@ impl ClipPlane {
                 ));
             }
             if !(k.is_finite() && k > 0.0) {
-                return Err(format!("--at {k}: the plane z_e = {k} must be in front of the eye (positive)"));
+                return Err(format!(
+                    "--at {k}: the plane z_e = {k} must be in front of the eye (positive)"
+                ));
             }
         }
         Ok(ClipPlane::Pyramid { which, at })
@@ -138,7 +143,7 @@ mod tests {
     #[test]
     fn four_cases_against_left() {
         let left = PyramidPlane::Left.plane(&View::default()); // x_e ≥ −w = −10
-        // (s,p) = (e(2,0) in, e(-22,8) out): α = 12/24, intersection (−10, 4).
+                                                               // (s,p) = (e(2,0) in, e(-22,8) out): α = 12/24, intersection (−10, 4).
         let tri = [e(2.0, 0.0), e(-22.0, 8.0), e(2.0, 8.0)];
         assert_eq!(
             clip(&tri, &left),
@@ -163,9 +168,15 @@ mod tests {
     fn at_moves_hither_and_yon_only() {
         let view = View::default();
         let h = ClipPlane::new(PyramidPlane::Hither, Some(4.0)).unwrap();
-        assert_eq!(h.plane(&view), Plane::new(DVec4::new(0.0, 0.0, 1.0, 0.0), -4.0));
+        assert_eq!(
+            h.plane(&view),
+            Plane::new(DVec4::new(0.0, 0.0, 1.0, 0.0), -4.0)
+        );
         let y = ClipPlane::new(PyramidPlane::Yon, Some(12.0)).unwrap();
-        assert_eq!(y.plane(&view), Plane::new(DVec4::new(0.0, 0.0, -1.0, 0.0), 12.0));
+        assert_eq!(
+            y.plane(&view),
+            Plane::new(DVec4::new(0.0, 0.0, -1.0, 0.0), 12.0)
+        );
         assert!(ClipPlane::new(PyramidPlane::Left, Some(4.0)).is_err());
         assert!(ClipPlane::new(PyramidPlane::Hither, Some(0.0)).is_err());
     }
@@ -188,11 +199,12 @@ mod tests {
     }
 
     fn any_plane() -> impl Strategy<Value = Plane> {
-        let view = (0.25..4.0f64, 0.5..5.0f64, 10.0..40.0f64).prop_map(|(aspect, hither, yon)| View {
-            aspect,
-            hither,
-            yon,
-        });
+        let view =
+            (0.25..4.0f64, 0.5..5.0f64, 10.0..40.0f64).prop_map(|(aspect, hither, yon)| View {
+                aspect,
+                hither,
+                yon,
+            });
         prop_oneof![
             (0..6usize, view).prop_map(|(i, v)| PyramidPlane::ALL[i].plane(&v)),
             (
@@ -202,7 +214,11 @@ mod tests {
                 -1.0..1.0f64,
                 -20.0..20.0f64
             )
-                .prop_filter("a plane", |(a, b, c, d, _)| a.abs() + b.abs() + c.abs() + d.abs() > 1e-3)
+                .prop_filter("a plane", |(a, b, c, d, _)| a.abs()
+                    + b.abs()
+                    + c.abs()
+                    + d.abs()
+                    > 1e-3)
                 .prop_map(|(a, b, c, d, k)| Plane::new(DVec4::new(a, b, c, d), k)),
         ]
     }

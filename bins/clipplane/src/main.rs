@@ -31,7 +31,7 @@ struct Cli {
           value_name = "a,b,c,d,k", conflicts_with_all = ["which", "at"])]
     plane: Option<Plane>,
     /// For hither or yon: the distance K (clip at z_e = K) instead of the header's.
-    #[arg(long, value_name = "K")]
+    #[arg(long, value_name = "K", allow_hyphen_values = true)]
     at: Option<f64>,
     /// Write the text form instead of binary.
     #[arg(long)]
