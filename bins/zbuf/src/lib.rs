@@ -1,1 +1,331 @@
-//! zbuf (to be written)
+//! # zbuf: fragments → frames (the thesis's BUFFER and PAR.BUFF, chapters 4.2.3 and 6.3.3)
+//!
+//! The BUFFER process keeps a Z-buffer and an F-buffer (frame buffer) and, for each pixel
+//! it receives, keeps the colour of the nearest polygon. PAR.BUFF does the same for many
+//! scan converters at once and shows the frame once every one of them has sent its
+//! NEXT.FRAME.
+//!
+//! Visibility (DESIGN.md, chapter 2.3's Z spec): the smaller depth wins; at equal depth the
+//! polygon earlier in the stream wins. Each pixel therefore keeps, beside its depth, the
+//! index of the polygon that wrote it, and a fragment wins when `(depth, polygon)` is
+//! lexicographically smaller. Polygon k is the same polygon on every branch of a splitter
+//! tree, so the result does not depend on which input a pixel came through, nor on the
+//! order the inputs' fragments arrive in: the frame is deterministic.
+//!
+//! The concurrent reading of many inputs lives in [`par_buff`].
+
+pub mod par_buff;
+
+use anyhow::{bail, Context};
+use proto::Colour;
+use std::io::{self, Write};
+use std::path::{Path, PathBuf};
+
+/// The Z-buffer, the polygon index per pixel and the F-buffer of one screen.
+#[derive(Clone, Debug)]
+pub struct FrameBuffer {
+    width: u32,
+    height: u32,
+    background: Colour,
+    /// Fixed-point depth per pixel, row-major; `i64::MAX` (MAX.DEPTH) where nothing is drawn.
+    depth: Vec<i64>,
+    /// Index in the frame of the polygon that drew each pixel; `u32::MAX` for none.
+    polygon: Vec<u32>,
+    /// The F-buffer: RGB per pixel, row-major, row 0 at the top (a P6 PPM's raster).
+    colour: Vec<Colour>,
+}
+
+/// Polygon index of pixels no polygon has drawn: after every real polygon.
+const NO_POLYGON: u32 = u32::MAX;
+
+impl FrameBuffer {
+    /// A cleared buffer (KH(MAX.DEPTH), KH(BACK.GROUND.COLOUR) in the thesis's CSP).
+    pub fn new(width: u32, height: u32, background: Colour) -> Self {
+        let n = width as usize * height as usize;
+        FrameBuffer {
+            width,
+            height,
+            background,
+            depth: vec![i64::MAX; n],
+            polygon: vec![NO_POLYGON; n],
+            colour: vec![background; n],
+        }
+    }
+
+    pub fn width(&self) -> u32 {
+        self.width
+    }
+
+    pub fn height(&self) -> u32 {
+        self.height
+    }
+
+    /// Re-initialises the buffers for the next frame.
+    pub fn clear(&mut self) {
+        self.depth.fill(i64::MAX);
+        self.polygon.fill(NO_POLYGON);
+        self.colour.fill(self.background);
+    }
+
+    /// Pixels `x0..x1` of row `y` from polygon `polygon`: pixel x has depth
+    /// `z0 + (x − x0)·dz`. The caller (the stream reader) has checked the span lies on the
+    /// screen; an out-of-range span is clipped rather than trusted.
+    #[inline]
+    pub fn span(
+        &mut self,
+        y: u32,
+        x0: u32,
+        x1: u32,
+        z0: i64,
+        dz: i64,
+        polygon: u32,
+        colour: Colour,
+    ) {
+        if y >= self.height {
+            return;
+        }
+        let x1 = x1.min(self.width) as usize;
+        let x0 = (x0 as usize).min(x1);
+        let row = y as usize * self.width as usize;
+        let range = row + x0..row + x1;
+        let depth = &mut self.depth[range.clone()];
+        let index = &mut self.polygon[range.clone()];
+        let frame = &mut self.colour[range];
+        let mut z = z0;
+        for ((d, i), f) in depth.iter_mut().zip(index.iter_mut()).zip(frame.iter_mut()) {
+            if z < *d || (z == *d && polygon < *i) {
+                *d = z;
+                *i = polygon;
+                *f = colour;
+            }
+            z = z.saturating_add(dz);
+        }
+    }
+
+    /// One pixel (the thesis's quadruplet).
+    #[inline]
+    pub fn pixel(&mut self, x: u32, y: u32, z: i64, polygon: u32, colour: Colour) {
+        if x >= self.width || y >= self.height {
+            return;
+        }
+        let k = y as usize * self.width as usize + x as usize;
+        if z < self.depth[k] || (z == self.depth[k] && polygon < self.polygon[k]) {
+            self.depth[k] = z;
+            self.polygon[k] = polygon;
+            self.colour[k] = colour;
+        }
+    }
+
+    /// The F-buffer as RGB bytes, row 0 first.
+    pub fn rgb(&self) -> &[u8] {
+        self.colour.as_flattened()
+    }
+
+    /// The colour of pixel (x, y).
+    pub fn colour_at(&self, x: u32, y: u32) -> Colour {
+        self.colour[y as usize * self.width as usize + x as usize]
+    }
+
+    /// Writes the frame as a binary PPM (P6, maxval 255).
+    pub fn write_ppm<W: Write>(&self, out: &mut W) -> io::Result<()> {
+        write!(out, "P6\n{} {}\n255\n", self.width, self.height)?;
+        out.write_all(self.rgb())
+    }
+}
+
+/// Parses `R,G,B` (each 0–255), e.g. for `--background`.
+pub fn parse_colour(s: &str) -> Result<Colour, String> {
+    let parts: Vec<&str> = s.split(',').map(str::trim).collect();
+    if parts.len() != 3 {
+        return Err(format!("expected R,G,B (three numbers 0-255), got `{s}`"));
+    }
+    let mut c = [0u8; 3];
+    for (slot, p) in c.iter_mut().zip(parts) {
+        *slot = p
+            .parse()
+            .map_err(|_| format!("`{p}` is not a colour component 0-255"))?;
+    }
+    Ok(c)
+}
+
+/// A file name pattern for one file per frame, as ffmpeg's image2 muxer reads it: `%d`
+/// is the frame number (from 0), `%0Nd` (or `%Nd`) the frame number zero-padded to N
+/// digits, `%%` a literal `%`. At most one number field.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct FramePattern {
+    /// The text before and after the number field; `None` when the pattern has no field.
+    parts: (String, Option<(usize, String)>),
+    /// The image format, chosen by the extension.
+    pub format: ImageFormat,
+}
+
+/// The image formats `-o` writes.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum ImageFormat {
+    Png,
+    Ppm,
+}
+
+impl FramePattern {
+    pub fn parse(pattern: &str) -> anyhow::Result<Self> {
+        let mut prefix = String::new();
+        let mut field: Option<(usize, String)> = None;
+        let mut chars = pattern.chars().peekable();
+        while let Some(ch) = chars.next() {
+            let text = match &mut field {
+                Some((_, suffix)) => suffix,
+                None => &mut prefix,
+            };
+            if ch != '%' {
+                text.push(ch);
+                continue;
+            }
+            if chars.peek() == Some(&'%') {
+                chars.next();
+                text.push('%');
+                continue;
+            }
+            let mut digits = String::new();
+            while let Some(d) = chars.peek().filter(|d| d.is_ascii_digit()) {
+                digits.push(*d);
+                chars.next();
+            }
+            if chars.next() != Some('d') {
+                bail!("-o {pattern}: `%` must start %d, %0Nd or %% (as in ffmpeg's image2)");
+            }
+            if field.is_some() {
+                bail!("-o {pattern}: more than one frame number field");
+            }
+            let width = if digits.is_empty() {
+                0
+            } else {
+                digits
+                    .parse::<usize>()
+                    .ok()
+                    .filter(|w| *w <= 20)
+                    .with_context(|| format!("-o {pattern}: field width {digits} is too wide"))?
+            };
+            field = Some((width, String::new()));
+        }
+        let ext = Path::new(pattern)
+            .extension()
+            .and_then(|e| e.to_str())
+            .map(str::to_ascii_lowercase);
+        let format = match ext.as_deref() {
+            Some("png") => ImageFormat::Png,
+            Some("ppm") => ImageFormat::Ppm,
+            _ => bail!("-o {pattern}: the file name must end .png or .ppm"),
+        };
+        Ok(FramePattern {
+            parts: (prefix, field),
+            format,
+        })
+    }
+
+    /// Whether the pattern numbers its files (and so can take more than one frame).
+    pub fn numbered(&self) -> bool {
+        self.parts.1.is_some()
+    }
+
+    /// The file name of frame `frame`.
+    pub fn path(&self, frame: u64) -> PathBuf {
+        let (prefix, field) = &self.parts;
+        match field {
+            Some((width, suffix)) => format!("{prefix}{frame:0width$}{suffix}").into(),
+            None => prefix.into(),
+        }
+    }
+
+    /// Writes frame `frame` to its file.
+    pub fn save(&self, frame: u64, fb: &FrameBuffer) -> anyhow::Result<()> {
+        let path = self.path(frame);
+        let fail = || format!("cannot write {}", path.display());
+        match self.format {
+            ImageFormat::Ppm => {
+                let file = std::fs::File::create(&path).with_context(fail)?;
+                let mut out = io::BufWriter::new(file);
+                fb.write_ppm(&mut out).with_context(fail)?;
+                out.flush().with_context(fail)?;
+            }
+            ImageFormat::Png => image::save_buffer_with_format(
+                &path,
+                fb.rgb(),
+                fb.width(),
+                fb.height(),
+                image::ExtendedColorType::Rgb8,
+                image::ImageFormat::Png,
+            )
+            .map_err(|e| match e {
+                image::ImageError::IoError(io) => anyhow::Error::new(io),
+                other => anyhow::anyhow!("{other}"),
+            })
+            .with_context(fail)?,
+        }
+        Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn nearer_wins_and_ties_go_to_the_earlier_polygon() {
+        let mut fb = FrameBuffer::new(4, 1, [0, 0, 0]);
+        // Polygon 1 at depth 10 over columns 0..4.
+        fb.span(0, 0, 4, 10, 0, 1, [1, 1, 1]);
+        // Polygon 0, later in arrival but earlier in the stream, ties at depth 10: wins.
+        fb.span(0, 0, 2, 10, 0, 0, [2, 2, 2]);
+        // Polygon 2 at depth 9..12 stepping by 1: nearer only at column 2 (depth 9... no):
+        fb.span(0, 1, 4, 9, 1, 2, [3, 3, 3]);
+        // Column 1: 9 < 10 → polygon 2. Column 2: 10 = 10, 2 > 1 → stays 1. Column 3: 11.
+        fb.pixel(3, 0, 10, 5, [4, 4, 4]); // tie with polygon 1, later: loses
+        fb.pixel(3, 0, 9, 5, [5, 5, 5]); // nearer: wins
+        assert_eq!(fb.rgb(), &[2, 2, 2, 3, 3, 3, 1, 1, 1, 5, 5, 5]);
+        fb.clear();
+        assert_eq!(fb.rgb(), &[0; 12]);
+    }
+
+    #[test]
+    fn depth_saturates_rather_than_wrapping() {
+        let mut fb = FrameBuffer::new(3, 1, [0, 0, 0]);
+        fb.span(0, 0, 3, i64::MAX - 1, i64::MAX, 0, [7, 7, 7]);
+        // Depth MAX − 1, then MAX, MAX: all beat the empty pixel (MAX, no polygon).
+        assert_eq!(fb.rgb(), &[7; 9]);
+        fb.span(0, 0, 3, i64::MIN + 1, i64::MIN, 1, [8, 8, 8]);
+        assert_eq!(fb.rgb(), &[8; 9]);
+    }
+
+    #[test]
+    fn ppm_bytes() {
+        let mut fb = FrameBuffer::new(2, 1, [9, 8, 7]);
+        fb.pixel(1, 0, 0, 0, [1, 2, 3]);
+        let mut out = Vec::new();
+        fb.write_ppm(&mut out).unwrap();
+        assert_eq!(out, b"P6\n2 1\n255\n\x09\x08\x07\x01\x02\x03");
+    }
+
+    #[test]
+    fn colours_parse() {
+        assert_eq!(parse_colour("1,2,255"), Ok([1, 2, 255]));
+        assert!(parse_colour("1,2").is_err());
+        assert!(parse_colour("1,2,256").is_err());
+    }
+
+    #[test]
+    fn patterns_as_image2_reads_them() {
+        let p = FramePattern::parse("out%03d.png").unwrap();
+        assert_eq!(p.path(7), PathBuf::from("out007.png"));
+        assert_eq!(p.path(1234), PathBuf::from("out1234.png"));
+        assert_eq!(p.format, ImageFormat::Png);
+        let p = FramePattern::parse("a%%b%dc.PPM").unwrap();
+        assert_eq!(p.path(12), PathBuf::from("a%b12c.PPM"));
+        assert_eq!(p.format, ImageFormat::Ppm);
+        let p = FramePattern::parse("still.png").unwrap();
+        assert!(!p.numbered());
+        assert_eq!(p.path(3), PathBuf::from("still.png"));
+        assert!(FramePattern::parse("a%d%d.png").is_err());
+        assert!(FramePattern::parse("a%s.png").is_err());
+        assert!(FramePattern::parse("a%d.jpg").is_err());
+    }
+}

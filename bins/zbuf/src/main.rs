@@ -1,1 +1,100 @@
-fn main() {}
+//! zbuf: fragments from one or many scan converters in, one PPM per frame out.
+
+use anyhow::{bail, Context};
+use clap::Parser;
+use proto::Colour;
+use std::io::{self, Write};
+use std::process::ExitCode;
+use zbuf::par_buff::{par_buff, Input};
+use zbuf::{parse_colour, FramePattern};
+
+/// The Z-buffer (thesis BUFFER / PAR.BUFF, ch. 4.2.3 and 6.3.3).
+///
+/// Reads fragment streams from scanconv, all inputs at once, keeps for each pixel the
+/// nearest polygon (the earlier one on a tie), and writes each frame as a binary PPM (P6)
+/// when every input has finished it: frames concatenated on stdout, or one file per frame.
+///
+/// Examples:
+///   persp --size 500x500 < eye.pp | scanconv | zbuf > frame.ppm
+///   zbuf --background 20,20,40 -o frame%04d.png left.frag right.frag
+///   mkfifo a b; scanconv < a.pp > a & scanconv < b.pp > b & zbuf a b | ffmpeg -f image2pipe -i - out.mp4
+#[derive(Parser)]
+#[command(name = "zbuf", verbatim_doc_comment)]
+struct Args {
+    /// Fragment streams (files or named pipes; `-` or none for stdin), read concurrently.
+    inputs: Vec<String>,
+    /// Background colour R,G,B.
+    #[arg(long, value_parser = parse_colour, default_value = "0,0,0")]
+    background: Colour,
+    /// Write one file per frame instead of PPMs on stdout: `%d` or `%0Nd` in the name is
+    /// the frame number from 0 (as ffmpeg's image2); .png or .ppm by the extension.
+    #[arg(short = 'o', value_name = "PATTERN")]
+    output: Option<String>,
+    /// Print, per input, the spans and pixels received, on stderr at the end.
+    #[arg(long)]
+    stats: bool,
+}
+
+fn main() -> ExitCode {
+    let args = Args::parse();
+    proto::cli::run("zbuf", || {
+        let pattern = args
+            .output
+            .as_deref()
+            .map(FramePattern::parse)
+            .transpose()?;
+        let names = if args.inputs.is_empty() {
+            vec!["-".to_string()]
+        } else {
+            args.inputs.clone()
+        };
+        let inputs = names
+            .iter()
+            .map(|name| {
+                let path = name.clone();
+                Input {
+                    name: if name == "-" {
+                        "stdin".into()
+                    } else {
+                        name.clone()
+                    },
+                    open: Box::new(move || {
+                        if path == "-" {
+                            Ok(Box::new(io::stdin()) as Box<dyn io::Read + Send>)
+                        } else {
+                            let f = std::fs::File::open(&path).context("cannot open")?;
+                            Ok(Box::new(f) as Box<dyn io::Read + Send>)
+                        }
+                    }),
+                }
+            })
+            .collect();
+        let stdout = io::stdout();
+        let mut out = io::BufWriter::with_capacity(1 << 16, stdout.lock());
+        let stats = par_buff(inputs, args.background, |frame, fb| {
+            match &pattern {
+                Some(p) => {
+                    if frame > 0 && !p.numbered() {
+                        bail!(
+                            "-o {}: more than one frame, but the name has no %d for the frame number",
+                            args.output.as_deref().unwrap_or_default()
+                        );
+                    }
+                    p.save(frame, fb)?;
+                }
+                None => {
+                    fb.write_ppm(&mut out)?;
+                    out.flush()?;
+                }
+            }
+            Ok(())
+        })?;
+        if args.stats {
+            for (name, s) in names.iter().zip(stats) {
+                let name = if name == "-" { "stdin" } else { name };
+                eprintln!("zbuf: {name}: {} spans, {} pixels", s.spans, s.pixels);
+            }
+        }
+        Ok(())
+    })
+}

@@ -1,0 +1,294 @@
+//! PAR.BUFF (thesis 6.3.3): one frame buffer fed by many scan converters at once.
+//!
+//! The occam process ALTs over its input channels, taking whichever scan converter is
+//! ready, and shows the frame once all of them have sent NEXT.FRAME.PIXEL. Here each input
+//! (a file, a named pipe, stdin) has a reader thread that decodes its stream and sends
+//! batches of fragments over one bounded channel to the buffer thread: the channel is the
+//! ALT, the batches keep the cost of a send off each pixel.
+//!
+//! A reader that reaches NEXT.FRAME sends what it has, says so, and waits for the buffer
+//! thread's go-ahead before it reads on. The buffer thread keeps draining the channel
+//! meanwhile, so an input whose scan converter is still busy with this frame is never
+//! blocked by one that has finished it: however unevenly the polygons fall between the
+//! inputs, nothing deadlocks, and memory stays one frame buffer and a few batches.
+
+use crate::FrameBuffer;
+use anyhow::{anyhow, bail, Context};
+use proto::{Colour, Fragment, Reader, SpaceKind};
+use std::io::Read;
+use std::sync::mpsc::{channel, sync_channel, Receiver, Sender, SyncSender};
+
+/// Fragments per batch sent from a reader thread to the buffer thread.
+pub const BATCH: usize = 4096;
+
+/// Opens an input when its reader thread starts (so a named pipe's open, which blocks
+/// until the writer opens it, holds up only that input).
+pub type Opener = Box<dyn FnOnce() -> anyhow::Result<Box<dyn Read + Send>> + Send>;
+
+/// One input: its name for messages, and how to open it.
+pub struct Input {
+    pub name: String,
+    pub open: Opener,
+}
+
+/// What an input delivered, for `--stats`.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct InputStats {
+    pub spans: u64,
+    pub pixels: u64,
+}
+
+/// From a reader thread to the buffer thread.
+enum Message {
+    /// The input's screen size, sent before anything else.
+    Header {
+        input: usize,
+        width: u32,
+        height: u32,
+    },
+    /// Fragments in stream order (polygon records, spans, pixels; no control records).
+    Batch {
+        input: usize,
+        fragments: Vec<Fragment>,
+    },
+    /// The input reached NEXT.FRAME (`end == false`, and now waits) or END.
+    Boundary { input: usize, end: bool },
+    /// The input failed; the error says where.
+    Failed { input: usize, error: anyhow::Error },
+}
+
+/// Where an input is in the current frame.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum At {
+    Reading,
+    NextFrame,
+    End,
+}
+
+/// The buffer thread's view of one input.
+struct InputState {
+    name: String,
+    go_ahead: Sender<()>,
+    at: At,
+    /// Polygon records seen in this frame: the current polygon is `polygons − 1`.
+    polygons: u32,
+    colour: Colour,
+    stats: InputStats,
+}
+
+/// Runs PAR.BUFF over `inputs`: `on_frame(k, buffer)` is called as soon as frame k is
+/// complete on every input. Returns each input's counts once every input has reached END.
+/// An error names the input it came from; frames completed before it have been handed to
+/// `on_frame`.
+pub fn par_buff(
+    inputs: Vec<Input>,
+    background: Colour,
+    mut on_frame: impl FnMut(u64, &FrameBuffer) -> anyhow::Result<()>,
+) -> anyhow::Result<Vec<InputStats>> {
+    if inputs.is_empty() {
+        bail!("no inputs");
+    }
+    let n = inputs.len();
+    let (to_buffer, from_readers) = sync_channel::<Message>(2 * n + 2);
+    let mut states = Vec::with_capacity(n);
+    for (id, input) in inputs.into_iter().enumerate() {
+        let (go_ahead, wait) = channel();
+        let tx = to_buffer.clone();
+        std::thread::Builder::new()
+            .name(format!("zbuf-in-{id}"))
+            .spawn(move || read_input(id, input.open, tx, wait))
+            .context("cannot start a reader thread")?;
+        states.push(InputState {
+            name: input.name,
+            go_ahead,
+            at: At::Reading,
+            polygons: 0,
+            colour: [0; 3],
+            stats: InputStats::default(),
+        });
+    }
+    drop(to_buffer);
+
+    let mut fb: Option<FrameBuffer> = None;
+    let mut first_header: Option<usize> = None;
+    let mut frame = 0u64;
+    let mut at_boundary = 0usize;
+    loop {
+        let message = from_readers
+            .recv()
+            .map_err(|_| anyhow!("every input stopped before END"))?;
+        match message {
+            Message::Header {
+                input,
+                width,
+                height,
+            } => match (&fb, first_header) {
+                (Some(b), Some(first)) if (b.width(), b.height()) != (width, height) => {
+                    bail!(
+                        "{}: screen {width}x{height}, but {} is {}x{} (all inputs must have the same screen size)",
+                        states[input].name,
+                        states[first].name,
+                        b.width(),
+                        b.height()
+                    );
+                }
+                (Some(_), _) => {}
+                (None, _) => {
+                    fb = Some(FrameBuffer::new(width, height, background));
+                    first_header = Some(input);
+                }
+            },
+            Message::Batch { input, fragments } => {
+                let fb = fb.as_mut().context("fragments before a header")?;
+                let s = &mut states[input];
+                apply(fb, s, &fragments).with_context(|| format!("{}: frame {frame}", s.name))?;
+            }
+            Message::Boundary { input, end } => {
+                states[input].at = if end { At::End } else { At::NextFrame };
+                at_boundary += 1;
+                if at_boundary < n {
+                    continue;
+                }
+                // Every input has finished the frame: show it (the thesis sends the
+                // F-buffer to the screen), then let the inputs go on.
+                let fb = fb.as_mut().context("a frame before a header")?;
+                on_frame(frame, fb)?;
+                let ended = states.iter().filter(|s| s.at == At::End).count();
+                if ended == n {
+                    return Ok(states.iter().map(|s| s.stats).collect());
+                }
+                if ended > 0 {
+                    let short = states.iter().find(|s| s.at == At::End).map(|s| &s.name);
+                    let long = states
+                        .iter()
+                        .find(|s| s.at == At::NextFrame)
+                        .map(|s| &s.name);
+                    bail!(
+                        "{}: frame {frame}: END here, but {} goes on to frame {} (all inputs must have the same number of frames)",
+                        short.map_or("?", |s| s),
+                        long.map_or("?", |s| s),
+                        frame + 1
+                    );
+                }
+                fb.clear();
+                frame += 1;
+                at_boundary = 0;
+                for s in &mut states {
+                    s.at = At::Reading;
+                    s.polygons = 0;
+                    // A reader gone (its input failed) reports that through the channel.
+                    let _ = s.go_ahead.send(());
+                }
+            }
+            Message::Failed { input, error } => {
+                return Err(error.context(states[input].name.clone()));
+            }
+        }
+    }
+}
+
+/// BUFFER's inner loop: a batch of one input's fragments into the frame buffer.
+fn apply(fb: &mut FrameBuffer, s: &mut InputState, fragments: &[Fragment]) -> anyhow::Result<()> {
+    // The current polygon's index in the frame; set by its colour record.
+    let mut polygon = s.polygons.wrapping_sub(1);
+    for f in fragments {
+        match *f {
+            Fragment::Polygon(colour) => {
+                polygon = s.polygons;
+                s.polygons = s
+                    .polygons
+                    .checked_add(1)
+                    .filter(|p| *p != u32::MAX)
+                    .context("more than 4294967294 polygons in one frame")?;
+                s.colour = colour;
+            }
+            Fragment::Span { y, x0, x1, z0, dz } => {
+                s.stats.spans += 1;
+                s.stats.pixels += (x1 - x0) as u64;
+                fb.span(y, x0, x1, z0, dz, polygon, s.colour);
+            }
+            Fragment::Pixel { x, y, z } => {
+                s.stats.pixels += 1;
+                fb.pixel(x, y, z, polygon, s.colour);
+            }
+            Fragment::NextFrame | Fragment::End => {}
+        }
+    }
+    Ok(())
+}
+
+/// A reader thread: decodes one input and sends it on in batches, waiting at each
+/// NEXT.FRAME for the frame to be shown. Ends quietly if the buffer thread has gone.
+fn read_input(input: usize, open: Opener, tx: SyncSender<Message>, wait: Receiver<()>) {
+    let result = (|| -> anyhow::Result<()> {
+        let mut reader = Reader::<Fragment, _>::new(open()?)?;
+        reader.header().expect(SpaceKind::Fragments)?;
+        let (width, height) = reader
+            .header()
+            .space
+            .screen_size()
+            .context("fragment header without a screen size")?;
+        // A send fails only when the buffer thread has stopped (on another input's
+        // error): then there is nothing left to do.
+        let send = |m| tx.send(m).is_ok();
+        if !send(Message::Header {
+            input,
+            width,
+            height,
+        }) {
+            return Ok(());
+        }
+        let mut batch = Vec::with_capacity(BATCH);
+        let mut frame = 0u64;
+        let mut in_polygon = false;
+        while let Some(record) = reader.next_record()? {
+            match record {
+                Fragment::Polygon(_) => {
+                    in_polygon = true;
+                    batch.push(record);
+                }
+                Fragment::Span { .. } | Fragment::Pixel { .. } => {
+                    if !in_polygon {
+                        bail!("frame {frame}: pixels before the frame's first colour record");
+                    }
+                    batch.push(record);
+                }
+                Fragment::NextFrame | Fragment::End => {
+                    let end = record == Fragment::End;
+                    if !batch.is_empty() {
+                        let full = std::mem::replace(&mut batch, Vec::with_capacity(BATCH));
+                        if !send(Message::Batch {
+                            input,
+                            fragments: full,
+                        }) {
+                            return Ok(());
+                        }
+                    }
+                    if !send(Message::Boundary { input, end }) || end {
+                        return Ok(());
+                    }
+                    // Hold here until every input has finished the frame and it is out.
+                    if wait.recv().is_err() {
+                        return Ok(());
+                    }
+                    frame += 1;
+                    in_polygon = false;
+                    continue;
+                }
+            }
+            if batch.len() == BATCH {
+                let full = std::mem::replace(&mut batch, Vec::with_capacity(BATCH));
+                if !send(Message::Batch {
+                    input,
+                    fragments: full,
+                }) {
+                    return Ok(());
+                }
+            }
+        }
+        Ok(())
+    })();
+    if let Err(error) = result {
+        let _ = tx.send(Message::Failed { input, error });
+    }
+}
