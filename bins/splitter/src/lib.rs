@@ -1,1 +1,496 @@
-//! splitter (to be written)
+//! # splitter: the splitter node of thesis chapter 6.2
+//!
+//! A splitter node reads one eye-space polygon stream and writes two: the part of every
+//! polygon on one side of its splitting plane goes to `out1`, the part on the other side
+//! to `out2`. Planes through the eye, x_e = K·a·w and y_e = K·w, are the screen's column
+//! and row boundaries x_s = K and y_s = K, so a binary tree of splitter nodes whose levels
+//! alternate between them deals the screen out to its leaves in rectangles (chapter 6.3).
+//!
+//! Each output is the CSP specification of section 6.2.2 applied to the polygon's closed
+//! vertex sequence. With `side1` the plane's inside, `side2` its outside and `onplane`
+//! neither, the edge (s, p) contributes to out1
+//!
+//! | case | s      | p      | out1             | out2             |
+//! |------|--------|--------|------------------|------------------|
+//! | 1    | side1  | side1  | p                | –                |
+//! | 2    | side2  | side2  | –                | p                |
+//! | 3    | side1  | side2  | I                | I, p             |
+//! | 4    | side2  | side1  | I, p             | I                |
+//! | 5    | any    | on     | p                | p                |
+//! | 6    | on     | side1 / side2 | p (side1) | p (side2)       |
+//!
+//! where I is the edge's intersection with the plane, computed once and sent to both
+//! outputs so that the two pieces share the new edge exactly and render as the whole
+//! polygon did (DESIGN.md's coverage rule). A vertex on the plane goes to both outputs.
+//!
+//! Unlike the occam X.SPLITTER, whose output began at the second vertex and ended with
+//! the first, the edges are walked from (v_{n−1}, v_0) on, so a polygon wholly on one side
+//! comes out with its vertices unchanged and in the same order.
+
+use proto::geometry::{Plane, Side};
+use proto::{Polygon, Vertex, View};
+use std::fmt;
+use std::str::FromStr;
+
+/// The plane a node splits about, as the command line gives it.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum SplitPlane {
+    /// `x=K`: the column boundary x_s = K, the plane x_e = K·a·w. Out1 gets x_e ≤ K·a·w.
+    Column(f64),
+    /// `y=K`: the row boundary y_s = K, the plane y_e = K·w. Out1 gets y_e ≤ K·w.
+    Row(f64),
+    /// `a,b,c,d,k`: the plane a·x_e + b·y_e + c·z_e + d·w + k = 0. Out1 gets the side
+    /// where it is ≥ 0.
+    General(Plane),
+}
+
+impl SplitPlane {
+    /// The half-space whose inside goes to out1, for a stream viewed through `view`
+    /// (whose aspect ratio a places the column planes).
+    pub fn plane(&self, view: &View) -> Plane {
+        match *self {
+            SplitPlane::Column(k) => Plane::column(k, view.aspect),
+            SplitPlane::Row(k) => Plane::row(k),
+            SplitPlane::General(p) => p,
+        }
+    }
+
+    /// Parses the general form `a,b,c,d,k`.
+    pub fn parse_general(s: &str) -> Result<SplitPlane, String> {
+        let parts: Vec<&str> = s.split(',').map(str::trim).collect();
+        if parts.len() != 5 {
+            return Err(format!("expected a,b,c,d,k (five numbers), found `{s}`"));
+        }
+        let mut c = [0.0; 5];
+        for (slot, p) in c.iter_mut().zip(&parts) {
+            *slot = p
+                .parse::<f64>()
+                .ok()
+                .filter(|x| x.is_finite())
+                .ok_or_else(|| format!("`{p}` in `{s}` is not a finite number"))?;
+        }
+        if c[..4].iter().all(|&x| x == 0.0) {
+            return Err(format!("`{s}` is not a plane: a, b, c and d are all zero"));
+        }
+        Ok(SplitPlane::General(Plane::new(
+            proto::DVec4::new(c[0], c[1], c[2], c[3]),
+            c[4],
+        )))
+    }
+}
+
+impl FromStr for SplitPlane {
+    type Err = String;
+
+    /// Parses `x=K` or `y=K` with K in [−1, 1] (the screen runs from −1 to 1).
+    fn from_str(s: &str) -> Result<Self, String> {
+        let (axis, value) = s
+            .split_once('=')
+            .ok_or_else(|| format!("expected x=K or y=K, found `{s}`"))?;
+        let k: f64 = value
+            .trim()
+            .parse()
+            .map_err(|_| format!("`{value}` in `{s}` is not a number"))?;
+        if !(-1.0..=1.0).contains(&k) {
+            return Err(format!(
+                "K = {value} in `{s}` is off the screen (K must be in [-1, 1])"
+            ));
+        }
+        match axis.trim() {
+            "x" | "X" => Ok(SplitPlane::Column(k)),
+            "y" | "Y" => Ok(SplitPlane::Row(k)),
+            other => Err(format!(
+                "unknown axis `{other}` in `{s}` (expected x=K or y=K)"
+            )),
+        }
+    }
+}
+
+impl fmt::Display for SplitPlane {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            SplitPlane::Column(k) => write!(f, "x={k}"),
+            SplitPlane::Row(k) => write!(f, "y={k}"),
+            SplitPlane::General(p) => {
+                write!(f, "{},{},{},{},{}", p.n.x, p.n.y, p.n.z, p.n.w, p.k)
+            }
+        }
+    }
+}
+
+/// Splits `poly` about `plane` (chapter 6.2's f¹ and f²): `out1` receives the part on the
+/// plane's inside, `out2` the part outside; both receive the polygon's colour, and a part
+/// that is empty comes out as a polygon without vertices, so that polygon k stays
+/// polygon k on both branches. The outputs' vertex buffers are reused.
+pub fn split(poly: &Polygon, plane: &Plane, out1: &mut Polygon, out2: &mut Polygon) {
+    out1.colour = poly.colour;
+    out2.colour = poly.colour;
+    out1.vertices.clear();
+    out2.vertices.clear();
+    let n = poly.vertices.len();
+    if n == 0 {
+        return;
+    }
+    // s is the start of the current edge; the first edge is (v_{n−1}, v_0).
+    let mut s = poly.vertices[n - 1];
+    let (mut s_side, mut ds) = plane.classify(s);
+    for &p in &poly.vertices {
+        let (p_side, dp) = plane.classify(p);
+        emit_edge(
+            plane,
+            (s, s_side, ds),
+            (p, p_side, dp),
+            &mut out1.vertices,
+            &mut out2.vertices,
+        );
+        (s, s_side, ds) = (p, p_side, dp);
+    }
+}
+
+/// The contribution of the edge (s, p) to both outputs: the cases of the module table.
+#[inline]
+fn emit_edge(
+    plane: &Plane,
+    (s, s_side, ds): (Vertex, Side, f64),
+    (p, p_side, dp): (Vertex, Side, f64),
+    out1: &mut Vec<Vertex>,
+    out2: &mut Vec<Vertex>,
+) {
+    match (s_side, p_side) {
+        // Case 5: p on the plane belongs to both pieces.
+        (_, Side::On) => {
+            out1.push(p);
+            out2.push(p);
+        }
+        // Cases 1 and 6: p inside, and the edge does not come from the outside.
+        (Side::Inside | Side::On, Side::Inside) => out1.push(p),
+        // Cases 2 and 6: p outside, and the edge does not come from the inside.
+        (Side::Outside | Side::On, Side::Outside) => out2.push(p),
+        // Case 3: leaving the inside. The crossing point closes out1's piece and opens
+        // out2's, which continues with p.
+        (Side::Inside, Side::Outside) => {
+            let i = plane.intersect(s, ds, p, dp);
+            out1.push(i);
+            out2.push(i);
+            out2.push(p);
+        }
+        // Case 4: entering the inside.
+        (Side::Outside, Side::Inside) => {
+            let i = plane.intersect(s, ds, p, dp);
+            out1.push(i);
+            out1.push(p);
+            out2.push(i);
+        }
+    }
+}
+
+/// What a node did, for `--stats`: polygons in, non-empty polygons and vertices out.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct Stats {
+    pub polygons_in: u64,
+    pub polygons_out: [u64; 2],
+    pub vertices_out: [u64; 2],
+}
+
+impl Stats {
+    /// Counts one split.
+    pub fn record(&mut self, out1: &Polygon, out2: &Polygon) {
+        self.polygons_in += 1;
+        for (i, piece) in [out1, out2].into_iter().enumerate() {
+            if !piece.vertices.is_empty() {
+                self.polygons_out[i] += 1;
+            }
+            self.vertices_out[i] += piece.vertices.len() as u64;
+        }
+    }
+}
+
+impl fmt::Display for Stats {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(
+            f,
+            "{} polygons in; out1 {} polygons, {} vertices; out2 {} polygons, {} vertices",
+            self.polygons_in,
+            self.polygons_out[0],
+            self.vertices_out[0],
+            self.polygons_out[1],
+            self.vertices_out[1]
+        )
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use proto::DVec4;
+
+    /// An eye-space vertex at depth z_e = 16 of the default camera (w = 10), so that the
+    /// plane x=0 is x_e = 0 and y=0.5 is y_e = 5.
+    fn v(x: f64, y: f64) -> Vertex {
+        DVec4::new(x, y, 16.0, 10.0)
+    }
+
+    fn poly(points: &[(f64, f64)]) -> Polygon {
+        Polygon::new([1, 2, 3], points.iter().map(|&(x, y)| v(x, y)).collect())
+    }
+
+    fn run(points: &[(f64, f64)], plane: Plane) -> (Vec<Vertex>, Vec<Vertex>) {
+        let mut a = Polygon::default();
+        let mut b = Polygon::default();
+        split(&poly(points), &plane, &mut a, &mut b);
+        assert_eq!(a.colour, [1, 2, 3]);
+        assert_eq!(b.colour, [1, 2, 3]);
+        (a.vertices, b.vertices)
+    }
+
+    fn x0() -> Plane {
+        Plane::column(0.0, 1.0)
+    }
+
+    #[test]
+    fn case_1_and_2_wholly_on_one_side() {
+        // Inside (x_e ≤ 0): everything to out1, unchanged; out2 gets an empty polygon.
+        let tri = [(-3.0, 0.0), (-1.0, 4.0), (-2.0, -2.0)];
+        let (a, b) = run(&tri, x0());
+        assert_eq!(a, vec![v(-3.0, 0.0), v(-1.0, 4.0), v(-2.0, -2.0)]);
+        assert!(b.is_empty());
+        let tri = [(3.0, 0.0), (1.0, 4.0), (2.0, -2.0)];
+        let (a, b) = run(&tri, x0());
+        assert!(a.is_empty());
+        assert_eq!(b, vec![v(3.0, 0.0), v(1.0, 4.0), v(2.0, -2.0)]);
+    }
+
+    #[test]
+    fn case_3_and_4_crossing_each_way() {
+        // A square straddling x_e = 0: edges cross inside → outside at the top and
+        // outside → inside at the bottom.
+        let square = [(-2.0, -2.0), (-2.0, 2.0), (2.0, 2.0), (2.0, -2.0)];
+        let (a, b) = run(&square, x0());
+        // Edge (v3, v0) enters the inside at (0, −2); edge (v1, v2) leaves at (0, 2).
+        assert_eq!(
+            a,
+            vec![v(0.0, -2.0), v(-2.0, -2.0), v(-2.0, 2.0), v(0.0, 2.0)]
+        );
+        assert_eq!(
+            b,
+            vec![v(0.0, -2.0), v(0.0, 2.0), v(2.0, 2.0), v(2.0, -2.0)]
+        );
+    }
+
+    #[test]
+    fn case_5_and_6_vertices_on_the_plane() {
+        // A diamond with its top and bottom vertices on x_e = 0: no intersection is
+        // made; the two on-plane vertices go to both sides.
+        let diamond = [(0.0, -3.0), (-3.0, 0.0), (0.0, 3.0), (3.0, 0.0)];
+        let (a, b) = run(&diamond, x0());
+        assert_eq!(a, vec![v(0.0, -3.0), v(-3.0, 0.0), v(0.0, 3.0)]);
+        assert_eq!(b, vec![v(0.0, -3.0), v(0.0, 3.0), v(3.0, 0.0)]);
+    }
+
+    #[test]
+    fn touching_the_plane_from_one_side() {
+        // One vertex on the plane, the rest inside: out2 gets the lone on-plane vertex
+        // (a degenerate polygon, which the scan converter discards).
+        let tri = [(0.0, 0.0), (-2.0, 3.0), (-2.0, -3.0)];
+        let (a, b) = run(&tri, x0());
+        assert_eq!(a, vec![v(0.0, 0.0), v(-2.0, 3.0), v(-2.0, -3.0)]);
+        assert_eq!(b, vec![v(0.0, 0.0)]);
+        // An edge lying in the plane: both ends go to both sides.
+        let tri = [(0.0, -2.0), (0.0, 2.0), (2.0, 0.0)];
+        let (a, b) = run(&tri, x0());
+        assert_eq!(a, vec![v(0.0, -2.0), v(0.0, 2.0)]);
+        assert_eq!(b, vec![v(0.0, -2.0), v(0.0, 2.0), v(2.0, 0.0)]);
+    }
+
+    #[test]
+    fn row_plane_at_one_half() {
+        // y=0.5 is y_e = 0.5·w = 5 at this depth. Out1 gets y_e ≤ 5.
+        let tri = [(0.0, 0.0), (4.0, 8.0), (-4.0, 8.0)];
+        let (a, b) = run(&tri, Plane::row(0.5));
+        // Edge (v2, v0) enters the inside at (−2.5, 5); edge (v0, v1) leaves at (2.5, 5).
+        assert_eq!(a, vec![v(-2.5, 5.0), v(0.0, 0.0), v(2.5, 5.0)]);
+        assert_eq!(
+            b,
+            vec![v(-2.5, 5.0), v(2.5, 5.0), v(4.0, 8.0), v(-4.0, 8.0)]
+        );
+    }
+
+    #[test]
+    fn degenerate_polygons() {
+        let (a, b) = run(&[], x0());
+        assert!(a.is_empty() && b.is_empty());
+        let (a, b) = run(&[(1.0, 1.0)], x0());
+        assert!(a.is_empty());
+        assert_eq!(b, vec![v(1.0, 1.0)]);
+        let (a, b) = run(&[(-1.0, 1.0), (1.0, 1.0)], x0());
+        assert_eq!(a, vec![v(0.0, 1.0), v(-1.0, 1.0), v(0.0, 1.0)]);
+        assert_eq!(b, vec![v(0.0, 1.0), v(0.0, 1.0), v(1.0, 1.0)]);
+    }
+
+    #[test]
+    fn buffers_are_reused_and_cleared() {
+        let mut a = Polygon::default();
+        let mut b = Polygon::default();
+        split(
+            &poly(&[(-1.0, 0.0), (-1.0, 1.0), (-2.0, 0.0)]),
+            &x0(),
+            &mut a,
+            &mut b,
+        );
+        split(
+            &poly(&[(1.0, 0.0), (1.0, 1.0), (2.0, 0.0)]),
+            &x0(),
+            &mut a,
+            &mut b,
+        );
+        assert!(a.vertices.is_empty());
+        assert_eq!(b.vertices.len(), 3);
+    }
+
+    #[test]
+    fn plane_arguments() {
+        assert_eq!("x=0".parse::<SplitPlane>(), Ok(SplitPlane::Column(0.0)));
+        assert_eq!("y=-0.5".parse::<SplitPlane>(), Ok(SplitPlane::Row(-0.5)));
+        assert!("x=1.5"
+            .parse::<SplitPlane>()
+            .unwrap_err()
+            .contains("[-1, 1]"));
+        assert!("z=0".parse::<SplitPlane>().is_err());
+        assert!("x".parse::<SplitPlane>().is_err());
+        assert!("x=nan".parse::<SplitPlane>().is_err());
+        let view = View {
+            aspect: 2.0,
+            ..View::default()
+        };
+        assert_eq!(
+            SplitPlane::Column(0.5).plane(&view),
+            Plane::column(0.5, 2.0)
+        );
+        assert_eq!(
+            SplitPlane::parse_general("1,0,0,-2,0.5")
+                .unwrap()
+                .plane(&view),
+            Plane::new(DVec4::new(1.0, 0.0, 0.0, -2.0), 0.5)
+        );
+        assert!(SplitPlane::parse_general("0,0,0,0,1").is_err());
+        assert!(SplitPlane::parse_general("1,2,3").is_err());
+    }
+
+    #[test]
+    fn stats_count_non_empty_pieces() {
+        let mut stats = Stats::default();
+        let mut a = Polygon::default();
+        let mut b = Polygon::default();
+        split(
+            &poly(&[(-2.0, -2.0), (-2.0, 2.0), (2.0, 2.0), (2.0, -2.0)]),
+            &x0(),
+            &mut a,
+            &mut b,
+        );
+        stats.record(&a, &b);
+        split(
+            &poly(&[(-1.0, 0.0), (-1.0, 1.0), (-2.0, 0.0)]),
+            &x0(),
+            &mut a,
+            &mut b,
+        );
+        stats.record(&a, &b);
+        assert_eq!(
+            stats,
+            Stats {
+                polygons_in: 2,
+                polygons_out: [2, 1],
+                vertices_out: [7, 4]
+            }
+        );
+    }
+}
+
+#[cfg(test)]
+mod properties {
+    use super::*;
+    use proptest::prelude::*;
+    use proto::DVec4;
+
+    /// A random convex polygon: points on an ellipse at sorted angles, at one depth
+    /// z_e (so that its area in x_e, y_e is its area on the screen, scaled by w).
+    fn convex() -> impl Strategy<Value = Polygon> {
+        (
+            -6.0..6.0f64,
+            -6.0..6.0f64,
+            0.5..8.0f64,
+            0.5..8.0f64,
+            1.5..29.0f64,
+            prop::collection::vec(0.0..std::f64::consts::TAU, 3..12),
+        )
+            .prop_map(|(cx, cy, rx, ry, z, mut angles)| {
+                angles.sort_by(f64::total_cmp);
+                angles.dedup();
+                let w = z * 10.0 / 16.0;
+                Polygon::new(
+                    [9, 9, 9],
+                    angles
+                        .iter()
+                        .map(|t| DVec4::new(cx + rx * t.cos(), cy + ry * t.sin(), z, w))
+                        .collect(),
+                )
+            })
+    }
+
+    fn planes() -> impl Strategy<Value = Plane> {
+        prop_oneof![
+            (-1.0..=1.0f64, 0.5..2.0f64).prop_map(|(k, a)| Plane::column(k, a)),
+            (-1.0..=1.0f64).prop_map(Plane::row),
+            // Exactly on the dyadic planes a splitter tree uses.
+            (0..9i32).prop_map(|i| Plane::column(i as f64 / 4.0 - 1.0, 1.0)),
+            (
+                -1.0..1.0f64,
+                -1.0..1.0f64,
+                -0.2..0.2f64,
+                -1.0..1.0f64,
+                -1.0..1.0f64
+            )
+                .prop_map(|(a, b, c, d, k)| Plane::new(DVec4::new(a, b, c, d), k)),
+        ]
+    }
+
+    /// Twice the signed area in (x_e, y_e).
+    fn area2(vs: &[Vertex]) -> f64 {
+        let n = vs.len();
+        (0..n)
+            .map(|i| {
+                let (p, q) = (vs[i], vs[(i + 1) % n]);
+                p.x * q.y - q.x * p.y
+            })
+            .sum()
+    }
+
+    proptest! {
+        #[test]
+        fn pieces_lie_on_their_sides_and_their_areas_add_up(
+            poly in convex(),
+            plane in planes(),
+        ) {
+            let mut a = Polygon::default();
+            let mut b = Polygon::default();
+            split(&poly, &plane, &mut a, &mut b);
+            for v in &a.vertices {
+                prop_assert_ne!(plane.classify(*v).0, Side::Outside, "{:?} in out1", v);
+            }
+            let other = plane.flipped();
+            for v in &b.vertices {
+                prop_assert_ne!(other.classify(*v).0, Side::Outside, "{:?} in out2", v);
+            }
+            let whole = area2(&poly.vertices);
+            let sum = area2(&a.vertices) + area2(&b.vertices);
+            let scale = poly.vertices.iter().map(|v| v.x.abs() + v.y.abs()).fold(1.0, f64::max);
+            prop_assert!(
+                (whole - sum).abs() <= 1e-12 * scale * scale * poly.vertices.len() as f64,
+                "whole {} pieces {}", whole, sum
+            );
+            // A piece of a convex polygon has at most one vertex more than the whole.
+            prop_assert!(a.vertices.len() <= poly.vertices.len() + 1);
+            prop_assert!(b.vertices.len() <= poly.vertices.len() + 1);
+        }
+    }
+}
