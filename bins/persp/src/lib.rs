@@ -1,1 +1,218 @@
-//! persp (to be written)
+//! # persp: the perspective division and device mapping, eye → screen
+//!
+//! After clipping every vertex is in front of the eye (w > 0) and inside the pyramid.
+//! Dividing by w puts it on the screen (x_s = x_e/(a·w), y_s = y_e/w, both in [−1, 1]),
+//! and the device mapping turns that into pixel units of a W×H screen, row 0 at the top
+//! (DESIGN.md, "Conventions"). Both are [`proto::camera::Device`]'s; this crate chooses
+//! the depth and checks that the screen is the one the stream was viewed for.
+//!
+//! Depth: the occam code (thesis Appendix 4) passes z_e on, which is exact at the
+//! vertices but not linear across the screen, so interpolating it in the scan converter
+//! is wrong inside a polygon. The projective depth z_s = (1 − K1/z_e)·K2/(K2 − K1) is an
+//! affine function of 1/z_e, hence of screen position on any plane: it interpolates
+//! exactly. Both are kept so the difference can be measured.
+
+use proto::camera::Device;
+use proto::{Polygon, Vertex, View};
+
+/// What `persp` writes as a vertex's depth.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
+pub enum DepthMode {
+    /// z_s = (1 − K1/z_e)·K2/(K2 − K1): 0 at hither, 1 at yon, linear on the screen.
+    Projective,
+    /// z_e itself, as the thesis's occam code does.
+    EyeZ,
+}
+
+/// The aspect ratio written for people: at most three decimals, no trailing zeros.
+fn short(a: f64) -> String {
+    format!("{}", (a * 1000.0).round() / 1000.0)
+}
+
+/// The eye → screen mapping of one `persp` stage.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Perspective {
+    pub device: Device,
+    pub depth: DepthMode,
+}
+
+/// A vertex that cannot be projected: its index in the polygon and why.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Unprojectable {
+    pub vertex: usize,
+    pub reason: String,
+}
+
+impl Perspective {
+    /// The mapping for a `width`×`height` screen and the view volume of the eye-space
+    /// stream. The screen's W/H must be the aspect ratio the stream was viewed (and
+    /// clipped) with, or the picture would be stretched and the clipped edges would not
+    /// meet the screen's edges.
+    pub fn new(width: u32, height: u32, view: View, depth: DepthMode) -> Result<Self, String> {
+        let aspect = width as f64 / height as f64;
+        if (aspect - view.aspect).abs() > 1e-9 * view.aspect {
+            return Err(format!(
+                "--size {width}x{height} has aspect {} but the stream was viewed with aspect {}; \
+                 give viewxf --size {width}x{height}",
+                short(aspect),
+                short(view.aspect)
+            ));
+        }
+        Ok(Perspective {
+            device: Device {
+                width,
+                height,
+                view,
+            },
+            depth,
+        })
+    }
+
+    /// Eye `(x_e, y_e, z_e, w)` → screen `(X, Y, depth, 1)`, for w > 0.
+    #[inline]
+    pub fn project_vertex(&self, v: Vertex) -> Vertex {
+        let (x, y) = self.device.project(v);
+        let depth = match self.depth {
+            DepthMode::Projective => self.device.projective_depth(v.z),
+            DepthMode::EyeZ => v.z,
+        };
+        Vertex::new(x, y, depth, 1.0)
+    }
+
+    /// Projects a polygon in place. A vertex at or behind the eye (w ≤ 0) has no image:
+    /// the polygon is left untouched and the offending vertex named.
+    pub fn project_polygon(&self, poly: &mut Polygon) -> Result<(), Unprojectable> {
+        // Check first, so a refused polygon is not half projected.
+        for (i, v) in poly.vertices.iter().enumerate() {
+            if !(v.w > 0.0) {
+                return Err(Unprojectable {
+                    vertex: i,
+                    reason: format!(
+                        "vertex {i} ({} {} {} {}) has w = {} ≤ 0, at or behind the eye, \
+                         and cannot be projected; clip against hither first (clipplane hither)",
+                        v.x, v.y, v.z, v.w, v.w
+                    ),
+                });
+            }
+        }
+        for (i, v) in poly.vertices.iter_mut().enumerate() {
+            let p = self.project_vertex(*v);
+            if !p.is_finite() {
+                return Err(Unprojectable {
+                    vertex: i,
+                    reason: format!(
+                        "vertex {i} ({} {} {} {}) projects to {:?}: z_e and w disagree \
+                         (w should be z_e·s/d)",
+                        v.x,
+                        v.y,
+                        v.z,
+                        v.w,
+                        p.to_array()
+                    ),
+                });
+            }
+            *v = p;
+        }
+        Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use proptest::prelude::*;
+    use proto::DVec4;
+
+    fn view(aspect: f64, hither: f64, yon: f64) -> View {
+        View {
+            aspect,
+            hither,
+            yon,
+        }
+    }
+
+    #[test]
+    fn corners_of_the_pyramid_map_to_corners_of_the_screen() {
+        let p = Perspective::new(
+            640,
+            480,
+            view(640.0 / 480.0, 2.0, 4.0),
+            DepthMode::Projective,
+        )
+        .unwrap();
+        let a = 640.0 / 480.0;
+        // Top-left corner of the pyramid at z_e = 4 (w = 2.5): x_e = −a·w, y_e = w.
+        let v = p.project_vertex(DVec4::new(-a * 2.5, 2.5, 4.0, 2.5));
+        assert_eq!(v, DVec4::new(0.0, 0.0, 1.0, 1.0));
+        // The centre at the hither plane: depth 0.
+        let v = p.project_vertex(DVec4::new(0.0, 0.0, 2.0, 1.25));
+        assert_eq!(v, DVec4::new(320.0, 240.0, 0.0, 1.0));
+        // z_e = 3.2: (1 − 2/3.2)·4/2 = 0.75.
+        assert_eq!(p.project_vertex(DVec4::new(0.0, 0.0, 3.2, 2.0)).z, 0.75);
+    }
+
+    #[test]
+    fn eye_z_mode_passes_z_e() {
+        let p = Perspective::new(100, 100, View::default(), DepthMode::EyeZ).unwrap();
+        assert_eq!(
+            p.project_vertex(DVec4::new(5.0, -5.0, 16.0, 10.0)),
+            DVec4::new(75.0, 75.0, 16.0, 1.0)
+        );
+    }
+
+    #[test]
+    fn aspect_mismatch_is_refused() {
+        let err = Perspective::new(640, 480, View::default(), DepthMode::Projective).unwrap_err();
+        assert_eq!(
+            err,
+            "--size 640x480 has aspect 1.333 but the stream was viewed with aspect 1; \
+             give viewxf --size 640x480"
+        );
+        // 1e-9 relative slack: an aspect written as decimal text still matches.
+        assert!(Perspective::new(640, 480, view(1.3333333333, 1.0, 30.0), DepthMode::EyeZ).is_ok());
+    }
+
+    #[test]
+    fn behind_the_eye_is_refused_untouched() {
+        let p = Perspective::new(10, 10, View::default(), DepthMode::Projective).unwrap();
+        let mut poly = Polygon::new(
+            [1, 2, 3],
+            vec![
+                DVec4::new(0.0, 0.0, 16.0, 10.0),
+                DVec4::new(0.0, 0.0, 0.0, 0.0),
+            ],
+        );
+        let before = poly.clone();
+        let err = p.project_polygon(&mut poly).unwrap_err();
+        assert_eq!(err.vertex, 1);
+        assert_eq!(poly, before);
+    }
+
+    proptest! {
+        /// Projective depth is monotonic in z_e and 0..1 over hither..yon.
+        #[test]
+        fn projective_depth_orders_like_z_e(
+            z1 in 1.0..30.0f64, z2 in 1.0..30.0f64,
+        ) {
+            let p = Perspective::new(500, 500, View::default(), DepthMode::Projective).unwrap();
+            let d = |z: f64| p.project_vertex(DVec4::new(0.0, 0.0, z, z * 0.625)).z;
+            prop_assert!((0.0..=1.0).contains(&d(z1)));
+            if z1 < z2 { prop_assert!(d(z1) <= d(z2)); }
+        }
+
+        /// A point inside the pyramid lands on the screen, 0 ≤ X ≤ W, 0 ≤ Y ≤ H.
+        #[test]
+        fn inside_the_pyramid_is_on_the_screen(
+            xs in -1.0..=1.0f64, ys in -1.0..=1.0f64, z in 1.0..30.0f64,
+            w in 1u32..2000, h in 1u32..2000,
+        ) {
+            let a = w as f64 / h as f64;
+            let p = Perspective::new(w, h, view(a, 1.0, 30.0), DepthMode::Projective).unwrap();
+            let wv = z * 0.625;
+            let v = p.project_vertex(DVec4::new(xs * a * wv, ys * wv, z, wv));
+            let slack = 1e-9 * (w.max(h) as f64);
+            prop_assert!(v.x >= -slack && v.x <= w as f64 + slack);
+            prop_assert!(v.y >= -slack && v.y <= h as f64 + slack);
+        }
+    }
+}
