@@ -1,0 +1,322 @@
+//! The splitter binary on exact text streams: what each output receives, and how it
+//! refuses bad arguments and bad input.
+
+use assert_cmd::Command;
+use std::path::PathBuf;
+
+/// A fresh directory for one test's output files.
+fn scratch(name: &str) -> PathBuf {
+    let dir = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join(format!("splitter-{name}"));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    dir
+}
+
+/// Eye space of the default camera at z_e = 16 (w = 10): x=0 is x_e = 0, y=0.5 is
+/// y_e = 5. A square cut by x=0, a diamond with two vertices on it, a triangle wholly
+/// left of it; a second frame with a triangle cut by y=0.5.
+const EYE: &str = "polypipe 1 eye aspect 1 hither 1 yon 30
+colour 255 0 0
+-2 -2 16 10
+-2 2 16 10
+2 2 16 10
+2 -2 16 10
+NEXT.POLYGON
+colour 0 255 0
+0 -3 16 10
+-3 0 16 10
+0 3 16 10
+3 0 16 10
+NEXT.POLYGON
+colour 0 0 255
+-3 0 16 10
+-1 4 16 10
+-2 -2 16 10
+NEXT.FRAME
+colour 7 7 7
+0 0 16 10
+4 8 16 10
+-4 8 16 10
+END
+";
+
+/// Runs `splitter ARGS… OUT1 OUT2 --text` and returns both outputs' text.
+fn split(name: &str, args: &[&str]) -> (String, String) {
+    let dir = scratch(name);
+    let (a, b) = (dir.join("out1"), dir.join("out2"));
+    Command::cargo_bin("splitter")
+        .unwrap()
+        .args(args)
+        .arg(&a)
+        .arg(&b)
+        .arg("--text")
+        .write_stdin(EYE)
+        .assert()
+        .success()
+        .stderr("");
+    (
+        std::fs::read_to_string(a).unwrap(),
+        std::fs::read_to_string(b).unwrap(),
+    )
+}
+
+#[test]
+fn splits_about_x_0() {
+    let (out1, out2) = split("x0", &["x=0"]);
+    assert_eq!(
+        out1,
+        "polypipe 1 eye aspect 1 hither 1 yon 30
+colour 255 0 0
+0 -2 16 10
+-2 -2 16 10
+-2 2 16 10
+0 2 16 10
+NEXT.POLYGON
+colour 0 255 0
+0 -3 16 10
+-3 0 16 10
+0 3 16 10
+NEXT.POLYGON
+colour 0 0 255
+-3 0 16 10
+-1 4 16 10
+-2 -2 16 10
+NEXT.FRAME
+colour 7 7 7
+0 0 16 10
+0 8 16 10
+-4 8 16 10
+END
+"
+    );
+    assert_eq!(
+        out2,
+        "polypipe 1 eye aspect 1 hither 1 yon 30
+colour 255 0 0
+0 -2 16 10
+0 2 16 10
+2 2 16 10
+2 -2 16 10
+NEXT.POLYGON
+colour 0 255 0
+0 -3 16 10
+0 3 16 10
+3 0 16 10
+NEXT.POLYGON
+colour 0 0 255
+NEXT.FRAME
+colour 7 7 7
+0 0 16 10
+4 8 16 10
+0 8 16 10
+END
+"
+    );
+}
+
+#[test]
+fn splits_about_y_one_half() {
+    let (out1, out2) = split("y05", &["y=0.5"]);
+    // y_e = 5 lies above the whole first frame (out2 gets three empty polygons); it cuts
+    // the triangle of the second frame at (±2.5, 5).
+    assert_eq!(
+        out1,
+        "polypipe 1 eye aspect 1 hither 1 yon 30
+colour 255 0 0
+-2 -2 16 10
+-2 2 16 10
+2 2 16 10
+2 -2 16 10
+NEXT.POLYGON
+colour 0 255 0
+0 -3 16 10
+-3 0 16 10
+0 3 16 10
+3 0 16 10
+NEXT.POLYGON
+colour 0 0 255
+-3 0 16 10
+-1 4 16 10
+-2 -2 16 10
+NEXT.FRAME
+colour 7 7 7
+-2.5 5 16 10
+0 0 16 10
+2.5 5 16 10
+END
+"
+    );
+    assert_eq!(
+        out2,
+        "polypipe 1 eye aspect 1 hither 1 yon 30
+colour 255 0 0
+NEXT.POLYGON
+colour 0 255 0
+NEXT.POLYGON
+colour 0 0 255
+NEXT.FRAME
+colour 7 7 7
+-2.5 5 16 10
+2.5 5 16 10
+4 8 16 10
+-4 8 16 10
+END
+"
+    );
+}
+
+#[test]
+fn a_general_plane_and_stdout() {
+    // 1·x_e + 0 + 0 − 0.1·w + 0 ≥ 0: x_e ≥ 1 at w = 10, to stdout (OUT1 = -).
+    let dir = scratch("general");
+    let b = dir.join("out2");
+    Command::cargo_bin("splitter")
+        .unwrap()
+        .args(["--plane", "1,0,0,-0.1,0", "-"])
+        .arg(&b)
+        .args(["--text", "--stats"])
+        .write_stdin(
+            "polypipe 1 eye aspect 1 hither 1 yon 30\ncolour 1 2 3\n0 0 16 10\n2 0 16 10\n2 2 16 10\nEND\n",
+        )
+        .assert()
+        .success()
+        .stdout(
+            "polypipe 1 eye aspect 1 hither 1 yon 30\ncolour 1 2 3\n1 1 16 10\n1 0 16 10\n2 0 16 10\n2 2 16 10\nEND\n",
+        )
+        .stderr(
+            "splitter 1,0,0,-0.1,0: 1 polygons in; out1 1 polygons, 4 vertices; out2 1 polygons, 3 vertices\n",
+        );
+    assert_eq!(
+        std::fs::read_to_string(b).unwrap(),
+        "polypipe 1 eye aspect 1 hither 1 yon 30\ncolour 1 2 3\n1 1 16 10\n0 0 16 10\n1 0 16 10\nEND\n"
+    );
+}
+
+#[test]
+fn column_planes_use_the_aspect_ratio() {
+    // a = 2: x=0.5 is x_e = 0.5·2·w = 10 at w = 10.
+    let dir = scratch("aspect");
+    let b = dir.join("out2");
+    Command::cargo_bin("splitter")
+        .unwrap()
+        .args(["x=0.5", "-"])
+        .arg(&b)
+        .arg("--text")
+        .write_stdin(
+            "polypipe 1 eye aspect 2 hither 1 yon 30\ncolour 1 2 3\n8 0 16 10\n12 0 16 10\n12 4 16 10\nEND\n",
+        )
+        .assert()
+        .success()
+        .stdout(
+            "polypipe 1 eye aspect 2 hither 1 yon 30\ncolour 1 2 3\n10 2 16 10\n8 0 16 10\n10 0 16 10\nEND\n",
+        );
+    assert_eq!(
+        std::fs::read_to_string(b).unwrap(),
+        "polypipe 1 eye aspect 2 hither 1 yon 30\ncolour 1 2 3\n10 2 16 10\n10 0 16 10\n12 0 16 10\n12 4 16 10\nEND\n"
+    );
+}
+
+#[test]
+fn binary_output_reads_back_as_the_text() {
+    let dir = scratch("binary");
+    let (a, b) = (dir.join("a.bin"), dir.join("b.bin"));
+    Command::cargo_bin("splitter")
+        .unwrap()
+        .arg("x=0")
+        .arg(&a)
+        .arg(&b)
+        .write_stdin(EYE)
+        .assert()
+        .success();
+    let bin = std::fs::read(&a).unwrap();
+    assert_eq!(bin[0], 0x89, "binary by default");
+    // Splitting out1 again at the same plane changes nothing and sends nothing across.
+    Command::cargo_bin("splitter")
+        .unwrap()
+        .args(["x=0", "-"])
+        .arg(dir.join("c"))
+        .arg("--text")
+        .write_stdin(bin)
+        .assert()
+        .success()
+        .stdout(split("binary-text", &["x=0"]).0);
+}
+
+#[test]
+fn k_off_the_screen_is_a_usage_error() {
+    for plane in ["x=1.5", "y=-1.01", "x=nan"] {
+        Command::cargo_bin("splitter")
+            .unwrap()
+            .args([plane, "a", "b"])
+            .write_stdin(EYE)
+            .assert()
+            .code(2)
+            .stderr(predicates::str::contains(plane));
+    }
+    Command::cargo_bin("splitter")
+        .unwrap()
+        .args(["x=1.5", "a", "b"])
+        .assert()
+        .code(2)
+        .stderr(predicates::str::contains("K must be in [-1, 1]"));
+}
+
+#[test]
+fn other_bad_arguments() {
+    let cases: &[&[&str]] = &[
+        &["z=0", "a", "b"],
+        &["x=0", "a"],
+        &["x=0", "-", "-"],
+        &["--plane", "1,0,0", "a", "b"],
+        &["--plane", "1,0,0,0,0", "x=0", "a", "b"],
+    ];
+    for args in cases {
+        Command::cargo_bin("splitter")
+            .unwrap()
+            .args(*args)
+            .write_stdin(EYE)
+            .assert()
+            .code(2);
+    }
+}
+
+#[test]
+fn world_space_input_is_refused() {
+    let dir = scratch("world");
+    Command::cargo_bin("splitter")
+        .unwrap()
+        .arg("x=0")
+        .arg(dir.join("a"))
+        .arg(dir.join("b"))
+        .write_stdin("polypipe 1 world\ncolour 1 2 3\n0 0 0\n1 0 0\n0 1 0\nEND\n")
+        .assert()
+        .code(1)
+        .stdout("")
+        .stderr("splitter: input is world-space, expected eye-space; put viewxf first\n");
+}
+
+#[test]
+fn bad_input_is_located_and_finished_frames_are_kept() {
+    let dir = scratch("bad");
+    let (a, b) = (dir.join("a"), dir.join("b"));
+    Command::cargo_bin("splitter")
+        .unwrap()
+        .arg("x=0")
+        .arg(&a)
+        .arg(&b)
+        .arg("--text")
+        .write_stdin(
+            "polypipe 1 eye aspect 1 hither 1 yon 30\ncolour 1 2 3\n-1 0 16 10\nNEXT.FRAME\ncolour 1 2 3\n1 0 16\n",
+        )
+        .assert()
+        .code(1)
+        .stderr(predicates::str::starts_with("splitter: line 6"));
+    assert_eq!(
+        std::fs::read_to_string(a).unwrap(),
+        "polypipe 1 eye aspect 1 hither 1 yon 30\ncolour 1 2 3\n-1 0 16 10\nNEXT.FRAME\n"
+    );
+    assert_eq!(
+        std::fs::read_to_string(b).unwrap(),
+        "polypipe 1 eye aspect 1 hither 1 yon 30\ncolour 1 2 3\nNEXT.FRAME\n"
+    );
+}
