@@ -1,1 +1,436 @@
-//! zspec (to be written)
+//! zspec: the exact reference renderer, DESIGN.md's rules evaluated directly.
+//!
+//! The pipeline reaches its pictures through clipping (chapter 3), perspective, an edge
+//! table scan converter (chapter 4, Appendix 3) and a depth buffer with fixed-point depth
+//! (chapter 2.3's Z-buffer). zspec shares none of those algorithms: it is the *Z spec*
+//! of chapter 2.3 written out literally, in f64, one pixel centre at a time:
+//!
+//! * a polygon covers pixel (c, r) iff the centre (c+½, r+½) is inside its projection by
+//!   the even-odd rule with the top-left rule for centres on an edge (the crossing
+//!   arithmetic is [`proto::raster::Edge`], so both renderers decide on-edge centres
+//!   bit for bit alike);
+//! * its depth there is the z_e where the ray from the eye through the centre meets the
+//!   polygon's (Newell) plane, and it counts only when K1 ≤ z_e ≤ K2 (the hither/yon clip;
+//!   the side planes of the pyramid are the screen's edges);
+//! * the smallest z_e wins; at equal z_e the polygon earlier in the stream wins.
+//!
+//! Polygons that reach behind the hither plane are first cut at z_e = K1, so that every
+//! vertex projected lies in front of the eye. The cut removes only points that the depth
+//! test would reject anyway, so it changes no pixel.
+
+use anyhow::{bail, Context};
+use proto::camera::{Device, EyeFrame};
+use proto::geometry::newell_plane;
+use proto::raster::{centres_in_clamped, Edge};
+use proto::{Colour, DVec2, DVec3, DVec4, Polygon, View};
+use std::io::{self, BufRead, Write};
+
+/// A polygon made ready for the per-pixel tests: its colour, its eye-space plane and its
+/// non-horizontal screen edges.
+struct Prepared {
+    colour: Colour,
+    /// Newell's plane a·x_e + b·y_e + c·z_e + d = 0 of the eye-space vertices.
+    plane: DVec4,
+    edges: Vec<Edge>,
+    /// Screen bounding box, (min, max).
+    min: DVec2,
+    max: DVec2,
+}
+
+/// Cuts an eye-space polygon to the half-space z_e ≥ K1 (one plane, inline: each edge
+/// keeps its inside end and gains the crossing point when it leaves or enters).
+/// A polygon wholly in front of the plane comes back unchanged, bit for bit.
+fn cut_at_hither(vertices: &[DVec4], k1: f64) -> Vec<DVec4> {
+    if vertices.iter().all(|v| v.z >= k1) {
+        return vertices.to_vec();
+    }
+    let n = vertices.len();
+    let mut out = Vec::with_capacity(n + 2);
+    for i in 0..n {
+        let a = vertices[i];
+        let b = vertices[(i + 1) % n];
+        if a.z >= k1 {
+            out.push(a);
+        }
+        if (a.z >= k1) != (b.z >= k1) {
+            // The parameter where z_e = K1 along a→b; w is linear in z_e, so it
+            // interpolates with the other coordinates.
+            let t = (k1 - a.z) / (b.z - a.z);
+            let mut p = a + (b - a) * t;
+            p.z = k1;
+            out.push(p);
+        }
+    }
+    out
+}
+
+/// The reference's view of one frame: camera, view volume and screen.
+#[derive(Clone, Copy, Debug)]
+pub struct Setup {
+    pub frame: EyeFrame,
+    pub view: View,
+    pub width: u32,
+    pub height: u32,
+}
+
+impl Setup {
+    pub fn new(frame: EyeFrame, view: View, width: u32, height: u32) -> Self {
+        Setup {
+            frame,
+            view,
+            width,
+            height,
+        }
+    }
+
+    fn device(&self) -> Device {
+        Device {
+            width: self.width,
+            height: self.height,
+            view: self.view,
+        }
+    }
+
+    /// Eye-space vertices, hither cut, projection and plane of a world-space polygon;
+    /// `None` for a polygon that can cover no pixel (fewer than three vertices, no area,
+    /// nothing in front of the hither plane).
+    fn prepare(&self, poly: &Polygon) -> Option<Prepared> {
+        if poly.vertices.len() < 3 {
+            return None;
+        }
+        let eye: Vec<DVec4> = poly
+            .vertices
+            .iter()
+            .map(|v| self.frame.to_eye(v.truncate()))
+            .collect();
+        let eye3: Vec<DVec3> = eye.iter().map(|v| v.truncate()).collect();
+        let plane = newell_plane(&eye3);
+        if plane.truncate() == DVec3::ZERO {
+            return None;
+        }
+        let front = cut_at_hither(&eye, self.view.hither);
+        if front.len() < 3 {
+            return None;
+        }
+        let device = self.device();
+        let points: Vec<DVec2> = front
+            .iter()
+            .map(|&v| {
+                let (x, y) = device.project(v);
+                DVec2::new(x, y)
+            })
+            .collect();
+        let mut min = DVec2::splat(f64::INFINITY);
+        let mut max = DVec2::splat(f64::NEG_INFINITY);
+        for p in &points {
+            min = min.min(*p);
+            max = max.max(*p);
+        }
+        let n = points.len();
+        let edges = (0..n)
+            .filter_map(|i| Edge::new(points[i], points[(i + 1) % n]))
+            .collect();
+        Some(Prepared {
+            colour: poly.colour,
+            plane,
+            edges,
+            min,
+            max,
+        })
+    }
+
+    /// The direction of the ray from the eye through device point (X, Y), scaled to
+    /// z_e = 1: x_s = 2X/W − 1, y_s = 1 − 2Y/H, and a point of the ray at depth z_e has
+    /// x_e = x_s·a·w, y_e = y_s·w with w = z_e·s/d.
+    #[inline]
+    fn ray(&self, x: f64, y: f64) -> DVec3 {
+        let xs = 2.0 * x / self.width as f64 - 1.0;
+        let ys = 1.0 - 2.0 * y / self.height as f64;
+        let k = self.frame.w_per_z;
+        DVec3::new(xs * self.view.aspect * k, ys * k, 1.0)
+    }
+
+    /// Calls `f(column, row, z_e)` for every pixel whose centre the polygon covers and
+    /// whose depth lies in the view volume.
+    fn for_each_covered(&self, p: &Prepared, mut f: impl FnMut(u32, u32, f64)) {
+        let rows = centres_in_clamped(p.min.y, p.max.y, self.height);
+        // One pixel of slack either side: a crossing evaluated from an edge's top end can
+        // round past the box of the vertices; the inside test below is exact anyway.
+        let cols = centres_in_clamped(p.min.x - 1.0, p.max.x + 1.0, self.width);
+        let (k1, k2) = (self.view.hither, self.view.yon);
+        let n = p.plane.truncate();
+        for r in rows {
+            let yc = r as f64 + 0.5;
+            for c in cols.clone() {
+                let xc = c as f64 + 0.5;
+                // Even-odd with the half-open rule: count the edges spanning the centre's
+                // row (top.y ≤ yc < bottom.y) that cross it at or left of the centre.
+                let crossings = p
+                    .edges
+                    .iter()
+                    .filter(|e| e.top.y <= yc && yc < e.bottom.y && e.x_at(yc) <= xc)
+                    .count();
+                if crossings % 2 == 0 {
+                    continue;
+                }
+                // The ray t·dir meets the plane n·v + d = 0 at t = −d / (n·dir); t is z_e.
+                let dir = self.ray(xc, yc);
+                let z = -p.plane.w / n.dot(dir);
+                if z.is_finite() && k1 <= z && z <= k2 {
+                    f(c, r, z);
+                }
+            }
+        }
+    }
+}
+
+/// Renders one frame of world-space polygons: every pixel takes the colour of the
+/// covering polygon nearest the eye (the earliest on a tie), or `background`.
+/// Pixels are row-major from the top-left.
+pub fn render_frame(polys: &[Polygon], setup: &Setup, background: Colour) -> Vec<Colour> {
+    let size = setup.width as usize * setup.height as usize;
+    let mut colour = vec![background; size];
+    let mut depth = vec![f64::INFINITY; size];
+    let w = setup.width as usize;
+    for poly in polys {
+        let Some(p) = setup.prepare(poly) else {
+            continue;
+        };
+        setup.for_each_covered(&p, |c, r, z| {
+            let i = r as usize * w + c as usize;
+            // Strictly nearer: an equal depth leaves the earlier polygon.
+            if z < depth[i] {
+                depth[i] = z;
+                colour[i] = p.colour;
+            }
+        });
+    }
+    colour
+}
+
+/// How many polygons cover each pixel centre inside the view volume (row-major). A
+/// closed mesh seen from outside covers each pixel it spans exactly twice (front and
+/// back), an open sheet exactly once: the top-left rule leaves no cracks and no overlaps.
+pub fn coverage_counts(polys: &[Polygon], setup: &Setup) -> Vec<u32> {
+    let mut counts = vec![0u32; setup.width as usize * setup.height as usize];
+    let w = setup.width as usize;
+    for poly in polys {
+        if let Some(p) = setup.prepare(poly) {
+            setup.for_each_covered(&p, |c, r, _| counts[r as usize * w + c as usize] += 1);
+        }
+    }
+    counts
+}
+
+/// An RGB image, row-major from the top-left.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Image {
+    pub width: u32,
+    pub height: u32,
+    pub pixels: Vec<Colour>,
+}
+
+impl Image {
+    pub fn at(&self, x: u32, y: u32) -> Colour {
+        self.pixels[y as usize * self.width as usize + x as usize]
+    }
+
+    /// Whether a 4-neighbour of (x, y) has another colour: the pixel lies on a boundary
+    /// between polygons (or a polygon and the background).
+    pub fn is_edge_pixel(&self, x: u32, y: u32) -> bool {
+        let here = self.at(x, y);
+        let (x, y) = (x as i64, y as i64);
+        [(-1, 0), (1, 0), (0, -1), (0, 1)].iter().any(|(dx, dy)| {
+            let (nx, ny) = (x + dx, y + dy);
+            nx >= 0
+                && ny >= 0
+                && nx < self.width as i64
+                && ny < self.height as i64
+                && self.at(nx as u32, ny as u32) != here
+        })
+    }
+}
+
+/// Writes one binary PPM (P6) image.
+pub fn write_ppm<W: Write>(
+    out: &mut W,
+    width: u32,
+    height: u32,
+    pixels: &[Colour],
+) -> io::Result<()> {
+    write!(out, "P6\n{width} {height}\n255\n")?;
+    out.write_all(pixels.as_flattened())
+}
+
+/// Reads one header field of a PPM: skips whitespace and `#` comments, then reads
+/// decimal digits. `Ok(None)` at a clean end of input before the field.
+fn ppm_number<R: BufRead>(input: &mut R, what: &str) -> anyhow::Result<Option<u64>> {
+    let mut digits = String::new();
+    loop {
+        let byte = {
+            let buf = input.fill_buf()?;
+            match buf.first() {
+                Some(&b) => b,
+                None if digits.is_empty() => return Ok(None),
+                None => break,
+            }
+        };
+        if byte.is_ascii_digit() {
+            digits.push(byte as char);
+            input.consume(1);
+        } else if !digits.is_empty() {
+            break;
+        } else if byte == b'#' {
+            let mut comment = Vec::new();
+            input.read_until(b'\n', &mut comment)?;
+        } else if byte.is_ascii_whitespace() {
+            input.consume(1);
+        } else {
+            bail!("expected the {what}, found byte {byte:#04x}");
+        }
+    }
+    digits
+        .parse()
+        .map(Some)
+        .with_context(|| format!("the {what} `{digits}` is too large"))
+}
+
+/// `read_exact`, with a cut-short PPM reported as bad input rather than an I/O failure.
+fn read_exact<R: BufRead>(input: &mut R, buf: &mut [u8], what: &str) -> anyhow::Result<()> {
+    match input.read_exact(buf) {
+        Err(e) if e.kind() == io::ErrorKind::UnexpectedEof => {
+            bail!("the PPM ends before {what} (cut short?)")
+        }
+        other => Ok(other?),
+    }
+}
+
+/// Reads the next P6 image of a stream of concatenated PPMs; `None` at the end.
+pub fn read_ppm<R: BufRead>(input: &mut R) -> anyhow::Result<Option<Image>> {
+    // Skip whitespace between images.
+    loop {
+        let buf = input.fill_buf()?;
+        match buf.first() {
+            None => return Ok(None),
+            Some(b) if b.is_ascii_whitespace() => input.consume(1),
+            Some(_) => break,
+        }
+    }
+    let mut magic = [0u8; 2];
+    read_exact(input, &mut magic, "the magic")?;
+    if &magic != b"P6" {
+        bail!(
+            "expected a binary PPM (P6), found {:?}",
+            String::from_utf8_lossy(&magic)
+        );
+    }
+    let mut field = |what: &str| -> anyhow::Result<u64> {
+        ppm_number(input, what)?.with_context(|| format!("the PPM ends before the {what}"))
+    };
+    let width = field("width")?;
+    let height = field("height")?;
+    let maxval = field("maximum value")?;
+    if maxval != 255 {
+        bail!("maximum value {maxval}: only 8-bit PPMs (255) are read");
+    }
+    if !(1..=65536).contains(&width) || !(1..=65536).contains(&height) {
+        bail!("image size {width}x{height} is out of range");
+    }
+    // Exactly one whitespace byte ends the header.
+    let mut sep = [0u8; 1];
+    read_exact(input, &mut sep, "the end of the header")?;
+    if !sep[0].is_ascii_whitespace() {
+        bail!("expected whitespace after the PPM header");
+    }
+    let mut bytes = vec![0u8; (width * height * 3) as usize];
+    read_exact(input, &mut bytes, &format!("the {width}x{height} pixels"))?;
+    let pixels = bytes.chunks_exact(3).map(|p| [p[0], p[1], p[2]]).collect();
+    Ok(Some(Image {
+        width: width as u32,
+        height: height as u32,
+        pixels,
+    }))
+}
+
+/// Reads every image of a PPM stream.
+pub fn read_ppm_stream<R: BufRead>(mut input: R) -> anyhow::Result<Vec<Image>> {
+    let mut images = Vec::new();
+    while let Some(img) = read_ppm(&mut input).with_context(|| format!("frame {}", images.len()))? {
+        images.push(img);
+    }
+    Ok(images)
+}
+
+/// How two renderings of one frame agree.
+#[derive(Clone, Debug, PartialEq)]
+pub struct FrameAgreement {
+    pub pixels: u64,
+    pub differing: u64,
+    /// Positions (x, y) of the differing pixels.
+    pub differences: Vec<(u32, u32)>,
+}
+
+impl FrameAgreement {
+    /// The percentage of pixels that agree.
+    pub fn percent(&self) -> f64 {
+        if self.pixels == 0 {
+            100.0
+        } else {
+            100.0 * (self.pixels - self.differing) as f64 / self.pixels as f64
+        }
+    }
+}
+
+/// Compares two renderings frame by frame. Streams of different lengths, or frames of
+/// different sizes, are an error: there is no agreement to measure.
+pub fn compare(a: &[Image], b: &[Image]) -> anyhow::Result<Vec<FrameAgreement>> {
+    if a.len() != b.len() {
+        bail!("the streams have {} and {} frames", a.len(), b.len());
+    }
+    a.iter()
+        .zip(b)
+        .enumerate()
+        .map(|(k, (a, b))| {
+            if (a.width, a.height) != (b.width, b.height) {
+                bail!(
+                    "frame {k} is {}x{} in one stream and {}x{} in the other",
+                    a.width,
+                    a.height,
+                    b.width,
+                    b.height
+                );
+            }
+            let differences: Vec<(u32, u32)> = a
+                .pixels
+                .iter()
+                .zip(&b.pixels)
+                .enumerate()
+                .filter(|(_, (p, q))| p != q)
+                .map(|(i, _)| ((i % a.width as usize) as u32, (i / a.width as usize) as u32))
+                .collect();
+            Ok(FrameAgreement {
+                pixels: a.pixels.len() as u64,
+                differing: differences.len() as u64,
+                differences,
+            })
+        })
+        .collect()
+}
+
+/// Parses a colour `R,G,B`.
+pub fn parse_colour(s: &str) -> Result<Colour, String> {
+    let parts: Vec<&str> = s.split(',').map(str::trim).collect();
+    if parts.len() != 3 {
+        return Err(format!("expected R,G,B, found `{s}`"));
+    }
+    let mut c = [0u8; 3];
+    for (slot, p) in c.iter_mut().zip(&parts) {
+        *slot = p
+            .parse::<u8>()
+            .map_err(|_| format!("`{p}` in `{s}` is not a number from 0 to 255"))?;
+    }
+    Ok(c)
+}
+
+#[cfg(test)]
+mod tests;

@@ -1,0 +1,345 @@
+use super::*;
+use proptest::prelude::*;
+use proto::camera::Camera;
+
+const R: Colour = [255, 0, 0];
+const G: Colour = [0, 255, 0];
+const B: Colour = [0, 0, 255];
+const K: Colour = [0, 0, 0];
+
+fn setup(w: u32, h: u32) -> Setup {
+    Setup::new(
+        Camera::default().frame().unwrap(),
+        View {
+            aspect: w as f64 / h as f64,
+            ..View::default()
+        },
+        w,
+        h,
+    )
+}
+
+/// The world point that the default camera sees at device point (X, Y) of a W×H screen,
+/// at eye depth z_e (z_w = 20 − z_e; x_e = x_s·a·w, y_e = y_s·w, w = z_e·10/16).
+fn at(x: f64, y: f64, z_e: f64, w: u32, h: u32) -> [f64; 3] {
+    let wv = z_e * 10.0 / 16.0;
+    let a = w as f64 / h as f64;
+    [
+        (2.0 * x / w as f64 - 1.0) * a * wv,
+        (1.0 - 2.0 * y / h as f64) * wv,
+        20.0 - z_e,
+    ]
+}
+
+/// A polygon of device-space corners at eye depth 16 on a W×H screen.
+fn poly(c: Colour, pts: &[(f64, f64)], w: u32, h: u32) -> Polygon {
+    poly_at(c, pts, 16.0, w, h)
+}
+
+fn poly_at(c: Colour, pts: &[(f64, f64)], z_e: f64, w: u32, h: u32) -> Polygon {
+    let p: Vec<[f64; 3]> = pts.iter().map(|&(x, y)| at(x, y, z_e, w, h)).collect();
+    Polygon::from_xyz(c, &p)
+}
+
+/// An image as rows of letters: R, G, B, and `.` for black.
+fn picture(pixels: &[Colour], w: u32) -> Vec<String> {
+    pixels
+        .chunks(w as usize)
+        .map(|row| {
+            row.iter()
+                .map(|p| match *p {
+                    R => 'R',
+                    G => 'G',
+                    B => 'B',
+                    K => '.',
+                    _ => '?',
+                })
+                .collect()
+        })
+        .collect()
+}
+
+#[test]
+fn device_helper_is_exact_at_depth_16() {
+    // At z_e = 16 (w = 10) the 4x4 device point (X, Y) is world (5X − 10, 10 − 5Y, 4).
+    assert_eq!(at(0.5, 2.5, 16.0, 4, 4), [-7.5, -2.5, 4.0]);
+}
+
+#[test]
+fn triangle_on_a_4x4_screen() {
+    // Right edge x + y = 4 passes through four centres: a right edge, so they stay out.
+    let t = poly(R, &[(0.0, 0.0), (4.0, 0.0), (0.0, 4.0)], 4, 4);
+    let img = render_frame(&[t], &setup(4, 4), K);
+    assert_eq!(picture(&img, 4), ["RRR.", "RR..", "R...", "...."]);
+}
+
+#[test]
+fn top_left_rule_on_a_4x4_screen() {
+    // Edges through pixel centres: X = 0.5 (left: in), X = 2.5 (right: out),
+    // Y = 0.5 (top: in), Y = 2.5 (bottom: out).
+    let sq = poly(R, &[(0.5, 0.5), (2.5, 0.5), (2.5, 2.5), (0.5, 2.5)], 4, 4);
+    let img = render_frame(&[sq.clone()], &setup(4, 4), K);
+    assert_eq!(picture(&img, 4), ["RR..", "RR..", "....", "...."]);
+    // The same square wound the other way renders the same.
+    let mut rev = sq;
+    rev.vertices.reverse();
+    assert_eq!(render_frame(&[rev], &setup(4, 4), K), img);
+}
+
+#[test]
+fn shared_edge_through_centres_covers_each_pixel_once() {
+    // Two triangles sharing the diagonal (0,0)-(4,4), which passes through the centres
+    // (0.5,0.5), (1.5,1.5), ... : each centre goes to exactly one of them.
+    let s = setup(4, 4);
+    let upper = poly(R, &[(0.0, 0.0), (4.0, 0.0), (4.0, 4.0)], 4, 4);
+    let lower = poly(G, &[(0.0, 0.0), (4.0, 4.0), (0.0, 4.0)], 4, 4);
+    let both = [upper, lower];
+    assert_eq!(coverage_counts(&both, &s), vec![1; 16]);
+    // The diagonal is the lower triangle's right edge and the upper's left edge.
+    assert_eq!(
+        picture(&render_frame(&both, &s, K), 4),
+        ["RRRR", "GRRR", "GGRR", "GGGR"]
+    );
+}
+
+#[test]
+fn nearer_square_wins_whatever_the_order() {
+    let s = setup(4, 4);
+    let far = poly_at(
+        R,
+        &[(0.0, 0.0), (3.0, 0.0), (3.0, 3.0), (0.0, 3.0)],
+        20.0,
+        4,
+        4,
+    );
+    let near = poly_at(
+        B,
+        &[(1.0, 1.0), (4.0, 1.0), (4.0, 4.0), (1.0, 4.0)],
+        10.0,
+        4,
+        4,
+    );
+    let expect = ["RRR.", "RBBB", "RBBB", ".BBB"];
+    let img = render_frame(&[far.clone(), near.clone()], &s, K);
+    assert_eq!(picture(&img, 4), expect);
+    let img = render_frame(&[near, far], &s, K);
+    assert_eq!(picture(&img, 4), expect);
+}
+
+#[test]
+fn equal_depth_the_earlier_polygon_wins() {
+    let s = setup(4, 4);
+    let a = poly(R, &[(0.0, 0.0), (3.0, 0.0), (3.0, 3.0), (0.0, 3.0)], 4, 4);
+    let b = poly(G, &[(1.0, 1.0), (4.0, 1.0), (4.0, 4.0), (1.0, 4.0)], 4, 4);
+    assert_eq!(
+        picture(&render_frame(&[a.clone(), b.clone()], &s, K), 4),
+        ["RRR.", "RRRG", "RRRG", ".GGG"]
+    );
+    assert_eq!(
+        picture(&render_frame(&[b, a], &s, K), 4),
+        ["RRR.", "RGGG", "RGGG", ".GGG"]
+    );
+}
+
+#[test]
+fn interpenetrating_polygons_meet_along_their_intersection() {
+    // A vertical (constant z_e = 16) red square and a blue square tilted in depth from
+    // z_e = 12 at the left of the screen to z_e = 20 at the right: blue is in front on
+    // the left half, behind on the right.
+    let s = setup(4, 4);
+    let red = poly(R, &[(0.0, 0.0), (4.0, 0.0), (4.0, 4.0), (0.0, 4.0)], 4, 4);
+    // World points with x_w from −8 to 8 and z_w from 8 to 0 (z_e 12 → 20): the plane
+    // z_e = 16 + x_w/2 crosses z_e = 16 at x_w = 0, the screen's middle column line.
+    let blue = Polygon::from_xyz(
+        B,
+        &[
+            [-8.0, 20.0, 8.0],
+            [8.0, 20.0, 0.0],
+            [8.0, -20.0, 0.0],
+            [-8.0, -20.0, 8.0],
+        ],
+    );
+    let img = render_frame(&[red, blue], &s, K);
+    assert_eq!(picture(&img, 4), ["BBRR", "BBRR", "BBRR", "BBRR"]);
+}
+
+#[test]
+fn polygon_crossing_the_hither_plane_and_beyond_yon() {
+    // A floor y_e = −2 from behind the eye (z_e = −5) to z_e = 100, past yon. On a 20x20 screen the ray through row r has y_s = 0.95 − r/10 and meets
+    // the floor at z_e = −2/(y_s·10/16): beyond K2 = 30 for rows ≤ 10, and never nearer
+    // than K1 = 1 on screen (that would need y_s < −3.2). So rows 11..20 are covered.
+    let s = setup(20, 20);
+    let floor = Polygon::from_xyz(
+        G,
+        &[
+            [-100.0, -2.0, 25.0],
+            [100.0, -2.0, 25.0],
+            [100.0, -2.0, -80.0],
+            [-100.0, -2.0, -80.0],
+        ],
+    );
+    let img = render_frame(&[floor], &s, K);
+    let rows = picture(&img, 20);
+    for (r, row) in rows.iter().enumerate() {
+        let want = if r >= 11 { "G" } else { "." }.repeat(20);
+        assert_eq!(row, &want, "row {r}");
+    }
+}
+
+#[test]
+fn the_hither_plane_cuts_a_floor_close_under_the_eye() {
+    // Floor y_e = −0.1: z_e = 0.16/(−y_s) must lie in [1, 30], so
+    // −y_s ∈ [0.00533, 0.16]: rows 10 (z_e 3.2) and 11 (z_e 1.067) only; row 12 would
+    // meet it at z_e = 0.64, in front of the hither plane.
+    let s = setup(20, 20);
+    let floor = Polygon::from_xyz(
+        G,
+        &[
+            [-100.0, -0.1, 25.0],
+            [100.0, -0.1, 25.0],
+            [100.0, -0.1, -80.0],
+            [-100.0, -0.1, -80.0],
+        ],
+    );
+    let img = render_frame(&[floor.clone()], &s, K);
+    for (r, row) in picture(&img, 20).iter().enumerate() {
+        let want = if r == 10 || r == 11 { "G" } else { "." }.repeat(20);
+        assert_eq!(row, &want, "row {r}");
+    }
+    let counts = coverage_counts(&[floor], &s);
+    assert_eq!(counts.iter().sum::<u32>(), 40);
+}
+
+#[test]
+fn cut_at_hither_keeps_the_front_part() {
+    let v = |x, z: f64| DVec4::new(x, 0.0, z, z * 0.625);
+    let front = vec![v(0.0, 2.0), v(1.0, 2.0), v(1.0, 3.0)];
+    assert_eq!(cut_at_hither(&front, 1.0), front);
+    let cut = cut_at_hither(&[v(0.0, 0.0), v(2.0, 2.0), v(0.0, 2.0)], 1.0);
+    assert_eq!(
+        cut,
+        vec![v(1.0, 1.0), v(2.0, 2.0), v(0.0, 2.0), v(0.0, 1.0)]
+    );
+    assert!(cut_at_hither(&[v(0.0, -1.0), v(1.0, 0.5), v(0.0, 0.9)], 1.0).is_empty());
+}
+
+#[test]
+fn behind_the_eye_or_degenerate_polygons_draw_nothing() {
+    let s = setup(4, 4);
+    let behind = poly_at(R, &[(0.0, 0.0), (4.0, 0.0), (0.0, 4.0)], -5.0, 4, 4);
+    let beyond = poly_at(R, &[(0.0, 0.0), (4.0, 0.0), (0.0, 4.0)], 31.0, 4, 4);
+    let line = poly(R, &[(0.0, 0.0), (4.0, 4.0), (2.0, 2.0)], 4, 4);
+    let two = poly(R, &[(0.0, 0.0), (4.0, 4.0)], 4, 4);
+    let empty = Polygon::new(R, vec![]);
+    let img = render_frame(&[behind, beyond, line, two, empty], &s, G);
+    assert_eq!(img, vec![G; 16]);
+}
+
+#[test]
+fn non_square_screen_uses_the_aspect_ratio() {
+    // An 8x4 screen: a = 2. A square spanning device X 0..4 (the left half) and all rows.
+    let s = setup(8, 4);
+    let left = poly(R, &[(0.0, 0.0), (4.0, 0.0), (4.0, 4.0), (0.0, 4.0)], 8, 4);
+    assert_eq!(at(4.0, 0.0, 16.0, 8, 4), [0.0, 10.0, 4.0]);
+    assert_eq!(at(0.0, 0.0, 16.0, 8, 4), [-20.0, 10.0, 4.0]);
+    assert_eq!(
+        picture(&render_frame(&[left], &s, K), 8),
+        ["RRRR....", "RRRR....", "RRRR....", "RRRR...."]
+    );
+}
+
+#[test]
+fn ppm_round_trip_and_comparison() {
+    let a = vec![R, G, B, K, R, G];
+    let mut bytes = Vec::new();
+    write_ppm(&mut bytes, 3, 2, &a).unwrap();
+    assert_eq!(&bytes[..11], b"P6\n3 2\n255\n");
+    write_ppm(&mut bytes, 3, 2, &[K; 6]).unwrap();
+    let imgs = read_ppm_stream(&bytes[..]).unwrap();
+    assert_eq!(imgs.len(), 2);
+    assert_eq!(imgs[0].pixels, a);
+    assert_eq!(imgs[0].at(0, 1), K);
+    let cmp = compare(&imgs[..1], &imgs[1..]).unwrap();
+    assert_eq!(cmp[0].pixels, 6);
+    assert_eq!(cmp[0].differing, 5);
+    assert_eq!(
+        cmp[0].differences,
+        vec![(0, 0), (1, 0), (2, 0), (1, 1), (2, 1)]
+    );
+    assert!((cmp[0].percent() - 100.0 / 6.0).abs() < 1e-12);
+    assert!(compare(&imgs, &imgs[..1]).is_err());
+    // Comments and varied whitespace in the header.
+    let img = read_ppm_stream(&b"P6 # c\n1\t1 255\n\x01\x02\x03"[..]).unwrap();
+    assert_eq!(img[0].pixels, vec![[1, 2, 3]]);
+}
+
+#[test]
+fn bad_ppms_are_refused_with_a_reason() {
+    let err = |b: &[u8]| format!("{:#}", read_ppm_stream(b).unwrap_err());
+    assert!(err(b"P3\n1 1\n255\n").contains("expected a binary PPM (P6)"));
+    assert!(err(b"P6\n1 1\n65535\n").contains("only 8-bit"));
+    assert!(err(b"P6\n2 1\n255\n\x01\x02\x03").contains("ends before the 2x1 pixels"));
+    assert!(err(b"P6\n2").contains("ends before the height"));
+    assert!(err(b"P6\n0 1\n255\n").contains("out of range"));
+}
+
+#[test]
+fn edge_pixels_have_a_differently_coloured_neighbour() {
+    let img = Image {
+        width: 3,
+        height: 3,
+        pixels: vec![R, R, R, R, R, R, R, R, G],
+    };
+    assert!(!img.is_edge_pixel(0, 0));
+    assert!(!img.is_edge_pixel(1, 1));
+    assert!(img.is_edge_pixel(2, 1));
+    assert!(img.is_edge_pixel(2, 2));
+}
+
+#[test]
+fn colours_parse() {
+    assert_eq!(parse_colour("1, 2,3"), Ok([1, 2, 3]));
+    assert!(parse_colour("1,2").is_err());
+    assert!(parse_colour("1,2,256").is_err());
+}
+
+proptest! {
+    /// A jittered grid mesh (every triangle of every cell) that spans the whole screen
+    /// covers every pixel centre exactly once, whatever the jitter: the top-left rule
+    /// leaves no cracks and no double hits, also for vertices and edges that fall on
+    /// centres (the jitter is in quarter pixels).
+    #[test]
+    fn a_mesh_covers_every_pixel_exactly_once(
+        jitter in prop::collection::vec((-6i32..=6, -6i32..=6), 25),
+        flip in prop::collection::vec(any::<bool>(), 16),
+    ) {
+        let (w, h) = (16u32, 16u32);
+        let s = setup(w, h);
+        // 5x5 grid points from −2 to 18 in steps of 5; interior points jittered.
+        let point = |i: usize, j: usize| {
+            let (mut x, mut y) = (-2.0 + 5.0 * i as f64, -2.0 + 5.0 * j as f64);
+            if (1..4).contains(&i) && (1..4).contains(&j) {
+                let (dx, dy) = jitter[j * 5 + i];
+                x += dx as f64 * 0.25;
+                y += dy as f64 * 0.25;
+            }
+            (x, y)
+        };
+        let mut mesh = Vec::new();
+        for j in 0..4 {
+            for i in 0..4 {
+                let (a, b, c, d) = (point(i, j), point(i + 1, j), point(i + 1, j + 1), point(i, j + 1));
+                // Either diagonal.
+                if flip[j * 4 + i] {
+                    mesh.push(poly(R, &[a, b, c], w, h));
+                    mesh.push(poly(G, &[a, c, d], w, h));
+                } else {
+                    mesh.push(poly(R, &[a, b, d], w, h));
+                    mesh.push(poly(G, &[b, c, d], w, h));
+                }
+            }
+        }
+        let counts = coverage_counts(&mesh, &s);
+        prop_assert!(counts.iter().all(|&n| n == 1), "counts {:?}", counts);
+    }
+}
