@@ -84,7 +84,8 @@ impl Perspective {
     pub fn project_polygon(&self, poly: &mut Polygon) -> Result<(), Unprojectable> {
         // Check first, so a refused polygon is not half projected.
         for (i, v) in poly.vertices.iter().enumerate() {
-            if !(v.w > 0.0) {
+            // NaN cannot reach here (the reader refuses it), but it would be refused too.
+            if v.w <= 0.0 || v.w.is_nan() {
                 return Err(Unprojectable {
                     vertex: i,
                     reason: format!(

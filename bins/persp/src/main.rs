@@ -42,8 +42,8 @@ fn main() -> ExitCode {
             unreachable!("expect(Eye) passed")
         };
         let (width, height) = cli.size;
-        let perspective = Perspective::new(width, height, view, cli.depth)
-            .map_err(|msg| StreamError::Invalid(msg))?;
+        let perspective =
+            Perspective::new(width, height, view, cli.depth).map_err(StreamError::Invalid)?;
         let mut writer = Writer::new(
             io::stdout().lock(),
             Header::new(Space::Screen { width, height }),
