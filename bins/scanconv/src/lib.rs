@@ -538,7 +538,7 @@ mod tests {
         // depth = X/8 + Y/16: at (c+½, r+½), (c+½)/8 + (r+½)/16.
         let p = |x: f64, y: f64| [x, y, x / 8.0 + y / 16.0];
         let sq = poly(&[p(0.0, 0.0), p(4.0, 0.0), p(4.0, 4.0), p(0.0, 4.0)]);
-        let frags = run(4, 4, Output::Pixels, &[sq.clone()]);
+        let frags = run(4, 4, Output::Pixels, std::slice::from_ref(&sq));
         for f in &frags[1..] {
             let Fragment::Pixel { x, y, z } = *f else {
                 panic!()

@@ -67,15 +67,14 @@ impl FrameBuffer {
         self.colour.fill(self.background);
     }
 
-    /// Pixels `x0..x1` of row `y` from polygon `polygon`: pixel x has depth
+    /// Pixels `columns` = `x0..x1` of row `y` from polygon `polygon`: pixel x has depth
     /// `z0 + (x − x0)·dz`. The caller (the stream reader) has checked the span lies on the
     /// screen; an out-of-range span is clipped rather than trusted.
     #[inline]
     pub fn span(
         &mut self,
         y: u32,
-        x0: u32,
-        x1: u32,
+        columns: std::ops::Range<u32>,
         z0: i64,
         dz: i64,
         polygon: u32,
@@ -84,8 +83,8 @@ impl FrameBuffer {
         if y >= self.height {
             return;
         }
-        let x1 = x1.min(self.width) as usize;
-        let x0 = (x0 as usize).min(x1);
+        let x1 = columns.end.min(self.width) as usize;
+        let x0 = (columns.start as usize).min(x1);
         let row = y as usize * self.width as usize;
         let range = row + x0..row + x1;
         let depth = &mut self.depth[range.clone()];
@@ -273,12 +272,12 @@ mod tests {
     fn nearer_wins_and_ties_go_to_the_earlier_polygon() {
         let mut fb = FrameBuffer::new(4, 1, [0, 0, 0]);
         // Polygon 1 at depth 10 over columns 0..4.
-        fb.span(0, 0, 4, 10, 0, 1, [1, 1, 1]);
+        fb.span(0, 0..4, 10, 0, 1, [1, 1, 1]);
         // Polygon 0, later in arrival but earlier in the stream, ties at depth 10: wins.
-        fb.span(0, 0, 2, 10, 0, 0, [2, 2, 2]);
-        // Polygon 2 at depth 9..12 stepping by 1: nearer only at column 2 (depth 9... no):
-        fb.span(0, 1, 4, 9, 1, 2, [3, 3, 3]);
-        // Column 1: 9 < 10 → polygon 2. Column 2: 10 = 10, 2 > 1 → stays 1. Column 3: 11.
+        fb.span(0, 0..2, 10, 0, 0, [2, 2, 2]);
+        // Polygon 2 over columns 1..4 at depths 9, 10, 11: nearer at column 1; a tie at
+        // column 2, where the earlier polygon 1 stays; farther at column 3.
+        fb.span(0, 1..4, 9, 1, 2, [3, 3, 3]);
         fb.pixel(3, 0, 10, 5, [4, 4, 4]); // tie with polygon 1, later: loses
         fb.pixel(3, 0, 9, 5, [5, 5, 5]); // nearer: wins
         assert_eq!(fb.rgb(), &[2, 2, 2, 3, 3, 3, 1, 1, 1, 5, 5, 5]);
@@ -289,10 +288,10 @@ mod tests {
     #[test]
     fn depth_saturates_rather_than_wrapping() {
         let mut fb = FrameBuffer::new(3, 1, [0, 0, 0]);
-        fb.span(0, 0, 3, i64::MAX - 1, i64::MAX, 0, [7, 7, 7]);
+        fb.span(0, 0..3, i64::MAX - 1, i64::MAX, 0, [7, 7, 7]);
         // Depth MAX − 1, then MAX, MAX: all beat the empty pixel (MAX, no polygon).
         assert_eq!(fb.rgb(), &[7; 9]);
-        fb.span(0, 0, 3, i64::MIN + 1, i64::MIN, 1, [8, 8, 8]);
+        fb.span(0, 0..3, i64::MIN + 1, i64::MIN, 1, [8, 8, 8]);
         assert_eq!(fb.rgb(), &[8; 9]);
     }
 

@@ -205,7 +205,7 @@ fn apply(fb: &mut FrameBuffer, s: &mut InputState, fragments: &[Fragment]) -> an
             Fragment::Span { y, x0, x1, z0, dz } => {
                 s.stats.spans += 1;
                 s.stats.pixels += (x1 - x0) as u64;
-                fb.span(y, x0, x1, z0, dz, polygon, s.colour);
+                fb.span(y, x0..x1, z0, dz, polygon, s.colour);
             }
             Fragment::Pixel { x, y, z } => {
                 s.stats.pixels += 1;

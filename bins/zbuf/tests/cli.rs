@@ -1,0 +1,424 @@
+//! zbuf as a filter and as PAR.BUFF: exact PPM bytes for exact fragment streams.
+
+use assert_cmd::Command;
+use proto::{Form, Fragment, Header, Reader, Space, SpaceKind, Token, Writer};
+use scanconv::{Output, ScanConverter};
+use std::path::{Path, PathBuf};
+
+/// What `scanconv` writes for a screen-space text stream (binary form).
+fn scanconv(screen: &str) -> Vec<u8> {
+    let mut input = Reader::<Token, _>::new(screen.as_bytes()).unwrap();
+    input.header().expect(SpaceKind::Screen).unwrap();
+    let (w, h) = input.header().space.screen_size().unwrap();
+    let header = Header::new(Space::Fragments {
+        width: w,
+        height: h,
+    });
+    let mut out = Writer::<Fragment, _>::new(Vec::new(), header, Form::Binary).unwrap();
+    let mut sc = ScanConverter::new(w, h, Output::Spans);
+    while let Some(t) = input.next_record().unwrap() {
+        match t {
+            Token::Polygon(p) => sc.convert(&p, &mut |f| out.write(&f)).unwrap(),
+            Token::NextFrame => out.write(&Fragment::NextFrame).unwrap(),
+            Token::End => out.write(&Fragment::End).unwrap(),
+        }
+    }
+    out.into_inner().unwrap()
+}
+
+fn zbuf() -> Command {
+    Command::cargo_bin("zbuf").unwrap()
+}
+
+const R: [u8; 3] = [255, 0, 0];
+const G: [u8; 3] = [0, 255, 0];
+const B: [u8; 3] = [0, 0, 255];
+const K: [u8; 3] = [0, 0, 0];
+
+/// A P6 image from rows of pixels.
+fn ppm(w: usize, h: usize, pixels: &[[u8; 3]]) -> Vec<u8> {
+    assert_eq!(pixels.len(), w * h);
+    let mut v = format!("P6\n{w} {h}\n255\n").into_bytes();
+    v.extend(pixels.iter().flatten());
+    v
+}
+
+fn write(dir: &Path, name: &str, bytes: impl AsRef<[u8]>) -> PathBuf {
+    let p = dir.join(name);
+    std::fs::write(&p, bytes).unwrap();
+    p
+}
+
+/// A red square at depth 0.5 behind (above row 1.5) and in front of (below) a blue
+/// triangle whose depth is 0.25 + Y/8.
+const OVERLAP: &str = "polypipe 1 screen 4 4
+colour 255 0 0
+1 1 0.5
+3 1 0.5
+3 3 0.5
+1 3 0.5
+NEXT.POLYGON
+colour 0 0 255
+0 0 0.25
+4 0 0.25
+0 4 0.75
+END
+";
+
+#[test]
+fn nearer_polygon_wins() {
+    zbuf()
+        .write_stdin(scanconv(OVERLAP))
+        .assert()
+        .success()
+        .stdout(ppm(
+            4,
+            4,
+            &[
+                B, B, B, K, //
+                B, B, R, K, // row 1: triangle depth 0.4375 < 0.5
+                B, R, R, K, // row 2: 0.5625 > 0.5, the square shows
+                K, K, K, K,
+            ],
+        ));
+}
+
+#[test]
+fn text_fragments_background_and_stats() {
+    let text = "polypipe 1 fragments 3 1
+colour 0 255 0
+span 0 1 3 5 0
+NEXT.POLYGON
+colour 255 0 0
+pixel 2 0 4
+END
+";
+    zbuf()
+        .args(["--background", "1,2,3", "--stats", "-"])
+        .write_stdin(text)
+        .assert()
+        .success()
+        .stdout(ppm(3, 1, &[[1, 2, 3], G, R]))
+        .stderr("zbuf: stdin: 1 spans, 3 pixels\n");
+}
+
+/// Polygon 0 (red) and polygon 1 (blue) at the same depth over the same pixels, their
+/// pixels sent through different inputs: the earlier polygon wins, whatever the order.
+#[test]
+fn equal_depth_goes_to_the_earlier_polygon_across_inputs() {
+    let dir = tempfile::tempdir().unwrap();
+    let a = write(
+        dir.path(),
+        "a.frag",
+        "polypipe 1 fragments 2 1\ncolour 255 0 0\nspan 0 0 2 7 0\nNEXT.POLYGON\ncolour 0 0 255\nEND\n",
+    );
+    let b = write(
+        dir.path(),
+        "b.frag",
+        "polypipe 1 fragments 2 1\ncolour 255 0 0\nNEXT.POLYGON\ncolour 0 0 255\nspan 0 0 2 7 0\nEND\n",
+    );
+    for args in [[&a, &b], [&b, &a]] {
+        zbuf()
+            .args(args)
+            .assert()
+            .success()
+            .stdout(ppm(2, 1, &[R, R]));
+    }
+    // And within one input, blue later in the stream loses the tie too.
+    zbuf()
+        .write_stdin("polypipe 1 fragments 2 1\ncolour 255 0 0\nspan 0 0 2 7 0\nNEXT.POLYGON\ncolour 0 0 255\nspan 0 0 2 7 0\nspan 0 1 2 6 0\nEND\n")
+        .assert()
+        .success()
+        .stdout(ppm(2, 1, &[R, B]));
+}
+
+const TWO_FRAMES: &str = "polypipe 1 fragments 2 2
+colour 255 0 0
+span 0 0 2 0 0
+NEXT.FRAME
+colour 0 255 0
+pixel 1 1 0
+END
+";
+
+#[test]
+fn frames_are_concatenated() {
+    let mut want = ppm(2, 2, &[R, R, K, K]);
+    want.extend(ppm(2, 2, &[K, K, K, G]));
+    zbuf()
+        .write_stdin(TWO_FRAMES)
+        .assert()
+        .success()
+        .stdout(want);
+    // An empty last frame is a frame: the grammar is frame { NEXT.FRAME frame } END.
+    zbuf()
+        .write_stdin("polypipe 1 fragments 1 1\nNEXT.FRAME\nEND\n")
+        .assert()
+        .success()
+        .stdout([ppm(1, 1, &[K]), ppm(1, 1, &[K])].concat());
+}
+
+#[test]
+fn one_file_per_frame() {
+    let dir = tempfile::tempdir().unwrap();
+    let pattern = dir.path().join("out%03d.png");
+    zbuf()
+        .arg("-o")
+        .arg(&pattern)
+        .args(["--background", "9,9,9"])
+        .write_stdin(TWO_FRAMES)
+        .assert()
+        .success()
+        .stdout("");
+    let read = |name: &str| {
+        let img = image::open(dir.path().join(name)).unwrap().to_rgb8();
+        assert_eq!(img.dimensions(), (2, 2));
+        img.pixels().map(|p| p.0).collect::<Vec<_>>()
+    };
+    assert_eq!(read("out000.png"), vec![R, R, [9, 9, 9], [9, 9, 9]]);
+    assert_eq!(read("out001.png"), vec![[9, 9, 9], [9, 9, 9], [9, 9, 9], G]);
+    assert!(!dir.path().join("out002.png").exists());
+
+    // PPM files are the bytes stdout would have had.
+    zbuf()
+        .arg("-o")
+        .arg(dir.path().join("f%d.ppm"))
+        .write_stdin(TWO_FRAMES)
+        .assert()
+        .success();
+    assert_eq!(
+        std::fs::read(dir.path().join("f1.ppm")).unwrap(),
+        ppm(2, 2, &[K, K, K, G])
+    );
+
+    // No frame number in the name: the first frame is written, the second refused.
+    let still = dir.path().join("still.png");
+    zbuf()
+        .arg("-o")
+        .arg(&still)
+        .write_stdin(TWO_FRAMES)
+        .assert()
+        .code(1)
+        .stderr(format!(
+            "zbuf: -o {}: more than one frame, but the name has no %d for the frame number\n",
+            still.display()
+        ));
+    assert!(still.exists());
+    zbuf()
+        .args(["-o", "x%d.jpg"])
+        .write_stdin(TWO_FRAMES)
+        .assert()
+        .code(1)
+        .stderr("zbuf: -o x%d.jpg: the file name must end .png or .ppm\n");
+}
+
+#[test]
+fn two_inputs_as_files() {
+    // The overlap scene cut in two by the splitter's rule, by hand: the square goes to
+    // input a, the triangle to input b, each keeping the other's polygon record.
+    let dir = tempfile::tempdir().unwrap();
+    let a = write(
+        dir.path(),
+        "a.frag",
+        scanconv(&OVERLAP.replace("0 0 0.25\n4 0 0.25\n0 4 0.75\n", "")),
+    );
+    let b = write(
+        dir.path(),
+        "b.frag",
+        scanconv(&OVERLAP.replace("1 1 0.5\n3 1 0.5\n3 3 0.5\n1 3 0.5\n", "")),
+    );
+    let whole = zbuf()
+        .write_stdin(scanconv(OVERLAP))
+        .output()
+        .unwrap()
+        .stdout;
+    assert_eq!(whole.len(), 11 + 48);
+    for args in [[&a, &b], [&b, &a]] {
+        zbuf()
+            .args(args)
+            .arg("--stats")
+            .assert()
+            .success()
+            .stdout(whole.clone());
+    }
+    zbuf()
+        .args([&a, &b])
+        .arg("--stats")
+        .assert()
+        .stderr(format!(
+            "zbuf: {}: 2 spans, 4 pixels\nzbuf: {}: 3 spans, 6 pixels\n",
+            a.display(),
+            b.display()
+        ));
+}
+
+#[test]
+fn mismatched_sizes_are_refused() {
+    let dir = tempfile::tempdir().unwrap();
+    let a = write(dir.path(), "a", "polypipe 1 fragments 4 4\nEND\n");
+    let b = write(dir.path(), "b", "polypipe 1 fragments 8 8\nEND\n");
+    let out = zbuf().args([&a, &b]).output().unwrap();
+    assert_eq!(out.status.code(), Some(1));
+    assert!(out.stdout.is_empty());
+    // Whichever header arrives first sets the size; the message names both.
+    let stderr = String::from_utf8(out.stderr).unwrap();
+    let (a, b) = (a.display(), b.display());
+    assert!(
+        stderr == format!("zbuf: {b}: screen 8x8, but {a} is 4x4 (all inputs must have the same screen size)\n")
+            || stderr == format!("zbuf: {a}: screen 4x4, but {b} is 8x8 (all inputs must have the same screen size)\n"),
+        "{stderr}"
+    );
+}
+
+#[test]
+fn mismatched_frame_counts_are_refused_after_the_common_frames() {
+    let dir = tempfile::tempdir().unwrap();
+    let a = write(
+        dir.path(),
+        "a",
+        "polypipe 1 fragments 1 1\nNEXT.FRAME\nEND\n",
+    );
+    let b = write(dir.path(), "b", "polypipe 1 fragments 1 1\nEND\n");
+    zbuf()
+        .args([&a, &b])
+        .assert()
+        .code(1)
+        .stdout(ppm(1, 1, &[K]))
+        .stderr(format!(
+            "zbuf: {}: frame 0: END here, but {} goes on to frame 1 (all inputs must have the same number of frames)\n",
+            b.display(),
+            a.display()
+        ));
+}
+
+#[test]
+fn a_bad_input_is_named_and_earlier_frames_are_written() {
+    let dir = tempfile::tempdir().unwrap();
+    let good = write(dir.path(), "good", TWO_FRAMES);
+    let bad = write(
+        dir.path(),
+        "bad",
+        "polypipe 1 fragments 2 2\ncolour 0 0 255\npixel 0 1 0\nNEXT.FRAME\ncolour 0 0 255\npixel 5 0 0\nEND\n",
+    );
+    zbuf()
+        .args([&good, &bad])
+        .assert()
+        .code(1)
+        .stdout(ppm(2, 2, &[R, R, B, K]))
+        .stderr(format!(
+            "zbuf: {}: line 6, column 11: pixel (5, 0) is outside the 2x2 screen\n",
+            bad.display()
+        ));
+    // The binary form: the message gives the byte offset.
+    let mut bytes = scanconv("polypipe 1 screen 2 2\ncolour 1 1 1\n0 0 0\n2 0 0\n2 2 0\nNEXT.FRAME\ncolour 1 1 1\n0 0 0\n2 0 0\n2 2 0\nEND\n");
+    let len = bytes.len();
+    bytes.truncate(len - 10);
+    let cut = write(dir.path(), "cut", &bytes);
+    let out = zbuf().arg(&cut).output().unwrap();
+    assert_eq!(out.status.code(), Some(1));
+    assert_eq!(out.stdout, ppm(2, 2, &[[1, 1, 1], [1, 1, 1], K, [1, 1, 1]]));
+    let stderr = String::from_utf8(out.stderr).unwrap();
+    assert!(
+        stderr.starts_with(&format!("zbuf: {}: byte ", cut.display()))
+            && stderr.ends_with("the stream ends in the middle of a record (cut short?)\n"),
+        "{stderr}"
+    );
+    // Pixels before any colour record.
+    zbuf()
+        .write_stdin("polypipe 1 fragments 2 2\nspan 0 0 1 0 0\nEND\n")
+        .assert()
+        .code(1)
+        .stderr("zbuf: stdin: line 2, column 1: pixels before the frame's first `colour`\n");
+    zbuf()
+        .arg(dir.path().join("missing"))
+        .assert()
+        .code(3)
+        .stderr(format!(
+            "zbuf: {}: cannot open: No such file or directory (os error 2)\n",
+            dir.path().join("missing").display()
+        ));
+    zbuf()
+        .write_stdin("polypipe 1 screen 2 2\nEND\n")
+        .assert()
+        .code(1)
+        .stderr(
+            "zbuf: stdin: input is screen-space, expected fragments-space; put scanconv first\n",
+        );
+}
+
+/// A big uneven frame through two named pipes written at once: input a has one pixel a
+/// frame, input b far more than a pipe holds. zbuf must neither deadlock nor mix frames.
+#[test]
+fn named_pipes_with_uneven_inputs() {
+    let dir = tempfile::tempdir().unwrap();
+    let (pa, pb) = (dir.path().join("a"), dir.path().join("b"));
+    for p in [&pa, &pb] {
+        let status = std::process::Command::new("mkfifo")
+            .arg(p)
+            .status()
+            .unwrap();
+        assert!(status.success());
+    }
+    let frames = 3;
+    let (w, h) = (96u32, 96u32);
+    let mut a = format!("polypipe 1 fragments {w} {h}\n");
+    let mut b = a.clone();
+    let mut want = Vec::new();
+    for f in 0..frames {
+        if f > 0 {
+            a += "NEXT.FRAME\n";
+            b += "NEXT.FRAME\n";
+        }
+        // Polygon 0 (in a): one pixel at depth 0 in column f. Polygon 1 (in b): the
+        // whole screen at depth 1, one span a pixel so the stream is large.
+        a += &format!("colour 255 0 0\npixel {f} 0 0\nNEXT.POLYGON\ncolour 0 0 255\n");
+        b += "colour 255 0 0\nNEXT.POLYGON\ncolour 0 0 255\n";
+        for y in 0..h {
+            for x in 0..w {
+                b += &format!("span {y} {x} {} 1 0\n", x + 1);
+            }
+        }
+        let mut pixels = vec![B; (w * h) as usize];
+        pixels[f as usize] = R;
+        want.extend(ppm(w as usize, h as usize, &pixels));
+    }
+    a += "END\n";
+    b += "END\n";
+    assert!(b.len() > 4 * 65536);
+    let writer = |path: PathBuf, text: String| {
+        std::thread::spawn(move || std::fs::write(path, text).unwrap())
+    };
+    let (ta, tb) = (writer(pa.clone(), a), writer(pb.clone(), b));
+    // A deadlock would hang here; the timeout turns it into a failure.
+    zbuf()
+        .args([&pa, &pb])
+        .timeout(std::time::Duration::from_secs(120))
+        .assert()
+        .success()
+        .stdout(want);
+    ta.join().unwrap();
+    tb.join().unwrap();
+}
+
+#[test]
+fn closed_stdout_ends_quietly() {
+    let mut text = String::from("polypipe 1 fragments 64 64\n");
+    for _ in 0..200 {
+        text += "NEXT.FRAME\n";
+    }
+    text += "END\n";
+    let dir = tempfile::tempdir().unwrap();
+    let input = write(dir.path(), "in", text);
+    let zbuf = assert_cmd::cargo::cargo_bin("zbuf");
+    let out = std::process::Command::new("bash")
+        .arg("-c")
+        .arg(format!(
+            "'{}' '{}' | head -c 10 > /dev/null; echo ${{PIPESTATUS[0]}}",
+            zbuf.display(),
+            input.display()
+        ))
+        .output()
+        .unwrap();
+    assert_eq!(String::from_utf8(out.stdout).unwrap(), "0\n");
+    assert_eq!(String::from_utf8(out.stderr).unwrap(), "");
+}
