@@ -1,8 +1,11 @@
 //! scene: writes a world-space polygon stream (binary, or text with `--text`) to stdout.
 
 use clap::{Parser, Subcommand};
+use glam::DVec3;
 use proto::{Form, Header, Polygon, Space, Token, Writer};
+use scene::{obj, shapes, spin, Shading};
 use std::io;
+use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
 /// Scene sources for the polypipe pipeline: each subcommand writes a world-space stream,
@@ -14,7 +17,10 @@ use std::process::ExitCode;
     version,
     after_help = "Examples:\n  \
         scene environment --polygons 1024 --clipped 0.5 --depth-complexity 1 --seed 1 --text\n  \
-        scene environment --frames 10 | viewxf | clipplane left | ... | zbuf > movie.ppm"
+        scene environment --frames 10 | viewxf | clipplane left | ... | zbuf > movie.ppm\n  \
+        scene penetrating --text\n  \
+        scene spheres --frames 36 | viewxf | ...\n  \
+        scene obj model.obj --frames 24"
 )]
 struct Cli {
     #[command(subcommand)]
@@ -52,6 +58,90 @@ enum Command {
         #[arg(long, value_parser = proto::camera::parse_size, value_name = "WxH")]
         size: Option<(u32, u32)>,
     },
+    /// The thesis INPUTTER's scene (Appendix 4): a red triangle and a blue quadrilateral
+    /// that penetrate each other.
+    #[command(after_help = "Example:\n  scene penetrating --text")]
+    Penetrating,
+    /// A latitude–longitude sphere at the origin, shaded, polar bands triangles.
+    #[command(
+        after_help = "Example:\n  scene sphere --stacks 24 --slices 48 --radius 9 --frames 36"
+    )]
+    Sphere {
+        /// Bands from pole to pole.
+        #[arg(long, default_value_t = 16, value_parser = clap::value_parser!(u32).range(2..=4096))]
+        stacks: u32,
+        /// Segments around.
+        #[arg(long, default_value_t = 32, value_parser = clap::value_parser!(u32).range(3..=4096))]
+        slices: u32,
+        /// The radius (the visible square at the origin is ±12.5).
+        #[arg(long, default_value_t = 8.0, value_parser = positive)]
+        radius: f64,
+    },
+    /// Two intersecting spheres (Archuleta's figure 1).
+    #[command(after_help = "Example:\n  scene spheres --stacks 16 --slices 32 --text")]
+    Spheres {
+        #[arg(long, default_value_t = 16, value_parser = clap::value_parser!(u32).range(2..=4096))]
+        stacks: u32,
+        #[arg(long, default_value_t = 32, value_parser = clap::value_parser!(u32).range(3..=4096))]
+        slices: u32,
+    },
+    /// A building of a few hundred edges: walls, windows as separate quadrilaterals, a
+    /// door and a gable roof (Archuleta's figures 2 and 3).
+    #[command(after_help = "Example:\n  scene building --floors 6 --bays 8 --frames 24")]
+    Building {
+        /// Storeys.
+        #[arg(long, default_value_t = 4, value_parser = clap::value_parser!(u32).range(1..=1000))]
+        floors: u32,
+        /// Windows a floor on the long walls (half as many on the short ones).
+        #[arg(long, default_value_t = 5, value_parser = clap::value_parser!(u32).range(1..=1000))]
+        bays: u32,
+    },
+    /// A screen-filling mesh of quadrilaterals sharing their edges, at constant depth,
+    /// each its own colour: any crack or doubly drawn pixel is a bug. In a movie the
+    /// interior vertices wobble while the border stays put.
+    #[command(after_help = "Example:\n  scene mesh --cols 64 --rows 48 --size 640x480")]
+    Mesh {
+        #[arg(long, default_value_t = 16, value_parser = clap::value_parser!(u32).range(1..=4096))]
+        cols: u32,
+        #[arg(long, default_value_t = 16, value_parser = clap::value_parser!(u32).range(1..=4096))]
+        rows: u32,
+        /// The screen size `WxH` to cover (its aspect ratio widens the mesh).
+        #[arg(long, value_parser = proto::camera::parse_size, value_name = "WxH")]
+        size: Option<(u32, u32)>,
+    },
+    /// A triangle whose tip pierces a square, showing the implied edge (the Warnock
+    /// chapter of the survey).
+    #[command(
+        name = "triangle-square",
+        after_help = "Example:\n  scene triangle-square --text"
+    )]
+    TriangleSquare,
+    /// A Wavefront OBJ model: each face one polygon, coloured by its material's diffuse
+    /// colour (200 200 200 without one).
+    #[command(
+        after_help = "Examples:\n  scene obj teapot.obj --frames 36\n  scene obj --no-fit - < model.obj"
+    )]
+    Obj {
+        /// The OBJ file, `-` for standard input (its mtllib files are then looked for in
+        /// the current folder).
+        file: String,
+        /// Keep the model's own coordinates instead of centring and scaling it into
+        /// view (by default it is fitted into a sphere of radius 8 at the origin).
+        #[arg(long, overrides_with = "fit")]
+        no_fit: bool,
+        /// Fit the model into view (the default).
+        #[arg(long, overrides_with = "no_fit")]
+        fit: bool,
+    },
+}
+
+fn positive(s: &str) -> Result<f64, String> {
+    let v: f64 = s.parse().map_err(|_| format!("`{s}` is not a number"))?;
+    if v.is_finite() && v > 0.0 {
+        Ok(v)
+    } else {
+        Err(format!("{v} must be a finite number > 0"))
+    }
 }
 
 fn fraction(s: &str) -> Result<f64, String> {
@@ -108,6 +198,72 @@ fn main() -> ExitCode {
                 aspect: size.map_or(1.0, |(w, h)| w as f64 / h as f64),
                 frames,
             }),
+            Command::Penetrating => {
+                spin(&shapes::penetrating(), frames, DVec3::ZERO, Shading::Flat)
+            }
+            Command::Sphere {
+                stacks,
+                slices,
+                radius,
+            } => spin(
+                &shapes::sphere(
+                    DVec3::ZERO,
+                    radius,
+                    stacks as usize,
+                    slices as usize,
+                    [220, 120, 60],
+                ),
+                frames,
+                DVec3::ZERO,
+                Shading::Lambert,
+            ),
+            Command::Spheres { stacks, slices } => spin(
+                &shapes::spheres(stacks as usize, slices as usize),
+                frames,
+                DVec3::ZERO,
+                Shading::Lambert,
+            ),
+            Command::Building { floors, bays } => spin(
+                &shapes::building(floors as usize, bays as usize),
+                frames,
+                DVec3::ZERO,
+                Shading::Lambert,
+            ),
+            Command::Mesh { cols, rows, size } => shapes::mesh(
+                cols as usize,
+                rows as usize,
+                size.map_or(1.0, |(w, h)| w as f64 / h as f64),
+                frames,
+            ),
+            Command::TriangleSquare => spin(
+                &shapes::triangle_square(),
+                frames,
+                DVec3::ZERO,
+                Shading::Flat,
+            ),
+            Command::Obj { file, no_fit, .. } => {
+                let input = proto::cli::open_input(&file)?;
+                let dir = if file == "-" {
+                    PathBuf::from(".")
+                } else {
+                    Path::new(&file)
+                        .parent()
+                        .map_or_else(|| PathBuf::from("."), Path::to_path_buf)
+                };
+                let name = if file == "-" {
+                    "<stdin>"
+                } else {
+                    file.as_str()
+                };
+                let mut model = obj::load(&mut io::BufReader::new(input), &dir, name)?;
+                for w in &model.warnings {
+                    eprintln!("scene: warning: {w}");
+                }
+                if !no_fit {
+                    obj::fit(&mut model.faces);
+                }
+                spin(&model.faces, frames, DVec3::ZERO, Shading::Flat)
+            }
         };
         write_movie(&movie, form)
     })

@@ -1,0 +1,479 @@
+//! The test objects: the thesis INPUTTER's two penetrating polygons, spheres and a
+//! building after Archuleta's figures (seed 003), the triangle piercing a square of the
+//! Warnock chapter (seed 004), and a screen-filling mesh for crack tests.
+//!
+//! Every object is placed around the world origin, which the default camera (eye at
+//! (0, 0, 20), s = 10, d = 16) sees at z_e = 20, where the visible square is
+//! |x|, |y| ≤ 20·10/16 = 12.5.
+//!
+//! Movies: an object turns about the vertical axis through its centre, a full turn over
+//! the movie (frame f at angle 2π·f/K), so that frame K would repeat frame 0. Shaded
+//! objects are lit after turning, so the light stays put while the object turns.
+
+use glam::{DMat3, DVec3};
+use proto::{Colour, Polygon};
+use std::f64::consts::{PI, TAU};
+
+/// A face of an object before viewing: a base colour and its vertices.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Face {
+    pub colour: Colour,
+    pub points: Vec<DVec3>,
+}
+
+impl Face {
+    pub fn new(colour: Colour, points: Vec<DVec3>) -> Self {
+        Face { colour, points }
+    }
+}
+
+/// How a face's colour is chosen in each frame.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Shading {
+    /// The base colour as given.
+    Flat,
+    /// The base colour times 0.3 + 0.7·|n·l| for a fixed light direction l (up, right
+    /// and towards the viewer): a constant-shaded polygon, as the thesis's pipeline draws
+    /// them, but one that shows the object's shape.
+    Lambert,
+}
+
+/// The light of [`Shading::Lambert`].
+fn light() -> DVec3 {
+    DVec3::new(1.0, 1.5, 2.0).normalize()
+}
+
+fn shade(face: &Face, points: &[DVec3], shading: Shading) -> Colour {
+    match shading {
+        Shading::Flat => face.colour,
+        Shading::Lambert => {
+            let n = proto::geometry::newell_normal(points);
+            let k = if n.length_squared() > 0.0 {
+                0.3 + 0.7 * n.normalize().dot(light()).abs()
+            } else {
+                0.3
+            };
+            face.colour
+                .map(|c| (c as f64 * k).round().clamp(0.0, 255.0) as u8)
+        }
+    }
+}
+
+/// The frames of a movie of `faces` turning about the vertical axis through `centre`:
+/// frame f is turned by 2π·f/`frames` (frame 0 is the object as given).
+pub fn spin(faces: &[Face], frames: usize, centre: DVec3, shading: Shading) -> Vec<Vec<Polygon>> {
+    let frames = frames.max(1);
+    (0..frames)
+        .map(|f| {
+            let turn = DMat3::from_rotation_y(TAU * f as f64 / frames as f64);
+            faces
+                .iter()
+                .map(|face| {
+                    let points: Vec<DVec3> = if f == 0 {
+                        face.points.clone()
+                    } else {
+                        face.points
+                            .iter()
+                            .map(|p| centre + turn * (*p - centre))
+                            .collect()
+                    };
+                    let colour = shade(face, &points, shading);
+                    Polygon::new(colour, points.iter().map(|p| p.extend(1.0)).collect())
+                })
+                .collect()
+        })
+        .collect()
+}
+
+/// The thesis INPUTTER's scene (Appendix 4): a red triangle in the plane z = 0 and a
+/// blue quadrilateral that slopes through it, so the two penetrate along a line.
+pub fn penetrating() -> Vec<Face> {
+    vec![
+        Face::new(
+            [255, 60, 60],
+            vec![
+                DVec3::new(-8.0, -4.0, 0.0),
+                DVec3::new(0.0, 7.0, 0.0),
+                DVec3::new(8.0, -4.0, 0.0),
+            ],
+        ),
+        Face::new(
+            [60, 60, 255],
+            vec![
+                DVec3::new(-9.0, 5.0, 4.0),
+                DVec3::new(-7.0, 7.0, 4.0),
+                DVec3::new(7.0, -7.0, -4.0),
+                DVec3::new(5.0, -9.0, -4.0),
+            ],
+        ),
+    ]
+}
+
+/// A latitude–longitude sphere: `stacks` bands from pole to pole, `slices` around; the
+/// polar bands are triangles, the others quadrilaterals, every face wound
+/// counter-clockwise seen from outside.
+pub fn sphere(
+    centre: DVec3,
+    radius: f64,
+    stacks: usize,
+    slices: usize,
+    colour: Colour,
+) -> Vec<Face> {
+    let stacks = stacks.max(2);
+    let slices = slices.max(3);
+    // The point at polar angle θ (from +y) and azimuth φ.
+    let point = |i: usize, j: usize| {
+        let theta = PI * i as f64 / stacks as f64;
+        let phi = TAU * (j % slices) as f64 / slices as f64;
+        if i == 0 {
+            return centre + DVec3::Y * radius;
+        }
+        if i == stacks {
+            return centre - DVec3::Y * radius;
+        }
+        centre
+            + radius
+                * DVec3::new(
+                    theta.sin() * phi.sin(),
+                    theta.cos(),
+                    theta.sin() * phi.cos(),
+                )
+    };
+    let mut faces = Vec::with_capacity(stacks * slices);
+    for i in 0..stacks {
+        for j in 0..slices {
+            let points = if i == 0 {
+                vec![point(0, j), point(1, j), point(1, j + 1)]
+            } else if i == stacks - 1 {
+                vec![point(i, j), point(i + 1, j), point(i, j + 1)]
+            } else {
+                vec![
+                    point(i, j),
+                    point(i + 1, j),
+                    point(i + 1, j + 1),
+                    point(i, j + 1),
+                ]
+            };
+            faces.push(Face::new(colour, points));
+        }
+    }
+    faces
+}
+
+/// Two intersecting spheres, as in Archuleta's figure 1 (seed 003): a red one on the left
+/// and a slightly nearer blue one on the right, overlapping by about a third of a radius.
+pub fn spheres(stacks: usize, slices: usize) -> Vec<Face> {
+    let mut faces = sphere(
+        DVec3::new(-3.5, 0.0, -1.0),
+        6.0,
+        stacks,
+        slices,
+        [230, 70, 60],
+    );
+    faces.extend(sphere(
+        DVec3::new(3.5, 0.5, 1.0),
+        5.0,
+        stacks,
+        slices,
+        [70, 110, 235],
+    ));
+    faces
+}
+
+/// An axis-aligned rectangle in one of a box's wall planes, as a face wound
+/// counter-clockwise about `normal`: `origin` is its lower-left corner seen from outside,
+/// `right` and `up` its sides.
+fn rectangle(colour: Colour, origin: DVec3, right: DVec3, up: DVec3) -> Face {
+    Face::new(
+        colour,
+        vec![origin, origin + right, origin + right + up, origin + up],
+    )
+}
+
+/// A building after Archuleta's figures 2 and 3 (seed 003): a box of `floors` storeys
+/// with `bays` windows a floor on the long walls and half as many on the short walls,
+/// each window a separate quadrilateral a little in front of its wall, a door, and a
+/// gable roof. Turned 30° about the vertical and tipped 15° towards the viewer so that
+/// two walls and the roof show. With the defaults (4 floors, 5 bays) it has 72
+/// polygons and 286 edges.
+pub fn building(floors: usize, bays: usize) -> Vec<Face> {
+    let floors = floors.max(1);
+    let bays = bays.max(1);
+    let (width, depth, storey) = (14.0, 8.0, 2.2);
+    let height = storey * floors as f64;
+    let (hw, hd) = (width / 2.0, depth / 2.0);
+    let base = -height / 2.0 - 1.0;
+    let wall: Colour = [205, 185, 150];
+    let window: Colour = [90, 140, 200];
+    let door: Colour = [120, 70, 40];
+    let roof: Colour = [170, 60, 45];
+    let gable: Colour = [190, 170, 135];
+    // The four walls: (lower-left corner seen from outside, rightwards, outward normal).
+    let walls = [
+        (DVec3::new(-hw, base, hd), DVec3::X * width, DVec3::Z),
+        (DVec3::new(hw, base, hd), -DVec3::Z * depth, DVec3::X),
+        (DVec3::new(hw, base, -hd), -DVec3::X * width, -DVec3::Z),
+        (DVec3::new(-hw, base, -hd), DVec3::Z * depth, -DVec3::X),
+    ];
+    let up = DVec3::Y * height;
+    let mut faces = Vec::new();
+    for (k, &(corner, right, normal)) in walls.iter().enumerate() {
+        faces.push(rectangle(wall, corner, right, up));
+        let long = k % 2 == 0;
+        let n = if long { bays } else { bays.div_ceil(2) };
+        let bay = right / n as f64;
+        let lift = normal * 0.05;
+        for floor in 0..floors {
+            for b in 0..n {
+                let sill = DVec3::Y * (storey * floor as f64 + 0.7);
+                let origin = corner + lift + sill + bay * (b as f64 + 0.25);
+                // The middle bay of the ground floor of the front wall is the door.
+                if k == 0 && floor == 0 && b == n / 2 {
+                    let o = corner + lift + bay * (b as f64 + 0.2);
+                    faces.push(rectangle(door, o, bay * 0.6, DVec3::Y * (storey * 0.85)));
+                } else {
+                    faces.push(rectangle(
+                        window,
+                        origin,
+                        bay * 0.5,
+                        DVec3::Y * (storey * 0.45),
+                    ));
+                }
+            }
+        }
+    }
+    // The gable roof: ridge along x, 3 units above the eaves, overhanging by 0.5.
+    let top = base + height;
+    let ridge = top + 3.0;
+    let (ox, oz) = (hw + 0.5, hd + 0.5);
+    faces.push(Face::new(
+        roof,
+        vec![
+            DVec3::new(-ox, top - 0.3, oz),
+            DVec3::new(ox, top - 0.3, oz),
+            DVec3::new(ox, ridge, 0.0),
+            DVec3::new(-ox, ridge, 0.0),
+        ],
+    ));
+    faces.push(Face::new(
+        roof,
+        vec![
+            DVec3::new(ox, top - 0.3, -oz),
+            DVec3::new(-ox, top - 0.3, -oz),
+            DVec3::new(-ox, ridge, 0.0),
+            DVec3::new(ox, ridge, 0.0),
+        ],
+    ));
+    for sx in [-1.0, 1.0] {
+        let x = sx * hw;
+        let (a, b) = if sx > 0.0 { (hd, -hd) } else { (-hd, hd) };
+        faces.push(Face::new(
+            gable,
+            vec![
+                DVec3::new(x, top, a),
+                DVec3::new(x, top, b),
+                DVec3::new(x, ridge - 0.2, 0.0),
+            ],
+        ));
+    }
+    let pose =
+        DMat3::from_rotation_x(15f64.to_radians()) * DMat3::from_rotation_y(-30f64.to_radians());
+    for face in &mut faces {
+        for p in &mut face.points {
+            *p = pose * *p;
+        }
+    }
+    faces
+}
+
+/// Half the side of the square the default camera sees at the world origin (z_e = 20):
+/// 20·s/d = 12.5.
+pub const HALF_VIEW_AT_ORIGIN: f64 = 12.5;
+
+/// A `cols`×`rows` mesh of quadrilaterals in the plane z = 0 that covers the whole screen
+/// of the default camera (for aspect ratio `aspect`) and a little more (2%), each quad
+/// its own colour, neighbours sharing their edges exactly (the same vertex values).
+///
+/// In a movie the interior vertices wobble (each by at most 0.15 of a cell along each
+/// axis, so every quad stays convex) while the border stays put: the mesh still covers
+/// the screen and still shares its edges, so any crack or double-drawn pixel is a bug.
+pub fn mesh(cols: usize, rows: usize, aspect: f64, frames: usize) -> Vec<Vec<Polygon>> {
+    let cols = cols.max(1);
+    let rows = rows.max(1);
+    let half_h = HALF_VIEW_AT_ORIGIN * 1.02;
+    let half_w = half_h * aspect;
+    let (cw, ch) = (2.0 * half_w / cols as f64, 2.0 * half_h / rows as f64);
+    let frames = frames.max(1);
+    (0..frames)
+        .map(|f| {
+            let phase = TAU * f as f64 / frames as f64;
+            let vertex = |i: usize, j: usize| {
+                let mut x = -half_w + cw * i as f64;
+                let mut y = half_h - ch * j as f64;
+                if f > 0 && i > 0 && i < cols && j > 0 && j < rows {
+                    x += 0.15 * cw * (phase + 0.7 * i as f64 + 1.3 * j as f64).sin();
+                    y += 0.15 * ch * (phase + 1.1 * i as f64 - 0.9 * j as f64).cos();
+                }
+                glam::DVec4::new(x, y, 0.0, 1.0)
+            };
+            let mut polygons = Vec::with_capacity(cols * rows);
+            for j in 0..rows {
+                for i in 0..cols {
+                    polygons.push(Polygon::new(
+                        mesh_colour(i, j, cols, rows),
+                        vec![
+                            vertex(i, j),
+                            vertex(i, j + 1),
+                            vertex(i + 1, j + 1),
+                            vertex(i + 1, j),
+                        ],
+                    ));
+                }
+            }
+            polygons
+        })
+        .collect()
+}
+
+/// A colour of its own for each cell (for meshes of up to 2^24 cells): a gradient that
+/// tells position, with the low bits of the cell number mixed in so neighbours differ.
+fn mesh_colour(i: usize, j: usize, cols: usize, rows: usize) -> Colour {
+    let k = (j * cols + i) as u32;
+    // A bijective mix of the cell number (odd multiplier modulo 2^24), so that no two
+    // cells of a mesh of up to 2^24 cells share a colour.
+    let m = k.wrapping_mul(0x9E3779) & 0xFF_FFFF;
+    let _ = (cols, rows);
+    [(m >> 16) as u8, (m >> 8) as u8, m as u8]
+}
+
+/// The triangle piercing a square of the Warnock chapter (seed 004, figure 14-8a): a
+/// green square facing the viewer in the plane z = 0, and a yellow triangle whose base is
+/// behind the square and whose tip comes through it, so that the line where they meet,
+/// the *implied edge*, is visible.
+pub fn triangle_square() -> Vec<Face> {
+    vec![
+        Face::new(
+            [60, 200, 80],
+            vec![
+                DVec3::new(-6.0, -6.0, 0.0),
+                DVec3::new(6.0, -6.0, 0.0),
+                DVec3::new(6.0, 6.0, 0.0),
+                DVec3::new(-6.0, 6.0, 0.0),
+            ],
+        ),
+        Face::new(
+            [240, 200, 40],
+            vec![
+                DVec3::new(-8.0, -8.0, -5.0),
+                DVec3::new(8.0, -8.0, -5.0),
+                DVec3::new(0.0, 3.0, 4.0),
+            ],
+        ),
+    ]
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn penetrating_is_the_inputter_scene() {
+        let frames = spin(&penetrating(), 1, DVec3::ZERO, Shading::Flat);
+        assert_eq!(
+            frames,
+            vec![vec![
+                Polygon::from_xyz(
+                    [255, 60, 60],
+                    &[[-8.0, -4.0, 0.0], [0.0, 7.0, 0.0], [8.0, -4.0, 0.0]]
+                ),
+                Polygon::from_xyz(
+                    [60, 60, 255],
+                    &[
+                        [-9.0, 5.0, 4.0],
+                        [-7.0, 7.0, 4.0],
+                        [7.0, -7.0, -4.0],
+                        [5.0, -9.0, -4.0]
+                    ]
+                ),
+            ]]
+        );
+    }
+
+    #[test]
+    fn spin_turns_about_the_vertical_axis() {
+        let frames = spin(&penetrating(), 4, DVec3::ZERO, Shading::Flat);
+        assert_eq!(frames.len(), 4);
+        // A quarter turn about +y: (x, y, z) → (z, y, −x).
+        let v = frames[1][0].vertices[0];
+        assert!(
+            (v - glam::DVec4::new(0.0, -4.0, 8.0, 1.0)).length() < 1e-12,
+            "{v}"
+        );
+        // Half a turn: (x, y, z) → (−x, y, −z).
+        let v = frames[2][1].vertices[0];
+        assert!(
+            (v - glam::DVec4::new(9.0, 5.0, -4.0, 1.0)).length() < 1e-12,
+            "{v}"
+        );
+    }
+
+    #[test]
+    fn sphere_faces_lie_on_the_sphere_and_wind_outwards() {
+        let c = DVec3::new(1.0, 2.0, 3.0);
+        let faces = sphere(c, 5.0, 6, 8, [1, 2, 3]);
+        assert_eq!(faces.len(), 48);
+        assert_eq!(faces.iter().filter(|f| f.points.len() == 3).count(), 16);
+        for f in &faces {
+            for p in &f.points {
+                assert!(((*p - c).length() - 5.0).abs() < 1e-12);
+            }
+            let n = proto::geometry::newell_normal(&f.points);
+            let mid = f.points.iter().copied().sum::<DVec3>() / f.points.len() as f64;
+            assert!(n.dot(mid - c) > 0.0, "face winds inwards: {:?}", f.points);
+        }
+    }
+
+    #[test]
+    fn building_has_a_few_hundred_edges() {
+        let faces = building(4, 5);
+        let edges: usize = faces.iter().map(|f| f.points.len()).sum();
+        assert_eq!(faces.len(), 72);
+        assert_eq!(edges, 286);
+        // Everything in front of the eye and within the visible square at its depth.
+        for f in &faces {
+            for p in &f.points {
+                let z_e = 20.0 - p.z;
+                let half = z_e * 10.0 / 16.0;
+                assert!(z_e > 1.0 && z_e < 30.0);
+                assert!(p.x.abs() < half && p.y.abs() < half, "{p}");
+            }
+        }
+    }
+
+    #[test]
+    fn mesh_shares_edges_and_covers_the_screen() {
+        for frames in [mesh(4, 3, 1.0, 1), mesh(4, 3, 1.0, 3)] {
+            for frame in &frames {
+                assert_eq!(frame.len(), 12);
+                // Cell (i, j)'s right edge is cell (i+1, j)'s left edge, reversed.
+                let right = &frame[1].vertices;
+                let left = &frame[0].vertices;
+                assert_eq!((left[3], left[2]), (right[0], right[1]));
+                // The corners cover the visible square with 2% to spare.
+                let x0 = frame[0].vertices[0].x;
+                assert!(x0 < -12.5 && x0 > -13.0);
+            }
+        }
+        let colours: std::collections::HashSet<_> =
+            mesh(64, 64, 1.0, 1)[0].iter().map(|p| p.colour).collect();
+        assert_eq!(colours.len(), 64 * 64);
+    }
+
+    #[test]
+    fn triangle_tip_pierces_the_square() {
+        let faces = triangle_square();
+        let tip = faces[1].points[2];
+        assert!(tip.z > 0.0 && tip.x.abs() < 6.0 && tip.y.abs() < 6.0);
+        assert!(faces[1].points[..2].iter().all(|p| p.z < 0.0));
+    }
+}
