@@ -287,3 +287,12 @@ fn binary_in_text_out_equals_text_in_text_out() {
         .success()
         .stdout(expected);
 }
+
+#[test]
+fn help_has_an_example() {
+    clipplane()
+        .arg("--help")
+        .assert()
+        .success()
+        .stdout(predicate::str::contains("Example:"));
+}

@@ -224,3 +224,12 @@ fn binary_in_and_out_match_text() {
     assert_eq!(&binary_out[..8], &proto::header::BINARY_MAGIC);
     assert_eq!(tokens_of(&binary_out), tokens_of(SCREEN.as_bytes()));
 }
+
+#[test]
+fn help_has_an_example() {
+    persp()
+        .arg("--help")
+        .assert()
+        .success()
+        .stdout(predicate::str::contains("Example:"));
+}

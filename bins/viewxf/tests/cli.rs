@@ -231,3 +231,37 @@ fn stream_cut_short_keeps_finished_frames() {
         "polypipe 1 eye aspect 1 hither 1 yon 30\ncolour 1 1 1\n0 0 20 12.5\nNEXT.FRAME\n"
     ));
 }
+
+#[test]
+fn a_reader_that_goes_away_ends_the_stage_quietly() {
+    use std::io::{Read, Write};
+    use std::process::{Command as Std, Stdio};
+    // Far more output than a pipe holds, of which only a few bytes are read.
+    let mut scene = String::from("polypipe 1 world\n");
+    for i in 0..50_000 {
+        if i > 0 {
+            scene += "NEXT.POLYGON\n";
+        }
+        scene += "colour 1 2 3\n1 2 3\n4 5 6\n7 8 9\n";
+    }
+    scene += "END\n";
+    let mut child = Std::new(assert_cmd::cargo::cargo_bin("viewxf"))
+        .arg("--text")
+        .stdin(Stdio::piped())
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    let mut stdin = child.stdin.take().unwrap();
+    let writer = std::thread::spawn(move || {
+        let _ = stdin.write_all(scene.as_bytes());
+    });
+    let mut first = [0u8; 8];
+    child.stdout.take().unwrap().read_exact(&mut first).unwrap();
+    assert_eq!(&first, b"polypipe");
+    // stdout is dropped here: the stage's next write finds no reader.
+    let out = child.wait_with_output().unwrap();
+    writer.join().unwrap();
+    assert_eq!(out.status.code(), Some(0));
+    assert_eq!(String::from_utf8_lossy(&out.stderr), "");
+}
