@@ -51,12 +51,12 @@ impl Camera {
     /// direction, s or d not positive).
     pub fn frame(&self) -> Result<EyeFrame, String> {
         let f = self.at - self.eye;
-        if !(f.length_squared() > 0.0) || !f.is_finite() {
+        if f.length_squared() <= 0.0 || !f.is_finite() {
             return Err("the eye and the point looked at must differ".into());
         }
         let f = f.normalize();
         let x = f.cross(self.up);
-        if !(x.length_squared() > 0.0) || !x.is_finite() {
+        if x.length_squared() <= 0.0 || !x.is_finite() {
             return Err("the up vector must not be parallel to the view direction".into());
         }
         if !(self.s > 0.0 && self.d > 0.0 && self.s.is_finite() && self.d.is_finite()) {

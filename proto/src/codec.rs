@@ -471,6 +471,7 @@ impl<T: Record, W: Write> Writer<T, W> {
     }
 }
 
+#[allow(clippy::boxed_local)] // bincode::Error is a Box; this takes what bincode returns
 fn into_io(e: bincode::Error) -> io::Error {
     match *e {
         bincode::ErrorKind::Io(io) => io,

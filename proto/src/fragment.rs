@@ -71,23 +71,16 @@ impl Record for Fragment {
     fn validate(&self, space: &Space) -> Result<(), String> {
         let (width, height) = space.screen_size().unwrap_or((0, 0));
         match *self {
-            Fragment::Span { y, x0, x1, .. } => {
-                if y >= height || x0 > x1 || x1 > width {
-                    return Err(format!(
-                        "span of row {y}, columns {x0}..{x1}, is outside the {width}x{height} screen"
-                    ));
-                }
+            Fragment::Span { y, x0, x1, .. } if y >= height || x0 > x1 || x1 > width => {
+                Err(format!(
+                    "span of row {y}, columns {x0}..{x1}, is outside the {width}x{height} screen"
+                ))
             }
-            Fragment::Pixel { x, y, .. } => {
-                if x >= width || y >= height {
-                    return Err(format!(
-                        "pixel ({x}, {y}) is outside the {width}x{height} screen"
-                    ));
-                }
-            }
-            _ => {}
+            Fragment::Pixel { x, y, .. } if x >= width || y >= height => Err(format!(
+                "pixel ({x}, {y}) is outside the {width}x{height} screen"
+            )),
+            _ => Ok(()),
         }
-        Ok(())
     }
 
     fn read_text<R: BufRead>(
