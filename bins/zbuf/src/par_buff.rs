@@ -125,7 +125,7 @@ pub fn par_buff(
             } => match (&fb, first_header) {
                 (Some(b), Some(first)) if (b.width(), b.height()) != (width, height) => {
                     bail!(
-                        "{}: screen {width}x{height}, but {} is {}x{} (all inputs must have the same screen size)",
+                        "{}: header: screen {width}x{height}, but {} is {}x{} (all inputs must have the same screen size)",
                         states[input].name,
                         states[first].name,
                         b.width(),

@@ -264,8 +264,8 @@ fn mismatched_sizes_are_refused() {
     let stderr = String::from_utf8(out.stderr).unwrap();
     let (a, b) = (a.display(), b.display());
     assert!(
-        stderr == format!("zbuf: {b}: screen 8x8, but {a} is 4x4 (all inputs must have the same screen size)\n")
-            || stderr == format!("zbuf: {a}: screen 4x4, but {b} is 8x8 (all inputs must have the same screen size)\n"),
+        stderr == format!("zbuf: {b}: header: screen 8x8, but {a} is 4x4 (all inputs must have the same screen size)\n")
+            || stderr == format!("zbuf: {a}: header: screen 4x4, but {b} is 8x8 (all inputs must have the same screen size)\n"),
         "{stderr}"
     );
 }
