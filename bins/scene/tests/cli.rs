@@ -1,0 +1,368 @@
+//! The `scene` binary end to end: exact text output, the environment's statistics read
+//! back through proto's reader, OBJ files written here, and the error paths.
+
+use assert_cmd::Command;
+use predicates::prelude::*;
+use proto::{Polygon, Reader, Space, Token};
+use std::fs;
+
+fn scene() -> Command {
+    Command::cargo_bin("scene").unwrap()
+}
+
+/// Reads a stream (either form) into frames of polygons, checking the header is world.
+fn frames_of(bytes: &[u8]) -> Vec<Vec<Polygon>> {
+    let mut reader = Reader::<Token, _>::new(bytes).unwrap();
+    assert_eq!(reader.header().space, Space::World);
+    let mut frames = vec![Vec::new()];
+    let mut ended = false;
+    while let Some(t) = reader.next_record().unwrap() {
+        assert!(!ended, "records after END");
+        match t {
+            Token::Polygon(p) => frames.last_mut().unwrap().push(p),
+            Token::NextFrame => frames.push(Vec::new()),
+            Token::End => ended = true,
+        }
+    }
+    assert!(ended, "no END");
+    frames
+}
+
+const PENETRATING: &str = "polypipe 1 world
+colour 255 60 60
+-8 -4 0
+0 7 0
+8 -4 0
+NEXT.POLYGON
+colour 60 60 255
+-9 5 4
+-7 7 4
+7 -7 -4
+5 -9 -4
+END
+";
+
+#[test]
+fn penetrating_text_is_exact() {
+    scene()
+        .args(["penetrating", "--text"])
+        .assert()
+        .success()
+        .stdout(PENETRATING);
+}
+
+#[test]
+fn penetrating_example_file_is_the_same_scene() {
+    let text = fs::read_to_string(concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/../../examples/penetrating.txt"
+    ))
+    .unwrap();
+    let out = scene().args(["penetrating", "--text"]).output().unwrap();
+    assert_eq!(frames_of(text.as_bytes()), frames_of(&out.stdout));
+}
+
+#[test]
+fn binary_and_text_carry_the_same_polygons() {
+    for args in [
+        &["penetrating"][..],
+        &["environment", "--polygons", "50", "--frames", "3"],
+        &["mesh", "--cols", "3", "--rows", "2", "--frames", "2"],
+        &["spheres", "--stacks", "4", "--slices", "6"],
+    ] {
+        let binary = scene().args(args).output().unwrap();
+        assert!(binary.status.success());
+        assert_eq!(binary.stdout[0], 0x89, "binary by default");
+        let text = scene().args(args).arg("--text").output().unwrap();
+        assert_eq!(
+            frames_of(&binary.stdout),
+            frames_of(&text.stdout),
+            "{args:?}"
+        );
+    }
+}
+
+#[test]
+fn triangle_square_text_is_exact() {
+    scene()
+        .args(["triangle-square", "--text"])
+        .assert()
+        .success()
+        .stdout(
+            "polypipe 1 world\ncolour 60 200 80\n-6 -6 0\n6 -6 0\n6 6 0\n-6 6 0\n\
+             NEXT.POLYGON\ncolour 240 200 40\n-8 -8 -5\n8 -8 -5\n0 3 4\nEND\n",
+        );
+}
+
+#[test]
+fn frames_are_separated_by_next_frame() {
+    let out = scene()
+        .args(["penetrating", "--frames", "4", "--text"])
+        .output()
+        .unwrap();
+    let text = String::from_utf8(out.stdout).unwrap();
+    assert_eq!(text.matches("NEXT.FRAME").count(), 3);
+    assert!(text.ends_with("END\n"));
+    let frames = frames_of(text.as_bytes());
+    assert_eq!(frames.len(), 4);
+    // Frame 2 is half a turn about the vertical: (x, y, z) → (−x, y, −z).
+    let v = frames[2][0].vertices[0];
+    assert!(
+        (v.x - 8.0).abs() < 1e-12 && v.y == -4.0 && v.z.abs() < 1e-12,
+        "{v}"
+    );
+}
+
+#[test]
+fn environment_statistics_through_the_stream() {
+    use scene::environment::{frame_stats, view_volume};
+    let out = scene()
+        .args([
+            "environment",
+            "--polygons",
+            "1024",
+            "--clipped",
+            "0.5",
+            "--depth-complexity",
+            "2",
+            "--seed",
+            "5",
+            "--size",
+            "640x480",
+        ])
+        .output()
+        .unwrap();
+    assert!(out.status.success());
+    let frames = frames_of(&out.stdout);
+    assert_eq!(frames.len(), 1);
+    assert_eq!(frames[0].len(), 1024);
+    let stats = frame_stats(&frames[0], &view_volume(640.0 / 480.0));
+    assert_eq!(stats.inside + stats.outside, 1024);
+    let f = stats.outside as f64 / 1024.0;
+    assert!((f - 0.5).abs() < 0.05, "clipped fraction {f}");
+    assert!((stats.depth_complexity - 2.0).abs() < 1e-6, "{stats:?}");
+    // The stream went through the binary codec (f64 exact): same as the library's.
+    let lib = scene::environment(&scene::Environment {
+        polygons: 1024,
+        depth_complexity: 2.0,
+        seed: 5,
+        aspect: 640.0 / 480.0,
+        ..scene::Environment::default()
+    });
+    assert_eq!(frames, lib);
+}
+
+#[test]
+fn environment_is_reproducible_and_seeded() {
+    let run = |seed: &str| {
+        scene()
+            .args(["environment", "--polygons", "100", "--seed", seed])
+            .output()
+            .unwrap()
+            .stdout
+    };
+    assert_eq!(run("9"), run("9"));
+    assert_ne!(run("9"), run("10"));
+}
+
+#[test]
+fn environment_movie_keeps_its_statistics() {
+    use scene::environment::{frame_stats, view_volume};
+    let out = scene()
+        .args(["environment", "--polygons", "200", "--frames", "5"])
+        .output()
+        .unwrap();
+    let frames = frames_of(&out.stdout);
+    assert_eq!(frames.len(), 5);
+    let first = frame_stats(&frames[0], &view_volume(1.0));
+    for frame in &frames[1..] {
+        let s = frame_stats(frame, &view_volume(1.0));
+        assert_eq!((s.inside, s.outside), (first.inside, first.outside));
+        assert!((s.depth_complexity - 1.0).abs() < 1e-6);
+    }
+    assert_ne!(frames[0], frames[4]);
+}
+
+#[test]
+fn bad_arguments_are_usage_errors() {
+    scene()
+        .args(["environment", "--clipped", "1.5"])
+        .assert()
+        .code(2)
+        .stderr(predicate::str::contains("not a fraction from 0 to 1"));
+    scene()
+        .args(["penetrating", "--frames", "0"])
+        .assert()
+        .code(2);
+    scene().args(["sphere", "--radius", "-1"]).assert().code(2);
+    scene().assert().code(2);
+}
+
+#[test]
+fn help_shows_examples() {
+    scene()
+        .args(["environment", "--help"])
+        .assert()
+        .success()
+        .stdout(predicate::str::contains(
+            "scene environment --polygons 1024 --clipped 0.5",
+        ));
+}
+
+#[test]
+fn mesh_and_sphere_sizes() {
+    let frames = frames_of(
+        &scene()
+            .args(["mesh", "--cols", "5", "--rows", "4"])
+            .output()
+            .unwrap()
+            .stdout,
+    );
+    assert_eq!(frames[0].len(), 20);
+    let frames = frames_of(
+        &scene()
+            .args(["sphere", "--stacks", "3", "--slices", "5", "--radius", "2"])
+            .output()
+            .unwrap()
+            .stdout,
+    );
+    // Two polar bands of triangles, one band of quads.
+    let arities: Vec<usize> = frames[0].iter().map(|p| p.vertices.len()).collect();
+    assert_eq!(arities, [3, 3, 3, 3, 3, 4, 4, 4, 4, 4, 3, 3, 3, 3, 3]);
+    for p in &frames[0] {
+        for v in &p.vertices {
+            assert!((v.truncate().length() - 2.0).abs() < 1e-12);
+        }
+    }
+}
+
+// ---- OBJ ----
+
+const MTL: &str = "newmtl red\nKd 1 0 0\nnewmtl half\nKd 0.5 0.25 1\n";
+
+/// Quads, a pentagon, negative indices, two materials and a face before any material.
+const OBJ: &str = "mtllib scene.mtl
+v 0 0 0
+v 1 0 0
+v 1 1 0
+v 0 1 0
+v 0.5 1.5 0
+f 1 2 3 4
+usemtl red
+f 1 2 3 5 4
+f -5 -4 -3
+usemtl half
+f -1 -2 -3 -4
+";
+
+#[test]
+fn obj_faces_and_materials() {
+    let dir = tempfile::tempdir().unwrap();
+    fs::write(dir.path().join("scene.mtl"), MTL).unwrap();
+    let obj = dir.path().join("scene.obj");
+    fs::write(&obj, OBJ).unwrap();
+    scene()
+        .args(["obj", "--no-fit", "--text"])
+        .arg(&obj)
+        .assert()
+        .success()
+        .stderr("")
+        .stdout(
+            "polypipe 1 world\n\
+             colour 200 200 200\n0 0 0\n1 0 0\n1 1 0\n0 1 0\n\
+             NEXT.POLYGON\ncolour 255 0 0\n0 0 0\n1 0 0\n1 1 0\n0.5 1.5 0\n0 1 0\n\
+             NEXT.POLYGON\ncolour 255 0 0\n0 0 0\n1 0 0\n1 1 0\n\
+             NEXT.POLYGON\ncolour 128 64 255\n0.5 1.5 0\n0 1 0\n1 1 0\n1 0 0\n\
+             END\n",
+        );
+}
+
+#[test]
+fn obj_from_stdin_looks_for_materials_in_the_current_folder() {
+    let dir = tempfile::tempdir().unwrap();
+    fs::write(dir.path().join("scene.mtl"), MTL).unwrap();
+    let out = scene()
+        .current_dir(dir.path())
+        .args(["obj", "--no-fit", "-"])
+        .write_stdin(OBJ)
+        .output()
+        .unwrap();
+    assert!(out.status.success());
+    let colours: Vec<_> = frames_of(&out.stdout)[0].iter().map(|p| p.colour).collect();
+    assert_eq!(
+        colours,
+        [[200, 200, 200], [255, 0, 0], [255, 0, 0], [128, 64, 255]]
+    );
+}
+
+#[test]
+fn obj_missing_mtl_warns_and_uses_default_colours() {
+    let dir = tempfile::tempdir().unwrap();
+    let obj = dir.path().join("scene.obj");
+    fs::write(&obj, OBJ).unwrap();
+    let out = scene()
+        .args(["obj", "--no-fit"])
+        .arg(&obj)
+        .output()
+        .unwrap();
+    assert!(out.status.success());
+    let stderr = String::from_utf8(out.stderr).unwrap();
+    assert_eq!(stderr.lines().count(), 1, "{stderr}");
+    assert!(
+        stderr.starts_with("scene: warning: cannot read material library "),
+        "{stderr}"
+    );
+    assert!(stderr.contains("scene.mtl"), "{stderr}");
+    let frames = frames_of(&out.stdout);
+    assert!(frames[0].iter().all(|p| p.colour == [200, 200, 200]));
+    assert_eq!(frames[0].len(), 4);
+}
+
+#[test]
+fn obj_fit_puts_the_model_in_view() {
+    let dir = tempfile::tempdir().unwrap();
+    let obj = dir.path().join("far.obj");
+    fs::write(
+        &obj,
+        "v 100 100 100\nv 140 100 100\nv 140 130 100\nf 1 2 3\n",
+    )
+    .unwrap();
+    let out = scene().args(["obj"]).arg(&obj).output().unwrap();
+    let frames = frames_of(&out.stdout);
+    let v = &frames[0][0].vertices;
+    // Bounding box centred on the origin, bounding-sphere radius 8 about its centre.
+    assert_eq!(v[0].truncate(), glam::DVec3::new(-6.4, -4.8, 0.0));
+    assert_eq!(v[2].truncate(), glam::DVec3::new(6.4, 4.8, 0.0));
+}
+
+#[test]
+fn obj_errors() {
+    scene()
+        .args(["obj", "/nonexistent/x.obj"])
+        .assert()
+        .code(3)
+        .stderr(predicate::str::starts_with(
+            "scene: cannot open /nonexistent/x.obj",
+        ));
+    scene()
+        .args(["obj", "-"])
+        .write_stdin("v 0 0 0\nf 1 2 3\n")
+        .assert()
+        .code(1)
+        .stderr("scene: <stdin>: not a valid OBJ file: face vertex index out of bounds\n");
+}
+
+#[test]
+fn example_scenes_are_valid_world_streams() {
+    let dir = concat!(env!("CARGO_MANIFEST_DIR"), "/../../examples");
+    let mut n = 0;
+    for entry in fs::read_dir(dir).unwrap() {
+        let path = entry.unwrap().path();
+        if path.extension().is_some_and(|e| e == "txt") {
+            let frames = frames_of(&fs::read(&path).unwrap());
+            assert!(!frames[0].is_empty(), "{}", path.display());
+            n += 1;
+        }
+    }
+    assert!(n >= 5);
+}
