@@ -1,0 +1,281 @@
+#!/usr/bin/env bash
+# render.sh: compose the polypipe stages into the thesis's pipeline, the way occam's PAR
+# wires channels (DESIGN.md, "The stages"; thesis chapter 6.3, CLIPPER/SPLITTER):
+#
+#   viewxf | clipplane left | right | top | bottom | hither | yon
+#     depth 0:  | persp | scanconv | zbuf
+#     depth N:  | a binary tree of splitter nodes, N levels alternating x and y planes,
+#               each node bisecting its own rectangle of the screen;
+#               persp | scanconv on each of the 2^N leaves; one zbuf reading all leaves.
+#
+# Every stage is a process of its own, joined to the next by a named pipe in a private
+# temporary directory. The script watches them all: when one fails (or is killed), it
+# names it, stops the others and exits non-zero. The directory and every child are
+# removed on every way out (success, failure, Ctrl-C, SIGTERM).
+
+set -u
+
+usage() {
+    cat <<'EOF'
+Usage: render.sh [OPTIONS] [SCENE]
+
+Renders a world-space scene (text or binary; `-` for stdin; default
+examples/penetrating.txt) and writes one binary PPM (P6) per frame on stdout.
+
+Options:
+  --size WxH        screen size in pixels (default 500x500)
+  --depth N         splitter tree depth, 0 to 6 (default 0: no splitter)
+  --eye X,Y,Z  --at X,Y,Z  --up X,Y,Z  --s S  --d D  --hither K1  --yon K2
+                    camera and view volume, passed to viewxf
+  --zmode MODE      persp's depth: projective (default) or eye-z
+  --stats           splitter nodes, scan converters and zbuf print counts on stderr
+  -o PATTERN        zbuf writes one file per frame (e.g. frame%04d.png) instead
+  -h, --help        this text
+
+Examples:
+  scripts/render.sh > penetrating.ppm
+  scripts/render.sh --depth 3 --size 640x480 --eye 10,10,20 scene.txt > out.ppm
+  scene environment --frames 10 | scripts/render.sh --depth 2 - -o frame%03d.png
+EOF
+}
+
+die_usage() {
+    echo "render.sh: $*" >&2
+    echo "Try 'render.sh --help'." >&2
+    exit 2
+}
+
+size=500x500
+depth=0
+stats=()
+zmode=()
+outopt=()
+camera=()
+scene=
+scene_given=0
+
+while (($# > 0)); do
+    case $1 in
+        -h | --help) usage; exit 0 ;;
+        --size) (($# >= 2)) || die_usage "--size needs WxH"; size=$2; shift 2 ;;
+        --size=*) size=${1#*=}; shift ;;
+        --depth) (($# >= 2)) || die_usage "--depth needs N"; depth=$2; shift 2 ;;
+        --depth=*) depth=${1#*=}; shift ;;
+        --eye | --at | --up | --s | --d | --hither | --yon)
+            (($# >= 2)) || die_usage "$1 needs a value"
+            camera+=("$1" "$2"); shift 2 ;;
+        --eye=* | --at=* | --up=* | --s=* | --d=* | --hither=* | --yon=*)
+            camera+=("$1"); shift ;;
+        --zmode) (($# >= 2)) || die_usage "--zmode needs a mode"; zmode=(--depth "$2"); shift 2 ;;
+        --stats) stats=(--stats); shift ;;
+        -o) (($# >= 2)) || die_usage "-o needs a PATTERN"; outopt=(-o "$2"); shift 2 ;;
+        -) ((scene_given == 0)) || die_usage "more than one SCENE"
+            scene=-; scene_given=1; shift ;;
+        -*) die_usage "unknown option $1" ;;
+        *) ((scene_given == 0)) || die_usage "more than one SCENE"
+            scene=$1; scene_given=1; shift ;;
+    esac
+done
+
+[[ $depth =~ ^[0-6]$ ]] || die_usage "--depth must be an integer from 0 to 6, not '$depth'"
+[[ $size =~ ^[0-9]+[xX][0-9]+$ ]] || die_usage "--size must be WxH, e.g. 500x500, not '$size'"
+
+root=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd) || exit 3
+if ((scene_given == 0)); then
+    scene=$root/examples/penetrating.txt
+fi
+if [[ $scene != - && ! -r $scene ]]; then
+    echo "render.sh: cannot read scene $scene" >&2
+    exit 3
+fi
+
+# --- The binaries: build them if they are missing or older than the sources. ----------
+bindir=${CARGO_TARGET_DIR:-$root/target}/release
+stages=(viewxf clipplane splitter persp scanconv zbuf)
+stale=0
+for b in "${stages[@]}"; do
+    if [[ ! -x $bindir/$b ]] ||
+        [[ -n $(find "$root/proto" "$root/bins" "$root/Cargo.toml" "$root/Cargo.lock" \
+            \( -name '*.rs' -o -name Cargo.toml -o -name Cargo.lock \) \
+            -newer "$bindir/$b" -print -quit 2>/dev/null) ]]; then
+        stale=1
+        break
+    fi
+done
+if ((stale)); then
+    (cd "$root" && cargo build --release --quiet --bins) >&2 || {
+        echo "render.sh: cargo build failed" >&2
+        exit 3
+    }
+fi
+
+# --- Processes and their clean-up. -----------------------------------------------------
+tmp=$(mktemp -d "${TMPDIR:-/tmp}/render.XXXXXX") || exit 3
+pids=()              # every stage, upstream first
+declare -A stage_of  # pid → stage name, for the messages
+exec 3<&0            # the scene on stdin, for viewxf (a background job's stdin is /dev/null)
+
+# Stops every stage still running (TERM, then KILL after a second), reaps them all.
+stop_all() {
+    local pid alive i
+    for pid in "${pids[@]}"; do kill -TERM "$pid" 2>/dev/null; done
+    for ((i = 0; i < 20; i++)); do
+        alive=0
+        for pid in "${pids[@]}"; do
+            if kill -0 "$pid" 2>/dev/null; then alive=1; break; fi
+        done
+        ((alive)) || break
+        sleep 0.05
+    done
+    for pid in "${pids[@]}"; do kill -KILL "$pid" 2>/dev/null; done
+    wait 2>/dev/null
+}
+
+cleanup() {
+    local status=$?
+    trap - EXIT INT TERM
+    stop_all
+    rm -rf "$tmp"
+    exit "$status"
+}
+trap cleanup EXIT
+trap 'exit 130' INT
+trap 'exit 143' TERM
+
+# start NAME CMD... <IN >OUT: runs one stage in the background and records it.
+# (Redirections are given by the caller through the variables `in` and `out`.)
+start() {
+    local name=$1
+    shift
+    "$@" <"$in" >"$out" 3<&- &
+    pids+=($!)
+    stage_of[$!]=$name
+}
+
+# start_last NAME CMD...: the final stage, writing to the script's stdout.
+start_last() {
+    local name=$1
+    shift
+    "$@" <"$in" 3<&- &
+    pids+=($!)
+    stage_of[$!]=$name
+}
+
+fifo() {
+    mkfifo "$tmp/$1" || exit 3
+    printf '%s' "$tmp/$1"
+}
+
+# --- The clipper chain: viewxf and the six planes of the pyramid (chapter 3). ---------
+if [[ $scene == - ]]; then in=/dev/fd/3; else in=$scene; fi
+out=$(fifo view)
+start viewxf "$bindir/viewxf" --size "$size" "${camera[@]}"
+for plane in left right top bottom hither yon; do
+    in=$out
+    out=$(fifo "clip-$plane")
+    start "clipplane $plane" "$bindir/clipplane" "$plane"
+done
+clipped=$out
+
+# K as a decimal: the region bounds are kept in 64ths of the half-screen, so every
+# bisection point is a dyadic rational that prints exactly.
+k_of() { awk -v m="$1" 'BEGIN { printf "%.17g", m / 64 }'; }
+
+# --- The splitter tree (chapter 6.3), nodes numbered as a heap: node 1 is the root, the
+# children of node i are 2i (out1: x_s ≤ K or y_s ≤ K) and 2i+1 (the rest). ------------
+leaves=1
+for ((l = 0; l < depth; l++)); do leaves=$((leaves * 2)); done
+declare -A x0 x1 y0 y1 input_of
+x0[1]=-64 x1[1]=64 y0[1]=-64 y1[1]=64
+input_of[1]=$clipped
+for ((node = 1; node < leaves; node++)); do
+    level=0
+    for ((n = node; n > 1; n /= 2)); do level=$((level + 1)); done
+    a=$((2 * node)) b=$((2 * node + 1))
+    x0[$a]=${x0[$node]} x1[$a]=${x1[$node]} y0[$a]=${y0[$node]} y1[$a]=${y1[$node]}
+    x0[$b]=${x0[$node]} x1[$b]=${x1[$node]} y0[$b]=${y0[$node]} y1[$b]=${y1[$node]}
+    if ((level % 2 == 0)); then
+        m=$(((x0[$node] + x1[$node]) / 2))
+        plane="x=$(k_of "$m")"
+        x1[$a]=$m x0[$b]=$m
+    else
+        m=$(((y0[$node] + y1[$node]) / 2))
+        plane="y=$(k_of "$m")"
+        y1[$a]=$m y0[$b]=$m
+    fi
+    input_of[$a]=$(fifo "node-$a")
+    input_of[$b]=$(fifo "node-$b")
+    in=${input_of[$node]}
+    out=/dev/null
+    start "splitter $plane (node $node)" "$bindir/splitter" "${stats[@]}" "$plane" \
+        "${input_of[$a]}" "${input_of[$b]}"
+done
+
+# --- The leaves: persp | scanconv each, all into one zbuf (chapter 6.3.3). ------------
+fragments=()
+for ((leaf = leaves; leaf < 2 * leaves; leaf++)); do
+    if ((depth == 0)); then suffix=""; else suffix=" (leaf $((leaf - leaves)))"; fi
+    in=${input_of[$leaf]}
+    out=$(fifo "screen-$leaf")
+    start "persp$suffix" "$bindir/persp" --size "$size" "${zmode[@]}"
+    in=$out
+    out=$(fifo "fragments-$leaf")
+    start "scanconv$suffix" "$bindir/scanconv" "${stats[@]}"
+    fragments+=("$out")
+done
+in=/dev/null
+start_last zbuf "$bindir/zbuf" "${stats[@]}" "${outopt[@]}" "${fragments[@]}"
+exec 3<&-
+
+# --- Watch: the first stage to fail stops the rest. ------------------------------------
+describe() { # describe STATUS
+    if (($1 > 128)); then
+        local sig
+        sig=$(kill -l "$(($1 - 128))" 2>/dev/null) || sig=$(($1 - 128))
+        printf 'killed by SIG%s' "$sig"
+    else
+        printf 'status %s' "$1"
+    fi
+}
+
+finished() { # finished PID: whether it has exited (reaped or a zombie)
+    ! kill -0 "$1" 2>/dev/null ||
+        [[ $(awk '{ print $3 }' "/proc/$1/stat" 2>/dev/null) == Z ]]
+}
+
+remaining=${#pids[@]}
+while ((remaining > 0)); do
+    done_pid=
+    wait -n -p done_pid
+    status=$?
+    [[ -n $done_pid ]] || break # no child left to wait for
+    remaining=$((remaining - 1))
+    ((status == 0)) && continue
+
+    # A stage failed. Those downstream of it fail in turn when their input ends short,
+    # so among the stages that have finished by now, name one killed by a signal, or
+    # else the most upstream, as the cause.
+    sleep 0.1
+    declare -A failed_status=([$done_pid]=$status)
+    for pid in "${pids[@]}"; do
+        [[ $pid == "$done_pid" ]] && continue
+        if finished "$pid"; then
+            wait "$pid" 2>/dev/null
+            st=$?
+            ((st != 0 && st != 127)) && failed_status[$pid]=$st
+        fi
+    done
+    cause=
+    for pid in "${pids[@]}"; do
+        [[ -n ${failed_status[$pid]-} ]] || continue
+        if ((failed_status[$pid] > 128)); then cause=$pid; break; fi
+        [[ -n $cause ]] || cause=$pid
+    done
+    echo "render.sh: ${stage_of[$cause]} failed ($(describe "${failed_status[$cause]}"))" >&2
+    for pid in "${pids[@]}"; do
+        [[ -n ${failed_status[$pid]-} && $pid != "$cause" ]] || continue
+        echo "render.sh: then ${stage_of[$pid]} failed ($(describe "${failed_status[$pid]}"))" >&2
+    done
+    exit 1
+done
+exit 0
