@@ -101,19 +101,23 @@ struct Item {
 
 /// The environment's frames: `frames` lists of `polygons` world-space quads each.
 pub fn generate(env: &Environment) -> Vec<Vec<Polygon>> {
+    frames(env).collect()
+}
+
+/// The environment's frames one at a time, so that a long movie of a large environment
+/// is written without holding every frame in memory.
+pub fn frames(env: &Environment) -> impl Iterator<Item = Vec<Polygon>> {
     let camera = Camera::default();
     // The default camera always defines a frame.
     let eye = camera.frame().unwrap_or_else(|_| unreachable!());
-    let view = view_volume(env.aspect);
-    let items = make_items(env, &view, camera.s / camera.d);
-    (0..env.frames.max(1))
-        .map(|f| {
-            items
-                .iter()
-                .map(|item| item_at(item, f as f64, &eye, camera.s / camera.d))
-                .collect()
-        })
-        .collect()
+    let w_per_z = camera.s / camera.d;
+    let items = make_items(env, &view_volume(env.aspect), w_per_z);
+    (0..env.frames.max(1)).map(move |f| {
+        items
+            .iter()
+            .map(|item| item_at(item, f as f64, &eye, w_per_z))
+            .collect()
+    })
 }
 
 /// Margin kept between a polygon and the plane it must be inside or outside of, in the
@@ -347,7 +351,7 @@ fn clipped_placement(
 /// The triangle wave that bounces `x` between `lo` and `hi`.
 fn bounce(x: f64, lo: f64, hi: f64) -> f64 {
     let span = hi - lo;
-    if !(span > 0.0) {
+    if span.is_nan() || span <= 0.0 {
         return lo;
     }
     let t = (x - lo).rem_euclid(2.0 * span);

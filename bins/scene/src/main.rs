@@ -163,14 +163,14 @@ fn non_negative(s: &str) -> Result<f64, String> {
 }
 
 /// Writes a movie: a world-space header, the frames separated by NEXT.FRAME, then END.
-fn write_movie(frames: &[Vec<Polygon>], form: Form) -> anyhow::Result<()> {
+fn write_movie(frames: impl IntoIterator<Item = Vec<Polygon>>, form: Form) -> anyhow::Result<()> {
     let mut writer = Writer::new(io::stdout().lock(), Header::new(Space::World), form)?;
-    for (i, frame) in frames.iter().enumerate() {
+    for (i, frame) in frames.into_iter().enumerate() {
         if i > 0 {
             writer.write(&Token::NextFrame)?;
         }
         for polygon in frame {
-            writer.write(&Token::Polygon(polygon.clone()))?;
+            writer.write(&Token::Polygon(polygon))?;
         }
     }
     writer.write(&Token::End)?;
@@ -190,14 +190,18 @@ fn main() -> ExitCode {
                 depth_complexity,
                 seed,
                 size,
-            } => scene::environment(&scene::Environment {
-                polygons,
-                clipped,
-                depth_complexity,
-                seed,
-                aspect: size.map_or(1.0, |(w, h)| w as f64 / h as f64),
-                frames,
-            }),
+            } => {
+                // Written as it is made: a large environment's movie need not fit in memory.
+                let env = scene::Environment {
+                    polygons,
+                    clipped,
+                    depth_complexity,
+                    seed,
+                    aspect: size.map_or(1.0, |(w, h)| w as f64 / h as f64),
+                    frames,
+                };
+                return write_movie(scene::environment::frames(&env), form);
+            }
             Command::Penetrating => {
                 spin(&shapes::penetrating(), frames, DVec3::ZERO, Shading::Flat)
             }
@@ -265,6 +269,6 @@ fn main() -> ExitCode {
                 spin(&model.faces, frames, DVec3::ZERO, Shading::Flat)
             }
         };
-        write_movie(&movie, form)
+        write_movie(movie, form)
     })
 }

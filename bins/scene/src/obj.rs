@@ -107,7 +107,8 @@ pub fn fit(faces: &mut [Face]) {
         lo = lo.min(*p);
         hi = hi.max(*p);
     }
-    if !(lo.x <= hi.x) {
+    if lo.x > hi.x {
+        // No vertices.
         return;
     }
     let centre = (lo + hi) * 0.5;
