@@ -78,7 +78,7 @@ fn top_left_rule_on_a_4x4_screen() {
     // Edges through pixel centres: X = 0.5 (left: in), X = 2.5 (right: out),
     // Y = 0.5 (top: in), Y = 2.5 (bottom: out).
     let sq = poly(R, &[(0.5, 0.5), (2.5, 0.5), (2.5, 2.5), (0.5, 2.5)], 4, 4);
-    let img = render_frame(&[sq.clone()], &setup(4, 4), K);
+    let img = render_frame(std::slice::from_ref(&sq), &setup(4, 4), K);
     assert_eq!(picture(&img, 4), ["RR..", "RR..", "....", "...."]);
     // The same square wound the other way renders the same.
     let mut rev = sq;
@@ -201,7 +201,7 @@ fn the_hither_plane_cuts_a_floor_close_under_the_eye() {
             [-100.0, -0.1, -80.0],
         ],
     );
-    let img = render_frame(&[floor.clone()], &s, K);
+    let img = render_frame(std::slice::from_ref(&floor), &s, K);
     for (r, row) in picture(&img, 20).iter().enumerate() {
         let want = if r == 10 || r == 11 { "G" } else { "." }.repeat(20);
         assert_eq!(row, &want, "row {r}");
