@@ -607,4 +607,31 @@ mod tests {
             "empty fraction {fraction}"
         );
     }
+
+    proptest::proptest! {
+        #![proptest_config(proptest::prelude::ProptestConfig::with_cases(24))]
+        /// For any parameters, every polygon is wholly inside or wholly outside the
+        /// pyramid, and the inside ones cover exactly Dc screens, in every frame.
+        #[test]
+        fn every_polygon_wholly_in_or_out(
+            polygons in 1usize..300,
+            clipped in 0.0f64..=1.0,
+            dc in 0.0f64..6.0,
+            seed in proptest::prelude::any::<u64>(),
+            aspect in 0.3f64..3.0,
+        ) {
+            let env = Environment { polygons, clipped, depth_complexity: dc, seed, aspect, frames: 3 };
+            for frame in generate(&env) {
+                let s = frame_stats(&frame, &view_volume(aspect));
+                proptest::prop_assert_eq!(s.inside + s.outside, polygons);
+                if s.inside > 0 {
+                    // Exact unless a polygon had to shrink to fit the screen.
+                    proptest::prop_assert!(s.depth_complexity <= dc * (1.0 + 1e-9));
+                    if dc * 4.0 * aspect.max(1.0 / aspect) / (s.inside as f64) < 0.5 {
+                        proptest::prop_assert!((s.depth_complexity - dc).abs() < 1e-6 * (1.0 + dc));
+                    }
+                }
+            }
+        }
+    }
 }

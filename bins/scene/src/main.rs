@@ -48,7 +48,7 @@ enum Command {
         #[arg(long, default_value_t = 0.5, value_parser = fraction)]
         clipped: f64,
         /// Dc: the average number of visible polygons covering a pixel.
-        #[arg(long, default_value_t = 1.0, value_parser = non_negative)]
+        #[arg(long, default_value_t = 1.0, value_parser = positive)]
         depth_complexity: f64,
         /// The random seed: the same seed gives the same scene on every platform.
         #[arg(long, default_value_t = 1)]
@@ -150,15 +150,6 @@ fn fraction(s: &str) -> Result<f64, String> {
         Ok(v)
     } else {
         Err(format!("{v} is not a fraction from 0 to 1"))
-    }
-}
-
-fn non_negative(s: &str) -> Result<f64, String> {
-    let v: f64 = s.parse().map_err(|_| format!("`{s}` is not a number"))?;
-    if v.is_finite() && v >= 0.0 {
-        Ok(v)
-    } else {
-        Err(format!("{v} must be a finite number ≥ 0"))
     }
 }
 

@@ -476,4 +476,27 @@ mod tests {
         assert!(tip.z > 0.0 && tip.x.abs() < 6.0 && tip.y.abs() < 6.0);
         assert!(faces[1].points[..2].iter().all(|p| p.z < 0.0));
     }
+
+    proptest::proptest! {
+        #![proptest_config(proptest::prelude::ProptestConfig::with_cases(32))]
+        /// In every frame the mesh's quads are convex, wound the same way, and tile the
+        /// covered rectangle: their areas sum to its area.
+        #[test]
+        fn wobbling_mesh_tiles_its_rectangle(cols in 1usize..12, rows in 1usize..12, aspect in 0.5f64..2.0) {
+            let half_h = HALF_VIEW_AT_ORIGIN * 1.02;
+            let rect = 4.0 * half_h * half_h * aspect;
+            for frame in mesh(cols, rows, aspect, 4) {
+                let mut total = 0.0;
+                for p in &frame {
+                    let v: Vec<glam::DVec2> = p.vertices.iter().map(|v| v.truncate().truncate()).collect();
+                    for k in 0..4 {
+                        let turn = (v[(k + 1) % 4] - v[k]).perp_dot(v[(k + 2) % 4] - v[(k + 1) % 4]);
+                        proptest::prop_assert!(turn > 0.0);
+                    }
+                    total += (0..4).map(|k| v[k].perp_dot(v[(k + 1) % 4])).sum::<f64>() / 2.0;
+                }
+                proptest::prop_assert!((total - rect).abs() < 1e-9 * rect);
+            }
+        }
+    }
 }
