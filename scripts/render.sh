@@ -89,21 +89,28 @@ if [[ $scene != - && ! -r $scene ]]; then
     exit 3
 fi
 
-# --- The binaries: build them if they are missing or older than the sources. ----------
+# --- The binaries: build them if they are missing or older than their sources. -------
+# Only the stages used here (and proto) are checked and built, so that a crate the
+# pipeline does not run cannot hold it up.
 bindir=${CARGO_TARGET_DIR:-$root/target}/release
 stages=(viewxf clipplane splitter persp scanconv zbuf)
+sources=("$root/proto" "$root/Cargo.toml" "$root/Cargo.lock")
+packages=()
+for b in "${stages[@]}"; do
+    sources+=("$root/bins/$b")
+    packages+=(-p "$b")
+done
 stale=0
 for b in "${stages[@]}"; do
     if [[ ! -x $bindir/$b ]] ||
-        [[ -n $(find "$root/proto" "$root/bins" "$root/Cargo.toml" "$root/Cargo.lock" \
-            \( -name '*.rs' -o -name Cargo.toml -o -name Cargo.lock \) \
+        [[ -n $(find "${sources[@]}" \( -name '*.rs' -o -name Cargo.toml -o -name Cargo.lock \) \
             -newer "$bindir/$b" -print -quit 2>/dev/null) ]]; then
         stale=1
         break
     fi
 done
 if ((stale)); then
-    (cd "$root" && cargo build --release --quiet --bins) >&2 || {
+    (cd "$root" && cargo build --release --quiet "${packages[@]}") >&2 || {
         echo "render.sh: cargo build failed" >&2
         exit 3
     }
@@ -272,10 +279,6 @@ while ((remaining > 0)); do
         [[ -n $cause ]] || cause=$pid
     done
     echo "render.sh: ${stage_of[$cause]} failed ($(describe "${failed_status[$cause]}"))" >&2
-    for pid in "${pids[@]}"; do
-        [[ -n ${failed_status[$pid]-} && $pid != "$cause" ]] || continue
-        echo "render.sh: then ${stage_of[$pid]} failed ($(describe "${failed_status[$pid]}"))" >&2
-    done
     exit 1
 done
 exit 0
