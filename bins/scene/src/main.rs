@@ -132,6 +132,10 @@ enum Command {
         /// Fit the model into view (the default).
         #[arg(long, overrides_with = "no_fit")]
         fit: bool,
+        /// Light the faces (colour × (0.3 + 0.7·|n·l|), a fixed light up, right and
+        /// towards the eye) so that a one-colour model shows its shape.
+        #[arg(long)]
+        shade: bool,
     },
 }
 
@@ -236,7 +240,12 @@ fn main() -> ExitCode {
                 DVec3::ZERO,
                 Shading::Flat,
             ),
-            Command::Obj { file, no_fit, .. } => {
+            Command::Obj {
+                file,
+                no_fit,
+                shade,
+                ..
+            } => {
                 let input = proto::cli::open_input(&file)?;
                 let dir = if file == "-" {
                     PathBuf::from(".")
@@ -257,7 +266,12 @@ fn main() -> ExitCode {
                 if !no_fit {
                     obj::fit(&mut model.faces);
                 }
-                spin(&model.faces, frames, DVec3::ZERO, Shading::Flat)
+                let shading = if shade {
+                    Shading::Lambert
+                } else {
+                    Shading::Flat
+                };
+                spin(&model.faces, frames, DVec3::ZERO, shading)
             }
         };
         write_movie(movie, form)

@@ -336,6 +336,23 @@ fn obj_fit_puts_the_model_in_view() {
 }
 
 #[test]
+fn obj_shade_lights_faces_by_their_normal() {
+    let dir = tempfile::tempdir().unwrap();
+    let obj = dir.path().join("facing.obj");
+    // A face whose normal is +z: |n·l| = 2/√7.25 for l = (1, 1.5, 2)/|…|.
+    fs::write(&obj, "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n").unwrap();
+    let out = scene()
+        .args(["obj", "--shade", "--no-fit"])
+        .arg(&obj)
+        .output()
+        .unwrap();
+    let k = 0.3 + 0.7 * 2.0 / 7.25f64.sqrt();
+    let c = (200.0 * k).round() as u8;
+    assert_eq!(frames_of(&out.stdout)[0][0].colour, [c, c, c]);
+    assert_eq!(c, 164);
+}
+
+#[test]
 fn obj_errors() {
     scene()
         .args(["obj", "/nonexistent/x.obj"])
