@@ -32,7 +32,7 @@ struct Args {
 fn main() -> ExitCode {
     let args = Args::parse();
     proto::cli::run("scanconv", || {
-        let mut input = Reader::<Token, _>::new(io::stdin().lock()).context("reading stdin")?;
+        let mut input = Reader::<Token, _>::new(io::stdin().lock())?;
         input.header().expect(SpaceKind::Screen)?;
         let (width, height) = input
             .header()
