@@ -292,3 +292,106 @@ fn read_input(input: usize, open: Opener, tx: SyncSender<Message>, wait: Receive
         let _ = tx.send(Message::Failed { input, error });
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use proptest::prelude::*;
+
+    /// An input that reads a string.
+    fn text_input(name: &str, text: String) -> Input {
+        Input {
+            name: name.into(),
+            open: Box::new(
+                move || Ok(Box::new(std::io::Cursor::new(text)) as Box<dyn Read + Send>),
+            ),
+        }
+    }
+
+    /// Runs PAR.BUFF and returns every frame's RGB bytes.
+    fn frames(inputs: Vec<Input>) -> anyhow::Result<Vec<Vec<u8>>> {
+        let mut out = vec![];
+        par_buff(inputs, [0, 0, 0], |_, fb| {
+            out.push(fb.rgb().to_vec());
+            Ok(())
+        })?;
+        Ok(out)
+    }
+
+    /// A span of polygon `polygon`: row, first column, length, depth, step.
+    type Span = (usize, u32, u32, u32, i64, i64);
+
+    /// The fragment text of `frames` frames of `polygons` polygons on an 8x4 screen,
+    /// keeping only the spans `keep` accepts (every polygon keeps its colour record).
+    fn stream(polygons: usize, frames: &[Vec<Span>], keep: impl Fn(usize) -> bool) -> String {
+        let mut s = String::from("polypipe 1 fragments 8 4\n");
+        let mut k = 0;
+        for (f, spans) in frames.iter().enumerate() {
+            if f > 0 {
+                s += "NEXT.FRAME\n";
+            }
+            for p in 0..polygons {
+                if p > 0 {
+                    s += "NEXT.POLYGON\n";
+                }
+                s += &format!("colour {} {} {}\n", p * 20, f * 50, 255 - p);
+                for &(q, y, x0, len, z0, dz) in spans {
+                    if q == p {
+                        if keep(k) {
+                            let x1 = (x0 + len).min(8);
+                            s += &format!("span {y} {x0} {x1} {z0} {dz}\n");
+                        }
+                        k += 1;
+                    }
+                }
+            }
+        }
+        s + "END\n"
+    }
+
+    proptest! {
+        /// However a frame's spans are dealt between inputs, and whatever order the
+        /// inputs are named in, the frames are the same: the nearest pixel, the earlier
+        /// polygon on a tie (depths are drawn from a few values to force ties).
+        #[test]
+        fn dealing_spans_between_inputs_changes_nothing(
+            spans in prop::collection::vec(
+                prop::collection::vec((0usize..5, 0u32..4, 0u32..8, 1u32..6, 0i64..3, -1i64..=1), 0..30),
+                1..4,
+            ),
+            deal in prop::collection::vec(0usize..3, 200),
+            inputs in 1usize..4,
+        ) {
+            let whole = frames(vec![text_input("whole", stream(5, &spans, |_| true))]).unwrap();
+            // The reference: each pixel's least (depth, polygon).
+            for (f, frame) in spans.iter().enumerate() {
+                let mut best: Vec<Option<(i64, usize)>> = vec![None; 32];
+                for &(p, y, x0, len, z0, dz) in frame {
+                    for x in x0..(x0 + len).min(8) {
+                        let z = z0 + (x - x0) as i64 * dz;
+                        let slot = &mut best[y as usize * 8 + x as usize];
+                        if slot.is_none_or(|b| (z, p) < b) {
+                            *slot = Some((z, p));
+                        }
+                    }
+                }
+                let want: Vec<u8> = best
+                    .iter()
+                    .flat_map(|b| match b {
+                        Some((_, p)) => [(p * 20) as u8, (f * 50) as u8, 255 - *p as u8],
+                        None => [0, 0, 0],
+                    })
+                    .collect();
+                prop_assert_eq!(&whole[f], &want);
+            }
+            let dealt: Vec<Input> = (0..inputs)
+                .rev()
+                .map(|i| {
+                    let deal = deal.clone();
+                    text_input(&format!("in{i}"), stream(5, &spans, move |k| deal[k % 200] % inputs == i))
+                })
+                .collect();
+            prop_assert_eq!(frames(dealt).unwrap(), whole);
+        }
+    }
+}
