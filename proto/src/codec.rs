@@ -240,6 +240,13 @@ impl<T: Record, R: Read> Reader<T, R> {
                         msg,
                     }
                 })?;
+                if record.control() == Control::Data && first_in_frame {
+                    return Err(StreamError::Binary {
+                        offset: start,
+                        context: format!(" (frame {})", self.frame),
+                        msg: "pixels before the frame's first colour record".into(),
+                    });
+                }
                 if let Err(msg) = record.validate(&self.header.space) {
                     let context = if record.control() == Control::Polygon {
                         format!(

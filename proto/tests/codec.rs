@@ -121,6 +121,26 @@ fn fragments_round_trip() {
 }
 
 #[test]
+fn pixels_before_a_colour_are_refused_in_both_forms() {
+    let header = Header::new(Space::Fragments {
+        width: 4,
+        height: 4,
+    });
+    let records = [Fragment::Pixel { x: 1, y: 1, z: 0 }, Fragment::End];
+    let bin = encode(header, &records, Form::Binary);
+    let offset = bin.len() - 4 - 20;
+    assert_eq!(
+        decode_err::<Fragment>(&bin),
+        format!("byte {offset} (frame 0): pixels before the frame's first colour record")
+    );
+    let text = "polypipe 1 fragments 4 4\npixel 1 1 0\nEND\n";
+    assert_eq!(
+        decode_err::<Fragment>(text.as_bytes()),
+        "line 2, column 1: pixels before the frame's first `colour`"
+    );
+}
+
+#[test]
 fn text_errors_say_line_and_column() {
     let cases: &[(&str, &str)] = &[
         ("", "empty input: expected a polypipe stream header"),

@@ -101,22 +101,16 @@ struct Item {
 
 /// The environment's frames: `frames` lists of `polygons` world-space quads each.
 pub fn generate(env: &Environment) -> Vec<Vec<Polygon>> {
-    frames(env).collect()
+    frames(env).map(Iterator::collect).collect()
 }
 
-/// The environment's frames one at a time, so that a long movie of a large environment
-/// is written without holding every frame in memory.
-pub fn frames(env: &Environment) -> impl Iterator<Item = Vec<Polygon>> {
-    let camera = Camera::default();
-    // The default camera always defines a frame.
-    let eye = camera.frame().unwrap_or_else(|_| unreachable!());
-    let w_per_z = camera.s / camera.d;
-    let items = make_items(env, &view_volume(env.aspect), w_per_z);
+/// The environment's frames one at a time, each a stream of polygons made as they are
+/// taken: a scene of any size, and a movie of any length, is written in constant memory.
+pub fn frames(env: &Environment) -> impl Iterator<Item = impl Iterator<Item = Polygon>> {
+    let maker = std::rc::Rc::new(Maker::new(env));
     (0..env.frames.max(1)).map(move |f| {
-        items
-            .iter()
-            .map(|item| item_at(item, f as f64, &eye, w_per_z))
-            .collect()
+        let maker = maker.clone();
+        (0..maker.env.polygons).map(move |i| maker.polygon(i, f as f64))
     })
 }
 
@@ -124,45 +118,86 @@ pub fn frames(env: &Environment) -> impl Iterator<Item = Vec<Polygon>> {
 /// plane's own units, so that no vertex is classified `On` a pyramid plane.
 const MARGIN: f64 = 1e-3;
 
-fn make_items(env: &Environment, view: &View, w_per_z: f64) -> Vec<Item> {
-    let mut rng = fastrand::Rng::with_seed(env.seed);
-    let a = env.aspect;
-    let n = env.polygons;
-    // Decide first which polygons are clipped out, so that the visible ones' share of
-    // the depth complexity is known before any is made.
-    let clipped: Vec<bool> = (0..n).map(|_| rng.f64() < env.clipped).collect();
-    let visible = clipped.iter().filter(|c| !**c).count();
-    // Random area weights in [0.5, 1.5), normalised: Σ area = Dc × screen area (4a in
-    // square-pixel units).
-    let weights: Vec<f64> = (0..n).map(|_| 0.5 + rng.f64()).collect();
-    let total_weight: f64 = clipped
-        .iter()
-        .zip(&weights)
-        .filter(|(c, _)| !**c)
-        .map(|(_, w)| w)
-        .sum();
-    let screen_area = 4.0 * a;
-    // Clipped-out polygons get the size a visible one of average weight would have.
-    let mean_area = if visible > 0 {
-        env.depth_complexity * screen_area / visible as f64
-    } else {
-        env.depth_complexity * screen_area / n.max(1) as f64
-    };
-    // A drift of about 1% of the screen height per frame.
-    let speed = 0.02;
-    let mut items = Vec::with_capacity(n);
-    for i in 0..n {
-        let colour = random_colour(&mut rng);
-        let velocity = random_direction(&mut rng) * speed * (0.5 + rng.f64());
-        let placement = if clipped[i] {
-            clipped_placement(&mut rng, view, w_per_z, mean_area, velocity)
+/// A drift of about 1% of the screen height per frame.
+const SPEED: f64 = 0.02;
+
+/// Makes polygon i of any frame from its own random stream, seeded by (seed, i): no
+/// polygon needs another's state, so none is kept.
+struct Maker {
+    env: Environment,
+    view: View,
+    eye: EyeFrame,
+    w_per_z: f64,
+    /// Σ of the visible polygons' area weights, and their mean area.
+    total_weight: f64,
+    mean_area: f64,
+}
+
+impl Maker {
+    fn new(env: &Environment) -> Self {
+        let camera = Camera::default();
+        // The default camera always defines a frame.
+        let eye = camera.frame().unwrap_or_else(|_| unreachable!());
+        // A first pass decides which polygons are clipped out and their area weights, so
+        // that the visible ones' share of the depth complexity is known before any is made.
+        let (mut visible, mut total_weight) = (0usize, 0.0);
+        for i in 0..env.polygons {
+            let (clipped, weight) = Self::fate(&mut Self::rng(env.seed, i), env);
+            if !clipped {
+                visible += 1;
+                total_weight += weight;
+            }
+        }
+        // Σ area = Dc × screen area (4a in square-pixel units); clipped-out polygons get
+        // the size a visible one of average weight would have.
+        let screen_area = 4.0 * env.aspect;
+        let share = if visible > 0 {
+            visible
         } else {
-            let area = env.depth_complexity * screen_area * weights[i] / total_weight;
-            visible_placement(&mut rng, view, w_per_z, area, velocity)
+            env.polygons.max(1)
         };
-        items.push(Item { colour, placement });
+        let mean_area = env.depth_complexity * screen_area / share as f64;
+        Maker {
+            env: env.clone(),
+            view: view_volume(env.aspect),
+            eye,
+            w_per_z: camera.s / camera.d,
+            total_weight,
+            mean_area,
+        }
     }
-    items
+
+    /// Polygon i's random stream: SplitMix64 of the seed and the index.
+    fn rng(seed: u64, i: usize) -> fastrand::Rng {
+        let mut z = seed
+            .wrapping_add((i as u64).wrapping_mul(0x9E37_79B9_7F4A_7C15))
+            .wrapping_add(0x9E37_79B9_7F4A_7C15);
+        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
+        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
+        fastrand::Rng::with_seed(z ^ (z >> 31))
+    }
+
+    /// The first draws of a polygon's stream: whether it is clipped out, and its area
+    /// weight in [0.5, 1.5).
+    fn fate(rng: &mut fastrand::Rng, env: &Environment) -> (bool, f64) {
+        let clipped = rng.f64() < env.clipped;
+        (clipped, 0.5 + rng.f64())
+    }
+
+    fn polygon(&self, i: usize, f: f64) -> Polygon {
+        let env = &self.env;
+        let mut rng = Self::rng(env.seed, i);
+        let (clipped, weight) = Self::fate(&mut rng, env);
+        let colour = random_colour(&mut rng);
+        let velocity = random_direction(&mut rng) * SPEED * (0.5 + rng.f64());
+        let placement = if clipped {
+            clipped_placement(&mut rng, &self.view, self.w_per_z, self.mean_area, velocity)
+        } else {
+            let area = env.depth_complexity * 4.0 * env.aspect * weight / self.total_weight;
+            visible_placement(&mut rng, &self.view, self.w_per_z, area, velocity)
+        };
+        item_at(&Item { colour, placement }, f, &self.eye, self.w_per_z)
+    }
 }
 
 /// A colour bright enough to tell from the black background.

@@ -158,7 +158,10 @@ fn fraction(s: &str) -> Result<f64, String> {
 }
 
 /// Writes a movie: a world-space header, the frames separated by NEXT.FRAME, then END.
-fn write_movie(frames: impl IntoIterator<Item = Vec<Polygon>>, form: Form) -> anyhow::Result<()> {
+fn write_movie<F: IntoIterator<Item = Polygon>>(
+    frames: impl IntoIterator<Item = F>,
+    form: Form,
+) -> anyhow::Result<()> {
     let mut writer = Writer::new(io::stdout().lock(), Header::new(Space::World), form)?;
     for (i, frame) in frames.into_iter().enumerate() {
         if i > 0 {

@@ -184,18 +184,33 @@ impl Setup {
     }
 }
 
-/// Renders one frame of world-space polygons: every pixel takes the colour of the
-/// covering polygon nearest the eye (the earliest on a tie), or `background`.
-/// Pixels are row-major from the top-left.
-pub fn render_frame(polys: &[Polygon], setup: &Setup, background: Colour) -> Vec<Colour> {
-    let size = setup.width as usize * setup.height as usize;
-    let mut colour = vec![background; size];
-    let mut depth = vec![f64::INFINITY; size];
-    let w = setup.width as usize;
-    for poly in polys {
+/// A frame being rendered by the reference: the nearest z_e so far and its colour at every
+/// pixel. Polygons are drawn one at a time, in stream order, so memory is one frame
+/// whatever the number of polygons.
+pub struct ReferenceFrame {
+    pub colour: Vec<Colour>,
+    depth: Vec<f64>,
+    width: usize,
+    background: Colour,
+}
+
+impl ReferenceFrame {
+    pub fn new(setup: &Setup, background: Colour) -> Self {
+        let size = setup.width as usize * setup.height as usize;
+        ReferenceFrame {
+            colour: vec![background; size],
+            depth: vec![f64::INFINITY; size],
+            width: setup.width as usize,
+            background,
+        }
+    }
+
+    /// Draws the next polygon of the frame.
+    pub fn draw(&mut self, setup: &Setup, poly: &Polygon) {
         let Some(p) = setup.prepare(poly) else {
-            continue;
+            return;
         };
+        let (colour, depth, w) = (&mut self.colour, &mut self.depth, self.width);
         setup.for_each_covered(&p, |c, r, z| {
             let i = r as usize * w + c as usize;
             // Strictly nearer: an equal depth leaves the earlier polygon.
@@ -205,7 +220,23 @@ pub fn render_frame(polys: &[Polygon], setup: &Setup, background: Colour) -> Vec
             }
         });
     }
-    colour
+
+    /// Empties the frame for the next one.
+    pub fn clear(&mut self) {
+        self.colour.fill(self.background);
+        self.depth.fill(f64::INFINITY);
+    }
+}
+
+/// Renders one frame of world-space polygons: every pixel takes the colour of the
+/// covering polygon nearest the eye (the earliest on a tie), or `background`.
+/// Pixels are row-major from the top-left.
+pub fn render_frame(polys: &[Polygon], setup: &Setup, background: Colour) -> Vec<Colour> {
+    let mut frame = ReferenceFrame::new(setup, background);
+    for poly in polys {
+        frame.draw(setup, poly);
+    }
+    frame.colour
 }
 
 /// How many polygons cover each pixel centre inside the view volume (row-major). A

@@ -87,16 +87,15 @@ fn render(scene: &str, setup: &Setup, background: Colour) -> anyhow::Result<()> 
     let mut reader = Reader::<Token, _>::new(proto::cli::open_input(scene)?)?;
     reader.header().expect(SpaceKind::World)?;
     let mut out = BufWriter::new(io::stdout().lock());
-    let mut polygons = Vec::new();
+    let mut frame = zspec::ReferenceFrame::new(setup, background);
     while let Some(token) = reader.next_record()? {
         match token {
-            Token::Polygon(p) => polygons.push(p),
+            Token::Polygon(p) => frame.draw(setup, &p),
             Token::NextFrame | Token::End => {
-                let pixels = zspec::render_frame(&polygons, setup, background);
-                zspec::write_ppm(&mut out, setup.width, setup.height, &pixels)?;
+                zspec::write_ppm(&mut out, setup.width, setup.height, &frame.colour)?;
                 // A frame is written whole before the next is read.
                 out.flush()?;
-                polygons.clear();
+                frame.clear();
             }
         }
     }

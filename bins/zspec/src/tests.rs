@@ -307,10 +307,13 @@ proptest! {
     /// A jittered grid mesh (every triangle of every cell) that spans the whole screen
     /// covers every pixel centre exactly once, whatever the jitter: the top-left rule
     /// leaves no cracks and no double hits, also for vertices and edges that fall on
-    /// centres (the jitter is in quarter pixels).
+    /// centres (the jitter is in quarter pixels). The jitter stays within one pixel of a
+    /// 5-pixel grid, so no vertex crosses its cell's diagonal and every cell stays a
+    /// convex quad: with more, the "mesh" itself would overlap (a vertex jittered 1.5
+    /// pixels inward lands inside the other triangle of its cell).
     #[test]
     fn a_mesh_covers_every_pixel_exactly_once(
-        jitter in prop::collection::vec((-6i32..=6, -6i32..=6), 25),
+        jitter in prop::collection::vec((-4i32..=4, -4i32..=4), 25),
         flip in prop::collection::vec(any::<bool>(), 16),
     ) {
         let (w, h) = (16u32, 16u32);

@@ -1,0 +1,134 @@
+#!/usr/bin/env bash
+# bench-pipeline.sh: the whole pipeline measured, printed as tables.
+#
+#   1. wall time of the linear pipeline (render.sh --depth 0) on 100,000 polygons at 500x500
+#   2. wall time for splitter depths 0..4 on a fill-heavy scene (10,000 polygons, depth
+#      complexity 10, 1920x1080) and a geometry-heavy one (100,000 small polygons, 500x500)
+#   3. scanconv's fragment encodings: spans against the thesis's per-pixel records
+#   4. accuracy against the exact reference (zspec) for projective depth and the occam
+#      code's eye-z depth, on scenes of tilted, interpenetrating polygons
+#   5. peak resident memory of every stage on 10,000 and on 1,000,000 polygons
+#
+# Times are the best of REPS runs (default 3) on whatever else the machine is doing:
+# compare the figures within one run of the script, not across machines.
+#
+# Usage: scripts/bench-pipeline.sh [SECTION...]   (sections 1-5; default all)
+set -euo pipefail
+
+root=$(cd "$(dirname "$0")/.." && pwd)
+cd "$root"
+cargo build --release --quiet --bins
+B=$root/target/release
+REPS=${REPS:-3}
+work=$(mktemp -d)
+trap 'rm -rf "$work"' EXIT
+
+sections=("$@")
+((${#sections[@]})) || sections=(1 2 3 4 5)
+want() { [[ " ${sections[*]} " == *" $1 "* ]]; }
+
+# best_of CMD...: the smallest wall time of REPS runs, in seconds.
+best_of() {
+    local best= t
+    for ((i = 0; i < REPS; i++)); do
+        /usr/bin/time -f %e -o "$work/time" bash -c "$1" >/dev/null 2>&1
+        t=$(tail -n 1 "$work/time")
+        if [[ -z $best ]] || awk -v a="$t" -v b="$best" 'BEGIN { exit !(a < b) }'; then best=$t; fi
+    done
+    echo "$best"
+}
+
+clip="$B/clipplane left | $B/clipplane right | $B/clipplane top | $B/clipplane bottom | $B/clipplane hither | $B/clipplane yon"
+
+if want 1; then
+    echo "## 1. Linear pipeline, 100,000 polygons, 500x500"
+    "$B/scene" environment --polygons 100000 --depth-complexity 10 --seed 1 > "$work/geo.pp"
+    t=$(best_of "$root/scripts/render.sh $work/geo.pp")
+    printf '| scene | wall s |\n|---|---|\n| environment 100000 polygons, Dc 10 | %s |\n\n' "$t"
+fi
+
+if want 2; then
+    echo "## 2. Splitter depth (wall seconds, best of $REPS)"
+    "$B/scene" environment --polygons 10000 --depth-complexity 10 --size 1920x1080 --seed 2 > "$work/fill.pp"
+    "$B/scene" environment --polygons 100000 --depth-complexity 1 --seed 3 > "$work/geo.pp"
+    echo "| depth | fill-heavy (10k, Dc 10, 1920x1080) | geometry-heavy (100k small, 500x500) |"
+    echo "|---|---|---|"
+    for d in 0 1 2 3 4; do
+        tf=$(best_of "$root/scripts/render.sh --depth $d --size 1920x1080 $work/fill.pp")
+        tg=$(best_of "$root/scripts/render.sh --depth $d $work/geo.pp")
+        echo "| $d | $tf | $tg |"
+    done
+    echo
+    echo "Leaf balance at depth 2 (fill-heavy scene), from --stats:"
+    "$root/scripts/render.sh" --depth 2 --size 1920x1080 --stats "$work/fill.pp" 2>&1 >/dev/null \
+        | grep -E '^(scanconv|zbuf)' || true
+    echo
+fi
+
+if want 3; then
+    echo "## 3. Fragment encoding: spans against per-pixel records (fill-heavy scene)"
+    [[ -f $work/fill.pp ]] || "$B/scene" environment --polygons 10000 --depth-complexity 10 --size 1920x1080 --seed 2 > "$work/fill.pp"
+    "$B/viewxf" --size 1920x1080 < "$work/fill.pp" | bash -c "$clip" | "$B/persp" --size 1920x1080 > "$work/fill.screen"
+    echo "| encoding | scanconv bytes | scanconv s | scanconv + zbuf s |"
+    echo "|---|---|---|---|"
+    for mode in spans pixels; do
+        flag=; [[ $mode == pixels ]] && flag=--pixels
+        bytes=$("$B/scanconv" $flag < "$work/fill.screen" | wc -c)
+        ts=$(best_of "$B/scanconv $flag < $work/fill.screen")
+        tz=$(best_of "$B/scanconv $flag < $work/fill.screen | $B/zbuf")
+        echo "| $mode | $bytes | $ts | $tz |"
+    done
+    echo
+fi
+
+if want 4; then
+    echo "## 4. Accuracy against the exact reference (pixels that differ from zspec)"
+    echo "| scene | pixels | projective depth | eye-z depth (occam) |"
+    echo "|---|---|---|---|"
+    acc() { # name, scene file, size
+        local size=$3 p e
+        "$B/zspec" --size "$size" "$2" > "$work/ref.ppm"
+        "$root/scripts/render.sh" --size "$size" "$2" > "$work/proj.ppm"
+        "$root/scripts/render.sh" --size "$size" --zmode eye-z "$2" > "$work/eyez.ppm"
+        p=$("$B/zspec" compare --min-agreement 0 "$work/ref.ppm" "$work/proj.ppm" | awk '{ px += $3; d += $5 } END { print d }')
+        e=$("$B/zspec" compare --min-agreement 0 "$work/ref.ppm" "$work/eyez.ppm" | awk '{ px += $3; d += $5 } END { print d }')
+        local total
+        total=$("$B/zspec" compare --min-agreement 0 "$work/ref.ppm" "$work/ref.ppm" | awk '{ px += $3 } END { print px }')
+        echo "| $1 | $total | $p | $e |"
+    }
+    "$B/scene" penetrating > "$work/pen.pp"
+    acc "penetrating" "$work/pen.pp" 500x500
+    "$B/scene" spheres > "$work/spheres.pp"
+    acc "spheres" "$work/spheres.pp" 500x500
+    "$B/scene" triangle-square > "$work/ts.pp"
+    acc "triangle-square" "$work/ts.pp" 500x500
+    "$B/scene" environment --polygons 1000 --depth-complexity 3 --tilt 80 --seed 4 > "$work/tilt.pp"
+    acc "environment 1000, tilted, Dc 3" "$work/tilt.pp" 500x500
+    "$B/scene" environment --polygons 100000 --depth-complexity 10 --tilt 80 --seed 5 > "$work/tilt.pp"
+    acc "environment 100000, tilted, Dc 10" "$work/tilt.pp" 500x500
+    echo
+fi
+
+if want 5; then
+    echo "## 5. Peak resident memory (KiB) by number of polygons"
+    echo "| stage | 10,000 polygons | 1,000,000 polygons |"
+    echo "|---|---|---|"
+    for n in 10000 1000000; do
+        "$B/scene" environment --polygons "$n" --depth-complexity 1 --clipped 0.2 --seed 6 > "$work/w$n"
+        "$B/viewxf" < "$work/w$n" > "$work/e$n"
+        bash -c "$clip" < "$work/e$n" > "$work/c$n"
+        "$B/persp" --size 500x500 < "$work/c$n" > "$work/s$n"
+        "$B/scanconv" < "$work/s$n" > "$work/f$n"
+    done
+    rss() { /usr/bin/time -f %M -o "$work/rss" bash -c "exec $1 > /dev/null" && tail -n 1 "$work/rss"; }
+    row() { echo "| $1 | $(rss "${2//N/10000}") | $(rss "${2//N/1000000}") |"; }
+    row scene "$B/scene environment --polygons N --depth-complexity 1 --clipped 0.2 --seed 6"
+    row viewxf "$B/viewxf < $work/wN"
+    row "clipplane left" "$B/clipplane left < $work/eN"
+    row "splitter x=0" "$B/splitter x=0 - /dev/null < $work/cN"
+    row persp "$B/persp --size 500x500 < $work/cN"
+    row scanconv "$B/scanconv < $work/sN"
+    row zbuf "$B/zbuf < $work/fN"
+    row zspec "$B/zspec $work/wN"
+    echo
+fi
