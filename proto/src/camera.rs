@@ -211,6 +211,12 @@ impl ViewArgs {
         }
     }
 
+    /// The eye frame and the view volume, checked: the message says what cannot be
+    /// viewed through (eye = at, up along the view direction, hither ≥ yon, …).
+    pub fn resolve(&self) -> Result<(EyeFrame, View), String> {
+        Ok((self.camera().frame()?, self.view()?))
+    }
+
     /// The view volume the options describe, checked.
     pub fn view(&self) -> Result<View, String> {
         let aspect = match (self.aspect, self.size) {
@@ -239,13 +245,14 @@ impl ViewArgs {
     }
 }
 
-/// Parses `X,Y,Z`.
-pub fn parse_triple(s: &str) -> Result<DVec3, String> {
+/// Parses `N` comma-separated finite numbers, e.g. `X,Y,Z`; `form` names them for the
+/// message (`X,Y,Z`, `a,b,c,d,k`).
+pub fn parse_numbers<const N: usize>(s: &str, form: &str) -> Result<[f64; N], String> {
     let parts: Vec<&str> = s.split(',').map(str::trim).collect();
-    if parts.len() != 3 {
-        return Err(format!("expected X,Y,Z, found `{s}`"));
+    if parts.len() != N {
+        return Err(format!("expected {form} ({N} numbers), found `{s}`"));
     }
-    let mut v = [0.0; 3];
+    let mut v = [0.0; N];
     for (slot, p) in v.iter_mut().zip(&parts) {
         *slot = p
             .parse::<f64>()
@@ -253,7 +260,12 @@ pub fn parse_triple(s: &str) -> Result<DVec3, String> {
             .filter(|x| x.is_finite())
             .ok_or_else(|| format!("`{p}` in `{s}` is not a finite number"))?;
     }
-    Ok(DVec3::from_array(v))
+    Ok(v)
+}
+
+/// Parses `X,Y,Z`.
+pub fn parse_triple(s: &str) -> Result<DVec3, String> {
+    parse_numbers::<3>(s, "X,Y,Z").map(DVec3::from_array)
 }
 
 /// Parses a screen size `WxH` (each 1 to 65536).

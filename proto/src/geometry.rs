@@ -137,6 +137,16 @@ impl Plane {
         Plane::new(DVec4::new(0.0, -1.0, 0.0, k), 0.0)
     }
 
+    /// Parses a general plane `a,b,c,d,k`: the half-space a·x_e + b·y_e + c·z_e + d·w + k ≥ 0.
+    pub fn parse(s: &str) -> Result<Plane, String> {
+        let c = crate::camera::parse_numbers::<5>(s, "a,b,c,d,k")?;
+        let n = DVec4::new(c[0], c[1], c[2], c[3]);
+        if n == DVec4::ZERO {
+            return Err(format!("`{s}` is not a plane: a, b, c and d are all zero"));
+        }
+        Ok(Plane::new(n, c[4]))
+    }
+
     /// The same plane with its inside and outside exchanged.
     pub fn flipped(&self) -> Plane {
         Plane::new(-self.n, -self.k)

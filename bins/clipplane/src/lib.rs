@@ -21,7 +21,7 @@
 //! six pyramid planes of Appendix 2.1.
 
 use proto::geometry::{Plane, PyramidPlane, Side};
-use proto::{DVec4, Vertex, View};
+use proto::{Vertex, View};
 
 /// Clips the closed polygon `vertices` against `plane` (f_plane of section 3.2), writing
 /// the clipped polygon to `out` (cleared first, its capacity reused). A polygon wholly
@@ -103,31 +103,11 @@ impl ClipPlane {
     }
 }
 
-/// Parses `a,b,c,d,k`: the half-space a·x_e + b·y_e + c·z_e + d·w + k ≥ 0.
-pub fn parse_general_plane(s: &str) -> Result<Plane, String> {
-    let parts: Vec<&str> = s.split(',').map(str::trim).collect();
-    if parts.len() != 5 {
-        return Err(format!("expected a,b,c,d,k (five numbers), found `{s}`"));
-    }
-    let mut c = [0.0; 5];
-    for (slot, p) in c.iter_mut().zip(&parts) {
-        *slot = p
-            .parse::<f64>()
-            .ok()
-            .filter(|x| x.is_finite())
-            .ok_or_else(|| format!("`{p}` in `{s}` is not a finite number"))?;
-    }
-    let n = DVec4::new(c[0], c[1], c[2], c[3]);
-    if n == DVec4::ZERO {
-        return Err(format!("`{s}` is not a plane: a, b, c and d are all zero"));
-    }
-    Ok(Plane::new(n, c[4]))
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
     use proptest::prelude::*;
+    use proto::DVec4;
 
     /// Eye point at z_e = 16 (w = 10 with the default s/d).
     fn e(x: f64, y: f64) -> Vertex {
@@ -184,12 +164,12 @@ mod tests {
     #[test]
     fn general_plane_parsing() {
         assert_eq!(
-            parse_general_plane("1, 0,0,-0.5,3"),
+            Plane::parse("1, 0,0,-0.5,3"),
             Ok(Plane::new(DVec4::new(1.0, 0.0, 0.0, -0.5), 3.0))
         );
-        assert!(parse_general_plane("0,0,0,0,1").is_err());
-        assert!(parse_general_plane("1,2,3").is_err());
-        assert!(parse_general_plane("1,2,3,4,nan").is_err());
+        assert!(Plane::parse("0,0,0,0,1").is_err());
+        assert!(Plane::parse("1,2,3").is_err());
+        assert!(Plane::parse("1,2,3,4,nan").is_err());
     }
 
     fn eye_point() -> impl Strategy<Value = Vertex> {

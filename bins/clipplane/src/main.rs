@@ -1,7 +1,7 @@
 //! clipplane: eye-space polygon stream → the same stream clipped against one plane.
 
 use clap::{CommandFactory, Parser};
-use clipplane::{clip_against, parse_general_plane, ClipPlane};
+use clipplane::{clip_against, ClipPlane};
 use proto::geometry::{Plane, PyramidPlane};
 use proto::{Form, Reader, SpaceKind, Token, Writer};
 use std::io;
@@ -27,7 +27,7 @@ struct Cli {
     #[arg(value_name = "PLANE", required_unless_present = "plane")]
     which: Option<PyramidPlane>,
     /// A general plane `a,b,c,d,k`: inside where a·x_e + b·y_e + c·z_e + d·w + k ≥ 0.
-    #[arg(long, value_parser = parse_general_plane, allow_hyphen_values = true,
+    #[arg(long, value_parser = Plane::parse, allow_hyphen_values = true,
           value_name = "a,b,c,d,k", conflicts_with_all = ["which", "at"])]
     plane: Option<Plane>,
     /// For hither or yon: the distance K (clip at z_e = K) instead of the header's.

@@ -28,11 +28,9 @@ struct Cli {
 fn main() -> ExitCode {
     let cli = Cli::parse();
     // A camera or volume that cannot be viewed through is a usage error (status 2).
-    let frame = cli.view.camera().frame();
-    let view = cli.view.view();
-    let (frame, view) = match (frame, view) {
-        (Ok(f), Ok(v)) => (f, v),
-        (Err(msg), _) | (_, Err(msg)) => Cli::command()
+    let (frame, view) = match cli.view.resolve() {
+        Ok(resolved) => resolved,
+        Err(msg) => Cli::command()
             .error(clap::error::ErrorKind::ValueValidation, msg)
             .exit(),
     };

@@ -130,7 +130,9 @@ fn invalid_cameras_are_usage_errors() {
         .write_stdin(SCENE)
         .assert()
         .code(2)
-        .stderr(predicate::str::contains("expected X,Y,Z, found `1,2`"));
+        .stderr(predicate::str::contains(
+            "expected X,Y,Z (3 numbers), found `1,2`",
+        ));
 }
 
 #[test]

@@ -66,11 +66,9 @@ fn main() -> ExitCode {
             min_agreement,
         }) => proto::cli::run("zspec compare", || compare(&a, &b, min_agreement)),
         None => {
-            let frame = cli.view.camera().frame();
-            let view = cli.view.view();
-            let (frame, view) = match (frame, view) {
-                (Ok(f), Ok(v)) => (f, v),
-                (Err(msg), _) | (_, Err(msg)) => Cli::command()
+            let (frame, view) = match cli.view.resolve() {
+                Ok(resolved) => resolved,
+                Err(msg) => Cli::command()
                     .error(clap::error::ErrorKind::ValueValidation, msg)
                     .exit(),
             };
