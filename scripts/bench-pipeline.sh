@@ -102,10 +102,10 @@ if want 4; then
     acc "spheres" "$work/spheres.pp" 500x500
     "$B/scene" triangle-square > "$work/ts.pp"
     acc "triangle-square" "$work/ts.pp" 500x500
-    "$B/scene" environment --polygons 1000 --depth-complexity 3 --tilt 80 --seed 4 > "$work/tilt.pp"
-    acc "environment 1000, tilted, Dc 3" "$work/tilt.pp" 500x500
-    "$B/scene" environment --polygons 100000 --depth-complexity 10 --tilt 80 --seed 5 > "$work/tilt.pp"
-    acc "environment 100000, tilted, Dc 10" "$work/tilt.pp" 500x500
+    "$B/scene" environment --polygons 1000 --depth-complexity 3 --seed 4 > "$work/tilt.pp"
+    acc "environment 1000, Dc 3" "$work/tilt.pp" 500x500
+    "$B/scene" environment --polygons 100000 --depth-complexity 10 --seed 5 > "$work/tilt.pp"
+    acc "environment 100000, Dc 10" "$work/tilt.pp" 500x500
     echo
 fi
 
