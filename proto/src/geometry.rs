@@ -250,10 +250,20 @@ pub fn newell_normal(points: &[DVec3]) -> DVec3 {
 /// Newell's plane `a·x + b·y + c·z + d = 0`, returned as `(a, b, c, d)`. The constant is
 /// found through the centroid of the vertices rather than one vertex, which is the best
 /// fit for a polygon that is not quite planar.
+///
+/// A polygon whose vertices all have the same z (in eye space: parallel to the screen;
+/// in screen space: of constant depth) gets exactly the plane `z = const`, `(0, 0, 1, −z)`.
+/// Newell's sums would leave rounding noise of about 1e-16 in a and b, different for
+/// every polygon, and two such polygons at the same depth would then not tie: the Z
+/// spec gives a tie to the earlier polygon, so equal depths must come out equal.
 pub fn newell_plane(points: &[DVec3]) -> DVec4 {
     let normal = newell_normal(points);
     if points.is_empty() {
         return DVec4::ZERO;
+    }
+    let z = points[0].z;
+    if normal != DVec3::ZERO && points.iter().all(|p| p.z == z) {
+        return DVec4::new(0.0, 0.0, 1.0, -z);
     }
     let centroid = points.iter().copied().sum::<DVec3>() / points.len() as f64;
     normal.extend(-normal.dot(centroid))
@@ -342,7 +352,41 @@ mod tests {
             DVec3::new(0.0, 2.0, 2.0),
         ];
         let p = newell_plane(&pts);
-        assert_eq!(p, DVec4::new(0.0, 0.0, 8.0, -16.0));
+        assert_eq!(p, DVec4::new(0.0, 0.0, 1.0, -2.0));
+        assert_eq!(newell_normal(&pts), DVec3::new(0.0, 0.0, 8.0));
+        // Tilted, the same polygon's plane passes through every vertex.
+        let tilted: Vec<DVec3> = pts
+            .iter()
+            .map(|p| DVec3::new(p.x, p.y, p.x + 2.0))
+            .collect();
+        let p = newell_plane(&tilted);
+        for v in &tilted {
+            assert_eq!(p.truncate().dot(*v) + p.w, 0.0);
+        }
+    }
+
+    #[test]
+    fn polygons_of_one_depth_get_exactly_that_plane() {
+        // Rounding in Newell's sums would otherwise leave a and b slightly off zero.
+        let a = [
+            DVec3::new(0.1, 0.7, 20.0),
+            DVec3::new(3.3, 0.2, 20.0),
+            DVec3::new(1.9, 5.3, 20.0),
+        ];
+        let b = [
+            DVec3::new(-7.3, 1.1, 20.0),
+            DVec3::new(0.3, -2.9, 20.0),
+            DVec3::new(2.2, 9.1, 20.0),
+        ];
+        assert_eq!(newell_plane(&a), DVec4::new(0.0, 0.0, 1.0, -20.0));
+        assert_eq!(newell_plane(&a), newell_plane(&b));
+        // No area: no plane, whatever the depths.
+        let flat = [
+            DVec3::new(0.0, 0.0, 3.0),
+            DVec3::new(1.0, 1.0, 3.0),
+            DVec3::new(2.0, 2.0, 3.0),
+        ];
+        assert_eq!(newell_plane(&flat).truncate(), DVec3::ZERO);
     }
 
     #[test]
