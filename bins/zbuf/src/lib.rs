@@ -264,9 +264,44 @@ impl FramePattern {
     }
 }
 
+/// The `--progress` display: frames finished and frames per second on stderr, redrawn in
+/// place at most a few times a second. Only when `wanted` and stderr is a terminal: a
+/// redirected or piped stderr (a log file, CI) gets nothing at all. (indicatif's stderr
+/// target also hides itself off a terminal and when TERM=dumb; the explicit check makes
+/// the rule ours rather than a library default.)
+pub fn frame_progress(wanted: bool) -> indicatif::ProgressBar {
+    use std::io::IsTerminal;
+    if !wanted || !io::stderr().is_terminal() {
+        return indicatif::ProgressBar::hidden();
+    }
+    let bar =
+        indicatif::ProgressBar::with_draw_target(None, indicatif::ProgressDrawTarget::stderr());
+    // The frame count is not known in advance (the stream ends with END), so a counter
+    // with a rate rather than a bar with a length.
+    if let Ok(style) =
+        indicatif::ProgressStyle::with_template("zbuf: {pos} frames, {fps} ({elapsed})")
+    {
+        bar.set_style(style.with_key(
+            "fps",
+            |state: &indicatif::ProgressState, w: &mut dyn std::fmt::Write| {
+                let _ = w.write_fmt(format_args!("{:.1} frames/s", state.per_sec()));
+            },
+        ));
+    }
+    bar
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn progress_not_asked_for_is_hidden() {
+        let bar = frame_progress(false);
+        assert!(bar.is_hidden());
+        bar.inc(3);
+        assert_eq!(bar.position(), 3);
+    }
 
     #[test]
     fn nearer_wins_and_ties_go_to_the_earlier_polygon() {

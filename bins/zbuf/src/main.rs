@@ -17,6 +17,8 @@ use zbuf::{parse_colour, FramePattern};
 /// Examples:
 ///   persp --size 500x500 < eye.pp | scanconv | zbuf > frame.ppm
 ///   zbuf --background 20,20,40 -o frame%04d.png left.frag right.frag
+///   scene spheres --frames 100 | viewxf | clipplane left | ... | persp | scanconv \
+///     | zbuf --progress -o frame%03d.png
 ///   mkfifo a b; scanconv < a.pp > a & scanconv < b.pp > b & zbuf a b | ffmpeg -f image2pipe -i - out.mp4
 #[derive(Parser)]
 #[command(name = "zbuf", verbatim_doc_comment)]
@@ -33,6 +35,10 @@ struct Args {
     /// Print, per input, the spans and pixels received, on stderr at the end.
     #[arg(long)]
     stats: bool,
+    /// Show frames done and frames per second on stderr while rendering; does nothing
+    /// when stderr is not a terminal (redirected to a file or a pipe).
+    #[arg(long)]
+    progress: bool,
 }
 
 fn main() -> ExitCode {
@@ -71,6 +77,7 @@ fn main() -> ExitCode {
             .collect();
         let stdout = io::stdout();
         let mut out = io::BufWriter::with_capacity(1 << 16, stdout.lock());
+        let progress = zbuf::frame_progress(args.progress);
         let stats = par_buff(inputs, args.background, |frame, fb| {
             match &pattern {
                 Some(p) => {
@@ -87,8 +94,16 @@ fn main() -> ExitCode {
                     out.flush()?;
                 }
             }
+            progress.inc(1);
             Ok(())
-        })?;
+        });
+        // Leave the last count on the terminal, its line ended (also after an error, so
+        // that the message starts a line of its own).
+        progress.abandon();
+        if !progress.is_hidden() {
+            eprintln!();
+        }
+        let stats = stats?;
         if args.stats {
             for (name, s) in names.iter().zip(stats) {
                 let name = if name == "-" { "stdin" } else { name };

@@ -422,3 +422,73 @@ fn closed_stdout_ends_quietly() {
     assert_eq!(String::from_utf8(out.stdout).unwrap(), "0\n");
     assert_eq!(String::from_utf8(out.stderr).unwrap(), "");
 }
+
+/// `--progress` off a terminal: stderr redirected to a file gets nothing, and the frames
+/// are the same bytes as without it.
+#[test]
+fn progress_is_silent_when_stderr_is_a_file() {
+    let dir = tempfile::tempdir().unwrap();
+    let input = write(dir.path(), "two.frag", TWO_FRAMES);
+    let err_path = dir.path().join("stderr.txt");
+    let out = std::process::Command::new(assert_cmd::cargo::cargo_bin("zbuf"))
+        .arg("--progress")
+        .arg(&input)
+        .stderr(std::fs::File::create(&err_path).unwrap())
+        .output()
+        .unwrap();
+    assert!(out.status.success());
+    assert_eq!(std::fs::read(&err_path).unwrap(), b"");
+    let mut want = ppm(2, 2, &[R, R, K, K]);
+    want.extend(ppm(2, 2, &[K, K, K, G]));
+    assert_eq!(out.stdout, want);
+    // A pipe is not a terminal either; errors still come through.
+    zbuf()
+        .arg("--progress")
+        .write_stdin(TWO_FRAMES)
+        .assert()
+        .success()
+        .stderr("")
+        .stdout(want);
+    zbuf()
+        .arg("--progress")
+        .write_stdin("polypipe 1 fragments 1 1\nbogus\n")
+        .assert()
+        .code(1)
+        .stderr(predicates::str::starts_with("zbuf: stdin: line 2"));
+}
+
+/// `--progress` on a terminal (a pseudo-terminal made by util-linux `script`, when it is
+/// installed): the final count of frames is shown, and stdout is unchanged.
+#[test]
+fn progress_counts_frames_on_a_terminal() {
+    let has_script = std::process::Command::new("script")
+        .arg("--version")
+        .output()
+        .is_ok_and(|o| o.status.success());
+    if !has_script {
+        println!("skipped: util-linux `script` not installed");
+        return;
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let input = write(dir.path(), "two.frag", TWO_FRAMES);
+    let ppm_path = dir.path().join("out.ppm");
+    let cmd = format!(
+        "'{}' --progress < '{}' > '{}'",
+        assert_cmd::cargo::cargo_bin("zbuf").display(),
+        input.display(),
+        ppm_path.display()
+    );
+    let out = std::process::Command::new("script")
+        .args(["-q", "-e", "-c", &cmd, "/dev/null"])
+        .stdin(std::process::Stdio::null())
+        .env("TERM", "xterm")
+        .output()
+        .unwrap();
+    assert!(out.status.success(), "{out:?}");
+    let screen = String::from_utf8_lossy(&out.stdout);
+    assert!(screen.contains("zbuf: 2 frames, "), "{screen:?}");
+    assert!(screen.contains(" frames/s"), "{screen:?}");
+    let mut want = ppm(2, 2, &[R, R, K, K]);
+    want.extend(ppm(2, 2, &[K, K, K, G]));
+    assert_eq!(std::fs::read(&ppm_path).unwrap(), want);
+}
