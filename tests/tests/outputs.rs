@@ -1,0 +1,179 @@
+//! What the pipeline's pictures become outside it: numbered PNG files from `-o`, the
+//! README's ffmpeg movie recipe, and netpbm reading zbuf's PPM stream.
+//!
+//! ffmpeg and netpbm are not needed to build or test polypipe; when they are not on PATH
+//! their tests print "skipped: … not installed" and pass.
+
+use pipeline_tests::{parse_ppm_stream, repo_root, sh, Frame};
+use std::path::{Path, PathBuf};
+
+/// Whether an executable named `name` is on PATH.
+fn on_path(name: &str) -> bool {
+    use std::os::unix::fs::PermissionsExt;
+    std::env::var_os("PATH").is_some_and(|paths| {
+        std::env::split_paths(&paths).any(|dir| {
+            std::fs::metadata(dir.join(name))
+                .is_ok_and(|m| m.is_file() && m.permissions().mode() & 0o111 != 0)
+        })
+    })
+}
+
+/// Runs `script` (see [`sh`]) and returns its stdout, failing with its stderr.
+fn run(script: &str) -> Vec<u8> {
+    let out = sh(script, b"");
+    assert!(
+        out.status.success(),
+        "`{script}` failed ({}): {}",
+        out.status,
+        String::from_utf8_lossy(&out.stderr)
+    );
+    out.stdout
+}
+
+fn quote(path: &Path) -> String {
+    format!("'{}'", path.display())
+}
+
+/// A decoded PNG file as a frame.
+fn read_png(path: &Path) -> Frame {
+    let img = image::open(path)
+        .unwrap_or_else(|e| panic!("{}: {e}", path.display()))
+        .to_rgb8();
+    Frame {
+        width: img.width() as usize,
+        height: img.height() as usize,
+        pixels: img.pixels().map(|p| p.0).collect(),
+    }
+}
+
+/// A 100-frame movie through render.sh with `-o dir/frame%03d.png` is 100 numbered PNG
+/// files holding exactly the frames that the same run writes as a PPM stream without -o.
+#[test]
+fn movie_to_numbered_png_files() {
+    let dir = tempfile::tempdir().unwrap();
+    let pattern = dir.path().join("frame%03d.png");
+    let movie = "scene spheres --frames 100 | scripts/render.sh --size 160x120 -";
+    let stdout = run(&format!("{movie} -o {}", quote(&pattern)));
+    assert!(stdout.is_empty(), "-o writes nothing on stdout");
+
+    let stream = parse_ppm_stream(&run(movie)).unwrap();
+    assert_eq!(stream.len(), 100);
+    // The spheres move: consecutive frames differ, so a file holding the wrong frame
+    // would be caught below.
+    assert!(stream.windows(2).all(|w| w[0] != w[1]));
+
+    for (i, want) in stream.iter().enumerate() {
+        let path = dir.path().join(format!("frame{i:03}.png"));
+        let got = read_png(&path);
+        assert_eq!((got.width, got.height), (160, 120), "{}", path.display());
+        assert!(
+            got == *want,
+            "{} differs from frame {i} of the stream",
+            path.display()
+        );
+    }
+    assert!(!dir.path().join("frame100.png").exists());
+    let files = std::fs::read_dir(dir.path()).unwrap().count();
+    assert_eq!(files, 100, "exactly the 100 frames, nothing else");
+}
+
+/// The shell lines of the README's code block that contains `needle`, within `section`.
+fn readme_command(section: &str, needle: &str) -> String {
+    let readme = std::fs::read_to_string(repo_root().join("README.md")).unwrap();
+    let start = readme
+        .find(&format!("\n{section}\n"))
+        .unwrap_or_else(|| panic!("README.md has no section {section:?}"));
+    let body = &readme[start + section.len() + 2..];
+    let body = &body[..body.find("\n## ").unwrap_or(body.len())];
+    body.split("```sh\n")
+        .skip(1)
+        .map(|block| &block[..block.find("```").expect("closed code block")])
+        .find(|block| block.contains(needle))
+        .unwrap_or_else(|| panic!("no ```sh block with {needle:?} in README's {section}"))
+        .to_string()
+}
+
+/// The movie recipe of README.md's "Viewing the output", run as written (only the name
+/// of the mp4 it writes is moved into a temporary folder), makes an mp4 of 100 frames.
+#[test]
+fn readme_ffmpeg_recipe_makes_a_100_frame_movie() {
+    let recipe = readme_command("## Viewing the output", "ffmpeg");
+    assert!(
+        recipe.contains("--frames 100") && recipe.trim_end().ends_with(" spheres.mp4"),
+        "the recipe changed; update this test: {recipe}"
+    );
+    if !on_path("ffmpeg") {
+        println!("skipped: ffmpeg not installed");
+        return;
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let mp4 = dir.path().join("spheres.mp4");
+    let script = recipe
+        .trim_end()
+        .strip_suffix("spheres.mp4")
+        .unwrap()
+        .to_string()
+        + &quote(&mp4);
+    run(&script);
+    let size = std::fs::metadata(&mp4).map(|m| m.len()).unwrap_or(0);
+    assert!(size > 1000, "{} is {size} bytes", mp4.display());
+
+    if !on_path("ffprobe") {
+        println!("ffprobe not installed: the mp4's frames are not counted");
+        return;
+    }
+    let probe = run(&format!(
+        "ffprobe -v error -count_frames -select_streams v:0 \
+         -show_entries stream=nb_read_frames,width,height -of csv=p=0 {}",
+        quote(&mp4)
+    ));
+    assert_eq!(String::from_utf8_lossy(&probe).trim(), "500,500,100");
+}
+
+/// netpbm reads zbuf's PPM stream directly (every frame), and a frame survives a round
+/// trip through PNG with netpbm's own converters pixel for pixel.
+#[test]
+fn netpbm_reads_the_ppm_stream_and_round_trips_png() {
+    let tools = ["pnmtopng", "pngtopnm", "pamfile"];
+    if let Some(missing) = tools.iter().find(|t| !on_path(t)) {
+        println!("skipped: netpbm not installed (no {missing})");
+        return;
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let stream_path: PathBuf = dir.path().join("spheres.ppm");
+    let stream = run(&format!(
+        "scene spheres --frames 3 | scripts/render.sh --size 64x48 - | tee {}",
+        quote(&stream_path)
+    ));
+    let frames = parse_ppm_stream(&stream).unwrap();
+    assert_eq!(frames.len(), 3);
+
+    let info = String::from_utf8(run(&format!(
+        "pamfile -allimages < {}",
+        quote(&stream_path)
+    )))
+    .unwrap();
+    let images: Vec<&str> = info.lines().collect();
+    assert_eq!(images.len(), 3, "{info}");
+    for (i, line) in images.iter().enumerate() {
+        assert!(
+            line.contains(&format!("Image {i}:")) && line.contains("PPM raw, 64 by 48"),
+            "{line}"
+        );
+    }
+
+    // pnmtopng takes the first image of the stream.
+    let png = dir.path().join("first.png");
+    run(&format!(
+        "pnmtopng < {} > {}",
+        quote(&stream_path),
+        quote(&png)
+    ));
+    assert!(
+        read_png(&png) == frames[0],
+        "pnmtopng's PNG differs from frame 0"
+    );
+    let back = parse_ppm_stream(&run(&format!("pngtopnm {}", quote(&png)))).unwrap();
+    assert_eq!(back.len(), 1);
+    assert!(back[0] == frames[0], "PPM → PNG → PPM changed the pixels");
+}
