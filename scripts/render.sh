@@ -184,16 +184,22 @@ for plane in left right top bottom hither yon; do
 done
 clipped=$out
 
-# K as a decimal: the region bounds are kept in 64ths of the half-screen, so every
-# bisection point is a dyadic rational that prints exactly.
-k_of() { awk -v m="$1" 'BEGIN { printf "%.17g", m / 64 }'; }
+# Each node's region is a rectangle of whole pixels, columns x0..x1 and rows y0..y1
+# (half-open), and it is bisected on a pixel BOUNDARY: column c = (x0 + x1)/2 is the plane
+# x_s = 2c/W − 1, row r the plane y_s = 1 − 2r/H. A cut then never passes through a pixel
+# centre (centres are at half-integers), so the new edges along it decide no centre that
+# the whole polygon would not have; with the edge supports and the recorded plane, a tree
+# of any depth renders byte for byte as depth 0. K is printed with 17 significant digits
+# so that it reads back as the double awk computed.
+width=${size%%[xX]*} height=${size##*[xX]}
+k_of() { awk -v n="$1" -v d="$2" -v s="$3" 'BEGIN { printf "%.17g", s * (2 * n / d - 1) }'; }
 
 # --- The splitter tree (chapter 6.3), nodes numbered as a heap: node 1 is the root, the
 # children of node i are 2i (out1: x_s ≤ K or y_s ≤ K) and 2i+1 (the rest). ------------
 leaves=1
 for ((l = 0; l < depth; l++)); do leaves=$((leaves * 2)); done
 declare -A x0 x1 y0 y1 input_of
-x0[1]=-64 x1[1]=64 y0[1]=-64 y1[1]=64
+x0[1]=0 x1[1]=$width y0[1]=0 y1[1]=$height
 input_of[1]=$clipped
 for ((node = 1; node < leaves; node++)); do
     level=0
@@ -203,12 +209,13 @@ for ((node = 1; node < leaves; node++)); do
     x0[$b]=${x0[$node]} x1[$b]=${x1[$node]} y0[$b]=${y0[$node]} y1[$b]=${y1[$node]}
     if ((level % 2 == 0)); then
         m=$(((x0[$node] + x1[$node]) / 2))
-        plane="x=$(k_of "$m")"
+        plane="x=$(k_of "$m" "$width" 1)"
         x1[$a]=$m x0[$b]=$m
     else
+        # y_s ≤ K is Y ≥ r: out1 gets the rows below the boundary.
         m=$(((y0[$node] + y1[$node]) / 2))
-        plane="y=$(k_of "$m")"
-        y1[$a]=$m y0[$b]=$m
+        plane="y=$(k_of "$m" "$height" -1)"
+        y0[$a]=$m y1[$b]=$m
     fi
     input_of[$a]=$(fifo "node-$a")
     input_of[$b]=$(fifo "node-$b")

@@ -11,12 +11,33 @@
 //! (extreme splitter cases, bad input): stages pass such polygons on so that polygon k is
 //! the same polygon on every branch of the splitter tree, and the scan converter discards
 //! them.
+//!
+//! Two opt-in annotations ride along with a polygon, for the splitter tree (thesis ch. 6)
+//! to render exactly as the linear pipeline does; stages that do not need them pass them
+//! through untouched, and a polygon without them is written exactly as before:
+//!
+//! * `plane`: the polygon's plane, computed once before any split so that every piece
+//!   of it gets the whole's depth. In eye space it is the Newell plane
+//!   `a·x' + b·y' + c·z_e + d = 0` over the normalised eye coordinates
+//!   `(x', y') = (x_e, y_e)·z_e/w` (in which the viewing pyramid has unit slopes, so that
+//!   the plane can be taken to the screen without knowing s/d); in screen space it is
+//!   the depth plane `a·X + b·Y + c·depth + d = 0`. Text: a line `plane a b c d` after
+//!   `colour`.
+//! * `supports`: for edge i (vertex i → vertex i+1), optionally the two endpoints of the
+//!   original edge it is a piece of, so that the scan converter computes its crossings
+//!   from the whole edge, bit for bit as for the unsplit polygon. Text: `on` and the two
+//!   endpoints after vertex i, e.g. `x y z w on ax ay az aw bx by bz bw`. An empty list,
+//!   or one of all `None`, means no edge has a support.
+//!
+//! In the binary form a polygon without annotations is the version-1 record it always
+//! was; an annotated one is a fourth record kind, so old streams stay readable.
 
 use crate::codec::{Control, Record, MAX_VERTICES};
 use crate::header::Space;
 use crate::text::Lexer;
 use crate::StreamError;
-use glam::DVec4;
+use crate::geometry::newell_plane;
+use glam::{DVec3, DVec4};
 use serde::{Deserialize, Serialize};
 use std::io::{self, BufRead, Write};
 
@@ -33,22 +54,60 @@ pub type Vertex = DVec4;
 pub struct Polygon {
     pub colour: Colour,
     pub vertices: Vec<Vertex>,
+    /// The plane of the whole polygon (see the module notes), if a stage recorded it.
+    pub plane: Option<DVec4>,
+    /// Per edge i, the original edge it lies on, if it is a piece of one; empty = none.
+    pub supports: Vec<Option<[Vertex; 2]>>,
 }
 
 impl Polygon {
     pub fn new(colour: Colour, vertices: Vec<Vertex>) -> Self {
-        Polygon { colour, vertices }
+        Polygon {
+            colour,
+            vertices,
+            ..Default::default()
+        }
+    }
+
+    /// The support of edge i (vertex i → vertex i+1), if it has one.
+    #[inline]
+    pub fn support(&self, i: usize) -> Option<[Vertex; 2]> {
+        self.supports.get(i).copied().flatten()
+    }
+
+    /// The plane an eye-space polygon records before it is split: Newell's plane
+    /// (`proto::geometry::newell_plane`) over the normalised eye points
+    /// `(x_e·z_e/w, y_e·z_e/w, z_e)`. Those are `z_e·(x_e/w, y_e/w, 1)`, and x_e/w, y_e/w
+    /// are a·x_s and y_s, so the plane takes itself to the screen without s/d
+    /// (persp does so). `None` when it is not a plane (fewer than three distinct
+    /// points, w = 0).
+    pub fn eye_plane(&self) -> Option<DVec4> {
+        let points: Vec<DVec3> = self
+            .vertices
+            .iter()
+            .map(|v| {
+                let r = v.z / v.w;
+                DVec3::new(v.x * r, v.y * r, v.z)
+            })
+            .collect();
+        let n = newell_plane(&points);
+        (n.is_finite() && n.truncate() != DVec3::ZERO).then_some(n)
+    }
+
+    /// Whether the polygon carries either annotation.
+    pub fn is_annotated(&self) -> bool {
+        self.plane.is_some() || self.supports.iter().any(Option::is_some)
     }
 
     /// A polygon with its vertices given as `[x, y, z]` triples (w = 1).
     pub fn from_xyz(colour: Colour, points: &[[f64; 3]]) -> Self {
-        Polygon {
+        Polygon::new(
             colour,
-            vertices: points
+            points
                 .iter()
                 .map(|p| DVec4::new(p[0], p[1], p[2], 1.0))
                 .collect(),
-        }
+        )
     }
 
     /// The edges (v_i, v_{i+1}), closing back to the first vertex.
@@ -59,11 +118,70 @@ impl Polygon {
 }
 
 /// One record of the polygon stream.
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[derive(Clone, Debug, PartialEq)]
 pub enum Token {
     Polygon(Polygon),
     NextFrame,
     End,
+}
+
+/// The binary form of a [`Token`] as written: a polygon without annotations is record
+/// kind 0 with only its colour and vertices (stream version 1 as it always was), an
+/// annotated one is record kind 3 (appended, so the first three keep their numbers).
+#[derive(Serialize)]
+enum WireOut<'a> {
+    Polygon(PlainRef<'a>),
+    NextFrame,
+    End,
+    Annotated(&'a Polygon),
+}
+
+#[derive(Serialize)]
+struct PlainRef<'a> {
+    colour: &'a Colour,
+    vertices: &'a Vec<Vertex>,
+}
+
+#[derive(Deserialize)]
+enum WireIn {
+    Polygon(Plain),
+    NextFrame,
+    End,
+    Annotated(Polygon),
+}
+
+#[derive(Deserialize)]
+struct Plain {
+    colour: Colour,
+    vertices: Vec<Vertex>,
+}
+
+impl Serialize for Token {
+    fn serialize<S: serde::Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+        match self {
+            Token::Polygon(p) if p.is_annotated() => WireOut::Annotated(p).serialize(s),
+            Token::Polygon(p) => WireOut::Polygon(PlainRef {
+                colour: &p.colour,
+                vertices: &p.vertices,
+            })
+            .serialize(s),
+            Token::NextFrame => WireOut::NextFrame.serialize(s),
+            Token::End => WireOut::End.serialize(s),
+        }
+    }
+}
+
+impl<'de> Deserialize<'de> for Token {
+    fn deserialize<D: serde::Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        Ok(match WireIn::deserialize(d)? {
+            WireIn::Polygon(Plain { colour, vertices }) => {
+                Token::Polygon(Polygon::new(colour, vertices))
+            }
+            WireIn::NextFrame => Token::NextFrame,
+            WireIn::End => Token::End,
+            WireIn::Annotated(p) => Token::Polygon(p),
+        })
+    }
 }
 
 /// The keywords of the text form (Appendix 1's special values).
@@ -71,6 +189,10 @@ pub const NEXT_POLYGON: &str = "NEXT.POLYGON";
 pub const NEXT_FRAME: &str = "NEXT.FRAME";
 pub const END: &str = "END";
 pub const COLOUR: &str = "colour";
+/// The optional plane line after `colour`.
+pub const PLANE: &str = "plane";
+/// Starts a vertex's support (the original edge from it to the next vertex lies on).
+pub const ON: &str = "on";
 
 /// Reads the `colour R G B` that starts a polygon or a fragment polygon, NEXT.POLYGON
 /// first unless it starts the frame. `None` means NEXT.FRAME or END was read instead.
@@ -150,6 +272,25 @@ impl Record for Token {
                     p.vertices[i].to_array()
                 ));
             }
+            if !p.supports.is_empty() && p.supports.len() != p.vertices.len() {
+                return Err(format!(
+                    "{} edge supports for {} vertices (one per edge, or none)",
+                    p.supports.len(),
+                    p.vertices.len()
+                ));
+            }
+            if let Some(i) = p
+                .supports
+                .iter()
+                .position(|s| s.is_some_and(|[a, b]| !a.is_finite() || !b.is_finite()))
+            {
+                return Err(format!(
+                    "the support of edge {i} is not finite; coordinates must be finite"
+                ));
+            }
+            if p.plane.is_some_and(|n| !n.is_finite()) {
+                return Err("the polygon's plane is not finite".into());
+            }
         }
         Ok(())
     }
@@ -165,7 +306,17 @@ impl Record for Token {
             Err(_) => return Ok(Token::End),
         };
         let arity = space.vertex_arity();
+        let mut plane = None;
+        if lex.peek()? == Some(PLANE) {
+            lex.next_word()?;
+            let mut n = [0.0; 4];
+            for (c, name) in n.iter_mut().zip(["a", "b", "c", "d"]) {
+                *c = lex.number(&format!("{name} of the polygon's plane (plane a b c d)"))?;
+            }
+            plane = Some(DVec4::from_array(n));
+        }
         let mut vertices = Vec::new();
+        let mut supports: Vec<Option<[Vertex; 2]>> = Vec::new();
         while lex.next_is_number()? {
             if vertices.len() == MAX_VERTICES {
                 lex.peek()?;
@@ -185,8 +336,32 @@ impl Record for Token {
                 ))?;
             }
             vertices.push(DVec4::from_array(v));
+            if lex.peek()? == Some(ON) {
+                lex.next_word()?;
+                let i = vertices.len() - 1;
+                let mut ends = [DVec4::new(0.0, 0.0, 0.0, 1.0); 2];
+                for (end, name) in ends.iter_mut().zip(["A", "B"]) {
+                    let mut c = [0.0, 0.0, 0.0, 1.0];
+                    for (k, slot) in c.iter_mut().take(arity).enumerate() {
+                        *slot = lex.number(&format!(
+                            "coordinate {k} of support end {name} of edge {i} ({arity} numbers a point)"
+                        ))?;
+                    }
+                    *end = DVec4::from_array(c);
+                }
+                supports.resize(i, None);
+                supports.push(Some(ends));
+            }
         }
-        Ok(Token::Polygon(Polygon { colour, vertices }))
+        if !supports.is_empty() {
+            supports.resize(vertices.len(), None);
+        }
+        Ok(Token::Polygon(Polygon {
+            colour,
+            vertices,
+            plane,
+            supports,
+        }))
     }
 
     fn write_text<W: Write>(
@@ -198,11 +373,22 @@ impl Record for Token {
         match self {
             Token::Polygon(p) => {
                 write_polygon_start(out, p.colour, first_in_frame)?;
-                for v in &p.vertices {
-                    match space.vertex_arity() {
-                        4 => writeln!(out, "{} {} {} {}", v.x, v.y, v.z, v.w)?,
-                        _ => writeln!(out, "{} {} {}", v.x, v.y, v.z)?,
+                if let Some(n) = p.plane {
+                    writeln!(out, "{PLANE} {} {} {} {}", n.x, n.y, n.z, n.w)?;
+                }
+                let point = |out: &mut W, v: &Vertex| match space.vertex_arity() {
+                    4 => write!(out, "{} {} {} {}", v.x, v.y, v.z, v.w),
+                    _ => write!(out, "{} {} {}", v.x, v.y, v.z),
+                };
+                for (i, v) in p.vertices.iter().enumerate() {
+                    point(out, v)?;
+                    if let Some([a, b]) = p.support(i) {
+                        write!(out, " {ON} ")?;
+                        point(out, &a)?;
+                        write!(out, " ")?;
+                        point(out, &b)?;
                     }
+                    writeln!(out)?;
                 }
                 Ok(())
             }

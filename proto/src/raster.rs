@@ -35,13 +35,22 @@ pub fn centres_in_clamped(lo: f64, hi: f64, limit: u32) -> Range<u32> {
 /// A non-horizontal polygon edge in screen space, oriented top to bottom whichever way
 /// the polygon walks it, so that two polygons sharing the edge compute the same crossing
 /// of every scanline to the last bit (Appendix 3's ET entry: y_max, x at y_min, 1/m).
+///
+/// The rows an edge is active on come from its own ends (`top`, `bottom`); its crossings
+/// come from its *line*, which is the edge itself unless the edge is a piece of a longer
+/// one that a splitter cut ([`Edge::with_support`]). A piece's ends are on the whole edge
+/// only to within rounding, so crossings computed from them would differ in the last bits
+/// from the unsplit polygon's and the top-left rule could decide a centre lying exactly on
+/// the edge the other way; computed from the whole edge they are the same to the bit.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Edge {
     /// The end with the smaller Y (nearer the top of the image).
     pub top: DVec2,
     /// The end with the larger Y.
     pub bottom: DVec2,
-    /// dX/dY, the inverse slope 1/m.
+    /// The top end of the line the crossings are measured on (`top` for an unsplit edge).
+    pub origin: DVec2,
+    /// dX/dY of that line, the inverse slope 1/m.
     pub inverse_slope: f64,
 }
 
@@ -57,7 +66,25 @@ impl Edge {
         Some(Edge {
             top,
             bottom,
+            origin: top,
             inverse_slope: (bottom.x - top.x) / (bottom.y - top.y),
+        })
+    }
+
+    /// The piece `a`–`b` of the original edge `support_a`–`support_b`: active on the rows
+    /// of `a`–`b`, crossing them where the original edge does (computed exactly as
+    /// `Edge::new(support_a, support_b)` computes it, whichever way either is walked).
+    /// `None` if the piece or the original edge is horizontal: a horizontal original covers
+    /// no centre of its own, so neither may its pieces, which are horizontal but for
+    /// rounding.
+    #[inline]
+    pub fn with_support(a: DVec2, b: DVec2, support_a: DVec2, support_b: DVec2) -> Option<Edge> {
+        let piece = Edge::new(a, b)?;
+        let line = Edge::new(support_a, support_b)?;
+        Some(Edge {
+            origin: line.origin,
+            inverse_slope: line.inverse_slope,
+            ..piece
         })
     }
 
@@ -71,7 +98,7 @@ impl Edge {
     /// than stepped, so the crossing depends only on the edge and the row.
     #[inline]
     pub fn x_at(&self, y: f64) -> f64 {
-        self.top.x + (y - self.top.y) * self.inverse_slope
+        self.origin.x + (y - self.origin.y) * self.inverse_slope
     }
 }
 
@@ -101,5 +128,27 @@ mod tests {
         assert_eq!(e.x_at(3.0), 2.0);
         assert_eq!(e.rows(), 1..5); // centres 1.5 .. 4.5
         assert!(Edge::new(a, DVec2::new(9.0, 5.0)).is_none());
+    }
+
+    #[test]
+    fn a_supported_piece_crosses_where_the_whole_edge_does() {
+        // The whole edge (0, 0)–(10, 3) and a piece of it cut at a point I that is on the
+        // line only to within rounding.
+        let (a, b) = (DVec2::new(0.0, 0.0), DVec2::new(10.0, 3.0));
+        let i = a + (b - a) * 0.7;
+        let whole = Edge::new(a, b).unwrap();
+        let upper = Edge::with_support(a, i, b, a).unwrap();
+        let lower = Edge::with_support(b, i, a, b).unwrap();
+        assert_eq!((upper.top, upper.bottom), (a, i));
+        assert_eq!((lower.top, lower.bottom), (i, b));
+        assert_eq!(upper.rows(), 0..2); // centres 0.5, 1.5 < I.y = 2.1
+        assert_eq!(lower.rows(), 2..3);
+        for y in [0.5, 1.5] {
+            assert_eq!(upper.x_at(y).to_bits(), whole.x_at(y).to_bits());
+        }
+        assert_eq!(lower.x_at(2.5).to_bits(), whole.x_at(2.5).to_bits());
+        // Horizontal pieces or originals cover nothing.
+        assert!(Edge::with_support(a, DVec2::new(4.0, 0.0), a, b).is_none());
+        assert!(Edge::with_support(a, b, a, DVec2::new(4.0, 0.0)).is_none());
     }
 }

@@ -11,9 +11,22 @@
 //! is wrong inside a polygon. The projective depth z_s = (1 − K1/z_e)·K2/(K2 − K1) is an
 //! affine function of 1/z_e, hence of screen position on any plane: it interpolates
 //! exactly. Both are kept so the difference can be measured.
+//!
+//! Depth plane: in projective mode every polygon leaves persp carrying its depth plane
+//! `P·X + Q·Y − depth + R = 0`, taken from its eye-space plane (the one an earlier
+//! splitter recorded before cutting it, or [`Polygon::eye_plane`] of the polygon as it
+//! is). The scan converter uses it instead of a plane fitted to the screen vertices, so
+//! all pieces of a split polygon get the whole's depth to the bit, and a non-planar
+//! polygon gets one plane however it is cut. In eye-z mode there is no such plane (z_e is
+//! not affine on the screen): the plane is dropped and the scan converter fits one to
+//! (X, Y, z_e) per polygon, the occam approximation, which is not split-invariant.
+//!
+//! Supports (edges that are pieces of a cut edge, see [`proto::polygon`]) are projected
+//! with the vertices' own arithmetic, so a piece's support lands on the screen exactly
+//! where the unsplit edge does.
 
 use proto::camera::Device;
-use proto::{Polygon, Vertex, View};
+use proto::{DVec4, Polygon, Vertex, View};
 
 /// What `persp` writes as a vertex's depth.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
@@ -79,6 +92,31 @@ impl Perspective {
         Vertex::new(x, y, depth, 1.0)
     }
 
+    /// The screen depth plane `(P, Q, −1, R)`, depth = P·X + Q·Y + R, of the eye-space
+    /// plane `n` of [`Polygon::eye_plane`]: a·x' + b·y' + c·z_e + d = 0 with
+    /// (x', y') = z_e·(u, v), u = x_e/w = a_s·(2X/W − 1) and v = y_e/w = 1 − 2Y/H (a_s the
+    /// aspect ratio). Dividing by z_e: 1/z_e = −(a·u + b·v + c)/d, an affine function of
+    /// X and Y, and projective depth is k − m/z_e with k = K2/(K2 − K1), m = K1·k.
+    /// `None` in eye-z mode, and for a plane through the eye (d = 0: the polygon is seen
+    /// edge-on and 1/z_e is not a function of screen position) or any non-finite result.
+    pub fn screen_plane(&self, n: DVec4) -> Option<DVec4> {
+        if self.depth != DepthMode::Projective || n.w == 0.0 {
+            return None;
+        }
+        let Device {
+            width,
+            height,
+            view,
+        } = self.device;
+        let k = view.yon / (view.yon - view.hither);
+        let m_d = view.hither * k / n.w;
+        let p = m_d * n.x * view.aspect * 2.0 / width as f64;
+        let q = -m_d * n.y * 2.0 / height as f64;
+        let r = k + m_d * (n.z + n.y - n.x * view.aspect);
+        let plane = DVec4::new(p, q, -1.0, r);
+        plane.is_finite().then_some(plane)
+    }
+
     /// Projects a polygon in place. A vertex at or behind the eye (w ≤ 0) has no image:
     /// the polygon is left untouched and the offending vertex named.
     pub fn project_polygon(&self, poly: &mut Polygon) -> Result<(), Unprojectable> {
@@ -96,6 +134,10 @@ impl Perspective {
                 });
             }
         }
+        let eye_plane = match self.depth {
+            DepthMode::Projective => poly.plane.or_else(|| poly.eye_plane()),
+            DepthMode::EyeZ => None,
+        };
         for (i, v) in poly.vertices.iter_mut().enumerate() {
             let p = self.project_vertex(*v);
             if !p.is_finite() {
@@ -114,6 +156,23 @@ impl Perspective {
             }
             *v = p;
         }
+        for (i, ends) in poly.supports.iter_mut().enumerate() {
+            for end in ends.iter_mut().flatten() {
+                let p = self.project_vertex(*end);
+                if !(end.w > 0.0 && p.is_finite()) {
+                    return Err(Unprojectable {
+                        vertex: i,
+                        reason: format!(
+                            "the support of edge {i} has an end ({} {} {} {}) that cannot be \
+                             projected",
+                            end.x, end.y, end.z, end.w
+                        ),
+                    });
+                }
+                *end = p;
+            }
+        }
+        poly.plane = eye_plane.and_then(|n| self.screen_plane(n));
         Ok(())
     }
 }

@@ -77,14 +77,21 @@ pub struct EdgeTable {
 impl EdgeTable {
     /// CLEAR, then INSERT.ET.EDGE for each non-horizontal edge of the polygon that crosses
     /// a scanline centre on the screen. Returns the rows to walk.
-    fn build(&mut self, points: &[DVec2], height: u32) -> std::ops::Range<i64> {
+    /// `supports` is empty or holds, per edge, the screen ends of the original edge it is
+    /// a piece of ([`polygon_edge`]).
+    fn build(
+        &mut self,
+        points: &[DVec2],
+        supports: &[Option<[DVec2; 2]>],
+        height: u32,
+    ) -> std::ops::Range<i64> {
         for b in &mut self.buckets[..self.len] {
             b.clear();
         }
         self.len = 0;
         let edges = || {
             (0..points.len()).filter_map(move |i| {
-                let edge = Edge::new(points[i], points[(i + 1) % points.len()])?;
+                let edge = polygon_edge(points, supports, i)?;
                 // The edge's rows, clamped to the screen: rows above 0 are never walked.
                 let rows = edge.rows();
                 let start = rows.start.max(0);
@@ -110,6 +117,22 @@ impl EdgeTable {
     /// The bucket of edges that start on screen row `row`.
     fn bucket(&self, row: i64) -> &[ActiveEdge] {
         &self.buckets[(row - self.first_row) as usize]
+    }
+}
+
+/// Edge i of a polygon (vertex i → vertex i+1): rows from its own ends, crossings from
+/// its support if a splitter cut it out of a longer edge ([`Edge::with_support`]), so that
+/// the pieces of a split polygon cover exactly the pixels the whole covers.
+#[inline]
+pub fn polygon_edge(
+    points: &[DVec2],
+    supports: &[Option<[DVec2; 2]>],
+    i: usize,
+) -> Option<Edge> {
+    let (a, b) = (points[i], points[(i + 1) % points.len()]);
+    match supports.get(i).copied().flatten() {
+        Some([sa, sb]) => Edge::with_support(a, b, sa, sb),
+        None => Edge::new(a, b),
     }
 }
 
@@ -156,15 +179,18 @@ pub enum DepthPlane {
 }
 
 impl DepthPlane {
-    /// Newell's plane through the screen vertices (X, Y, depth).
+    /// The polygon's depth plane as persp recorded it (the whole polygon's plane, the
+    /// same for every piece the splitter tree cut it into), or else Newell's plane through
+    /// the screen vertices (X, Y, depth): a hand-written stream, or persp's eye-z mode.
     pub fn of(polygon: &Polygon) -> Self {
         let points: Vec<DVec3> = polygon.vertices.iter().map(|v| v.truncate()).collect();
+        let recorded = polygon.plane.filter(|n| n.z != 0.0 && n.is_finite());
         let DVec4 {
             x: a,
             y: b,
             z: c,
             w: d,
-        } = proto::geometry::newell_plane(&points);
+        } = recorded.unwrap_or_else(|| proto::geometry::newell_plane(&points));
         let dz = -a / c;
         if c != 0.0
             && a.is_finite()
@@ -220,6 +246,7 @@ pub struct ScanConverter {
     et: EdgeTable,
     aet: ActiveEdgeTable,
     points: Vec<DVec2>,
+    supports: Vec<Option<[DVec2; 2]>>,
     pub stats: Stats,
 }
 
@@ -232,6 +259,7 @@ impl ScanConverter {
             et: EdgeTable::default(),
             aet: ActiveEdgeTable::default(),
             points: Vec::new(),
+            supports: Vec::new(),
             stats: Stats::default(),
         }
     }
@@ -252,7 +280,14 @@ impl ScanConverter {
         self.points.clear();
         self.points
             .extend(polygon.vertices.iter().map(|v| DVec2::new(v.x, v.y)));
-        let rows = self.et.build(&self.points, self.height);
+        self.supports.clear();
+        self.supports.extend(
+            polygon
+                .supports
+                .iter()
+                .map(|s| s.map(|[a, b]| [DVec2::new(a.x, a.y), DVec2::new(b.x, b.y)])),
+        );
+        let rows = self.et.build(&self.points, &self.supports, self.height);
         if rows.is_empty() {
             return Ok(());
         }

@@ -122,64 +122,122 @@ impl fmt::Display for SplitPlane {
 /// plane's inside, `out2` the part outside; both receive the polygon's colour, and a part
 /// that is empty comes out as a polygon without vertices, so that polygon k stays
 /// polygon k on both branches. The outputs' vertex buffers are reused.
+///
+/// So that the pieces render bit for bit as the whole would have (issue 3), a polygon that
+/// is really cut (three vertices or more on each side) is given its plane,
+/// [`Polygon::eye_plane`], unless an earlier node already gave it one; and every piece of
+/// an edge that is cut gets the edge's *support*: the ends of the original edge (of the
+/// edge's own support, if it is itself a piece), from which the scan converter computes
+/// its crossings. The new edges along the plane need none: the two pieces share them
+/// exactly, and their ends are their own.
 pub fn split(poly: &Polygon, plane: &Plane, out1: &mut Polygon, out2: &mut Polygon) {
-    out1.colour = poly.colour;
-    out2.colour = poly.colour;
-    out1.vertices.clear();
-    out2.vertices.clear();
+    for out in [&mut *out1, &mut *out2] {
+        out.colour = poly.colour;
+        out.vertices.clear();
+        out.supports.clear();
+        out.plane = poly.plane;
+    }
     let n = poly.vertices.len();
     if n == 0 {
         return;
     }
+    // While walking, `supports` holds for each vertex pushed the support of the edge
+    // that arrives at it; rotated by one at the end, it is per outgoing edge.
+    let mut pieces = Pieces {
+        out1: &mut out1.vertices,
+        in1: &mut out1.supports,
+        out2: &mut out2.vertices,
+        in2: &mut out2.supports,
+    };
     // s is the start of the current edge; the first edge is (v_{n−1}, v_0).
-    let mut s = poly.vertices[n - 1];
+    let mut s_index = n - 1;
+    let mut s = poly.vertices[s_index];
     let (mut s_side, mut ds) = plane.classify(s);
-    for &p in &poly.vertices {
+    for (p_index, &p) in poly.vertices.iter().enumerate() {
         let (p_side, dp) = plane.classify(p);
-        emit_edge(
+        pieces.emit_edge(
             plane,
             (s, s_side, ds),
             (p, p_side, dp),
-            &mut out1.vertices,
-            &mut out2.vertices,
+            poly.support(s_index),
         );
-        (s, s_side, ds) = (p, p_side, dp);
+        (s, s_side, ds, s_index) = (p, p_side, dp, p_index);
+    }
+    for out in [&mut *out1, &mut *out2] {
+        if out.supports.iter().any(Option::is_some) {
+            out.supports.rotate_left(1);
+        } else {
+            out.supports.clear();
+        }
+    }
+    if out1.vertices.len() >= 3 && out2.vertices.len() >= 3 && poly.plane.is_none() {
+        let whole = poly.eye_plane();
+        out1.plane = whole;
+        out2.plane = whole;
     }
 }
 
-/// The contribution of the edge (s, p) to both outputs: the cases of the module table.
-#[inline]
-fn emit_edge(
-    plane: &Plane,
-    (s, s_side, ds): (Vertex, Side, f64),
-    (p, p_side, dp): (Vertex, Side, f64),
-    out1: &mut Vec<Vertex>,
-    out2: &mut Vec<Vertex>,
-) {
-    match (s_side, p_side) {
-        // Case 5: p on the plane belongs to both pieces.
-        (_, Side::On) => {
-            out1.push(p);
-            out2.push(p);
-        }
-        // Cases 1 and 6: p inside, and the edge does not come from the outside.
-        (Side::Inside | Side::On, Side::Inside) => out1.push(p),
-        // Cases 2 and 6: p outside, and the edge does not come from the inside.
-        (Side::Outside | Side::On, Side::Outside) => out2.push(p),
-        // Case 3: leaving the inside. The crossing point closes out1's piece and opens
-        // out2's, which continues with p.
-        (Side::Inside, Side::Outside) => {
-            let i = plane.intersect(s, ds, p, dp);
-            out1.push(i);
-            out2.push(i);
-            out2.push(p);
-        }
-        // Case 4: entering the inside.
-        (Side::Outside, Side::Inside) => {
-            let i = plane.intersect(s, ds, p, dp);
-            out1.push(i);
-            out1.push(p);
-            out2.push(i);
+/// The two pieces being built: their vertices and, per vertex, the support of the edge
+/// arriving at it.
+struct Pieces<'a> {
+    out1: &'a mut Vec<Vertex>,
+    in1: &'a mut Vec<Option<[Vertex; 2]>>,
+    out2: &'a mut Vec<Vertex>,
+    in2: &'a mut Vec<Option<[Vertex; 2]>>,
+}
+
+impl Pieces<'_> {
+    #[inline]
+    fn push1(&mut self, v: Vertex, support: Option<[Vertex; 2]>) {
+        self.out1.push(v);
+        self.in1.push(support);
+    }
+
+    #[inline]
+    fn push2(&mut self, v: Vertex, support: Option<[Vertex; 2]>) {
+        self.out2.push(v);
+        self.in2.push(support);
+    }
+
+    /// The contribution of the edge (s, p), whose own support is `kept`, to both outputs:
+    /// the cases of the module table. An edge that reaches a piece whole keeps `kept`; a
+    /// piece of a cut edge gets `kept` or, for an original edge, (s, p); an edge along
+    /// the plane gets none.
+    #[inline]
+    fn emit_edge(
+        &mut self,
+        plane: &Plane,
+        (s, s_side, ds): (Vertex, Side, f64),
+        (p, p_side, dp): (Vertex, Side, f64),
+        kept: Option<[Vertex; 2]>,
+    ) {
+        let cut = || Some(kept.unwrap_or([s, p]));
+        match (s_side, p_side) {
+            // Case 5: p on the plane belongs to both pieces. The edge reaches a piece whole
+            // if s is in it; otherwise the piece arrives at p along the plane.
+            (_, Side::On) => {
+                self.push1(p, if s_side != Side::Outside { kept } else { None });
+                self.push2(p, if s_side != Side::Inside { kept } else { None });
+            }
+            // Cases 1 and 6: p inside, and the edge does not come from the outside.
+            (Side::Inside | Side::On, Side::Inside) => self.push1(p, kept),
+            // Cases 2 and 6: p outside, and the edge does not come from the inside.
+            (Side::Outside | Side::On, Side::Outside) => self.push2(p, kept),
+            // Case 3: leaving the inside. The crossing point closes out1's piece and opens
+            // out2's, which continues with p.
+            (Side::Inside, Side::Outside) => {
+                let i = plane.intersect(s, ds, p, dp);
+                self.push1(i, cut());
+                self.push2(i, None);
+                self.push2(p, cut());
+            }
+            // Case 4: entering the inside.
+            (Side::Outside, Side::Inside) => {
+                let i = plane.intersect(s, ds, p, dp);
+                self.push1(i, None);
+                self.push1(p, cut());
+                self.push2(i, cut());
+            }
         }
     }
 }
