@@ -77,20 +77,12 @@ fn movie_to_numbered_png_files() {
     assert_eq!(files, 100, "exactly the 100 frames, nothing else");
 }
 
-/// The shell lines of the README's code block that contains `needle`, within `section`.
+/// The ```sh block of README.md's `section` that contains `needle`.
 fn readme_command(section: &str, needle: &str) -> String {
-    let readme = std::fs::read_to_string(repo_root().join("README.md")).unwrap();
-    let start = readme
-        .find(&format!("\n{section}\n"))
-        .unwrap_or_else(|| panic!("README.md has no section {section:?}"));
-    let body = &readme[start + section.len() + 2..];
-    let body = &body[..body.find("\n## ").unwrap_or(body.len())];
-    body.split("```sh\n")
-        .skip(1)
-        .map(|block| &block[..block.find("```").expect("closed code block")])
+    readme_blocks(section)
+        .into_iter()
         .find(|block| block.contains(needle))
         .unwrap_or_else(|| panic!("no ```sh block with {needle:?} in README's {section}"))
-        .to_string()
 }
 
 /// The movie recipe of README.md's "Viewing the output", run as written (only the name
@@ -176,4 +168,84 @@ fn netpbm_reads_the_ppm_stream_and_round_trips_png() {
     let back = parse_ppm_stream(&run(&format!("pngtopnm {}", quote(&png)))).unwrap();
     assert_eq!(back.len(), 1);
     assert!(back[0] == frames[0], "PPM → PNG → PPM changed the pixels");
+}
+
+/// The ```sh blocks of README.md's `section`, each as its text.
+fn readme_blocks(section: &str) -> Vec<String> {
+    let readme = std::fs::read_to_string(repo_root().join("README.md")).unwrap();
+    let start = readme
+        .find(&format!("\n{section}\n"))
+        .unwrap_or_else(|| panic!("README.md has no section {section:?}"));
+    let body = &readme[start + section.len() + 2..];
+    let body = &body[..body.find("\n## ").unwrap_or(body.len())];
+    body.split("```sh\n")
+        .skip(1)
+        .map(|block| block[..block.find("```").expect("closed code block")].to_string())
+        .collect()
+}
+
+/// Every picture of README.md's Gallery is what the command above it makes today: each
+/// command is run with its `-o docs/images/NAME.png` moved into a temporary folder, and
+/// the result must have exactly the committed picture's pixels. The pictures are small
+/// (under 64 KiB) and every one is shown in the README.
+#[test]
+fn gallery_pictures_are_what_their_commands_make() {
+    let readme = std::fs::read_to_string(repo_root().join("README.md")).unwrap();
+    let dir = tempfile::tempdir().unwrap();
+    let out = format!("{}/", dir.path().display());
+    let mut checked = Vec::new();
+    for block in readme_blocks("## Gallery") {
+        let Some(at) = block.find("-o docs/images/") else {
+            continue;
+        };
+        let name = block[at + "-o docs/images/".len()..]
+            .split_whitespace()
+            .next()
+            .unwrap()
+            .to_string();
+        assert!(name.ends_with(".png"), "{name}");
+        let committed = repo_root().join("docs/images").join(&name);
+        let size = std::fs::metadata(&committed)
+            .unwrap_or_else(|e| panic!("{}: {e}", committed.display()))
+            .len();
+        assert!(size < 64 * 1024, "{name} is {size} bytes");
+        assert!(
+            readme.contains(&format!("(docs/images/{name})"))
+                || readme.contains(&format!("src=\"docs/images/{name}\"")),
+            "{name} is rendered but not shown"
+        );
+        run(&format!(
+            "B=target/release\n{}",
+            block.replace("docs/images/", &out)
+        ));
+        let made = read_png(&dir.path().join(&name));
+        assert!(
+            made == read_png(&committed),
+            "docs/images/{name} is not what its README command makes now; run the command \
+             in README.md's Gallery to update it (and look at it)"
+        );
+        checked.push(name);
+    }
+    assert!(checked.len() >= 8, "only {checked:?}");
+
+    // The movie with --progress: stderr is a pipe here, so --progress prints nothing.
+    let movie = readme_blocks("## Gallery")
+        .into_iter()
+        .find(|b| b.contains("--progress"))
+        .expect("a Gallery block using zbuf --progress");
+    let script = format!(
+        "B=target/release\n{}",
+        movie.replace("-o ico%03d.png", &format!("-o {out}ico%03d.png"))
+    );
+    assert!(
+        script.contains(&out),
+        "the movie's -o changed; update this test"
+    );
+    let result = sh(&script, b"");
+    assert!(result.status.success(), "{result:?}");
+    assert_eq!(String::from_utf8_lossy(&result.stderr), "");
+    let frames = (0..)
+        .take_while(|i| dir.path().join(format!("ico{i:03}.png")).exists())
+        .count();
+    assert_eq!(frames, 100);
 }
