@@ -248,7 +248,105 @@ mod tests {
         assert_eq!(poly, before);
     }
 
+    #[test]
+    fn supports_project_like_vertices_and_eye_z_drops_the_plane() {
+        let p = Perspective::new(400, 200, view(2.0, 2.0, 4.0), DepthMode::Projective).unwrap();
+        let (a, b) = (
+            DVec4::new(-5.0, 2.5, 4.0, 2.5),
+            DVec4::new(2.5, -1.0, 3.2, 2.0),
+        );
+        let mut poly = Polygon::new([1, 1, 1], vec![a, DVec4::new(0.0, 0.0, 2.0, 1.25), b]);
+        poly.supports = vec![None, Some([a, b]), None];
+        p.project_polygon(&mut poly).unwrap();
+        assert_eq!(
+            poly.supports,
+            vec![None, Some([p.project_vertex(a), p.project_vertex(b)]), None]
+        );
+        assert_eq!(poly.supports[1].unwrap()[0], poly.vertices[0]);
+        assert!(poly.plane.is_some());
+        let mut flat = Polygon::new([1, 1, 1], vec![a, b, DVec4::new(0.0, 0.0, 2.0, 1.25)]);
+        flat.plane = Some(DVec4::new(1.0, 2.0, 3.0, 4.0));
+        let eye_z = Perspective {
+            depth: DepthMode::EyeZ,
+            ..p
+        };
+        eye_z.project_polygon(&mut flat).unwrap();
+        assert_eq!(flat.plane, None);
+    }
+
+    #[test]
+    fn a_recorded_plane_is_used_and_a_plane_through_the_eye_has_no_depth_plane() {
+        let p = Perspective::new(100, 100, View::default(), DepthMode::Projective).unwrap();
+        // The recorded plane z_e = 16 wins over the vertices' own (z_e = 8).
+        let mut poly = Polygon::new(
+            [1, 1, 1],
+            vec![
+                DVec4::new(0.0, 0.0, 8.0, 5.0),
+                DVec4::new(1.0, 0.0, 8.0, 5.0),
+                DVec4::new(0.0, 1.0, 8.0, 5.0),
+            ],
+        );
+        poly.plane = Some(DVec4::new(0.0, 0.0, 1.0, -16.0));
+        p.project_polygon(&mut poly).unwrap();
+        let n = poly.plane.unwrap();
+        assert_eq!((n.x, n.y, n.z), (0.0, 0.0, -1.0));
+        assert!((n.w - p.device.projective_depth(16.0)).abs() < 1e-15);
+        // x_e = 0 contains the eye: d = 0, no finite depth plane.
+        assert_eq!(p.screen_plane(DVec4::new(1.0, 0.0, 0.0, 0.0)), None);
+        let mut edge_on = Polygon::new(
+            [1, 1, 1],
+            vec![
+                DVec4::new(0.0, 0.0, 8.0, 5.0),
+                DVec4::new(0.0, 1.0, 8.0, 5.0),
+                DVec4::new(0.0, 0.0, 16.0, 10.0),
+            ],
+        );
+        p.project_polygon(&mut edge_on).unwrap();
+        assert_eq!(edge_on.plane, None);
+    }
+
     proptest! {
+        /// The depth plane persp records gives, at every vertex, the vertex's own
+        /// projective depth: it is the polygon's plane carried to the screen.
+        #[test]
+        fn the_screen_plane_passes_through_the_projected_vertices(
+            w in 1u32..1000, h in 1u32..1000,
+            k1 in 0.5..3.0f64, span in 1.0..50.0f64,
+            n in (-1.0..1.0f64, -1.0..1.0f64, 0.2..1.0f64),
+            pts in prop::collection::vec((-0.95..0.95f64, -0.95..0.95f64), 3..8),
+        ) {
+            let aspect = w as f64 / h as f64;
+            let k2 = k1 + span;
+            let p = Perspective::new(w, h, view(aspect, k1, k2), DepthMode::Projective).unwrap();
+            let g = 0.625; // w = z_e·s/d
+            // Points of the plane n·(x', y', z_e) = n·(0, 0, z0) seen through the pyramid.
+            let z0 = (k1 + k2) / 2.0;
+            let normal = proto::DVec3::new(n.0, n.1, n.2);
+            let vertices: Vec<Vertex> = pts
+                .iter()
+                .filter_map(|&(xs, ys)| {
+                    // The ray z_e·(a·xs, ys, 1) meets the plane at z_e = n.z·z0 / (n·ray).
+                    let ray = proto::DVec3::new(aspect * xs, ys, 1.0);
+                    let z = normal.z * z0 / normal.dot(ray);
+                    (z > k1 && z < k2).then(|| {
+                        let wv = z * g;
+                        DVec4::new(aspect * xs * wv, ys * wv, z, wv)
+                    })
+                })
+                .collect();
+            prop_assume!(vertices.len() >= 3);
+            let mut poly = Polygon::new([1, 1, 1], vertices.clone());
+            p.project_polygon(&mut poly).unwrap();
+            let plane = poly.plane.unwrap();
+            prop_assert_eq!(plane.z, -1.0);
+            for (v, s) in vertices.iter().zip(&poly.vertices) {
+                let from_plane = plane.x * s.x + plane.y * s.y + plane.w;
+                let expected = p.device.projective_depth(v.z);
+                prop_assert!((from_plane - expected).abs() <= 1e-12,
+                    "plane gives {} at {:?}, vertex depth {}", from_plane, s, expected);
+            }
+        }
+
         /// Projective depth is monotonic in z_e and 0..1 over hither..yon.
         #[test]
         fn projective_depth_orders_like_z_e(

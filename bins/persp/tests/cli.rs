@@ -23,9 +23,12 @@ colour 40 50 60
 END
 ";
 
-/// On a 400×200 screen: X = (x_e/(2w) + 1)·200, Y = (1 − y_e/w)·100.
+/// On a 400×200 screen: X = (x_e/(2w) + 1)·200, Y = (1 − y_e/w)·100. The triangle's
+/// depth plane is depth = 0.05·X − 0.11·Y + 1 (through (0, 0, 1), (200, 100, 0) and
+/// (325, 150, 0.75)), to within rounding of its eye-space plane's transform.
 const SCREEN: &str = "polypipe 1 screen 400 200
 colour 10 20 30
+plane 0.05000000000000011 -0.11000000000000025 -1 1.0000000000000013
 0 0 1
 200 100 0
 325 150 0.75
@@ -56,7 +59,12 @@ fn eye_z_depth_passes_z_e() {
         .assert()
         .success()
         .stdout(
+            // No depth plane: z_e is not affine on the screen.
             SCREEN
+                .replace(
+                    "plane 0.05000000000000011 -0.11000000000000025 -1 1.0000000000000013\n",
+                    "",
+                )
                 .replace("0 0 1\n", "0 0 4\n")
                 .replace("200 100 0\n", "200 100 2\n")
                 .replace("325 150 0.75\n", "325 150 3.2\n")
