@@ -406,6 +406,73 @@ mod tests {
     }
 
     #[test]
+    fn cut_edges_carry_their_original_edge_and_the_pieces_the_whole_plane() {
+        let (v0, v1, v2, v3) = (v(-2.0, -2.0), v(-2.0, 2.0), v(2.0, 2.0), v(2.0, -2.0));
+        let square = Polygon::new([1, 2, 3], vec![v0, v1, v2, v3]);
+        let (mut a, mut b) = (Polygon::default(), Polygon::default());
+        split(&square, &x0(), &mut a, &mut b);
+        let (ib, it) = (v(0.0, -2.0), v(0.0, 2.0));
+        assert_eq!(a.vertices, vec![ib, v0, v1, it]);
+        // I_b→v0 is a piece of v3→v0, v1→I_t of v1→v2; v0→v1 is whole, I_t→I_b is new.
+        assert_eq!(a.supports, vec![Some([v3, v0]), None, Some([v1, v2]), None]);
+        assert_eq!(b.vertices, vec![ib, it, v2, v3]);
+        assert_eq!(b.supports, vec![None, Some([v1, v2]), None, Some([v3, v0])]);
+        // At one depth z_e = 16 the plane is exactly z_e = 16.
+        assert_eq!(a.plane, Some(DVec4::new(0.0, 0.0, 1.0, -16.0)));
+        assert_eq!(b.plane, a.plane);
+
+        // The left piece cut again by y=0: supports are inherited, not replaced, and the
+        // first cut's new edge, now cut itself, is the support of its own pieces.
+        let (mut c, mut d) = (Polygon::default(), Polygon::default());
+        split(&a, &Plane::row(0.0), &mut c, &mut d);
+        let (j1, j2) = (v(0.0, 0.0), v(-2.0, 0.0));
+        assert_eq!(c.vertices, vec![j1, ib, v0, j2]);
+        assert_eq!(
+            c.supports,
+            vec![Some([it, ib]), Some([v3, v0]), Some([v0, v1]), None]
+        );
+        assert_eq!(d.vertices, vec![j1, j2, v1, it]);
+        assert_eq!(
+            d.supports,
+            vec![None, Some([v0, v1]), Some([v1, v2]), Some([it, ib])]
+        );
+        assert_eq!(c.plane, a.plane);
+        assert_eq!(d.plane, a.plane);
+    }
+
+    #[test]
+    fn the_plane_is_the_wholes_and_kept_once_recorded() {
+        // A tilted, non-planar quadrilateral: its plane is a best fit, which its pieces
+        // must share with it bit for bit.
+        let quad = Polygon::new(
+            [1, 1, 1],
+            vec![
+                DVec4::new(-3.0, -1.0, 12.0, 7.5),
+                DVec4::new(-2.5, 4.0, 14.0, 8.75),
+                DVec4::new(3.5, 3.0, 21.0, 13.125),
+                DVec4::new(4.0, -2.0, 16.5, 10.3125),
+            ],
+        );
+        let whole = quad.eye_plane().unwrap();
+        let (mut a, mut b) = (Polygon::default(), Polygon::default());
+        split(&quad, &x0(), &mut a, &mut b);
+        assert_eq!(a.plane, Some(whole));
+        assert_eq!(b.plane, Some(whole));
+        assert_ne!(a.eye_plane(), Some(whole), "a piece's own fit differs");
+        // A polygon wholly on one side is not cut: nothing is added.
+        let (mut c, mut d) = (Polygon::default(), Polygon::default());
+        split(&quad, &Plane::column(0.9, 1.0), &mut c, &mut d);
+        assert_eq!(c, quad);
+        assert!(d.vertices.is_empty() && d.plane.is_none());
+        // A plane recorded earlier is passed on, never recomputed.
+        let mut recorded = quad.clone();
+        recorded.plane = Some(DVec4::new(1.0, 2.0, 3.0, 4.0));
+        split(&recorded, &x0(), &mut a, &mut b);
+        assert_eq!(a.plane, recorded.plane);
+        assert_eq!(b.plane, recorded.plane);
+    }
+
+    #[test]
     fn plane_arguments() {
         assert_eq!("x=0".parse::<SplitPlane>(), Ok(SplitPlane::Column(0.0)));
         assert_eq!("y=-0.5".parse::<SplitPlane>(), Ok(SplitPlane::Row(-0.5)));
@@ -546,6 +613,28 @@ mod properties {
                 (whole - sum).abs() <= 1e-12 * scale * scale * poly.vertices.len() as f64,
                 "whole {} pieces {}", whole, sum
             );
+            // Every edge of a piece either is an edge of the whole, or lies on a support
+            // (an edge of the whole), or is new and lies in the plane.
+            let whole_edges: Vec<_> = poly.edges().collect();
+            for piece in [&a, &b] {
+                prop_assert!(piece.supports.is_empty() || piece.supports.len() == piece.vertices.len());
+                for (i, (p, q)) in piece.edges().enumerate() {
+                    if let Some([s, t]) = piece.support(i) {
+                        prop_assert!(whole_edges.contains(&(s, t)), "support {:?}", (s, t));
+                        let off = |x: Vertex| {
+                            let (d, e) = ((t - s).truncate(), (x - s).truncate());
+                            d.cross(e).length() / d.length().max(1e-300)
+                        };
+                        prop_assert!(off(p) <= 1e-9 * scale && off(q) <= 1e-9 * scale);
+                    } else {
+                        let in_plane = |x: Vertex| plane.classify(x).0 == Side::On;
+                        prop_assert!(
+                            whole_edges.contains(&(p, q)) || (in_plane(p) && in_plane(q)),
+                            "edge {:?} is neither original nor on the plane", (p, q)
+                        );
+                    }
+                }
+            }
             // A piece of a convex polygon has at most one vertex more than the whole.
             prop_assert!(a.vertices.len() <= poly.vertices.len() + 1);
             prop_assert!(b.vertices.len() <= poly.vertices.len() + 1);
