@@ -17,8 +17,8 @@ use zbuf::{parse_colour, FramePattern};
 /// Examples:
 ///   persp --size 500x500 < eye.pp | scanconv | zbuf > frame.ppm
 ///   zbuf --background 20,20,40 -o frame%04d.png left.frag right.frag
-///   scene spheres --frames 100 | viewxf | clipplane left | ... | persp | scanconv \
-///     | zbuf --progress -o frame%03d.png
+///   scene spheres --frames 100 | viewxf | clipplane left | ... | clipplane yon \
+///     | persp --size 500x500 | scanconv | zbuf --progress -o frame%03d.png
 ///   mkfifo a b; scanconv < a.pp > a & scanconv < b.pp > b & zbuf a b | ffmpeg -f image2pipe -i - out.mp4
 #[derive(Parser)]
 #[command(name = "zbuf", verbatim_doc_comment)]
