@@ -39,6 +39,17 @@ pub struct Plane {
 /// uncertain inside this band.
 const ON_PLANE_EPSILONS: f64 = 4.0;
 
+/// The smallest positive f64 (2^-1074, a subnormal). Below f64::MIN_POSITIVE rounding
+/// is no longer relative: each operation may be off by half of this, so the band also
+/// gets an absolute part of a few of these (a polygon of subnormal coordinates would
+/// otherwise have its own intersections classified outside: found by fuzz target `clip`).
+const UNDERFLOW_UNIT: f64 = 5e-324;
+
+/// 2^-512 and 2^512: scaling by a power of two is exact, and brings coordinates near
+/// f64::MAX into a range where a plane's distance cannot overflow.
+const DOWN: f64 = 7.458340731200207e-155;
+const UP: f64 = 1.3407807929942597e154;
+
 impl Plane {
     pub const fn new(n: DVec4, k: f64) -> Self {
         Plane { n, k }
@@ -60,7 +71,14 @@ impl Plane {
     pub fn classify(&self, v: DVec4) -> (Side, f64) {
         let d = self.distance(v);
         let scale = (self.n * v).abs().element_sum() + self.k.abs();
-        let side = if d.abs() <= ON_PLANE_EPSILONS * f64::EPSILON * scale {
+        if !scale.is_finite() {
+            // Coordinates near f64::MAX overflow the sum: decide the side on the point
+            // and plane scaled down by 2^-512 (exact), where nothing overflows.
+            let (side, _) = self.scaled_down().classify(v * DOWN);
+            return (side, d);
+        }
+        let band = ON_PLANE_EPSILONS * (f64::EPSILON * scale + 4.0 * UNDERFLOW_UNIT);
+        let side = if d.abs() <= band {
             Side::On
         } else if d > 0.0 {
             Side::Inside
@@ -95,15 +113,56 @@ impl Plane {
         // dp > 0 > dq, so the divisor is positive and at least dp: α lies in [0, 1].
         let alpha = dp / (dp - dq);
         let mut v = p + (q - p) * alpha;
-        self.snap(&mut v);
+        let mut along = q - p;
+        if !(alpha.is_finite() && v.is_finite()) {
+            // Coordinates near f64::MAX overflowed a distance, the divisor or q − p
+            // (inf·0 is NaN: found by fuzz target `clip`). The same point, computed with
+            // everything scaled down by 2^-512, lies between p and q, so scaled back up
+            // it is finite.
+            let down = self.scaled_down();
+            let (ps, qs) = (p * DOWN, q * DOWN);
+            let (dps, dqs) = (down.distance(ps), down.distance(qs));
+            let alpha = (dps / (dps - dqs)).clamp(0.0, 1.0);
+            along = qs - ps;
+            v = (ps + (qs - ps) * alpha) * UP;
+            if !v.is_finite() {
+                // Only a point within rounding of ±f64::MAX can get here.
+                v = v.clamp(DVec4::splat(f64::MIN), DVec4::splat(f64::MAX));
+            }
+        }
+        self.snap(&mut v, along);
         v
     }
 
-    /// Moves `v` onto the plane along the axis of its largest coefficient.
-    fn snap(&self, v: &mut DVec4) {
+    /// The plane for points scaled by [`DOWN`]: the same normal, k scaled alike.
+    fn scaled_down(&self) -> Plane {
+        Plane::new(self.n, self.k * DOWN)
+    }
+
+    /// Moves `v` onto the plane along the axis that carries the edge across it: the one
+    /// whose coordinate changes the distance most along the edge (`along` = q − p). That
+    /// coordinate is the least precise of the interpolated point (it moved the most), and
+    /// solving for it keeps the others, which hardly moved. Choosing by the coefficient
+    /// alone could solve the left plane's x_e = −w for w from an x_e that lost all its
+    /// digits in cancellation (an edge from x = −1e30 to 1e30 got w = −0: found with
+    /// examples/degenerate/huge-and-tiny.txt).
+    fn snap(&self, v: &mut DVec4, along: DVec4) {
         let n = self.n.to_array();
+        let d = along.to_array();
+        let weight = |i: usize| {
+            let w = (n[i] * d[i]).abs();
+            if w.is_nan() {
+                0.0
+            } else {
+                w
+            }
+        };
         let axis = (0..4)
-            .max_by(|&i, &j| n[i].abs().total_cmp(&n[j].abs()))
+            .max_by(|&i, &j| {
+                weight(i)
+                    .total_cmp(&weight(j))
+                    .then(n[i].abs().total_cmp(&n[j].abs()))
+            })
             .unwrap_or(0);
         if n[axis] == 0.0 {
             return;
@@ -121,7 +180,7 @@ impl Plane {
         let snapped = DVec4::from_array(c);
         // Keep the snapped point only where it is no worse (a general plane's other terms
         // may round differently); on single-coordinate planes it is exact.
-        if self.distance(snapped).abs() <= self.distance(*v).abs() {
+        if snapped.is_finite() && self.distance(snapped).abs() <= self.distance(*v).abs() {
             *v = snapped;
         }
     }
@@ -275,6 +334,76 @@ mod tests {
 
     fn view() -> View {
         View::default()
+    }
+
+    /// Fuzz target `clip`'s first crash (fuzz/regressions/clip-subnormal): an edge of
+    /// subnormal coordinates clipped against the left plane gave an intersection whose
+    /// distance rounded to -2^-1074, classified outside. Within a few units of 2^-1074
+    /// a point is on the plane.
+    #[test]
+    fn subnormal_distances_are_on_the_plane() {
+        let left = PyramidPlane::Left.plane(&View {
+            aspect: 16.0 / 9.0,
+            ..View::default()
+        });
+        let p = DVec4::new(
+            1.08673021503e-313,
+            1.7206164110350098e-299,
+            -6.1128574593e-314,
+            -6.1128574598e-314,
+        );
+        assert_eq!(left.classify(p).0, Side::On);
+        assert_eq!(
+            left.classify(DVec4::new(-1e-300, 0.0, 0.0, 0.0)).0,
+            Side::Outside
+        );
+        assert_eq!(
+            left.classify(DVec4::new(1e-300, 0.0, 0.0, 0.0)).0,
+            Side::Inside
+        );
+    }
+
+    /// Fuzz target `clip`'s second crash (fuzz/regressions/clip-overflow): an edge from
+    /// w = 8e298 to w = -f64::MAX overflowed the divisor of α and q − p, and the top plane
+    /// got an intersection with w = NaN. Every intersection is finite and on the plane.
+    #[test]
+    fn huge_coordinates_intersect_finitely() {
+        let top = PyramidPlane::Top.plane(&view());
+        let a = DVec4::new(15.25, 15.25, 35.0, 8.3711609936427125e298);
+        let b = DVec4::new(3.0135153699541016e296, 125.0, -1.0, -f64::MAX);
+        let (sa, da) = top.classify(a);
+        let (sb, db) = top.classify(b);
+        assert_eq!((sa, sb), (Side::Inside, Side::Outside));
+        let i = top.intersect(a, da, b, db);
+        assert!(i.is_finite(), "{i:?}");
+        assert_eq!(top.classify(i).0, Side::On);
+        // A distance that overflows still gets the right side.
+        let right = PyramidPlane::Right.plane(&View {
+            aspect: 16.0 / 9.0,
+            ..view()
+        });
+        assert_eq!(
+            right.classify(DVec4::new(-f64::MAX, 0.0, 1.0, f64::MAX)).0,
+            Side::Inside
+        );
+        assert_eq!(
+            right.classify(DVec4::new(f64::MAX, 0.0, 1.0, -f64::MAX)).0,
+            Side::Outside
+        );
+    }
+
+    /// An edge from x_e = −1e30 to 1e30 at w = 15.625 meets the left plane at
+    /// x_e = −w = −15.625: the interpolated x_e has lost every digit, so the snap solves
+    /// for x_e and keeps w (it used to solve for w and gave w = −0, behind the eye).
+    #[test]
+    fn huge_edges_keep_their_w() {
+        let left = PyramidPlane::Left.plane(&view());
+        let a = DVec4::new(1e30, -1e30, 25.0, 15.625);
+        let b = DVec4::new(-1e30, -1e30, 25.0, 15.625);
+        let (_, da) = left.classify(a);
+        let (_, db) = left.classify(b);
+        let i = left.intersect(a, da, b, db);
+        assert_eq!(i, DVec4::new(-15.625, -1e30, 25.0, 15.625));
     }
 
     #[test]

@@ -104,13 +104,18 @@ impl Setup {
             .map(|v| self.frame.to_eye(v.truncate()))
             .collect();
         let eye3: Vec<DVec3> = eye.iter().map(|v| v.truncate()).collect();
-        let plane = newell_plane(&eye3);
-        if plane.truncate() == DVec3::ZERO {
-            return None;
-        }
+        let mut plane = newell_plane(&eye3);
         let front = cut_at_hither(&eye, self.view.hither);
         if front.len() < 3 {
             return None;
+        }
+        if plane.truncate() == DVec3::ZERO {
+            // No plane: a polygon of no net area, e.g. a bowtie whose lobes cancel. Its
+            // lobes still cover pixels by the even-odd rule; give it the depth of its
+            // nearest vertex in front of hither, as the scan converter's flat depth does
+            // (docs/degenerate.md). A polygon of no area at all still covers nothing.
+            let nearest = front.iter().map(|v| v.z).fold(f64::INFINITY, f64::min);
+            plane = DVec4::new(0.0, 0.0, 1.0, -nearest);
         }
         let device = self.device();
         let points: Vec<DVec2> = front

@@ -1,0 +1,28 @@
+//! The splitter node (thesis 6.2) on arbitrary eye-space polygons, about a column or row
+//! plane x_s = K / y_s = K: no panic, out1 never outside the plane, out2 never inside,
+//! every vertex finite, both outputs keep the colour.
+#![no_main]
+use libfuzzer_sys::fuzz_target;
+use polypipe_fuzz::{eye_vertex, polygon, Bytes};
+use proto::geometry::{Plane, Side};
+use proto::Polygon;
+
+fuzz_target!(|data: &[u8]| {
+    let mut b = Bytes(data);
+    let k = (b.u8() as i8) as f64 / 128.0;
+    let aspect = [1.0, 16.0 / 9.0, 0.75][(b.u8() % 3) as usize];
+    let plane = if b.u8() & 1 == 0 { Plane::column(k, aspect) } else { Plane::row(k) };
+    let poly = polygon(&mut b, eye_vertex);
+    let (mut out1, mut out2) = (Polygon::default(), Polygon::default());
+    splitter::split(&poly, &plane, &mut out1, &mut out2);
+    assert_eq!(out1.colour, poly.colour);
+    assert_eq!(out2.colour, poly.colour);
+    for v in &out1.vertices {
+        assert!(v.is_finite(), "non-finite {v:?} from {poly:?}");
+        assert!(plane.classify(*v).0 != Side::Outside, "out1 {v:?} outside, from {poly:?}");
+    }
+    for v in &out2.vertices {
+        assert!(v.is_finite(), "non-finite {v:?} from {poly:?}");
+        assert!(plane.classify(*v).0 != Side::Inside, "out2 {v:?} inside, from {poly:?}");
+    }
+});

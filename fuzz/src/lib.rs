@@ -1,0 +1,70 @@
+//! Shared helpers of the fuzz targets: turning the fuzzer's bytes into numbers and
+//! polygons. Every coordinate is a finite f64 (the stream readers refuse anything else),
+//! but any finite value, 1e-300 to 1e308, may come.
+
+use proto::{Polygon, Vertex};
+
+/// Reads the fuzzer's bytes as a sequence of values.
+pub struct Bytes<'a>(pub &'a [u8]);
+
+impl Bytes<'_> {
+    pub fn u8(&mut self) -> u8 {
+        match self.0.split_first() {
+            Some((&b, rest)) => {
+                self.0 = rest;
+                b
+            }
+            None => 0,
+        }
+    }
+
+    /// A finite f64: the next 8 bytes as bits when they are finite, otherwise a small
+    /// integer made from the first, so both the whole range and simple values come up.
+    pub fn f64(&mut self) -> f64 {
+        if self.0.len() < 8 {
+            return self.u8() as f64 - 128.0;
+        }
+        let (b, rest) = self.0.split_at(8);
+        self.0 = rest;
+        let v = f64::from_le_bytes(b.try_into().unwrap());
+        if v.is_finite() {
+            v
+        } else {
+            (b[0] as i8) as f64
+        }
+    }
+
+    /// A small value on a 1/8 grid in [-16, 16): coincidences (vertices on planes,
+    /// horizontal edges, collinear points) come up often.
+    pub fn grid(&mut self) -> f64 {
+        (self.u8() as i8) as f64 / 8.0
+    }
+
+    /// A coordinate: on the grid or any finite value, as the next byte says.
+    pub fn coord(&mut self) -> f64 {
+        if self.u8() & 1 == 0 {
+            self.grid()
+        } else {
+            self.f64()
+        }
+    }
+
+    pub fn is_empty(&self) -> bool {
+        self.0.is_empty()
+    }
+}
+
+/// A polygon of up to 16 vertices whose 4 coordinates are given by `vertex`.
+pub fn polygon(b: &mut Bytes, mut vertex: impl FnMut(&mut Bytes) -> Vertex) -> Polygon {
+    let n = (b.u8() % 17) as usize;
+    let mut vertices = Vec::with_capacity(n);
+    for _ in 0..n {
+        vertices.push(vertex(b));
+    }
+    Polygon::new([b.u8(), b.u8(), b.u8()], vertices)
+}
+
+/// An eye-space vertex (x, y, z, w) with any finite coordinates.
+pub fn eye_vertex(b: &mut Bytes) -> Vertex {
+    Vertex::new(b.coord(), b.coord(), b.coord(), b.coord())
+}
