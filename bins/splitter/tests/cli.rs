@@ -62,17 +62,21 @@ fn split(name: &str, args: &[&str]) -> (String, String) {
 
 #[test]
 fn splits_about_x_0() {
+    // Every polygon really cut gets its plane (here z_e = 16 exactly), and every piece of a
+    // cut edge the edge's two ends after `on`; new edges along x_e = 0 get none.
     let (out1, out2) = split("x0", &["x=0"]);
     assert_eq!(
         out1,
         "polypipe 1 eye aspect 1 hither 1 yon 30
 colour 255 0 0
-0 -2 16 10
+plane 0 0 1 -16
+0 -2 16 10 on 2 -2 16 10 -2 -2 16 10
 -2 -2 16 10
--2 2 16 10
+-2 2 16 10 on -2 2 16 10 2 2 16 10
 0 2 16 10
 NEXT.POLYGON
 colour 0 255 0
+plane 0 0 1 -16
 0 -3 16 10
 -3 0 16 10
 0 3 16 10
@@ -83,8 +87,9 @@ colour 0 0 255
 -2 -2 16 10
 NEXT.FRAME
 colour 7 7 7
+plane 0 0 1 -16
 0 0 16 10
-0 8 16 10
+0 8 16 10 on 4 8 16 10 -4 8 16 10
 -4 8 16 10
 END
 "
@@ -93,12 +98,14 @@ END
         out2,
         "polypipe 1 eye aspect 1 hither 1 yon 30
 colour 255 0 0
+plane 0 0 1 -16
 0 -2 16 10
-0 2 16 10
+0 2 16 10 on -2 2 16 10 2 2 16 10
 2 2 16 10
-2 -2 16 10
+2 -2 16 10 on 2 -2 16 10 -2 -2 16 10
 NEXT.POLYGON
 colour 0 255 0
+plane 0 0 1 -16
 0 -3 16 10
 0 3 16 10
 3 0 16 10
@@ -106,8 +113,9 @@ NEXT.POLYGON
 colour 0 0 255
 NEXT.FRAME
 colour 7 7 7
+plane 0 0 1 -16
 0 0 16 10
-4 8 16 10
+4 8 16 10 on 4 8 16 10 -4 8 16 10
 0 8 16 10
 END
 "
@@ -140,8 +148,9 @@ colour 0 0 255
 -2 -2 16 10
 NEXT.FRAME
 colour 7 7 7
--2.5 5 16 10
-0 0 16 10
+plane 0 0 1 -16
+-2.5 5 16 10 on -4 8 16 10 0 0 16 10
+0 0 16 10 on 0 0 16 10 4 8 16 10
 2.5 5 16 10
 END
 "
@@ -156,10 +165,11 @@ NEXT.POLYGON
 colour 0 0 255
 NEXT.FRAME
 colour 7 7 7
+plane 0 0 1 -16
 -2.5 5 16 10
-2.5 5 16 10
+2.5 5 16 10 on 0 0 16 10 4 8 16 10
 4 8 16 10
--4 8 16 10
+-4 8 16 10 on -4 8 16 10 0 0 16 10
 END
 "
     );
@@ -181,14 +191,14 @@ fn a_general_plane_and_stdout() {
         .assert()
         .success()
         .stdout(
-            "polypipe 1 eye aspect 1 hither 1 yon 30\ncolour 1 2 3\n1 1 16 10\n1 0 16 10\n2 0 16 10\n2 2 16 10\nEND\n",
+            "polypipe 1 eye aspect 1 hither 1 yon 30\ncolour 1 2 3\nplane 0 0 1 -16\n1 1 16 10\n1 0 16 10 on 0 0 16 10 2 0 16 10\n2 0 16 10\n2 2 16 10 on 2 2 16 10 0 0 16 10\nEND\n",
         )
         .stderr(
             "splitter 1,0,0,-0.1,0: 1 polygons in; out1 1 polygons, 4 vertices; out2 1 polygons, 3 vertices\n",
         );
     assert_eq!(
         std::fs::read_to_string(b).unwrap(),
-        "polypipe 1 eye aspect 1 hither 1 yon 30\ncolour 1 2 3\n1 1 16 10\n0 0 16 10\n1 0 16 10\nEND\n"
+        "polypipe 1 eye aspect 1 hither 1 yon 30\ncolour 1 2 3\nplane 0 0 1 -16\n1 1 16 10 on 2 2 16 10 0 0 16 10\n0 0 16 10 on 0 0 16 10 2 0 16 10\n1 0 16 10\nEND\n"
     );
 }
 
@@ -208,11 +218,11 @@ fn column_planes_use_the_aspect_ratio() {
         .assert()
         .success()
         .stdout(
-            "polypipe 1 eye aspect 2 hither 1 yon 30\ncolour 1 2 3\n10 2 16 10\n8 0 16 10\n10 0 16 10\nEND\n",
+            "polypipe 1 eye aspect 2 hither 1 yon 30\ncolour 1 2 3\nplane 0 0 1 -16\n10 2 16 10 on 12 4 16 10 8 0 16 10\n8 0 16 10 on 8 0 16 10 12 0 16 10\n10 0 16 10\nEND\n",
         );
     assert_eq!(
         std::fs::read_to_string(b).unwrap(),
-        "polypipe 1 eye aspect 2 hither 1 yon 30\ncolour 1 2 3\n10 2 16 10\n10 0 16 10\n12 0 16 10\n12 4 16 10\nEND\n"
+        "polypipe 1 eye aspect 2 hither 1 yon 30\ncolour 1 2 3\nplane 0 0 1 -16\n10 2 16 10\n10 0 16 10 on 8 0 16 10 12 0 16 10\n12 0 16 10\n12 4 16 10 on 12 4 16 10 8 0 16 10\nEND\n"
     );
 }
 
