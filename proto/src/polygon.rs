@@ -33,10 +33,10 @@
 //! was; an annotated one is a fourth record kind, so old streams stay readable.
 
 use crate::codec::{Control, Record, MAX_VERTICES};
+use crate::geometry::newell_plane;
 use crate::header::Space;
 use crate::text::Lexer;
 use crate::StreamError;
-use crate::geometry::newell_plane;
 use glam::{DVec3, DVec4};
 use serde::{Deserialize, Serialize};
 use std::io::{self, BufRead, Write};

@@ -245,9 +245,32 @@ fn arb_vertex() -> impl Strategy<Value = proto::Vertex> {
         .prop_map(|(a, b, c, d)| proto::Vertex::new(a, b, c, d))
 }
 
+/// A polygon, sometimes with a plane and edge supports (an empty list, or one entry per
+/// edge with at least one support: the text form writes no `on` for an all-None list).
+fn arb_polygon() -> impl Strategy<Value = Polygon> {
+    (
+        any::<[u8; 3]>(),
+        prop::collection::vec(
+            (
+                arb_vertex(),
+                prop::option::weighted(0.3, (arb_vertex(), arb_vertex())),
+            ),
+            0..6,
+        ),
+        prop::option::weighted(0.3, arb_vertex()),
+    )
+        .prop_map(|(c, vs, plane)| {
+            let mut p = Polygon::new(c, vs.iter().map(|v| v.0).collect());
+            p.plane = plane;
+            if vs.iter().any(|v| v.1.is_some()) {
+                p.supports = vs.iter().map(|v| v.1.map(|(a, b)| [a, b])).collect();
+            }
+            p
+        })
+}
+
 fn arb_tokens() -> impl Strategy<Value = Vec<Token>> {
-    let polygon = (any::<[u8; 3]>(), prop::collection::vec(arb_vertex(), 0..6))
-        .prop_map(|(c, v)| Token::Polygon(Polygon::new(c, v)));
+    let polygon = arb_polygon().prop_map(Token::Polygon);
     let token = prop_oneof![8 => polygon, 1 => Just(Token::NextFrame)];
     prop::collection::vec(token, 0..20).prop_map(|mut v| {
         v.push(Token::End);
@@ -270,6 +293,28 @@ proptest! {
         prop_assert_eq!(encode(header, &from_text, Form::Binary), bin);
     }
 
+    /// The same in screen space, where a vertex and a support end are three numbers.
+    #[test]
+    fn screen_space_annotations_round_trip(polygons in prop::collection::vec(arb_polygon(), 0..5)) {
+        let tokens: Vec<Token> = polygons
+            .into_iter()
+            .map(|mut p| {
+                let three = |v: proto::Vertex| proto::Vertex::new(v.x, v.y, v.z, 1.0);
+                p.vertices.iter_mut().for_each(|v| *v = three(*v));
+                for [a, b] in p.supports.iter_mut().flatten() {
+                    (*a, *b) = (three(*a), three(*b));
+                }
+                Token::Polygon(p)
+            })
+            .chain([Token::End])
+            .collect();
+        let header = Header::new(Space::Screen { width: 7, height: 5 });
+        let bin = encode(header, &tokens, Form::Binary);
+        let text = encode(header, &tokens, Form::Text);
+        prop_assert_eq!(&decode::<Token>(&bin).unwrap().1, &tokens);
+        prop_assert_eq!(&decode::<Token>(&text).unwrap().1, &tokens);
+    }
+
     /// Random bytes are refused or read, never a panic.
     #[test]
     fn random_bytes_never_panic(bytes in prop::collection::vec(any::<u8>(), 0..200)) {
@@ -279,4 +324,72 @@ proptest! {
         let _ = decode::<Token>(&framed);
         let _ = decode::<Fragment>(&framed);
     }
+}
+
+/// The annotations' text form, and a plain polygon's binary record is the version-1 one:
+/// streams written before annotations existed still read, and are still written the same.
+#[test]
+fn annotations_text_form_and_binary_compatibility() {
+    let text = "polypipe 1 eye aspect 1 hither 1 yon 30
+colour 1 2 3
+plane 0 0 1 -16
+0 -2 16 10 on 2 -2 16 10 -2 -2 16 10
+-2 -2 16 10
+-2 2 16 10
+END
+";
+    let (header, tokens) = decode::<Token>(text.as_bytes()).unwrap();
+    let v = |x, y| proto::Vertex::new(x, y, 16.0, 10.0);
+    let mut expected = Polygon::new([1, 2, 3], vec![v(0.0, -2.0), v(-2.0, -2.0), v(-2.0, 2.0)]);
+    expected.plane = Some(proto::DVec4::new(0.0, 0.0, 1.0, -16.0));
+    expected.supports = vec![Some([v(2.0, -2.0), v(-2.0, -2.0)]), None, None];
+    assert_eq!(tokens, vec![Token::Polygon(expected.clone()), Token::End]);
+    assert_eq!(
+        String::from_utf8(encode(header, &tokens, Form::Text)).unwrap(),
+        text
+    );
+
+    // A plain polygon: tag 0, colour, count, vertices, exactly as version 1 wrote it.
+    let plain = Polygon::new([1, 2, 3], vec![v(0.0, -2.0)]);
+    let bin = encode(
+        header,
+        &[Token::Polygon(plain.clone()), Token::End],
+        Form::Binary,
+    );
+    let mut record = vec![0u8, 0, 0, 0, 1, 2, 3, 1, 0, 0, 0, 0, 0, 0, 0];
+    for x in [0.0f64, -2.0, 16.0, 10.0] {
+        record.extend_from_slice(&x.to_le_bytes());
+    }
+    let end = [2u8, 0, 0, 0];
+    assert!(bin.ends_with(&[record.as_slice(), &end].concat()));
+    // An annotated one is record kind 3.
+    let bin = encode(
+        header,
+        &[Token::Polygon(expected), Token::End],
+        Form::Binary,
+    );
+    let header_len = encode(header, &[Token::End], Form::Binary).len() - end.len();
+    assert_eq!(&bin[header_len..header_len + 4], &[3u8, 0, 0, 0]);
+}
+
+#[test]
+fn annotation_errors_are_located() {
+    assert_eq!(
+        decode_err::<Token>(b"polypipe 1 world\ncolour 1 2 3\nplane 1 2 x 4\nEND\n"),
+        "line 3, column 11: expected c of the polygon's plane (plane a b c d), found `x`"
+    );
+    assert_eq!(
+        decode_err::<Token>(b"polypipe 1 world\ncolour 1 2 3\n1 2 3 on 1 2 3 4 5\nEND\n"),
+        "line 4, column 1: expected coordinate 2 of support end B of edge 0 (3 numbers a point), found `END`"
+    );
+    // Binary: a support list that is not one per edge.
+    let mut p = Polygon::from_xyz([1, 1, 1], &[[0.0, 0.0, 0.0]]);
+    p.supports = vec![None, Some([proto::Vertex::ZERO; 2])];
+    let bin = encode(
+        Header::new(Space::World),
+        &[Token::Polygon(p), Token::End],
+        Form::Binary,
+    );
+    assert!(decode_err::<Token>(&bin)
+        .contains("2 edge supports for 1 vertices (one per edge, or none)"));
 }
