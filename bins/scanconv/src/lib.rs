@@ -124,11 +124,7 @@ impl EdgeTable {
 /// its support if a splitter cut it out of a longer edge ([`Edge::with_support`]), so that
 /// the pieces of a split polygon cover exactly the pixels the whole covers.
 #[inline]
-pub fn polygon_edge(
-    points: &[DVec2],
-    supports: &[Option<[DVec2; 2]>],
-    i: usize,
-) -> Option<Edge> {
+pub fn polygon_edge(points: &[DVec2], supports: &[Option<[DVec2; 2]>], i: usize) -> Option<Edge> {
     let (a, b) = (points[i], points[(i + 1) % points.len()]);
     match supports.get(i).copied().flatten() {
         Some([sa, sb]) => Edge::with_support(a, b, sa, sb),
