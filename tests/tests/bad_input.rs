@@ -1,0 +1,269 @@
+//! Bad streams for every binary (docs/degenerate.md, "Bad input"): each fault gives one
+//! line `stage: message` on stderr, exit status 1 (invalid input, proto::cli's table),
+//! no panic, no hang; `| head -c 100` ends a stage quietly; zbuf writes the frames it
+//! finished before a fault.
+
+use pipeline_tests::sh;
+use std::process::Output;
+
+/// Each stage: its name, its command line, and a shell pipeline writing a valid binary
+/// stream of the space it reads (`T` is the world-space text scene).
+const STAGES: &[(&str, &str, &str)] = &[
+    ("viewxf", "viewxf", "scene penetrating"),
+    ("clipplane", "clipplane left", "viewxf < T"),
+    ("splitter", "splitter x=0 /dev/null /dev/null", "viewxf < T"),
+    ("persp", "persp --size 8x8", "viewxf < T"),
+    ("scanconv", "scanconv", "viewxf < T | persp --size 8x8"),
+    ("zbuf", "zbuf", "viewxf < T | persp --size 8x8 | scanconv"),
+    ("zspec", "zspec --size 8x8", "scene penetrating"),
+];
+
+const TEXT: &str = "polypipe 1 world\ncolour 255 0 0\n-5 -5 0\n5 -5 0\n0 5 0\nEND\n";
+
+fn write_scene() -> tempfile::TempPath {
+    let f = tempfile::NamedTempFile::new().unwrap();
+    std::fs::write(f.path(), TEXT).unwrap();
+    f.into_temp_path()
+}
+
+/// Asserts a refusal: status 1, one stderr line `stage: …` (returned), no panic.
+fn refused(stage: &str, what: &str, out: &Output) -> String {
+    let err = String::from_utf8_lossy(&out.stderr).into_owned();
+    assert_eq!(
+        out.status.code(),
+        Some(1),
+        "{stage} {what}: status; stderr {err}"
+    );
+    assert!(!err.contains("panicked"), "{stage} {what}: {err}");
+    assert_eq!(err.lines().count(), 1, "{stage} {what}: {err}");
+    assert!(
+        err.starts_with(&format!("{stage}: ")),
+        "{stage} {what}: {err}"
+    );
+    err
+}
+
+fn run(cmd: &str, input: &[u8]) -> Output {
+    sh(cmd, input)
+}
+
+#[test]
+fn wrong_magic_version_and_space() {
+    for &(stage, cmd, _) in STAGES {
+        let e = refused(stage, "magic", &run(cmd, b"hello world\n"));
+        assert!(
+            e.contains("line 1, column 1") && e.contains("not a polypipe stream"),
+            "{e}"
+        );
+        let e = refused(stage, "version", &run(cmd, b"polypipe 2 world\nEND\n"));
+        assert!(e.contains("stream version 2 is not supported"), "{e}");
+        let e = refused(stage, "binary magic", &run(cmd, b"\x89PPIPX\r\n\0\0\0\0"));
+        assert!(e.contains("bad magic"), "{e}");
+        // A space the stage does not read: name the stage that should come first.
+        let wrong = if stage == "viewxf" || stage == "zspec" {
+            "polypipe 1 screen 8 8\nEND\n"
+        } else {
+            "polypipe 1 fragments 8 8\nEND\n"
+        };
+        let wrong = if stage == "zbuf" {
+            "polypipe 1 world\nEND\n"
+        } else {
+            wrong
+        };
+        let e = refused(stage, "space", &run(cmd, wrong.as_bytes()));
+        assert!(e.contains("expected") && e.contains("space"), "{e}");
+    }
+}
+
+#[test]
+fn random_bytes() {
+    // A fixed pseudo-random sequence (xorshift), with and without the binary magic.
+    let mut x: u64 = 0x9e3779b97f4a7c15;
+    let mut bytes = Vec::new();
+    for _ in 0..4096 {
+        x ^= x << 13;
+        x ^= x >> 7;
+        x ^= x << 17;
+        bytes.push(x as u8);
+    }
+    let mut magic = b"\x89PPIPE\r\n".to_vec();
+    magic.extend_from_slice(&bytes);
+    for &(stage, cmd, _) in STAGES {
+        refused(stage, "random", &run(cmd, &bytes));
+        refused(stage, "random after magic", &run(cmd, &magic));
+    }
+}
+
+#[test]
+fn a_binary_stream_cut_at_every_byte() {
+    let scene = write_scene();
+    for &(stage, cmd, make) in STAGES {
+        let make = make.replace('T', scene.to_str().unwrap());
+        let whole = run(&make, b"");
+        assert!(whole.status.success(), "{make}");
+        let stream = whole.stdout;
+        assert!(
+            run(cmd, &stream).status.success(),
+            "{stage} on the whole stream"
+        );
+        for cut in 0..stream.len() {
+            let out = run(cmd, &stream[..cut]);
+            let e = refused(stage, &format!("cut at {cut}"), &out);
+            assert!(
+                e.contains("byte") || e.contains("empty input"),
+                "cut at {cut}: {e}"
+            );
+        }
+    }
+}
+
+#[test]
+fn text_errors_are_located() {
+    for &(stage, cmd, _) in STAGES {
+        let (space, vertex) = match stage {
+            "viewxf" | "zspec" => ("world", "0 0 0"),
+            "scanconv" => ("screen 8 8", "1 1 0.5"),
+            "zbuf" => ("fragments 8 8", "span 1 1 3 0 0"),
+            _ => ("eye", "0 0 16 10"),
+        };
+        let syntax = format!("polypipe 1 {space}\ncolour 1 2 3\n{vertex}\n  oops\nEND\n");
+        let e = refused(stage, "syntax", &run(cmd, syntax.as_bytes()));
+        assert!(e.contains("line 4, column 3"), "{e}");
+        let colour = format!("polypipe 1 {space}\ncolour 1 256 3\n{vertex}\nEND\n");
+        let e = refused(stage, "colour", &run(cmd, colour.as_bytes()));
+        assert!(
+            e.contains("line 2, column 10") && e.contains("out of range 0..=255"),
+            "{e}"
+        );
+        let missing = format!("polypipe 1 {space}\ncolour 1 2 3\n{vertex}\n");
+        let e = refused(stage, "missing END", &run(cmd, missing.as_bytes()));
+        assert!(e.contains("without END"), "{e}");
+        let after = format!("polypipe 1 {space}\ncolour 1 2 3\n{vertex}\nEND\nEND\n");
+        let e = refused(stage, "after END", &run(cmd, after.as_bytes()));
+        assert!(e.contains("line 5, column 1: data after END"), "{e}");
+    }
+}
+
+#[test]
+fn nan_and_infinity_are_refused_naming_the_polygon() {
+    for &(stage, cmd, _) in STAGES {
+        if stage == "zbuf" {
+            continue; // fragments have integer coordinates
+        }
+        let (space, pre) = match stage {
+            "viewxf" | "zspec" => ("world", ""),
+            "scanconv" => ("screen 8 8", ""),
+            _ => ("eye", ""),
+        };
+        let n = if space == "eye" {
+            "0 0 16 10\n1 0 16 10\nnan 1 16 10"
+        } else {
+            "0 0 0\n1 0 0\n0 nan 0"
+        };
+        let text = format!(
+            "polypipe 1 {space}\n{pre}colour 1 2 3\n0 0 1{}\nEND\n",
+            if space == "eye" { " 1" } else { "" }
+        );
+        let text = text
+            .replace("0 0 1 1\n", &format!("{n}\n"))
+            .replace("0 0 1\n", &format!("{n}\n"));
+        let e = refused(stage, "text nan", &run(cmd, text.as_bytes()));
+        assert!(e.contains("must be finite"), "{e}");
+        let inf = text.replace("nan", "inf");
+        let e = refused(stage, "text inf", &run(cmd, inf.as_bytes()));
+        assert!(e.contains("`inf`; coordinates must be finite"), "{e}");
+    }
+    // Binary NaN: a valid eye stream with one coordinate's bytes replaced by NaN.
+    let scene = write_scene();
+    let eye = run(&format!("viewxf < {}", scene.to_str().unwrap()), b"").stdout;
+    let needle = (-5.0f64).to_le_bytes();
+    let at = eye
+        .windows(8)
+        .position(|w| w == needle)
+        .expect("x = -5 in the stream");
+    let mut bad = eye.clone();
+    bad[at..at + 8].copy_from_slice(&f64::NAN.to_le_bytes());
+    for &(stage, cmd, _) in STAGES {
+        if matches!(stage, "clipplane" | "splitter" | "persp") {
+            let e = refused(stage, "binary nan", &run(cmd, &bad));
+            assert!(e.contains("frame 0, polygon 0"), "{e}");
+        }
+    }
+}
+
+#[test]
+fn three_million_vertices_are_refused_or_streamed() {
+    // A text polygon with 3 million vertices: more than proto's MAX_VERTICES (2 million),
+    // refused with a clear message before it is held whole.
+    let cmd = "{ echo 'polypipe 1 world'; echo 'colour 1 2 3'; \
+               awk 'BEGIN { for (i = 0; i < 3000000; i++) print i % 7, i % 5, 0 }'; echo END; } \
+               | viewxf";
+    let out = sh(cmd, b"");
+    let e = refused("viewxf", "3M vertices", &out);
+    assert!(e.contains("vertices"), "{e}");
+}
+
+#[test]
+fn head_ends_every_stage_quietly() {
+    let scene = write_scene();
+    for &(stage, cmd, make) in STAGES {
+        // A long input: the same stream 2000 frames over, read through `head -c 100`.
+        let make = make.replace('T', scene.to_str().unwrap());
+        let input: Vec<u8> = match stage {
+            "viewxf" | "zspec" => {
+                let mut s = String::from("polypipe 1 world\n");
+                for _ in 0..3000 {
+                    s.push_str("colour 255 0 0\n-5 -5 0\n5 -5 0\n0 5 0\nNEXT.FRAME\n");
+                }
+                s.push_str("END\n");
+                s.into_bytes()
+            }
+            _ => {
+                let mut s = String::from("polypipe 1 world\n");
+                for _ in 0..3000 {
+                    s.push_str("colour 255 0 0\n-5 -5 0\n5 -5 0\n0 5 0\nNEXT.FRAME\n");
+                }
+                s.push_str("END\n");
+                let m = make.replace(&format!("< {}", scene.to_str().unwrap()), "");
+                sh(&m, s.as_bytes()).stdout
+            }
+        };
+        let cmd = if stage == "splitter" {
+            "splitter x=0 /dev/stdout /dev/null"
+        } else {
+            cmd
+        };
+        let out = sh(
+            &format!("{cmd} | head -c 100 > /dev/null; echo ${{PIPESTATUS[0]}}"),
+            &input,
+        );
+        assert_eq!(
+            String::from_utf8_lossy(&out.stdout).trim(),
+            "0",
+            "{stage}: status; stderr {}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        assert!(
+            out.stderr.is_empty(),
+            "{stage}: {}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+    }
+}
+
+#[test]
+fn zbuf_writes_the_frames_finished_before_a_fault_in_frame_3() {
+    let mut s = String::from("polypipe 1 world\n");
+    for _ in 0..3 {
+        s.push_str("colour 255 0 0\n-5 -5 0\n5 -5 0\n0 5 0\nNEXT.FRAME\n");
+    }
+    s.push_str("END\n");
+    let frags = sh("viewxf | persp --size 8x8 | scanconv", s.as_bytes()).stdout;
+    // Frames 0, 1, 2 then an empty frame 3 and END: NEXT.FRAME and END are the last
+    // 8 bytes, so cutting 10 cuts frame 2's last span.
+    let cut = &frags[..frags.len() - 10];
+    let out = sh("zbuf", cut);
+    refused("zbuf", "cut in frame 3", &out);
+    let frames = pipeline_tests::parse_ppm_stream(&out.stdout).expect("whole frames");
+    assert_eq!(frames.len(), 2, "frames 0 and 1 whole");
+}
