@@ -147,47 +147,188 @@ fn differing_pixels(a: &[u8], b: &[u8]) -> Vec<(usize, usize)> {
     diffs
 }
 
-/// Whether pixel (c, r)'s centre lies exactly on an edge of the penetrating scene as
-/// the default camera projects it onto a 500x500 screen, in exact integer arithmetic
-/// (device coordinates times 6: the vertices are multiples of 1/3, the centres of 1/2).
-fn on_a_penetrating_edge(c: usize, r: usize) -> bool {
-    let polygons: [&[(i128, i128)]; 2] = [
-        &[(150, 750), (450, 450), (2200, 2200), (2000, 2400)],
-        &[(540, 1980), (1500, 660), (2460, 1980)],
-    ];
-    let (px, py) = (6 * c as i128 + 3, 6 * r as i128 + 3);
-    polygons.iter().any(|p| {
-        (0..p.len()).any(|i| {
-            let ((ax, ay), (bx, by)) = (p[i], p[(i + 1) % p.len()]);
-            (bx - ax) * (py - ay) == (by - ay) * (px - ax) && ay.min(by) <= py && py <= ay.max(by)
-        })
-    })
+/// Asserts that render.sh at depths 1–5 gives the bytes of depth 0 (issue 3), for
+/// `args` and standard input `stdin`. A scene that depth 0 refuses must be refused the
+/// same way by every tree.
+fn assert_trees_render_as_depth_0(what: &str, args: &[&str], stdin: &[u8]) {
+    let linear = render([&["--depth", "0"], args].concat().as_slice(), stdin);
+    for depth in ["1", "2", "3", "4", "5"] {
+        let tree = render([&["--depth", depth], args].concat().as_slice(), stdin);
+        assert_eq!(
+            tree.status.code(),
+            linear.status.code(),
+            "{what} depth {depth}"
+        );
+        assert!(
+            tree.stdout == linear.stdout,
+            "{what} {args:?}: depth {depth} differs from depth 0 at {:?}",
+            differing_pixels(&linear.stdout, &tree.stdout)
+        );
+    }
 }
 
 #[test]
 fn splitter_trees_render_the_penetrating_polygons_as_the_linear_pipeline() {
-    let linear = render_ok(&["--depth", "0"], b"");
-    for depth in ["1", "2"] {
-        let tree = render_ok(&["--depth", depth], b"");
-        assert!(tree == linear, "depth {depth} differs from depth 0");
+    // The scene's round numbers put many pixel centres exactly on its edges, and from
+    // depth 3 on the planes cut those edges: the pieces' crossings come from the whole
+    // edges (their supports), so every on-edge centre is decided as at depth 0.
+    for size in ["500x500", "21x21", "333x187"] {
+        assert_trees_render_as_depth_0("penetrating", &["--size", size], b"");
     }
-    // From depth 3 on, a splitting plane cuts an edge of the scene that passes exactly
-    // through pixel centres (the scene's round numbers put many centres on its edges).
-    // The cut edge's two pieces end at the intersection, which is on the edge only to
-    // within rounding, so the top-left rule may decide such a centre the other way.
-    // Every other pixel must agree.
-    for depth in ["3", "4", "5"] {
-        let tree = render_ok(&["--depth", depth], b"");
-        let diffs = differing_pixels(&linear, &tree);
-        let off_edge: Vec<_> = diffs
-            .iter()
-            .filter(|&&(c, r)| !on_a_penetrating_edge(c, r))
-            .collect();
-        assert!(
-            off_edge.is_empty(),
-            "depth {depth}: pixels off every edge differ: {off_edge:?}"
-        );
+    let linear = render_ok(&[], b"");
+    assert!(render_ok(&["--depth", "6"], b"") == linear, "depth 6");
+}
+
+/// Every scene in examples/ (and its subdirectories), at a square and an odd size.
+#[test]
+fn splitter_trees_render_every_example_as_the_linear_pipeline() {
+    fn scenes(dir: &Path, out: &mut Vec<PathBuf>) {
+        for e in std::fs::read_dir(dir).unwrap() {
+            let p = e.unwrap().path();
+            if p.is_dir() {
+                scenes(&p, out);
+            } else if p.extension().is_some_and(|x| x == "txt") {
+                out.push(p);
+            }
+        }
     }
+    let mut files = Vec::new();
+    scenes(&root().join("examples"), &mut files);
+    files.sort();
+    assert!(files.len() >= 5, "{files:?}");
+    for f in &files {
+        let scene = std::fs::read(f).unwrap();
+        // The top-level examples at two sizes, the many small cases below at one.
+        let top = f.parent() == Some(root().join("examples").as_path());
+        let sizes: &[&str] = if top {
+            &["500x500", "333x187"]
+        } else {
+            &["333x187"]
+        };
+        for size in sizes {
+            assert_trees_render_as_depth_0(
+                &f.display().to_string(),
+                &["--size", size, "-"],
+                &scene,
+            );
+        }
+    }
+}
+
+fn scene(args: &[&str]) -> Vec<u8> {
+    built();
+    let out = Command::new(root().join("target/release/scene"))
+        .args(args)
+        .output()
+        .unwrap();
+    assert!(out.status.success(), "scene {args:?}");
+    out.stdout
+}
+
+#[test]
+fn splitter_trees_render_the_mesh_and_the_spheres_as_the_linear_pipeline() {
+    // The mesh: quadrilaterals sharing every edge at one depth; a movie whose interior
+    // vertices wobble. The spheres: many small tilted facets that intersect.
+    let mesh = scene(&["mesh", "--frames", "2"]);
+    assert_trees_render_as_depth_0("mesh", &["--size", "333x187", "-"], &mesh);
+    let spheres = scene(&["spheres", "--frames", "2"]);
+    assert_trees_render_as_depth_0("spheres", &["-"], &spheres);
+}
+
+/// Overlapping polygons of exactly equal depth: the first drawn wins every tie (the Z
+/// spec), and it must win the same pixels in every tree. Two squares at one depth, two
+/// tilted polygons in one tilted plane, and a pair crossing along a line.
+const COPLANAR: &str = "polypipe 1 world
+colour 255 0 0
+-6 -6 0
+3 -6 0
+3 3 0
+-6 3 0
+NEXT.POLYGON
+colour 0 255 0
+-3 -3 0
+6 -3 0
+6 6 0
+-3 6 0
+NEXT.POLYGON
+colour 0 0 255
+-8 -8 -6
+8 -8 -2
+8 -1 -2
+-8 -1 -6
+NEXT.POLYGON
+colour 255 255 0
+-8 -4 -6
+8 -4 -2
+8 4 -2
+-8 4 -6
+NEXT.POLYGON
+colour 0 255 255
+-7 1.3 -4
+7 -2.9 -4.7
+6.1 7.3 2.2
+NEXT.POLYGON
+colour 255 0 255
+-7 1.3 -4
+7 -2.9 -4.7
+-5.5 8.1 3.9
+END
+";
+
+#[test]
+fn splitter_trees_break_equal_depth_ties_as_the_linear_pipeline() {
+    let linear = render_ok(&["-"], COPLANAR.as_bytes());
+    let f = frames(&linear);
+    for colour in [[255, 0, 0], [0, 255, 0], [0, 0, 255], [255, 255, 0]] {
+        assert!(f[0].2.chunks(3).any(|p| p == colour), "{colour:?} is drawn");
+    }
+    for size in ["500x500", "333x187", "64x48"] {
+        assert_trees_render_as_depth_0("coplanar", &["--size", size, "-"], COPLANAR.as_bytes());
+    }
+}
+
+/// At 512×512 every plane of a depth-5 tree is dyadic (columns 256, 128, 384, …; K = 0,
+/// ±0.5, ±0.25, …) and, at z_w = 4 (z_e = 16, w = 10, X = (x_w/10 + 1)·256), a world
+/// coordinate k/256·10 lands exactly on device coordinate 256 + k: vertices on the
+/// planes, and edges of slope ±1 and 0 between half-pixel points through whole rows of
+/// pixel centres.
+const ON_THE_LATTICE: &str = "polypipe 1 world
+colour 200 30 30        # (256, 128) (384, 256) (256, 384) (128, 256): on x=0, ±0.5, y=0, ±0.5
+0 5 4
+5 0 4
+0 -5 4
+-5 0 4
+NEXT.POLYGON
+colour 30 200 30        # half-pixel corners, slope-1 edges through centres, cut by x=0
+-3.18359375 3.18359375 4
+3.18359375 -3.18359375 4
+6.15234375 -3.18359375 4
+NEXT.POLYGON
+colour 30 30 200        # a tilted quad with a vertex on x=0, y=0 and edges on y=0.25
+0 0 2
+7.5 2.5 -3
+7.5 5 1
+-2.5 5 4
+END
+";
+
+#[test]
+fn splitter_trees_render_vertices_on_the_planes_and_edges_through_centres_unchanged() {
+    let linear = render_ok(&["--size", "512x512", "-"], ON_THE_LATTICE.as_bytes());
+    let f = frames(&linear);
+    for colour in [[200, 30, 30], [30, 200, 30], [30, 30, 200]] {
+        assert!(f[0].2.chunks(3).any(|p| p == colour), "{colour:?} is drawn");
+    }
+    assert_trees_render_as_depth_0(
+        "lattice",
+        &["--size", "512x512", "-"],
+        ON_THE_LATTICE.as_bytes(),
+    );
+    assert_trees_render_as_depth_0(
+        "lattice",
+        &["--size", "333x187", "-"],
+        ON_THE_LATTICE.as_bytes(),
+    );
 }
 
 #[test]
@@ -220,9 +361,8 @@ fn splitter_trees_render_a_random_environment_as_the_linear_pipeline() {
     }
 }
 
-/// Polygons cut by the tree's planes and with vertices exactly on them. All are planar:
-/// a non-planar polygon's depth plane is a best fit, which differs for its pieces. With the
-/// default camera, z_w = 4 is z_e = 16 and w = 10, so x_s = K is x_w = 10·K and y_s = K
+/// Polygons cut by the tree's planes and with vertices exactly on them (at 500×500 the
+/// planes x=0, ±0.5 and y=0, ±0.5 are pixel boundaries of the tree). With the default camera, z_w = 4 is z_e = 16 and w = 10, so x_s = K is x_w = 10·K and y_s = K
 /// is y_w = 10·K; at z_w = −4, w = 15.
 const ON_THE_PLANES: &str = "polypipe 1 world
 colour 200 30 30       # vertices on x=0, y=0, x=0.5, y=-0.25
@@ -380,5 +520,57 @@ fn a_stage_killed_by_sigkill_stops_the_whole_tree() {
             !Path::new(&format!("/proc/{pid}")).exists(),
             "stage {pid} outlived render.sh"
         );
+    }
+}
+
+mod random_scenes {
+    use super::*;
+    use proptest::prelude::*;
+
+    /// A coordinate: uniform, or on a coarse lattice that puts vertices on the tree's
+    /// planes and edges through pixel centres more often than chance.
+    fn coordinate(range: f64) -> impl Strategy<Value = f64> {
+        prop_oneof![
+            -range..range,
+            (-16i32..=16).prop_map(move |k| k as f64 * range / 16.0),
+        ]
+    }
+
+    fn scene_text() -> impl Strategy<Value = String> {
+        let vertex = (coordinate(12.0), coordinate(12.0), coordinate(8.0));
+        let polygon = (any::<[u8; 3]>(), prop::collection::vec(vertex, 3..6));
+        prop::collection::vec(polygon, 20).prop_map(|polys| {
+            let mut text = String::from("polypipe 1 world\n");
+            for (i, (c, vs)) in polys.iter().enumerate() {
+                if i > 0 {
+                    text.push_str("NEXT.POLYGON\n");
+                }
+                text.push_str(&format!("colour {} {} {}\n", c[0], c[1], c[2]));
+                for (x, y, z) in vs {
+                    text.push_str(&format!("{x} {y} {z}\n"));
+                }
+            }
+            text.push_str("END\n");
+            text
+        })
+    }
+
+    proptest! {
+        #![proptest_config(ProptestConfig { cases: 16, ..ProptestConfig::default() })]
+
+        /// Issue 3 as a property: any scene, trees of depth 1–3 at 64×48, byte for byte.
+        #[test]
+        fn any_scene_renders_the_same_through_any_tree(text in scene_text()) {
+            let linear = render_ok(&["--size", "64x48", "-"], text.as_bytes());
+            for depth in ["1", "2", "3"] {
+                let tree = render_ok(&["--size", "64x48", "--depth", depth, "-"], text.as_bytes());
+                prop_assert!(
+                    tree == linear,
+                    "depth {}: {:?}",
+                    depth,
+                    differing_pixels(&linear, &tree)
+                );
+            }
+        }
     }
 }
