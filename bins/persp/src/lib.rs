@@ -33,7 +33,9 @@ use proto::{DVec4, Polygon, Vertex, View};
 pub enum DepthMode {
     /// z_s = (1 − K1/z_e)·K2/(K2 − K1): 0 at hither, 1 at yon, linear on the screen.
     Projective,
-    /// z_e itself, as the thesis's occam code does.
+    /// z_e itself, as the thesis's occam code does. An approximation (z_e is not linear on
+    /// the screen): each polygon's depth plane is fitted to its own screen vertices, so a
+    /// splitter tree need not render it exactly as depth 0 does.
     EyeZ,
 }
 

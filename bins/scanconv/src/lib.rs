@@ -2,9 +2,10 @@
 //!
 //! The scan converter of the Z-buffer HSE algorithm. For each polygon it
 //!
-//! 1. finds the polygon's plane `a·X + b·Y + c·Z + d = 0` by Newell's method over all its
-//!    vertices (Appendix 3.4; the occam code used three vertices and failed when they were
-//!    collinear),
+//! 1. takes the polygon's plane `a·X + b·Y + c·Z + d = 0` from the stream when persp
+//!    recorded it (the whole polygon's plane, shared by every piece a splitter tree cut
+//!    it into), or else finds it by Newell's method over all its vertices (Appendix 3.4;
+//!    the occam code used three vertices and failed when they were collinear),
 //! 2. builds an [`EdgeTable`]: one bucket per scanline, holding the edges whose first
 //!    scanline it is (Appendix 3.1),
 //! 3. walks the scanlines top to bottom, moving each bucket into the [`ActiveEdgeTable`]
@@ -25,7 +26,9 @@
 //! Instead of stepping each edge's crossing by 1/m from scanline to scanline (Appendix
 //! 3.3 i), each crossing is evaluated from the edge's top end ([`Edge::x_at`]), so two
 //! polygons that share an edge compute identical crossings: no pixel is covered twice or
-//! missed along a shared edge.
+//! missed along a shared edge.An edge that is a piece of a longer one cut by a splitter
+//! carries that edge (its support) and is crossed where the whole edge is
+//! ([`polygon_edge`]), so a split polygon covers exactly the pixels of the whole.
 
 use proto::fragment::depth_to_fixed;
 use proto::raster::{centres_in, centres_in_clamped, Edge};
