@@ -5,8 +5,10 @@
 #   viewxf | clipplane left | right | top | bottom | hither | yon
 #     depth 0:  | persp | scanconv | zbuf
 #     depth N:  | a binary tree of splitter nodes, N levels alternating x and y planes,
-#               each node bisecting its own rectangle of the screen;
+#               each node bisecting its own rectangle of the screen on a pixel boundary;
 #               persp | scanconv on each of the 2^N leaves; one zbuf reading all leaves.
+#               The picture is byte for byte depth 0's (cut edges carry their original
+#               edge, cut polygons their whole plane: proto/src/polygon.rs).
 #
 # Every stage is a process of its own, joined to the next by a named pipe in a private
 # temporary directory. The script watches them all: when one fails (or is killed), it
