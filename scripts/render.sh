@@ -153,10 +153,13 @@ trap 'exit 143' TERM
 
 # start NAME CMD... <IN >OUT: runs one stage in the background and records it.
 # (Redirections are given by the caller through the variables `in` and `out`.)
+# Each stage's stderr goes to a file of its own, shown when the run ends: on success all
+# of them in pipeline order (--stats), on failure only the causing stage's, since the
+# stages downstream of it then fail too ("stream ends without END"), which is noise.
 start() {
     local name=$1
     shift
-    "$@" <"$in" >"$out" 3<&- &
+    "$@" <"$in" >"$out" 2>"$tmp/stderr.${#pids[@]}" 3<&- &
     pids+=($!)
     stage_of[$!]=$name
 }
@@ -165,7 +168,7 @@ start() {
 start_last() {
     local name=$1
     shift
-    "$@" <"$in" 3<&- &
+    "$@" <"$in" 2>"$tmp/stderr.${#pids[@]}" 3<&- &
     pids+=($!)
     stage_of[$!]=$name
 }
@@ -287,7 +290,11 @@ while ((remaining > 0)); do
         if ((failed_status[$pid] > 128)); then cause=$pid; break; fi
         [[ -n $cause ]] || cause=$pid
     done
+    for i in "${!pids[@]}"; do
+        [[ ${pids[$i]} == "$cause" ]] && cat "$tmp/stderr.$i" >&2
+    done
     echo "render.sh: ${stage_of[$cause]} failed ($(describe "${failed_status[$cause]}"))" >&2
     exit 1
 done
+for i in "${!pids[@]}"; do cat "$tmp/stderr.$i" >&2; done
 exit 0

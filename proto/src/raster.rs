@@ -102,6 +102,35 @@ impl Edge {
     }
 }
 
+/// Whether every point lies on one straight line, to within the rounding of their
+/// coordinates. Such a polygon has no interior and covers no pixel centre; counting
+/// crossings would still claim a centre exactly on the line whenever two of its edges
+/// (the same line, different endpoints) round their crossings apart, so both renderers
+/// ask this first.
+pub fn on_one_line(points: &[DVec2]) -> bool {
+    let Some(&p0) = points.first() else {
+        return true;
+    };
+    let far = points
+        .iter()
+        .copied()
+        .max_by(|a, b| {
+            (*a - p0)
+                .length_squared()
+                .total_cmp(&(*b - p0).length_squared())
+        })
+        .unwrap_or(p0);
+    let d = far - p0;
+    let magnitude = points
+        .iter()
+        .fold(0.0f64, |m, p| m.max(p.x.abs()).max(p.y.abs()));
+    // A point off the line by less than a few ulps of the coordinates is on it.
+    let tolerance = 16.0 * f64::EPSILON * magnitude * d.abs().max_element();
+    points
+        .iter()
+        .all(|&p| d.perp_dot(p - p0).abs() <= tolerance)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -116,6 +145,27 @@ mod tests {
         assert_eq!(centres_in_clamped(-3.0, 2.0, 10), 0..2);
         assert_eq!(centres_in_clamped(8.0, 1e300, 10), 8..10);
         assert_eq!(centres_in_clamped(f64::MAX, f64::INFINITY, 10), 10..10);
+    }
+
+    #[test]
+    fn lines_and_not_lines() {
+        let p = |x, y| DVec2::new(x, y);
+        assert!(on_one_line(&[]));
+        assert!(on_one_line(&[p(3.0, 3.0), p(3.0, 3.0), p(3.0, 3.0)]));
+        assert!(on_one_line(&[p(16.5, 47.5), p(32.0, 32.0), p(47.5, 16.5)]));
+        assert!(on_one_line(&[
+            p(0.0, 0.0),
+            p(0.1, 0.3),
+            p(0.3, 0.9000000000000001)
+        ]));
+        assert!(!on_one_line(&[p(0.0, 0.0), p(10.0, 0.0), p(10.0, 1e-9)]));
+        // A bowtie has no net area but is not a line.
+        assert!(!on_one_line(&[
+            p(0.0, 0.0),
+            p(4.0, 4.0),
+            p(4.0, 0.0),
+            p(0.0, 4.0)
+        ]));
     }
 
     #[test]

@@ -131,9 +131,6 @@ fn edge_on_polygons_cover_nothing() {
 }
 
 #[test]
-#[ignore = "scanconv/raster (in another engineer's hands): a triangle of three collinear \
-            vertices (-9,-9,1) (0,0,1) (9,9,1), no area, draws the 16 pixels whose centres \
-            lie on its line, e.g. (31, 32); zspec draws none"]
 fn collinear_leading_vertices() {
     let f = reference_and_every_depth("collinear-leading");
     // The zero-area triangle draws nothing.

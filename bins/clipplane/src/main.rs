@@ -67,6 +67,11 @@ fn main() -> ExitCode {
         while let Some(mut token) = reader.next_record()? {
             if let Token::Polygon(poly) = &mut token {
                 clip_against(&poly.vertices, &plane, &mut scratch);
+                if scratch != poly.vertices {
+                    // New vertices and edges: the splitter's edge supports (which clipping
+                    // before the tree never meets) no longer match; the plane still does.
+                    poly.supports.clear();
+                }
                 std::mem::swap(&mut poly.vertices, &mut scratch);
             }
             writer.write(&token)?;

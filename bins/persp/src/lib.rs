@@ -122,25 +122,33 @@ impl Perspective {
     /// Projects a polygon in place. A vertex at or behind the eye (w ≤ 0) has no image:
     /// the polygon is left untouched and the offending vertex named.
     pub fn project_polygon(&self, poly: &mut Polygon) -> Result<(), Unprojectable> {
-        // Check first, so a refused polygon is not half projected.
+        // Check everything first, so that a refused polygon is left as it was (found by
+        // the persp fuzz target): projecting is cheap enough to do twice.
         for (i, v) in poly.vertices.iter().enumerate() {
             // NaN cannot reach here (the reader refuses it), but it would be refused too.
             if v.w <= 0.0 || v.w.is_nan() {
+                let why = if v.z > 0.0 {
+                    // In front of the eye by z_e, yet w is not: the clipper's
+                    // interpolation lost w to rounding, as it does for coordinates so large
+                    // that their differences swamp w (docs/degenerate.md).
+                    format!(
+                        "but z_e = {}: w should be z_e·s/d > 0; coordinates this large lose w \
+                         to rounding when an edge through the eye plane is clipped",
+                        v.z
+                    )
+                } else {
+                    "≤ 0, at or behind the eye, and cannot be projected; clip against \
+                     hither first (clipplane hither)"
+                        .to_string()
+                };
                 return Err(Unprojectable {
                     vertex: i,
                     reason: format!(
-                        "vertex {i} ({} {} {} {}) has w = {} ≤ 0, at or behind the eye, \
-                         and cannot be projected; clip against hither first (clipplane hither)",
+                        "vertex {i} ({} {} {} {}) has w = {} {why}",
                         v.x, v.y, v.z, v.w, v.w
                     ),
                 });
             }
-        }
-        let eye_plane = match self.depth {
-            DepthMode::Projective => poly.plane.or_else(|| poly.eye_plane()),
-            DepthMode::EyeZ => None,
-        };
-        for (i, v) in poly.vertices.iter_mut().enumerate() {
             let p = self.project_vertex(*v);
             if !p.is_finite() {
                 return Err(Unprojectable {
@@ -156,12 +164,10 @@ impl Perspective {
                     ),
                 });
             }
-            *v = p;
         }
-        for (i, ends) in poly.supports.iter_mut().enumerate() {
-            for end in ends.iter_mut().flatten() {
-                let p = self.project_vertex(*end);
-                if !(end.w > 0.0 && p.is_finite()) {
+        for (i, ends) in poly.supports.iter().enumerate() {
+            for end in ends.iter().flatten() {
+                if !(end.w > 0.0 && self.project_vertex(*end).is_finite()) {
                     return Err(Unprojectable {
                         vertex: i,
                         reason: format!(
@@ -171,8 +177,17 @@ impl Perspective {
                         ),
                     });
                 }
-                *end = p;
             }
+        }
+        let eye_plane = match self.depth {
+            DepthMode::Projective => poly.plane.or_else(|| poly.eye_plane()),
+            DepthMode::EyeZ => None,
+        };
+        for v in poly.vertices.iter_mut() {
+            *v = self.project_vertex(*v);
+        }
+        for end in poly.supports.iter_mut().flatten().flatten() {
+            *end = self.project_vertex(*end);
         }
         poly.plane = eye_plane.and_then(|n| self.screen_plane(n));
         Ok(())
@@ -184,6 +199,25 @@ mod tests {
     use super::*;
     use proptest::prelude::*;
     use proto::DVec4;
+
+    #[test]
+    fn a_refused_polygon_is_left_as_it_was() {
+        // Found by the persp fuzz target: vertices 0 and 1 were projected before vertex 2
+        // (w subnormal) was refused.
+        let p = Perspective::new(64, 64, View::default(), DepthMode::Projective).unwrap();
+        let mut poly = Polygon::new(
+            [158, 36, 0],
+            vec![
+                DVec4::new(11.0, 11.0, 11.0, 11.0),
+                DVec4::new(11.0, 11.0, 11.0, 11.0),
+                DVec4::new(11.0, 11.0, 11.0, 1.874679261915e-312),
+            ],
+        );
+        let before = poly.clone();
+        let err = p.project_polygon(&mut poly).unwrap_err();
+        assert_eq!(err.vertex, 2);
+        assert_eq!(poly, before);
+    }
 
     fn view(aspect: f64, hither: f64, yon: f64) -> View {
         View {

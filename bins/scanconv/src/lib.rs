@@ -286,6 +286,9 @@ impl ScanConverter {
                 .iter()
                 .map(|s| s.map(|[a, b]| [DVec2::new(a.x, a.y), DVec2::new(b.x, b.y)])),
         );
+        if proto::raster::on_one_line(&self.points) {
+            return Ok(());
+        }
         let rows = self.et.build(&self.points, &self.supports, self.height);
         if rows.is_empty() {
             return Ok(());
@@ -332,6 +335,27 @@ impl ScanConverter {
         self.stats.pixels += covered;
         Ok(())
     }
+}
+
+/// How far outside the screen, in screen widths and heights, a vertex may lie. A clipped
+/// stream's vertices are on the screen (to rounding); a vertex far outside means the
+/// stream was not clipped, and crossings computed from such coordinates cancel.
+pub const GUARD_BAND: f64 = 16.0;
+
+/// Checks that every vertex lies within [`GUARD_BAND`] screens of the screen.
+pub fn check_on_screen(polygon: &Polygon, width: u32, height: u32) -> Result<(), String> {
+    let (w, h) = (width as f64, height as f64);
+    for (i, v) in polygon.vertices.iter().enumerate() {
+        let inside = |c: f64, size: f64| -GUARD_BAND * size <= c && c <= (GUARD_BAND + 1.0) * size;
+        if !(inside(v.x, w) && inside(v.y, h)) {
+            return Err(format!(
+                "vertex {i} at ({:e}, {:e}) lies far outside the {width}x{height} screen; \
+                 clip in eye space (clipplane left, right, top, bottom) before persp",
+                v.x, v.y
+            ));
+        }
+    }
+    Ok(())
 }
 
 /// The centres a polygon covers on one row by the coverage rule, computed directly (no
@@ -628,6 +652,32 @@ mod tests {
         for (a, b) in w.iter().zip(&s) {
             assert!((ends(a) - ends(b)).abs() < 64, "{a:?} {b:?}");
         }
+    }
+
+    #[test]
+    fn a_polygon_on_one_line_covers_nothing() {
+        // Its centres on the line would otherwise be claimed by crossings that round
+        // apart (found by tests/tests/degenerate.rs and the fuzzer).
+        let line = poly(&[[16.5, 47.5, 0.5], [32.0, 32.0, 0.5], [47.5, 16.5, 0.5]]);
+        assert_eq!(
+            run(64, 64, Output::Spans, &[line]),
+            vec![Fragment::Polygon([10, 20, 30])]
+        );
+    }
+
+    #[test]
+    fn vertices_far_off_screen_are_refused() {
+        let near = poly(&[[-100.0, 0.0, 0.5], [90.0, 0.0, 0.5], [0.0, 9.0, 0.5]]);
+        assert_eq!(check_on_screen(&near, 8, 8), Ok(()));
+        let far = poly(&[
+            [1.76e156, 0.0, 0.5],
+            [20.0, -4.28e227, 0.5],
+            [18.0, 3.0, 0.5],
+        ]);
+        assert_eq!(
+            check_on_screen(&far, 64, 64).unwrap_err(),
+            "vertex 0 at (1.76e156, 0e0) lies far outside the 64x64 screen; clip in eye space (clipplane left, right, top, bottom) before persp"
+        );
     }
 
     #[test]

@@ -52,7 +52,11 @@ fn main() -> ExitCode {
         let mut sc = ScanConverter::new(width, height, output);
         while let Some(token) = input.next_record()? {
             match token {
-                Token::Polygon(p) => sc.convert(&p, &mut |f| out.write(&f))?,
+                Token::Polygon(p) => {
+                    scanconv::check_on_screen(&p, width, height)
+                        .map_err(|m| anyhow::anyhow!("{}: {m}", input.position()))?;
+                    sc.convert(&p, &mut |f| out.write(&f))?
+                }
                 Token::NextFrame => out.write(&Fragment::NextFrame)?,
                 Token::End => out.write(&Fragment::End)?,
             }

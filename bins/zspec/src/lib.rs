@@ -125,6 +125,9 @@ impl Setup {
                 DVec2::new(x, y)
             })
             .collect();
+        if proto::raster::on_one_line(&points) {
+            return None;
+        }
         let mut min = DVec2::splat(f64::INFINITY);
         let mut max = DVec2::splat(f64::NEG_INFINITY);
         for p in &points {
