@@ -112,48 +112,16 @@ impl Frame {
     }
 }
 
-/// Parses a stream of binary PPM (P6, maxval 255) frames.
-pub fn parse_ppm_stream(mut bytes: &[u8]) -> Result<Vec<Frame>, String> {
-    let mut frames = Vec::new();
-    while !bytes.is_empty() {
-        let mut fields = Vec::new();
-        let mut i = 0;
-        while fields.len() < 4 {
-            while i < bytes.len() && bytes[i].is_ascii_whitespace() {
-                i += 1;
-            }
-            let start = i;
-            while i < bytes.len() && !bytes[i].is_ascii_whitespace() {
-                i += 1;
-            }
-            if start == i {
-                return Err(format!("frame {}: PPM header cut short", frames.len()));
-            }
-            fields.push(String::from_utf8_lossy(&bytes[start..i]).into_owned());
-        }
-        i += 1; // the single whitespace byte after maxval
-        if fields[0] != "P6" || fields[3] != "255" {
-            return Err(format!(
-                "frame {}: not a P6/255 header: {fields:?}",
-                frames.len()
-            ));
-        }
-        let width: usize = fields[1].parse().map_err(|_| "bad width".to_string())?;
-        let height: usize = fields[2].parse().map_err(|_| "bad height".to_string())?;
-        let n = width * height * 3;
-        if bytes.len() < i + n {
-            return Err(format!("frame {}: pixel data cut short", frames.len()));
-        }
-        let pixels = bytes[i..i + n]
-            .chunks(3)
-            .map(|c| [c[0], c[1], c[2]])
-            .collect();
-        frames.push(Frame {
-            width,
-            height,
-            pixels,
-        });
-        bytes = &bytes[i + n..];
-    }
-    Ok(frames)
+/// Parses a stream of binary PPM (P6) frames, with the exact reference's reader (the
+/// one `zspec compare` uses).
+pub fn parse_ppm_stream(bytes: &[u8]) -> Result<Vec<Frame>, String> {
+    let images = zspec::read_ppm_stream(bytes).map_err(|e| format!("{e:#}"))?;
+    Ok(images
+        .into_iter()
+        .map(|i| Frame {
+            width: i.width as usize,
+            height: i.height as usize,
+            pixels: i.pixels,
+        })
+        .collect())
 }
