@@ -57,25 +57,7 @@ impl SplitPlane {
 
     /// Parses the general form `a,b,c,d,k`.
     pub fn parse_general(s: &str) -> Result<SplitPlane, String> {
-        let parts: Vec<&str> = s.split(',').map(str::trim).collect();
-        if parts.len() != 5 {
-            return Err(format!("expected a,b,c,d,k (five numbers), found `{s}`"));
-        }
-        let mut c = [0.0; 5];
-        for (slot, p) in c.iter_mut().zip(&parts) {
-            *slot = p
-                .parse::<f64>()
-                .ok()
-                .filter(|x| x.is_finite())
-                .ok_or_else(|| format!("`{p}` in `{s}` is not a finite number"))?;
-        }
-        if c[..4].iter().all(|&x| x == 0.0) {
-            return Err(format!("`{s}` is not a plane: a, b, c and d are all zero"));
-        }
-        Ok(SplitPlane::General(Plane::new(
-            proto::DVec4::new(c[0], c[1], c[2], c[3]),
-            c[4],
-        )))
+        Plane::parse(s).map(SplitPlane::General)
     }
 }
 
