@@ -133,10 +133,12 @@ fn movie_of_5_frames_of_1000_polygons() {
 fn the_other_scenes() {
     for name in [
         "penetrating",
+        "sphere",
         "spheres",
         "building",
         "mesh",
         "triangle-square",
+        "obj --shade examples/models/icosahedron.obj",
     ] {
         let dir = tempfile::tempdir().unwrap();
         let scene = scene_file(dir.path(), &format!("scene {name} --frames 3"));
