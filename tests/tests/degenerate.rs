@@ -167,8 +167,15 @@ fn local_minima_and_horizontal_edges() {
     assert_eq!(at(&f, px(-7.5, 8.3984375 + 0.390625)), BLACK);
     assert_eq!(at(&f, (12, 49)), [230, 120, 30]);
     assert_eq!(at(&f, (12, 50)), BLACK);
-    // The V's apex on pixel (32, 60)'s centre; its top edge on row 45's centres.
-    assert_eq!(count(&f, [30, 120, 230]) > 0, true);
+    // The V's apex is exactly pixel (32, 60)'s centre: a bottom vertex, so not covered,
+    // while the pixel above it is. Its horizontal top edge lies exactly on row 45's
+    // centres: a top edge, so covered, and row 44 not.
+    let v = [30, 120, 230];
+    assert_eq!(at(&f, (32, 60)), BLACK);
+    assert_eq!(at(&f, (32, 59)), v);
+    assert_eq!((0..SIZE).filter(|&x| at(&f, (x, 45)) == v).count(), 22);
+    assert!((0..SIZE).all(|x| at(&f, (x, 44)) != v));
+    assert_eq!(count(&f, v), 174);
 }
 
 #[test]
