@@ -306,6 +306,16 @@ impl Record for Token {
             Err(_) => return Ok(Token::End),
         };
         let arity = space.vertex_arity();
+        if arity == 0 {
+            // A fragments stream has no vertices: a polygon's vertices there would have no
+            // numbers, and reading them would take nothing from the input (found by the
+            // decode_text fuzz target). Stages check the space first; this keeps the
+            // reader itself from looping.
+            return Err(lex.error(format!(
+                "a polygon in a {}-space stream, which holds no vertices",
+                space.name()
+            )));
+        }
         let mut plane = None;
         if lex.peek()? == Some(PLANE) {
             lex.next_word()?;

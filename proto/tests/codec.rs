@@ -225,6 +225,18 @@ fn binary_errors_say_byte_offset() {
 }
 
 #[test]
+fn polygons_in_a_fragments_stream_are_refused_at_once() {
+    // Found by the decode_text fuzz target: polygons in a fragments stream have vertices
+    // of no numbers, and reading them took nothing from the input (2 million empty
+    // vertices before the size limit stopped it).
+    let text = "polypipe 1 fragments 8 8\ncolour 1 2 3\n22\nEND\n";
+    assert_eq!(
+        decode_err::<Token>(text.as_bytes()),
+        "line 2, column 12: a polygon in a fragments-space stream, which holds no vertices"
+    );
+}
+
+#[test]
 fn wrong_space_messages_name_the_missing_stage() {
     let world = Header::new(Space::World);
     assert_eq!(
