@@ -8,7 +8,11 @@ use proto::View;
 
 fuzz_target!(|data: &[u8]| {
     let mut b = Bytes(data);
-    let depth = if b.u8() & 1 == 0 { DepthMode::Projective } else { DepthMode::EyeZ };
+    let depth = if b.u8() & 1 == 0 {
+        DepthMode::Projective
+    } else {
+        DepthMode::EyeZ
+    };
     let p = Perspective::new(64, 64, View::default(), depth).unwrap();
     let mut poly = polygon(&mut b, eye_vertex);
     let before = poly.clone();

@@ -11,10 +11,20 @@ fuzz_target!(|data: &[u8]| {
     let mut b = Bytes(data);
     let width = 1 + (b.u8() % 64) as u32;
     let height = 1 + (b.u8() % 64) as u32;
-    let output = if b.u8() & 1 == 0 { Output::Spans } else { Output::Pixels };
+    let output = if b.u8() & 1 == 0 {
+        Output::Spans
+    } else {
+        Output::Pixels
+    };
     // Screen vertices: X and Y mostly near the screen, depth anything finite.
     let poly = polygon(&mut b, |b| {
-        let c = |b: &mut Bytes| if b.u8() % 4 == 0 { b.f64() } else { b.grid() * 4.0 + 32.0 };
+        let c = |b: &mut Bytes| {
+            if b.u8() % 4 == 0 {
+                b.f64()
+            } else {
+                b.grid() * 4.0 + 32.0
+            }
+        };
         Vertex::new(c(b), c(b), b.coord(), 1.0)
     });
     // The stage refuses vertices far outside the screen (an unclipped stream) before it
@@ -50,9 +60,15 @@ fuzz_target!(|data: &[u8]| {
         match *f {
             Fragment::Span { y, x0, x1, .. } => {
                 assert!(x0 < x1, "empty span {f:?}");
-                assert!(in_box(x0, y) && in_box(x1 - 1, y), "{f:?} outside, from {poly:?}");
+                assert!(
+                    in_box(x0, y) && in_box(x1 - 1, y),
+                    "{f:?} outside, from {poly:?}"
+                );
                 if let Some((ly, lx)) = last {
-                    assert!((y, x0) >= (ly, lx), "spans out of order: {f:?} after row {ly} col {lx}");
+                    assert!(
+                        (y, x0) >= (ly, lx),
+                        "spans out of order: {f:?} after row {ly} col {lx}"
+                    );
                 }
                 last = Some((y, x1));
             }
@@ -67,6 +83,10 @@ fuzz_target!(|data: &[u8]| {
         }
     }
     if poly.vertices.len() < 3 {
-        assert_eq!(frags.len(), 1, "a polygon of fewer than 3 vertices drew {frags:?}");
+        assert_eq!(
+            frags.len(),
+            1,
+            "a polygon of fewer than 3 vertices drew {frags:?}"
+        );
     }
 });

@@ -11,7 +11,11 @@ fuzz_target!(|data: &[u8]| {
     let mut b = Bytes(data);
     let k = (b.u8() as i8) as f64 / 128.0;
     let aspect = [1.0, 16.0 / 9.0, 0.75][(b.u8() % 3) as usize];
-    let plane = if b.u8() & 1 == 0 { Plane::column(k, aspect) } else { Plane::row(k) };
+    let plane = if b.u8() & 1 == 0 {
+        Plane::column(k, aspect)
+    } else {
+        Plane::row(k)
+    };
     let poly = polygon(&mut b, eye_vertex);
     let (mut out1, mut out2) = (Polygon::default(), Polygon::default());
     splitter::split(&poly, &plane, &mut out1, &mut out2);
@@ -19,10 +23,16 @@ fuzz_target!(|data: &[u8]| {
     assert_eq!(out2.colour, poly.colour);
     for v in &out1.vertices {
         assert!(v.is_finite(), "non-finite {v:?} from {poly:?}");
-        assert!(plane.classify(*v).0 != Side::Outside, "out1 {v:?} outside, from {poly:?}");
+        assert!(
+            plane.classify(*v).0 != Side::Outside,
+            "out1 {v:?} outside, from {poly:?}"
+        );
     }
     for v in &out2.vertices {
         assert!(v.is_finite(), "non-finite {v:?} from {poly:?}");
-        assert!(plane.classify(*v).0 != Side::Inside, "out2 {v:?} inside, from {poly:?}");
+        assert!(
+            plane.classify(*v).0 != Side::Inside,
+            "out2 {v:?} inside, from {poly:?}"
+        );
     }
 });

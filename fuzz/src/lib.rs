@@ -68,3 +68,21 @@ pub fn polygon(b: &mut Bytes, mut vertex: impl FnMut(&mut Bytes) -> Vertex) -> P
 pub fn eye_vertex(b: &mut Bytes) -> Vertex {
     Vertex::new(b.coord(), b.coord(), b.coord(), b.coord())
 }
+
+/// Reads a stream to its end or its first error, as a stage would: no panic, and every
+/// error has a message (the reader, not the fuzzer, must say what is wrong).
+pub fn drain<T: proto::Record>(bytes: &[u8]) {
+    let Ok(mut reader) = proto::Reader::<T, _>::new(bytes) else {
+        return;
+    };
+    loop {
+        match reader.next_record() {
+            Ok(Some(_)) => {}
+            Ok(None) => break,
+            Err(e) => {
+                assert!(!e.to_string().is_empty());
+                break;
+            }
+        }
+    }
+}

@@ -78,6 +78,19 @@ pub fn sh(script: &str, stdin: &[u8]) -> Output {
     out
 }
 
+/// Runs `script` (see [`sh`]) with no input and returns its stdout; a failure fails the
+/// test with the script and its stderr.
+pub fn run(script: &str) -> Vec<u8> {
+    let out = sh(script, b"");
+    assert!(
+        out.status.success(),
+        "`{script}` failed ({}): {}",
+        out.status,
+        String::from_utf8_lossy(&out.stderr)
+    );
+    out.stdout
+}
+
 /// One frame of a PPM stream.
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct Frame {

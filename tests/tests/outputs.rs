@@ -4,7 +4,7 @@
 //! ffmpeg and netpbm are not needed to build or test polypipe; when they are not on PATH
 //! their tests print "skipped: … not installed" and pass.
 
-use pipeline_tests::{parse_ppm_stream, repo_root, sh, Frame};
+use pipeline_tests::{parse_ppm_stream, repo_root, run, sh, Frame};
 use std::path::{Path, PathBuf};
 
 /// Whether an executable named `name` is on PATH.
@@ -16,18 +16,6 @@ fn on_path(name: &str) -> bool {
                 .is_ok_and(|m| m.is_file() && m.permissions().mode() & 0o111 != 0)
         })
     })
-}
-
-/// Runs `script` (see [`sh`]) and returns its stdout, failing with its stderr.
-fn run(script: &str) -> Vec<u8> {
-    let out = sh(script, b"");
-    assert!(
-        out.status.success(),
-        "`{script}` failed ({}): {}",
-        out.status,
-        String::from_utf8_lossy(&out.stderr)
-    );
-    out.stdout
 }
 
 fn quote(path: &Path) -> String {

@@ -7,7 +7,7 @@
 //! where rounding may legitimately tip a centre one way or the other), never inside a
 //! polygon. The figures print with `cargo test --release -p zspec -- --nocapture`.
 
-use pipeline_tests::sh;
+use pipeline_tests::{run, sh};
 use std::fmt::Write as _;
 use std::path::Path;
 use zspec::{compare, read_ppm_stream, FrameAgreement, Image};
@@ -22,16 +22,6 @@ fn pipeline(scene: &str, size: &str, camera: &str, persp: &str) -> String {
          | clipplane bottom | clipplane hither | clipplane yon | persp --size {size} {persp} \
          | scanconv | zbuf"
     )
-}
-
-fn run(script: &str) -> Vec<u8> {
-    let out = sh(script, b"");
-    assert!(
-        out.status.success(),
-        "`{script}` failed: {}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    out.stdout
 }
 
 /// Renders `scene` (a file) both ways and returns (reference, pipeline, agreement).
