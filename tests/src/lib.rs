@@ -52,28 +52,35 @@ pub fn bin(name: &str) -> PathBuf {
 /// Runs a shell command line with the stage binaries first on PATH and the repository
 /// as the working folder; `stdin` is fed to it.
 pub fn sh(script: &str, stdin: &[u8]) -> Output {
-    use std::io::Write;
     let path = format!(
         "{}:{}",
         bin_dir().display(),
         std::env::var("PATH").unwrap_or_default()
     );
-    let mut child = Command::new("bash")
-        .args(["-o", "pipefail", "-c", script])
+    let mut cmd = Command::new("bash");
+    cmd.args(["-o", "pipefail", "-c", script])
         .current_dir(repo_root())
         .env("PATH", path)
-        .env("POLYPIPE_BIN", bin_dir())
+        .env("POLYPIPE_BIN", bin_dir());
+    output_with_stdin(cmd, stdin)
+}
+
+/// Runs `cmd` with `stdin` written to it from a thread of its own (so that a large input
+/// cannot deadlock against a large output), and collects its status, stdout and stderr.
+pub fn output_with_stdin(mut cmd: Command, stdin: &[u8]) -> Output {
+    use std::io::Write;
+    let mut child = cmd
         .stdin(Stdio::piped())
         .stdout(Stdio::piped())
         .stderr(Stdio::piped())
         .spawn()
-        .expect("spawn bash");
+        .unwrap_or_else(|e| panic!("cannot start {cmd:?}: {e}"));
     let mut input = child.stdin.take().expect("stdin");
     let data = stdin.to_vec();
     let feeder = std::thread::spawn(move || {
         let _ = input.write_all(&data);
     });
-    let out = child.wait_with_output().expect("wait for bash");
+    let out = child.wait_with_output().expect("wait for the command");
     let _ = feeder.join();
     out
 }

@@ -4,53 +4,21 @@
 //! These tests live here, in the splitter crate, because the repository root is a
 //! virtual workspace; they need every stage's release binary and build them first.
 
+use pipeline_tests::{bin_dir, output_with_stdin, repo_root};
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output, Stdio};
-use std::sync::OnceLock;
 use std::time::{Duration, Instant};
 
-fn root() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("../..")
-}
-
-/// Builds every binary once for all the tests of this file.
-fn built() -> &'static Path {
-    static BUILT: OnceLock<PathBuf> = OnceLock::new();
-    BUILT.get_or_init(|| {
-        let status = Command::new(env!("CARGO"))
-            .args(["build", "--release", "--bins"])
-            .current_dir(root())
-            .status()
-            .expect("cargo runs");
-        assert!(status.success(), "cargo build --release --bins failed");
-        root().join("target/release")
-    })
-}
-
 fn render_cmd(args: &[&str]) -> Command {
-    built();
-    let mut cmd = Command::new(root().join("scripts/render.sh"));
+    bin_dir();
+    let mut cmd = Command::new(repo_root().join("scripts/render.sh"));
     cmd.args(args);
     cmd
 }
 
 /// Runs render.sh with `stdin` as its standard input.
 fn render(args: &[&str], stdin: &[u8]) -> Output {
-    use std::io::Write;
-    let mut child = render_cmd(args)
-        .stdin(Stdio::piped())
-        .stdout(Stdio::piped())
-        .stderr(Stdio::piped())
-        .spawn()
-        .expect("render.sh starts");
-    let mut input = child.stdin.take().unwrap();
-    let data = stdin.to_vec();
-    let writer = std::thread::spawn(move || {
-        let _ = input.write_all(&data);
-    });
-    let out = child.wait_with_output().unwrap();
-    writer.join().unwrap();
-    out
+    output_with_stdin(render_cmd(args), stdin)
 }
 
 fn render_ok(args: &[&str], stdin: &[u8]) -> Vec<u8> {
@@ -107,7 +75,7 @@ fn default_renders_the_penetrating_polygons_at_500x500() {
 
 #[test]
 fn scene_from_stdin_size_and_output_pattern() {
-    let scene = std::fs::read(root().join("examples/penetrating.txt")).unwrap();
+    let scene = std::fs::read(repo_root().join("examples/penetrating.txt")).unwrap();
     let small = render_ok(&["--size", "64x48", "-"], &scene);
     let f = frames(&small);
     assert_eq!((f.len(), f[0].0, f[0].1), (1, 64, 48));
@@ -193,13 +161,13 @@ fn splitter_trees_render_every_example_as_the_linear_pipeline() {
         }
     }
     let mut files = Vec::new();
-    scenes(&root().join("examples"), &mut files);
+    scenes(&repo_root().join("examples"), &mut files);
     files.sort();
     assert!(files.len() >= 5, "{files:?}");
     for f in &files {
         let scene = std::fs::read(f).unwrap();
         // The top-level examples at two sizes, the many small cases below at one.
-        let top = f.parent() == Some(root().join("examples").as_path());
+        let top = f.parent() == Some(repo_root().join("examples").as_path());
         let sizes: &[&str] = if top {
             &["500x500", "333x187"]
         } else {
@@ -216,8 +184,7 @@ fn splitter_trees_render_every_example_as_the_linear_pipeline() {
 }
 
 fn scene(args: &[&str]) -> Vec<u8> {
-    built();
-    let out = Command::new(root().join("target/release/scene"))
+    let out = Command::new(bin_dir().join("scene"))
         .args(args)
         .output()
         .unwrap();
@@ -333,8 +300,7 @@ fn splitter_trees_render_vertices_on_the_planes_and_edges_through_centres_unchan
 
 #[test]
 fn splitter_trees_render_a_random_environment_as_the_linear_pipeline() {
-    built();
-    let scene = Command::new(root().join("target/release/scene"))
+    let scene = Command::new(bin_dir().join("scene"))
         .args([
             "environment",
             "--polygons",
@@ -444,13 +410,13 @@ fn children_of(pid: u32, pattern: Option<&str>) -> Vec<u32> {
 
 #[test]
 fn a_stage_killed_by_sigkill_stops_the_whole_tree() {
-    built();
+    bin_dir();
     // A private TMPDIR, so that the script's fifo directory can be seen to go.
     let tmp = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("render-kill");
     let _ = std::fs::remove_dir_all(&tmp);
     std::fs::create_dir_all(&tmp).unwrap();
     // A movie long enough to be still running when a stage is killed.
-    let mut scene = Command::new(root().join("target/release/scene"))
+    let mut scene = Command::new(bin_dir().join("scene"))
         .args([
             "environment",
             "--polygons",
