@@ -262,39 +262,61 @@ finished() { # finished PID: whether it has exited (reaped or a zombie)
         [[ $(awk '{ print $3 }' "/proc/$1/stat" 2>/dev/null) == Z ]]
 }
 
-remaining=${#pids[@]}
-while ((remaining > 0)); do
+# `wait -n` reports each stage as it ends. bash does not promise that it reports every
+# one: a stage that ends while the script is busy elsewhere (a command substitution
+# above, on a loaded machine) can be reaped then, and its status kept only for `wait PID`.
+# So when `wait -n` has no child left, the statuses it did not report are collected with
+# `wait PID`, and success means every stage was seen to exit 0.
+declare -A status_of=() # pid → exit status, as learnt
+failed=
+while :; do
     done_pid=
     wait -n -p done_pid
     status=$?
-    [[ -n $done_pid ]] || break # no child left to wait for
-    remaining=$((remaining - 1))
-    ((status == 0)) && continue
+    if [[ -z ${done_pid-} ]]; then # no child left to wait for
+        for pid in "${pids[@]}"; do
+            [[ -n ${status_of[$pid]-} ]] && continue
+            wait "$pid" 2>/dev/null
+            status_of[$pid]=$?
+            # 127: bash has no status for it at all; the stages downstream tell.
+            ((status_of[$pid] == 0 || status_of[$pid] == 127)) || failed=1
+        done
+        break
+    fi
+    status_of[$done_pid]=$status
+    if ((status != 0)); then
+        failed=1
+        break
+    fi
+done
 
+if [[ -n $failed ]]; then
     # A stage failed. Those downstream of it fail in turn when their input ends short,
     # so among the stages that have finished by now, name one killed by a signal, or
     # else the most upstream, as the cause.
     sleep 0.1
-    declare -A failed_status=([$done_pid]=$status)
     for pid in "${pids[@]}"; do
-        [[ $pid == "$done_pid" ]] && continue
+        [[ -n ${status_of[$pid]-} ]] && continue
         if finished "$pid"; then
             wait "$pid" 2>/dev/null
-            st=$?
-            ((st != 0 && st != 127)) && failed_status[$pid]=$st
+            status_of[$pid]=$?
         fi
     done
     cause=
     for pid in "${pids[@]}"; do
-        [[ -n ${failed_status[$pid]-} ]] || continue
-        if ((failed_status[$pid] > 128)); then cause=$pid; break; fi
+        st=${status_of[$pid]-0}
+        # 127: bash knew no such child, so no status to blame it on.
+        ((st != 0 && st != 127)) || continue
+        if ((st > 128)); then cause=$pid; break; fi
         [[ -n $cause ]] || cause=$pid
     done
     for i in "${!pids[@]}"; do
         [[ ${pids[$i]} == "$cause" ]] && cat "$tmp/stderr.$i" >&2
     done
-    echo "render.sh: ${stage_of[$cause]} failed ($(describe "${failed_status[$cause]}"))" >&2
+    if [[ -n $cause ]]; then
+        echo "render.sh: ${stage_of[$cause]} failed ($(describe "${status_of[$cause]}"))" >&2
+    fi
     exit 1
-done
+fi
 for i in "${!pids[@]}"; do cat "$tmp/stderr.$i" >&2; done
 exit 0
