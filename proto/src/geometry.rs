@@ -50,6 +50,29 @@ const UNDERFLOW_UNIT: f64 = 5e-324;
 const DOWN: f64 = 7.458340731200207e-155;
 const UP: f64 = 1.3407807929942597e154;
 
+/// An interpolated coordinate whose rounding error exceeds this fraction of its true
+/// value has lost all but about 26 of its bits to cancellation
+/// ([`Plane::intersect`]'s eye-space repair).
+const LOST: f64 = 1e-8;
+
+/// The edge's w/z_e, if both ends that define one agree on it to rounding (an eye-space
+/// stream, DESIGN.md's w = z_e·s/d); None for a point pair that does not keep the ratio.
+fn w_over_z(p: DVec4, q: DVec4) -> Option<f64> {
+    // Some(None) for the eye itself (0, 0): it keeps every ratio.
+    let ratio = |v: DVec4| -> Option<Option<f64>> {
+        if v.z == 0.0 && v.w == 0.0 {
+            return Some(None);
+        }
+        let r = v.w / v.z;
+        (r.is_finite() && r != 0.0).then_some(Some(r))
+    };
+    match (ratio(p)?, ratio(q)?) {
+        (Some(a), Some(b)) => ((a - b).abs() <= 1e-9 * a.abs()).then_some(a),
+        (Some(a), None) | (None, Some(a)) => Some(a),
+        (None, None) => None,
+    }
+}
+
 impl Plane {
     pub const fn new(n: DVec4, k: f64) -> Self {
         Plane { n, k }
@@ -130,8 +153,65 @@ impl Plane {
                 v = v.clamp(DVec4::splat(f64::MIN), DVec4::splat(f64::MAX));
             }
         }
-        self.snap(&mut v, along);
+        if let Some(solved) = self.snap(&mut v, along) {
+            self.keep_w_proportional_to_z(&mut v, p, q, solved);
+        }
         v
+    }
+
+    /// Eye space has w = z_e·s/d at every point (DESIGN.md), so w/z_e is one ratio for the
+    /// whole stream, and interpolation keeps it in exact arithmetic. In floating point,
+    /// where an edge runs from far behind the eye to far in front and crosses a plane near
+    /// the eye, z_e and w both cancel, and the one the snap did not solve for keeps only
+    /// rounding noise: a 1e30 edge cut by the left plane at w = −6 came out with z_e = 0
+    /// where it is −9.6, and then hither, which reads z_e, kept what lies behind the eye
+    /// (examples/degenerate/huge-through-eye.txt). When that coordinate's rounding error
+    /// (a few ε of the endpoints' magnitudes) is more than [`LOST`] of its true size, it is
+    /// recomputed from the solved one and the edge's ratio. Elsewhere it is left to the
+    /// last bit, so ordinary intersections are as before.
+    fn keep_w_proportional_to_z(&self, v: &mut DVec4, p: DVec4, q: DVec4, solved: usize) {
+        let Some(ratio) = w_over_z(p, q) else {
+            return;
+        };
+        // Coordinate `derived` follows from coordinate `solved`: w = z_e·ratio, or
+        // z_e = w/ratio.
+        let (derived, factor) = match solved {
+            2 => (3, ratio),
+            3 => (2, 1.0 / ratio),
+            _ => return,
+        };
+        let derive = |x: f64| if derived == 3 { x * ratio } else { x / ratio };
+        let (pa, qa) = (p.to_array(), q.to_array());
+        let mut c = v.to_array();
+        let error = 4.0 * f64::EPSILON * pa[derived].abs().max(qa[derived].abs());
+        let wanted = derive(c[solved]);
+        if !(error > LOST * wanted.abs() && wanted.is_finite()) {
+            return;
+        }
+        let n = self.n.to_array();
+        if n[derived] == 0.0 {
+            // Every built-in plane: the derived coordinate is not in the plane, so the
+            // point stays exactly where the snap put it.
+            c[derived] = wanted;
+        } else {
+            // A user's plane in both z_e and w: solve it jointly with the ratio.
+            let mut rest = self.k;
+            for (i, &ni) in n.iter().enumerate() {
+                if i != solved && i != derived {
+                    rest += ni * c[i];
+                }
+            }
+            let divisor = n[solved] + n[derived] * factor;
+            if divisor == 0.0 {
+                return;
+            }
+            c[solved] = -rest / divisor;
+            c[derived] = derive(c[solved]);
+        }
+        let fixed = DVec4::from_array(c);
+        if fixed.is_finite() {
+            *v = fixed;
+        }
     }
 
     /// The plane for points scaled by [`DOWN`]: the same normal, k scaled alike.
@@ -146,7 +226,8 @@ impl Plane {
     /// alone could solve the left plane's x_e = −w for w from an x_e that lost all its
     /// digits in cancellation (an edge from x = −1e30 to 1e30 got w = −0: found with
     /// examples/degenerate/huge-and-tiny.txt).
-    fn snap(&self, v: &mut DVec4, along: DVec4) {
+    /// Returns the coordinate solved for, if the snapped point was kept.
+    fn snap(&self, v: &mut DVec4, along: DVec4) -> Option<usize> {
         let n = self.n.to_array();
         let d = along.to_array();
         let weight = |i: usize| {
@@ -165,7 +246,7 @@ impl Plane {
             })
             .unwrap_or(0);
         if n[axis] == 0.0 {
-            return;
+            return None;
         }
         let mut c = v.to_array();
         // The other terms, summed in the same order as `distance` sums them.
@@ -182,6 +263,9 @@ impl Plane {
         // may round differently); on single-coordinate planes it is exact.
         if snapped.is_finite() && self.distance(snapped).abs() <= self.distance(*v).abs() {
             *v = snapped;
+            Some(axis)
+        } else {
+            None
         }
     }
 
@@ -404,6 +488,49 @@ mod tests {
         let (_, db) = left.classify(b);
         let i = left.intersect(a, da, b, db);
         assert_eq!(i, DVec4::new(-15.625, -1e30, 25.0, 15.625));
+    }
+
+    /// examples/degenerate/huge-through-eye.txt: the edge from (4, 4, −1e30) to
+    /// (8, 4, 1e30) in eye space (w = 0.625·z_e). The left plane solves w = −x_e = −6;
+    /// interpolated z_e is rounding noise, so it is recomputed: z_e = w/0.625 = −9.6.
+    /// Hither then solves z_e = 1, and w = 0.625 follows (interpolated, it was 0).
+    #[test]
+    fn cancelled_z_or_w_is_recomputed_from_the_other() {
+        let a = DVec4::new(4.0, 4.0, -1e30, -6.25e29);
+        let b = DVec4::new(8.0, 4.0, 1e30, 6.25e29);
+        let left = PyramidPlane::Left.plane(&view());
+        let i = left.intersect(a, left.distance(a), b, left.distance(b));
+        assert_eq!(i, DVec4::new(6.0, 4.0, -6.0 / 0.625, -6.0));
+        let hither = PyramidPlane::Hither.plane(&view());
+        let j = hither.intersect(b, hither.distance(b), a, hither.distance(a));
+        assert_eq!((j.z, j.w), (1.0, 0.625));
+        // A user's plane in both z_e and w (z_e + w ≥ 16.25, i.e. z_e ≥ 10) is solved
+        // jointly with the ratio.
+        let both = Plane::new(DVec4::new(0.0, 0.0, 1.0, 1.0), -16.25);
+        let k = both.intersect(b, both.distance(b), a, both.distance(a));
+        assert_eq!((k.z, k.w), (10.0, 6.25));
+    }
+
+    /// Where nothing cancelled, the repair leaves every bit as interpolation gave it; and
+    /// a point pair that does not keep one w/z_e (not an eye-space stream) is left alone.
+    #[test]
+    fn ordinary_intersections_are_not_repaired() {
+        let hither = PyramidPlane::Hither.plane(&view());
+        let a = DVec4::new(1.0, 2.0, 0.3, 0.3 * 0.625);
+        let b = DVec4::new(3.0, -1.0, 7.7, 7.7 * 0.625);
+        let i = hither.intersect(b, hither.distance(b), a, hither.distance(a));
+        let alpha = hither.distance(b) / (hither.distance(b) - hither.distance(a));
+        let mut expect = b + (a - b) * alpha;
+        expect.z = 1.0;
+        assert_eq!(i, expect);
+        let odd = (
+            DVec4::new(4.0, 4.0, -1e30, 5.0),
+            DVec4::new(8.0, 4.0, 1e30, 7.0),
+        );
+        let j = hither.intersect(odd.1, hither.distance(odd.1), odd.0, hither.distance(odd.0));
+        assert_eq!((j.z, j.w), (1.0, 6.0));
+        assert_eq!(w_over_z(odd.0, odd.1), None);
+        assert_eq!(w_over_z(DVec4::ZERO, b), Some(0.625));
     }
 
     #[test]

@@ -228,20 +228,26 @@ fn huge_and_tiny_coordinates() {
 }
 
 #[test]
-fn huge_edge_through_the_eye_is_refused_clearly() {
-    // docs/degenerate.md, known limit: w cancels to 0 at hither; persp says so.
-    let out = sh(
-        "scripts/render.sh --size 64x64 examples/degenerate/huge-through-eye.txt",
-        b"",
-    );
-    assert_eq!(out.status.code(), Some(1));
-    assert!(out.stdout.is_empty());
-    let err = String::from_utf8_lossy(&out.stderr);
-    assert!(
-        err.contains("persp: frame 0, polygon 0: vertex 3 (6 4 1 0) has w = 0"),
-        "{err}"
-    );
-    assert!(!err.contains("panicked") && !err.contains("NaN"), "{err}");
+fn huge_edge_through_the_eye_keeps_w_proportional_to_z() {
+    // An edge from 1e30 behind the eye to 1e30 in front: where clipping cuts it near the
+    // eye, z_e and w both cancel; proto's intersection recomputes the unsolved one from
+    // w = z_e·s/d, zspec's hither cut sets w = K1·s/d. Both then draw the part between
+    // hither and yon, which a rational-arithmetic ray cast gives as these rows (columns
+    // from, to inclusive); before, the pipeline met w = 0 and refused the polygon.
+    let f = reference_and_every_depth("huge-through-eye");
+    let blue = [60, 60, 200];
+    assert_eq!(count(&f, blue) + count(&f, BLACK), SIZE * SIZE);
+    let span = |r: usize| {
+        let xs: Vec<usize> = (0..SIZE).filter(|&c| at(&f, (c, r)) == blue).collect();
+        xs.first().map(|&a| (a, *xs.last().unwrap()))
+    };
+    assert_eq!(span(0), Some((48, 63)));
+    assert_eq!(span(10), Some((43, 63)));
+    assert_eq!(span(11), Some((42, 62)));
+    assert_eq!(span(18), Some((39, 51)));
+    assert_eq!(span(24), Some((42, 42)));
+    assert_eq!(span(25), None);
+    assert_eq!(count(&f, blue), 381);
 }
 
 #[test]

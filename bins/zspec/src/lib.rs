@@ -40,7 +40,12 @@ struct Prepared {
 /// Cuts an eye-space polygon to the half-space z_e ≥ K1 (one plane, inline: each edge
 /// keeps its inside end and gains the crossing point when it leaves or enters).
 /// A polygon wholly in front of the plane comes back unchanged, bit for bit.
-fn cut_at_hither(vertices: &[DVec4], k1: f64) -> Vec<DVec4> {
+///
+/// A crossing point gets w = K1·s/d (`w_per_z`) from the definition of w, not by
+/// interpolation: an edge from 1e30 behind the eye to 1e30 in front meets the plane at
+/// t ≈ ½, where interpolating w from ±6e29 leaves nothing but rounding
+/// (examples/degenerate/huge-through-eye.txt).
+fn cut_at_hither(vertices: &[DVec4], k1: f64, w_per_z: f64) -> Vec<DVec4> {
     if vertices.iter().all(|v| v.z >= k1) {
         return vertices.to_vec();
     }
@@ -53,11 +58,11 @@ fn cut_at_hither(vertices: &[DVec4], k1: f64) -> Vec<DVec4> {
             out.push(a);
         }
         if (a.z >= k1) != (b.z >= k1) {
-            // The parameter where z_e = K1 along a→b; w is linear in z_e, so it
-            // interpolates with the other coordinates.
+            // The parameter where z_e = K1 along a→b.
             let t = (k1 - a.z) / (b.z - a.z);
             let mut p = a + (b - a) * t;
             p.z = k1;
+            p.w = k1 * w_per_z;
             out.push(p);
         }
     }
@@ -105,7 +110,7 @@ impl Setup {
             .collect();
         let eye3: Vec<DVec3> = eye.iter().map(|v| v.truncate()).collect();
         let mut plane = newell_plane(&eye3);
-        let front = cut_at_hither(&eye, self.view.hither);
+        let front = cut_at_hither(&eye, self.view.hither, self.frame.w_per_z);
         if front.len() < 3 {
             return None;
         }

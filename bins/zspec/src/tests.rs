@@ -214,13 +214,13 @@ fn the_hither_plane_cuts_a_floor_close_under_the_eye() {
 fn cut_at_hither_keeps_the_front_part() {
     let v = |x, z: f64| DVec4::new(x, 0.0, z, z * 0.625);
     let front = vec![v(0.0, 2.0), v(1.0, 2.0), v(1.0, 3.0)];
-    assert_eq!(cut_at_hither(&front, 1.0), front);
-    let cut = cut_at_hither(&[v(0.0, 0.0), v(2.0, 2.0), v(0.0, 2.0)], 1.0);
+    assert_eq!(cut_at_hither(&front, 1.0, 0.625), front);
+    let cut = cut_at_hither(&[v(0.0, 0.0), v(2.0, 2.0), v(0.0, 2.0)], 1.0, 0.625);
     assert_eq!(
         cut,
         vec![v(1.0, 1.0), v(2.0, 2.0), v(0.0, 2.0), v(0.0, 1.0)]
     );
-    assert!(cut_at_hither(&[v(0.0, -1.0), v(1.0, 0.5), v(0.0, 0.9)], 1.0).is_empty());
+    assert!(cut_at_hither(&[v(0.0, -1.0), v(1.0, 0.5), v(0.0, 0.9)], 1.0, 0.625).is_empty());
 }
 
 #[test]
