@@ -197,7 +197,7 @@ clipped=$out
 # of any depth renders byte for byte as depth 0. K is printed with 17 significant digits
 # so that it reads back as the double awk computed.
 width=${size%%[xX]*} height=${size##*[xX]}
-k_of() { awk -v n="$1" -v d="$2" -v s="$3" 'BEGIN { printf "%.17g", s * (2 * n / d - 1) }'; }
+k_of() { awk -v n="$1" -v d="$2" -v s="$3" 'BEGIN { k = s * (2 * n / d - 1); if (k == 0) k = 0; printf "%.17g", k }'; }
 
 # --- The splitter tree (chapter 6.3), nodes numbered as a heap: node 1 is the root, the
 # children of node i are 2i (out1: x_s ≤ K or y_s ≤ K) and 2i+1 (the rest). ------------
@@ -238,7 +238,7 @@ for ((leaf = leaves; leaf < 2 * leaves; leaf++)); do
     out=$(fifo "screen-$leaf")
     start "persp$suffix" "$bindir/persp" --size "$size" "${zmode[@]}"
     in=$out
-    out=$(fifo "fragments-$leaf")
+    out=$(fifo "leaf-$((leaf - leaves))")
     start "scanconv$suffix" "$bindir/scanconv" "${stats[@]}"
     fragments+=("$out")
 done
@@ -255,6 +255,22 @@ describe() { # describe STATUS
     else
         printf 'status %s' "$1"
     fi
+}
+
+# labelled_stderr INDEX: what stage INDEX wrote on stderr, each line that starts with the
+# program's name given the stage's full name instead ("scanconv: …" from leaf 2 becomes
+# "scanconv (leaf 2): …", "splitter y=0: …" becomes "splitter y=0 (node 2): …"), and the
+# private directory left out of the fifo names zbuf reports ("zbuf: leaf-2: …").
+labelled_stderr() {
+    local label=${stage_of[${pids[$1]}]} line
+    local program=${label%% *}
+    while IFS= read -r line || [[ -n $line ]]; do
+        line=${line//"$tmp/"/}
+        if [[ $line == "$program"[:\ ]* && $line == *": "* ]]; then
+            line="$label: ${line#*: }"
+        fi
+        printf '%s\n' "$line"
+    done <"$tmp/stderr.$1"
 }
 
 finished() { # finished PID: whether it has exited (reaped or a zombie)
@@ -311,12 +327,12 @@ if [[ -n $failed ]]; then
         [[ -n $cause ]] || cause=$pid
     done
     for i in "${!pids[@]}"; do
-        [[ ${pids[$i]} == "$cause" ]] && cat "$tmp/stderr.$i" >&2
+        [[ ${pids[$i]} == "$cause" ]] && labelled_stderr "$i" >&2
     done
     if [[ -n $cause ]]; then
         echo "render.sh: ${stage_of[$cause]} failed ($(describe "${status_of[$cause]}"))" >&2
     fi
     exit 1
 fi
-for i in "${!pids[@]}"; do cat "$tmp/stderr.$i" >&2; done
+for i in "${!pids[@]}"; do labelled_stderr "$i" >&2; done
 exit 0

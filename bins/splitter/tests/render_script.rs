@@ -372,6 +372,39 @@ fn splitter_trees_render_polygons_cut_and_touched_by_the_planes_unchanged() {
     }
 }
 
+/// `--stats` through the tree: every line names its node or leaf, zbuf names its inputs
+/// by leaf, and the leaves' pixels add up to what the linear pipeline draws (the split
+/// loses and doubles nothing).
+#[test]
+fn stats_name_each_node_and_leaf_and_add_up_to_the_linear_pipeline() {
+    let scene = repo_root().join("examples/penetrating.txt");
+    let stats = |depth: &str| {
+        let out = render(&["--depth", depth, "--stats", scene.to_str().unwrap()], b"");
+        assert!(out.status.success(), "{out:?}");
+        String::from_utf8(out.stderr).unwrap()
+    };
+    assert_eq!(
+        stats("0"),
+        "scanconv: 2 polygons in, 2 drawn, 543 spans, 59356 pixels\n\
+         zbuf: leaf-0: 543 spans, 59356 pixels\n"
+    );
+    assert_eq!(
+        stats("2"),
+        "splitter x=0 (node 1): 2 polygons in; out1 2 polygons, 7 vertices; out2 2 polygons, 7 vertices\n\
+         splitter y=0 (node 2): 2 polygons in; out1 2 polygons, 7 vertices; out2 2 polygons, 7 vertices\n\
+         splitter y=0 (node 3): 2 polygons in; out1 2 polygons, 8 vertices; out2 2 polygons, 4 vertices\n\
+         scanconv (leaf 0): 2 polygons in, 2 drawn, 155 spans, 13684 pixels\n\
+         scanconv (leaf 1): 2 polygons in, 2 drawn, 313 spans, 21082 pixels\n\
+         scanconv (leaf 2): 2 polygons in, 2 drawn, 229 spans, 17463 pixels\n\
+         scanconv (leaf 3): 2 polygons in, 1 drawn, 139 spans, 7127 pixels\n\
+         zbuf: leaf-0: 155 spans, 13684 pixels\n\
+         zbuf: leaf-1: 313 spans, 21082 pixels\n\
+         zbuf: leaf-2: 229 spans, 17463 pixels\n\
+         zbuf: leaf-3: 139 spans, 7127 pixels\n"
+    );
+    assert_eq!(13684 + 21082 + 17463 + 7127, 59356);
+}
+
 #[test]
 fn a_failing_stage_is_named() {
     let out = render(
