@@ -8,11 +8,15 @@
 #   4. accuracy against the exact reference (zspec) for projective depth and the occam
 #      code's eye-z depth, on scenes of tilted, interpenetrating polygons
 #   5. peak resident memory of every stage on 10,000 and on 1,000,000 polygons
+#   6. what the splitter tree would buy with a processor per process: every process of
+#      the depth-0..4 graphs run alone, file to file, and its CPU seconds measured; a
+#      streaming pipeline with one processor per process can go no faster than its
+#      slowest process (thesis 6.1), so that process's time bounds the wall time
 #
 # Times are the best of REPS runs (default 3) on whatever else the machine is doing:
 # compare the figures within one run of the script, not across machines.
 #
-# Usage: scripts/bench-pipeline.sh [SECTION...]   (sections 1-5; default all)
+# Usage: scripts/bench-pipeline.sh [SECTION...]   (sections 1-6; default all)
 set -euo pipefail
 
 root=$(cd "$(dirname "$0")/.." && pwd)
@@ -24,7 +28,7 @@ work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
 
 sections=("$@")
-((${#sections[@]})) || sections=(1 2 3 4 5)
+((${#sections[@]})) || sections=(1 2 3 4 5 6)
 want() { [[ " ${sections[*]} " == *" $1 "* ]]; }
 
 # best_of CMD...: the smallest wall time of REPS runs, in seconds.
@@ -131,4 +135,78 @@ if want 5; then
     row zbuf "$B/zbuf < $work/fN"
     row zspec "$B/zspec $work/wN"
     echo
+fi
+
+if want 6; then
+    echo "## 6. What the tree would buy with one processor per process (CPU seconds, best of $REPS)"
+    echo
+    echo "Each process of render.sh's graph run alone, file to file (no pipes). On one processor"
+    echo "the wall time is at least the sum; with one processor per process, streaming, at least"
+    echo "the slowest process's time."
+    echo
+    source "$root/scripts/tree-planes.sh"
+    # cpu CMD: the smallest user + system seconds of REPS runs of a shell command.
+    cpu() {
+        local best= t
+        for ((i = 0; i < REPS; i++)); do
+            t=$( { TIMEFORMAT='%3U %3S'; time bash -c "$1" >/dev/null 2>&1; } 2>&1 | awk '{ print $1 + $2 }')
+            if [[ -z $best ]] || awk -v a="$t" -v b="$best" 'BEGIN { exit !(a < b) }'; then best=$t; fi
+        done
+        echo "$best"
+    }
+    # tree_cost NAME SCENE SIZE: one table row per depth.
+    tree_cost() {
+        local name=$1 scene=$2 size=$3 d t prev total slowest slowest_name base=
+        local -a chain_names=() chain_times=()
+        "$B/viewxf" --size "$size" < "$scene" > "$work/t.view"
+        chain_names+=(viewxf) chain_times+=("$(cpu "$B/viewxf --size $size < $scene")")
+        prev=$work/t.view
+        for plane in left right top bottom hither yon; do
+            "$B/clipplane" "$plane" < "$prev" > "$work/t.$plane"
+            chain_names+=("clipplane $plane")
+            chain_times+=("$(cpu "$B/clipplane $plane < $prev")")
+            prev=$work/t.$plane
+        done
+        echo "$name:"
+        echo
+        echo "| depth | processes | sum of CPU s | slowest process | its CPU s | bound on speedup over depth 0 |"
+        echo "|---|---|---|---|---|---|"
+        for d in 0 1 2 3 4; do
+            local -a names=("${chain_names[@]}") times=("${chain_times[@]}") fragments=()
+            local leaves=$((1 << d)) node leaf
+            tree_planes "${size%%[xX]*}" "${size##*[xX]}" "$d"
+            cp "$work/t.yon" "$work/t.node1"
+            for ((node = 1; node < leaves; node++)); do
+                "$B/splitter" "${plane_of[$node]}" "$work/t.node$((2 * node))" "$work/t.node$((2 * node + 1))" < "$work/t.node$node"
+                names+=("splitter node $node")
+                times+=("$(cpu "$B/splitter ${plane_of[$node]} /dev/null /dev/null < $work/t.node$node")")
+            done
+            for ((leaf = leaves; leaf < 2 * leaves; leaf++)); do
+                "$B/persp" --size "$size" < "$work/t.node$leaf" > "$work/t.screen$leaf"
+                "$B/scanconv" < "$work/t.screen$leaf" > "$work/t.frag$leaf"
+                names+=("persp leaf $((leaf - leaves))" "scanconv leaf $((leaf - leaves))")
+                times+=("$(cpu "$B/persp --size $size < $work/t.node$leaf")")
+                times+=("$(cpu "$B/scanconv < $work/t.screen$leaf")")
+                fragments+=("$work/t.frag$leaf")
+            done
+            names+=(zbuf)
+            times+=("$(cpu "$B/zbuf ${fragments[*]}")")
+            total=0 slowest=0 slowest_name=
+            for i in "${!times[@]}"; do
+                total=$(awk -v a="$total" -v b="${times[$i]}" 'BEGIN { print a + b }')
+                if awk -v a="${times[$i]}" -v b="$slowest" 'BEGIN { exit !(a > b) }'; then
+                    slowest=${times[$i]} slowest_name=${names[$i]}
+                fi
+            done
+            [[ -n $base ]] || base=$slowest
+            printf '| %s | %s | %.3f | %s | %.3f | %s |\n' "$d" "${#times[@]}" "$total" \
+                "$slowest_name" "$slowest" "$(awk -v a="$base" -v b="$slowest" 'BEGIN { printf "%.2f", a / b }')"
+            rm -f "$work"/t.node[0-9]* "$work"/t.screen* "$work"/t.frag*
+        done
+        echo
+    }
+    [[ -f $work/fill.pp ]] || "$B/scene" environment --polygons 10000 --depth-complexity 10 --size 1920x1080 --seed 2 > "$work/fill.pp"
+    [[ -f $work/geo.pp ]] || "$B/scene" environment --polygons 100000 --depth-complexity 1 --seed 3 > "$work/geo.pp"
+    tree_cost "Fill-heavy (10,000 polygons, Dc 10, 1920x1080)" "$work/fill.pp" 1920x1080
+    tree_cost "Geometry-heavy (100,000 small polygons, 500x500)" "$work/geo.pp" 500x500
 fi

@@ -118,6 +118,10 @@ if ((stale)); then
     }
 fi
 
+# --- The tree's planes, worked out before any stage starts. ---------------------------
+source "$root/scripts/tree-planes.sh" || exit 3
+tree_planes "${size%%[xX]*}" "${size##*[xX]}" "$depth"
+
 # --- Processes and their clean-up. -----------------------------------------------------
 tmp=$(mktemp -d "${TMPDIR:-/tmp}/render.XXXXXX") || exit 3
 pids=()              # every stage, upstream first
@@ -189,45 +193,19 @@ for plane in left right top bottom hither yon; do
 done
 clipped=$out
 
-# Each node's region is a rectangle of whole pixels, columns x0..x1 and rows y0..y1
-# (half-open), and it is bisected on a pixel BOUNDARY: column c = (x0 + x1)/2 is the plane
-# x_s = 2c/W − 1, row r the plane y_s = 1 − 2r/H. A cut then never passes through a pixel
-# centre (centres are at half-integers), so the new edges along it decide no centre that
-# the whole polygon would not have; with the edge supports and the recorded plane, a tree
-# of any depth renders byte for byte as depth 0. K is printed with 17 significant digits
-# so that it reads back as the double awk computed.
-width=${size%%[xX]*} height=${size##*[xX]}
-k_of() { awk -v n="$1" -v d="$2" -v s="$3" 'BEGIN { k = s * (2 * n / d - 1); if (k == 0) k = 0; printf "%.17g", k }'; }
-
-# --- The splitter tree (chapter 6.3), nodes numbered as a heap: node 1 is the root, the
-# children of node i are 2i (out1: x_s ≤ K or y_s ≤ K) and 2i+1 (the rest). ------------
-leaves=1
-for ((l = 0; l < depth; l++)); do leaves=$((leaves * 2)); done
-declare -A x0 x1 y0 y1 input_of
-x0[1]=0 x1[1]=$width y0[1]=0 y1[1]=$height
+# --- The splitter tree (chapter 6.3): nodes numbered as a heap, each bisecting its part
+# of the screen on a pixel boundary (scripts/tree-planes.sh). ---------------------------
+leaves=$((1 << depth))
+declare -A input_of
 input_of[1]=$clipped
 for ((node = 1; node < leaves; node++)); do
-    level=0
-    for ((n = node; n > 1; n /= 2)); do level=$((level + 1)); done
     a=$((2 * node)) b=$((2 * node + 1))
-    x0[$a]=${x0[$node]} x1[$a]=${x1[$node]} y0[$a]=${y0[$node]} y1[$a]=${y1[$node]}
-    x0[$b]=${x0[$node]} x1[$b]=${x1[$node]} y0[$b]=${y0[$node]} y1[$b]=${y1[$node]}
-    if ((level % 2 == 0)); then
-        m=$(((x0[$node] + x1[$node]) / 2))
-        plane="x=$(k_of "$m" "$width" 1)"
-        x1[$a]=$m x0[$b]=$m
-    else
-        # y_s ≤ K is Y ≥ r: out1 gets the rows below the boundary.
-        m=$(((y0[$node] + y1[$node]) / 2))
-        plane="y=$(k_of "$m" "$height" -1)"
-        y0[$a]=$m y1[$b]=$m
-    fi
     input_of[$a]=$(fifo "node-$a")
     input_of[$b]=$(fifo "node-$b")
     in=${input_of[$node]}
     out=/dev/null
-    start "splitter $plane (node $node)" "$bindir/splitter" "${stats[@]}" "$plane" \
-        "${input_of[$a]}" "${input_of[$b]}"
+    start "splitter ${plane_of[$node]} (node $node)" "$bindir/splitter" "${stats[@]}" \
+        "${plane_of[$node]}" "${input_of[$a]}" "${input_of[$b]}"
 done
 
 # --- The leaves: persp | scanconv each, all into one zbuf (chapter 6.3.3). ------------
