@@ -170,20 +170,26 @@ impl Plane {
     /// recomputed from the solved one and the edge's ratio. Elsewhere it is left to the
     /// last bit, so ordinary intersections are as before.
     fn keep_w_proportional_to_z(&self, v: &mut DVec4, p: DVec4, q: DVec4, solved: usize) {
+        let derived = match solved {
+            2 => 3,
+            3 => 2,
+            _ => return,
+        };
+        let (pa, qa) = (p.to_array(), q.to_array());
+        let mut c = v.to_array();
+        let error = 4.0 * f64::EPSILON * pa[derived].abs().max(qa[derived].abs());
+        if error <= 0.5 * LOST * c[derived].abs() {
+            // The common case, decided without a division: the interpolated value is
+            // larger than its possible error by far, so it kept its digits.
+            return;
+        }
         let Some(ratio) = w_over_z(p, q) else {
             return;
         };
         // Coordinate `derived` follows from coordinate `solved`: w = z_e·ratio, or
         // z_e = w/ratio.
-        let (derived, factor) = match solved {
-            2 => (3, ratio),
-            3 => (2, 1.0 / ratio),
-            _ => return,
-        };
+        let factor = if derived == 3 { ratio } else { 1.0 / ratio };
         let derive = |x: f64| if derived == 3 { x * ratio } else { x / ratio };
-        let (pa, qa) = (p.to_array(), q.to_array());
-        let mut c = v.to_array();
-        let error = 4.0 * f64::EPSILON * pa[derived].abs().max(qa[derived].abs());
         let wanted = derive(c[solved]);
         if !(error > LOST * wanted.abs() && wanted.is_finite()) {
             return;
