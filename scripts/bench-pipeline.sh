@@ -169,8 +169,8 @@ if want 6; then
         done
         echo "$name:"
         echo
-        echo "| depth | processes | sum of CPU s | slowest process | its CPU s | bound on speedup over depth 0 |"
-        echo "|---|---|---|---|---|---|"
+        echo "| depth | processes | sum of CPU s | slowest upstream (viewxf, clippers, splitters) | slowest leaf (persp, scanconv) | zbuf | slowest of all | bound on speedup over depth 0 |"
+        echo "|---|---|---|---|---|---|---|---|"
         for d in 0 1 2 3 4; do
             local -a names=("${chain_names[@]}") times=("${chain_times[@]}") fragments=()
             local leaves=$((1 << d)) node leaf
@@ -191,16 +191,29 @@ if want 6; then
             done
             names+=(zbuf)
             times+=("$(cpu "$B/zbuf ${fragments[*]}")")
+            # The slowest process of each group: upstream of the leaves, the leaves, zbuf.
             total=0 slowest=0 slowest_name=
+            local -A group_time=([upstream]=0 [leaf]=0 [zbuf]=0) group_name=()
+            local group
             for i in "${!times[@]}"; do
                 total=$(awk -v a="$total" -v b="${times[$i]}" 'BEGIN { print a + b }')
+                case ${names[$i]} in
+                    *leaf*) group=leaf ;;
+                    zbuf) group=zbuf ;;
+                    *) group=upstream ;;
+                esac
+                if awk -v a="${times[$i]}" -v b="${group_time[$group]}" 'BEGIN { exit !(a > b) }'; then
+                    group_time[$group]=${times[$i]} group_name[$group]=${names[$i]}
+                fi
                 if awk -v a="${times[$i]}" -v b="$slowest" 'BEGIN { exit !(a > b) }'; then
                     slowest=${times[$i]} slowest_name=${names[$i]}
                 fi
             done
             [[ -n $base ]] || base=$slowest
-            printf '| %s | %s | %.3f | %s | %.3f | %s |\n' "$d" "${#times[@]}" "$total" \
-                "$slowest_name" "$slowest" "$(awk -v a="$base" -v b="$slowest" 'BEGIN { printf "%.2f", a / b }')"
+            printf '| %s | %s | %.3f | %s %.3f | %s %.3f | %.3f | %s | %s |\n' "$d" "${#times[@]}" "$total" \
+                "${group_name[upstream]}" "${group_time[upstream]}" \
+                "${group_name[leaf]}" "${group_time[leaf]}" "${group_time[zbuf]}" "$slowest_name" \
+                "$(awk -v a="$base" -v b="$slowest" 'BEGIN { printf "%.2f", a / b }')"
             rm -f "$work"/t.node[0-9]* "$work"/t.screen* "$work"/t.frag*
         done
         echo
