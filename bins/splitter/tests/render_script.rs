@@ -4,7 +4,7 @@
 //! These tests live here, in the splitter crate, because the repository root is a
 //! virtual workspace; they need every stage's release binary and build them first.
 
-use pipeline_tests::{bin_dir, output_with_stdin, repo_root};
+use pipeline_tests::{bin_dir, output_with_stdin, parse_ppm_stream, repo_root, Frame};
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output, Stdio};
 use std::time::{Duration, Instant};
@@ -32,30 +32,9 @@ fn render_ok(args: &[&str], stdin: &[u8]) -> Vec<u8> {
     out.stdout
 }
 
-/// The frames of a concatenated P6 stream: (width, height, RGB bytes).
-fn frames(ppm: &[u8]) -> Vec<(usize, usize, Vec<u8>)> {
-    let mut rest = ppm;
-    let mut out = Vec::new();
-    while !rest.is_empty() {
-        let text = std::str::from_utf8(&rest[..rest.len().min(40)])
-            .unwrap_or_else(|e| std::str::from_utf8(&rest[..e.valid_up_to()]).unwrap());
-        let mut words = text.split_ascii_whitespace();
-        assert_eq!(words.next(), Some("P6"));
-        let w: usize = words.next().unwrap().parse().unwrap();
-        let h: usize = words.next().unwrap().parse().unwrap();
-        assert_eq!(words.next(), Some("255"));
-        let header = format!("P6\n{w} {h}\n255\n");
-        assert!(rest.starts_with(header.as_bytes()), "header {header:?}");
-        let body = &rest[header.len()..header.len() + 3 * w * h];
-        out.push((w, h, body.to_vec()));
-        rest = &rest[header.len() + 3 * w * h..];
-    }
-    out
-}
-
-fn pixel(frame: &(usize, usize, Vec<u8>), c: usize, r: usize) -> [u8; 3] {
-    let i = 3 * (r * frame.0 + c);
-    [frame.2[i], frame.2[i + 1], frame.2[i + 2]]
+/// The frames of a concatenated P6 stream.
+fn frames(ppm: &[u8]) -> Vec<Frame> {
+    parse_ppm_stream(ppm).expect("a P6 stream")
 }
 
 #[test]
@@ -64,13 +43,13 @@ fn default_renders_the_penetrating_polygons_at_500x500() {
     assert_eq!(ppm.len(), 15 + 500 * 500 * 3);
     let f = frames(&ppm);
     assert_eq!(f.len(), 1);
-    assert_eq!((f[0].0, f[0].1), (500, 500));
+    assert_eq!((f[0].width, f[0].height), (500, 500));
     // The blue quadrilateral's upper-left end projects to (25,125)-(75,75): pixel
     // (50, 100) is inside it and nothing else; (150, 320) is inside only the red
     // triangle (90,330)-(250,110)-(410,330); the corner is background.
-    assert_eq!(pixel(&f[0], 50, 100), [60, 60, 255]);
-    assert_eq!(pixel(&f[0], 150, 320), [255, 60, 60]);
-    assert_eq!(pixel(&f[0], 5, 5), [0, 0, 0]);
+    assert_eq!(f[0].at(50, 100), [60, 60, 255]);
+    assert_eq!(f[0].at(150, 320), [255, 60, 60]);
+    assert_eq!(f[0].at(5, 5), [0, 0, 0]);
 }
 
 #[test]
@@ -78,7 +57,7 @@ fn scene_from_stdin_size_and_output_pattern() {
     let scene = std::fs::read(repo_root().join("examples/penetrating.txt")).unwrap();
     let small = render_ok(&["--size", "64x48", "-"], &scene);
     let f = frames(&small);
-    assert_eq!((f.len(), f[0].0, f[0].1), (1, 64, 48));
+    assert_eq!((f.len(), f[0].width, f[0].height), (1, 64, 48));
     let dir = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("render-pattern");
     let _ = std::fs::remove_dir_all(&dir);
     std::fs::create_dir_all(&dir).unwrap();
@@ -105,10 +84,10 @@ fn differing_pixels(a: &[u8], b: &[u8]) -> Vec<(usize, usize)> {
     assert_eq!(fa.len(), fb.len());
     let mut diffs = Vec::new();
     for (x, y) in fa.iter().zip(&fb) {
-        assert_eq!((x.0, x.1), (y.0, y.1));
-        for i in 0..x.0 * x.1 {
-            if x.2[3 * i..3 * i + 3] != y.2[3 * i..3 * i + 3] {
-                diffs.push((i % x.0, i / x.0));
+        assert_eq!((x.width, x.height), (y.width, y.height));
+        for (i, (p, q)) in x.pixels.iter().zip(&y.pixels).enumerate() {
+            if p != q {
+                diffs.push((i % x.width, i / x.width));
             }
         }
     }
@@ -247,7 +226,7 @@ fn splitter_trees_break_equal_depth_ties_as_the_linear_pipeline() {
     let linear = render_ok(&["-"], COPLANAR.as_bytes());
     let f = frames(&linear);
     for colour in [[255, 0, 0], [0, 255, 0], [0, 0, 255], [255, 255, 0]] {
-        assert!(f[0].2.chunks(3).any(|p| p == colour), "{colour:?} is drawn");
+        assert!(f[0].pixels.contains(&colour), "{colour:?} is drawn");
     }
     for size in ["500x500", "333x187", "64x48"] {
         assert_trees_render_as_depth_0("coplanar", &["--size", size, "-"], COPLANAR.as_bytes());
@@ -284,7 +263,7 @@ fn splitter_trees_render_vertices_on_the_planes_and_edges_through_centres_unchan
     let linear = render_ok(&["--size", "512x512", "-"], ON_THE_LATTICE.as_bytes());
     let f = frames(&linear);
     for colour in [[200, 30, 30], [30, 200, 30], [30, 30, 200]] {
-        assert!(f[0].2.chunks(3).any(|p| p == colour), "{colour:?} is drawn");
+        assert!(f[0].pixels.contains(&colour), "{colour:?} is drawn");
     }
     assert_trees_render_as_depth_0(
         "lattice",
@@ -360,7 +339,7 @@ fn splitter_trees_render_polygons_cut_and_touched_by_the_planes_unchanged() {
     let f = frames(&linear);
     // Something of every polygon is visible.
     for colour in [[200, 30, 30], [30, 200, 30], [30, 30, 200], [200, 200, 30]] {
-        assert!(f[0].2.chunks(3).any(|p| p == colour), "{colour:?} is drawn");
+        assert!(f[0].pixels.contains(&colour), "{colour:?} is drawn");
     }
     for depth in ["1", "2", "3", "4", "5"] {
         let tree = render_ok(&["--depth", depth, "-"], ON_THE_PLANES.as_bytes());
