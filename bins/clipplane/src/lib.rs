@@ -172,6 +172,38 @@ mod tests {
         assert!(Plane::parse("1,2,3,4,nan").is_err());
     }
 
+    /// The property below, as first found failing (on CI): yon cuts an edge that reaches
+    /// z_e = 5.8e8, and interpolated w came out 1.4e-9 (relative) off 30·0.625, below the
+    /// repair's threshold as it then was (proto's `LOST`, 1e-8). At 1e-10 w is recomputed
+    /// and every vertex keeps w = 0.625·z_e exactly.
+    #[test]
+    fn the_ratio_survives_an_earlier_inexact_cut() {
+        let mut poly = vec![
+            DVec4::new(61.24892738469249, 0.0, 1.0, 0.625),
+            DVec4::new(0.0, 0.0, -1.0, -0.625),
+            DVec4::new(0.0, 0.0, 1.0, 0.625),
+            DVec4::new(0.0, 38.54329075021404, 577565990.8013079, 360978744.2508174),
+            DVec4::new(
+                43.551013478370535,
+                0.0,
+                -4636541.049099952,
+                -2897838.15568747,
+            ),
+        ];
+        for which in PyramidPlane::ALL {
+            poly = clip(&poly, &which.plane(&View::default()));
+        }
+        assert_eq!(
+            poly,
+            [
+                DVec4::new(18.75, 0.13321429193249487, 30.0, 18.75),
+                DVec4::new(0.625, 0.004440476397749804, 1.0, 0.625),
+                DVec4::new(0.0, 0.0, 1.0, 0.625),
+                DVec4::new(0.0, 1.935286099759325e-6, 30.0, 18.75),
+            ]
+        );
+    }
+
     fn eye_point() -> impl Strategy<Value = Vertex> {
         // Points around the pyramid, some behind the eye; w = z_e·s/d as viewxf makes it.
         (-60.0..60.0f64, -60.0..60.0f64, -10.0..50.0f64)
