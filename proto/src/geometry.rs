@@ -191,7 +191,6 @@ impl Plane {
         };
         // Coordinate `derived` follows from coordinate `solved`: w = z_e·ratio, or
         // z_e = w/ratio.
-        let factor = if derived == 3 { ratio } else { 1.0 / ratio };
         let derive = |x: f64| if derived == 3 { x * ratio } else { x / ratio };
         let wanted = derive(c[solved]);
         if !(error > LOST * wanted.abs() && wanted.is_finite()) {
@@ -204,23 +203,31 @@ impl Plane {
             c[derived] = wanted;
         } else {
             // A user's plane in both z_e and w: solve it jointly with the ratio.
-            let mut rest = self.k;
-            for (i, &ni) in n.iter().enumerate() {
-                if i != solved && i != derived {
-                    rest += ni * c[i];
-                }
-            }
-            let divisor = n[solved] + n[derived] * factor;
+            let divisor = n[solved] + n[derived] * derive(1.0);
             if divisor == 0.0 {
                 return;
             }
-            c[solved] = -rest / divisor;
+            c[solved] = -self.other_terms(&c, [solved, derived]) / divisor;
             c[derived] = derive(c[solved]);
         }
         let fixed = DVec4::from_array(c);
         if fixed.is_finite() {
             *v = fixed;
         }
+    }
+
+    /// The plane's terms for the coordinates not in `except`, and k, summed in the order
+    /// `distance` sums them (so that solving for one coordinate is exact on
+    /// single-coordinate planes).
+    fn other_terms(&self, c: &[f64; 4], except: [usize; 2]) -> f64 {
+        let n = self.n.to_array();
+        let mut rest = 0.0;
+        for i in 0..4 {
+            if !except.contains(&i) {
+                rest += n[i] * c[i];
+            }
+        }
+        rest + self.k
     }
 
     /// The plane for points scaled by [`DOWN`]: the same normal, k scaled alike.
@@ -258,15 +265,7 @@ impl Plane {
             return None;
         }
         let mut c = v.to_array();
-        // The other terms, summed in the same order as `distance` sums them.
-        let mut rest = 0.0;
-        for i in 0..4 {
-            if i != axis {
-                rest += n[i] * c[i];
-            }
-        }
-        rest += self.k;
-        c[axis] = -rest / n[axis];
+        c[axis] = -self.other_terms(&c, [axis, axis]) / n[axis];
         let snapped = DVec4::from_array(c);
         // Keep the snapped point only where it is no worse (a general plane's other terms
         // may round differently); on single-coordinate planes it is exact.
