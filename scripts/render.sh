@@ -309,6 +309,9 @@ if [[ -n $failed ]]; then
     done
     if [[ -n $cause ]]; then
         echo "render.sh: ${stage_of[$cause]} failed ($(describe "${status_of[$cause]}"))" >&2
+    else
+        # Only status 127 was seen (a stage that could not be run at all).
+        echo "render.sh: a stage could not be run (status 127)" >&2
     fi
     exit 1
 fi
