@@ -65,6 +65,13 @@ pub enum Control {
     Polygon,
     /// A record inside a polygon (a fragment's span or pixel).
     Data,
+    /// `skip N`: stands for the next N polygons of the frame, none of which sends
+    /// anything down this branch (the lean stream of a splitter tree). It keeps polygon
+    /// numbering, so ties still go to the earlier polygon, and is counted as N polygons.
+    Skip(u32),
+    /// A record of finished pixels (a leaf's resolved region): belongs to no polygon and
+    /// may stand anywhere in a frame.
+    Finished,
     NextFrame,
     End,
 }
@@ -248,7 +255,7 @@ impl<T: Record, R: Read> Reader<T, R> {
                     });
                 }
                 if let Err(msg) = record.validate(&self.header.space) {
-                    let context = if record.control() == Control::Polygon {
+                    let context = if matches!(record.control(), Control::Polygon | Control::Skip(_)) {
                         format!(
                             " (frame {}, polygon {})",
                             self.frame, self.polygons_in_frame
@@ -273,7 +280,8 @@ impl<T: Record, R: Read> Reader<T, R> {
         };
         match record.control() {
             Control::Polygon => self.polygons_in_frame += 1,
-            Control::Data => {}
+            Control::Skip(n) => self.polygons_in_frame += n as u64,
+            Control::Data | Control::Finished => {}
             Control::NextFrame => {
                 self.frame += 1;
                 self.polygons_in_frame = 0;
@@ -455,6 +463,7 @@ impl<T: Record, W: Write> Writer<T, W> {
         }
         match record.control() {
             Control::Polygon => self.polygons_in_frame += 1,
+            Control::Skip(n) => self.polygons_in_frame += n as u64,
             // A frame boundary is flushed at once. In the splitter tree zbuf waits at
             // NEXT.FRAME for every input; a boundary left in one branch's buffer while
             // the stage blocks on another branch would deadlock the tree.
@@ -462,7 +471,7 @@ impl<T: Record, W: Write> Writer<T, W> {
                 self.polygons_in_frame = 0;
                 self.out.flush()?;
             }
-            Control::Data => {}
+            Control::Data | Control::Finished => {}
         }
         Ok(())
     }

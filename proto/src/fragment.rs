@@ -15,7 +15,7 @@
 
 use crate::codec::{Control, Record};
 use crate::header::Space;
-use crate::polygon::{read_polygon_start, write_polygon_start, Colour, END, NEXT_FRAME};
+use crate::polygon::{read_polygon_start, write_polygon_start, write_skip, Colour, Start, END, NEXT_FRAME};
 use crate::text::Lexer;
 use crate::StreamError;
 use serde::{Deserialize, Serialize};
@@ -56,6 +56,20 @@ pub enum Fragment {
     },
     NextFrame,
     End,
+    /// The next N polygons of the frame, none of which covers a pixel of this stream
+    /// (they missed this leaf of the splitter tree): polygon numbering is kept in one
+    /// record. N ≥ 1. Text: `skip N` where a colour record would stand.
+    Skip(u32),
+    /// Finished pixels `x0..x1` (end exclusive) of row `y`, all of `colour`: visibility is
+    /// already resolved (a leaf of the tree that resolved its own region, DESIGN's
+    /// "leaves resolve visibility"). The merger places them without a depth test; they
+    /// belong to no polygon and may stand anywhere in a frame. Text: `run y x0 x1 R G B`.
+    Run {
+        y: u32,
+        x0: u32,
+        x1: u32,
+        colour: Colour,
+    },
 }
 
 impl Record for Fragment {
@@ -63,6 +77,8 @@ impl Record for Fragment {
         match self {
             Fragment::Polygon(_) => Control::Polygon,
             Fragment::Span { .. } | Fragment::Pixel { .. } => Control::Data,
+            Fragment::Skip(n) => Control::Skip(*n),
+            Fragment::Run { .. } => Control::Finished,
             Fragment::NextFrame => Control::NextFrame,
             Fragment::End => Control::End,
         }
@@ -79,6 +95,12 @@ impl Record for Fragment {
             Fragment::Pixel { x, y, .. } if x >= width || y >= height => Err(format!(
                 "pixel ({x}, {y}) is outside the {width}x{height} screen"
             )),
+            Fragment::Run { y, x0, x1, .. } if y >= height || x0 > x1 || x1 > width => {
+                Err(format!(
+                    "run of row {y}, columns {x0}..{x1}, is outside the {width}x{height} screen"
+                ))
+            }
+            Fragment::Skip(0) => Err("`skip 0`: a skip stands for at least one polygon".into()),
             _ => Ok(()),
         }
     }
@@ -108,10 +130,23 @@ impl Record for Fragment {
                 let z = lex.signed("the pixel's depth")?;
                 Fragment::Pixel { x, y, z }
             }
+            Some("run") => {
+                lex.next_word()?;
+                let y = lex.integer("the run's row", u32::MAX as u64)? as u32;
+                let x0 = lex.integer("the run's first column", u32::MAX as u64)? as u32;
+                let x1 = lex.integer("the run's end column", u32::MAX as u64)? as u32;
+                let mut colour = [0u8; 3];
+                for (c, name) in colour.iter_mut().zip(["red", "green", "blue"]) {
+                    *c = lex.integer(&format!("the {name} component of the run's colour"), 255)?
+                        as u8;
+                }
+                Fragment::Run { y, x0, x1, colour }
+            }
             _ => match read_polygon_start(lex, first_in_frame)? {
-                Ok(colour) => Fragment::Polygon(colour),
-                Err(Control::NextFrame) => Fragment::NextFrame,
-                Err(_) => Fragment::End,
+                Start::Colour(colour) => Fragment::Polygon(colour),
+                Start::Skip(n) => Fragment::Skip(n),
+                Start::NextFrame => Fragment::NextFrame,
+                Start::End => Fragment::End,
             },
         };
         record.validate(space).map_err(|m| lex.error(m))?;
@@ -128,6 +163,10 @@ impl Record for Fragment {
             Fragment::Polygon(colour) => write_polygon_start(out, colour, first_in_frame),
             Fragment::Span { y, x0, x1, z0, dz } => writeln!(out, "span {y} {x0} {x1} {z0} {dz}"),
             Fragment::Pixel { x, y, z } => writeln!(out, "pixel {x} {y} {z}"),
+            Fragment::Skip(n) => write_skip(out, n, first_in_frame),
+            Fragment::Run { y, x0, x1, colour: [r, g, b] } => {
+                writeln!(out, "run {y} {x0} {x1} {r} {g} {b}")
+            }
             Fragment::NextFrame => writeln!(out, "{NEXT_FRAME}"),
             Fragment::End => writeln!(out, "{END}"),
         }

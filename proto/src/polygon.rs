@@ -121,6 +121,11 @@ impl Polygon {
 #[derive(Clone, Debug, PartialEq)]
 pub enum Token {
     Polygon(Polygon),
+    /// `skip N`: the next N polygons of the frame, of which this stream carries nothing
+    /// (a splitter output that gets no piece of them). It keeps polygon numbering, so
+    /// polygon k is the same polygon on every branch of the tree, in one record instead
+    /// of N empty ones. N ≥ 1. Text: `skip N` where a polygon would stand.
+    Skip(u32),
     NextFrame,
     End,
 }
@@ -134,6 +139,7 @@ enum WireOut<'a> {
     NextFrame,
     End,
     Annotated(&'a Polygon),
+    Skip(u32),
 }
 
 #[derive(Serialize)]
@@ -148,6 +154,7 @@ enum WireIn {
     NextFrame,
     End,
     Annotated(Polygon),
+    Skip(u32),
 }
 
 #[derive(Deserialize)]
@@ -165,6 +172,7 @@ impl Serialize for Token {
                 vertices: &p.vertices,
             })
             .serialize(s),
+            Token::Skip(n) => WireOut::Skip(*n).serialize(s),
             Token::NextFrame => WireOut::NextFrame.serialize(s),
             Token::End => WireOut::End.serialize(s),
         }
@@ -180,6 +188,7 @@ impl<'de> Deserialize<'de> for Token {
             WireIn::NextFrame => Token::NextFrame,
             WireIn::End => Token::End,
             WireIn::Annotated(p) => Token::Polygon(p),
+            WireIn::Skip(n) => Token::Skip(n),
         })
     }
 }
@@ -193,31 +202,46 @@ pub const COLOUR: &str = "colour";
 pub const PLANE: &str = "plane";
 /// Starts a vertex's support (the original edge from it to the next vertex lies on).
 pub const ON: &str = "on";
+/// `skip N`, standing for N polygons of which the stream carries nothing.
+pub const SKIP: &str = "skip";
 
-/// Reads the `colour R G B` that starts a polygon or a fragment polygon, NEXT.POLYGON
-/// first unless it starts the frame. `None` means NEXT.FRAME or END was read instead.
+/// What starts an item of a frame in the text form.
+pub(crate) enum Start {
+    /// `colour R G B`: a polygon (or a fragment polygon) follows.
+    Colour(Colour),
+    /// `skip N`.
+    Skip(u32),
+    NextFrame,
+    End,
+}
+
+/// Reads what starts a polygon or a fragment polygon (`colour R G B`, or `skip N` in its
+/// place), NEXT.POLYGON first unless it starts the frame; or NEXT.FRAME or END.
 pub(crate) fn read_polygon_start<R: BufRead>(
     lex: &mut Lexer<R>,
     first_in_frame: bool,
-) -> Result<Result<Colour, Control>, StreamError> {
+) -> Result<Start, StreamError> {
     let word = lex.expect_word("a polygon, NEXT.FRAME or END")?;
-    match word.as_str() {
-        NEXT_FRAME => return Ok(Err(Control::NextFrame)),
-        END => return Ok(Err(Control::End)),
+    let head = match word.as_str() {
+        NEXT_FRAME => return Ok(Start::NextFrame),
+        END => return Ok(Start::End),
         NEXT_POLYGON if !first_in_frame => {
             let w = lex.expect_word("`colour` after NEXT.POLYGON")?;
-            if w != COLOUR && w != "color" {
+            if w != COLOUR && w != "color" && w != SKIP {
                 return Err(lex.error(format!("expected `colour` after NEXT.POLYGON, found `{w}`")));
             }
+            w
         }
         NEXT_POLYGON => {
             return Err(
                 lex.error("NEXT.POLYGON before the frame's first polygon (expected `colour`)")
             )
         }
-        COLOUR | "color" if first_in_frame => {}
-        COLOUR | "color" => {
-            return Err(lex.error("expected NEXT.POLYGON between polygons, found `colour`"))
+        COLOUR | "color" | SKIP if first_in_frame => word,
+        COLOUR | "color" | SKIP => {
+            return Err(lex.error(format!(
+                "expected NEXT.POLYGON between polygons, found `{word}`"
+            )))
         }
         other if first_in_frame => {
             return Err(lex.error(format!(
@@ -229,12 +253,27 @@ pub(crate) fn read_polygon_start<R: BufRead>(
                 "expected a vertex, NEXT.POLYGON, NEXT.FRAME or END, found `{other}`"
             )))
         }
+    };
+    if head == SKIP {
+        let n = lex.integer("the number of polygons skipped", u32::MAX as u64)? as u32;
+        if n == 0 {
+            return Err(lex.error("`skip 0`: a skip stands for at least one polygon"));
+        }
+        return Ok(Start::Skip(n));
     }
     let mut colour = [0u8; 3];
     for (c, name) in colour.iter_mut().zip(["red", "green", "blue"]) {
         *c = lex.integer(&format!("the {name} component of the colour"), 255)? as u8;
     }
-    Ok(Ok(colour))
+    Ok(Start::Colour(colour))
+}
+
+/// Writes `skip N`, after NEXT.POLYGON unless it starts the frame.
+pub(crate) fn write_skip<W: Write>(out: &mut W, n: u32, first_in_frame: bool) -> io::Result<()> {
+    if !first_in_frame {
+        writeln!(out, "{NEXT_POLYGON}")?;
+    }
+    writeln!(out, "{SKIP} {n}")
 }
 
 /// Writes `colour R G B`, after NEXT.POLYGON unless it starts the frame.
@@ -253,12 +292,16 @@ impl Record for Token {
     fn control(&self) -> Control {
         match self {
             Token::Polygon(_) => Control::Polygon,
+            Token::Skip(n) => Control::Skip(*n),
             Token::NextFrame => Control::NextFrame,
             Token::End => Control::End,
         }
     }
 
     fn validate(&self, _space: &Space) -> Result<(), String> {
+        if let Token::Skip(0) = self {
+            return Err("`skip 0`: a skip stands for at least one polygon".into());
+        }
         if let Token::Polygon(p) = self {
             if p.vertices.len() > MAX_VERTICES {
                 return Err(format!(
@@ -301,9 +344,10 @@ impl Record for Token {
         first_in_frame: bool,
     ) -> Result<Self, StreamError> {
         let colour = match read_polygon_start(lex, first_in_frame)? {
-            Ok(c) => c,
-            Err(Control::NextFrame) => return Ok(Token::NextFrame),
-            Err(_) => return Ok(Token::End),
+            Start::Colour(c) => c,
+            Start::Skip(n) => return Ok(Token::Skip(n)),
+            Start::NextFrame => return Ok(Token::NextFrame),
+            Start::End => return Ok(Token::End),
         };
         let arity = space.vertex_arity();
         if arity == 0 {
@@ -402,6 +446,7 @@ impl Record for Token {
                 }
                 Ok(())
             }
+            Token::Skip(n) => write_skip(out, *n, first_in_frame),
             Token::NextFrame => writeln!(out, "{NEXT_FRAME}"),
             Token::End => writeln!(out, "{END}"),
         }

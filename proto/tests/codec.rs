@@ -405,3 +405,56 @@ fn annotation_errors_are_located() {
     assert!(decode_err::<Token>(&bin)
         .contains("2 edge supports for 1 vertices (one per edge, or none)"));
 }
+
+/// The lean stream's `skip N` and a leaf's finished `run`s: the same records in both
+/// forms, the polygon count kept (a later error names the right polygon), and `skip 0`
+/// refused.
+#[test]
+fn skips_and_runs_round_trip_and_keep_numbering() {
+    let tokens = vec![
+        Token::Skip(3),
+        Token::Polygon(Polygon::from_xyz([1, 2, 3], &[[0., 0., 0.], [1., 0., 0.], [0., 1., 0.]])),
+        Token::Skip(1),
+        Token::NextFrame,
+        Token::Skip(7),
+        Token::End,
+    ];
+    let text = encode(Header::new(Space::World), &tokens, Form::Text);
+    assert_eq!(
+        String::from_utf8(text.clone()).unwrap(),
+        "polypipe 1 world\nskip 3\nNEXT.POLYGON\ncolour 1 2 3\n0 0 0\n1 0 0\n0 1 0\n\
+         NEXT.POLYGON\nskip 1\nNEXT.FRAME\nskip 7\nEND\n"
+    );
+    for form in [Form::Text, Form::Binary] {
+        let bytes = encode(Header::new(Space::World), &tokens, form);
+        assert_eq!(decode::<Token>(&bytes).unwrap().1, tokens);
+    }
+    let frags = vec![
+        Fragment::Skip(2),
+        Fragment::Polygon([9, 9, 9]),
+        Fragment::Span { y: 1, x0: 0, x1: 3, z0: 5, dz: 0 },
+        Fragment::Run { y: 2, x0: 1, x1: 4, colour: [255, 0, 7] },
+        Fragment::NextFrame,
+        Fragment::Run { y: 0, x0: 0, x1: 8, colour: [1, 1, 1] },
+        Fragment::End,
+    ];
+    let header = Header::new(Space::Fragments { width: 8, height: 4 });
+    let text = String::from_utf8(encode(header, &frags, Form::Text)).unwrap();
+    assert!(text.contains("skip 2\nNEXT.POLYGON\ncolour 9 9 9\nspan 1 0 3 5 0\nrun 2 1 4 255 0 7\n"), "{text}");
+    for form in [Form::Text, Form::Binary] {
+        let bytes = encode(header, &frags, form);
+        assert_eq!(decode::<Fragment>(&bytes).unwrap().1, frags);
+    }
+    // Numbering: after `skip 4` the polygon that follows is polygon 4 of the frame.
+    let bad = "polypipe 1 world\nskip 4\nNEXT.POLYGON\ncolour 1 2 3\n1e999 0 0\nEND\n";
+    let msg = decode_err::<Token>(bad.as_bytes());
+    assert!(msg.starts_with("line 5, column 1"), "{msg}");
+    assert_eq!(
+        decode_err::<Token>(b"polypipe 1 world\nskip 0\nEND\n"),
+        "line 2, column 6: `skip 0`: a skip stands for at least one polygon"
+    );
+    assert_eq!(
+        decode_err::<Fragment>(b"polypipe 1 fragments 4 4\nrun 4 0 1 1 1 1\nEND\n"),
+        "line 2, column 15: run of row 4, columns 0..1, is outside the 4x4 screen"
+    );
+}

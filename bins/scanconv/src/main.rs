@@ -57,6 +57,7 @@ fn main() -> ExitCode {
                         .map_err(|m| anyhow::anyhow!("{}: {m}", input.position()))?;
                     sc.convert(&p, &mut |f| out.write(&f))?
                 }
+                Token::Skip(n) => out.write(&Fragment::Skip(n))?,
                 Token::NextFrame => out.write(&Fragment::NextFrame)?,
                 Token::End => out.write(&Fragment::End)?,
             }

@@ -22,6 +22,7 @@ fn frames_of(bytes: &[u8]) -> Vec<Vec<Polygon>> {
             Token::Polygon(p) => frames.last_mut().unwrap().push(p),
             Token::NextFrame => frames.push(Vec::new()),
             Token::End => ended = true,
+            Token::Skip(n) => panic!("scene wrote `skip {n}`"),
         }
     }
     assert!(ended, "no END");

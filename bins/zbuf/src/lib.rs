@@ -101,6 +101,24 @@ impl FrameBuffer {
         }
     }
 
+    /// Finished pixels `columns` of row `y`, visibility already resolved by a leaf of the
+    /// splitter tree: placed without a depth test, and marked so that no depth-tested
+    /// fragment can replace them (the leaves' regions are disjoint, so none arrives in a
+    /// well-formed tree). An out-of-range run is clipped rather than trusted.
+    #[inline]
+    pub fn paint(&mut self, y: u32, columns: std::ops::Range<u32>, colour: Colour) {
+        if y >= self.height {
+            return;
+        }
+        let x1 = columns.end.min(self.width) as usize;
+        let x0 = (columns.start as usize).min(x1);
+        let row = y as usize * self.width as usize;
+        let range = row + x0..row + x1;
+        self.depth[range.clone()].fill(i64::MIN);
+        self.polygon[range.clone()].fill(0);
+        self.colour[range].fill(colour);
+    }
+
     /// One pixel (the thesis's quadruplet).
     #[inline]
     pub fn pixel(&mut self, x: u32, y: u32, z: i64, polygon: u32, colour: Colour) {

@@ -107,7 +107,14 @@ fn main() -> ExitCode {
         if args.stats {
             for (name, s) in names.iter().zip(stats) {
                 let name = if name == "-" { "stdin" } else { name };
-                eprintln!("zbuf: {name}: {} spans, {} pixels", s.spans, s.pixels);
+                if s.runs > 0 {
+                    eprintln!(
+                        "zbuf: {name}: {} spans, {} runs, {} pixels",
+                        s.spans, s.runs, s.pixels
+                    );
+                } else {
+                    eprintln!("zbuf: {name}: {} spans, {} pixels", s.spans, s.pixels);
+                }
             }
         }
         Ok(())

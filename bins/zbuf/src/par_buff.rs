@@ -35,6 +35,8 @@ pub struct Input {
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct InputStats {
     pub spans: u64,
+    /// Runs of finished pixels (from a leaf that resolved its own region).
+    pub runs: u64,
     pub pixels: u64,
 }
 
@@ -211,6 +213,19 @@ fn apply(fb: &mut FrameBuffer, s: &mut InputState, fragments: &[Fragment]) -> an
                 s.stats.pixels += 1;
                 fb.pixel(x, y, z, polygon, s.colour);
             }
+            Fragment::Skip(n) => {
+                s.polygons = s
+                    .polygons
+                    .checked_add(n)
+                    .filter(|p| *p != u32::MAX)
+                    .context("more than 4294967294 polygons in one frame")?;
+                polygon = s.polygons.wrapping_sub(1);
+            }
+            Fragment::Run { y, x0, x1, colour } => {
+                s.stats.runs += 1;
+                s.stats.pixels += (x1 - x0) as u64;
+                fb.paint(y, x0..x1, colour);
+            }
             Fragment::NextFrame | Fragment::End => {}
         }
     }
@@ -247,9 +262,18 @@ fn read_input(input: usize, open: Opener, tx: SyncSender<Message>, wait: Receive
                     in_polygon = true;
                     batch.push(record);
                 }
+                Fragment::Skip(_) => {
+                    in_polygon = false;
+                    batch.push(record);
+                }
+                Fragment::Run { .. } => batch.push(record),
                 Fragment::Span { .. } | Fragment::Pixel { .. } => {
                     if !in_polygon {
-                        bail!("frame {frame}: pixels before the frame's first colour record");
+                        bail!(
+                            "frame {frame}, {}: pixels outside a polygon (before the frame's \
+                             first colour record, or after a skip)",
+                            reader.position()
+                        );
                     }
                     batch.push(record);
                 }

@@ -19,6 +19,7 @@ fn scanconv(screen: &str) -> Vec<u8> {
     while let Some(t) = input.next_record().unwrap() {
         match t {
             Token::Polygon(p) => sc.convert(&p, &mut |f| out.write(&f)).unwrap(),
+            Token::Skip(n) => out.write(&Fragment::Skip(n)).unwrap(),
             Token::NextFrame => out.write(&Fragment::NextFrame).unwrap(),
             Token::End => out.write(&Fragment::End).unwrap(),
         }
@@ -491,4 +492,51 @@ fn progress_counts_frames_on_a_terminal() {
     let mut want = ppm(2, 2, &[R, R, K, K]);
     want.extend(ppm(2, 2, &[K, K, K, G]));
     assert_eq!(std::fs::read(&ppm_path).unwrap(), want);
+}
+
+/// A `skip N` keeps polygon numbering: on one input a skip of 2 then blue, on the other
+/// red as the first polygon, both at one depth on pixel (0, 0): red is polygon 0, blue
+/// polygon 2, so red wins the tie whichever input arrives first.
+#[test]
+fn skip_keeps_numbering_for_ties() {
+    let dir = tempfile::tempdir().unwrap();
+    let a = write(
+        dir.path(),
+        "a",
+        "polypipe 1 fragments 2 1\nskip 2\nNEXT.POLYGON\ncolour 0 0 255\nspan 0 0 2 7 0\nEND\n",
+    );
+    let b = write(
+        dir.path(),
+        "b",
+        "polypipe 1 fragments 2 1\ncolour 255 0 0\npixel 0 0 7\nNEXT.POLYGON\nskip 2\nEND\n",
+    );
+    for order in [[&a, &b], [&b, &a]] {
+        zbuf().args(order).assert().success().stdout(ppm(2, 1, &[R, B]));
+    }
+    // Spans after a skip belong to no polygon: refused.
+    zbuf()
+        .write_stdin("polypipe 1 fragments 2 1\ncolour 1 1 1\nNEXT.POLYGON\nskip 1\nspan 0 0 1 0 0\nEND\n")
+        .assert()
+        .code(1)
+        .stderr(predicates::str::contains("pixels outside a polygon"));
+}
+
+/// Finished runs from leaves that resolved their own regions are placed as they come,
+/// with no depth test; the background shows where no run fell.
+#[test]
+fn runs_are_placed_without_a_depth_test() {
+    let dir = tempfile::tempdir().unwrap();
+    let left = write(dir.path(), "l", "polypipe 1 fragments 3 2\nrun 0 0 2 255 0 0\nrun 1 0 1 0 255 0\nEND\n");
+    let right = write(dir.path(), "r", "polypipe 1 fragments 3 2\nrun 1 2 3 0 0 255\nEND\n");
+    zbuf()
+        .args([&left, &right])
+        .assert()
+        .success()
+        .stdout(ppm(3, 2, &[R, R, K, G, K, B]));
+    zbuf()
+        .arg("--stats")
+        .args([&left])
+        .assert()
+        .success()
+        .stderr(predicates::str::contains("0 spans, 2 runs, 3 pixels"));
 }

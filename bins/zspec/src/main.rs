@@ -89,6 +89,8 @@ fn render(scene: &str, setup: &Setup, background: Colour) -> anyhow::Result<()> 
     while let Some(token) = reader.next_record()? {
         match token {
             Token::Polygon(p) => frame.draw(setup, &p),
+            // Polygons this stream carries nothing of: nothing to draw.
+            Token::Skip(_) => {}
             Token::NextFrame | Token::End => {
                 zspec::write_ppm(&mut out, setup.width, setup.height, &frame.colour)?;
                 // A frame is written whole before the next is read.

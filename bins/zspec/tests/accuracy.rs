@@ -265,7 +265,7 @@ fn frames_of(stream: &[u8]) -> Vec<Vec<proto::Polygon>> {
         match token {
             Token::Polygon(p) => frames.last_mut().unwrap().push(p),
             Token::NextFrame => frames.push(Vec::new()),
-            Token::End => {}
+            Token::End | Token::Skip(_) => {}
         }
     }
     frames
