@@ -27,6 +27,7 @@
  *
  * Usage: render [--size WxH] [--eye X,Y,Z] [--at X,Y,Z] [--up X,Y,Z] [--s S] [--d D]
  *               [--hither K1] [--yon K2] [--depth-bits N] [SCENE | -]
+ *        render --renderer    (prints GL_RENDERER and GL_VERSION, renders nothing)
  */
 #include <GL/gl.h>
 #include <GL/osmesa.h>
@@ -410,7 +411,8 @@ static void usage(FILE *to)
             "Mesa's llvmpipe through OSMesa and writes one binary PPM (P6) per frame.\n"
             "Options: --size WxH (500x500)  --eye X,Y,Z (0,0,20)  --at X,Y,Z (0,0,0)\n"
             "         --up X,Y,Z (0,1,0)  --s S (10)  --d D (16)  --hither K1 (1)  --yon K2 (30)\n"
-            "         --depth-bits N (24)\n");
+            "         --depth-bits N (24)\n"
+            "       render --renderer   prints GL_RENDERER and GL_VERSION\n");
 }
 
 int main(int argc, char **argv)
@@ -422,6 +424,15 @@ int main(int argc, char **argv)
         const char *o = argv[i];
         if (!strcmp(o, "-h") || !strcmp(o, "--help")) {
             usage(stdout);
+            return 0;
+        }
+        if (!strcmp(o, "--renderer")) {
+            static uint8_t px[4];
+            OSMesaContext ctx = OSMesaCreateContextExt(OSMESA_RGBA, 24, 0, 0, NULL);
+            if (!ctx || !OSMesaMakeCurrent(ctx, px, GL_UNSIGNED_BYTE, 1, 1)) die("no OSMesa context");
+            printf("%s, OpenGL %s\n", (const char *)glGetString(GL_RENDERER),
+                   (const char *)glGetString(GL_VERSION));
+            OSMesaDestroyContext(ctx);
             return 0;
         }
         if (o[0] == '-' && o[1] == '-') {
