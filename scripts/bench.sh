@@ -1,0 +1,213 @@
+#!/usr/bin/env bash
+# bench.sh: polypipe against Mesa's llvmpipe, against its own fused run, and against
+# itself at splitter depths 0-4 (issue 9): one markdown table of ratios, every figure
+# from this one run, so the ratios compare runs made on the same machine under the same
+# load. Not part of CI.
+#
+# Every figure is the whole process's wall time (start to exit, reading the text scene
+# and writing the PPM frames to /dev/null), the median of REPS runs (default 5). The
+# commands are run interleaved, one round of all of them per repetition, so that a change
+# in the machine's load during the run falls on every command alike. Each command is run
+# once more first, not timed, to warm the page cache and to keep its pictures for the
+# table's last column.
+#
+# The scenes are the four classes of issue 9, made by `scene environment` as text (the
+# user's input and llvmpipe's is text):
+#   (a) 1,024 quads at 500x500            (b) 100,000 quads, depth complexity 2, 500x500
+#   (c) 10,000 quads, depth complexity 10, 1920x1080 (the fill-heavy scene)
+#   (d) a 100-frame movie of 1,024 quads at 500x500
+#
+# The rows: render.sh with its default options against the llvmpipe harness
+# (bench/llvmpipe/render.c through OSMesa, the same scene, camera and pyramid) and
+# against the fused run (target/release/fused, if built: one process chaining the same
+# stage libraries; run as `fused --size WxH SCENE`), then render.sh --depth 0..4 on the
+# fill-heavy scene with each merge mode (--merge tiles and --merge buffer, if render.sh
+# has them), each against depth 0 in the same mode. A/B below 1 means A is faster.
+#
+# Environment: RENDER (default scripts/render.sh) and FUSED (default target/release/fused,
+# or target/release/examples/fused) name other commands to measure in their place.
+#
+# Usage: scripts/bench.sh [--quick] [--reps N]
+#   --quick   3 repetitions and smaller scenes (b: 20,000 quads; c: 2,000 quads at
+#             960x540; d: 20 frames), to try the script out
+#   --reps N  repetitions per command (median of N; default 5, or 3 with --quick)
+#
+# Needs: cargo, gcc and OSMesa (bench/llvmpipe/build.sh installs libosmesa6-dev when run
+# as root; otherwise llvmpipe's rows are n/a and it says what to install), python3 or
+# awk for the medians.
+set -euo pipefail
+export LC_ALL=C
+
+usage() { sed -n '/^# Usage:/,/^# Needs:/p' "$0" | sed '$d; s/^# \{0,1\}//'; }
+
+quick=0
+reps=
+while (($#)); do
+    case $1 in
+        --quick) quick=1; shift ;;
+        --reps) (($# >= 2)) || { echo "bench.sh: --reps needs N" >&2; exit 2; }; reps=$2; shift 2 ;;
+        --reps=*) reps=${1#*=}; shift ;;
+        -h | --help) usage; exit 0 ;;
+        *) echo "bench.sh: unknown argument $1" >&2; usage >&2; exit 2 ;;
+    esac
+done
+[[ -z $reps ]] && reps=$((quick ? 3 : 5))
+[[ $reps =~ ^[1-9][0-9]*$ ]] || { echo "bench.sh: --reps must be a positive integer, not '$reps'" >&2; exit 2; }
+
+root=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
+cd "$root"
+B=${CARGO_TARGET_DIR:-$root/target}/release
+render=${RENDER:-$root/scripts/render.sh}
+work=$(mktemp -d)
+trap 'rm -rf "$work"' EXIT
+
+echo "bench.sh: building polypipe and the llvmpipe harness" >&2
+cargo build --release --quiet --bins
+gl=
+if gl=$("$root/bench/llvmpipe/build.sh"); then :; else
+    gl=
+    echo "bench.sh: no llvmpipe harness; its rows will read n/a" >&2
+fi
+fused=
+for f in ${FUSED:-} "$B/fused" "$B/examples/fused"; do
+    if [[ -x $f ]]; then fused=$f; break; fi
+done
+merge=0
+if "$render" --help 2>/dev/null | grep -q -- --merge; then merge=1; fi
+
+# --- The scenes. ----------------------------------------------------------------------
+if ((quick)); then
+    geo_n=20000 fill_n=2000 fill_size=960x540 movie_frames=20
+else
+    geo_n=100000 fill_n=10000 fill_size=1920x1080 movie_frames=100
+fi
+commas() { sed ':a; s/\B[0-9]\{3\}\>/,&/; ta' <<< "$1"; }
+scenes=(env geo fill movie)
+declare -A size label
+size[env]=500x500 label[env]="(a) $(commas 1024) quads, 500×500"
+size[geo]=500x500 label[geo]="(b) $(commas "$geo_n") quads, Dc≈2, 500×500"
+size[fill]=$fill_size label[fill]="(c) $(commas "$fill_n") quads, Dc≈10, ${fill_size/x/×}"
+size[movie]=500x500 label[movie]="(d) $(commas 1024) quads × $movie_frames frames, 500×500"
+echo "bench.sh: generating the scenes" >&2
+"$B/scene" environment --text --seed 1 --polygons 1024 --size 500x500 > "$work/env.txt"
+"$B/scene" environment --text --seed 3 --polygons "$geo_n" --depth-complexity 2 --size 500x500 > "$work/geo.txt"
+"$B/scene" environment --text --seed 2 --polygons "$fill_n" --depth-complexity 10 --size "$fill_size" > "$work/fill.txt"
+"$B/scene" environment --text --seed 4 --polygons 1024 --frames "$movie_frames" --size 500x500 > "$work/movie.txt"
+
+# --- The commands, by name. -----------------------------------------------------------
+jobs=()
+declare -A cmd ok
+job() { # NAME COMMAND...: a command to time, its words quoted once here
+    local name=$1 q
+    shift
+    printf -v q '%q ' "$@"
+    jobs+=("$name")
+    cmd[$name]=$q
+}
+for s in "${scenes[@]}"; do
+    job "pipe.$s" "$render" --size "${size[$s]}" "$work/$s.txt"
+    [[ -n $gl ]] && job "gl.$s" "$gl" --size "${size[$s]}" "$work/$s.txt"
+    [[ -n $fused ]] && job "fused.$s" "$fused" --size "${size[$s]}" "$work/$s.txt"
+done
+# Without --merge (render.sh before issue 9's leaves), the depths are measured as they are.
+modes=(tiles buffer)
+((merge)) || modes=(default tiles buffer)
+for m in "${modes[@]}"; do
+    merge_opt=(--merge "$m")
+    case $m in
+        default) merge_opt=() ;;
+        *) ((merge)) || continue ;;
+    esac
+    for d in 0 1 2 3 4; do
+        job "depth.$m.$d" "$render" --size "$fill_size" --depth "$d" "${merge_opt[@]}" "$work/fill.txt"
+    done
+done
+
+# --- Warm-up: every command once, its pictures kept; a failure is reported, and the
+# command's rows read n/a (render.sh failing stops the run: nothing to compare).
+echo "bench.sh: warming up (${#jobs[@]} commands)" >&2
+for j in "${jobs[@]}"; do
+    if eval "${cmd[$j]}" > "$work/out.$j" 2> "$work/err.$j"; then
+        ok[$j]=1
+    else
+        echo "bench.sh: $j failed: ${cmd[$j]}" >&2
+        sed 's/^/  /' "$work/err.$j" >&2
+        [[ $j == pipe.* ]] && exit 1
+    fi
+done
+
+# --- The timed rounds. ----------------------------------------------------------------
+declare -A times
+for ((r = 1; r <= reps; r++)); do
+    echo "bench.sh: round $r of $reps" >&2
+    for j in "${jobs[@]}"; do
+        [[ -n ${ok[$j]:-} ]] || continue
+        t0=$EPOCHREALTIME
+        eval "${cmd[$j]}" > /dev/null 2> "$work/err.$j" ||
+            { echo "bench.sh: $j failed in round $r" >&2; cat "$work/err.$j" >&2; exit 1; }
+        t1=$EPOCHREALTIME
+        times[$j]+="$(awk -v a="$t0" -v b="$t1" 'BEGIN { printf "%.6f", b - a }') "
+    done
+done
+
+median() { # JOB: the median of its times, or nothing
+    [[ -n ${times[$1]:-} ]] || return 0
+    tr ' ' '\n' <<< "${times[$1]}" | grep . | sort -g |
+        awk '{ t[NR] = $1 } END { printf "%.3f", NR % 2 ? t[(NR + 1) / 2] : (t[NR / 2] + t[NR / 2 + 1]) / 2 }'
+}
+
+# differ A B: how two runs' pictures compare ("identical", or differing pixels of all).
+differ() {
+    local a=$work/out.$1 b=$work/out.$2
+    [[ -n ${ok[$1]:-} && -n ${ok[$2]:-} ]] || { echo n/a; return; }
+    if cmp -s "$a" "$b"; then echo identical; return; fi
+    "$B/zspec" compare --min-agreement 0 "$a" "$b" 2>&1 |
+        awk '/differ/ { px += $3; d += $5; n++ } END { if (n) printf "%d of %d px differ\n", d, px; else print "frames differ" }' |
+        sed ':a; s/\B[0-9]\{3\}\>/,&/; ta'
+}
+
+# row WHAT SCENE-LABEL JOB-A JOB-B CHECK
+row() {
+    local ta tb ratio=n/a
+    ta=$(median "$3") tb=$(median "$4")
+    [[ -n $ta ]] || ta=n/a
+    [[ -n $tb ]] || tb=n/a
+    if [[ $ta != n/a && $tb != n/a ]]; then
+        ratio=$(awk -v a="$ta" -v b="$tb" 'BEGIN { printf "%.2f", a / b }')
+    fi
+    echo "| $1 | $2 | $ta | $tb | **$ratio** | $5 |"
+}
+
+# --- The table. ------------------------------------------------------------------------
+cpu=$(awk -F': ' '/^model name/ { print $2; exit }' /proc/cpuinfo 2>/dev/null || true)
+mesa=n/a
+[[ -n $gl ]] && mesa=$("$gl" --renderer 2>/dev/null || echo n/a)
+commit=$(git -C "$root" rev-parse --short HEAD 2>/dev/null || echo unknown)
+echo
+echo "Measured by \`scripts/bench.sh$( ((quick)) && echo ' --quick')\` at commit $commit on ${cpu:-an unknown CPU}," \
+    "$(nproc) cores, $(date -u +%Y-%m-%d): whole-process wall seconds, median of $reps," \
+    "from one run. A/B below 1 means A is faster. llvmpipe: $mesa, through OSMesa," \
+    "reading the same text scene (bench/llvmpipe/render.c)."
+echo
+echo "| A against B | scene | A s | B s | A/B | pictures |"
+echo "|---|---|---|---|---|---|"
+for s in "${scenes[@]}"; do
+    row "render.sh against llvmpipe" "${label[$s]}" "pipe.$s" "gl.$s" "$(differ "pipe.$s" "gl.$s")"
+done
+for s in "${scenes[@]}"; do
+    row "render.sh against fused run" "${label[$s]}" "pipe.$s" "fused.$s" "$(differ "pipe.$s" "fused.$s")"
+done
+for m in "${modes[@]}"; do
+    for d in 0 1 2 3 4; do
+        what="depth $d against depth 0, \`--merge $m\`"
+        if [[ $m == default ]]; then
+            what="depth $d against depth 0 (render.sh without \`--merge\`)"
+            check="$(differ "depth.$m.$d" "depth.$m.0") to depth 0"
+        elif ((merge)); then
+            check="$(differ "depth.$m.$d" "depth.tiles.0") to tiles depth 0"
+        else
+            check="n/a: render.sh has no --merge"
+        fi
+        row "$what" "${label[fill]}" "depth.$m.$d" "depth.$m.0" "$check"
+    done
+done
