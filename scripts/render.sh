@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # render.sh: compose the polypipe stages into the thesis's pipeline, the way occam's PAR
-# wires channels (DESIGN.md, "The stages"; thesis chapter 6.3, CLIPPER/SPLITTER):
+# wires channels (docs/DESIGN.md, "The splitter tree"; thesis chapter 6.3, CLIPPER/SPLITTER):
 #
 #   viewxf | clipplane left | right | top | bottom | hither | yon
 #     depth 0:  | persp | scanconv | zbuf

@@ -1,4 +1,4 @@
-//! The viewing and perspective mappings of DESIGN.md's conventions, written once for
+//! The viewing and perspective mappings of docs/DESIGN.md's "Conventions", written once for
 //! `viewxf`, `persp` and the exact reference.
 //!
 //! World coordinates are right-handed; eye coordinates are left-handed with the origin at
@@ -107,7 +107,7 @@ impl Device {
         )
     }
 
-    /// DESIGN.md's projective depth z_s = (1 − K1/z_e)·K2/(K2 − K1): 0 at the hither
+    /// Projective depth (docs/DESIGN.md, "Depth"), z_s = (1 − K1/z_e)·K2/(K2 − K1): 0 at the hither
     /// plane, 1 at the yon plane, and an affine function of 1/z_e, so that planes stay
     /// planes and depth interpolates linearly across the screen.
     #[inline]

@@ -3,7 +3,7 @@
 use std::io;
 
 /// What went wrong reading or writing a stream. Displayed after the stage name, it makes
-/// the one-line message DESIGN.md asks for: `persp: line 3, column 5: expected …`.
+/// the one-line message of docs/DESIGN.md, "Errors and exit statuses": `persp: line 3, …`.
 #[derive(Debug, thiserror::Error)]
 pub enum StreamError {
     /// The operating system refused a read or a write.
@@ -33,7 +33,7 @@ pub enum StreamError {
 
 impl StreamError {
     /// Whether this is the reader of our output going away (`| head`): a stage then ends
-    /// quietly with status 0, as DESIGN.md asks.
+    /// quietly with status 0 (docs/DESIGN.md, "Errors and exit statuses").
     pub fn is_broken_pipe(&self) -> bool {
         matches!(self, StreamError::Io(e) if e.kind() == io::ErrorKind::BrokenPipe)
     }

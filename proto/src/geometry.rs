@@ -59,7 +59,7 @@ const UP: f64 = 1.3407807929942597e154;
 const LOST: f64 = 1e-10;
 
 /// The edge's w/z_e, if both ends that define one agree on it to rounding (an eye-space
-/// stream, DESIGN.md's w = z_e·s/d); None for a point pair that does not keep the ratio.
+/// stream, w = z_e·s/d of docs/DESIGN.md, "Coordinates and camera"); None for a pair that does not.
 fn w_over_z(p: DVec4, q: DVec4) -> Option<f64> {
     // Some(None) for the eye itself (0, 0): it keeps every ratio.
     let ratio = |v: DVec4| -> Option<Option<f64>> {
@@ -162,8 +162,8 @@ impl Plane {
         v
     }
 
-    /// Eye space has w = z_e·s/d at every point (DESIGN.md), so w/z_e is one ratio for the
-    /// whole stream, and interpolation keeps it in exact arithmetic. In floating point,
+    /// Eye space has w = z_e·s/d at every point (docs/DESIGN.md, "Coordinates and camera"),
+    /// so w/z_e is one ratio for the whole stream, kept by exact interpolation. In floating point,
     /// where an edge runs from far behind the eye to far in front and crosses a plane near
     /// the eye, z_e and w both cancel, and the one the snap did not solve for keeps only
     /// rounding noise: a 1e30 edge cut by the left plane at w = −6 came out with z_e = 0

@@ -1,4 +1,4 @@
-//! The stream header: magic, version and coordinate space (DESIGN.md, "The token stream").
+//! The stream header: magic, version and coordinate space (docs/DESIGN.md, "Header and spaces").
 //!
 //! Every stream starts with one. The binary form starts with [`BINARY_MAGIC`], eight
 //! bytes whose first is not ASCII, so a reader tells the two forms apart from the first
@@ -18,7 +18,7 @@ pub const TEXT_MAGIC: &str = "polypipe";
 pub const VERSION: u32 = 1;
 
 /// The view volume that eye coordinates were computed for: the clipping pyramid
-/// −a·w ≤ x_e ≤ a·w, −w ≤ y_e ≤ w, K1 ≤ z_e ≤ K2 (DESIGN.md, "Conventions").
+/// −a·w ≤ x_e ≤ a·w, −w ≤ y_e ≤ w, K1 ≤ z_e ≤ K2 (docs/DESIGN.md, "The clipping pyramid").
 ///
 /// `viewxf` records it in the eye-space header so that the clipper chain and `persp`
 /// agree on the aspect ratio and the hither/yon distances without repeating options.

@@ -1,4 +1,4 @@
-//! DESIGN.md's coverage rule, written once so that the scan converter and the exact
+//! The coverage rule (docs/DESIGN.md, "Coverage"), written once so that scanconv and the exact
 //! reference decide every pixel the same way.
 //!
 //! Pixel (c, r) is the square [c, c+1) × [r, r+1) and is covered when its centre

@@ -26,7 +26,7 @@ IIIII  00
             I
 ";
 
-/// What polypipe draws, exactly, by DESIGN.md's pixel-centre rules.
+/// What polypipe draws, exactly, by the pixel-centre rules of docs/DESIGN.md ("Coverage").
 const POLYPIPE: &str = "\
 .....................
 .....................

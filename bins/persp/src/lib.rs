@@ -3,7 +3,7 @@
 //! After clipping every vertex is in front of the eye (w > 0) and inside the pyramid.
 //! Dividing by w puts it on the screen (x_s = x_e/(a·w), y_s = y_e/w, both in [−1, 1]),
 //! and the device mapping turns that into pixel units of a W×H screen, row 0 at the top
-//! (DESIGN.md, "Conventions"). Both are [`proto::camera::Device`]'s; this crate chooses
+//! (docs/DESIGN.md, "Screen and device"). Both are [`proto::camera::Device`]'s; this crate chooses
 //! the depth and checks that the screen is the one the stream was viewed for.
 //!
 //! Depth: the occam code (thesis Appendix 4) passes z_e on, which is exact at the

@@ -74,7 +74,7 @@ fn eye_z_depth_passes_z_e() {
 
 #[test]
 fn thesis_scene_at_500x500() {
-    // viewxf's output for DESIGN.md's example scene (thesis camera, K1 = 1, K2 = 30).
+    // viewxf's output for docs/DESIGN.md's "The example scene" (thesis camera, K1 = 1, K2 = 30).
     persp()
         .args(["--size", "500x500", "--text"])
         .write_stdin(

@@ -14,7 +14,7 @@
 //! 4. gives every covered pixel its depth on the plane, stepping by `−a/c` along the row
 //!    (Appendix 3.3), in fixed point.
 //!
-//! Coverage is DESIGN.md's rule, taken from [`proto::raster`]: pixel (c, r) is covered when
+//! Coverage (docs/DESIGN.md, "Coverage") comes from [`proto::raster`]: pixel (c, r) is covered when
 //! its centre (c+½, r+½) is inside by the even-odd rule, a centre on an edge going to the
 //! polygon for which that edge is a left or top edge. On scanline r the crossings of the
 //! active edges with Y = r+½ are sorted, x₀ ≤ x₁ ≤ x₂ ≤ …, and the centres in
@@ -738,7 +738,7 @@ mod tests {
             }
 
             /// A jittered grid cut into triangles, reaching past the screen, covers every
-            /// pixel exactly once: no cracks, no double cover (DESIGN.md's mesh promise).
+            /// pixel exactly once: no cracks, no double cover (docs/DESIGN.md, "Coverage").
             #[test]
             fn a_mesh_covers_every_pixel_once(
                 // Up to 0.2 of a cell keeps every quad convex, so either diagonal cuts it cleanly.

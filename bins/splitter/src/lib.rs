@@ -21,7 +21,7 @@
 //!
 //! where I is the edge's intersection with the plane, computed once and sent to both
 //! outputs so that the two pieces share the new edge exactly and render as the whole
-//! polygon did (DESIGN.md's coverage rule). A vertex on the plane goes to both outputs.
+//! polygon did (docs/DESIGN.md, "Coverage"). A vertex on the plane goes to both outputs.
 //!
 //! Unlike the occam X.SPLITTER, whose output began at the second vertex and ended with
 //! the first, the edges are walked from (v_{n−1}, v_0) on, so a polygon wholly on one side

@@ -1,7 +1,7 @@
 //! # viewxf: the viewing transformation, world → eye (thesis chapter 1, Appendix 4)
 //!
 //! Every world point p becomes eye coordinates (x_e, y_e, z_e, w): its components along
-//! the camera's axes, measured from the eye, with w = z_e·s/d (DESIGN.md, "Conventions").
+//! the camera's axes, measured from the eye, with w = z_e·s/d (docs/DESIGN.md, "Conventions").
 //! The camera itself (axes, w) is [`proto::camera::EyeFrame`]; this crate only applies it
 //! to a stream's polygons, in place, so the stage allocates nothing of its own.
 
@@ -15,7 +15,7 @@ pub fn view_vertex(frame: &EyeFrame, v: Vertex) -> Vertex {
 }
 
 /// Transforms every vertex of a polygon in place. The colour is unchanged, and an empty
-/// polygon stays empty (it keeps the polygon numbering, DESIGN.md).
+/// polygon stays empty (it keeps the polygon numbering, docs/DESIGN.md, "Grammar").
 #[inline]
 pub fn view_polygon(frame: &EyeFrame, poly: &mut Polygon) {
     for v in &mut poly.vertices {

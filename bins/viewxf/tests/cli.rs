@@ -8,7 +8,7 @@ fn viewxf() -> Command {
     Command::cargo_bin("viewxf").unwrap()
 }
 
-/// DESIGN.md's example scene, plus an empty polygon and a second frame.
+/// docs/DESIGN.md's "The example scene", plus an empty polygon and a second frame.
 const SCENE: &str = "polypipe 1 world
 colour 255 60 60
 -8 -4 0

@@ -5,7 +5,7 @@
 //! scan converters at once and shows the frame once every one of them has sent its
 //! NEXT.FRAME.
 //!
-//! Visibility (DESIGN.md, chapter 2.3's Z spec): the smaller depth wins; at equal depth the
+//! Visibility (docs/DESIGN.md, "Visibility"; thesis 2.3): the smaller depth wins; at equal depth the
 //! polygon earlier in the stream wins. Each pixel therefore keeps, beside its depth, the
 //! index of the polygon that wrote it, and a fragment wins when `(depth, polygon)` is
 //! lexicographically smaller. Polygon k is the same polygon on every branch of a splitter

@@ -9,7 +9,7 @@ use std::io::{self, BufReader, BufWriter, Write};
 use std::process::ExitCode;
 use zspec::Setup;
 
-/// The exact reference: DESIGN.md's Z spec (chapter 2.3) evaluated directly in f64 at
+/// The exact reference: the Z spec (thesis 2.3; docs/DESIGN.md, "Visibility") evaluated in f64 at
 /// every pixel centre — coverage by the even-odd and top-left rules, depth where the ray
 /// through the centre meets the polygon's plane, hither ≤ z_e ≤ yon, nearest wins,
 /// earlier wins a tie. No clipping chain, no edge table: an independent renderer to

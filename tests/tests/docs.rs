@@ -1,0 +1,175 @@
+//! The repository explains itself: every citation of the design points at the copy in the
+//! repository, docs/DESIGN.md, by that path and by a section it has, and nothing cites a
+//! file outside the repository. (Issue 14: the code cited a design kept beside the
+//! repository, which a reader of the repository never sees.)
+
+use pipeline_tests::repo_root;
+use std::collections::BTreeSet;
+use std::fs;
+use std::path::{Path, PathBuf};
+
+/// The design's file name and the folder beside the repository, each spelled in pieces so
+/// that this file does not itself contain what it looks for.
+const NAME: &str = concat!("DESIGN", ".md");
+const OUTSIDE: &str = concat!("..", "/shared/");
+/// The one way to cite the design.
+const PATH: &str = "docs/DESIGN.md";
+
+/// The kinds of file that carry comments or prose (C for the benchmark harness).
+const CHECKED: &[&str] = &["rs", "sh", "md", "txt", "c", "h", "toml"];
+
+/// Every file under `dir` with a checked extension, skipping build output (`target/`,
+/// also fuzz/target) and git's folder; symbolic links are not followed.
+fn source_files(dir: &Path, out: &mut Vec<PathBuf>) {
+    let entries = fs::read_dir(dir).unwrap_or_else(|e| panic!("{}: {e}", dir.display()));
+    for entry in entries {
+        let entry = entry.expect("a directory entry");
+        let path = entry.path();
+        let kind = entry.file_type().expect("a file type");
+        let name = entry.file_name();
+        if kind.is_dir() {
+            if name != "target" && name != ".git" {
+                source_files(&path, out);
+            }
+        } else if kind.is_file()
+            && path
+                .extension()
+                .and_then(|e| e.to_str())
+                .is_some_and(|e| CHECKED.contains(&e))
+        {
+            out.push(path);
+        }
+    }
+}
+
+/// The headings of the design, without their `#`s.
+fn sections(design: &str) -> BTreeSet<String> {
+    design
+        .lines()
+        .filter(|l| l.starts_with('#'))
+        .map(|l| l.trim_start_matches('#').trim().to_string())
+        .collect()
+}
+
+/// What is wrong with one file's text, as `line N: …` messages: a citation of the design
+/// by any other path than `docs/DESIGN.md`, a quoted section name after it that the design
+/// does not have, or a path into the folder beside the repository.
+fn problems(text: &str, sections: &BTreeSet<String>) -> Vec<String> {
+    let mut found = Vec::new();
+    for (i, line) in text.lines().enumerate() {
+        let n = i + 1;
+        if line.contains(OUTSIDE) {
+            found.push(format!(
+                "line {n}: cites `{OUTSIDE}`, outside the repository"
+            ));
+        }
+        for (at, _) in line.match_indices(NAME) {
+            let before = &line[..at];
+            let prefix = &PATH[..PATH.len() - NAME.len()];
+            // The path must be exactly docs/DESIGN.md, not part of a longer path.
+            let whole = before
+                .strip_suffix(prefix)
+                .is_some_and(|b| !b.ends_with(|c: char| c.is_alphanumeric() || "_-./".contains(c)));
+            if !whole {
+                found.push(format!("line {n}: cites the design other than as `{PATH}`"));
+                continue;
+            }
+            // A section named right after it, `docs/DESIGN.md, "Coverage"` or
+            // `docs/DESIGN.md's "Conventions"` or `docs/DESIGN.md ("Depth")`, must exist.
+            let after = &line[at + NAME.len()..];
+            let after = after.strip_prefix("'s").unwrap_or(after);
+            let after = after.trim_start_matches([',', ' ', '(']);
+            if let Some(quoted) = after.strip_prefix('"') {
+                if let Some((section, _)) = quoted.split_once('"') {
+                    if !sections.contains(section) {
+                        found.push(format!(
+                            "line {n}: cites section \"{section}\", which {PATH} does not have"
+                        ));
+                    }
+                }
+            }
+        }
+    }
+    found
+}
+
+#[test]
+fn every_citation_of_the_design_is_docs_design_md_and_names_a_section_it_has() {
+    let root = repo_root();
+    let design = fs::read_to_string(root.join(PATH)).expect("docs/DESIGN.md exists");
+    let sections = sections(&design);
+    for wanted in [
+        "The token stream",
+        "Conventions",
+        "Coverage",
+        "Visibility",
+        "The stages",
+        "The splitter tree",
+        "The merge",
+        "Errors and exit statuses",
+        "Departures from the thesis and the card",
+        "Wave 2 (in progress)",
+    ] {
+        assert!(
+            sections.contains(wanted),
+            "docs/DESIGN.md has no section \"{wanted}\""
+        );
+    }
+
+    let mut files = Vec::new();
+    source_files(&root, &mut files);
+    files.sort();
+    // The walk reaches the code, the scripts and the docs (a walk that found nothing would
+    // pass vacuously).
+    for must in [
+        "proto/src/raster.rs",
+        "scripts/render.sh",
+        "README.md",
+        PATH,
+    ] {
+        assert!(files.contains(&root.join(must)), "the walk missed {must}");
+    }
+    let mut report = Vec::new();
+    for file in &files {
+        // Binary files among them (none today) have nothing to cite.
+        let Ok(text) = fs::read_to_string(file) else {
+            continue;
+        };
+        let shown = file
+            .strip_prefix(&root)
+            .unwrap_or(file)
+            .display()
+            .to_string();
+        report.extend(
+            problems(&text, &sections)
+                .into_iter()
+                .map(|p| format!("{shown}: {p}")),
+        );
+    }
+    assert!(report.is_empty(), "{}", report.join("\n"));
+}
+
+#[test]
+fn the_check_finds_each_kind_of_bad_citation() {
+    let sections: BTreeSet<String> = ["Coverage".to_string()].into();
+    let ok = |t: &str| problems(t, &sections).is_empty();
+    assert!(ok("// pixel centres (docs/DESIGN.md, \"Coverage\")"));
+    assert!(ok("//! docs/DESIGN.md's \"Coverage\" rule"));
+    assert!(ok("# see docs/DESIGN.md (\"Coverage\") and docs/DESIGN.md"));
+    assert!(ok("the design is in docs/DESIGN.md."));
+    assert_eq!(
+        problems(&format!("// as {NAME} asks"), &sections),
+        ["line 1: cites the design other than as `docs/DESIGN.md`"]
+    );
+    assert!(!ok(&format!("x\n// see ../docs/{NAME}")));
+    assert!(!ok(&format!("// see mydocs/{NAME}")));
+    assert!(!ok(&format!("// see shared/{NAME}")));
+    assert_eq!(
+        problems("a\nb (docs/DESIGN.md, \"Nowhere\")", &sections),
+        ["line 2: cites section \"Nowhere\", which docs/DESIGN.md does not have"]
+    );
+    assert_eq!(
+        problems(&format!("read `{OUTSIDE}seeds` first"), &sections),
+        [format!("line 1: cites `{OUTSIDE}`, outside the repository")]
+    );
+}
