@@ -3,9 +3,9 @@
  * as the yardstick for scripts/bench.sh (issue 9, item 7). Not part of polypipe and not
  * built by cargo or CI.
  *
- * It reads polypipe's text form (DESIGN.md, "The token stream": a `polypipe 1 world`
+ * It reads polypipe's text form (docs/DESIGN.md, "The token stream": a `polypipe 1 world`
  * header, `colour R G B`, vertices `x y z`, NEXT.POLYGON, NEXT.FRAME, END, `#` comments),
- * sets up DESIGN.md's camera and clipping pyramid (eye, at, up; w = z_e·s/d, so the
+ * sets up docs/DESIGN.md's camera and clipping pyramid (eye, at, up; w = z_e·s/d, so the
  * pyramid's vertical half-angle has tangent s/d and its horizontal one a·s/d with a = W/H;
  * hither K1 and yon K2 are GL's near and far planes), and draws every polygon flat in its
  * colour with GL_LESS depth testing, so that at equal depth the earlier polygon wins, as
@@ -313,7 +313,7 @@ static void polygon_end(Batch *b, size_t first, const uint8_t rgb[3])
     b->ni += 3 * (n - 2);
 }
 
-/* ---- Camera: DESIGN.md's conventions as GL matrices. ----------------------------------- */
+/* ---- Camera: docs/DESIGN.md's conventions as GL matrices. ----------------------------------- */
 
 typedef struct {
     double eye[3], at[3], up[3], s, d, hither, yon;
@@ -339,7 +339,7 @@ static double parse_positive(const char *opt, const char *arg)
     return v;
 }
 
-/* The view matrix: f = normalize(at − eye), x = normalize(f × up), y = x × f (DESIGN.md).
+/* The view matrix: f = normalize(at − eye), x = normalize(f × up), y = x × f (docs/DESIGN.md).
  * GL's eye space looks down −z, so its rows are x, y, −f: the same x_e and y_e as
  * polypipe's, and GL's −z_eye is polypipe's z_e. */
 static void load_camera(const Camera *c, int W, int H)

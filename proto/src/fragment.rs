@@ -61,7 +61,7 @@ pub enum Fragment {
     /// record. N ≥ 1. Text: `skip N` where a colour record would stand.
     Skip(u32),
     /// Finished pixels `x0..x1` (end exclusive) of row `y`, all of `colour`: visibility is
-    /// already resolved (a leaf of the tree that resolved its own region, DESIGN's
+    /// already resolved (a leaf of the tree that resolved its own region, docs/DESIGN.md's
     /// "leaves resolve visibility"). The merger places them without a depth test; they
     /// belong to no polygon and may stand anywhere in a frame. Text: `run y x0 x1 R G B`.
     Run {
