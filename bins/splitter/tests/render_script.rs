@@ -402,8 +402,9 @@ fn a_failing_stage_is_named() {
     );
     let out = render(&["--depth", "7"], b"");
     assert_eq!(out.status.code(), Some(2));
+    // viewxf's usage error stays a usage error (issue 14, finding 4).
     let out = render(&["--hither", "0"], b"");
-    assert_eq!(out.status.code(), Some(1));
+    assert_eq!(out.status.code(), Some(2));
     assert!(String::from_utf8_lossy(&out.stderr).contains("render.sh: viewxf failed (status 2)\n"));
 }
 
