@@ -176,7 +176,7 @@ impl Tree {
                 k
             }
         };
-        if Self::level(node) % 2 == 0 {
+        if Self::level(node) & 1 == 0 {
             SplitPlane::Column(k(midpoint(r.x0, r.x1), self.width, 1.0))
         } else {
             // y_s = 1 − 2r/H: rows run down the screen, y_s up.

@@ -629,7 +629,12 @@ fn tree_nodes_compute_the_planes_of_the_old_awk_to_the_bit() {
                 fields.next().unwrap().parse::<u32>().unwrap(),
                 fields.next().unwrap(),
             );
-            let new = match (Tree { width: w, height: h }).plane(node) {
+            let new = match (Tree {
+                width: w,
+                height: h,
+            })
+            .plane(node)
+            {
                 SplitPlane::Column(k) => ('x', k.to_bits()),
                 SplitPlane::Row(k) => ('y', k.to_bits()),
                 other => panic!("{other:?}"),
@@ -682,6 +687,28 @@ fn splitter_node_labels_its_stats_with_the_old_plane_and_its_node() {
     }
 }
 
+/// `--node` outside its tree, or without the screen size, is a usage error (2).
+#[test]
+fn splitter_node_refuses_a_node_outside_its_tree() {
+    let splitter = |args: &[&str]| {
+        let mut cmd = Command::new(bin_dir().join("splitter"));
+        cmd.args(args).args(["/dev/null", "/dev/null"]);
+        output_with_stdin(cmd, b"polypipe 1 eye aspect 1 hither 1 yon 30\nEND\n")
+    };
+    let out = splitter(&["--node", "4", "--depth", "2", "--size", "500x500"]);
+    assert_eq!(out.status.code(), Some(2));
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        err.contains("--node 4 is not a splitter node of a depth-2 tree (nodes 1 to 3)"),
+        "{err}"
+    );
+    let out = splitter(&["--node", "1", "--depth", "1"]);
+    assert_eq!(out.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&out.stderr).contains("--size"));
+    let out = splitter(&["--node", "1", "--depth", "1", "--size", "9x9", "x=0"]);
+    assert_eq!(out.status.code(), Some(2));
+}
+
 /// Finding 4: render.sh exits with the failing stage's class (1 bad data, 2 usage, 3 I/O),
 /// not always 1. Bad data (viewxf, 1) and a stage's usage error (viewxf --hither 0, 2)
 /// are in `a_failing_stage_is_named`.
@@ -702,7 +729,10 @@ fn a_failing_stages_status_class_passes_through() {
     let out = render(&["--size", "21x21", "-o", nowhere.to_str().unwrap()], b"");
     let err = String::from_utf8_lossy(&out.stderr);
     assert_eq!(out.status.code(), Some(3), "{err}");
-    assert!(err.ends_with("render.sh: zbuf failed (status 3)\n"), "{err}");
+    assert!(
+        err.ends_with("render.sh: zbuf failed (status 3)\n"),
+        "{err}"
+    );
     // A scene that cannot be read: 3.
     let out = render(&["/nonexistent/scene.txt"], b"");
     assert_eq!(out.status.code(), Some(3));
@@ -736,7 +766,10 @@ fn option_errors_are_one_line_naming_the_option_typed() {
         (&["--size"], "render.sh: --size needs a value"),
         (&["--stats=yes"], "render.sh: --stats takes no value"),
         (&["--bogus=1"], "render.sh: unknown option --bogus"),
-        (&["a.txt", "b.txt"], "render.sh: more than one SCENE: 'a.txt' and 'b.txt'"),
+        (
+            &["a.txt", "b.txt"],
+            "render.sh: more than one SCENE: 'a.txt' and 'b.txt'",
+        ),
     ] {
         let out = render(args, b"");
         assert_eq!(out.status.code(), Some(2), "{args:?}");
@@ -767,7 +800,10 @@ fn version_and_the_eye_z_caveat() {
         help.contains("The frames are byte-identical for every --depth with projective depth, but not\nwith --zmode eye-z"),
         "{help}"
     );
-    assert!(help.contains("Needs bash 5.1 or later and /proc."), "{help}");
+    assert!(
+        help.contains("Needs bash 5.1 or later and /proc."),
+        "{help}"
+    );
     // The caveat is real: with eye-z depth, a tree changes pixels where the polygons
     // interpenetrate (2,282 of 250,000 at depth 4), and the README says how many.
     let linear = render_ok(&["--zmode", "eye-z"], b"");
@@ -794,7 +830,10 @@ fn an_old_bash_or_plain_sh_is_told_what_render_sh_needs() {
     // bash sets BASH_VERSION at start; an older one is simulated by setting it before
     // sourcing the script (the check reads BASH_VERSION, as it must under any shell).
     let out = Command::new("bash")
-        .args(["-c", r#"BASH_VERSION="4.4.23(1)-release"; . "$0" --version"#])
+        .args([
+            "-c",
+            r#"BASH_VERSION="4.4.23(1)-release"; . "$0" --version"#,
+        ])
         .arg(&script)
         .output()
         .unwrap();
@@ -807,7 +846,12 @@ fn an_old_bash_or_plain_sh_is_told_what_render_sh_needs() {
     // A POSIX sh (dash on Debian and Ubuntu) that is not bash at all.
     let sh = ["dash", "posh", "busybox"]
         .into_iter()
-        .find(|sh| Command::new("sh").args(["-c", &format!("command -v {sh}")]).output().is_ok_and(|o| o.status.success()))
+        .find(|sh| {
+            Command::new("sh")
+                .args(["-c", &format!("command -v {sh}")])
+                .output()
+                .is_ok_and(|o| o.status.success())
+        })
         .expect("a POSIX sh other than bash (dash) to test with");
     let mut cmd = Command::new(sh);
     if sh == "busybox" {
@@ -877,8 +921,8 @@ fn tools(dir: &Path, fake_cargo: bool) -> PathBuf {
     std::fs::create_dir_all(&bin).unwrap();
     let path = std::env::var_os("PATH").unwrap();
     for tool in [
-        "bash", "env", "cat", "cp", "mkdir", "mkfifo", "mktemp", "readlink", "rm", "sed",
-        "sleep", "touch",
+        "bash", "env", "cat", "cp", "mkdir", "mkfifo", "mktemp", "readlink", "rm", "sed", "sleep",
+        "touch",
     ] {
         let found = std::env::split_paths(&path)
             .map(|d| d.join(tool))
@@ -1000,9 +1044,18 @@ fn the_first_run_builds_every_binary_the_readme_uses() {
     assert!(text.status.success());
     assert!(text.stdout.starts_with(b"polypipe 1 world"));
     // A second run finds them all built and current: no cargo.
-    let out = render_in(&repo.join("scripts/render.sh"), &repo, &tools, &["--size", "21x21"]);
+    let out = render_in(
+        &repo.join("scripts/render.sh"),
+        &repo,
+        &tools,
+        &["--size", "21x21"],
+    );
     assert!(out.status.success());
-    assert!(out.stderr.is_empty(), "{}", String::from_utf8_lossy(&out.stderr));
+    assert!(
+        out.stderr.is_empty(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
     assert_eq!(cargo_calls(&dir), Vec::<String>::new());
 }
 
@@ -1080,8 +1133,13 @@ fn only_the_binaries_sources_make_render_sh_call_cargo() {
     }
     assert_eq!(cargo_calls(&dir).len(), 1);
     // A crate's Cargo.toml counts too.
-    set_mtime(&repo.join("bins/zbuf/Cargo.toml"), std::time::SystemTime::now());
-    assert!(render_in(&script, &repo, &with_cargo, &args).status.success());
+    set_mtime(
+        &repo.join("bins/zbuf/Cargo.toml"),
+        std::time::SystemTime::now(),
+    );
+    assert!(render_in(&script, &repo, &with_cargo, &args)
+        .status
+        .success());
     assert_eq!(cargo_calls(&dir).len(), 1);
 }
 
@@ -1103,7 +1161,11 @@ fn a_relative_target_dir_and_a_symlinked_script_find_the_binaries() {
         output_with_stdin(cmd, b"")
     };
     let out = run(&repo.join("scripts/render.sh"));
-    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
     assert_eq!(frames(&out.stdout).len(), 1);
     assert_eq!(cargo_calls(&dir).len(), 1);
     assert!(repo.join("build/here/release/viewxf").is_file());
@@ -1119,7 +1181,11 @@ fn a_relative_target_dir_and_a_symlinked_script_find_the_binaries() {
     std::os::unix::fs::symlink(&link, &link2).unwrap();
     for script in [&link, &link2] {
         let out = run(script);
-        assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+        assert!(
+            out.status.success(),
+            "{}",
+            String::from_utf8_lossy(&out.stderr)
+        );
         assert_eq!(frames(&out.stdout).len(), 1);
     }
     assert_eq!(cargo_calls(&dir), Vec::<String>::new());
