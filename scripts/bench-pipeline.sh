@@ -144,7 +144,6 @@ if want 6; then
     echo "the wall time is at least the sum; with one processor per process, streaming, at least"
     echo "the slowest process's time."
     echo
-    source "$root/scripts/tree-planes.sh"
     # cpu CMD: the smallest user + system seconds of REPS runs of a shell command.
     cpu() {
         local best= t
@@ -174,12 +173,13 @@ if want 6; then
         for d in 0 1 2 3 4; do
             local -a names=("${chain_names[@]}") times=("${chain_times[@]}") fragments=()
             local leaves=$((1 << d)) node leaf
-            tree_planes "${size%%[xX]*}" "${size##*[xX]}" "$d"
             cp "$work/t.yon" "$work/t.node1"
             for ((node = 1; node < leaves; node++)); do
-                "$B/splitter" "${plane_of[$node]}" "$work/t.node$((2 * node))" "$work/t.node$((2 * node + 1))" < "$work/t.node$node"
+                # The node works out its own plane, as in render.sh's tree.
+                local -a tree=(--node "$node" --depth "$d" --size "$size")
+                "$B/splitter" "${tree[@]}" "$work/t.node$((2 * node))" "$work/t.node$((2 * node + 1))" < "$work/t.node$node"
                 names+=("splitter node $node")
-                times+=("$(cpu "$B/splitter ${plane_of[$node]} /dev/null /dev/null < $work/t.node$node")")
+                times+=("$(cpu "$B/splitter ${tree[*]} /dev/null /dev/null < $work/t.node$node")")
             done
             for ((leaf = leaves; leaf < 2 * leaves; leaf++)); do
                 "$B/persp" --size "$size" < "$work/t.node$leaf" > "$work/t.screen$leaf"

@@ -4,16 +4,26 @@
 #
 #   viewxf | clipplane left | right | top | bottom | hither | yon
 #     depth 0:  | persp | scanconv | zbuf
-#     depth N:  | a binary tree of splitter nodes, N levels alternating x and y planes,
-#               each node bisecting its own rectangle of the screen on a pixel boundary;
-#               persp | scanconv on each of the 2^N leaves; one zbuf reading all leaves.
-#               The picture is byte for byte depth 0's (cut edges carry their original
-#               edge, cut polygons their whole plane: proto/src/polygon.rs).
+#     depth N:  | a binary tree of splitter nodes, N levels, each node computing its own
+#               plane from its number (`splitter --node K`); persp | scanconv on each of
+#               the 2^N leaves; one zbuf reading all leaves.
 #
 # Every stage is a process of its own, joined to the next by a named pipe in a private
 # temporary directory. The script watches them all: when one fails (or is killed), it
-# names it, stops the others and exits non-zero. The directory and every child are
-# removed on every way out (success, failure, Ctrl-C, SIGTERM).
+# names it, stops the others and exits with that stage's class of failure (1 bad data,
+# 2 usage, 3 I/O). The directory and every child are removed on every way out (success,
+# failure, Ctrl-C, SIGTERM). The script only wires: the stages check their own options,
+# compute their own planes and label their own --stats lines.
+
+# It needs bash 5.1 (`wait -n -p`) and /proc. This check is plain sh, so that `sh
+# render.sh` or an older bash stops here with a message rather than a syntax error.
+case ${BASH_VERSION-} in
+    5.[1-9]* | [6-9].* | [1-9][0-9]*.*) ;;
+    *)
+        echo "render.sh: needs bash 5.1 or later (this is ${BASH_VERSION:-not bash})" >&2
+        exit 3
+        ;;
+esac
 
 set -u
 
@@ -25,14 +35,26 @@ Renders a world-space scene (text or binary; `-` for stdin; default
 examples/penetrating.txt) and writes one binary PPM (P6) per frame on stdout.
 
 Options:
-  --size WxH        screen size in pixels (default 500x500)
+  --size WxH        screen size in pixels, W and H from 1 to 65536 (default 500x500)
   --depth N         splitter tree depth, 0 to 6 (default 0: no splitter)
   --eye X,Y,Z  --at X,Y,Z  --up X,Y,Z  --s S  --d D  --hither K1  --yon K2
                     camera and view volume, passed to viewxf
-  --zmode MODE      persp's depth: projective (default) or eye-z
+  --zmode MODE      persp's depth: projective (default) or eye-z (the occam code's)
   --stats           splitter nodes, scan converters and zbuf print counts on stderr
   -o PATTERN        zbuf writes one file per frame (e.g. frame%04d.png) instead
   -h, --help        this text
+  --version         the version
+
+The frames are byte-identical for every --depth with projective depth, but not
+with --zmode eye-z: eye-space z is not linear across the screen, and each piece
+of a split polygon interpolates it between its own vertices.
+
+The first run builds the binaries (cargo, release, into $CARGO_TARGET_DIR, taken
+from the repository root when relative, or target/); later runs rebuild them when
+their sources change. Needs bash 5.1 or later and /proc.
+
+Exit status: 0 success, 1 bad input data, 2 bad arguments, 3 I/O or environment;
+a failing stage's own status passes through (a stage killed by a signal: 1).
 
 Examples:
   scripts/render.sh > penetrating.ppm
@@ -41,92 +63,166 @@ Examples:
 EOF
 }
 
-die_usage() {
+# fail STATUS MESSAGE: one line on stderr, and out.
+fail() {
+    local status=$1
+    shift
     echo "render.sh: $*" >&2
-    echo "Try 'render.sh --help'." >&2
-    exit 2
+    exit "$status"
 }
+
+die_usage() { fail 2 "$@"; }
+
+# --- The repository and its version. ---------------------------------------------------
+
+# Sets `root` to the repository this script belongs to, through any symlink to it.
+locate_repository() {
+    local script
+    script=$(readlink -f -- "${BASH_SOURCE[0]}") || fail 3 "cannot find where render.sh lives"
+    root=${script%/*/*}
+}
+
+polypipe_version() { # the workspace's version, from its Cargo.toml
+    sed -n '/^version *= *"/{s/^[^"]*"//;s/".*//;p;q}' "$root/Cargo.toml"
+}
+
+# --- Options. ---------------------------------------------------------------------------
 
 size=500x500
 depth=0
-stats=()
-zmode=()
-outopt=()
-camera=()
+zmode=projective
 scene=
 scene_given=0
+camera=() # viewxf's options, as given
+stats=()  # --stats, for the stages that count
+output=() # zbuf's -o PATTERN
 
-while (($# > 0)); do
-    case $1 in
-        -h | --help) usage; exit 0 ;;
-        --size) (($# >= 2)) || die_usage "--size needs WxH"; size=$2; shift 2 ;;
-        --size=*) size=${1#*=}; shift ;;
-        --depth) (($# >= 2)) || die_usage "--depth needs N"; depth=$2; shift 2 ;;
-        --depth=*) depth=${1#*=}; shift ;;
-        --eye | --at | --up | --s | --d | --hither | --yon)
-            (($# >= 2)) || die_usage "$1 needs a value"
-            camera+=("$1" "$2"); shift 2 ;;
-        --eye=* | --at=* | --up=* | --s=* | --d=* | --hither=* | --yon=*)
-            camera+=("$1"); shift ;;
-        --zmode) (($# >= 2)) || die_usage "--zmode needs a mode"; zmode=(--depth "$2"); shift 2 ;;
-        --stats) stats=(--stats); shift ;;
-        -o) (($# >= 2)) || die_usage "-o needs a PATTERN"; outopt=(-o "$2"); shift 2 ;;
-        -) ((scene_given == 0)) || die_usage "more than one SCENE"
-            scene=-; scene_given=1; shift ;;
-        -*) die_usage "unknown option $1" ;;
-        *) ((scene_given == 0)) || die_usage "more than one SCENE"
-            scene=$1; scene_given=1; shift ;;
-    esac
-done
+# The options that take a value (each also as --option=value), and those that do not.
+valued=" --size --depth --zmode -o --eye --at --up --s --d --hither --yon "
+flags=" -h --help --version --stats "
 
-[[ $depth =~ ^[0-6]$ ]] || die_usage "--depth must be an integer from 0 to 6, not '$depth'"
-[[ $size =~ ^[0-9]+[xX][0-9]+$ ]] || die_usage "--size must be WxH, e.g. 500x500, not '$size'"
+parse_options() {
+    local opt value
+    while (($# > 0)); do
+        opt=$1 value=
+        shift
+        if [[ $opt == --*=* && $valued == *" ${opt%%=*} "* ]]; then
+            value=${opt#*=} opt=${opt%%=*}
+        elif [[ $opt == --*=* && $flags == *" ${opt%%=*} "* ]]; then
+            die_usage "${opt%%=*} takes no value"
+        elif [[ $valued == *" $opt "* ]]; then
+            (($# > 0)) || die_usage "$opt needs a value"
+            value=$1
+            shift
+        fi
+        case $opt in
+            -h | --help) usage; exit 0 ;;
+            --version) echo "render.sh $(polypipe_version)"; exit 0 ;;
+            --size) size=$value ;;
+            --depth) depth=$value ;;
+            --zmode) zmode=$value ;;
+            -o) output=(-o "$value") ;;
+            --eye | --at | --up | --s | --d | --hither | --yon) camera+=("$opt" "$value") ;;
+            --stats) stats=(--stats) ;;
+            -?*) die_usage "unknown option ${opt%%=*}" ;;
+            *)
+                ((scene_given == 0)) || die_usage "more than one SCENE: '$scene' and '$opt'"
+                scene=$opt scene_given=1
+                ;;
+        esac
+    done
+}
 
-root=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd) || exit 3
-if ((scene_given == 0)); then
-    scene=$root/examples/penetrating.txt
-fi
-if [[ $scene != - && ! -r $scene ]]; then
-    echo "render.sh: cannot read scene $scene" >&2
-    exit 3
-fi
-
-# --- The binaries: build them if they are missing or older than their sources. -------
-# Only the stages used here (and proto) are checked and built, so that a crate the
-# pipeline does not run cannot hold it up.
-bindir=${CARGO_TARGET_DIR:-$root/target}/release
-stages=(viewxf clipplane splitter persp scanconv zbuf)
-sources=("$root/proto" "$root/Cargo.toml" "$root/Cargo.lock")
-packages=()
-for b in "${stages[@]}"; do
-    sources+=("$root/bins/$b")
-    packages+=(-p "$b")
-done
-stale=0
-for b in "${stages[@]}"; do
-    if [[ ! -x $bindir/$b ]] ||
-        [[ -n $(find "${sources[@]}" \( -name '*.rs' -o -name Cargo.toml -o -name Cargo.lock \) \
-            -newer "$bindir/$b" -print -quit 2>/dev/null) ]]; then
-        stale=1
-        break
+# Checks what the script itself uses; the camera and -o are for their stages to check
+# (a stage's usage error comes out of render.sh as status 2).
+validate_options() {
+    [[ $depth =~ ^[0-6]$ ]] || die_usage "--depth must be an integer from 0 to 6, not '$depth'"
+    # The bounds of every stage's --size (proto::camera::parse_size).
+    if ! [[ $size =~ ^0*([1-9][0-9]{0,4})[xX]0*([1-9][0-9]{0,4})$ ]] ||
+        ((BASH_REMATCH[1] > 65536 || BASH_REMATCH[2] > 65536)); then
+        die_usage "--size must be WxH with W and H from 1 to 65536, not '$size'"
     fi
-done
-if ((stale)); then
-    (cd "$root" && cargo build --release --quiet "${packages[@]}") >&2 || {
-        echo "render.sh: cargo build failed" >&2
-        exit 3
-    }
-fi
+    [[ $zmode == @(projective|eye-z) ]] ||
+        die_usage "--zmode must be projective or eye-z, not '$zmode'"
+    ((scene_given)) || scene=$root/examples/penetrating.txt
+    [[ $scene == - || -r $scene ]] || fail 3 "cannot read scene $scene"
+}
 
-# --- The tree's planes, worked out before any stage starts. ---------------------------
-source "$root/scripts/tree-planes.sh" || exit 3
-tree_planes "${size%%[xX]*}" "${size##*[xX]}" "$depth"
+# --- The binaries: built when missing or older than their sources. ---------------------
 
-# --- Processes and their clean-up. -----------------------------------------------------
-tmp=$(mktemp -d "${TMPDIR:-/tmp}/render.XXXXXX") || exit 3
-pids=()              # every stage, upstream first
-declare -A stage_of  # pid → stage name, for the messages
-exec 3<&0            # the scene on stdin, for viewxf (a background job's stdin is /dev/null)
+# The stages render.sh runs, and the other binaries the README's examples use: all built
+# on the first run, so that every command in the README works after it.
+binaries=(viewxf clipplane splitter persp scanconv zbuf scene zspec)
+
+# Sets `bindir`, and builds the binaries with cargo when one is missing or stale. Without
+# cargo, binaries already built are run as they are (with a warning if stale).
+ensure_binaries() {
+    # cargo runs in the repository root and takes a relative CARGO_TARGET_DIR from there.
+    local target=${CARGO_TARGET_DIR:-target} b
+    [[ $target == /* ]] || target=$root/$target
+    bindir=$target/release
+    local stamp=$bindir/.render.sh-asked-cargo
+    local -a missing=() stale=() packages=()
+    for b in "${binaries[@]}"; do
+        packages+=(-p "$b")
+        if [[ ! -x $bindir/$b ]]; then
+            missing+=("$b")
+        elif is_stale "$bindir/$b" "$stamp"; then
+            stale+=("$b")
+        fi
+    done
+    ((${#missing[@]} + ${#stale[@]} > 0)) || return 0
+    if ! command -v cargo >/dev/null; then
+        ((${#missing[@]} == 0)) ||
+            fail 3 "cannot build ${missing[*]} into $bindir: cargo is not on PATH (Rust: https://rustup.rs)"
+        echo "render.sh: warning: ${stale[*]}: older than their sources, and no cargo on PATH to rebuild them; running them as they are" >&2
+        return 0
+    fi
+    if ((${#missing[@]} == ${#binaries[@]})); then
+        echo "render.sh: building the polypipe binaries (first run only)…" >&2
+    elif ((${#missing[@]} > 0)); then
+        echo "render.sh: building ${missing[*]}…" >&2
+    elif [[ -t 2 ]]; then
+        echo "render.sh: rebuilding the polypipe binaries (their sources changed)…" >&2
+    fi
+    (cd "$root" && cargo build --release --quiet "${packages[@]}") >&2 || fail 3 "cargo build failed"
+    touch "$stamp" 2>/dev/null
+}
+
+# is_stale BINARY STAMP: whether a source of BINARY is newer than it and than STAMP (when
+# render.sh last had cargo bring the binaries up to date: cargo leaves a binary alone when
+# what changed does not affect it, as an unrelated change to Cargo.lock). The sources are
+# the files cargo's dep-info (BINARY.d, "BINARY: SOURCE…") lists, the Cargo.toml of each
+# crate among them, and the workspace's Cargo.toml and Cargo.lock; not tests, benches or
+# documents, which no binary is built from.
+is_stale() {
+    local bin=$1 text file crate
+    local -a files tomls=("$root/Cargo.toml" "$root/Cargo.lock")
+    [[ -r $bin.d ]] || return 0
+    IFS= read -r -d '' text <"$bin.d"
+    text=${text#*: } text=${text//\\ /$'\1'} # a space in a name is `\ `
+    read -r -a files <<<"${text//$'\n'/ }"
+    for file in "${files[@]//$'\1'/ }"; do
+        crate=${file#"$root"/} crate=${crate%%/src/*}
+        [[ $file == "$root"/*/src/* ]] && tomls+=("$root/$crate/Cargo.toml")
+    done
+    for file in "${files[@]//$'\1'/ }" "${tomls[@]}"; do
+        [[ $file -nt $bin && $file -nt $2 ]] && return 0
+    done
+    return 1
+}
+
+# --- Processes and their clean-up. ------------------------------------------------------
+
+pids=()             # every stage, upstream first
+declare -A stage_of # pid → stage name, for the messages
+
+make_private_dir() {
+    tmp=$(mktemp -d "${TMPDIR:-/tmp}/render.XXXXXX") || exit 3
+    trap cleanup EXIT
+    trap 'exit 130' INT
+    trap 'exit 143' TERM
+}
 
 # Stops every stage still running (TERM, then KILL after a second), reaps them all.
 stop_all() {
@@ -151,80 +247,92 @@ cleanup() {
     rm -rf "$tmp"
     exit "$status"
 }
-trap cleanup EXIT
-trap 'exit 130' INT
-trap 'exit 143' TERM
 
-# start NAME CMD... <IN >OUT: runs one stage in the background and records it.
-# (Redirections are given by the caller through the variables `in` and `out`.)
-# Each stage's stderr goes to a file of its own, shown when the run ends: on success all
-# of them in pipeline order (--stats), on failure only the causing stage's, since the
-# stages downstream of it then fail too ("stream ends without END"), which is noise.
+fifo() { mkfifo "$tmp/$1" || exit 3; }
+
+# start NAME IN OUT CMD...: runs one stage in the background, reading IN and writing OUT
+# (`-`: the script's stdout), and records it. Each stage's stderr goes to a file of its
+# own, shown when the run ends: on success all of them in pipeline order (--stats), on
+# failure only the causing stage's, since the stages downstream of it then fail too
+# ("stream ends without END"), which is noise.
 start() {
-    local name=$1
-    shift
-    "$@" <"$in" >"$out" 2>"$tmp/stderr.${#pids[@]}" 3<&- &
+    local name=$1 in=$2 out=$3 err=$tmp/stderr.${#pids[@]}
+    shift 3
+    if [[ $out == - ]]; then
+        "$@" <"$in" 2>"$err" 3<&- &
+    else
+        "$@" <"$in" >"$out" 2>"$err" 3<&- &
+    fi
     pids+=($!)
     stage_of[$!]=$name
 }
 
-# start_last NAME CMD...: the final stage, writing to the script's stdout.
-start_last() {
-    local name=$1
-    shift
-    "$@" <"$in" 2>"$tmp/stderr.${#pids[@]}" 3<&- &
-    pids+=($!)
-    stage_of[$!]=$name
+# --- The process graph. -----------------------------------------------------------------
+
+# The clipper chain: viewxf and the six planes of the pyramid (chapter 3). The scene on
+# stdin is read through fd 3 (a background job's stdin is /dev/null). Sets `clipped`.
+start_clipper_chain() {
+    local in=$scene plane
+    [[ $scene != - ]] || in=/dev/fd/3
+    fifo view
+    start viewxf "$in" "$tmp/view" "$bindir/viewxf" --size "$size" "${camera[@]}"
+    in=$tmp/view
+    for plane in left right top bottom hither yon; do
+        fifo "clip-$plane"
+        start "clipplane $plane" "$in" "$tmp/clip-$plane" "$bindir/clipplane" "$plane"
+        in=$tmp/clip-$plane
+    done
+    clipped=$in
 }
 
-fifo() {
-    mkfifo "$tmp/$1" || exit 3
-    printf '%s' "$tmp/$1"
+# The splitter tree (chapter 6.3): node K, numbered as a heap (root 1), reads input_of[K]
+# and writes input_of[2K] and input_of[2K+1]; nodes 2^depth .. 2^(depth+1) − 1 are the
+# leaves' inputs. Each node works out its own plane and --stats label from K.
+start_tree() {
+    local node a b
+    input_of=([1]=$clipped)
+    for ((node = 1; node < 1 << depth; node++)); do
+        a=$((2 * node)) b=$((2 * node + 1))
+        fifo "node-$a"
+        fifo "node-$b"
+        input_of[a]=$tmp/node-$a input_of[b]=$tmp/node-$b
+        start "splitter (node $node)" "${input_of[node]}" /dev/null "$bindir/splitter" \
+            "${stats[@]}" --node "$node" --depth "$depth" --size "$size" \
+            "${input_of[a]}" "${input_of[b]}"
+    done
 }
 
-# --- The clipper chain: viewxf and the six planes of the pyramid (chapter 3). ---------
-if [[ $scene == - ]]; then in=/dev/fd/3; else in=$scene; fi
-out=$(fifo view)
-start viewxf "$bindir/viewxf" --size "$size" "${camera[@]}"
-for plane in left right top bottom hither yon; do
-    in=$out
-    out=$(fifo "clip-$plane")
-    start "clipplane $plane" "$bindir/clipplane" "$plane"
-done
-clipped=$out
+# start_leaf LEAF INPUT: leaf LEAF (0 .. 2^depth − 1) of the tree, persp | scanconv, from
+# INPUT into a fifo of its own that the merger reads (appended to `fragments`). The
+# leaf's whole command is here: another hidden-surface method or merge mode is a change
+# to this function.
+start_leaf() {
+    local leaf=$1 in=$2 label=
+    ((depth == 0)) || label=" (leaf $leaf)"
+    fifo "screen-$leaf"
+    fifo "leaf-$leaf"
+    start "persp$label" "$in" "$tmp/screen-$leaf" \
+        "$bindir/persp" --size "$size" --depth "$zmode"
+    start "scanconv$label" "$tmp/screen-$leaf" "$tmp/leaf-$leaf" \
+        "$bindir/scanconv" "${stats[@]}"
+    fragments+=("$tmp/leaf-$leaf")
+}
 
-# --- The splitter tree (chapter 6.3): nodes numbered as a heap, each bisecting its part
-# of the screen on a pixel boundary (scripts/tree-planes.sh). ---------------------------
-leaves=$((1 << depth))
-declare -A input_of
-input_of[1]=$clipped
-for ((node = 1; node < leaves; node++)); do
-    a=$((2 * node)) b=$((2 * node + 1))
-    input_of[$a]=$(fifo "node-$a")
-    input_of[$b]=$(fifo "node-$b")
-    in=${input_of[$node]}
-    out=/dev/null
-    start "splitter ${plane_of[$node]} (node $node)" "$bindir/splitter" "${stats[@]}" \
-        "${plane_of[$node]}" "${input_of[$a]}" "${input_of[$b]}"
-done
+start_leaves() {
+    local leaf
+    fragments=()
+    for ((leaf = 0; leaf < 1 << depth; leaf++)); do
+        start_leaf "$leaf" "${input_of[(1 << depth) + leaf]}"
+    done
+}
 
-# --- The leaves: persp | scanconv each, all into one zbuf (chapter 6.3.3). ------------
-fragments=()
-for ((leaf = leaves; leaf < 2 * leaves; leaf++)); do
-    if ((depth == 0)); then suffix=""; else suffix=" (leaf $((leaf - leaves)))"; fi
-    in=${input_of[$leaf]}
-    out=$(fifo "screen-$leaf")
-    start "persp$suffix" "$bindir/persp" --size "$size" "${zmode[@]}"
-    in=$out
-    out=$(fifo "leaf-$((leaf - leaves))")
-    start "scanconv$suffix" "$bindir/scanconv" "${stats[@]}"
-    fragments+=("$out")
-done
-in=/dev/null
-start_last zbuf "$bindir/zbuf" "${stats[@]}" "${outopt[@]}" "${fragments[@]}"
-exec 3<&-
+# The merger (chapter 6.3.3): one zbuf reading every leaf, writing the frames.
+start_merger() {
+    start zbuf /dev/null - "$bindir/zbuf" "${stats[@]}" "${output[@]}" "${fragments[@]}"
+}
 
-# --- Watch: the first stage to fail stops the rest. ------------------------------------
+# --- Watching the stages. ---------------------------------------------------------------
+
 describe() { # describe STATUS
     if (($1 > 128)); then
         local sig
@@ -236,55 +344,63 @@ describe() { # describe STATUS
 }
 
 # labelled_stderr INDEX: what stage INDEX wrote on stderr, each line that starts with the
-# program's name given the stage's full name instead ("scanconv: …" from leaf 2 becomes
-# "scanconv (leaf 2): …", "splitter y=0: …" becomes "splitter y=0 (node 2): …"), and the
-# private directory left out of the fifo names zbuf reports ("zbuf: leaf-2: …").
+# bare program name given the stage's full name instead ("scanconv: …" from leaf 2
+# becomes "scanconv (leaf 2): …"; lines a stage labelled itself, as "splitter y=0 (node
+# 2): …", are left alone), and the private directory left out of the fifo names zbuf
+# reports ("zbuf: leaf-2: …").
 labelled_stderr() {
     local label=${stage_of[${pids[$1]}]} line
     local program=${label%% *}
     while IFS= read -r line || [[ -n $line ]]; do
         line=${line//"$tmp/"/}
-        if [[ $line == "$program"[:\ ]* && $line == *": "* ]]; then
-            line="$label: ${line#*: }"
-        fi
+        [[ $line != "$program: "* ]] || line="$label: ${line#"$program: "}"
         printf '%s\n' "$line"
     done <"$tmp/stderr.$1"
 }
 
 finished() { # finished PID: whether it has exited (reaped or a zombie)
-    ! kill -0 "$1" 2>/dev/null ||
-        [[ $(awk '{ print $3 }' "/proc/$1/stat" 2>/dev/null) == Z ]]
+    local stat
+    kill -0 "$1" 2>/dev/null || return 0
+    read -r stat 2>/dev/null <"/proc/$1/stat" || return 0
+    stat=${stat##*) } # "pid (name) STATE …"
+    [[ $stat == Z* ]]
 }
 
+# Waits for the stages; the first to fail stops the rest (by the EXIT trap).
+#
 # `wait -n` reports each stage as it ends. bash does not promise that it reports every
-# one: a stage that ends while the script is busy elsewhere (a command substitution
-# above, on a loaded machine) can be reaped then, and its status kept only for `wait PID`.
-# So when `wait -n` has no child left, the statuses it did not report are collected with
-# `wait PID`, and success means every stage was seen to exit 0.
-declare -A status_of=() # pid → exit status, as learnt
-failed=
-while :; do
-    done_pid=
-    wait -n -p done_pid
-    status=$?
-    if [[ -z ${done_pid-} ]]; then # no child left to wait for
-        for pid in "${pids[@]}"; do
-            [[ -n ${status_of[$pid]-} ]] && continue
-            wait "$pid" 2>/dev/null
-            status_of[$pid]=$?
-            # 127: bash has no status for it at all; the stages downstream tell.
-            ((status_of[$pid] == 0 || status_of[$pid] == 127)) || failed=1
-        done
-        break
-    fi
-    status_of[$done_pid]=$status
-    if ((status != 0)); then
-        failed=1
-        break
-    fi
-done
+# one: a stage that ends while the script is busy elsewhere (a command substitution, on
+# a loaded machine) can be reaped then, and its status kept only for `wait PID`. So when
+# `wait -n` has no child left, the statuses it did not report are collected with `wait
+# PID`, and success means every stage was seen to exit 0.
+watch() {
+    local -A status_of=() # pid → exit status, as learnt
+    local failed= done_pid status pid st cause= i
+    while :; do
+        done_pid=
+        wait -n -p done_pid
+        status=$?
+        if [[ -z ${done_pid-} ]]; then # no child left to wait for
+            for pid in "${pids[@]}"; do
+                [[ -n ${status_of[$pid]-} ]] && continue
+                wait "$pid" 2>/dev/null
+                status_of[$pid]=$?
+                # 127: bash has no status for it at all; the stages downstream tell.
+                ((status_of[$pid] == 0 || status_of[$pid] == 127)) || failed=1
+            done
+            break
+        fi
+        status_of[$done_pid]=$status
+        if ((status != 0)); then
+            failed=1
+            break
+        fi
+    done
 
-if [[ -n $failed ]]; then
+    if [[ -z $failed ]]; then
+        for i in "${!pids[@]}"; do labelled_stderr "$i" >&2; done
+        exit 0
+    fi
     # A stage failed. Those downstream of it fail in turn when their input ends short,
     # so among the stages that have finished by now, name one killed by a signal, or
     # else the most upstream, as the cause.
@@ -296,7 +412,6 @@ if [[ -n $failed ]]; then
             status_of[$pid]=$?
         fi
     done
-    cause=
     for pid in "${pids[@]}"; do
         st=${status_of[$pid]-0}
         # 127: bash knew no such child, so no status to blame it on.
@@ -304,16 +419,33 @@ if [[ -n $failed ]]; then
         if ((st > 128)); then cause=$pid; break; fi
         [[ -n $cause ]] || cause=$pid
     done
+    if [[ -z $cause ]]; then
+        # Only status 127 was seen (a stage that could not be run at all).
+        fail 1 "a stage could not be run (status 127)"
+    fi
     for i in "${!pids[@]}"; do
         [[ ${pids[$i]} == "$cause" ]] && labelled_stderr "$i" >&2
     done
-    if [[ -n $cause ]]; then
-        echo "render.sh: ${stage_of[$cause]} failed ($(describe "${status_of[$cause]}"))" >&2
-    else
-        # Only status 127 was seen (a stage that could not be run at all).
-        echo "render.sh: a stage could not be run (status 127)" >&2
-    fi
-    exit 1
-fi
-for i in "${!pids[@]}"; do labelled_stderr "$i" >&2; done
-exit 0
+    # The stage's own class of failure (1 bad data, 2 usage, 3 I/O); otherwise 1.
+    st=${status_of[$cause]}
+    ((st >= 1 && st <= 3)) || st=1
+    fail "$st" "${stage_of[$cause]} failed ($(describe "${status_of[$cause]}"))"
+}
+
+main() {
+    locate_repository
+    parse_options "$@"
+    validate_options
+    [[ -r /proc/self/stat ]] || fail 3 "needs /proc (Linux), to watch its stages"
+    ensure_binaries
+    make_private_dir
+    exec 3<&0
+    start_clipper_chain
+    start_tree
+    start_leaves
+    start_merger
+    exec 3<&-
+    watch
+}
+
+main "$@"

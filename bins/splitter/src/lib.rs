@@ -100,6 +100,127 @@ impl fmt::Display for SplitPlane {
     }
 }
 
+/// A rectangle of whole pixels of the screen: columns `x0..x1` and rows `y0..y1`
+/// (half-open; row 0 at the top, as in device coordinates).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Region {
+    pub x0: u32,
+    pub x1: u32,
+    pub y0: u32,
+    pub y1: u32,
+}
+
+/// The splitter tree of thesis chapter 6.3 over a `width`×`height` screen: its nodes are
+/// numbered as a heap (node 1 the root; the children of node i are 2i, which gets OUT1,
+/// and 2i + 1, which gets OUT2), its levels alternate column and row planes, starting
+/// with a column, and every node bisects its own region of the screen.
+///
+/// The cut is on a pixel BOUNDARY: column c = ⌊(x0 + x1)/2⌋ is the plane x_s = 2c/W − 1,
+/// row r = ⌊(y0 + y1)/2⌋ the plane y_s = 1 − 2r/H. Pixel centres are at half-integers,
+/// so a cut never passes through one, and the new edges along it decide no centre the
+/// whole polygon would not have: with the edge supports and the recorded plane that
+/// [`split`] adds, a tree of any depth renders byte for byte as depth 0.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Tree {
+    pub width: u32,
+    pub height: u32,
+}
+
+impl Tree {
+    /// The region of the screen that node `node` (≥ 1) receives: the root has the whole
+    /// screen; each node's OUT1 child gets the columns left of its cut (for a column
+    /// plane, x_s ≤ K) or the rows below it (for a row plane, y_s ≤ K), OUT2 the rest.
+    pub fn region(&self, node: u32) -> Region {
+        let mut r = Region {
+            x0: 0,
+            x1: self.width,
+            y0: 0,
+            y1: self.height,
+        };
+        let level = Self::level(node);
+        // The path from the root: bit (level − 1 − l) of `node` says which child was taken
+        // at level l (0: OUT1, 1: OUT2).
+        for l in 0..level {
+            let out2 = (node >> (level - 1 - l)) & 1 == 1;
+            if l % 2 == 0 {
+                let c = midpoint(r.x0, r.x1);
+                if out2 {
+                    r.x0 = c
+                } else {
+                    r.x1 = c
+                }
+            } else {
+                let row = midpoint(r.y0, r.y1);
+                if out2 {
+                    r.y1 = row
+                } else {
+                    r.y0 = row
+                }
+            }
+        }
+        r
+    }
+
+    /// The plane node `node` (≥ 1) splits its region about: `x=K` on even levels, `y=K`
+    /// on odd ones, K computed as `sign·(2n/d − 1)` in doubles and a zero made +0 (the
+    /// same operations, in the same order, as the awk of the scripts that used to compute
+    /// it, so the planes are those of earlier trees to the bit).
+    pub fn plane(&self, node: u32) -> SplitPlane {
+        let r = self.region(node);
+        // k(n, d, sign) = sign·(2n/d − 1): boundary n of d pixels in screen coordinates.
+        let k = |n: u32, d: u32, sign: f64| {
+            let k = sign * (2.0 * f64::from(n) / f64::from(d) - 1.0);
+            if k == 0.0 {
+                0.0
+            } else {
+                k
+            }
+        };
+        if Self::level(node) & 1 == 0 {
+            SplitPlane::Column(k(midpoint(r.x0, r.x1), self.width, 1.0))
+        } else {
+            // y_s = 1 − 2r/H: rows run down the screen, y_s up.
+            SplitPlane::Row(k(midpoint(r.y0, r.y1), self.height, -1.0))
+        }
+    }
+
+    /// The node's level: 0 for the root, ⌊log₂ node⌋.
+    fn level(node: u32) -> u32 {
+        assert!(node >= 1, "splitter tree nodes are numbered from 1");
+        u32::BITS - 1 - node.leading_zeros()
+    }
+
+    /// Checks that `node` is an inner node (one that splits) of a tree of `depth`
+    /// levels: 1 ≤ node < 2^depth.
+    pub fn check_node(node: u32, depth: u32) -> Result<(), String> {
+        if !(1..=MAX_TREE_DEPTH).contains(&depth) {
+            return Err(format!(
+                "--depth {depth}: a tree with splitter nodes has 1 to {MAX_TREE_DEPTH} levels"
+            ));
+        }
+        let nodes = (1u32 << depth) - 1;
+        if !(1..=nodes).contains(&node) {
+            let range = if nodes == 1 {
+                "only node 1".to_string()
+            } else {
+                format!("nodes 1 to {nodes}")
+            };
+            return Err(format!(
+                "--node {node} is not a splitter node of a depth-{depth} tree ({range})"
+            ));
+        }
+        Ok(())
+    }
+}
+
+/// The deepest tree `--node`/`--depth` accept (node numbers fit a u32).
+pub const MAX_TREE_DEPTH: u32 = 31;
+
+/// ⌊(a + b)/2⌋ without overflow.
+fn midpoint(a: u32, b: u32) -> u32 {
+    ((u64::from(a) + u64::from(b)) / 2) as u32
+}
+
 /// Splits `poly` about `plane` (chapter 6.2's f¹ and f²): `out1` receives the part on the
 /// plane's inside, `out2` the part outside; both receive the polygon's colour, and a part
 /// that is empty comes out as a polygon without vertices, so that polygon k stays
@@ -510,6 +631,96 @@ mod tests {
                 vertices_out: [7, 4]
             }
         );
+    }
+
+    #[test]
+    fn tree_regions_bisect_on_pixel_boundaries_alternating_x_and_y() {
+        let t = Tree {
+            width: 500,
+            height: 500,
+        };
+        let r = |x0, x1, y0, y1| Region { x0, x1, y0, y1 };
+        assert_eq!(t.region(1), r(0, 500, 0, 500));
+        assert_eq!(t.region(2), r(0, 250, 0, 500)); // left of x=0
+        assert_eq!(t.region(3), r(250, 500, 0, 500));
+        assert_eq!(t.region(4), r(0, 250, 250, 500)); // below y=0: rows 250..500
+        assert_eq!(t.region(5), r(0, 250, 0, 250));
+        assert_eq!(t.region(7), r(250, 500, 0, 250));
+        assert_eq!(t.region(8), r(0, 125, 250, 500));
+        assert_eq!(t.region(9), r(125, 250, 250, 500));
+        assert_eq!(t.plane(1), SplitPlane::Column(0.0));
+        assert_eq!(t.plane(2), SplitPlane::Row(0.0));
+        assert_eq!(t.plane(3), SplitPlane::Row(0.0));
+        assert_eq!(t.plane(4), SplitPlane::Column(-0.5));
+        assert_eq!(t.plane(6), SplitPlane::Column(0.5));
+        assert_eq!(t.plane(8), SplitPlane::Row(-0.5)); // row 375, below the centre
+        assert_eq!(t.plane(9), SplitPlane::Row(-0.5));
+        assert_eq!(t.plane(10), SplitPlane::Row(0.5)); // row 125
+    }
+
+    #[test]
+    fn tree_planes_of_an_odd_screen_and_a_zero_is_positive() {
+        let t = Tree {
+            width: 21,
+            height: 21,
+        };
+        // Column 10 of 21, row 10 of 21: a pixel boundary just left of / above the centre.
+        assert_eq!(t.plane(1), SplitPlane::Column(20.0 / 21.0 - 1.0));
+        assert_eq!(t.plane(2), SplitPlane::Row(-(20.0 / 21.0 - 1.0)));
+        assert_eq!(
+            t.region(4),
+            Region {
+                x0: 0,
+                x1: 10,
+                y0: 10,
+                y1: 21
+            }
+        );
+        assert_eq!(t.plane(4), SplitPlane::Column(10.0 / 21.0 - 1.0));
+        // 500 rows: row 250 is y_s = −(2·250/500 − 1) = −0 in doubles, printed as 0.
+        let SplitPlane::Row(k) = Tree {
+            width: 2,
+            height: 500,
+        }
+        .plane(2) else {
+            panic!("a row plane")
+        };
+        assert_eq!(k.to_bits(), 0.0f64.to_bits());
+        // A 1-pixel-wide region still has a boundary to cut at: its left edge.
+        let thin = Tree {
+            width: 1,
+            height: 1,
+        };
+        assert_eq!(
+            thin.region(2),
+            Region {
+                x0: 0,
+                x1: 0,
+                y0: 0,
+                y1: 1
+            }
+        );
+        assert_eq!(thin.plane(1), SplitPlane::Column(-1.0));
+    }
+
+    #[test]
+    fn tree_nodes_are_checked_against_the_depth() {
+        assert_eq!(Tree::check_node(1, 1), Ok(()));
+        assert_eq!(Tree::check_node(63, 6), Ok(()));
+        assert_eq!(
+            Tree::check_node(4, 2),
+            Err("--node 4 is not a splitter node of a depth-2 tree (nodes 1 to 3)".into())
+        );
+        assert_eq!(
+            Tree::check_node(0, 1),
+            Err("--node 0 is not a splitter node of a depth-1 tree (only node 1)".into())
+        );
+        assert_eq!(
+            Tree::check_node(1, 0),
+            Err("--depth 0: a tree with splitter nodes has 1 to 31 levels".into())
+        );
+        assert!(Tree::check_node(1, 32).is_err());
+        assert_eq!(Tree::check_node(u32::MAX >> 1, 31), Ok(()));
     }
 }
 

@@ -4,7 +4,7 @@
 use anyhow::Context;
 use clap::{CommandFactory, Parser};
 use proto::{Form, Polygon, Reader, Space, SpaceKind, Token, Writer};
-use splitter::{split, SplitPlane, Stats};
+use splitter::{split, SplitPlane, Stats, Tree};
 use std::fs::File;
 use std::io::{self, Write};
 use std::process::ExitCode;
@@ -21,21 +21,36 @@ use std::process::ExitCode;
 #[command(
     name = "splitter",
     version,
-    override_usage = "splitter [OPTIONS] PLANE OUT1 OUT2\n       splitter [OPTIONS] --plane a,b,c,d,k OUT1 OUT2",
+    override_usage = "splitter [OPTIONS] PLANE OUT1 OUT2\n       \
+        splitter [OPTIONS] --node K --depth N --size WxH OUT1 OUT2\n       \
+        splitter [OPTIONS] --plane a,b,c,d,k OUT1 OUT2",
     after_help = "Examples:\n  \
         mkfifo left right\n  \
         viewxf < scene.txt | clipplane left | ... | clipplane yon | splitter x=0 left right\n  \
         splitter y=0.5 low - < eye.txt --text      # the upper part to stdout\n  \
+        splitter --node 2 --depth 2 --size 500x500 a b  # node 2 of render.sh --depth 2\n  \
         splitter --plane 1,0,0,-0.5,0 a b < eye.txt  # x_e - 0.5 w >= 0 to a"
 )]
 struct Cli {
-    /// `x=K` or `y=K` (K in [-1, 1]), then OUT1 and OUT2; with --plane, only OUT1 OUT2.
+    /// `x=K` or `y=K` (K in [-1, 1]), then OUT1 and OUT2; with --plane or --node, only
+    /// OUT1 OUT2.
     #[arg(value_name = "ARGS", num_args = 2..=3, required = true)]
     args: Vec<String>,
     /// A general plane a·x_e + b·y_e + c·z_e + d·w + k = 0, as `a,b,c,d,k`; OUT1 gets
     /// the side where it is ≥ 0.
     #[arg(long, value_name = "a,b,c,d,k", allow_hyphen_values = true)]
     plane: Option<String>,
+    /// Node K of a splitter tree (thesis 6.3) numbered as a heap (root 1, children 2K
+    /// and 2K+1): the node bisects its region of the screen on a pixel boundary, levels
+    /// alternating x then y; `--stats` names it `splitter x=K (node K)`.
+    #[arg(long, value_name = "K", requires_all = ["depth", "size"], conflicts_with = "plane")]
+    node: Option<u32>,
+    /// The tree's depth, for --node: nodes 1 to 2^N − 1 split.
+    #[arg(long, value_name = "N", requires = "node")]
+    depth: Option<u32>,
+    /// The screen's size in pixels, for --node.
+    #[arg(long, value_name = "WxH", requires = "node")]
+    size: Option<String>,
     /// Write the text form instead of binary.
     #[arg(long)]
     text: bool,
@@ -64,17 +79,30 @@ fn open_output(path: &str) -> anyhow::Result<Box<dyn Write>> {
 
 fn main() -> ExitCode {
     let cli = Cli::parse();
-    let (split_plane, outputs) = match (&cli.plane, cli.args.as_slice()) {
-        (Some(general), [out1, out2]) => (
+    let tree_plane = cli.node.map(|node| {
+        let (width, height) = proto::camera::parse_size(cli.size.as_deref().unwrap_or_default())
+            .unwrap_or_else(|m| usage(m));
+        Tree::check_node(node, cli.depth.unwrap_or_default()).unwrap_or_else(|m| usage(m));
+        Tree { width, height }.plane(node)
+    });
+    let (split_plane, outputs) = match (&cli.plane, tree_plane, cli.args.as_slice()) {
+        (None, Some(plane), [out1, out2]) => (plane, [out1.clone(), out2.clone()]),
+        (None, Some(_), _) => usage("with --node, give only OUT1 and OUT2".into()),
+        (Some(general), None, [out1, out2]) => (
             SplitPlane::parse_general(general).unwrap_or_else(|m| usage(m)),
             [out1.clone(), out2.clone()],
         ),
-        (None, [plane, out1, out2]) => (
+        (None, None, [plane, out1, out2]) => (
             plane.parse::<SplitPlane>().unwrap_or_else(|m| usage(m)),
             [out1.clone(), out2.clone()],
         ),
-        (Some(_), _) => usage("with --plane, give only OUT1 and OUT2".into()),
-        (None, _) => usage("expected PLANE OUT1 OUT2, e.g. `splitter x=0 left right`".into()),
+        (Some(_), _, _) => usage("with --plane, give only OUT1 and OUT2".into()),
+        (None, None, _) => usage("expected PLANE OUT1 OUT2, e.g. `splitter x=0 left right`".into()),
+    };
+    // What --stats calls this node: its plane, and its place in the tree.
+    let label = match cli.node {
+        Some(node) => format!("splitter {split_plane} (node {node})"),
+        None => format!("splitter {split_plane}"),
     };
     if outputs[0] == "-" && outputs[1] == "-" {
         usage("at most one of OUT1 and OUT2 may be `-` (stdout)".into());
@@ -118,7 +146,7 @@ fn main() -> ExitCode {
                     out2.write(control)
                         .with_context(|| format!("writing {}", outputs[1]))?;
                     if *control == Token::End && cli.stats {
-                        eprintln!("splitter {split_plane}: {stats}");
+                        eprintln!("{label}: {stats}");
                     }
                 }
             }
