@@ -17,6 +17,17 @@
 //! Polygons that reach behind the hither plane are first cut at z_e = K1, so that every
 //! vertex projected lies in front of the eye. The cut removes only points that the depth
 //! test would reject anyway, so it changes no pixel.
+//!
+//! Two more things live here for the anti-aliasing methods of wave 2: the K×K
+//! supersampled reference ([`supersample`]: the same rules at every sub-pixel centre,
+//! box-filtered) and the error measures of a frame against a reference ([`metrics`]:
+//! differing fraction, RMSE, maximum error, edge-pixel RMSE).
+
+pub mod metrics;
+pub mod supersample;
+
+pub use metrics::{edges_from_mask, metrics, metrics_streams, EdgeError, Metrics};
+pub use supersample::{render_supersampled, Supersampled, SupersampledFrame};
 
 use anyhow::{bail, Context};
 use proto::camera::{Device, EyeFrame};
@@ -24,6 +35,7 @@ use proto::geometry::newell_plane;
 use proto::raster::{centres_in_clamped, Edge};
 use proto::{Colour, DVec2, DVec3, DVec4, Polygon, View};
 use std::io::{self, BufRead, Write};
+use std::ops::Range;
 
 /// A polygon made ready for the per-pixel tests: its colour, its eye-space plane and its
 /// non-horizontal screen edges.
@@ -165,8 +177,26 @@ impl Setup {
 
     /// Calls `f(column, row, z_e)` for every pixel whose centre the polygon covers and
     /// whose depth lies in the view volume.
-    fn for_each_covered(&self, p: &Prepared, mut f: impl FnMut(u32, u32, f64)) {
+    fn for_each_covered(&self, p: &Prepared, f: impl FnMut(u32, u32, f64)) {
+        self.for_each_covered_in(p, 0..self.height, f)
+    }
+
+    /// The rows of `band` that the polygon's bounding box spans (empty if none).
+    fn rows_in(&self, p: &Prepared, band: &Range<u32>) -> Range<u32> {
         let rows = centres_in_clamped(p.min.y, p.max.y, self.height);
+        let start = rows.start.max(band.start);
+        start..rows.end.min(band.end).max(start)
+    }
+
+    /// [`Setup::for_each_covered`] on the rows of `band` only: the pixels of other rows
+    /// are left alone, so that a frame can be drawn a band of rows at a time.
+    fn for_each_covered_in(
+        &self,
+        p: &Prepared,
+        band: Range<u32>,
+        mut f: impl FnMut(u32, u32, f64),
+    ) {
+        let rows = self.rows_in(p, &band);
         // One pixel of slack either side: a crossing evaluated from an edge's top end can
         // round past the box of the vertices; the inside test below is exact anyway.
         let cols = centres_in_clamped(p.min.x - 1.0, p.max.x + 1.0, self.width);

@@ -346,3 +346,360 @@ proptest! {
         prop_assert!(counts.iter().all(|&n| n == 1), "counts {:?}", counts);
     }
 }
+
+// ---- The supersampled reference -------------------------------------------------------
+
+/// The box filter written out on its own, as the test's independent oracle: each K×K
+/// block of a (K·W)×(K·H) image averaged per channel, `(sum + K²/2) / K²`.
+fn box_filter(fine: &[Colour], w: u32, h: u32, k: u32) -> Vec<Colour> {
+    let (w, h, k) = (w as usize, h as usize, k as usize);
+    assert_eq!(fine.len(), w * k * h * k);
+    let n = (k * k) as u32;
+    let mut out = Vec::new();
+    for r in 0..h {
+        for c in 0..w {
+            let mut s = [0u32; 3];
+            for j in 0..k {
+                for i in 0..k {
+                    let p = fine[(r * k + j) * w * k + c * k + i];
+                    for ch in 0..3 {
+                        s[ch] += p[ch] as u32;
+                    }
+                }
+            }
+            out.push(s.map(|v| ((v + n / 2) / n) as u8));
+        }
+    }
+    out
+}
+
+/// The frames of a text scene file of the repository's `examples/`.
+fn example(name: &str) -> Vec<Vec<Polygon>> {
+    let path = format!("{}/../../examples/{name}", env!("CARGO_MANIFEST_DIR"));
+    let text = std::fs::read(&path).unwrap();
+    let mut reader = proto::Reader::<proto::Token, _>::new(&text[..]).unwrap();
+    let mut frames = vec![Vec::new()];
+    while let Some(t) = reader.next_record().unwrap() {
+        match t {
+            proto::Token::Polygon(p) => frames.last_mut().unwrap().push(p),
+            proto::Token::NextFrame => frames.push(Vec::new()),
+            _ => {}
+        }
+    }
+    frames
+}
+
+fn supersampled(polys: &[Polygon], s: &Setup, k: u32) -> Supersampled {
+    render_supersampled(polys, s, k, K).unwrap()
+}
+
+#[test]
+fn a_diagonal_edge_covers_ten_or_six_of_sixteen_samples() {
+    // The shared diagonal (0,0)-(4,4) crosses each diagonal pixel corner to corner. Of
+    // the 16 samples ((i+½)/4, (j+½)/4), 6 lie strictly above it (i > j), 6 strictly
+    // below, and 4 on it; the diagonal is the upper triangle's left edge, so those 4 go
+    // to the upper (red) one: red 10/16, green 6/16.
+    // Red: (255·10 + 8) / 16 = 159; green: (255·6 + 8) / 16 = 96.
+    let s = setup(4, 4);
+    let upper = poly(R, &[(0.0, 0.0), (4.0, 0.0), (4.0, 4.0)], 4, 4);
+    let lower = poly(G, &[(0.0, 0.0), (4.0, 4.0), (0.0, 4.0)], 4, 4);
+    let both = supersampled(&[upper.clone(), lower.clone()], &s, 4);
+    for r in 0..4 {
+        for c in 0..4 {
+            let want = match c.cmp(&r) {
+                std::cmp::Ordering::Equal => [159, 96, 0],
+                std::cmp::Ordering::Greater => R,
+                std::cmp::Ordering::Less => G,
+            };
+            assert_eq!(both.pixels[r * 4 + c], want, "pixel ({c}, {r})");
+            assert_eq!(both.edges[r * 4 + c], c == r, "edge flag of ({c}, {r})");
+        }
+    }
+    // Each alone on black: the same counts.
+    assert_eq!(supersampled(&[upper], &s, 4).pixels[5], [159, 0, 0]);
+    assert_eq!(supersampled(&[lower], &s, 4).pixels[5], [0, 96, 0]);
+}
+
+#[test]
+fn a_vertical_edge_inside_a_pixel_covers_whole_sample_columns() {
+    // A square over device X 0..1.3: pixel 0 whole, pixel 1 (samples at X = 1.125,
+    // 1.375, 1.625, 1.875) one column of 4: (255·4 + 8) / 16 = 64.
+    let s = setup(4, 4);
+    let sq = poly(R, &[(0.0, 0.0), (1.3, 0.0), (1.3, 4.0), (0.0, 4.0)], 4, 4);
+    let img = supersampled(std::slice::from_ref(&sq), &s, 4);
+    assert_eq!(&img.pixels[..4], &[R, [64, 0, 0], K, K]);
+    assert_eq!(&img.edges[..4], &[false, true, false, false]);
+    // K = 2: samples at X = 1.25 and 1.75, one of two columns: 2 of 4 samples, 127.5,
+    // which rounds half up to 128.
+    assert_eq!(
+        &supersampled(&[sq], &s, 2).pixels[..4],
+        &[R, [128, 0, 0], K, K]
+    );
+}
+
+#[test]
+fn one_sample_is_point_sampling() {
+    // The penetrating scene and the small scenes above: K = 1 through the banded
+    // renderer gives render_frame's pixels, and no edge pixels.
+    let s = setup(40, 30);
+    for polys in example("penetrating.txt")
+        .iter()
+        .chain(&example("cube.txt"))
+    {
+        let one = supersampled(polys, &s, 1);
+        assert_eq!(one.pixels, render_frame(polys, &s, K));
+        assert!(one.edges.iter().all(|e| !e));
+    }
+}
+
+#[test]
+fn k_samples_are_the_box_filter_of_a_k_times_finer_screen() {
+    // zspec --samples 4 at 20x20 against zspec at 80x80, box-filtered; also for a
+    // non-square screen (aspect 40/30 = 160/120 to the last bit).
+    for (w, h) in [(20, 20), (40, 30)] {
+        for polys in example("penetrating.txt")
+            .iter()
+            .chain(&example("concave.txt"))
+        {
+            let fine = render_frame(polys, &setup(4 * w, 4 * h), K);
+            let ss = supersampled(polys, &setup(w, h), 4);
+            assert_eq!(ss.pixels, box_filter(&fine, w, h, 4), "{w}x{h}");
+            assert!(ss.edges.iter().any(|&e| e), "the scene has edges");
+        }
+    }
+}
+
+#[test]
+fn bands_change_nothing() {
+    // Bands of one sample row, of three (not a multiple of K = 4), and the whole screen.
+    let polys = &example("penetrating.txt")[0];
+    let s = setup(20, 20);
+    let mut frame = SupersampledFrame::new(&s, 4, K).unwrap();
+    let mut results = Vec::new();
+    for band in [1, 3 * 80, 80 * 80] {
+        for p in polys {
+            frame.draw(p);
+        }
+        results.push(frame.finish_in_bands(band));
+    }
+    assert_eq!(results[0], results[2]);
+    assert_eq!(results[1], results[2]);
+    // finish() emptied the frame each time: nothing left to draw.
+    assert_eq!(frame.finish().pixels, vec![K; 400]);
+}
+
+#[test]
+fn one_colour_either_side_of_a_shared_edge_is_no_edge() {
+    // Two red triangles sharing the diagonal: every sample is red, so no pixel is an
+    // edge pixel and no background shows through the seam.
+    let s = setup(4, 4);
+    let upper = poly(R, &[(0.0, 0.0), (4.0, 0.0), (4.0, 4.0)], 4, 4);
+    let lower = poly(R, &[(0.0, 0.0), (4.0, 4.0), (0.0, 4.0)], 4, 4);
+    let img = supersampled(&[upper, lower], &s, 16);
+    assert_eq!(img.pixels, vec![R; 16]);
+    assert_eq!(img.edges, vec![false; 16]);
+    assert_eq!(img.edge_mask(), vec![[0, 0, 0]; 16]);
+}
+
+#[test]
+fn sample_counts_out_of_range_are_refused() {
+    let s = setup(4, 4);
+    let msg = |k, s: &Setup| format!("{:#}", SupersampledFrame::new(s, k, K).err().unwrap());
+    assert!(msg(0, &s).contains("K must be from 1 to 256"));
+    assert!(msg(257, &s).contains("K must be from 1 to 256"));
+    assert!(msg(256, &setup(1 << 25, 1)).contains("too many samples"));
+}
+
+proptest! {
+    /// Any few triangles and quads at any depths, any K from 1 to 5 and any band: the
+    /// supersampled frame is the box filter of the point-sampled K times finer frame,
+    /// and the edge pixels are exactly the blocks of that frame that hold two colours.
+    #[test]
+    fn supersampling_is_the_finer_point_rule_box_filtered(
+        shapes in prop::collection::vec(
+            (prop::collection::vec((-2i32..=26, -2i32..=26), 3..=4), 4u32..28, 0usize..3),
+            1..5),
+        k in 1u32..=5,
+        band in 1usize..2000,
+    ) {
+        let (w, h) = (6u32, 5u32);
+        let colours = [R, G, B];
+        let polys: Vec<Polygon> = shapes.iter().map(|(pts, z, c)| {
+            // Corners in quarter pixels, so that edges and vertices fall on samples.
+            let pts: Vec<(f64, f64)> = pts.iter().map(|&(x, y)| (x as f64 / 4.0, y as f64 / 4.0)).collect();
+            poly_at(colours[*c], &pts, *z as f64, w, h)
+        }).collect();
+        let fine = render_frame(&polys, &setup(k * w, k * h), K);
+        let mut frame = SupersampledFrame::new(&setup(w, h), k, K).unwrap();
+        for p in &polys {
+            frame.draw(p);
+        }
+        let ss = frame.finish_in_bands(band);
+        prop_assert_eq!(&ss.pixels, &box_filter(&fine, w, h, k));
+        let (fw, k) = ((k * w) as usize, k as usize);
+        for r in 0..h as usize {
+            for c in 0..w as usize {
+                let first = fine[r * k * fw + c * k];
+                let mixed = (0..k).any(|j| (0..k).any(|i| fine[(r * k + j) * fw + c * k + i] != first));
+                prop_assert_eq!(ss.edges[r * w as usize + c], mixed);
+            }
+        }
+    }
+}
+
+// ---- Error measures -------------------------------------------------------------------
+
+fn image(w: u32, h: u32, pixels: Vec<Colour>) -> Image {
+    Image {
+        width: w,
+        height: h,
+        pixels,
+    }
+}
+
+#[test]
+fn metrics_of_hand_made_frames() {
+    // Two pixels differ: by 10 in blue, and by (3, 4, 0).
+    // Σ² = 100 + 9 + 16 = 125 over 4 pixels × 3 channels: RMSE √(125/12) = 3.2275…
+    let a = image(2, 2, vec![R, G, B, K]);
+    let b = image(2, 2, vec![R, G, [0, 0, 245], [3, 4, 0]]);
+    let m = metrics(&a, &b, None).unwrap();
+    assert_eq!(
+        m,
+        Metrics {
+            pixels: 4,
+            differing: 2,
+            sum_squared: 125,
+            max_error: 10,
+            edges: None
+        }
+    );
+    assert_eq!(m.differing_fraction(), 0.5);
+    assert_eq!(m.rmse(), (125.0f64 / 12.0).sqrt());
+    assert_eq!(m.edge_rmse(), None);
+    assert_eq!(
+        m.pairs(),
+        "pixels 4 differing 2 differing_fraction 0.500000 rmse 3.227486 max 10"
+    );
+    assert_eq!(m.csv_row("0"), "0,4,2,0.500000,3.227486,10,,");
+    // The measures are symmetric.
+    assert_eq!(metrics(&b, &a, None).unwrap(), m);
+    // Edge pixels: the blue one and an unchanged one. Edge Σ² = 100 over 2 pixels:
+    // √(100/6) = 4.0824…
+    let flags = [false, true, true, false];
+    let e = metrics(&a, &b, Some(&flags)).unwrap();
+    assert_eq!(
+        e.edges,
+        Some(EdgeError {
+            pixels: 2,
+            sum_squared: 100
+        })
+    );
+    assert_eq!(e.edge_rmse(), Some((100.0f64 / 6.0).sqrt()));
+    assert_eq!(
+        e.pairs(),
+        "pixels 4 differing 2 differing_fraction 0.500000 rmse 3.227486 max 10 \
+         edge_pixels 2 edge_rmse 4.082483"
+    );
+    assert_eq!(e.csv_row("3"), "3,4,2,0.500000,3.227486,10,2,4.082483");
+    // A frame against itself: nothing, and no edge pixels flagged gives no edge RMSE.
+    let same = metrics(&a, &a, Some(&[false; 4])).unwrap();
+    assert_eq!(
+        (same.differing, same.sum_squared, same.max_error),
+        (0, 0, 0)
+    );
+    assert_eq!(same.edge_rmse(), None);
+    assert!(same.pairs().ends_with("max 0 edge_pixels 0 edge_rmse -"));
+    assert_eq!(
+        same.csv_row("overall"),
+        "overall,4,0,0.000000,0.000000,0,0,"
+    );
+}
+
+#[test]
+fn a_full_scale_error_is_255() {
+    // Black against white everywhere: every channel off by 255, RMSE exactly 255.
+    let m = metrics(
+        &image(1, 2, vec![K; 2]),
+        &image(1, 2, vec![[255; 3]; 2]),
+        None,
+    )
+    .unwrap();
+    assert_eq!(
+        (m.differing_fraction(), m.rmse(), m.max_error),
+        (1.0, 255.0, 255)
+    );
+}
+
+#[test]
+fn overall_metrics_pool_the_pixels_of_all_frames() {
+    let a = [image(2, 1, vec![K, K]), image(1, 1, vec![K])];
+    let b = [
+        image(2, 1, vec![K, [6, 0, 0]]),
+        image(1, 1, vec![[0, 0, 3]]),
+    ];
+    let masks = [image(2, 1, vec![[255; 3], [255; 3]]), image(1, 1, vec![K])];
+    let frames = metrics_streams(&a, &b, Some(&masks)).unwrap();
+    assert_eq!(frames[0].edge_rmse(), Some((36.0f64 / 6.0).sqrt()));
+    assert_eq!(frames[1].edge_rmse(), None);
+    let all = Metrics::overall(&frames);
+    // 3 pixels, 2 differ, Σ² = 36 + 9 over 9 channels; edges: the 2 pixels of frame 0.
+    assert_eq!(
+        all,
+        Metrics {
+            pixels: 3,
+            differing: 2,
+            sum_squared: 45,
+            max_error: 6,
+            edges: Some(EdgeError {
+                pixels: 2,
+                sum_squared: 36
+            })
+        }
+    );
+    assert_eq!(all.rmse(), 5.0f64.sqrt());
+    assert_eq!(Metrics::overall(&[]), Metrics::default());
+}
+
+#[test]
+fn metrics_refuse_what_does_not_match() {
+    fn err<T>(r: anyhow::Result<T>) -> String {
+        format!("{:#}", r.err().unwrap())
+    }
+    let a = image(2, 1, vec![K, K]);
+    let tall = image(1, 2, vec![K, K]);
+    assert_eq!(err(metrics(&a, &tall, None)), "the frames are 2x1 and 1x2");
+    assert_eq!(
+        err(metrics(&a, &a, Some(&[true]))),
+        "1 edge flags for a 2x1 frame of 2 pixels"
+    );
+    let grey = image(2, 1, vec![K, [128; 3]]);
+    assert_eq!(
+        err(metrics_streams(
+            std::slice::from_ref(&a),
+            std::slice::from_ref(&a),
+            Some(&[grey])
+        )),
+        "edge mask frame 0: pixel (1, 0) is [128, 128, 128]: an edge mask is black and white only"
+    );
+    assert_eq!(
+        err(metrics_streams(std::slice::from_ref(&a), &[], None)),
+        "the streams have 1 and 0 frames"
+    );
+    assert_eq!(
+        err(metrics_streams(
+            std::slice::from_ref(&a),
+            std::slice::from_ref(&a),
+            Some(&[])
+        )),
+        "the edge mask has 0 frames and the streams 1"
+    );
+    assert_eq!(
+        err(metrics_streams(
+            std::slice::from_ref(&a),
+            std::slice::from_ref(&a),
+            Some(&[tall])
+        )),
+        "edge mask frame 0: is 1x2, the frame 2x1"
+    );
+}
