@@ -1,4 +1,4 @@
-//! Error measures of a frame against a reference (DESIGN.md, "Measures"), for
+//! Error measures of a frame against a reference (docs/DESIGN.md, "Measures"), for
 //! `zspec compare --metrics` and for the chart, which links this crate:
 //!
 //! * the differing fraction: the pixels whose RGB differ at all, over all pixels

@@ -1,4 +1,4 @@
-//! The anti-aliasing reference (DESIGN.md, "Anti-aliasing"): K×K samples per pixel on a
+//! The anti-aliasing reference (docs/DESIGN.md, "Anti-aliasing"): K×K samples per pixel on a
 //! regular grid, box-filtered.
 //!
 //! Pixel (c, r) takes its samples at the sub-pixel centres (c + (i+½)/K, r + (j+½)/K),
@@ -32,7 +32,7 @@ pub const BAND_SAMPLES: usize = 1 << 20;
 pub const MAX_SAMPLES: u32 = 256;
 
 /// A supersampled frame: the box-filtered pixels, and which pixels are edge pixels
-/// (DESIGN.md's "Measures": those whose K×K samples are not all one colour).
+/// (docs/DESIGN.md, "Measures": those whose K×K samples are not all one colour).
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct Supersampled {
     pub width: u32,
