@@ -111,6 +111,19 @@ for b in "${stages[@]}"; do
         break
     fi
 done
+# >>> issue 13 (hosts): POLYPIPE_BIN names a folder of built binaries, run as they are and
+# never built: a host's, given by `render.sh --hosts … --remote-bin DIR` (render-frames.sh
+# runs `POLYPIPE_BIN=DIR render.sh …` there), which may have no sources or cargo.
+if [[ -n ${POLYPIPE_BIN-} ]]; then
+    bindir=$POLYPIPE_BIN stale=0
+    for b in "${stages[@]}"; do
+        [[ -x $bindir/$b ]] || {
+            echo "render.sh: no $b in $bindir (POLYPIPE_BIN)" >&2
+            exit 3
+        }
+    done
+fi
+# <<< issue 13
 if ((stale)); then
     (cd "$root" && cargo build --release --quiet "${packages[@]}") >&2 || {
         echo "render.sh: cargo build failed" >&2

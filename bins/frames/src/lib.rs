@@ -1,9 +1,10 @@
 //! # frames: a movie's frames, counted or cut into a contiguous range
 //!
-//! A movie is `frame { NEXT.FRAME frame } END` (thesis Appendix 1), so its frames are
-//! independent: a range of them is a movie of its own, and rendering the ranges one after
-//! another gives the frames of the whole. `scripts/render-frames.sh` cuts a movie this
-//! way to render its parts on other hosts (docs/DESIGN.md, "Stages on other hosts").
+//! A movie is `frame { NEXT.FRAME frame } END` (thesis Appendix 1; docs/DESIGN.md,
+//! "Grammar"), so its frames are independent: a range of them is a movie of its own, and
+//! rendering the ranges one after another gives the frames of the whole.
+//! `scripts/render-frames.sh` cuts a movie this way to render its parts on other hosts
+//! (issue 13, `render.sh --hosts … --by frames`).
 //!
 //! The cut renumbers nothing: polygon numbers restart in every frame, so the records of
 //! the frames kept pass through unchanged, and only the frame boundaries around them are
