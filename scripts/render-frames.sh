@@ -20,6 +20,15 @@
 # removed on every way out. A remote render.sh stops when its ssh goes: its input ends
 # short and its output has no reader.
 
+# It needs bash 5.1 (`wait -n -p`); this check is plain sh, as render.sh's.
+case ${BASH_VERSION-} in
+    5.[1-9]* | [6-9].* | [1-9][0-9]*.*) ;;
+    *)
+        echo "render.sh: needs bash 5.1 or later (this is ${BASH_VERSION:-not bash})" >&2
+        exit 3
+        ;;
+esac
+
 set -u
 
 usage() {

@@ -271,10 +271,7 @@ impl Hosts {
     /// The processes of host `i`'s sessions still running (the descendants of its sshd).
     pub fn session_processes(&self, i: usize) -> Vec<String> {
         match &self.nodes[i].sshd {
-            Some(sshd) => descendants(sshd.id())
-                .into_iter()
-                .map(describe)
-                .collect(),
+            Some(sshd) => descendants(sshd.id()).into_iter().map(describe).collect(),
             None => Vec::new(),
         }
     }

@@ -622,6 +622,34 @@ fn stopping_the_run_leaves_nothing_here_or_on_the_hosts() {
 }
 
 #[test]
+fn a_reader_that_goes_away_ends_the_run_quietly() {
+    // `| head -c 100`: the frames' reader goes; the run ends with status 0 and no
+    // message, as the stages do, and stops its hosts.
+    let _serial = hosts::serial();
+    let Some(hosts) = Hosts::start(&[Host::Serving, Host::Serving]) else {
+        return;
+    };
+    let tmp = local_tmp(&hosts);
+    let movie = scene_file(hosts.dir(), "spheres.pp", &["spheres", "--frames", "8"]);
+    let script = format!(
+        "bash '{}' --hosts node1,node2 --size 64x64 '{}' | head -c 100 | wc -c; \
+         echo \"status ${{PIPESTATUS[0]}}\"",
+        repo_root().join("scripts/render-frames.sh").display(),
+        movie.display()
+    );
+    let out = Command::new("bash")
+        .args(["-c", &script])
+        .env("POLYPIPE_SSH", hosts.ssh())
+        .env("TMPDIR", &tmp)
+        .env_remove("POLYPIPE_BIN")
+        .output()
+        .unwrap();
+    assert_eq!(String::from_utf8_lossy(&out.stdout), "100\nstatus 0\n");
+    assert_eq!(stderr(&out), "");
+    assert_nothing_left(&hosts, 2, &tmp);
+}
+
+#[test]
 fn without_sshd_the_tests_are_skipped_not_failed() {
     // What every test here does where sshd is not installed: no hosts, and a message.
     assert!(Hosts::start_using(Path::new("/nonexistent/sshd"), &[Host::Serving]).is_none());
