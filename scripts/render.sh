@@ -42,6 +42,10 @@ Options:
   --zmode MODE      persp's depth: projective (default) or eye-z (the occam code's)
   --stats           splitter nodes, scan converters and zbuf print counts on stderr
   -o PATTERN        zbuf writes one file per frame (e.g. frame%04d.png) instead
+  --hosts H1,H2,…   render on other hosts over ssh ($POLYPIPE_SSH HOST …, default ssh)
+  --by frames       with --hosts: split a movie's frames across the hosts in
+                    contiguous chunks, each rendered there whole (scripts/render-frames.sh)
+  --remote-bin DIR  with --hosts: the binaries' folder on the hosts (default: this one's)
   -h, --help        this text
   --version         the version
 
@@ -93,12 +97,14 @@ depth=0
 zmode=projective
 scene=
 scene_given=0
+hosts=    # --hosts H1,H2,…
+by=       # --by frames
 camera=() # viewxf's options, as given
 stats=()  # --stats, for the stages that count
 output=() # zbuf's -o PATTERN
 
 # The options that take a value (each also as --option=value), and those that do not.
-valued=" --size --depth --zmode -o --eye --at --up --s --d --hither --yon "
+valued=" --size --depth --zmode -o --eye --at --up --s --d --hither --yon --hosts --by --remote-bin "
 flags=" -h --help --version --stats "
 
 parse_options() {
@@ -124,6 +130,9 @@ parse_options() {
             -o) output=(-o "$value") ;;
             --eye | --at | --up | --s | --d | --hither | --yon) camera+=("$opt" "$value") ;;
             --stats) stats=(--stats) ;;
+            --hosts) hosts=$value ;;
+            --by) by=$value ;;
+            --remote-bin) ;; # for render-frames.sh
             -?*) die_usage "unknown option ${opt%%=*}" ;;
             *)
                 ((scene_given == 0)) || die_usage "more than one SCENE: '$scene' and '$opt'"
@@ -152,11 +161,22 @@ validate_options() {
 
 # The stages render.sh runs, and the other binaries the README's examples use: all built
 # on the first run, so that every command in the README works after it.
-binaries=(viewxf clipplane splitter persp scanconv zbuf scene zspec)
+binaries=(viewxf clipplane splitter persp scanconv zbuf scene zspec frames)
+stages=(viewxf clipplane splitter persp scanconv zbuf) # the ones a render runs
 
 # Sets `bindir`, and builds the binaries with cargo when one is missing or stale. Without
 # cargo, binaries already built are run as they are (with a warning if stale).
 ensure_binaries() {
+    # POLYPIPE_BIN names a folder of built binaries, run as they are and never built: a
+    # host's, given by `render.sh --hosts … --remote-bin DIR` (render-frames.sh runs
+    # `POLYPIPE_BIN=DIR render.sh …` there), which may have no sources and no cargo.
+    if [[ -n ${POLYPIPE_BIN-} ]]; then
+        bindir=$POLYPIPE_BIN
+        for b in "${stages[@]}"; do
+            [[ -x $bindir/$b ]] || fail 3 "no $b in $bindir (POLYPIPE_BIN)"
+        done
+        return 0
+    fi
     # cargo runs in the repository root and takes a relative CARGO_TARGET_DIR from there.
     local target=${CARGO_TARGET_DIR:-target} b
     [[ $target == /* ]] || target=$root/$target
@@ -435,6 +455,11 @@ watch() {
 main() {
     locate_repository
     parse_options "$@"
+    if [[ -n $hosts || -n $by ]]; then # rendering on other hosts
+        [[ -n $hosts ]] || die_usage "--by $by needs --hosts H1,H2,…"
+        [[ $by == frames ]] || die_usage "--hosts: only --by frames is built so far (the tree's leaves on hosts are not), not '${by:-leaves}'"
+        exec "$root/scripts/render-frames.sh" "$@"
+    fi
     validate_options
     [[ -r /proc/self/stat ]] || fail 3 "needs /proc (Linux), to watch its stages"
     ensure_binaries

@@ -5,6 +5,8 @@
 //! packages, so the tests find them beside the test executable in the target directory,
 //! building them once first if they are missing.
 
+pub mod hosts;
+
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output, Stdio};
 use std::sync::OnceLock;

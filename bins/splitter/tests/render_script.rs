@@ -1074,7 +1074,7 @@ fn only_the_binaries_sources_make_render_sh_call_cargo() {
     assert_eq!(out.status.code(), Some(3));
     let err = String::from_utf8_lossy(&out.stderr);
     assert!(
-        err.starts_with("render.sh: cannot build viewxf clipplane splitter persp scanconv zbuf scene zspec into ")
+        err.starts_with("render.sh: cannot build viewxf clipplane splitter persp scanconv zbuf scene zspec frames into ")
             && err.ends_with(": cargo is not on PATH (Rust: https://rustup.rs)\n"),
         "{err}"
     );
@@ -1110,7 +1110,7 @@ fn only_the_binaries_sources_make_render_sh_call_cargo() {
     assert_eq!(out.stdout, first.stdout);
     assert_eq!(
         String::from_utf8_lossy(&out.stderr),
-        "render.sh: warning: viewxf clipplane splitter persp scanconv zbuf scene zspec: \
+        "render.sh: warning: viewxf clipplane splitter persp scanconv zbuf scene zspec frames: \
          older than their sources, and no cargo on PATH to rebuild them; running them as they are\n"
     );
     // With cargo: rebuilt, once.

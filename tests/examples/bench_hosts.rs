@@ -1,0 +1,156 @@
+//! Benchmark: a movie rendered here, and split by frames over 1, 2 and 3 loopback ssh
+//! hosts (`scripts/render-frames.sh`, issue 13), with the bytes each link carried.
+//!
+//!     cargo run --release -p pipeline-tests --example bench_hosts [RUNS]
+//!
+//! Prints a Markdown table per movie: wall time (best of RUNS, default 3), frames per
+//! second, the ratio to the local run, and per host the frames it rendered and the bytes
+//! sent to it and back. The hosts are sshd servers on this machine (the test harness,
+//! `pipeline_tests::hosts`), so they share its cores: on a 2-core machine the figures show
+//! the cost of the ssh transport and the splitting, not a speed-up. The link bytes are
+//! what a reader needs to work the speed-up out for real hosts: a chunk's time there is
+//! its frames' render time plus its bytes over the link.
+
+use pipeline_tests::hosts::{Host, Hosts};
+use pipeline_tests::{bin, bin_dir, repo_root};
+use std::process::{Command, Stdio};
+use std::time::{Duration, Instant};
+
+struct Movie {
+    label: &'static str,
+    scene: Vec<&'static str>,
+    size: &'static str,
+}
+
+fn main() {
+    let runs: usize = std::env::args()
+        .nth(1)
+        .map(|a| a.parse().expect("RUNS: a number"))
+        .unwrap_or(3);
+    bin_dir();
+    let Some(hosts) = Hosts::start(&[Host::Serving, Host::Serving, Host::Serving]) else {
+        std::process::exit(1);
+    };
+    let movies = [
+        Movie {
+            label: "300-frame movie: two intersecting spheres (scene spheres), 320×240",
+            scene: vec!["spheres", "--frames", "300"],
+            size: "320x240",
+        },
+        Movie {
+            label: "fill-heavy movie: 30 frames of 2,000 quads, Dc 10, 960×540",
+            scene: vec![
+                "environment",
+                "--frames",
+                "30",
+                "--polygons",
+                "2000",
+                "--depth-complexity",
+                "10",
+                "--size",
+                "960x540",
+                "--seed",
+                "2",
+            ],
+            size: "960x540",
+        },
+    ];
+    let cores = std::thread::available_parallelism().map_or(0, |n| n.get());
+    println!("Machine: {cores} cores; best of {runs} runs; loopback sshd hosts.\n");
+    for movie in &movies {
+        let path = hosts.dir().join("movie.pp");
+        let out = Command::new(bin("scene"))
+            .args(&movie.scene)
+            .output()
+            .unwrap();
+        assert!(out.status.success());
+        std::fs::write(&path, &out.stdout).unwrap();
+        let frames: usize = movie
+            .scene
+            .iter()
+            .position(|&a| a == "--frames")
+            .map(|i| movie.scene[i + 1].parse().unwrap())
+            .unwrap();
+        println!("### {}\n", movie.label);
+        println!("Scene stream: {} bytes.\n", out.stdout.len());
+        println!("| run | wall s | frames/s | × local time | per host: frames, bytes sent → bytes back |");
+        println!("|---|---|---|---|---|");
+        let (local, local_bytes) = best(runs, || {
+            let mut cmd = Command::new("bash");
+            cmd.arg(repo_root().join("scripts/render.sh"))
+                .args(["--size", movie.size])
+                .arg(&path);
+            cmd
+        });
+        row("render.sh here", local, local, frames, "");
+        for n in 1..=3 {
+            let names = (1..=n)
+                .map(|k| format!("node{k}"))
+                .collect::<Vec<_>>()
+                .join(",");
+            let mut links = String::new();
+            let (t, bytes) = best(runs, || {
+                let mut cmd = Command::new("bash");
+                cmd.arg(repo_root().join("scripts/render-frames.sh"))
+                    .args(["--hosts", &names, "--size", movie.size, "--stats"])
+                    .arg(&path)
+                    .env("POLYPIPE_SSH", hosts.ssh());
+                cmd
+            });
+            assert_eq!(
+                bytes.0, local_bytes.0,
+                "{n} hosts: not the local run's bytes"
+            );
+            for line in bytes.1.lines().filter(|l| l.contains(" sent ")) {
+                // render.sh: host node1: frames 0 to 149 (150), sent S bytes, received R bytes, T s
+                let w: Vec<&str> = line.split_whitespace().collect();
+                links += &format!(
+                    "{} {} fr, {} → {}; ",
+                    w[2].trim_end_matches(':'),
+                    w[7].trim_matches(|c| c == '(' || c == ')' || c == ','),
+                    w[9],
+                    w[12]
+                );
+            }
+            row(
+                &format!("--by frames, {n} host{}", if n > 1 { "s" } else { "" }),
+                t,
+                local,
+                frames,
+                links.trim_end_matches("; "),
+            );
+        }
+        println!();
+    }
+}
+
+/// Runs `make()` `runs` times; the best wall time, and (stdout, stderr) of the last run.
+fn best(runs: usize, make: impl Fn() -> Command) -> (Duration, (Vec<u8>, String)) {
+    let mut best = Duration::MAX;
+    let mut last = (Vec::new(), String::new());
+    for _ in 0..runs {
+        let start = Instant::now();
+        let out = make().stdin(Stdio::null()).output().expect("run");
+        let took = start.elapsed();
+        assert!(
+            out.status.success(),
+            "{}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        best = best.min(took);
+        last = (
+            out.stdout,
+            String::from_utf8_lossy(&out.stderr).into_owned(),
+        );
+    }
+    (best, last)
+}
+
+fn row(label: &str, t: Duration, local: Duration, frames: usize, links: &str) {
+    let s = t.as_secs_f64();
+    println!(
+        "| {label} | {s:.2} | {:.1} | {:.2} | {links} |",
+        frames as f64 / s,
+        s / local.as_secs_f64()
+    );
+}

@@ -1,0 +1,701 @@
+//! Rendering on other hosts (issue 13): `render.sh --hosts … --by frames`, which
+//! `scripts/render-frames.sh` does, over OpenSSH to sshd servers the tests start on
+//! loopback addresses (`pipeline_tests::hosts`).
+//!
+//! A movie split by frames across hosts comes back byte for byte as a local render.sh
+//! writes it, and each host's sshd log shows its session. Each way a host can fail
+//! (cannot be reached, refuses the command, lacks the programs, drops mid-run) ends the
+//! run with the host named, the status given, within seconds, the frames finished before
+//! written whole, and no process, temporary file or named pipe left here or on the hosts.
+//!
+//! Where sshd is not installed, each test says so and returns (skipped, not failed).
+
+use pipeline_tests::hosts::{self, Host, Hosts};
+use pipeline_tests::{bin, bin_dir, output_with_stdin, repo_root, sh};
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output, Stdio};
+use std::time::{Duration, Instant};
+
+/// The bytes of one frame as zbuf writes it: `P6\nW H\n255\n` and W·H RGB pixels.
+fn frame_bytes(w: usize, h: usize) -> usize {
+    format!("P6\n{w} {h}\n255\n").len() + w * h * 3
+}
+
+/// Writes `scene ARGS` to `dir/name` and returns the path.
+fn scene_file(dir: &Path, name: &str, args: &[&str]) -> PathBuf {
+    let out = Command::new(bin("scene"))
+        .args(args)
+        .output()
+        .expect("run scene");
+    assert!(
+        out.status.success(),
+        "scene {args:?}: {}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let path = dir.join(name);
+    std::fs::write(&path, out.stdout).expect("write the scene");
+    path
+}
+
+/// A folder for the run's TMPDIR, to see that nothing is left in it.
+fn local_tmp(hosts: &Hosts) -> PathBuf {
+    let dir = hosts.dir().join("local-tmp");
+    std::fs::create_dir_all(&dir).expect("a local TMPDIR");
+    dir
+}
+
+/// `scripts/render.sh ARGS` (which hands `--hosts … --by frames` to
+/// scripts/render-frames.sh) reaching `hosts`, with TMPDIR `tmp`.
+fn render_frames_cmd(hosts: &Hosts, tmp: &Path, args: &[&str]) -> Command {
+    bin_dir(); // the binaries built and current before the script looks at them
+    let mut cmd = Command::new("bash");
+    cmd.arg(repo_root().join("scripts/render.sh")).args(args);
+    if !args.contains(&"--by") {
+        cmd.args(["--by", "frames"]);
+    }
+    cmd
+        .current_dir(repo_root())
+        .env("POLYPIPE_SSH", hosts.ssh())
+        .env("TMPDIR", tmp)
+        .env_remove("POLYPIPE_BIN");
+    cmd
+}
+
+fn render_frames(hosts: &Hosts, tmp: &Path, args: &[&str], stdin: &[u8]) -> (Output, Duration) {
+    let start = Instant::now();
+    let out = output_with_stdin(render_frames_cmd(hosts, tmp, args), stdin);
+    (out, start.elapsed())
+}
+
+/// The same movie rendered here by render.sh.
+fn render_locally(args: &str) -> Vec<u8> {
+    let out = sh(&format!("scripts/render.sh {args}"), b"");
+    assert!(
+        out.status.success(),
+        "local render.sh {args}: {}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    out.stdout
+}
+
+fn stderr(out: &Output) -> String {
+    String::from_utf8_lossy(&out.stderr).into_owned()
+}
+
+/// The last line of the run's stderr: its one-line message.
+fn last_line(out: &Output) -> String {
+    stderr(out).lines().last().unwrap_or("").to_string()
+}
+
+/// Asserts that nothing of a run is left. Here, at once: the script stops and reaps its
+/// ssh and `frames` processes before it exits, and removes its private folder from the
+/// local TMPDIR. On the hosts: no session process under any host's sshd, no render.sh or
+/// stage process, nothing in any host's TMPDIR. A remote render.sh stops when its ssh
+/// goes (its input ends, its output has no reader), which takes it a moment: it is given
+/// 5 s.
+fn assert_nothing_left(hosts: &Hosts, n_hosts: usize, tmp: &Path) {
+    let here = hosts::processes_matching(
+        &[bin("frames")],
+        &[
+            hosts.dir().join("ssh_config").display().to_string(),
+            repo_root()
+                .join("scripts/render-frames.sh")
+                .display()
+                .to_string(),
+        ],
+    );
+    assert!(
+        here.is_empty(),
+        "left running here after the run: {here:#?}"
+    );
+    let files: Vec<_> = std::fs::read_dir(tmp)
+        .unwrap()
+        .flatten()
+        .map(|e| e.path())
+        .collect();
+    assert!(files.is_empty(), "left in the local TMPDIR: {files:#?}");
+
+    let stages: Vec<PathBuf> = [
+        "viewxf",
+        "clipplane",
+        "splitter",
+        "persp",
+        "scanconv",
+        "zbuf",
+    ]
+    .iter()
+    .map(|p| bin(p))
+    .collect();
+    let render = vec![repo_root().join("scripts/render.sh").display().to_string()];
+    let deadline = Instant::now() + Duration::from_secs(5);
+    loop {
+        let mut left = hosts::processes_matching(&stages, &render);
+        for i in 0..n_hosts {
+            left.extend(hosts.session_processes(i));
+        }
+        let mut files = Vec::new();
+        for i in 0..n_hosts {
+            for entry in std::fs::read_dir(hosts.remote_tmp(i)).unwrap().flatten() {
+                files.push(entry.path().display().to_string());
+            }
+        }
+        if left.is_empty() && files.is_empty() {
+            return;
+        }
+        assert!(
+            Instant::now() < deadline,
+            "left on the hosts 5 s after the run:\nprocesses: {left:#?}\nfiles: {files:#?}"
+        );
+        std::thread::sleep(Duration::from_millis(50));
+    }
+}
+
+#[test]
+fn frames_on_two_hosts_are_a_local_runs_bytes() {
+    let _serial = hosts::serial();
+    let Some(hosts) = Hosts::start(&[Host::Serving, Host::Serving]) else {
+        return;
+    };
+    let tmp = local_tmp(&hosts);
+    let movie = scene_file(hosts.dir(), "spheres.pp", &["spheres", "--frames", "12"]);
+    let m = movie.display().to_string();
+    let local = render_locally(&format!("--size 64x64 {m}"));
+    assert_eq!(local.len(), 12 * frame_bytes(64, 64));
+
+    let (out, _) = render_frames(
+        &hosts,
+        &tmp,
+        &["--hosts", "node1,node2", "--size", "64x64", &m],
+        b"",
+    );
+    assert!(out.status.success(), "{}", stderr(&out));
+    assert!(
+        out.stdout == local,
+        "the frames from two hosts differ from a local run's"
+    );
+    assert_eq!(stderr(&out), "", "a run without --stats says nothing");
+    for i in 0..2 {
+        assert_eq!(
+            hosts.sessions(i),
+            1,
+            "{}'s sshd log:\n{}",
+            hosts.name(i),
+            hosts.log(i)
+        );
+        assert!(
+            hosts.log(i).contains("Accepted publickey for"),
+            "{}",
+            hosts.log(i)
+        );
+    }
+    assert_nothing_left(&hosts, 2, &tmp);
+}
+
+#[test]
+fn uneven_chunks_from_stdin_at_depth_2_with_a_camera() {
+    // 7 frames over 3 hosts: chunks of 2, 2 and 3 frames; the scene from stdin; each host
+    // runs a depth-2 tree and a camera of its own options.
+    let _serial = hosts::serial();
+    let Some(hosts) = Hosts::start(&[Host::Serving, Host::Serving, Host::Serving]) else {
+        return;
+    };
+    let tmp = local_tmp(&hosts);
+    let movie = scene_file(hosts.dir(), "spheres.pp", &["spheres", "--frames", "7"]);
+    let m = movie.display().to_string();
+    let opts = "--size 48x40 --depth 2 --eye 6,4,20";
+    let local = render_locally(&format!("{opts} {m}"));
+    let args: Vec<&str> = ["--hosts", "node1,node2,node3", "--by", "frames"]
+        .into_iter()
+        .chain(opts.split(' '))
+        .chain(["-"])
+        .collect();
+    let stdin = std::fs::read(&movie).unwrap();
+    let (out, _) = render_frames(&hosts, &tmp, &args, &stdin);
+    assert!(out.status.success(), "{}", stderr(&out));
+    assert!(
+        out.stdout == local,
+        "the frames from three hosts differ from a local run's"
+    );
+    for i in 0..3 {
+        assert_eq!(hosts.sessions(i), 1, "{}", hosts.log(i));
+    }
+    assert_nothing_left(&hosts, 3, &tmp);
+}
+
+#[test]
+fn stats_give_each_hosts_frames_and_the_bytes_each_way() {
+    // Three frames, four hosts (node3 named twice): the last gets none; the bytes sent
+    // are each cut's, the bytes received one frame's.
+    let _serial = hosts::serial();
+    let Some(hosts) = Hosts::start(&[Host::Serving, Host::Serving, Host::Serving]) else {
+        return;
+    };
+    let tmp = local_tmp(&hosts);
+    let movie = scene_file(hosts.dir(), "two.pp", &["spheres", "--frames", "3"]);
+    let m = movie.display().to_string();
+    let cut = |a: &str, b: &str| {
+        let out = Command::new(bin("frames"))
+            .args(["--from", a, "--to", b, &m])
+            .output()
+            .unwrap();
+        assert!(out.status.success());
+        out.stdout.len()
+    };
+    let (out, _) = render_frames(
+        &hosts,
+        &tmp,
+        &[
+            "--hosts",
+            "node1,node2,node3,node3",
+            "--size",
+            "32x32",
+            "--stats",
+            &m,
+        ],
+        b"",
+    );
+    assert!(out.status.success(), "{}", stderr(&out));
+    assert!(out.stdout == render_locally(&format!("--size 32x32 {m}")));
+    let f = frame_bytes(32, 32);
+    let err = stderr(&out);
+    let ours: Vec<&str> = err
+        .lines()
+        .filter(|l| l.starts_with("render.sh: "))
+        .collect();
+    assert_eq!(ours.len(), 4, "{err}");
+    // Each host's line ends with the time it took, which varies: compared up to it.
+    for (k, line) in ours[..3].iter().enumerate() {
+        let want = format!(
+            "render.sh: host node{n}: frames {k} to {k} (1), sent {sent} bytes, received {f} bytes, ",
+            n = k + 1,
+            sent = cut(&k.to_string(), &(k + 1).to_string()),
+        );
+        assert!(
+            line.starts_with(&want) && line.ends_with(" s"),
+            "{line}
+wanted {want}… s"
+        );
+    }
+    assert_eq!(
+        ours[3],
+        "render.sh: host node3: no frames (the movie has 3)"
+    );
+    // Each host's own --stats lines come labelled with it.
+    for name in ["node1", "node2", "node3"] {
+        assert!(
+            err.contains(&format!("host {name}: zbuf: leaf-0: ")),
+            "{err}"
+        );
+    }
+    assert_nothing_left(&hosts, 3, &tmp);
+}
+
+#[test]
+fn a_host_that_cannot_be_reached_is_named() {
+    let _serial = hosts::serial();
+    let Some(hosts) = Hosts::start(&[Host::Serving, Host::Unreachable]) else {
+        return;
+    };
+    let tmp = local_tmp(&hosts);
+    let movie = scene_file(hosts.dir(), "spheres.pp", &["spheres", "--frames", "4"]);
+    let (out, took) = render_frames(
+        &hosts,
+        &tmp,
+        &[
+            "--hosts",
+            "node1,node2",
+            "--size",
+            "32x32",
+            &movie.display().to_string(),
+        ],
+        b"",
+    );
+    let (address, port) = hosts.address(1);
+    assert_eq!(out.status.code(), Some(3), "{}", stderr(&out));
+    assert_eq!(
+        last_line(&out),
+        format!(
+            "render.sh: host node2: ssh: connect to host {address} port {port}: Connection refused"
+        )
+    );
+    assert!(took < Duration::from_secs(10), "took {took:?}");
+    // Whatever node1 finished in the meantime is whole frames of the movie's start.
+    assert_eq!(out.stdout.len() % frame_bytes(32, 32), 0);
+    assert_nothing_left(&hosts, 2, &tmp);
+}
+
+#[test]
+fn a_host_that_refuses_the_command_is_named() {
+    // node2 lets the key in only to run `false`, whatever is asked.
+    let _serial = hosts::serial();
+    let Some(hosts) = Hosts::start(&[Host::Serving, Host::ForcedCommand("false".into())]) else {
+        return;
+    };
+    let tmp = local_tmp(&hosts);
+    let movie = scene_file(hosts.dir(), "spheres.pp", &["spheres", "--frames", "4"]);
+    let m = movie.display().to_string();
+    let (out, took) = render_frames(
+        &hosts,
+        &tmp,
+        &["--hosts", "node1,node2", "--size", "32x32", &m],
+        b"",
+    );
+    assert_eq!(out.status.code(), Some(3), "{}", stderr(&out));
+    assert_eq!(
+        last_line(&out),
+        "render.sh: host node2: the command exited with status 1 and no message \
+         (does the host allow only another command?)"
+    );
+    assert!(took < Duration::from_secs(10), "took {took:?}");
+    assert_eq!(
+        hosts.sessions(1),
+        1,
+        "node2 let the key in: {}",
+        hosts.log(1)
+    );
+    let local = render_locally(&format!("--size 32x32 {m}"));
+    assert!(
+        local.starts_with(&out.stdout),
+        "what was written is not the movie's start"
+    );
+    assert_eq!(out.stdout.len() % frame_bytes(32, 32), 0);
+    assert_nothing_left(&hosts, 2, &tmp);
+}
+
+#[test]
+fn a_host_that_refuses_the_login_is_named() {
+    let _serial = hosts::serial();
+    let Some(hosts) = Hosts::start(&[Host::DeniesKey, Host::Serving]) else {
+        return;
+    };
+    let tmp = local_tmp(&hosts);
+    let movie = scene_file(hosts.dir(), "spheres.pp", &["spheres", "--frames", "4"]);
+    let (out, took) = render_frames(
+        &hosts,
+        &tmp,
+        &[
+            "--hosts",
+            "node1,node2",
+            "--size",
+            "32x32",
+            &movie.display().to_string(),
+        ],
+        b"",
+    );
+    assert_eq!(out.status.code(), Some(3), "{}", stderr(&out));
+    let (address, _) = hosts.address(0);
+    let user = String::from_utf8(Command::new("id").arg("-un").output().unwrap().stdout).unwrap();
+    assert_eq!(
+        last_line(&out),
+        format!(
+            "render.sh: host node1: ssh: {}@{address}: Permission denied (publickey).",
+            user.trim()
+        )
+    );
+    assert!(took < Duration::from_secs(10), "took {took:?}");
+    // node1's frames come first: with node1 refused, nothing can be written.
+    assert!(out.stdout.is_empty());
+    assert_nothing_left(&hosts, 2, &tmp);
+}
+
+#[test]
+fn a_host_whose_command_sends_nothing_back_is_named() {
+    // A forced command that succeeds without rendering: the frames missing are noticed.
+    let _serial = hosts::serial();
+    let Some(hosts) = Hosts::start(&[Host::ForcedCommand("cat >/dev/null".into())]) else {
+        return;
+    };
+    let tmp = local_tmp(&hosts);
+    let movie = scene_file(hosts.dir(), "spheres.pp", &["spheres", "--frames", "4"]);
+    let (out, _) = render_frames(
+        &hosts,
+        &tmp,
+        &[
+            "--hosts",
+            "node1",
+            "--size",
+            "32x32",
+            &movie.display().to_string(),
+        ],
+        b"",
+    );
+    assert_eq!(out.status.code(), Some(3), "{}", stderr(&out));
+    assert_eq!(
+        last_line(&out),
+        format!(
+            "render.sh: host node1: sent back 0 bytes, not the {} of its 4 frames (0 to 3)",
+            4 * frame_bytes(32, 32)
+        )
+    );
+    assert!(out.stdout.is_empty());
+    assert_nothing_left(&hosts, 1, &tmp);
+}
+
+#[test]
+fn a_host_without_the_binaries_is_named() {
+    let _serial = hosts::serial();
+    let Some(hosts) = Hosts::start(&[Host::Serving]) else {
+        return;
+    };
+    let tmp = local_tmp(&hosts);
+    let movie = scene_file(hosts.dir(), "spheres.pp", &["spheres", "--frames", "4"]);
+    let (out, took) = render_frames(
+        &hosts,
+        &tmp,
+        &[
+            "--hosts",
+            "node1",
+            "--remote-bin",
+            "/nonexistent",
+            "--size",
+            "32x32",
+            &movie.display().to_string(),
+        ],
+        b"",
+    );
+    assert_eq!(out.status.code(), Some(3), "{}", stderr(&out));
+    assert_eq!(
+        last_line(&out),
+        "render.sh: host node1: no viewxf in /nonexistent (POLYPIPE_BIN)"
+    );
+    assert!(took < Duration::from_secs(10), "took {took:?}");
+    assert!(out.stdout.is_empty());
+    assert_nothing_left(&hosts, 1, &tmp);
+}
+
+/// A movie long enough that a host can be dropped or the run stopped while it renders:
+/// 600 frames of a fill-heavy environment at 128×128.
+fn long_movie(hosts: &Hosts) -> PathBuf {
+    scene_file(
+        hosts.dir(),
+        "long.pp",
+        &[
+            "environment",
+            "--frames",
+            "600",
+            "--polygons",
+            "200",
+            "--depth-complexity",
+            "30",
+            "--size",
+            "128x128",
+        ],
+    )
+}
+
+/// Starts render-frames.sh on the long movie, stdout to a file; waits until host
+/// `watch`'s chunk has sent back at least two frames (its out file in the run's private
+/// folder), so that what follows happens mid-run.
+fn start_long_run(
+    hosts: &Hosts,
+    tmp: &Path,
+    movie: &Path,
+    watch: usize,
+) -> (std::process::Child, PathBuf) {
+    let stdout_path = hosts.dir().join("long.ppm");
+    let mut cmd = render_frames_cmd(
+        hosts,
+        tmp,
+        &[
+            "--hosts",
+            &hosts.names(),
+            "--size",
+            "128x128",
+            &movie.display().to_string(),
+        ],
+    );
+    cmd.stdin(Stdio::null())
+        .stdout(std::fs::File::create(&stdout_path).unwrap())
+        .stderr(Stdio::piped());
+    let mut child = cmd.spawn().expect("start render-frames.sh");
+    let deadline = Instant::now() + Duration::from_secs(60);
+    loop {
+        let received = std::fs::read_dir(tmp)
+            .into_iter()
+            .flatten()
+            .flatten()
+            .filter_map(|d| std::fs::metadata(d.path().join(format!("out.{watch}"))).ok())
+            .map(|m| m.len() as usize)
+            .max()
+            .unwrap_or(0);
+        if received >= 2 * frame_bytes(128, 128) {
+            break;
+        }
+        if let Some(status) = child.try_wait().unwrap() {
+            panic!("the run ended ({status}) before host {watch} sent two frames");
+        }
+        assert!(
+            Instant::now() < deadline,
+            "host {watch} sent nothing in 60 s"
+        );
+        std::thread::sleep(Duration::from_millis(5));
+    }
+    (child, stdout_path)
+}
+
+/// Waits for `child` at most `limit`, and returns its status, stderr and the time taken.
+fn wait_at_most(
+    child: &mut std::process::Child,
+    limit: Duration,
+) -> (std::process::ExitStatus, String, Duration) {
+    use std::io::Read;
+    let start = Instant::now();
+    loop {
+        if let Some(status) = child.try_wait().unwrap() {
+            let mut err = String::new();
+            child
+                .stderr
+                .take()
+                .unwrap()
+                .read_to_string(&mut err)
+                .unwrap();
+            return (status, err, start.elapsed());
+        }
+        if start.elapsed() > limit {
+            let _ = child.kill();
+            panic!("still running {limit:?} later");
+        }
+        std::thread::sleep(Duration::from_millis(10));
+    }
+}
+
+#[test]
+fn a_host_that_drops_mid_run_ends_it_within_seconds_leaving_nothing() {
+    let _serial = hosts::serial();
+    let Some(mut hosts) = Hosts::start(&[Host::Serving, Host::Serving]) else {
+        return;
+    };
+    let tmp = local_tmp(&hosts);
+    let movie = long_movie(&hosts);
+    let (mut child, stdout_path) = start_long_run(&hosts, &tmp, &movie, 1);
+    assert_eq!(hosts.sessions(1), 1);
+    hosts.drop_host(1); // node2's sshd and its session, render.sh and stages there: SIGKILL
+
+    let (status, err, took) = wait_at_most(&mut child, Duration::from_secs(10));
+    assert_eq!(status.code(), Some(3), "{err}");
+    let message = err.lines().last().unwrap_or("");
+    assert!(message.starts_with("render.sh: host node2: "), "{err}");
+    assert!(took < Duration::from_secs(10), "took {took:?}");
+
+    // The frames written are whole, and the movie's first ones (node1's, in order).
+    let written = std::fs::read(&stdout_path).unwrap();
+    let f = frame_bytes(128, 128);
+    assert_eq!(
+        written.len() % f,
+        0,
+        "{} bytes: a frame cut short",
+        written.len()
+    );
+    let local = render_locally(&format!("--size 128x128 {}", movie.display()));
+    assert!(
+        local.starts_with(&written),
+        "the {} frames written are not the movie's first",
+        written.len() / f
+    );
+    assert!(written.len() < local.len());
+    eprintln!(
+        "node2 dropped: the run ended {took:?} later, {message:?}, {} of {} frames written",
+        written.len() / f,
+        local.len() / f
+    );
+    // node1 and here are clean. node2 went down with its render.sh killed outright, as
+    // a machine losing power does: what that left in node2's own TMPDIR is node2's.
+    assert_nothing_left(&hosts, 1, &tmp);
+}
+
+#[test]
+fn stopping_the_run_leaves_nothing_here_or_on_the_hosts() {
+    let _serial = hosts::serial();
+    let Some(hosts) = Hosts::start(&[Host::Serving, Host::Serving]) else {
+        return;
+    };
+    let tmp = local_tmp(&hosts);
+    let movie = long_movie(&hosts);
+    let (mut child, stdout_path) = start_long_run(&hosts, &tmp, &movie, 0);
+    let status = Command::new("kill")
+        .args(["-TERM", &child.id().to_string()])
+        .status()
+        .unwrap();
+    assert!(status.success());
+    let (status, _, took) = wait_at_most(&mut child, Duration::from_secs(10));
+    assert_eq!(status.code(), Some(143));
+    assert!(took < Duration::from_secs(5), "took {took:?}");
+    let written = std::fs::metadata(&stdout_path).unwrap().len() as usize;
+    assert_eq!(written % frame_bytes(128, 128), 0);
+    assert_nothing_left(&hosts, 2, &tmp);
+}
+
+#[test]
+fn a_reader_that_goes_away_ends_the_run_quietly() {
+    // `| head -c 100`: the frames' reader goes; the run ends with status 0 and no
+    // message, as the stages do, and stops its hosts.
+    let _serial = hosts::serial();
+    let Some(hosts) = Hosts::start(&[Host::Serving, Host::Serving]) else {
+        return;
+    };
+    let tmp = local_tmp(&hosts);
+    let movie = scene_file(hosts.dir(), "spheres.pp", &["spheres", "--frames", "8"]);
+    let script = format!(
+        "bash '{}' --hosts node1,node2 --size 64x64 '{}' | head -c 100 | wc -c; \
+         echo \"status ${{PIPESTATUS[0]}}\"",
+        repo_root().join("scripts/render-frames.sh").display(),
+        movie.display()
+    );
+    let out = Command::new("bash")
+        .args(["-c", &script])
+        .env("POLYPIPE_SSH", hosts.ssh())
+        .env("TMPDIR", &tmp)
+        .env_remove("POLYPIPE_BIN")
+        .output()
+        .unwrap();
+    assert_eq!(String::from_utf8_lossy(&out.stdout), "100\nstatus 0\n");
+    assert_eq!(stderr(&out), "");
+    assert_nothing_left(&hosts, 2, &tmp);
+}
+
+#[test]
+fn without_sshd_the_tests_are_skipped_not_failed() {
+    // What every test here does where sshd is not installed: no hosts, and a message.
+    assert!(Hosts::start_using(Path::new("/nonexistent/sshd"), &[Host::Serving]).is_none());
+    assert_eq!(
+        hosts::unavailable(Path::new("/nonexistent/sshd")).as_deref(),
+        Some("/nonexistent/sshd is not installed (apt-get install openssh-server openssh-client)")
+    );
+}
+
+#[test]
+fn usage_errors_need_no_hosts() {
+    // No --hosts, -o, and --by anything but frames: status 2 before any ssh.
+    for (args, message) in [
+        (
+            vec!["examples/penetrating.txt"],
+            "render.sh: --hosts H1,H2,… is needed",
+        ),
+        (
+            vec!["--hosts", "a,b", "-o", "f%d.png"],
+            "render.sh: -o is not available with --by frames: the frames come back on stdout",
+        ),
+        (
+            vec!["--hosts", "a", "--by", "leaves"],
+            "render.sh: --by must be frames here, not 'leaves'",
+        ),
+        (
+            vec!["--hosts", "a,,b"],
+            "render.sh: --hosts must be host names separated by commas, not 'a,,b'",
+        ),
+        (
+            vec!["--hosts", "a", "--size", "0x3"],
+            "render.sh: --size must be WxH with W and H from 1 to 65536, not '0x3'",
+        ),
+    ] {
+        let out = Command::new("bash")
+            .arg(repo_root().join("scripts/render-frames.sh"))
+            .args(&args)
+            .current_dir(repo_root())
+            .env("POLYPIPE_SSH", "false")
+            .output()
+            .unwrap();
+        assert_eq!(out.status.code(), Some(2), "{args:?}");
+        assert_eq!(stderr(&out).lines().next(), Some(message), "{args:?}");
+    }
+}
