@@ -1,10 +1,9 @@
 //! zspec: the exact reference renderer (world-space stream → PPM stream), and the
 //! comparison of two PPM streams.
 
-use anyhow::{bail, Context};
-use clap::{CommandFactory, Parser, Subcommand};
-use proto::camera::ViewArgs;
-use proto::{Colour, Reader, SpaceKind, Token};
+use clap::{Parser, Subcommand};
+use proto::{ppm, Colour, Reader, SpaceKind, Token};
+use stagecli::{Error, PpmTextFlag, ViewArgs};
 use std::io::{self, BufReader, BufWriter, Write};
 use std::process::ExitCode;
 use zspec::Setup;
@@ -16,7 +15,8 @@ use zspec::Setup;
 /// measure the pipeline against.
 ///
 /// Reads a world-space scene (binary or text; SCENE, or stdin for `-` or none) and writes
-/// one binary PPM (P6) per frame, like zbuf. The camera options are viewxf's.
+/// one binary PPM (P6; plain P3 with --text) per frame, like zbuf. The camera options are
+/// viewxf's.
 #[derive(Parser, Debug)]
 #[command(
     name = "zspec",
@@ -38,6 +38,8 @@ struct Cli {
     /// The background colour `R,G,B`.
     #[arg(long, value_parser = zspec::parse_colour, default_value = "0,0,0", value_name = "R,G,B")]
     background: Colour,
+    #[command(flatten)]
+    text: PpmTextFlag,
     /// The world-space scene; `-` or none for stdin.
     scene: Option<String>,
 }
@@ -45,52 +47,77 @@ struct Cli {
 #[derive(Subcommand, Debug)]
 enum Command {
     /// Compare two PPM streams frame by frame: prints, per frame, the pixels, the
-    /// differing pixels and the percentage that agree. Exit status 0 when every frame
-    /// agrees on at least --min-agreement percent, 1 otherwise.
+    /// differing pixels and the percentage that agree. Exit status as cmp's: 0 when every
+    /// frame agrees on at least --min-agreement percent, 1 when one does not (or the
+    /// streams have different numbers or sizes of frames), 2 for trouble (a missing file,
+    /// one that is not a PPM stream, a bad argument).
     #[command(after_help = "Example:\n  zspec compare ref.ppm pipe.ppm --min-agreement 99.9")]
     Compare {
+        /// The first PPM stream (`-` for stdin).
         a: String,
+        /// The second PPM stream (`-` for stdin, if the first is not).
         b: String,
-        /// The least percentage of agreeing pixels every frame must reach.
-        #[arg(long, default_value_t = 99.95)]
+        /// The least percentage of agreeing pixels every frame must reach (0 to 100).
+        #[arg(long, default_value_t = 99.95, value_parser = percentage)]
         min_agreement: f64,
     },
 }
 
+/// A percentage from 0 to 100.
+fn percentage(s: &str) -> Result<f64, String> {
+    s.parse::<f64>()
+        .ok()
+        .filter(|p| (0.0..=100.0).contains(p))
+        .ok_or_else(|| format!("`{s}` is not a percentage from 0 to 100"))
+}
+
 fn main() -> ExitCode {
-    let cli = Cli::parse();
+    let cli = match stagecli::parse::<Cli>("zspec") {
+        Ok(cli) => cli,
+        Err(status) => return status,
+    };
     match cli.command {
         Some(Command::Compare {
             a,
             b,
             min_agreement,
-        }) => proto::cli::run("zspec compare", || compare(&a, &b, min_agreement)),
-        None => {
-            let (frame, view) = match cli.view.resolve() {
-                Ok(resolved) => resolved,
-                Err(msg) => Cli::command()
-                    .error(clap::error::ErrorKind::ValueValidation, msg)
-                    .exit(),
-            };
-            let (width, height) = cli.view.size.unwrap_or((500, 500));
-            let setup = Setup::new(frame, view, width, height);
-            let scene = cli.scene.unwrap_or_else(|| "-".into());
-            proto::cli::run("zspec", || render(&scene, &setup, cli.background))
-        }
+        }) => stagecli::report_cmp("zspec compare", compare(&a, &b, min_agreement)),
+        None => stagecli::report(
+            "zspec",
+            render(&cli.view, cli.background, cli.text, cli.scene),
+        ),
     }
 }
 
 /// Renders every frame of the scene to stdout.
-fn render(scene: &str, setup: &Setup, background: Colour) -> anyhow::Result<()> {
-    let mut reader = Reader::<Token, _>::new(proto::cli::open_input(scene)?)?;
+fn render(
+    view: &ViewArgs,
+    background: Colour,
+    text: PpmTextFlag,
+    scene: Option<String>,
+) -> stagecli::Result<()> {
+    // A camera or volume that cannot be viewed through is a usage error (status 2).
+    let (frame, volume) = view.resolve()?;
+    let (width, height) = view.size.unwrap_or((500, 500));
+    let setup = Setup::new(frame, volume, width, height);
+    let scene = scene.unwrap_or_else(|| "-".into());
+    let name = stagecli::input_name(&scene).to_string();
+    let mut reader = Reader::<Token, _>::new(stagecli::open_input(&scene)?)
+        .map_err(|e| stagecli::input_error(&name, e))?;
     reader.header().expect(SpaceKind::World)?;
     let mut out = BufWriter::new(io::stdout().lock());
-    let mut frame = zspec::ReferenceFrame::new(setup, background);
-    while let Some(token) = reader.next_record()? {
+    let mut frame = zspec::ReferenceFrame::new(&setup, background).map_err(Error::data)?;
+    while let Some(token) = reader
+        .next_record()
+        .map_err(|e| stagecli::input_error(&name, e))?
+    {
         match token {
-            Token::Polygon(p) => frame.draw(setup, &p),
+            Token::Polygon(p) => frame
+                .draw(&setup, &p)
+                .map_err(|m| Error::data(format!("{}: {m}", reader.position())))?,
             Token::NextFrame | Token::End => {
-                zspec::write_ppm(&mut out, setup.width, setup.height, &frame.colour)?;
+                let rgb = frame.colour.as_flattened();
+                ppm::write(&mut out, setup.width, setup.height, rgb, text.form())?;
                 // A frame is written whole before the next is read.
                 out.flush()?;
                 frame.clear();
@@ -100,14 +127,29 @@ fn render(scene: &str, setup: &Setup, background: Colour) -> anyhow::Result<()> 
     Ok(())
 }
 
-fn open_ppm_stream(path: &str) -> anyhow::Result<Vec<zspec::Image>> {
-    let input = proto::cli::open_input(path)?;
-    zspec::read_ppm_stream(BufReader::new(input)).with_context(|| path.to_string())
+/// Reads a whole PPM stream; an error names the file.
+fn read_ppms(path: &str) -> stagecli::Result<Vec<ppm::Image>> {
+    let input = stagecli::open_input(path)?;
+    ppm::read_all(BufReader::new(input))
+        .map_err(|e| Error::from(e).context(stagecli::input_name(path)))
 }
 
-fn compare(a: &str, b: &str, min_agreement: f64) -> anyhow::Result<()> {
-    let (ia, ib) = (open_ppm_stream(a)?, open_ppm_stream(b)?);
-    let frames = zspec::compare(&ia, &ib)?;
+/// Compares two PPM streams: `Ok(true)` when every frame agrees well enough.
+fn compare(a: &str, b: &str, min_agreement: f64) -> stagecli::Result<bool> {
+    if a == "-" && b == "-" {
+        return Err(Error::usage(
+            "`-` (stdin) is named twice: it can be read only once",
+        ));
+    }
+    let (ia, ib) = (read_ppms(a)?, read_ppms(b)?);
+    let mut err = io::stderr();
+    let frames = match zspec::compare(&ia, &ib) {
+        Ok(frames) => frames,
+        Err(why) => {
+            let _ = writeln!(err, "zspec compare: {why}");
+            return Ok(false);
+        }
+    };
     let mut out = io::stdout().lock();
     let mut failing = Vec::new();
     for (k, f) in frames.iter().enumerate() {
@@ -124,12 +166,13 @@ fn compare(a: &str, b: &str, min_agreement: f64) -> anyhow::Result<()> {
     }
     out.flush()?;
     if !failing.is_empty() {
-        bail!(
-            "{} of {} frames agree on fewer than {min_agreement}% of pixels (frames {:?})",
+        let _ = writeln!(
+            err,
+            "zspec compare: {} of {} frames agree on fewer than {min_agreement}% of pixels (frames {:?})",
             failing.len(),
             frames.len(),
             failing
         );
     }
-    Ok(())
+    Ok(failing.is_empty())
 }
