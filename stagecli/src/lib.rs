@@ -35,7 +35,7 @@ pub use args::{parse, PpmTextFlag, TextFlag, ViewArgs};
 pub use error::{Context, Error, Kind, Result};
 pub use stream::{
     check_finite, filter_polygons, input_error, input_name, next, open_input, open_output,
-    read_stdin, same_file, write_stdout, Branch,
+    read_stdin, same_file, stdout, write_stdout, Branch, Named,
 };
 
 use std::io::Write;

@@ -65,12 +65,53 @@ pub fn next<T: Record, R: Read>(reader: &mut Reader<T, R>) -> Result<Option<T>> 
     reader.next_record().map_err(|e| input_error("stdin", e))
 }
 
+/// An output that names itself in its errors: a failed write says `stdout: No space
+/// left on device`, keeping the error's kind (a broken pipe stays a broken pipe, so the
+/// reader going away is still told apart).
+pub struct Named<W> {
+    inner: W,
+    name: String,
+}
+
+impl<W: Write> Named<W> {
+    pub fn new(inner: W, name: impl Into<String>) -> Self {
+        Named {
+            inner,
+            name: name.into(),
+        }
+    }
+
+    fn label(&self, e: io::Error) -> io::Error {
+        let message = format!("{}: {}", self.name, crate::error::io_message(&e));
+        io::Error::new(e.kind(), message)
+    }
+}
+
+impl<W: Write> Write for Named<W> {
+    fn write(&mut self, buf: &[u8]) -> io::Result<usize> {
+        self.inner.write(buf).map_err(|e| self.label(e))
+    }
+
+    fn write_all(&mut self, buf: &[u8]) -> io::Result<()> {
+        self.inner.write_all(buf).map_err(|e| self.label(e))
+    }
+
+    fn flush(&mut self) -> io::Result<()> {
+        self.inner.flush().map_err(|e| self.label(e))
+    }
+}
+
+/// Standard output, named `stdout` in its errors.
+pub fn stdout() -> Named<io::StdoutLock<'static>> {
+    Named::new(io::stdout().lock(), "stdout")
+}
+
 /// A stream writer on standard output.
 pub fn write_stdout<T: Record>(
     header: Header,
     form: Form,
-) -> Result<Writer<T, io::StdoutLock<'static>>> {
-    Ok(Writer::new(io::stdout().lock(), header, form)?)
+) -> Result<Writer<T, Named<io::StdoutLock<'static>>>> {
+    Ok(Writer::new(stdout(), header, form)?)
 }
 
 /// Whether two outputs named on the command line are one file, so that writing both
@@ -104,24 +145,17 @@ pub fn same_file(a: &str, b: &str) -> bool {
 /// this output closes quietly and the others go on, so that every other branch still
 /// gets the whole stream and its END.
 pub struct Branch<T: Record> {
-    name: String,
-    writer: Option<Writer<T, Box<dyn Write + Send>>>,
+    writer: Option<Writer<T, Named<Box<dyn Write + Send>>>>,
 }
 
 impl<T: Record> Branch<T> {
     /// Opens output `path` ([`open_output`]) and writes the header.
     pub fn open(path: &str, header: Header, form: Form) -> Result<Self> {
-        let mut branch = Branch {
-            name: if path == "-" {
-                "stdout".into()
-            } else {
-                path.into()
-            },
-            writer: None,
-        };
-        let writer = Writer::new(open_output(path)?, header, form);
-        branch.writer = branch.kept(writer)?;
-        Ok(branch)
+        let name = if path == "-" { "stdout" } else { path };
+        let out = Named::new(open_output(path)?, name);
+        Ok(Branch {
+            writer: Self::kept(Writer::new(out, header, form))?,
+        })
     }
 
     /// Whether the output's reader is still there.
@@ -132,8 +166,7 @@ impl<T: Record> Branch<T> {
     /// Writes a record; nothing once the reader has gone.
     pub fn write(&mut self, record: &T) -> Result<()> {
         if let Some(w) = &mut self.writer {
-            let done = w.write(record);
-            if self.kept(done)?.is_none() {
+            if Self::kept(w.write(record))?.is_none() {
                 self.writer = None;
             }
         }
@@ -143,21 +176,20 @@ impl<T: Record> Branch<T> {
     /// Flushes what is buffered.
     pub fn flush(&mut self) -> Result<()> {
         if let Some(w) = &mut self.writer {
-            let done = w.flush();
-            if self.kept(done)?.is_none() {
+            if Self::kept(w.flush())?.is_none() {
                 self.writer = None;
             }
         }
         Ok(())
     }
 
-    /// `Some` for success, `None` when the reader has gone, an error naming the output
-    /// for any other failure.
-    fn kept<V>(&self, result: io::Result<V>) -> Result<Option<V>> {
+    /// `Some` for success, `None` when the reader has gone, the error (which names the
+    /// output) for any other failure.
+    fn kept<V>(result: io::Result<V>) -> Result<Option<V>> {
         match result.map_err(Error::from) {
             Ok(v) => Ok(Some(v)),
             Err(e) if e.kind() == Kind::ReaderGone => Ok(None),
-            Err(e) => Err(e.context(format!("writing {}", self.name))),
+            Err(e) => Err(e),
         }
     }
 }
@@ -276,6 +308,29 @@ mod tests {
         assert!(!same_file(f, "/dev/null"));
         assert!(!same_file("/dev/null", "/dev/null"));
         std::fs::remove_dir_all(&dir).unwrap();
+    }
+
+    #[test]
+    fn an_output_names_itself_and_keeps_the_kind() {
+        struct Failing(bool);
+        impl Write for Failing {
+            fn write(&mut self, _: &[u8]) -> io::Result<usize> {
+                Err(if self.0 {
+                    io::Error::from_raw_os_error(28)
+                } else {
+                    io::ErrorKind::BrokenPipe.into()
+                })
+            }
+            fn flush(&mut self) -> io::Result<()> {
+                Ok(())
+            }
+        }
+        let full = Named::new(Failing(true), "stdout").write(b"x");
+        let full = Error::from(full.unwrap_err());
+        assert_eq!(full.kind(), Kind::Io);
+        assert_eq!(full.to_string(), "stdout: No space left on device");
+        let gone = Named::new(Failing(false), "out").write_all(b"x");
+        assert_eq!(Error::from(gone.unwrap_err()).kind(), Kind::ReaderGone);
     }
 
     #[test]

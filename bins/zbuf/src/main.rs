@@ -92,7 +92,7 @@ fn main() -> ExitCode {
                 }
             })
             .collect();
-        let mut out = io::BufWriter::with_capacity(1 << 16, io::stdout().lock());
+        let mut out = io::BufWriter::with_capacity(1 << 16, stagecli::stdout());
         let progress = zbuf::frame_progress(args.progress);
         let stats = par_buff(inputs, args.background, |frame, fb| {
             match &pattern {

@@ -350,6 +350,35 @@ impl FrameAgreement {
     }
 }
 
+impl std::fmt::Display for FrameAgreement {
+    /// `4 pixels, 1 differ, 75.0000% agree`.
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(
+            f,
+            "{} pixels, {} differ, {:.4}% agree",
+            self.pixels,
+            self.differing,
+            self.percent()
+        )
+    }
+}
+
+/// Whether every frame agrees on at least `min_agreement` percent of its pixels; if
+/// not, the message names the frames that do not.
+pub fn agreed(frames: &[FrameAgreement], min_agreement: f64) -> Result<(), String> {
+    let failing: Vec<usize> = (0..frames.len())
+        .filter(|&k| frames[k].percent() < min_agreement)
+        .collect();
+    if failing.is_empty() {
+        return Ok(());
+    }
+    Err(format!(
+        "{} of {} frames agree on fewer than {min_agreement}% of pixels (frames {failing:?})",
+        failing.len(),
+        frames.len(),
+    ))
+}
+
 /// Compares two renderings frame by frame. Streams of different lengths, or frames of
 /// different sizes, differ with no agreement to measure: the message says how.
 pub fn compare(a: &[Image], b: &[Image]) -> Result<Vec<FrameAgreement>, String> {

@@ -264,6 +264,12 @@ fn comparison() {
         vec![(0, 0), (1, 0), (2, 0), (1, 1), (2, 1)]
     );
     assert!((cmp[0].percent() - 100.0 / 6.0).abs() < 1e-12);
+    assert_eq!(cmp[0].to_string(), "6 pixels, 5 differ, 16.6667% agree");
+    assert_eq!(agreed(&cmp, 16.0), Ok(()));
+    assert_eq!(
+        agreed(&cmp, 99.95),
+        Err("1 of 1 frames agree on fewer than 99.95% of pixels (frames [0])".into())
+    );
     assert_eq!(
         compare(&imgs, &imgs[..1]).unwrap_err(),
         "the streams have 2 and 1 frames"
@@ -276,6 +282,45 @@ fn comparison() {
     assert_eq!(
         compare(&imgs[..1], &[small]).unwrap_err(),
         "frame 0 is 3x2 in one stream and 1x1 in the other"
+    );
+}
+
+#[test]
+fn planes_of_huge_polygons_do_not_overflow() {
+    // Ordinary points: exactly Newell's plane.
+    let small = [
+        DVec3::new(1.0, 2.0, 16.0),
+        DVec3::new(3.0, -1.0, 17.5),
+        DVec3::new(-2.0, 0.5, 15.0),
+    ];
+    assert_eq!(plane_of(&small), newell_plane(&small));
+    // At ±1.7e308 Newell's products overflow; scaled by a power of two they do not, and
+    // the plane still contains the points: z = 16 + x·1e-300, roughly.
+    let huge = [
+        DVec3::new(-1.7e308, -1.7e308, 1.0),
+        DVec3::new(1.7e308, -1.7e308, 1.0),
+        DVec3::new(0.0, 1.7e308, -1.0),
+    ];
+    assert!(!newell_plane(&huge).is_finite());
+    let p = plane_of(&huge);
+    assert!(p.is_finite(), "{p:?}");
+    let n = p.truncate().normalize();
+    // The normal is that of the scaled triangle: mostly z, a little y.
+    assert!(n.z > 0.99 && n.x.abs() < 1e-12, "{n:?}");
+}
+
+#[test]
+fn a_polygon_projecting_beyond_f64_is_refused() {
+    // x_e = 1.7e308 at the hither distance projects to about 2.7e308 · W/2: infinite.
+    let s = setup(4, 4);
+    let p = Polygon::from_xyz(
+        R,
+        &[[1.7e308, 0.0, 19.0], [0.0, 1.0, 19.0], [0.0, -1.0, 19.0]],
+    );
+    let e = render_frame(&[p], &s, K).unwrap_err();
+    assert!(
+        e.starts_with("polygon 0: a vertex projects to (inf, "),
+        "{e}"
     );
 }
 
