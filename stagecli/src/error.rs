@@ -11,7 +11,8 @@ use proto::StreamError;
 use std::fmt;
 use std::io;
 
-/// What an error is, and so the status the stage exits with (docs/DESIGN.md, "Errors").
+/// What an error is, and so the status the stage exits with (docs/DESIGN.md, the error
+/// policy).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Kind {
     /// Bad command-line arguments; checked before any input is read. Status 2.
