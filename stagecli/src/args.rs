@@ -183,7 +183,7 @@ impl ViewArgs {
             let f = camera.at - camera.eye;
             let options = if !(f.length_squared() > 0.0 && f.is_finite()) {
                 format!("--eye {} --at {}", triple(camera.eye), triple(camera.at))
-            } else if !(f.cross(camera.up).length_squared() > 0.0) {
+            } else if f.cross(camera.up).length_squared() <= 0.0 {
                 format!(
                     "--up {} (looking from {} to {})",
                     triple(camera.up),

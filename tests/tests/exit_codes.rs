@@ -225,7 +225,7 @@ fn a_stream_cut_short_exits_1() {
         let err = String::from_utf8_lossy(&out.stderr);
         assert_eq!(out.status.code(), Some(status), "{cmd}: {err}");
         assert_eq!(err.lines().count(), 1, "{cmd}: {err}");
-        assert!(err.starts_with(&format!("{name}")), "{cmd}: {err}");
+        assert!(err.starts_with(name), "{cmd}: {err}");
         assert!(!err.contains("panicked"), "{cmd}: {err}");
     }
 }

@@ -39,7 +39,7 @@ fn plane_of(points: &[DVec3]) -> DVec4 {
         .iter()
         .map(|p| p.abs().max_element())
         .fold(0.0, f64::max);
-    if !(largest > LARGE) {
+    if largest <= LARGE {
         return newell_plane(points);
     }
     // 2^e ≥ largest, so that the scaled points are at most 1 in size (2^1023 at most,

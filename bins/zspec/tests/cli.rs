@@ -2,7 +2,6 @@
 //! and exit statuses, and refusals.
 
 use assert_cmd::Command;
-use predicates::prelude::*;
 use predicates::str::contains;
 
 fn zspec() -> Command {
