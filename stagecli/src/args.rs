@@ -58,8 +58,9 @@ pub fn command<C: clap::CommandFactory>() -> Command {
 }
 
 /// A clap error as one line without the program name: clap's own message, with its
-/// further lines (the missing arguments, the possible values) joined on, and its usage
-/// block, tips and "For more information" dropped. A missing subcommand, for which clap
+/// further lines (the missing arguments, the possible values, a similar option's name)
+/// joined on, and its usage block, "For more information" and the tip about `--`
+/// dropped. A missing subcommand, for which clap
 /// prints the whole help, lists the subcommands.
 pub fn usage_line(e: &clap::Error, cmd: &Command) -> String {
     if matches!(
@@ -84,8 +85,11 @@ pub fn usage_line(e: &clap::Error, cmd: &Command) -> String {
         if line.starts_with("Usage:") || line.starts_with("For more information") {
             break;
         }
-        if !line.is_empty() && !line.starts_with("tip:") {
-            parts.push(line);
+        match line.strip_prefix("tip: ") {
+            Some(tip) if !tip.starts_with("to pass") => parts.push(format!("({tip})")),
+            Some(_) => {}
+            None if !line.is_empty() => parts.push(line.to_string()),
+            None => {}
         }
     }
     parts.join(" ")
@@ -277,6 +281,10 @@ mod tests {
         assert_eq!(
             line(&["--size", "4x4", "--bogus"]),
             "unexpected argument '--bogus' found"
+        );
+        assert_eq!(
+            line(&["--sise", "4x4"]),
+            "unexpected argument '--sise' found (a similar argument exists: '--size')"
         );
         for args in [&["--size", "4x4", "--text", "--text"][..], &["--size"]] {
             let l = line(args);
