@@ -1,4 +1,9 @@
 //! Errors as values, each with the position in the input where it arose.
+//!
+//! The variant says what kind of failure it is, and so (in the stage binaries, through
+//! `stagecli`) the exit status: `Io` is an input or output that failed (3; 0, quietly,
+//! for a broken pipe: the reader went away), every other variant is input the stage
+//! cannot take (1).
 
 use std::io;
 

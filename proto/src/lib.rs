@@ -3,17 +3,18 @@
 //! One concept, one place: the stream codec ([`codec`]), the polygon records of thesis
 //! Appendix 1 ([`polygon`]), the scan converter's fragment records ([`fragment`]), plane
 //! classification and edge intersection ([`geometry`]), the pixel-centre coverage rule
-//! ([`raster`]) and the way every binary reports errors ([`cli`]) are written here once
-//! and used by every stage.
+//! ([`raster`]) and the frames' picture format ([`ppm`]) are written here once and used
+//! by every stage. How a stage binary parses its arguments, reports an error and exits
+//! is not here but in the `stagecli` crate: a user of the stream needs no CLI parser.
 
 pub mod camera;
-pub mod cli;
 pub mod codec;
 pub mod error;
 pub mod fragment;
 pub mod geometry;
 pub mod header;
 pub mod polygon;
+pub mod ppm;
 pub mod raster;
 pub mod text;
 

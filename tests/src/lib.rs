@@ -134,10 +134,10 @@ impl Frame {
     }
 }
 
-/// Parses a stream of binary PPM (P6) frames, with the exact reference's reader (the
-/// one `zspec compare` uses).
+/// Parses a stream of PPM frames (binary P6 or plain P3) with the pipeline's own reader,
+/// `proto::ppm` (the one `zspec compare` uses).
 pub fn parse_ppm_stream(bytes: &[u8]) -> Result<Vec<Frame>, String> {
-    let images = zspec::read_ppm_stream(bytes).map_err(|e| format!("{e:#}"))?;
+    let images = proto::ppm::read_all(bytes).map_err(|e| e.to_string())?;
     Ok(images
         .into_iter()
         .map(|i| Frame {

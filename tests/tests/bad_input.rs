@@ -1,5 +1,5 @@
 //! Bad streams for every binary (docs/degenerate.md, "Bad input"): each fault gives one
-//! line `stage: message` on stderr, exit status 1 (invalid input, proto::cli's table),
+//! line `stage: message` on stderr, exit status 1 (invalid input, stagecli's table),
 //! no panic, no hang; `| head -c 100` ends a stage quietly; zbuf writes the frames it
 //! finished before a fault.
 

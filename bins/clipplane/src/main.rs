@@ -1,10 +1,10 @@
 //! clipplane: eye-space polygon stream → the same stream clipped against one plane.
 
-use clap::{CommandFactory, Parser};
+use clap::Parser;
 use clipplane::{clip_against, ClipPlane};
 use proto::geometry::{Plane, PyramidPlane};
-use proto::{Form, Reader, SpaceKind, Token, Writer};
-use std::io;
+use proto::{Polygon, Space, SpaceKind};
+use stagecli::{Error, TextFlag};
 use std::process::ExitCode;
 
 /// Sutherland–Hodgman clipping of every polygon against one plane (thesis chapter 3).
@@ -33,39 +33,27 @@ struct Cli {
     /// For hither or yon: the distance K (clip at z_e = K) instead of the header's.
     #[arg(long, value_name = "K", allow_hyphen_values = true)]
     at: Option<f64>,
-    /// Write the text form instead of binary.
-    #[arg(long)]
-    text: bool,
+    #[command(flatten)]
+    text: TextFlag,
 }
 
 fn main() -> ExitCode {
-    let cli = Cli::parse();
-    let choice = match (cli.plane, cli.which) {
-        (Some(plane), _) => Ok(ClipPlane::General(plane)),
-        (None, Some(which)) => ClipPlane::new(which, cli.at),
-        (None, None) => Err("give a PLANE or --plane a,b,c,d,k".to_string()),
-    };
-    let choice = match choice {
-        Ok(c) => c,
-        Err(msg) => Cli::command()
-            .error(clap::error::ErrorKind::ValueValidation, msg)
-            .exit(),
-    };
-    proto::cli::run("clipplane", || {
-        let mut reader = Reader::<Token, _>::new(io::stdin().lock())?;
-        let header = *reader.header();
-        header.expect(SpaceKind::Eye)?;
-        let proto::Space::Eye(view) = header.space else {
-            unreachable!("expect(Eye) passed")
+    stagecli::main("clipplane", |cli: Cli| {
+        let choice = match (cli.plane, cli.which) {
+            (Some(plane), _) => ClipPlane::General(plane),
+            (None, Some(which)) => ClipPlane::new(which, cli.at).map_err(Error::usage)?,
+            (None, None) => return Err(Error::usage("give a PLANE or --plane a,b,c,d,k")),
         };
-        let plane = choice.plane(&view);
-        // The view volume is passed on unchanged: persp's depth mapping uses its K1, K2.
-        let mut writer = Writer::new(io::stdout().lock(), header, Form::from_text_flag(cli.text))?;
-        // The clipped vertices go to `scratch`, which then swaps places with the input's
-        // vertex list: no allocation of our own per polygon.
-        let mut scratch = Vec::new();
-        while let Some(mut token) = reader.next_record()? {
-            if let Token::Polygon(poly) = &mut token {
+        stagecli::filter_polygons(SpaceKind::Eye, cli.text.form(), "clipping", |header| {
+            let Space::Eye(view) = header.space else {
+                unreachable!("the reader checked the space")
+            };
+            let plane = choice.plane(&view);
+            // The clipped vertices go to `scratch`, which then swaps places with the
+            // input's vertex list: no allocation of our own per polygon.
+            let mut scratch = Vec::new();
+            // The view volume is passed on unchanged: persp's depth mapping uses its K1, K2.
+            Ok((*header, move |poly: &mut Polygon| {
                 clip_against(&poly.vertices, &plane, &mut scratch);
                 if scratch != poly.vertices {
                     // New vertices and edges: the splitter's edge supports (which clipping
@@ -73,10 +61,8 @@ fn main() -> ExitCode {
                     poly.supports.clear();
                 }
                 std::mem::swap(&mut poly.vertices, &mut scratch);
-            }
-            writer.write(&token)?;
-        }
-        writer.flush()?;
-        Ok::<(), anyhow::Error>(())
+                Ok(())
+            }))
+        })
     })
 }

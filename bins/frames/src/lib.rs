@@ -59,7 +59,7 @@ pub fn pass_frames<R: Read, W: Write>(
     reader: &mut Reader<Token, R>,
     writer: &mut Writer<Token, W>,
     range: FrameRange,
-) -> anyhow::Result<u64> {
+) -> stagecli::Result<u64> {
     let mut frame = 0; // the frame the next record belongs to
     while let Some(record) = reader.next_record()? {
         match record.control() {
@@ -78,12 +78,12 @@ pub fn pass_frames<R: Read, W: Write>(
             }
             Control::End => {
                 if frame < range.from {
-                    anyhow::bail!(
+                    return Err(stagecli::Error::data(format!(
                         "the movie has {} frame{} (0 to {frame}): --from {} selects none",
                         frame + 1,
                         if frame == 0 { "" } else { "s" },
                         range.from
-                    );
+                    )));
                 }
                 writer.write(&record)?;
                 writer.flush()?;
@@ -121,7 +121,7 @@ mod tests {
         s + "END\n"
     }
 
-    fn cut(input: &str, range: FrameRange) -> anyhow::Result<(String, u64)> {
+    fn cut(input: &str, range: FrameRange) -> Result<(String, u64), Box<dyn std::error::Error>> {
         let mut reader = Reader::<Token, _>::new(input.as_bytes())?;
         let mut out = Vec::new();
         let n = {

@@ -1,7 +1,8 @@
 //! frames: a movie's frame count, or a contiguous range of its frames as a movie.
 
-use anyhow::Context;
-use clap::{CommandFactory, Parser};
+use clap::Parser;
+use stagecli::Error;
+use std::io::Write;
 use frames::{count_frames, pass_frames, FrameRange};
 use proto::{Form, Reader, SpaceKind, Token, Writer};
 use std::process::ExitCode;
@@ -41,35 +42,27 @@ struct Cli {
 }
 
 fn main() -> ExitCode {
-    let cli = Cli::parse();
-    let range = match FrameRange::new(cli.from, cli.to) {
-        Ok(range) => range,
-        Err(msg) => Cli::command()
-            .error(clap::error::ErrorKind::ValueValidation, msg)
-            .exit(),
-    };
-    proto::cli::run("frames", || {
-        let input = proto::cli::open_input(&cli.input)?;
-        let name = if cli.input == "-" {
-            "stdin"
-        } else {
-            &cli.input
-        };
-        let mut reader = Reader::<Token, _>::new(input).with_context(|| name.to_string())?;
+    stagecli::main("frames", |cli: Cli| {
+        let range = FrameRange::new(cli.from, cli.to).map_err(Error::usage)?;
+        let name = stagecli::input_name(&cli.input).to_string();
+        let input = stagecli::open_input(&cli.input)?;
+        let mut reader =
+            Reader::<Token, _>::new(input).map_err(|e| stagecli::input_error(&name, e))?;
         if SpaceKind::of(&reader.header().space) == SpaceKind::Fragments {
-            anyhow::bail!(
+            return Err(Error::data(format!(
                 "{name}: a fragment stream; frames cuts polygon streams (world, eye or screen)"
-            );
+            )));
         }
         if cli.count {
-            let n = count_frames(&mut reader).with_context(|| name.to_string())?;
-            println!("{n}");
+            let n = count_frames(&mut reader).map_err(|e| stagecli::input_error(&name, e))?;
+            let mut out = stagecli::stdout();
+            writeln!(out, "{n}")?;
+            out.flush()?;
             return Ok(());
         }
         let header = *reader.header();
-        let stdout = std::io::stdout().lock();
-        let mut writer = Writer::new(stdout, header, Form::from_text_flag(cli.text))?;
-        pass_frames(&mut reader, &mut writer, range).with_context(|| name.to_string())?;
+        let mut writer = Writer::new(stagecli::stdout(), header, Form::from_text_flag(cli.text))?;
+        pass_frames(&mut reader, &mut writer, range).map_err(|e| e.context(&name))?;
         Ok(())
     })
 }

@@ -114,7 +114,7 @@ fn a_cut_short_movie_fails_where_it_ends() {
         .assert()
         .code(1)
         .stderr(
-            predicate::str::starts_with("frames: stdin: line 4")
+            predicate::str::starts_with("frames: line 4")
                 .and(predicate::str::contains("without END")),
         );
 }

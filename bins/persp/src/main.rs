@@ -1,11 +1,10 @@
 //! persp: eye-space polygon stream → screen-space (device coordinates and depth).
 
-use anyhow::anyhow;
 use clap::Parser;
 use persp::{DepthMode, Perspective};
 use proto::camera::parse_size;
-use proto::{Form, Header, Reader, Space, SpaceKind, StreamError, Token, Writer};
-use std::io;
+use proto::{Header, Polygon, Space, SpaceKind};
+use stagecli::{Error, TextFlag};
 use std::process::ExitCode;
 
 /// Perspective division and device mapping for a W×H screen.
@@ -28,40 +27,31 @@ struct Cli {
     /// The depth written for each vertex.
     #[arg(long, value_enum, default_value_t = DepthMode::Projective)]
     depth: DepthMode,
-    /// Write the text form instead of binary.
-    #[arg(long)]
-    text: bool,
+    #[command(flatten)]
+    text: TextFlag,
 }
 
 fn main() -> ExitCode {
-    let cli = Cli::parse();
-    proto::cli::run("persp", || {
-        let mut reader = Reader::<Token, _>::new(io::stdin().lock())?;
-        reader.header().expect(SpaceKind::Eye)?;
-        let Space::Eye(view) = reader.header().space else {
-            unreachable!("expect(Eye) passed")
-        };
+    stagecli::main("persp", |cli: Cli| {
         let (width, height) = cli.size;
-        let perspective =
-            Perspective::new(width, height, view, cli.depth).map_err(StreamError::Invalid)?;
-        let mut writer = Writer::new(
-            io::stdout().lock(),
-            Header::new(Space::Screen { width, height }),
-            Form::from_text_flag(cli.text),
-        )?;
-        while let Some(mut token) = reader.next_record()? {
-            if let Token::Polygon(poly) = &mut token {
-                perspective.project_polygon(poly).map_err(|e| {
-                    anyhow!(StreamError::Invalid(format!(
-                        "{}: {}",
-                        reader.position(),
-                        e.reason
-                    )))
-                })?;
-            }
-            writer.write(&token)?;
-        }
-        writer.flush()?;
-        Ok::<(), anyhow::Error>(())
+        stagecli::filter_polygons(
+            SpaceKind::Eye,
+            cli.text.form(),
+            "the perspective division",
+            |header| {
+                let Space::Eye(view) = header.space else {
+                    unreachable!("the reader checked the space")
+                };
+                // A view volume persp cannot map (from the stream's header) is bad input.
+                let perspective =
+                    Perspective::new(width, height, view, cli.depth).map_err(Error::data)?;
+                Ok((
+                    Header::new(Space::Screen { width, height }),
+                    move |poly: &mut Polygon| {
+                        perspective.project_polygon(poly).map_err(|e| e.reason)
+                    },
+                ))
+            },
+        )
     })
 }

@@ -1,10 +1,9 @@
 //! scanconv: screen-space polygons in, fragments (spans or pixels with depth) out.
 
-use anyhow::Context;
 use clap::Parser;
-use proto::{Form, Fragment, Header, Reader, Space, SpaceKind, Token, Writer};
+use proto::{Fragment, Header, Space, SpaceKind, Token};
 use scanconv::{Output, ScanConverter};
-use std::io;
+use stagecli::{Error, TextFlag};
 use std::process::ExitCode;
 
 /// Scan conversion with an edge table and active edge table (thesis ch. 4, Appendix 3).
@@ -16,11 +15,10 @@ use std::process::ExitCode;
 ///   persp --size 500x500 < eye.pp | scanconv | zbuf > frame.ppm
 ///   printf 'polypipe 1 screen 4 4\ncolour 255 0 0\n1 1 0.5\n3 1 0.5\n3 3 0.5\nEND\n' | scanconv --text
 #[derive(Parser)]
-#[command(name = "scanconv", verbatim_doc_comment)]
+#[command(name = "scanconv", version, verbatim_doc_comment)]
 struct Args {
-    /// Write the text form instead of binary.
-    #[arg(long)]
-    text: bool,
+    #[command(flatten)]
+    text: TextFlag,
     /// Send one record per pixel (the thesis's quadruplets) instead of spans.
     #[arg(long)]
     pixels: bool,
@@ -30,19 +28,16 @@ struct Args {
 }
 
 fn main() -> ExitCode {
-    let args = Args::parse();
-    proto::cli::run("scanconv", || {
-        let mut input = Reader::<Token, _>::new(io::stdin().lock())?;
-        input.header().expect(SpaceKind::Screen)?;
+    stagecli::main("scanconv", |args: Args| {
+        let mut input = stagecli::read_stdin::<Token>(SpaceKind::Screen)?;
         let (width, height) = input
             .header()
             .space
             .screen_size()
-            .context("screen-space header without a size")?;
-        let mut out = Writer::<Fragment, _>::new(
-            io::stdout().lock(),
+            .ok_or_else(|| Error::data("screen-space header without a size"))?;
+        let mut out = stagecli::write_stdout::<Fragment>(
             Header::new(Space::Fragments { width, height }),
-            Form::from_text_flag(args.text),
+            args.text.form(),
         )?;
         let output = if args.pixels {
             Output::Pixels
@@ -50,11 +45,11 @@ fn main() -> ExitCode {
             Output::Spans
         };
         let mut sc = ScanConverter::new(width, height, output);
-        while let Some(token) = input.next_record()? {
+        while let Some(token) = stagecli::next(&mut input)? {
             match token {
                 Token::Polygon(p) => {
                     scanconv::check_on_screen(&p, width, height)
-                        .map_err(|m| anyhow::anyhow!("{}: {m}", input.position()))?;
+                        .map_err(|m| Error::data(format!("{}: {m}", input.position())))?;
                     sc.convert(&p, &mut |f| out.write(&f))?
                 }
                 Token::Skip(n) => out.write(&Fragment::Skip(n))?,

@@ -2,8 +2,9 @@
 
 use clap::{Parser, Subcommand};
 use glam::DVec3;
-use proto::{Form, Header, Polygon, Space, Token, Writer};
+use proto::{Form, Header, Polygon, Space, Token};
 use scene::{obj, shapes, spin, Shading};
+use stagecli::{Error, TextFlag};
 use std::io;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
@@ -20,14 +21,15 @@ use std::process::ExitCode;
         scene environment --frames 10 | viewxf | clipplane left | ... | zbuf > movie.ppm\n  \
         scene penetrating --text\n  \
         scene spheres --frames 36 | viewxf | ...\n  \
-        scene obj model.obj --frames 24"
+        scene obj model.obj --frames 24",
+    // `scene penetrating --text` as well as `scene --text penetrating`.
+    mut_arg("text", |a| a.global(true))
 )]
 struct Cli {
     #[command(subcommand)]
     command: Command,
-    /// Write the text form instead of binary.
-    #[arg(long, global = true)]
-    text: bool,
+    #[command(flatten)]
+    text: TextFlag,
     /// Number of frames: a movie in which the objects move between frames.
     #[arg(long, global = true, default_value_t = 1, value_parser = clap::value_parser!(u32).range(1..))]
     frames: u32,
@@ -45,10 +47,10 @@ enum Command {
         #[arg(long, default_value_t = 1000)]
         polygons: usize,
         /// The fraction of polygons wholly outside the clipping pyramid (0 to 1).
-        #[arg(long, default_value_t = 0.5, value_parser = fraction)]
+        #[arg(long, default_value_t = 0.5, value_parser = fraction, allow_negative_numbers = true)]
         clipped: f64,
         /// Dc: the average number of visible polygons covering a pixel.
-        #[arg(long, default_value_t = 1.0, value_parser = positive)]
+        #[arg(long, default_value_t = 1.0, value_parser = positive, allow_negative_numbers = true)]
         depth_complexity: f64,
         /// The random seed: the same seed gives the same scene on every platform.
         #[arg(long, default_value_t = 1)]
@@ -74,7 +76,7 @@ enum Command {
         #[arg(long, default_value_t = 32, value_parser = clap::value_parser!(u32).range(3..=4096))]
         slices: u32,
         /// The radius (the visible square at the origin is ±12.5).
-        #[arg(long, default_value_t = 8.0, value_parser = positive)]
+        #[arg(long, default_value_t = 8.0, value_parser = positive, allow_negative_numbers = true)]
         radius: f64,
     },
     /// Two intersecting spheres (Archuleta's figure 1).
@@ -158,16 +160,24 @@ fn fraction(s: &str) -> Result<f64, String> {
 }
 
 /// Writes a movie: a world-space header, the frames separated by NEXT.FRAME, then END.
+/// A polygon with a coordinate that is not finite (a model too large to turn) is refused,
+/// naming its frame and place.
 fn write_movie<F: IntoIterator<Item = Polygon>>(
     frames: impl IntoIterator<Item = F>,
     form: Form,
-) -> anyhow::Result<()> {
-    let mut writer = Writer::new(io::stdout().lock(), Header::new(Space::World), form)?;
+) -> stagecli::Result<()> {
+    let mut writer = stagecli::write_stdout(Header::new(Space::World), form)?;
     for (i, frame) in frames.into_iter().enumerate() {
         if i > 0 {
             writer.write(&Token::NextFrame)?;
         }
-        for polygon in frame {
+        for (k, polygon) in frame.into_iter().enumerate() {
+            stagecli::check_finite(&polygon).map_err(|m| {
+                Error::data(format!(
+                    "frame {i}, polygon {k}: {m}: not a finite number (coordinates this \
+                     large overflow when the model turns; leave out --no-fit)"
+                ))
+            })?;
             writer.write(&Token::Polygon(polygon))?;
         }
     }
@@ -177,10 +187,9 @@ fn write_movie<F: IntoIterator<Item = Polygon>>(
 }
 
 fn main() -> ExitCode {
-    let cli = Cli::parse();
-    let form = Form::from_text_flag(cli.text);
-    let frames = cli.frames as usize;
-    proto::cli::run("scene", || {
+    stagecli::main("scene", |cli: Cli| {
+        let form = cli.text.form();
+        let frames = cli.frames as usize;
         let movie = match cli.command {
             Command::Environment {
                 polygons,
@@ -249,7 +258,7 @@ fn main() -> ExitCode {
                 shade,
                 ..
             } => {
-                let input = proto::cli::open_input(&file)?;
+                let input = stagecli::open_input(&file)?;
                 let dir = if file == "-" {
                     PathBuf::from(".")
                 } else {

@@ -7,6 +7,7 @@
 
 use crate::shapes::Face;
 use glam::DVec3;
+use stagecli::{Context, Error};
 use std::cell::RefCell;
 use std::io::BufRead;
 use std::path::{Path, PathBuf};
@@ -28,8 +29,16 @@ pub struct Model {
 }
 
 /// Reads an OBJ model. `dir` is where its `mtllib` files are looked for (the OBJ file's
-/// folder, or the current one for standard input); `name` names it in messages.
-pub fn load<R: BufRead>(input: &mut R, dir: &Path, name: &str) -> anyhow::Result<Model> {
+/// folder, or the current one for standard input); `name` names it in messages. A file
+/// that cannot be read is an I/O error; a vertex that is not finite (`v nan 0 0`), or a
+/// file tobj cannot parse, is bad input.
+pub fn load<R: BufRead>(input: &mut R, dir: &Path, name: &str) -> stagecli::Result<Model> {
+    // Read it whole first: a read that fails is then an I/O error of its own, not a
+    // parse error of tobj's, and the vertices can be checked with their line numbers.
+    let mut text = Vec::new();
+    input.read_to_end(&mut text).context(name)?;
+    check_vertices(&text).map_err(|m| Error::data(format!("{name}: {m}")))?;
+    let input = &mut std::io::Cursor::new(text);
     let warnings = RefCell::new(Vec::new());
     let options = tobj::LoadOptions {
         triangulate: false,
@@ -49,7 +58,7 @@ pub fn load<R: BufRead>(input: &mut R, dir: &Path, name: &str) -> anyhow::Result
             }
         }
     })
-    .map_err(|e| anyhow::anyhow!("{name}: not a valid OBJ file: {e}"))?;
+    .map_err(|e| Error::data(format!("{name}: not a valid OBJ file: {e}")))?;
     let mut warnings = warnings.into_inner();
     let materials = materials.unwrap_or_default();
     let mut faces = Vec::new();
@@ -79,10 +88,10 @@ pub fn load<R: BufRead>(input: &mut R, dir: &Path, name: &str) -> anyhow::Result
         let mut start = 0;
         for arity in arities {
             let Some(indices) = mesh.indices.get(start..start + arity) else {
-                anyhow::bail!(
+                return Err(Error::data(format!(
                     "{name}: object `{}` has a face past its index list",
                     model.name
-                );
+                )));
             };
             faces.push(Face::new(
                 colour,
@@ -97,9 +106,37 @@ pub fn load<R: BufRead>(input: &mut R, dir: &Path, name: &str) -> anyhow::Result
     Ok(Model { faces, warnings })
 }
 
+/// Refuses a vertex (`v x y z`) with a coordinate that is not a finite number (`nan`,
+/// `inf`, which Rust's and tobj's number parsing accept), naming its line: such a
+/// vertex has no place, and the stages after this one would otherwise take the blame.
+fn check_vertices(text: &[u8]) -> Result<(), String> {
+    for (k, line) in text.split(|&b| b == b'\n').enumerate() {
+        let line = String::from_utf8_lossy(line);
+        let mut words = line.split_whitespace();
+        if words.next() != Some("v") {
+            continue;
+        }
+        for word in words.take(3) {
+            if word.parse::<f64>().is_ok_and(|x| !x.is_finite()) {
+                return Err(format!(
+                    "line {}: vertex `{}` has a coordinate `{word}` that is not a finite number",
+                    k + 1,
+                    line.trim()
+                ));
+            }
+        }
+    }
+    Ok(())
+}
+
 /// Moves and scales the faces so that the model's bounding box is centred on the
 /// origin and its bounding sphere has radius [`FIT_RADIUS`]: the whole model is then in
 /// view of the default camera.
+///
+/// A model whose coordinates are beyond about 1e150 is measured in units of a power of
+/// two its size, so that neither the centre (a sum of two coordinates) nor the radius
+/// (a sum of squares) overflows however large the numbers are; a model of ordinary size
+/// is measured as it is.
 pub fn fit(faces: &mut [Face]) {
     let mut lo = DVec3::splat(f64::INFINITY);
     let mut hi = DVec3::splat(f64::NEG_INFINITY);
@@ -111,11 +148,18 @@ pub fn fit(faces: &mut [Face]) {
         // No vertices.
         return;
     }
-    let centre = (lo + hi) * 0.5;
+    let extent = lo.abs().max(hi.abs()).max_element();
+    let unit = if extent > 1e150 {
+        // 2^1023 at most (2^1024 is infinite): the scaled coordinates are below 2.
+        2f64.powi((extent.log2().ceil() as i32).min(1023))
+    } else {
+        1.0
+    };
+    let centre = (lo / unit + hi / unit) * 0.5;
     let radius = faces
         .iter()
         .flat_map(|f| &f.points)
-        .map(|p| (*p - centre).length())
+        .map(|p| (*p / unit - centre).length())
         .fold(0.0, f64::max);
     let scale = if radius > 0.0 {
         FIT_RADIUS / radius
@@ -123,7 +167,7 @@ pub fn fit(faces: &mut [Face]) {
         1.0
     };
     for p in faces.iter_mut().flat_map(|f| &mut f.points) {
-        *p = (*p - centre) * scale;
+        *p = (*p / unit - centre) * scale;
     }
 }
 
@@ -185,6 +229,51 @@ mod tests {
         let r = FIT_RADIUS / 2f64.sqrt();
         assert!((faces[0].points[0] - DVec3::new(-r, 0.0, -r)).length() < 1e-12);
         assert!((faces[0].points[2] - DVec3::new(r, 0.0, r)).length() < 1e-12);
+    }
+
+    #[test]
+    fn fit_takes_the_largest_coordinates() {
+        let mut faces = vec![Face::new(
+            DEFAULT_COLOUR,
+            vec![
+                DVec3::new(1e308, 1.7e308, 0.0),
+                DVec3::new(1.7e308, 1.7e308, 0.0),
+                DVec3::new(1.7e308, 1e308, -1.7e308),
+            ],
+        )];
+        fit(&mut faces);
+        let p = &faces[0].points;
+        assert!(p.iter().all(|v| v.is_finite()), "{p:?}");
+        let radius = p.iter().map(|v| v.length()).fold(0.0, f64::max);
+        assert!((radius - FIT_RADIUS).abs() < 1e-9, "{p:?}");
+    }
+
+    #[test]
+    fn a_vertex_that_is_not_finite_is_refused_by_its_line() {
+        for (obj, line, word) in [
+            ("v 0 0 0\nv nan 0 0\nv 0 1 0\nf 1 2 3\n", 2, "nan"),
+            ("# c\n\nv 0 0 0\nv 1 -inf 0\n", 4, "-inf"),
+            ("v 0 0 0\n  v 1 0 Infinity\n", 2, "Infinity"),
+        ] {
+            let err = load(&mut Cursor::new(obj), Path::new("."), "m.obj").unwrap_err();
+            assert_eq!(err.kind(), stagecli::Kind::Data);
+            let m = err.to_string();
+            assert!(
+                m.starts_with(&format!("m.obj: line {line}: vertex `v "))
+                    && m.ends_with(&format!(
+                        "has a coordinate `{word}` that is not a finite number"
+                    )),
+                "{m}"
+            );
+        }
+        // Normals and texture coordinates are not positions; a vertex's fourth (weight)
+        // number is not a coordinate either.
+        assert!(load(
+            &mut Cursor::new("vn nan 0 0\nv 0 0 0 nan\n"),
+            Path::new("."),
+            "m"
+        )
+        .is_ok());
     }
 
     #[test]

@@ -1,12 +1,10 @@
 //! splitter: one node of the splitter tree (thesis chapter 6.2), eye space in, two
 //! eye-space streams out.
 
-use anyhow::Context;
-use clap::{CommandFactory, Parser};
-use proto::{Form, Polygon, Reader, Space, SpaceKind, Token, Writer};
+use clap::Parser;
+use proto::{Polygon, Space, SpaceKind, Token};
 use splitter::{split, SplitPlane, Stats, Tree};
-use std::fs::File;
-use std::io::{self, Write};
+use stagecli::{Branch, Error, TextFlag};
 use std::process::ExitCode;
 
 /// A splitter node (thesis chapter 6.2): splits every polygon of an eye-space stream
@@ -16,7 +14,8 @@ use std::process::ExitCode;
 /// y_e ≤ K·w (for `y=K`; the screen below y_s = K), OUT2 the rest. Both outputs get every
 /// polygon (empty where it lies wholly on the other side, so polygon k is the same
 /// polygon on both branches) and every NEXT.FRAME and END. OUT1 and OUT2 are files or
-/// named pipes; `-` is stdout, for at most one of them.
+/// named pipes; `-` is stdout, for at most one of them, and they must be two files. When
+/// one output's reader goes away, the other still gets the whole stream.
 #[derive(Parser, Debug)]
 #[command(
     name = "splitter",
@@ -51,100 +50,111 @@ struct Cli {
     /// The screen's size in pixels, for --node.
     #[arg(long, value_name = "WxH", requires = "node")]
     size: Option<String>,
-    /// Write the text form instead of binary.
-    #[arg(long)]
-    text: bool,
+    #[command(flatten)]
+    text: TextFlag,
     /// At END, print on stderr the polygons in and the non-empty polygons and vertices
     /// sent to each output.
     #[arg(long)]
     stats: bool,
 }
 
-fn usage(msg: String) -> ! {
-    Cli::command()
-        .error(clap::error::ErrorKind::ValueValidation, msg)
-        .exit()
-}
-
-/// Opens an output named on the command line: `-` is stdout. A named pipe's open
-/// waits for its reader, as the occam channel waits for its partner.
-fn open_output(path: &str) -> anyhow::Result<Box<dyn Write>> {
-    if path == "-" {
-        Ok(Box::new(io::stdout().lock()))
-    } else {
-        let f = File::create(path).with_context(|| format!("cannot open {path} for writing"))?;
-        Ok(Box::new(f))
+/// The plane and the two outputs the arguments name, checked before any input is read.
+fn plan(cli: &Cli) -> Result<(SplitPlane, [String; 2]), Error> {
+    let tree_plane = match cli.node {
+        Some(node) => {
+            let size = cli.size.as_deref().unwrap_or_default();
+            let (width, height) = proto::camera::parse_size(size)
+                .map_err(|m| Error::usage(format!("--size {size}: {m}")))?;
+            Tree::check_node(node, cli.depth.unwrap_or_default()).map_err(Error::usage)?;
+            Some(Tree { width, height }.plane(node))
+        }
+        None => None,
+    };
+    let (plane, outputs) = match (&cli.plane, cli.args.as_slice()) {
+        (None, [out1, out2]) if tree_plane.is_some() => (
+            tree_plane.ok_or_else(String::new),
+            [out1.clone(), out2.clone()],
+        ),
+        (None, _) if tree_plane.is_some() => {
+            return Err(Error::usage("with --node, give only OUT1 and OUT2"))
+        }
+        (Some(general), [out1, out2]) => (
+            SplitPlane::parse_general(general).map_err(|m| format!("--plane {general}: {m}")),
+            [out1.clone(), out2.clone()],
+        ),
+        (None, [plane, out1, out2]) => (plane.parse::<SplitPlane>(), [out1.clone(), out2.clone()]),
+        (Some(_), _) => return Err(Error::usage("with --plane, give only OUT1 and OUT2")),
+        (None, _) => {
+            return Err(Error::usage(
+                "expected PLANE OUT1 OUT2, e.g. `splitter x=0 left right`",
+            ))
+        }
+    };
+    let plane = plane.map_err(Error::usage)?;
+    if outputs[0] == "-" && outputs[1] == "-" {
+        return Err(Error::usage(
+            "at most one of OUT1 and OUT2 may be `-` (stdout)",
+        ));
     }
+    if stagecli::same_file(&outputs[0], &outputs[1]) {
+        return Err(Error::usage(format!(
+            "OUT1 {} and OUT2 {} are one file: the two streams would be mixed in it",
+            outputs[0], outputs[1]
+        )));
+    }
+    Ok((plane, outputs))
 }
 
 fn main() -> ExitCode {
-    let cli = Cli::parse();
-    let tree_plane = cli.node.map(|node| {
-        let (width, height) = proto::camera::parse_size(cli.size.as_deref().unwrap_or_default())
-            .unwrap_or_else(|m| usage(m));
-        Tree::check_node(node, cli.depth.unwrap_or_default()).unwrap_or_else(|m| usage(m));
-        Tree { width, height }.plane(node)
-    });
-    let (split_plane, outputs) = match (&cli.plane, tree_plane, cli.args.as_slice()) {
-        (None, Some(plane), [out1, out2]) => (plane, [out1.clone(), out2.clone()]),
-        (None, Some(_), _) => usage("with --node, give only OUT1 and OUT2".into()),
-        (Some(general), None, [out1, out2]) => (
-            SplitPlane::parse_general(general).unwrap_or_else(|m| usage(m)),
-            [out1.clone(), out2.clone()],
-        ),
-        (None, None, [plane, out1, out2]) => (
-            plane.parse::<SplitPlane>().unwrap_or_else(|m| usage(m)),
-            [out1.clone(), out2.clone()],
-        ),
-        (Some(_), _, _) => usage("with --plane, give only OUT1 and OUT2".into()),
-        (None, None, _) => usage("expected PLANE OUT1 OUT2, e.g. `splitter x=0 left right`".into()),
-    };
-    // What --stats calls this node: its plane, and its place in the tree.
-    let label = match cli.node {
-        Some(node) => format!("splitter {split_plane} (node {node})"),
-        None => format!("splitter {split_plane}"),
-    };
-    if outputs[0] == "-" && outputs[1] == "-" {
-        usage("at most one of OUT1 and OUT2 may be `-` (stdout)".into());
-    }
-    proto::cli::run("splitter", || {
-        let mut reader = Reader::<Token, _>::new(io::stdin().lock())?;
-        reader.header().expect(SpaceKind::Eye)?;
+    stagecli::main("splitter", |cli: Cli| {
+        let (split_plane, outputs) = plan(&cli)?;
+        // What --stats calls this node: its plane, and its place in the tree.
+        let label = match cli.node {
+            Some(node) => format!("splitter {split_plane} (node {node})"),
+            None => format!("splitter {split_plane}"),
+        };
+        let mut reader = stagecli::read_stdin::<Token>(SpaceKind::Eye)?;
         let header = *reader.header();
-        let view = match header.space {
-            Space::Eye(view) => view,
-            other => anyhow::bail!("input is {}-space, expected eye-space", other.name()),
+        let Space::Eye(view) = header.space else {
+            unreachable!("the reader checked the space")
         };
         let plane = split_plane.plane(&view);
-        let form = Form::from_text_flag(cli.text);
-        let mut out1 = Writer::new(open_output(&outputs[0])?, header, form)
-            .with_context(|| format!("writing {}", outputs[0]))?;
-        let mut out2 = Writer::new(open_output(&outputs[1])?, header, form)
-            .with_context(|| format!("writing {}", outputs[1]))?;
+        let form = cli.text.form();
+        let mut out1 = Branch::open(&outputs[0], header, form)?;
+        let mut out2 = Branch::open(&outputs[1], header, form)?;
         let mut stats = Stats::default();
         // The two pieces' buffers, lent to a Token for writing and taken back.
         let mut piece1 = Polygon::default();
         let mut piece2 = Polygon::default();
-        while let Some(token) = reader.next_record()? {
+        while let Some(token) = stagecli::next(&mut reader)? {
+            if !(out1.is_open() || out2.is_open()) {
+                // Both readers have gone: nobody is left to write for.
+                return Ok(());
+            }
             match &token {
                 Token::Polygon(poly) => {
                     split(poly, &plane, &mut piece1, &mut piece2);
+                    for piece in [&piece1, &piece2] {
+                        stagecli::check_finite(piece).map_err(|m| {
+                            Error::data(format!(
+                                "{}: {m} after the split: not a finite number (coordinates \
+                                 this large overflow)",
+                                reader.position()
+                            ))
+                        })?;
+                    }
                     stats.record(&piece1, &piece2);
                     let t1 = Token::Polygon(std::mem::take(&mut piece1));
-                    out1.write(&t1)
-                        .with_context(|| format!("writing {}", outputs[0]))?;
+                    out1.write(&t1)?;
                     let t2 = Token::Polygon(std::mem::take(&mut piece2));
-                    out2.write(&t2)
-                        .with_context(|| format!("writing {}", outputs[1]))?;
+                    out2.write(&t2)?;
                     if let (Token::Polygon(a), Token::Polygon(b)) = (t1, t2) {
                         (piece1, piece2) = (a, b);
                     }
                 }
                 control => {
-                    out1.write(control)
-                        .with_context(|| format!("writing {}", outputs[0]))?;
-                    out2.write(control)
-                        .with_context(|| format!("writing {}", outputs[1]))?;
+                    out1.write(control)?;
+                    out2.write(control)?;
                     if *control == Token::End && cli.stats {
                         eprintln!("{label}: {stats}");
                     }
@@ -152,7 +162,6 @@ fn main() -> ExitCode {
             }
         }
         out1.flush()?;
-        out2.flush()?;
-        Ok(())
+        out2.flush()
     })
 }

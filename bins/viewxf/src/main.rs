@@ -1,9 +1,8 @@
 //! viewxf: world-space polygon stream → eye-space polygon stream.
 
-use clap::{CommandFactory, Parser};
-use proto::camera::ViewArgs;
-use proto::{Form, Header, Reader, Space, SpaceKind, Token, Writer};
-use std::io;
+use clap::Parser;
+use proto::{Header, Polygon, Space, SpaceKind};
+use stagecli::{TextFlag, ViewArgs};
 use std::process::ExitCode;
 
 /// The viewing transformation (world → eye coordinates, with w = z_e·s/d).
@@ -20,35 +19,24 @@ use std::process::ExitCode;
 struct Cli {
     #[command(flatten)]
     view: ViewArgs,
-    /// Write the text form instead of binary.
-    #[arg(long)]
-    text: bool,
+    #[command(flatten)]
+    text: TextFlag,
 }
 
 fn main() -> ExitCode {
-    let cli = Cli::parse();
-    // A camera or volume that cannot be viewed through is a usage error (status 2).
-    let (frame, view) = match cli.view.resolve() {
-        Ok(resolved) => resolved,
-        Err(msg) => Cli::command()
-            .error(clap::error::ErrorKind::ValueValidation, msg)
-            .exit(),
-    };
-    proto::cli::run("viewxf", || {
-        let mut reader = Reader::<Token, _>::new(io::stdin().lock())?;
-        reader.header().expect(SpaceKind::World)?;
-        let mut writer = Writer::new(
-            io::stdout().lock(),
-            Header::new(Space::Eye(view)),
-            Form::from_text_flag(cli.text),
-        )?;
-        while let Some(mut token) = reader.next_record()? {
-            if let Token::Polygon(poly) = &mut token {
-                viewxf::view_polygon(&frame, poly);
-            }
-            writer.write(&token)?;
-        }
-        writer.flush()?;
-        Ok::<(), anyhow::Error>(())
+    stagecli::main("viewxf", |cli: Cli| {
+        // A camera or volume that cannot be viewed through is a usage error (status 2).
+        let (frame, view) = cli.view.resolve()?;
+        stagecli::filter_polygons(
+            SpaceKind::World,
+            cli.text.form(),
+            "the viewing transformation",
+            |_| {
+                Ok((Header::new(Space::Eye(view)), |poly: &mut Polygon| {
+                    viewxf::view_polygon(&frame, poly);
+                    Ok(())
+                }))
+            },
+        )
     })
 }

@@ -116,9 +116,7 @@ fn invalid_cameras_are_usage_errors() {
         .write_stdin(SCENE)
         .assert()
         .code(2)
-        .stderr(predicate::str::contains(
-            "hither 5 and yon 2 must satisfy 0 < hither < yon",
-        ));
+        .stderr("viewxf: --hither 5 --yon 2: they must satisfy 0 < hither < yon\n");
     viewxf()
         .args(["--d", "0"])
         .write_stdin(SCENE)

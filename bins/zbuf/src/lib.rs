@@ -16,8 +16,8 @@
 
 pub mod par_buff;
 
-use anyhow::{bail, Context};
-use proto::Colour;
+use proto::{ppm, Colour};
+use stagecli::{Context, Error};
 use std::io::{self, Write};
 use std::path::{Path, PathBuf};
 
@@ -40,16 +40,26 @@ const NO_POLYGON: u32 = u32::MAX;
 
 impl FrameBuffer {
     /// A cleared buffer (KH(MAX.DEPTH), KH(BACK.GROUND.COLOUR) in the thesis's CSP).
-    pub fn new(width: u32, height: u32, background: Colour) -> Self {
+    /// The memory is asked for, not assumed: a screen too large for this machine is
+    /// refused with what it would need (`a 65536x65536 frame needs 60 GiB …`) rather than
+    /// aborting the process.
+    pub fn new(width: u32, height: u32, background: Colour) -> Result<Self, String> {
         let n = width as usize * height as usize;
-        FrameBuffer {
+        let refuse = || {
+            format!(
+                "a {width}x{height} frame needs {} ({BYTES_PER_PIXEL} bytes a pixel: depth, \
+                 polygon and colour), more memory than can be had",
+                stagecli::error::bytes_text(n as u64 * BYTES_PER_PIXEL)
+            )
+        };
+        Ok(FrameBuffer {
             width,
             height,
             background,
-            depth: vec![i64::MAX; n],
-            polygon: vec![NO_POLYGON; n],
-            colour: vec![background; n],
-        }
+            depth: filled(n, i64::MAX).ok_or_else(refuse)?,
+            polygon: filled(n, NO_POLYGON).ok_or_else(refuse)?,
+            colour: filled(n, background).ok_or_else(refuse)?,
+        })
     }
 
     pub fn width(&self) -> u32 {
@@ -143,11 +153,21 @@ impl FrameBuffer {
         self.colour[y as usize * self.width as usize + x as usize]
     }
 
-    /// Writes the frame as a binary PPM (P6, maxval 255).
-    pub fn write_ppm<W: Write>(&self, out: &mut W) -> io::Result<()> {
-        write!(out, "P6\n{} {}\n255\n", self.width, self.height)?;
-        out.write_all(self.rgb())
+    /// Writes the frame as a PPM: binary (P6) or plain (P3), maxval 255.
+    pub fn write_ppm<W: Write>(&self, out: &mut W, form: ppm::Form) -> io::Result<()> {
+        ppm::write(out, self.width, self.height, self.rgb(), form)
     }
+}
+
+/// A frame buffer's memory per pixel: depth (i64), polygon index (u32), colour (RGB).
+pub const BYTES_PER_PIXEL: u64 = 8 + 4 + 3;
+
+/// `n` copies of `value`, or `None` when the memory cannot be had.
+fn filled<T: Clone>(n: usize, value: T) -> Option<Vec<T>> {
+    let mut v = Vec::new();
+    v.try_reserve_exact(n).ok()?;
+    v.resize(n, value);
+    Some(v)
 }
 
 /// Parses `R,G,B` (each 0–255), e.g. for `--background`.
@@ -184,7 +204,7 @@ pub enum ImageFormat {
 }
 
 impl FramePattern {
-    pub fn parse(pattern: &str) -> anyhow::Result<Self> {
+    pub fn parse(pattern: &str) -> Result<Self, String> {
         let mut prefix = String::new();
         let mut field: Option<(usize, String)> = None;
         let mut chars = pattern.chars().peekable();
@@ -208,10 +228,12 @@ impl FramePattern {
                 chars.next();
             }
             if chars.next() != Some('d') {
-                bail!("-o {pattern}: `%` must start %d, %0Nd or %% (as in ffmpeg's image2)");
+                return Err(format!(
+                    "-o {pattern}: `%` must start %d, %0Nd or %% (as in ffmpeg's image2)"
+                ));
             }
             if field.is_some() {
-                bail!("-o {pattern}: more than one frame number field");
+                return Err(format!("-o {pattern}: more than one frame number field"));
             }
             let width = if digits.is_empty() {
                 0
@@ -220,7 +242,7 @@ impl FramePattern {
                     .parse::<usize>()
                     .ok()
                     .filter(|w| *w <= 20)
-                    .with_context(|| format!("-o {pattern}: field width {digits} is too wide"))?
+                    .ok_or_else(|| format!("-o {pattern}: field width {digits} is too wide"))?
             };
             field = Some((width, String::new()));
         }
@@ -231,7 +253,7 @@ impl FramePattern {
         let format = match ext.as_deref() {
             Some("png") => ImageFormat::Png,
             Some("ppm") => ImageFormat::Ppm,
-            _ => bail!("-o {pattern}: the file name must end .png or .ppm"),
+            _ => return Err(format!("-o {pattern}: the file name must end .png or .ppm")),
         };
         Ok(FramePattern {
             parts: (prefix, field),
@@ -253,15 +275,15 @@ impl FramePattern {
         }
     }
 
-    /// Writes frame `frame` to its file.
-    pub fn save(&self, frame: u64, fb: &FrameBuffer) -> anyhow::Result<()> {
+    /// Writes frame `frame` to its file; a .ppm file in the given form.
+    pub fn save(&self, frame: u64, fb: &FrameBuffer, form: ppm::Form) -> stagecli::Result<()> {
         let path = self.path(frame);
         let fail = || format!("cannot write {}", path.display());
         match self.format {
             ImageFormat::Ppm => {
                 let file = std::fs::File::create(&path).with_context(fail)?;
                 let mut out = io::BufWriter::new(file);
-                fb.write_ppm(&mut out).with_context(fail)?;
+                fb.write_ppm(&mut out, form).with_context(fail)?;
                 out.flush().with_context(fail)?;
             }
             ImageFormat::Png => image::save_buffer_with_format(
@@ -273,8 +295,9 @@ impl FramePattern {
                 image::ImageFormat::Png,
             )
             .map_err(|e| match e {
-                image::ImageError::IoError(io) => anyhow::Error::new(io),
-                other => anyhow::anyhow!("{other}"),
+                image::ImageError::IoError(io) => Error::from(io),
+                // The encoder refusing our own buffer: nothing the user can mend.
+                other => Error::io(other.to_string()),
             })
             .with_context(fail)?,
         }
@@ -323,7 +346,7 @@ mod tests {
 
     #[test]
     fn nearer_wins_and_ties_go_to_the_earlier_polygon() {
-        let mut fb = FrameBuffer::new(4, 1, [0, 0, 0]);
+        let mut fb = FrameBuffer::new(4, 1, [0, 0, 0]).unwrap();
         // Polygon 1 at depth 10 over columns 0..4.
         fb.span(0, 0..4, 10, 0, 1, [1, 1, 1]);
         // Polygon 0, later in arrival but earlier in the stream, ties at depth 10: wins.
@@ -340,7 +363,7 @@ mod tests {
 
     #[test]
     fn depth_saturates_rather_than_wrapping() {
-        let mut fb = FrameBuffer::new(3, 1, [0, 0, 0]);
+        let mut fb = FrameBuffer::new(3, 1, [0, 0, 0]).unwrap();
         fb.span(0, 0..3, i64::MAX - 1, i64::MAX, 0, [7, 7, 7]);
         // Depth MAX − 1, then MAX, MAX: all beat the empty pixel (MAX, no polygon).
         assert_eq!(fb.rgb(), &[7; 9]);
@@ -350,11 +373,20 @@ mod tests {
 
     #[test]
     fn ppm_bytes() {
-        let mut fb = FrameBuffer::new(2, 1, [9, 8, 7]);
+        let mut fb = FrameBuffer::new(2, 1, [9, 8, 7]).unwrap();
         fb.pixel(1, 0, 0, 0, [1, 2, 3]);
         let mut out = Vec::new();
-        fb.write_ppm(&mut out).unwrap();
+        fb.write_ppm(&mut out, ppm::Form::Binary).unwrap();
         assert_eq!(out, b"P6\n2 1\n255\n\x09\x08\x07\x01\x02\x03");
+        out.clear();
+        fb.write_ppm(&mut out, ppm::Form::Plain).unwrap();
+        assert_eq!(out, b"P3\n2 1\n255\n9 8 7 1 2 3\n");
+    }
+
+    #[test]
+    fn a_frame_buffer_is_15_bytes_a_pixel() {
+        let n = 65536 * 65536 * BYTES_PER_PIXEL;
+        assert_eq!(stagecli::error::bytes_text(n), "60 GiB");
     }
 
     #[test]

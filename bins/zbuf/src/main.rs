@@ -1,18 +1,19 @@
 //! zbuf: fragments from one or many scan converters in, one PPM per frame out.
 
-use anyhow::{bail, Context};
 use clap::Parser;
 use proto::Colour;
+use stagecli::{Error, PpmTextFlag};
 use std::io::{self, Write};
 use std::process::ExitCode;
 use zbuf::par_buff::{par_buff, Input};
-use zbuf::{parse_colour, FramePattern};
+use zbuf::{parse_colour, FramePattern, ImageFormat};
 
 /// The Z-buffer (thesis BUFFER / PAR.BUFF, ch. 4.2.3 and 6.3.3).
 ///
 /// Reads fragment streams from scanconv, all inputs at once, keeps for each pixel the
-/// nearest polygon (the earlier one on a tie), and writes each frame as a binary PPM (P6)
-/// when every input has finished it: frames concatenated on stdout, or one file per frame.
+/// nearest polygon (the earlier one on a tie), and writes each frame as a binary PPM (P6;
+/// plain P3 with --text) when every input has finished it: frames concatenated on
+/// stdout, or one file per frame.
 ///
 /// Examples:
 ///   persp --size 500x500 < eye.pp | scanconv | zbuf > frame.ppm
@@ -21,9 +22,10 @@ use zbuf::{parse_colour, FramePattern};
 ///     | persp --size 500x500 | scanconv | zbuf --progress -o frame%03d.png
 ///   mkfifo a b; scanconv < a.pp > a & scanconv < b.pp > b & zbuf a b | ffmpeg -f image2pipe -i - out.mp4
 #[derive(Parser)]
-#[command(name = "zbuf", verbatim_doc_comment)]
+#[command(name = "zbuf", version, verbatim_doc_comment)]
 struct Args {
-    /// Fragment streams (files or named pipes; `-` or none for stdin), read concurrently.
+    /// Fragment streams (files or named pipes; `-` or none for stdin, at most once), read
+    /// concurrently.
     inputs: Vec<String>,
     /// Background colour R,G,B.
     #[arg(long, value_parser = parse_colour, default_value = "0,0,0")]
@@ -32,6 +34,8 @@ struct Args {
     /// the frame number from 0 (as ffmpeg's image2); .png or .ppm by the extension.
     #[arg(short = 'o', value_name = "PATTERN")]
     output: Option<String>,
+    #[command(flatten)]
+    text: PpmTextFlag,
     /// Print, per input, the spans and pixels received, on stderr at the end.
     #[arg(long)]
     stats: bool,
@@ -41,56 +45,68 @@ struct Args {
     progress: bool,
 }
 
+/// The output pattern and the inputs the arguments name, checked before any input is
+/// read.
+fn plan(args: &Args) -> Result<(Option<FramePattern>, Vec<String>), Error> {
+    let pattern = args
+        .output
+        .as_deref()
+        .map(FramePattern::parse)
+        .transpose()
+        .map_err(Error::usage)?;
+    if args.text.text
+        && pattern
+            .as_ref()
+            .is_some_and(|p| p.format == ImageFormat::Png)
+    {
+        return Err(Error::usage(format!(
+            "--text writes plain PPM, but -o {} asks for PNG: name .ppm files or leave out --text",
+            args.output.as_deref().unwrap_or_default()
+        )));
+    }
+    if args.inputs.iter().filter(|i| *i == "-").count() > 1 {
+        return Err(Error::usage(
+            "`-` (stdin) is named more than once: it can be read only once",
+        ));
+    }
+    let names = if args.inputs.is_empty() {
+        vec!["-".to_string()]
+    } else {
+        args.inputs.clone()
+    };
+    Ok((pattern, names))
+}
+
 fn main() -> ExitCode {
-    let args = Args::parse();
-    proto::cli::run("zbuf", || {
-        let pattern = args
-            .output
-            .as_deref()
-            .map(FramePattern::parse)
-            .transpose()?;
-        let names = if args.inputs.is_empty() {
-            vec!["-".to_string()]
-        } else {
-            args.inputs.clone()
-        };
+    stagecli::main("zbuf", |args: Args| {
+        let (pattern, names) = plan(&args)?;
+        let form = args.text.form();
         let inputs = names
             .iter()
             .map(|name| {
                 let path = name.clone();
                 Input {
-                    name: if name == "-" {
-                        "stdin".into()
-                    } else {
-                        name.clone()
-                    },
-                    open: Box::new(move || {
-                        if path == "-" {
-                            Ok(Box::new(io::stdin()) as Box<dyn io::Read + Send>)
-                        } else {
-                            let f = std::fs::File::open(&path).context("cannot open")?;
-                            Ok(Box::new(f) as Box<dyn io::Read + Send>)
-                        }
-                    }),
+                    name: stagecli::input_name(name).to_string(),
+                    // par_buff names the input in every message about it.
+                    open: Box::new(move || Ok(stagecli::stream::open(&path)?)),
                 }
             })
             .collect();
-        let stdout = io::stdout();
-        let mut out = io::BufWriter::with_capacity(1 << 16, stdout.lock());
+        let mut out = io::BufWriter::with_capacity(1 << 16, stagecli::stdout());
         let progress = zbuf::frame_progress(args.progress);
         let stats = par_buff(inputs, args.background, |frame, fb| {
             match &pattern {
-                Some(p) => {
-                    if frame > 0 && !p.numbered() {
-                        bail!(
-                            "-o {}: more than one frame, but the name has no %d for the frame number",
-                            args.output.as_deref().unwrap_or_default()
-                        );
-                    }
-                    p.save(frame, fb)?;
+                // Known only once a second frame comes: the input is a movie where one
+                // picture was asked for (so not a usage error, found before reading).
+                Some(p) if frame > 0 && !p.numbered() => {
+                    return Err(Error::data(format!(
+                        "-o {}: more than one frame, but the name has no %d for the frame number",
+                        args.output.as_deref().unwrap_or_default()
+                    )))
                 }
+                Some(p) => p.save(frame, fb, form)?,
                 None => {
-                    fb.write_ppm(&mut out)?;
+                    fb.write_ppm(&mut out, form)?;
                     out.flush()?;
                 }
             }
@@ -106,7 +122,7 @@ fn main() -> ExitCode {
         let stats = stats?;
         if args.stats {
             for (name, s) in names.iter().zip(stats) {
-                let name = if name == "-" { "stdin" } else { name };
+                let name = stagecli::input_name(name);
                 if s.runs > 0 {
                     eprintln!(
                         "zbuf: {name}: {} spans, {} runs, {} pixels",

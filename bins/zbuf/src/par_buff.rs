@@ -13,8 +13,8 @@
 //! inputs, nothing deadlocks, and memory stays one frame buffer and a few batches.
 
 use crate::FrameBuffer;
-use anyhow::{anyhow, bail, Context};
 use proto::{Colour, Fragment, Reader, SpaceKind};
+use stagecli::{Context, Error, Result};
 use std::io::Read;
 use std::sync::mpsc::{channel, sync_channel, Receiver, Sender, SyncSender};
 
@@ -23,7 +23,7 @@ pub const BATCH: usize = 4096;
 
 /// Opens an input when its reader thread starts (so a named pipe's open, which blocks
 /// until the writer opens it, holds up only that input).
-pub type Opener = Box<dyn FnOnce() -> anyhow::Result<Box<dyn Read + Send>> + Send>;
+pub type Opener = Box<dyn FnOnce() -> Result<Box<dyn Read + Send>> + Send>;
 
 /// One input: its name for messages, and how to open it.
 pub struct Input {
@@ -56,7 +56,7 @@ enum Message {
     /// The input reached NEXT.FRAME (`end == false`, and now waits) or END.
     Boundary { input: usize, end: bool },
     /// The input failed; the error says where.
-    Failed { input: usize, error: anyhow::Error },
+    Failed { input: usize, error: Error },
 }
 
 /// Where an input is in the current frame.
@@ -85,10 +85,10 @@ struct InputState {
 pub fn par_buff(
     inputs: Vec<Input>,
     background: Colour,
-    mut on_frame: impl FnMut(u64, &FrameBuffer) -> anyhow::Result<()>,
-) -> anyhow::Result<Vec<InputStats>> {
+    mut on_frame: impl FnMut(u64, &FrameBuffer) -> Result<()>,
+) -> Result<Vec<InputStats>> {
     if inputs.is_empty() {
-        bail!("no inputs");
+        return Err(Error::usage("no inputs"));
     }
     let n = inputs.len();
     let (to_buffer, from_readers) = sync_channel::<Message>(2 * n + 2);
@@ -99,7 +99,7 @@ pub fn par_buff(
         std::thread::Builder::new()
             .name(format!("zbuf-in-{id}"))
             .spawn(move || read_input(id, input.open, tx, wait))
-            .context("cannot start a reader thread")?;
+            .map_err(|e| Error::io(format!("cannot start a reader thread: {e}")))?;
         states.push(InputState {
             name: input.name,
             go_ahead,
@@ -118,7 +118,7 @@ pub fn par_buff(
     loop {
         let message = from_readers
             .recv()
-            .map_err(|_| anyhow!("every input stopped before END"))?;
+            .map_err(|_| Error::data("every input stopped before END"))?;
         match message {
             Message::Header {
                 input,
@@ -126,22 +126,28 @@ pub fn par_buff(
                 height,
             } => match (&fb, first_header) {
                 (Some(b), Some(first)) if (b.width(), b.height()) != (width, height) => {
-                    bail!(
+                    return Err(Error::data(format!(
                         "{}: header: screen {width}x{height}, but {} is {}x{} (all inputs must have the same screen size)",
                         states[input].name,
                         states[first].name,
                         b.width(),
                         b.height()
-                    );
+                    )));
                 }
                 (Some(_), _) => {}
                 (None, _) => {
-                    fb = Some(FrameBuffer::new(width, height, background));
+                    // The first header decides the screen; one too large to hold is bad
+                    // input (the message says how much it needs).
+                    let buffer = FrameBuffer::new(width, height, background)
+                        .map_err(|m| Error::data(format!("{}: {m}", states[input].name)))?;
+                    fb = Some(buffer);
                     first_header = Some(input);
                 }
             },
             Message::Batch { input, fragments } => {
-                let fb = fb.as_mut().context("fragments before a header")?;
+                let fb = fb
+                    .as_mut()
+                    .ok_or_else(|| Error::data("fragments before a header"))?;
                 let s = &mut states[input];
                 apply(fb, s, &fragments).with_context(|| format!("{}: frame {frame}", s.name))?;
             }
@@ -153,7 +159,9 @@ pub fn par_buff(
                 }
                 // Every input has finished the frame: show it (the thesis sends the
                 // F-buffer to the screen), then let the inputs go on.
-                let fb = fb.as_mut().context("a frame before a header")?;
+                let fb = fb
+                    .as_mut()
+                    .ok_or_else(|| Error::data("a frame before a header"))?;
                 on_frame(frame, fb)?;
                 let ended = states.iter().filter(|s| s.at == At::End).count();
                 if ended == n {
@@ -165,12 +173,12 @@ pub fn par_buff(
                         .iter()
                         .find(|s| s.at == At::NextFrame)
                         .map(|s| &s.name);
-                    bail!(
+                    return Err(Error::data(format!(
                         "{}: frame {frame}: END here, but {} goes on to frame {} (all inputs must have the same number of frames)",
                         short.map_or("?", |s| s),
                         long.map_or("?", |s| s),
                         frame + 1
-                    );
+                    )));
                 }
                 fb.clear();
                 frame += 1;
@@ -190,7 +198,7 @@ pub fn par_buff(
 }
 
 /// BUFFER's inner loop: a batch of one input's fragments into the frame buffer.
-fn apply(fb: &mut FrameBuffer, s: &mut InputState, fragments: &[Fragment]) -> anyhow::Result<()> {
+fn apply(fb: &mut FrameBuffer, s: &mut InputState, fragments: &[Fragment]) -> Result<()> {
     // The current polygon's index in the frame; set by its colour record.
     let mut polygon = s.polygons.wrapping_sub(1);
     for f in fragments {
@@ -201,7 +209,7 @@ fn apply(fb: &mut FrameBuffer, s: &mut InputState, fragments: &[Fragment]) -> an
                     .polygons
                     .checked_add(1)
                     .filter(|p| *p != u32::MAX)
-                    .context("more than 4294967294 polygons in one frame")?;
+                    .ok_or_else(|| Error::data("more than 4294967294 polygons in one frame"))?;
                 s.colour = colour;
             }
             Fragment::Span { y, x0, x1, z0, dz } => {
@@ -218,7 +226,7 @@ fn apply(fb: &mut FrameBuffer, s: &mut InputState, fragments: &[Fragment]) -> an
                     .polygons
                     .checked_add(n)
                     .filter(|p| *p != u32::MAX)
-                    .context("more than 4294967294 polygons in one frame")?;
+                    .ok_or_else(|| Error::data("more than 4294967294 polygons in one frame"))?;
                 polygon = s.polygons.wrapping_sub(1);
             }
             Fragment::Run { y, x0, x1, colour } => {
@@ -235,14 +243,14 @@ fn apply(fb: &mut FrameBuffer, s: &mut InputState, fragments: &[Fragment]) -> an
 /// A reader thread: decodes one input and sends it on in batches, waiting at each
 /// NEXT.FRAME for the frame to be shown. Ends quietly if the buffer thread has gone.
 fn read_input(input: usize, open: Opener, tx: SyncSender<Message>, wait: Receiver<()>) {
-    let result = (|| -> anyhow::Result<()> {
+    let result = (|| -> Result<()> {
         let mut reader = Reader::<Fragment, _>::new(open()?)?;
         reader.header().expect(SpaceKind::Fragments)?;
         let (width, height) = reader
             .header()
             .space
             .screen_size()
-            .context("fragment header without a screen size")?;
+            .ok_or_else(|| Error::data("fragment header without a screen size"))?;
         // A send fails only when the buffer thread has stopped (on another input's
         // error): then there is nothing left to do.
         let send = |m| tx.send(m).is_ok();
@@ -269,11 +277,11 @@ fn read_input(input: usize, open: Opener, tx: SyncSender<Message>, wait: Receive
                 Fragment::Run { .. } => batch.push(record),
                 Fragment::Span { .. } | Fragment::Pixel { .. } => {
                     if !in_polygon {
-                        bail!(
+                        return Err(Error::data(format!(
                             "frame {frame}, {}: pixels outside a polygon (before the frame's \
                              first colour record, or after a skip)",
                             reader.position()
-                        );
+                        )));
                     }
                     batch.push(record);
                 }
@@ -333,7 +341,7 @@ mod tests {
     }
 
     /// Runs PAR.BUFF and returns every frame's RGB bytes.
-    fn frames(inputs: Vec<Input>) -> anyhow::Result<Vec<Vec<u8>>> {
+    fn frames(inputs: Vec<Input>) -> Result<Vec<Vec<u8>>> {
         let mut out = vec![];
         par_buff(inputs, [0, 0, 0], |_, fb| {
             out.push(fb.rgb().to_vec());

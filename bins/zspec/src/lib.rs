@@ -22,6 +22,8 @@
 //! supersampled reference ([`supersample`]: the same rules at every sub-pixel centre,
 //! box-filtered) and the error measures of a frame against a reference ([`metrics`]:
 //! differing fraction, RMSE, maximum error, edge-pixel RMSE).
+//!
+//! The frames are PPM images ([`proto::ppm`], whose [`Image`] `zspec compare` reads).
 
 pub mod metrics;
 pub mod supersample;
@@ -29,13 +31,36 @@ pub mod supersample;
 pub use metrics::{edges_from_mask, metrics, metrics_streams, EdgeError, Metrics};
 pub use supersample::{render_supersampled, Supersampled, SupersampledFrame};
 
-use anyhow::{bail, Context};
 use proto::camera::{Device, EyeFrame};
 use proto::geometry::newell_plane;
 use proto::raster::{centres_in_clamped, Edge};
 use proto::{Colour, DVec2, DVec3, DVec4, Polygon, View};
-use std::io::{self, BufRead, Write};
 use std::ops::Range;
+
+pub use proto::ppm::Image;
+
+/// Newell's plane of eye-space points whatever their size. Its sums multiply coordinates
+/// in pairs, so points beyond about 1e154 would overflow them (a triangle with vertices at
+/// ±1e307 got an infinite normal and drew nothing). Such points are first divided by a
+/// power of two, which is exact and leaves the plane's normal as it is; the constant is
+/// then multiplied back. Points of ordinary size are not scaled at all, so their plane
+/// is bit for bit `newell_plane`'s.
+fn plane_of(points: &[DVec3]) -> DVec4 {
+    const LARGE: f64 = 1e150;
+    let largest = points
+        .iter()
+        .map(|p| p.abs().max_element())
+        .fold(0.0, f64::max);
+    if largest <= LARGE {
+        return newell_plane(points);
+    }
+    // 2^e ≥ largest, so that the scaled points are at most 1 in size (2^1023 at most,
+    // 2^1024 being infinite: then they are below 2).
+    let scale = 2f64.powi((largest.log2().ceil() as i32).min(1023));
+    let scaled: Vec<DVec3> = points.iter().map(|p| *p / scale).collect();
+    let plane = newell_plane(&scaled);
+    plane.truncate().extend(plane.w * scale)
+}
 
 /// A polygon made ready for the per-pixel tests: its colour, its eye-space plane and its
 /// non-horizontal screen edges.
@@ -110,21 +135,29 @@ impl Setup {
 
     /// Eye-space vertices, hither cut, projection and plane of a world-space polygon;
     /// `None` for a polygon that can cover no pixel (fewer than three vertices, no area,
-    /// nothing in front of the hither plane).
-    fn prepare(&self, poly: &Polygon) -> Option<Prepared> {
+    /// nothing in front of the hither plane). A polygon the reference cannot compute
+    /// exactly enough is refused, the message saying why: one whose eye coordinates or
+    /// screen projection overflow f64.
+    fn prepare(&self, poly: &Polygon) -> Result<Option<Prepared>, String> {
         if poly.vertices.len() < 3 {
-            return None;
+            return Ok(None);
         }
         let eye: Vec<DVec4> = poly
             .vertices
             .iter()
             .map(|v| self.frame.to_eye(v.truncate()))
             .collect();
+        if let Some((i, v)) = eye.iter().enumerate().find(|(_, v)| !v.is_finite()) {
+            return Err(format!(
+                "vertex {i} is ({:?} {:?} {:?} {:?}) in eye coordinates: too large for f64",
+                v.x, v.y, v.z, v.w
+            ));
+        }
         let eye3: Vec<DVec3> = eye.iter().map(|v| v.truncate()).collect();
-        let mut plane = newell_plane(&eye3);
+        let mut plane = plane_of(&eye3);
         let front = cut_at_hither(&eye, self.view.hither, self.frame.w_per_z);
         if front.len() < 3 {
-            return None;
+            return Ok(None);
         }
         if plane.truncate() == DVec3::ZERO {
             // No plane: a polygon of no net area, e.g. a bowtie whose lobes cancel. Its
@@ -142,8 +175,14 @@ impl Setup {
                 DVec2::new(x, y)
             })
             .collect();
+        if let Some(p) = points.iter().find(|p| !p.is_finite()) {
+            return Err(format!(
+                "a vertex projects to ({:?}, {:?}) on the screen: too far off it for f64",
+                p.x, p.y
+            ));
+        }
         if proto::raster::on_one_line(&points) {
-            return None;
+            return Ok(None);
         }
         let mut min = DVec2::splat(f64::INFINITY);
         let mut max = DVec2::splat(f64::NEG_INFINITY);
@@ -155,13 +194,13 @@ impl Setup {
         let edges = (0..n)
             .filter_map(|i| Edge::new(points[i], points[(i + 1) % n]))
             .collect();
-        Some(Prepared {
+        Ok(Some(Prepared {
             colour: poly.colour,
             plane,
             edges,
             min,
             max,
-        })
+        }))
     }
 
     /// The direction of the ray from the eye through device point (X, Y), scaled to
@@ -238,20 +277,38 @@ pub struct ReferenceFrame {
 }
 
 impl ReferenceFrame {
-    pub fn new(setup: &Setup, background: Colour) -> Self {
+    /// A frame of the background colour; a screen too large for this machine's memory is
+    /// refused saying what it would need.
+    pub fn new(setup: &Setup, background: Colour) -> Result<Self, String> {
         let size = setup.width as usize * setup.height as usize;
-        ReferenceFrame {
-            colour: vec![background; size],
-            depth: vec![f64::INFINITY; size],
+        let refuse = |_| {
+            format!(
+                "a {}x{} frame needs {} (11 bytes a pixel: colour and depth), more memory \
+                 than can be had",
+                setup.width,
+                setup.height,
+                stagecli::error::bytes_text(size as u64 * 11)
+            )
+        };
+        let mut colour = Vec::new();
+        let mut depth = Vec::new();
+        colour.try_reserve_exact(size).map_err(refuse)?;
+        depth.try_reserve_exact(size).map_err(refuse)?;
+        colour.resize(size, background);
+        depth.resize(size, f64::INFINITY);
+        Ok(ReferenceFrame {
+            colour,
+            depth,
             width: setup.width as usize,
             background,
-        }
+        })
     }
 
-    /// Draws the next polygon of the frame.
-    pub fn draw(&mut self, setup: &Setup, poly: &Polygon) {
-        let Some(p) = setup.prepare(poly) else {
-            return;
+    /// Draws the next polygon of the frame; a polygon the reference cannot compute is
+    /// refused (see `Setup::prepare`).
+    pub fn draw(&mut self, setup: &Setup, poly: &Polygon) -> Result<(), String> {
+        let Some(p) = setup.prepare(poly)? else {
+            return Ok(());
         };
         let (colour, depth, w) = (&mut self.colour, &mut self.depth, self.width);
         setup.for_each_covered(&p, |c, r, z| {
@@ -262,6 +319,7 @@ impl ReferenceFrame {
                 colour[i] = p.colour;
             }
         });
+        Ok(())
     }
 
     /// Empties the frame for the next one.
@@ -273,13 +331,19 @@ impl ReferenceFrame {
 
 /// Renders one frame of world-space polygons: every pixel takes the colour of the
 /// covering polygon nearest the eye (the earliest on a tie), or `background`.
-/// Pixels are row-major from the top-left.
-pub fn render_frame(polys: &[Polygon], setup: &Setup, background: Colour) -> Vec<Colour> {
-    let mut frame = ReferenceFrame::new(setup, background);
-    for poly in polys {
-        frame.draw(setup, poly);
+/// Pixels are row-major from the top-left. An error names the polygon (from 0).
+pub fn render_frame(
+    polys: &[Polygon],
+    setup: &Setup,
+    background: Colour,
+) -> Result<Vec<Colour>, String> {
+    let mut frame = ReferenceFrame::new(setup, background)?;
+    for (k, poly) in polys.iter().enumerate() {
+        frame
+            .draw(setup, poly)
+            .map_err(|m| format!("polygon {k}: {m}"))?;
     }
-    frame.colour
+    Ok(frame.colour)
 }
 
 /// How many polygons cover each pixel centre inside the view volume (row-major). A
@@ -289,150 +353,11 @@ pub fn coverage_counts(polys: &[Polygon], setup: &Setup) -> Vec<u32> {
     let mut counts = vec![0u32; setup.width as usize * setup.height as usize];
     let w = setup.width as usize;
     for poly in polys {
-        if let Some(p) = setup.prepare(poly) {
+        if let Ok(Some(p)) = setup.prepare(poly) {
             setup.for_each_covered(&p, |c, r, _| counts[r as usize * w + c as usize] += 1);
         }
     }
     counts
-}
-
-/// An RGB image, row-major from the top-left.
-#[derive(Clone, Debug, PartialEq, Eq)]
-pub struct Image {
-    pub width: u32,
-    pub height: u32,
-    pub pixels: Vec<Colour>,
-}
-
-impl Image {
-    pub fn at(&self, x: u32, y: u32) -> Colour {
-        self.pixels[y as usize * self.width as usize + x as usize]
-    }
-
-    /// Whether a 4-neighbour of (x, y) has another colour: the pixel lies on a boundary
-    /// between polygons (or a polygon and the background).
-    pub fn is_edge_pixel(&self, x: u32, y: u32) -> bool {
-        let here = self.at(x, y);
-        let (x, y) = (x as i64, y as i64);
-        [(-1, 0), (1, 0), (0, -1), (0, 1)].iter().any(|(dx, dy)| {
-            let (nx, ny) = (x + dx, y + dy);
-            nx >= 0
-                && ny >= 0
-                && nx < self.width as i64
-                && ny < self.height as i64
-                && self.at(nx as u32, ny as u32) != here
-        })
-    }
-}
-
-/// Writes one binary PPM (P6) image.
-pub fn write_ppm<W: Write>(
-    out: &mut W,
-    width: u32,
-    height: u32,
-    pixels: &[Colour],
-) -> io::Result<()> {
-    write!(out, "P6\n{width} {height}\n255\n")?;
-    out.write_all(pixels.as_flattened())
-}
-
-/// Reads one header field of a PPM: skips whitespace and `#` comments, then reads
-/// decimal digits. `Ok(None)` at a clean end of input before the field.
-fn ppm_number<R: BufRead>(input: &mut R, what: &str) -> anyhow::Result<Option<u64>> {
-    let mut digits = String::new();
-    loop {
-        let byte = {
-            let buf = input.fill_buf()?;
-            match buf.first() {
-                Some(&b) => b,
-                None if digits.is_empty() => return Ok(None),
-                None => break,
-            }
-        };
-        if byte.is_ascii_digit() {
-            digits.push(byte as char);
-            input.consume(1);
-        } else if !digits.is_empty() {
-            break;
-        } else if byte == b'#' {
-            let mut comment = Vec::new();
-            input.read_until(b'\n', &mut comment)?;
-        } else if byte.is_ascii_whitespace() {
-            input.consume(1);
-        } else {
-            bail!("expected the {what}, found byte {byte:#04x}");
-        }
-    }
-    digits
-        .parse()
-        .map(Some)
-        .with_context(|| format!("the {what} `{digits}` is too large"))
-}
-
-/// `read_exact`, with a cut-short PPM reported as bad input rather than an I/O failure.
-fn read_exact<R: BufRead>(input: &mut R, buf: &mut [u8], what: &str) -> anyhow::Result<()> {
-    match input.read_exact(buf) {
-        Err(e) if e.kind() == io::ErrorKind::UnexpectedEof => {
-            bail!("the PPM ends before {what} (cut short?)")
-        }
-        other => Ok(other?),
-    }
-}
-
-/// Reads the next P6 image of a stream of concatenated PPMs; `None` at the end.
-pub fn read_ppm<R: BufRead>(input: &mut R) -> anyhow::Result<Option<Image>> {
-    // Skip whitespace between images.
-    loop {
-        let buf = input.fill_buf()?;
-        match buf.first() {
-            None => return Ok(None),
-            Some(b) if b.is_ascii_whitespace() => input.consume(1),
-            Some(_) => break,
-        }
-    }
-    let mut magic = [0u8; 2];
-    read_exact(input, &mut magic, "the magic")?;
-    if &magic != b"P6" {
-        bail!(
-            "expected a binary PPM (P6), found {:?}",
-            String::from_utf8_lossy(&magic)
-        );
-    }
-    let mut field = |what: &str| -> anyhow::Result<u64> {
-        ppm_number(input, what)?.with_context(|| format!("the PPM ends before the {what}"))
-    };
-    let width = field("width")?;
-    let height = field("height")?;
-    let maxval = field("maximum value")?;
-    if maxval != 255 {
-        bail!("maximum value {maxval}: only 8-bit PPMs (255) are read");
-    }
-    if !(1..=65536).contains(&width) || !(1..=65536).contains(&height) {
-        bail!("image size {width}x{height} is out of range");
-    }
-    // Exactly one whitespace byte ends the header.
-    let mut sep = [0u8; 1];
-    read_exact(input, &mut sep, "the end of the header")?;
-    if !sep[0].is_ascii_whitespace() {
-        bail!("expected whitespace after the PPM header");
-    }
-    let mut bytes = vec![0u8; (width * height * 3) as usize];
-    read_exact(input, &mut bytes, &format!("the {width}x{height} pixels"))?;
-    let pixels = bytes.chunks_exact(3).map(|p| [p[0], p[1], p[2]]).collect();
-    Ok(Some(Image {
-        width: width as u32,
-        height: height as u32,
-        pixels,
-    }))
-}
-
-/// Reads every image of a PPM stream.
-pub fn read_ppm_stream<R: BufRead>(mut input: R) -> anyhow::Result<Vec<Image>> {
-    let mut images = Vec::new();
-    while let Some(img) = read_ppm(&mut input).with_context(|| format!("frame {}", images.len()))? {
-        images.push(img);
-    }
-    Ok(images)
 }
 
 /// How two renderings of one frame agree.
@@ -455,24 +380,54 @@ impl FrameAgreement {
     }
 }
 
+impl std::fmt::Display for FrameAgreement {
+    /// `4 pixels, 1 differ, 75.0000% agree`.
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(
+            f,
+            "{} pixels, {} differ, {:.4}% agree",
+            self.pixels,
+            self.differing,
+            self.percent()
+        )
+    }
+}
+
+/// Whether every frame agrees on at least `min_agreement` percent of its pixels; if
+/// not, the message names the frames that do not.
+pub fn agreed(frames: &[FrameAgreement], min_agreement: f64) -> Result<(), String> {
+    let failing: Vec<usize> = (0..frames.len())
+        .filter(|&k| frames[k].percent() < min_agreement)
+        .collect();
+    if failing.is_empty() {
+        return Ok(());
+    }
+    Err(format!(
+        "{} of {} frames agree on fewer than {min_agreement}% of pixels (frames {failing:?})",
+        failing.len(),
+        frames.len(),
+    ))
+}
+
 /// Compares two renderings frame by frame. Streams of different lengths, or frames of
-/// different sizes, are an error: there is no agreement to measure.
-pub fn compare(a: &[Image], b: &[Image]) -> anyhow::Result<Vec<FrameAgreement>> {
+/// different sizes, differ with no agreement to measure: the message says how.
+pub fn compare(a: &[Image], b: &[Image]) -> Result<Vec<FrameAgreement>, String> {
     if a.len() != b.len() {
-        bail!("the streams have {} and {} frames", a.len(), b.len());
+        return Err(format!(
+            "the streams have {} and {} frames",
+            a.len(),
+            b.len()
+        ));
     }
     a.iter()
         .zip(b)
         .enumerate()
         .map(|(k, (a, b))| {
             if (a.width, a.height) != (b.width, b.height) {
-                bail!(
+                return Err(format!(
                     "frame {k} is {}x{} in one stream and {}x{} in the other",
-                    a.width,
-                    a.height,
-                    b.width,
-                    b.height
-                );
+                    a.width, a.height, b.width, b.height
+                ));
             }
             let differences: Vec<(u32, u32)> = a
                 .pixels

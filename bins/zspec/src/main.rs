@@ -1,10 +1,9 @@
 //! zspec: the exact reference renderer (world-space stream → PPM stream), and the
 //! comparison of two PPM streams.
 
-use anyhow::{bail, Context};
-use clap::{CommandFactory, Parser, Subcommand};
-use proto::camera::ViewArgs;
-use proto::{Colour, Reader, SpaceKind, Token};
+use clap::{Parser, Subcommand};
+use proto::{ppm, Colour, Reader, SpaceKind, Token};
+use stagecli::{Error, PpmTextFlag, ViewArgs};
 use std::fs::File;
 use std::io::{self, BufReader, BufWriter, Write};
 use std::process::ExitCode;
@@ -17,7 +16,8 @@ use zspec::Setup;
 /// measure the pipeline against.
 ///
 /// Reads a world-space scene (binary or text; SCENE, or stdin for `-` or none) and writes
-/// one binary PPM (P6) per frame, like zbuf. The camera options are viewxf's.
+/// one binary PPM (P6; plain P3 with --text) per frame, like zbuf. The camera options are
+/// viewxf's.
 #[derive(Parser, Debug)]
 #[command(
     name = "zspec",
@@ -54,6 +54,8 @@ struct Cli {
     /// compare --metrics --edges FILE`).
     #[arg(long, value_name = "FILE")]
     edge_mask: Option<String>,
+    #[command(flatten)]
+    text: PpmTextFlag,
     /// The world-space scene; `-` or none for stdin.
     scene: Option<String>,
 }
@@ -61,14 +63,18 @@ struct Cli {
 #[derive(Subcommand, Debug)]
 enum Command {
     /// Compare two PPM streams frame by frame: prints, per frame, the pixels, the
-    /// differing pixels and the percentage that agree. Exit status 0 when every frame
-    /// agrees on at least --min-agreement percent, 1 otherwise.
+    /// differing pixels and the percentage that agree. Exit status as cmp's: 0 when every
+    /// frame agrees on at least --min-agreement percent, 1 when one does not (or the
+    /// streams have different numbers or sizes of frames), 2 for trouble (a missing file,
+    /// one that is not a PPM stream, a bad argument).
     #[command(after_help = "Example:\n  zspec compare ref.ppm pipe.ppm --min-agreement 99.9")]
     Compare {
+        /// The first PPM stream (`-` for stdin).
         a: String,
+        /// The second PPM stream (`-` for stdin, if the first is not).
         b: String,
-        /// The least percentage of agreeing pixels every frame must reach.
-        #[arg(long, default_value_t = 99.95)]
+        /// The least percentage of agreeing pixels every frame must reach (0 to 100).
+        #[arg(long, default_value_t = 99.95, value_parser = percentage)]
         min_agreement: f64,
         /// Instead, measure B against A: per frame and `overall`, the differing
         /// fraction, the RMSE (0-255 units, three channels), the largest channel error
@@ -85,8 +91,19 @@ enum Command {
     },
 }
 
+/// A percentage from 0 to 100.
+fn percentage(s: &str) -> Result<f64, String> {
+    s.parse::<f64>()
+        .ok()
+        .filter(|p| (0.0..=100.0).contains(p))
+        .ok_or_else(|| format!("`{s}` is not a percentage from 0 to 100"))
+}
+
 fn main() -> ExitCode {
-    let cli = Cli::parse();
+    let cli = match stagecli::parse::<Cli>("zspec") {
+        Ok(cli) => cli,
+        Err(status) => return status,
+    };
     match cli.command {
         Some(Command::Compare {
             a,
@@ -95,55 +112,65 @@ fn main() -> ExitCode {
             edges,
             csv,
             ..
-        }) => proto::cli::run("zspec compare", || {
-            compare_metrics(&a, &b, edges.as_deref(), csv)
-        }),
+        }) => stagecli::report(
+            "zspec compare",
+            compare_metrics(&a, &b, edges.as_deref(), csv),
+        ),
         Some(Command::Compare {
             a,
             b,
             min_agreement,
             ..
-        }) => proto::cli::run("zspec compare", || compare(&a, &b, min_agreement)),
-        None => {
-            let (frame, view) = match cli.view.resolve() {
-                Ok(resolved) => resolved,
-                Err(msg) => Cli::command()
-                    .error(clap::error::ErrorKind::ValueValidation, msg)
-                    .exit(),
-            };
-            let (width, height) = cli.view.size.unwrap_or((500, 500));
-            let setup = Setup::new(frame, view, width, height);
-            let scene = cli.scene.unwrap_or_else(|| "-".into());
-            if cli.samples == 1 && cli.edge_mask.is_none() {
-                proto::cli::run("zspec", || render(&scene, &setup, cli.background))
-            } else {
-                proto::cli::run("zspec", || {
-                    render_supersampled(
-                        &scene,
-                        &setup,
-                        cli.samples,
-                        cli.background,
-                        cli.edge_mask.as_deref(),
-                    )
-                })
-            }
-        }
+        }) => stagecli::report_cmp("zspec compare", compare(&a, &b, min_agreement)),
+        None if cli.samples == 1 && cli.edge_mask.is_none() => stagecli::report(
+            "zspec",
+            render(&cli.view, cli.background, cli.text, cli.scene),
+        ),
+        None => stagecli::report(
+            "zspec",
+            render_supersampled(
+                &cli.view,
+                cli.background,
+                cli.text,
+                cli.scene,
+                cli.samples,
+                cli.edge_mask.as_deref(),
+            ),
+        ),
     }
 }
 
 /// Renders every frame of the scene to stdout.
-fn render(scene: &str, setup: &Setup, background: Colour) -> anyhow::Result<()> {
-    let mut reader = Reader::<Token, _>::new(proto::cli::open_input(scene)?)?;
+fn render(
+    view: &ViewArgs,
+    background: Colour,
+    text: PpmTextFlag,
+    scene: Option<String>,
+) -> stagecli::Result<()> {
+    // A camera or volume that cannot be viewed through is a usage error (status 2).
+    let (frame, volume) = view.resolve()?;
+    let (width, height) = view.size.unwrap_or((500, 500));
+    let setup = Setup::new(frame, volume, width, height);
+    let scene = scene.unwrap_or_else(|| "-".into());
+    let name = stagecli::input_name(&scene).to_string();
+    let mut reader = Reader::<Token, _>::new(stagecli::open_input(&scene)?)
+        .map_err(|e| stagecli::input_error(&name, e))?;
     reader.header().expect(SpaceKind::World)?;
-    let mut out = BufWriter::new(io::stdout().lock());
-    let mut frame = zspec::ReferenceFrame::new(setup, background);
-    while let Some(token) = reader.next_record()? {
+    let mut out = BufWriter::new(stagecli::stdout());
+    let mut frame = zspec::ReferenceFrame::new(&setup, background).map_err(Error::data)?;
+    while let Some(token) = reader
+        .next_record()
+        .map_err(|e| stagecli::input_error(&name, e))?
+    {
         match token {
-            Token::Polygon(p) => frame.draw(setup, &p),
+            Token::Polygon(p) => frame
+                .draw(&setup, &p)
+                .map_err(|m| Error::data(format!("{}: {m}", reader.position())))?,
             // Polygons this stream carries nothing of: nothing to draw.
             Token::Skip(_) => {}
             Token::NextFrame | Token::End => {
-                zspec::write_ppm(&mut out, setup.width, setup.height, &frame.colour)?;
+                let rgb = frame.colour.as_flattened();
+                ppm::write(&mut out, setup.width, setup.height, rgb, text.form())?;
                 // A frame is written whole before the next is read.
                 out.flush()?;
                 frame.clear();
@@ -156,32 +183,44 @@ fn render(scene: &str, setup: &Setup, background: Colour) -> anyhow::Result<()> 
 /// Renders every frame of the scene with K×K samples per pixel to stdout, and the edge
 /// masks to `edge_mask` when given.
 fn render_supersampled(
-    scene: &str,
-    setup: &Setup,
-    k: u32,
+    view: &ViewArgs,
     background: Colour,
+    text: PpmTextFlag,
+    scene: Option<String>,
+    k: u32,
     edge_mask: Option<&str>,
-) -> anyhow::Result<()> {
-    let mut reader = Reader::<Token, _>::new(proto::cli::open_input(scene)?)?;
+) -> stagecli::Result<()> {
+    let (frame, volume) = view.resolve()?;
+    let (width, height) = view.size.unwrap_or((500, 500));
+    let setup = Setup::new(frame, volume, width, height);
+    let scene = scene.unwrap_or_else(|| "-".into());
+    let name = stagecli::input_name(&scene).to_string();
+    let mut reader = Reader::<Token, _>::new(stagecli::open_input(&scene)?)
+        .map_err(|e| stagecli::input_error(&name, e))?;
     reader.header().expect(SpaceKind::World)?;
-    let mut out = BufWriter::new(io::stdout().lock());
+    let mut out = BufWriter::new(stagecli::stdout());
     let mut mask = match edge_mask {
         Some(path) => Some(BufWriter::new(
-            File::create(path).with_context(|| format!("cannot create {path}"))?,
+            File::create(path).map_err(|e| Error::from(e).context(format!("cannot create {path}")))?,
         )),
         None => None,
     };
-    let mut frame = zspec::SupersampledFrame::new(setup, k, background)?;
-    while let Some(token) = reader.next_record()? {
+    let mut frame = zspec::SupersampledFrame::new(&setup, k, background).map_err(|e| Error::data(format!("{e:#}")))?;
+    while let Some(token) = reader
+        .next_record()
+        .map_err(|e| stagecli::input_error(&name, e))?
+    {
         match token {
-            Token::Polygon(p) => frame.draw(&p),
+            Token::Polygon(p) => frame
+                .draw(&p)
+                .map_err(|m| Error::data(format!("{}: {m}", reader.position())))?,
             Token::Skip(_) => {}
             Token::NextFrame | Token::End => {
                 let done = frame.finish();
-                zspec::write_ppm(&mut out, done.width, done.height, &done.pixels)?;
+                ppm::write(&mut out, done.width, done.height, done.pixels.as_flattened(), text.form())?;
                 out.flush()?;
                 if let Some(m) = mask.as_mut() {
-                    zspec::write_ppm(m, done.width, done.height, &done.edge_mask())?;
+                    ppm::write(m, done.width, done.height, done.edge_mask().as_flattened(), text.form())?;
                     m.flush()?;
                 }
             }
@@ -190,47 +229,52 @@ fn render_supersampled(
     Ok(())
 }
 
-fn open_ppm_stream(path: &str) -> anyhow::Result<Vec<zspec::Image>> {
-    let input = proto::cli::open_input(path)?;
-    zspec::read_ppm_stream(BufReader::new(input)).with_context(|| path.to_string())
+/// Reads a whole PPM stream; an error names the file.
+fn read_ppms(path: &str) -> stagecli::Result<Vec<ppm::Image>> {
+    let input = stagecli::open_input(path)?;
+    ppm::read_all(BufReader::new(input))
+        .map_err(|e| Error::from(e).context(stagecli::input_name(path)))
 }
 
-fn compare(a: &str, b: &str, min_agreement: f64) -> anyhow::Result<()> {
-    let (ia, ib) = (open_ppm_stream(a)?, open_ppm_stream(b)?);
-    let frames = zspec::compare(&ia, &ib)?;
-    let mut out = io::stdout().lock();
-    let mut failing = Vec::new();
-    for (k, f) in frames.iter().enumerate() {
-        writeln!(
-            out,
-            "frame {k}: {} pixels, {} differ, {:.4}% agree",
-            f.pixels,
-            f.differing,
-            f.percent()
-        )?;
-        if f.percent() < min_agreement {
-            failing.push(k);
+/// Compares two PPM streams: `Ok(true)` when every frame agrees well enough.
+fn compare(a: &str, b: &str, min_agreement: f64) -> stagecli::Result<bool> {
+    if a == "-" && b == "-" {
+        return Err(Error::usage(
+            "`-` (stdin) is named twice: it can be read only once",
+        ));
+    }
+    let (ia, ib) = (read_ppms(a)?, read_ppms(b)?);
+    let frames = zspec::compare(&ia, &ib);
+    if let Ok(frames) = &frames {
+        let mut out = stagecli::stdout();
+        for (k, f) in frames.iter().enumerate() {
+            writeln!(out, "frame {k}: {f}")?;
+        }
+        out.flush()?;
+    }
+    // Different, as cmp says: status 1, and a line saying how.
+    match frames.and_then(|f| zspec::agreed(&f, min_agreement)) {
+        Ok(()) => Ok(true),
+        Err(why) => {
+            let _ = writeln!(io::stderr(), "zspec compare: {why}");
+            Ok(false)
         }
     }
-    out.flush()?;
-    if !failing.is_empty() {
-        bail!(
-            "{} of {} frames agree on fewer than {min_agreement}% of pixels (frames {:?})",
-            failing.len(),
-            frames.len(),
-            failing
-        );
-    }
-    Ok(())
 }
 
 /// `compare --metrics`: the error measures of B against A, per frame and overall.
-fn compare_metrics(a: &str, b: &str, edges: Option<&str>, csv: bool) -> anyhow::Result<()> {
-    let (ia, ib) = (open_ppm_stream(a)?, open_ppm_stream(b)?);
-    let masks = edges.map(open_ppm_stream).transpose()?;
-    let frames = zspec::metrics_streams(&ia, &ib, masks.as_deref())?;
+fn compare_metrics(a: &str, b: &str, edges: Option<&str>, csv: bool) -> stagecli::Result<()> {
+    if a == "-" && b == "-" {
+        return Err(Error::usage(
+            "`-` (stdin) is named twice: it can be read only once",
+        ));
+    }
+    let (ia, ib) = (read_ppms(a)?, read_ppms(b)?);
+    let masks = edges.map(read_ppms).transpose()?;
+    let frames = zspec::metrics_streams(&ia, &ib, masks.as_deref())
+        .map_err(|e| Error::data(format!("{e:#}")))?;
     let overall = zspec::Metrics::overall(&frames);
-    let mut out = io::stdout().lock();
+    let mut out = stagecli::stdout();
     if csv {
         writeln!(out, "{}", zspec::Metrics::CSV_HEADER)?;
         for (k, m) in frames.iter().enumerate() {

@@ -100,11 +100,13 @@ impl SupersampledFrame {
         })
     }
 
-    /// Takes the next polygon of the frame.
-    pub fn draw(&mut self, poly: &Polygon) {
-        if let Some(p) = self.fine.prepare(poly) {
+    /// Takes the next polygon of the frame; refuses one the reference cannot draw
+    /// exactly (its projection overflows), as [`crate::ReferenceFrame::draw`] does.
+    pub fn draw(&mut self, poly: &Polygon) -> Result<(), String> {
+        if let Some(p) = self.fine.prepare(poly)? {
             self.polygons.push(p);
         }
+        Ok(())
     }
 
     /// Draws the frame's polygons at every sample, box-filters them, and empties the
@@ -191,8 +193,10 @@ pub fn render_supersampled(
     background: Colour,
 ) -> anyhow::Result<Supersampled> {
     let mut frame = SupersampledFrame::new(setup, k, background)?;
-    for poly in polys {
-        frame.draw(poly);
+    for (i, poly) in polys.iter().enumerate() {
+        frame
+            .draw(poly)
+            .map_err(|m| anyhow::anyhow!("polygon {i}: {m}"))?;
     }
     Ok(frame.finish())
 }

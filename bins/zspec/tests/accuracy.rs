@@ -8,9 +8,10 @@
 //! polygon. The figures print with `cargo test --release -p zspec -- --nocapture`.
 
 use pipeline_tests::{run, sh};
+use proto::ppm::read_all as read_ppm_stream;
 use std::fmt::Write as _;
 use std::path::Path;
-use zspec::{compare, read_ppm_stream, FrameAgreement, Image};
+use zspec::{compare, FrameAgreement, Image};
 
 const MIN_AGREEMENT: f64 = 99.95;
 
@@ -193,7 +194,7 @@ fn polygons_cut_by_every_plane_of_the_pyramid() {
 
 #[test]
 fn a_non_square_screen_and_a_moved_camera() {
-    // The same camera words go to viewxf and to zspec (both read proto's ViewArgs).
+    // The same camera words go to viewxf and to zspec (both read stagecli's ViewArgs).
     let dir = tempfile::tempdir().unwrap();
     let scene = dir.path().join("straddling.txt");
     std::fs::write(&scene, straddling_scene(1000, 8)).unwrap();

@@ -1,0 +1,355 @@
+//! The command-line conventions every stage shares: `--version` and `--help` on every
+//! binary, `--text`, the camera options, and usage errors as one line.
+
+use crate::Error;
+use clap::error::ErrorKind;
+use clap::{ArgMatches, Command};
+use proto::camera::{parse_size, parse_triple, Camera, EyeFrame};
+use proto::{DVec3, Form, View};
+use std::ffi::OsString;
+use std::io::Write;
+use std::process::ExitCode;
+
+/// Parses the command line of stage `stage` into `C`.
+///
+/// `--help` and `--version` print as clap prints them and give `Err(0)`; any other
+/// problem prints one line, `stage: message` naming the option as typed, and gives
+/// `Err(2)`. Every binary gets `--version` (the workspace's version) whether or not its
+/// `#[command]` asks for it.
+pub fn parse<C: clap::Parser>(stage: &str) -> Result<C, ExitCode> {
+    parse_from(stage, std::env::args_os())
+}
+
+/// [`parse`] from the given words (the first is the program's name).
+pub fn parse_from<C, I, T>(stage: &str, args: I) -> Result<C, ExitCode>
+where
+    C: clap::Parser,
+    I: IntoIterator<Item = T>,
+    T: Into<OsString> + Clone,
+{
+    let mut cmd = command::<C>();
+    let parsed = cmd
+        .try_get_matches_from_mut(args)
+        .and_then(|mut m: ArgMatches| C::from_arg_matches_mut(&mut m));
+    parsed.map_err(|e| {
+        let e = e.format(&mut cmd);
+        match e.kind() {
+            ErrorKind::DisplayHelp | ErrorKind::DisplayVersion => {
+                let _ = e.print();
+                ExitCode::SUCCESS
+            }
+            _ => {
+                let _ = writeln!(std::io::stderr(), "{stage}: {}", usage_line(&e, &cmd));
+                ExitCode::from(Error::usage("").kind().status())
+            }
+        }
+    })
+}
+
+/// The stage's clap command with the conventions applied (a version everywhere).
+pub fn command<C: clap::CommandFactory>() -> Command {
+    let cmd = C::command();
+    let cmd = if cmd.get_version().is_none() {
+        cmd.version(env!("CARGO_PKG_VERSION"))
+    } else {
+        cmd
+    };
+    cmd.propagate_version(true)
+}
+
+/// A clap error as one line without the program name: clap's own message, with its
+/// further lines (the missing arguments, the possible values, a similar option's name)
+/// joined on, and its usage block, "For more information" and the tip about `--`
+/// dropped. A missing subcommand, for which clap
+/// prints the whole help, lists the subcommands.
+pub fn usage_line(e: &clap::Error, cmd: &Command) -> String {
+    if matches!(
+        e.kind(),
+        ErrorKind::DisplayHelpOnMissingArgumentOrSubcommand | ErrorKind::MissingSubcommand
+    ) {
+        let names: Vec<&str> = cmd
+            .get_subcommands()
+            .map(Command::get_name)
+            .filter(|n| *n != "help")
+            .collect();
+        return format!(
+            "give a subcommand: {} (`{} --help` describes them)",
+            names.join(", "),
+            cmd.get_name()
+        );
+    }
+    let text = e.render().to_string();
+    let text = text.strip_prefix("error: ").unwrap_or(&text);
+    let mut parts = Vec::new();
+    for line in text.lines().map(str::trim) {
+        if line.starts_with("Usage:") || line.starts_with("For more information") {
+            break;
+        }
+        match line.strip_prefix("tip: ") {
+            Some(tip) if !tip.starts_with("to pass") => parts.push(format!("({tip})")),
+            Some(_) => {}
+            None if !line.is_empty() => parts.push(line.to_string()),
+            None => {}
+        }
+    }
+    parts.join(" ")
+}
+
+/// `--text`: write the stream's text form instead of binary.
+#[derive(Clone, Copy, Debug, Default, clap::Args)]
+pub struct TextFlag {
+    /// Write the text form instead of binary.
+    #[arg(long)]
+    pub text: bool,
+}
+
+impl TextFlag {
+    pub fn form(self) -> Form {
+        Form::from_text_flag(self.text)
+    }
+}
+
+/// `--text` for the stages that write pictures (zbuf, zspec): plain PPM.
+#[derive(Clone, Copy, Debug, Default, clap::Args)]
+pub struct PpmTextFlag {
+    /// Write plain PPM (P3: the pixel values as decimal text) instead of binary PPM (P6).
+    #[arg(long)]
+    pub text: bool,
+}
+
+impl PpmTextFlag {
+    pub fn form(self) -> proto::ppm::Form {
+        if self.text {
+            proto::ppm::Form::Plain
+        } else {
+            proto::ppm::Form::Binary
+        }
+    }
+}
+
+/// The camera and view-volume options, shared by every binary that views a world-space
+/// scene (`viewxf`, and the exact reference `zspec`) so that they read the same words.
+#[derive(Clone, Debug, clap::Args)]
+pub struct ViewArgs {
+    /// Where the eye is, `X,Y,Z` (default: the thesis's 0,0,20).
+    #[arg(long, value_parser = parse_triple, allow_hyphen_values = true, value_name = "X,Y,Z")]
+    pub eye: Option<DVec3>,
+    /// The point looked at, `X,Y,Z` (default 0,0,0).
+    #[arg(long, value_parser = parse_triple, allow_hyphen_values = true, value_name = "X,Y,Z")]
+    pub at: Option<DVec3>,
+    /// Which way is up, `X,Y,Z` (default 0,1,0).
+    #[arg(long, value_parser = parse_triple, allow_hyphen_values = true, value_name = "X,Y,Z")]
+    pub up: Option<DVec3>,
+    /// s: half the screen height, in eye units at distance d.
+    #[arg(long, default_value_t = 10.0)]
+    pub s: f64,
+    /// d: the eye-to-screen distance.
+    #[arg(long, default_value_t = 16.0)]
+    pub d: f64,
+    /// The screen's aspect ratio W/H (default 1, or W/H of --size).
+    #[arg(long, conflicts_with = "size")]
+    pub aspect: Option<f64>,
+    /// The screen size the scene will be drawn at, `WxH`; sets the aspect ratio.
+    #[arg(long, value_parser = parse_size, value_name = "WxH")]
+    pub size: Option<(u32, u32)>,
+    /// K1: the hither plane z_e = K1.
+    #[arg(long, default_value_t = 1.0)]
+    pub hither: f64,
+    /// K2: the yon plane z_e = K2.
+    #[arg(long, default_value_t = 30.0)]
+    pub yon: f64,
+}
+
+/// `X,Y,Z` as the options take it.
+fn triple(v: DVec3) -> String {
+    format!("{},{},{}", v.x, v.y, v.z)
+}
+
+impl ViewArgs {
+    /// The camera the options describe.
+    pub fn camera(&self) -> Camera {
+        let default = Camera::default();
+        Camera {
+            eye: self.eye.unwrap_or(default.eye),
+            at: self.at.unwrap_or(default.at),
+            up: self.up.unwrap_or(default.up),
+            s: self.s,
+            d: self.d,
+        }
+    }
+
+    /// The eye frame and the view volume, checked: a usage error names the options that
+    /// cannot be viewed through (eye = at, up along the view direction, hither ≥ yon, …).
+    pub fn resolve(&self) -> Result<(EyeFrame, View), Error> {
+        let camera = self.camera();
+        let frame = camera.frame().map_err(|why| {
+            // Camera::frame checks the view direction, then up, then s and d.
+            let f = camera.at - camera.eye;
+            let options = if !(f.length_squared() > 0.0 && f.is_finite()) {
+                format!("--eye {} --at {}", triple(camera.eye), triple(camera.at))
+            } else if f.cross(camera.up).length_squared() <= 0.0 {
+                format!(
+                    "--up {} (looking from {} to {})",
+                    triple(camera.up),
+                    triple(camera.eye),
+                    triple(camera.at)
+                )
+            } else {
+                format!("--s {} --d {}", camera.s, camera.d)
+            };
+            Error::usage(format!("{options}: {why}"))
+        })?;
+        Ok((frame, self.view()?))
+    }
+
+    /// The view volume the options describe, checked.
+    pub fn view(&self) -> Result<View, Error> {
+        let aspect = match (self.aspect, self.size) {
+            (Some(a), _) => a,
+            (None, Some((w, h))) => w as f64 / h as f64,
+            (None, None) => 1.0,
+        };
+        if !(aspect.is_finite() && aspect > 0.0) {
+            return Err(Error::usage(format!(
+                "--aspect {aspect}: the aspect ratio must be a positive number"
+            )));
+        }
+        if !(self.hither.is_finite()
+            && self.yon.is_finite()
+            && 0.0 < self.hither
+            && self.hither < self.yon)
+        {
+            return Err(Error::usage(format!(
+                "--hither {} --yon {}: they must satisfy 0 < hither < yon",
+                self.hither, self.yon
+            )));
+        }
+        Ok(View {
+            aspect,
+            hither: self.hither,
+            yon: self.yon,
+        })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use clap::{FromArgMatches, Parser};
+
+    #[derive(Parser, Debug)]
+    #[command(name = "demo")]
+    struct Demo {
+        #[arg(long, value_parser = parse_size, value_name = "WxH")]
+        size: (u32, u32),
+        #[arg(long, value_enum, default_value = "a")]
+        mode: Mode,
+        #[command(flatten)]
+        text: TextFlag,
+    }
+
+    #[derive(Clone, Copy, Debug, clap::ValueEnum)]
+    enum Mode {
+        A,
+        BeeCee,
+    }
+
+    fn line(args: &[&str]) -> String {
+        let mut cmd = command::<Demo>();
+        let e = cmd
+            .try_get_matches_from_mut(std::iter::once("demo").chain(args.iter().copied()))
+            .and_then(|mut m| Demo::from_arg_matches_mut(&mut m))
+            .unwrap_err();
+        let e = e.format(&mut cmd);
+        usage_line(&e, &cmd)
+    }
+
+    #[test]
+    fn usage_errors_are_one_line_naming_the_option() {
+        assert_eq!(
+            line(&["--size", "0x4"]),
+            "invalid value '0x4' for '--size <WxH>': `0` in `0x4` is not a size from 1 to 65536"
+        );
+        assert_eq!(
+            line(&["--size", "4x4", "--mode", "c"]),
+            "invalid value 'c' for '--mode <MODE>' [possible values: a, bee-cee]"
+        );
+        assert_eq!(
+            line(&[]),
+            "the following required arguments were not provided: --size <WxH>"
+        );
+        assert_eq!(
+            line(&["--size", "4x4", "--bogus"]),
+            "unexpected argument '--bogus' found"
+        );
+        assert_eq!(
+            line(&["--sise", "4x4"]),
+            "unexpected argument '--sise' found (a similar argument exists: '--size')"
+        );
+        for args in [&["--size", "4x4", "--text", "--text"][..], &["--size"]] {
+            let l = line(args);
+            assert!(!l.contains('\n') && !l.is_empty(), "{l}");
+        }
+    }
+
+    #[test]
+    fn every_binary_has_a_version() {
+        let e = command::<Demo>()
+            .try_get_matches_from(["demo", "--version"])
+            .unwrap_err();
+        assert_eq!(e.kind(), ErrorKind::DisplayVersion);
+        assert_eq!(
+            e.to_string(),
+            format!("demo {}\n", env!("CARGO_PKG_VERSION"))
+        );
+        let d = Demo::try_parse_from(["demo", "--size", "2x3", "--text"]).unwrap();
+        assert_eq!((d.size, d.text.form()), ((2, 3), Form::Text));
+    }
+
+    #[test]
+    fn camera_errors_name_their_options() {
+        let mut v = ViewArgs::try_parse_from_view(&["--eye", "0,0,0"]);
+        assert_eq!(
+            v.resolve().unwrap_err().to_string(),
+            "--eye 0,0,0 --at 0,0,0: the eye and the point looked at must differ"
+        );
+        v = ViewArgs::try_parse_from_view(&["--up", "0,0,-1"]);
+        assert_eq!(
+            v.resolve().unwrap_err().to_string(),
+            "--up 0,0,-1 (looking from 0,0,20 to 0,0,0): the up vector must not be \
+             parallel to the view direction"
+        );
+        v = ViewArgs::try_parse_from_view(&["--hither", "5", "--yon", "2"]);
+        let e = v.resolve().unwrap_err();
+        assert_eq!(e.kind(), crate::Kind::Usage);
+        assert_eq!(
+            e.to_string(),
+            "--hither 5 --yon 2: they must satisfy 0 < hither < yon"
+        );
+        v = ViewArgs::try_parse_from_view(&["--aspect", "nan"]);
+        assert!(v
+            .resolve()
+            .unwrap_err()
+            .to_string()
+            .starts_with("--aspect NaN"));
+        v = ViewArgs::try_parse_from_view(&["--s", "0"]);
+        assert!(v
+            .resolve()
+            .unwrap_err()
+            .to_string()
+            .starts_with("--s 0 --d 16: "));
+    }
+
+    impl ViewArgs {
+        fn try_parse_from_view(args: &[&str]) -> ViewArgs {
+            #[derive(Parser)]
+            struct V {
+                #[command(flatten)]
+                v: ViewArgs,
+            }
+            V::try_parse_from(std::iter::once("v").chain(args.iter().copied()))
+                .unwrap()
+                .v
+        }
+    }
+}

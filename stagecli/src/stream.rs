@@ -1,0 +1,355 @@
+//! Opening a stage's inputs and outputs, and the read-transform-write loop of the
+//! one-in, one-out geometry stages.
+
+use crate::{Context, Error, Kind, Result};
+use proto::{Form, Header, Polygon, Reader, Record, SpaceKind, StreamError, Token, Writer};
+use std::fs::File;
+use std::io::{self, Read, Write};
+
+/// How an input named on the command line is called in messages: `stdin` for `-`.
+pub fn input_name(path: &str) -> &str {
+    if path == "-" {
+        "stdin"
+    } else {
+        path
+    }
+}
+
+/// Opens an input named on the command line; `-` is standard input. A file that cannot
+/// be opened is an I/O error naming it.
+pub fn open_input(path: &str) -> Result<Box<dyn Read + Send>> {
+    open(path).with_context(|| format!("cannot open {path}"))
+}
+
+/// [`open_input`] for a caller that names its inputs in every message of its own (zbuf
+/// with many inputs): the error is the operating system's alone.
+pub fn open(path: &str) -> io::Result<Box<dyn Read + Send>> {
+    if path == "-" {
+        Ok(Box::new(io::stdin()))
+    } else {
+        Ok(Box::new(File::open(path)?))
+    }
+}
+
+/// Opens an output named on the command line; `-` is standard output. A named pipe's
+/// open waits for its reader, as an occam channel waits for its partner.
+pub fn open_output(path: &str) -> Result<Box<dyn Write + Send>> {
+    if path == "-" {
+        Ok(Box::new(io::stdout()))
+    } else {
+        let f = File::create(path).with_context(|| format!("cannot open {path} for writing"))?;
+        Ok(Box::new(f))
+    }
+}
+
+/// An error reading input `name`: an I/O failure is prefixed with the input's name
+/// (`stdin: Is a directory`); a fault in the stream already says where it is.
+pub fn input_error(name: &str, e: StreamError) -> Error {
+    let e = Error::from(e);
+    match e.kind() {
+        Kind::Io => e.context(name),
+        _ => e,
+    }
+}
+
+/// A stream reader on standard input; the header is read and checked to be in space
+/// `expect`.
+pub fn read_stdin<T: Record>(expect: SpaceKind) -> Result<Reader<T, io::StdinLock<'static>>> {
+    let reader = Reader::new(io::stdin().lock()).map_err(|e| input_error("stdin", e))?;
+    reader.header().expect(expect)?;
+    Ok(reader)
+}
+
+/// The next record of `reader` (reading standard input), errors as [`input_error`].
+pub fn next<T: Record, R: Read>(reader: &mut Reader<T, R>) -> Result<Option<T>> {
+    reader.next_record().map_err(|e| input_error("stdin", e))
+}
+
+/// An output that names itself in its errors: a failed write says `stdout: No space
+/// left on device`, keeping the error's kind (a broken pipe stays a broken pipe, so the
+/// reader going away is still told apart).
+pub struct Named<W> {
+    inner: W,
+    name: String,
+}
+
+impl<W: Write> Named<W> {
+    pub fn new(inner: W, name: impl Into<String>) -> Self {
+        Named {
+            inner,
+            name: name.into(),
+        }
+    }
+
+    fn label(&self, e: io::Error) -> io::Error {
+        let message = format!("{}: {}", self.name, crate::error::io_message(&e));
+        io::Error::new(e.kind(), message)
+    }
+}
+
+impl<W: Write> Write for Named<W> {
+    fn write(&mut self, buf: &[u8]) -> io::Result<usize> {
+        self.inner.write(buf).map_err(|e| self.label(e))
+    }
+
+    fn write_all(&mut self, buf: &[u8]) -> io::Result<()> {
+        self.inner.write_all(buf).map_err(|e| self.label(e))
+    }
+
+    fn flush(&mut self) -> io::Result<()> {
+        self.inner.flush().map_err(|e| self.label(e))
+    }
+}
+
+/// Standard output, named `stdout` in its errors.
+pub fn stdout() -> Named<io::StdoutLock<'static>> {
+    Named::new(io::stdout().lock(), "stdout")
+}
+
+/// A stream writer on standard output.
+pub fn write_stdout<T: Record>(
+    header: Header,
+    form: Form,
+) -> Result<Writer<T, Named<io::StdoutLock<'static>>>> {
+    Ok(Writer::new(stdout(), header, form)?)
+}
+
+/// Whether two outputs named on the command line are one file, so that writing both
+/// would interleave two streams in it: the same name, or (for files that exist) the same
+/// file by device and inode, or (for files to be made) the same folder and name. `-` is
+/// standard output, wherever it leads. A character device (`/dev/null`, a terminal) is
+/// not a file that two streams could corrupt.
+pub fn same_file(a: &str, b: &str) -> bool {
+    use std::os::unix::fs::{FileTypeExt, MetadataExt};
+    use std::path::{Path, PathBuf};
+    let path = |p: &str| PathBuf::from(if p == "-" { "/dev/stdout" } else { p });
+    let (pa, pb) = (path(a), path(b));
+    match (std::fs::metadata(&pa), std::fs::metadata(&pb)) {
+        (Ok(ma), Ok(mb)) => {
+            (ma.dev(), ma.ino()) == (mb.dev(), mb.ino()) && !ma.file_type().is_char_device()
+        }
+        (Err(_), Err(_)) => {
+            // Neither exists yet: compare where they would be made.
+            let place = |p: &Path| {
+                let dir = p.parent().filter(|d| !d.as_os_str().is_empty());
+                let dir = dir.unwrap_or(Path::new(".")).canonicalize().ok()?;
+                Some(dir.join(p.file_name()?))
+            };
+            a == b || place(&pa).is_some_and(|x| Some(x) == place(&pb))
+        }
+        _ => false,
+    }
+}
+
+/// One of several outputs of a stage (the splitter's two): when its reader goes away,
+/// this output closes quietly and the others go on, so that every other branch still
+/// gets the whole stream and its END.
+pub struct Branch<T: Record> {
+    writer: Option<Writer<T, Named<Box<dyn Write + Send>>>>,
+}
+
+impl<T: Record> Branch<T> {
+    /// Opens output `path` ([`open_output`]) and writes the header.
+    pub fn open(path: &str, header: Header, form: Form) -> Result<Self> {
+        let name = if path == "-" { "stdout" } else { path };
+        let out = Named::new(open_output(path)?, name);
+        Ok(Branch {
+            writer: Self::kept(Writer::new(out, header, form))?,
+        })
+    }
+
+    /// Whether the output's reader is still there.
+    pub fn is_open(&self) -> bool {
+        self.writer.is_some()
+    }
+
+    /// Writes a record; nothing once the reader has gone.
+    pub fn write(&mut self, record: &T) -> Result<()> {
+        if let Some(w) = &mut self.writer {
+            if Self::kept(w.write(record))?.is_none() {
+                self.writer = None;
+            }
+        }
+        Ok(())
+    }
+
+    /// Flushes what is buffered.
+    pub fn flush(&mut self) -> Result<()> {
+        if let Some(w) = &mut self.writer {
+            if Self::kept(w.flush())?.is_none() {
+                self.writer = None;
+            }
+        }
+        Ok(())
+    }
+
+    /// `Some` for success, `None` when the reader has gone, the error (which names the
+    /// output) for any other failure.
+    fn kept<V>(result: io::Result<V>) -> Result<Option<V>> {
+        match result.map_err(Error::from) {
+            Ok(v) => Ok(Some(v)),
+            Err(e) if e.kind() == Kind::ReaderGone => Ok(None),
+            Err(e) => Err(e),
+        }
+    }
+}
+
+/// Checks that a polygon about to be written has only finite numbers (vertices, plane,
+/// edge supports): a stage never passes on an infinity or a NaN of its own making, so
+/// that the stage at fault, not the next one, refuses. The message names the vertex.
+pub fn check_finite(poly: &Polygon) -> std::result::Result<(), String> {
+    let show = |v: proto::DVec4| format!("({:?} {:?} {:?} {:?})", v.x, v.y, v.z, v.w);
+    if let Some((i, v)) = poly
+        .vertices
+        .iter()
+        .enumerate()
+        .find(|(_, v)| !v.is_finite())
+    {
+        return Err(format!("vertex {i} comes out as {}", show(*v)));
+    }
+    if let Some(p) = poly.plane.filter(|p| !p.is_finite()) {
+        return Err(format!("its plane comes out as {}", show(p)));
+    }
+    for (i, s) in poly.supports.iter().enumerate() {
+        if let Some([a, b]) = s.filter(|[a, b]| !(a.is_finite() && b.is_finite())) {
+            return Err(format!(
+                "the support of edge {i} comes out as {} {}",
+                show(a),
+                show(b)
+            ));
+        }
+    }
+    Ok(())
+}
+
+/// The loop of a one-in, one-out polygon stage (viewxf, clipplane, persp): reads the
+/// polygon stream on stdin, which must be in space `expect`; `setup` turns its header
+/// into the output's header and the stage's transformation of a polygon. Writes that
+/// header and then every record to stdout in `form`, each polygon transformed. A polygon
+/// the transformation refuses, or leaves with a number that is not finite, ends the stage
+/// with a data error naming the polygon's place in the input (`frame 0, polygon 3: …`);
+/// `doing` says what the stage did to it (`the viewing transformation`).
+pub fn filter_polygons<F>(
+    expect: SpaceKind,
+    form: Form,
+    doing: &str,
+    setup: impl FnOnce(&Header) -> Result<(Header, F)>,
+) -> Result<()>
+where
+    F: FnMut(&mut Polygon) -> std::result::Result<(), String>,
+{
+    let mut reader = read_stdin::<Token>(expect)?;
+    let (header, mut transform) = setup(reader.header())?;
+    let mut writer = write_stdout(header, form)?;
+    while let Some(mut token) = next(&mut reader)? {
+        if let Token::Polygon(poly) = &mut token {
+            transform(poly)
+                .and_then(|()| {
+                    check_finite(poly).map_err(|m| {
+                        format!(
+                            "{m} after {doing}: not a finite number (coordinates this large \
+                             overflow)"
+                        )
+                    })
+                })
+                .map_err(|m| Error::data(format!("{}: {m}", reader.position())))?;
+        }
+        writer.write(&token)?;
+    }
+    writer.flush()?;
+    Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use proto::DVec4;
+
+    #[test]
+    fn non_finite_numbers_are_named() {
+        let mut p = Polygon::new(
+            [1, 2, 3],
+            vec![DVec4::ONE, DVec4::new(1.0, f64::NEG_INFINITY, 2.0, 1.0)],
+        );
+        assert_eq!(
+            check_finite(&p).unwrap_err(),
+            "vertex 1 comes out as (1.0 -inf 2.0 1.0)"
+        );
+        p.vertices[1].y = 1.7e308;
+        assert_eq!(check_finite(&p), Ok(()));
+        p.plane = Some(DVec4::new(f64::NAN, 0.0, 1.0, 0.0));
+        assert_eq!(
+            check_finite(&p).unwrap_err(),
+            "its plane comes out as (NaN 0.0 1.0 0.0)"
+        );
+        p.plane = None;
+        p.supports = vec![None, Some([DVec4::ONE, DVec4::splat(f64::INFINITY)])];
+        assert!(check_finite(&p)
+            .unwrap_err()
+            .starts_with("the support of edge 1"));
+    }
+
+    #[test]
+    fn outputs_that_are_one_file() {
+        let dir = std::env::temp_dir().join(format!("stagecli-same-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let f = dir.join("f");
+        let f = f.to_str().unwrap();
+        assert!(same_file(f, f));
+        assert!(same_file("x-not-made", "./x-not-made"));
+        assert!(!same_file("x-not-made", "y-not-made"));
+        std::fs::write(f, "").unwrap();
+        let twin = format!(
+            "{}/../{}/f",
+            dir.display(),
+            dir.file_name().unwrap().to_str().unwrap()
+        );
+        assert!(same_file(f, &twin));
+        assert!(!same_file(f, "/dev/null"));
+        assert!(!same_file("/dev/null", "/dev/null"));
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
+
+    #[test]
+    fn an_output_names_itself_and_keeps_the_kind() {
+        struct Failing(bool);
+        impl Write for Failing {
+            fn write(&mut self, _: &[u8]) -> io::Result<usize> {
+                Err(if self.0 {
+                    io::Error::from_raw_os_error(28)
+                } else {
+                    io::ErrorKind::BrokenPipe.into()
+                })
+            }
+            fn flush(&mut self) -> io::Result<()> {
+                Ok(())
+            }
+        }
+        let full = Named::new(Failing(true), "stdout").write(b"x");
+        let full = Error::from(full.unwrap_err());
+        assert_eq!(full.kind(), Kind::Io);
+        assert_eq!(full.to_string(), "stdout: No space left on device");
+        let gone = Named::new(Failing(false), "out").write_all(b"x");
+        assert_eq!(Error::from(gone.unwrap_err()).kind(), Kind::ReaderGone);
+    }
+
+    #[test]
+    fn input_errors_name_the_input_only_for_io() {
+        let io = input_error("stdin", StreamError::Io(io::Error::from_raw_os_error(21)));
+        assert_eq!(
+            (io.kind(), io.to_string().as_str()),
+            (Kind::Io, "stdin: Is a directory")
+        );
+        let bad = input_error("stdin", StreamError::Invalid("empty input".into()));
+        assert_eq!(
+            (bad.kind(), bad.to_string().as_str()),
+            (Kind::Data, "empty input")
+        );
+        let missing = open_input("/nonexistent/x").err().unwrap();
+        assert_eq!(
+            missing.to_string(),
+            "cannot open /nonexistent/x: No such file or directory"
+        );
+        assert_eq!(missing.kind(), Kind::Io);
+    }
+}

@@ -1,0 +1,433 @@
+//! Every binary's exit status by error class (stagecli's table, the README's):
+//!
+//! | status | class |
+//! |--------|-------|
+//! | 0 | success, or the reader of the output went away (`… \| head -c 10`), quietly |
+//! | 1 | the input is not a valid stream (here: cut short) |
+//! | 2 | usage: one line `stage: …` naming the option typed, before any input is read |
+//! | 3 | an input or output cannot be opened, read or written |
+//!
+//! `zspec compare` follows cmp instead: 0 same, 1 different, 2 trouble.
+
+use pipeline_tests::{bin, sh};
+use std::io::Read;
+use std::process::{Command, Stdio};
+use std::time::{Duration, Instant};
+
+/// Every binary, to check that no table below forgets one.
+const BINARIES: &[&str] = &[
+    "viewxf",
+    "clipplane",
+    "splitter",
+    "persp",
+    "scanconv",
+    "zbuf",
+    "zspec",
+    "scene",
+];
+
+/// Usage errors: the binary, its arguments, and a piece of the message that names what
+/// the user typed.
+const USAGE: &[(&str, &[&str], &str)] = &[
+    ("viewxf", &["--eye", "1,2"], "'--eye <X,Y,Z>'"),
+    (
+        "viewxf",
+        &["--hither", "5", "--yon", "2"],
+        "--hither 5 --yon 2",
+    ),
+    (
+        "viewxf",
+        &["--eye", "0,0,0", "--at", "0,0,0"],
+        "--eye 0,0,0 --at 0,0,0",
+    ),
+    ("clipplane", &["sideways"], "'sideways'"),
+    ("clipplane", &["--plane", "1,2,3"], "'--plane <a,b,c,d,k>'"),
+    ("clipplane", &["left", "--at", "2"], "--at"),
+    (
+        "splitter",
+        &["x=0", "same", "same"],
+        "OUT1 same and OUT2 same",
+    ),
+    ("splitter", &["z=0", "a", "b"], "`z=0`"),
+    ("splitter", &["--plane", "1,0,0", "a", "b"], "--plane 1,0,0"),
+    ("persp", &["--size", "0x0"], "'--size <WxH>'"),
+    (
+        "persp",
+        &["--size", "8x8", "--depth", "foo"],
+        "'--depth <DEPTH>'",
+    ),
+    ("scanconv", &["--pixel"], "'--pixel'"),
+    ("zbuf", &["-o", "x.jpg"], "-o x.jpg"),
+    ("zbuf", &["-", "-"], "`-` (stdin)"),
+    ("zbuf", &["--text", "-o", "f%d.png"], "--text"),
+    (
+        "zbuf",
+        &["--background", "1,2"],
+        "'--background <BACKGROUND>'",
+    ),
+    ("zspec", &["--size", "8"], "'--size <WxH>'"),
+    ("zspec", &["--up", "0,0,1"], "--up 0,0,1"),
+    (
+        "zspec",
+        &["compare", "a", "b", "--min-agreement", "nan"],
+        "'--min-agreement",
+    ),
+    ("zspec", &["compare", "-", "-"], "`-` (stdin)"),
+    ("scene", &[], "give a subcommand: environment, penetrating"),
+    (
+        "scene",
+        &["sphere", "--radius", "-1"],
+        "'--radius <RADIUS>'",
+    ),
+    (
+        "scene",
+        &["environment", "--clipped", "2"],
+        "'--clipped <CLIPPED>'",
+    ),
+];
+
+/// Runs `name args` with its stdin a pipe that stays open: a usage error must end it at
+/// once, before it reads (or waits for) any input. Returns (status, stdout, stderr).
+fn run_without_input(name: &str, args: &[&str]) -> (Option<i32>, String, String) {
+    let mut child = Command::new(bin(name))
+        .args(args)
+        .stdin(Stdio::piped())
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    let stdin = child.stdin.take();
+    let start = Instant::now();
+    let status = loop {
+        if let Some(status) = child.try_wait().unwrap() {
+            break status;
+        }
+        if start.elapsed() > Duration::from_secs(20) {
+            let _ = child.kill();
+            panic!("{name} {args:?} waited for its input instead of refusing its arguments");
+        }
+        std::thread::sleep(Duration::from_millis(10));
+    };
+    drop(stdin);
+    let mut out = String::new();
+    let mut err = String::new();
+    child.stdout.unwrap().read_to_string(&mut out).unwrap();
+    child.stderr.unwrap().read_to_string(&mut err).unwrap();
+    (status.code(), out, err)
+}
+
+#[test]
+fn usage_errors_exit_2_at_once_with_one_line_naming_the_option() {
+    for name in BINARIES {
+        assert!(
+            USAGE.iter().any(|(n, _, _)| n == name),
+            "no usage case for {name}"
+        );
+    }
+    for &(name, args, typed) in USAGE {
+        let (status, out, err) = run_without_input(name, args);
+        assert_eq!(status, Some(2), "{name} {args:?}: {err}");
+        assert_eq!(out, "", "{name} {args:?}");
+        assert_eq!(err.lines().count(), 1, "{name} {args:?}: {err}");
+        // `zspec compare`'s own checks name the subcommand too.
+        assert!(
+            err.starts_with(&format!("{name}: ")) || err.starts_with(&format!("{name} compare: ")),
+            "{name} {args:?}: {err}"
+        );
+        assert!(
+            err.contains(typed),
+            "{name} {args:?}: `{typed}` not in {err}"
+        );
+    }
+}
+
+#[test]
+fn help_and_version_still_print_and_exit_0() {
+    for name in BINARIES {
+        let out = Command::new(bin(name)).arg("--version").output().unwrap();
+        assert_eq!(out.status.code(), Some(0), "{name} --version");
+        assert_eq!(
+            String::from_utf8_lossy(&out.stdout),
+            format!("{name} {}\n", env!("CARGO_PKG_VERSION")),
+            "{name} --version"
+        );
+        let out = Command::new(bin(name)).arg("--help").output().unwrap();
+        assert_eq!(out.status.code(), Some(0), "{name} --help");
+        let help = String::from_utf8_lossy(&out.stdout);
+        assert!(
+            help.contains("Usage:") && help.lines().count() > 5,
+            "{name}: {help}"
+        );
+        assert!(out.stderr.is_empty(), "{name} --help");
+    }
+}
+
+/// A world-space scene for the pipelines below (T in the commands).
+const SCENE: &str = "polypipe 1 world\ncolour 255 0 0\n-5 -5 0\n5 -5 0\n0 5 0\nEND\n";
+
+/// Each binary that reads a stream: a pipeline making a whole valid binary input for it
+/// (from the scene T), its command, and the status a stream cut in half gets.
+const READERS: &[(&str, &str, &str, i32)] = &[
+    ("viewxf", "cat T", "viewxf", 1),
+    ("clipplane", "viewxf < T", "clipplane left", 1),
+    (
+        "splitter",
+        "viewxf < T",
+        "splitter x=0 /dev/null /dev/null",
+        1,
+    ),
+    ("persp", "viewxf < T", "persp --size 8x8", 1),
+    ("scanconv", "viewxf < T | persp --size 8x8", "scanconv", 1),
+    (
+        "zbuf",
+        "viewxf < T | persp --size 8x8 | scanconv",
+        "zbuf",
+        1,
+    ),
+    ("zspec", "scene penetrating", "zspec --size 8x8", 1),
+    // The OBJ model reader: a vertex cut short.
+    (
+        "scene",
+        "printf 'v 0 0 0\\nv 1 0 0\\nv 0 1 0\\n'",
+        "scene obj -",
+        1,
+    ),
+    // cmp's table: a PPM cut short is trouble.
+    (
+        "zspec",
+        "zspec --size 4x4 T",
+        "zspec compare - /dev/null",
+        2,
+    ),
+];
+
+fn scene_file() -> tempfile::TempPath {
+    let f = tempfile::NamedTempFile::new().unwrap();
+    std::fs::write(f.path(), SCENE).unwrap();
+    f.into_temp_path()
+}
+
+#[test]
+fn a_stream_cut_short_exits_1() {
+    let scene = scene_file();
+    let t = scene.to_str().unwrap();
+    for name in BINARIES {
+        assert!(
+            READERS.iter().any(|(n, ..)| n == name),
+            "no cut case for {name}"
+        );
+    }
+    for &(name, make, cmd, status) in READERS {
+        let whole = sh(&make.replace('T', t), b"");
+        assert!(whole.status.success(), "{make}");
+        let cut = &whole.stdout[..whole.stdout.len() / 2];
+        let out = sh(cmd, cut);
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(status), "{cmd}: {err}");
+        assert_eq!(err.lines().count(), 1, "{cmd}: {err}");
+        assert!(err.starts_with(name), "{cmd}: {err}");
+        assert!(!err.contains("panicked"), "{cmd}: {err}");
+    }
+}
+
+/// Pipelines in which the named binary writes far more than a pipe holds into `head -c
+/// 10`: it must end quietly with status 0 (bash's pipefail reports any stage's failure).
+const CLOSED_OUTPUT: &[(&str, &str)] = &[
+    ("scene", "scene environment --polygons 100000"),
+    ("viewxf", "scene environment --polygons 50000 | viewxf"),
+    (
+        "clipplane",
+        "scene environment --polygons 50000 | viewxf | clipplane left --text",
+    ),
+    (
+        "splitter",
+        "scene environment --polygons 50000 | viewxf | splitter x=0 - /dev/null --text",
+    ),
+    (
+        "splitter",
+        "scene environment --polygons 50000 | viewxf | splitter y=0 /dev/null - --text",
+    ),
+    (
+        "persp",
+        "scene environment --polygons 50000 | viewxf | clipplane hither | persp --size 64x64 --text",
+    ),
+    (
+        "scanconv",
+        "scene environment --polygons 2000 | viewxf | clipplane hither | clipplane left \
+         | clipplane right | clipplane top | clipplane bottom | persp --size 256x256 \
+         | scanconv --pixels --text",
+    ),
+    (
+        "zbuf",
+        "scene sphere --frames 8 | viewxf --size 600x600 | clipplane hither \
+         | persp --size 600x600 | scanconv | zbuf",
+    ),
+    ("zspec", "scene sphere --frames 4 | zspec --size 600x600 --text"),
+];
+
+#[test]
+fn a_reader_that_goes_away_ends_every_binary_quietly_with_0() {
+    for name in BINARIES {
+        assert!(
+            CLOSED_OUTPUT.iter().any(|(n, _)| n == name),
+            "no case for {name}"
+        );
+    }
+    for &(name, pipeline) in CLOSED_OUTPUT {
+        // The whole output is far more than a pipe holds, so the binary meets the
+        // closed pipe (rather than finishing into the pipe's buffer).
+        let size = sh(&format!("{pipeline} | wc -c"), b"");
+        let bytes: u64 = String::from_utf8_lossy(&size.stdout)
+            .trim()
+            .parse()
+            .unwrap();
+        assert!(bytes > 1 << 20, "{name}: only {bytes} bytes");
+        let out = sh(&format!("{pipeline} | head -c 10"), b"");
+        assert_eq!(
+            out.status.code(),
+            Some(0),
+            "{name}: {}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        assert_eq!(out.stdout.len(), 10, "{name}");
+        assert!(
+            out.stderr.is_empty(),
+            "{name}: {}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+    }
+}
+
+/// Inputs and outputs that cannot be opened, read or written: the command, its status
+/// and its whole message.
+const UNREADABLE: &[(&str, &str, i32, &str)] = &[
+    ("viewxf", "viewxf < /", 3, "viewxf: stdin: Is a directory"),
+    (
+        "clipplane",
+        "clipplane left < /",
+        3,
+        "clipplane: stdin: Is a directory",
+    ),
+    (
+        "splitter",
+        "splitter x=0 a b < /",
+        3,
+        "splitter: stdin: Is a directory",
+    ),
+    (
+        "persp",
+        "persp --size 4x4 < /",
+        3,
+        "persp: stdin: Is a directory",
+    ),
+    (
+        "scanconv",
+        "scanconv < /",
+        3,
+        "scanconv: stdin: Is a directory",
+    ),
+    ("zbuf", "zbuf < /", 3, "zbuf: stdin: Is a directory"),
+    ("zbuf", "zbuf /", 3, "zbuf: /: Is a directory"),
+    (
+        "zbuf",
+        "zbuf /nonexistent/f",
+        3,
+        "zbuf: /nonexistent/f: No such file or directory",
+    ),
+    ("zspec", "zspec < /", 3, "zspec: stdin: Is a directory"),
+    ("zspec", "zspec /", 3, "zspec: /: Is a directory"),
+    (
+        "zspec",
+        "zspec /nonexistent/s",
+        3,
+        "zspec: cannot open /nonexistent/s: No such file or directory",
+    ),
+    ("scene", "scene obj /", 3, "scene: /: Is a directory"),
+    (
+        "scene",
+        "scene obj - < /",
+        3,
+        "scene: <stdin>: Is a directory",
+    ),
+    (
+        "scene",
+        "scene obj /nonexistent/m.obj",
+        3,
+        "scene: cannot open /nonexistent/m.obj: No such file or directory",
+    ),
+    // cmp's table: a missing file is trouble.
+    (
+        "zspec",
+        "zspec compare /nonexistent/a /dev/null",
+        2,
+        "zspec compare: cannot open /nonexistent/a: No such file or directory",
+    ),
+];
+
+#[test]
+fn an_unreadable_input_exits_3_saying_so_once() {
+    for name in BINARIES {
+        assert!(
+            UNREADABLE.iter().any(|(n, ..)| n == name),
+            "no case for {name}"
+        );
+    }
+    for &(_, cmd, status, message) in UNREADABLE {
+        let out = sh(cmd, b"");
+        assert_eq!(out.status.code(), Some(status), "{cmd}");
+        assert_eq!(
+            String::from_utf8_lossy(&out.stderr),
+            format!("{message}\n"),
+            "{cmd}"
+        );
+    }
+}
+
+#[test]
+fn an_unwritable_output_exits_3() {
+    let scene = scene_file();
+    let t = scene.to_str().unwrap();
+    let cases: &[(&str, &str)] = &[
+        (
+            "viewxf < T | splitter x=0 /nonexistent/a /dev/null",
+            "splitter: cannot open /nonexistent/a for writing: No such file or directory\n",
+        ),
+        (
+            "viewxf < T | persp --size 4x4 | scanconv | zbuf -o /nonexistent/f.ppm",
+            "zbuf: cannot write /nonexistent/f.ppm: No such file or directory\n",
+        ),
+        (
+            "viewxf < T | persp --size 4x4 | scanconv | zbuf -o /nonexistent/f.png",
+            "zbuf: cannot write /nonexistent/f.png: No such file or directory\n",
+        ),
+        (
+            "viewxf < T > /dev/full",
+            "viewxf: stdout: No space left on device\n",
+        ),
+        (
+            "viewxf < T | splitter x=0 /dev/full /dev/null",
+            "splitter: /dev/full: No space left on device\n",
+        ),
+        (
+            "viewxf < T | persp --size 4x4 | scanconv > /dev/full",
+            "scanconv: stdout: No space left on device\n",
+        ),
+        (
+            "scene penetrating > /dev/full",
+            "scene: stdout: No space left on device\n",
+        ),
+        (
+            "zspec --size 4x4 T > /dev/full",
+            "zspec: stdout: No space left on device\n",
+        ),
+        (
+            "viewxf < T | persp --size 4x4 | scanconv | zbuf > /dev/full",
+            "zbuf: stdout: No space left on device\n",
+        ),
+    ];
+    for &(cmd, message) in cases {
+        let out = sh(&cmd.replace('T', t), b"");
+        assert_eq!(out.status.code(), Some(3), "{cmd}");
+        assert_eq!(String::from_utf8_lossy(&out.stderr), message, "{cmd}");
+    }
+}

@@ -1,0 +1,312 @@
+//! What a new user and an attacker tripped on (issue 14's findings), each with the
+//! command that showed it and the behaviour now. The exit-status and usage findings (#4,
+//! #5, #10: `zbuf -o x.jpg`, `clipplane --plane 1,2,3`, `zspec compare --min-agreement
+//! nan`, `zbuf - -`, `splitter x=0 same same`) are rows of the tables in exit_codes.rs.
+
+use pipeline_tests::{parse_ppm_stream, sh};
+
+fn stderr(out: &std::process::Output) -> String {
+    String::from_utf8_lossy(&out.stderr).into_owned()
+}
+
+/// #1: `printf 'polypipe 1 fragments 65536 65536\nEND\n' | zbuf` aborted with SIGABRT
+/// (`memory allocation of 34359738368 bytes failed`). The address space is limited to
+/// 8 GB so that the frame cannot be had on any machine.
+#[test]
+fn a_frame_too_large_for_memory_is_refused_in_one_line() {
+    let out = sh(
+        "ulimit -v 8000000; printf 'polypipe 1 fragments 65536 65536\\nEND\\n' | zbuf",
+        b"",
+    );
+    assert_eq!(out.status.code(), Some(1), "{}", stderr(&out));
+    assert_eq!(
+        stderr(&out),
+        "zbuf: stdin: a 65536x65536 frame needs 60 GiB (15 bytes a pixel: depth, polygon \
+         and colour), more memory than can be had\n"
+    );
+    assert!(out.stdout.is_empty());
+    // The reference's frame the same way.
+    let out = sh(
+        "ulimit -v 8000000; scene penetrating | zspec --size 65536x65536",
+        b"",
+    );
+    assert_eq!(out.status.code(), Some(1), "{}", stderr(&out));
+    assert_eq!(
+        stderr(&out),
+        "zspec: a 65536x65536 frame needs 44 GiB (11 bytes a pixel: colour and depth), more \
+         memory than can be had\n"
+    );
+}
+
+/// Vertices at ±1.7e308: finite, but too large for the viewing transformation's sums.
+const HUGE: &str = "polypipe 1 world\ncolour 1 2 3\n-1.7e308 -1.7e308 -1.7e308\n\
+                    1.7e308 -1.7e308 1.7e308\n0 1.7e308 0\nEND\n";
+
+/// #2: `viewxf --eye 10,5,20` on vertices at ±1.7e308 printed `-inf` and exited 0, so
+/// that the next stage took the blame.
+#[test]
+fn viewxf_refuses_to_write_an_infinity() {
+    let out = sh("viewxf --eye 10,5,20 --text", HUGE.as_bytes());
+    assert_eq!(out.status.code(), Some(1));
+    assert_eq!(
+        stderr(&out),
+        "viewxf: frame 0, polygon 0: vertex 0 comes out as (-7.602631123499285e307 \
+         -1.1613210868087544e308 inf inf) after the viewing transformation: not a finite \
+         number (coordinates this large overflow)\n"
+    );
+    // Only the header was written: no polygon with an infinity in it.
+    assert_eq!(
+        String::from_utf8_lossy(&out.stdout),
+        "polypipe 1 eye aspect 1 hither 1 yon 30\n"
+    );
+}
+
+/// #2: persp refuses a vertex whose projection overflows, naming its place in the input.
+#[test]
+fn persp_refuses_to_write_an_infinity() {
+    let eye = "polypipe 1 eye aspect 1 hither 1 yon 30\ncolour 1 2 3\n-1e300 0 16 10\n\
+               1e300 0 16 10\n0 1e308 0 1e308\nEND\n";
+    let out = sh("persp --size 4x4 --text", eye.as_bytes());
+    assert_eq!(out.status.code(), Some(1));
+    let err = stderr(&out);
+    assert!(
+        err.starts_with("persp: frame 0, polygon 0: vertex 2 ") && err.lines().count() == 1,
+        "{err}"
+    );
+    assert!(!String::from_utf8_lossy(&out.stdout).contains("inf"));
+}
+
+/// #2: the clippers and the splitter, on eye-space input and planes at the edge of f64:
+/// whatever they make of it, they never write a number that is not finite. (Their
+/// intersections clamp, so today they write; the shared check would refuse naming the
+/// polygon if one did not.)
+#[test]
+fn clippers_and_splitters_never_write_an_infinity() {
+    let header = "polypipe 1 eye aspect 1 hither 1 yon 30\ncolour 1 2 3\n";
+    let polygons = [
+        "1.7e308 0 16 1.7e308\n-1.7e308 0 16 10\n0 1 16 10\n",
+        "1.7e308 1.7e308 16 1.7e308\n-1.7e308 -1.7e308 16 1.7e308\n0 -1.7e308 16 10\n",
+        "-1.7e308 0 1.7e308 1.7e308\n1.7e308 0 -1.7e308 1.7e308\n0 1e308 0 1e308\n",
+        "1e300 1e300 16 10\n-1e300 -1e300 16 10\n1e300 -1e300 16 10\n",
+    ];
+    let stages = [
+        "clipplane left",
+        "clipplane hither",
+        "clipplane yon",
+        "clipplane --plane 1e308,1e308,0,0,-1e308",
+        "clipplane --plane 1e308,-1e308,1e308,0,0",
+        "splitter x=0.5 /dev/null -",
+        "splitter --plane 1e308,1e308,0,0,-1e308 /dev/null -",
+    ];
+    for polygon in polygons {
+        let input = format!("{header}{polygon}END\n");
+        for stage in stages {
+            let out = sh(&format!("{stage} --text"), input.as_bytes());
+            let text = String::from_utf8_lossy(&out.stdout).to_lowercase();
+            assert!(
+                !text.contains("inf") && !text.contains("nan"),
+                "{stage}: {text}"
+            );
+            if !out.status.success() {
+                let err = stderr(&out);
+                assert_eq!(out.status.code(), Some(1), "{stage}: {err}");
+                assert!(err.contains(": frame 0, polygon 0: "), "{stage}: {err}");
+            }
+        }
+    }
+}
+
+/// #2: `scene obj` on `v nan 0 0` wrote `NaN`; it refuses, naming the OBJ line. A model
+/// too large to turn (--no-fit) is refused naming the frame where it overflows.
+#[test]
+fn scene_refuses_numbers_that_are_not_finite() {
+    let out = sh("scene obj -", b"v 0 0 0\nv nan 0 0\nv 0 1 0\nf 1 2 3\n");
+    assert_eq!(out.status.code(), Some(1));
+    assert_eq!(
+        stderr(&out),
+        "scene: <stdin>: line 2: vertex `v nan 0 0` has a coordinate `nan` that is not a \
+         finite number\n"
+    );
+    assert!(out.stdout.is_empty());
+    let huge = b"v 1.7e308 0 1.7e308\nv 1.7e308 1 1.7e308\nv 1.6e308 0 1.7e308\nf 1 2 3\n";
+    let out = sh("scene obj --no-fit --frames 8 -", huge);
+    assert_eq!(out.status.code(), Some(1));
+    let err = stderr(&out);
+    assert!(
+        err.starts_with("scene: frame 1, polygon 0: vertex 0 comes out as (inf ")
+            && err.ends_with("leave out --no-fit)\n"),
+        "{err}"
+    );
+    // Fitted (the default), the same model is scaled into view without overflowing.
+    let out = sh("scene obj --frames 8 --text -", huge);
+    assert!(out.status.success(), "{}", stderr(&out));
+    let text = String::from_utf8_lossy(&out.stdout).to_lowercase();
+    assert!(!text.contains("inf") && !text.contains("nan"));
+}
+
+/// The whole linear pipeline at W×H, from a world-space scene on stdin.
+fn pipeline(size: &str) -> String {
+    format!(
+        "viewxf --size {size} | clipplane left | clipplane right | clipplane top \
+         | clipplane bottom | clipplane hither | clipplane yon | persp --size {size} \
+         | scanconv | zbuf"
+    )
+}
+
+/// #3: `zspec`, the reference, drew a triangle with vertices at ±1e307 all black (its
+/// Newell sums overflowed) while the pipeline drew it; now both draw it, alike.
+#[test]
+fn the_reference_draws_a_triangle_at_1e307() {
+    let triangle = "polypipe 1 world\ncolour 255 0 0\n-1e307 -1e307 1\n1e307 -1e307 1\n\
+                    0 1e307 -1\nEND\n";
+    let exact = sh("zspec --size 8x8", triangle.as_bytes());
+    assert!(exact.status.success(), "{}", stderr(&exact));
+    let exact = parse_ppm_stream(&exact.stdout).unwrap();
+    assert!(
+        exact[0].pixels.iter().all(|p| *p == [255, 0, 0]),
+        "{exact:?}"
+    );
+    let piped = sh(&pipeline("8x8"), triangle.as_bytes());
+    assert!(piped.status.success(), "{}", stderr(&piped));
+    assert_eq!(parse_ppm_stream(&piped.stdout).unwrap(), exact);
+}
+
+/// #4: `scene obj /tmp` exited 1 for an I/O error.
+#[test]
+fn an_obj_file_that_cannot_be_read_is_an_io_error() {
+    let out = sh("scene obj /tmp", b"");
+    assert_eq!(out.status.code(), Some(3));
+    assert_eq!(stderr(&out), "scene: /tmp: Is a directory\n");
+}
+
+/// #4: `zspec compare` used 1 both for "differ" and for "not a PPM"; now cmp's 0 same,
+/// 1 different, 2 trouble.
+#[test]
+fn zspec_compare_exits_as_cmp_does() {
+    let dir = tempfile::tempdir().unwrap();
+    let file = |name: &str, bytes: &[u8]| {
+        let p = dir.path().join(name);
+        std::fs::write(&p, bytes).unwrap();
+        p.display().to_string()
+    };
+    let red = file("red.ppm", b"P6\n1 1\n255\n\xff\x00\x00");
+    let red_plain = file("red-plain.ppm", b"P3\n1 1\n255\n255 0 0\n");
+    let blue = file("blue.ppm", b"P6\n1 1\n255\n\x00\x00\xff");
+    let two = file(
+        "two.ppm",
+        b"P6\n1 1\n255\n\xff\x00\x00P6\n1 1\n255\n\xff\x00\x00",
+    );
+    let text = file("scene.txt", b"polypipe 1 world\nEND\n");
+    let cases = [
+        (format!("zspec compare {red} {red_plain}"), 0, ""),
+        (
+            format!("zspec compare {red} {blue}"),
+            1,
+            "zspec compare: 1 of 1 frames agree on fewer than 99.95% of pixels (frames [0])\n",
+        ),
+        (
+            format!("zspec compare {red} {two}"),
+            1,
+            "zspec compare: the streams have 1 and 2 frames\n",
+        ),
+        (
+            format!("zspec compare {red} {text}"),
+            2,
+            "expected a PPM (P6 or P3), found \"po\"\n",
+        ),
+        (
+            format!("zspec compare {red} /nonexistent"),
+            2,
+            "zspec compare: cannot open /nonexistent: No such file or directory\n",
+        ),
+        (
+            format!("zspec compare --min-agreement 101 {red} {red}"),
+            2,
+            "zspec: invalid value '101' for '--min-agreement <MIN_AGREEMENT>': `101` is not \
+             a percentage from 0 to 100\n",
+        ),
+    ];
+    for (cmd, status, message) in cases {
+        let out = sh(&cmd, b"");
+        assert_eq!(out.status.code(), Some(status), "{cmd}: {}", stderr(&out));
+        assert!(stderr(&out).ends_with(message), "{cmd}: {}", stderr(&out));
+    }
+}
+
+/// #8: when one output's reader went away, the other output was left without END. Now
+/// it gets the whole stream: the same as when both readers stay.
+#[test]
+fn when_one_reader_goes_the_other_branch_is_finished() {
+    let dir = tempfile::tempdir().unwrap();
+    let (kept, whole) = (dir.path().join("kept"), dir.path().join("whole"));
+    let scene = "scene environment --polygons 20000 --seed 3 | viewxf";
+    let out = sh(
+        &format!(
+            "{scene} | splitter --text x=0 - {} | head -c 10",
+            kept.display()
+        ),
+        b"",
+    );
+    assert!(out.status.success(), "{}", stderr(&out));
+    assert!(out.stderr.is_empty());
+    let out = sh(
+        &format!(
+            "{scene} | splitter --text x=0 /dev/null {}",
+            whole.display()
+        ),
+        b"",
+    );
+    assert!(out.status.success());
+    let kept = std::fs::read_to_string(kept).unwrap();
+    assert!(kept.ends_with("\nEND\n"));
+    assert_eq!(kept, std::fs::read_to_string(whole).unwrap());
+}
+
+/// #9: `zbuf /tmp` said `Is a directory (os error 21): Is a directory (os error 21)`.
+#[test]
+fn an_os_error_is_said_once() {
+    let out = sh("zbuf /tmp", b"");
+    assert_eq!(out.status.code(), Some(3));
+    assert_eq!(stderr(&out), "zbuf: /tmp: Is a directory\n");
+}
+
+/// #11: "Add `--text` to any stage", but zbuf and zspec refused it. For the stages that
+/// write pictures it means plain PPM (P3): the same pixels as text.
+#[test]
+fn text_on_the_picture_stages_writes_plain_ppm() {
+    let size = "6x4";
+    let binary = sh(
+        &format!("scene penetrating --frames 2 | {}", pipeline(size)),
+        b"",
+    );
+    let plain = sh(
+        &format!("scene penetrating --frames 2 | {} --text", pipeline(size)),
+        b"",
+    );
+    assert!(binary.status.success() && plain.status.success());
+    assert!(plain.stdout.starts_with(b"P3\n6 4\n255\n"));
+    assert!(plain.stdout.is_ascii());
+    let frames = parse_ppm_stream(&binary.stdout).unwrap();
+    assert_eq!(frames.len(), 2);
+    assert_eq!(parse_ppm_stream(&plain.stdout).unwrap(), frames);
+    // The reference alike, and to files: -o f%d.ppm --text writes P3 files.
+    let exact = sh(
+        "scene penetrating --frames 2 | zspec --size 6x4 --text",
+        b"",
+    );
+    assert!(exact.stdout.starts_with(b"P3\n6 4\n255\n"));
+    assert_eq!(parse_ppm_stream(&exact.stdout).unwrap(), frames);
+    let dir = tempfile::tempdir().unwrap();
+    let files = sh(
+        &format!(
+            "scene penetrating --frames 2 | {} --text -o {}/f%d.ppm",
+            pipeline(size),
+            dir.path().display()
+        ),
+        b"",
+    );
+    assert!(files.status.success(), "{}", stderr(&files));
+    let f1 = std::fs::read(dir.path().join("f1.ppm")).unwrap();
+    assert!(f1.starts_with(b"P3\n"));
+    assert_eq!(parse_ppm_stream(&f1).unwrap()[0], frames[1]);
+}
