@@ -413,6 +413,7 @@ fn mark_row(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use proptest::prelude::*;
     use proto::DVec4;
 
     /// Eye point at z_e = 16 (w = 10 with the default s/d).
@@ -457,6 +458,92 @@ mod tests {
             poly.vertices = out;
         }
         poly
+    }
+
+    /// The bits of a polygon's numbers (so that −0 and 0 differ).
+    fn bits(p: &Polygon) -> (Vec<[u64; 4]>, Option<[u64; 4]>, Vec<Option<[[u64; 4]; 2]>>) {
+        let b = |v: DVec4| v.to_array().map(f64::to_bits);
+        (
+            p.vertices.iter().map(|v| b(*v)).collect(),
+            p.plane.map(b),
+            p.supports
+                .iter()
+                .map(|s| s.map(|[a, c]| [b(a), b(c)]))
+                .collect(),
+        )
+    }
+
+    /// Any finite coordinate, or one on a 1/8 grid (so that vertices on planes and
+    /// coincidences come up often), as fuzz/src/lib.rs makes them.
+    fn coordinate() -> impl Strategy<Value = f64> {
+        prop_oneof![
+            2 => (-128i32..128).prop_map(|i| i as f64 / 8.0),
+            1 => any::<f64>().prop_filter("finite", |v| v.is_finite()),
+            1 => -60.0..60.0f64,
+        ]
+    }
+
+    fn any_polygon() -> impl Strategy<Value = Polygon> {
+        let vertex = || {
+            (
+                coordinate(),
+                coordinate(),
+                coordinate(),
+                prop::option::of(coordinate()),
+            )
+                .prop_map(|(x, y, z, w)| DVec4::new(x, y, z, w.unwrap_or(z * 0.625)))
+        };
+        (prop::collection::vec(vertex(), 0..12), any::<bool>()).prop_flat_map(move |(v, s)| {
+            let n = v.len();
+            let supports = if s {
+                prop::collection::vec(prop::option::of((vertex(), vertex())), n..=n).boxed()
+            } else {
+                Just(Vec::new()).boxed()
+            };
+            (Just(v), supports).prop_map(|(vertices, supports)| Polygon {
+                colour: [1, 2, 3],
+                vertices,
+                plane: None,
+                supports: supports
+                    .into_iter()
+                    .map(|s| s.map(|(a, b)| [a, b]))
+                    .collect(),
+            })
+        })
+    }
+
+    proptest! {
+        #![proptest_config(ProptestConfig::with_cases(2000))]
+
+        /// In process, many more cases than the binaries' property in
+        /// tests/tests/clipbatch.rs: every polygon of a batch comes out bit for bit as the
+        /// one-polygon-at-a-time chain makes it, whatever the batch size and view volume.
+        #[test]
+        fn a_batch_is_the_chain_bit_for_bit(
+            polys in prop::collection::vec(any_polygon(), 0..20),
+            capacity in 1usize..8,
+            which_view in 0usize..3,
+        ) {
+            let view = [
+                View::default(),
+                View { aspect: 16.0 / 9.0, hither: 0.5, yon: 100.0 },
+                View { aspect: 0.75, hither: 1e-3, yon: 1e6 },
+            ][which_view];
+            let mut batch = ClipBatch::new(&view, capacity);
+            let mut got = Vec::new();
+            for p in polys.clone() {
+                if !batch.fits(&p) {
+                    got.extend(batch.clip());
+                }
+                batch.push(p);
+            }
+            got.extend(batch.clip());
+            prop_assert_eq!(got.len(), polys.len());
+            for (g, p) in got.iter().zip(polys) {
+                let want = chain(&view, p.clone());
+                prop_assert_eq!(bits(g), bits(&want), "from {:?}", p);
+            }
+        }
     }
 
     #[test]
