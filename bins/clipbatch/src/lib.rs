@@ -460,8 +460,11 @@ mod tests {
         poly
     }
 
+    /// A polygon's numbers as bits: vertices, plane, supports.
+    type Bits = (Vec<[u64; 4]>, Option<[u64; 4]>, Vec<Option<[[u64; 4]; 2]>>);
+
     /// The bits of a polygon's numbers (so that −0 and 0 differ).
-    fn bits(p: &Polygon) -> (Vec<[u64; 4]>, Option<[u64; 4]>, Vec<Option<[[u64; 4]; 2]>>) {
+    fn bits(p: &Polygon) -> Bits {
         let b = |v: DVec4| v.to_array().map(f64::to_bits);
         (
             p.vertices.iter().map(|v| b(*v)).collect(),
