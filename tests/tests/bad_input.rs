@@ -11,6 +11,7 @@ use std::process::Output;
 const STAGES: &[(&str, &str, &str)] = &[
     ("viewxf", "viewxf", "scene penetrating"),
     ("clipplane", "clipplane left", "viewxf < T"),
+    ("clipbatch", "clipbatch", "viewxf < T"),
     ("splitter", "splitter x=0 /dev/null /dev/null", "viewxf < T"),
     ("persp", "persp --size 8x8", "viewxf < T"),
     ("scanconv", "scanconv", "viewxf < T | persp --size 8x8"),
@@ -184,7 +185,7 @@ fn nan_and_infinity_are_refused_naming_the_polygon() {
     let mut bad = eye.clone();
     bad[at..at + 8].copy_from_slice(&f64::NAN.to_le_bytes());
     for &(stage, cmd, _) in STAGES {
-        if matches!(stage, "clipplane" | "splitter" | "persp") {
+        if matches!(stage, "clipplane" | "clipbatch" | "splitter" | "persp") {
             let e = refused(stage, "binary nan", &run(cmd, &bad));
             assert!(e.contains("frame 0, polygon 0"), "{e}");
         }

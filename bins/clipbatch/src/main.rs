@@ -1,0 +1,80 @@
+//! clipbatch: eye-space polygon stream → the same stream clipped against the whole
+//! pyramid, a batch of polygons at a time.
+
+use clap::Parser;
+use clipbatch::{ClipBatch, DEFAULT_BATCH};
+use proto::{SpaceKind, Token, Writer};
+use stagecli::TextFlag;
+use std::io::{self, Write};
+use std::process::ExitCode;
+
+/// Sutherland–Hodgman clipping against all six planes of the pyramid in one process, a
+/// batch of polygons at a time (Theoharis & Page's DAP clipper).
+///
+/// Reads an eye-space stream on stdin (binary or text) and writes what
+/// `clipplane left | clipplane right | clipplane top | clipplane bottom | clipplane hither
+/// | clipplane yon` writes, bit for bit. The planes come from the view volume in the
+/// stream header (viewxf --size/--aspect/--hither/--yon).
+#[derive(Parser, Debug)]
+#[command(
+    name = "clipbatch",
+    version,
+    after_help = "Example:\n  viewxf < scene | clipbatch | persp --size 500x500 | scanconv | zbuf > frame.ppm\n  \
+                  viewxf < scene | clipbatch --batch 1024 --text"
+)]
+struct Cli {
+    /// Polygons clipped together (the DAP's processing elements); a frame's end, or a
+    /// polygon of many vertices, ends a batch early.
+    #[arg(long, value_name = "N", default_value_t = DEFAULT_BATCH as u32,
+          value_parser = clap::value_parser!(u32).range(1..=1 << 20))]
+    batch: u32,
+    #[command(flatten)]
+    text: TextFlag,
+}
+
+fn main() -> ExitCode {
+    stagecli::main("clipbatch", |cli: Cli| {
+        let mut reader = stagecli::read_stdin::<Token>(SpaceKind::Eye)?;
+        let header = *reader.header();
+        let proto::Space::Eye(view) = header.space else {
+            unreachable!("the reader checked the space")
+        };
+        let mut writer = stagecli::write_stdout(header, cli.text.form())?;
+        let mut batch = ClipBatch::new(&view, cli.batch as usize);
+        // Polygons wait in the batch. Anything else (NEXT.FRAME, END, a skip, or bad
+        // input) first sends the waiting polygons on, clipped: the output up to any point
+        // is the chain's, the polygons before a bad record included.
+        loop {
+            let token = match stagecli::next(&mut reader) {
+                Ok(Some(token)) => token,
+                Ok(None) => break,
+                Err(e) => {
+                    write_clipped(&mut batch, &mut writer)?;
+                    return Err(e);
+                }
+            };
+            match token {
+                Token::Polygon(poly) => {
+                    if !batch.fits(&poly) {
+                        write_clipped(&mut batch, &mut writer)?;
+                    }
+                    batch.push(poly);
+                }
+                control => {
+                    write_clipped(&mut batch, &mut writer)?;
+                    writer.write(&control)?;
+                }
+            }
+        }
+        writer.flush()?;
+        Ok(())
+    })
+}
+
+/// Clips the waiting polygons and writes them.
+fn write_clipped<W: Write>(batch: &mut ClipBatch, writer: &mut Writer<Token, W>) -> io::Result<()> {
+    for poly in batch.clip() {
+        writer.write(&Token::Polygon(poly))?;
+    }
+    Ok(())
+}
