@@ -30,6 +30,9 @@ Options:
   --eye X,Y,Z  --at X,Y,Z  --up X,Y,Z  --s S  --d D  --hither K1  --yon K2
                     camera and view volume, passed to viewxf
   --zmode MODE      persp's depth: projective (default) or eye-z
+  --merge MODE      tiles (default): each leaf resolves its region, zbuf places the
+                    finished pixels; buffer: the thesis's PAR.BUFF, every fragment
+                    depth-tested in the one zbuf
   --stats           splitter nodes, scan converters and zbuf print counts on stderr
   -o PATTERN        zbuf writes one file per frame (e.g. frame%04d.png) instead
   -h, --help        this text
@@ -49,6 +52,7 @@ die_usage() {
 
 size=500x500
 depth=0
+merge=tiles
 stats=()
 zmode=()
 outopt=()
@@ -68,6 +72,8 @@ while (($# > 0)); do
             camera+=("$1" "$2"); shift 2 ;;
         --eye=* | --at=* | --up=* | --s=* | --d=* | --hither=* | --yon=*)
             camera+=("$1"); shift ;;
+        --merge) (($# >= 2)) || die_usage "--merge needs tiles or buffer"; merge=$2; shift 2 ;;
+        --merge=*) merge=${1#*=}; shift ;;
         --zmode) (($# >= 2)) || die_usage "--zmode needs a mode"; zmode=(--depth "$2"); shift 2 ;;
         --stats) stats=(--stats); shift ;;
         -o) (($# >= 2)) || die_usage "-o needs a PATTERN"; outopt=(-o "$2"); shift 2 ;;
@@ -80,6 +86,7 @@ while (($# > 0)); do
 done
 
 [[ $depth =~ ^[0-6]$ ]] || die_usage "--depth must be an integer from 0 to 6, not '$depth'"
+[[ $merge == tiles || $merge == buffer ]] || die_usage "--merge must be tiles or buffer, not '$merge'"
 [[ $size =~ ^[0-9]+[xX][0-9]+$ ]] || die_usage "--size must be WxH, e.g. 500x500, not '$size'"
 
 root=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd) || exit 3
@@ -96,7 +103,7 @@ fi
 # pipeline does not run cannot hold it up.
 bindir=${CARGO_TARGET_DIR:-$root/target}/release
 stages=(viewxf clipplane splitter persp scanconv zbuf)
-sources=("$root/proto" "$root/Cargo.toml" "$root/Cargo.lock")
+sources=("$root/proto" "$root/scan" "$root/Cargo.toml" "$root/Cargo.lock")
 packages=()
 for b in "${stages[@]}"; do
     sources+=("$root/bins/$b")
@@ -208,7 +215,10 @@ for ((node = 1; node < leaves; node++)); do
         "${plane_of[$node]}" "${input_of[$a]}" "${input_of[$b]}"
 done
 
-# --- The leaves: persp | scanconv each, all into one zbuf (chapter 6.3.3). ------------
+# --- The leaves: persp | scanconv each, all into one zbuf (chapter 6.3.3). With --merge
+# tiles each scanconv resolves its own region (--resolve) and zbuf only places the runs.
+resolve=()
+[[ $merge == tiles ]] && resolve=(--resolve)
 fragments=()
 for ((leaf = leaves; leaf < 2 * leaves; leaf++)); do
     if ((depth == 0)); then suffix=""; else suffix=" (leaf $((leaf - leaves)))"; fi
@@ -217,7 +227,7 @@ for ((leaf = leaves; leaf < 2 * leaves; leaf++)); do
     start "persp$suffix" "$bindir/persp" --size "$size" "${zmode[@]}"
     in=$out
     out=$(fifo "leaf-$((leaf - leaves))")
-    start "scanconv$suffix" "$bindir/scanconv" "${stats[@]}"
+    start "scanconv$suffix" "$bindir/scanconv" "${resolve[@]}" "${stats[@]}"
     fragments+=("$out")
 done
 in=/dev/null
