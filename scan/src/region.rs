@@ -271,17 +271,24 @@ impl RegionBuffer {
 
 /// The z-test over one tile row's piece of a span (BUFFER's inner loop): `z` is the depth
 /// at the first pixel, `dz` the step. Returns the pixels written.
+///
+/// A plain branch on the test: on the fill-heavy scene's own spans (`scanconv --text`
+/// fed to a throwaway harness) it ran 1.37 ns a pixel against 1.93 for the branch-free
+/// form, which without AVX becomes masked stores done a lane at a time, and 1.29 for that
+/// form compiled for AVX2: a polygon wins or loses whole stretches of a row, so the branch
+/// predicts well, and not worth a second, CPU-dependent path.
 #[inline]
 fn z_test(depth: &mut [i64], colour: &mut [u32], z: i64, dz: i64, c: u32) -> u64 {
     let n = depth.len();
-    let last = z as i128 + (n as i128 - 1) * dz as i128;
-    let mut written = 0u64;
     if n == 0 {
         return 0;
     }
+    let colour = &mut colour[..n];
+    let last = z as i128 + (n as i128 - 1) * dz as i128;
+    let mut written = 0u64;
+    let mut z = z;
     if last >= i64::MIN as i128 && last <= i64::MAX as i128 {
         // No step leaves the i64 range: plain adds.
-        let mut z = z;
         for (d, f) in depth.iter_mut().zip(colour.iter_mut()) {
             let win = *f == 0 || z < *d;
             if win {
@@ -292,7 +299,6 @@ fn z_test(depth: &mut [i64], colour: &mut [u32], z: i64, dz: i64, c: u32) -> u64
             z = z.wrapping_add(dz);
         }
     } else {
-        let mut z = z;
         for (d, f) in depth.iter_mut().zip(colour.iter_mut()) {
             let win = *f == 0 || z < *d;
             if win {

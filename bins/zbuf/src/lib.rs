@@ -22,17 +22,31 @@ use std::io::{self, Write};
 use std::path::{Path, PathBuf};
 
 /// The Z-buffer, the polygon index per pixel and the F-buffer of one screen.
+///
+/// The depth and polygon buffers are needed only for depth-tested fragments (spans and
+/// pixels, the thesis's PAR.BUFF). When every leaf of the splitter tree resolves its own
+/// region and sends finished runs, zbuf only places them: the two buffers (12 of the
+/// 15 bytes a pixel) are then not made at all, nor cleared frame by frame. They are made
+/// at the first depth-tested fragment, and the runs painted before it in the frame are
+/// marked in them then, so a frame that mixes the two comes out as if they had been
+/// there from the start.
 #[derive(Clone, Debug)]
 pub struct FrameBuffer {
     width: u32,
     height: u32,
     background: Colour,
-    /// Fixed-point depth per pixel, row-major; `i64::MAX` (MAX.DEPTH) where nothing is drawn.
+    /// Fixed-point depth per pixel, row-major; `i64::MAX` (MAX.DEPTH) where nothing is
+    /// drawn. Empty until the first depth-tested fragment.
     depth: Vec<i64>,
     /// Index in the frame of the polygon that drew each pixel; `u32::MAX` for none.
     polygon: Vec<u32>,
     /// The F-buffer: RGB per pixel, row-major, row 0 at the top (a P6 PPM's raster).
     colour: Vec<Colour>,
+    /// Whether `depth` and `polygon` hold this frame's state. When not, they are empty or
+    /// clear, and the runs painted so far this frame are listed in `painted`.
+    depth_live: bool,
+    /// Runs painted this frame while the depth buffer was not live: (row, x0, x1).
+    painted: Vec<(u32, u32, u32)>,
 }
 
 /// Polygon index of pixels no polygon has drawn: after every real polygon.
@@ -46,9 +60,11 @@ impl FrameBuffer {
             width,
             height,
             background,
-            depth: vec![i64::MAX; n],
-            polygon: vec![NO_POLYGON; n],
+            depth: Vec::new(),
+            polygon: Vec::new(),
             colour: vec![background; n],
+            depth_live: false,
+            painted: Vec::new(),
         }
     }
 
@@ -62,9 +78,36 @@ impl FrameBuffer {
 
     /// Re-initialises the buffers for the next frame.
     pub fn clear(&mut self) {
-        self.depth.fill(i64::MAX);
-        self.polygon.fill(NO_POLYGON);
+        if self.depth_live {
+            self.depth.fill(i64::MAX);
+            self.polygon.fill(NO_POLYGON);
+            self.depth_live = false;
+        }
+        self.painted.clear();
         self.colour.fill(self.background);
+    }
+
+    /// Makes the depth and polygon buffers hold this frame's state, before a depth test.
+    #[inline]
+    fn depth_tested(&mut self) {
+        if !self.depth_live {
+            self.make_depth_live();
+        }
+    }
+
+    #[cold]
+    fn make_depth_live(&mut self) {
+        let n = self.colour.len();
+        if self.depth.len() != n {
+            self.depth = vec![i64::MAX; n];
+            self.polygon = vec![NO_POLYGON; n];
+        }
+        self.depth_live = true;
+        for (y, x0, x1) in std::mem::take(&mut self.painted) {
+            let row = y as usize * self.width as usize;
+            self.depth[row + x0 as usize..row + x1 as usize].fill(i64::MIN);
+            self.polygon[row + x0 as usize..row + x1 as usize].fill(0);
+        }
     }
 
     /// Pixels `columns` = `x0..x1` of row `y` from polygon `polygon`: pixel x has depth
@@ -83,6 +126,7 @@ impl FrameBuffer {
         if y >= self.height {
             return;
         }
+        self.depth_tested();
         let x1 = columns.end.min(self.width) as usize;
         let x0 = (columns.start as usize).min(x1);
         let row = y as usize * self.width as usize;
@@ -114,8 +158,12 @@ impl FrameBuffer {
         let x0 = (columns.start as usize).min(x1);
         let row = y as usize * self.width as usize;
         let range = row + x0..row + x1;
-        self.depth[range.clone()].fill(i64::MIN);
-        self.polygon[range.clone()].fill(0);
+        if self.depth_live {
+            self.depth[range.clone()].fill(i64::MIN);
+            self.polygon[range.clone()].fill(0);
+        } else if x0 < x1 {
+            self.painted.push((y, x0 as u32, x1 as u32));
+        }
         self.colour[range].fill(colour);
     }
 
@@ -125,6 +173,7 @@ impl FrameBuffer {
         if x >= self.width || y >= self.height {
             return;
         }
+        self.depth_tested();
         let k = y as usize * self.width as usize + x as usize;
         if z < self.depth[k] || (z == self.depth[k] && polygon < self.polygon[k]) {
             self.depth[k] = z;
@@ -336,6 +385,34 @@ mod tests {
         assert_eq!(fb.rgb(), &[2, 2, 2, 3, 3, 3, 1, 1, 1, 5, 5, 5]);
         fb.clear();
         assert_eq!(fb.rgb(), &[0; 12]);
+    }
+
+    #[test]
+    fn painted_runs_are_final_whenever_the_depth_buffer_is_made() {
+        // Runs only: no depth buffer at all.
+        let mut fb = FrameBuffer::new(4, 2, [0, 0, 0]);
+        fb.paint(0, 1..3, [1, 1, 1]);
+        assert!(fb.depth.is_empty());
+        // A span after the run: made now, with the run's pixels marked; the nearest
+        // possible depth still does not replace them.
+        fb.span(0, 0..4, i64::MIN, 0, 0, [2, 2, 2]);
+        assert_eq!(fb.rgb(), [[2; 3], [1; 3], [1; 3], [2; 3], [0; 3], [0; 3], [0; 3], [0; 3]].as_flattened());
+        // A run after spans replaces what they drew.
+        fb.paint(0, 0..1, [3, 3, 3]);
+        fb.pixel(0, 0, i64::MIN, 0, [4, 4, 4]);
+        assert_eq!(fb.colour_at(0, 0), [3, 3, 3]);
+        // The next frame: clear, runs listed again, the depth buffer kept but clear.
+        fb.clear();
+        fb.paint(1, 0..2, [5, 5, 5]);
+        fb.span(1, 0..4, 7, 0, 9, [6, 6, 6]);
+        fb.span(0, 0..1, 7, 0, 9, [6, 6, 6]);
+        assert_eq!(fb.rgb(), [[6; 3], [0; 3], [0; 3], [0; 3], [5; 3], [5; 3], [6; 3], [6; 3]].as_flattened());
+        // A frame of spans, then one of runs only: the spans' depths are gone.
+        fb.clear();
+        fb.paint(0, 3..4, [8, 8, 8]);
+        fb.clear();
+        fb.span(0, 0..4, i64::MAX, 0, 5, [9, 9, 9]);
+        assert_eq!(fb.rgb()[..12], [9; 12]);
     }
 
     #[test]
