@@ -54,7 +54,12 @@ impl EdgeTable {
         let Some(first) = self.edges.iter().map(|(s, _)| *s).min() else {
             return 0..0;
         };
-        let last = self.edges.iter().map(|(_, e)| e.end_row).max().unwrap_or(first);
+        let last = self
+            .edges
+            .iter()
+            .map(|(_, e)| e.end_row)
+            .max()
+            .unwrap_or(first);
         self.first_row = first;
         self.len = (last - first) as usize;
         if self.buckets.len() < self.len {

@@ -198,7 +198,8 @@ impl RegionBuffer {
         let mut result = Ok(());
         'tile_rows: for ty in 0..self.tiles_y {
             row_tiles.clear();
-            let slots = &self.slot[(ty * self.tiles_x) as usize..((ty + 1) * self.tiles_x) as usize];
+            let slots =
+                &self.slot[(ty * self.tiles_x) as usize..((ty + 1) * self.tiles_x) as usize];
             row_tiles.extend(
                 slots
                     .iter()
@@ -345,7 +346,10 @@ mod tests {
             (0..4).map(|x| rb.colour_at(x, 0)).collect::<Vec<_>>(),
             [Some(R), Some(B), Some(R), Some(R)]
         );
-        assert_eq!(runs(&mut rb), [run(0, 0, 1, R), run(0, 1, 2, B), run(0, 2, 4, R)]);
+        assert_eq!(
+            runs(&mut rb),
+            [run(0, 0, 1, R), run(0, 1, 2, B), run(0, 2, 4, R)]
+        );
         assert_eq!(
             rb.stats,
             RegionStats {

@@ -226,7 +226,7 @@ mod tests {
             z_row: half,
             dz: 0,
         };
-        assert_eq!(spans_of(4, 4, &[sq.clone()]), vec![span(1), span(2)]);
+        assert_eq!(spans_of(4, 4, std::slice::from_ref(&sq)), vec![span(1), span(2)]);
         assert_eq!(span(1).z0(), half);
         assert_eq!(SpanWalker::new().for_each_span(&sq, 4, 4, |_| {}), 4);
     }
@@ -452,7 +452,12 @@ mod tests {
 
     #[test]
     fn an_error_from_emit_stops_the_walk() {
-        let sq = poly(&[[0.0, 0.0, 0.0], [4.0, 0.0, 0.0], [4.0, 4.0, 0.0], [0.0, 4.0, 0.0]]);
+        let sq = poly(&[
+            [0.0, 0.0, 0.0],
+            [4.0, 0.0, 0.0],
+            [4.0, 4.0, 0.0],
+            [0.0, 4.0, 0.0],
+        ]);
         let mut seen = 0;
         let r = SpanWalker::new().spans(&sq, 4, 4, |s| {
             seen += 1;

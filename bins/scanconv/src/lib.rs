@@ -14,8 +14,8 @@
 //!   as runs of finished pixels (`Fragment::Run`), which `zbuf` places without a depth
 //!   test. The leaves share the per-pixel work; the merger only assembles.
 
-pub use scan::{check_on_screen, depth_at, DepthPlane, GUARD_BAND};
 use proto::Fragment;
+pub use scan::{check_on_screen, depth_at, DepthPlane, GUARD_BAND};
 use scan::{RegionBuffer, SpanWalker};
 
 /// What becomes of covered pixels.
@@ -204,7 +204,10 @@ mod tests {
             z0: half,
             dz: 0,
         };
-        assert_eq!(frags, vec![Fragment::Polygon([10, 20, 30]), span(1), span(2)]);
+        assert_eq!(
+            frags,
+            vec![Fragment::Polygon([10, 20, 30]), span(1), span(2)]
+        );
     }
 
     #[test]
@@ -265,9 +268,24 @@ mod tests {
         );
         let runs = |y| {
             [
-                Fragment::Run { y, x0: 0, x1: 1, colour: b },
-                Fragment::Run { y, x0: 1, x1: 2, colour: r },
-                Fragment::Run { y, x0: 2, x1: 4, colour: g },
+                Fragment::Run {
+                    y,
+                    x0: 0,
+                    x1: 1,
+                    colour: b,
+                },
+                Fragment::Run {
+                    y,
+                    x0: 1,
+                    x1: 2,
+                    colour: r,
+                },
+                Fragment::Run {
+                    y,
+                    x0: 2,
+                    x1: 4,
+                    colour: g,
+                },
             ]
         };
         assert_eq!(frags, [runs(1), runs(2)].concat());
@@ -280,8 +298,12 @@ mod tests {
             out.push(f);
             Ok::<_, ()>(())
         };
-        ScanConverter::new(4, 4, Output::Spans).skip(3, &mut push).unwrap();
-        ScanConverter::new(4, 4, Output::Resolve).skip(3, &mut push).unwrap();
+        ScanConverter::new(4, 4, Output::Spans)
+            .skip(3, &mut push)
+            .unwrap();
+        ScanConverter::new(4, 4, Output::Resolve)
+            .skip(3, &mut push)
+            .unwrap();
         assert_eq!(out, [Fragment::Skip(3)]);
     }
 
@@ -302,7 +324,10 @@ mod tests {
         );
         assert_eq!(sc.region_stats(), None);
         let mut sc = ScanConverter::new(4, 4, Output::Resolve);
-        for p in [square([1, 1, 1], 1.0, 3.0, 0.5), square([2, 2, 2], 1.0, 2.0, 0.25)] {
+        for p in [
+            square([1, 1, 1], 1.0, 3.0, 0.5),
+            square([2, 2, 2], 1.0, 2.0, 0.25),
+        ] {
             sc.convert(&p, &mut |_| Ok::<_, ()>(())).unwrap();
         }
         sc.finish_frame(&mut |_| Ok::<_, ()>(())).unwrap();

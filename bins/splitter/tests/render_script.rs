@@ -115,12 +115,16 @@ fn trees(depths: &[&'static str]) -> Vec<(&'static str, &'static str)> {
 /// `stdin`. A scene that depth 0 refuses must be refused the same way by every tree.
 fn assert_trees_render_as_depth_0(what: &str, args: &[&str], stdin: &[u8]) {
     let linear = render(
-        [&["--merge", "buffer", "--depth", "0"], args].concat().as_slice(),
+        [&["--merge", "buffer", "--depth", "0"], args]
+            .concat()
+            .as_slice(),
         stdin,
     );
     for (merge, depth) in trees(&["1", "2", "3", "4", "5"]) {
         let tree = render(
-            [&["--merge", merge, "--depth", depth], args].concat().as_slice(),
+            [&["--merge", merge, "--depth", depth], args]
+                .concat()
+                .as_slice(),
             stdin,
         );
         assert_eq!(
@@ -369,7 +373,10 @@ fn splitter_trees_render_polygons_cut_and_touched_by_the_planes_unchanged() {
         assert!(f[0].pixels.contains(&colour), "{colour:?} is drawn");
     }
     for (merge, depth) in trees(&["1", "2", "3", "4", "5"]) {
-        let tree = render_ok(&["--merge", merge, "--depth", depth, "-"], ON_THE_PLANES.as_bytes());
+        let tree = render_ok(
+            &["--merge", merge, "--depth", depth, "-"],
+            ON_THE_PLANES.as_bytes(),
+        );
         assert!(
             tree == linear,
             "--merge {merge} depth {depth}: {:?}",
@@ -386,7 +393,14 @@ fn stats_name_each_node_and_leaf_and_add_up_to_the_linear_pipeline() {
     let scene = repo_root().join("examples/penetrating.txt");
     let stats = |merge: &str, depth: &str| {
         let out = render(
-            &["--merge", merge, "--depth", depth, "--stats", scene.to_str().unwrap()],
+            &[
+                "--merge",
+                merge,
+                "--depth",
+                depth,
+                "--stats",
+                scene.to_str().unwrap(),
+            ],
             b"",
         );
         assert!(out.status.success(), "{out:?}");
