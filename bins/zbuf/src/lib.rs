@@ -30,15 +30,24 @@ use std::path::{Path, PathBuf};
 /// at the first depth-tested fragment, and the runs painted before it in the frame are
 /// marked in them then, so a frame that mixes the two comes out as if they had been
 /// there from the start.
+///
+/// The depth and polygon buffers are laid out in square tiles of [`TILE`]×[`TILE`]
+/// pixels, row-major inside each tile: a polygon's spans, row after row, then stay within
+/// a few tiles of contiguous memory instead of striding a whole screen row (15 KB at
+/// 1920 wide) from one row to the next, which at full HD missed the cache and the TLB on
+/// every row and made the depth test three times slower. The F-buffer stays row-major,
+/// the PPM's raster.
 #[derive(Clone, Debug)]
 pub struct FrameBuffer {
     width: u32,
     height: u32,
     background: Colour,
-    /// Fixed-point depth per pixel, row-major; `i64::MAX` (MAX.DEPTH) where nothing is
-    /// drawn. Empty until the first depth-tested fragment.
+    /// Tiles across the screen.
+    tiles_x: u32,
+    /// Fixed-point depth per pixel, tiled ([`FrameBuffer::tiled`]); `i64::MAX`
+    /// (MAX.DEPTH) where nothing is drawn. Empty until the first depth-tested fragment.
     depth: Vec<i64>,
-    /// Index in the frame of the polygon that drew each pixel; `u32::MAX` for none.
+    /// Index in the frame of the polygon that drew each pixel, tiled; `u32::MAX` for none.
     polygon: Vec<u32>,
     /// The F-buffer: RGB per pixel, row-major, row 0 at the top (a P6 PPM's raster).
     colour: Vec<Colour>,
@@ -52,6 +61,18 @@ pub struct FrameBuffer {
 /// Polygon index of pixels no polygon has drawn: after every real polygon.
 const NO_POLYGON: u32 = u32::MAX;
 
+/// The side of a tile of the depth and polygon buffers, in pixels.
+pub const TILE: u32 = 64;
+const SHIFT: u32 = TILE.trailing_zeros();
+
+/// Where pixel (x, y) is in tiled buffers `tiles_x` tiles across: tiles row-major, each
+/// a TILE×TILE block, row-major inside.
+#[inline]
+fn tiled(tiles_x: u32, x: u32, y: u32) -> usize {
+    let tile = (y >> SHIFT) as usize * tiles_x as usize + (x >> SHIFT) as usize;
+    (tile << (2 * SHIFT)) + (((y & (TILE - 1)) << SHIFT) + (x & (TILE - 1))) as usize
+}
+
 impl FrameBuffer {
     /// A cleared buffer (KH(MAX.DEPTH), KH(BACK.GROUND.COLOUR) in the thesis's CSP).
     pub fn new(width: u32, height: u32, background: Colour) -> Self {
@@ -60,6 +81,7 @@ impl FrameBuffer {
             width,
             height,
             background,
+            tiles_x: width.div_ceil(TILE),
             depth: Vec::new(),
             polygon: Vec::new(),
             colour: vec![background; n],
@@ -74,6 +96,12 @@ impl FrameBuffer {
 
     pub fn height(&self) -> u32 {
         self.height
+    }
+
+    /// Where pixel (x, y) is in the tiled buffers.
+    #[inline]
+    fn tiled(&self, x: u32, y: u32) -> usize {
+        tiled(self.tiles_x, x, y)
     }
 
     /// Re-initialises the buffers for the next frame.
@@ -97,16 +125,28 @@ impl FrameBuffer {
 
     #[cold]
     fn make_depth_live(&mut self) {
-        let n = self.colour.len();
+        let tiles = self.tiles_x as usize * self.height.div_ceil(TILE) as usize;
+        let n = tiles << (2 * SHIFT);
         if self.depth.len() != n {
             self.depth = vec![i64::MAX; n];
             self.polygon = vec![NO_POLYGON; n];
         }
         self.depth_live = true;
         for (y, x0, x1) in std::mem::take(&mut self.painted) {
-            let row = y as usize * self.width as usize;
-            self.depth[row + x0 as usize..row + x1 as usize].fill(i64::MIN);
-            self.polygon[row + x0 as usize..row + x1 as usize].fill(0);
+            self.mark_painted(y, x0, x1);
+        }
+    }
+
+    /// Marks pixels `x0..x1` of row `y` as finished in the depth buffer, tile by tile:
+    /// no fragment can replace them.
+    fn mark_painted(&mut self, y: u32, x0: u32, x1: u32) {
+        let mut x = x0;
+        while x < x1 {
+            let end = x1.min(((x >> SHIFT) + 1) << SHIFT);
+            let (at, n) = (self.tiled(x, y), (end - x) as usize);
+            self.depth[at..at + n].fill(i64::MIN);
+            self.polygon[at..at + n].fill(0);
+            x = end;
         }
     }
 
@@ -127,21 +167,27 @@ impl FrameBuffer {
             return;
         }
         self.depth_tested();
-        let x1 = columns.end.min(self.width) as usize;
-        let x0 = (columns.start as usize).min(x1);
-        let row = y as usize * self.width as usize;
-        let range = row + x0..row + x1;
-        let depth = &mut self.depth[range.clone()];
-        let index = &mut self.polygon[range.clone()];
-        let frame = &mut self.colour[range];
+        let x1 = columns.end.min(self.width);
+        let x0 = columns.start.min(x1);
         let mut z = z0;
-        for ((d, i), f) in depth.iter_mut().zip(index.iter_mut()).zip(frame.iter_mut()) {
-            if z < *d || (z == *d && polygon < *i) {
-                *d = z;
-                *i = polygon;
-                *f = colour;
+        let row = y as usize * self.width as usize;
+        let mut x = x0;
+        while x < x1 {
+            let end = x1.min(((x >> SHIFT) + 1) << SHIFT);
+            let (at, n) = (self.tiled(x, y), (end - x) as usize);
+            let frame_at = row + x as usize;
+            let depth = &mut self.depth[at..at + n];
+            let index = &mut self.polygon[at..at + n];
+            let frame = &mut self.colour[frame_at..frame_at + n];
+            for ((d, i), f) in depth.iter_mut().zip(index.iter_mut()).zip(frame.iter_mut()) {
+                if z < *d || (z == *d && polygon < *i) {
+                    *d = z;
+                    *i = polygon;
+                    *f = colour;
+                }
+                z = z.saturating_add(dz);
             }
-            z = z.saturating_add(dz);
+            x = end;
         }
     }
 
@@ -154,17 +200,18 @@ impl FrameBuffer {
         if y >= self.height {
             return;
         }
-        let x1 = columns.end.min(self.width) as usize;
-        let x0 = (columns.start as usize).min(x1);
-        let row = y as usize * self.width as usize;
-        let range = row + x0..row + x1;
-        if self.depth_live {
-            self.depth[range.clone()].fill(i64::MIN);
-            self.polygon[range.clone()].fill(0);
-        } else if x0 < x1 {
-            self.painted.push((y, x0 as u32, x1 as u32));
+        let x1 = columns.end.min(self.width);
+        let x0 = columns.start.min(x1);
+        if x0 == x1 {
+            return;
         }
-        self.colour[range].fill(colour);
+        if self.depth_live {
+            self.mark_painted(y, x0, x1);
+        } else {
+            self.painted.push((y, x0, x1));
+        }
+        let row = y as usize * self.width as usize;
+        self.colour[row + x0 as usize..row + x1 as usize].fill(colour);
     }
 
     /// One pixel (the thesis's quadruplet).
@@ -174,11 +221,11 @@ impl FrameBuffer {
             return;
         }
         self.depth_tested();
-        let k = y as usize * self.width as usize + x as usize;
+        let k = self.tiled(x, y);
         if z < self.depth[k] || (z == self.depth[k] && polygon < self.polygon[k]) {
             self.depth[k] = z;
             self.polygon[k] = polygon;
-            self.colour[k] = colour;
+            self.colour[y as usize * self.width as usize + x as usize] = colour;
         }
     }
 
@@ -413,6 +460,58 @@ mod tests {
         fb.clear();
         fb.span(0, 0..4, i64::MAX, 0, 5, [9, 9, 9]);
         assert_eq!(fb.rgb()[..12], [9; 12]);
+    }
+
+    proptest::proptest! {
+        /// Spans and pixels over several tiles, some painted runs among them, against
+        /// each pixel's least (depth, polygon) worked out directly: the tiled depth
+        /// buffer puts every pixel where it belongs.
+        #[test]
+        fn tiles_hold_each_pixel_where_it_belongs(
+            spans in proptest::collection::vec((0u32..70, 0u32..150, 1u32..150, -3i64..3, -1i64..=1), 1..40),
+            paint in proptest::option::of((0u32..70, 0u32..150, 1u32..40)),
+        ) {
+            const W: u32 = 150;
+            const H: u32 = 70;
+            let mut fb = FrameBuffer::new(W, H, [0, 0, 0]);
+            let mut best: Vec<Option<(i64, u32)>> = vec![None; (W * H) as usize];
+            let mut painted = vec![false; (W * H) as usize];
+            let colour = |p: u32| [p as u8, 1, 2];
+            if let Some((y, x0, len)) = paint {
+                let x1 = (x0 + len).min(W);
+                fb.paint(y, x0..x1, [7, 7, 7]);
+                for x in x0..x1 {
+                    painted[(y * W + x) as usize] = true;
+                }
+            }
+            for (p, &(y, x0, len, z0, dz)) in spans.iter().enumerate() {
+                let (p, x1) = (p as u32, (x0 + len).min(W));
+                if p % 5 == 4 {
+                    fb.pixel(x0, y, z0, p, colour(p));
+                } else {
+                    fb.span(y, x0..x1, z0, dz, p, colour(p));
+                }
+                let x1 = if p % 5 == 4 { x0 + 1 } else { x1 };
+                for x in x0..x1 {
+                    let z = z0 + (x - x0) as i64 * dz;
+                    let slot = &mut best[(y * W + x) as usize];
+                    if slot.is_none_or(|b| (z, p) < b) {
+                        *slot = Some((z, p));
+                    }
+                }
+            }
+            for y in 0..H {
+                for x in 0..W {
+                    let k = (y * W + x) as usize;
+                    let want = if painted[k] {
+                        [7, 7, 7]
+                    } else {
+                        best[k].map_or([0, 0, 0], |(_, p)| colour(p))
+                    };
+                    proptest::prop_assert_eq!(fb.colour_at(x, y), want, "({}, {})", x, y);
+                }
+            }
+        }
     }
 
     #[test]
