@@ -443,7 +443,10 @@ mod tests {
         // A span after the run: made now, with the run's pixels marked; the nearest
         // possible depth still does not replace them.
         fb.span(0, 0..4, i64::MIN, 0, 0, [2, 2, 2]);
-        assert_eq!(fb.rgb(), [[2; 3], [1; 3], [1; 3], [2; 3], [0; 3], [0; 3], [0; 3], [0; 3]].as_flattened());
+        assert_eq!(
+            fb.rgb(),
+            [[2; 3], [1; 3], [1; 3], [2; 3], [0; 3], [0; 3], [0; 3], [0; 3]].as_flattened()
+        );
         // A run after spans replaces what they drew.
         fb.paint(0, 0..1, [3, 3, 3]);
         fb.pixel(0, 0, i64::MIN, 0, [4, 4, 4]);
@@ -453,7 +456,10 @@ mod tests {
         fb.paint(1, 0..2, [5, 5, 5]);
         fb.span(1, 0..4, 7, 0, 9, [6, 6, 6]);
         fb.span(0, 0..1, 7, 0, 9, [6, 6, 6]);
-        assert_eq!(fb.rgb(), [[6; 3], [0; 3], [0; 3], [0; 3], [5; 3], [5; 3], [6; 3], [6; 3]].as_flattened());
+        assert_eq!(
+            fb.rgb(),
+            [[6; 3], [0; 3], [0; 3], [0; 3], [5; 3], [5; 3], [6; 3], [6; 3]].as_flattened()
+        );
         // A frame of spans, then one of runs only: the spans' depths are gone.
         fb.clear();
         fb.paint(0, 3..4, [8, 8, 8]);
