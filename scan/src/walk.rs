@@ -226,7 +226,10 @@ mod tests {
             z_row: half,
             dz: 0,
         };
-        assert_eq!(spans_of(4, 4, std::slice::from_ref(&sq)), vec![span(1), span(2)]);
+        assert_eq!(
+            spans_of(4, 4, std::slice::from_ref(&sq)),
+            vec![span(1), span(2)]
+        );
         assert_eq!(span(1).z0(), half);
         assert_eq!(SpanWalker::new().for_each_span(&sq, 4, 4, |_| {}), 4);
     }
