@@ -40,6 +40,12 @@ Options:
   --eye X,Y,Z  --at X,Y,Z  --up X,Y,Z  --s S  --d D  --hither K1  --yon K2
                     camera and view volume, passed to viewxf
   --zmode MODE      persp's depth: projective (default) or eye-z (the occam code's)
+  --merge MODE      tiles (default): each leaf resolves its own region and zbuf only
+                    places the finished pixels; buffer: the thesis's PAR.BUFF, every
+                    fragment depth-tested in the one zbuf
+  --clip MODE       batch (default): clipbatch, the six planes in one process over a
+                    batch of polygons (Theoharis & Page's DAP clipper); chain: the
+                    thesis's six clipplane processes
   --stats           splitter nodes, scan converters and zbuf print counts on stderr
   -o PATTERN        zbuf writes one file per frame (e.g. frame%04d.png) instead
   --hosts H1,H2,…   render on other hosts over ssh ($POLYPIPE_SSH HOST …, default ssh)
@@ -95,6 +101,8 @@ polypipe_version() { # the workspace's version, from its Cargo.toml
 size=500x500
 depth=0
 zmode=projective
+merge=tiles # --merge: leaves resolve their regions (tiles), or one z-buffer (buffer)
+clip=batch  # --clip: clipbatch (batch), or the six clipplane processes (chain)
 scene=
 scene_given=0
 hosts=    # --hosts H1,H2,…
@@ -104,7 +112,7 @@ stats=()  # --stats, for the stages that count
 output=() # zbuf's -o PATTERN
 
 # The options that take a value (each also as --option=value), and those that do not.
-valued=" --size --depth --zmode -o --eye --at --up --s --d --hither --yon --hosts --by --remote-bin "
+valued=" --size --depth --zmode --merge --clip -o --eye --at --up --s --d --hither --yon --hosts --by --remote-bin "
 flags=" -h --help --version --stats "
 
 parse_options() {
@@ -127,6 +135,8 @@ parse_options() {
             --size) size=$value ;;
             --depth) depth=$value ;;
             --zmode) zmode=$value ;;
+            --merge) merge=$value ;;
+            --clip) clip=$value ;;
             -o) output=(-o "$value") ;;
             --eye | --at | --up | --s | --d | --hither | --yon) camera+=("$opt" "$value") ;;
             --stats) stats=(--stats) ;;
@@ -153,6 +163,8 @@ validate_options() {
     fi
     [[ $zmode == @(projective|eye-z) ]] ||
         die_usage "--zmode must be projective or eye-z, not '$zmode'"
+    [[ $merge == @(tiles|buffer) ]] || die_usage "--merge must be tiles or buffer, not '$merge'"
+    [[ $clip == @(batch|chain) ]] || die_usage "--clip must be batch or chain, not '$clip'"
     ((scene_given)) || scene=$root/examples/penetrating.txt
     [[ $scene == - || -r $scene ]] || fail 3 "cannot read scene $scene"
 }
@@ -161,8 +173,8 @@ validate_options() {
 
 # The stages render.sh runs, and the other binaries the README's examples use: all built
 # on the first run, so that every command in the README works after it.
-binaries=(viewxf clipplane splitter persp scanconv zbuf scene zspec frames)
-stages=(viewxf clipplane splitter persp scanconv zbuf) # the ones a render runs
+binaries=(viewxf clipplane clipbatch splitter persp scanconv zbuf scene zspec frames)
+stages=(viewxf clipplane clipbatch splitter persp scanconv zbuf) # the ones a render runs
 
 # Sets `bindir`, and builds the binaries with cargo when one is missing or stale. Without
 # cargo, binaries already built are run as they are (with a warning if stale).
@@ -297,6 +309,12 @@ start_clipper_chain() {
     fifo view
     start viewxf "$in" "$tmp/view" "$bindir/viewxf" --size "$size" "${camera[@]}"
     in=$tmp/view
+    if [[ $clip == batch ]]; then
+        fifo clipped
+        start clipbatch "$in" "$tmp/clipped" "$bindir/clipbatch"
+        clipped=$tmp/clipped
+        return
+    fi
     for plane in left right top bottom hither yon; do
         fifo "clip-$plane"
         start "clipplane $plane" "$in" "$tmp/clip-$plane" "$bindir/clipplane" "$plane"
@@ -333,8 +351,10 @@ start_leaf() {
     fifo "leaf-$leaf"
     start "persp$label" "$in" "$tmp/screen-$leaf" \
         "$bindir/persp" --size "$size" --depth "$zmode"
+    local resolve=()
+    [[ $merge == buffer ]] || resolve=(--resolve) # the leaf resolves its own region
     start "scanconv$label" "$tmp/screen-$leaf" "$tmp/leaf-$leaf" \
-        "$bindir/scanconv" "${stats[@]}"
+        "$bindir/scanconv" "${resolve[@]}" "${stats[@]}"
     fragments+=("$tmp/leaf-$leaf")
 }
 

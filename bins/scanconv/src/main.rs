@@ -9,10 +9,12 @@ use std::process::ExitCode;
 /// Scan conversion with an edge table and active edge table (thesis ch. 4, Appendix 3).
 ///
 /// Reads a screen-space polygon stream (from persp) on stdin and writes, per polygon, its
-/// colour and the pixels whose centres it covers, with their depth, for zbuf.
+/// colour and the pixels whose centres it covers, with their depth, for zbuf; or, with
+/// --resolve, decides visibility itself and writes each frame's finished pixels.
 ///
 /// Example:
 ///   persp --size 500x500 < eye.pp | scanconv | zbuf > frame.ppm
+///   persp --size 500x500 < leaf.pp | scanconv --resolve > leaf.frag
 ///   printf 'polypipe 1 screen 4 4\ncolour 255 0 0\n1 1 0.5\n3 1 0.5\n3 3 0.5\nEND\n' | scanconv --text
 #[derive(Parser)]
 #[command(name = "scanconv", version, verbatim_doc_comment)]
@@ -22,7 +24,13 @@ struct Args {
     /// Send one record per pixel (the thesis's quadruplets) instead of spans.
     #[arg(long)]
     pixels: bool,
-    /// Print counts (polygons in, polygons drawn, spans, pixels) on stderr at the end.
+    /// Resolve visibility here (a leaf of the splitter tree): keep a Z-buffer for the
+    /// pixels the polygons cover and send, at the end of each frame, its finished pixels
+    /// as runs of one colour (`run Y X0 X1 R G B`), which zbuf places without a depth test.
+    #[arg(long, conflicts_with = "pixels")]
+    resolve: bool,
+    /// Print counts (polygons in, polygons drawn, spans, pixels; with --resolve pixels
+    /// tested and written, runs out, tiles allocated) on stderr at the end.
     #[arg(long)]
     stats: bool,
 }
@@ -39,7 +47,9 @@ fn main() -> ExitCode {
             Header::new(Space::Fragments { width, height }),
             args.text.form(),
         )?;
-        let output = if args.pixels {
+        let output = if args.resolve {
+            Output::Resolve
+        } else if args.pixels {
             Output::Pixels
         } else {
             Output::Spans
@@ -52,18 +62,30 @@ fn main() -> ExitCode {
                         .map_err(|m| Error::data(format!("{}: {m}", input.position())))?;
                     sc.convert(&p, &mut |f| out.write(&f))?
                 }
-                Token::Skip(n) => out.write(&Fragment::Skip(n))?,
-                Token::NextFrame => out.write(&Fragment::NextFrame)?,
-                Token::End => out.write(&Fragment::End)?,
+                Token::Skip(n) => sc.skip(n, &mut |f| out.write(&f))?,
+                Token::NextFrame => {
+                    sc.finish_frame(&mut |f| out.write(&f))?;
+                    out.write(&Fragment::NextFrame)?
+                }
+                Token::End => {
+                    sc.finish_frame(&mut |f| out.write(&f))?;
+                    out.write(&Fragment::End)?
+                }
             }
         }
         out.flush()?;
         if args.stats {
             let s = sc.stats;
-            eprintln!(
-                "scanconv: {} polygons in, {} drawn, {} spans, {} pixels",
-                s.polygons_in, s.polygons_drawn, s.spans, s.pixels
-            );
+            match sc.region_stats() {
+                Some(r) => eprintln!(
+                    "scanconv: {} polygons in, {} drawn, {} pixels tested, {} written, {} runs out, {} tiles",
+                    s.polygons_in, s.polygons_drawn, r.pixels_tested, r.pixels_written, r.runs, r.tiles
+                ),
+                None => eprintln!(
+                    "scanconv: {} polygons in, {} drawn, {} spans, {} pixels",
+                    s.polygons_in, s.polygons_drawn, s.spans, s.pixels
+                ),
+            }
         }
         Ok(())
     })

@@ -141,3 +141,37 @@ fn frames_before_a_fault_are_written() {
     .code(1)
     .stdout("polypipe 1 fragments 2 2\ncolour 1 1 1\nspan 0 0 2 0 0\nspan 1 1 2 0 0\nNEXT.FRAME\n");
 }
+
+/// `--resolve`: the leaf decides visibility and sends, at each frame's end, its finished
+/// pixels as runs along the rows; skips and colour records are not sent on. Frame 0: the
+/// blue triangle (depth 0.3125, 0.4375, 0.5625 on rows 0–2) is in front of the red square
+/// (0.5) on rows 0 and 1, behind it on row 2.
+#[test]
+fn resolve_exactly() {
+    let input = SCREEN.replacen(
+        "NEXT.FRAME\n",
+        "NEXT.POLYGON\nskip 3\nNEXT.FRAME\nskip 1\nNEXT.POLYGON\n",
+        1,
+    );
+    scanconv(&["--text", "--resolve"], &input).success().stdout(
+        "polypipe 1 fragments 4 4
+run 0 0 3 0 0 255
+run 1 0 2 0 0 255
+run 1 2 3 255 0 0
+run 2 0 1 0 0 255
+run 2 1 3 255 0 0
+NEXT.FRAME
+run 0 0 3 0 255 0
+run 1 0 2 0 255 0
+run 2 0 1 0 255 0
+END
+",
+    );
+    scanconv(&["--resolve", "--stats"], &input)
+        .success()
+        .stderr(
+            "scanconv: 4 polygons in, 3 drawn, 16 pixels tested, 16 written, 8 runs out, 1 tiles\n",
+        );
+    // Pixels and resolving do not go together.
+    scanconv(&["--resolve", "--pixels"], SCREEN).code(2);
+}

@@ -94,21 +94,47 @@ fn differing_pixels(a: &[u8], b: &[u8]) -> Vec<(usize, usize)> {
     diffs
 }
 
-/// Asserts that render.sh at depths 1–5 gives the bytes of depth 0 (issue 3), for
-/// `args` and standard input `stdin`. A scene that depth 0 refuses must be refused the
-/// same way by every tree.
+/// The two ways the leaves' pixels reach the picture (render.sh --merge): the thesis's
+/// PAR.BUFF, every fragment depth-tested in the one zbuf, and the leaves resolving their
+/// own regions, zbuf placing finished runs.
+const MERGES: [&str; 2] = ["buffer", "tiles"];
+
+/// Every (merge mode, depth) rendering to compare with the linear PAR.BUFF pipeline:
+/// both modes at `depths`, and tiles at depth 0.
+fn trees(depths: &[&'static str]) -> Vec<(&'static str, &'static str)> {
+    let mut v = vec![("tiles", "0")];
+    for merge in MERGES {
+        v.extend(depths.iter().map(|d| (merge, *d)));
+    }
+    v
+}
+
+/// Asserts that render.sh at depths 1–5, with either merge mode, and with the leaves
+/// resolving at depth 0, gives the bytes of the linear pipeline (issue 3; issue 9's
+/// "byte-identical for every depth and both modes"), for `args` and standard input
+/// `stdin`. A scene that depth 0 refuses must be refused the same way by every tree.
 fn assert_trees_render_as_depth_0(what: &str, args: &[&str], stdin: &[u8]) {
-    let linear = render([&["--depth", "0"], args].concat().as_slice(), stdin);
-    for depth in ["1", "2", "3", "4", "5"] {
-        let tree = render([&["--depth", depth], args].concat().as_slice(), stdin);
+    let linear = render(
+        [&["--merge", "buffer", "--depth", "0"], args]
+            .concat()
+            .as_slice(),
+        stdin,
+    );
+    for (merge, depth) in trees(&["1", "2", "3", "4", "5"]) {
+        let tree = render(
+            [&["--merge", merge, "--depth", depth], args]
+                .concat()
+                .as_slice(),
+            stdin,
+        );
         assert_eq!(
             tree.status.code(),
             linear.status.code(),
-            "{what} depth {depth}"
+            "{what} --merge {merge} depth {depth}"
         );
         assert!(
             tree.stdout == linear.stdout,
-            "{what} {args:?}: depth {depth} differs from depth 0 at {:?}",
+            "{what} {args:?}: --merge {merge} depth {depth} differs from depth 0 at {:?}",
             differing_pixels(&linear.stdout, &tree.stdout)
         );
     }
@@ -123,7 +149,12 @@ fn splitter_trees_render_the_penetrating_polygons_as_the_linear_pipeline() {
         assert_trees_render_as_depth_0("penetrating", &["--size", size], b"");
     }
     let linear = render_ok(&[], b"");
-    assert!(render_ok(&["--depth", "6"], b"") == linear, "depth 6");
+    for merge in MERGES {
+        assert!(
+            render_ok(&["--merge", merge, "--depth", "6"], b"") == linear,
+            "--merge {merge} depth 6"
+        );
+    }
 }
 
 /// Every scene in examples/ (and its subdirectories), at a square and an odd size.
@@ -294,13 +325,13 @@ fn splitter_trees_render_a_random_environment_as_the_linear_pipeline() {
         .output()
         .unwrap();
     assert!(scene.status.success());
-    let linear = render_ok(&["-"], &scene.stdout);
+    let linear = render_ok(&["--merge", "buffer", "-"], &scene.stdout);
     assert_eq!(frames(&linear).len(), 2);
-    for depth in ["1", "2", "3", "4", "5"] {
-        let tree = render_ok(&["--depth", depth, "-"], &scene.stdout);
+    for (merge, depth) in trees(&["1", "2", "3", "4", "5"]) {
+        let tree = render_ok(&["--merge", merge, "--depth", depth, "-"], &scene.stdout);
         assert!(
             tree == linear,
-            "depth {depth}: {:?}",
+            "--merge {merge} depth {depth}: {:?}",
             differing_pixels(&linear, &tree)
         );
     }
@@ -341,11 +372,14 @@ fn splitter_trees_render_polygons_cut_and_touched_by_the_planes_unchanged() {
     for colour in [[200, 30, 30], [30, 200, 30], [30, 30, 200], [200, 200, 30]] {
         assert!(f[0].pixels.contains(&colour), "{colour:?} is drawn");
     }
-    for depth in ["1", "2", "3", "4", "5"] {
-        let tree = render_ok(&["--depth", depth, "-"], ON_THE_PLANES.as_bytes());
+    for (merge, depth) in trees(&["1", "2", "3", "4", "5"]) {
+        let tree = render_ok(
+            &["--merge", merge, "--depth", depth, "-"],
+            ON_THE_PLANES.as_bytes(),
+        );
         assert!(
             tree == linear,
-            "depth {depth}: {:?}",
+            "--merge {merge} depth {depth}: {:?}",
             differing_pixels(&linear, &tree)
         );
     }
@@ -353,26 +387,37 @@ fn splitter_trees_render_polygons_cut_and_touched_by_the_planes_unchanged() {
 
 /// `--stats` through the tree: every line names its node or leaf, zbuf names its inputs
 /// by leaf, and the leaves' pixels add up to what the linear pipeline draws (the split
-/// loses and doubles nothing).
+/// loses and doubles nothing), in either merge mode.
 #[test]
 fn stats_name_each_node_and_leaf_and_add_up_to_the_linear_pipeline() {
     let scene = repo_root().join("examples/penetrating.txt");
-    let stats = |depth: &str| {
-        let out = render(&["--depth", depth, "--stats", scene.to_str().unwrap()], b"");
+    let stats = |merge: &str, depth: &str| {
+        let out = render(
+            &[
+                "--merge",
+                merge,
+                "--depth",
+                depth,
+                "--stats",
+                scene.to_str().unwrap(),
+            ],
+            b"",
+        );
         assert!(out.status.success(), "{out:?}");
         String::from_utf8(out.stderr).unwrap()
     };
+    const SPLITTERS: &str = "splitter x=0 (node 1): 2 polygons in; out1 2 polygons, 7 vertices; out2 2 polygons, 7 vertices\n\
+         splitter y=0 (node 2): 2 polygons in; out1 2 polygons, 7 vertices; out2 2 polygons, 7 vertices\n\
+         splitter y=0 (node 3): 2 polygons in; out1 2 polygons, 8 vertices; out2 2 polygons, 4 vertices\n";
     assert_eq!(
-        stats("0"),
+        stats("buffer", "0"),
         "scanconv: 2 polygons in, 2 drawn, 543 spans, 59356 pixels\n\
          zbuf: leaf-0: 543 spans, 59356 pixels\n"
     );
     assert_eq!(
-        stats("2"),
-        "splitter x=0 (node 1): 2 polygons in; out1 2 polygons, 7 vertices; out2 2 polygons, 7 vertices\n\
-         splitter y=0 (node 2): 2 polygons in; out1 2 polygons, 7 vertices; out2 2 polygons, 7 vertices\n\
-         splitter y=0 (node 3): 2 polygons in; out1 2 polygons, 8 vertices; out2 2 polygons, 4 vertices\n\
-         scanconv (leaf 0): 2 polygons in, 2 drawn, 155 spans, 13684 pixels\n\
+        stats("buffer", "2"),
+        SPLITTERS.to_string()
+            + "scanconv (leaf 0): 2 polygons in, 2 drawn, 155 spans, 13684 pixels\n\
          scanconv (leaf 1): 2 polygons in, 2 drawn, 313 spans, 21082 pixels\n\
          scanconv (leaf 2): 2 polygons in, 2 drawn, 229 spans, 17463 pixels\n\
          scanconv (leaf 3): 2 polygons in, 1 drawn, 139 spans, 7127 pixels\n\
@@ -382,6 +427,26 @@ fn stats_name_each_node_and_leaf_and_add_up_to_the_linear_pipeline() {
          zbuf: leaf-3: 139 spans, 7127 pixels\n"
     );
     assert_eq!(13684 + 21082 + 17463 + 7127, 59356);
+    // Leaves that resolve test the same pixels; each sends only its visible ones, as
+    // runs, and 500x500 is 8x8 tiles of 64, of which each leaf makes those it touches.
+    assert_eq!(
+        stats("tiles", "0"),
+        "scanconv: 2 polygons in, 2 drawn, 59356 pixels tested, 54673 written, 552 runs out, 28 tiles\n\
+         zbuf: leaf-0: 0 spans, 552 runs, 50102 pixels\n"
+    );
+    assert_eq!(
+        stats("tiles", "2"),
+        SPLITTERS.to_string()
+            + "scanconv (leaf 0): 2 polygons in, 2 drawn, 13684 pixels tested, 12151 written, 160 runs out, 8 tiles\n\
+         scanconv (leaf 1): 2 polygons in, 2 drawn, 21082 pixels tested, 21082 written, 322 runs out, 10 tiles\n\
+         scanconv (leaf 2): 2 polygons in, 2 drawn, 17463 pixels tested, 14313 written, 150 runs out, 13 tiles\n\
+         scanconv (leaf 3): 2 polygons in, 1 drawn, 7127 pixels tested, 7127 written, 139 runs out, 7 tiles\n\
+         zbuf: leaf-0: 0 spans, 160 runs, 10473 pixels\n\
+         zbuf: leaf-1: 0 spans, 322 runs, 18189 pixels\n\
+         zbuf: leaf-2: 0 spans, 150 runs, 14313 pixels\n\
+         zbuf: leaf-3: 0 spans, 139 runs, 7127 pixels\n"
+    );
+    assert_eq!(10473 + 18189 + 14313 + 7127, 50102);
 }
 
 #[test]
@@ -402,6 +467,10 @@ fn a_failing_stage_is_named() {
     );
     let out = render(&["--depth", "7"], b"");
     assert_eq!(out.status.code(), Some(2));
+    let out = render(&["--merge", "zbuf"], b"");
+    assert_eq!(out.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&out.stderr)
+        .contains("render.sh: --merge must be tiles or buffer, not 'zbuf'\n"));
     // viewxf's usage error stays a usage error (issue 14, finding 4).
     let out = render(&["--hither", "0"], b"");
     assert_eq!(out.status.code(), Some(2));
@@ -441,7 +510,7 @@ fn a_stage_killed_by_sigkill_stops_the_whole_tree() {
         .stdout(Stdio::piped())
         .spawn()
         .unwrap();
-    let mut render = render_cmd(&["--depth", "3", "-"])
+    let mut render = render_cmd(&["--depth", "3", "--clip", "chain", "-"])
         .env("TMPDIR", &tmp)
         .stdin(scene.stdout.take().unwrap())
         .stdout(Stdio::null())
@@ -537,15 +606,20 @@ mod random_scenes {
     proptest! {
         #![proptest_config(ProptestConfig { cases: 16, ..ProptestConfig::default() })]
 
-        /// Issue 3 as a property: any scene, trees of depth 1–3 at 64×48, byte for byte.
+        /// Issue 3 as a property: any scene, trees of depth 1–3 at 64×48, either merge
+        /// mode, byte for byte.
         #[test]
         fn any_scene_renders_the_same_through_any_tree(text in scene_text()) {
-            let linear = render_ok(&["--size", "64x48", "-"], text.as_bytes());
-            for depth in ["1", "2", "3"] {
-                let tree = render_ok(&["--size", "64x48", "--depth", depth, "-"], text.as_bytes());
+            let linear = render_ok(&["--size", "64x48", "--merge", "buffer", "-"], text.as_bytes());
+            for (merge, depth) in trees(&["1", "2", "3"]) {
+                let tree = render_ok(
+                    &["--size", "64x48", "--merge", merge, "--depth", depth, "-"],
+                    text.as_bytes(),
+                );
                 prop_assert!(
                     tree == linear,
-                    "depth {}: {:?}",
+                    "--merge {} depth {}: {:?}",
+                    merge,
                     depth,
                     differing_pixels(&linear, &tree)
                 );
@@ -1074,7 +1148,7 @@ fn only_the_binaries_sources_make_render_sh_call_cargo() {
     assert_eq!(out.status.code(), Some(3));
     let err = String::from_utf8_lossy(&out.stderr);
     assert!(
-        err.starts_with("render.sh: cannot build viewxf clipplane splitter persp scanconv zbuf scene zspec frames into ")
+        err.starts_with("render.sh: cannot build viewxf clipplane clipbatch splitter persp scanconv zbuf scene zspec frames into ")
             && err.ends_with(": cargo is not on PATH (Rust: https://rustup.rs)\n"),
         "{err}"
     );
@@ -1110,7 +1184,7 @@ fn only_the_binaries_sources_make_render_sh_call_cargo() {
     assert_eq!(out.stdout, first.stdout);
     assert_eq!(
         String::from_utf8_lossy(&out.stderr),
-        "render.sh: warning: viewxf clipplane splitter persp scanconv zbuf scene zspec frames: \
+        "render.sh: warning: viewxf clipplane clipbatch splitter persp scanconv zbuf scene zspec frames: \
          older than their sources, and no cargo on PATH to rebuild them; running them as they are\n"
     );
     // With cargo: rebuilt, once.

@@ -511,11 +511,17 @@ fn skip_keeps_numbering_for_ties() {
         "polypipe 1 fragments 2 1\ncolour 255 0 0\npixel 0 0 7\nNEXT.POLYGON\nskip 2\nEND\n",
     );
     for order in [[&a, &b], [&b, &a]] {
-        zbuf().args(order).assert().success().stdout(ppm(2, 1, &[R, B]));
+        zbuf()
+            .args(order)
+            .assert()
+            .success()
+            .stdout(ppm(2, 1, &[R, B]));
     }
     // Spans after a skip belong to no polygon: refused.
     zbuf()
-        .write_stdin("polypipe 1 fragments 2 1\ncolour 1 1 1\nNEXT.POLYGON\nskip 1\nspan 0 0 1 0 0\nEND\n")
+        .write_stdin(
+            "polypipe 1 fragments 2 1\ncolour 1 1 1\nNEXT.POLYGON\nskip 1\nspan 0 0 1 0 0\nEND\n",
+        )
         .assert()
         .code(1)
         .stderr(predicates::str::contains("pixels outside a polygon"));
@@ -526,8 +532,16 @@ fn skip_keeps_numbering_for_ties() {
 #[test]
 fn runs_are_placed_without_a_depth_test() {
     let dir = tempfile::tempdir().unwrap();
-    let left = write(dir.path(), "l", "polypipe 1 fragments 3 2\nrun 0 0 2 255 0 0\nrun 1 0 1 0 255 0\nEND\n");
-    let right = write(dir.path(), "r", "polypipe 1 fragments 3 2\nrun 1 2 3 0 0 255\nEND\n");
+    let left = write(
+        dir.path(),
+        "l",
+        "polypipe 1 fragments 3 2\nrun 0 0 2 255 0 0\nrun 1 0 1 0 255 0\nEND\n",
+    );
+    let right = write(
+        dir.path(),
+        "r",
+        "polypipe 1 fragments 3 2\nrun 1 2 3 0 0 255\nEND\n",
+    );
     zbuf()
         .args([&left, &right])
         .assert()

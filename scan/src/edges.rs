@@ -1,0 +1,121 @@
+//! The Edge Table and the Active Edge Table (thesis Appendix 3.1).
+
+use proto::raster::Edge;
+use proto::DVec2;
+use std::ops::Range;
+
+/// An Edge Table entry: the edge and the first scanline below its last one.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct ActiveEdge {
+    edge: Edge,
+    /// Rows `r` with `r < end_row` still cross the edge (the thesis's y_max).
+    end_row: i64,
+}
+
+/// The Edge Table (Appendix 3.1): one bucket per scanline of the polygon's (screen-clamped)
+/// extent, each holding the edges whose first covered scanline it is. Buckets keep their
+/// allocations from polygon to polygon.
+#[derive(Debug, Default)]
+pub struct EdgeTable {
+    /// Screen row of bucket 0.
+    first_row: i64,
+    buckets: Vec<Vec<ActiveEdge>>,
+    /// Buckets in use for the current polygon.
+    len: usize,
+    /// Scratch: the polygon's edges that cross a scanline centre on the screen, with
+    /// their first row.
+    edges: Vec<(i64, ActiveEdge)>,
+}
+
+impl EdgeTable {
+    /// CLEAR, then INSERT.ET.EDGE for each non-horizontal edge of the polygon that crosses
+    /// a scanline centre on the screen. Returns the rows to walk (empty when none).
+    /// `supports` is empty or holds, per edge, the screen ends of the original edge it is
+    /// a piece of ([`polygon_edge`]).
+    pub fn build(
+        &mut self,
+        points: &[DVec2],
+        supports: &[Option<[DVec2; 2]>],
+        height: u32,
+    ) -> Range<i64> {
+        for b in &mut self.buckets[..self.len] {
+            b.clear();
+        }
+        self.len = 0;
+        self.edges.clear();
+        self.edges.extend((0..points.len()).filter_map(|i| {
+            let edge = polygon_edge(points, supports, i)?;
+            // The edge's rows, clamped to the screen: rows above 0 are never walked.
+            let rows = edge.rows();
+            let start = rows.start.max(0);
+            let end = rows.end.min(height as i64);
+            (start < end).then_some((start, ActiveEdge { edge, end_row: end }))
+        }));
+        let Some(first) = self.edges.iter().map(|(s, _)| *s).min() else {
+            return 0..0;
+        };
+        let last = self
+            .edges
+            .iter()
+            .map(|(_, e)| e.end_row)
+            .max()
+            .unwrap_or(first);
+        self.first_row = first;
+        self.len = (last - first) as usize;
+        if self.buckets.len() < self.len {
+            self.buckets.resize_with(self.len, Vec::new);
+        }
+        for &(start, e) in &self.edges {
+            self.buckets[(start - first) as usize].push(e);
+        }
+        first..last
+    }
+
+    /// The bucket of edges that start on screen row `row` (one of the rows `build`
+    /// returned).
+    pub(crate) fn bucket(&self, row: i64) -> &[ActiveEdge] {
+        &self.buckets[(row - self.first_row) as usize]
+    }
+}
+
+/// Edge i of a polygon (vertex i → vertex i+1): rows from its own ends, crossings from
+/// its support if a splitter cut it out of a longer edge ([`Edge::with_support`]), so that
+/// the pieces of a split polygon cover exactly the pixels the whole covers.
+#[inline]
+pub fn polygon_edge(points: &[DVec2], supports: &[Option<[DVec2; 2]>], i: usize) -> Option<Edge> {
+    let (a, b) = (points[i], points[(i + 1) % points.len()]);
+    match supports.get(i).copied().flatten() {
+        Some([sa, sb]) => Edge::with_support(a, b, sa, sb),
+        None => Edge::new(a, b),
+    }
+}
+
+/// The Active Edge Table (Appendix 3.1): the edges the current scanline crosses.
+#[derive(Debug, Default)]
+pub struct ActiveEdgeTable {
+    edges: Vec<ActiveEdge>,
+    /// Scratch: this scanline's crossings, sorted.
+    crossings: Vec<f64>,
+}
+
+impl ActiveEdgeTable {
+    /// Empties the table for a new polygon.
+    pub fn clear(&mut self) {
+        self.edges.clear();
+    }
+
+    /// UPDATE.AET's removal half, then MOVE.ET.BUCKET.TO.AET for `row`, then the crossings
+    /// at the scanline centre `row + ½`, sorted (the thesis's BUBBLESORT; the list is
+    /// nearly sorted from row to row, which an insertion-style sort handles in one pass).
+    /// Rows are walked in order, each once.
+    pub fn advance(&mut self, row: i64, et: &EdgeTable) -> &[f64] {
+        self.edges.retain(|e| e.end_row > row);
+        self.edges.extend_from_slice(et.bucket(row));
+        let yc = row as f64 + 0.5;
+        self.crossings.clear();
+        self.crossings
+            .extend(self.edges.iter().map(|e| e.edge.x_at(yc)));
+        self.crossings.sort_unstable_by(f64::total_cmp);
+        &self.crossings
+    }
+}

@@ -1,0 +1,45 @@
+//! # scan: the scan conversion every hidden-surface stage shares (thesis Appendix 3)
+//!
+//! A screen-space polygon becomes, row by row, the spans of pixels whose centres it
+//! covers, each with the depth of the polygon's plane at its pixels. This is the part of
+//! the thesis's SCAN.CONVERTER that does not depend on what is done with the pixels, so
+//! it is written once here for every method that plugs in at a leaf of the splitter tree
+//! (docs/DESIGN.md, "Leaves resolve visibility"): `scanconv` sends the spans on as fragments or resolves them in
+//! a [`RegionBuffer`]; the scan-line, area-subdivision, depth-sort and a-buffer methods
+//! take the same spans, so that every method samples every pixel the same way.
+//!
+//! For each polygon the [`SpanWalker`]
+//!
+//! 1. builds an [`EdgeTable`]: one bucket per scanline, holding the edges whose first
+//!    scanline it is (Appendix 3.1),
+//! 2. walks the scanlines top to bottom, moving each bucket into the [`ActiveEdgeTable`]
+//!    (MOVE.ET.BUCKET.TO.AET), dropping edges past their last scanline (UPDATE.AET),
+//!    sorting the crossings (the thesis's BUBBLESORT) and pairing them into spans,
+//! 3. gives every covered pixel its depth on the plane, stepping by `−a/c` along the row
+//!    (Appendix 3.3), in fixed point ([`DepthPlane`]).
+//!
+//! Coverage is the rule of docs/DESIGN.md, "Coverage", taken from [`proto::raster`]: pixel (c, r) is covered when
+//! its centre (c+½, r+½) is inside by the even-odd rule, a centre on an edge going to the
+//! polygon for which that edge is a left or top edge. On scanline r the crossings of the
+//! active edges with Y = r+½ are sorted, x₀ ≤ x₁ ≤ x₂ ≤ …, and the centres in
+//! [x₀, x₁), [x₂, x₃), … are covered. Pairing sorted crossings is the even-odd rule
+//! itself, so concave polygons, self-intersecting ones (a bowtie) and the zero-width
+//! connecting edges Sutherland–Hodgman leaves when it cuts a concave polygon all come out
+//! right.
+//!
+//! Instead of stepping each edge's crossing by 1/m from scanline to scanline (Appendix
+//! 3.3 i), each crossing is evaluated from the edge's top end ([`proto::raster::Edge::x_at`]),
+//! so two polygons that share an edge compute identical crossings: no pixel is covered
+//! twice or missed along a shared edge. An edge that is a piece of a longer one cut by a
+//! splitter carries that edge (its support) and is crossed where the whole edge is
+//! ([`polygon_edge`]), so a split polygon covers exactly the pixels of the whole.
+
+mod depth;
+mod edges;
+pub mod region;
+mod walk;
+
+pub use depth::{depth_at, DepthPlane};
+pub use edges::{polygon_edge, ActiveEdgeTable, EdgeTable};
+pub use region::{RegionBuffer, RegionStats, Run};
+pub use walk::{check_on_screen, covered_on_row, Span, SpanWalker, GUARD_BAND};
