@@ -21,16 +21,17 @@ trap 'rm -rf "$TMP"' EXIT
 
 cargo build --release --quiet --manifest-path "$ROOT/Cargo.toml" -p viewxf -p clipplane -p persp
 
-# The binary stream (proto/src/codec.rs): magic, header {version u32, space tag u32}, then
-# bincode records with fixed-width little-endian integers: Token::Polygon is tag u32 0,
-# colour [u8; 3], vertex count u64, vertices as 4 × f64; END is tag u32 2.
+# The binary stream (proto/src/codec.rs, version 2): magic, bincode header {version u32,
+# space tag u32}, then fixed-layout little-endian records: a polygon is the head
+# {tag u8 0, colour [u8; 3], vertex count u32} and its vertices as 4 × f64; END is the
+# head {tag 2, zeros}.
 python3 - "$N" >"$TMP/world.bin" <<'PY'
 import random, struct, sys
 n = int(sys.argv[1])
 rng = random.Random(1985)
 out = sys.stdout.buffer
-out.write(b"\x89PPIPE\r\n" + struct.pack("<II", 1, 0))  # version 1, world
-poly = struct.Struct("<I3BQ" + "d" * 16)
+out.write(b"\x89PPIPE\r\n" + struct.pack("<II", 2, 0))  # version 2, world
+poly = struct.Struct("<B3BI" + "d" * 16)
 buf = []
 for i in range(n):
     cx, cy, cz = rng.uniform(-13, 13), rng.uniform(-13, 13), rng.uniform(-8, 8)
@@ -43,7 +44,7 @@ for i in range(n):
     if len(buf) == 65536:
         out.write(b"".join(buf)); buf.clear()
 out.write(b"".join(buf))
-out.write(struct.pack("<I", 2))  # END
+out.write(struct.pack("<B3BI", 2, 0, 0, 0, 0))  # END
 PY
 
 # Check the generated stream against the codec before timing anything.

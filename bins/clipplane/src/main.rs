@@ -64,7 +64,8 @@ fn main() -> ExitCode {
         // The clipped vertices go to `scratch`, which then swaps places with the input's
         // vertex list: no allocation of our own per polygon.
         let mut scratch = Vec::new();
-        while let Some(mut token) = reader.next_record()? {
+        let mut token = Token::default();
+        while reader.next_into(&mut token)? {
             if let Token::Polygon(poly) = &mut token {
                 clip_against(&poly.vertices, &plane, &mut scratch);
                 if scratch != poly.vertices {

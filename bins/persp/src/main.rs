@@ -49,7 +49,8 @@ fn main() -> ExitCode {
             Header::new(Space::Screen { width, height }),
             Form::from_text_flag(cli.text),
         )?;
-        while let Some(mut token) = reader.next_record()? {
+        let mut token = Token::default();
+        while reader.next_into(&mut token)? {
             if let Token::Polygon(poly) = &mut token {
                 perspective.project_polygon(poly).map_err(|e| {
                     anyhow!(StreamError::Invalid(format!(

@@ -42,7 +42,8 @@ fn main() -> ExitCode {
             Header::new(Space::Eye(view)),
             Form::from_text_flag(cli.text),
         )?;
-        while let Some(mut token) = reader.next_record()? {
+        let mut token = Token::default();
+        while reader.next_into(&mut token)? {
             if let Token::Polygon(poly) = &mut token {
                 viewxf::view_polygon(&frame, poly);
             }
