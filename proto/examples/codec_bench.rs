@@ -87,7 +87,9 @@ fn bincode_encode(polygons: &[Polygon]) -> Vec<u8> {
         });
         bincode_options().serialize_into(&mut out, &record).unwrap();
     }
-    bincode_options().serialize_into(&mut out, &WireOut::End).unwrap();
+    bincode_options()
+        .serialize_into(&mut out, &WireOut::End)
+        .unwrap();
     out.into_inner().unwrap()
 }
 
@@ -161,12 +163,18 @@ fn best<T>(reps: usize, mut f: impl FnMut() -> T) -> Duration {
 fn polygons(n: usize) -> Vec<Polygon> {
     let mut state = 1985u64;
     let mut next = move || {
-        state = state.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+        state = state
+            .wrapping_mul(6364136223846793005)
+            .wrapping_add(1442695040888963407);
         (state >> 11) as f64 / (1u64 << 53) as f64
     };
     (0..n)
         .map(|i| {
-            let (cx, cy, cz) = (next() * 26.0 - 13.0, next() * 26.0 - 13.0, next() * 16.0 + 12.0);
+            let (cx, cy, cz) = (
+                next() * 26.0 - 13.0,
+                next() * 26.0 - 13.0,
+                next() * 16.0 + 12.0,
+            );
             let w = cz * 10.0 / 16.0;
             let v = |dx: f64, dy: f64, dz: f64| proto::Vertex::new(cx + dx, cy + dy, cz + dz, w);
             Polygon::new(
@@ -197,24 +205,51 @@ fn main() {
     let reps: usize = args.get(2).map_or(5, |a| a.parse().unwrap());
     let polys = polygons(n);
 
-    println!("### Binary records, {n} four-vertex eye-space polygons, in memory (best of {reps})\n");
+    println!(
+        "### Binary records, {n} four-vertex eye-space polygons, in memory (best of {reps})\n"
+    );
     println!("| codec | M polygons/s | MB/s |");
     println!("|---|---|---|");
     let v1 = bincode_encode(&polys);
     let v2 = proto_encode(&polys, Form::Binary);
     assert_eq!(bincode_decode(&v1), n);
     assert_eq!(proto_decode(&v2), n);
-    row("version 1 (serde + bincode) encode", n, v1.len(), best(reps, || bincode_encode(&polys)));
-    row("version 2 (fixed layout) encode", n, v2.len(), best(reps, || proto_encode(&polys, Form::Binary)));
-    row("version 1 (serde + bincode) decode", n, v1.len(), best(reps, || bincode_decode(&v1)));
-    row("version 2 (fixed layout) decode", n, v2.len(), best(reps, || proto_decode(&v2)));
+    row(
+        "version 1 (serde + bincode) encode",
+        n,
+        v1.len(),
+        best(reps, || bincode_encode(&polys)),
+    );
+    row(
+        "version 2 (fixed layout) encode",
+        n,
+        v2.len(),
+        best(reps, || proto_encode(&polys, Form::Binary)),
+    );
+    row(
+        "version 1 (serde + bincode) decode",
+        n,
+        v1.len(),
+        best(reps, || bincode_decode(&v1)),
+    );
+    row(
+        "version 2 (fixed layout) decode",
+        n,
+        v2.len(),
+        best(reps, || proto_decode(&v2)),
+    );
 
     let text = match args.get(3) {
         Some(path) => std::fs::read(path).unwrap(),
         None => proto_encode(&polys, Form::Text),
     };
-    let source = args.get(3).map_or("the same polygons as text", |p| p.as_str());
-    println!("\n### Text form ({source}, {} bytes, best of {reps})\n", text.len());
+    let source = args
+        .get(3)
+        .map_or("the same polygons as text", |p| p.as_str());
+    println!(
+        "\n### Text form ({source}, {} bytes, best of {reps})\n",
+        text.len()
+    );
     println!("| codec | M polygons/s | MB/s |");
     println!("|---|---|---|");
     let count = {
@@ -235,20 +270,40 @@ fn main() {
     });
     row("text read", count, text.len(), read);
     let written = proto_encode(&polys, Form::Text);
-    row("text write (eye space)", n, written.len(), best(reps, || proto_encode(&polys, Form::Text)));
+    row(
+        "text write (eye space)",
+        n,
+        written.len(),
+        best(reps, || proto_encode(&polys, Form::Text)),
+    );
 
     // The numbers of the text, parsed by each parser.
     let words: Vec<&str> = std::str::from_utf8(&text)
         .unwrap()
         .split_ascii_whitespace()
-        .filter(|w| w.len() > 3 && w.bytes().all(|b| b.is_ascii_digit() || b"+-.eE".contains(&b)))
+        .filter(|w| {
+            w.len() > 3
+                && w.bytes()
+                    .all(|b| b.is_ascii_digit() || b"+-.eE".contains(&b))
+        })
         .collect();
     for w in &words {
         let want = w.parse::<f64>().unwrap().to_bits();
-        assert_eq!(fast_float2::parse::<f64, _>(w).unwrap().to_bits(), want, "{w}");
-        assert_eq!(lexical_core::parse::<f64>(w.as_bytes()).unwrap().to_bits(), want, "{w}");
+        assert_eq!(
+            fast_float2::parse::<f64, _>(w).unwrap().to_bits(),
+            want,
+            "{w}"
+        );
+        assert_eq!(
+            lexical_core::parse::<f64>(w.as_bytes()).unwrap().to_bits(),
+            want,
+            "{w}"
+        );
     }
-    println!("\n### Float parsers on the text's {} numbers (best of {reps})\n", words.len());
+    println!(
+        "\n### Float parsers on the text's {} numbers (best of {reps})\n",
+        words.len()
+    );
     println!("| parser | ns a number |");
     println!("|---|---|");
     let per = |t: Duration| t.as_secs_f64() * 1e9 / words.len() as f64;
@@ -257,7 +312,9 @@ fn main() {
     println!("| str::parse::<f64> | {:.1} |", per(t));
     let t = best(reps, || sum(&|w| fast_float2::parse::<f64, _>(w).unwrap()));
     println!("| fast-float2 0.2 | {:.1} |", per(t));
-    let t = best(reps, || sum(&|w| lexical_core::parse::<f64>(w.as_bytes()).unwrap()));
+    let t = best(reps, || {
+        sum(&|w| lexical_core::parse::<f64>(w.as_bytes()).unwrap())
+    });
     println!("| lexical-core 1.0 | {:.1} |", per(t));
     io::stdout().flush().unwrap();
 }

@@ -589,7 +589,10 @@ fn check_space(space: &Space) -> Result<(), String> {
     match *space {
         Space::Eye(v) => {
             if !(v.aspect.is_finite() && v.aspect > 0.0) {
-                return Err(format!("aspect ratio {} must be positive", Number(v.aspect)));
+                return Err(format!(
+                    "aspect ratio {} must be positive",
+                    Number(v.aspect)
+                ));
             }
             if !(v.hither.is_finite() && v.yon.is_finite() && 0.0 < v.hither && v.hither < v.yon) {
                 return Err(format!(

@@ -223,11 +223,9 @@ impl Record for Fragment {
                     colour: [head[1], head[2], head[3]],
                 }
             }
-            other => {
-                return Err(BinaryError::Invalid(format!(
-                    "not a valid record (unknown fragment-stream tag {other}); is the stream corrupt?"
-                )))
-            }
+            other => return Err(BinaryError::Invalid(format!(
+                "not a valid record (unknown fragment-stream tag {other}); is the stream corrupt?"
+            ))),
         };
         Ok(())
     }
@@ -299,8 +297,10 @@ impl Record for Fragment {
                 let x1 = lex.integer("the run's end column", u32::MAX as u64)? as u32;
                 let mut colour = [0u8; 3];
                 for (c, name) in colour.iter_mut().zip(["red", "green", "blue"]) {
-                    *c = lex.integer(format_args!("the {name} component of the run's colour"), 255)?
-                        as u8;
+                    *c = lex.integer(
+                        format_args!("the {name} component of the run's colour"),
+                        255,
+                    )? as u8;
                 }
                 Fragment::Run { y, x0, x1, colour }
             }
@@ -327,7 +327,12 @@ impl Record for Fragment {
             Fragment::Span { y, x0, x1, z0, dz } => writeln!(out, "span {y} {x0} {x1} {z0} {dz}"),
             Fragment::Pixel { x, y, z } => writeln!(out, "pixel {x} {y} {z}"),
             Fragment::Skip(n) => write_skip(out, n, first_in_frame),
-            Fragment::Run { y, x0, x1, colour: [r, g, b] } => {
+            Fragment::Run {
+                y,
+                x0,
+                x1,
+                colour: [r, g, b],
+            } => {
                 writeln!(out, "run {y} {x0} {x1} {r} {g} {b}")
             }
             Fragment::NextFrame => writeln!(out, "{NEXT_FRAME}"),

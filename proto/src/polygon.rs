@@ -217,8 +217,8 @@ pub(crate) fn write_polygon_binary<W: Write>(p: &Polygon, out: &mut W) -> io::Re
         ));
     }
     out.write_all(&head(tag::ANNOTATED, p.colour, n as u32))?;
-    let flags = if p.plane.is_some() { FLAG_PLANE } else { 0 }
-        | if supports { FLAG_SUPPORTS } else { 0 };
+    let flags =
+        if p.plane.is_some() { FLAG_PLANE } else { 0 } | if supports { FLAG_SUPPORTS } else { 0 };
     out.write_all(&(flags as u64).to_le_bytes())?;
     if let Some(plane) = p.plane {
         write_vertices(out, &[plane])?;
@@ -347,9 +347,9 @@ pub(crate) fn read_polygon_start<R: BufRead>(
     first_in_frame: bool,
 ) -> Result<Start, StreamError> {
     let Some(word) = lex.peek()? else {
-        return Err(lex.error_at_end(
-            "expected a polygon, NEXT.FRAME or END, found the end of the input",
-        ));
+        return Err(
+            lex.error_at_end("expected a polygon, NEXT.FRAME or END, found the end of the input")
+        );
     };
     let mut kind = head_word(word);
     match kind {
@@ -381,7 +381,10 @@ pub(crate) fn read_polygon_start<R: BufRead>(
         }
         Head::Colour | Head::Skip if first_in_frame => {}
         Head::Colour | Head::Skip => {
-            let msg = format!("expected NEXT.POLYGON between polygons, found `{}`", Shown(word));
+            let msg = format!(
+                "expected NEXT.POLYGON between polygons, found `{}`",
+                Shown(word)
+            );
             return Err(lex.error(msg));
         }
         Head::Other if first_in_frame => {
@@ -486,7 +489,9 @@ fn read_polygon_text<R: BufRead>(
         lex.skip_word();
         let mut n = [0.0; 4];
         for (c, name) in n.iter_mut().zip(["a", "b", "c", "d"]) {
-            *c = lex.number(format_args!("{name} of the polygon's plane (plane a b c d)"))?;
+            *c = lex.number(format_args!(
+                "{name} of the polygon's plane (plane a b c d)"
+            ))?;
         }
         p.plane = Some(DVec4::from_array(n));
     }

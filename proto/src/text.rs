@@ -457,7 +457,10 @@ mod tests {
     #[test]
     fn messages_escape_what_cannot_be_seen() {
         assert_eq!(Shown("a\0b\x1a").to_string(), "a\\x00b\\x1a");
-        assert_eq!(Shown("\u{feff}x\u{200b}").to_string(), "\\u{feff}x\\u{200b}");
+        assert_eq!(
+            Shown("\u{feff}x\u{200b}").to_string(),
+            "\\u{feff}x\\u{200b}"
+        );
         assert_eq!(Shown("plain é").to_string(), "plain é");
         // A byte-order mark first is skipped; elsewhere it is escaped and named.
         let mut lx = Lexer::new("\u{feff}polypipe\n\u{feff}1\n".as_bytes());

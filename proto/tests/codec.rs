@@ -185,7 +185,9 @@ fn binary_errors_say_byte_offset_frame_and_polygon() {
     let polygon_at = end_at - 8 - 64;
     assert_eq!(
         decode_err::<Token>(&good[..end_at]),
-        format!("byte {end_at} (frame 0, after polygon 0): the stream ends without END (cut short?)")
+        format!(
+            "byte {end_at} (frame 0, after polygon 0): the stream ends without END (cut short?)"
+        )
     );
     assert_eq!(
         decode_err::<Token>(&good[..end_at - 3]),
@@ -438,9 +440,15 @@ END
     );
     let header_len = encode(header, &[Token::End], Form::Binary).len() - end.len();
     let record = &bin[header_len..bin.len() - end.len()];
-    assert_eq!(&record[..16], &[3u8, 1, 2, 3, 3, 0, 0, 0, 3, 0, 0, 0, 0, 0, 0, 0]);
+    assert_eq!(
+        &record[..16],
+        &[3u8, 1, 2, 3, 3, 0, 0, 0, 3, 0, 0, 0, 0, 0, 0, 0]
+    );
     assert_eq!(record.len(), 16 + 32 + 3 * 32 + 8 + 64);
-    assert_eq!(&record[16 + 32 + 96..16 + 32 + 96 + 8], &[1u8, 0, 0, 0, 0, 0, 0, 0]);
+    assert_eq!(
+        &record[16 + 32 + 96..16 + 32 + 96 + 8],
+        &[1u8, 0, 0, 0, 0, 0, 0, 0]
+    );
 }
 
 #[test]
@@ -457,7 +465,10 @@ fn annotation_errors_are_located() {
     // Binary: a support's presence byte that is neither 0 nor 1.
     let mut p = Polygon::from_xyz([1, 1, 1], &[[0.0, 0.0, 0.0]]);
     p.supports = vec![Some([proto::Vertex::ZERO; 2])];
-    let screen = Header::new(Space::Screen { width: 8, height: 8 });
+    let screen = Header::new(Space::Screen {
+        width: 8,
+        height: 8,
+    });
     let mut bin = encode(screen, &[Token::Polygon(p), Token::End], Form::Binary);
     let present_at = bin.len() - 8 - 64 - 8;
     bin[present_at] = 2;
@@ -503,7 +514,10 @@ fn annotations_in_world_space_are_refused() {
 fn skips_and_runs_round_trip_and_keep_numbering() {
     let tokens = vec![
         Token::Skip(3),
-        Token::Polygon(Polygon::from_xyz([1, 2, 3], &[[0., 0., 0.], [1., 0., 0.], [0., 1., 0.]])),
+        Token::Polygon(Polygon::from_xyz(
+            [1, 2, 3],
+            &[[0., 0., 0.], [1., 0., 0.], [0., 1., 0.]],
+        )),
         Token::Skip(1),
         Token::NextFrame,
         Token::Skip(7),
@@ -522,15 +536,37 @@ fn skips_and_runs_round_trip_and_keep_numbering() {
     let frags = vec![
         Fragment::Skip(2),
         Fragment::Polygon([9, 9, 9]),
-        Fragment::Span { y: 1, x0: 0, x1: 3, z0: 5, dz: 0 },
-        Fragment::Run { y: 2, x0: 1, x1: 4, colour: [255, 0, 7] },
+        Fragment::Span {
+            y: 1,
+            x0: 0,
+            x1: 3,
+            z0: 5,
+            dz: 0,
+        },
+        Fragment::Run {
+            y: 2,
+            x0: 1,
+            x1: 4,
+            colour: [255, 0, 7],
+        },
         Fragment::NextFrame,
-        Fragment::Run { y: 0, x0: 0, x1: 8, colour: [1, 1, 1] },
+        Fragment::Run {
+            y: 0,
+            x0: 0,
+            x1: 8,
+            colour: [1, 1, 1],
+        },
         Fragment::End,
     ];
-    let header = Header::new(Space::Fragments { width: 8, height: 4 });
+    let header = Header::new(Space::Fragments {
+        width: 8,
+        height: 4,
+    });
     let text = String::from_utf8(encode(header, &frags, Form::Text)).unwrap();
-    assert!(text.contains("skip 2\nNEXT.POLYGON\ncolour 9 9 9\nspan 1 0 3 5 0\nrun 2 1 4 255 0 7\n"), "{text}");
+    assert!(
+        text.contains("skip 2\nNEXT.POLYGON\ncolour 9 9 9\nspan 1 0 3 5 0\nrun 2 1 4 255 0 7\n"),
+        "{text}"
+    );
     for form in [Form::Text, Form::Binary] {
         let bytes = encode(header, &frags, form);
         assert_eq!(decode::<Fragment>(&bytes).unwrap().1, frags);

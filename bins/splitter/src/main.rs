@@ -4,7 +4,7 @@
 use anyhow::Context;
 use clap::{CommandFactory, Parser};
 use proto::{Form, Polygon, Reader, Space, SpaceKind, Token, Writer};
-use splitter::{split, SplitPlane, Stats};
+use splitter::{split, Lean, SplitPlane, Stats};
 use std::fs::File;
 use std::io::{self, Write};
 use std::process::ExitCode;
@@ -14,8 +14,8 @@ use std::process::ExitCode;
 ///
 /// OUT1 receives the part where x_e ≤ K·a·w (for `x=K`; the screen left of x_s = K) or
 /// y_e ≤ K·w (for `y=K`; the screen below y_s = K), OUT2 the rest. Both outputs get every
-/// polygon (empty where it lies wholly on the other side, so polygon k is the same
-/// polygon on both branches) and every NEXT.FRAME and END. OUT1 and OUT2 are files or
+/// NEXT.FRAME and END; the polygons an output gets nothing drawable of (fewer than three
+/// vertices) come to it as `skip N`, so polygon k is the same polygon on both branches. OUT1 and OUT2 are files or
 /// named pipes; `-` is stdout, for at most one of them.
 #[derive(Parser, Debug)]
 #[command(
@@ -94,28 +94,38 @@ fn main() -> ExitCode {
         let mut out2 = Writer::new(open_output(&outputs[1])?, header, form)
             .with_context(|| format!("writing {}", outputs[1]))?;
         let mut stats = Stats::default();
-        // The two pieces' buffers, lent to a Token for writing and taken back.
+        // The two pieces' buffers, reused from polygon to polygon.
         let mut piece1 = Polygon::default();
         let mut piece2 = Polygon::default();
-        while let Some(token) = reader.next_record()? {
+        let mut lean = [Lean::default(), Lean::default()];
+        let mut token = Token::default();
+        while reader.next_into(&mut token)? {
             match &token {
                 Token::Polygon(poly) => {
                     split(poly, &plane, &mut piece1, &mut piece2);
                     stats.record(&piece1, &piece2);
-                    let t1 = Token::Polygon(std::mem::take(&mut piece1));
-                    out1.write(&t1)
+                    lean[0]
+                        .polygon(&mut out1, &piece1)
                         .with_context(|| format!("writing {}", outputs[0]))?;
-                    let t2 = Token::Polygon(std::mem::take(&mut piece2));
-                    out2.write(&t2)
+                    lean[1]
+                        .polygon(&mut out2, &piece2)
                         .with_context(|| format!("writing {}", outputs[1]))?;
-                    if let (Token::Polygon(a), Token::Polygon(b)) = (t1, t2) {
-                        (piece1, piece2) = (a, b);
-                    }
+                }
+                Token::Skip(n) => {
+                    stats.skipped(*n);
+                    lean[0]
+                        .skip(&mut out1, *n)
+                        .with_context(|| format!("writing {}", outputs[0]))?;
+                    lean[1]
+                        .skip(&mut out2, *n)
+                        .with_context(|| format!("writing {}", outputs[1]))?;
                 }
                 control => {
-                    out1.write(control)
+                    lean[0]
+                        .control(&mut out1, control)
                         .with_context(|| format!("writing {}", outputs[0]))?;
-                    out2.write(control)
+                    lean[1]
+                        .control(&mut out2, control)
                         .with_context(|| format!("writing {}", outputs[1]))?;
                     if *control == Token::End && cli.stats {
                         eprintln!("splitter {split_plane}: {stats}");
