@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
-# Throughput of the geometry stages (viewxf, clipplane ×6, persp), binary → binary,
-# file → /dev/null, best of REPS runs.
+# Throughput of the geometry stages (viewxf, clipplane ×6, splitter, persp), binary →
+# binary, file → /dev/null, best of REPS runs.
 #
 #   scripts/bench-geometry.sh [N] [REPS]      N four-vertex polygons (default 1000000)
 #
@@ -19,7 +19,7 @@ BIN=$ROOT/target/release
 TMP=$(mktemp -d "${TMPDIR:-/tmp}/bench-geometry.XXXXXX")
 trap 'rm -rf "$TMP"' EXIT
 
-cargo build --release --quiet --manifest-path "$ROOT/Cargo.toml" -p viewxf -p clipplane -p persp
+cargo build --release --quiet --manifest-path "$ROOT/Cargo.toml" -p viewxf -p clipplane -p splitter -p persp
 
 # The binary stream (proto/src/codec.rs, version 2): magic, bincode header {version u32,
 # space tag u32}, then fixed-layout little-endian records: a polygon is the head
@@ -81,6 +81,8 @@ bench viewxf "$TMP/world.bin" "$BIN/viewxf"
 for plane in left right top bottom hither yon; do
   bench "clipplane $plane" "$TMP/eye.bin" "$BIN/clipplane" "$plane"
 done
+# The root node of a splitter tree, both outputs to /dev/null.
+bench "splitter x=0" "$TMP/clipped.bin" "$BIN/splitter" x=0 /dev/null /dev/null
 bench "persp" "$TMP/clipped.bin" "$BIN/persp" --size 500x500
 bench "persp eye-z" "$TMP/clipped.bin" "$BIN/persp" --size 500x500 --depth eye-z
 # The whole chain as the thesis wires it: 8 processes on this machine's cores.

@@ -10,7 +10,7 @@
 //! validated), so that the comparison stays runnable after it left `proto`.
 
 use bincode::Options;
-use proto::{Form, Header, Polygon, Reader, Record, Space, Token, View, Writer};
+use proto::{Form, Fragment, Header, Polygon, Reader, Record, Space, Token, View, Writer};
 use serde::{Deserialize, Serialize};
 use std::hint::black_box;
 use std::io::{self, BufRead, BufReader, BufWriter, Read, Write};
@@ -118,6 +118,78 @@ fn bincode_decode(bytes: &[u8]) -> usize {
         black_box(&token);
     }
     count
+}
+
+/// Version 1's fragment records: `Fragment` through serde and bincode (its derive).
+fn bincode_fragments(records: &[Fragment]) -> Vec<u8> {
+    let mut out = BufWriter::with_capacity(1 << 16, Vec::new());
+    for r in records {
+        bincode_options().serialize_into(&mut out, r).unwrap();
+    }
+    out.into_inner().unwrap()
+}
+
+fn bincode_fragments_decode(bytes: &[u8]) -> usize {
+    let mut input = Counted {
+        inner: BufReader::with_capacity(1 << 16, bytes),
+        offset: 0,
+    };
+    let space = Space::Fragments {
+        width: 1 << 16,
+        height: 1 << 16,
+    };
+    let mut count = 0;
+    loop {
+        let f: Fragment = bincode_options().deserialize_from(&mut input).unwrap();
+        f.validate(&space).unwrap();
+        count += 1;
+        if f == Fragment::End {
+            return count;
+        }
+        black_box(&f);
+    }
+}
+
+fn proto_fragments(records: &[Fragment]) -> Vec<u8> {
+    let space = Space::Fragments {
+        width: 1 << 16,
+        height: 1 << 16,
+    };
+    let mut w = Writer::new(Vec::new(), Header::new(space), Form::Binary).unwrap();
+    for r in records {
+        w.write(r).unwrap();
+    }
+    w.into_inner().unwrap()
+}
+
+fn proto_fragments_decode(bytes: &[u8]) -> usize {
+    let mut reader = Reader::<Fragment, _>::new(bytes).unwrap();
+    let mut f = Fragment::default();
+    let mut count = 0;
+    while reader.next_into(&mut f).unwrap() {
+        count += 1;
+        black_box(&f);
+    }
+    count
+}
+
+/// A fragment stream: per polygon a colour record and 20 spans.
+fn fragments(polygons: usize) -> Vec<Fragment> {
+    let mut records = Vec::new();
+    for i in 0..polygons {
+        records.push(Fragment::Polygon([i as u8, 1, 2]));
+        for y in 0..20u32 {
+            records.push(Fragment::Span {
+                y: (i as u32 + y) % 1000,
+                x0: y,
+                x1: y + 37,
+                z0: 1 << 39,
+                dz: -12345,
+            });
+        }
+    }
+    records.push(Fragment::End);
+    records
 }
 
 fn header() -> Header {
@@ -237,6 +309,40 @@ fn main() {
         n,
         v2.len(),
         best(reps, || proto_decode(&v2)),
+    );
+
+    let frags = fragments(n / 20);
+    let f1 = bincode_fragments(&frags);
+    let f2 = proto_fragments(&frags);
+    assert_eq!(bincode_fragments_decode(&f1), frags.len());
+    assert_eq!(proto_fragments_decode(&f2), frags.len());
+    let m = frags.len();
+    println!("\n### Fragment records, {m} (a colour and 20 spans a polygon), in memory (best of {reps})\n");
+    println!("| codec | M records/s | MB/s |");
+    println!("|---|---|---|");
+    row(
+        "version 1 (serde + bincode) encode",
+        m,
+        f1.len(),
+        best(reps, || bincode_fragments(&frags)),
+    );
+    row(
+        "version 2 (fixed layout) encode",
+        m,
+        f2.len(),
+        best(reps, || proto_fragments(&frags)),
+    );
+    row(
+        "version 1 (serde + bincode) decode",
+        m,
+        f1.len(),
+        best(reps, || bincode_fragments_decode(&f1)),
+    );
+    row(
+        "version 2 (fixed layout) decode",
+        m,
+        f2.len(),
+        best(reps, || proto_fragments_decode(&f2)),
     );
 
     let text = match args.get(3) {
