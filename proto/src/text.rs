@@ -45,6 +45,36 @@ fn is_space(b: u8) -> bool {
     b == b' ' || (b'\t'..=b'\r').contains(&b)
 }
 
+/// Where the word of an ASCII line that starts at `from` ends. A word's bytes are almost
+/// all above the space, so eight at a time are tested for one at or below it (the
+/// lowest byte the test flags is a true one), and only such a byte is looked at.
+#[inline]
+fn word_end(bytes: &[u8], from: usize) -> usize {
+    const ONES: u64 = 0x0101_0101_0101_0101;
+    const HIGHS: u64 = 0x8080_8080_8080_8080;
+    let mut i = from;
+    loop {
+        while let Some(chunk) = bytes.get(i..i + 8) {
+            let x = u64::from_le_bytes(chunk.try_into().expect("8 bytes"));
+            // Bytes below 0x21 (the line is ASCII, so no byte has its high bit set).
+            let low = x.wrapping_sub(ONES * 0x21) & !x & HIGHS;
+            if low != 0 {
+                i += low.trailing_zeros() as usize / 8;
+                break;
+            }
+            i += 8;
+        }
+        while i < bytes.len() && bytes[i] > b' ' {
+            i += 1;
+        }
+        if i >= bytes.len() || is_space(bytes[i]) {
+            return i.min(bytes.len());
+        }
+        // A control character that is not whitespace belongs to the word.
+        i += 1;
+    }
+}
+
 impl<R: Read> Lexer<R> {
     pub fn new(input: R) -> Self {
         Lexer {
@@ -161,12 +191,7 @@ impl<R: Read> Lexer<R> {
         let (start, end) = if self.ascii {
             let rest = bytes.get(self.cursor..)?;
             let start = self.cursor + rest.iter().position(|&b| !is_space(b))?;
-            // Most bytes of a word are above the space, which settles them at once.
-            let len = bytes[start..]
-                .iter()
-                .position(|&b| b <= b' ' && is_space(b))
-                .unwrap_or(bytes.len() - start);
-            (start, start + len)
+            (start, word_end(bytes, start))
         } else {
             let rest = &self.line[self.cursor..];
             let start = self.cursor + rest.find(|c: char| !c.is_whitespace())?;
@@ -452,6 +477,38 @@ mod tests {
         assert_eq!(lx.number("a").unwrap(), 1.0);
         assert_eq!(lx.number("b").unwrap(), 2.0);
         assert_eq!(lx.number("c").unwrap(), 3.0);
+    }
+
+    #[test]
+    fn words_end_at_whitespace_only() {
+        let line = b"abcdefghijk\x00lmnop\x1aq rest\tx\x0by 12345678901234567890";
+        let words: Vec<&[u8]> = {
+            let mut v = Vec::new();
+            let mut i = 0;
+            while i < line.len() {
+                while i < line.len() && is_space(line[i]) {
+                    i += 1;
+                }
+                let end = word_end(line, i);
+                v.push(&line[i..end]);
+                i = end;
+            }
+            v
+        };
+        assert_eq!(
+            words,
+            [
+                &b"abcdefghijk\x00lmnop\x1aq"[..],
+                b"rest",
+                b"x",
+                b"y",
+                b"12345678901234567890"
+            ]
+        );
+        for n in 0..20 {
+            let w = vec![b'7'; n];
+            assert_eq!(word_end(&w, 0), n);
+        }
     }
 
     #[test]
