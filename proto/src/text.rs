@@ -479,6 +479,49 @@ mod tests {
         assert_eq!(lx.number("c").unwrap(), 3.0);
     }
 
+    /// A reader that hands out a few bytes at a time, as a pipe may.
+    struct Trickle<'a>(&'a [u8], usize);
+
+    impl Read for Trickle<'_> {
+        fn read(&mut self, buf: &mut [u8]) -> io::Result<usize> {
+            self.1 = self.1 % 3 + 1;
+            let n = self.1.min(buf.len()).min(self.0.len());
+            buf[..n].copy_from_slice(&self.0[..n]);
+            self.0 = &self.0[n..];
+            Ok(n)
+        }
+    }
+
+    /// Every word with its place, and the message at the end of the input.
+    fn words<R: Read>(mut lx: Lexer<R>) -> (Vec<(String, (u64, usize))>, String) {
+        let mut out = Vec::new();
+        while let Some(w) = lx.next_word().unwrap() {
+            out.push((w, lx.mark()));
+        }
+        (out, lx.number("x").unwrap_err().to_string())
+    }
+
+    #[test]
+    fn lines_across_reads_and_past_the_buffer_read_the_same() {
+        let mut text = String::from("polypipe 1 world # c\r\n\n  colour 1 2 3\n");
+        // A line longer than the buffer, and one of non-ASCII words.
+        for i in 0..20_000 {
+            text.push_str(&format!("{i} "));
+        }
+        text.push_str("\n é\u{3000}ü 4 # ü\nlast 5 # end");
+        let whole = words(Lexer::new(text.as_bytes()));
+        assert_eq!(whole.0.len(), 3 + 4 + 20_000 + 3 + 2);
+        assert_eq!(whole.0[3], ("colour".to_string(), (3, 3)));
+        assert_eq!(whole.0[20_007], ("é".to_string(), (5, 2)));
+        assert_eq!(whole.0[20_009], ("4".to_string(), (5, 6)));
+        assert_eq!(whole.0[20_011], ("5".to_string(), (6, 6)));
+        assert_eq!(
+            whole.1,
+            "line 6, column 8: expected x, found the end of the input"
+        );
+        assert_eq!(words(Lexer::new(Trickle(text.as_bytes(), 0))), whole);
+    }
+
     #[test]
     fn words_end_at_whitespace_only() {
         let line = b"abcdefghijk\x00lmnop\x1aq rest\tx\x0by 12345678901234567890";
