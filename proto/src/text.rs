@@ -13,11 +13,14 @@ use std::fmt;
 use std::io::{self, Read};
 use std::ops::Range;
 
-/// The input buffer's first size; it grows only for a line longer than this.
+/// The input buffer's size once a stream has shown it is long; it starts at
+/// [`FIRST_BUFFER`] (a short stream then costs little) and grows past this only for a
+/// line longer than it.
 const BUFFER: usize = 1 << 16;
+const FIRST_BUFFER: usize = 1 << 12;
 
-/// Reads words one line at a time; memory is one buffer of input (64 KiB, or the longest
-/// line), whatever the stream's length.
+/// Reads words one line at a time; memory is one buffer of input (at most 64 KiB, or the
+/// longest line), whatever the stream's length.
 pub struct Lexer<R> {
     input: R,
     /// Input bytes; `buf[next..end]` is not yet read as lines.
@@ -79,7 +82,7 @@ impl<R: Read> Lexer<R> {
     pub fn new(input: R) -> Self {
         Lexer {
             input,
-            buf: vec![0; BUFFER],
+            buf: vec![0; FIRST_BUFFER],
             end: 0,
             next: 0,
             line: String::new(),
@@ -149,6 +152,10 @@ impl<R: Read> Lexer<R> {
                     Err(e) => return Err(e.into()),
                 }
                 break;
+            }
+            if self.end == self.buf.len() && self.buf.len() < BUFFER {
+                // The read filled the buffer: a long stream; read more at a time.
+                self.buf.resize(self.buf.len() * 2, 0);
             }
         };
         let (start, mut stop) = match newline {
