@@ -499,8 +499,11 @@ mod tests {
         }
     }
 
+    /// A word and where it starts (line, column).
+    type Placed = (String, (u64, usize));
+
     /// Every word with its place, and the message at the end of the input.
-    fn words<R: Read>(mut lx: Lexer<R>) -> (Vec<(String, (u64, usize))>, String) {
+    fn words<R: Read>(mut lx: Lexer<R>) -> (Vec<Placed>, String) {
         let mut out = Vec::new();
         while let Some(w) = lx.next_word().unwrap() {
             out.push((w, lx.mark()));
