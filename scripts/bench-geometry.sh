@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
-# Throughput of the geometry stages (viewxf, clipplane ×6, persp), binary → binary,
-# file → /dev/null, best of REPS runs.
+# Throughput of the geometry stages (viewxf, clipplane ×6, splitter, persp), binary →
+# binary, file → /dev/null, best of REPS runs.
 #
 #   scripts/bench-geometry.sh [N] [REPS]      N four-vertex polygons (default 1000000)
 #
@@ -19,18 +19,19 @@ BIN=$ROOT/target/release
 TMP=$(mktemp -d "${TMPDIR:-/tmp}/bench-geometry.XXXXXX")
 trap 'rm -rf "$TMP"' EXIT
 
-cargo build --release --quiet --manifest-path "$ROOT/Cargo.toml" -p viewxf -p clipplane -p persp
+cargo build --release --quiet --manifest-path "$ROOT/Cargo.toml" -p viewxf -p clipplane -p splitter -p persp
 
-# The binary stream (proto/src/codec.rs): magic, header {version u32, space tag u32}, then
-# bincode records with fixed-width little-endian integers: Token::Polygon is tag u32 0,
-# colour [u8; 3], vertex count u64, vertices as 4 × f64; END is tag u32 2.
+# The binary stream (proto/src/codec.rs, version 2): magic, bincode header {version u32,
+# space tag u32}, then fixed-layout little-endian records: a polygon is the head
+# {tag u8 0, colour [u8; 3], vertex count u32} and its vertices as 4 × f64; END is the
+# head {tag 2, zeros}.
 python3 - "$N" >"$TMP/world.bin" <<'PY'
 import random, struct, sys
 n = int(sys.argv[1])
 rng = random.Random(1985)
 out = sys.stdout.buffer
-out.write(b"\x89PPIPE\r\n" + struct.pack("<II", 1, 0))  # version 1, world
-poly = struct.Struct("<I3BQ" + "d" * 16)
+out.write(b"\x89PPIPE\r\n" + struct.pack("<II", 2, 0))  # version 2, world
+poly = struct.Struct("<B3BI" + "d" * 16)
 buf = []
 for i in range(n):
     cx, cy, cz = rng.uniform(-13, 13), rng.uniform(-13, 13), rng.uniform(-8, 8)
@@ -43,7 +44,7 @@ for i in range(n):
     if len(buf) == 65536:
         out.write(b"".join(buf)); buf.clear()
 out.write(b"".join(buf))
-out.write(struct.pack("<I", 2))  # END
+out.write(struct.pack("<B3BI", 2, 0, 0, 0, 0))  # END
 PY
 
 # Check the generated stream against the codec before timing anything.
@@ -80,6 +81,8 @@ bench viewxf "$TMP/world.bin" "$BIN/viewxf"
 for plane in left right top bottom hither yon; do
   bench "clipplane $plane" "$TMP/eye.bin" "$BIN/clipplane" "$plane"
 done
+# The root node of a splitter tree, both outputs to /dev/null.
+bench "splitter x=0" "$TMP/clipped.bin" "$BIN/splitter" x=0 /dev/null /dev/null
 bench "persp" "$TMP/clipped.bin" "$BIN/persp" --size 500x500
 bench "persp eye-z" "$TMP/clipped.bin" "$BIN/persp" --size 500x500 --depth eye-z
 # The whole chain as the thesis wires it: 8 processes on this machine's cores.

@@ -1,5 +1,7 @@
-//! The text stream decoder (lexer and grammar) on arbitrary bytes: no panic, and every
-//! error located (`line L, column C: …`) or about the input as a whole.
+//! The text stream decoder (lexer and grammar, `skip` and `run` included) on arbitrary
+//! bytes: no panic, every error located (`line L, column C: …`) or about the input as a
+//! whole, and what was read writes back and reads again the same in both forms
+//! (polypipe_fuzz::drain). Run with `-dict=dict/text.dict` for the keywords.
 #![no_main]
 use libfuzzer_sys::fuzz_target;
 use polypipe_fuzz::drain;

@@ -70,19 +70,72 @@ pub fn eye_vertex(b: &mut Bytes) -> Vertex {
 }
 
 /// Reads a stream to its end or its first error, as a stage would: no panic, and every
-/// error has a message (the reader, not the fuzzer, must say what is wrong).
-pub fn drain<T: proto::Record>(bytes: &[u8]) {
+/// error has a message (the reader, not the fuzzer, must say what is wrong). Then what
+/// was read is written back and read again, and must come back the same: in binary
+/// always, and in text too when it came as text (a world- or screen-space vertex's w,
+/// which the binary form carries and the text form does not, is the difference).
+pub fn drain<T: proto::Record + PartialEq + std::fmt::Debug>(bytes: &[u8]) {
     let Ok(mut reader) = proto::Reader::<T, _>::new(bytes) else {
         return;
     };
+    let header = *reader.header();
+    let mut records = Vec::new();
+    let mut record = T::default();
     loop {
-        match reader.next_record() {
-            Ok(Some(_)) => {}
-            Ok(None) => break,
+        match reader.next_into(&mut record) {
+            Ok(true) => records.push(std::mem::take(&mut record)),
+            Ok(false) => break,
             Err(e) => {
                 assert!(!e.to_string().is_empty());
                 break;
             }
         }
     }
+    let came_as_text = !bytes.starts_with(&proto::header::BINARY_MAGIC[..1]);
+    let forms: &[proto::Form] = if came_as_text {
+        &[proto::Form::Binary, proto::Form::Text]
+    } else {
+        &[proto::Form::Binary]
+    };
+    for &form in forms {
+        let mut w = proto::Writer::new(Vec::new(), header, form).expect("a header writes");
+        for r in &records {
+            w.write(r).expect("a record read writes back");
+        }
+        let again = w.into_inner().expect("a Vec takes the bytes");
+        let mut reader = proto::Reader::<T, _>::new(again.as_slice()).expect("its header reads");
+        for (i, r) in records.iter().enumerate() {
+            match reader.next_record() {
+                Ok(Some(back)) => assert_eq!(&back, r, "record {i} in {form:?}"),
+                other => panic!("record {i} in {form:?}: {other:?}, wrote {r:?}"),
+            }
+        }
+    }
+}
+
+/// A binary stream's start: the magic and a version-2 header for `space`.
+pub fn binary_header(space: proto::Space) -> Vec<u8> {
+    let w = proto::Writer::<proto::Token, _>::new(
+        Vec::new(),
+        proto::Header::new(space),
+        proto::Form::Binary,
+    )
+    .expect("a header writes");
+    w.into_inner().expect("a Vec takes the bytes")
+}
+
+/// The spaces a fuzz target puts in front of its bytes.
+pub fn spaces() -> [proto::Space; 4] {
+    [
+        proto::Space::World,
+        proto::Space::Eye(proto::View::default()),
+        proto::Space::Screen {
+            width: 8,
+            height: 8,
+        },
+        proto::Space::Fragments {
+            width: 8,
+            height: 8,
+        },
+    ]
 }

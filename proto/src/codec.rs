@@ -2,27 +2,41 @@
 //!
 //! A stream is a [`Header`] followed by records and closed by an END record
 //! (thesis Appendix 1: `movie ::= frame { NEXT.FRAME frame } END`). The binary form is the
-//! header's magic followed by bincode records (fixed-width little-endian integers, so a
-//! record's size never depends on its values); the text form is words and lines for
-//! people and tests. A reader recognises the form from the first bytes; every stage
-//! writes binary unless asked for text.
+//! header's magic, the header in bincode, then fixed-layout records (below); the text form
+//! is words and lines for people and tests. A reader recognises the form from the first
+//! bytes; every stage writes binary unless asked for text.
 //!
 //! Records are of two kinds, each a [`Record`]: the polygon stream's [`Token`]s and the
 //! scan converter's [`Fragment`]s. Both number their polygons the same way, so the reader
 //! can say which frame and polygon an error is in.
 //!
+//! ## The binary records (stream version 2)
+//!
+//! Every record starts with an 8-byte head, `tag: u8, colour: [u8; 3], n: u32`, and is a
+//! multiple of 8 bytes long; all numbers are little-endian, vertices four `f64`s
+//! (`x, y, z, w`, 32 bytes). A vertex list is written and read as one block, straight
+//! from and into the polygon's own `Vec` (a byte view of it, `bytemuck`), so a stage
+//! neither formats nor allocates per polygon. Version 1 encoded the same records with
+//! serde and bincode; `scripts/bench-codec.sh` measures the two, and the record
+//! decoding was most of a geometry stage's time (the header stays bincode: it is read
+//! once). The layouts are in [`crate::polygon`] and [`crate::fragment`]. Bytes a record
+//! does not use must be zero, so a corrupt stream is caught at the record where it
+//! goes wrong rather than read as other numbers.
+//!
 //! [`Token`]: crate::Token
 //! [`Fragment`]: crate::Fragment
 
-use crate::header::{Header, Space, BINARY_MAGIC, TEXT_MAGIC, VERSION};
-use crate::text::Lexer;
+use crate::header::{Header, Space, BINARY_MAGIC, TEXT_MAGIC, TEXT_VERSION, VERSION};
+use crate::text::{Lexer, Number, Shown};
 use crate::StreamError;
 use bincode::Options;
-use serde::{de::DeserializeOwned, Serialize};
+use glam::DVec4;
 use std::io::{self, BufRead, BufReader, BufWriter, Read, Write};
 
 /// The largest binary record a reader accepts: 64 MiB, two million eye-space vertices.
-/// A corrupt length field cannot make a stage allocate more than this.
+/// A corrupt length field cannot make a stage allocate more than this; and as a record's
+/// vertices are read in blocks as they arrive, a length the stream does not back up
+/// allocates no more than the stream holds.
 pub const MAX_RECORD_BYTES: u64 = 64 << 20;
 
 /// The most vertices a polygon may have (the same bound in both forms).
@@ -31,6 +45,9 @@ pub const MAX_VERTICES: usize = (MAX_RECORD_BYTES / 32) as usize - 1;
 /// Buffer size for stage input and output: large enough that a pipe is read and written
 /// in a few system calls per thousand polygons.
 const IO_BUFFER: usize = 1 << 16;
+
+/// Vertices read per block of a long vertex list (64 KiB).
+const VERTEX_BLOCK: usize = 2048;
 
 /// Which form a stream is written in.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -50,6 +67,7 @@ impl Form {
     }
 }
 
+/// The header's encoding (bincode, fixed-width little-endian integers).
 fn bincode_options() -> impl Options {
     bincode::DefaultOptions::new()
         .with_fixint_encoding()
@@ -76,22 +94,58 @@ pub enum Control {
     End,
 }
 
-/// A kind of record: how it is checked and how it is written and read as text.
-pub trait Record: Serialize + DeserializeOwned + Sized {
+/// Why a binary record could not be decoded; the reader adds where it was.
+#[derive(Debug)]
+pub enum BinaryError {
+    /// The input ends inside the record.
+    CutShort,
+    /// The record claims more than [`MAX_RECORD_BYTES`].
+    TooLarge,
+    /// The bytes are no record of this kind (an unknown tag, a reserved byte set).
+    Invalid(String),
+    /// The operating system refused the read.
+    Io(io::Error),
+}
+
+/// A kind of record: how it is checked, and how it is written and read in both forms.
+///
+/// Reading goes *into* a record that the caller keeps ([`Reader::next_into`]), so that a
+/// polygon's vertex list is reused from one polygon to the next; `spare` is the reader's
+/// own second record, where a polygon's buffers wait while the caller's record holds a
+/// NEXT.FRAME or a skip.
+pub trait Record: Sized + Default {
     /// The record's role in the grammar.
     fn control(&self) -> Control;
+
+    /// The role of the binary record that starts with `head`, if its tag is known: what
+    /// the reader names in a message about a record it could not finish reading.
+    fn binary_control(head: &[u8; 8]) -> Option<Control>;
 
     /// Checks a decoded binary record (finite numbers, sizes); the message names what is
     /// wrong and the reader adds where.
     fn validate(&self, space: &Space) -> Result<(), String>;
 
-    /// Reads one record of the text form. `first_in_frame` says whether a polygon record
-    /// here starts the frame (no NEXT.POLYGON before it). At the end of the input, fails.
+    /// Decodes the rest of the binary record that starts with `head` into `self`.
+    fn read_binary<R: Read>(
+        &mut self,
+        spare: &mut Self,
+        head: &[u8; 8],
+        input: &mut BinaryInput<R>,
+    ) -> Result<(), BinaryError>;
+
+    /// Writes the record's binary form.
+    fn write_binary<W: Write>(&self, out: &mut W) -> io::Result<()>;
+
+    /// Reads one record of the text form into `self`. `first_in_frame` says whether a
+    /// polygon record here starts the frame (no NEXT.POLYGON before it). At the end of
+    /// the input, fails.
     fn read_text<R: BufRead>(
+        &mut self,
+        spare: &mut Self,
         lex: &mut Lexer<R>,
         space: &Space,
         first_in_frame: bool,
-    ) -> Result<Self, StreamError>;
+    ) -> Result<(), StreamError>;
 
     /// Writes one record in the text form, NEXT.POLYGON first where one is due.
     fn write_text<W: Write>(
@@ -102,21 +156,23 @@ pub trait Record: Serialize + DeserializeOwned + Sized {
     ) -> io::Result<()>;
 }
 
-/// A `Read` that counts the bytes taken, so that binary errors can say where they are.
-struct Counted<R> {
+/// The binary form's input: buffered, counting the bytes taken so that errors can say
+/// where they are, and handing out records' bytes without a system call per record.
+pub struct BinaryInput<R> {
     inner: BufReader<R>,
     offset: u64,
 }
 
-impl<R: Read> Read for Counted<R> {
-    fn read(&mut self, buf: &mut [u8]) -> io::Result<usize> {
-        let n = self.inner.read(buf)?;
-        self.offset += n as u64;
-        Ok(n)
+impl<R: Read> BinaryInput<R> {
+    /// The offset of the next byte from the start of the stream.
+    pub fn offset(&self) -> u64 {
+        self.offset
     }
 
-    fn read_exact(&mut self, buf: &mut [u8]) -> io::Result<()> {
-        // The hot path: a few bytes at a time out of the buffer.
+    /// Fills `buf` from the input.
+    #[inline]
+    pub fn read_exact(&mut self, buf: &mut [u8]) -> Result<(), BinaryError> {
+        // The hot path: the bytes are in the buffer already.
         let available = self.inner.buffer();
         if available.len() >= buf.len() {
             buf.copy_from_slice(&available[..buf.len()]);
@@ -124,28 +180,124 @@ impl<R: Read> Read for Counted<R> {
             self.offset += buf.len() as u64;
             return Ok(());
         }
+        self.read_exact_slow(buf)
+    }
+
+    #[cold]
+    fn read_exact_slow(&mut self, buf: &mut [u8]) -> Result<(), BinaryError> {
         let mut done = 0;
         while done < buf.len() {
             match self.inner.read(&mut buf[done..]) {
                 Ok(0) => {
                     self.offset += done as u64;
-                    return Err(io::ErrorKind::UnexpectedEof.into());
+                    return Err(BinaryError::CutShort);
                 }
                 Ok(n) => done += n,
                 Err(e) if e.kind() == io::ErrorKind::Interrupted => {}
                 Err(e) => {
                     self.offset += done as u64;
-                    return Err(e);
+                    return Err(BinaryError::Io(e));
                 }
             }
         }
         self.offset += done as u64;
         Ok(())
     }
+
+    /// The next `N` bytes.
+    #[inline]
+    pub fn array<const N: usize>(&mut self) -> Result<[u8; N], BinaryError> {
+        let mut a = [0u8; N];
+        self.read_exact(&mut a)?;
+        Ok(a)
+    }
+
+    /// One vertex (four little-endian `f64`s).
+    #[inline]
+    pub fn vertex(&mut self) -> Result<DVec4, BinaryError> {
+        let b: [u8; 32] = self.array()?;
+        Ok(vertex_from_le(&b))
+    }
+
+    /// Replaces `vertices` by the next `n` vertices. The list grows block by block as the
+    /// bytes arrive, so a corrupt `n` allocates no more than the stream holds.
+    #[inline]
+    pub fn vertices(&mut self, vertices: &mut Vec<DVec4>, n: usize) -> Result<(), BinaryError> {
+        vertices.clear();
+        while vertices.len() < n {
+            let from = vertices.len();
+            let to = from + (n - from).min(VERTEX_BLOCK);
+            vertices.resize(to, DVec4::ZERO);
+            self.read_exact(bytemuck::cast_slice_mut(&mut vertices[from..to]))?;
+        }
+        #[cfg(target_endian = "big")]
+        for x in bytemuck::cast_slice_mut::<DVec4, f64>(vertices) {
+            *x = f64::from_bits(u64::from_le(x.to_bits()));
+        }
+        Ok(())
+    }
+
+    /// Whether the input is at its end (no byte left).
+    fn at_end(&mut self) -> io::Result<bool> {
+        loop {
+            match self.inner.fill_buf() {
+                Ok(b) => return Ok(b.is_empty()),
+                Err(e) if e.kind() == io::ErrorKind::Interrupted => {}
+                Err(e) => return Err(e),
+            }
+        }
+    }
+}
+
+/// A vertex from its 32 little-endian bytes.
+#[inline]
+pub fn vertex_from_le(b: &[u8; 32]) -> DVec4 {
+    let f = |i: usize| f64::from_le_bytes(b[i..i + 8].try_into().expect("8 bytes"));
+    DVec4::new(f(0), f(8), f(16), f(24))
+}
+
+/// Writes vertices as little-endian `f64`s, as one block on a little-endian machine.
+#[inline]
+pub fn write_vertices<W: Write>(out: &mut W, vertices: &[DVec4]) -> io::Result<()> {
+    #[cfg(target_endian = "little")]
+    {
+        out.write_all(bytemuck::cast_slice(vertices))
+    }
+    #[cfg(target_endian = "big")]
+    {
+        for x in bytemuck::cast_slice::<DVec4, f64>(vertices) {
+            out.write_all(&x.to_le_bytes())?;
+        }
+        Ok(())
+    }
+}
+
+/// A record's 8-byte head: tag, three bytes (a colour, or zero) and a count or number.
+#[inline]
+pub fn head(tag: u8, bytes: [u8; 3], n: u32) -> [u8; 8] {
+    let n = n.to_le_bytes();
+    [tag, bytes[0], bytes[1], bytes[2], n[0], n[1], n[2], n[3]]
+}
+
+/// The head's `n` field.
+#[inline]
+pub fn head_n(head: &[u8; 8]) -> u32 {
+    u32::from_le_bytes([head[4], head[5], head[6], head[7]])
+}
+
+/// Refuses a head whose unused bytes (the colour slot, or also `n`) are not zero.
+pub fn expect_zero(head: &[u8; 8], with_n: bool, what: &str) -> Result<(), BinaryError> {
+    let unused = if with_n { &head[1..] } else { &head[1..4] };
+    if unused.iter().any(|&b| b != 0) {
+        return Err(BinaryError::Invalid(format!(
+            "not a valid {what} record (unused bytes {unused:02x?} are not zero); is the stream corrupt?"
+        )));
+    }
+    Ok(())
 }
 
 enum Source<R> {
-    Binary(Counted<R>),
+    Binary(BinaryInput<R>),
     Text(Lexer<BufReader<R>>),
 }
 
@@ -155,10 +307,30 @@ pub struct Reader<T, R> {
     header: Header,
     /// Frame number (from 0) of the next record.
     frame: u64,
-    /// Polygon-starting records seen in the current frame.
+    /// Polygon-starting records seen in the current frame (a skip counts its N).
     polygons_in_frame: u64,
     ended: bool,
-    _kind: std::marker::PhantomData<T>,
+    /// Where a polygon's buffers wait while the caller's record holds something else.
+    spare: T,
+}
+
+/// Where a binary record of role `control` stands, for a message: ` (frame F, polygon
+/// P)` for a record of polygon P, ` (frame F)` for one of the frame as a whole, and for
+/// a record of unknown role (its head unread or its tag unknown), the last polygon read.
+fn binary_context(frame: u64, polygons_in_frame: u64, control: Option<Control>) -> String {
+    match control {
+        Some(Control::Polygon | Control::Skip(_)) => {
+            format!(" (frame {frame}, polygon {polygons_in_frame})")
+        }
+        Some(Control::Data) if polygons_in_frame > 0 => {
+            format!(" (frame {frame}, polygon {})", polygons_in_frame - 1)
+        }
+        Some(_) => format!(" (frame {frame})"),
+        None if polygons_in_frame > 0 => {
+            format!(" (frame {frame}, after polygon {})", polygons_in_frame - 1)
+        }
+        None => format!(" (frame {frame}, before its first polygon)"),
+    }
 }
 
 impl<T: Record, R: Read> Reader<T, R> {
@@ -178,12 +350,12 @@ impl<T: Record, R: Read> Reader<T, R> {
             ));
         }
         let (source, header) = if first[0] == BINARY_MAGIC[0] {
-            let mut counted = Counted {
+            let mut input = BinaryInput {
                 inner: buffered,
                 offset: 0,
             };
-            let header = read_binary_header(&mut counted)?;
-            (Source::Binary(counted), header)
+            let header = read_binary_header(&mut input)?;
+            (Source::Binary(input), header)
         } else {
             let mut lex = Lexer::new(buffered);
             let header = read_text_header(&mut lex)?;
@@ -195,7 +367,7 @@ impl<T: Record, R: Read> Reader<T, R> {
             frame: 0,
             polygons_in_frame: 0,
             ended: false,
-            _kind: std::marker::PhantomData,
+            spare: T::default(),
         })
     }
 
@@ -215,69 +387,74 @@ impl<T: Record, R: Read> Reader<T, R> {
 
     /// The next record, or `None` once END has been read (and nothing follows it).
     /// NEXT.FRAME and END are returned as records; after END this returns `None`.
+    /// A stage's loop should use [`Reader::next_into`], which reuses its record.
     pub fn next_record(&mut self) -> Result<Option<T>, StreamError> {
+        let mut record = T::default();
+        Ok(self.next_into(&mut record)?.then_some(record))
+    }
+
+    /// Reads the next record into `record`, reusing its buffers (a polygon's vertex
+    /// list): `false` once END has been read (and nothing follows it), leaving `record`
+    /// as it was. NEXT.FRAME and END are records like the others.
+    pub fn next_into(&mut self, record: &mut T) -> Result<bool, StreamError> {
         if self.ended {
-            return Ok(None);
+            return Ok(false);
         }
         let first_in_frame = self.polygons_in_frame == 0;
-        let record = match &mut self.source {
+        let (frame, polygons) = (self.frame, self.polygons_in_frame);
+        match &mut self.source {
             Source::Binary(input) => {
-                if input.inner.fill_buf()?.is_empty() {
-                    return Err(StreamError::Binary {
-                        offset: input.offset,
-                        context: String::new(),
-                        msg: "the stream ends without END (cut short?)".into(),
-                    });
-                }
                 let start = input.offset;
-                let record: T = bincode_options().deserialize_from(&mut *input).map_err(|e| {
-                    let msg = match *e {
-                        bincode::ErrorKind::Io(ref io) if io.kind() == io::ErrorKind::UnexpectedEof => {
+                let fail = |offset, control, msg: String| StreamError::Binary {
+                    offset,
+                    context: binary_context(frame, polygons, control),
+                    msg,
+                };
+                let decoded = if input.at_end()? {
+                    return Err(fail(
+                        start,
+                        None,
+                        "the stream ends without END (cut short?)".into(),
+                    ));
+                } else {
+                    input.array::<8>().map_err(|e| (e, None)).and_then(|head| {
+                        record
+                            .read_binary(&mut self.spare, &head, input)
+                            .map_err(|e| (e, T::binary_control(&head)))
+                    })
+                };
+                if let Err((e, control)) = decoded {
+                    let msg = match e {
+                        BinaryError::CutShort => {
                             "the stream ends in the middle of a record (cut short?)".to_string()
                         }
-                        bincode::ErrorKind::Io(io) => return StreamError::Io(io),
-                        bincode::ErrorKind::SizeLimit => format!(
+                        BinaryError::Io(io) => return Err(StreamError::Io(io)),
+                        BinaryError::TooLarge => format!(
                             "record larger than {MAX_RECORD_BYTES} bytes (at most {MAX_VERTICES} vertices a polygon)"
                         ),
-                        other => format!("not a valid record ({other}); is the stream corrupt?"),
+                        BinaryError::Invalid(msg) => msg,
                     };
-                    StreamError::Binary {
-                        offset: start,
-                        context: String::new(),
-                        msg,
-                    }
-                })?;
-                if record.control() == Control::Data && first_in_frame {
-                    return Err(StreamError::Binary {
-                        offset: start,
-                        context: format!(" (frame {})", self.frame),
-                        msg: "pixels before the frame's first colour record".into(),
-                    });
+                    return Err(fail(start, control, msg));
+                }
+                let control = record.control();
+                if control == Control::Data && first_in_frame {
+                    return Err(fail(
+                        start,
+                        Some(Control::NextFrame),
+                        "pixels before the frame's first colour record".into(),
+                    ));
                 }
                 if let Err(msg) = record.validate(&self.header.space) {
-                    let context = if matches!(record.control(), Control::Polygon | Control::Skip(_)) {
-                        format!(
-                            " (frame {}, polygon {})",
-                            self.frame, self.polygons_in_frame
-                        )
-                    } else {
-                        format!(" ({})", self.position())
-                    };
-                    return Err(StreamError::Binary {
-                        offset: start,
-                        context,
-                        msg,
-                    });
+                    return Err(fail(start, Some(control), msg));
                 }
-                record
             }
             Source::Text(lex) => {
                 if lex.peek()?.is_none() {
                     return Err(lex.error_at_end("the stream ends without END (cut short?)"));
                 }
-                T::read_text(lex, &self.header.space, first_in_frame)?
+                record.read_text(&mut self.spare, lex, &self.header.space, first_in_frame)?;
             }
-        };
+        }
         match record.control() {
             Control::Polygon => self.polygons_in_frame += 1,
             Control::Skip(n) => self.polygons_in_frame += n as u64,
@@ -291,13 +468,13 @@ impl<T: Record, R: Read> Reader<T, R> {
                 self.expect_nothing_after_end()?;
             }
         }
-        Ok(Some(record))
+        Ok(true)
     }
 
     fn expect_nothing_after_end(&mut self) -> Result<(), StreamError> {
         match &mut self.source {
             Source::Binary(input) => {
-                if !input.inner.fill_buf()?.is_empty() {
+                if !input.at_end()? {
                     return Err(StreamError::Binary {
                         offset: input.offset,
                         context: String::new(),
@@ -307,8 +484,8 @@ impl<T: Record, R: Read> Reader<T, R> {
             }
             Source::Text(lex) => {
                 if let Some(w) = lex.peek()? {
-                    let w = w.to_string();
-                    return Err(lex.error(format!("data after END: `{w}`")));
+                    let msg = format!("data after END: `{}`", Shown(w));
+                    return Err(lex.error(msg));
                 }
             }
         }
@@ -316,14 +493,23 @@ impl<T: Record, R: Read> Reader<T, R> {
     }
 }
 
-fn read_binary_header<R: Read>(input: &mut Counted<R>) -> Result<Header, StreamError> {
+impl<R: Read> Read for BinaryInput<R> {
+    /// For bincode's header decoder.
+    fn read(&mut self, buf: &mut [u8]) -> io::Result<usize> {
+        let n = self.inner.read(buf)?;
+        self.offset += n as u64;
+        Ok(n)
+    }
+}
+
+fn read_binary_header<R: Read>(input: &mut BinaryInput<R>) -> Result<Header, StreamError> {
     let mut magic = [0u8; 8];
     let bad = |offset, msg: &str| StreamError::Binary {
         offset,
         context: String::new(),
         msg: msg.to_string(),
     };
-    if input.read_exact(&mut magic).is_err() || magic != BINARY_MAGIC {
+    if Read::read_exact(input, &mut magic).is_err() || magic != BINARY_MAGIC {
         return Err(bad(0, "not a polypipe stream (bad magic)"));
     }
     let header: Header = bincode_options()
@@ -347,13 +533,13 @@ fn read_text_header<R: BufRead>(lex: &mut Lexer<R>) -> Result<Header, StreamErro
     if magic != TEXT_MAGIC {
         return Err(lex.error(format!(
             "not a polypipe stream: expected the header `polypipe 1 SPACE`, found `{}`",
-            magic.chars().take(20).collect::<String>()
+            Shown(&magic.chars().take(20).collect::<String>())
         )));
     }
     let version = lex.integer("the stream version", u32::MAX as u64)? as u32;
-    if version != VERSION {
+    if version != TEXT_VERSION {
         return Err(lex.error(format!(
-            "stream version {version} is not supported (this is version {VERSION})"
+            "stream version {version} is not supported (this is version {TEXT_VERSION})"
         )));
     }
     let space_word = lex.expect_word("a coordinate space (world, eye, screen W H)")?;
@@ -371,7 +557,7 @@ fn read_text_header<R: BufRead>(lex: &mut Lexer<R>) -> Result<Header, StreamErro
                 };
                 let name = w.to_string();
                 lex.next_word()?;
-                *slot = lex.number(&format!("the {name} value"))?;
+                *slot = lex.number_with(|| format!("the {name} value"))?;
             }
             Space::Eye(view)
         }
@@ -386,12 +572,16 @@ fn read_text_header<R: BufRead>(lex: &mut Lexer<R>) -> Result<Header, StreamErro
         }
         other => {
             return Err(lex.error(format!(
-                "unknown coordinate space `{other}` (expected world, eye, screen or fragments)"
+                "unknown coordinate space `{}` (expected world, eye, screen or fragments)",
+                Shown(other)
             )))
         }
     };
     check_space(&space).map_err(|m| lex.error_at(space_at, m))?;
-    Ok(Header { version, space })
+    Ok(Header {
+        version: VERSION,
+        space,
+    })
 }
 
 /// The header's numbers must make sense before any stage computes with them.
@@ -399,12 +589,16 @@ fn check_space(space: &Space) -> Result<(), String> {
     match *space {
         Space::Eye(v) => {
             if !(v.aspect.is_finite() && v.aspect > 0.0) {
-                return Err(format!("aspect ratio {} must be positive", v.aspect));
+                return Err(format!(
+                    "aspect ratio {} must be positive",
+                    Number(v.aspect)
+                ));
             }
             if !(v.hither.is_finite() && v.yon.is_finite() && 0.0 < v.hither && v.hither < v.yon) {
                 return Err(format!(
                     "hither {} and yon {} must satisfy 0 < hither < yon",
-                    v.hither, v.yon
+                    Number(v.hither),
+                    Number(v.yon)
                 ));
             }
         }
@@ -430,17 +624,23 @@ pub struct Writer<T, W: Write> {
 }
 
 impl<T: Record, W: Write> Writer<T, W> {
-    /// Writes the header.
+    /// Writes the header: the binary form's magic and bincode header (version
+    /// [`VERSION`], whatever `header.version` says), or the text form's
+    /// `polypipe 1 SPACE` ([`TEXT_VERSION`]).
     pub fn new(out: W, header: Header, form: Form) -> io::Result<Self> {
         let mut out = BufWriter::with_capacity(IO_BUFFER, out);
         match form {
             Form::Binary => {
                 out.write_all(&BINARY_MAGIC)?;
+                let header = Header {
+                    version: VERSION,
+                    ..header
+                };
                 bincode_options()
                     .serialize_into(&mut out, &header)
                     .map_err(into_io)?;
             }
-            Form::Text => writeln!(out, "{TEXT_MAGIC} {} {}", header.version, header.space)?,
+            Form::Text => writeln!(out, "{TEXT_MAGIC} {TEXT_VERSION} {}", header.space)?,
         }
         Ok(Writer {
             out,
@@ -452,16 +652,21 @@ impl<T: Record, W: Write> Writer<T, W> {
     }
 
     /// Writes one record.
+    #[inline]
     pub fn write(&mut self, record: &T) -> io::Result<()> {
         match self.form {
-            Form::Binary => bincode_options()
-                .serialize_into(&mut self.out, record)
-                .map_err(into_io)?,
+            Form::Binary => record.write_binary(&mut self.out)?,
             Form::Text => {
                 record.write_text(&mut self.out, &self.space, self.polygons_in_frame == 0)?
             }
         }
-        match record.control() {
+        self.count(record.control())
+    }
+
+    /// Keeps the polygon count (for NEXT.POLYGON in text) and flushes at frame ends.
+    #[inline]
+    fn count(&mut self, control: Control) -> io::Result<()> {
+        match control {
             Control::Polygon => self.polygons_in_frame += 1,
             Control::Skip(n) => self.polygons_in_frame += n as u64,
             // A frame boundary is flushed at once. In the splitter tree zbuf waits at
@@ -484,6 +689,25 @@ impl<T: Record, W: Write> Writer<T, W> {
     /// Flushes and hands back the underlying writer.
     pub fn into_inner(self) -> io::Result<W> {
         self.out.into_inner().map_err(|e| e.into_error())
+    }
+}
+
+impl<W: Write> Writer<crate::Token, W> {
+    /// Writes a polygon record without wrapping it in a [`Token`](crate::Token): the
+    /// same bytes as `write(&Token::Polygon(p))`, for a stage that keeps its pieces as
+    /// polygons (the splitter).
+    #[inline]
+    pub fn write_polygon(&mut self, p: &crate::Polygon) -> io::Result<()> {
+        match self.form {
+            Form::Binary => crate::polygon::write_polygon_binary(p, &mut self.out)?,
+            Form::Text => crate::polygon::write_polygon_text(
+                p,
+                &mut self.out,
+                &self.space,
+                self.polygons_in_frame == 0,
+            )?,
+        }
+        self.count(Control::Polygon)
     }
 }
 

@@ -13,13 +13,15 @@
 //! so a pixel's depth is the same whether its span started at the polygon's left edge or
 //! at a splitting plane (which is what keeps a split polygon identical to the whole).
 
-use crate::codec::{Control, Record};
+use crate::codec::{expect_zero, head, head_n, BinaryError, BinaryInput, Control, Record};
 use crate::header::Space;
-use crate::polygon::{read_polygon_start, write_polygon_start, write_skip, Colour, Start, END, NEXT_FRAME};
+use crate::polygon::{
+    read_polygon_start, write_polygon_start, write_skip, Colour, Start, END, NEXT_FRAME,
+};
 use crate::text::Lexer;
 use crate::StreamError;
 use serde::{Deserialize, Serialize};
-use std::io::{self, BufRead, Write};
+use std::io::{self, BufRead, Read, Write};
 
 /// Fixed-point units in one unit of depth: 2^40, about 1e-12 resolution for depths in
 /// [0, 1], with room in an `i64` for depths up to about 8 million (eye-z mode).
@@ -72,7 +74,47 @@ pub enum Fragment {
     },
 }
 
+impl Default for Fragment {
+    /// A placeholder for [`Reader::next_into`](crate::Reader::next_into) to read into.
+    fn default() -> Self {
+        Fragment::End
+    }
+}
+
+/// The binary records of the fragment stream (stream version 2; `proto::codec`
+/// describes the 8-byte head `tag, three bytes, n`), each a multiple of 8 bytes:
+///
+/// | tag | record | head | then |
+/// |-----|--------|------|------|
+/// | 0 | colour (a polygon starts) | colour, n = 0 | – |
+/// | 1 | span | zeros, n = y | `x0: u32, x1: u32, z0: i64, dz: i64` |
+/// | 2 | pixel | zeros, n = y | `x: u32`, a zero `u32`, `z: i64` |
+/// | 3 | NEXT.FRAME | zeros | – |
+/// | 4 | END | zeros | – |
+/// | 5 | `skip N` | zeros, n = N | – |
+/// | 6 | run | colour, n = y | `x0: u32, x1: u32` |
+mod tag {
+    pub const POLYGON: u8 = 0;
+    pub const SPAN: u8 = 1;
+    pub const PIXEL: u8 = 2;
+    pub const NEXT_FRAME: u8 = 3;
+    pub const END: u8 = 4;
+    pub const SKIP: u8 = 5;
+    pub const RUN: u8 = 6;
+}
+
+#[inline]
+fn u32_at(b: &[u8], i: usize) -> u32 {
+    u32::from_le_bytes(b[i..i + 4].try_into().expect("4 bytes"))
+}
+
+#[inline]
+fn i64_at(b: &[u8], i: usize) -> i64 {
+    i64::from_le_bytes(b[i..i + 8].try_into().expect("8 bytes"))
+}
+
 impl Record for Fragment {
+    #[inline]
     fn control(&self) -> Control {
         match self {
             Fragment::Polygon(_) => Control::Polygon,
@@ -105,17 +147,135 @@ impl Record for Fragment {
         }
     }
 
+    fn binary_control(head: &[u8; 8]) -> Option<Control> {
+        match head[0] {
+            tag::POLYGON => Some(Control::Polygon),
+            tag::SPAN | tag::PIXEL => Some(Control::Data),
+            tag::NEXT_FRAME => Some(Control::NextFrame),
+            tag::END => Some(Control::End),
+            tag::SKIP => Some(Control::Skip(head_n(head))),
+            tag::RUN => Some(Control::Finished),
+            _ => None,
+        }
+    }
+
+    #[inline]
+    fn read_binary<R: Read>(
+        &mut self,
+        _spare: &mut Self,
+        head: &[u8; 8],
+        input: &mut BinaryInput<R>,
+    ) -> Result<(), BinaryError> {
+        let n = head_n(head);
+        *self = match head[0] {
+            tag::POLYGON => {
+                if n != 0 {
+                    return Err(BinaryError::Invalid(format!(
+                        "not a valid colour record (n = {n}, not zero); is the stream corrupt?"
+                    )));
+                }
+                Fragment::Polygon([head[1], head[2], head[3]])
+            }
+            tag::SPAN => {
+                expect_zero(head, false, "span")?;
+                let b: [u8; 24] = input.array()?;
+                Fragment::Span {
+                    y: n,
+                    x0: u32_at(&b, 0),
+                    x1: u32_at(&b, 4),
+                    z0: i64_at(&b, 8),
+                    dz: i64_at(&b, 16),
+                }
+            }
+            tag::PIXEL => {
+                expect_zero(head, false, "pixel")?;
+                let b: [u8; 16] = input.array()?;
+                if u32_at(&b, 4) != 0 {
+                    return Err(BinaryError::Invalid(
+                        "not a valid pixel record (unused bytes are not zero); is the stream corrupt?"
+                            .into(),
+                    ));
+                }
+                Fragment::Pixel {
+                    x: u32_at(&b, 0),
+                    y: n,
+                    z: i64_at(&b, 8),
+                }
+            }
+            tag::NEXT_FRAME => {
+                expect_zero(head, true, "NEXT.FRAME")?;
+                Fragment::NextFrame
+            }
+            tag::END => {
+                expect_zero(head, true, "END")?;
+                Fragment::End
+            }
+            tag::SKIP => {
+                expect_zero(head, false, "skip")?;
+                Fragment::Skip(n)
+            }
+            tag::RUN => {
+                let b: [u8; 8] = input.array()?;
+                Fragment::Run {
+                    y: n,
+                    x0: u32_at(&b, 0),
+                    x1: u32_at(&b, 4),
+                    colour: [head[1], head[2], head[3]],
+                }
+            }
+            other => return Err(BinaryError::Invalid(format!(
+                "not a valid record (unknown fragment-stream tag {other}); is the stream corrupt?"
+            ))),
+        };
+        Ok(())
+    }
+
+    #[inline]
+    fn write_binary<W: Write>(&self, out: &mut W) -> io::Result<()> {
+        match *self {
+            Fragment::Polygon(colour) => out.write_all(&head(tag::POLYGON, colour, 0)),
+            Fragment::Span { y, x0, x1, z0, dz } => {
+                let mut b = [0u8; 32];
+                b[..8].copy_from_slice(&head(tag::SPAN, [0; 3], y));
+                b[8..12].copy_from_slice(&x0.to_le_bytes());
+                b[12..16].copy_from_slice(&x1.to_le_bytes());
+                b[16..24].copy_from_slice(&z0.to_le_bytes());
+                b[24..32].copy_from_slice(&dz.to_le_bytes());
+                out.write_all(&b)
+            }
+            Fragment::Pixel { x, y, z } => {
+                let mut b = [0u8; 24];
+                b[..8].copy_from_slice(&head(tag::PIXEL, [0; 3], y));
+                b[8..12].copy_from_slice(&x.to_le_bytes());
+                b[16..24].copy_from_slice(&z.to_le_bytes());
+                out.write_all(&b)
+            }
+            Fragment::NextFrame => out.write_all(&head(tag::NEXT_FRAME, [0; 3], 0)),
+            Fragment::End => out.write_all(&head(tag::END, [0; 3], 0)),
+            Fragment::Skip(n) => out.write_all(&head(tag::SKIP, [0; 3], n)),
+            Fragment::Run { y, x0, x1, colour } => {
+                let mut b = [0u8; 16];
+                b[..8].copy_from_slice(&head(tag::RUN, colour, y));
+                b[8..12].copy_from_slice(&x0.to_le_bytes());
+                b[12..16].copy_from_slice(&x1.to_le_bytes());
+                out.write_all(&b)
+            }
+        }
+    }
+
     fn read_text<R: BufRead>(
+        &mut self,
+        _spare: &mut Self,
         lex: &mut Lexer<R>,
         space: &Space,
         first_in_frame: bool,
-    ) -> Result<Self, StreamError> {
+    ) -> Result<(), StreamError> {
         let record = match lex.peek()? {
             Some("span") | Some("pixel") if first_in_frame => {
                 return Err(lex.error("pixels before the frame's first `colour`"));
             }
             Some("span") => {
-                lex.next_word()?;
+                lex.skip_word();
                 let y = lex.integer("the span's row", u32::MAX as u64)? as u32;
                 let x0 = lex.integer("the span's first column", u32::MAX as u64)? as u32;
                 let x1 = lex.integer("the span's end column", u32::MAX as u64)? as u32;
@@ -124,21 +284,23 @@ impl Record for Fragment {
                 Fragment::Span { y, x0, x1, z0, dz }
             }
             Some("pixel") => {
-                lex.next_word()?;
+                lex.skip_word();
                 let x = lex.integer("the pixel's column", u32::MAX as u64)? as u32;
                 let y = lex.integer("the pixel's row", u32::MAX as u64)? as u32;
                 let z = lex.signed("the pixel's depth")?;
                 Fragment::Pixel { x, y, z }
             }
             Some("run") => {
-                lex.next_word()?;
+                lex.skip_word();
                 let y = lex.integer("the run's row", u32::MAX as u64)? as u32;
                 let x0 = lex.integer("the run's first column", u32::MAX as u64)? as u32;
                 let x1 = lex.integer("the run's end column", u32::MAX as u64)? as u32;
                 let mut colour = [0u8; 3];
                 for (c, name) in colour.iter_mut().zip(["red", "green", "blue"]) {
-                    *c = lex.integer(&format!("the {name} component of the run's colour"), 255)?
-                        as u8;
+                    *c = lex.integer(
+                        format_args!("the {name} component of the run's colour"),
+                        255,
+                    )? as u8;
                 }
                 Fragment::Run { y, x0, x1, colour }
             }
@@ -150,7 +312,8 @@ impl Record for Fragment {
             },
         };
         record.validate(space).map_err(|m| lex.error(m))?;
-        Ok(record)
+        *self = record;
+        Ok(())
     }
 
     fn write_text<W: Write>(
@@ -164,7 +327,12 @@ impl Record for Fragment {
             Fragment::Span { y, x0, x1, z0, dz } => writeln!(out, "span {y} {x0} {x1} {z0} {dz}"),
             Fragment::Pixel { x, y, z } => writeln!(out, "pixel {x} {y} {z}"),
             Fragment::Skip(n) => write_skip(out, n, first_in_frame),
-            Fragment::Run { y, x0, x1, colour: [r, g, b] } => {
+            Fragment::Run {
+                y,
+                x0,
+                x1,
+                colour: [r, g, b],
+            } => {
                 writeln!(out, "run {y} {x0} {x1} {r} {g} {b}")
             }
             Fragment::NextFrame => writeln!(out, "{NEXT_FRAME}"),

@@ -14,8 +14,19 @@ pub const BINARY_MAGIC: [u8; 8] = *b"\x89PPIPE\r\n";
 /// The first word of a text stream.
 pub const TEXT_MAGIC: &str = "polypipe";
 
-/// The stream format version this code reads and writes.
-pub const VERSION: u32 = 1;
+/// The stream format version this code reads and writes, in the binary header.
+///
+/// Version 2 (wave 2) replaced version 1's bincode records by fixed-layout little-endian
+/// records read and written in place (`proto::codec`, "The binary records"); the header
+/// itself is still bincode. A binary reader accepts version 2 only: every stage of one
+/// build writes it.
+pub const VERSION: u32 = 2;
+
+/// The version the text form's header spells, `polypipe 1 SPACE`: the text form did not
+/// change when the binary records did, so it keeps version 1, and a text reader accepts
+/// `polypipe 1` only. A [`Header`] read from either form carries [`VERSION`]: it is the
+/// format this code speaks, whichever form carried it.
+pub const TEXT_VERSION: u32 = 1;
 
 /// The view volume that eye coordinates were computed for: the clipping pyramid
 /// −a·w ≤ x_e ≤ a·w, −w ≤ y_e ≤ w, K1 ≤ z_e ≤ K2 (docs/DESIGN.md, "The clipping pyramid").

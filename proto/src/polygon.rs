@@ -29,17 +29,23 @@
 //!   endpoints after vertex i, e.g. `x y z w on ax ay az aw bx by bz bw`. An empty list,
 //!   or one of all `None`, means no edge has a support.
 //!
-//! In the binary form a polygon without annotations is the version-1 record it always
-//! was; an annotated one is a fourth record kind, so old streams stay readable.
+//! The annotations belong to eye and screen space; a world-space stream that carries
+//! them is refused where they stand (viewxf would pass them on untransformed).
+//!
+//! In the binary form a polygon without annotations is a head and its vertices; an
+//! annotated one is a record kind of its own (see `tag` below).
 
-use crate::codec::{Control, Record, MAX_VERTICES};
+use crate::codec::{
+    expect_zero, head, head_n, write_vertices, BinaryError, BinaryInput, Control, Record,
+    MAX_VERTICES,
+};
 use crate::geometry::newell_plane;
 use crate::header::Space;
-use crate::text::Lexer;
+use crate::text::{Lexer, Shown};
 use crate::StreamError;
 use glam::{DVec3, DVec4};
 use serde::{Deserialize, Serialize};
-use std::io::{self, BufRead, Write};
+use std::io::{self, BufRead, Read, Write};
 
 /// An 8-bit RGB colour.
 pub type Colour = [u8; 3];
@@ -130,67 +136,164 @@ pub enum Token {
     End,
 }
 
-/// The binary form of a [`Token`] as written: a polygon without annotations is record
-/// kind 0 with only its colour and vertices (stream version 1 as it always was), an
-/// annotated one is record kind 3 (appended, so the first three keep their numbers).
-#[derive(Serialize)]
-enum WireOut<'a> {
-    Polygon(PlainRef<'a>),
-    NextFrame,
-    End,
-    Annotated(&'a Polygon),
-    Skip(u32),
+impl Default for Token {
+    /// A placeholder for [`Reader::next_into`](crate::Reader::next_into) to read into.
+    fn default() -> Self {
+        Token::End
+    }
 }
 
-#[derive(Serialize)]
-struct PlainRef<'a> {
-    colour: &'a Colour,
-    vertices: &'a Vec<Vertex>,
-}
-
-#[derive(Deserialize)]
-enum WireIn {
-    Polygon(Plain),
-    NextFrame,
-    End,
-    Annotated(Polygon),
-    Skip(u32),
-}
-
-#[derive(Deserialize)]
-struct Plain {
-    colour: Colour,
-    vertices: Vec<Vertex>,
-}
-
-impl Serialize for Token {
-    fn serialize<S: serde::Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+impl Token {
+    /// Makes `self` a polygon whose buffers can be refilled: its own if it is one, else
+    /// the spare's, else new ones.
+    #[inline]
+    fn polygon_mut<'a>(&'a mut self, spare: &mut Token) -> &'a mut Polygon {
+        if !matches!(self, Token::Polygon(_)) {
+            if matches!(spare, Token::Polygon(_)) {
+                std::mem::swap(self, spare);
+            } else {
+                *self = Token::Polygon(Polygon::default());
+            }
+        }
         match self {
-            Token::Polygon(p) if p.is_annotated() => WireOut::Annotated(p).serialize(s),
-            Token::Polygon(p) => WireOut::Polygon(PlainRef {
-                colour: &p.colour,
-                vertices: &p.vertices,
-            })
-            .serialize(s),
-            Token::Skip(n) => WireOut::Skip(*n).serialize(s),
-            Token::NextFrame => WireOut::NextFrame.serialize(s),
-            Token::End => WireOut::End.serialize(s),
+            Token::Polygon(p) => p,
+            _ => unreachable!("made a polygon above"),
+        }
+    }
+
+    /// Sets `self` to a record without a polygon, keeping a polygon's buffers in `spare`.
+    #[inline]
+    fn set(&mut self, spare: &mut Token, token: Token) {
+        let old = std::mem::replace(self, token);
+        if matches!(old, Token::Polygon(_)) {
+            *spare = old;
         }
     }
 }
 
-impl<'de> Deserialize<'de> for Token {
-    fn deserialize<D: serde::Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
-        Ok(match WireIn::deserialize(d)? {
-            WireIn::Polygon(Plain { colour, vertices }) => {
-                Token::Polygon(Polygon::new(colour, vertices))
-            }
-            WireIn::NextFrame => Token::NextFrame,
-            WireIn::End => Token::End,
-            WireIn::Annotated(p) => Token::Polygon(p),
-            WireIn::Skip(n) => Token::Skip(n),
-        })
+/// The binary records of the polygon stream (stream version 2; `proto::codec` describes
+/// the 8-byte head `tag, colour, n`):
+///
+/// | tag | record | head | then |
+/// |-----|--------|------|------|
+/// | 0 | polygon | colour, n = vertex count | n vertices |
+/// | 1 | NEXT.FRAME | zeros | – |
+/// | 2 | END | zeros | – |
+/// | 3 | annotated polygon | colour, n | `flags: u32` (1 = plane, 2 = supports) and a zero `u32`; the plane (one vertex's 32 bytes) if flagged; n vertices; if flagged, the supports in groups of eight edges: eight bytes 0/1 (edge has one), then the two ends of each that has one |
+/// | 4 | `skip N` | zero colour, n = N | – |
+///
+/// A polygon without annotations is tag 0, so the common record is its head and its
+/// vertices, which are read and written as one block.
+mod tag {
+    pub const POLYGON: u8 = 0;
+    pub const NEXT_FRAME: u8 = 1;
+    pub const END: u8 = 2;
+    pub const ANNOTATED: u8 = 3;
+    pub const SKIP: u8 = 4;
+}
+
+const FLAG_PLANE: u32 = 1;
+const FLAG_SUPPORTS: u32 = 2;
+
+/// Writes a polygon's binary record (tag 0, or tag 3 when it carries annotations).
+#[inline]
+pub(crate) fn write_polygon_binary<W: Write>(p: &Polygon, out: &mut W) -> io::Result<()> {
+    let n = p.vertices.len();
+    if n > MAX_VERTICES {
+        return Err(io::Error::new(
+            io::ErrorKind::InvalidInput,
+            format!("polygon of {n} vertices (at most {MAX_VERTICES})"),
+        ));
     }
+    let supports = p.supports.iter().any(Option::is_some);
+    if p.plane.is_none() && !supports {
+        out.write_all(&head(tag::POLYGON, p.colour, n as u32))?;
+        return write_vertices(out, &p.vertices);
+    }
+    if supports && p.supports.len() != n {
+        return Err(io::Error::new(
+            io::ErrorKind::InvalidInput,
+            format!("{} edge supports for {n} vertices", p.supports.len()),
+        ));
+    }
+    out.write_all(&head(tag::ANNOTATED, p.colour, n as u32))?;
+    let flags =
+        if p.plane.is_some() { FLAG_PLANE } else { 0 } | if supports { FLAG_SUPPORTS } else { 0 };
+    out.write_all(&(flags as u64).to_le_bytes())?;
+    if let Some(plane) = p.plane {
+        write_vertices(out, &[plane])?;
+    }
+    write_vertices(out, &p.vertices)?;
+    if supports {
+        for group in (0..n).step_by(8) {
+            let edges = group..(group + 8).min(n);
+            let mut present = [0u8; 8];
+            for i in edges.clone() {
+                present[i - group] = p.support(i).is_some() as u8;
+            }
+            out.write_all(&present)?;
+            for i in edges {
+                if let Some(ends) = p.support(i) {
+                    write_vertices(out, &ends)?;
+                }
+            }
+        }
+    }
+    Ok(())
+}
+
+/// Reads the rest of a polygon record (tag 0 or 3) whose head is `head` into `p`.
+#[inline]
+fn read_polygon_binary<R: Read>(
+    p: &mut Polygon,
+    head: &[u8; 8],
+    input: &mut BinaryInput<R>,
+) -> Result<(), BinaryError> {
+    p.colour = [head[1], head[2], head[3]];
+    p.plane = None;
+    p.supports.clear();
+    let n = head_n(head) as usize;
+    if n > MAX_VERTICES {
+        return Err(BinaryError::TooLarge);
+    }
+    if head[0] == tag::POLYGON {
+        return input.vertices(&mut p.vertices, n);
+    }
+    let flags = u64::from_le_bytes(input.array()?);
+    if flags & !u64::from(FLAG_PLANE | FLAG_SUPPORTS) != 0 {
+        return Err(BinaryError::Invalid(format!(
+            "not a valid annotated polygon (flags {flags:#x}); is the stream corrupt?"
+        )));
+    }
+    if flags & u64::from(FLAG_PLANE) != 0 {
+        p.plane = Some(input.vertex()?);
+    }
+    input.vertices(&mut p.vertices, n)?;
+    if flags & u64::from(FLAG_SUPPORTS) != 0 {
+        for group in (0..n).step_by(8) {
+            let present: [u8; 8] = input.array()?;
+            let edges = (n - group).min(8);
+            for (k, &flag) in present.iter().enumerate() {
+                match (flag, k < edges) {
+                    (0, _) if k >= edges => {}
+                    (0, _) => p.supports.push(None),
+                    (1, true) => p.supports.push(Some([input.vertex()?, input.vertex()?])),
+                    _ => {
+                        return Err(BinaryError::Invalid(format!(
+                            "not a valid annotated polygon (support flag {flag} for edge {}); \
+                             is the stream corrupt?",
+                            group + k
+                        )))
+                    }
+                }
+            }
+        }
+        if !p.supports.iter().any(Option::is_some) {
+            // As the text form reads it: a list of no support is no list.
+            p.supports.clear();
+        }
+    }
+    Ok(())
 }
 
 /// The keywords of the text form (Appendix 1's special values).
@@ -215,46 +318,92 @@ pub(crate) enum Start {
     End,
 }
 
+/// The words that may start an item of a frame.
+enum Head {
+    NextFrame,
+    End,
+    NextPolygon,
+    Colour,
+    Skip,
+    Other,
+}
+
+fn head_word(w: &str) -> Head {
+    match w {
+        NEXT_FRAME => Head::NextFrame,
+        END => Head::End,
+        NEXT_POLYGON => Head::NextPolygon,
+        COLOUR | "color" => Head::Colour,
+        SKIP => Head::Skip,
+        _ => Head::Other,
+    }
+}
+
 /// Reads what starts a polygon or a fragment polygon (`colour R G B`, or `skip N` in its
 /// place), NEXT.POLYGON first unless it starts the frame; or NEXT.FRAME or END.
+#[inline]
 pub(crate) fn read_polygon_start<R: BufRead>(
     lex: &mut Lexer<R>,
     first_in_frame: bool,
 ) -> Result<Start, StreamError> {
-    let word = lex.expect_word("a polygon, NEXT.FRAME or END")?;
-    let head = match word.as_str() {
-        NEXT_FRAME => return Ok(Start::NextFrame),
-        END => return Ok(Start::End),
-        NEXT_POLYGON if !first_in_frame => {
-            let w = lex.expect_word("`colour` after NEXT.POLYGON")?;
-            if w != COLOUR && w != "color" && w != SKIP {
-                return Err(lex.error(format!("expected `colour` after NEXT.POLYGON, found `{w}`")));
-            }
-            w
+    let Some(word) = lex.peek()? else {
+        return Err(
+            lex.error_at_end("expected a polygon, NEXT.FRAME or END, found the end of the input")
+        );
+    };
+    let mut kind = head_word(word);
+    match kind {
+        Head::NextFrame => {
+            lex.skip_word();
+            return Ok(Start::NextFrame);
         }
-        NEXT_POLYGON => {
+        Head::End => {
+            lex.skip_word();
+            return Ok(Start::End);
+        }
+        Head::NextPolygon if !first_in_frame => {
+            lex.skip_word();
+            let Some(w) = lex.peek()? else {
+                return Err(lex.error_at_end(
+                    "expected `colour` after NEXT.POLYGON, found the end of the input",
+                ));
+            };
+            kind = head_word(w);
+            if !matches!(kind, Head::Colour | Head::Skip) {
+                let msg = format!("expected `colour` after NEXT.POLYGON, found `{}`", Shown(w));
+                return Err(lex.error(msg));
+            }
+        }
+        Head::NextPolygon => {
             return Err(
                 lex.error("NEXT.POLYGON before the frame's first polygon (expected `colour`)")
             )
         }
-        COLOUR | "color" | SKIP if first_in_frame => word,
-        COLOUR | "color" | SKIP => {
-            return Err(lex.error(format!(
-                "expected NEXT.POLYGON between polygons, found `{word}`"
-            )))
+        Head::Colour | Head::Skip if first_in_frame => {}
+        Head::Colour | Head::Skip => {
+            let msg = format!(
+                "expected NEXT.POLYGON between polygons, found `{}`",
+                Shown(word)
+            );
+            return Err(lex.error(msg));
         }
-        other if first_in_frame => {
-            return Err(lex.error(format!(
-                "expected `colour`, NEXT.FRAME or END, found `{other}`"
-            )))
+        Head::Other if first_in_frame => {
+            let msg = format!(
+                "expected `colour`, NEXT.FRAME or END, found `{}`",
+                Shown(word)
+            );
+            return Err(lex.error(msg));
         }
-        other => {
-            return Err(lex.error(format!(
-                "expected a vertex, NEXT.POLYGON, NEXT.FRAME or END, found `{other}`"
-            )))
+        Head::Other => {
+            let msg = format!(
+                "expected a vertex, NEXT.POLYGON, NEXT.FRAME or END, found `{}`",
+                Shown(word)
+            );
+            return Err(lex.error(msg));
         }
-    };
-    if head == SKIP {
+    }
+    lex.skip_word();
+    if let Head::Skip = kind {
         let n = lex.integer("the number of polygons skipped", u32::MAX as u64)? as u32;
         if n == 0 {
             return Err(lex.error("`skip 0`: a skip stands for at least one polygon"));
@@ -263,7 +412,7 @@ pub(crate) fn read_polygon_start<R: BufRead>(
     }
     let mut colour = [0u8; 3];
     for (c, name) in colour.iter_mut().zip(["red", "green", "blue"]) {
-        *c = lex.integer(&format!("the {name} component of the colour"), 255)? as u8;
+        *c = lex.integer(format_args!("the {name} component of the colour"), 255)? as u8;
     }
     Ok(Start::Colour(colour))
 }
@@ -288,7 +437,136 @@ pub(crate) fn write_polygon_start<W: Write>(
     writeln!(out, "{COLOUR} {} {} {}", colour[0], colour[1], colour[2])
 }
 
+/// The names of a vertex's numbers in a space, for messages.
+fn coordinate_name(space: &Space, k: usize) -> &'static str {
+    match (space, k) {
+        (Space::Eye(_), 3) => "w",
+        (Space::Screen { .. }, 2) => "depth",
+        (_, k) => ["x", "y", "z", "w"][k],
+    }
+}
+
+/// The annotations are defined for eye and screen space (the splitter makes them, persp
+/// takes them to the screen); in a world-space stream viewxf would pass them on
+/// untransformed, and the picture would be wrong.
+fn annotations_allowed(space: &Space) -> bool {
+    matches!(space, Space::Eye(_) | Space::Screen { .. })
+}
+
+const NO_WORLD_ANNOTATIONS: &str =
+    "annotations (`plane`, `on`) are defined for eye and screen space only";
+
+/// Reads a polygon's text after its `colour R G B` into `p`, reusing its buffers.
+#[inline]
+fn read_polygon_text<R: BufRead>(
+    p: &mut Polygon,
+    colour: Colour,
+    lex: &mut Lexer<R>,
+    space: &Space,
+) -> Result<(), StreamError> {
+    p.colour = colour;
+    p.plane = None;
+    p.vertices.clear();
+    p.supports.clear();
+    let arity = space.vertex_arity();
+    if arity == 0 {
+        // A fragments stream has no vertices: a polygon's vertices there would have no
+        // numbers, and reading them would take nothing from the input (found by the
+        // decode_text fuzz target). Stages check the space first; this keeps the
+        // reader itself from looping.
+        return Err(lex.error(format!(
+            "a polygon in a {}-space stream, which holds no vertices",
+            space.name()
+        )));
+    }
+    if lex.peek()? == Some(PLANE) {
+        if !annotations_allowed(space) {
+            return Err(lex.error(format!(
+                "a `plane` line in a {}-space stream: {NO_WORLD_ANNOTATIONS}",
+                space.name()
+            )));
+        }
+        lex.skip_word();
+        let mut n = [0.0; 4];
+        for (c, name) in n.iter_mut().zip(["a", "b", "c", "d"]) {
+            *c = lex.number(format_args!(
+                "{name} of the polygon's plane (plane a b c d)"
+            ))?;
+        }
+        p.plane = Some(DVec4::from_array(n));
+    }
+    let space_name = space.name();
+    while lex.next_is_number()? {
+        if p.vertices.len() == MAX_VERTICES {
+            lex.peek()?;
+            return Err(lex.error(format!("polygon has more than {MAX_VERTICES} vertices")));
+        }
+        let mut v = [0.0, 0.0, 0.0, 1.0];
+        let i = p.vertices.len();
+        for (k, c) in v.iter_mut().take(arity).enumerate() {
+            *c = lex.number(format_args!(
+                "{} of vertex {i} ({arity} numbers a vertex in {space_name} space)",
+                coordinate_name(space, k)
+            ))?;
+        }
+        p.vertices.push(DVec4::from_array(v));
+        if lex.peek()? == Some(ON) {
+            if !annotations_allowed(space) {
+                return Err(lex.error(format!(
+                    "an edge support (`on`) in a {space_name}-space stream: {NO_WORLD_ANNOTATIONS}"
+                )));
+            }
+            lex.skip_word();
+            let mut ends = [DVec4::new(0.0, 0.0, 0.0, 1.0); 2];
+            for (end, name) in ends.iter_mut().zip(["A", "B"]) {
+                let mut c = [0.0, 0.0, 0.0, 1.0];
+                for (k, slot) in c.iter_mut().take(arity).enumerate() {
+                    *slot = lex.number(format_args!(
+                        "coordinate {k} of support end {name} of edge {i} ({arity} numbers a point)"
+                    ))?;
+                }
+                *end = DVec4::from_array(c);
+            }
+            p.supports.resize(i, None);
+            p.supports.push(Some(ends));
+        }
+    }
+    if !p.supports.is_empty() {
+        p.supports.resize(p.vertices.len(), None);
+    }
+    Ok(())
+}
+
+/// Writes a polygon's text form (colour, plane, vertices and supports).
+pub(crate) fn write_polygon_text<W: Write>(
+    p: &Polygon,
+    out: &mut W,
+    space: &Space,
+    first_in_frame: bool,
+) -> io::Result<()> {
+    write_polygon_start(out, p.colour, first_in_frame)?;
+    if let Some(n) = p.plane {
+        writeln!(out, "{PLANE} {} {} {} {}", n.x, n.y, n.z, n.w)?;
+    }
+    let point = |out: &mut W, v: &Vertex| match space.vertex_arity() {
+        4 => write!(out, "{} {} {} {}", v.x, v.y, v.z, v.w),
+        _ => write!(out, "{} {} {}", v.x, v.y, v.z),
+    };
+    for (i, v) in p.vertices.iter().enumerate() {
+        point(out, v)?;
+        if let Some([a, b]) = p.support(i) {
+            write!(out, " {ON} ")?;
+            point(out, &a)?;
+            write!(out, " ")?;
+            point(out, &b)?;
+        }
+        writeln!(out)?;
+    }
+    Ok(())
+}
+
 impl Record for Token {
+    #[inline]
     fn control(&self) -> Control {
         match self {
             Token::Polygon(_) => Control::Polygon,
@@ -298,7 +576,18 @@ impl Record for Token {
         }
     }
 
-    fn validate(&self, _space: &Space) -> Result<(), String> {
+    fn binary_control(head: &[u8; 8]) -> Option<Control> {
+        match head[0] {
+            tag::POLYGON | tag::ANNOTATED => Some(Control::Polygon),
+            tag::NEXT_FRAME => Some(Control::NextFrame),
+            tag::END => Some(Control::End),
+            tag::SKIP => Some(Control::Skip(head_n(head))),
+            _ => None,
+        }
+    }
+
+    #[inline]
+    fn validate(&self, space: &Space) -> Result<(), String> {
         if let Token::Skip(0) = self {
             return Err("`skip 0`: a skip stands for at least one polygon".into());
         }
@@ -313,6 +602,15 @@ impl Record for Token {
                 return Err(format!(
                     "vertex {i} is {:?}; coordinates must be finite",
                     p.vertices[i].to_array()
+                ));
+            }
+            if p.supports.is_empty() && p.plane.is_none() {
+                return Ok(());
+            }
+            if !annotations_allowed(space) && p.is_annotated() {
+                return Err(format!(
+                    "an annotated polygon in a {}-space stream: {NO_WORLD_ANNOTATIONS}",
+                    space.name()
                 ));
             }
             if !p.supports.is_empty() && p.supports.len() != p.vertices.len() {
@@ -338,84 +636,63 @@ impl Record for Token {
         Ok(())
     }
 
+    #[inline]
+    fn read_binary<R: Read>(
+        &mut self,
+        spare: &mut Self,
+        head: &[u8; 8],
+        input: &mut BinaryInput<R>,
+    ) -> Result<(), BinaryError> {
+        match head[0] {
+            tag::POLYGON | tag::ANNOTATED => {
+                read_polygon_binary(self.polygon_mut(spare), head, input)
+            }
+            tag::NEXT_FRAME => {
+                expect_zero(head, true, "NEXT.FRAME")?;
+                self.set(spare, Token::NextFrame);
+                Ok(())
+            }
+            tag::END => {
+                expect_zero(head, true, "END")?;
+                self.set(spare, Token::End);
+                Ok(())
+            }
+            tag::SKIP => {
+                expect_zero(head, false, "skip")?;
+                self.set(spare, Token::Skip(head_n(head)));
+                Ok(())
+            }
+            other => Err(BinaryError::Invalid(format!(
+                "not a valid record (unknown polygon-stream tag {other}); is the stream corrupt?"
+            ))),
+        }
+    }
+
+    #[inline]
+    fn write_binary<W: Write>(&self, out: &mut W) -> io::Result<()> {
+        match self {
+            Token::Polygon(p) => write_polygon_binary(p, out),
+            Token::NextFrame => out.write_all(&head(tag::NEXT_FRAME, [0; 3], 0)),
+            Token::End => out.write_all(&head(tag::END, [0; 3], 0)),
+            Token::Skip(n) => out.write_all(&head(tag::SKIP, [0; 3], *n)),
+        }
+    }
+
+    #[inline]
     fn read_text<R: BufRead>(
+        &mut self,
+        spare: &mut Self,
         lex: &mut Lexer<R>,
         space: &Space,
         first_in_frame: bool,
-    ) -> Result<Self, StreamError> {
-        let colour = match read_polygon_start(lex, first_in_frame)? {
-            Start::Colour(c) => c,
-            Start::Skip(n) => return Ok(Token::Skip(n)),
-            Start::NextFrame => return Ok(Token::NextFrame),
-            Start::End => return Ok(Token::End),
-        };
-        let arity = space.vertex_arity();
-        if arity == 0 {
-            // A fragments stream has no vertices: a polygon's vertices there would have no
-            // numbers, and reading them would take nothing from the input (found by the
-            // decode_text fuzz target). Stages check the space first; this keeps the
-            // reader itself from looping.
-            return Err(lex.error(format!(
-                "a polygon in a {}-space stream, which holds no vertices",
-                space.name()
-            )));
+    ) -> Result<(), StreamError> {
+        match read_polygon_start(lex, first_in_frame)? {
+            Start::Colour(c) => read_polygon_text(self.polygon_mut(spare), c, lex, space)?,
+            Start::Skip(n) => self.set(spare, Token::Skip(n)),
+            Start::NextFrame => self.set(spare, Token::NextFrame),
+            Start::End => self.set(spare, Token::End),
         }
-        let mut plane = None;
-        if lex.peek()? == Some(PLANE) {
-            lex.next_word()?;
-            let mut n = [0.0; 4];
-            for (c, name) in n.iter_mut().zip(["a", "b", "c", "d"]) {
-                *c = lex.number(&format!("{name} of the polygon's plane (plane a b c d)"))?;
-            }
-            plane = Some(DVec4::from_array(n));
-        }
-        let mut vertices = Vec::new();
-        let mut supports: Vec<Option<[Vertex; 2]>> = Vec::new();
-        while lex.next_is_number()? {
-            if vertices.len() == MAX_VERTICES {
-                lex.peek()?;
-                return Err(lex.error(format!("polygon has more than {MAX_VERTICES} vertices")));
-            }
-            let mut v = [0.0, 0.0, 0.0, 1.0];
-            for (k, c) in v.iter_mut().take(arity).enumerate() {
-                let what = match (space, k) {
-                    (Space::Eye(_), 3) => "w".to_string(),
-                    (Space::Screen { .. }, 2) => "depth".to_string(),
-                    (_, k) => ["x", "y", "z"][k].to_string(),
-                };
-                *c = lex.number(&format!(
-                    "{what} of vertex {} ({arity} numbers a vertex in {} space)",
-                    vertices.len(),
-                    space.name()
-                ))?;
-            }
-            vertices.push(DVec4::from_array(v));
-            if lex.peek()? == Some(ON) {
-                lex.next_word()?;
-                let i = vertices.len() - 1;
-                let mut ends = [DVec4::new(0.0, 0.0, 0.0, 1.0); 2];
-                for (end, name) in ends.iter_mut().zip(["A", "B"]) {
-                    let mut c = [0.0, 0.0, 0.0, 1.0];
-                    for (k, slot) in c.iter_mut().take(arity).enumerate() {
-                        *slot = lex.number(&format!(
-                            "coordinate {k} of support end {name} of edge {i} ({arity} numbers a point)"
-                        ))?;
-                    }
-                    *end = DVec4::from_array(c);
-                }
-                supports.resize(i, None);
-                supports.push(Some(ends));
-            }
-        }
-        if !supports.is_empty() {
-            supports.resize(vertices.len(), None);
-        }
-        Ok(Token::Polygon(Polygon {
-            colour,
-            vertices,
-            plane,
-            supports,
-        }))
+        Ok(())
     }
 
     fn write_text<W: Write>(
@@ -425,27 +702,7 @@ impl Record for Token {
         first_in_frame: bool,
     ) -> io::Result<()> {
         match self {
-            Token::Polygon(p) => {
-                write_polygon_start(out, p.colour, first_in_frame)?;
-                if let Some(n) = p.plane {
-                    writeln!(out, "{PLANE} {} {} {} {}", n.x, n.y, n.z, n.w)?;
-                }
-                let point = |out: &mut W, v: &Vertex| match space.vertex_arity() {
-                    4 => write!(out, "{} {} {} {}", v.x, v.y, v.z, v.w),
-                    _ => write!(out, "{} {} {}", v.x, v.y, v.z),
-                };
-                for (i, v) in p.vertices.iter().enumerate() {
-                    point(out, v)?;
-                    if let Some([a, b]) = p.support(i) {
-                        write!(out, " {ON} ")?;
-                        point(out, &a)?;
-                        write!(out, " ")?;
-                        point(out, &b)?;
-                    }
-                    writeln!(out)?;
-                }
-                Ok(())
-            }
+            Token::Polygon(p) => write_polygon_text(p, out, space, first_in_frame),
             Token::Skip(n) => write_skip(out, *n, first_in_frame),
             Token::NextFrame => writeln!(out, "{NEXT_FRAME}"),
             Token::End => writeln!(out, "{END}"),

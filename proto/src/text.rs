@@ -1,15 +1,36 @@
 //! The text form's lexer: whitespace-separated words, `#` to the end of the line is a
 //! comment, and every word knows its `line:column` so that errors can point at it.
+//!
+//! It is written for speed as well as for people (issue 9: a stage reads text at
+//! hundreds of MB/s): a line is read into a buffer kept from line to line, words are
+//! found by scanning its bytes, and numbers are parsed from the line in place; nothing
+//! is allocated per word, and a message is formatted only when there is an error.
+//! Columns count characters, as an editor does; a UTF-8 byte-order mark that starts
+//! the input is skipped (editors write one and show none).
 
 use crate::StreamError;
-use std::io::BufRead;
+use std::fmt;
+use std::io::{self, Read};
 use std::ops::Range;
 
-/// Reads words one line at a time; memory is one line, whatever the stream's length.
+/// The input buffer's size once a stream has shown it is long; it starts at
+/// [`FIRST_BUFFER`] (a short stream then costs little) and grows past this only for a
+/// line longer than it.
+const BUFFER: usize = 1 << 16;
+const FIRST_BUFFER: usize = 1 << 12;
+
+/// Reads words one line at a time; memory is one buffer of input (at most 64 KiB, or the
+/// longest line), whatever the stream's length.
 pub struct Lexer<R> {
     input: R,
+    /// Input bytes; `buf[next..end]` is not yet read as lines.
+    buf: Vec<u8>,
+    end: usize,
+    next: usize,
+    /// The current line, its end of line and comment removed.
     line: String,
-    raw: Vec<u8>,
+    /// Whether `line` is all ASCII, so that a byte offset is a column.
+    ascii: bool,
     line_no: u64,
     /// Byte offset in `line` where the next search for a word starts.
     cursor: usize,
@@ -20,12 +41,52 @@ pub struct Lexer<R> {
     eof: bool,
 }
 
-impl<R: BufRead> Lexer<R> {
+/// The text form's whitespace: what `char::is_whitespace` says, decided on a byte for
+/// ASCII (a non-ASCII line goes the slow way, by characters).
+#[inline]
+fn is_space(b: u8) -> bool {
+    b == b' ' || (b'\t'..=b'\r').contains(&b)
+}
+
+/// Where the word of an ASCII line that starts at `from` ends. A word's bytes are almost
+/// all above the space, so eight at a time are tested for one at or below it (the
+/// lowest byte the test flags is a true one), and only such a byte is looked at.
+#[inline]
+fn word_end(bytes: &[u8], from: usize) -> usize {
+    const ONES: u64 = 0x0101_0101_0101_0101;
+    const HIGHS: u64 = 0x8080_8080_8080_8080;
+    let mut i = from;
+    loop {
+        while let Some(chunk) = bytes.get(i..i + 8) {
+            let x = u64::from_le_bytes(chunk.try_into().expect("8 bytes"));
+            // Bytes below 0x21 (the line is ASCII, so no byte has its high bit set).
+            let low = x.wrapping_sub(ONES * 0x21) & !x & HIGHS;
+            if low != 0 {
+                i += low.trailing_zeros() as usize / 8;
+                break;
+            }
+            i += 8;
+        }
+        while i < bytes.len() && bytes[i] > b' ' {
+            i += 1;
+        }
+        if i >= bytes.len() || is_space(bytes[i]) {
+            return i.min(bytes.len());
+        }
+        // A control character that is not whitespace belongs to the word.
+        i += 1;
+    }
+}
+
+impl<R: Read> Lexer<R> {
     pub fn new(input: R) -> Self {
         Lexer {
             input,
+            buf: vec![0; FIRST_BUFFER],
+            end: 0,
+            next: 0,
             line: String::new(),
-            raw: Vec::new(),
+            ascii: true,
             line_no: 0,
             cursor: 0,
             peeked: None,
@@ -36,11 +97,7 @@ impl<R: BufRead> Lexer<R> {
 
     /// An error located at the word last peeked or taken.
     pub fn error(&self, msg: impl Into<String>) -> StreamError {
-        StreamError::Text {
-            line: self.at.0,
-            column: self.at.1,
-            msg: msg.into(),
-        }
+        self.error_at(self.at, msg)
     }
 
     /// Where the word last peeked or taken starts, for an error found later.
@@ -53,122 +110,244 @@ impl<R: BufRead> Lexer<R> {
         StreamError::Text {
             line: at.0,
             column: at.1,
-            msg: msg.into(),
+            msg: explained(msg.into()),
         }
     }
 
-    /// An error located just past the end of the input.
+    /// An error located just past the end of the input: after the last line's words
+    /// (its comment excluded), counted in bytes.
     pub fn error_at_end(&self, msg: impl Into<String>) -> StreamError {
         StreamError::Text {
             line: self.line_no.max(1),
             column: self.line.len() + 1,
-            msg: msg.into(),
+            msg: explained(msg.into()),
         }
     }
 
+    /// Moves to the next line; `false` at the end of the input (the current line stays
+    /// the last one, for messages).
     fn next_line(&mut self) -> Result<bool, StreamError> {
-        self.raw.clear();
-        let n = self.input.read_until(b'\n', &mut self.raw)?;
-        if n == 0 {
-            self.eof = true;
-            return Ok(false);
-        }
+        let mut searched = self.next;
+        let newline = loop {
+            if let Some(i) = memchr::memchr(b'\n', &self.buf[searched..self.end]) {
+                break Some(searched + i);
+            }
+            if self.eof {
+                break None;
+            }
+            // Make room: keep the unread part, and grow the buffer for a long line.
+            if self.next > 0 {
+                self.buf.copy_within(self.next..self.end, 0);
+                self.end -= self.next;
+                self.next = 0;
+            } else if self.end == self.buf.len() {
+                self.buf.resize(self.buf.len() * 2, 0);
+            }
+            searched = self.end;
+            loop {
+                match self.input.read(&mut self.buf[self.end..]) {
+                    Ok(0) => self.eof = true,
+                    Ok(n) => self.end += n,
+                    Err(e) if e.kind() == io::ErrorKind::Interrupted => continue,
+                    Err(e) => return Err(e.into()),
+                }
+                break;
+            }
+            if self.end == self.buf.len() && self.buf.len() < BUFFER {
+                // The read filled the buffer: a long stream; read more at a time.
+                self.buf.resize(self.buf.len() * 2, 0);
+            }
+        };
+        let (start, mut stop) = match newline {
+            Some(i) => (self.next, i),
+            None if self.next < self.end => (self.next, self.end),
+            None => return Ok(false),
+        };
+        self.next = newline.map_or(self.end, |i| i + 1);
         self.line_no += 1;
-        self.line.clear();
-        match std::str::from_utf8(&self.raw) {
-            Ok(s) => self.line.push_str(s.trim_end_matches(['\n', '\r'])),
-            Err(e) => return Err(StreamError::Text {
-                line: self.line_no,
-                column: e.valid_up_to() + 1,
-                msg: "not UTF-8 text (is this a binary stream cut or corrupted before its magic?)"
-                    .into(),
-            }),
+        while stop > start && self.buf[stop - 1] == b'\r' {
+            stop -= 1;
         }
+        let line = std::str::from_utf8(&self.buf[start..stop]).map_err(|e| StreamError::Text {
+            line: self.line_no,
+            column: e.valid_up_to() + 1,
+            msg: "not UTF-8 text (is this a binary stream cut or corrupted before its magic?)"
+                .into(),
+        })?;
+        // A byte-order mark, which some editors put first, is not part of the text.
+        let line = match line.strip_prefix('\u{feff}') {
+            Some(rest) if self.line_no == 1 => rest,
+            _ => line,
+        };
         // A comment runs from `#` to the end of the line.
-        if let Some(hash) = self.line.find('#') {
-            self.line.truncate(hash);
-        }
+        let line = match memchr::memchr(b'#', line.as_bytes()) {
+            Some(hash) => &line[..hash],
+            None => line,
+        };
+        self.line.clear();
+        self.line.push_str(line);
+        self.ascii = self.line.is_ascii();
         self.cursor = 0;
         Ok(true)
     }
 
-    /// Looks at the next word without taking it; `None` at the end of the input.
-    pub fn peek(&mut self) -> Result<Option<&str>, StreamError> {
+    /// Finds the next word of the current line from the cursor, as a range of `line`.
+    #[inline]
+    fn word_in_line(&mut self) -> Option<Range<usize>> {
+        let bytes = self.line.as_bytes();
+        let (start, end) = if self.ascii {
+            let rest = bytes.get(self.cursor..)?;
+            let start = self.cursor + rest.iter().position(|&b| !is_space(b))?;
+            (start, word_end(bytes, start))
+        } else {
+            let rest = &self.line[self.cursor..];
+            let start = self.cursor + rest.find(|c: char| !c.is_whitespace())?;
+            let len = self.line[start..]
+                .find(char::is_whitespace)
+                .unwrap_or(self.line.len() - start);
+            (start, start + len)
+        };
+        self.cursor = end;
+        let column = if self.ascii {
+            start + 1
+        } else {
+            self.line[..start].chars().count() + 1
+        };
+        self.at = (self.line_no, column);
+        Some(start..end)
+    }
+
+    /// The next word's range in `line`, without taking it; `None` at the end of input.
+    #[inline]
+    fn peek_range(&mut self) -> Result<Option<Range<usize>>, StreamError> {
         if self.peeked.is_none() {
             loop {
-                let rest = &self.line[self.cursor..];
-                if let Some(start) = rest.find(|c: char| !c.is_whitespace()) {
-                    let start = self.cursor + start;
-                    let len = self.line[start..]
-                        .find(char::is_whitespace)
-                        .unwrap_or(self.line.len() - start);
-                    self.peeked = Some(start..start + len);
-                    self.cursor = start + len;
-                    self.at = (self.line_no, self.line[..start].chars().count() + 1);
+                if let Some(r) = self.word_in_line() {
+                    self.peeked = Some(r);
                     break;
                 }
-                if self.eof || !self.next_line()? {
+                if !self.next_line()? {
                     return Ok(None);
                 }
             }
         }
-        Ok(self.peeked.clone().map(|r| &self.line[r]))
+        Ok(self.peeked.clone())
+    }
+
+    /// A word of the current line.
+    #[inline]
+    fn word(&self, r: Range<usize>) -> &str {
+        &self.line[r]
+    }
+
+    /// Looks at the next word without taking it; `None` at the end of the input.
+    #[inline]
+    pub fn peek(&mut self) -> Result<Option<&str>, StreamError> {
+        Ok(self.peek_range()?.map(|r| self.word(r)))
+    }
+
+    /// Takes the word peeked (after [`Lexer::peek`] said there is one).
+    #[inline]
+    pub fn skip_word(&mut self) {
+        self.peeked = None;
     }
 
     /// Takes the next word; `None` at the end of the input.
     pub fn next_word(&mut self) -> Result<Option<String>, StreamError> {
-        self.peek()?;
-        Ok(self.peeked.take().map(|r| self.line[r].to_string()))
+        Ok(self.peek_range()?.map(|r| {
+            self.peeked = None;
+            self.word(r).to_string()
+        }))
     }
 
     /// Takes the next word, which must be there; `what` says what was expected.
-    pub fn expect_word(&mut self, what: &str) -> Result<String, StreamError> {
-        match self.next_word()? {
-            Some(w) => Ok(w),
+    #[inline]
+    fn take(&mut self, what: &dyn fmt::Display) -> Result<Range<usize>, StreamError> {
+        match self.peek_range()? {
+            Some(r) => {
+                self.peeked = None;
+                Ok(r)
+            }
             None => Err(self.error_at_end(format!("expected {what}, found the end of the input"))),
         }
     }
 
+    /// Takes the next word, which must be there; `what` says what was expected.
+    pub fn expect_word(&mut self, what: &str) -> Result<String, StreamError> {
+        let r = self.take(&what)?;
+        Ok(self.word(r).to_string())
+    }
+
     /// Takes the next word and checks that it is `keyword`.
     pub fn expect_keyword(&mut self, keyword: &str) -> Result<(), StreamError> {
-        let w = self.expect_word(&format!("`{keyword}`"))?;
+        let r = self.take(&format_args!("`{keyword}`"))?;
+        let w = self.word(r);
         if w == keyword {
             Ok(())
         } else {
-            Err(self.error(format!("expected `{keyword}`, found `{w}`")))
+            Err(self.error(format!("expected `{keyword}`, found `{}`", Shown(w))))
         }
     }
 
-    /// Takes a finite number.
-    pub fn number(&mut self, what: &str) -> Result<f64, StreamError> {
-        let w = self.expect_word(what)?;
-        match w.parse::<f64>() {
-            Ok(v) if v.is_finite() => Ok(v),
-            Ok(_) => Err(self.error(format!("{what} is `{w}`; coordinates must be finite"))),
-            Err(_) => Err(self.error(format!("expected {what}, found `{w}`"))),
+    /// Takes a finite number; `what` (formatted only for a message) says what it is.
+    #[inline]
+    pub fn number(&mut self, what: impl fmt::Display) -> Result<f64, StreamError> {
+        let r = self.take(&what)?;
+        let w = self.word(r);
+        match parse_f64(w) {
+            Some(v) if v.is_finite() => Ok(v),
+            Some(_) => Err(self.error(format!(
+                "{what} is `{}`; coordinates must be finite",
+                Shown(w)
+            ))),
+            None => Err(self.error(format!("expected {what}, found `{}`", Shown(w)))),
         }
+    }
+
+    /// [`Lexer::number`] with a message made by `what` only if one is needed.
+    pub fn number_with(&mut self, what: impl FnOnce() -> String) -> Result<f64, StreamError> {
+        struct Lazy<F>(std::cell::Cell<Option<F>>);
+        impl<F: FnOnce() -> String> fmt::Display for Lazy<F> {
+            fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+                match self.0.take() {
+                    Some(what) => f.write_str(&what()),
+                    None => Ok(()),
+                }
+            }
+        }
+        self.number(Lazy(std::cell::Cell::new(Some(what))))
     }
 
     /// Takes an unsigned integer no larger than `max`.
-    pub fn integer(&mut self, what: &str, max: u64) -> Result<u64, StreamError> {
-        let w = self.expect_word(what)?;
+    #[inline]
+    pub fn integer(&mut self, what: impl fmt::Display, max: u64) -> Result<u64, StreamError> {
+        let r = self.take(&what)?;
+        let w = self.word(r);
         match w.parse::<u64>() {
             Ok(v) if v <= max => Ok(v),
             Ok(v) => Err(self.error(format!("{what} is {v}, out of range 0..={max}"))),
             Err(_) => Err(self.error(format!(
-                "expected {what} (an integer 0..={max}), found `{w}`"
+                "expected {what} (an integer 0..={max}), found `{}`",
+                Shown(w)
             ))),
         }
     }
 
     /// Takes a signed 64-bit integer.
-    pub fn signed(&mut self, what: &str) -> Result<i64, StreamError> {
-        let w = self.expect_word(what)?;
-        w.parse::<i64>()
-            .map_err(|_| self.error(format!("expected {what} (an integer), found `{w}`")))
+    #[inline]
+    pub fn signed(&mut self, what: impl fmt::Display) -> Result<i64, StreamError> {
+        let r = self.take(&what)?;
+        let w = self.word(r);
+        w.parse::<i64>().map_err(|_| {
+            self.error(format!(
+                "expected {what} (an integer), found `{}`",
+                Shown(w)
+            ))
+        })
     }
 
     /// Whether the next word reads as a number (a vertex coordinate follows).
+    #[inline]
     pub fn next_is_number(&mut self) -> Result<bool, StreamError> {
         Ok(match self.peek()? {
             Some(w) => {
@@ -181,6 +360,73 @@ impl<R: BufRead> Lexer<R> {
             }
             None => false,
         })
+    }
+}
+
+/// Parses a number of the text form: `str::parse::<f64>`, which is the Eisel–Lemire
+/// algorithm of fast_float since Rust 1.55. `fast-float2` and `lexical-core` measured
+/// within a few per cent of it on the environment scene's numbers, and a Clinger fast
+/// path of our own slower (half of those numbers have 17 digits and miss it); see
+/// `scripts/bench-codec.sh`. The text reader's speed comes from not allocating or
+/// formatting per word.
+#[inline]
+pub fn parse_f64(w: &str) -> Option<f64> {
+    w.parse::<f64>().ok()
+}
+
+/// A word of the input as a message shows it: control characters, a byte-order mark and
+/// other invisible characters escaped (`\x00`, `\x1a`, `\u{feff}`), so that a message is
+/// one readable line whatever the input held.
+pub struct Shown<'a>(pub &'a str);
+
+fn invisible(c: char) -> bool {
+    c.is_control()
+        || matches!(c, '\u{200b}'..='\u{200f}' | '\u{2028}'..='\u{202e}' | '\u{2060}'..='\u{2064}'
+            | '\u{2066}'..='\u{2069}' | '\u{feff}' | '\u{fff9}'..='\u{fffb}')
+}
+
+impl fmt::Display for Shown<'_> {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        if !self.0.chars().any(invisible) {
+            return f.write_str(self.0);
+        }
+        for c in self.0.chars() {
+            match c {
+                '\t' => f.write_str("\\t")?,
+                '\n' => f.write_str("\\n")?,
+                '\r' => f.write_str("\\r")?,
+                c if c.is_ascii() && invisible(c) => write!(f, "\\x{:02x}", c as u32)?,
+                c if invisible(c) => write!(f, "\\u{{{:x}}}", c as u32)?,
+                c => write!(f, "{c}")?,
+            }
+        }
+        Ok(())
+    }
+}
+
+/// Adds to a message that shows an escaped byte-order mark what that is.
+fn explained(msg: String) -> String {
+    if msg.contains("\\u{feff}") {
+        msg + " (\\u{feff} is a UTF-8 byte-order mark)"
+    } else {
+        msg
+    }
+}
+
+/// A number as a message shows it: as Rust prints it, but in exponent form when it is
+/// very large or very small (|x| ≥ 1e16, or non-zero and < 1e-6), so that 1e300 is
+/// `1e300` and not 301 digits.
+#[derive(Clone, Copy, Debug)]
+pub struct Number(pub f64);
+
+impl fmt::Display for Number {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        let x = self.0;
+        if x.is_finite() && x != 0.0 && (x.abs() >= 1e16 || x.abs() < 1e-6) {
+            write!(f, "{x:e}")
+        } else {
+            write!(f, "{x}")
+        }
     }
 }
 
@@ -223,5 +469,128 @@ mod tests {
             e.to_string(),
             "line 1, column 1: x is `NaN`; coordinates must be finite"
         );
+    }
+
+    #[test]
+    fn columns_count_characters_and_unicode_spaces_separate() {
+        // U+00E9 is two bytes, U+3000 an ideographic space.
+        let mut lx = Lexer::new("é\u{3000}x\u{a0}7\n".as_bytes());
+        assert_eq!(lx.next_word().unwrap().as_deref(), Some("é"));
+        let e = lx.number("n").unwrap_err();
+        assert_eq!(e.to_string(), "line 1, column 3: expected n, found `x`");
+        assert_eq!(lx.number("n").unwrap(), 7.0);
+        // Vertical tab and form feed are whitespace too, as char::is_whitespace says.
+        let mut lx = Lexer::new("1\x0b2\x0c3\r\n".as_bytes());
+        assert_eq!(lx.number("a").unwrap(), 1.0);
+        assert_eq!(lx.number("b").unwrap(), 2.0);
+        assert_eq!(lx.number("c").unwrap(), 3.0);
+    }
+
+    /// A reader that hands out a few bytes at a time, as a pipe may.
+    struct Trickle<'a>(&'a [u8], usize);
+
+    impl Read for Trickle<'_> {
+        fn read(&mut self, buf: &mut [u8]) -> io::Result<usize> {
+            self.1 = self.1 % 3 + 1;
+            let n = self.1.min(buf.len()).min(self.0.len());
+            buf[..n].copy_from_slice(&self.0[..n]);
+            self.0 = &self.0[n..];
+            Ok(n)
+        }
+    }
+
+    /// A word and where it starts (line, column).
+    type Placed = (String, (u64, usize));
+
+    /// Every word with its place, and the message at the end of the input.
+    fn words<R: Read>(mut lx: Lexer<R>) -> (Vec<Placed>, String) {
+        let mut out = Vec::new();
+        while let Some(w) = lx.next_word().unwrap() {
+            out.push((w, lx.mark()));
+        }
+        (out, lx.number("x").unwrap_err().to_string())
+    }
+
+    #[test]
+    fn lines_across_reads_and_past_the_buffer_read_the_same() {
+        let mut text = String::from("polypipe 1 world # c\r\n\n  colour 1 2 3\n");
+        // A line longer than the buffer, and one of non-ASCII words.
+        for i in 0..20_000 {
+            text.push_str(&format!("{i} "));
+        }
+        text.push_str("\n é\u{3000}ü 4 # ü\nlast 5 # end");
+        let whole = words(Lexer::new(text.as_bytes()));
+        assert_eq!(whole.0.len(), 3 + 4 + 20_000 + 3 + 2);
+        assert_eq!(whole.0[3], ("colour".to_string(), (3, 3)));
+        assert_eq!(whole.0[20_007], ("é".to_string(), (5, 2)));
+        assert_eq!(whole.0[20_009], ("4".to_string(), (5, 6)));
+        assert_eq!(whole.0[20_011], ("5".to_string(), (6, 6)));
+        assert_eq!(
+            whole.1,
+            "line 6, column 8: expected x, found the end of the input"
+        );
+        assert_eq!(words(Lexer::new(Trickle(text.as_bytes(), 0))), whole);
+    }
+
+    #[test]
+    fn words_end_at_whitespace_only() {
+        let line = b"abcdefghijk\x00lmnop\x1aq rest\tx\x0by 12345678901234567890";
+        let words: Vec<&[u8]> = {
+            let mut v = Vec::new();
+            let mut i = 0;
+            while i < line.len() {
+                while i < line.len() && is_space(line[i]) {
+                    i += 1;
+                }
+                let end = word_end(line, i);
+                v.push(&line[i..end]);
+                i = end;
+            }
+            v
+        };
+        assert_eq!(
+            words,
+            [
+                &b"abcdefghijk\x00lmnop\x1aq"[..],
+                b"rest",
+                b"x",
+                b"y",
+                b"12345678901234567890"
+            ]
+        );
+        for n in 0..20 {
+            let w = vec![b'7'; n];
+            assert_eq!(word_end(&w, 0), n);
+        }
+    }
+
+    #[test]
+    fn messages_escape_what_cannot_be_seen() {
+        assert_eq!(Shown("a\0b\x1a").to_string(), "a\\x00b\\x1a");
+        assert_eq!(
+            Shown("\u{feff}x\u{200b}").to_string(),
+            "\\u{feff}x\\u{200b}"
+        );
+        assert_eq!(Shown("plain é").to_string(), "plain é");
+        // A byte-order mark first is skipped; elsewhere it is escaped and named.
+        let mut lx = Lexer::new("\u{feff}polypipe\n\u{feff}1\n".as_bytes());
+        assert_eq!(lx.next_word().unwrap().as_deref(), Some("polypipe"));
+        assert_eq!(lx.mark(), (1, 1));
+        assert_eq!(
+            lx.integer("the version", 9).unwrap_err().to_string(),
+            "line 2, column 1: expected the version (an integer 0..=9), found `\\u{feff}1` \
+             (\\u{feff} is a UTF-8 byte-order mark)"
+        );
+    }
+
+    #[test]
+    fn large_and_tiny_numbers_show_in_exponent_form() {
+        assert_eq!(Number(1e300).to_string(), "1e300");
+        assert_eq!(Number(-2.5e-7).to_string(), "-2.5e-7");
+        assert_eq!(Number(1e16).to_string(), "1e16");
+        assert_eq!(Number(9999999999999998.0).to_string(), "9999999999999998");
+        assert_eq!(Number(0.000001).to_string(), "0.000001");
+        assert_eq!(Number(0.0).to_string(), "0");
+        assert_eq!(Number(30.0).to_string(), "30");
     }
 }

@@ -128,7 +128,8 @@ fn pixels_before_a_colour_are_refused_in_both_forms() {
     });
     let records = [Fragment::Pixel { x: 1, y: 1, z: 0 }, Fragment::End];
     let bin = encode(header, &records, Form::Binary);
-    let offset = bin.len() - 4 - 20;
+    // The pixel record is 24 bytes, END 8.
+    let offset = bin.len() - 8 - 24;
     assert_eq!(
         decode_err::<Fragment>(&bin),
         format!("byte {offset} (frame 0): pixels before the frame's first colour record")
@@ -167,7 +168,7 @@ fn text_errors_say_line_and_column() {
 }
 
 #[test]
-fn binary_errors_say_byte_offset() {
+fn binary_errors_say_byte_offset_frame_and_polygon() {
     let header = Header::new(Space::World);
     let tokens = vec![
         Token::Polygon(Polygon::from_xyz([1, 2, 3], &[[1., 2., 3.], [4., 5., 6.]])),
@@ -179,13 +180,29 @@ fn binary_errors_say_byte_offset() {
         let e = decode::<Token>(&good[..cut]);
         assert!(e.is_err(), "prefix of {cut} bytes accepted");
     }
-    let end_at = good.len() - 4;
+    // The records: the polygon's 8-byte head and two 32-byte vertices, END's 8 bytes.
+    let end_at = good.len() - 8;
+    let polygon_at = end_at - 8 - 64;
     assert_eq!(
         decode_err::<Token>(&good[..end_at]),
-        format!("byte {end_at}: the stream ends without END (cut short?)")
+        format!(
+            "byte {end_at} (frame 0, after polygon 0): the stream ends without END (cut short?)"
+        )
     );
-    assert!(decode_err::<Token>(&good[..end_at - 3])
-        .ends_with("the stream ends in the middle of a record (cut short?)"));
+    assert_eq!(
+        decode_err::<Token>(&good[..end_at - 3]),
+        format!(
+            "byte {polygon_at} (frame 0, polygon 0): the stream ends in the middle of a record \
+             (cut short?)"
+        )
+    );
+    assert_eq!(
+        decode_err::<Token>(&good[..polygon_at + 5]),
+        format!(
+            "byte {polygon_at} (frame 0, before its first polygon): the stream ends in the \
+             middle of a record (cut short?)"
+        )
+    );
     let mut trailing = good.clone();
     trailing.push(0);
     assert_eq!(
@@ -199,29 +216,69 @@ fn binary_errors_say_byte_offset() {
         "byte 0: not a polypipe stream (bad magic)"
     );
     let mut nan = good.clone();
-    // The first vertex's x is the first f64 after magic, header, tag, colour and length.
-    let x_at = nan.len() - 4 - 2 * 32;
+    // The first vertex's x is the first f64 after the polygon's head.
+    let x_at = polygon_at + 8;
     nan[x_at..x_at + 8].copy_from_slice(&f64::NAN.to_le_bytes());
     assert!(decode_err::<Token>(&nan).contains(
         "(frame 0, polygon 0): vertex 0 is [NaN, 2.0, 3.0, 1.0]; coordinates must be finite"
     ));
-    // A length field claiming a billion vertices reads what is there and no more.
+    // A count claiming a million vertices reads what is there and no more (the vertex
+    // list grows as the bytes arrive).
     let mut huge = good.clone();
-    let len_at = x_at - 8;
-    huge[len_at..len_at + 8].copy_from_slice(&(1u64 << 30).to_le_bytes());
+    let n_at = polygon_at + 4;
+    huge[n_at..n_at + 4].copy_from_slice(&1_000_000u32.to_le_bytes());
     assert_eq!(
         decode_err::<Token>(&huge),
         format!(
-            "byte {}: the stream ends in the middle of a record (cut short?)",
-            len_at - 7
+            "byte {polygon_at} (frame 0, polygon 0): the stream ends in the middle of a record \
+             (cut short?)"
         )
     );
-    // A polygon past the record limit is refused once the limit is reached, so memory
-    // stays bounded however many vertices follow.
-    huge.truncate(len_at + 8);
-    huge.resize(len_at + 8 + proto::codec::MAX_RECORD_BYTES as usize + 64, 0);
+    // A count past the record limit is refused at the head, before anything is read.
+    let too_many = proto::codec::MAX_VERTICES as u32 + 1;
+    huge[n_at..n_at + 4].copy_from_slice(&too_many.to_le_bytes());
     let msg = decode_err::<Token>(&huge);
-    assert!(msg.contains("record larger than 67108864 bytes"), "{msg}");
+    assert_eq!(
+        msg,
+        format!(
+            "byte {polygon_at} (frame 0, polygon 0): record larger than 67108864 bytes \
+             (at most 2097151 vertices a polygon)"
+        )
+    );
+    // An unknown tag, and a reserved byte set in END.
+    let mut tagged = good.clone();
+    tagged[polygon_at] = 9;
+    assert_eq!(
+        decode_err::<Token>(&tagged),
+        format!(
+            "byte {polygon_at} (frame 0, before its first polygon): not a valid record \
+             (unknown polygon-stream tag 9); is the stream corrupt?"
+        )
+    );
+    let mut reserved = good.clone();
+    reserved[end_at + 5] = 1;
+    assert_eq!(
+        decode_err::<Token>(&reserved),
+        format!(
+            "byte {end_at} (frame 0): not a valid END record (unused bytes \
+             [00, 00, 00, 00, 01, 00, 00] are not zero); is the stream corrupt?"
+        )
+    );
+}
+
+/// Binary version 1 (bincode records) is refused by its header, which names both.
+#[test]
+fn binary_version_1_is_refused() {
+    let mut v1 = proto::header::BINARY_MAGIC.to_vec();
+    v1.extend_from_slice(&[1, 0, 0, 0, 0, 0, 0, 0, 2, 0, 0, 0]);
+    assert_eq!(
+        decode_err::<Token>(&v1),
+        "byte 8: stream version 1 is not supported (this is version 2)"
+    );
+    // The text form is still version 1, and says so.
+    let text = encode(Header::new(Space::World), &[Token::End], Form::Text);
+    assert_eq!(text, b"polypipe 1 world\nEND\n");
+    assert_eq!(Header::new(Space::World).version, 2);
 }
 
 #[test]
@@ -361,49 +418,93 @@ END
         text
     );
 
-    // A plain polygon: tag 0, colour, count, vertices, exactly as version 1 wrote it.
+    // A plain polygon: the head (tag 0, colour, vertex count), then its vertices.
     let plain = Polygon::new([1, 2, 3], vec![v(0.0, -2.0)]);
     let bin = encode(
         header,
         &[Token::Polygon(plain.clone()), Token::End],
         Form::Binary,
     );
-    let mut record = vec![0u8, 0, 0, 0, 1, 2, 3, 1, 0, 0, 0, 0, 0, 0, 0];
+    let mut record = vec![0u8, 1, 2, 3, 1, 0, 0, 0];
     for x in [0.0f64, -2.0, 16.0, 10.0] {
         record.extend_from_slice(&x.to_le_bytes());
     }
-    let end = [2u8, 0, 0, 0];
+    let end = [2u8, 0, 0, 0, 0, 0, 0, 0];
     assert!(bin.ends_with(&[record.as_slice(), &end].concat()));
-    // An annotated one is record kind 3.
+    // An annotated one is record kind 3: head, flags (plane and supports), the plane,
+    // the vertices, then the supports' presence bytes and the one support's two ends.
     let bin = encode(
         header,
         &[Token::Polygon(expected), Token::End],
         Form::Binary,
     );
     let header_len = encode(header, &[Token::End], Form::Binary).len() - end.len();
-    assert_eq!(&bin[header_len..header_len + 4], &[3u8, 0, 0, 0]);
+    let record = &bin[header_len..bin.len() - end.len()];
+    assert_eq!(
+        &record[..16],
+        &[3u8, 1, 2, 3, 3, 0, 0, 0, 3, 0, 0, 0, 0, 0, 0, 0]
+    );
+    assert_eq!(record.len(), 16 + 32 + 3 * 32 + 8 + 64);
+    assert_eq!(
+        &record[16 + 32 + 96..16 + 32 + 96 + 8],
+        &[1u8, 0, 0, 0, 0, 0, 0, 0]
+    );
 }
 
 #[test]
 fn annotation_errors_are_located() {
+    // (These were world-space streams until annotations there were refused, issue 14.)
     assert_eq!(
-        decode_err::<Token>(b"polypipe 1 world\ncolour 1 2 3\nplane 1 2 x 4\nEND\n"),
+        decode_err::<Token>(b"polypipe 1 screen 8 8\ncolour 1 2 3\nplane 1 2 x 4\nEND\n"),
         "line 3, column 11: expected c of the polygon's plane (plane a b c d), found `x`"
     );
     assert_eq!(
-        decode_err::<Token>(b"polypipe 1 world\ncolour 1 2 3\n1 2 3 on 1 2 3 4 5\nEND\n"),
+        decode_err::<Token>(b"polypipe 1 screen 8 8\ncolour 1 2 3\n1 2 3 on 1 2 3 4 5\nEND\n"),
         "line 4, column 1: expected coordinate 2 of support end B of edge 0 (3 numbers a point), found `END`"
     );
-    // Binary: a support list that is not one per edge.
+    // Binary: a support's presence byte that is neither 0 nor 1.
     let mut p = Polygon::from_xyz([1, 1, 1], &[[0.0, 0.0, 0.0]]);
-    p.supports = vec![None, Some([proto::Vertex::ZERO; 2])];
+    p.supports = vec![Some([proto::Vertex::ZERO; 2])];
+    let screen = Header::new(Space::Screen {
+        width: 8,
+        height: 8,
+    });
+    let mut bin = encode(screen, &[Token::Polygon(p), Token::End], Form::Binary);
+    let present_at = bin.len() - 8 - 64 - 8;
+    bin[present_at] = 2;
+    assert!(decode_err::<Token>(&bin).ends_with(
+        "(frame 0, polygon 0): not a valid annotated polygon (support flag 2 for edge 0); \
+         is the stream corrupt?"
+    ));
+}
+
+/// Issue 14, finding 10: a `plane` or `on` in a world-space stream would pass viewxf
+/// untransformed and draw a wrong picture; the reader refuses it where it stands, in
+/// both forms.
+#[test]
+fn annotations_in_world_space_are_refused() {
+    assert_eq!(
+        decode_err::<Token>(b"polypipe 1 world\ncolour 1 2 3\nplane 0 0 1 -16\n0 0 0\nEND\n"),
+        "line 3, column 1: a `plane` line in a world-space stream: annotations (`plane`, `on`) \
+         are defined for eye and screen space only"
+    );
+    assert_eq!(
+        decode_err::<Token>(b"polypipe 1 world\ncolour 1 2 3\n0 0 0\n1 0 0 on 1 0 0 0 1 0\nEND\n"),
+        "line 4, column 7: an edge support (`on`) in a world-space stream: annotations \
+         (`plane`, `on`) are defined for eye and screen space only"
+    );
+    let mut p = Polygon::from_xyz([1, 1, 1], &[[0.0, 0.0, 0.0]]);
+    p.plane = Some(proto::DVec4::new(0.0, 0.0, 1.0, 0.0));
     let bin = encode(
         Header::new(Space::World),
         &[Token::Polygon(p), Token::End],
         Form::Binary,
     );
-    assert!(decode_err::<Token>(&bin)
-        .contains("2 edge supports for 1 vertices (one per edge, or none)"));
+    assert_eq!(
+        decode_err::<Token>(&bin),
+        "byte 16 (frame 0, polygon 0): an annotated polygon in a world-space stream: \
+         annotations (`plane`, `on`) are defined for eye and screen space only"
+    );
 }
 
 /// The lean stream's `skip N` and a leaf's finished `run`s: the same records in both
@@ -413,7 +514,10 @@ fn annotation_errors_are_located() {
 fn skips_and_runs_round_trip_and_keep_numbering() {
     let tokens = vec![
         Token::Skip(3),
-        Token::Polygon(Polygon::from_xyz([1, 2, 3], &[[0., 0., 0.], [1., 0., 0.], [0., 1., 0.]])),
+        Token::Polygon(Polygon::from_xyz(
+            [1, 2, 3],
+            &[[0., 0., 0.], [1., 0., 0.], [0., 1., 0.]],
+        )),
         Token::Skip(1),
         Token::NextFrame,
         Token::Skip(7),
@@ -432,15 +536,37 @@ fn skips_and_runs_round_trip_and_keep_numbering() {
     let frags = vec![
         Fragment::Skip(2),
         Fragment::Polygon([9, 9, 9]),
-        Fragment::Span { y: 1, x0: 0, x1: 3, z0: 5, dz: 0 },
-        Fragment::Run { y: 2, x0: 1, x1: 4, colour: [255, 0, 7] },
+        Fragment::Span {
+            y: 1,
+            x0: 0,
+            x1: 3,
+            z0: 5,
+            dz: 0,
+        },
+        Fragment::Run {
+            y: 2,
+            x0: 1,
+            x1: 4,
+            colour: [255, 0, 7],
+        },
         Fragment::NextFrame,
-        Fragment::Run { y: 0, x0: 0, x1: 8, colour: [1, 1, 1] },
+        Fragment::Run {
+            y: 0,
+            x0: 0,
+            x1: 8,
+            colour: [1, 1, 1],
+        },
         Fragment::End,
     ];
-    let header = Header::new(Space::Fragments { width: 8, height: 4 });
+    let header = Header::new(Space::Fragments {
+        width: 8,
+        height: 4,
+    });
     let text = String::from_utf8(encode(header, &frags, Form::Text)).unwrap();
-    assert!(text.contains("skip 2\nNEXT.POLYGON\ncolour 9 9 9\nspan 1 0 3 5 0\nrun 2 1 4 255 0 7\n"), "{text}");
+    assert!(
+        text.contains("skip 2\nNEXT.POLYGON\ncolour 9 9 9\nspan 1 0 3 5 0\nrun 2 1 4 255 0 7\n"),
+        "{text}"
+    );
     for form in [Form::Text, Form::Binary] {
         let bytes = encode(header, &frags, form);
         assert_eq!(decode::<Fragment>(&bytes).unwrap().1, frags);

@@ -194,6 +194,19 @@ impl<T: Record> Branch<T> {
     }
 }
 
+impl Branch<proto::Token> {
+    /// Writes a polygon record without making a token of it; nothing once the reader has
+    /// gone.
+    pub fn write_polygon(&mut self, polygon: &Polygon) -> Result<()> {
+        if let Some(w) = &mut self.writer {
+            if Self::kept(w.write_polygon(polygon))?.is_none() {
+                self.writer = None;
+            }
+        }
+        Ok(())
+    }
+}
+
 /// Checks that a polygon about to be written has only finite numbers (vertices, plane,
 /// edge supports): a stage never passes on an infinity or a NaN of its own making, so
 /// that the stage at fault, not the next one, refuses. The message names the vertex.
@@ -241,7 +254,13 @@ where
     let mut reader = read_stdin::<Token>(expect)?;
     let (header, mut transform) = setup(reader.header())?;
     let mut writer = write_stdout(header, form)?;
-    while let Some(mut token) = next(&mut reader)? {
+    // One token, its polygon's vertex list reused from record to record: the loop
+    // allocates nothing per polygon.
+    let mut token = Token::default();
+    while reader
+        .next_into(&mut token)
+        .map_err(|e| input_error("stdin", e))?
+    {
         if let Token::Polygon(poly) = &mut token {
             transform(poly)
                 .and_then(|()| {
@@ -253,8 +272,10 @@ where
                     })
                 })
                 .map_err(|m| Error::data(format!("{}: {m}", reader.position())))?;
+            writer.write_polygon(poly)?;
+        } else {
+            writer.write(&token)?;
         }
-        writer.write(&token)?;
     }
     writer.flush()?;
     Ok(())

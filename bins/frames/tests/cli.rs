@@ -63,8 +63,9 @@ fn binary_ranges_join_to_the_binary_movie_byte_for_byte() {
     let (first, rest) = (cut("0", "1"), cut("1", "3"));
     // header + frame 0 + END, header + frame 1 + NEXT.FRAME + frame 2 + END
     let header_len = 8 + 8; // magic, version u32, space tag u32 (world has no fields)
-    let end_len = 4;
-    let next_frame_len = 4;
+    // Stream version 2's fixed-layout records: NEXT.FRAME and END are one 8-byte head each.
+    let end_len = 8;
+    let next_frame_len = 8;
     let f0 = &first[header_len..first.len() - end_len];
     let rest_body = &rest[header_len..rest.len() - end_len];
     let mut joined = first[..header_len].to_vec();

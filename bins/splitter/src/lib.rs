@@ -26,10 +26,23 @@
 //! Unlike the occam X.SPLITTER, whose output began at the second vertex and ended with
 //! the first, the edges are walked from (v_{n−1}, v_0) on, so a polygon wholly on one side
 //! comes out with its vertices unchanged and in the same order.
+//!
+//! ## The lean stream (issue 9)
+//!
+//! The occam splitter sends every polygon down both branches, empty where it lies on the
+//! other side, so that polygon k is polygon k at every leaf. A node here sends an output
+//! a piece only if it can cover a pixel (three vertices or more); the polygons an output
+//! gets nothing of in a row become one `skip N` record ([`Lean`]), written just before
+//! that output's next record, so numbering is kept in a few bytes. That covers a polygon
+//! wholly on the other side, the lone vertex or edge that touches the plane from there,
+//! and a polygon that arrives with fewer than three vertices (clipped away upstream):
+//! the scan converter would draw nothing of any of them. A skip that arrives is added to
+//! both outputs' counts.
 
 use proto::geometry::{Plane, Side};
-use proto::{Polygon, Vertex, View};
+use proto::{Polygon, Token, Vertex, View, Writer};
 use std::fmt;
+use std::io::{self, Write};
 use std::str::FromStr;
 
 /// The plane a node splits about, as the command line gives it.
@@ -345,7 +358,92 @@ impl Pieces<'_> {
     }
 }
 
-/// What a node did, for `--stats`: polygons in, non-empty polygons and vertices out.
+/// One output of a node in the lean stream: the number of polygons in a row it has got
+/// nothing of, not yet written as a `skip N`.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct Lean {
+    pending: u32,
+}
+
+/// Where a node's output goes: [`Lean`] writes through this, so that the same lean stream
+/// serves a plain stream writer and the binary's outputs (which close alone when their
+/// reader goes away).
+pub trait TokenOut {
+    type Error;
+    /// Writes a record.
+    fn write_token(&mut self, token: &Token) -> Result<(), Self::Error>;
+    /// Writes a polygon record (without making a [`Token`] of it).
+    fn write_polygon(&mut self, polygon: &Polygon) -> Result<(), Self::Error>;
+}
+
+impl<W: Write> TokenOut for Writer<Token, W> {
+    type Error = io::Error;
+    fn write_token(&mut self, token: &Token) -> io::Result<()> {
+        self.write(token)
+    }
+    fn write_polygon(&mut self, polygon: &Polygon) -> io::Result<()> {
+        Writer::write_polygon(self, polygon)
+    }
+}
+
+impl TokenOut for stagecli::Branch<Token> {
+    type Error = stagecli::Error;
+    fn write_token(&mut self, token: &Token) -> stagecli::Result<()> {
+        self.write(token)
+    }
+    fn write_polygon(&mut self, polygon: &Polygon) -> stagecli::Result<()> {
+        stagecli::Branch::write_polygon(self, polygon)
+    }
+}
+
+impl Lean {
+    /// The fewest vertices of a piece that can cover a pixel.
+    pub const MIN_VERTICES: usize = 3;
+
+    /// Sends `piece` (this output's part of the next polygon), or counts it as skipped if
+    /// it can cover no pixel.
+    #[inline]
+    pub fn polygon<O: TokenOut>(&mut self, out: &mut O, piece: &Polygon) -> Result<(), O::Error> {
+        if piece.vertices.len() < Self::MIN_VERTICES {
+            return self.skip(out, 1);
+        }
+        self.flush(out)?;
+        out.write_polygon(piece)
+    }
+
+    /// Counts `n` more polygons this output gets nothing of (a `skip N` that arrived).
+    #[inline]
+    pub fn skip<O: TokenOut>(&mut self, out: &mut O, n: u32) -> Result<(), O::Error> {
+        self.pending = match self.pending.checked_add(n) {
+            Some(sum) => sum,
+            None => {
+                self.flush(out)?;
+                n
+            }
+        };
+        Ok(())
+    }
+
+    /// Writes a record other than a polygon (NEXT.FRAME, END), the pending skip first.
+    #[inline]
+    pub fn control<O: TokenOut>(&mut self, out: &mut O, token: &Token) -> Result<(), O::Error> {
+        self.flush(out)?;
+        out.write_token(token)
+    }
+
+    /// Writes the pending `skip N`, if any.
+    #[inline]
+    pub fn flush<O: TokenOut>(&mut self, out: &mut O) -> Result<(), O::Error> {
+        if self.pending > 0 {
+            out.write_token(&Token::Skip(self.pending))?;
+            self.pending = 0;
+        }
+        Ok(())
+    }
+}
+
+/// What a node did, for `--stats`: polygons in, and the pieces (of three vertices or
+/// more, the ones sent) and their vertices out.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct Stats {
     pub polygons_in: u64,
@@ -354,14 +452,19 @@ pub struct Stats {
 }
 
 impl Stats {
+    /// Counts `n` polygons that arrived as a `skip n` (in, and nothing out).
+    pub fn skipped(&mut self, n: u32) {
+        self.polygons_in += n as u64;
+    }
+
     /// Counts one split.
     pub fn record(&mut self, out1: &Polygon, out2: &Polygon) {
         self.polygons_in += 1;
         for (i, piece) in [out1, out2].into_iter().enumerate() {
-            if !piece.vertices.is_empty() {
+            if piece.vertices.len() >= Lean::MIN_VERTICES {
                 self.polygons_out[i] += 1;
+                self.vertices_out[i] += piece.vertices.len() as u64;
             }
-            self.vertices_out[i] += piece.vertices.len() as u64;
         }
     }
 }
@@ -602,6 +705,46 @@ mod tests {
         );
         assert!(SplitPlane::parse_general("0,0,0,0,1").is_err());
         assert!(SplitPlane::parse_general("1,2,3").is_err());
+    }
+
+    fn text_of(out: Writer<Token, Vec<u8>>) -> String {
+        String::from_utf8(out.into_inner().unwrap()).unwrap()
+    }
+
+    #[test]
+    fn lean_outputs_skip_what_draws_nothing() {
+        let header = proto::Header::new(proto::Space::Eye(View::default()));
+        let mut out = Writer::new(Vec::new(), header, proto::Form::Text).unwrap();
+        let mut lean = Lean::default();
+        let two = poly(&[(1.0, 1.0), (2.0, 2.0)]);
+        let tri = poly(&[(1.0, 1.0), (2.0, 2.0), (1.0, 3.0)]);
+        lean.polygon(&mut out, &Polygon::default()).unwrap();
+        lean.polygon(&mut out, &two).unwrap();
+        lean.skip(&mut out, 4).unwrap();
+        lean.polygon(&mut out, &tri).unwrap();
+        lean.polygon(&mut out, &two).unwrap();
+        lean.control(&mut out, &Token::End).unwrap();
+        assert_eq!(
+            text_of(out),
+            "polypipe 1 eye aspect 1 hither 1 yon 30\nskip 6\nNEXT.POLYGON\ncolour 1 2 3\n\
+             1 1 16 10\n2 2 16 10\n1 3 16 10\nNEXT.POLYGON\nskip 1\nEND\n"
+        );
+    }
+
+    #[test]
+    fn a_skip_count_past_u32_is_written_in_two() {
+        let header = proto::Header::new(proto::Space::Eye(View::default()));
+        let mut out = Writer::new(Vec::new(), header, proto::Form::Text).unwrap();
+        let mut lean = Lean::default();
+        lean.skip(&mut out, u32::MAX - 1).unwrap();
+        lean.polygon(&mut out, &Polygon::default()).unwrap();
+        lean.polygon(&mut out, &Polygon::default()).unwrap();
+        lean.control(&mut out, &Token::NextFrame).unwrap();
+        assert_eq!(
+            text_of(out),
+            "polypipe 1 eye aspect 1 hither 1 yon 30\nskip 4294967295\nNEXT.POLYGON\nskip 1\n\
+             NEXT.FRAME\n"
+        );
     }
 
     #[test]

@@ -3,7 +3,7 @@
 
 use clap::Parser;
 use proto::{Polygon, Space, SpaceKind, Token};
-use splitter::{split, SplitPlane, Stats, Tree};
+use splitter::{split, Lean, SplitPlane, Stats, Tree};
 use stagecli::{Branch, Error, TextFlag};
 use std::process::ExitCode;
 
@@ -123,10 +123,16 @@ fn main() -> ExitCode {
         let mut out1 = Branch::open(&outputs[0], header, form)?;
         let mut out2 = Branch::open(&outputs[1], header, form)?;
         let mut stats = Stats::default();
-        // The two pieces' buffers, lent to a Token for writing and taken back.
+        // The two pieces' buffers, reused from polygon to polygon; each output's pending
+        // `skip N` (the lean stream: polygons it gets nothing of).
         let mut piece1 = Polygon::default();
         let mut piece2 = Polygon::default();
-        while let Some(token) = stagecli::next(&mut reader)? {
+        let mut lean = [Lean::default(), Lean::default()];
+        let mut token = Token::default();
+        while reader
+            .next_into(&mut token)
+            .map_err(|e| stagecli::input_error("stdin", e))?
+        {
             if !(out1.is_open() || out2.is_open()) {
                 // Both readers have gone: nobody is left to write for.
                 return Ok(());
@@ -144,23 +150,25 @@ fn main() -> ExitCode {
                         })?;
                     }
                     stats.record(&piece1, &piece2);
-                    let t1 = Token::Polygon(std::mem::take(&mut piece1));
-                    out1.write(&t1)?;
-                    let t2 = Token::Polygon(std::mem::take(&mut piece2));
-                    out2.write(&t2)?;
-                    if let (Token::Polygon(a), Token::Polygon(b)) = (t1, t2) {
-                        (piece1, piece2) = (a, b);
-                    }
+                    lean[0].polygon(&mut out1, &piece1)?;
+                    lean[1].polygon(&mut out2, &piece2)?;
+                }
+                Token::Skip(n) => {
+                    stats.skipped(*n);
+                    lean[0].skip(&mut out1, *n)?;
+                    lean[1].skip(&mut out2, *n)?;
                 }
                 control => {
-                    out1.write(control)?;
-                    out2.write(control)?;
+                    lean[0].control(&mut out1, control)?;
+                    lean[1].control(&mut out2, control)?;
                     if *control == Token::End && cli.stats {
                         eprintln!("{label}: {stats}");
                     }
                 }
             }
         }
+        lean[0].flush(&mut out1)?;
+        lean[1].flush(&mut out2)?;
         out1.flush()?;
         out2.flush()
     })

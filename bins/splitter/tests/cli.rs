@@ -110,7 +110,7 @@ plane 0 0 1 -16
 0 3 16 10
 3 0 16 10
 NEXT.POLYGON
-colour 0 0 255
+skip 1
 NEXT.FRAME
 colour 7 7 7
 plane 0 0 1 -16
@@ -125,7 +125,8 @@ END
 #[test]
 fn splits_about_y_one_half() {
     let (out1, out2) = split("y05", &["y=0.5"]);
-    // y_e = 5 lies above the whole first frame (out2 gets three empty polygons); it cuts
+    // y_e = 5 lies above the whole first frame (out2 gets nothing of its three polygons:
+    // one `skip 3` in their place); it cuts
     // the triangle of the second frame at (±2.5, 5).
     assert_eq!(
         out1,
@@ -158,11 +159,7 @@ END
     assert_eq!(
         out2,
         "polypipe 1 eye aspect 1 hither 1 yon 30
-colour 255 0 0
-NEXT.POLYGON
-colour 0 255 0
-NEXT.POLYGON
-colour 0 0 255
+skip 3
 NEXT.FRAME
 colour 7 7 7
 plane 0 0 1 -16
@@ -321,12 +318,53 @@ fn bad_input_is_located_and_finished_frames_are_kept() {
         .assert()
         .code(1)
         .stderr(predicates::str::starts_with("splitter: line 6"));
+    // The one-vertex polygon draws nothing on either side: a skip on both.
+    for out in [a, b] {
+        assert_eq!(
+            std::fs::read_to_string(out).unwrap(),
+            "polypipe 1 eye aspect 1 hither 1 yon 30\nskip 1\nNEXT.FRAME\n"
+        );
+    }
+}
+
+/// The lean stream (issue 9): polygons an output gets nothing of in a row, and skips
+/// that arrive, become one `skip N` on that output, written just before its next record;
+/// polygon k stays polygon k on both outputs.
+#[test]
+fn skips_coalesce_and_keep_numbering() {
+    let dir = scratch("lean");
+    let (a, b) = (dir.join("a"), dir.join("b"));
+    let left = "-3 0 16 10\n-1 4 16 10\n-2 -2 16 10\n";
+    let right = "3 0 16 10\n1 4 16 10\n2 -2 16 10\n";
+    let input = format!(
+        "polypipe 1 eye aspect 1 hither 1 yon 30\nskip 2\nNEXT.POLYGON\ncolour 1 1 1\n{left}\
+         NEXT.POLYGON\ncolour 2 2 2\n{right}NEXT.POLYGON\ncolour 3 3 3\nNEXT.POLYGON\nskip 3\n\
+         NEXT.POLYGON\ncolour 4 4 4\n{left}NEXT.FRAME\nskip 1\nEND\n"
+    );
+    Command::cargo_bin("splitter")
+        .unwrap()
+        .args(["--text", "--stats", "x=0"])
+        .arg(&a)
+        .arg(&b)
+        .write_stdin(input)
+        .assert()
+        .success()
+        .stderr(
+            "splitter x=0: 10 polygons in; out1 2 polygons, 6 vertices; out2 1 polygons, \
+             3 vertices\n",
+        );
     assert_eq!(
-        std::fs::read_to_string(a).unwrap(),
-        "polypipe 1 eye aspect 1 hither 1 yon 30\ncolour 1 2 3\n-1 0 16 10\nNEXT.FRAME\n"
+        std::fs::read_to_string(&a).unwrap(),
+        format!(
+            "polypipe 1 eye aspect 1 hither 1 yon 30\nskip 2\nNEXT.POLYGON\ncolour 1 1 1\n{left}\
+             NEXT.POLYGON\nskip 5\nNEXT.POLYGON\ncolour 4 4 4\n{left}NEXT.FRAME\nskip 1\nEND\n"
+        )
     );
     assert_eq!(
-        std::fs::read_to_string(b).unwrap(),
-        "polypipe 1 eye aspect 1 hither 1 yon 30\ncolour 1 2 3\nNEXT.FRAME\n"
+        std::fs::read_to_string(&b).unwrap(),
+        format!(
+            "polypipe 1 eye aspect 1 hither 1 yon 30\nskip 3\nNEXT.POLYGON\ncolour 2 2 2\n{right}\
+             NEXT.POLYGON\nskip 5\nNEXT.FRAME\nskip 1\nEND\n"
+        )
     );
 }
