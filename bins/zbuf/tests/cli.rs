@@ -2,10 +2,11 @@
 
 use assert_cmd::Command;
 use proto::{Form, Fragment, Header, Reader, Space, SpaceKind, Token, Writer};
-use scanconv::{Output, ScanConverter};
+use scan::SpanWalker;
 use std::path::{Path, PathBuf};
 
-/// What `scanconv` writes for a screen-space text stream (binary form).
+/// What `scanconv` writes for a screen-space text stream (binary form), made with the
+/// `scan` library it is a thin user of (a stage crate's tests use no other stage).
 fn scanconv(screen: &str) -> Vec<u8> {
     let mut input = Reader::<Token, _>::new(screen.as_bytes()).unwrap();
     input.header().expect(SpaceKind::Screen).unwrap();
@@ -15,10 +16,25 @@ fn scanconv(screen: &str) -> Vec<u8> {
         height: h,
     });
     let mut out = Writer::<Fragment, _>::new(Vec::new(), header, Form::Binary).unwrap();
-    let mut sc = ScanConverter::new(w, h, Output::Spans);
+    // The scan conversion scanconv does (the shared `scan` library): a colour record,
+    // then the polygon's spans with their depths.
+    let mut walker = SpanWalker::new();
     while let Some(t) = input.next_record().unwrap() {
         match t {
-            Token::Polygon(p) => sc.convert(&p, &mut |f| out.write(&f)).unwrap(),
+            Token::Polygon(p) => {
+                out.write(&Fragment::Polygon(p.colour)).unwrap();
+                walker
+                    .spans(&p, w, h, |s| {
+                        out.write(&Fragment::Span {
+                            y: s.y,
+                            x0: s.x0,
+                            x1: s.x1,
+                            z0: s.z0(),
+                            dz: s.dz,
+                        })
+                    })
+                    .unwrap();
+            }
             Token::Skip(n) => out.write(&Fragment::Skip(n)).unwrap(),
             Token::NextFrame => out.write(&Fragment::NextFrame).unwrap(),
             Token::End => out.write(&Fragment::End).unwrap(),
