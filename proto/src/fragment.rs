@@ -223,9 +223,11 @@ impl Record for Fragment {
                     colour: [head[1], head[2], head[3]],
                 }
             }
-            other => return Err(BinaryError::Invalid(format!(
+            other => {
+                return Err(BinaryError::Invalid(format!(
                 "not a valid record (unknown fragment-stream tag {other}); is the stream corrupt?"
-            ))),
+            )))
+            }
         };
         Ok(())
     }

@@ -53,8 +53,7 @@ fn render_frames_cmd(hosts: &Hosts, tmp: &Path, args: &[&str]) -> Command {
     if !args.contains(&"--by") {
         cmd.args(["--by", "frames"]);
     }
-    cmd
-        .current_dir(repo_root())
+    cmd.current_dir(repo_root())
         .env("POLYPIPE_SSH", hosts.ssh())
         .env("TMPDIR", tmp)
         .env_remove("POLYPIPE_BIN");

@@ -20,7 +20,8 @@ fn no_stage_crate_depends_on_another() {
     let stages = stages();
     assert!(stages.len() >= 9, "{stages:?}");
     for stage in &stages {
-        let manifest = fs::read_to_string(repo_root().join("bins").join(stage).join("Cargo.toml")).unwrap();
+        let manifest =
+            fs::read_to_string(repo_root().join("bins").join(stage).join("Cargo.toml")).unwrap();
         for other in stages.iter().filter(|o| *o != stage) {
             assert!(
                 !manifest.contains(&format!("path = \"../{other}\"")),

@@ -1,10 +1,10 @@
 //! frames: a movie's frame count, or a contiguous range of its frames as a movie.
 
 use clap::Parser;
-use stagecli::Error;
-use std::io::Write;
 use frames::{count_frames, pass_frames, FrameRange};
 use proto::{Form, Reader, SpaceKind, Token, Writer};
+use stagecli::Error;
+use std::io::Write;
 use std::process::ExitCode;
 
 /// Counts a movie's frames, or passes a contiguous range of them through as a movie.

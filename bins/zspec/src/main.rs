@@ -140,6 +140,41 @@ fn main() -> ExitCode {
     }
 }
 
+/// A world-space scene opened for rendering: the pixel setup the camera options give,
+/// and the scene's reader (with its name, for messages).
+struct Scene {
+    setup: Setup,
+    reader: Reader<Token, Box<dyn std::io::Read + Send>>,
+    name: String,
+}
+
+impl Scene {
+    fn open(view: &ViewArgs, scene: Option<String>) -> stagecli::Result<Scene> {
+        // A camera or volume that cannot be viewed through is a usage error (status 2).
+        let (frame, volume) = view.resolve()?;
+        let (width, height) = view.size.unwrap_or((500, 500));
+        let setup = Setup::new(frame, volume, width, height);
+        let scene = scene.unwrap_or_else(|| "-".into());
+        let name = stagecli::input_name(&scene).to_string();
+        let reader = Reader::<Token, _>::new(stagecli::open_input(&scene)?)
+            .map_err(|e| stagecli::input_error(&name, e))?;
+        reader.header().expect(SpaceKind::World)?;
+        Ok(Scene {
+            setup,
+            reader,
+            name,
+        })
+    }
+
+    /// The next record, errors naming the scene.
+    fn next(&mut self) -> stagecli::Result<Option<Token>> {
+        let name = &self.name;
+        self.reader
+            .next_record()
+            .map_err(|e| stagecli::input_error(name, e))
+    }
+}
+
 /// Renders every frame of the scene to stdout.
 fn render(
     view: &ViewArgs,
@@ -147,25 +182,15 @@ fn render(
     text: PpmTextFlag,
     scene: Option<String>,
 ) -> stagecli::Result<()> {
-    // A camera or volume that cannot be viewed through is a usage error (status 2).
-    let (frame, volume) = view.resolve()?;
-    let (width, height) = view.size.unwrap_or((500, 500));
-    let setup = Setup::new(frame, volume, width, height);
-    let scene = scene.unwrap_or_else(|| "-".into());
-    let name = stagecli::input_name(&scene).to_string();
-    let mut reader = Reader::<Token, _>::new(stagecli::open_input(&scene)?)
-        .map_err(|e| stagecli::input_error(&name, e))?;
-    reader.header().expect(SpaceKind::World)?;
+    let mut scene = Scene::open(view, scene)?;
+    let setup = scene.setup;
     let mut out = BufWriter::new(stagecli::stdout());
     let mut frame = zspec::ReferenceFrame::new(&setup, background).map_err(Error::data)?;
-    while let Some(token) = reader
-        .next_record()
-        .map_err(|e| stagecli::input_error(&name, e))?
-    {
+    while let Some(token) = scene.next()? {
         match token {
             Token::Polygon(p) => frame
                 .draw(&setup, &p)
-                .map_err(|m| Error::data(format!("{}: {m}", reader.position())))?,
+                .map_err(|m| Error::data(format!("{}: {m}", scene.reader.position())))?,
             // Polygons this stream carries nothing of: nothing to draw.
             Token::Skip(_) => {}
             Token::NextFrame | Token::End => {
@@ -190,37 +215,43 @@ fn render_supersampled(
     k: u32,
     edge_mask: Option<&str>,
 ) -> stagecli::Result<()> {
-    let (frame, volume) = view.resolve()?;
-    let (width, height) = view.size.unwrap_or((500, 500));
-    let setup = Setup::new(frame, volume, width, height);
-    let scene = scene.unwrap_or_else(|| "-".into());
-    let name = stagecli::input_name(&scene).to_string();
-    let mut reader = Reader::<Token, _>::new(stagecli::open_input(&scene)?)
-        .map_err(|e| stagecli::input_error(&name, e))?;
-    reader.header().expect(SpaceKind::World)?;
+    let mut scene = Scene::open(view, scene)?;
+    let setup = scene.setup;
     let mut out = BufWriter::new(stagecli::stdout());
     let mut mask = match edge_mask {
-        Some(path) => Some(BufWriter::new(
-            File::create(path).map_err(|e| Error::from(e).context(format!("cannot create {path}")))?,
-        )),
+        Some(path) => {
+            Some(BufWriter::new(File::create(path).map_err(|e| {
+                Error::from(e).context(format!("cannot create {path}"))
+            })?))
+        }
         None => None,
     };
-    let mut frame = zspec::SupersampledFrame::new(&setup, k, background).map_err(|e| Error::data(format!("{e:#}")))?;
-    while let Some(token) = reader
-        .next_record()
-        .map_err(|e| stagecli::input_error(&name, e))?
-    {
+    let mut frame = zspec::SupersampledFrame::new(&setup, k, background)
+        .map_err(|e| Error::data(format!("{e:#}")))?;
+    while let Some(token) = scene.next()? {
         match token {
             Token::Polygon(p) => frame
                 .draw(&p)
-                .map_err(|m| Error::data(format!("{}: {m}", reader.position())))?,
+                .map_err(|m| Error::data(format!("{}: {m}", scene.reader.position())))?,
             Token::Skip(_) => {}
             Token::NextFrame | Token::End => {
                 let done = frame.finish();
-                ppm::write(&mut out, done.width, done.height, done.pixels.as_flattened(), text.form())?;
+                ppm::write(
+                    &mut out,
+                    done.width,
+                    done.height,
+                    done.pixels.as_flattened(),
+                    text.form(),
+                )?;
                 out.flush()?;
                 if let Some(m) = mask.as_mut() {
-                    ppm::write(m, done.width, done.height, done.edge_mask().as_flattened(), text.form())?;
+                    ppm::write(
+                        m,
+                        done.width,
+                        done.height,
+                        done.edge_mask().as_flattened(),
+                        text.form(),
+                    )?;
                     m.flush()?;
                 }
             }

@@ -15,10 +15,10 @@ use clap::{Parser, ValueEnum};
 use clipbatch::ClipBatch;
 use persp::{DepthMode, Perspective};
 use proto::camera::EyeFrame;
-use stagecli::ViewArgs;
 use proto::geometry::{Plane, PyramidPlane};
 use proto::{Colour, Fragment, Polygon, Reader, SpaceKind, StreamError, Token, Vertex};
 use scanconv::{Output, ScanConverter};
+use stagecli::ViewArgs;
 use std::io::{self, Write};
 use std::process::ExitCode;
 use zbuf::FrameBuffer;
@@ -73,9 +73,8 @@ fn render(cli: &Cli) -> anyhow::Result<()> {
         .view
         .size
         .context("--aspect without --size: the screen size is needed for persp")?;
-    let mut reader = Reader::<Token, _>::new(
-        stagecli::open_input(&cli.scene).map_err(|e| anyhow!("{e}"))?,
-    )?;
+    let mut reader =
+        Reader::<Token, _>::new(stagecli::open_input(&cli.scene).map_err(|e| anyhow!("{e}"))?)?;
     reader.header().expect(SpaceKind::World)?;
     let perspective =
         Perspective::new(width, height, view, cli.zmode).map_err(StreamError::Invalid)?;
