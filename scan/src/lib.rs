@@ -36,10 +36,12 @@
 
 mod depth;
 mod edges;
+pub mod frame;
 pub mod region;
 mod walk;
 
 pub use depth::{depth_at, DepthPlane};
 pub use edges::{polygon_edge, ActiveEdgeTable, EdgeTable};
+pub use frame::{HiddenSurface, ZBuffer};
 pub use region::{RegionBuffer, RegionStats, Run};
 pub use walk::{check_on_screen, covered_on_row, Span, SpanWalker, GUARD_BAND};

@@ -115,6 +115,11 @@ impl RegionBuffer {
         }
     }
 
+    /// The screen's width and height.
+    pub fn size(&self) -> (u32, u32) {
+        (self.width, self.height)
+    }
+
     /// The tile at tile position (tx, ty), made (or taken from the pool) on first touch.
     #[inline]
     fn tile(&mut self, tx: u32, ty: u32) -> &mut Tile {

@@ -1,0 +1,182 @@
+//! A frame of screen-space polygons resolved by a hidden-surface method (docs/DESIGN.md,
+//! "Leaves resolve visibility").
+//!
+//! The z-buffer resolves polygons one at a time, as they arrive. The other methods of the
+//! seeds need the whole frame first: Watkins's scan line walks every polygon's edges row
+//! by row, Warnock's subdivision sorts every polygon into windows, the painter sorts them
+//! all by depth. A stage for one of them gathers a frame's polygons in stream order and
+//! hands them to its [`HiddenSurface`] at the frame's end; the method answers with the
+//! frame's finished pixels as [`Run`]s, which the merger places like a z-buffer leaf's.
+//!
+//! Every method samples as [`crate::SpanWalker`] does (pixel centres, top-left rule) and
+//! breaks a tie of equal depth the z-buffer's way (the polygon earlier in the stream
+//! wins), so that those that are exact give frames byte-identical to [`ZBuffer`]'s.
+//! [`ZBuffer`] and [`image_of`] are here for their tests to compare against.
+
+use crate::region::{RegionBuffer, Run};
+use crate::walk::SpanWalker;
+use proto::{Colour, Polygon};
+
+/// A hidden-surface method that resolves a whole frame at once.
+pub trait HiddenSurface {
+    /// Resolves one frame. `polygons` are the frame's screen-space polygons in stream
+    /// order (at equal depth the earlier one is in front), on a `width`×`height` screen.
+    /// Pushes the pixels some polygon covers onto `runs`, each pixel once, in its visible
+    /// polygon's colour; pixels no polygon covers are left out (the merger shows the
+    /// background there).
+    fn resolve(&mut self, polygons: &[Polygon], width: u32, height: u32, runs: &mut Vec<Run>);
+
+    /// The method's counters over all frames so far, for `--stats`: one line, without the
+    /// stage's name (`12 windows at depth 0, …`).
+    fn stats(&self) -> String;
+}
+
+/// The z-buffer (thesis chapter 2.3) as a [`HiddenSurface`]: the reference the other
+/// methods must match pixel for pixel.
+#[derive(Default)]
+pub struct ZBuffer {
+    walker: SpanWalker,
+    region: Option<RegionBuffer>,
+}
+
+impl ZBuffer {
+    pub fn new() -> Self {
+        ZBuffer::default()
+    }
+}
+
+impl HiddenSurface for ZBuffer {
+    fn resolve(&mut self, polygons: &[Polygon], width: u32, height: u32, runs: &mut Vec<Run>) {
+        let region = match &mut self.region {
+            Some(r) if r.size() == (width, height) => r,
+            slot => slot.insert(RegionBuffer::new(width, height)),
+        };
+        for p in polygons {
+            let colour = p.colour;
+            self.walker
+                .for_each_span(p, width, height, |s| region.draw(&s, colour));
+        }
+        let Ok(()) = region.finish_frame(|run| {
+            runs.push(run);
+            Ok::<(), std::convert::Infallible>(())
+        });
+    }
+
+    fn stats(&self) -> String {
+        let s = self.region.as_ref().map(|r| r.stats).unwrap_or_default();
+        format!(
+            "{} pixels tested, {} written",
+            s.pixels_tested, s.pixels_written
+        )
+    }
+}
+
+/// The picture `runs` paint on a `width`×`height` screen, row-major: `None` where no run
+/// reaches. A pixel painted twice is an error of the method that made the runs, and
+/// panics here, in its tests.
+pub fn image_of(runs: &[Run], width: u32, height: u32) -> Vec<Option<Colour>> {
+    let mut image = vec![None; width as usize * height as usize];
+    for run in runs {
+        assert!(
+            run.y < height && run.x0 <= run.x1 && run.x1 <= width,
+            "run off the screen: {run:?}"
+        );
+        let row = run.y as usize * width as usize;
+        for x in run.x0..run.x1 {
+            let pixel = &mut image[row + x as usize];
+            assert!(pixel.is_none(), "pixel ({x}, {}) painted twice", run.y);
+            *pixel = Some(run.colour);
+        }
+    }
+    image
+}
+
+/// The z-buffer's picture of `polygons`: what every exact method must give.
+pub fn zbuffer_image(polygons: &[Polygon], width: u32, height: u32) -> Vec<Option<Colour>> {
+    let mut runs = Vec::new();
+    ZBuffer::new().resolve(polygons, width, height, &mut runs);
+    image_of(&runs, width, height)
+}
+
+/// Pixels where two pictures differ.
+pub fn differing_pixels(a: &[Option<Colour>], b: &[Option<Colour>]) -> usize {
+    assert_eq!(a.len(), b.len(), "pictures of different sizes");
+    a.iter().zip(b).filter(|(p, q)| p != q).count()
+}
+
+/// The runs of one row of finished pixels (`None`: not covered), each as long as it can
+/// be: how a method that decides a row at a time sends it.
+pub fn push_row_runs(y: u32, row: &[Option<Colour>], runs: &mut Vec<Run>) {
+    let mut x = 0;
+    while x < row.len() {
+        let Some(colour) = row[x] else {
+            x += 1;
+            continue;
+        };
+        let x0 = x;
+        while x < row.len() && row[x] == Some(colour) {
+            x += 1;
+        }
+        runs.push(Run {
+            y,
+            x0: x0 as u32,
+            x1: x as u32,
+            colour,
+        });
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn square(colour: Colour, x0: f64, y0: f64, x1: f64, y1: f64, z: f64) -> Polygon {
+        Polygon::from_xyz(
+            colour,
+            &[[x0, y0, z], [x1, y0, z], [x1, y1, z], [x0, y1, z]],
+        )
+    }
+
+    #[test]
+    fn the_zbuffer_keeps_the_nearer_and_the_earlier_of_a_tie() {
+        let polygons = [
+            square([1, 0, 0], 0.0, 0.0, 2.0, 2.0, 0.5),
+            square([2, 0, 0], 1.0, 0.0, 3.0, 1.0, 0.25), // nearer: wins (1, 0)
+            square([3, 0, 0], 0.0, 1.0, 1.0, 2.0, 0.5),  // a tie: the first square keeps (0, 1)
+        ];
+        let image = zbuffer_image(&polygons, 3, 2);
+        let r = |v| Some([v, 0, 0]);
+        assert_eq!(image, vec![r(1), r(2), r(2), r(1), r(1), None]);
+    }
+
+    #[test]
+    fn rows_become_runs_of_one_colour() {
+        let row = [
+            None,
+            Some([1, 1, 1]),
+            Some([1, 1, 1]),
+            Some([2, 2, 2]),
+            None,
+        ];
+        let mut runs = Vec::new();
+        push_row_runs(7, &row, &mut runs);
+        assert_eq!(
+            runs,
+            vec![
+                Run {
+                    y: 7,
+                    x0: 1,
+                    x1: 3,
+                    colour: [1, 1, 1]
+                },
+                Run {
+                    y: 7,
+                    x0: 3,
+                    x1: 4,
+                    colour: [2, 2, 2]
+                },
+            ]
+        );
+        assert_eq!(image_of(&runs, 5, 8)[7 * 5..], row);
+    }
+}

@@ -1,0 +1,77 @@
+//! The stream loop of a hidden-surface stage that resolves whole frames at a leaf of the
+//! splitter tree (docs/DESIGN.md, "Leaves resolve visibility").
+
+use crate::{next, read_stdin, write_stdout, Error, Result};
+use proto::{Form, Fragment, Header, Polygon, Space, SpaceKind, Token};
+use scan::frame::HiddenSurface;
+
+/// Counts every frame-resolving stage prints under `--stats`, before its method's own.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct FrameCounts {
+    pub polygons_in: u64,
+    pub frames: u64,
+    pub runs_out: u64,
+}
+
+/// Reads a screen-space stream on stdin, gathers each frame's polygons in stream order,
+/// has `method` resolve them at the frame's end, and writes the finished pixels to stdout
+/// in `form` as `run` records, frame by frame, for the merger (`zbuf`) to place. A
+/// polygon off the screen's guard band is a data error naming its place. `skip N`
+/// records carry nothing a frame-resolving method needs (the order of the polygons it
+/// does get is what decides ties). Under `stats`, prints one line on stderr at the end:
+/// `STAGE: P polygons in, F frames, R runs out, ` then the method's own counters.
+pub fn resolve_frames(
+    stage: &str,
+    form: Form,
+    stats: bool,
+    method: &mut impl HiddenSurface,
+) -> Result<FrameCounts> {
+    let mut input = read_stdin::<Token>(SpaceKind::Screen)?;
+    let (width, height) = input
+        .header()
+        .space
+        .screen_size()
+        .ok_or_else(|| Error::data("screen-space header without a size"))?;
+    let mut out = write_stdout::<Fragment>(Header::new(Space::Fragments { width, height }), form)?;
+    let mut counts = FrameCounts::default();
+    let mut polygons: Vec<Polygon> = Vec::new();
+    let mut runs = Vec::new();
+    while let Some(token) = next(&mut input)? {
+        let end = match token {
+            Token::Polygon(p) => {
+                scan::check_on_screen(&p, width, height)
+                    .map_err(|m| Error::data(format!("{}: {m}", input.position())))?;
+                counts.polygons_in += 1;
+                polygons.push(p);
+                continue;
+            }
+            Token::Skip(_) => continue,
+            Token::NextFrame => Fragment::NextFrame,
+            Token::End => Fragment::End,
+        };
+        method.resolve(&polygons, width, height, &mut runs);
+        polygons.clear();
+        counts.frames += 1;
+        counts.runs_out += runs.len() as u64;
+        for r in runs.drain(..) {
+            out.write(&Fragment::Run {
+                y: r.y,
+                x0: r.x0,
+                x1: r.x1,
+                colour: r.colour,
+            })?;
+        }
+        out.write(&end)?;
+    }
+    out.flush()?;
+    if stats {
+        eprintln!(
+            "{stage}: {} polygons in, {} frames, {} runs out, {}",
+            counts.polygons_in,
+            counts.frames,
+            counts.runs_out,
+            method.stats()
+        );
+    }
+    Ok(counts)
+}
