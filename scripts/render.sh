@@ -43,6 +43,17 @@ Options:
   --merge MODE      tiles (default): each leaf resolves its own region and zbuf only
                     places the finished pixels; buffer: the thesis's PAR.BUFF, every
                     fragment depth-tested in the one zbuf
+  --hse METHOD      the leaves' hidden-surface method: zbuf (default), scanline
+                    (Watkins), warnock (area subdivision) or painter (depth sort,
+                    wrong where polygons interpenetrate or overlap cyclically);
+                    every one at every --depth, with --merge tiles
+  --aa MODE         anti-aliasing at the leaves: none (default: one sample at each
+                    pixel centre), ss2, ss4, ss8, ss16 (K×K samples a pixel, box
+                    filter) or abuf (Carpenter's a-buffer, 8×8 coverage masks)
+  --pixels          with --merge buffer: one fragment per pixel (the thesis's
+                    quadruplets) instead of spans
+  --hidden-line     draw the visible parts of the polygons' edges as SVG, to the
+                    file -o names (FILE.svg; frame%03d.svg for a movie), at depth 0
   --clip MODE       batch (default): clipbatch, the six planes in one process over a
                     batch of polygons (Theoharis & Page's DAP clipper); chain: the
                     thesis's six clipplane processes
@@ -101,6 +112,10 @@ polypipe_version() { # the workspace's version, from its Cargo.toml
 size=500x500
 depth=0
 zmode=projective
+hse=zbuf    # --hse: the leaves' hidden-surface method
+aa=none     # --aa: the leaves' anti-aliasing
+pixels=()   # --pixels: scanconv's one record per pixel (with --merge buffer)
+hidden_line=0 # --hidden-line: hiddenline's SVG instead of frames
 merge=tiles # --merge: leaves resolve their regions (tiles), or one z-buffer (buffer)
 clip=batch  # --clip: clipbatch (batch), or the six clipplane processes (chain)
 scene=
@@ -112,8 +127,8 @@ stats=()  # --stats, for the stages that count
 output=() # zbuf's -o PATTERN
 
 # The options that take a value (each also as --option=value), and those that do not.
-valued=" --size --depth --zmode --merge --clip -o --eye --at --up --s --d --hither --yon --hosts --by --remote-bin "
-flags=" -h --help --version --stats "
+valued=" --size --depth --zmode --hse --aa --merge --clip -o --eye --at --up --s --d --hither --yon --hosts --by --remote-bin "
+flags=" -h --help --version --stats --pixels --hidden-line "
 
 parse_options() {
     local opt value
@@ -136,6 +151,10 @@ parse_options() {
             --depth) depth=$value ;;
             --zmode) zmode=$value ;;
             --merge) merge=$value ;;
+            --hse) hse=$value ;;
+            --aa) aa=$value ;;
+            --pixels) pixels=(--pixels) ;;
+            --hidden-line) hidden_line=1 ;;
             --clip) clip=$value ;;
             -o) output=(-o "$value") ;;
             --eye | --at | --up | --s | --d | --hither | --yon) camera+=("$opt" "$value") ;;
@@ -165,6 +184,23 @@ validate_options() {
         die_usage "--zmode must be projective or eye-z, not '$zmode'"
     [[ $merge == @(tiles|buffer) ]] || die_usage "--merge must be tiles or buffer, not '$merge'"
     [[ $clip == @(batch|chain) ]] || die_usage "--clip must be batch or chain, not '$clip'"
+    [[ $hse == @(zbuf|scanline|warnock|painter) ]] ||
+        die_usage "--hse must be zbuf, scanline, warnock or painter, not '$hse'"
+    [[ $aa == @(none|ss2|ss4|ss8|ss16|abuf) ]] ||
+        die_usage "--aa must be none, ss2, ss4, ss8, ss16 or abuf, not '$aa'"
+    # The methods and anti-aliasing modes are the leaves' own: PAR.BUFF sends every
+    # fragment to the one zbuf, and anti-aliasing resolves with a z-buffer.
+    [[ $merge == tiles || ($hse == zbuf && $aa == none) ]] ||
+        die_usage "--merge buffer is the z-buffer's, point-sampled: not with --hse $hse --aa $aa"
+    [[ $hse == zbuf || $aa == none ]] ||
+        die_usage "--aa $aa is a z-buffer's anti-aliasing: not with --hse $hse"
+    ((${#pixels[@]} == 0)) || [[ $merge == buffer ]] ||
+        die_usage "--pixels sends fragments to the one z-buffer: it needs --merge buffer"
+    if ((hidden_line)); then
+        ((depth == 0)) ||
+            die_usage "--hidden-line draws at depth 0 (the tree's cuts are not edges), not --depth $depth"
+        ((${#output[@]})) || die_usage "--hidden-line needs -o FILE.svg"
+    fi
     ((scene_given)) || scene=$root/examples/penetrating.txt
     [[ $scene == - || -r $scene ]] || fail 3 "cannot read scene $scene"
 }
@@ -340,10 +376,25 @@ start_tree() {
     done
 }
 
-# start_leaf LEAF INPUT: leaf LEAF (0 .. 2^depth − 1) of the tree, persp | scanconv, from
-# INPUT into a fifo of its own that the merger reads (appended to `fragments`). The
-# leaf's whole command is here: another hidden-surface method or merge mode is a change
-# to this function.
+# The hidden-surface stage at each leaf, as --merge, --hse and --aa choose it (sets
+# `method`): by default scanconv resolves its region with a z-buffer; --merge buffer sends
+# fragments on for the one zbuf to test (the thesis's PAR.BUFF).
+leaf_method() {
+    if [[ $merge == buffer ]]; then
+        method=("$bindir/scanconv" "${pixels[@]}")
+    elif [[ $aa == ss* ]]; then
+        method=("$bindir/supersample" --samples "${aa#ss}")
+    elif [[ $aa == abuf ]]; then
+        method=("$bindir/abuf")
+    elif [[ $hse == zbuf ]]; then
+        method=("$bindir/scanconv" --resolve)
+    else
+        method=("$bindir/$hse")
+    fi
+}
+
+# start_leaf LEAF INPUT: leaf LEAF (0 .. 2^depth − 1) of the tree, persp | METHOD, from
+# INPUT into a fifo of its own that the merger reads (appended to `fragments`).
 start_leaf() {
     local leaf=$1 in=$2 label=
     ((depth == 0)) || label=" (leaf $leaf)"
@@ -351,19 +402,25 @@ start_leaf() {
     fifo "leaf-$leaf"
     start "persp$label" "$in" "$tmp/screen-$leaf" \
         "$bindir/persp" --size "$size" --depth "$zmode"
-    local resolve=()
-    [[ $merge == buffer ]] || resolve=(--resolve) # the leaf resolves its own region
-    start "scanconv$label" "$tmp/screen-$leaf" "$tmp/leaf-$leaf" \
-        "$bindir/scanconv" "${resolve[@]}" "${stats[@]}"
+    start "${method[0]##*/}$label" "$tmp/screen-$leaf" "$tmp/leaf-$leaf" \
+        "${method[@]}" "${stats[@]}"
     fragments+=("$tmp/leaf-$leaf")
 }
 
 start_leaves() {
-    local leaf
+    local leaf method
+    leaf_method
     fragments=()
     for ((leaf = 0; leaf < 1 << depth; leaf++)); do
         start_leaf "$leaf" "${input_of[(1 << depth) + leaf]}"
     done
+}
+
+# --hidden-line: persp | hiddenline, writing the SVG (Archuleta's output) where -o says.
+start_hidden_line() {
+    fifo screen
+    start persp "$clipped" "$tmp/screen" "$bindir/persp" --size "$size" --depth "$zmode"
+    start hiddenline "$tmp/screen" - "$bindir/hiddenline" "${output[@]}"
 }
 
 # The merger (chapter 6.3.3): one zbuf reading every leaf, writing the frames.
@@ -486,9 +543,13 @@ main() {
     make_private_dir
     exec 3<&0
     start_clipper_chain
-    start_tree
-    start_leaves
-    start_merger
+    if ((hidden_line)); then
+        start_hidden_line
+    else
+        start_tree
+        start_leaves
+        start_merger
+    fi
     exec 3<&-
     watch
 }
