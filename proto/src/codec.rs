@@ -686,6 +686,11 @@ impl<T: Record, W: Write> Writer<T, W> {
         self.out.flush()
     }
 
+    /// The underlying writer (what has been flushed to it, that is).
+    pub fn get_ref(&self) -> &W {
+        self.out.get_ref()
+    }
+
     /// Flushes and hands back the underlying writer.
     pub fn into_inner(self) -> io::Result<W> {
         self.out.into_inner().map_err(|e| e.into_error())

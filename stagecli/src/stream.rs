@@ -71,6 +71,8 @@ pub fn next<T: Record, R: Read>(reader: &mut Reader<T, R>) -> Result<Option<T>> 
 pub struct Named<W> {
     inner: W,
     name: String,
+    /// Bytes written so far (the load on the link this output is: `--stats`).
+    bytes: u64,
 }
 
 impl<W: Write> Named<W> {
@@ -78,7 +80,13 @@ impl<W: Write> Named<W> {
         Named {
             inner,
             name: name.into(),
+            bytes: 0,
         }
+    }
+
+    /// Bytes written so far.
+    pub fn bytes(&self) -> u64 {
+        self.bytes
     }
 
     fn label(&self, e: io::Error) -> io::Error {
@@ -89,11 +97,15 @@ impl<W: Write> Named<W> {
 
 impl<W: Write> Write for Named<W> {
     fn write(&mut self, buf: &[u8]) -> io::Result<usize> {
-        self.inner.write(buf).map_err(|e| self.label(e))
+        let n = self.inner.write(buf).map_err(|e| self.label(e))?;
+        self.bytes += n as u64;
+        Ok(n)
     }
 
     fn write_all(&mut self, buf: &[u8]) -> io::Result<()> {
-        self.inner.write_all(buf).map_err(|e| self.label(e))
+        self.inner.write_all(buf).map_err(|e| self.label(e))?;
+        self.bytes += buf.len() as u64;
+        Ok(())
     }
 
     fn flush(&mut self) -> io::Result<()> {
@@ -146,6 +158,8 @@ pub fn same_file(a: &str, b: &str) -> bool {
 /// gets the whole stream and its END.
 pub struct Branch<T: Record> {
     writer: Option<Writer<T, Named<Box<dyn Write + Send>>>>,
+    /// The bytes written when the reader went away.
+    gone_at: u64,
 }
 
 impl<T: Record> Branch<T> {
@@ -155,7 +169,15 @@ impl<T: Record> Branch<T> {
         let out = Named::new(open_output(path)?, name);
         Ok(Branch {
             writer: Self::kept(Writer::new(out, header, form))?,
+            gone_at: 0,
         })
+    }
+
+    /// Bytes written to the output so far (those buffered included once flushed).
+    pub fn bytes(&self) -> u64 {
+        self.writer
+            .as_ref()
+            .map_or(self.gone_at, |w| w.get_ref().bytes())
     }
 
     /// Whether the output's reader is still there.
@@ -167,7 +189,7 @@ impl<T: Record> Branch<T> {
     pub fn write(&mut self, record: &T) -> Result<()> {
         if let Some(w) = &mut self.writer {
             if Self::kept(w.write(record))?.is_none() {
-                self.writer = None;
+                self.gone();
             }
         }
         Ok(())
@@ -177,10 +199,16 @@ impl<T: Record> Branch<T> {
     pub fn flush(&mut self) -> Result<()> {
         if let Some(w) = &mut self.writer {
             if Self::kept(w.flush())?.is_none() {
-                self.writer = None;
+                self.gone();
             }
         }
         Ok(())
+    }
+
+    /// The reader has gone: nothing more is written.
+    fn gone(&mut self) {
+        self.gone_at = self.bytes();
+        self.writer = None;
     }
 
     /// `Some` for success, `None` when the reader has gone, the error (which names the
@@ -200,7 +228,7 @@ impl Branch<proto::Token> {
     pub fn write_polygon(&mut self, polygon: &Polygon) -> Result<()> {
         if let Some(w) = &mut self.writer {
             if Self::kept(w.write_polygon(polygon))?.is_none() {
-                self.writer = None;
+                self.gone();
             }
         }
         Ok(())

@@ -162,7 +162,13 @@ fn main() -> ExitCode {
                     lean[0].control(&mut out1, control)?;
                     lean[1].control(&mut out2, control)?;
                     if *control == Token::End && cli.stats {
-                        eprintln!("{label}: {stats}");
+                        // The bytes each output carried: a link's load, when the
+                        // branch runs on another host (thesis 6.5).
+                        eprintln!(
+                            "{label}: {stats}; {} and {} bytes out",
+                            out1.bytes(),
+                            out2.bytes()
+                        );
                     }
                 }
             }

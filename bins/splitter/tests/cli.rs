@@ -191,8 +191,11 @@ fn a_general_plane_and_stdout() {
             "polypipe 1 eye aspect 1 hither 1 yon 30\ncolour 1 2 3\nplane 0 0 1 -16\n1 1 16 10\n1 0 16 10 on 0 0 16 10 2 0 16 10\n2 0 16 10\n2 2 16 10 on 2 2 16 10 0 0 16 10\nEND\n",
         )
         .stderr(
-            "splitter 1,0,0,-0.1,0: 1 polygons in; out1 1 polygons, 4 vertices; out2 1 polygons, 3 vertices\n",
+            "splitter 1,0,0,-0.1,0: 1 polygons in; out1 1 polygons, 4 vertices; out2 1 polygons, 3 vertices; \
+             159 and 149 bytes out\n",
         );
+    // The byte counts are the two outputs' lengths (stdout's is checked above).
+    assert_eq!(std::fs::metadata(&b).unwrap().len(), 149);
     assert_eq!(
         std::fs::read_to_string(b).unwrap(),
         "polypipe 1 eye aspect 1 hither 1 yon 30\ncolour 1 2 3\nplane 0 0 1 -16\n1 1 16 10 on 2 2 16 10 0 0 16 10\n0 0 16 10 on 0 0 16 10 2 0 16 10\n1 0 16 10\nEND\n"
@@ -351,8 +354,14 @@ fn skips_coalesce_and_keep_numbering() {
         .success()
         .stderr(
             "splitter x=0: 10 polygons in; out1 2 polygons, 6 vertices; out2 1 polygons, \
-             3 vertices\n",
+             3 vertices; 209 and 146 bytes out\n",
         );
+    let sizes = [&a, &b].map(|f| std::fs::metadata(f).unwrap().len());
+    assert_eq!(
+        sizes,
+        [209, 146],
+        "--stats counts the bytes each output carried"
+    );
     assert_eq!(
         std::fs::read_to_string(&a).unwrap(),
         format!(

@@ -125,11 +125,14 @@ fn main() -> ExitCode {
                 let name = stagecli::input_name(name);
                 if s.runs > 0 {
                     eprintln!(
-                        "zbuf: {name}: {} spans, {} runs, {} pixels",
-                        s.spans, s.runs, s.pixels
+                        "zbuf: {name}: {} spans, {} runs, {} pixels, {} bytes in",
+                        s.spans, s.runs, s.pixels, s.bytes
                     );
                 } else {
-                    eprintln!("zbuf: {name}: {} spans, {} pixels", s.spans, s.pixels);
+                    eprintln!(
+                        "zbuf: {name}: {} spans, {} pixels, {} bytes in",
+                        s.spans, s.pixels, s.bytes
+                    );
                 }
             }
         }

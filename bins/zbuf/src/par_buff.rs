@@ -16,7 +16,9 @@ use crate::FrameBuffer;
 use proto::{Colour, Fragment, Reader, SpaceKind};
 use stagecli::{Context, Error, Result};
 use std::io::Read;
+use std::sync::atomic::{AtomicU64, Ordering};
 use std::sync::mpsc::{channel, sync_channel, Receiver, Sender, SyncSender};
+use std::sync::Arc;
 
 /// Fragments per batch sent from a reader thread to the buffer thread.
 pub const BATCH: usize = 4096;
@@ -38,6 +40,22 @@ pub struct InputStats {
     /// Runs of finished pixels (from a leaf that resolved its own region).
     pub runs: u64,
     pub pixels: u64,
+    /// Bytes read from the input: the load on its link (thesis 6.5).
+    pub bytes: u64,
+}
+
+/// A reader that counts the bytes read through it.
+struct Counted<R> {
+    inner: R,
+    bytes: Arc<AtomicU64>,
+}
+
+impl<R: Read> Read for Counted<R> {
+    fn read(&mut self, buf: &mut [u8]) -> std::io::Result<usize> {
+        let n = self.inner.read(buf)?;
+        self.bytes.fetch_add(n as u64, Ordering::Relaxed);
+        Ok(n)
+    }
 }
 
 /// From a reader thread to the buffer thread.
@@ -76,6 +94,8 @@ struct InputState {
     polygons: u32,
     colour: Colour,
     stats: InputStats,
+    /// Bytes its reader thread has read.
+    bytes: Arc<AtomicU64>,
 }
 
 /// Runs PAR.BUFF over `inputs`: `on_frame(k, buffer)` is called as soon as frame k is
@@ -96,9 +116,11 @@ pub fn par_buff(
     for (id, input) in inputs.into_iter().enumerate() {
         let (go_ahead, wait) = channel();
         let tx = to_buffer.clone();
+        let bytes = Arc::new(AtomicU64::new(0));
+        let counter = Arc::clone(&bytes);
         std::thread::Builder::new()
             .name(format!("zbuf-in-{id}"))
-            .spawn(move || read_input(id, input.open, tx, wait))
+            .spawn(move || read_input(id, input.open, counter, tx, wait))
             .map_err(|e| Error::io(format!("cannot start a reader thread: {e}")))?;
         states.push(InputState {
             name: input.name,
@@ -107,6 +129,7 @@ pub fn par_buff(
             polygons: 0,
             colour: [0; 3],
             stats: InputStats::default(),
+            bytes,
         });
     }
     drop(to_buffer);
@@ -165,7 +188,13 @@ pub fn par_buff(
                 on_frame(frame, fb)?;
                 let ended = states.iter().filter(|s| s.at == At::End).count();
                 if ended == n {
-                    return Ok(states.iter().map(|s| s.stats).collect());
+                    return Ok(states
+                        .iter()
+                        .map(|s| InputStats {
+                            bytes: s.bytes.load(Ordering::Relaxed),
+                            ..s.stats
+                        })
+                        .collect());
                 }
                 if ended > 0 {
                     let short = states.iter().find(|s| s.at == At::End).map(|s| &s.name);
@@ -242,9 +271,19 @@ fn apply(fb: &mut FrameBuffer, s: &mut InputState, fragments: &[Fragment]) -> Re
 
 /// A reader thread: decodes one input and sends it on in batches, waiting at each
 /// NEXT.FRAME for the frame to be shown. Ends quietly if the buffer thread has gone.
-fn read_input(input: usize, open: Opener, tx: SyncSender<Message>, wait: Receiver<()>) {
+fn read_input(
+    input: usize,
+    open: Opener,
+    bytes: Arc<AtomicU64>,
+    tx: SyncSender<Message>,
+    wait: Receiver<()>,
+) {
     let result = (|| -> Result<()> {
-        let mut reader = Reader::<Fragment, _>::new(open()?)?;
+        let counted = Counted {
+            inner: open()?,
+            bytes,
+        };
+        let mut reader = Reader::<Fragment, _>::new(counted)?;
         reader.header().expect(SpaceKind::Fragments)?;
         let (width, height) = reader
             .header()

@@ -116,7 +116,10 @@ END
         .assert()
         .success()
         .stdout(ppm(3, 1, &[[1, 2, 3], G, R]))
-        .stderr("zbuf: stdin: 1 spans, 3 pixels\n");
+        .stderr(format!(
+            "zbuf: stdin: 1 spans, 3 pixels, {} bytes in\n",
+            text.len()
+        ));
 }
 
 /// Polygon 0 (red) and polygon 1 (blue) at the same depth over the same pixels, their
@@ -263,9 +266,11 @@ fn two_inputs_as_files() {
         .arg("--stats")
         .assert()
         .stderr(format!(
-            "zbuf: {}: 2 spans, 4 pixels\nzbuf: {}: 3 spans, 6 pixels\n",
+            "zbuf: {}: 2 spans, 4 pixels, {} bytes in\nzbuf: {}: 3 spans, 6 pixels, {} bytes in\n",
             a.display(),
-            b.display()
+            std::fs::metadata(&a).unwrap().len(),
+            b.display(),
+            std::fs::metadata(&b).unwrap().len(),
         ));
 }
 
