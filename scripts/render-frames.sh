@@ -141,11 +141,6 @@ while (($# > 0)); do
 done
 
 [[ -n $hosts_arg ]] || die_usage "--hosts H1,H2,… is needed"
-IFS=, read -r -a hosts <<<"$hosts_arg"
-for h in "${hosts[@]}"; do
-    [[ -n $h && $h != -* && $h != *[[:space:]]* ]] ||
-        die_usage "--hosts must be host names separated by commas, not '$hosts_arg'"
-done
 if ! [[ $size =~ ^0*([1-9][0-9]{0,4})[xX]0*([1-9][0-9]{0,4})$ ]] ||
     ((BASH_REMATCH[1] > 65536 || BASH_REMATCH[2] > 65536)); then
     die_usage "--size must be WxH with W and H from 1 to 65536, not '$size'"
@@ -156,6 +151,8 @@ header="P6"$'\n'"$width $height"$'\n'"255"$'\n'
 frame_bytes=$((${#header} + width * height * 3))
 
 root=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd) || exit 3
+source "$root/scripts/hosts.sh"
+check_hosts "$hosts_arg"
 ((scene_given)) || scene=$root/examples/penetrating.txt
 [[ $scene == - || -r $scene ]] || fail 3 "cannot read scene $scene"
 
@@ -182,18 +179,6 @@ if ((stale)); then
         fail 3 "cargo build failed"
 fi
 remote_bin=${remote_bin:-$bindir}
-
-# The command that reaches a host. Plain ssh gets the options that make a dead host
-# known within seconds; a POLYPIPE_SSH of the user's is taken as it is.
-if [[ -n ${POLYPIPE_SSH-} ]]; then
-    read -r -a ssh_cmd <<<"$POLYPIPE_SSH"
-else
-    ssh_cmd=(ssh -o BatchMode=yes -o ConnectTimeout=5 -o ServerAliveInterval=2
-        -o ServerAliveCountMax=3)
-fi
-
-# quote WORD: WORD for a POSIX shell on the far side, in single quotes.
-quote() { printf "'%s'" "${1//\'/\'\\\'\'}"; }
 
 remote_cmd="exec env POLYPIPE_BIN=$(quote "$remote_bin") $(quote "$root/scripts/render.sh")"
 for word in "${passed[@]}"; do remote_cmd+=" $(quote "$word")"; done
@@ -280,45 +265,13 @@ flush() {
     done
 }
 
-# last_line FILE: its last non-blank line, with render.sh's own prefix taken off.
-last_line() {
-    local line
-    line=$(grep -v '^[[:space:]]*$' "$1" 2>/dev/null | tail -n 1)
-    line=${line#render.sh: }
-    printf '%s' "$line"
-}
-
-# what_failed CHUNK STATUS: sets `message` and `exit_status` for a host's failure.
-what_failed() {
-    local k=$1 st=$2 said
-    said=$(last_line "$tmp/err.$k")
-    if ((st == 255)); then
-        # ssh's own failure: the host could not be reached, refused us, or dropped.
-        message=${said:-"failed (status 255)"}
-        [[ $message == ssh:* ]] || message="ssh: $message"
-        exit_status=3
-    elif ((st == 126 || st == 127)); then
-        message="cannot run render.sh there: ${said:-status $st}"
-        exit_status=3
-    elif ((st > 128)); then
-        message="ssh was killed by SIG$(kill -l $((st - 128)) 2>/dev/null || echo $((st - 128)))${said:+: $said}"
-        exit_status=3
-    elif [[ -n $said ]]; then
-        message=$said
-        exit_status=$((st <= 3 ? st : 1))
-    else
-        message="the command exited with status $st and no message (does the host allow only another command?)"
-        exit_status=3
-    fi
-}
-
 # chunk_ended CHUNK STATUS: records how a host's ssh ended. Success is status 0 and every
 # frame sent back; otherwise sets `failed`, `message` and `exit_status`.
 chunk_ended() {
     local k=$1 st=$2 got want
     ended[k]=$EPOCHREALTIME
     if ((st != 0)); then
-        what_failed "$k" "$st"
+        what_failed "$tmp/err.$k" "$st" render.sh
         failed=$k
         return 1
     fi

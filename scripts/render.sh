@@ -59,9 +59,12 @@ Options:
                     thesis's six clipplane processes
   --stats           splitter nodes, scan converters and zbuf print counts on stderr
   -o PATTERN        zbuf writes one file per frame (e.g. frame%04d.png) instead
-  --hosts H1,H2,…   render on other hosts over ssh ($POLYPIPE_SSH HOST …, default ssh)
-  --by frames       with --hosts: split a movie's frames across the hosts in
-                    contiguous chunks, each rendered there whole (scripts/render-frames.sh)
+  --hosts H1,H2,…   run the tree's leaves (persp and the method) on other hosts
+                    over ssh ($POLYPIPE_SSH HOST …, default ssh), round-robin: the
+                    leaves' streams go there and their finished pixels come back
+  --by MODE         with --hosts: leaves (default), or frames: split a movie's
+                    frames across the hosts in contiguous chunks, each rendered
+                    there whole (scripts/render-frames.sh)
   --remote-bin DIR  with --hosts: the binaries' folder on the hosts (default: this one's)
   -h, --help        this text
   --version         the version
@@ -120,8 +123,9 @@ merge=tiles # --merge: leaves resolve their regions (tiles), or one z-buffer (bu
 clip=batch  # --clip: clipbatch (batch), or the six clipplane processes (chain)
 scene=
 scene_given=0
-hosts=    # --hosts H1,H2,…
-by=       # --by frames
+hosts=()  # --hosts H1,H2,… (a list until check_hosts makes it the array)
+by=       # --by leaves|frames
+remote_bin= # --remote-bin DIR
 camera=() # viewxf's options, as given
 stats=()  # --stats, for the stages that count
 output=() # zbuf's -o PATTERN
@@ -161,7 +165,7 @@ parse_options() {
             --stats) stats=(--stats) ;;
             --hosts) hosts=$value ;;
             --by) by=$value ;;
-            --remote-bin) ;; # for render-frames.sh
+            --remote-bin) remote_bin=$value ;;
             -?*) die_usage "unknown option ${opt%%=*}" ;;
             *)
                 ((scene_given == 0)) || die_usage "more than one SCENE: '$scene' and '$opt'"
@@ -200,6 +204,11 @@ validate_options() {
         ((depth == 0)) ||
             die_usage "--hidden-line draws at depth 0 (the tree's cuts are not edges), not --depth $depth"
         ((${#output[@]})) || die_usage "--hidden-line needs -o FILE.svg"
+    fi
+    if ((${#hosts[@]})); then
+        [[ $merge == tiles ]] ||
+            die_usage "--hosts runs leaves that resolve their regions: not with --merge buffer"
+        ((hidden_line == 0)) || die_usage "--hidden-line is drawn here: not with --hosts"
     fi
     ((scene_given)) || scene=$root/examples/penetrating.txt
     [[ $scene == - || -r $scene ]] || fail 3 "cannot read scene $scene"
@@ -398,17 +407,41 @@ leaf_method() {
 start_leaf() {
     local leaf=$1 in=$2 label=
     ((depth == 0)) || label=" (leaf $leaf)"
-    fifo "screen-$leaf"
     fifo "leaf-$leaf"
+    fragments+=("$tmp/leaf-$leaf")
+    if ((${#hosts[@]})); then
+        start_remote_leaf "$leaf" "$in" "${hosts[leaf % ${#hosts[@]}]}"
+        return
+    fi
+    fifo "screen-$leaf"
     start "persp$label" "$in" "$tmp/screen-$leaf" \
         "$bindir/persp" --size "$size" --depth "$zmode"
     start "${method[0]##*/}$label" "$tmp/screen-$leaf" "$tmp/leaf-$leaf" \
         "${method[@]}" "${stats[@]}"
-    fragments+=("$tmp/leaf-$leaf")
+}
+
+# start_remote_leaf LEAF INPUT HOST: leaf LEAF's persp | METHOD run on HOST through ssh
+# (docs/DESIGN.md, "Stages on other hosts"): the leaf's binary stream goes down the ssh
+# channel, its finished pixels come back up it into the leaf's fifo. The binaries are
+# looked for first, so that a host without them is named as such. When ssh goes (the
+# host drops, or the run is stopped), the remote persp's input ends short and the
+# method's output has no reader: both stop there.
+start_remote_leaf() {
+    local leaf=$1 in=$2 host=$3 dir=${remote_bin:-$bindir} word remote name
+    name=${method[0]##*/}
+    remote="for b in persp $name; do [ -x $(quote "$dir")/\$b ] || "
+    remote+="{ echo \"no \$b in \"$(quote "$dir")\" (--remote-bin)\" >&2; exit 3; }; done; "
+    remote+="$(quote "$dir/persp") --size $(quote "$size") --depth $(quote "$zmode") | "
+    remote+="$(quote "$dir/$name")"
+    for word in "${method[@]:1}" "${stats[@]}"; do remote+=" $(quote "$word")"; done
+    start "$name (leaf $leaf, host $host)" "$in" "$tmp/leaf-$leaf" \
+        "${ssh_cmd[@]}" "$host" "$remote"
+    host_of[$!]="$host (leaf $leaf)"
 }
 
 start_leaves() {
     local leaf method
+    declare -gA host_of=() # the pid of a leaf's ssh → "HOST (leaf N)"
     leaf_method
     fragments=()
     for ((leaf = 0; leaf < 1 << depth; leaf++)); do
@@ -455,6 +488,27 @@ labelled_stderr() {
     done <"$tmp/stderr.$1"
 }
 
+# With --stats and --hosts: for each leaf, its host and the bytes its link carried each
+# way (thesis 6.5 estimates them for the transputer links: 50 bytes a polygon into the
+# clipper, 7 bytes a pixel out of a scan converter), from the splitters' and zbuf's
+# counts. At depth 0 the link carries the clipper's whole output, which nothing counts.
+links() {
+    local leaf parent side there back line
+    for ((leaf = 0; leaf < 1 << depth; leaf++)); do
+        there="not counted at depth 0" back="?"
+        if ((depth > 0)); then
+            parent=$((((1 << depth) + leaf) >> 1)) side=$((leaf & 1))
+            line=$(grep -h "(node $parent): " "$tmp"/stderr.* 2>/dev/null)
+            if [[ $line =~ \;\ ([0-9]+)\ and\ ([0-9]+)\ bytes\ out ]]; then
+                there="${BASH_REMATCH[side + 1]} bytes there"
+            fi
+        fi
+        line=$(grep -h "^zbuf: .*leaf-$leaf: " "$tmp"/stderr.* 2>/dev/null)
+        [[ ! $line =~ \ ([0-9]+)\ bytes\ in$ ]] || back="${BASH_REMATCH[1]} bytes back"
+        echo "render.sh: leaf $leaf on host ${hosts[leaf % ${#hosts[@]}]}: $there, $back"
+    done
+}
+
 finished() { # finished PID: whether it has exited (reaped or a zombie)
     local stat
     kill -0 "$1" 2>/dev/null || return 0
@@ -496,6 +550,7 @@ watch() {
 
     if [[ -z $failed ]]; then
         for i in "${!pids[@]}"; do labelled_stderr "$i" >&2; done
+        ((${#stats[@]} == 0 || ${#hosts[@]} == 0)) || links >&2
         exit 0
     fi
     # A stage failed. Those downstream of it fail in turn when their input ends short,
@@ -511,8 +566,9 @@ watch() {
     done
     for pid in "${pids[@]}"; do
         st=${status_of[$pid]-0}
-        # 127: bash knew no such child, so no status to blame it on.
-        ((st != 0 && st != 127)) || continue
+        # 127: bash knew no such child, so no status to blame it on (but for an ssh:
+        # the far side could not run the command).
+        if ((st == 0)) || { ((st == 127)) && [[ -z ${host_of[$pid]-} ]]; }; then continue; fi
         if ((st > 128)); then cause=$pid; break; fi
         [[ -n $cause ]] || cause=$pid
     done
@@ -521,7 +577,14 @@ watch() {
         fail 1 "a stage could not be run (status 127)"
     fi
     for i in "${!pids[@]}"; do
-        [[ ${pids[$i]} == "$cause" ]] && labelled_stderr "$i" >&2
+        [[ ${pids[$i]} == "$cause" ]] || continue
+        if [[ -n ${host_of[$cause]-} ]]; then
+            # A leaf on a host: what ssh or the far side said last is the message.
+            labelled_stderr "$i" | head -n -1 >&2
+            what_failed "$tmp/stderr.$i" "${status_of[$cause]}" "the leaf"
+            fail "$exit_status" "host ${host_of[$cause]}: $message"
+        fi
+        labelled_stderr "$i" >&2
     done
     # The stage's own class of failure (1 bad data, 2 usage, 3 I/O); otherwise 1.
     st=${status_of[$cause]}
@@ -532,10 +595,13 @@ watch() {
 main() {
     locate_repository
     parse_options "$@"
-    if [[ -n $hosts || -n $by ]]; then # rendering on other hosts
-        [[ -n $hosts ]] || die_usage "--by $by needs --hosts H1,H2,…"
-        [[ $by == frames ]] || die_usage "--hosts: only --by frames is built so far (the tree's leaves on hosts are not), not '${by:-leaves}'"
-        exec "$root/scripts/render-frames.sh" "$@"
+    if [[ -n ${hosts-} || -n $by ]]; then # rendering on other hosts
+        [[ -n ${hosts-} ]] || die_usage "--by $by needs --hosts H1,H2,…"
+        [[ ${by:-leaves} == @(leaves|frames) ]] ||
+            die_usage "--by must be leaves or frames, not '$by'"
+        [[ $by != frames ]] || exec "$root/scripts/render-frames.sh" "$@"
+        source "$root/scripts/hosts.sh"
+        check_hosts "$hosts"
     fi
     validate_options
     [[ -r /proc/self/stat ]] || fail 3 "needs /proc (Linux), to watch its stages"

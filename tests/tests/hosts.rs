@@ -700,3 +700,228 @@ fn usage_errors_need_no_hosts() {
         assert_eq!(stderr(&out).lines().next(), Some(message), "{args:?}");
     }
 }
+
+// --- The tree's leaves on hosts (`--by leaves`, the default with --hosts). ---------------
+
+/// `scripts/render.sh --by leaves ARGS` reaching `hosts`, with TMPDIR `tmp`.
+fn render_leaves(hosts: &Hosts, tmp: &Path, args: &[&str]) -> (Output, Duration) {
+    let mut all = vec!["--by", "leaves"];
+    all.extend_from_slice(args);
+    render_frames(hosts, tmp, &all, b"")
+}
+
+#[test]
+fn leaves_on_two_hosts_give_a_local_runs_frames_at_depths_1_to_3() {
+    let _serial = hosts::serial();
+    let Some(hosts) = Hosts::start(&[Host::Serving, Host::Serving]) else {
+        return;
+    };
+    let tmp = local_tmp(&hosts);
+    let movie = scene_file(
+        hosts.dir(),
+        "env.pp",
+        &[
+            "environment",
+            "--frames",
+            "3",
+            "--polygons",
+            "300",
+            "--size",
+            "96x64",
+        ],
+    );
+    let m = movie.display().to_string();
+    let mut sessions = 0;
+    for depth in ["1", "2", "3"] {
+        let local = render_locally(&format!("--size 96x64 --depth {depth} {m}"));
+        assert_eq!(local.len(), 3 * frame_bytes(96, 64));
+        let (out, _) = render_leaves(
+            &hosts,
+            &tmp,
+            &[
+                "--hosts",
+                "node1,node2",
+                "--size",
+                "96x64",
+                "--depth",
+                depth,
+                &m,
+            ],
+        );
+        assert!(out.status.success(), "depth {depth}: {}", stderr(&out));
+        assert!(
+            out.stdout == local,
+            "depth {depth}: frames differ from a local run's"
+        );
+        assert_eq!(stderr(&out), "", "a run without --stats says nothing");
+        // Round-robin: 2^depth leaves, half on each host, one ssh session a leaf.
+        sessions += (1 << depth.parse::<u32>().unwrap()) / 2;
+        for i in 0..2 {
+            assert_eq!(hosts.sessions(i), sessions, "{}", hosts.log(i));
+        }
+    }
+    assert_nothing_left(&hosts, 2, &tmp);
+}
+
+#[test]
+fn leaves_stats_name_each_leafs_host_and_its_links_bytes() {
+    let _serial = hosts::serial();
+    let Some(hosts) = Hosts::start(&[Host::Serving, Host::Serving]) else {
+        return;
+    };
+    let tmp = local_tmp(&hosts);
+    let (out, _) = render_leaves(
+        &hosts,
+        &tmp,
+        &["--hosts", "node1,node2", "--depth", "2", "--stats"],
+    );
+    assert!(out.status.success(), "{}", stderr(&out));
+    let err = stderr(&out);
+    // The leaves' own counts come back over ssh, labelled with the host; the bytes are
+    // the splitters' outputs and zbuf's inputs of the default scene at depth 2.
+    assert!(
+        err.contains("scanconv (leaf 1, host node2): 2 polygons in, 2 drawn, 21082 pixels tested"),
+        "{err}"
+    );
+    let links: Vec<&str> = err
+        .lines()
+        .filter(|l| l.starts_with("render.sh: leaf"))
+        .collect();
+    assert_eq!(
+        links,
+        [
+            "render.sh: leaf 0 on host node1: 640 bytes there, 2592 bytes back",
+            "render.sh: leaf 1 on host node2: 640 bytes there, 5184 bytes back",
+            "render.sh: leaf 2 on host node1: 736 bytes there, 2432 bytes back",
+            "render.sh: leaf 3 on host node2: 336 bytes there, 2256 bytes back",
+        ]
+    );
+    assert_nothing_left(&hosts, 2, &tmp);
+}
+
+#[test]
+fn a_leaf_host_that_cannot_be_reached_is_named() {
+    let _serial = hosts::serial();
+    let Some(hosts) = Hosts::start(&[Host::Serving, Host::Unreachable]) else {
+        return;
+    };
+    let tmp = local_tmp(&hosts);
+    let (out, took) = render_leaves(&hosts, &tmp, &["--hosts", "node1,node2", "--depth", "1"]);
+    let (address, port) = hosts.address(1);
+    assert_eq!(out.status.code(), Some(3), "{}", stderr(&out));
+    assert_eq!(
+        last_line(&out),
+        format!(
+            "render.sh: host node2 (leaf 1): ssh: connect to host {address} port {port}: Connection refused"
+        )
+    );
+    assert!(took < Duration::from_secs(30), "took {took:?}");
+    assert!(out.stdout.is_empty(), "no frame is whole without leaf 1");
+    assert_nothing_left(&hosts, 2, &tmp);
+}
+
+#[test]
+fn a_leaf_host_that_refuses_the_command_is_named() {
+    let _serial = hosts::serial();
+    let Some(hosts) = Hosts::start(&[Host::Serving, Host::ForcedCommand("false".into())]) else {
+        return;
+    };
+    let tmp = local_tmp(&hosts);
+    let (out, took) = render_leaves(&hosts, &tmp, &["--hosts", "node1,node2", "--depth", "1"]);
+    assert_eq!(out.status.code(), Some(3), "{}", stderr(&out));
+    assert_eq!(
+        last_line(&out),
+        "render.sh: host node2 (leaf 1): the command exited with status 1 and no message \
+         (does the host allow only another command?)"
+    );
+    assert!(took < Duration::from_secs(10), "took {took:?}");
+    assert_nothing_left(&hosts, 2, &tmp);
+}
+
+#[test]
+fn a_leaf_host_without_the_binaries_is_named() {
+    let _serial = hosts::serial();
+    let Some(hosts) = Hosts::start(&[Host::Serving]) else {
+        return;
+    };
+    let tmp = local_tmp(&hosts);
+    let (out, took) = render_leaves(
+        &hosts,
+        &tmp,
+        &[
+            "--hosts",
+            "node1",
+            "--remote-bin",
+            "/nonexistent",
+            "--depth",
+            "1",
+        ],
+    );
+    assert_eq!(out.status.code(), Some(3), "{}", stderr(&out));
+    assert_eq!(
+        last_line(&out),
+        "render.sh: host node1 (leaf 0): no persp in /nonexistent (--remote-bin)"
+    );
+    assert!(took < Duration::from_secs(10), "took {took:?}");
+    assert_nothing_left(&hosts, 1, &tmp);
+}
+
+#[test]
+fn a_leaf_host_that_drops_mid_movie_ends_the_run_within_seconds() {
+    let _serial = hosts::serial();
+    let Some(mut hosts) = Hosts::start(&[Host::Serving, Host::Serving]) else {
+        return;
+    };
+    let tmp = local_tmp(&hosts);
+    let movie = long_movie(&hosts);
+    let stdout_path = hosts.dir().join("leaves.ppm");
+    let mut cmd = render_frames_cmd(
+        &hosts,
+        &tmp,
+        &[
+            "--by",
+            "leaves",
+            "--hosts",
+            "node1,node2",
+            "--depth",
+            "1",
+            "--size",
+            "128x128",
+            &movie.display().to_string(),
+        ],
+    );
+    cmd.stdin(Stdio::null())
+        .stdout(std::fs::File::create(&stdout_path).unwrap())
+        .stderr(Stdio::piped());
+    let mut child = cmd.spawn().expect("start render.sh");
+    let f = frame_bytes(128, 128);
+    let deadline = Instant::now() + Duration::from_secs(60);
+    while std::fs::metadata(&stdout_path).map_or(0, |m| m.len() as usize) < 2 * f {
+        assert!(child.try_wait().unwrap().is_none(), "the run ended early");
+        assert!(Instant::now() < deadline, "no two frames in 60 s");
+        std::thread::sleep(Duration::from_millis(5));
+    }
+    hosts.drop_host(1);
+    let (status, err, took) = wait_at_most(&mut child, Duration::from_secs(10));
+    assert_eq!(status.code(), Some(3), "{err}");
+    let message = err.lines().last().unwrap_or("");
+    assert!(
+        message.starts_with("render.sh: host node2 (leaf 1): ssh"),
+        "{err}"
+    );
+    assert!(took < Duration::from_secs(10), "took {took:?}");
+    let written = std::fs::read(&stdout_path).unwrap();
+    assert_eq!(
+        written.len() % f,
+        0,
+        "{} bytes: a frame cut short",
+        written.len()
+    );
+    let local = render_locally(&format!("--size 128x128 --depth 1 {}", movie.display()));
+    assert!(
+        local.starts_with(&written),
+        "the frames written are not the movie's first"
+    );
+    assert!(written.len() < local.len());
+    assert_nothing_left(&hosts, 1, &tmp);
+}
