@@ -66,6 +66,9 @@ Options:
                     frames across the hosts in contiguous chunks, each rendered
                     there whole (scripts/render-frames.sh)
   --remote-bin DIR  with --hosts: the binaries' folder on the hosts (default: this one's)
+  --subtree K       what --hosts runs on a host: node K's part of the tree (its
+                    splitters, leaves and a zbuf --runs), from the stream into node K
+                    on stdin to its finished runs on stdout
   -h, --help        this text
   --version         the version
 
@@ -126,12 +129,13 @@ scene_given=0
 hosts=()  # --hosts H1,H2,… (a list until check_hosts makes it the array)
 by=       # --by leaves|frames
 remote_bin= # --remote-bin DIR
+subtree=    # --subtree K: this is a host rendering node K's subtree for --hosts
 camera=() # viewxf's options, as given
 stats=()  # --stats, for the stages that count
 output=() # zbuf's -o PATTERN
 
 # The options that take a value (each also as --option=value), and those that do not.
-valued=" --size --depth --zmode --hse --aa --merge --clip -o --eye --at --up --s --d --hither --yon --hosts --by --remote-bin "
+valued=" --size --depth --zmode --hse --aa --merge --clip -o --eye --at --up --s --d --hither --yon --hosts --by --remote-bin --subtree "
 flags=" -h --help --version --stats --pixels --hidden-line "
 
 parse_options() {
@@ -166,6 +170,7 @@ parse_options() {
             --hosts) hosts=$value ;;
             --by) by=$value ;;
             --remote-bin) remote_bin=$value ;;
+            --subtree) subtree=$value ;;
             -?*) die_usage "unknown option ${opt%%=*}" ;;
             *)
                 ((scene_given == 0)) || die_usage "more than one SCENE: '$scene' and '$opt'"
@@ -204,6 +209,12 @@ validate_options() {
         ((depth == 0)) ||
             die_usage "--hidden-line draws at depth 0 (the tree's cuts are not edges), not --depth $depth"
         ((${#output[@]})) || die_usage "--hidden-line needs -o FILE.svg"
+    fi
+    if [[ -n $subtree ]]; then
+        [[ $subtree =~ ^[1-9][0-9]*$ ]] && ((subtree < 2 << depth)) ||
+            die_usage "--subtree must be a node of the tree, 1 to $(((2 << depth) - 1)), not '$subtree'"
+        [[ $merge == tiles && ${#hosts[@]} == 0 && $hidden_line == 0 ]] ||
+            die_usage "--subtree is a host's part of --hosts: not with --merge buffer, --hosts or --hidden-line"
     fi
     if ((${#hosts[@]})); then
         [[ $merge == tiles ]] ||
@@ -335,7 +346,15 @@ fifo() { mkfifo "$tmp/$1" || exit 3; }
 start() {
     local name=$1 in=$2 out=$3 err=$tmp/stderr.${#pids[@]}
     shift 3
-    if [[ $out == - ]]; then
+    # The script's stdin (kept on fd 3) and stdout are handed on, not opened again: a
+    # fifo whose writer has finished cannot be opened again (--subtree's input), nor can
+    # a socket. Everything else is opened by the stage's own process, so that a fifo's
+    # open, which waits for the other end, holds up only that stage.
+    if [[ $in == /dev/fd/3 && $out == - ]]; then
+        "$@" <&3 2>"$err" 3<&- &
+    elif [[ $in == /dev/fd/3 ]]; then
+        "$@" <&3 >"$out" 2>"$err" 3<&- &
+    elif [[ $out == - ]]; then
         "$@" <"$in" 2>"$err" 3<&- &
     else
         "$@" <"$in" >"$out" 2>"$err" 3<&- &
@@ -371,18 +390,25 @@ start_clipper_chain() {
 # The splitter tree (chapter 6.3): node K, numbered as a heap (root 1), reads input_of[K]
 # and writes input_of[2K] and input_of[2K+1]; nodes 2^depth .. 2^(depth+1) − 1 are the
 # leaves' inputs. Each node works out its own plane and --stats label from K.
+#
+# start_tree ROOT BELOW: the splitters of ROOT's subtree numbered below BELOW (2^depth for
+# the whole tree; less when subtrees go to other hosts), reading input_of[ROOT]. Sets
+# `frontier` to the nodes their outputs feed: the leaves' inputs, or the subtrees'.
 start_tree() {
-    local node a b
-    input_of=([1]=$clipped)
-    for ((node = 1; node < 1 << depth; node++)); do
-        a=$((2 * node)) b=$((2 * node + 1))
-        fifo "node-$a"
-        fifo "node-$b"
-        input_of[a]=$tmp/node-$a input_of[b]=$tmp/node-$b
-        start "splitter (node $node)" "${input_of[node]}" /dev/null "$bindir/splitter" \
-            "${stats[@]}" --node "$node" --depth "$depth" --size "$size" \
-            "${input_of[a]}" "${input_of[b]}"
+    local root=$1 below=$2 first n node a b
+    for ((first = root, n = 1; first < below; first *= 2, n *= 2)); do
+        for ((node = first; node < first + n; node++)); do
+            a=$((2 * node)) b=$((2 * node + 1))
+            fifo "node-$a"
+            fifo "node-$b"
+            input_of[a]=$tmp/node-$a input_of[b]=$tmp/node-$b
+            start "splitter (node $node)" "${input_of[node]}" /dev/null "$bindir/splitter" \
+                "${stats[@]}" --node "$node" --depth "$depth" --size "$size" \
+                "${input_of[a]}" "${input_of[b]}"
+        done
     done
+    frontier=()
+    for ((node = first; node < first + n; node++)); do frontier+=("$node"); done
 }
 
 # The hidden-surface stage at each leaf, as --merge, --hse and --aa choose it (sets
@@ -402,51 +428,92 @@ leaf_method() {
     fi
 }
 
-# start_leaf LEAF INPUT: leaf LEAF (0 .. 2^depth − 1) of the tree, persp | METHOD, from
-# INPUT into a fifo of its own that the merger reads (appended to `fragments`).
+# start_leaf LEAF INPUT OUT: leaf LEAF (0 .. 2^depth − 1) of the tree, persp | METHOD, from
+# INPUT to OUT.
 start_leaf() {
-    local leaf=$1 in=$2 label=
+    local leaf=$1 in=$2 out=$3 label=
     ((depth == 0)) || label=" (leaf $leaf)"
-    fifo "leaf-$leaf"
-    fragments+=("$tmp/leaf-$leaf")
-    if ((${#hosts[@]})); then
-        start_remote_leaf "$leaf" "$in" "${hosts[leaf % ${#hosts[@]}]}"
-        return
-    fi
     fifo "screen-$leaf"
     start "persp$label" "$in" "$tmp/screen-$leaf" \
         "$bindir/persp" --size "$size" --depth "$zmode"
-    start "${method[0]##*/}$label" "$tmp/screen-$leaf" "$tmp/leaf-$leaf" \
-        "${method[@]}" "${stats[@]}"
+    start "${method[0]##*/}$label" "$tmp/screen-$leaf" "$out" "${method[@]}" "${stats[@]}"
 }
 
-# start_remote_leaf LEAF INPUT HOST: leaf LEAF's persp | METHOD run on HOST through ssh
-# (docs/DESIGN.md, "Stages on other hosts"): the leaf's binary stream goes down the ssh
-# channel, its finished pixels come back up it into the leaf's fifo. The binaries are
-# looked for first, so that a host without them is named as such. When ssh goes (the
-# host drops, or the run is stopped), the remote persp's input ends short and the
-# method's output has no reader: both stop there.
-start_remote_leaf() {
-    local leaf=$1 in=$2 host=$3 dir=${remote_bin:-$bindir} word remote name
-    name=${method[0]##*/}
-    remote="for b in persp $name; do [ -x $(quote "$dir")/\$b ] || "
-    remote+="{ echo \"no \$b in \"$(quote "$dir")\" (--remote-bin)\" >&2; exit 3; }; done; "
-    remote+="$(quote "$dir/persp") --size $(quote "$size") --depth $(quote "$zmode") | "
-    remote+="$(quote "$dir/$name")"
-    for word in "${method[@]:1}" "${stats[@]}"; do remote+=" $(quote "$word")"; done
-    start "$name (leaf $leaf, host $host)" "$in" "$tmp/leaf-$leaf" \
-        "${ssh_cmd[@]}" "$host" "$remote"
-    host_of[$!]="$host (leaf $leaf)"
+# The level of the tree whose subtrees go to the hosts (`--hosts`): the first with at least
+# one subtree a host, or the leaves'.
+host_level() {
+    local level=0
+    while ((level < depth && (1 << level) < ${#hosts[@]})); do level=$((level + 1)); done
+    echo "$level"
 }
 
-start_leaves() {
-    local leaf method
-    declare -gA host_of=() # the pid of a leaf's ssh → "HOST (leaf N)"
-    leaf_method
-    fragments=()
-    for ((leaf = 0; leaf < 1 << depth; leaf++)); do
-        start_leaf "$leaf" "${input_of[(1 << depth) + leaf]}"
+# what_node NODE: how the messages name a subtree: `leaf N` for a leaf, else `subtree K`.
+what_node() {
+    if (($1 >= 1 << depth)); then echo "leaf $(($1 - (1 << depth)))"; else echo "subtree $1"; fi
+}
+
+# start_subtrees: each node of `frontier` and all below it on a host, round-robin, through
+# ssh (docs/DESIGN.md, "Stages on other hosts"): the binary stream into the node goes down
+# the ssh channel to `render.sh --subtree K` there, which runs the node's splitters and
+# leaves and merges their runs (zbuf --runs); the runs come back up it into a fifo the
+# merger here reads. render.sh is run from the same path there as here, its binaries from
+# --remote-bin (default: this one's). When ssh goes (the host drops, or the run is
+# stopped), the far side's input ends short and its output has no reader: it stops.
+start_subtrees() {
+    local node i=0 host word remote
+    local dir=${remote_bin:-$bindir}
+    for node in "${frontier[@]}"; do
+        host=${hosts[i++ % ${#hosts[@]}]}
+        remote="exec env POLYPIPE_BIN=$(quote "$dir") $(quote "$root/scripts/render.sh")"
+        for word in --subtree "$node" --depth "$depth" --size "$size" --zmode "$zmode" \
+            --hse "$hse" --aa "$aa" "${stats[@]}"; do
+            remote+=" $(quote "$word")"
+        done
+        fifo "from-$node"
+        fragments+=("$tmp/from-$node")
+        start "$(what_node "$node") (host $host)" "${input_of[node]}" "$tmp/from-$node" \
+            "${ssh_cmd[@]}" "$host" "$remote"
+        host_of[$!]="$host ($(what_node "$node"))"
+        node_of[$!]=$node
     done
+}
+
+# start_leaves [OUT]: a leaf for each node of `frontier` (all leaves' inputs), each into a
+# fifo the merger reads; or, given OUT, the one leaf into OUT.
+start_leaves() {
+    local node leaf method
+    leaf_method
+    for node in "${frontier[@]}"; do
+        leaf=$((node - (1 << depth)))
+        if [[ -n ${1-} ]]; then
+            start_leaf "$leaf" "${input_of[node]}" "$1"
+        else
+            fifo "leaf-$leaf"
+            fragments+=("$tmp/leaf-$leaf")
+            start_leaf "$leaf" "${input_of[node]}" "$tmp/leaf-$leaf"
+        fi
+    done
+}
+
+# The tree and its leaves, here or on the hosts, and the merger: from `clipped` (or, for
+# --subtree K, from stdin into node K) to stdout.
+start_graph() {
+    local top=${subtree:-1}
+    declare -gA host_of=() node_of=() # an ssh's pid → "HOST (leaf N)", its node
+    input_of=([top]=$clipped)
+    fragments=()
+    if ((${#hosts[@]})); then
+        start_tree 1 $((1 << $(host_level)))
+        start_subtrees
+    else
+        start_tree "$top" $((1 << depth))
+        if ((${#frontier[@]} == 1)) && [[ -n $subtree ]]; then
+            start_leaves - # one leaf: its runs are the subtree's
+            return
+        fi
+        start_leaves
+    fi
+    start_merger
 }
 
 # --hidden-line: persp | hiddenline, writing the SVG (Archuleta's output) where -o says.
@@ -458,7 +525,10 @@ start_hidden_line() {
 
 # The merger (chapter 6.3.3): one zbuf reading every leaf, writing the frames.
 start_merger() {
-    start zbuf /dev/null - "$bindir/zbuf" "${stats[@]}" "${output[@]}" "${fragments[@]}"
+    local relay=()
+    [[ -z $subtree ]] || relay=(--runs) # a subtree's runs go on to the merger above
+    start zbuf /dev/null - "$bindir/zbuf" "${relay[@]}" "${stats[@]}" "${output[@]}" \
+        "${fragments[@]}"
 }
 
 # --- Watching the stages. ---------------------------------------------------------------
@@ -479,33 +549,37 @@ describe() { # describe STATUS
 # 2): …", are left alone), and the private directory left out of the fifo names zbuf
 # reports ("zbuf: leaf-2: …").
 labelled_stderr() {
-    local label=${stage_of[${pids[$1]}]} line
+    local pid=${pids[$1]} line
+    local label=${stage_of[$pid]} host=${host_of[$pid]-}
     local program=${label%% *}
     while IFS= read -r line || [[ -n $line ]]; do
         line=${line//"$tmp/"/}
-        [[ $line != "$program: "* ]] || line="$label: ${line#"$program: "}"
+        if [[ -n $host ]]; then # a host's render.sh, which labelled its own lines
+            line="host ${host%% *}: ${line#render.sh: }"
+        elif [[ $line == "$program: "* ]]; then
+            line="$label: ${line#"$program: "}"
+        fi
         printf '%s\n' "$line"
     done <"$tmp/stderr.$1"
 }
 
-# With --stats and --hosts: for each leaf, its host and the bytes its link carried each
-# way (thesis 6.5 estimates them for the transputer links: 50 bytes a polygon into the
+# With --stats and --hosts: each subtree's host and the bytes its link carried each way
+# (thesis 6.5 estimates them for the transputer links: 50 bytes a polygon into the
 # clipper, 7 bytes a pixel out of a scan converter), from the splitters' and zbuf's
-# counts. At depth 0 the link carries the clipper's whole output, which nothing counts.
+# counts. A subtree at the root carries the clipper's whole output, which nothing counts.
 links() {
-    local leaf parent side there back line
-    for ((leaf = 0; leaf < 1 << depth; leaf++)); do
-        there="not counted at depth 0" back="?"
-        if ((depth > 0)); then
-            parent=$((((1 << depth) + leaf) >> 1)) side=$((leaf & 1))
-            line=$(grep -h "(node $parent): " "$tmp"/stderr.* 2>/dev/null)
-            if [[ $line =~ \;\ ([0-9]+)\ and\ ([0-9]+)\ bytes\ out ]]; then
-                there="${BASH_REMATCH[side + 1]} bytes there"
-            fi
+    local pid node there back line
+    for pid in "${pids[@]}"; do
+        [[ -n ${node_of[$pid]-} ]] || continue
+        node=${node_of[$pid]} there="not counted (the clipper's output)" back="?"
+        if ((node > 1)); then
+            line=$(grep -h "(node $((node >> 1))): " "$tmp"/stderr.* 2>/dev/null)
+            [[ ! $line =~ \;\ ([0-9]+)\ and\ ([0-9]+)\ bytes\ out ]] ||
+                there="${BASH_REMATCH[(node & 1) + 1]} bytes there"
         fi
-        line=$(grep -h "^zbuf: .*leaf-$leaf: " "$tmp"/stderr.* 2>/dev/null)
+        line=$(grep -h "^zbuf: .*from-$node: " "$tmp"/stderr.* 2>/dev/null)
         [[ ! $line =~ \ ([0-9]+)\ bytes\ in$ ]] || back="${BASH_REMATCH[1]} bytes back"
-        echo "render.sh: leaf $leaf on host ${hosts[leaf % ${#hosts[@]}]}: $there, $back"
+        echo "render.sh: $(what_node "$node") on host ${host_of[$pid]%% *}: $there, $back"
     done
 }
 
@@ -581,7 +655,7 @@ watch() {
         if [[ -n ${host_of[$cause]-} ]]; then
             # A leaf on a host: what ssh or the far side said last is the message.
             labelled_stderr "$i" | head -n -1 >&2
-            what_failed "$tmp/stderr.$i" "${status_of[$cause]}" "the leaf"
+            what_failed "$tmp/stderr.$i" "${status_of[$cause]}" render.sh
             fail "$exit_status" "host ${host_of[$cause]}: $message"
         fi
         labelled_stderr "$i" >&2
@@ -608,13 +682,15 @@ main() {
     ensure_binaries
     make_private_dir
     exec 3<&0
-    start_clipper_chain
+    if [[ -n $subtree ]]; then
+        clipped=/dev/fd/3 # the stream into node K
+    else
+        start_clipper_chain
+    fi
     if ((hidden_line)); then
         start_hidden_line
     else
-        start_tree
-        start_leaves
-        start_merger
+        start_graph
     fi
     exec 3<&-
     watch

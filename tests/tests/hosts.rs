@@ -754,8 +754,9 @@ fn leaves_on_two_hosts_give_a_local_runs_frames_at_depths_1_to_3() {
             "depth {depth}: frames differ from a local run's"
         );
         assert_eq!(stderr(&out), "", "a run without --stats says nothing");
-        // Round-robin: 2^depth leaves, half on each host, one ssh session a leaf.
-        sessions += (1 << depth.parse::<u32>().unwrap()) / 2;
+        // Two hosts take the root's two subtrees (depth 1: its two leaves), each over
+        // one ssh session, and run their splitters and leaves there.
+        sessions += 1;
         for i in 0..2 {
             assert_eq!(hosts.sessions(i), sessions, "{}", hosts.log(i));
         }
@@ -764,12 +765,22 @@ fn leaves_on_two_hosts_give_a_local_runs_frames_at_depths_1_to_3() {
 }
 
 #[test]
-fn leaves_stats_name_each_leafs_host_and_its_links_bytes() {
+fn stats_name_each_subtrees_host_and_its_links_bytes() {
     let _serial = hosts::serial();
     let Some(hosts) = Hosts::start(&[Host::Serving, Host::Serving]) else {
         return;
     };
     let tmp = local_tmp(&hosts);
+    let links = |out: &Output| -> Vec<String> {
+        stderr(out)
+            .lines()
+            .filter(|l| l.starts_with("render.sh: "))
+            .map(str::to_string)
+            .collect()
+    };
+    // Two hosts at depth 2: each takes one of the root's subtrees, its splitter and two
+    // leaves; their lines come back labelled with the host. The bytes are those of the
+    // root splitter's outputs and of the runs each host's zbuf --runs sends back.
     let (out, _) = render_leaves(
         &hosts,
         &tmp,
@@ -777,18 +788,34 @@ fn leaves_stats_name_each_leafs_host_and_its_links_bytes() {
     );
     assert!(out.status.success(), "{}", stderr(&out));
     let err = stderr(&out);
-    // The leaves' own counts come back over ssh, labelled with the host; the bytes are
-    // the splitters' outputs and zbuf's inputs of the default scene at depth 2.
     assert!(
-        err.contains("scanconv (leaf 1, host node2): 2 polygons in, 2 drawn, 21082 pixels tested"),
+        err.contains("host node1: scanconv (leaf 1): 2 polygons in, 2 drawn, 21082 pixels tested")
+            && err.contains("host node2: splitter y=0 (node 3): 2 polygons in;"),
         "{err}"
     );
-    let links: Vec<&str> = err
-        .lines()
-        .filter(|l| l.starts_with("render.sh: leaf"))
-        .collect();
     assert_eq!(
-        links,
+        links(&out),
+        [
+            "render.sh: subtree 2 on host node1: 576 bytes there, 7744 bytes back",
+            "render.sh: subtree 3 on host node2: 576 bytes there, 4656 bytes back",
+        ]
+    );
+    // Four hosts (each named twice) at depth 2: a leaf each, round-robin. A leaf's runs
+    // come back as it sent them: the bytes zbuf counts from each leaf in a local run.
+    let (out, _) = render_leaves(
+        &hosts,
+        &tmp,
+        &[
+            "--hosts",
+            "node1,node2,node1,node2",
+            "--depth",
+            "2",
+            "--stats",
+        ],
+    );
+    assert!(out.status.success(), "{}", stderr(&out));
+    assert_eq!(
+        links(&out),
         [
             "render.sh: leaf 0 on host node1: 640 bytes there, 2592 bytes back",
             "render.sh: leaf 1 on host node2: 640 bytes there, 5184 bytes back",
@@ -796,6 +823,7 @@ fn leaves_stats_name_each_leafs_host_and_its_links_bytes() {
             "render.sh: leaf 3 on host node2: 336 bytes there, 2256 bytes back",
         ]
     );
+    assert_eq!((hosts.sessions(0), hosts.sessions(1)), (3, 3));
     assert_nothing_left(&hosts, 2, &tmp);
 }
 
@@ -861,7 +889,7 @@ fn a_leaf_host_without_the_binaries_is_named() {
     assert_eq!(out.status.code(), Some(3), "{}", stderr(&out));
     assert_eq!(
         last_line(&out),
-        "render.sh: host node1 (leaf 0): no persp in /nonexistent (--remote-bin)"
+        "render.sh: host node1 (leaf 0): no viewxf in /nonexistent (POLYPIPE_BIN)"
     );
     assert!(took < Duration::from_secs(10), "took {took:?}");
     assert_nothing_left(&hosts, 1, &tmp);

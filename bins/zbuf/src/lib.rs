@@ -234,6 +234,19 @@ impl FrameBuffer {
         self.colour[row + x0 as usize..row + x1 as usize].fill(colour);
     }
 
+    /// The frame as the runs the leaves sent, each `(row, x0, x1, colour)`, in the order
+    /// they came: what a subtree's merger on another host passes on to the merger above
+    /// (docs/DESIGN.md, "Stages on other hosts"). `None` once a depth-tested fragment has
+    /// come this frame: spans and pixels cannot be passed on as finished runs.
+    pub fn runs(&self) -> Option<impl Iterator<Item = (u32, u32, u32, Colour)> + '_> {
+        (!self.depth_live).then(|| {
+            self.painted.iter().map(|&(y, x0, x1)| {
+                let at = y as usize * self.width as usize + x0 as usize;
+                (y, x0, x1, self.colour[at])
+            })
+        })
+    }
+
     /// One pixel (the thesis's quadruplet).
     #[inline]
     pub fn pixel(&mut self, x: u32, y: u32, z: i64, polygon: u32, colour: Colour) {

@@ -36,6 +36,11 @@ struct Args {
     output: Option<String>,
     #[command(flatten)]
     text: PpmTextFlag,
+    /// Pass the frames on as runs (a fragment stream, binary; text with --text) instead
+    /// of pictures: the merger of a subtree of the splitter tree that runs on another
+    /// host, whose leaves resolve their regions (runs only).
+    #[arg(long, conflicts_with = "output")]
+    runs: bool,
     /// Print, per input, the spans and pixels received, on stderr at the end.
     #[arg(long)]
     stats: bool,
@@ -94,7 +99,34 @@ fn main() -> ExitCode {
             .collect();
         let mut out = io::BufWriter::with_capacity(1 << 16, stagecli::stdout());
         let progress = zbuf::frame_progress(args.progress);
+        let mut relay: Option<proto::Writer<proto::Fragment, _>> = None;
         let stats = par_buff(inputs, args.background, |frame, fb| {
+            if args.runs {
+                let out = match &mut relay {
+                    Some(w) => w,
+                    None => relay.insert(proto::Writer::new(
+                        stagecli::stdout(),
+                        proto::Header::new(proto::Space::Fragments {
+                            width: fb.width(),
+                            height: fb.height(),
+                        }),
+                        proto::Form::from_text_flag(args.text.text),
+                    )?),
+                };
+                if frame > 0 {
+                    out.write(&proto::Fragment::NextFrame)?;
+                }
+                let runs = fb.runs().ok_or_else(|| {
+                    Error::data(format!(
+                        "frame {frame}: --runs passes on finished runs, but spans or pixels came (leaves that resolve send runs only)"
+                    ))
+                })?;
+                for (y, x0, x1, colour) in runs {
+                    out.write(&proto::Fragment::Run { y, x0, x1, colour })?;
+                }
+                out.flush()?;
+                return Ok(());
+            }
             match &pattern {
                 // Known only once a second frame comes: the input is a movie where one
                 // picture was asked for (so not a usage error, found before reading).
@@ -120,6 +152,10 @@ fn main() -> ExitCode {
             eprintln!();
         }
         let stats = stats?;
+        if let Some(mut out) = relay {
+            out.write(&proto::Fragment::End)?;
+            out.flush()?;
+        }
         if args.stats {
             for (name, s) in names.iter().zip(stats) {
                 let name = stagecli::input_name(name);
