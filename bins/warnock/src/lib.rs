@@ -419,7 +419,9 @@ impl Warnock {
     /// The Controller: visits window `w` (part of the square of side `size` at
     /// (`sx`, `sy`)) at subdivision depth `depth`, its list being `lists[start..]`.
     fn visit(&mut self, sx: u64, sy: u64, size: u64, depth: usize, start: usize) {
-        let w = self.clip(sx, sy, size).expect("visited windows are not empty");
+        let w = self
+            .clip(sx, sy, size)
+            .expect("visited windows are not empty");
         if self.stats.windows_by_depth.len() <= depth {
             self.stats.windows_by_depth.resize(depth + 1, 0);
         }
@@ -547,5 +549,438 @@ impl HiddenSurface for Warnock {
             s.looker_rows,
             s.depth_rows
         )
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use scan::frame::{differing_pixels, image_of, zbuffer_image};
+
+    fn square(colour: Colour, x0: f64, y0: f64, x1: f64, y1: f64, z: f64) -> Polygon {
+        Polygon::from_xyz(
+            colour,
+            &[[x0, y0, z], [x1, y0, z], [x1, y1, z], [x0, y1, z]],
+        )
+    }
+
+    fn win(x0: u32, y0: u32, x1: u32, y1: u32) -> Window {
+        Window { x0, y0, x1, y1 }
+    }
+
+    /// A Warnock with `polygons` gathered on a `w`×`h` screen, and the whole screen
+    /// painted by nothing yet.
+    fn loaded(polygons: &[Polygon], w: u32, h: u32) -> Warnock {
+        let mut m = Warnock::new();
+        m.gather(polygons, w, h);
+        m.bbox = win(0, 0, w, h);
+        m.image = vec![None; (w * h) as usize];
+        m
+    }
+
+    /// Puts every gathered polygon on the list as the Looker finds it for `w`, and thinks.
+    fn think_on(m: &mut Warnock, w: Window) -> Resolution {
+        m.lists.clear();
+        for poly in 0..m.covs.len() as u32 {
+            let class = m.classify(poly, w);
+            if class != Class::Disjoint {
+                m.lists.push(Entry {
+                    poly,
+                    surrounds: class == Class::Surrounder,
+                });
+            }
+        }
+        m.think(w, 0)
+    }
+
+    fn resolved(polygons: &[Polygon], w: u32, h: u32) -> (Vec<Run>, Warnock) {
+        let mut m = Warnock::new();
+        let mut runs = vec![];
+        m.resolve(polygons, w, h, &mut runs);
+        (runs, m)
+    }
+
+    const RED: Colour = [255, 0, 0];
+    const GREEN: Colour = [0, 255, 0];
+    const BLUE: Colour = [0, 0, 255];
+
+    #[test]
+    fn the_looker_classifies_by_pixel_centres() {
+        // Covers pixels 2..6 × 2..6.
+        let mut m = loaded(&[square(RED, 2.0, 2.0, 6.0, 6.0, 0.5)], 8, 8);
+        assert_eq!(m.classify(0, win(0, 0, 8, 8)), Class::Intersector);
+        assert_eq!(m.classify(0, win(2, 2, 6, 6)), Class::Surrounder);
+        assert_eq!(m.classify(0, win(3, 4, 4, 5)), Class::Surrounder);
+        assert_eq!(m.classify(0, win(5, 5, 7, 7)), Class::Intersector);
+        assert_eq!(m.classify(0, win(6, 0, 8, 8)), Class::Disjoint);
+        assert_eq!(m.classify(0, win(0, 0, 2, 2)), Class::Disjoint);
+        // A square whose edges pass just short of the centres of row 6 and column 6.
+        let mut m = loaded(&[square(RED, 2.0, 2.0, 6.4, 6.4, 0.5)], 8, 8);
+        assert_eq!(m.classify(0, win(6, 6, 8, 8)), Class::Disjoint);
+        assert_eq!(m.classify(0, win(2, 2, 6, 6)), Class::Surrounder);
+        // A U opening upwards: the notch (columns 2..4, rows 0..3) is outside it though
+        // inside its bounding box, and the prongs surround windows of their own.
+        let u = Polygon::from_xyz(
+            RED,
+            &[
+                [0.0, 0.0, 0.5],
+                [2.0, 0.0, 0.5],
+                [2.0, 3.0, 0.5],
+                [4.0, 3.0, 0.5],
+                [4.0, 0.0, 0.5],
+                [6.0, 0.0, 0.5],
+                [6.0, 5.0, 0.5],
+                [0.0, 5.0, 0.5],
+            ],
+        );
+        let mut m = loaded(&[u], 6, 6);
+        assert_eq!(m.classify(0, win(2, 0, 4, 3)), Class::Disjoint);
+        assert_eq!(m.classify(0, win(2, 0, 4, 4)), Class::Intersector);
+        assert_eq!(m.classify(0, win(4, 0, 6, 5)), Class::Surrounder);
+        assert_eq!(m.classify(0, win(0, 0, 6, 6)), Class::Intersector);
+    }
+
+    #[test]
+    fn empty_and_one_polygon_windows() {
+        let mut m = loaded(&[square(RED, 2.0, 2.0, 6.0, 6.0, 0.5)], 8, 8);
+        assert_eq!(think_on(&mut m, win(6, 0, 8, 8)), Resolution::Empty);
+        assert_eq!(think_on(&mut m, win(0, 0, 8, 8)), Resolution::OnePolygon);
+        assert_eq!(think_on(&mut m, win(3, 3, 5, 5)), Resolution::Surrounded);
+        // The one polygon's pixels are drawn, and only those.
+        let image = m.image.clone();
+        assert_eq!(image.iter().filter(|p| p.is_some()).count(), 16);
+        assert_eq!(image[2 * 8 + 2], Some(RED));
+        assert_eq!(image[6 * 8 + 6], None);
+    }
+
+    #[test]
+    fn a_surrounder_in_front_hides_the_rest_and_they_leave_the_list() {
+        let polygons = [
+            square(RED, 0.0, 0.0, 8.0, 8.0, 0.25), // the hider, nearest
+            square(GREEN, 1.0, 1.0, 5.0, 5.0, 0.5),
+            square(BLUE, -2.0, -2.0, 10.0, 10.0, 0.75),
+        ];
+        let mut m = loaded(&polygons, 8, 8);
+        assert_eq!(think_on(&mut m, win(0, 0, 8, 8)), Resolution::Surrounded);
+        assert_eq!(m.image, vec![Some(RED); 64]);
+        // Nearest, but only as near at the first pixel as a later polygon is: sloped
+        // planes that cross inside the window are not decided, and nothing is hidden.
+        let p = |x: f64, y: f64| [x, y, 0.5 + (x - 4.0) / 64.0];
+        let sloped =
+            Polygon::from_xyz(GREEN, &[p(0.0, 0.0), p(8.0, 0.0), p(8.0, 8.0), p(0.0, 8.0)]);
+        let polygons = [square(RED, 0.0, 0.0, 8.0, 8.0, 0.5), sloped];
+        let mut m = loaded(&polygons, 8, 8);
+        assert_eq!(think_on(&mut m, win(0, 0, 8, 8)), Resolution::Subdivided);
+        assert_eq!(m.lists.len(), 2);
+        // Left of the crossing (X = 4) the flat one is behind.
+        assert_eq!(think_on(&mut m, win(0, 0, 4, 8)), Resolution::Surrounded);
+        assert_eq!(m.image[0], Some(GREEN));
+        // The hider takes the polygons it hides off the list; two that are left in front
+        // of it (and overlap) make the window fail.
+        let polygons = [
+            square(RED, 0.0, 0.0, 8.0, 8.0, 0.5),
+            square(GREEN, 1.0, 1.0, 5.0, 5.0, 0.25),
+            square(BLUE, 3.0, 3.0, 7.0, 7.0, 0.125),
+            square(BLUE, 0.0, 4.0, 4.0, 8.0, 0.75), // hidden
+        ];
+        let mut m = loaded(&polygons, 8, 8);
+        assert_eq!(think_on(&mut m, win(0, 0, 8, 8)), Resolution::Subdivided);
+        let left: Vec<u32> = m.lists.iter().map(|e| e.poly).collect();
+        assert_eq!(left, vec![0, 1, 2]);
+    }
+
+    #[test]
+    fn one_intersector_in_front_of_a_surrounder() {
+        let polygons = [
+            square(RED, 0.0, 0.0, 8.0, 8.0, 0.5),
+            square(GREEN, 2.0, 2.0, 5.0, 5.0, 0.25),
+            square(BLUE, 4.0, 0.0, 8.0, 8.0, 0.75), // hidden by the red
+        ];
+        let mut m = loaded(&polygons, 8, 8);
+        assert_eq!(think_on(&mut m, win(0, 0, 8, 8)), Resolution::InFront);
+        assert_eq!(m.image, zbuffer_image(&polygons, 8, 8));
+        // Behind the surrounder where it covers, in front elsewhere: not decided here.
+        let p = |x: f64, y: f64| [x, y, 0.5 + (x - 4.0) / 16.0];
+        let polygons = [
+            square(RED, 0.0, 0.0, 8.0, 8.0, 0.5),
+            Polygon::from_xyz(GREEN, &[p(2.0, 2.0), p(7.0, 2.0), p(7.0, 5.0), p(2.0, 5.0)]),
+        ];
+        let mut m = loaded(&polygons, 8, 8);
+        assert_eq!(think_on(&mut m, win(0, 0, 8, 8)), Resolution::Subdivided);
+    }
+
+    #[test]
+    fn ties_go_to_the_earlier_polygon() {
+        // Coincident squares: the first one wins, whichever comes first in the list.
+        let polygons = [
+            square(GREEN, 0.0, 0.0, 8.0, 8.0, 0.5),
+            square(RED, 0.0, 0.0, 8.0, 8.0, 0.5),
+        ];
+        let mut m = loaded(&polygons, 8, 8);
+        assert_eq!(think_on(&mut m, win(0, 0, 8, 8)), Resolution::Surrounded);
+        assert_eq!(m.image, vec![Some(GREEN); 64]);
+        // An intersector as deep as the surrounder loses to it when it is later...
+        let polygons = [
+            square(GREEN, 0.0, 0.0, 8.0, 8.0, 0.5),
+            square(RED, 2.0, 2.0, 4.0, 4.0, 0.5),
+        ];
+        let mut m = loaded(&polygons, 8, 8);
+        assert_eq!(think_on(&mut m, win(0, 0, 8, 8)), Resolution::Surrounded);
+        // ...and wins when it is earlier.
+        let polygons = [
+            square(RED, 2.0, 2.0, 4.0, 4.0, 0.5),
+            square(GREEN, 0.0, 0.0, 8.0, 8.0, 0.5),
+        ];
+        let mut m = loaded(&polygons, 8, 8);
+        assert_eq!(think_on(&mut m, win(0, 0, 8, 8)), Resolution::InFront);
+        assert_eq!(m.image[2 * 8 + 2], Some(RED));
+        assert_eq!(m.image[0], Some(GREEN));
+    }
+
+    #[test]
+    fn saturated_depths_are_not_decided_but_pixels_are() {
+        // Depths beyond the fixed point's range (about 8.4e6 units) saturate at i64::MAX:
+        // two such planes tie there although they differ, so the windows fail down to
+        // single pixels, which the z-buffer's rule decides as the z-buffer does.
+        let polygons = [
+            square(RED, 0.0, 0.0, 4.0, 4.0, 1e8),
+            square(GREEN, 0.0, 0.0, 4.0, 4.0, 2e7),
+        ];
+        let mut m = loaded(&polygons, 4, 4);
+        assert_eq!(think_on(&mut m, win(0, 0, 4, 4)), Resolution::Subdivided);
+        let (runs, m) = resolved(&polygons, 4, 4);
+        assert_eq!(image_of(&runs, 4, 4), zbuffer_image(&polygons, 4, 4));
+        assert_eq!(image_of(&runs, 4, 4), vec![Some(RED); 16]);
+        assert_eq!(m.stats.windows_by_depth, vec![1, 4, 16]);
+        assert_eq!(m.stats.pixels, 16);
+    }
+
+    #[test]
+    fn a_saturated_end_column_decides_nothing() {
+        // M: the depth where the fixed point saturates (i64::MAX / 2^40 ≈ 2^23). On one
+        // row of three pixels, A is in front at column 0, B at column 1, and at column 2
+        // both are past M: saturated, they tie there, and A, earlier, would win the tie.
+        // Judged by its end columns the row would be A's, wrongly: the window must fail.
+        let m = 8_388_608.0;
+        let row = |colour, z0: f64, slope: f64| {
+            let z = |x: f64| z0 + slope * (x - 0.5);
+            Polygon::from_xyz(
+                colour,
+                &[
+                    [0.0, 0.0, z(0.0)],
+                    [3.0, 0.0, z(3.0)],
+                    [3.0, 1.0, z(3.0)],
+                    [0.0, 1.0, z(0.0)],
+                ],
+            )
+        };
+        let polygons = [row(RED, -1.0, 0.6 * m), row(GREEN, 0.0, 0.55 * m)];
+        let mut w = loaded(&polygons, 3, 1);
+        assert_eq!(think_on(&mut w, win(0, 0, 3, 1)), Resolution::Subdivided);
+        let (runs, w) = resolved(&polygons, 3, 1);
+        assert_eq!(
+            image_of(&runs, 3, 1),
+            vec![Some(RED), Some(GREEN), Some(RED)]
+        );
+        assert_eq!(image_of(&runs, 3, 1), zbuffer_image(&polygons, 3, 1));
+        assert_eq!(w.stats.pixels, 3);
+    }
+
+    #[test]
+    fn penetrating_planes_are_subdivided_down_to_pixels_along_their_crossing() {
+        // Two squares over the whole 16x16 screen whose planes cross at X = 5.3: left of
+        // it red is in front, right of it green.
+        let c = 5.3;
+        let plane = |colour, slope: f64| {
+            let z = |x: f64| 0.5 + slope * (x - c);
+            Polygon::from_xyz(
+                colour,
+                &[
+                    [0.0, 0.0, z(0.0)],
+                    [16.0, 0.0, z(16.0)],
+                    [16.0, 16.0, z(16.0)],
+                    [0.0, 16.0, z(0.0)],
+                ],
+            )
+        };
+        let polygons = [plane(RED, 0.02), plane(GREEN, -0.01)];
+        let (runs, m) = resolved(&polygons, 16, 16);
+        assert_eq!(
+            differing_pixels(&image_of(&runs, 16, 16), &zbuffer_image(&polygons, 16, 16)),
+            0
+        );
+        // Every row: red 0..5, green 5..16 (the crossing is between centres 4.5 and 5.5).
+        assert_eq!(runs.len(), 32);
+        assert_eq!((runs[0].x0, runs[0].x1, runs[0].colour), (0, 5, RED));
+        assert_eq!((runs[1].x0, runs[1].x1, runs[1].colour), (5, 16, GREEN));
+        // The windows holding column 4.5..5.5 fail at every size: columns 0..8, 4..8,
+        // 4..6 and then the pixels of columns 4 and 5, down all 16 rows.
+        assert_eq!(m.stats.windows_by_depth, vec![1, 4, 8, 16, 32]);
+        assert_eq!(
+            (m.stats.subdivided, m.stats.surrounded, m.stats.pixels),
+            (1 + 2 + 4 + 8, 2 + 4 + 8, 32)
+        );
+        // The Looker reads each polygon's 16 rows once, for the first window; both
+        // surround it, so no descendant looks again (the ancestral check).
+        assert_eq!(m.stats.looker_rows, 32);
+    }
+
+    #[test]
+    fn runs_are_maximal_and_in_row_order_and_offset_by_the_bounding_box() {
+        let polygons = [
+            square(RED, 3.0, 2.0, 6.0, 4.0, 0.5),
+            square(RED, 6.0, 2.0, 9.0, 3.0, 0.25),
+        ];
+        let (runs, _) = resolved(&polygons, 12, 6);
+        let got: Vec<(u32, u32, u32)> = runs.iter().map(|r| (r.y, r.x0, r.x1)).collect();
+        assert_eq!(got, vec![(2, 3, 9), (3, 3, 6)]);
+        // Nothing covered: no runs, no windows.
+        let (runs, m) = resolved(&[square(RED, -5.0, 0.0, -1.0, 4.0, 0.5)], 12, 6);
+        assert!(runs.is_empty());
+        assert!(m.stats.windows_by_depth.is_empty());
+    }
+
+    mod properties {
+        use super::*;
+        use proptest::prelude::*;
+
+        /// 37×29: odd sizes, so windows are clipped squares of every shape.
+        const W: u32 = 37;
+        const H: u32 = 29;
+
+        /// A depth plane `z = z0 + gx·X + gy·Y`: a few shared flat depths (ties and
+        /// coincident polygons), random slopes (interpenetration), steep slopes, and
+        /// depths past the fixed point's range (saturation).
+        fn plane() -> impl Strategy<Value = (f64, f64, f64)> {
+            prop_oneof![
+                3 => prop::sample::select(vec![0.25, 0.5, 0.75]).prop_map(|z| (z, 0.0, 0.0)),
+                4 => (0.1f64..0.9, -0.02f64..0.02, -0.02f64..0.02),
+                1 => (0.1f64..0.9, -2.0f64..2.0, -2.0f64..2.0),
+                1 => (-1e7f64..1e7, -1e6f64..1e6, -1e6f64..1e6),
+            ]
+        }
+
+        /// The outline of a polygon in screen coordinates.
+        fn outline() -> impl Strategy<Value = Vec<(f64, f64)>> {
+            let (w, h) = (W as f64, H as f64);
+            prop_oneof![
+                // Anything: convex, concave, self-intersecting (bowties), reaching past
+                // the screen.
+                4 => prop::collection::vec((-4.0..w + 4.0, -4.0..h + 4.0), 3..8),
+                // Small: within a pixel or three, many of them cover nothing.
+                3 => ((0.0..w, 0.0..h), prop::collection::vec((-1.5f64..1.5, -1.5f64..1.5), 3..5))
+                    .prop_map(|((cx, cy), d)| d.iter().map(|(dx, dy)| (cx + dx, cy + dy)).collect()),
+                // Slivers: long and a fraction of a pixel wide.
+                2 => ((-2.0..w + 2.0, -2.0..h + 2.0), (-2.0..w + 2.0, -2.0..h + 2.0), -0.6f64..0.6)
+                    .prop_map(|((ax, ay), (bx, by), t)| {
+                        let (nx, ny) = (-(by - ay), bx - ax);
+                        let len = (nx * nx + ny * ny).sqrt().max(1e-9);
+                        let (mx, my) = ((ax + bx) / 2.0, (ay + by) / 2.0);
+                        vec![(ax, ay), (mx + t * nx / len, my + t * ny / len), (bx, by)]
+                    }),
+                // Big: vertices out in the guard band.
+                1 => prop::collection::vec((-15.0 * w..16.0 * w, -15.0 * h..16.0 * h), 3..6),
+            ]
+        }
+
+        fn polygon(colour: Colour, pts: &[(f64, f64)], (z0, gx, gy): (f64, f64, f64)) -> Polygon {
+            let v: Vec<[f64; 3]> = pts
+                .iter()
+                .map(|&(x, y)| [x, y, z0 + gx * x + gy * y])
+                .collect();
+            Polygon::from_xyz(colour, &v)
+        }
+
+        /// A frame: random polygons, some repeated later in another colour (coincident),
+        /// and optionally a jittered triangle mesh (shared edges) on one plane.
+        fn frame() -> impl Strategy<Value = Vec<Polygon>> {
+            (
+                prop::collection::vec((outline(), plane()), 0..24),
+                prop::collection::vec(any::<prop::sample::Index>(), 0..3),
+                prop::option::of((
+                    plane(),
+                    prop::collection::vec((-0.3f64..0.3, -0.3f64..0.3), 25),
+                )),
+                any::<bool>(),
+            )
+                .prop_map(|(shapes, repeats, mesh, few_colours)| {
+                    // Few colours: neighbours of one colour join into runs; many: every
+                    // polygon is told apart, ties included.
+                    let colour = |i: usize| -> Colour {
+                        if few_colours {
+                            [(i % 3) as u8 * 100, 50, 0]
+                        } else {
+                            [i as u8, (i / 256) as u8, 7]
+                        }
+                    };
+                    let mut polygons: Vec<Polygon> = shapes
+                        .iter()
+                        .enumerate()
+                        .map(|(i, (o, p))| polygon(colour(i), o, *p))
+                        .collect();
+                    if !shapes.is_empty() {
+                        for r in repeats {
+                            let (o, p) = &shapes[r.index(shapes.len())];
+                            polygons.push(polygon(colour(polygons.len()), o, *p));
+                        }
+                    }
+                    if let Some((p, jitter)) = mesh {
+                        let at = |i: usize, j: usize| {
+                            let (dx, dy) = if i == 0 || j == 0 || i == 4 || j == 4 {
+                                (0.0, 0.0)
+                            } else {
+                                jitter[j * 5 + i]
+                            };
+                            (
+                                -1.0 + (W as f64 + 2.0) / 4.0 * (i as f64 + dx),
+                                -1.0 + (H as f64 + 2.0) / 4.0 * (j as f64 + dy),
+                            )
+                        };
+                        for j in 0..4 {
+                            for i in 0..4 {
+                                let (a, b, c, d) =
+                                    (at(i, j), at(i + 1, j), at(i + 1, j + 1), at(i, j + 1));
+                                let n = polygons.len();
+                                polygons.push(polygon(colour(n), &[a, b, c], p));
+                                polygons.push(polygon(colour(n + 1), &[a, c, d], p));
+                            }
+                        }
+                    }
+                    polygons
+                })
+        }
+
+        proptest! {
+            #![proptest_config(ProptestConfig::with_cases(512))]
+
+            /// Warnock's picture is the z-buffer's, pixel for pixel, and its runs are in
+            /// row order, disjoint and maximal.
+            #[test]
+            fn warnock_is_the_zbuffer(polygons in frame()) {
+                let (runs, m) = resolved(&polygons, W, H);
+                let image = image_of(&runs, W, H);
+                prop_assert_eq!(differing_pixels(&image, &zbuffer_image(&polygons, W, H)), 0);
+                for pair in runs.windows(2) {
+                    let (a, b) = (pair[0], pair[1]);
+                    prop_assert!((a.y, a.x1) <= (b.y, b.x0), "{:?} then {:?}", a, b);
+                    prop_assert!(a.y != b.y || a.x1 != b.x0 || a.colour != b.colour, "{:?} {:?} not joined", a, b);
+                }
+                // Every window visited was resolved one way or subdivided.
+                let s = &m.stats;
+                let visited: u64 = s.windows_by_depth.iter().sum();
+                prop_assert_eq!(visited, s.empty + s.pixels + s.one_polygon + s.surrounded + s.in_front + s.subdivided);
+            }
+
+            /// Frames one after another in one Warnock give each frame's own picture.
+            #[test]
+            fn frames_are_independent(a in frame(), b in frame()) {
+                let mut m = Warnock::new();
+                for polygons in [&a, &b, &a] {
+                    let mut runs = vec![];
+                    m.resolve(polygons, W, H, &mut runs);
+                    prop_assert_eq!(image_of(&runs, W, H), zbuffer_image(polygons, W, H));
+                }
+            }
+        }
     }
 }
