@@ -55,12 +55,13 @@
 //! their line of intersection and are subdivided down to pixels there, as the seed says
 //! the implied edge is found (14.3.3, Figure 14-18).
 //!
-//! Output: the resolved windows paint a buffer over the coverage's bounding box, which
-//! is sent row by row as maximal runs of one colour, the same runs `scanconv --resolve`
-//! sends.
+//! Output: each resolved window puts its pieces of rows on its rows' lists (memory for
+//! what is drawn, not for the bounding box: a frame of two small polygons in opposite
+//! corners costs two polygons' worth), which are sent at the frame's end row by row as
+//! maximal runs of one colour, the same runs `scanconv --resolve` sends.
 
 use proto::{Colour, Polygon};
-use scan::frame::{push_row_runs, HiddenSurface};
+use scan::frame::HiddenSurface;
 use scan::{depth_at, Run, SpanWalker};
 
 /// How a window was resolved (for `--stats`).
@@ -169,8 +170,9 @@ pub struct Warnock {
     /// The window lists of the windows on the current path of the subdivision, each on
     /// top of its ancestor's (the listing's HISTORY, one level per window).
     lists: Vec<Entry>,
-    /// The frame's picture over the bounding box of its coverage.
-    image: Vec<Option<Colour>>,
+    /// The frame's finished pieces of rows, `(x0, x1, colour)`, one list per row of the
+    /// coverage's bounding box: memory for what the windows draw, not for the box.
+    pieces: Vec<Vec<(u32, u32, Colour)>>,
     bbox: Window,
     pub stats: Stats,
 }
@@ -321,30 +323,57 @@ impl Warnock {
     }
 
     fn fill(&mut self, w: Window, colour: Colour) {
-        let b = self.bbox;
-        let bw = b.width() as usize;
+        let y0 = self.bbox.y0;
         for y in w.y0..w.y1 {
-            let at = (y - b.y0) as usize * bw;
-            self.image[at + (w.x0 - b.x0) as usize..at + (w.x1 - b.x0) as usize].fill(Some(colour));
+            self.pieces[(y - y0) as usize].push((w.x0, w.x1, colour));
         }
     }
 
-    /// Draws the pixels of window `w` that polygon `poly` covers.
-    fn draw(&mut self, poly: u32, w: Window) {
+    /// Draws the pixels of window `w` that polygon `poly` covers, and, with `under`,
+    /// the rest of the window in that colour.
+    fn draw(&mut self, poly: u32, w: Window, under: Option<Colour>) {
         let c = self.covs[poly as usize];
-        let b = self.bbox;
-        let bw = b.width() as usize;
-        for y in w.y0.max(c.y0)..w.y1.min(c.y1) {
-            let i = c.row + (y - c.y0) as usize;
-            let at = (y - b.y0) as usize * bw;
-            for s in self.rows[i].start..self.rows[i + 1].start {
-                let (s0, s1) = self.spans[s];
-                let (s0, s1) = (s0.max(w.x0), s1.min(w.x1));
-                if s0 < s1 {
-                    self.image[at + (s0 - b.x0) as usize..at + (s1 - b.x0) as usize]
-                        .fill(Some(c.colour));
+        let y0 = self.bbox.y0;
+        for y in w.y0..w.y1 {
+            let row = &mut self.pieces[(y - y0) as usize];
+            let mut x = w.x0;
+            if (c.y0..c.y1).contains(&y) {
+                let i = c.row + (y - c.y0) as usize;
+                for &(s0, s1) in &self.spans[self.rows[i].start..self.rows[i + 1].start] {
+                    let (s0, s1) = (s0.max(w.x0), s1.min(w.x1));
+                    if s0 < s1 {
+                        if let Some(u) = under.filter(|_| x < s0) {
+                            row.push((x, s0, u));
+                        }
+                        row.push((s0, s1, c.colour));
+                        x = s1;
+                    }
                 }
             }
+            if let Some(u) = under.filter(|_| x < w.x1) {
+                row.push((x, w.x1, u));
+            }
+        }
+    }
+
+    /// Sends the frame's pieces as runs, row by row, left to right, pieces that meet in
+    /// one colour joined: the runs `scanconv --resolve` sends.
+    fn emit(&mut self, runs: &mut Vec<Run>) {
+        for (i, row) in self.pieces.iter_mut().enumerate() {
+            row.sort_unstable_by_key(|p| p.0);
+            let y = self.bbox.y0 + i as u32;
+            let mut open: Option<Run> = None;
+            for &(x0, x1, colour) in row.iter() {
+                match &mut open {
+                    Some(r) if r.x1 == x0 && r.colour == colour => r.x1 = x1,
+                    _ => {
+                        runs.extend(open.take());
+                        open = Some(Run { y, x0, x1, colour });
+                    }
+                }
+            }
+            runs.extend(open);
+            row.clear();
         }
     }
 
@@ -372,7 +401,7 @@ impl Warnock {
                 self.fill(w, self.covs[e.poly as usize].colour);
                 return Resolution::Surrounded;
             }
-            self.draw(e.poly, w);
+            self.draw(e.poly, w, None);
             return Resolution::OnePolygon;
         }
         // The candidate hider: the nearest surrounder at the window's first pixel.
@@ -405,8 +434,7 @@ impl Warnock {
                     .expect("two entries, one the hider");
                 let other = other.poly;
                 if self.beats(other, hider, other, w) == Some(true) {
-                    self.fill(w, self.covs[hider as usize].colour);
-                    self.draw(other, w);
+                    self.draw(other, w, Some(self.covs[hider as usize].colour));
                     Resolution::InFront
                 } else {
                     Resolution::Subdivided
@@ -474,7 +502,7 @@ impl Warnock {
         let y0 = sy.max(b.y0 as u64);
         let x1 = (sx + size).min(b.x1 as u64);
         let y1 = (sy + size).min(b.y1 as u64);
-        (x0 < x1 && y0 < y1).then(|| Window {
+        (x0 < x1 && y0 < y1).then_some(Window {
             x0: x0 as u32,
             y0: y0 as u32,
             x1: x1 as u32,
@@ -504,9 +532,9 @@ impl HiddenSurface for Warnock {
             },
         );
         self.bbox = b;
-        self.image.clear();
-        self.image
-            .resize(b.width() as usize * (b.y1 - b.y0) as usize, None);
+        let height = (b.y1 - b.y0) as usize;
+        self.pieces.truncate(height);
+        self.pieces.resize_with(height, Vec::new);
         let size = (b.width().max(b.y1 - b.y0) as u64).next_power_of_two();
         let (sx, sy) = (b.x0 as u64, b.y0 as u64);
         let root = self.clip(sx, sy, size).expect("the coverage is not empty");
@@ -521,15 +549,7 @@ impl HiddenSurface for Warnock {
             }
         }
         self.visit(sx, sy, size, 0, 0);
-        let bw = b.width() as usize;
-        for (i, row) in self.image.chunks_exact(bw).enumerate() {
-            let first = runs.len();
-            push_row_runs(b.y0 + i as u32, row, runs);
-            for r in &mut runs[first..] {
-                r.x0 += b.x0;
-                r.x1 += b.x0;
-            }
-        }
+        self.emit(runs);
     }
 
     fn stats(&self) -> String {
@@ -574,8 +594,18 @@ mod tests {
         let mut m = Warnock::new();
         m.gather(polygons, w, h);
         m.bbox = win(0, 0, w, h);
-        m.image = vec![None; (w * h) as usize];
+        m.pieces = vec![Vec::new(); h as usize];
         m
+    }
+
+    /// What the windows thought about so far have drawn, on the `w`×`h` screen of
+    /// [`loaded`]; a pixel drawn twice panics.
+    fn picture(m: &mut Warnock) -> Vec<Option<Colour>> {
+        let mut runs = vec![];
+        let kept = m.pieces.clone();
+        m.emit(&mut runs);
+        m.pieces = kept;
+        image_of(&runs, m.bbox.x1, m.bbox.y1)
     }
 
     /// Puts every gathered polygon on the list as the Looker finds it for `w`, and thinks.
@@ -645,12 +675,14 @@ mod tests {
         let mut m = loaded(&[square(RED, 2.0, 2.0, 6.0, 6.0, 0.5)], 8, 8);
         assert_eq!(think_on(&mut m, win(6, 0, 8, 8)), Resolution::Empty);
         assert_eq!(think_on(&mut m, win(0, 0, 8, 8)), Resolution::OnePolygon);
-        assert_eq!(think_on(&mut m, win(3, 3, 5, 5)), Resolution::Surrounded);
         // The one polygon's pixels are drawn, and only those.
-        let image = m.image.clone();
+        let image = picture(&mut m);
         assert_eq!(image.iter().filter(|p| p.is_some()).count(), 16);
         assert_eq!(image[2 * 8 + 2], Some(RED));
         assert_eq!(image[6 * 8 + 6], None);
+        let mut m = loaded(&[square(RED, 2.0, 2.0, 6.0, 6.0, 0.5)], 8, 8);
+        assert_eq!(think_on(&mut m, win(3, 3, 5, 5)), Resolution::Surrounded);
+        assert_eq!(picture(&mut m).iter().filter(|p| p.is_some()).count(), 4);
     }
 
     #[test]
@@ -662,7 +694,7 @@ mod tests {
         ];
         let mut m = loaded(&polygons, 8, 8);
         assert_eq!(think_on(&mut m, win(0, 0, 8, 8)), Resolution::Surrounded);
-        assert_eq!(m.image, vec![Some(RED); 64]);
+        assert_eq!(picture(&mut m), vec![Some(RED); 64]);
         // Nearest, but only as near at the first pixel as a later polygon is: sloped
         // planes that cross inside the window are not decided, and nothing is hidden.
         let p = |x: f64, y: f64| [x, y, 0.5 + (x - 4.0) / 64.0];
@@ -674,7 +706,7 @@ mod tests {
         assert_eq!(m.lists.len(), 2);
         // Left of the crossing (X = 4) the flat one is behind.
         assert_eq!(think_on(&mut m, win(0, 0, 4, 8)), Resolution::Surrounded);
-        assert_eq!(m.image[0], Some(GREEN));
+        assert_eq!(picture(&mut m)[0], Some(GREEN));
         // The hider takes the polygons it hides off the list; two that are left in front
         // of it (and overlap) make the window fail.
         let polygons = [
@@ -698,7 +730,7 @@ mod tests {
         ];
         let mut m = loaded(&polygons, 8, 8);
         assert_eq!(think_on(&mut m, win(0, 0, 8, 8)), Resolution::InFront);
-        assert_eq!(m.image, zbuffer_image(&polygons, 8, 8));
+        assert_eq!(picture(&mut m), zbuffer_image(&polygons, 8, 8));
         // Behind the surrounder where it covers, in front elsewhere: not decided here.
         let p = |x: f64, y: f64| [x, y, 0.5 + (x - 4.0) / 16.0];
         let polygons = [
@@ -718,7 +750,7 @@ mod tests {
         ];
         let mut m = loaded(&polygons, 8, 8);
         assert_eq!(think_on(&mut m, win(0, 0, 8, 8)), Resolution::Surrounded);
-        assert_eq!(m.image, vec![Some(GREEN); 64]);
+        assert_eq!(picture(&mut m), vec![Some(GREEN); 64]);
         // An intersector as deep as the surrounder loses to it when it is later...
         let polygons = [
             square(GREEN, 0.0, 0.0, 8.0, 8.0, 0.5),
@@ -733,8 +765,8 @@ mod tests {
         ];
         let mut m = loaded(&polygons, 8, 8);
         assert_eq!(think_on(&mut m, win(0, 0, 8, 8)), Resolution::InFront);
-        assert_eq!(m.image[2 * 8 + 2], Some(RED));
-        assert_eq!(m.image[0], Some(GREEN));
+        assert_eq!(picture(&mut m)[2 * 8 + 2], Some(RED));
+        assert_eq!(picture(&mut m)[0], Some(GREEN));
     }
 
     #[test]
