@@ -1,0 +1,418 @@
+//! # scanline: Watkins's scan-line hidden-surface algorithm
+//!
+//! After Watkins's algorithm as Archuleta describes it (`seeds/003_…`, "Watkins'
+//! Algorithm" and the listing of HIDDEN) and as Newman and Sproull's chapter 14.4 explains
+//! it (`seeds/004_…`, 14.4.1 "Processing a scan-line", 14.4.2 "Scan-line coherence"). A
+//! frame is resolved one scan line at a time, top to bottom, with no depth buffer:
+//!
+//! 1. **Active polygons.** The frame's polygons are sorted by the first scan line they
+//!    can reach (the seeds' "sorted with respect to Y" preframe processing). A polygon
+//!    enters the active list at that line and leaves it after its last. Each active
+//!    polygon keeps its own [`scan::SpanWalker`] (its Edge Table and Active Edge Table),
+//!    stepped one line at a time and never rebuilt: the seeds' "after a scan line has
+//!    been completed, all segments are updated to the next scan line".
+//! 2. **Segments.** On each line, an active polygon's crossings, paired by the even-odd
+//!    rule, give its *segments* (14.4: "the intersection of the scan-line window and a
+//!    planar polygon"): the columns whose pixel centres it covers, exactly the spans the
+//!    z-buffer draws (docs/DESIGN.md, "Leaves resolve visibility"), each with the
+//!    polygon's fixed-point depth plane on the line (`z_row`, `dz`) and its stream index.
+//! 3. **Sample spans.** The line is cut at every segment end into *sample spans*, inside
+//!    which the set of segments does not change. A sample span with one segment is that
+//!    segment's (14.4.1, simple case 1); a span with none is background.
+//! 4. **Depth only where segments overlap.** In a sample span with several segments the
+//!    front one at its left end is found by comparing their depths there (smaller wins;
+//!    at equal depth the polygon earlier in the stream). Then, instead of subdividing at
+//!    midpoints, the first column where another segment comes in front is solved for
+//!    exactly, in integers on the linear fixed-point depths ([`first_in_front`]; the
+//!    seeds' XINTER, "the X point of intersection"), the span is split there (14.4.1 case
+//!    3, "simple intersection", and Figure 14-33's non-recursive subdivision: process the
+//!    left part, then go on with the remainder), and the search goes on from that column.
+//!    A spanner in front of all the others (case 2) needs no split at all.
+//!
+//! Depths are [`scan::depth_at`]'s, which clamps to the `i64` range. Where the exact
+//! depth of a segment in a sample span leaves that range, the linear solve does not
+//! describe the clamped values, so that sample span alone is decided pixel by pixel, by
+//! the same comparison. The result is the z-buffer's picture to the pixel
+//! ([`scan::frame::zbuffer_image`]).
+//!
+//! The counters Watkins's timings are about (14.4.3: the computation "grows roughly as the
+//! *visible* complexity") are kept in [`ScanlineStats`].
+
+use proto::raster::centres_in_clamped;
+use proto::{Colour, Polygon};
+use scan::frame::HiddenSurface;
+use scan::{depth_at, DepthPlane, Run, SpanWalker};
+use std::ops::Range;
+
+/// Counters over all frames, for `--stats`.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct ScanlineStats {
+    /// Scan lines processed (those with at least one active polygon).
+    pub scan_lines: u64,
+    /// Segments: one per covered stretch of a polygon on a scan line.
+    pub segments: u64,
+    /// Sample spans: stretches between segment ends holding at least one segment.
+    pub sample_spans: u64,
+    /// Segments examined: the sum, over sample spans, of the segments in each.
+    pub segments_examined: u64,
+    /// Depth comparisons of one segment against another (at a column, or a crossing solve).
+    pub depth_comparisons: u64,
+    /// Splits of a sample span where another segment comes in front (intersections and
+    /// segments emerging from behind).
+    pub crossings: u64,
+    /// Sample spans decided pixel by pixel because a depth there saturates.
+    pub per_pixel_spans: u64,
+}
+
+/// One polygon's segment on the current scan line (seeds/003, "pairs of edges that belong
+/// to the same polygon are linked together to form segments").
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Segment {
+    /// Covered columns `x0..x1` (end exclusive, non-empty).
+    pub x0: u32,
+    pub x1: u32,
+    /// The polygon's depth at column 0 of the line and its step per column: column x has
+    /// depth `depth_at(z_row, dz, x)`.
+    pub z_row: i64,
+    pub dz: i64,
+    /// The polygon's place in the frame's stream: at equal depth the smaller wins.
+    pub polygon: usize,
+    pub colour: Colour,
+}
+
+impl Segment {
+    /// The exact (unclamped) depth at column x.
+    #[inline]
+    fn exact(&self, x: u32) -> i128 {
+        self.z_row as i128 + x as i128 * self.dz as i128
+    }
+
+    /// Whether every depth of the segment is exact, i.e. none is clamped: the exact depth
+    /// is monotone from `z_row`, which is in range, so its last column decides.
+    #[inline]
+    pub fn unclamped(&self) -> bool {
+        let last = self.exact(self.x1 - 1);
+        (i64::MIN as i128..=i64::MAX as i128).contains(&last)
+    }
+
+    /// The depth the z-buffer gives column x (clamped).
+    #[inline]
+    pub fn depth(&self, x: u32) -> i64 {
+        depth_at(self.z_row, self.dz, x)
+    }
+
+    /// Whether this segment is in front of `other` at column x: nearer, or as near and
+    /// earlier in the stream.
+    #[inline]
+    pub fn in_front_of(&self, other: &Segment, x: u32) -> bool {
+        (self.depth(x), self.polygon) < (other.depth(x), other.polygon)
+    }
+}
+
+/// The first column `c ≥ from` at which `s` is in front of `front` (nearer, or as near
+/// and earlier in the stream), computed exactly on the two depth lines — the seeds'
+/// XINTER, "the X point of intersection", rounded to the pixel centres the z-buffer
+/// samples. `None` if there is none. Both segments' depths must be exact (not clamped)
+/// over the columns considered: they are then `z_row + x·dz` in integers, and their
+/// difference `D(x) = e − x·n` (with `e` and `−n` the differences of the `z_row`s and
+/// the `dz`s) is linear.
+pub fn first_in_front(s: &Segment, front: &Segment, from: u32) -> Option<u32> {
+    let e = s.z_row as i128 - front.z_row as i128;
+    let n = front.dz as i128 - s.dz as i128;
+    let earlier = s.polygon < front.polygon;
+    let wins_at = |x: i128| {
+        let d = e - x * n;
+        d < 0 || (d == 0 && earlier)
+    };
+    if n <= 0 {
+        // D does not decrease with x: if s is not in front at `from` it never is.
+        return wins_at(from as i128).then_some(from);
+    }
+    // n > 0: s wins where x·n > e (strictly nearer), or x·n ≥ e if it is earlier.
+    let first = if earlier {
+        // ⌈e / n⌉
+        -(-e).div_euclid(n)
+    } else {
+        // ⌊e / n⌋ + 1
+        e.div_euclid(n) + 1
+    };
+    let c = first.max(from as i128);
+    u32::try_from(c).ok()
+}
+
+/// An active polygon: the walker holding its edge tables, stepped line by line.
+struct ActivePolygon {
+    polygon: usize,
+    colour: Colour,
+    /// The lines its edges cross (from [`SpanWalker::start`]).
+    rows: Range<i64>,
+    depth: DepthPlane,
+    walker: SpanWalker,
+}
+
+/// Watkins's scan-line method as a [`HiddenSurface`]. Its tables (walkers, lists) are
+/// kept from frame to frame.
+#[derive(Default)]
+pub struct Scanline {
+    /// The frame's polygons by the first line they may reach: (line, stream index).
+    entering: Vec<(i64, usize)>,
+    active: Vec<ActivePolygon>,
+    /// Walkers of polygons that have left, for the next to enter.
+    pool: Vec<SpanWalker>,
+    /// The current line's segments, sorted by left end.
+    segments: Vec<Segment>,
+    /// Indices into `segments` of those in the current sample span.
+    present: Vec<usize>,
+    pub stats: ScanlineStats,
+}
+
+impl Scanline {
+    pub fn new() -> Self {
+        Scanline::default()
+    }
+}
+
+/// The runs of one line, joined where the same colour goes on.
+struct RowRuns<'a> {
+    y: u32,
+    open: Option<Run>,
+    runs: &'a mut Vec<Run>,
+}
+
+impl RowRuns<'_> {
+    #[inline]
+    fn paint(&mut self, x0: u32, x1: u32, colour: Colour) {
+        match &mut self.open {
+            Some(run) if run.x1 == x0 && run.colour == colour => run.x1 = x1,
+            open => {
+                if let Some(run) = open.replace(Run {
+                    y: self.y,
+                    x0,
+                    x1,
+                    colour,
+                }) {
+                    self.runs.push(run);
+                }
+            }
+        }
+    }
+
+    fn finish(self) {
+        if let Some(run) = self.open {
+            self.runs.push(run);
+        }
+    }
+}
+
+/// The segment of `present` in front at column x, counting the comparisons.
+#[inline]
+fn front_at(segments: &[Segment], present: &[usize], x: u32, comparisons: &mut u64) -> usize {
+    let mut front = present[0];
+    for &i in &present[1..] {
+        if segments[i].in_front_of(&segments[front], x) {
+            front = i;
+        }
+    }
+    *comparisons += present.len() as u64 - 1;
+    front
+}
+
+/// Decides the sample span `a..b` holding the segments `present` (14.4.1).
+fn sample_span(
+    segments: &[Segment],
+    present: &[usize],
+    (a, b): (u32, u32),
+    stats: &mut ScanlineStats,
+    out: &mut RowRuns,
+) {
+    stats.sample_spans += 1;
+    stats.segments_examined += present.len() as u64;
+    if let [only] = present {
+        // Case 1: one segment, visible across the span.
+        out.paint(a, b, segments[*only].colour);
+        return;
+    }
+    if !present.iter().all(|&i| segments[i].unclamped()) {
+        // A clamped depth: the lines no longer describe it; decide each pixel.
+        stats.per_pixel_spans += 1;
+        for x in a..b {
+            let f = front_at(segments, present, x, &mut stats.depth_comparisons);
+            out.paint(x, x + 1, segments[f].colour);
+        }
+        return;
+    }
+    // Cases 2 and 3: the front segment at the left end holds until the first column where
+    // another comes in front of it; split there and go on from that column.
+    let mut x = a;
+    let mut front = front_at(segments, present, x, &mut stats.depth_comparisons);
+    loop {
+        let f = &segments[front];
+        let mut split = b;
+        for &i in present {
+            if i == front {
+                continue;
+            }
+            stats.depth_comparisons += 1;
+            if let Some(c) = first_in_front(&segments[i], f, x + 1) {
+                split = split.min(c);
+            }
+        }
+        out.paint(x, split, f.colour);
+        if split >= b {
+            return;
+        }
+        stats.crossings += 1;
+        x = split;
+        front = front_at(segments, present, x, &mut stats.depth_comparisons);
+    }
+}
+
+impl HiddenSurface for Scanline {
+    fn resolve(&mut self, polygons: &[Polygon], width: u32, height: u32, runs: &mut Vec<Run>) {
+        // Preframe processing: the polygons sorted by the first line they may reach (a
+        // line whose centre is at or below their top vertex). The walker finds the exact
+        // lines when the polygon enters.
+        self.entering.clear();
+        for (i, p) in polygons.iter().enumerate() {
+            if p.vertices.len() < 3 {
+                continue;
+            }
+            let top = p.vertices.iter().map(|v| v.y).fold(f64::INFINITY, f64::min);
+            // Saturating: NaN gives 0, −∞ gives i64::MIN.
+            let first = ((top - 0.5).ceil() as i64).max(0);
+            if first < height as i64 {
+                self.entering.push((first, i));
+            }
+        }
+        // Stable, so polygons entering together keep their stream order.
+        self.entering.sort_by_key(|&(line, _)| line);
+        for a in self.active.drain(..) {
+            self.pool.push(a.walker);
+        }
+
+        let mut next = 0;
+        for y in 0..height {
+            let line = y as i64;
+            // Polygons entering on this line.
+            while next < self.entering.len() && self.entering[next].0 <= line {
+                let i = self.entering[next].1;
+                next += 1;
+                let p = &polygons[i];
+                let mut walker = self.pool.pop().unwrap_or_default();
+                let rows = walker.start(p, height);
+                if rows.is_empty() {
+                    self.pool.push(walker);
+                    continue;
+                }
+                // The walker's first line is never above the one found from the top vertex;
+                // should rounding ever say otherwise, its tables still step every line.
+                for skipped in rows.start..line {
+                    walker.crossings(skipped);
+                }
+                self.active.push(ActivePolygon {
+                    polygon: i,
+                    colour: p.colour,
+                    rows,
+                    depth: DepthPlane::of(p),
+                    walker,
+                });
+            }
+            // Polygons past their last line leave.
+            let mut k = 0;
+            while k < self.active.len() {
+                if self.active[k].rows.end <= line {
+                    let gone = self.active.swap_remove(k);
+                    self.pool.push(gone.walker);
+                } else {
+                    k += 1;
+                }
+            }
+            if self.active.is_empty() {
+                if next == self.entering.len() {
+                    break;
+                }
+                continue;
+            }
+            self.stats.scan_lines += 1;
+
+            // The active polygons' segments on this line, stepping each one's edges.
+            self.segments.clear();
+            for a in &mut self.active {
+                if line < a.rows.start {
+                    continue;
+                }
+                let (z_row, dz) = a.depth.row(y);
+                for pair in a.walker.crossings(line).chunks_exact(2) {
+                    let cols = centres_in_clamped(pair[0], pair[1], width);
+                    if cols.is_empty() {
+                        continue;
+                    }
+                    self.segments.push(Segment {
+                        x0: cols.start,
+                        x1: cols.end,
+                        z_row,
+                        dz,
+                        polygon: a.polygon,
+                        colour: a.colour,
+                    });
+                }
+            }
+            if self.segments.is_empty() {
+                continue;
+            }
+            self.stats.segments += self.segments.len() as u64;
+            self.segments.sort_unstable_by_key(|s| (s.x0, s.polygon));
+
+            // The sample spans, left to right: cut at every segment end.
+            let mut out = RowRuns {
+                y,
+                open: None,
+                runs,
+            };
+            let segments = &self.segments;
+            let present = &mut self.present;
+            present.clear();
+            let mut entered = 0;
+            let mut x = segments[0].x0;
+            loop {
+                if present.is_empty() {
+                    match segments.get(entered) {
+                        Some(s) => x = x.max(s.x0),
+                        None => break,
+                    }
+                }
+                while entered < segments.len() && segments[entered].x0 <= x {
+                    present.push(entered);
+                    entered += 1;
+                }
+                let mut end = present
+                    .iter()
+                    .map(|&i| segments[i].x1)
+                    .min()
+                    .unwrap_or(u32::MAX);
+                if let Some(s) = segments.get(entered) {
+                    end = end.min(s.x0);
+                }
+                sample_span(segments, present, (x, end), &mut self.stats, &mut out);
+                x = end;
+                present.retain(|&i| segments[i].x1 > x);
+            }
+            out.finish();
+        }
+    }
+
+    fn stats(&self) -> String {
+        let s = &self.stats;
+        format!(
+            "{} scan lines, {} segments, {} sample spans, {} segments examined, \
+             {} depth comparisons, {} crossings, {} sample spans per pixel",
+            s.scan_lines,
+            s.segments,
+            s.sample_spans,
+            s.segments_examined,
+            s.depth_comparisons,
+            s.crossings,
+            s.per_pixel_spans
+        )
+    }
+}
