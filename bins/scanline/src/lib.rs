@@ -416,3 +416,276 @@ impl HiddenSurface for Scanline {
         )
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use scan::frame::{differing_pixels, image_of, zbuffer_image};
+
+    fn seg(z_row: i64, dz: i64, polygon: usize) -> Segment {
+        Segment {
+            x0: 0,
+            x1: 1 << 20,
+            z_row,
+            dz,
+            polygon,
+            colour: [0, 0, 0],
+        }
+    }
+
+    /// The first column from `from` on (below `limit`) where `s` is in front, by testing
+    /// every column.
+    fn brute(s: &Segment, f: &Segment, from: u32, limit: u32) -> Option<u32> {
+        (from..limit).find(|&x| s.in_front_of(f, x))
+    }
+
+    #[test]
+    fn the_crossing_of_two_depth_lines() {
+        // D(x) = 100 − 20x: zero at x = 5 exactly.
+        let front = seg(0, 10, 0);
+        let later = seg(100, -10, 1);
+        // Later in the stream, it needs to be strictly nearer: from column 6.
+        assert_eq!(first_in_front(&later, &front, 0), Some(6));
+        // Earlier in the stream, the tie at column 5 is already its.
+        let earlier = seg(100, -10, 0);
+        let front1 = seg(0, 10, 1);
+        assert_eq!(first_in_front(&earlier, &front1, 0), Some(5));
+        // Not before `from`.
+        assert_eq!(first_in_front(&later, &front, 9), Some(9));
+        // A crossing that is not at a whole column: D(x) = 7 − 3x, < 0 from x = 3.
+        assert_eq!(first_in_front(&seg(7, 0, 1), &seg(0, 3, 0), 0), Some(3));
+        assert_eq!(first_in_front(&seg(7, 0, 0), &seg(0, 3, 1), 0), Some(3));
+        // Negative depths: D(x) = 10 − 2x, < 0 from x = 6; and s in front from the start.
+        assert_eq!(
+            first_in_front(&seg(-50, -3, 1), &seg(-60, -1, 0), 0),
+            Some(6)
+        );
+        assert_eq!(first_in_front(&seg(-70, -1, 1), &seg(-60, 0, 0), 4), Some(4));
+    }
+
+    #[test]
+    fn parallel_or_diverging_lines_never_cross() {
+        let front = seg(0, 10, 0);
+        assert_eq!(first_in_front(&seg(1, 10, 1), &front, 0), None);
+        assert_eq!(first_in_front(&seg(1, 11, 1), &front, 0), None);
+        // Coincident: the later polygon never comes in front, the earlier is in front at once.
+        assert_eq!(first_in_front(&seg(0, 10, 1), &front, 3), None);
+        assert_eq!(first_in_front(&seg(0, 10, 0), &seg(0, 10, 1), 3), Some(3));
+    }
+
+    #[test]
+    fn crossings_with_the_largest_exact_depths() {
+        // Depths near the ends of the i64 range, steps of 2^40: no overflow in the solve.
+        let big = i64::MAX - (1 << 50);
+        let front = seg(-big, 1 << 40, 0);
+        let s = seg(big, -(1 << 40), 1);
+        // D(x) = 2·big − 2^41·x < 0 when x > big / 2^40.
+        let want = (big >> 40) as u32 + 1;
+        assert_eq!(first_in_front(&s, &front, 0), Some(want));
+        assert!(s.in_front_of(&front, want) && !s.in_front_of(&front, want - 1));
+        // A crossing beyond u32 columns is none.
+        assert_eq!(first_in_front(&seg(big, -1, 1), &seg(0, 0, 0), 0), None);
+    }
+
+    /// The solve agrees with testing every column, for small lines of every kind.
+    #[test]
+    fn the_solve_agrees_with_every_column() {
+        let values = [-40i64, -7, -3, -1, 0, 1, 2, 5, 13, 40];
+        let steps = [-9i64, -4, -1, 0, 1, 3, 8];
+        for &z1 in &values {
+            for &d1 in &steps {
+                for &z2 in &values {
+                    for &d2 in &steps {
+                        for (p1, p2) in [(0, 1), (1, 0)] {
+                            let (s, f) = (seg(z1, d1, p1), seg(z2, d2, p2));
+                            for from in [0, 1, 4] {
+                                let got = first_in_front(&s, &f, from).filter(|&c| c < 200);
+                                assert_eq!(got, brute(&s, &f, from, 200), "{s:?} {f:?} {from}");
+                            }
+                        }
+                    }
+                }
+            }
+        }
+    }
+
+    fn quad(colour: Colour, pts: [[f64; 3]; 4]) -> Polygon {
+        Polygon::from_xyz(colour, &pts)
+    }
+
+    fn resolve(polygons: &[Polygon], w: u32, h: u32) -> (Vec<Run>, ScanlineStats) {
+        let mut method = Scanline::new();
+        let mut runs = vec![];
+        method.resolve(polygons, w, h, &mut runs);
+        (runs, method.stats)
+    }
+
+    fn run(y: u32, x0: u32, x1: u32, colour: Colour) -> Run {
+        Run { y, x0, x1, colour }
+    }
+
+    const RED: Colour = [255, 0, 0];
+    const GREEN: Colour = [0, 255, 0];
+    const BLUE: Colour = [0, 0, 255];
+
+    #[test]
+    fn interpenetrating_planes_split_at_their_intersection() {
+        // Red at depth 0.5; green slopes from 0.2 at X = 2 by 0.1 a column: at pixel
+        // centres 2.5, 3.5, 4.5 it is nearer (0.25, 0.35, 0.45), at 5.5 farther (0.55).
+        let red = quad(
+            RED,
+            [[0., 0., 0.5], [6., 0., 0.5], [6., 1., 0.5], [0., 1., 0.5]],
+        );
+        let green = quad(
+            GREEN,
+            [[2., 0., 0.2], [8., 0., 0.8], [8., 1., 0.8], [2., 1., 0.2]],
+        );
+        let (runs, stats) = resolve(&[red, green], 8, 1);
+        assert_eq!(
+            runs,
+            vec![
+                run(0, 0, 2, RED),
+                run(0, 2, 5, GREEN),
+                run(0, 5, 6, RED),
+                run(0, 6, 8, GREEN)
+            ]
+        );
+        assert_eq!(
+            stats,
+            ScanlineStats {
+                scan_lines: 1,
+                segments: 2,
+                sample_spans: 3,
+                segments_examined: 4,
+                // front at 2, solve, front at 5, solve
+                depth_comparisons: 4,
+                crossings: 1,
+                per_pixel_spans: 0,
+            }
+        );
+    }
+
+    #[test]
+    fn a_spanner_in_front_needs_no_split_and_ties_go_to_the_earlier() {
+        // Blue in front of the whole span; red and green coincide behind it at one depth.
+        let red = quad(
+            RED,
+            [[0., 0., 0.5], [4., 0., 0.5], [4., 2., 0.5], [0., 2., 0.5]],
+        );
+        let green = quad(
+            GREEN,
+            [[0., 0., 0.5], [4., 0., 0.5], [4., 2., 0.5], [0., 2., 0.5]],
+        );
+        let blue = quad(
+            BLUE,
+            [[1., 0., 0.1], [3., 0., 0.1], [3., 1., 0.1], [1., 1., 0.1]],
+        );
+        let (runs, stats) = resolve(&[red, green, blue], 4, 2);
+        assert_eq!(
+            runs,
+            vec![
+                run(0, 0, 1, RED),
+                run(0, 1, 3, BLUE),
+                run(0, 3, 4, RED),
+                run(1, 0, 4, RED)
+            ]
+        );
+        assert_eq!(stats.crossings, 0);
+        assert_eq!(stats.sample_spans, 4);
+    }
+
+    #[test]
+    fn a_clamped_depth_is_decided_pixel_by_pixel() {
+        // A recorded plane so steep that its depth leaves the i64 range across the row:
+        // depth = 0.5 + 8e6·(X − 2) from the plane −8e6·X + 0·Y + 1·Z + (16e6 − 0.5) = 0:
+        // in fixed point the step is 8.8e18, column 0's depth clamps to i64::MIN and
+        // column 3's to i64::MAX.
+        let mut steep = quad(
+            RED,
+            [[0., 0., 0.5], [4., 0., 0.5], [4., 1., 0.5], [0., 1., 0.5]],
+        );
+        steep.plane = Some(proto::DVec4::new(-8e6, 0.0, 1.0, 16e6 - 0.5));
+        let flat = quad(
+            GREEN,
+            [[0., 0., 0.6], [4., 0., 0.6], [4., 1., 0.6], [0., 1., 0.6]],
+        );
+        let polygons = [steep, flat];
+        let (runs, stats) = resolve(&polygons, 4, 1);
+        assert_eq!(stats.per_pixel_spans, 1);
+        assert_eq!(
+            image_of(&runs, 4, 1),
+            zbuffer_image(&polygons, 4, 1),
+            "{runs:?}"
+        );
+        // Columns 0 and 1 (depths far below zero, one clamped) are red's, 2 and 3 green's.
+        assert_eq!(runs, vec![run(0, 0, 2, RED), run(0, 2, 4, GREEN)]);
+    }
+
+    #[test]
+    fn empty_frames_and_degenerate_polygons_give_no_runs() {
+        let (runs, _) = resolve(&[], 8, 8);
+        assert!(runs.is_empty());
+        let polygons = [
+            Polygon::from_xyz(RED, &[]),
+            Polygon::from_xyz(RED, &[[1., 1., 0.], [3., 3., 0.]]),
+            Polygon::from_xyz(RED, &[[1., 1., 0.], [2., 2., 0.], [3., 3., 0.]]),
+            Polygon::from_xyz(RED, &[[-5., -5., 0.], [-1., -5., 0.], [-1., -1., 0.]]),
+            Polygon::from_xyz(RED, &[[1., 9., 0.], [3., 9., 0.], [3., 12., 0.]]),
+            Polygon::from_xyz(RED, &[[f64::NAN, 1., 0.], [3., 1., 0.], [3., 3., 0.]]),
+        ];
+        let (runs, _) = resolve(&polygons, 8, 8);
+        assert_eq!(image_of(&runs, 8, 8), zbuffer_image(&polygons, 8, 8));
+        let (runs, _) = resolve(&polygons, 0, 0);
+        assert!(runs.is_empty());
+    }
+
+    #[test]
+    fn frames_reuse_the_tables() {
+        // Two frames through one method: the second is not disturbed by the first.
+        let a = [quad(
+            RED,
+            [[0., 0., 0.5], [8., 0., 0.5], [8., 8., 0.5], [0., 8., 0.5]],
+        )];
+        let b = [quad(
+            GREEN,
+            [[2., 2., 0.5], [4., 2., 0.5], [4., 4., 0.5], [2., 4., 0.5]],
+        )];
+        let mut method = Scanline::new();
+        let mut runs = vec![];
+        method.resolve(&a, 8, 8, &mut runs);
+        runs.clear();
+        method.resolve(&b, 8, 8, &mut runs);
+        assert_eq!(runs, vec![run(2, 2, 4, GREEN), run(3, 2, 4, GREEN)]);
+        assert_eq!(method.stats.scan_lines, 10);
+    }
+
+    /// A pseudo-random scene larger than the property tests': many overlapping,
+    /// interpenetrating triangles and quads on a screen wider than a region tile.
+    #[test]
+    fn a_larger_random_scene_is_the_zbuffers() {
+        let mut state = 0x2545_f491_4f6c_dd1du64;
+        let mut next = move || {
+            state ^= state << 13;
+            state ^= state >> 7;
+            state ^= state << 17;
+            (state >> 11) as f64 / (1u64 << 53) as f64
+        };
+        let (w, h) = (200u32, 150u32);
+        let polygons: Vec<Polygon> = (0..600)
+            .map(|i| {
+                let (cx, cy) = (next() * 220.0 - 10.0, next() * 170.0 - 10.0);
+                let n = 3 + (i % 3);
+                let pts: Vec<[f64; 3]> = (0..n)
+                    .map(|_| [cx + next() * 40.0 - 20.0, cy + next() * 40.0 - 20.0, next()])
+                    .collect();
+                Polygon::from_xyz([i as u8, (i >> 8) as u8, 9], &pts)
+            })
+            .collect();
+        let (runs, stats) = resolve(&polygons, w, h);
+        assert_eq!(
+            differing_pixels(&image_of(&runs, w, h), &zbuffer_image(&polygons, w, h)),
+            0
+        );
+        assert!(stats.crossings > 100, "{stats:?}");
+    }
+}
