@@ -460,7 +460,10 @@ mod tests {
             first_in_front(&seg(-50, -3, 1), &seg(-60, -1, 0), 0),
             Some(6)
         );
-        assert_eq!(first_in_front(&seg(-70, -1, 1), &seg(-60, 0, 0), 4), Some(4));
+        assert_eq!(
+            first_in_front(&seg(-70, -1, 1), &seg(-60, 0, 0), 4),
+            Some(4)
+        );
     }
 
     #[test]
@@ -563,6 +566,30 @@ mod tests {
                 per_pixel_spans: 0,
             }
         );
+    }
+
+    #[test]
+    fn a_tie_inside_a_span_goes_to_the_earlier_polygon() {
+        // Red (earlier) flat at 0.5; green (later) z = 0.5 + (X − 4.5)/16, in front left of
+        // column 4 and exactly as near at its centre 4.5: column 4 is red's, as in the
+        // z-buffer, and the split falls there, not a column later.
+        let red = quad(
+            RED,
+            [[0., 0., 0.5], [8., 0., 0.5], [8., 1., 0.5], [0., 1., 0.5]],
+        );
+        let z = |x: f64| 0.5 + (x - 4.5) / 16.0;
+        let green = quad(
+            GREEN,
+            [
+                [0., 0., z(0.)],
+                [8., 0., z(8.)],
+                [8., 1., z(8.)],
+                [0., 1., z(0.)],
+            ],
+        );
+        let (runs, stats) = resolve(&[red, green], 8, 1);
+        assert_eq!(runs, vec![run(0, 0, 4, GREEN), run(0, 4, 8, RED)]);
+        assert_eq!(stats.crossings, 1);
     }
 
     #[test]
@@ -687,5 +714,248 @@ mod tests {
             0
         );
         assert!(stats.crossings > 100, "{stats:?}");
+    }
+}
+
+/// Property tests: the scan-line picture is the z-buffer's on random polygon sets.
+#[cfg(test)]
+mod properties {
+    use super::*;
+    use proptest::prelude::*;
+    use proto::{DVec4, Vertex};
+    use scan::frame::{differing_pixels, image_of, zbuffer_image};
+
+    /// 70×40: wider than a region tile (64), so the z-buffer's tiles are crossed too.
+    const W: u32 = 70;
+    const H: u32 = 40;
+
+    /// A shape drawn from raw numbers in 0..1 (shrinks well).
+    #[derive(Clone, Debug)]
+    struct Shape {
+        kind: u8,
+        points: Vec<(f64, f64, f64)>,
+        cut: f64,
+    }
+
+    fn shape() -> impl Strategy<Value = Shape> {
+        (
+            0u8..10,
+            prop::collection::vec((0.0f64..1.0, 0.0f64..1.0, 0.0f64..1.0), 3..8),
+            0.0f64..1.0,
+        )
+            .prop_map(|(kind, points, cut)| Shape { kind, points, cut })
+    }
+
+    /// Splits `p` at X = k the way the splitter cuts (Sutherland–Hodgman): a piece of a
+    /// cut edge carries the whole edge as its support, the edges along the cut none, and
+    /// both pieces the whole polygon's plane. `None` unless both pieces have an area.
+    fn cut(p: &Polygon, k: f64) -> Option<[Polygon; 2]> {
+        let n = p.vertices.len();
+        let plane = proto::geometry::newell_plane(
+            &p.vertices.iter().map(|v| v.truncate()).collect::<Vec<_>>(),
+        );
+        let piece = |left: bool| {
+            let inside = |v: &Vertex| (v.x < k) == left;
+            let mut out = Polygon::new(p.colour, vec![]);
+            out.plane = Some(plane);
+            for i in 0..n {
+                let (a, b) = (p.vertices[i], p.vertices[(i + 1) % n]);
+                let at = |a: Vertex, b: Vertex| {
+                    let t = (k - a.x) / (b.x - a.x);
+                    let mut v = a + (b - a) * t;
+                    v.x = k;
+                    v
+                };
+                match (inside(&a), inside(&b)) {
+                    (true, true) => {
+                        out.vertices.push(a);
+                        out.supports.push(None);
+                    }
+                    (true, false) => {
+                        out.vertices.push(a);
+                        out.supports.push(Some([a, b]));
+                        out.vertices.push(at(a, b));
+                        out.supports.push(None);
+                    }
+                    (false, true) => {
+                        out.vertices.push(at(a, b));
+                        out.supports.push(Some([a, b]));
+                    }
+                    (false, false) => {}
+                }
+            }
+            out
+        };
+        let (l, r) = (piece(true), piece(false));
+        (l.vertices.len() >= 3 && r.vertices.len() >= 3).then_some([l, r])
+    }
+
+    /// The polygons of a scene: each shape in a colour of its own (so that which polygon
+    /// wins a tie shows in the picture), some shapes becoming two polygons.
+    fn scene(shapes: &[Shape]) -> Vec<Polygon> {
+        let (w, h) = (W as f64, H as f64);
+        let mut out: Vec<Polygon> = vec![];
+        for (i, s) in shapes.iter().enumerate() {
+            let colour = [(i * 37) as u8, (i * 91 + 11) as u8, i as u8];
+            let free = |x: f64, y: f64| (x * (w + 10.0) - 5.0, y * (h + 10.0) - 5.0);
+            let pts: Vec<[f64; 3]> = match s.kind {
+                // Free polygons: convex, concave or self-crossing (bowties), their planes
+                // tilted every way, so they interpenetrate.
+                0 | 1 => s
+                    .points
+                    .iter()
+                    .map(|&(x, y, z)| {
+                        let (x, y) = free(x, y);
+                        [x, y, z]
+                    })
+                    .collect(),
+                // On a half-pixel grid with depths in eighths: vertices on pixel centres,
+                // shared edges, horizontal edges, equal depths.
+                2 => s
+                    .points
+                    .iter()
+                    .map(|&(x, y, z)| {
+                        let (x, y) = free(x, y);
+                        [
+                            (x * 2.0).round() / 2.0,
+                            (y * 2.0).round() / 2.0,
+                            (z * 8.0).round() / 8.0,
+                        ]
+                    })
+                    .collect(),
+                // A polygon coincident with the one before (same vertices, another colour).
+                3 if !out.is_empty() => {
+                    let mut p = out[out.len() - 1].clone();
+                    p.colour = colour;
+                    out.push(p);
+                    continue;
+                }
+                // A sliver: a long triangle a hundredth of a pixel wide.
+                3 | 4 => {
+                    let (x0, y0) = free(s.points[0].0, s.points[0].1);
+                    let (x1, y1) = free(s.points[1].0, s.points[1].1);
+                    let (z0, z1) = (s.points[0].2, s.points[1].2);
+                    vec![[x0, y0, z0], [x1, y1, z1], [x1 + 0.01, y1 + 0.013, z1]]
+                }
+                // Big coordinates, up to 15 screens out (inside the guard band).
+                5 => s
+                    .points
+                    .iter()
+                    .map(|&(x, y, z)| [(x - 0.5) * 30.0 * w, (y - 0.5) * 30.0 * h, z])
+                    .collect(),
+                // Near-equal depths: planes within a few fixed-point units of 0.5.
+                6 => s
+                    .points
+                    .iter()
+                    .map(|&(x, y, z)| {
+                        let (x, y) = free(x, y);
+                        [x, y, 0.5 + (z - 0.5) * 4e-12]
+                    })
+                    .collect(),
+                // Steep depths: in fixed point they reach past the i64 range.
+                7 => s
+                    .points
+                    .iter()
+                    .map(|&(x, y, z)| {
+                        let (x, y) = free(x, y);
+                        [x, y, (z - 0.5) * 4e7]
+                    })
+                    .collect(),
+                // Dyadic planes over integer vertices: depths exact in fixed point, so two
+                // planes often meet exactly at a pixel centre (a tie inside a span).
+                8 => {
+                    let k = |v: f64| (v * 9.0).floor() - 4.0;
+                    let (k0, kx, ky) = (k(s.cut), k(s.points[0].2), k(s.points[1].2));
+                    s.points
+                        .iter()
+                        .map(|&(x, y, _)| {
+                            let (x, y) = free(x, y);
+                            let (x, y) = (x.round(), y.round());
+                            [x, y, 0.5 + (k0 + kx * x + ky * y) / 256.0]
+                        })
+                        .collect()
+                }
+                // A free polygon cut in two at X = k by the splitter's rule.
+                _ => {
+                    let pts: Vec<[f64; 3]> = s
+                        .points
+                        .iter()
+                        .map(|&(x, y, z)| {
+                            let (x, y) = free(x, y);
+                            [x, y, z]
+                        })
+                        .collect();
+                    let whole = Polygon::from_xyz(colour, &pts);
+                    match cut(&whole, s.cut * w) {
+                        Some(pieces) => out.extend(pieces),
+                        None => out.push(whole),
+                    }
+                    continue;
+                }
+            };
+            out.push(Polygon::from_xyz(colour, &pts));
+        }
+        out
+    }
+
+    fn check(polygons: &[Polygon], w: u32, h: u32) -> Result<(), TestCaseError> {
+        let mut method = Scanline::new();
+        let mut runs = vec![];
+        method.resolve(polygons, w, h, &mut runs);
+        let want = zbuffer_image(polygons, w, h);
+        prop_assert_eq!(differing_pixels(&image_of(&runs, w, h), &want), 0);
+        // Runs are in row order, left to right, and as long as they can be.
+        for pair in runs.windows(2) {
+            let (a, b) = (pair[0], pair[1]);
+            prop_assert!((a.y, a.x1) <= (b.y, b.x0), "{:?} then {:?}", a, b);
+            prop_assert!(a.y != b.y || a.x1 != b.x0 || a.colour != b.colour);
+        }
+        Ok(())
+    }
+
+    proptest! {
+        #![proptest_config(ProptestConfig::with_cases(512))]
+
+        /// Overlapping, interpenetrating, coincident, concave and self-crossing polygons,
+        /// slivers, split pieces with supports, big coordinates, near-equal and clamped
+        /// depths: the scan-line picture is the z-buffer's to the pixel.
+        #[test]
+        fn the_picture_is_the_zbuffers(shapes in prop::collection::vec(shape(), 1..14)) {
+            check(&scene(&shapes), W, H)?;
+        }
+
+        /// Many polygons piled on one spot: deep sample spans, many crossings per line.
+        #[test]
+        fn deep_piles_are_the_zbuffers(
+            depths in prop::collection::vec((0.0f64..1.0, 0.0f64..1.0, 0.0f64..1.0), 2..40),
+        ) {
+            let polygons: Vec<Polygon> = depths
+                .iter()
+                .enumerate()
+                .map(|(i, &(a, b, c))| {
+                    let mut p = if i % 2 == 0 {
+                        Polygon::from_xyz(
+                            [i as u8, 0, 1],
+                            &[[2.0, 1.0, a], [30.0, 1.5, b], [29.0, 15.0, c], [1.0, 14.0, a]],
+                        )
+                    } else {
+                        // A dyadic plane: exact in fixed point, so planes meet exactly at
+                        // pixel centres and ties fall inside sample spans.
+                        let k = |v: f64| (v * 9.0).floor() - 4.0;
+                        let z = |x: f64, y: f64| 0.5 + (k(a) + k(b) * x + k(c) * y) / 256.0;
+                        Polygon::from_xyz(
+                            [i as u8, 0, 1],
+                            &[[1.0, 1.0, z(1.0, 1.0)], [31.0, 1.0, z(31.0, 1.0)],
+                              [31.0, 15.0, z(31.0, 15.0)], [1.0, 15.0, z(1.0, 15.0)]],
+                        )
+                    };
+                    if i % 5 == 4 {
+                        p.plane = Some(DVec4::new(a - 0.5, b - 0.5, 1.0, -c));
+                    }
+                    p
+                })
+                .collect();
+            check(&polygons, 32, 16)?;
+        }
     }
 }
