@@ -27,7 +27,12 @@
 //!    seeds' XINTER, "the X point of intersection"), the span is split there (14.4.1 case
 //!    3, "simple intersection", and Figure 14-33's non-recursive subdivision: process the
 //!    left part, then go on with the remainder), and the search goes on from that column.
-//!    A spanner in front of all the others (case 2) needs no split at all.
+//!    A spanner in front of all the others (case 2) needs no split at all. The front
+//!    segment and the column up to which it holds are carried from one sample span to
+//!    the next: while it stays, a segment coming in is compared with it alone, and the
+//!    whole span is looked at again only where the front leaves or may be overtaken.
+//!    The active polygons' segments are sorted afresh on each line (see the note in
+//!    [`Scanline`]'s resolve on Watkins's "minor sorting").
 //!
 //! Depths are [`scan::depth_at`]'s, which clamps to the `i64` range. Where the exact
 //! depth of a segment in a sample span leaves that range, the linear solve does not
@@ -217,11 +222,64 @@ fn front_at(segments: &[Segment], present: &[usize], x: u32, comparisons: &mut u
     front
 }
 
-/// Decides the sample span `a..b` holding the segments `present` (14.4.1).
+/// The segment in front as the sweep along a line left it, and the column before which no
+/// other segment present can come in front of it (a bound: it may be early, never late).
+#[derive(Clone, Copy)]
+struct Front {
+    segment: usize,
+    until: u32,
+}
+
+/// The first column from `from` on where a segment of `present` comes in front of
+/// `front` (`u32::MAX` if none): one crossing solve for each.
+fn overtaken_at(
+    segments: &[Segment],
+    present: &[usize],
+    front: usize,
+    from: u32,
+    stats: &mut ScanlineStats,
+) -> u32 {
+    let f = &segments[front];
+    let mut until = u32::MAX;
+    for &i in present {
+        if i != front {
+            stats.depth_comparisons += 1;
+            if let Some(c) = first_in_front(&segments[i], f, from) {
+                until = until.min(c);
+            }
+        }
+    }
+    until
+}
+
+/// Finds the front segment at column x afresh and the first column where another comes
+/// in front of it: the seeds' "depth processing" of every segment in the span.
+fn front_afresh(
+    segments: &[Segment],
+    present: &[usize],
+    x: u32,
+    stats: &mut ScanlineStats,
+) -> Front {
+    let segment = front_at(segments, present, x, &mut stats.depth_comparisons);
+    Front {
+        segment,
+        until: overtaken_at(segments, present, segment, x + 1, stats),
+    }
+}
+
+/// Decides the sample span `a..b` holding the segments `present`, of which
+/// `present[entering..]` begin at `a` (14.4.1), carrying `front` along the line.
+///
+/// Depth is compared only where segments overlap, and only as much as the last span left
+/// undecided: while the front segment stays, a segment coming in is compared with it
+/// alone (at `a`, and by one crossing solve); everything is looked at again only where
+/// the front leaves or may be overtaken (Watkins's coherence along a scan line).
 fn sample_span(
     segments: &[Segment],
     present: &[usize],
+    entering: usize,
     (a, b): (u32, u32),
+    front: &mut Option<Front>,
     stats: &mut ScanlineStats,
     out: &mut RowRuns,
 ) {
@@ -230,6 +288,10 @@ fn sample_span(
     if let [only] = present {
         // Case 1: one segment, visible across the span.
         out.paint(a, b, segments[*only].colour);
+        *front = Some(Front {
+            segment: *only,
+            until: u32::MAX,
+        });
         return;
     }
     if !present.iter().all(|&i| segments[i].unclamped()) {
@@ -239,32 +301,53 @@ fn sample_span(
             let f = front_at(segments, present, x, &mut stats.depth_comparisons);
             out.paint(x, x + 1, segments[f].colour);
         }
+        *front = None;
         return;
     }
-    // Cases 2 and 3: the front segment at the left end holds until the first column where
-    // another comes in front of it; split there and go on from that column.
+    // Cases 2 and 3: the front segment holds until the first column where another comes
+    // in front of it; split there (the seeds' XINTER) and go on from that column.
+    let mut f = match *front {
+        // The front is still here and nothing overtakes it at `a`: it is in front of every
+        // segment that was here before, so only those coming in need looking at.
+        Some(f) if segments[f.segment].x1 > a && f.until > a => {
+            let mut best = f.segment;
+            for &e in &present[entering..] {
+                stats.depth_comparisons += 1;
+                if segments[e].in_front_of(&segments[best], a) {
+                    best = e;
+                }
+            }
+            if best == f.segment {
+                let until = overtaken_at(segments, &present[entering..], best, a + 1, stats);
+                Front {
+                    segment: best,
+                    until: f.until.min(until),
+                }
+            } else {
+                // A segment comes in in front: every other is solved against it.
+                Front {
+                    segment: best,
+                    until: overtaken_at(segments, present, best, a + 1, stats),
+                }
+            }
+        }
+        _ => front_afresh(segments, present, a, stats),
+    };
     let mut x = a;
-    let mut front = front_at(segments, present, x, &mut stats.depth_comparisons);
     loop {
-        let f = &segments[front];
-        let mut split = b;
-        for &i in present {
-            if i == front {
-                continue;
-            }
-            stats.depth_comparisons += 1;
-            if let Some(c) = first_in_front(&segments[i], f, x + 1) {
-                split = split.min(c);
-            }
-        }
-        out.paint(x, split, f.colour);
+        let split = f.until.min(b);
+        out.paint(x, split, segments[f.segment].colour);
         if split >= b {
-            return;
+            break;
         }
-        stats.crossings += 1;
         x = split;
-        front = front_at(segments, present, x, &mut stats.depth_comparisons);
+        let next = front_afresh(segments, present, x, stats);
+        if next.segment != f.segment {
+            stats.crossings += 1;
+        }
+        f = next;
     }
+    *front = Some(f);
 }
 
 impl HiddenSurface for Scanline {
@@ -361,6 +444,10 @@ impl HiddenSurface for Scanline {
                 continue;
             }
             self.stats.segments += self.segments.len() as u64;
+            // Watkins's list is kept in X order from line to line with "some minor sorting"
+            // (seeds/003, HIDDEN); here the line's segments are sorted afresh. Keeping the
+            // active list in the last line's X order so that they came out nearly sorted
+            // measured slower (moving the active polygons costs more than the sort saves).
             self.segments.sort_unstable_by_key(|s| (s.x0, s.polygon));
 
             // The sample spans, left to right: cut at every segment end.
@@ -374,6 +461,7 @@ impl HiddenSurface for Scanline {
             present.clear();
             let mut entered = 0;
             let mut x = segments[0].x0;
+            let mut front = None;
             loop {
                 if present.is_empty() {
                     match segments.get(entered) {
@@ -381,6 +469,7 @@ impl HiddenSurface for Scanline {
                         None => break,
                     }
                 }
+                let entering = present.len();
                 while entered < segments.len() && segments[entered].x0 <= x {
                     present.push(entered);
                     entered += 1;
@@ -393,7 +482,15 @@ impl HiddenSurface for Scanline {
                 if let Some(s) = segments.get(entered) {
                     end = end.min(s.x0);
                 }
-                sample_span(segments, present, (x, end), &mut self.stats, &mut out);
+                sample_span(
+                    segments,
+                    present,
+                    entering,
+                    (x, end),
+                    &mut front,
+                    &mut self.stats,
+                    &mut out,
+                );
                 x = end;
                 present.retain(|&i| segments[i].x1 > x);
             }
