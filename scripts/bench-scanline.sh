@@ -13,7 +13,8 @@
 #   3. tilted D: D full-screen quads, each tilted at random about a vertical axis: depth
 #      complexity D, and the front of the pile changes along every line
 #   4. environment Dc: the thesis's test environment (scene environment, 10,000 quads
-#      at 500x500) through viewxf, the clippers and persp
+#      at 500x500, half of them outside the pyramid, 10 frames) through viewxf, the
+#      clippers and persp
 #
 # Sections 1-3 are FRAMES frames (default 10) of one scene each, so that times are
 # measurable. Each cell is the smallest CPU time (user + system) of REPS runs (default 3; the
@@ -46,7 +47,8 @@ cpu() {
     done | sort -n | head -n 1
 }
 
-ratio() { awk -v a="$1" -v b="$2" 'BEGIN { printf "%.2f", (b > 0 ? a / b : 0) }'; }
+# ratio A B: A/B, or "-" when either is below the timer's 0.01 s.
+ratio() { awk -v a="$1" -v b="$2" 'BEGIN { if (a > 0 && b > 0) printf "%.2f", a / b; else printf "-" }'; }
 
 # row NAME PARAM FILE: one table row for a binary screen-space stream.
 row() {
@@ -149,10 +151,11 @@ if want 3; then
 fi
 
 if want 4; then
-    header "4. The test environment, 10,000 quads at 500x500 (CPU s, best of $REPS)" Dc
+    header "4. The test environment, 10,000 quads at 500x500, a 10-frame movie (CPU s, best of $REPS)" Dc
     clip="$B/clipplane left | $B/clipplane right | $B/clipplane top | $B/clipplane bottom | $B/clipplane hither | $B/clipplane yon"
     for dc in 1 4 16; do
-        "$B/scene" environment --polygons 10000 --depth-complexity $dc --seed 5 --size 500x500 |
+        "$B/scene" environment --polygons 10000 --depth-complexity $dc --seed 5 --size 500x500 \
+            --frames 10 |
             "$B/viewxf" --size 500x500 | bash -c "$clip" | "$B/persp" --size 500x500 > "$work/env$dc"
         row "$dc" "$work/env$dc"
     done

@@ -267,8 +267,18 @@ fn front_afresh(
     }
 }
 
-/// Decides the sample span `a..b` holding the segments `present`, of which
-/// `present[entering..]` begin at `a` (14.4.1), carrying `front` along the line.
+/// A sample span `a..b` (14.4.1): the segments `present` (indices into the line's
+/// segments), of which `present[entering..]` begin at `a`; `clamped` if any of them has a
+/// clamped depth.
+struct SampleSpan<'a> {
+    present: &'a [usize],
+    entering: usize,
+    a: u32,
+    b: u32,
+    clamped: bool,
+}
+
+/// Decides a sample span (14.4.1), carrying `front` along the line.
 ///
 /// Depth is compared only where segments overlap, and only as much as the last span left
 /// undecided: while the front segment stays, a segment coming in is compared with it
@@ -276,13 +286,18 @@ fn front_afresh(
 /// the front leaves or may be overtaken (Watkins's coherence along a scan line).
 fn sample_span(
     segments: &[Segment],
-    present: &[usize],
-    entering: usize,
-    (a, b): (u32, u32),
+    span: SampleSpan,
     front: &mut Option<Front>,
     stats: &mut ScanlineStats,
     out: &mut RowRuns,
 ) {
+    let SampleSpan {
+        present,
+        entering,
+        a,
+        b,
+        clamped,
+    } = span;
     stats.sample_spans += 1;
     stats.segments_examined += present.len() as u64;
     if let [only] = present {
@@ -294,7 +309,7 @@ fn sample_span(
         });
         return;
     }
-    if !present.iter().all(|&i| segments[i].unclamped()) {
+    if clamped {
         // A clamped depth: the lines no longer describe it; decide each pixel.
         stats.per_pixel_spans += 1;
         for x in a..b {
@@ -462,6 +477,10 @@ impl HiddenSurface for Scanline {
             let mut entered = 0;
             let mut x = segments[0].x0;
             let mut front = None;
+            // The nearest right end among the segments present, and how many of them have a
+            // clamped depth: kept as segments come and go rather than looked for each span.
+            let mut first_end = u32::MAX;
+            let mut clamped = 0usize;
             loop {
                 if present.is_empty() {
                     match segments.get(entered) {
@@ -471,28 +490,39 @@ impl HiddenSurface for Scanline {
                 }
                 let entering = present.len();
                 while entered < segments.len() && segments[entered].x0 <= x {
+                    let s = &segments[entered];
+                    first_end = first_end.min(s.x1);
+                    clamped += usize::from(!s.unclamped());
                     present.push(entered);
                     entered += 1;
                 }
-                let mut end = present
-                    .iter()
-                    .map(|&i| segments[i].x1)
-                    .min()
-                    .unwrap_or(u32::MAX);
+                let mut end = first_end;
                 if let Some(s) = segments.get(entered) {
                     end = end.min(s.x0);
                 }
-                sample_span(
-                    segments,
+                let span = SampleSpan {
                     present,
                     entering,
-                    (x, end),
-                    &mut front,
-                    &mut self.stats,
-                    &mut out,
-                );
+                    a: x,
+                    b: end,
+                    clamped: clamped > 0,
+                };
+                sample_span(segments, span, &mut front, &mut self.stats, &mut out);
                 x = end;
-                present.retain(|&i| segments[i].x1 > x);
+                if first_end <= x {
+                    // Some segment ends here: drop those that do, finding the next end.
+                    first_end = u32::MAX;
+                    present.retain(|&i| {
+                        let s = &segments[i];
+                        if s.x1 > x {
+                            first_end = first_end.min(s.x1);
+                            true
+                        } else {
+                            clamped -= usize::from(!s.unclamped());
+                            false
+                        }
+                    });
+                }
             }
             out.finish();
         }
