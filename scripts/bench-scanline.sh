@@ -15,6 +15,9 @@
 #   4. environment Dc: the thesis's test environment (scene environment, 10,000 quads
 #      at 500x500, half of them outside the pyramid, 10 frames) through viewxf, the
 #      clippers and persp
+#   5. Archuleta's figures 2 and 3 (seeds/003): the building (scene building, 1000
+#      frames) at 256 and at 1024 scan lines, against his 7.2 s and 23.7 s on a
+#      DECsystem-10 (3.3 times for 4 times the lines)
 #
 # Sections 1-3 are FRAMES frames (default 10) of one scene each, so that times are
 # measurable. Each cell is the smallest CPU time (user + system) of REPS runs (default 3; the
@@ -22,7 +25,7 @@
 # `scanline --stats`: segments, sample spans, depth comparisons and crossings (splits of a
 # sample span where another segment comes in front), per scan line.
 #
-# Usage: scripts/bench-scanline.sh [SECTION...]   (sections 1-4; default all)
+# Usage: scripts/bench-scanline.sh [SECTION...]   (sections 1-5; default all)
 set -euo pipefail
 
 root=$(cd "$(dirname "$0")/.." && pwd)
@@ -35,7 +38,7 @@ work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
 
 sections=("$@")
-((${#sections[@]})) || sections=(1 2 3 4)
+((${#sections[@]})) || sections=(1 2 3 4 5)
 want() { [[ " ${sections[*]} " == *" $1 "* ]]; }
 
 # cpu CMD: the smallest user + system seconds of REPS runs.
@@ -158,6 +161,17 @@ if want 4; then
             --frames 10 |
             "$B/viewxf" --size 500x500 | bash -c "$clip" | "$B/persp" --size 500x500 > "$work/env$dc"
         row "$dc" "$work/env$dc"
+    done
+    echo
+fi
+
+if want 5; then
+    header "5. Archuleta's building at 256 and 1024 scan lines, 1000 frames (CPU s, best of $REPS)" lines
+    clip="$B/clipplane left | $B/clipplane right | $B/clipplane top | $B/clipplane bottom | $B/clipplane hither | $B/clipplane yon"
+    for n in 256 1024; do
+        "$B/scene" building --frames 1000 | "$B/viewxf" --size ${n}x$n | bash -c "$clip" |
+            "$B/persp" --size ${n}x$n > "$work/building$n"
+        row "$n" "$work/building$n"
     done
     echo
 fi
