@@ -1025,6 +1025,20 @@ mod properties {
         out
     }
 
+    /// Mostly numbers on and near a 16×8 screen, sometimes anything at all.
+    fn num() -> impl Strategy<Value = f64> {
+        prop_oneof![
+            6 => -8.0f64..24.0,
+            1 => Just(f64::NAN),
+            1 => Just(f64::INFINITY),
+            1 => Just(f64::NEG_INFINITY),
+            1 => Just(1e300),
+            1 => Just(-1e-300),
+            1 => Just(0.0),
+            2 => prop::num::f64::ANY,
+        ]
+    }
+
     fn check(polygons: &[Polygon], w: u32, h: u32) -> Result<(), TestCaseError> {
         let mut method = Scanline::new();
         let mut runs = vec![];
@@ -1049,6 +1063,34 @@ mod properties {
         #[test]
         fn the_picture_is_the_zbuffers(shapes in prop::collection::vec(shape(), 1..14)) {
             check(&scene(&shapes), W, H)?;
+        }
+
+        /// Any numbers at all (infinite, NaN, huge, subnormal), and recorded planes of any
+        /// numbers: no panic, and still the z-buffer's picture.
+        #[test]
+        fn any_numbers_are_the_zbuffers(
+            polys in prop::collection::vec(
+                (
+                    prop::collection::vec(
+                        (num(), num(), num()),
+                        0..6,
+                    ),
+                    prop::option::of((num(), num(), num(), num())),
+                ),
+                1..6,
+            ),
+        ) {
+            let polygons: Vec<Polygon> = polys
+                .iter()
+                .enumerate()
+                .map(|(i, (pts, plane))| {
+                    let pts: Vec<[f64; 3]> = pts.iter().map(|&(x, y, z)| [x, y, z]).collect();
+                    let mut p = Polygon::from_xyz([i as u8, 1, 2], &pts);
+                    p.plane = plane.map(|(a, b, c, d)| DVec4::new(a, b, c, d));
+                    p
+                })
+                .collect();
+            check(&polygons, 16, 8)?;
         }
 
         /// Many polygons piled on one spot: deep sample spans, many crossings per line.
