@@ -288,3 +288,56 @@ fn near_equal_depths() {
         .collect();
     assert_eq!(first_line, ["run 0 0 30 100 0 0", "run 0 30 64 150 0 0"]);
 }
+
+/// stagecli's exit statuses (tests/tests/exit_codes.rs's classes, for this binary): a
+/// stream cut short 1, stdin unreadable or stdout full 3, a reader that goes away 0 and
+/// quiet, `--version` 0.
+#[test]
+fn exit_statuses_by_error_class() {
+    let scene = "printf 'polypipe 1 world\\ncolour 255 0 0\\n-5 -5 0\\n5 -5 0\\n0 5 0\\nEND\\n' \
+                 | viewxf | persp --size 8x8";
+    let whole = sh(scene, b"");
+    assert!(whole.status.success());
+    let cut = sh("scanline", &whole.stdout[..whole.stdout.len() / 2]);
+    assert_eq!(cut.status.code(), Some(1));
+    assert_eq!(
+        String::from_utf8_lossy(&cut.stderr),
+        "scanline: byte 24 (frame 0, polygon 0): the stream ends in the middle of a record \
+         (cut short?)\n"
+    );
+    let out = sh("scanline < /", b"");
+    assert_eq!(out.status.code(), Some(3));
+    assert_eq!(
+        String::from_utf8_lossy(&out.stderr),
+        "scanline: stdin: Is a directory\n"
+    );
+    let out = sh("scanline > /dev/full", &whole.stdout);
+    assert_eq!(out.status.code(), Some(3));
+    assert_eq!(
+        String::from_utf8_lossy(&out.stderr),
+        "scanline: stdout: No space left on device\n"
+    );
+    // More than a pipe holds, into `head -c 10`.
+    let big = "scene environment --polygons 3000 --depth-complexity 4 | viewxf | clipplane hither \
+               | clipplane left | clipplane right | clipplane top | clipplane bottom \
+               | persp --size 1024x1024 | scanline --text";
+    let size = sh(&format!("{big} | wc -c"), b"");
+    let bytes: u64 = String::from_utf8_lossy(&size.stdout)
+        .trim()
+        .parse()
+        .unwrap();
+    assert!(bytes > 1 << 20, "only {bytes} bytes");
+    let out = sh(&format!("{big} | head -c 10"), b"");
+    assert_eq!(out.status.code(), Some(0));
+    assert_eq!(out.stdout, b"polypipe 1");
+    assert!(
+        out.stderr.is_empty(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    Command::new(bin("scanline"))
+        .arg("--version")
+        .assert()
+        .success()
+        .stdout(format!("scanline {}\n", env!("CARGO_PKG_VERSION")));
+}
