@@ -34,10 +34,11 @@
 //!    The active polygons' segments are sorted afresh on each line (see the note in
 //!    [`Scanline`]'s resolve on Watkins's "minor sorting").
 //!
-//! Depths are [`scan::depth_at`]'s, which clamps to the `i64` range. Where the exact
-//! depth of a segment in a sample span leaves that range, the linear solve does not
-//! describe the clamped values, so that sample span alone is decided pixel by pixel, by
-//! the same comparison. The result is the z-buffer's picture to the pixel
+//! Depths are [`scan::depth_at`]'s, which clamps to the `i64` range (and is what the
+//! z-buffer's saturating steps reach, `z_row` being the depth at column 0). Where the
+//! exact depth of a segment in a sample span leaves that range anywhere on the segment,
+//! the linear solve does not describe the clamped values, so that sample span alone is
+//! decided pixel by pixel, by the same comparison. The result is the z-buffer's picture to the pixel
 //! ([`scan::frame::zbuffer_image`]).
 //!
 //! The counters Watkins's timings are about (14.4.3: the computation "grows roughly as the
