@@ -584,39 +584,37 @@ mod tests {
         use super::*;
         use proptest::prelude::*;
 
-        /// A quad anywhere (partly off the screen too), tilted or flat, lying in the depth
-        /// slab `slab` (0.05 deep, slabs 0.1 apart): quads of different slabs never meet
-        /// in depth, so the scene has a depth order; quads of one slab are flat and at
-        /// one depth (coincident where they overlap: the earlier in front).
-        fn layered_quad() -> impl Strategy<Value = (u8, [f64; 4], [f64; 2], bool, u8)> {
+        /// A quad anywhere (partly off the screen too): its level, rectangle, whether it
+        /// is tilted, a colour.
+        fn layered_quad() -> impl Strategy<Value = (u8, [f64; 4], bool, u8)> {
             (
                 0u8..5,
                 [-8.0f64..40.0, -8.0f64..40.0, 1.0f64..30.0, 1.0f64..30.0],
-                [-1.0f64..1.0, -1.0f64..1.0],
                 any::<bool>(),
                 any::<u8>(),
             )
         }
 
         proptest! {
+            /// Scenes that have a depth order although their depth extents overlap:
+            /// tilted quads on parallel planes (one gradient for the scene, each quad a
+            /// plane of its own, 0.05 apart), and in front of them flat quads at a few
+            /// depths (coincident where they share one: the earlier in front).
             #[test]
             fn depth_ordered_scenes_paint_as_the_zbuffer_draws(
                 quads in prop::collection::vec(layered_quad(), 1..12),
+                gradient in [-0.03f64..0.03, -0.03f64..0.03],
                 split in any::<bool>(),
             ) {
                 let (w, h) = (32, 32);
-                // A tilted quad has a slab of its own (20 + its place), the flat ones
-                // share slabs 0..5 (coincident where they overlap).
-                let polygons: Vec<Polygon> = quads.iter().enumerate().map(|(i, &(slab, [x, y, dx, dy], [gx, gy], tilted, c))| {
+                let [gx, gy] = gradient;
+                let polygons: Vec<Polygon> = quads.iter().enumerate().map(|(i, &(level, [x, y, dx, dy], tilted, c))| {
                     let corners = [[x, y], [x + dx, y], [x + dx, y + dy], [x, y + dy]];
                     if tilted {
-                        let base = 0.02 * (20 + i) as f64;
-                        // Across the quad the depth moves by at most 0.015.
-                        let (sx, sy) = (gx * 0.0075 / dx, gy * 0.0075 / dy);
-                        let (cx, cy) = (x + dx / 2.0, y + dy / 2.0);
-                        quad([c, slab, 1], corners, |px, py| base + 0.0075 + (px - cx) * sx + (py - cy) * sy)
+                        let base = 1.0 + 0.05 * i as f64;
+                        quad([c, level, 1], corners, |px, py| base + gx * (px - 16.0) + gy * (py - 16.0))
                     } else {
-                        quad([c, slab, 0], corners, |_, _| 0.02 * slab as f64)
+                        quad([c, level, 0], corners, |_, _| -10.0 + 0.02 * level as f64)
                     }
                 }).collect();
                 let z = zbuffer_image(&polygons, w, h);
