@@ -420,3 +420,196 @@ impl FramePattern {
         }
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn square(colour: Colour, x0: f64, y0: f64, x1: f64, y1: f64, z: f64) -> Polygon {
+        Polygon::from_xyz(
+            colour,
+            &[[x0, y0, z], [x1, y0, z], [x1, y1, z], [x0, y1, z]],
+        )
+    }
+
+    fn lines(polygons: &[Polygon]) -> Vec<(f64, f64, f64, f64, Colour)> {
+        let mut stats = LineStats::default();
+        visible_segments(polygons, 100, 100, &mut stats)
+            .iter()
+            .map(|s| (s.from.x, s.from.y, s.to.x, s.to.y, s.colour))
+            .collect()
+    }
+
+    const RED: Colour = [255, 0, 0];
+    const BLUE: Colour = [0, 0, 255];
+
+    #[test]
+    fn a_nearer_square_hides_part_of_a_farther_one() {
+        // Red (near) over the top-left corner of blue (far).
+        let red = square(RED, 10.0, 10.0, 50.0, 50.0, 0.2);
+        let blue = square(BLUE, 30.0, 30.0, 70.0, 70.0, 0.6);
+        let want = vec![
+            (10.0, 10.0, 50.0, 10.0, RED),
+            (50.0, 10.0, 50.0, 50.0, RED),
+            (50.0, 50.0, 10.0, 50.0, RED),
+            (10.0, 50.0, 10.0, 10.0, RED),
+            (50.0, 30.0, 70.0, 30.0, BLUE),
+            (70.0, 30.0, 70.0, 70.0, BLUE),
+            (70.0, 70.0, 30.0, 70.0, BLUE),
+            (30.0, 70.0, 30.0, 50.0, BLUE),
+        ];
+        assert_eq!(lines(&[red.clone(), blue.clone()]), want);
+        // Stream order does not matter when depths differ.
+        let mut swapped = lines(&[blue, red]);
+        swapped.sort_by(|a, b| a.partial_cmp(b).unwrap());
+        let mut want = want;
+        want.sort_by(|a, b| a.partial_cmp(b).unwrap());
+        assert_eq!(swapped, want);
+    }
+
+    #[test]
+    fn at_equal_depth_the_earlier_hides_the_later() {
+        let a = square(RED, 10.0, 10.0, 50.0, 50.0, 0.5);
+        let b = square(BLUE, 30.0, 30.0, 70.0, 70.0, 0.5);
+        let l = lines(&[a.clone(), b.clone()]);
+        assert_eq!(l.len(), 8);
+        assert!(l.contains(&(30.0, 70.0, 30.0, 50.0, BLUE)));
+        assert!(l.contains(&(50.0, 50.0, 10.0, 50.0, RED)));
+        let l = lines(&[b, a]);
+        // Now blue is first: red's corner inside blue is hidden.
+        assert!(l.contains(&(50.0, 10.0, 50.0, 30.0, RED)));
+        assert!(l.contains(&(30.0, 50.0, 10.0, 50.0, RED)));
+        assert!(l.contains(&(30.0, 70.0, 30.0, 30.0, BLUE)));
+    }
+
+    #[test]
+    fn a_shared_edge_is_drawn_once_in_the_earlier_colour() {
+        let left = square(RED, 10.0, 10.0, 40.0, 40.0, 0.5);
+        let right = square(BLUE, 40.0, 10.0, 70.0, 40.0, 0.3);
+        let mut stats = LineStats::default();
+        let segs = visible_segments(&[left, right], 100, 100, &mut stats);
+        assert_eq!(segs.len(), 7);
+        assert_eq!(stats.shared, 1);
+        let on_x40: Vec<_> = segs
+            .iter()
+            .filter(|s| s.from.x == 40.0 && s.to.x == 40.0)
+            .collect();
+        assert_eq!(on_x40.len(), 1);
+        assert_eq!(on_x40[0].colour, RED);
+    }
+
+    #[test]
+    fn penetration_hides_up_to_the_crossing() {
+        // Blue slopes through red's plane (z = 0.5) at X = 40: nearer on the right.
+        let red = square(RED, 10.0, 10.0, 70.0, 70.0, 0.5);
+        let blue = Polygon::from_xyz(
+            BLUE,
+            &[[20.0, 30.0, 0.7], [60.0, 30.0, 0.3], [60.0, 50.0, 0.3], [20.0, 50.0, 0.7]],
+        );
+        let l = lines(&[red, blue]);
+        let blue_lines: Vec<_> = l.iter().filter(|s| s.4 == BLUE).collect();
+        assert_eq!(
+            blue_lines,
+            vec![
+                &(40.0, 30.0, 60.0, 30.0, BLUE),
+                &(60.0, 30.0, 60.0, 50.0, BLUE),
+                &(60.0, 50.0, 40.0, 50.0, BLUE),
+            ]
+        );
+    }
+
+    #[test]
+    fn splitter_cuts_and_the_screen_border_are_left_out() {
+        // A square cut at X = 40 into two pieces that carry the whole's plane.
+        let plane = proto::DVec4::new(0.0, 0.0, 1.0, -0.5);
+        let mut l = square(RED, 10.0, 10.0, 40.0, 40.0, 0.5);
+        let mut r = square(RED, 40.0, 10.0, 70.0, 40.0, 0.5);
+        l.plane = Some(plane);
+        r.plane = Some(plane);
+        // A polygon the clipper cut at the screen's left and top.
+        let clipped = square(BLUE, 0.0, 0.0, 5.0, 5.0, 0.9);
+        let mut stats = LineStats::default();
+        let segs = visible_segments(&[l, r, clipped], 100, 100, &mut stats);
+        assert_eq!((stats.cuts, stats.border), (2, 2));
+        assert_eq!(segs.len(), 6 + 2);
+        assert!(segs.iter().all(|s| !(s.from.x == 40.0 && s.to.x == 40.0)));
+    }
+
+    #[test]
+    fn degenerate_polygons_draw_and_hide_nothing() {
+        let line = Polygon::from_xyz(RED, &[[0.0, 0.0, 0.1], [50.0, 50.0, 0.1], [20.0, 20.0, 0.1]]);
+        let two = Polygon::from_xyz(RED, &[[0.0, 0.0, 0.1], [50.0, 50.0, 0.1]]);
+        let sq = square(BLUE, 10.0, 10.0, 30.0, 30.0, 0.5);
+        assert_eq!(lines(&[line, two, sq]).len(), 4);
+        assert_eq!(lines(&[]), vec![]);
+    }
+
+    #[test]
+    fn svg_in_device_coordinates() {
+        let segs = [Segment {
+            from: DVec2::new(1.5, 2.0),
+            to: DVec2::new(3.0, 0.1),
+            colour: [1, 2, 3],
+        }];
+        assert_eq!(
+            svg(&segs, 8, 6, [255, 255, 255], 1.0),
+            "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"8\" height=\"6\" viewBox=\"0 0 8 6\">\n\
+             <rect width=\"8\" height=\"6\" fill=\"rgb(255,255,255)\"/>\n\
+             <g fill=\"none\" stroke-width=\"1\" stroke-linecap=\"round\">\n\
+             <line x1=\"1.5\" y1=\"2\" x2=\"3\" y2=\"0.1\" stroke=\"rgb(1,2,3)\"/>\n\
+             </g>\n</svg>\n"
+        );
+    }
+
+    #[test]
+    fn frame_patterns() {
+        let p = FramePattern::parse("f%03d.svg").unwrap();
+        assert!(p.numbered());
+        assert_eq!(p.name(7), "f007.svg");
+        assert_eq!(FramePattern::parse("a%d%%.svg").unwrap().name(12), "a12%.svg");
+        assert!(!FramePattern::parse("one.svg").unwrap().numbered());
+        assert!(FramePattern::parse("x%s").is_err());
+        assert!(FramePattern::parse("%d%d").is_err());
+    }
+
+    mod properties {
+        use super::*;
+        use proptest::prelude::*;
+
+        proptest! {
+            /// Flat squares at distinct depths: a point of an edge is drawn exactly when
+            /// no nearer square has it strictly inside (checked at many points).
+            #[test]
+            fn drawn_points_are_those_no_nearer_square_covers(
+                squares in prop::collection::vec(([0.0f64..80.0, 0.0f64..80.0, 1.0f64..40.0, 1.0f64..40.0], 0u8..255), 1..6),
+            ) {
+                let polygons: Vec<Polygon> = squares.iter().enumerate().map(|(i, &([x, y, w, h], c))| {
+                    square([c, i as u8, 0], x, y, x + w, y + h, 0.1 + 0.1 * ((i * 7) % 6) as f64)
+                }).collect();
+                let mut stats = LineStats::default();
+                let segs = visible_segments(&polygons, 100, 100, &mut stats);
+                let faces: Vec<Face> = polygons.iter().enumerate().filter_map(|(i, p)| Face::of(i, p)).collect();
+                for a in &faces {
+                    for e in 0..4 {
+                        let (p0, p1) = a.edge(e);
+                        for k in 1..40 {
+                            let q = p0 + (p1 - p0) * (k as f64 / 40.0 + 0.0031);
+                            let z = a.depths[0];
+                            let covered = faces.iter().any(|b| b.index != a.index && b.depths[0] < z && b.strictly_inside(q, 1e-6));
+                            let near_cover = faces.iter().any(|b| b.index != a.index && b.on_boundary(q, 1e-6));
+                            if near_cover { continue; }
+                            let drawn = segs.iter().any(|s| {
+                                s.colour == a.colour && {
+                                    let d = s.to - s.from;
+                                    let t = (q - s.from).dot(d) / d.length_squared();
+                                    (-1e-9..=1.0 + 1e-9).contains(&t) && (s.from + d * t - q).length() < 1e-6
+                                }
+                            });
+                            prop_assert_eq!(drawn, !covered, "edge {} of {} at {:?}", e, a.index, q);
+                        }
+                    }
+                }
+            }
+        }
+    }
+}
