@@ -180,6 +180,14 @@ pub fn visible_segments(
     // Lengths below this are rounding: a millionth of a millionth of the screen.
     let tol = 1e-12 * (width as f64 + height as f64).max(1.0);
     let (w, h) = (width as f64, height as f64);
+    // Every edge's owners, in stream order: an edge two polygons share is drawn once.
+    let mut owners: std::collections::HashMap<[u64; 4], Vec<usize>> = Default::default();
+    for (k, f) in faces.iter().enumerate() {
+        for i in 0..f.points.len() {
+            let (p0, p1) = f.edge(i);
+            owners.entry(edge_key(p0, p1)).or_default().push(k);
+        }
+    }
     let mut drawn: std::collections::HashSet<[u64; 4]> = Default::default();
     let mut out = Vec::new();
     for a in &faces {
@@ -212,18 +220,19 @@ pub fn visible_segments(
                 continue;
             }
             // Shared with a polygon before: drawn once.
-            let key = {
-                let (u, v) = if (p0.x, p0.y) <= (p1.x, p1.y) {
-                    (p0, p1)
-                } else {
-                    (p1, p0)
-                };
-                [u.x, u.y, v.x, v.y].map(f64::to_bits)
-            };
+            let key = edge_key(p0, p1);
             if !drawn.insert(key) {
                 stats.shared += 1;
                 continue;
             }
+            // In the colour of the first owner that shows beside it (a silhouette edge
+            // shared with a hidden back face takes the front face's colour), else the
+            // first's.
+            let colour = owners[&key]
+                .iter()
+                .map(|&k| &faces[k])
+                .find(|f| owners[&key].len() == 1 || side_shows(f, &faces, p0, p1))
+                .map_or(a.colour, |f| f.colour);
             let (z0, z1) = (a.depths[i], a.depths[(i + 1) % a.points.len()]);
             let hidden = hidden_intervals(a, &faces, (p0, z0), (p1, z1), tol, stats);
             let mut t = 0.0;
@@ -241,7 +250,7 @@ pub fn visible_segments(
                     out.push(Segment {
                         from: at(t0),
                         to: at(t1),
-                        colour: a.colour,
+                        colour,
                     });
                     stats.segments += 1;
                 }
@@ -254,6 +263,40 @@ pub fn visible_segments(
         }
     }
     out
+}
+
+/// An edge's key: its ends, in either direction, bit for bit.
+fn edge_key(p0: DVec2, p1: DVec2) -> [u64; 4] {
+    let (u, v) = if (p0.x, p0.y) <= (p1.x, p1.y) {
+        (p0, p1)
+    } else {
+        (p1, p0)
+    };
+    [u.x, u.y, v.x, v.y].map(f64::to_bits)
+}
+
+/// Does face `f` show just beside the middle of its edge p0→p1: is a point inside it a
+/// hair from the edge hidden by no other polygon?
+fn side_shows(f: &Face, faces: &[Face], p0: DVec2, p1: DVec2) -> bool {
+    let m = (p0 + p1) * 0.5;
+    let d = p1 - p0;
+    let n = DVec2::new(-d.y, d.x) * (1e-6 / d.length().max(1e-300)) * (1.0 + m.abs().max_element());
+    let tol = 1e-9;
+    let Some(q) = [m + n, m - n].into_iter().find(|&q| f.strictly_inside(q, tol)) else {
+        return false;
+    };
+    let z = f.depth_at(q);
+    !faces.iter().any(|b| {
+        b.index != f.index && b.strictly_inside(q, tol) && {
+            let zb = b.depth_at(q);
+            let scale = 1e-12 * (1.0 + z.abs());
+            if (zb - z).abs() <= scale {
+                b.index < f.index
+            } else {
+                zb < z
+            }
+        }
+    })
 }
 
 /// The hidden parameter intervals of A's edge p0→p1 (depths z0, z1), sorted and merged.
