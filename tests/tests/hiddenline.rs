@@ -15,7 +15,10 @@ struct Line {
 
 fn attr<'a>(element: &'a str, name: &str) -> &'a str {
     let key = format!(" {name}=\"");
-    let start = element.find(&key).unwrap_or_else(|| panic!("no {name} in {element}")) + key.len();
+    let start = element
+        .find(&key)
+        .unwrap_or_else(|| panic!("no {name} in {element}"))
+        + key.len();
     let len = element[start..].find('"').expect("closing quote");
     &element[start..start + len]
 }
@@ -40,7 +43,11 @@ fn parse(svg: &str) -> (String, Vec<Line>) {
 
 fn hiddenline(args: &str, stream: &str) -> String {
     let out = sh(&format!("hiddenline {args}"), stream.as_bytes());
-    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
     String::from_utf8(out.stdout).expect("UTF-8")
 }
 
@@ -96,11 +103,17 @@ fn one_square_hides_part_of_another_exactly() {
     ];
     assert_eq!(lines.len(), want.len(), "{lines:#?}");
     for (line, (from, to, stroke)) in lines.iter().zip(want) {
-        assert!(close(line.from, from) && close(line.to, to), "{line:?}, want {from:?}–{to:?}");
+        assert!(
+            close(line.from, from) && close(line.to, to),
+            "{line:?}, want {from:?}–{to:?}"
+        );
         assert_eq!(line.stroke, stroke);
     }
     // The shared edge X = 280 is one line.
-    let on_280 = lines.iter().filter(|l| l.from.0 == 280.0 && l.to.0 == 280.0).count();
+    let on_280 = lines
+        .iter()
+        .filter(|l| l.from.0 == 280.0 && l.to.0 == 280.0)
+        .count();
     assert_eq!(on_280, 1);
 }
 
@@ -119,21 +132,33 @@ fn the_thesis_scene_from_the_pipeline_in_device_coordinates() {
     // Every piece on the screen, in one of the two colours.
     for l in &lines {
         for (x, y) in [l.from, l.to] {
-            assert!((0.0..=320.0).contains(&x) && (0.0..=240.0).contains(&y), "{l:?}");
+            assert!(
+                (0.0..=320.0).contains(&x) && (0.0..=240.0).contains(&y),
+                "{l:?}"
+            );
         }
-        assert!(l.stroke == "rgb(255,60,60)" || l.stroke == "rgb(60,60,255)", "{l:?}");
+        assert!(
+            l.stroke == "rgb(255,60,60)" || l.stroke == "rgb(60,60,255)",
+            "{l:?}"
+        );
     }
     // Three triangle edges and four quadrilateral edges. The quadrilateral's two long
     // edges pass through the triangle's plane inside it: each is hidden from where it
     // goes behind to where it leaves the triangle (two pieces each); the triangle's
     // left edge is hidden where the quadrilateral's near part crosses it (two pieces).
     let stats = String::from_utf8_lossy(&out.stderr);
-    assert!(stats.starts_with("hiddenline: 1 frames, 7 edges, 0 shared, 0 cuts, 0 on the border,"), "{stats}");
+    assert!(
+        stats.starts_with("hiddenline: 1 frames, 7 edges, 0 shared, 0 cuts, 0 on the border,"),
+        "{stats}"
+    );
     assert_eq!(lines.len(), 10, "{lines:#?}");
     // The long edge (76, 36)→(216, 176) runs from depth 0.9698 to 0.9914 through the
     // triangle's 0.9828: it goes behind at t = 0.6, (160, 120), and is seen again past
     // the triangle's base Y = 158.4.
-    let blue: Vec<&Line> = lines.iter().filter(|l| l.stroke == "rgb(60,60,255)").collect();
+    let blue: Vec<&Line> = lines
+        .iter()
+        .filter(|l| l.stroke == "rgb(60,60,255)")
+        .collect();
     assert!(close(blue[1].from, (76.0, 36.0)) && (blue[1].to.0 - 160.0).abs() < 1e-9);
     assert!(close(blue[2].from, (198.4, 158.4)) && close(blue[2].to, (216.0, 176.0)));
 }
@@ -149,9 +174,15 @@ fn a_movie_is_one_file_per_frame() {
         ),
         b"",
     );
-    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
     let frames: Vec<String> = (0..3)
-        .map(|n| std::fs::read_to_string(dir.path().join(format!("f{n:03}.svg"))).expect("a frame file"))
+        .map(|n| {
+            std::fs::read_to_string(dir.path().join(format!("f{n:03}.svg"))).expect("a frame file")
+        })
         .collect();
     for f in &frames {
         let (head, lines) = parse(f);
@@ -160,9 +191,13 @@ fn a_movie_is_one_file_per_frame() {
     }
     assert_ne!(frames[0], frames[1], "the spheres move");
     // Two frames and no -o: refused, after the first.
-    let out = sh("scene spheres --frames 2 | viewxf | clipbatch | persp --size 50x50 | hiddenline", b"");
+    let out = sh(
+        "scene spheres --frames 2 | viewxf | clipbatch | persp --size 50x50 | hiddenline",
+        b"",
+    );
     assert_eq!(out.status.code(), Some(1));
-    assert!(String::from_utf8_lossy(&out.stderr).contains("hiddenline: more than one frame: give -o with %d"));
+    assert!(String::from_utf8_lossy(&out.stderr)
+        .contains("hiddenline: more than one frame: give -o with %d"));
     // A world-space stream is not its input.
     let out = sh("hiddenline < examples/penetrating.txt", b"");
     assert_eq!(out.status.code(), Some(1));
@@ -197,7 +232,11 @@ fn chromium_draws_the_visible_pieces() {
         .arg(&svg)
         .output()
         .expect("run chromium");
-    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
     let image = image::open(&png).expect("a PNG").to_rgb8();
     assert_eq!(image.dimensions(), (400, 400));
     let at = |x, y| image.get_pixel(x, y).0;

@@ -39,11 +39,21 @@ fn the_penetrating_scene_is_painted_wrong_on_one_side_of_the_crossing() {
         // front of it.
         let diff = differences(&z[0], &p[0]);
         assert_eq!(diff.len(), wrong, "{size}");
-        assert!(diff.iter().all(|&(zb, painted)| zb == BLUE && painted == RED), "{size}");
-        assert!(stats.contains(", 1 cycles, 0 splits, 1 cycles painted out of order"), "{stats}");
+        assert!(
+            diff.iter()
+                .all(|&(zb, painted)| zb == BLUE && painted == RED),
+            "{size}"
+        );
+        assert!(
+            stats.contains(", 1 cycles, 0 splits, 1 cycles painted out of order"),
+            "{stats}"
+        );
         // Cut by the other's plane, the pieces sort: the z-buffer's picture.
         assert_eq!(differences(&z[0], &s[0]).len(), 0, "{size}");
-        assert!(split_stats.contains(", 2 splits, 0 cycles painted out of order"), "{split_stats}");
+        assert!(
+            split_stats.contains(", 2 splits, 0 cycles painted out of order"),
+            "{split_stats}"
+        );
     }
 }
 
@@ -79,15 +89,24 @@ fn a_cyclic_overlap_is_painted_wrong_where_two_bars_overlap() {
     // The 36 pixels red and green share come out red, where green is in front.
     let diff = differences(&z[0], &p[0]);
     assert_eq!(diff.len(), 36);
-    assert!(diff.iter().all(|&(zb, painted)| zb == [0, 255, 0] && painted == [255, 0, 0]));
-    assert!(stats.contains("3 swaps, 2 cycles, 0 splits, 2 cycles painted out of order"), "{stats}");
+    assert!(diff
+        .iter()
+        .all(|&(zb, painted)| zb == [0, 255, 0] && painted == [255, 0, 0]));
+    assert!(
+        stats.contains("3 swaps, 2 cycles, 0 splits, 2 cycles painted out of order"),
+        "{stats}"
+    );
     assert_eq!(differences(&z[0], &s[0]).len(), 0);
-    assert!(split_stats.contains("4 splits, 0 cycles painted out of order"), "{split_stats}");
+    assert!(
+        split_stats.contains("4 splits, 0 cycles painted out of order"),
+        "{split_stats}"
+    );
 }
 
 #[test]
 fn the_triangle_piercing_a_square_fails_alike() {
-    let stream = "viewxf --eye 7,9,20 < examples/triangle-square.txt | clipbatch | persp --size 120x120";
+    let stream =
+        "viewxf --eye 7,9,20 < examples/triangle-square.txt | clipbatch | persp --size 120x120";
     let (z, _) = frames(stream, "scanconv --resolve", b"");
     let (p, _) = frames(stream, "painter", b"");
     let (s, _) = frames(stream, "painter --split", b"");
@@ -97,7 +116,11 @@ fn the_triangle_piercing_a_square_fails_alike() {
 
 #[test]
 fn scenes_with_a_depth_order_come_out_as_the_zbuffers() {
-    for scene in ["examples/overlapping-squares.txt", "examples/cube.txt", "examples/concave.txt"] {
+    for scene in [
+        "examples/overlapping-squares.txt",
+        "examples/cube.txt",
+        "examples/concave.txt",
+    ] {
         let stream = format!("viewxf --eye 7,9,20 < {scene} | clipbatch | persp --size 120x120");
         let (z, _) = frames(&stream, "scanconv --resolve", b"");
         let (p, stats) = frames(&stream, "painter --stats", b"");
@@ -121,7 +144,12 @@ fn a_movie_of_a_random_environment_matches_frame_by_frame_with_split() {
 fn help_says_where_it_fails_and_bad_input_is_refused() {
     let out = sh("painter --help", b"");
     let help = String::from_utf8_lossy(&out.stdout);
-    for word in ["interpenetrating", "cyclic overlap", "coincident", "--split"] {
+    for word in [
+        "interpenetrating",
+        "cyclic overlap",
+        "coincident",
+        "--split",
+    ] {
         assert!(help.contains(word), "--help lacks {word}");
     }
     let out = sh("painter < examples/penetrating.txt", b"");

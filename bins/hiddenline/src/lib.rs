@@ -140,7 +140,13 @@ impl Face {
 /// Could the box [bmin, bmax] hold a point of the edge's box [emin, emax] strictly
 /// inside it? (Each axis: the edge's range meets B's open range.)
 fn straddles(bmin: DVec2, bmax: DVec2, emin: DVec2, emax: DVec2) -> bool {
-    let axis = |bl: f64, bh: f64, el: f64, eh: f64| if el == eh { bl < el && el < bh } else { bl < eh && el < bh };
+    let axis = |bl: f64, bh: f64, el: f64, eh: f64| {
+        if el == eh {
+            bl < el && el < bh
+        } else {
+            bl < eh && el < bh
+        }
+    };
     axis(bmin.x, bmax.x, emin.x, emax.x) && axis(bmin.y, bmax.y, emin.y, emax.y)
 }
 
@@ -282,7 +288,10 @@ fn side_shows(f: &Face, faces: &[Face], p0: DVec2, p1: DVec2) -> bool {
     let d = p1 - p0;
     let n = DVec2::new(-d.y, d.x) * (1e-6 / d.length().max(1e-300)) * (1.0 + m.abs().max_element());
     let tol = 1e-9;
-    let Some(q) = [m + n, m - n].into_iter().find(|&q| f.strictly_inside(q, tol)) else {
+    let Some(q) = [m + n, m - n]
+        .into_iter()
+        .find(|&q| f.strictly_inside(q, tol))
+    else {
         return false;
     };
     let z = f.depth_at(q);
@@ -372,7 +381,13 @@ fn hidden_intervals(
 }
 
 /// One frame's SVG: the pieces as `<line>`s stroked in their colours over a background.
-pub fn svg(segments: &[Segment], width: u32, height: u32, background: Colour, stroke: f64) -> String {
+pub fn svg(
+    segments: &[Segment],
+    width: u32,
+    height: u32,
+    background: Colour,
+    stroke: f64,
+) -> String {
     let mut s = String::new();
     let [r, g, b] = background;
     let _ = writeln!(
@@ -547,7 +562,12 @@ mod tests {
         let red = square(RED, 10.0, 10.0, 70.0, 70.0, 0.5);
         let blue = Polygon::from_xyz(
             BLUE,
-            &[[20.0, 30.0, 0.7], [60.0, 30.0, 0.3], [60.0, 50.0, 0.3], [20.0, 50.0, 0.7]],
+            &[
+                [20.0, 30.0, 0.7],
+                [60.0, 30.0, 0.3],
+                [60.0, 50.0, 0.3],
+                [20.0, 50.0, 0.7],
+            ],
         );
         let l = lines(&[red, blue]);
         let blue_lines: Vec<_> = l.iter().filter(|s| s.4 == BLUE).collect();
@@ -580,7 +600,10 @@ mod tests {
 
     #[test]
     fn degenerate_polygons_draw_and_hide_nothing() {
-        let line = Polygon::from_xyz(RED, &[[0.0, 0.0, 0.1], [50.0, 50.0, 0.1], [20.0, 20.0, 0.1]]);
+        let line = Polygon::from_xyz(
+            RED,
+            &[[0.0, 0.0, 0.1], [50.0, 50.0, 0.1], [20.0, 20.0, 0.1]],
+        );
         let two = Polygon::from_xyz(RED, &[[0.0, 0.0, 0.1], [50.0, 50.0, 0.1]]);
         let sq = square(BLUE, 10.0, 10.0, 30.0, 30.0, 0.5);
         assert_eq!(lines(&[line, two, sq]).len(), 4);
@@ -609,7 +632,10 @@ mod tests {
         let p = FramePattern::parse("f%03d.svg").unwrap();
         assert!(p.numbered());
         assert_eq!(p.name(7), "f007.svg");
-        assert_eq!(FramePattern::parse("a%d%%.svg").unwrap().name(12), "a12%.svg");
+        assert_eq!(
+            FramePattern::parse("a%d%%.svg").unwrap().name(12),
+            "a12%.svg"
+        );
         assert!(!FramePattern::parse("one.svg").unwrap().numbered());
         assert!(FramePattern::parse("x%s").is_err());
         assert!(FramePattern::parse("%d%d").is_err());

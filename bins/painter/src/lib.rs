@@ -271,7 +271,8 @@ impl Painter {
         let mut items = Vec::new();
         for (index, p) in polygons.iter().enumerate() {
             let mut spans = Vec::new();
-            self.walker.for_each_span(p, width, height, |s| spans.push(s));
+            self.walker
+                .for_each_span(p, width, height, |s| spans.push(s));
             if !spans.is_empty() {
                 items.push(Item::new(index, p.colour, DepthPlane::of(p), spans));
             }
@@ -454,7 +455,15 @@ mod tests {
         // A far square wholly behind a near one: the search for overlapping depths
         // stops at once, no test is needed.
         let mut p = Painter::new();
-        paint(&mut p, &[square([1, 1, 1], 0.0, 0.0, 8.0, 8.0, 0.2), square([2, 2, 2], 4.0, 4.0, 12.0, 12.0, 0.8)], w, h);
+        paint(
+            &mut p,
+            &[
+                square([1, 1, 1], 0.0, 0.0, 8.0, 8.0, 0.2),
+                square([2, 2, 2], 4.0, 4.0, 12.0, 12.0, 0.8),
+            ],
+            w,
+            h,
+        );
         assert_eq!((p.stats.resolved_by, p.stats.swaps), ([0; 5], 0));
         // Test 1: the extents meet at one depth (two flat squares at 0.5), and the
         // farther-sorted is the later: the earlier ends in front.
@@ -467,35 +476,61 @@ mod tests {
         assert_eq!(image[5 * 20 + 5], Some([1, 1, 1]));
         // Test 2: depth extents overlap (tilted), boxes apart.
         let mut p = Painter::new();
-        let a = quad([1, 1, 1], [[0.0, 0.0], [8.0, 0.0], [8.0, 8.0], [0.0, 8.0]], |x, _| 0.1 + x * 0.05);
-        let b = quad([2, 2, 2], [[10.0, 0.0], [18.0, 0.0], [18.0, 8.0], [10.0, 8.0]], |x, _| 0.1 + (x - 10.0) * 0.05);
+        let a = quad(
+            [1, 1, 1],
+            [[0.0, 0.0], [8.0, 0.0], [8.0, 8.0], [0.0, 8.0]],
+            |x, _| 0.1 + x * 0.05,
+        );
+        let b = quad(
+            [2, 2, 2],
+            [[10.0, 0.0], [18.0, 0.0], [18.0, 8.0], [10.0, 8.0]],
+            |x, _| 0.1 + (x - 10.0) * 0.05,
+        );
         paint(&mut p, &[a, b], w, h);
         assert_eq!(p.stats.resolved_by, [0, 1, 0, 0, 0]);
         // Test 3: a far tilted square behind a near flat one that overlaps its depths
         // only where it does not reach: the flat one's plane is nearer all over it.
         let mut p = Painter::new();
-        let far = quad([1, 1, 1], [[0.0, 0.0], [10.0, 0.0], [10.0, 10.0], [0.0, 10.0]], |x, _| 0.5 + x * 0.04);
+        let far = quad(
+            [1, 1, 1],
+            [[0.0, 0.0], [10.0, 0.0], [10.0, 10.0], [0.0, 10.0]],
+            |x, _| 0.5 + x * 0.04,
+        );
         let near = square([2, 2, 2], 5.0, 5.0, 15.0, 15.0, 0.45);
         let mut q = Painter::new();
         let image = paint(&mut p, &[far.clone(), near.clone()], w, h);
         assert_eq!(image, zbuffer_image(&[far.clone(), near.clone()], w, h));
         // Sorted: far (farthest 0.9) is P; near is Q, behind it? No: near's plane at
         // 0.45 is nearer than all of far (≥ 0.5): test 1 already. Tilt near instead.
-        let near = quad([2, 2, 2], [[5.0, 5.0], [15.0, 5.0], [15.0, 15.0], [5.0, 15.0]], |x, _| 0.3 + x * 0.02);
+        let near = quad(
+            [2, 2, 2],
+            [[5.0, 5.0], [15.0, 5.0], [15.0, 15.0], [5.0, 15.0]],
+            |x, _| 0.3 + x * 0.02,
+        );
         // near spans 0.4..0.6, far 0.5..0.9 (extents overlap); near's plane is nearer
         // than far at every pixel of far: test 3.
         paint(&mut q, &[far.clone(), near.clone()], w, h);
         assert_eq!(q.stats.resolved_by, [0, 0, 1, 0, 0]);
         // Test 4: Q wholly in front of P's plane, though P is not behind Q's plane.
-        let big = quad([1, 1, 1], [[0.0, 0.0], [20.0, 0.0], [20.0, 20.0], [0.0, 20.0]], |x, _| 0.2 + x * 0.04);
+        let big = quad(
+            [1, 1, 1],
+            [[0.0, 0.0], [20.0, 0.0], [20.0, 20.0], [0.0, 20.0]],
+            |x, _| 0.2 + x * 0.04,
+        );
         let small = square([2, 2, 2], 12.0, 2.0, 14.0, 4.0, 0.5); // big is 0.68..0.76 there
         let mut p = Painter::new();
         let image = paint(&mut p, &[big.clone(), small.clone()], w, h);
         assert_eq!(p.stats.resolved_by, [0, 0, 0, 1, 0]);
         assert_eq!(image, zbuffer_image(&[big, small], w, h));
         // Test 5: boxes overlap, pixels do not (two triangles of a square, tilted apart).
-        let t1 = Polygon::from_xyz([1, 1, 1], &[[0.0, 0.0, 0.1], [10.0, 0.0, 0.9], [0.0, 10.0, 0.1]]);
-        let t2 = Polygon::from_xyz([2, 2, 2], &[[10.0, 0.0, 0.2], [10.0, 10.0, 0.2], [0.0, 10.0, 0.8]]);
+        let t1 = Polygon::from_xyz(
+            [1, 1, 1],
+            &[[0.0, 0.0, 0.1], [10.0, 0.0, 0.9], [0.0, 10.0, 0.1]],
+        );
+        let t2 = Polygon::from_xyz(
+            [2, 2, 2],
+            &[[10.0, 0.0, 0.2], [10.0, 10.0, 0.2], [0.0, 10.0, 0.8]],
+        );
         let mut p = Painter::new();
         paint(&mut p, &[t1, t2], w, h);
         assert_eq!(p.stats.resolved_by, [0, 0, 0, 0, 1]);
@@ -504,22 +539,32 @@ mod tests {
     /// Three bars each over the next: A over C at the top left, C over B at the bottom
     /// right, B over A at the top right. No pair passes through the other.
     fn cyclic_bars() -> Vec<Polygon> {
-        let a = quad([255, 0, 0], [[2.0, 4.0], [28.0, 4.0], [28.0, 10.0], [2.0, 10.0]], |x, _| {
-            0.2 + 0.6 * (x - 2.0) / 26.0
-        });
-        let b = quad([0, 255, 0], [[20.0, 2.0], [26.0, 2.0], [26.0, 28.0], [20.0, 28.0]], |_, y| {
-            0.5 + 0.3 * (y - 2.0) / 26.0
-        });
-        let c = quad([0, 0, 255], [[2.0, 8.0], [6.0, 4.0], [28.0, 26.0], [24.0, 30.0]], |x, y| {
-            0.6 - 0.3 * (x + y - 10.0) / 44.0
-        });
+        let a = quad(
+            [255, 0, 0],
+            [[2.0, 4.0], [28.0, 4.0], [28.0, 10.0], [2.0, 10.0]],
+            |x, _| 0.2 + 0.6 * (x - 2.0) / 26.0,
+        );
+        let b = quad(
+            [0, 255, 0],
+            [[20.0, 2.0], [26.0, 2.0], [26.0, 28.0], [20.0, 28.0]],
+            |_, y| 0.5 + 0.3 * (y - 2.0) / 26.0,
+        );
+        let c = quad(
+            [0, 0, 255],
+            [[2.0, 8.0], [6.0, 4.0], [28.0, 26.0], [24.0, 30.0]],
+            |x, y| 0.6 - 0.3 * (x + y - 10.0) / 44.0,
+        );
         vec![a, b, c]
     }
 
     /// The pixels two polygons both cover.
     fn shared_pixels(a: &Polygon, b: &Polygon, w: u32, h: u32) -> usize {
         let one = |p: &Polygon| zbuffer_image(std::slice::from_ref(p), w, h);
-        one(a).iter().zip(one(b)).filter(|(x, y)| x.is_some() && y.is_some()).count()
+        one(a)
+            .iter()
+            .zip(one(b))
+            .filter(|(x, y)| x.is_some() && y.is_some())
+            .count()
     }
 
     #[test]
@@ -546,8 +591,16 @@ mod tests {
     #[test]
     fn interpenetrating_squares_fail_and_split_mends_them() {
         // Two squares crossing along X = 10: red nearer on the left, blue on the right.
-        let red = quad([255, 0, 0], [[0.0, 0.0], [20.0, 0.0], [20.0, 16.0], [0.0, 16.0]], |x, _| 0.3 + x * 0.02);
-        let blue = quad([0, 0, 255], [[4.0, 4.0], [20.0, 4.0], [20.0, 20.0], [4.0, 20.0]], |_, _| 0.5);
+        let red = quad(
+            [255, 0, 0],
+            [[0.0, 0.0], [20.0, 0.0], [20.0, 16.0], [0.0, 16.0]],
+            |x, _| 0.3 + x * 0.02,
+        );
+        let blue = quad(
+            [0, 0, 255],
+            [[4.0, 4.0], [20.0, 4.0], [20.0, 20.0], [4.0, 20.0]],
+            |_, _| 0.5,
+        );
         let (plain, split, p, _) = against_zbuffer(&[red, blue], 20, 20);
         // Blue's part over red where red is nearer (X < 10: columns 4..9 of rows 4..15)
         // or red's over blue where blue is nearer (columns 10..19): one side is wrong.
@@ -561,8 +614,18 @@ mod tests {
     fn coincident_polygons_go_to_the_earlier() {
         let a = square([1, 0, 0], 0.0, 0.0, 8.0, 8.0, 0.5);
         let b = square([2, 0, 0], 0.0, 0.0, 8.0, 8.0, 0.5);
-        let tilt = |c| quad(c, [[0.0, 0.0], [8.0, 0.0], [8.0, 8.0], [0.0, 8.0]], |x, y| 0.2 + x * 0.03 + y * 0.01);
-        for scene in [vec![a.clone(), b.clone()], vec![b, a], vec![tilt([3, 0, 0]), tilt([4, 0, 0])]] {
+        let tilt = |c| {
+            quad(
+                c,
+                [[0.0, 0.0], [8.0, 0.0], [8.0, 8.0], [0.0, 8.0]],
+                |x, y| 0.2 + x * 0.03 + y * 0.01,
+            )
+        };
+        for scene in [
+            vec![a.clone(), b.clone()],
+            vec![b, a],
+            vec![tilt([3, 0, 0]), tilt([4, 0, 0])],
+        ] {
             let (plain, split, p, _) = against_zbuffer(&scene, 8, 8);
             assert_eq!((plain, split, p.stats.cycles), (0, 0, 0));
         }
@@ -573,11 +636,26 @@ mod tests {
         let mut runs = Vec::new();
         let mut p = Painter::new();
         p.resolve(&[], 4, 4, &mut runs);
-        p.resolve(&[Polygon::from_xyz([1, 1, 1], &[[0.0, 0.0, 0.0], [1.0, 1.0, 0.0]])], 4, 4, &mut runs);
-        p.resolve(&[square([1, 1, 1], 0.0, 0.0, 4.0, 4.0, 0.5)], 0, 0, &mut runs);
+        p.resolve(
+            &[Polygon::from_xyz(
+                [1, 1, 1],
+                &[[0.0, 0.0, 0.0], [1.0, 1.0, 0.0]],
+            )],
+            4,
+            4,
+            &mut runs,
+        );
+        p.resolve(
+            &[square([1, 1, 1], 0.0, 0.0, 4.0, 4.0, 0.5)],
+            0,
+            0,
+            &mut runs,
+        );
         assert!(runs.is_empty());
         assert_eq!(p.stats.polygons, 0);
-        assert!(p.stats().starts_with("0 polygons sorted, pairs resolved by test 1 (depth extents) 0,"));
+        assert!(p
+            .stats()
+            .starts_with("0 polygons sorted, pairs resolved by test 1 (depth extents) 0,"));
     }
 
     mod properties {

@@ -27,6 +27,7 @@ use std::process::ExitCode;
 ///   - coincident polygons and equal depths in general are decided by the stream order
 ///     (the earlier in front), as the z-buffer decides them; the fixed-point depths are
 ///     compared, so polygons that differ only below their resolution tie.
+///
 /// Both failures are met as a polygon that would have to move twice (a cycle); without
 /// --split it is painted in the order at hand. With --split the cycle is broken by cutting
 /// one polygon by the other's plane, on the pixel grid, and the pieces sorted on: the
