@@ -150,6 +150,72 @@ fn straddles(bmin: DVec2, bmax: DVec2, emin: DVec2, emax: DVec2) -> bool {
     axis(bmin.x, bmax.x, emin.x, emax.x) && axis(bmin.y, bmax.y, emin.y, emax.y)
 }
 
+/// A uniform grid over the screen, each cell listing the faces whose bounding box meets
+/// it: the faces that may hide a point of an edge are those of the cells the edge's box
+/// meets, not every face of the frame.
+struct Grid {
+    origin: DVec2,
+    cell: DVec2,
+    nx: usize,
+    ny: usize,
+    cells: Vec<Vec<u32>>,
+}
+
+impl Grid {
+    fn new(faces: &[Face], width: u32, height: u32) -> Grid {
+        let n = ((faces.len() as f64).sqrt().ceil() as usize).clamp(1, 256);
+        let origin = DVec2::ZERO;
+        let cell = DVec2::new(width.max(1) as f64 / n as f64, height.max(1) as f64 / n as f64);
+        let mut grid = Grid {
+            origin,
+            cell,
+            nx: n,
+            ny: n,
+            cells: vec![Vec::new(); n * n],
+        };
+        for (k, f) in faces.iter().enumerate() {
+            let (x, y) = grid.range(f.min, f.max);
+            for j in y.clone() {
+                for i in x.clone() {
+                    grid.cells[j * grid.nx + i].push(k as u32);
+                }
+            }
+        }
+        grid
+    }
+
+    /// The cells a box meets (clamped to the grid: faces off the screen's edge share the
+    /// border cells).
+    fn range(&self, min: DVec2, max: DVec2) -> (std::ops::Range<usize>, std::ops::Range<usize>) {
+        let idx = |v: f64, o: f64, c: f64, n: usize| {
+            let i = ((v - o) / c).floor();
+            if i.is_nan() || i < 0.0 {
+                0
+            } else {
+                (i as usize).min(n - 1)
+            }
+        };
+        let x0 = idx(min.x, self.origin.x, self.cell.x, self.nx);
+        let x1 = idx(max.x, self.origin.x, self.cell.x, self.nx);
+        let y0 = idx(min.y, self.origin.y, self.cell.y, self.ny);
+        let y1 = idx(max.y, self.origin.y, self.cell.y, self.ny);
+        (x0..x1 + 1, y0..y1 + 1)
+    }
+
+    /// The faces (positions, ascending) whose boxes may meet the box [min, max].
+    fn near(&self, min: DVec2, max: DVec2, out: &mut Vec<u32>) {
+        out.clear();
+        let (x, y) = self.range(min, max);
+        for j in y {
+            for i in x.clone() {
+                out.extend_from_slice(&self.cells[j * self.nx + i]);
+            }
+        }
+        out.sort_unstable();
+        out.dedup();
+    }
+}
+
 fn cross(a: DVec2, b: DVec2) -> f64 {
     a.x * b.y - a.y * b.x
 }
@@ -194,6 +260,8 @@ pub fn visible_segments(
             owners.entry(edge_key(p0, p1)).or_default().push(k);
         }
     }
+    let grid = Grid::new(&faces, width, height);
+    let mut near = Vec::new();
     let mut drawn: std::collections::HashSet<[u64; 4]> = Default::default();
     let mut out = Vec::new();
     for a in &faces {
@@ -211,8 +279,9 @@ pub fn visible_segments(
                 continue;
             }
             // A splitter's cut: another piece of the same polygon meets this one along it.
+            grid.near(p0.min(p1), p0.max(p1), &mut near);
             let cut = a.recorded.is_some()
-                && faces.iter().any(|b| {
+                && near.iter().map(|&k| &faces[k as usize]).any(|b| {
                     b.index != a.index
                         && b.recorded == a.recorded
                         && b.colour == a.colour
@@ -237,10 +306,11 @@ pub fn visible_segments(
             let colour = owners[&key]
                 .iter()
                 .map(|&k| &faces[k])
-                .find(|f| owners[&key].len() == 1 || side_shows(f, &faces, p0, p1))
+                .find(|f| owners[&key].len() == 1 || side_shows(f, &faces, &grid, p0, p1))
                 .map_or(a.colour, |f| f.colour);
             let (z0, z1) = (a.depths[i], a.depths[(i + 1) % a.points.len()]);
-            let hidden = hidden_intervals(a, &faces, (p0, z0), (p1, z1), tol, stats);
+            let candidates = near.iter().map(|&k| &faces[k as usize]);
+            let hidden = hidden_intervals(a, candidates, (p0, z0), (p1, z1), tol, stats);
             let mut t = 0.0;
             let mut piece = |t0: f64, t1: f64| {
                 if (t1 - t0) * (p1 - p0).length() > tol {
@@ -283,7 +353,7 @@ fn edge_key(p0: DVec2, p1: DVec2) -> [u64; 4] {
 
 /// Does face `f` show just beside the middle of its edge p0→p1: is a point inside it a
 /// hair from the edge hidden by no other polygon?
-fn side_shows(f: &Face, faces: &[Face], p0: DVec2, p1: DVec2) -> bool {
+fn side_shows(f: &Face, faces: &[Face], grid: &Grid, p0: DVec2, p1: DVec2) -> bool {
     let m = (p0 + p1) * 0.5;
     let d = p1 - p0;
     let n = DVec2::new(-d.y, d.x) * (1e-6 / d.length().max(1e-300)) * (1.0 + m.abs().max_element());
@@ -295,7 +365,9 @@ fn side_shows(f: &Face, faces: &[Face], p0: DVec2, p1: DVec2) -> bool {
         return false;
     };
     let z = f.depth_at(q);
-    !faces.iter().any(|b| {
+    let mut near = Vec::new();
+    grid.near(q, q, &mut near);
+    !near.iter().map(|&k| &faces[k as usize]).any(|b| {
         b.index != f.index && b.strictly_inside(q, tol) && {
             let zb = b.depth_at(q);
             let scale = 1e-12 * (1.0 + z.abs());
@@ -309,9 +381,9 @@ fn side_shows(f: &Face, faces: &[Face], p0: DVec2, p1: DVec2) -> bool {
 }
 
 /// The hidden parameter intervals of A's edge p0→p1 (depths z0, z1), sorted and merged.
-fn hidden_intervals(
+fn hidden_intervals<'f>(
     a: &Face,
-    faces: &[Face],
+    faces: impl Iterator<Item = &'f Face>,
     (p0, z0): (DVec2, f64),
     (p1, z1): (DVec2, f64),
     tol: f64,
