@@ -250,3 +250,46 @@ fn chromium_draws_the_visible_pieces() {
     // And blue's left edge below red is drawn.
     assert_eq!(at(120, 240), [0, 0, 255]);
 }
+
+#[test]
+fn the_degenerate_scenes_draw_without_error() {
+    // docs/degenerate.md's scenes: edge-on, zero-area and 0-2-vertex polygons draw and
+    // hide nothing; every frame is a well-formed SVG of pieces on the screen.
+    let dir = tempfile::tempdir().expect("temp dir");
+    for entry in std::fs::read_dir(pipeline_tests::repo_root().join("examples/degenerate"))
+        .expect("examples")
+    {
+        let path = entry.expect("entry").path();
+        let pattern = dir.path().join(format!(
+            "{}-%d.svg",
+            path.file_stem().expect("name").to_string_lossy()
+        ));
+        let out = sh(
+            &format!(
+                "viewxf --size 64x48 < '{}' | clipbatch | persp --size 64x48 | hiddenline -o '{}'",
+                path.display(),
+                pattern.display()
+            ),
+            b"",
+        );
+        assert!(
+            out.status.success(),
+            "{}: {}",
+            path.display(),
+            String::from_utf8_lossy(&out.stderr)
+        );
+        let first =
+            std::fs::read_to_string(pattern.to_string_lossy().replace("%d", "0")).expect("frame 0");
+        let (head, lines) = parse(&first);
+        assert!(head.contains(r#"viewBox="0 0 64 48""#));
+        for l in lines {
+            for (x, y) in [l.from, l.to] {
+                assert!(
+                    (0.0..=64.0).contains(&x) && (0.0..=48.0).contains(&y),
+                    "{}: {l:?}",
+                    path.display()
+                );
+            }
+        }
+    }
+}
