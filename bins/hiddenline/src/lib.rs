@@ -165,7 +165,10 @@ impl Grid {
     fn new(faces: &[Face], width: u32, height: u32) -> Grid {
         let n = ((faces.len() as f64).sqrt().ceil() as usize).clamp(1, 256);
         let origin = DVec2::ZERO;
-        let cell = DVec2::new(width.max(1) as f64 / n as f64, height.max(1) as f64 / n as f64);
+        let cell = DVec2::new(
+            width.max(1) as f64 / n as f64,
+            height.max(1) as f64 / n as f64,
+        );
         let mut grid = Grid {
             origin,
             cell,
