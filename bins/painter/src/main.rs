@@ -35,7 +35,7 @@ use std::process::ExitCode;
 ///
 /// Example:
 ///   persp --size 500x500 < eye.pp | painter --stats > leaf.frag
-///   scene cubes | viewxf | clipbatch | persp --size 64x64 | painter --split | zbuf > f.ppm
+///   scene spheres | viewxf | clipbatch | persp --size 64x64 | painter --split | zbuf > f.ppm
 #[derive(Parser)]
 #[command(name = "painter", version, verbatim_doc_comment)]
 struct Args {
