@@ -1,0 +1,131 @@
+//! hiddenline: screen-space polygons in, the visible parts of their edges out, as SVG.
+
+use clap::Parser;
+use hiddenline::{svg, visible_segments, FramePattern, LineStats};
+use proto::{Colour, Polygon, SpaceKind, Token};
+use stagecli::Error;
+use std::io::Write;
+use std::process::ExitCode;
+
+/// Hidden-line drawing (Archuleta's output of Watkins's algorithm, seeds/003_…): the
+/// visible parts of every polygon edge, as SVG.
+///
+/// Reads a screen-space polygon stream (from persp) on stdin and writes, per frame, an
+/// SVG whose viewBox is the screen in device coordinates (`0 0 W H`, X right, Y down, the
+/// pixels of the PPM frames), each visible piece of an edge a <line> stroked in its
+/// polygon's colour. Visibility is exact geometry (f64), not sampled: a piece of an edge
+/// is hidden where it lies strictly inside a nearer polygon; at equal depth the earlier
+/// polygon hides the later. An edge two polygons share is drawn once; edges that the
+/// splitter tree or the clipper made (cuts along a splitting plane, the screen's border)
+/// are not drawn, and neither are the lines where polygons pass through each other.
+///
+/// One frame goes to stdout; a movie needs -o with %d in the name.
+///
+/// Examples:
+///   viewxf < examples/cube.txt | clipbatch | persp --size 400x400 | hiddenline > cube.svg
+///   scene spheres --frames 10 | viewxf | clipbatch | persp --size 300x300 | hiddenline -o f%03d.svg
+#[derive(Parser)]
+#[command(name = "hiddenline", version, verbatim_doc_comment)]
+struct Args {
+    /// Write one file per frame instead of one SVG on stdout: `%d` or `%0Nd` in the name
+    /// is the frame number from 0 (as zbuf's -o).
+    #[arg(short = 'o', value_name = "PATTERN")]
+    output: Option<String>,
+    /// Background colour R,G,B (a rectangle under the lines).
+    #[arg(long, value_parser = parse_colour, default_value = "255,255,255")]
+    background: Colour,
+    /// Line width in pixels.
+    #[arg(long, default_value_t = 1.0, value_parser = parse_width)]
+    stroke_width: f64,
+    /// Print counts on stderr at the end: frames, edges, edges left out (shared, cuts,
+    /// screen border), edge–polygon pairs tested, pieces drawn.
+    #[arg(long)]
+    stats: bool,
+}
+
+fn parse_colour(s: &str) -> Result<Colour, String> {
+    let parts: Vec<&str> = s.split(',').collect();
+    let bad = || format!("`{s}` is not a colour R,G,B (three numbers 0 to 255)");
+    if parts.len() != 3 {
+        return Err(bad());
+    }
+    let mut c = [0u8; 3];
+    for (slot, p) in c.iter_mut().zip(parts) {
+        *slot = p.trim().parse().map_err(|_| bad())?;
+    }
+    Ok(c)
+}
+
+fn parse_width(s: &str) -> Result<f64, String> {
+    s.parse::<f64>()
+        .ok()
+        .filter(|w| w.is_finite() && *w > 0.0)
+        .ok_or_else(|| format!("`{s}` is not a line width (a positive number)"))
+}
+
+fn main() -> ExitCode {
+    stagecli::main("hiddenline", |args: Args| {
+        let pattern = args
+            .output
+            .as_deref()
+            .map(FramePattern::parse)
+            .transpose()
+            .map_err(Error::usage)?;
+        let mut input = stagecli::read_stdin::<Token>(SpaceKind::Screen)?;
+        let (width, height) = input
+            .header()
+            .space
+            .screen_size()
+            .ok_or_else(|| Error::data("screen-space header without a size"))?;
+        let mut stats = LineStats::default();
+        let mut polygons: Vec<Polygon> = Vec::new();
+        let mut frame = 0u64;
+        while let Some(token) = stagecli::next(&mut input)? {
+            match token {
+                Token::Polygon(p) => {
+                    scan::check_on_screen(&p, width, height)
+                        .map_err(|m| Error::data(format!("{}: {m}", input.position())))?;
+                    polygons.push(p);
+                    continue;
+                }
+                Token::Skip(_) => continue,
+                Token::NextFrame | Token::End => {}
+            }
+            let segments = visible_segments(&polygons, width, height, &mut stats);
+            polygons.clear();
+            let text = svg(&segments, width, height, args.background, args.stroke_width);
+            match &pattern {
+                Some(p) if frame > 0 && !p.numbered() => {
+                    return Err(Error::data(format!(
+                        "-o {}: more than one frame, but the name has no %d for the frame number",
+                        args.output.as_deref().unwrap_or_default()
+                    )))
+                }
+                Some(p) => {
+                    let name = p.name(frame);
+                    std::fs::write(&name, text)
+                        .map_err(|e| Error::io(format!("cannot write {name}: {e}")))?;
+                }
+                None if frame > 0 => {
+                    return Err(Error::data(
+                        "more than one frame: give -o with %d in the name (e.g. -o frame%03d.svg)",
+                    ))
+                }
+                None => {
+                    let mut out = stagecli::stdout();
+                    out.write_all(text.as_bytes())?;
+                    out.flush()?;
+                }
+            }
+            frame += 1;
+        }
+        if args.stats {
+            let s = stats;
+            eprintln!(
+                "hiddenline: {frame} frames, {} edges, {} shared, {} cuts, {} on the border, {} pairs tested, {} pieces drawn",
+                s.edges, s.shared, s.cuts, s.border, s.pairs_tested, s.segments
+            );
+        }
+        Ok(())
+    })
+}

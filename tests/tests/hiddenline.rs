@@ -1,0 +1,295 @@
+//! `hiddenline` end to end (Archuleta's hidden-line output, seeds/003_…): the exact
+//! visible pieces of the edges of a scene where one square hides part of another, shared
+//! edges once, colours, the SVG's device coordinates, one file per frame, and, where
+//! Chromium is installed, the SVG as a browser draws it.
+
+use pipeline_tests::sh;
+
+/// A `<line>`: its ends and its stroke.
+#[derive(Debug, PartialEq, Clone)]
+struct Line {
+    from: (f64, f64),
+    to: (f64, f64),
+    stroke: String,
+}
+
+fn attr<'a>(element: &'a str, name: &str) -> &'a str {
+    let key = format!(" {name}=\"");
+    let start = element
+        .find(&key)
+        .unwrap_or_else(|| panic!("no {name} in {element}"))
+        + key.len();
+    let len = element[start..].find('"').expect("closing quote");
+    &element[start..start + len]
+}
+
+/// The `<line>` elements of an SVG, and its `<svg>` element.
+fn parse(svg: &str) -> (String, Vec<Line>) {
+    let head = svg.lines().next().expect("an svg element").to_string();
+    assert!(head.starts_with("<svg "), "{head}");
+    assert!(svg.trim_end().ends_with("</svg>"));
+    let num = |e: &str, n: &str| attr(e, n).parse::<f64>().expect("a number");
+    let lines = svg
+        .lines()
+        .filter(|l| l.starts_with("<line "))
+        .map(|e| Line {
+            from: (num(e, "x1"), num(e, "y1")),
+            to: (num(e, "x2"), num(e, "y2")),
+            stroke: attr(e, "stroke").to_string(),
+        })
+        .collect();
+    (head, lines)
+}
+
+fn hiddenline(args: &str, stream: &str) -> String {
+    let out = sh(&format!("hiddenline {args}"), stream.as_bytes());
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    String::from_utf8(out.stdout).expect("UTF-8")
+}
+
+/// Red (near, z 0.2) over the top-left corner of blue (far, z 0.6), on a 400×400
+/// screen; a grey square shares blue's right edge, nearer than blue.
+const SCENE: &str = "polypipe 1 screen 400 400
+colour 255 0 0
+40 40 0.2
+200 40 0.2
+200 200 0.2
+40 200 0.2
+NEXT.POLYGON
+colour 0 0 255
+120 120 0.6
+280 120 0.6
+280 280 0.6
+120 280 0.6
+NEXT.POLYGON
+colour 128 128 128
+280 120 0.4
+360 120 0.4
+360 280 0.4
+280 280 0.4
+END
+";
+
+fn close(a: (f64, f64), b: (f64, f64)) -> bool {
+    (a.0 - b.0).abs() <= 1e-9 && (a.1 - b.1).abs() <= 1e-9
+}
+
+#[test]
+fn one_square_hides_part_of_another_exactly() {
+    let (head, lines) = parse(&hiddenline("", SCENE));
+    assert!(head.contains(r#"viewBox="0 0 400 400""#), "{head}");
+    let (red, blue, grey) = ("rgb(255,0,0)", "rgb(0,0,255)", "rgb(128,128,128)");
+    let want = [
+        // Red: all four edges.
+        ((40.0, 40.0), (200.0, 40.0), red),
+        ((200.0, 40.0), (200.0, 200.0), red),
+        ((200.0, 200.0), (40.0, 200.0), red),
+        ((40.0, 200.0), (40.0, 40.0), red),
+        // Blue: its top and left edges from where they leave red; its right edge is
+        // shared with grey and drawn once (in blue's colour: blue is earlier, and
+        // shows beside it).
+        ((200.0, 120.0), (280.0, 120.0), blue),
+        ((280.0, 120.0), (280.0, 280.0), blue),
+        ((280.0, 280.0), (120.0, 280.0), blue),
+        ((120.0, 280.0), (120.0, 200.0), blue),
+        // Grey: its other three edges.
+        ((280.0, 120.0), (360.0, 120.0), grey),
+        ((360.0, 120.0), (360.0, 280.0), grey),
+        ((360.0, 280.0), (280.0, 280.0), grey),
+    ];
+    assert_eq!(lines.len(), want.len(), "{lines:#?}");
+    for (line, (from, to, stroke)) in lines.iter().zip(want) {
+        assert!(
+            close(line.from, from) && close(line.to, to),
+            "{line:?}, want {from:?}–{to:?}"
+        );
+        assert_eq!(line.stroke, stroke);
+    }
+    // The shared edge X = 280 is one line.
+    let on_280 = lines
+        .iter()
+        .filter(|l| l.from.0 == 280.0 && l.to.0 == 280.0)
+        .count();
+    assert_eq!(on_280, 1);
+}
+
+#[test]
+fn the_thesis_scene_from_the_pipeline_in_device_coordinates() {
+    let out = sh(
+        "viewxf --size 320x240 < examples/penetrating.txt | clipbatch | persp --size 320x240 | hiddenline --stats",
+        b"",
+    );
+    assert!(out.status.success());
+    let (head, lines) = parse(&String::from_utf8_lossy(&out.stdout));
+    assert_eq!(
+        head,
+        r#"<svg xmlns="http://www.w3.org/2000/svg" width="320" height="240" viewBox="0 0 320 240">"#
+    );
+    // Every piece on the screen, in one of the two colours.
+    for l in &lines {
+        for (x, y) in [l.from, l.to] {
+            assert!(
+                (0.0..=320.0).contains(&x) && (0.0..=240.0).contains(&y),
+                "{l:?}"
+            );
+        }
+        assert!(
+            l.stroke == "rgb(255,60,60)" || l.stroke == "rgb(60,60,255)",
+            "{l:?}"
+        );
+    }
+    // Three triangle edges and four quadrilateral edges. The quadrilateral's two long
+    // edges pass through the triangle's plane inside it: each is hidden from where it
+    // goes behind to where it leaves the triangle (two pieces each); the triangle's
+    // left edge is hidden where the quadrilateral's near part crosses it (two pieces).
+    let stats = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        stats.starts_with("hiddenline: 1 frames, 7 edges, 0 shared, 0 cuts, 0 on the border,"),
+        "{stats}"
+    );
+    assert_eq!(lines.len(), 10, "{lines:#?}");
+    // The long edge (76, 36)→(216, 176) runs from depth 0.9698 to 0.9914 through the
+    // triangle's 0.9828: it goes behind at t = 0.6, (160, 120), and is seen again past
+    // the triangle's base Y = 158.4.
+    let blue: Vec<&Line> = lines
+        .iter()
+        .filter(|l| l.stroke == "rgb(60,60,255)")
+        .collect();
+    assert!(close(blue[1].from, (76.0, 36.0)) && (blue[1].to.0 - 160.0).abs() < 1e-9);
+    assert!(close(blue[2].from, (198.4, 158.4)) && close(blue[2].to, (216.0, 176.0)));
+}
+
+#[test]
+fn a_movie_is_one_file_per_frame() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    let pattern = dir.path().join("f%03d.svg");
+    let out = sh(
+        &format!(
+            "scene spheres --frames 3 | viewxf --size 120x90 | clipbatch | persp --size 120x90 | hiddenline -o '{}'",
+            pattern.display()
+        ),
+        b"",
+    );
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let frames: Vec<String> = (0..3)
+        .map(|n| {
+            std::fs::read_to_string(dir.path().join(format!("f{n:03}.svg"))).expect("a frame file")
+        })
+        .collect();
+    for f in &frames {
+        let (head, lines) = parse(f);
+        assert!(head.contains(r#"viewBox="0 0 120 90""#));
+        assert!(lines.len() > 100);
+    }
+    assert_ne!(frames[0], frames[1], "the spheres move");
+    // Two frames and no -o: refused, after the first.
+    let out = sh(
+        "scene spheres --frames 2 | viewxf | clipbatch | persp --size 50x50 | hiddenline",
+        b"",
+    );
+    assert_eq!(out.status.code(), Some(1));
+    assert!(String::from_utf8_lossy(&out.stderr)
+        .contains("hiddenline: more than one frame: give -o with %d"));
+    // A world-space stream is not its input.
+    let out = sh("hiddenline < examples/penetrating.txt", b"");
+    assert_eq!(out.status.code(), Some(1));
+    assert!(String::from_utf8_lossy(&out.stderr).starts_with("hiddenline: "));
+    let out = sh("hiddenline -o 'x%s.svg' < /dev/null", b"");
+    assert_eq!(out.status.code(), Some(2));
+}
+
+#[test]
+fn chromium_draws_the_visible_pieces() {
+    let chromium = std::path::Path::new("/usr/bin/chromium");
+    if !chromium.exists() {
+        eprintln!("skipped: /usr/bin/chromium is not installed (apt-get install -y chromium)");
+        return;
+    }
+    let dir = tempfile::tempdir().expect("temp dir");
+    let svg = dir.path().join("scene.svg");
+    let png = dir.path().join("scene.png");
+    std::fs::write(&svg, hiddenline("--stroke-width 4", SCENE)).expect("write svg");
+    let profile = tempfile::tempdir().expect("profile dir");
+    let out = std::process::Command::new(chromium)
+        .args([
+            "--headless",
+            "--no-sandbox",
+            "--disable-gpu",
+            "--disable-background-networking",
+            "--no-first-run",
+        ])
+        .arg(format!("--user-data-dir={}", profile.path().display()))
+        .arg(format!("--screenshot={}", png.display()))
+        .arg("--window-size=400,400")
+        .arg(&svg)
+        .output()
+        .expect("run chromium");
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let image = image::open(&png).expect("a PNG").to_rgb8();
+    assert_eq!(image.dimensions(), (400, 400));
+    let at = |x, y| image.get_pixel(x, y).0;
+    // On red's top edge; on blue's visible right edge; on grey's right edge.
+    assert_eq!(at(120, 40), [255, 0, 0]);
+    assert_eq!(at(280, 200), [0, 0, 255]);
+    assert_eq!(at(360, 200), [128, 128, 128]);
+    // Where blue's left and top edges run under red: nothing drawn.
+    assert_eq!(at(120, 160), [255, 255, 255]);
+    assert_eq!(at(160, 120), [255, 255, 255]);
+    // And blue's left edge below red is drawn.
+    assert_eq!(at(120, 240), [0, 0, 255]);
+}
+
+#[test]
+fn the_degenerate_scenes_draw_without_error() {
+    // docs/degenerate.md's scenes: edge-on, zero-area and 0-2-vertex polygons draw and
+    // hide nothing; every frame is a well-formed SVG of pieces on the screen.
+    let dir = tempfile::tempdir().expect("temp dir");
+    for entry in std::fs::read_dir(pipeline_tests::repo_root().join("examples/degenerate"))
+        .expect("examples")
+    {
+        let path = entry.expect("entry").path();
+        let pattern = dir.path().join(format!(
+            "{}-%d.svg",
+            path.file_stem().expect("name").to_string_lossy()
+        ));
+        let out = sh(
+            &format!(
+                "viewxf --size 64x48 < '{}' | clipbatch | persp --size 64x48 | hiddenline -o '{}'",
+                path.display(),
+                pattern.display()
+            ),
+            b"",
+        );
+        assert!(
+            out.status.success(),
+            "{}: {}",
+            path.display(),
+            String::from_utf8_lossy(&out.stderr)
+        );
+        let first =
+            std::fs::read_to_string(pattern.to_string_lossy().replace("%d", "0")).expect("frame 0");
+        let (head, lines) = parse(&first);
+        assert!(head.contains(r#"viewBox="0 0 64 48""#));
+        for l in lines {
+            for (x, y) in [l.from, l.to] {
+                assert!(
+                    (0.0..=64.0).contains(&x) && (0.0..=48.0).contains(&y),
+                    "{}: {l:?}",
+                    path.display()
+                );
+            }
+        }
+    }
+}
