@@ -152,7 +152,9 @@ pub fn calibrate(
         hse.push(&rel, t_hse);
         merge.push(&merge_work, t_merge);
     }
-    let geometry = [true, true, true, false, false, false];
+    // Every scene is of quads (E = 4), so a cost per vertex cannot be told from one per
+    // polygon: the geometry stages get a cost per polygon of four vertices.
+    let geometry = [true, true, false, false, false, false];
     let mut k = Constants {
         measured_on: machine(),
         viewxf_text: vt.fit(geometry),
@@ -160,8 +162,8 @@ pub fn calibrate(
         clip: clip.fit(geometry),
         splitter: split.fit(geometry),
         persp: persp.fit(geometry),
-        // T_sc's terms (5.2.4): per polygon, vertex, span and pixel, and the region.
-        hse: hse.fit([true, true, true, true, true, true]),
+        // T_sc's terms (5.2.4): per polygon, span and pixel, and the region.
+        hse: hse.fit([true, true, false, true, true, true]),
         merge: merge.fit([true, false, false, true, false, true]),
         overheads: Overheads::default(),
     };

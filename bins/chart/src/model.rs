@@ -475,7 +475,7 @@ mod tests {
             },
             viewxf_text: Cost {
                 process: 0.001,
-                vertex: 1e-6,
+                vertex: 1e-8,
                 ..Default::default()
             },
             clip: Cost {
@@ -515,11 +515,13 @@ mod tests {
         let truth = [0.001, 2e-6, 5e-7, 0.0, 3e-9, 0.0];
         let mut rows = Vec::new();
         let mut y = Vec::new();
-        for p in [100.0, 1000.0, 10000.0, 50000.0] {
+        for p in [100.0f64, 1000.0, 10000.0, 50000.0] {
             for px in [1e4, 1e6, 4e6] {
-                let r = [1.0, p, 4.0 * p, (p * px).sqrt(), px, px / 2.0];
-                y.push(r.iter().zip(truth).map(|(a, b)| a * b).sum());
-                rows.push(r);
+                for k in [0.0, 1.0, 2.0] {
+                    let r = [1.0, p, (3.0 + k) * p, (p * px).sqrt(), px, px / (1.0 + k)];
+                    y.push(r.iter().zip(truth).map(|(a, b)| a * b).sum());
+                    rows.push(r);
+                }
             }
         }
         let c = fit(&rows, &y, [true, true, true, false, true, false]);
