@@ -48,21 +48,46 @@ fn chart(args: &str) -> tempfile::TempDir {
 fn quick_chart_of_a_small_scene_makes_its_files_with_real_values() {
     let dir = chart("--quick examples/penetrating.txt@120x90");
     let d = dir.path();
-    for f in ["results.csv", "speed-accuracy.png", "speed-accuracy.svg", "model.csv", "model.png"] {
+    for f in [
+        "results.csv",
+        "speed-accuracy.png",
+        "speed-accuracy.svg",
+        "model.csv",
+        "model.png",
+    ] {
         assert!(d.join(f).metadata().unwrap().len() > 0, "{f}");
     }
     let png = image::open(d.join("speed-accuracy.png")).unwrap();
-    assert!(png.width() >= 700 && png.height() >= 500, "{}x{}", png.width(), png.height());
+    assert!(
+        png.width() >= 700 && png.height() >= 500,
+        "{}x{}",
+        png.width(),
+        png.height()
+    );
     let svg = std::fs::read_to_string(d.join("speed-accuracy.svg")).unwrap();
-    assert!(svg.contains("wall time, seconds (log scale)"), "the x axis is titled");
+    assert!(
+        svg.contains("wall time, seconds (log scale)"),
+        "the x axis is titled"
+    );
     assert!(svg.contains("penetrating"), "the panel names its scene");
 
     let (header, rows) = read_csv(&d.join("results.csv"));
     for c in [
-        "scene", "method", "depth", "size", "polygons", "wall_s", "cpu_s", "max_rss_kib",
-        "error_fraction", "edge_rmse",
+        "scene",
+        "method",
+        "depth",
+        "size",
+        "polygons",
+        "wall_s",
+        "cpu_s",
+        "max_rss_kib",
+        "error_fraction",
+        "edge_rmse",
     ] {
-        assert!(header.iter().any(|h| h == c), "results.csv lacks {c}: {header:?}");
+        assert!(
+            header.iter().any(|h| h == c),
+            "results.csv lacks {c}: {header:?}"
+        );
     }
     let zbuf: Vec<_> = rows.iter().filter(|r| r["method"] == "zbuf").collect();
     let depths: Vec<&str> = zbuf.iter().map(|r| r["depth"].as_str()).collect();
@@ -84,13 +109,27 @@ fn quick_chart_of_a_small_scene_makes_its_files_with_real_values() {
     assert!(rows.iter().any(|r| r["method"] == "zbuf-eye-z"));
 
     let (header, rows) = read_csv(&d.join("model.csv"));
-    for c in ["scene", "depth", "predicted_s", "measured_s", "hse_s", "clip_s", "bottleneck"] {
-        assert!(header.iter().any(|h| h == c), "model.csv lacks {c}: {header:?}");
+    for c in [
+        "scene",
+        "depth",
+        "predicted_s",
+        "measured_s",
+        "hse_s",
+        "clip_s",
+        "bottleneck",
+    ] {
+        assert!(
+            header.iter().any(|h| h == c),
+            "model.csv lacks {c}: {header:?}"
+        );
     }
     let depths: Vec<&str> = rows.iter().map(|r| r["depth"].as_str()).collect();
     assert_eq!(depths, ["0", "1", "2", "3", "4"]);
     for r in &rows {
-        assert!(num(r, "predicted_s") > 0.0 && num(r, "measured_s") > 0.0, "{r:?}");
+        assert!(
+            num(r, "predicted_s") > 0.0 && num(r, "measured_s") > 0.0,
+            "{r:?}"
+        );
         assert_eq!(r["polygons_in_view"], "2");
     }
     // Each level adds processes: 5 at depth 0, 2 + 15 + 32 + 1 at depth 4.
@@ -107,8 +146,14 @@ fn the_full_method_table_runs_every_variant() {
         .map(|r| format!("{}@{}", r["method"], r["depth"]))
         .collect();
     for want in [
-        "zbuf@0", "zbuf@4", "zbuf-eye-z@0", "zbuf-buffer@0", "zbuf-buffer@2", "zbuf-chain@0",
-        "zbuf-text@0", "zbuf-binary@0",
+        "zbuf@0",
+        "zbuf@4",
+        "zbuf-eye-z@0",
+        "zbuf-buffer@0",
+        "zbuf-buffer@2",
+        "zbuf-chain@0",
+        "zbuf-text@0",
+        "zbuf-binary@0",
     ] {
         assert!(runs.contains(&want.to_string()), "{want} not in {runs:?}");
     }
@@ -125,7 +170,11 @@ fn choose_depth_gives_two_polygons_depth_0_and_says_why() {
         "scripts/chart.sh choose-depth --size 500x500 examples/penetrating.txt",
         b"",
     );
-    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
     let line = String::from_utf8(out.stdout).unwrap();
     assert!(line.starts_with("0 ("), "{line}");
     assert!(line.contains("2 polygons in view"), "{line}");
@@ -134,8 +183,16 @@ fn choose_depth_gives_two_polygons_depth_0_and_says_why() {
 
 #[test]
 fn choose_depth_refuses_a_bad_size_and_a_missing_scene() {
-    let out = sh("scripts/chart.sh choose-depth --size 0x5 examples/penetrating.txt", b"");
-    assert_eq!(out.status.code(), Some(2), "{}", String::from_utf8_lossy(&out.stderr));
+    let out = sh(
+        "scripts/chart.sh choose-depth --size 0x5 examples/penetrating.txt",
+        b"",
+    );
+    assert_eq!(
+        out.status.code(),
+        Some(2),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
     let out = sh("scripts/chart.sh choose-depth no-such-scene.txt", b"");
     assert_eq!(out.status.code(), Some(1));
     assert!(

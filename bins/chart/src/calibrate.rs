@@ -108,7 +108,9 @@ pub fn calibrate(
         };
         let t_vt = cpu(reps, || v("w.txt"))?;
         let t_vb = cpu(reps, || v("w.pp"))?;
-        let t_clip = cpu(reps, || stage(bin, "clipbatch", &f("e.pp"), Some(&f("c.pp"))))?;
+        let t_clip = cpu(reps, || {
+            stage(bin, "clipbatch", &f("e.pp"), Some(&f("c.pp")))
+        })?;
         let t_split = cpu(reps, || {
             let mut c = stage(bin, "splitter", &f("c.pp"), None)?;
             c.args(["--node", "1", "--depth", "1", "--size", &size])
@@ -175,7 +177,13 @@ pub fn calibrate(
 /// The script's and the processes' start-up: `render.sh` on two polygons at depths 0-4
 /// (wall seconds, median of `reps`) less the stages' predicted time, fitted to
 /// script + process × processes.
-fn overheads(bin: &Path, render: &Path, work: &Path, k: &Constants, reps: usize) -> Result<Overheads> {
+fn overheads(
+    bin: &Path,
+    render: &Path,
+    work: &Path,
+    k: &Constants,
+    reps: usize,
+) -> Result<Overheads> {
     let scene = work.join("two.txt");
     measure::run(
         Command::new(bin.join("scene"))

@@ -204,7 +204,14 @@ impl Setup {
     }
 
     /// Runs one method at one depth, `reps` times, and measures its frames.
-    fn run(&self, scene: &Scene, env: &Environment, refs: &References, method: &Method, depth: u8) -> Result<Row> {
+    fn run(
+        &self,
+        scene: &Scene,
+        env: &Environment,
+        refs: &References,
+        method: &Method,
+        depth: u8,
+    ) -> Result<Row> {
         let input = self.input(scene, method.input)?;
         let frames = self.out.join("frames.ppm");
         let err = self.out.join("render.err");
@@ -219,9 +226,11 @@ impl Setup {
             } else {
                 cmd.stdout(Stdio::null());
             }
-            runs.push(quiet(&mut cmd, &err).with_context(|| {
-                format!("{} at depth {depth} on {}", method.name, scene.name)
-            })?);
+            runs.push(
+                quiet(&mut cmd, &err).with_context(|| {
+                    format!("{} at depth {depth} on {}", method.name, scene.name)
+                })?,
+            );
         }
         let usage = measure::median(&runs);
         let point = self.compare(&refs.point, &frames, None)?;
@@ -250,7 +259,11 @@ impl Setup {
         if let Some(m) = mask {
             cmd.arg("--edges").arg(m);
         }
-        let out = cmd.arg(reference).arg(frames).output().context("zspec compare")?;
+        let out = cmd
+            .arg(reference)
+            .arg(frames)
+            .output()
+            .context("zspec compare")?;
         if !out.status.success() {
             bail!(
                 "zspec compare {} {}: {}",
@@ -281,7 +294,12 @@ pub fn parse_overall(csv_text: &str) -> Result<Compared> {
             .position(|h| h == name)
             .ok_or_else(|| anyhow!("zspec compare's CSV has no column {name}"))
     };
-    let (pixels, differing, rmse, edge) = (col("pixels")?, col("differing")?, col("rmse")?, col("edge_rmse")?);
+    let (pixels, differing, rmse, edge) = (
+        col("pixels")?,
+        col("differing")?,
+        col("rmse")?,
+        col("edge_rmse")?,
+    );
     for record in reader.records() {
         let r = record?;
         if r.get(0) == Some("overall") {
@@ -299,7 +317,11 @@ pub fn parse_overall(csv_text: &str) -> Result<Compared> {
 
 /// Every run of the chart: the rows of `results.csv` and of `model.csv`. `tick` is told
 /// each run as it starts; `total` is how many there will be.
-pub fn chart(setup: &Setup, scenes: &[Scene], mut tick: impl FnMut(&str)) -> Result<(Vec<Row>, Vec<ModelRow>)> {
+pub fn chart(
+    setup: &Setup,
+    scenes: &[Scene],
+    mut tick: impl FnMut(&str),
+) -> Result<(Vec<Row>, Vec<ModelRow>)> {
     let runs = methods::runs(setup.quick);
     let mut rows = Vec::new();
     let mut model_rows = Vec::new();
@@ -317,14 +339,28 @@ pub fn chart(setup: &Setup, scenes: &[Scene], mut tick: impl FnMut(&str)) -> Res
                 .find(|r| r.scene == scene.name && r.method == "zbuf" && r.depth == depth)
                 .map(|r| r.wall_s);
             let Some(measured_s) = measured else { continue };
-            model_rows.push(model_row(&setup.constants, &env, &scene.name, depth, setup.cores, measured_s));
+            model_rows.push(model_row(
+                &setup.constants,
+                &env,
+                &scene.name,
+                depth,
+                setup.cores,
+                measured_s,
+            ));
         }
     }
     Ok((rows, model_rows))
 }
 
 /// The model's prediction for a scene at a depth, beside what was measured.
-pub fn model_row(k: &Constants, env: &Environment, scene: &str, depth: u8, cores: usize, measured_s: f64) -> ModelRow {
+pub fn model_row(
+    k: &Constants,
+    env: &Environment,
+    scene: &str,
+    depth: u8,
+    cores: usize,
+    measured_s: f64,
+) -> ModelRow {
     let p = model::predict(k, env, depth, cores);
     let stage = |name: &str| {
         p.stages
@@ -356,7 +392,8 @@ pub fn model_row(k: &Constants, env: &Environment, scene: &str, depth: u8, cores
 
 /// Writes rows as CSV with a header row.
 pub fn write_csv<T: Serialize>(path: &Path, rows: &[T]) -> Result<()> {
-    let mut w = csv::Writer::from_path(path).with_context(|| format!("cannot write {}", path.display()))?;
+    let mut w =
+        csv::Writer::from_path(path).with_context(|| format!("cannot write {}", path.display()))?;
     for r in rows {
         w.serialize(r)?;
     }

@@ -106,7 +106,8 @@ pub fn count_screen<R: Read>(input: R) -> Result<(u64, u64, f64)> {
 /// Whether the file starts like a text-form stream (else binary).
 pub fn is_text(scene: &Path) -> Result<bool> {
     let mut first = [0u8; 8];
-    let mut f = std::fs::File::open(scene).with_context(|| format!("cannot open {}", scene.display()))?;
+    let mut f =
+        std::fs::File::open(scene).with_context(|| format!("cannot open {}", scene.display()))?;
     let n = f.read(&mut first)?;
     Ok(n > 0 && first[..n] != proto::header::BINARY_MAGIC[..n])
 }
@@ -121,7 +122,8 @@ pub fn look(
     camera: &[String],
 ) -> Result<Environment> {
     let text = is_text(scene)?;
-    let file = std::fs::File::open(scene).with_context(|| format!("cannot open {}", scene.display()))?;
+    let file =
+        std::fs::File::open(scene).with_context(|| format!("cannot open {}", scene.display()))?;
     let (frames, polygons, vertices) = count_world(std::io::BufReader::new(file))
         .with_context(|| format!("reading {}", scene.display()))?;
     let size = format!("{width}x{height}");
@@ -129,7 +131,11 @@ pub fn look(
     let line = format!(
         "{v} --size {size} {cam} < {s} | {c} | {p} --size {size}",
         v = q(&bin.join("viewxf")),
-        cam = camera.iter().map(|a| q(Path::new(a))).collect::<Vec<_>>().join(" "),
+        cam = camera
+            .iter()
+            .map(|a| q(Path::new(a)))
+            .collect::<Vec<_>>()
+            .join(" "),
         s = q(scene),
         c = q(&bin.join("clipbatch")),
         p = q(&bin.join("persp")),

@@ -131,7 +131,9 @@ fn root_dir(root: Option<PathBuf>) -> Result<PathBuf> {
 }
 
 fn load_constants(model: Option<&Path>, root: &Path) -> Result<Constants> {
-    let path = model.map(Path::to_path_buf).unwrap_or_else(|| root.join("bench/model.toml"));
+    let path = model
+        .map(Path::to_path_buf)
+        .unwrap_or_else(|| root.join("bench/model.toml"));
     match std::fs::read_to_string(&path) {
         Ok(text) => Constants::parse(&text).with_context(|| format!("reading {}", path.display())),
         Err(_) if model.is_none() => Ok(Constants::committed()),
@@ -169,7 +171,12 @@ fn standard_scenes(bin: &Path, root: &Path, dir: &Path, quick: bool) -> Result<V
                 .args(["environment", "--text", "--seed", &seed.to_string()])
                 .args(["--polygons", &polygons.to_string()])
                 .args(["--depth-complexity", &dc.to_string()])
-                .args(["--size", &format!("{w}x{h}"), "--frames", &frames.to_string()])
+                .args([
+                    "--size",
+                    &format!("{w}x{h}"),
+                    "--frames",
+                    &frames.to_string(),
+                ])
                 .stdout(std::fs::File::create(&path)?)
                 .status()?;
             if !status.success() {
@@ -199,7 +206,10 @@ fn run(cli: Cli) -> Result<()> {
     let bin = bin_dir()?;
     let render = root.join("scripts/render.sh");
     std::fs::create_dir_all(&out).with_context(|| format!("cannot make {}", out.display()))?;
-    let model_path = cli.model.clone().unwrap_or_else(|| root.join("bench/model.toml"));
+    let model_path = cli
+        .model
+        .clone()
+        .unwrap_or_else(|| root.join("bench/model.toml"));
     let cores = chart::calibrate::cores();
     let mut scenes: Vec<Scene> = cli
         .scenes
@@ -212,7 +222,12 @@ fn run(cli: Cli) -> Result<()> {
         }
     }
     if cli.standard {
-        scenes.extend(standard_scenes(&bin, &root, &out.join("scenes"), cli.quick)?);
+        scenes.extend(standard_scenes(
+            &bin,
+            &root,
+            &out.join("scenes"),
+            cli.quick,
+        )?);
     }
     if cli.calibrate {
         let work = out.join("calibration");
@@ -237,7 +252,8 @@ fn run(cli: Cli) -> Result<()> {
             if cli.quick { " --quick" } else { "" },
             k.to_toml()?
         );
-        std::fs::write(&model_path, text).with_context(|| format!("cannot write {}", model_path.display()))?;
+        std::fs::write(&model_path, text)
+            .with_context(|| format!("cannot write {}", model_path.display()))?;
         eprintln!("chart: wrote {}", model_path.display());
         for (name, cost) in [
             ("viewxf (text)", k.viewxf_text),
@@ -264,7 +280,9 @@ fn run(cli: Cli) -> Result<()> {
         render,
         out: out.clone(),
         quick: cli.quick,
-        reps: cli.reps.map_or(if cli.quick { 1 } else { 3 }, |r| r as usize),
+        reps: cli
+            .reps
+            .map_or(if cli.quick { 1 } else { 3 }, |r| r as usize),
         cores,
         constants,
     };
@@ -296,8 +314,13 @@ fn run(cli: Cli) -> Result<()> {
             r.bottleneck
         );
     }
-    let mean = model_rows.iter().map(|r| r.error.abs()).sum::<f64>() / model_rows.len().max(1) as f64;
-    println!("\nmean |error| {:.1}% over {} rows", mean * 100.0, model_rows.len());
+    let mean =
+        model_rows.iter().map(|r| r.error.abs()).sum::<f64>() / model_rows.len().max(1) as f64;
+    println!(
+        "\nmean |error| {:.1}% over {} rows",
+        mean * 100.0,
+        model_rows.len()
+    );
     eprintln!(
         "chart: wrote {0}/results.csv, {0}/speed-accuracy.png, {0}/speed-accuracy.svg, {0}/model.csv, {0}/model.png",
         out.display()

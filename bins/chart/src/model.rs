@@ -337,7 +337,12 @@ pub fn fit(rows: &[[f64; 6]], y: &[f64], use_column: [bool; 6]) -> [f64; 6] {
         // Columns scaled to unit largest value, for the conditioning.
         let scale: Vec<f64> = cols
             .iter()
-            .map(|&j| rows.iter().map(|r| r[j].abs()).fold(0.0, f64::max).max(1e-300))
+            .map(|&j| {
+                rows.iter()
+                    .map(|r| r[j].abs())
+                    .fold(0.0, f64::max)
+                    .max(1e-300)
+            })
             .collect();
         let n = cols.len();
         let mut a = vec![vec![0.0; n + 1]; n];
@@ -526,7 +531,10 @@ mod tests {
         }
         let c = fit(&rows, &y, [true, true, true, false, true, false]);
         for j in 0..6 {
-            assert!((c[j] - truth[j]).abs() <= 1e-6 * truth[j].abs().max(1e-12), "{c:?}");
+            assert!(
+                (c[j] - truth[j]).abs() <= 1e-6 * truth[j].abs().max(1e-12),
+                "{c:?}"
+            );
         }
         // A regressor that only hurts gets 0, not a negative cost.
         let y2: Vec<f64> = rows.iter().map(|r| 0.01 + 1e-6 * r[1]).collect();

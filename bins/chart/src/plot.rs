@@ -65,7 +65,11 @@ pub fn marks<'a>(rows: &'a [Row], scene: &str) -> Vec<&'a Row> {
 /// order of time.
 pub fn pareto<'a>(marks: &[&'a Row]) -> Vec<&'a Row> {
     let mut sorted: Vec<&Row> = marks.to_vec();
-    sorted.sort_by(|a, b| a.wall_s.total_cmp(&b.wall_s).then(a.rmse.total_cmp(&b.rmse)));
+    sorted.sort_by(|a, b| {
+        a.wall_s
+            .total_cmp(&b.wall_s)
+            .then(a.rmse.total_cmp(&b.rmse))
+    });
     let mut front = Vec::new();
     let mut best = f64::INFINITY;
     for r in sorted {
@@ -111,9 +115,9 @@ where
     for (scene, panel) in scenes.iter().zip(panels) {
         let marks = marks(rows, scene);
         let first = marks[0];
-        let (tmin, tmax) = marks
-            .iter()
-            .fold((f64::INFINITY, 0.0f64), |(a, b), r| (a.min(r.wall_s), b.max(r.wall_s)));
+        let (tmin, tmax) = marks.iter().fold((f64::INFINITY, 0.0f64), |(a, b), r| {
+            (a.min(r.wall_s), b.max(r.wall_s))
+        });
         let emax = marks.iter().map(|r| r.rmse).fold(0.0f64, f64::max).max(0.5);
         let caption = format!(
             "{} ({} polygons{}, {})",
@@ -149,7 +153,11 @@ where
         chart.draw_series(LineSeries::new(front, RGBColor(90, 90, 90).stroke_width(2)))?;
         for r in &marks {
             let c = colour_of(&r.method);
-            chart.draw_series(std::iter::once(Circle::new((r.wall_s, r.rmse), 7, c.filled())))?;
+            chart.draw_series(std::iter::once(Circle::new(
+                (r.wall_s, r.rmse),
+                7,
+                c.filled(),
+            )))?;
             let label = if r.depth > 0 {
                 format!("{} d{}", r.method, r.depth)
             } else {
@@ -158,7 +166,10 @@ where
             chart.draw_series(std::iter::once(Text::new(
                 label,
                 (r.wall_s, r.rmse),
-                ("sans-serif", 16).into_font().color(&c).pos(Pos::new(HPos::Left, VPos::Bottom)),
+                ("sans-serif", 16)
+                    .into_font()
+                    .color(&c)
+                    .pos(Pos::new(HPos::Left, VPos::Bottom)),
             )))?;
         }
     }
@@ -166,14 +177,19 @@ where
     Ok(())
 }
 
-fn png(path: &Path, size: (u32, u32), draw: impl FnOnce(DrawingArea<BitMapBackend, Shift>) -> Drawn) -> Result<()> {
+fn png(
+    path: &Path,
+    size: (u32, u32),
+    draw: impl FnOnce(DrawingArea<BitMapBackend, Shift>) -> Drawn,
+) -> Result<()> {
     register_font();
     let mut buf = vec![255u8; size.0 as usize * size.1 as usize * 3];
     {
         let root = BitMapBackend::with_buffer(&mut buf, size).into_drawing_area();
         draw(root).map_err(|e| anyhow!("drawing {}: {e}", path.display()))?;
     }
-    let image = image::RgbImage::from_raw(size.0, size.1, buf).ok_or_else(|| anyhow!("picture buffer"))?;
+    let image =
+        image::RgbImage::from_raw(size.0, size.1, buf).ok_or_else(|| anyhow!("picture buffer"))?;
     image.save(path)?;
     Ok(())
 }
@@ -182,7 +198,9 @@ fn png(path: &Path, size: (u32, u32), draw: impl FnOnce(DrawingArea<BitMapBacken
 pub fn speed_accuracy(dir: &Path, rows: &[Row]) -> Result<()> {
     let (cols, nrows) = layout(scenes_of(rows).len());
     let size = (PANEL.0 * cols as u32, PANEL.1 * nrows as u32 + 50);
-    png(&dir.join("speed-accuracy.png"), size, |root| speed_accuracy_on(root, rows))?;
+    png(&dir.join("speed-accuracy.png"), size, |root| {
+        speed_accuracy_on(root, rows)
+    })?;
     let svg = dir.join("speed-accuracy.svg");
     let root = SVGBackend::new(&svg, size).into_drawing_area();
     speed_accuracy_on(root, rows).map_err(|e| anyhow!("drawing {}: {e}", svg.display()))
@@ -199,7 +217,10 @@ where
     let mean = rows.iter().map(|r| r.error.abs()).sum::<f64>() / rows.len().max(1) as f64;
     let mut chart = ChartBuilder::on(&root)
         .caption(
-            format!("Cost model (thesis 5.2, 6.4) against measurement: mean |error| {:.0}%", mean * 100.0),
+            format!(
+                "Cost model (thesis 5.2, 6.4) against measurement: mean |error| {:.0}%",
+                mean * 100.0
+            ),
             ("sans-serif", 24),
         )
         .margin(16)
@@ -244,14 +265,20 @@ where
         let c = HUES[i % HUES.len()];
         let mine: Vec<&ModelRow> = rows.iter().filter(|r| r.scene == *scene).collect();
         chart
-            .draw_series(mine.iter().map(|r| Circle::new((r.measured_s, r.predicted_s), 6, c.filled())))?
+            .draw_series(
+                mine.iter()
+                    .map(|r| Circle::new((r.measured_s, r.predicted_s), 6, c.filled())),
+            )?
             .label(scene.to_string())
             .legend(move |(x, y)| Circle::new((x + 10, y), 6, c.filled()));
         chart.draw_series(mine.iter().map(|r| {
             Text::new(
                 format!("d{}", r.depth),
                 (r.measured_s, r.predicted_s),
-                ("sans-serif", 15).into_font().color(&c).pos(Pos::new(HPos::Left, VPos::Bottom)),
+                ("sans-serif", 15)
+                    .into_font()
+                    .color(&c)
+                    .pos(Pos::new(HPos::Left, VPos::Bottom)),
             )
         }))?;
     }
@@ -268,7 +295,9 @@ where
 
 /// `model.png` in `dir` (the grey lines are ±30%).
 pub fn model(dir: &Path, rows: &[ModelRow]) -> Result<()> {
-    png(&dir.join("model.png"), (900, 760), |root| model_on(root, rows))
+    png(&dir.join("model.png"), (900, 760), |root| {
+        model_on(root, rows)
+    })
 }
 
 #[cfg(test)]
