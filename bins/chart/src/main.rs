@@ -149,6 +149,9 @@ fn bar(len: u64) -> ProgressBar {
     bar
 }
 
+/// A scene class: name, seed, polygons, depth complexity, screen, frames.
+type Class = (&'static str, u64, u64, f64, (u32, u32), u64);
+
 /// The standard scenes (scripts/bench.sh's four classes, and the failure scene).
 fn standard_scenes(bin: &Path, root: &Path, dir: &Path, quick: bool) -> Result<Vec<Scene>> {
     std::fs::create_dir_all(dir)?;
@@ -157,7 +160,7 @@ fn standard_scenes(bin: &Path, root: &Path, dir: &Path, quick: bool) -> Result<V
     } else {
         (100_000, 10_000, (1920, 1080), 100)
     };
-    let specs: [(&str, u64, u64, f64, (u32, u32), u64); 4] = [
+    let specs: [Class; 4] = [
         ("a-1024-quads", 1, 1024, 1.0, (500, 500), 1),
         ("b-geometry", 3, geo, 2.0, (500, 500), 1),
         ("c-fill", 2, fill, 10.0, fill_size, 1),
