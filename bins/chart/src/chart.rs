@@ -9,7 +9,7 @@ use crate::measure::{self, Usage};
 use crate::methods::{self, Input, Method};
 use crate::model::{self, Constants};
 use anyhow::{anyhow, bail, Context, Result};
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
 use std::fs::File;
 use std::path::{Path, PathBuf};
 use std::process::{Command, Stdio};
@@ -58,7 +58,7 @@ pub fn parse_size(s: &str) -> Option<(u32, u32)> {
 }
 
 /// One row of `results.csv`.
-#[derive(Clone, Debug, Serialize, PartialEq)]
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
 pub struct Row {
     pub scene: String,
     pub method: String,
@@ -79,7 +79,7 @@ pub struct Row {
 }
 
 /// One row of `model.csv`.
-#[derive(Clone, Debug, Serialize, PartialEq)]
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
 pub struct ModelRow {
     pub scene: String,
     pub depth: u8,
@@ -388,6 +388,13 @@ pub fn model_row(
         polygons_in_view: env.relevant / env.frames.max(1),
         depth_complexity: env.depth_complexity(),
     }
+}
+
+/// Reads rows written by [`write_csv`].
+pub fn read_csv<T: serde::de::DeserializeOwned>(path: &Path) -> Result<Vec<T>> {
+    let mut r =
+        csv::Reader::from_path(path).with_context(|| format!("cannot read {}", path.display()))?;
+    Ok(r.deserialize().collect::<std::result::Result<_, _>>()?)
 }
 
 /// Writes rows as CSV with a header row.

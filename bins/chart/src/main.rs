@@ -52,6 +52,9 @@ struct Cli {
     /// The model's constants file (default: the repository's bench/model.toml).
     #[arg(long, value_name = "FILE")]
     model: Option<PathBuf>,
+    /// Only draw the pictures again from DIR/results.csv and DIR/model.csv.
+    #[arg(long)]
+    replot: bool,
     /// The repository (scripts/render.sh, bench/); chart.sh gives it.
     #[arg(long, value_name = "DIR")]
     root: Option<PathBuf>,
@@ -209,6 +212,13 @@ fn run(cli: Cli) -> Result<()> {
     let bin = bin_dir()?;
     let render = root.join("scripts/render.sh");
     std::fs::create_dir_all(&out).with_context(|| format!("cannot make {}", out.display()))?;
+    if cli.replot {
+        let rows: Vec<chart::chart::Row> = chart::chart::read_csv(&out.join("results.csv"))?;
+        let model_rows: Vec<chart::chart::ModelRow> =
+            chart::chart::read_csv(&out.join("model.csv"))?;
+        chart::plot::speed_accuracy(&out, &rows)?;
+        return chart::plot::model(&out, &model_rows);
+    }
     let model_path = cli
         .model
         .clone()

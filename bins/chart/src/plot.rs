@@ -118,7 +118,7 @@ where
         let (tmin, tmax) = marks.iter().fold((f64::INFINITY, 0.0f64), |(a, b), r| {
             (a.min(r.wall_s), b.max(r.wall_s))
         });
-        let emax = marks.iter().map(|r| r.rmse).fold(0.0f64, f64::max).max(0.5);
+        let emax = marks.iter().map(|r| r.rmse).fold(0.0f64, f64::max).max(0.5) * 1.3;
         let caption = format!(
             "{} ({} polygons{}, {})",
             scene,
@@ -136,7 +136,8 @@ where
             .x_label_area_size(52)
             .y_label_area_size(72)
             .build_cartesian_2d(
-                ((tmin / 1.6).max(1e-4)..(tmax * 1.6).max(2e-4)).log_scale(),
+                // At least a factor of ten, so that the log axis has its labels.
+                ((tmin / 1.6).min(tmax * 1.6 / 10.0).max(1e-4)..(tmax * 1.6).max(2e-4)).log_scale(),
                 0.0..emax * 1.2,
             )?;
         chart
@@ -145,32 +146,31 @@ where
             .y_desc("RMS error vs 16×16 reference (0–255)")
             .axis_desc_style(("sans-serif", 18))
             .label_style(("sans-serif", 16))
+            .x_labels(10)
             .x_label_formatter(&|v| format!("{v:.3}"))
             .y_label_formatter(&|v| format!("{v:.1}"))
             .light_line_style(RGBColor(235, 235, 235))
             .draw()?;
         let front: Vec<(f64, f64)> = pareto(&marks).iter().map(|r| (r.wall_s, r.rmse)).collect();
         chart.draw_series(LineSeries::new(front, RGBColor(90, 90, 90).stroke_width(2)))?;
-        for r in &marks {
+        // Marks in order of time; labels stacked in four rows above them, so that methods
+        // of equal error and nearly equal time stay readable.
+        let mut by_time = marks.clone();
+        by_time.sort_by(|a, b| a.wall_s.total_cmp(&b.wall_s));
+        for (i, r) in by_time.iter().enumerate() {
             let c = colour_of(&r.method);
-            chart.draw_series(std::iter::once(Circle::new(
-                (r.wall_s, r.rmse),
-                7,
-                c.filled(),
-            )))?;
             let label = if r.depth > 0 {
                 format!("{} d{}", r.method, r.depth)
             } else {
                 r.method.clone()
             };
-            chart.draw_series(std::iter::once(Text::new(
-                label,
-                (r.wall_s, r.rmse),
-                ("sans-serif", 16)
-                    .into_font()
-                    .color(&c)
-                    .pos(Pos::new(HPos::Left, VPos::Bottom)),
-            )))?;
+            let dy = -12 - 18 * (i % 4) as i32;
+            chart.draw_series(std::iter::once(
+                EmptyElement::at((r.wall_s, r.rmse))
+                    + Circle::new((0, 0), 7, c.filled())
+                    + PathElement::new([(0, 0), (0, dy + 4)], c.stroke_width(1))
+                    + Text::new(label, (2, dy - 8), ("sans-serif", 16).into_font().color(&c)),
+            ))?;
         }
     }
     root.present()?;
