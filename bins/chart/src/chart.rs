@@ -1,0 +1,439 @@
+//! The chart's runs (docs/DESIGN.md, "Measures"): every method of [`crate::methods`] on
+//! every scene, through the real `scripts/render.sh`, timed as a whole process tree, its
+//! frames measured against `zspec` (point sampling: `error_fraction`) and `zspec
+//! --samples 16` (`edge_rmse` over the edge pixels, `rmse` over all pixels); and the cost
+//! model's prediction beside zbuf's measured time at depths 0 to 4.
+
+use crate::look::{self, Environment};
+use crate::measure::{self, Usage};
+use crate::methods::{self, Input, Method};
+use crate::model::{self, Constants};
+use anyhow::{anyhow, bail, Context, Result};
+use serde::{Deserialize, Serialize};
+use std::fs::File;
+use std::path::{Path, PathBuf};
+use std::process::{Command, Stdio};
+
+/// A scene to chart, and the screen it is rendered on.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Scene {
+    pub path: PathBuf,
+    /// Its name in the CSV and on the chart (the file's stem).
+    pub name: String,
+    pub width: u32,
+    pub height: u32,
+}
+
+impl Scene {
+    /// `PATH` or `PATH@WxH` (the screen; else `default_size`).
+    pub fn parse(arg: &str, default_size: (u32, u32)) -> Result<Scene> {
+        let (path, size) = match arg.rsplit_once('@') {
+            Some((p, s)) if parse_size(s).is_some() => (p, parse_size(s)),
+            _ => (arg, None),
+        };
+        let (width, height) = size.unwrap_or(default_size);
+        let path = PathBuf::from(path);
+        let name = path
+            .file_stem()
+            .map(|s| s.to_string_lossy().into_owned())
+            .ok_or_else(|| anyhow!("no scene file in '{arg}'"))?;
+        Ok(Scene {
+            path,
+            name,
+            width,
+            height,
+        })
+    }
+
+    pub fn size(&self) -> String {
+        format!("{}x{}", self.width, self.height)
+    }
+}
+
+/// `WxH` with W and H from 1 to 65536.
+pub fn parse_size(s: &str) -> Option<(u32, u32)> {
+    let (w, h) = s.split_once(['x', 'X'])?;
+    let (w, h) = (w.parse::<u32>().ok()?, h.parse::<u32>().ok()?);
+    ((1..=65536).contains(&w) && (1..=65536).contains(&h)).then_some((w, h))
+}
+
+/// One row of `results.csv`.
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
+pub struct Row {
+    pub scene: String,
+    pub method: String,
+    pub depth: u8,
+    pub size: String,
+    /// Polygons in the scene (all frames).
+    pub polygons: u64,
+    pub frames: u64,
+    pub wall_s: f64,
+    pub cpu_s: f64,
+    pub max_rss_kib: u64,
+    /// Pixels differing from `zspec`, over all pixels.
+    pub error_fraction: f64,
+    /// RMS error (0–255, three channels) over the edge pixels against `zspec --samples 16`.
+    pub edge_rmse: Option<f64>,
+    /// RMS error over all pixels against `zspec --samples 16`: the chart's accuracy axis.
+    pub rmse: f64,
+}
+
+/// One row of `model.csv`.
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
+pub struct ModelRow {
+    pub scene: String,
+    pub depth: u8,
+    pub predicted_s: f64,
+    pub measured_s: f64,
+    /// (predicted − measured) / measured.
+    pub error: f64,
+    pub viewxf_s: f64,
+    pub clip_s: f64,
+    /// The root node's seconds (0 at depth 0).
+    pub splitter_s: f64,
+    /// One leaf's.
+    pub persp_s: f64,
+    pub hse_s: f64,
+    pub merge_s: f64,
+    /// The slowest stage process (the thesis's bound) and all work over the cores.
+    pub slowest_s: f64,
+    pub shared_s: f64,
+    pub overhead_s: f64,
+    pub processes: usize,
+    pub bottleneck: String,
+    pub polygons_in_view: u64,
+    pub depth_complexity: f64,
+}
+
+/// Where things are, and how to run.
+pub struct Setup {
+    /// The built binaries (zspec, frames, viewxf, …).
+    pub bin: PathBuf,
+    /// `scripts/render.sh`.
+    pub render: PathBuf,
+    /// The output folder.
+    pub out: PathBuf,
+    pub quick: bool,
+    /// Timed runs per row (the median is kept).
+    pub reps: usize,
+    pub cores: usize,
+    pub constants: Constants,
+}
+
+/// The references of a scene, made once and kept in `DIR/refs` (remade when the scene is
+/// newer).
+struct References {
+    point: PathBuf,
+    sixteen: PathBuf,
+    mask: PathBuf,
+}
+
+fn newer(a: &Path, b: &Path) -> bool {
+    let m = |p: &Path| std::fs::metadata(p).and_then(|m| m.modified()).ok();
+    match (m(a), m(b)) {
+        (Some(a), Some(b)) => a > b,
+        (Some(_), None) => true,
+        _ => false,
+    }
+}
+
+fn quiet(cmd: &mut Command, err: &Path) -> Result<Usage> {
+    cmd.stderr(File::create(err)?);
+    measure::run(cmd).map_err(|e| {
+        let said = std::fs::read_to_string(err).unwrap_or_default();
+        anyhow!("{e}: {}", said.trim())
+    })
+}
+
+impl Setup {
+    fn refs_dir(&self) -> PathBuf {
+        self.out.join("refs")
+    }
+
+    fn references(&self, scene: &Scene) -> Result<References> {
+        let dir = self.refs_dir();
+        std::fs::create_dir_all(&dir)?;
+        let stem = format!("{}-{}", scene.name, scene.size());
+        let r = References {
+            point: dir.join(format!("{stem}.ref1.ppm")),
+            sixteen: dir.join(format!("{stem}.ref16.ppm")),
+            mask: dir.join(format!("{stem}.mask.ppm")),
+        };
+        let err = dir.join("zspec.err");
+        if newer(&scene.path, &r.point) {
+            quiet(
+                Command::new(self.bin.join("zspec"))
+                    .args(["--size", &scene.size()])
+                    .arg(&scene.path)
+                    .stdout(File::create(&r.point)?),
+                &err,
+            )?;
+        }
+        if newer(&scene.path, &r.sixteen) || newer(&scene.path, &r.mask) {
+            quiet(
+                Command::new(self.bin.join("zspec"))
+                    .args(["--samples", "16", "--edge-mask"])
+                    .arg(&r.mask)
+                    .args(["--size", &scene.size()])
+                    .arg(&scene.path)
+                    .stdout(File::create(&r.sixteen)?),
+                &err,
+            )?;
+        }
+        Ok(r)
+    }
+
+    /// The scene in the form a variant reads (rewritten with `frames` into `DIR/refs`).
+    fn input(&self, scene: &Scene, input: Input) -> Result<PathBuf> {
+        let (ext, args): (&str, &[&str]) = match input {
+            Input::AsGiven => return Ok(scene.path.clone()),
+            Input::Text => ("txt", &["--text"]),
+            Input::Binary => ("pp", &[]),
+        };
+        let path = self.refs_dir().join(format!("{}.as.{ext}", scene.name));
+        if newer(&scene.path, &path) {
+            quiet(
+                Command::new(self.bin.join("frames"))
+                    .args(args)
+                    .arg(&scene.path)
+                    .stdout(File::create(&path)?),
+                &self.refs_dir().join("frames.err"),
+            )?;
+        }
+        Ok(path)
+    }
+
+    /// Runs one method at one depth, `reps` times, and measures its frames.
+    fn run(
+        &self,
+        scene: &Scene,
+        env: &Environment,
+        refs: &References,
+        method: &Method,
+        depth: u8,
+    ) -> Result<Row> {
+        let input = self.input(scene, method.input)?;
+        let frames = self.out.join("frames.ppm");
+        let err = self.out.join("render.err");
+        let mut runs = Vec::new();
+        for rep in 0..self.reps.max(1) {
+            let mut cmd = Command::new(&self.render);
+            cmd.args(["--size", &scene.size(), "--depth", &depth.to_string()])
+                .args(method.options)
+                .arg(&input);
+            if rep == 0 {
+                cmd.stdout(File::create(&frames)?);
+            } else {
+                cmd.stdout(Stdio::null());
+            }
+            runs.push(
+                quiet(&mut cmd, &err).with_context(|| {
+                    format!("{} at depth {depth} on {}", method.name, scene.name)
+                })?,
+            );
+        }
+        let usage = measure::median(&runs);
+        let point = self.compare(&refs.point, &frames, None)?;
+        let sixteen = self.compare(&refs.sixteen, &frames, Some(&refs.mask))?;
+        let _ = std::fs::remove_file(&frames);
+        Ok(Row {
+            scene: scene.name.clone(),
+            method: method.name.to_string(),
+            depth,
+            size: scene.size(),
+            polygons: env.polygons,
+            frames: env.frames,
+            wall_s: usage.wall_s,
+            cpu_s: usage.cpu_s,
+            max_rss_kib: usage.max_rss_kib,
+            error_fraction: point.differing as f64 / point.pixels.max(1) as f64,
+            edge_rmse: sixteen.edge_rmse,
+            rmse: sixteen.rmse,
+        })
+    }
+
+    /// `zspec compare --metrics --csv [--edges MASK] REF FRAMES`: its `overall` row.
+    fn compare(&self, reference: &Path, frames: &Path, mask: Option<&Path>) -> Result<Compared> {
+        let mut cmd = Command::new(self.bin.join("zspec"));
+        cmd.args(["compare", "--metrics", "--csv"]);
+        if let Some(m) = mask {
+            cmd.arg("--edges").arg(m);
+        }
+        let out = cmd
+            .arg(reference)
+            .arg(frames)
+            .output()
+            .context("zspec compare")?;
+        if !out.status.success() {
+            bail!(
+                "zspec compare {} {}: {}",
+                reference.display(),
+                frames.display(),
+                String::from_utf8_lossy(&out.stderr).trim()
+            );
+        }
+        parse_overall(&String::from_utf8_lossy(&out.stdout))
+    }
+}
+
+/// The `overall` row of `zspec compare --metrics --csv`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Compared {
+    pub pixels: u64,
+    pub differing: u64,
+    pub rmse: f64,
+    pub edge_rmse: Option<f64>,
+}
+
+pub fn parse_overall(csv_text: &str) -> Result<Compared> {
+    let mut reader = csv::Reader::from_reader(csv_text.as_bytes());
+    let headers = reader.headers()?.clone();
+    let col = |name: &str| {
+        headers
+            .iter()
+            .position(|h| h == name)
+            .ok_or_else(|| anyhow!("zspec compare's CSV has no column {name}"))
+    };
+    let (pixels, differing, rmse, edge) = (
+        col("pixels")?,
+        col("differing")?,
+        col("rmse")?,
+        col("edge_rmse")?,
+    );
+    for record in reader.records() {
+        let r = record?;
+        if r.get(0) == Some("overall") {
+            let get = |i: usize| r.get(i).unwrap_or("");
+            return Ok(Compared {
+                pixels: get(pixels).parse()?,
+                differing: get(differing).parse()?,
+                rmse: get(rmse).parse()?,
+                edge_rmse: get(edge).parse().ok(),
+            });
+        }
+    }
+    bail!("zspec compare printed no overall row")
+}
+
+/// Every run of the chart: the rows of `results.csv` and of `model.csv`. `tick` is told
+/// each run as it starts; `total` is how many there will be.
+pub fn chart(
+    setup: &Setup,
+    scenes: &[Scene],
+    mut tick: impl FnMut(&str),
+) -> Result<(Vec<Row>, Vec<ModelRow>)> {
+    let runs = methods::runs(setup.quick);
+    let mut rows = Vec::new();
+    let mut model_rows = Vec::new();
+    for scene in scenes {
+        tick(&format!("{}: references", scene.name));
+        let refs = setup.references(scene)?;
+        let env = look::look(&setup.bin, &scene.path, scene.width, scene.height, &[])?;
+        for (method, depth) in &runs {
+            tick(&format!("{}: {} depth {depth}", scene.name, method.name));
+            rows.push(setup.run(scene, &env, &refs, method, *depth)?);
+        }
+        for depth in 0..=4u8 {
+            let measured = rows
+                .iter()
+                .find(|r| r.scene == scene.name && r.method == "zbuf" && r.depth == depth)
+                .map(|r| r.wall_s);
+            let Some(measured_s) = measured else { continue };
+            model_rows.push(model_row(
+                &setup.constants,
+                &env,
+                &scene.name,
+                depth,
+                setup.cores,
+                measured_s,
+            ));
+        }
+    }
+    Ok((rows, model_rows))
+}
+
+/// The model's prediction for a scene at a depth, beside what was measured.
+pub fn model_row(
+    k: &Constants,
+    env: &Environment,
+    scene: &str,
+    depth: u8,
+    cores: usize,
+    measured_s: f64,
+) -> ModelRow {
+    let p = model::predict(k, env, depth, cores);
+    let stage = |name: &str| {
+        p.stages
+            .iter()
+            .find(|s| s.stage == name)
+            .map_or(0.0, |s| s.each_s)
+    };
+    ModelRow {
+        scene: scene.to_string(),
+        depth,
+        predicted_s: p.total_s,
+        measured_s,
+        error: (p.total_s - measured_s) / measured_s,
+        viewxf_s: stage("viewxf"),
+        clip_s: stage("clip"),
+        splitter_s: stage("splitter"),
+        persp_s: stage("persp"),
+        hse_s: stage("hse"),
+        merge_s: stage("merge"),
+        slowest_s: p.slowest_s,
+        shared_s: p.shared_s,
+        overhead_s: p.overhead_s,
+        processes: p.processes,
+        bottleneck: p.bottleneck().to_string(),
+        polygons_in_view: env.relevant / env.frames.max(1),
+        depth_complexity: env.depth_complexity(),
+    }
+}
+
+/// Reads rows written by [`write_csv`].
+pub fn read_csv<T: serde::de::DeserializeOwned>(path: &Path) -> Result<Vec<T>> {
+    let mut r =
+        csv::Reader::from_path(path).with_context(|| format!("cannot read {}", path.display()))?;
+    Ok(r.deserialize().collect::<std::result::Result<_, _>>()?)
+}
+
+/// Writes rows as CSV with a header row.
+pub fn write_csv<T: Serialize>(path: &Path, rows: &[T]) -> Result<()> {
+    let mut w =
+        csv::Writer::from_path(path).with_context(|| format!("cannot write {}", path.display()))?;
+    for r in rows {
+        w.serialize(r)?;
+    }
+    w.flush()?;
+    Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn scene_arguments() {
+        let s = Scene::parse("a/fill.txt@1920x1080", (500, 500)).unwrap();
+        assert_eq!((s.name.as_str(), s.width, s.height), ("fill", 1920, 1080));
+        assert_eq!(s.path, PathBuf::from("a/fill.txt"));
+        let s = Scene::parse("b@c.txt", (500, 400)).unwrap();
+        assert_eq!((s.name.as_str(), s.width, s.height), ("b@c", 500, 400));
+        assert_eq!(parse_size("0x10"), None);
+        assert_eq!(parse_size("65537x10"), None);
+    }
+
+    #[test]
+    fn overall_row_of_zspec_compare() {
+        let text = "frame,pixels,differing,differing_fraction,rmse,max,edge_pixels,edge_rmse\n\
+                    0,250000,31467,0.125868,12.545737,214,31897,35.122972\n\
+                    overall,250000,31467,0.125868,12.545737,214,31897,35.122972\n";
+        let c = parse_overall(text).unwrap();
+        assert_eq!((c.pixels, c.differing), (250000, 31467));
+        assert_eq!(c.edge_rmse, Some(35.122972));
+        let none = "frame,pixels,differing,differing_fraction,rmse,max,edge_pixels,edge_rmse\n\
+                    overall,4,0,0.000000,0.000000,0,,\n";
+        assert_eq!(parse_overall(none).unwrap().edge_rmse, None);
+        assert!(parse_overall("frame,pixels\n").is_err());
+    }
+}

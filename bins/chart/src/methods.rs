@@ -1,0 +1,139 @@
+//! The methods and variants the chart runs: data, one row each (docs/DESIGN.md, "Measures").
+//!
+//! A row names the method as the CSV and the chart do, the `scripts/render.sh` options
+//! that select it, the form of scene it reads, and the tree depths it is run at. Adding a
+//! method is one row here: the runner, the CSV and the pictures take every row alike.
+
+/// The form of scene a variant reads.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Input {
+    /// The scene as the user gave it.
+    AsGiven,
+    /// The scene rewritten in the text form (`frames --text`).
+    Text,
+    /// The scene rewritten in the binary form (`frames`).
+    Binary,
+}
+
+/// One method or variant: what `render.sh` is told, on what, at which depths.
+#[derive(Clone, Copy, Debug)]
+pub struct Method {
+    /// The name in `results.csv` and on the chart.
+    pub name: &'static str,
+    /// `render.sh`'s options that select it (besides `--size` and `--depth`).
+    pub options: &'static [&'static str],
+    /// The form of scene it reads.
+    pub input: Input,
+    /// The splitter tree depths it is run at (a method without a tree: `[0]`).
+    pub depths: &'static [u8],
+    /// Whether `--quick` runs it (at its first depth only).
+    pub quick: bool,
+}
+
+const TREE: &[u8] = &[0, 1, 2, 3, 4];
+const ROOT: &[u8] = &[0];
+
+/// Every method the chart runs, in the order of the CSV.
+///
+/// The rows for the methods other branches build (`--hse scanline|warnock|painter`,
+/// `--aa ss2…ss16|abuf`, `--merge buffer --pixels` as `zbuf-pixels`) are added here as
+/// each lands in `render.sh`, e.g.
+/// `Method { name: "scanline", options: &["--hse", "scanline"], input: Input::AsGiven, depths: TREE, quick: true }`.
+pub const METHODS: &[Method] = &[
+    Method {
+        name: "zbuf",
+        options: &[],
+        input: Input::AsGiven,
+        depths: TREE,
+        quick: true,
+    },
+    Method {
+        name: "zbuf-eye-z",
+        options: &["--zmode", "eye-z"],
+        input: Input::AsGiven,
+        depths: ROOT,
+        quick: true,
+    },
+    Method {
+        name: "zbuf-buffer",
+        options: &["--merge", "buffer"],
+        input: Input::AsGiven,
+        depths: &[0, 2],
+        quick: false,
+    },
+    Method {
+        name: "zbuf-chain",
+        options: &["--clip", "chain"],
+        input: Input::AsGiven,
+        depths: ROOT,
+        quick: false,
+    },
+    Method {
+        name: "zbuf-text",
+        options: &[],
+        input: Input::Text,
+        depths: ROOT,
+        quick: false,
+    },
+    Method {
+        name: "zbuf-binary",
+        options: &[],
+        input: Input::Binary,
+        depths: ROOT,
+        quick: true,
+    },
+];
+
+/// The runs of one scene: (method, depth) pairs, every depth of every method, or with
+/// `quick` the quick methods at their first depth (and zbuf at depths 0 to 4, which the
+/// cost model is measured against).
+pub fn runs(quick: bool) -> Vec<(Method, u8)> {
+    let mut runs = Vec::new();
+    for m in METHODS {
+        if quick && !m.quick {
+            continue;
+        }
+        let depths: &[u8] = match (quick, m.name) {
+            (true, "zbuf") => m.depths,
+            (true, _) => &m.depths[..1],
+            (false, _) => m.depths,
+        };
+        runs.extend(depths.iter().map(|&d| (*m, d)));
+    }
+    runs
+}
+
+/// The method of a name.
+pub fn by_name(name: &str) -> Option<Method> {
+    METHODS.iter().find(|m| m.name == name).copied()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn names_are_unique_and_zbuf_runs_the_tree() {
+        let mut names: Vec<_> = METHODS.iter().map(|m| m.name).collect();
+        names.sort();
+        names.dedup();
+        assert_eq!(names.len(), METHODS.len());
+        assert_eq!(by_name("zbuf").unwrap().depths, &[0, 1, 2, 3, 4]);
+        assert!(by_name("nothing").is_none());
+    }
+
+    #[test]
+    fn quick_is_a_subset() {
+        let all = runs(false);
+        let quick = runs(true);
+        assert!(quick.len() < all.len());
+        for (m, d) in &quick {
+            assert!(all.iter().any(|(a, e)| a.name == m.name && e == d));
+        }
+        assert_eq!(
+            quick.iter().filter(|(m, _)| m.name == "zbuf").count(),
+            5,
+            "zbuf at depths 0-4 in a quick run"
+        );
+    }
+}

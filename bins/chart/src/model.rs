@@ -1,0 +1,574 @@
+//! The cost model of thesis chapters 5.2 and 6.4, with its constants measured on this
+//! machine.
+//!
+//! Chapter 5.2 writes each stage's time for an environment as a sum of per-polygon,
+//! per-vertex, per-scan-line and per-pixel costs:
+//!
+//! * T_v  = P_t·(138 + E·399)                    viewing transformation (5.2.1)
+//! * T_p  = P_r·(138 + E·439)                    perspective (5.2.2)
+//! * T_c  = P_c·(1213 + (E−1)·979)               the first clipper (5.2.3)
+//! * T_SP = P_r·(1430 + (E−1)·1131)              the root splitter node (6.4)
+//! * T_sc = P_r·(1034 + T_cl + E·(…)) + P_r·H·(… + E_aet·(414 + W·152))   scan conversion
+//!   (5.2.4), which with W = H = √(X_res·Y_res·Dc / P_r) is, summed over the polygons,
+//!   a cost per polygon, per vertex, per span (P_r·H = √(P_r·X·Y·Dc)) and per pixel
+//!   (P_r·W·H = X·Y·Dc);
+//!
+//! in transputer cycles. Here each stage is one process, and its cost is the same linear
+//! form in seconds: [`Cost`] holds a constant for the process and one per polygon,
+//! vertex, span, pixel and screen pixel (the last for what scales with the screen rather
+//! than the polygons: a leaf's tiles and its `run` records, the merger's frame), fitted by
+//! least squares to the CPU time of each stage binary run alone on synthetic scenes
+//! ([`crate::calibrate`]).
+//!
+//! A tree of depth N (6.4) halves P_r and the screen at every level and leaves Dc, W and H
+//! alone: a node of level l reads P_r/2^l polygons, a leaf P_r/2^N polygons and
+//! X·Y/2^N pixels. The pipeline's time is that of its slowest stage, as the thesis
+//! reasons ("the rate of flow through a pipeline is only as large as the smallest rate of
+//! flow over all its stages") — when each stage has a processor of its own. With C cores
+//! for its 2 + (2^N − 1) + 2·2^N + 1 processes, it can be no faster than all their work
+//! shared among the cores either; so the time is the larger of the two, plus what
+//! starting the processes and the script costs ([`Overheads`]).
+
+use crate::look::Environment;
+use serde::{Deserialize, Serialize};
+
+/// The cost of one stage process: seconds for the process and per unit of work.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
+#[serde(default)]
+pub struct Cost {
+    /// Seconds for the process whatever it reads (starting, the header, exit).
+    pub process: f64,
+    /// Seconds per polygon read.
+    pub polygon: f64,
+    /// Seconds per vertex read.
+    pub vertex: f64,
+    /// Seconds per span (a scan line of a polygon).
+    pub span: f64,
+    /// Seconds per covered pixel (a fragment).
+    pub pixel: f64,
+    /// Seconds per pixel of the stage's part of the screen, a frame.
+    pub screen: f64,
+}
+
+/// The work a stage process has (all frames together).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Work {
+    pub polygons: f64,
+    pub vertices: f64,
+    pub spans: f64,
+    pub pixels: f64,
+    pub screen: f64,
+}
+
+impl Work {
+    /// The regressors in [`Cost`]'s order, with 1 for the process.
+    pub fn features(&self) -> [f64; 6] {
+        [
+            1.0,
+            self.polygons,
+            self.vertices,
+            self.spans,
+            self.pixels,
+            self.screen,
+        ]
+    }
+
+    /// The same work split `parts` ways (a node or leaf of a tree level).
+    pub fn share(&self, parts: f64) -> Work {
+        Work {
+            polygons: self.polygons / parts,
+            vertices: self.vertices / parts,
+            spans: self.spans / parts,
+            pixels: self.pixels / parts,
+            screen: self.screen / parts,
+        }
+    }
+}
+
+impl Cost {
+    pub fn from_coefficients(c: [f64; 6]) -> Cost {
+        Cost {
+            process: c[0],
+            polygon: c[1],
+            vertex: c[2],
+            span: c[3],
+            pixel: c[4],
+            screen: c[5],
+        }
+    }
+
+    /// Seconds for `work`.
+    pub fn time(&self, work: &Work) -> f64 {
+        let c = [
+            self.process,
+            self.polygon,
+            self.vertex,
+            self.span,
+            self.pixel,
+            self.screen,
+        ];
+        c.iter().zip(work.features()).map(|(c, x)| c * x).sum()
+    }
+}
+
+/// What the pipeline costs beyond its stages' work: the script and each process started
+/// (wall seconds, from `render.sh` on a two-polygon scene at every depth).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
+#[serde(default)]
+pub struct Overheads {
+    /// `render.sh` itself: bash, its checks, the private folder.
+    pub script: f64,
+    /// Each stage process started and watched (fork, exec, a named pipe).
+    pub process: f64,
+}
+
+/// The model's constants: one [`Cost`] per stage, as `chart.sh --calibrate` measures them.
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+#[serde(default)]
+pub struct Constants {
+    /// Where and when they were measured.
+    pub measured_on: String,
+    pub overheads: Overheads,
+    /// viewxf reading a text scene.
+    pub viewxf_text: Cost,
+    /// viewxf reading a binary scene.
+    pub viewxf_binary: Cost,
+    /// clipbatch (the six planes in one process).
+    pub clip: Cost,
+    /// A splitter node.
+    pub splitter: Cost,
+    pub persp: Cost,
+    /// A leaf's hidden-surface stage, `scanconv --resolve` (the z-buffer of its region).
+    pub hse: Cost,
+    /// The merger, zbuf, placing the leaves' runs and writing the frames.
+    pub merge: Cost,
+}
+
+/// The constants committed after a calibration run on the project's machine.
+pub const COMMITTED: &str = include_str!("../../../bench/model.toml");
+
+impl Constants {
+    pub fn parse(text: &str) -> anyhow::Result<Constants> {
+        Ok(toml::from_str(text)?)
+    }
+
+    pub fn committed() -> Constants {
+        Constants::parse(COMMITTED).unwrap_or_default()
+    }
+
+    pub fn to_toml(&self) -> anyhow::Result<String> {
+        Ok(toml::to_string(self)?)
+    }
+}
+
+/// One stage's share of a prediction.
+#[derive(Clone, Debug, PartialEq)]
+pub struct StageTime {
+    /// `viewxf`, `clip`, `splitter`, `persp`, `hse`, `merge`.
+    pub stage: &'static str,
+    /// Seconds of the busiest process of the stage (the root node; one leaf).
+    pub each_s: f64,
+    /// How many processes the stage has.
+    pub processes: usize,
+    /// Seconds of all its processes together.
+    pub total_s: f64,
+}
+
+/// The model's prediction for one scene at one depth.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Prediction {
+    pub depth: u8,
+    /// Wall seconds predicted for the whole render.
+    pub total_s: f64,
+    pub stages: Vec<StageTime>,
+    /// The slowest stage process's seconds (the thesis's bound).
+    pub slowest_s: f64,
+    /// Every process's work over the cores (the machine's bound).
+    pub shared_s: f64,
+    /// Script and process start-up.
+    pub overhead_s: f64,
+    pub processes: usize,
+}
+
+impl Prediction {
+    /// The stage whose process is slowest.
+    pub fn bottleneck(&self) -> &'static str {
+        self.stages
+            .iter()
+            .max_by(|a, b| a.each_s.total_cmp(&b.each_s))
+            .map_or("none", |s| s.stage)
+    }
+}
+
+/// The work of each stage for an environment, before any split (all frames).
+pub fn stage_work(env: &Environment) -> (Work, Work, Work) {
+    let world = Work {
+        polygons: env.polygons as f64,
+        vertices: env.vertices as f64,
+        ..Default::default()
+    };
+    let relevant = Work {
+        polygons: env.relevant as f64,
+        vertices: env.relevant_vertices as f64,
+        spans: env.spans(),
+        pixels: env.area,
+        screen: env.screen() * env.frames as f64,
+    };
+    let merge = Work {
+        spans: env.spans(),
+        screen: env.screen() * env.frames as f64,
+        ..Default::default()
+    };
+    (world, relevant, merge)
+}
+
+/// The predicted time of a render of `env` at tree depth `depth` on `cores` cores.
+pub fn predict(k: &Constants, env: &Environment, depth: u8, cores: usize) -> Prediction {
+    let (world, relevant, merge_work) = stage_work(env);
+    let leaves = (1u64 << depth) as f64;
+    let viewxf = if env.text {
+        &k.viewxf_text
+    } else {
+        &k.viewxf_binary
+    };
+    let mut stages = vec![
+        one("viewxf", viewxf.time(&world)),
+        one("clip", k.clip.time(&world)),
+    ];
+    if depth > 0 {
+        // Level l has 2^l nodes, each reading P_r/2^l (6.4); the root is the busiest.
+        let total: f64 = (0..depth)
+            .map(|l| {
+                let n = (1u64 << l) as f64;
+                n * k.splitter.time(&relevant.share(n))
+            })
+            .sum();
+        stages.push(StageTime {
+            stage: "splitter",
+            each_s: k.splitter.time(&relevant),
+            processes: (1usize << depth) - 1,
+            total_s: total,
+        });
+    }
+    let leaf = relevant.share(leaves);
+    for (stage, cost) in [("persp", &k.persp), ("hse", &k.hse)] {
+        let each = cost.time(&leaf);
+        stages.push(StageTime {
+            stage,
+            each_s: each,
+            processes: 1 << depth,
+            total_s: each * leaves,
+        });
+    }
+    stages.push(one("merge", k.merge.time(&merge_work)));
+    let processes: usize = stages.iter().map(|s| s.processes).sum();
+    let slowest_s = stages.iter().map(|s| s.each_s).fold(0.0, f64::max);
+    let work: f64 = stages.iter().map(|s| s.total_s).sum();
+    let shared_s = work / cores.max(1) as f64;
+    let overhead_s = k.overheads.script + k.overheads.process * processes as f64;
+    Prediction {
+        depth,
+        total_s: overhead_s + slowest_s.max(shared_s),
+        stages,
+        slowest_s,
+        shared_s,
+        overhead_s,
+        processes,
+    }
+}
+
+fn one(stage: &'static str, t: f64) -> StageTime {
+    StageTime {
+        stage,
+        each_s: t,
+        processes: 1,
+        total_s: t,
+    }
+}
+
+/// The depth the model says is fastest (0 to `max_depth`), with its reason. Model no more
+/// than a scene needs: a deeper tree must be predicted at least 5% faster than the best
+/// shallower one to be chosen.
+pub fn choose_depth(
+    k: &Constants,
+    env: &Environment,
+    cores: usize,
+    max_depth: u8,
+) -> (u8, String, Vec<Prediction>) {
+    let all: Vec<Prediction> = (0..=max_depth).map(|d| predict(k, env, d, cores)).collect();
+    let mut best = &all[0];
+    for p in &all[1..] {
+        if p.total_s < best.total_s * 0.95 {
+            best = p;
+        }
+    }
+    let next = all
+        .get(best.depth as usize + 1)
+        .map(|p| format!(", depth {} {:.3} s", p.depth, p.total_s))
+        .unwrap_or_default();
+    let reason = format!(
+        "{} polygons in view, Dc {:.1}, {}x{}, {} frame{}, {} core{}: predicted {:.3} s{next}; slowest stage {}",
+        env.relevant / env.frames.max(1),
+        env.depth_complexity(),
+        env.width,
+        env.height,
+        env.frames,
+        if env.frames == 1 { "" } else { "s" },
+        cores,
+        if cores == 1 { "" } else { "s" },
+        best.total_s,
+        best.bottleneck()
+    );
+    (best.depth, reason, all)
+}
+
+/// Least squares with non-negative coefficients (a cost cannot be negative): solves the
+/// normal equations on the columns still free, and drops the most negative coefficient's
+/// column until none is negative. `rows` are the regressors, `y` the measured seconds;
+/// `use_column[j]` false leaves column j out (its coefficient 0).
+pub fn fit(rows: &[[f64; 6]], y: &[f64], use_column: [bool; 6]) -> [f64; 6] {
+    let mut free = use_column;
+    loop {
+        let cols: Vec<usize> = (0..6).filter(|&j| free[j]).collect();
+        let mut coef = [0.0; 6];
+        if cols.is_empty() {
+            return coef;
+        }
+        // Columns scaled to unit largest value, for the conditioning.
+        let scale: Vec<f64> = cols
+            .iter()
+            .map(|&j| {
+                rows.iter()
+                    .map(|r| r[j].abs())
+                    .fold(0.0, f64::max)
+                    .max(1e-300)
+            })
+            .collect();
+        let n = cols.len();
+        let mut a = vec![vec![0.0; n + 1]; n];
+        for (r, &yv) in rows.iter().zip(y) {
+            for i in 0..n {
+                let xi = r[cols[i]] / scale[i];
+                for j in 0..n {
+                    a[i][j] += xi * r[cols[j]] / scale[j];
+                }
+                a[i][n] += xi * yv;
+            }
+        }
+        let solved = solve(a);
+        let Some(x) = solved else {
+            // Singular: drop the last free column and try again.
+            free[*cols.last().unwrap_or(&0)] = false;
+            continue;
+        };
+        for (i, &j) in cols.iter().enumerate() {
+            coef[j] = x[i] / scale[i];
+        }
+        match cols
+            .iter()
+            .copied()
+            .filter(|&j| coef[j] < 0.0)
+            .min_by(|&a, &b| coef[a].total_cmp(&coef[b]))
+        {
+            Some(j) => free[j] = false,
+            None => return coef,
+        }
+    }
+}
+
+/// Gaussian elimination with partial pivoting on an augmented n×(n+1) matrix.
+fn solve(mut a: Vec<Vec<f64>>) -> Option<Vec<f64>> {
+    let n = a.len();
+    for c in 0..n {
+        let p = (c..n).max_by(|&i, &j| a[i][c].abs().total_cmp(&a[j][c].abs()))?;
+        if a[p][c].abs() < 1e-12 {
+            return None;
+        }
+        a.swap(c, p);
+        let pivot = a[c].clone();
+        for (r, row) in a.iter_mut().enumerate() {
+            if r != c {
+                let f = row[c] / pivot[c];
+                for (x, p) in row.iter_mut().zip(&pivot).skip(c) {
+                    *x -= f * p;
+                }
+            }
+        }
+    }
+    Some((0..n).map(|i| a[i][n] / a[i][i]).collect())
+}
+
+/// The thesis's constants (5.2, 6.4) in seconds on its T424-20 (20 MHz: 50 ns a cycle),
+/// in [`Cost`]'s terms with E = 4, for the report beside the fitted ones.
+pub fn thesis_constants() -> Vec<(&'static str, Cost)> {
+    let s = |cycles: f64| cycles * 50e-9;
+    vec![
+        // T_v = P_t·(138 + E·399)
+        (
+            "viewxf (T_v)",
+            Cost {
+                polygon: s(138.0),
+                vertex: s(399.0),
+                ..Default::default()
+            },
+        ),
+        // T_c = P_c·(1213 + (E−1)·979): 234 a polygon, 979 a vertex
+        (
+            "clip, one plane (T_c)",
+            Cost {
+                polygon: s(1213.0 - 979.0),
+                vertex: s(979.0),
+                ..Default::default()
+            },
+        ),
+        // T_SP = P_r·(1430 + (E−1)·1131)
+        (
+            "splitter (T_SP)",
+            Cost {
+                polygon: s(1430.0 - 1131.0),
+                vertex: s(1131.0),
+                ..Default::default()
+            },
+        ),
+        // T_p = P_r·(138 + E·439)
+        (
+            "persp (T_p)",
+            Cost {
+                polygon: s(138.0),
+                vertex: s(439.0),
+                ..Default::default()
+            },
+        ),
+        // T_sc: per polygon 1034 + T_cl (13686) + 2·T_IN + 2·T_MH; per edge beyond two
+        // 139 + T_IN + T_MH (694, counted per vertex here less the two); per scan line
+        // 44 + T_MD + T_UP + T_SO + E_aet·414 (E_aet = 2); per pixel 152.
+        (
+            "hse (T_sc)",
+            Cost {
+                polygon: s(1034.0 + 13686.0 + 2.0 * 501.0 + 2.0 * 54.0 - 2.0 * 694.0),
+                vertex: s(694.0),
+                span: s(44.0 + 71.0 + 240.0 + 505.0 + 2.0 * 414.0),
+                pixel: s(152.0),
+                ..Default::default()
+            },
+        ),
+    ]
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn env(polygons: u64, w: u32, h: u32, dc: f64) -> Environment {
+        Environment {
+            frames: 1,
+            polygons: 2 * polygons,
+            vertices: 8 * polygons,
+            relevant: polygons,
+            relevant_vertices: 4 * polygons,
+            area: w as f64 * h as f64 * dc,
+            width: w,
+            height: h,
+            text: true,
+        }
+    }
+
+    fn constants() -> Constants {
+        Constants {
+            overheads: Overheads {
+                script: 0.02,
+                process: 0.002,
+            },
+            viewxf_text: Cost {
+                process: 0.001,
+                vertex: 1e-8,
+                ..Default::default()
+            },
+            clip: Cost {
+                process: 0.001,
+                vertex: 3e-7,
+                ..Default::default()
+            },
+            splitter: Cost {
+                process: 0.001,
+                vertex: 3e-7,
+                ..Default::default()
+            },
+            persp: Cost {
+                process: 0.001,
+                vertex: 2e-7,
+                ..Default::default()
+            },
+            hse: Cost {
+                process: 0.001,
+                polygon: 1e-6,
+                span: 5e-8,
+                pixel: 5e-9,
+                screen: 1e-9,
+                ..Default::default()
+            },
+            merge: Cost {
+                process: 0.001,
+                screen: 5e-9,
+                ..Default::default()
+            },
+            ..Default::default()
+        }
+    }
+
+    #[test]
+    fn fit_recovers_known_constants_and_keeps_them_non_negative() {
+        let truth = [0.001, 2e-6, 5e-7, 0.0, 3e-9, 0.0];
+        let mut rows = Vec::new();
+        let mut y = Vec::new();
+        for p in [100.0f64, 1000.0, 10000.0, 50000.0] {
+            for px in [1e4, 1e6, 4e6] {
+                for k in [0.0, 1.0, 2.0] {
+                    let r = [1.0, p, (3.0 + k) * p, (p * px).sqrt(), px, px / (1.0 + k)];
+                    y.push(r.iter().zip(truth).map(|(a, b)| a * b).sum());
+                    rows.push(r);
+                }
+            }
+        }
+        let c = fit(&rows, &y, [true, true, true, false, true, false]);
+        for j in 0..6 {
+            assert!(
+                (c[j] - truth[j]).abs() <= 1e-6 * truth[j].abs().max(1e-12),
+                "{c:?}"
+            );
+        }
+        // A regressor that only hurts gets 0, not a negative cost.
+        let y2: Vec<f64> = rows.iter().map(|r| 0.01 + 1e-6 * r[1]).collect();
+        let c = fit(&rows, &y2, [true; 6]);
+        assert!(c.iter().all(|&v| v >= 0.0), "{c:?}");
+    }
+
+    #[test]
+    fn depth_multiplies_processes_and_halves_the_leaves() {
+        let k = constants();
+        let e = env(10_000, 1920, 1080, 10.0);
+        let p0 = predict(&k, &e, 0, 2);
+        let p2 = predict(&k, &e, 2, 2);
+        assert_eq!(p0.processes, 5);
+        assert_eq!(p2.processes, 2 + 3 + 8 + 1);
+        let hse = |p: &Prediction| p.stages.iter().find(|s| s.stage == "hse").unwrap().clone();
+        assert!((hse(&p2).each_s - 0.001 - (hse(&p0).each_s - 0.001) / 4.0).abs() < 1e-12);
+        assert_eq!(p0.bottleneck(), "hse");
+    }
+
+    #[test]
+    fn two_polygons_get_depth_0_and_a_fill_heavy_scene_on_many_cores_a_tree() {
+        let k = constants();
+        let (d, reason, _) = choose_depth(&k, &env(1, 500, 500, 0.01), 2, 6);
+        assert_eq!(d, 0, "{reason}");
+        assert!(reason.contains("1 polygons in view"), "{reason}");
+        let (d, reason, _) = choose_depth(&k, &env(10_000, 1920, 1080, 10.0), 64, 6);
+        assert!(d >= 2, "{d}: {reason}");
+    }
+
+    #[test]
+    fn constants_round_trip_through_toml() {
+        let k = constants();
+        assert_eq!(Constants::parse(&k.to_toml().unwrap()).unwrap(), k);
+    }
+}

@@ -1,0 +1,350 @@
+//! The pictures: speed against accuracy, one panel per scene (`speed-accuracy.png` and
+//! `.svg`), and the cost model's predictions against measurement (`model.png`), drawn
+//! with plotters in a font committed beside this crate (DejaVu Sans, through ab_glyph, so
+//! no system font library is needed).
+
+use crate::chart::{ModelRow, Row};
+use crate::methods::METHODS;
+use anyhow::{anyhow, Result};
+use plotters::coord::Shift;
+use plotters::prelude::*;
+use plotters::style::text_anchor::{HPos, Pos, VPos};
+use std::error::Error;
+use std::path::Path;
+use std::sync::Once;
+
+type Drawn = std::result::Result<(), Box<dyn Error>>;
+
+static FONT: &[u8] = include_bytes!("../fonts/DejaVuSans.ttf");
+
+fn register_font() {
+    static ONCE: Once = Once::new();
+    ONCE.call_once(|| {
+        // The font is committed and valid; a failure would show as text missing.
+        let _ = plotters::style::register_font("sans-serif", FontStyle::Normal, FONT);
+    });
+}
+
+/// A method's colour: its place in the method table, on a palette of distinct hues.
+fn colour_of(method: &str) -> RGBColor {
+    const PALETTE: [RGBColor; 12] = [
+        RGBColor(31, 119, 180),
+        RGBColor(214, 39, 40),
+        RGBColor(44, 160, 44),
+        RGBColor(255, 127, 14),
+        RGBColor(148, 103, 189),
+        RGBColor(140, 86, 75),
+        RGBColor(227, 119, 194),
+        RGBColor(127, 127, 127),
+        RGBColor(188, 189, 34),
+        RGBColor(23, 190, 207),
+        RGBColor(0, 0, 128),
+        RGBColor(128, 0, 0),
+    ];
+    let i = METHODS
+        .iter()
+        .position(|m| m.name == method)
+        .unwrap_or(METHODS.len());
+    PALETTE[i % PALETTE.len()]
+}
+
+/// Each method's mark on a scene's panel: its fastest depth.
+pub fn marks<'a>(rows: &'a [Row], scene: &str) -> Vec<&'a Row> {
+    let mut best: Vec<&Row> = Vec::new();
+    for r in rows.iter().filter(|r| r.scene == scene) {
+        match best.iter_mut().find(|b| b.method == r.method) {
+            Some(b) if r.wall_s < b.wall_s => *b = r,
+            Some(_) => {}
+            None => best.push(r),
+        }
+    }
+    best
+}
+
+/// The Pareto front of (time, error) marks: those that no other mark beats on both, in
+/// order of time.
+pub fn pareto<'a>(marks: &[&'a Row]) -> Vec<&'a Row> {
+    let mut sorted: Vec<&Row> = marks.to_vec();
+    sorted.sort_by(|a, b| {
+        a.wall_s
+            .total_cmp(&b.wall_s)
+            .then(a.rmse.total_cmp(&b.rmse))
+    });
+    let mut front = Vec::new();
+    let mut best = f64::INFINITY;
+    for r in sorted {
+        if r.rmse < best {
+            best = r.rmse;
+            front.push(r);
+        }
+    }
+    front
+}
+
+fn scenes_of(rows: &[Row]) -> Vec<String> {
+    let mut s: Vec<String> = Vec::new();
+    for r in rows {
+        if !s.contains(&r.scene) {
+            s.push(r.scene.clone());
+        }
+    }
+    s
+}
+
+/// Panel layout: (columns, rows) for n panels.
+fn layout(n: usize) -> (usize, usize) {
+    let cols = n.clamp(1, 3);
+    (cols, n.max(1).div_ceil(cols))
+}
+
+const PANEL: (u32, u32) = (760, 560);
+
+fn speed_accuracy_on<DB: DrawingBackend>(root: DrawingArea<DB, Shift>, rows: &[Row]) -> Drawn
+where
+    DB::ErrorType: 'static,
+{
+    root.fill(&WHITE)?;
+    let scenes = scenes_of(rows);
+    let (cols, nrows) = layout(scenes.len());
+    let (title, body) = root.split_vertically(50);
+    title.titled(
+        "Speed against accuracy: each method at its fastest tree depth; the line is the Pareto front",
+        ("sans-serif", 24).into_font().color(&BLACK),
+    )?;
+    let panels = body.split_evenly((nrows, cols));
+    for (scene, panel) in scenes.iter().zip(panels) {
+        let marks = marks(rows, scene);
+        let first = marks[0];
+        let (tmin, tmax) = marks.iter().fold((f64::INFINITY, 0.0f64), |(a, b), r| {
+            (a.min(r.wall_s), b.max(r.wall_s))
+        });
+        let emax = marks.iter().map(|r| r.rmse).fold(0.0f64, f64::max).max(0.5) * 1.3;
+        let caption = format!(
+            "{} ({} polygons{}, {})",
+            scene,
+            first.polygons,
+            if first.frames > 1 {
+                format!(", {} frames", first.frames)
+            } else {
+                String::new()
+            },
+            first.size.replace('x', "×")
+        );
+        let mut chart = ChartBuilder::on(&panel)
+            .caption(caption, ("sans-serif", 22))
+            .margin(12)
+            .x_label_area_size(52)
+            .y_label_area_size(72)
+            .build_cartesian_2d(
+                // At least a factor of ten, so that the log axis has its labels.
+                ((tmin / 1.6).min(tmax * 1.6 / 10.0).max(1e-4)..(tmax * 1.6).max(2e-4)).log_scale(),
+                0.0..emax * 1.2,
+            )?;
+        chart
+            .configure_mesh()
+            .x_desc("wall time, seconds (log scale)")
+            .y_desc("RMS error vs 16×16 reference (0–255)")
+            .axis_desc_style(("sans-serif", 18))
+            .label_style(("sans-serif", 16))
+            .x_labels(10)
+            .x_label_formatter(&|v| format!("{v:.3}"))
+            .y_label_formatter(&|v| format!("{v:.1}"))
+            .light_line_style(RGBColor(235, 235, 235))
+            .draw()?;
+        let front: Vec<(f64, f64)> = pareto(&marks).iter().map(|r| (r.wall_s, r.rmse)).collect();
+        chart.draw_series(LineSeries::new(front, RGBColor(90, 90, 90).stroke_width(2)))?;
+        // Marks in order of time; labels stacked in four rows above them, so that methods
+        // of equal error and nearly equal time stay readable.
+        let mut by_time = marks.clone();
+        by_time.sort_by(|a, b| a.wall_s.total_cmp(&b.wall_s));
+        for (i, r) in by_time.iter().enumerate() {
+            let c = colour_of(&r.method);
+            let label = if r.depth > 0 {
+                format!("{} d{}", r.method, r.depth)
+            } else {
+                r.method.clone()
+            };
+            let dy = -12 - 18 * (i % 4) as i32;
+            chart.draw_series(std::iter::once(
+                EmptyElement::at((r.wall_s, r.rmse))
+                    + Circle::new((0, 0), 7, c.filled())
+                    + PathElement::new([(0, 0), (0, dy + 4)], c.stroke_width(1))
+                    + Text::new(label, (2, dy - 8), ("sans-serif", 16).into_font().color(&c)),
+            ))?;
+        }
+    }
+    root.present()?;
+    Ok(())
+}
+
+fn png(
+    path: &Path,
+    size: (u32, u32),
+    draw: impl FnOnce(DrawingArea<BitMapBackend, Shift>) -> Drawn,
+) -> Result<()> {
+    register_font();
+    let mut buf = vec![255u8; size.0 as usize * size.1 as usize * 3];
+    {
+        let root = BitMapBackend::with_buffer(&mut buf, size).into_drawing_area();
+        draw(root).map_err(|e| anyhow!("drawing {}: {e}", path.display()))?;
+    }
+    let image =
+        image::RgbImage::from_raw(size.0, size.1, buf).ok_or_else(|| anyhow!("picture buffer"))?;
+    image.save(path)?;
+    Ok(())
+}
+
+/// `speed-accuracy.png` and `.svg` in `dir`.
+pub fn speed_accuracy(dir: &Path, rows: &[Row]) -> Result<()> {
+    let (cols, nrows) = layout(scenes_of(rows).len());
+    let size = (PANEL.0 * cols as u32, PANEL.1 * nrows as u32 + 50);
+    png(&dir.join("speed-accuracy.png"), size, |root| {
+        speed_accuracy_on(root, rows)
+    })?;
+    let svg = dir.join("speed-accuracy.svg");
+    let root = SVGBackend::new(&svg, size).into_drawing_area();
+    speed_accuracy_on(root, rows).map_err(|e| anyhow!("drawing {}: {e}", svg.display()))
+}
+
+fn model_on<DB: DrawingBackend>(root: DrawingArea<DB, Shift>, rows: &[ModelRow]) -> Drawn
+where
+    DB::ErrorType: 'static,
+{
+    root.fill(&WHITE)?;
+    let all = rows.iter().flat_map(|r| [r.predicted_s, r.measured_s]);
+    let (lo, hi) = all.fold((f64::INFINITY, 0.0f64), |(a, b), v| (a.min(v), b.max(v)));
+    let (lo, hi) = ((lo / 1.5).max(1e-4), (hi * 1.5).max(2e-4));
+    let mean = rows.iter().map(|r| r.error.abs()).sum::<f64>() / rows.len().max(1) as f64;
+    let mut chart = ChartBuilder::on(&root)
+        .caption(
+            format!(
+                "Cost model (thesis 5.2, 6.4) against measurement: mean |error| {:.0}%",
+                mean * 100.0
+            ),
+            ("sans-serif", 24),
+        )
+        .margin(16)
+        .x_label_area_size(56)
+        .y_label_area_size(80)
+        .build_cartesian_2d((lo..hi).log_scale(), (lo..hi).log_scale())?;
+    chart
+        .configure_mesh()
+        .x_desc("measured wall time, seconds (log scale)")
+        .y_desc("predicted, seconds (log scale)")
+        .axis_desc_style(("sans-serif", 18))
+        .label_style(("sans-serif", 16))
+        .x_label_formatter(&|v| format!("{v:.3}"))
+        .y_label_formatter(&|v| format!("{v:.3}"))
+        .light_line_style(RGBColor(235, 235, 235))
+        .draw()?;
+    chart
+        .draw_series(LineSeries::new([(lo, lo), (hi, hi)], BLACK.stroke_width(1)))?
+        .label("predicted = measured")
+        .legend(|(x, y)| PathElement::new([(x, y), (x + 20, y)], BLACK));
+    for f in [0.7, 1.3] {
+        chart.draw_series(LineSeries::new(
+            [(lo, lo * f), (hi, hi * f)],
+            RGBColor(170, 170, 170).stroke_width(1),
+        ))?;
+    }
+    let mut scenes: Vec<&str> = Vec::new();
+    for r in rows {
+        if !scenes.contains(&r.scene.as_str()) {
+            scenes.push(&r.scene);
+        }
+    }
+    const HUES: [RGBColor; 6] = [
+        RGBColor(31, 119, 180),
+        RGBColor(214, 39, 40),
+        RGBColor(44, 160, 44),
+        RGBColor(255, 127, 14),
+        RGBColor(148, 103, 189),
+        RGBColor(140, 86, 75),
+    ];
+    for (i, scene) in scenes.iter().enumerate() {
+        let c = HUES[i % HUES.len()];
+        let mine: Vec<&ModelRow> = rows.iter().filter(|r| r.scene == *scene).collect();
+        chart
+            .draw_series(
+                mine.iter()
+                    .map(|r| Circle::new((r.measured_s, r.predicted_s), 6, c.filled())),
+            )?
+            .label(scene.to_string())
+            .legend(move |(x, y)| Circle::new((x + 10, y), 6, c.filled()));
+        chart.draw_series(mine.iter().map(|r| {
+            Text::new(
+                format!("d{}", r.depth),
+                (r.measured_s, r.predicted_s),
+                ("sans-serif", 15)
+                    .into_font()
+                    .color(&c)
+                    .pos(Pos::new(HPos::Left, VPos::Bottom)),
+            )
+        }))?;
+    }
+    chart
+        .configure_series_labels()
+        .position(SeriesLabelPosition::UpperLeft)
+        .label_font(("sans-serif", 17))
+        .background_style(WHITE.mix(0.9))
+        .border_style(BLACK)
+        .draw()?;
+    root.present()?;
+    Ok(())
+}
+
+/// `model.png` in `dir` (the grey lines are ±30%).
+pub fn model(dir: &Path, rows: &[ModelRow]) -> Result<()> {
+    png(&dir.join("model.png"), (900, 760), |root| {
+        model_on(root, rows)
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn row(method: &str, depth: u8, wall_s: f64, rmse: f64) -> Row {
+        Row {
+            scene: "s".into(),
+            method: method.into(),
+            depth,
+            size: "10x10".into(),
+            polygons: 2,
+            frames: 1,
+            wall_s,
+            cpu_s: wall_s,
+            max_rss_kib: 1,
+            error_fraction: 0.0,
+            edge_rmse: None,
+            rmse,
+        }
+    }
+
+    #[test]
+    fn marks_take_each_methods_fastest_depth_and_the_front_drops_the_beaten() {
+        let rows = vec![
+            row("zbuf", 0, 0.2, 30.0),
+            row("zbuf", 1, 0.1, 30.0),
+            row("ss4", 0, 0.4, 10.0),
+            row("slow", 0, 0.5, 20.0),
+        ];
+        let m = marks(&rows, "s");
+        assert_eq!(m.len(), 3);
+        assert_eq!(m[0].depth, 1);
+        let front: Vec<&str> = pareto(&m).iter().map(|r| r.method.as_str()).collect();
+        assert_eq!(front, ["zbuf", "ss4"]);
+    }
+
+    #[test]
+    fn pictures_are_written() {
+        let dir = tempfile::tempdir().unwrap();
+        let rows = vec![row("zbuf", 0, 0.2, 30.0), row("zbuf-eye-z", 0, 0.3, 31.0)];
+        speed_accuracy(dir.path(), &rows).unwrap();
+        let png = image::open(dir.path().join("speed-accuracy.png")).unwrap();
+        assert_eq!((png.width(), png.height()), (PANEL.0, PANEL.1 + 50));
+        let svg = std::fs::read_to_string(dir.path().join("speed-accuracy.svg")).unwrap();
+        assert!(svg.contains("zbuf-eye-z"), "the label is in the SVG");
+        assert!(svg.contains("wall time, seconds"));
+    }
+}

@@ -1,0 +1,203 @@
+//! `scripts/chart.sh` (docs/DESIGN.md, "Measures"): the chart's three files on a small
+//! scene, with the columns the design names and real values in them; the cost model's
+//! rows for depths 0-4; and `chart choose-depth`, render.sh's `--depth auto`.
+
+use pipeline_tests::sh;
+use std::collections::HashMap;
+use std::path::Path;
+
+/// A CSV file as a header and rows of named fields (the chart's CSV has no quoted
+/// fields).
+fn read_csv(path: &Path) -> (Vec<String>, Vec<HashMap<String, String>>) {
+    let text = std::fs::read_to_string(path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+    let mut lines = text.lines();
+    let header: Vec<String> = lines.next().unwrap().split(',').map(String::from).collect();
+    let rows = lines
+        .map(|l| {
+            header
+                .iter()
+                .cloned()
+                .zip(l.split(',').map(String::from))
+                .collect()
+        })
+        .collect();
+    (header, rows)
+}
+
+fn num(row: &HashMap<String, String>, column: &str) -> f64 {
+    row[column]
+        .parse()
+        .unwrap_or_else(|_| panic!("{column} = {:?} in {row:?}", row[column]))
+}
+
+fn chart(args: &str) -> tempfile::TempDir {
+    let dir = tempfile::tempdir().unwrap();
+    let out = sh(
+        &format!("scripts/chart.sh -o {} {args}", dir.path().display()),
+        b"",
+    );
+    assert!(
+        out.status.success(),
+        "chart.sh {args}: {}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    dir
+}
+
+#[test]
+fn quick_chart_of_a_small_scene_makes_its_files_with_real_values() {
+    let dir = chart("--quick examples/penetrating.txt@120x90");
+    let d = dir.path();
+    for f in [
+        "results.csv",
+        "speed-accuracy.png",
+        "speed-accuracy.svg",
+        "model.csv",
+        "model.png",
+    ] {
+        assert!(d.join(f).metadata().unwrap().len() > 0, "{f}");
+    }
+    let png = image::open(d.join("speed-accuracy.png")).unwrap();
+    assert!(
+        png.width() >= 700 && png.height() >= 500,
+        "{}x{}",
+        png.width(),
+        png.height()
+    );
+    let svg = std::fs::read_to_string(d.join("speed-accuracy.svg")).unwrap();
+    assert!(
+        svg.contains("wall time, seconds (log scale)"),
+        "the x axis is titled"
+    );
+    assert!(svg.contains("penetrating"), "the panel names its scene");
+
+    let (header, rows) = read_csv(&d.join("results.csv"));
+    for c in [
+        "scene",
+        "method",
+        "depth",
+        "size",
+        "polygons",
+        "wall_s",
+        "cpu_s",
+        "max_rss_kib",
+        "error_fraction",
+        "edge_rmse",
+    ] {
+        assert!(
+            header.iter().any(|h| h == c),
+            "results.csv lacks {c}: {header:?}"
+        );
+    }
+    let zbuf: Vec<_> = rows.iter().filter(|r| r["method"] == "zbuf").collect();
+    let depths: Vec<&str> = zbuf.iter().map(|r| r["depth"].as_str()).collect();
+    assert_eq!(depths, ["0", "1", "2", "3", "4"]);
+    for r in &zbuf {
+        assert_eq!(r["scene"], "penetrating");
+        assert_eq!(r["size"], "120x90");
+        assert_eq!(r["polygons"], "2");
+        assert!(num(r, "error_fraction") <= 0.0005, "{r:?}");
+        assert!(num(r, "wall_s") > 0.0 && num(r, "cpu_s") > 0.0, "{r:?}");
+        assert!(num(r, "max_rss_kib") > 500.0, "{r:?}");
+        // Point sampling against 16×16: the edge pixels are off, by a real amount.
+        let e = num(r, "edge_rmse");
+        assert!(e > 1.0 && e < 255.0, "{r:?}");
+    }
+    // Text and binary input give the same frame, so the same error.
+    let bin = rows.iter().find(|r| r["method"] == "zbuf-binary").unwrap();
+    assert_eq!(bin["edge_rmse"], zbuf[0]["edge_rmse"]);
+    assert!(rows.iter().any(|r| r["method"] == "zbuf-eye-z"));
+
+    let (header, rows) = read_csv(&d.join("model.csv"));
+    for c in [
+        "scene",
+        "depth",
+        "predicted_s",
+        "measured_s",
+        "hse_s",
+        "clip_s",
+        "bottleneck",
+    ] {
+        assert!(
+            header.iter().any(|h| h == c),
+            "model.csv lacks {c}: {header:?}"
+        );
+    }
+    let depths: Vec<&str> = rows.iter().map(|r| r["depth"].as_str()).collect();
+    assert_eq!(depths, ["0", "1", "2", "3", "4"]);
+    for r in &rows {
+        assert!(
+            num(r, "predicted_s") > 0.0 && num(r, "measured_s") > 0.0,
+            "{r:?}"
+        );
+        assert_eq!(r["polygons_in_view"], "2");
+    }
+    // Each level adds processes: 5 at depth 0, 2 + 15 + 32 + 1 at depth 4.
+    assert_eq!(rows[0]["processes"], "5");
+    assert_eq!(rows[4]["processes"], "50");
+}
+
+#[test]
+fn the_full_method_table_runs_every_variant() {
+    let dir = chart("--reps 1 examples/triangle-square.txt@64x48");
+    let (_, rows) = read_csv(&dir.path().join("results.csv"));
+    let runs: Vec<String> = rows
+        .iter()
+        .map(|r| format!("{}@{}", r["method"], r["depth"]))
+        .collect();
+    for want in [
+        "zbuf@0",
+        "zbuf@4",
+        "zbuf-eye-z@0",
+        "zbuf-buffer@0",
+        "zbuf-buffer@2",
+        "zbuf-chain@0",
+        "zbuf-text@0",
+        "zbuf-binary@0",
+    ] {
+        assert!(runs.contains(&want.to_string()), "{want} not in {runs:?}");
+    }
+    // Every exact variant (projective depth) is the z-buffer's picture: no pixel differs
+    // from zspec on this scene.
+    for r in rows.iter().filter(|r| r["method"] != "zbuf-eye-z") {
+        assert_eq!(num(r, "error_fraction"), 0.0, "{r:?}");
+    }
+}
+
+#[test]
+fn choose_depth_gives_two_polygons_depth_0_and_says_why() {
+    let out = sh(
+        "scripts/chart.sh choose-depth --size 500x500 examples/penetrating.txt",
+        b"",
+    );
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let line = String::from_utf8(out.stdout).unwrap();
+    assert!(line.starts_with("0 ("), "{line}");
+    assert!(line.contains("2 polygons in view"), "{line}");
+    assert_eq!(line.lines().count(), 1, "{line}");
+}
+
+#[test]
+fn choose_depth_refuses_a_bad_size_and_a_missing_scene() {
+    let out = sh(
+        "scripts/chart.sh choose-depth --size 0x5 examples/penetrating.txt",
+        b"",
+    );
+    assert_eq!(
+        out.status.code(),
+        Some(2),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let out = sh("scripts/chart.sh choose-depth no-such-scene.txt", b"");
+    assert_eq!(out.status.code(), Some(1));
+    assert!(
+        String::from_utf8_lossy(&out.stderr).contains("no-such-scene.txt"),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+}
