@@ -229,7 +229,8 @@ validate_options() {
 
 # The stages render.sh runs, and the other binaries the README's examples use: all built
 # on the first run, so that every command in the README works after it.
-binaries=(viewxf clipplane clipbatch splitter persp scanconv zbuf scene zspec frames)
+binaries=(viewxf clipplane clipbatch splitter persp scanconv zbuf scanline warnock painter
+    hiddenline scene zspec frames chart)
 stages=(viewxf clipplane clipbatch splitter persp scanconv zbuf) # the ones a render runs
 
 # Sets `bindir`, and builds the binaries with cargo when one is missing or stale. Without
@@ -240,7 +241,9 @@ ensure_binaries() {
     # `POLYPIPE_BIN=DIR render.sh …` there), which may have no sources and no cargo.
     if [[ -n ${POLYPIPE_BIN-} ]]; then
         bindir=$POLYPIPE_BIN
-        for b in "${stages[@]}"; do
+        local method=()
+        [[ $hse == zbuf ]] || method=("$hse")
+        for b in "${stages[@]}" "${method[@]}"; do
             [[ -x $bindir/$b ]] || fail 3 "no $b in $bindir (POLYPIPE_BIN)"
         done
         return 0

@@ -41,6 +41,34 @@ const ROOT: &[u8] = &[0];
 /// `Method { name: "scanline", options: &["--hse", "scanline"], input: Input::AsGiven, depths: TREE, quick: true }`.
 pub const METHODS: &[Method] = &[
     Method {
+        name: "scanline",
+        options: &["--hse", "scanline"],
+        input: Input::AsGiven,
+        depths: TREE,
+        quick: true,
+    },
+    Method {
+        name: "warnock",
+        options: &["--hse", "warnock"],
+        input: Input::AsGiven,
+        depths: TREE,
+        quick: true,
+    },
+    Method {
+        name: "painter",
+        options: &["--hse", "painter"],
+        input: Input::AsGiven,
+        depths: TREE,
+        quick: true,
+    },
+    Method {
+        name: "zbuf-pixels",
+        options: &["--merge", "buffer", "--pixels"],
+        input: Input::AsGiven,
+        depths: ROOT,
+        quick: false,
+    },
+    Method {
         name: "zbuf",
         options: &[],
         input: Input::AsGiven,
