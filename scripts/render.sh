@@ -36,7 +36,9 @@ examples/penetrating.txt) and writes one binary PPM (P6) per frame on stdout.
 
 Options:
   --size WxH        screen size in pixels, W and H from 1 to 65536 (default 500x500)
-  --depth N         splitter tree depth, 0 to 6 (default 0: no splitter)
+  --depth N         splitter tree depth, 0 to 6 (default 0: no splitter), or auto:
+                    the depth the cost model (bench/model.toml, `chart choose-depth`)
+                    predicts fastest for this scene, screen and machine
   --eye X,Y,Z  --at X,Y,Z  --up X,Y,Z  --s S  --d D  --hither K1  --yon K2
                     camera and view volume, passed to viewxf
   --zmode MODE      persp's depth: projective (default) or eye-z (the occam code's)
@@ -183,7 +185,8 @@ parse_options() {
 # Checks what the script itself uses; the camera and -o are for their stages to check
 # (a stage's usage error comes out of render.sh as status 2).
 validate_options() {
-    [[ $depth =~ ^[0-6]$ ]] || die_usage "--depth must be an integer from 0 to 6, not '$depth'"
+    [[ $depth =~ ^[0-6]$ || $depth == auto ]] ||
+        die_usage "--depth must be an integer from 0 to 6 or auto, not '$depth'"
     # The bounds of every stage's --size (proto::camera::parse_size).
     if ! [[ $size =~ ^0*([1-9][0-9]{0,4})[xX]0*([1-9][0-9]{0,4})$ ]] ||
         ((BASH_REMATCH[1] > 65536 || BASH_REMATCH[2] > 65536)); then
@@ -206,7 +209,7 @@ validate_options() {
     ((${#pixels[@]} == 0)) || [[ $merge == buffer ]] ||
         die_usage "--pixels sends fragments to the one z-buffer: it needs --merge buffer"
     if ((hidden_line)); then
-        ((depth == 0)) ||
+        [[ $depth == [0a]* ]] ||
             die_usage "--hidden-line draws at depth 0 (the tree's cuts are not edges), not --depth $depth"
         ((${#output[@]})) || die_usage "--hidden-line needs -o FILE.svg"
     fi
@@ -534,6 +537,25 @@ start_merger() {
         "${fragments[@]}"
 }
 
+# --depth auto: the depth the cost model predicts fastest (thesis 5.2 and 6.4, with this
+# machine's constants; docs/DESIGN.md, "Measures"), from a look at the scene through
+# viewxf | clipbatch | persp. A scene on stdin is kept in the private folder first, to be
+# read twice. With --stats, the choice and its reason.
+choose_depth() {
+    local line status
+    [[ -x $bindir/chart ]] || fail 3 "no chart in $bindir, for --depth auto"
+    if [[ $scene == - ]]; then
+        cat >"$tmp/scene" || fail 3 "cannot keep the scene from stdin in $tmp"
+        scene=$tmp/scene
+    fi
+    line=$("$bindir/chart" choose-depth --root "$root" --size "$size" "${camera[@]}" "$scene")
+    status=$?
+    ((status == 0)) || exit "$status" # chart said why, as `chart: …`
+    depth=${line%% *}
+    [[ $depth =~ ^[0-6]$ ]] || fail 3 "chart choose-depth answered '$line'"
+    ((${#stats[@]} == 0)) || echo "render.sh: depth auto chose $line" >&2
+}
+
 # --- Watching the stages. ---------------------------------------------------------------
 
 describe() { # describe STATUS
@@ -684,6 +706,9 @@ main() {
     [[ -r /proc/self/stat ]] || fail 3 "needs /proc (Linux), to watch its stages"
     ensure_binaries
     make_private_dir
+    if [[ $depth == auto ]]; then
+        if ((hidden_line)); then depth=0; else choose_depth; fi
+    fi
     exec 3<&0
     if [[ -n $subtree ]]; then
         clipped=/dev/fd/3 # the stream into node K

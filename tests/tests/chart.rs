@@ -201,3 +201,31 @@ fn choose_depth_refuses_a_bad_size_and_a_missing_scene() {
         String::from_utf8_lossy(&out.stderr)
     );
 }
+
+#[test]
+fn render_depth_auto_says_its_choice_and_renders_at_it() {
+    // Two polygons: depth 0, said under --stats, the frame depth 0's; from stdin too.
+    let at0 = sh("scripts/render.sh --depth 0", b"");
+    assert!(at0.status.success());
+    for (command, stdin) in [
+        ("scripts/render.sh --depth auto --stats", &b""[..]),
+        (
+            "scripts/render.sh --depth auto --stats -",
+            &std::fs::read(pipeline_tests::repo_root().join("examples/penetrating.txt")).unwrap()[..],
+        ),
+    ] {
+        let out = sh(command, stdin);
+        assert!(out.status.success(), "{command}");
+        assert!(out.stdout == at0.stdout, "{command}: not depth 0's frame");
+        let err = String::from_utf8(out.stderr).unwrap();
+        let line = err.lines().next().unwrap_or("");
+        assert!(
+            line.starts_with("render.sh: depth auto chose 0 (2 polygons in view, "),
+            "{command}: {err}"
+        );
+        assert!(!err.contains("splitter"), "no splitter at depth 0: {err}");
+    }
+    // Without --stats it says nothing.
+    let quiet = sh("scripts/render.sh --depth auto", b"");
+    assert!(quiet.status.success() && quiet.stderr.is_empty());
+}
