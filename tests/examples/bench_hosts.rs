@@ -1,5 +1,6 @@
-//! Benchmark: a movie rendered here, and split by frames over 1, 2 and 3 loopback ssh
-//! hosts (`scripts/render-frames.sh`, issue 13), with the bytes each link carried.
+//! Benchmark: a movie rendered here, split by frames over 1, 2 and 3 loopback ssh hosts
+//! (`scripts/render-frames.sh`), and with the splitter tree's leaves or subtrees on them
+//! (`render.sh --hosts … --by leaves`, depth 2), with the bytes each link carried (issue 13).
 //!
 //!     cargo run --release -p pipeline-tests --example bench_hosts [RUNS]
 //!
@@ -53,6 +54,23 @@ fn main() {
                 "2",
             ],
             size: "960x540",
+        },
+        Movie {
+            label: "fill-heavy scene: one frame of 10,000 quads, Dc 10, 1920×1080",
+            scene: vec![
+                "environment",
+                "--frames",
+                "1",
+                "--polygons",
+                "10000",
+                "--depth-complexity",
+                "10",
+                "--size",
+                "1920x1080",
+                "--seed",
+                "2",
+            ],
+            size: "1920x1080",
         },
     ];
     let cores = std::thread::available_parallelism().map_or(0, |n| n.get());
@@ -118,6 +136,55 @@ fn main() {
                 local,
                 frames,
                 links.trim_end_matches("; "),
+            );
+        }
+        let (local2, local2_bytes) = best(runs, || {
+            let mut cmd = Command::new("bash");
+            cmd.arg(repo_root().join("scripts/render.sh"))
+                .args(["--size", movie.size, "--depth", "2"])
+                .arg(&path);
+            cmd
+        });
+        assert_eq!(
+            local2_bytes.0, local_bytes.0,
+            "depth 2: not depth 0's bytes"
+        );
+        row("render.sh here, depth 2", local2, local, frames, "");
+        for n in 1..=3 {
+            let names = (1..=n)
+                .map(|k| format!("node{k}"))
+                .collect::<Vec<_>>()
+                .join(",");
+            let (t, bytes) = best(runs, || {
+                let mut cmd = Command::new("bash");
+                cmd.arg(repo_root().join("scripts/render.sh"))
+                    .args(["--hosts", &names, "--by", "leaves", "--depth", "2"])
+                    .args(["--size", movie.size, "--stats"])
+                    .arg(&path)
+                    .env("POLYPIPE_SSH", hosts.ssh());
+                cmd
+            });
+            assert_eq!(
+                bytes.0, local_bytes.0,
+                "{n} hosts: not the local run's bytes"
+            );
+            // render.sh: subtree 2 on host node1: 576 bytes there, 7744 bytes back
+            let links: Vec<String> = bytes
+                .1
+                .lines()
+                .filter_map(|l| l.strip_prefix("render.sh: "))
+                .filter(|l| l.contains(" on host "))
+                .map(|l| l.replace(" bytes there,", " →").replace(" bytes back", ""))
+                .collect();
+            row(
+                &format!(
+                    "--by leaves, depth 2, {n} host{}",
+                    if n > 1 { "s" } else { "" }
+                ),
+                t,
+                local,
+                frames,
+                &links.join("; "),
             );
         }
         println!();
