@@ -46,7 +46,7 @@ measure() {
     "$rss" "$(stat -c %s "$TMP/out")"
 }
 
-echo "scene environment --polygons $N --size $SIZE --seed 1: $polygons polygons reach the screen"
+echo "scene environment --polygons $N --size $SIZE --seed 1: $polygons polygons into the leaf"
 echo "one leaf (depth 0), median of $REPS runs"
 printf '%-14s %8s %8s %12s %10s\n' method wall_s cpu_s max_rss_kib out_bytes
 measure point "$B/scanconv" --resolve

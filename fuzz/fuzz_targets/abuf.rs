@@ -43,7 +43,8 @@ fn lists(b: &mut Bytes) {
         } else {
             [b.u8(), b.u8(), b.u8()]
         };
-        let order = ((b.u8() as u32) << 8) | i;
+        // Increasing, as polygons come in stream order, with gaps.
+        let order = (i << 8) | b.u8() as u32;
         i += 1;
         if mask != 0 {
             frags.push(Fragment { colour, mask, zmin, zmax, order });

@@ -18,7 +18,10 @@ fn scenes(dir: &Path) -> Vec<(&'static str, String)> {
         env.display()
     ));
     let sphere = dir.join("sphere.pp");
-    run(&format!("scene sphere --stacks 8 --slices 12 > {}", sphere.display()));
+    run(&format!(
+        "scene sphere --stacks 8 --slices 12 > {}",
+        sphere.display()
+    ));
     let needles = dir.join("needles.txt");
     std::fs::write(&needles, needles_scene()).unwrap();
     vec![
@@ -129,8 +132,15 @@ fn edge_error_is_at_most_a_quarter_of_point_samplings() {
     let dir = tempfile::tempdir().unwrap();
     for (name, scene) in scenes(dir.path()) {
         for depth in [0, 2] {
-            let point = edge_rmse(dir.path(), &scene, &render(&scene, depth, "scanconv --resolve"));
-            assert!(point > 5.0, "{name}: point sampling's edge RMSE only {point}");
+            let point = edge_rmse(
+                dir.path(),
+                &scene,
+                &render(&scene, depth, "scanconv --resolve"),
+            );
+            assert!(
+                point > 5.0,
+                "{name}: point sampling's edge RMSE only {point}"
+            );
             for method in ["abuf", "supersample --samples 4"] {
                 let e = edge_rmse(dir.path(), &scene, &render(&scene, depth, method));
                 assert!(
@@ -175,7 +185,11 @@ fn two_white_triangles_sharing_an_edge_show_no_seam() {
             &format!("viewxf --size 32x32 | clipbatch | persp --size 32x32 | {method} | zbuf"),
             scene.as_bytes(),
         );
-        assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+        assert!(
+            out.status.success(),
+            "{}",
+            String::from_utf8_lossy(&out.stderr)
+        );
         let frame = &parse_ppm_stream(&out.stdout).unwrap()[0];
         // The square spans X, Y from 3.2 to 28.8: pixels 4..28 are inside it, the
         // diagonal's among them.

@@ -64,15 +64,18 @@ impl Fragment {
             && next.zmin <= self.zmax.saturating_add(slack)
     }
 
-    /// The combined fragment: both masks, the depths of both.
+    /// The combined fragment: both masks, the depths of both, and the place in the list
+    /// (zmin, then stream order) of the one nearer the front, so that the combined
+    /// fragment keeps that one's place and the list stays sorted.
     #[inline]
     fn combine(&self, other: &Fragment) -> Fragment {
+        let front = if self.key() <= other.key() { self } else { other };
         Fragment {
             colour: self.colour,
             mask: self.mask | other.mask,
-            zmin: self.zmin.min(other.zmin),
+            zmin: front.zmin,
             zmax: self.zmax.max(other.zmax),
-            order: self.order.min(other.order),
+            order: front.order,
         }
     }
 }
@@ -177,7 +180,7 @@ impl PixelStruct {
             pos - 1
         } else if pos < list.len() && f.combines_with(&list[pos]) {
             stats.combined += 1;
-            // zmin and order only decrease: the place stays sorted.
+            // f's key is the smaller: the combined fragment takes f's place, pos.
             list[pos] = f.combine(&list[pos]);
             pos
         } else {
@@ -235,7 +238,12 @@ impl PixelStruct {
     }
 
     /// The pixel's colour (6.3.6), `None` for an empty pixelstruct.
-    pub fn pack(&self, background: Colour, scratch: &mut Packer, stats: &mut ListStats) -> Option<Colour> {
+    pub fn pack(
+        &self,
+        background: Colour,
+        scratch: &mut Packer,
+        stats: &mut ListStats,
+    ) -> Option<Colour> {
         match self {
             PixelStruct::Empty => None,
             // A simple pixelstruct needs no processing.

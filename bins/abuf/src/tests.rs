@@ -55,8 +55,24 @@ const WHITE: Colour = [255, 255, 255];
 /// one, the background the other 25 %.
 #[test]
 fn seed_figure_6_7_a_pixel_covered_50_25_25() {
-    let near = quad(RED, [[0.0, 0.0, 0.2], [0.5, 0.0, 0.2], [0.5, 1.0, 0.2], [0.0, 1.0, 0.2]]);
-    let far = quad(BLUE, [[0.0, 0.0, 0.6], [1.0, 0.0, 0.6], [1.0, 0.5, 0.6], [0.0, 0.5, 0.6]]);
+    let near = quad(
+        RED,
+        [
+            [0.0, 0.0, 0.2],
+            [0.5, 0.0, 0.2],
+            [0.5, 1.0, 0.2],
+            [0.0, 1.0, 0.2],
+        ],
+    );
+    let far = quad(
+        BLUE,
+        [
+            [0.0, 0.0, 0.6],
+            [1.0, 0.0, 0.6],
+            [1.0, 0.5, 0.6],
+            [0.0, 0.5, 0.6],
+        ],
+    );
     let bg = [0, 200, 0];
     for polys in [[near.clone(), far.clone()], [far, near]] {
         let (image, stats) = render_with(&polys, 1, 1, bg);
@@ -99,9 +115,25 @@ fn seed_grey_seam_two_white_triangles_sharing_an_edge() {
 /// zmin/zmax: half each, as the exact reference has it.
 #[test]
 fn seed_intersecting_fragments_split_by_zmin_zmax() {
-    let mut red = quad(RED, [[0.0, 0.0, 0.0], [1.0, 0.0, 1.0], [1.0, 1.0, 1.0], [0.0, 1.0, 0.0]]);
+    let mut red = quad(
+        RED,
+        [
+            [0.0, 0.0, 0.0],
+            [1.0, 0.0, 1.0],
+            [1.0, 1.0, 1.0],
+            [0.0, 1.0, 0.0],
+        ],
+    );
     red.plane = Some(DVec4::new(1.0, 0.0, -1.0, 0.0)); // Z = X
-    let mut blue = quad(BLUE, [[0.0, 0.0, 1.0], [1.0, 0.0, 0.0], [1.0, 1.0, 0.0], [0.0, 1.0, 1.0]]);
+    let mut blue = quad(
+        BLUE,
+        [
+            [0.0, 0.0, 1.0],
+            [1.0, 0.0, 0.0],
+            [1.0, 1.0, 0.0],
+            [0.0, 1.0, 1.0],
+        ],
+    );
     blue.plane = Some(DVec4::new(-1.0, 0.0, -1.0, 1.0)); // Z = 1 − X
     let polys = [red.clone(), blue.clone()];
     let (image, stats) = render_with(&polys, 1, 1, [0; 3]);
@@ -110,7 +142,6 @@ fn seed_intersecting_fragments_split_by_zmin_zmax() {
     assert_eq!(stats.intersections, 1);
     // Crossing at X = ¼ instead: red in front on a quarter. The estimate is a share of
     // the depth ranges, not of the area, and is near the reference's quarter.
-    let mut blue = blue;
     blue.plane = Some(DVec4::new(-1.0, 0.0, -1.0, 0.5)); // Z = ½ − X
     let polys = [red, blue];
     let (image, _) = render_with(&polys, 1, 1, [0; 3]);
@@ -118,14 +149,33 @@ fn seed_intersecting_fragments_split_by_zmin_zmax() {
     let got = image[0].unwrap();
     assert_eq!(want, [64, 0, 191]);
     for ch in 0..3 {
-        assert!((got[ch] as i32 - want[ch] as i32).abs() <= 32, "{got:?} against {want:?}");
+        assert!(
+            (got[ch] as i32 - want[ch] as i32).abs() <= 32,
+            "{got:?} against {want:?}"
+        );
     }
 }
 
 #[test]
 fn a_fully_covered_pixel_needs_no_list() {
-    let sq = quad(RED, [[0.0, 0.0, 0.5], [3.0, 0.0, 0.5], [3.0, 3.0, 0.5], [0.0, 3.0, 0.5]]);
-    let behind = quad(BLUE, [[0.0, 0.0, 0.7], [3.0, 0.0, 0.7], [3.0, 3.0, 0.7], [0.0, 3.0, 0.7]]);
+    let sq = quad(
+        RED,
+        [
+            [0.0, 0.0, 0.5],
+            [3.0, 0.0, 0.5],
+            [3.0, 3.0, 0.5],
+            [0.0, 3.0, 0.5],
+        ],
+    );
+    let behind = quad(
+        BLUE,
+        [
+            [0.0, 0.0, 0.7],
+            [3.0, 0.0, 0.7],
+            [3.0, 3.0, 0.7],
+            [0.0, 3.0, 0.7],
+        ],
+    );
     let (image, stats) = render_with(&[sq, behind], 3, 3, [0; 3]);
     assert_eq!(image, vec![Some(RED); 9]);
     assert_eq!((stats.simple, stats.lists, stats.hidden), (9, 0, 9));
@@ -157,6 +207,33 @@ fn insertion_cases_keep_the_list_sorted_and_hide_what_is_behind() {
     p.clear(&mut pool);
     assert_eq!(p, PixelStruct::Empty);
     assert_eq!(pool.len(), 1);
+}
+
+/// Found by fuzzing (fuzz/regressions/abuf): a fragment combined with its successor took
+/// the smaller stream order of the two with the smaller zmin, a key before a full
+/// fragment of the same zmin ahead of it, and the list was no longer sorted.
+#[test]
+fn a_combined_fragment_keeps_its_place() {
+    let frag = |colour, mask, zmin: i64, zmax, order| Fragment {
+        colour,
+        mask,
+        zmin,
+        zmax,
+        order,
+    };
+    let (mut pool, mut stats) = (Vec::new(), ListStats::default());
+    let mut p = PixelStruct::Empty;
+    p.insert(frag(WHITE, FULL, 2, 8, 35331), &mut pool, &mut stats);
+    p.insert(frag(BLUE, 0xFF00, 5, 15, 20225), &mut pool, &mut stats);
+    p.insert(frag(BLUE, 0x00FF, 2, 6, 40000), &mut pool, &mut stats);
+    assert_eq!(
+        p.fragments(),
+        &[
+            frag(WHITE, FULL, 2, 8, 35331),
+            frag(BLUE, 0xFFFF, 2, 15, 40000)
+        ]
+    );
+    assert_eq!(stats.combined, 1);
 }
 
 fn polygon_strategy(flat: bool) -> impl Strategy<Value = Polygon> {

@@ -45,7 +45,10 @@ fn k_must_be_a_power_of_two_up_to_16() {
     assert!(Supersample::new(32, [0; 3]).is_err());
     assert!(Supersample::new(0, [0; 3]).is_err());
     let e = Supersample::new(6, [0; 3]).err().unwrap();
-    assert!(e.starts_with("6 samples a side: K must be 1, 2, 4, 8 or 16"), "{e}");
+    assert!(
+        e.starts_with("6 samples a side: K must be 1, 2, 4, 8 or 16"),
+        "{e}"
+    );
     for k in [1, 2, 4, 8, 16] {
         assert!(Supersample::new(k, [0; 3]).is_ok());
     }
@@ -56,9 +59,14 @@ fn half_a_pixel_is_half_the_colour() {
     // White over the left half of pixel (0, 0) on black, 4×4 samples: 8 of 16 covered.
     let sq = Polygon::from_xyz(
         [255, 255, 255],
-        &[[0.0, 0.0, 0.5], [0.5, 0.0, 0.5], [0.5, 1.0, 0.5], [0.0, 1.0, 0.5]],
+        &[
+            [0.0, 0.0, 0.5],
+            [0.5, 0.0, 0.5],
+            [0.5, 1.0, 0.5],
+            [0.0, 1.0, 0.5],
+        ],
     );
-    let image = render(&[sq.clone()], 2, 1, 4, [0; 3]);
+    let image = render(std::slice::from_ref(&sq), 2, 1, 4, [0; 3]);
     assert_eq!(image, vec![Some([128; 3]), None]);
     // On a grey background the uncovered half counts as grey: (8·255 + 8·100 + 8)/16.
     let image = render(&[sq], 2, 1, 4, [100; 3]);
@@ -68,8 +76,14 @@ fn half_a_pixel_is_half_the_colour() {
 #[test]
 fn k_1_is_point_sampling() {
     let polys = [
-        tri([200, 0, 0], [[0.3, 0.2, 0.5], [7.6, 1.1, 0.2], [2.2, 6.9, 0.8]]),
-        tri([0, 200, 0], [[1.3, 5.2, 0.3], [6.6, 0.1, 0.6], [7.2, 7.9, 0.1]]),
+        tri(
+            [200, 0, 0],
+            [[0.3, 0.2, 0.5], [7.6, 1.1, 0.2], [2.2, 6.9, 0.8]],
+        ),
+        tri(
+            [0, 200, 0],
+            [[1.3, 5.2, 0.3], [6.6, 0.1, 0.6], [7.2, 7.9, 0.1]],
+        ),
     ];
     assert_eq!(render(&polys, 8, 8, 1, [0; 3]), zbuffer_image(&polys, 8, 8));
 }
@@ -79,12 +93,22 @@ fn recorded_planes_are_scaled_with_the_screen() {
     // Two squares crossing in depth along X = 2: the recorded planes decide.
     let mut a = Polygon::from_xyz(
         [255, 0, 0],
-        &[[0.0, 0.0, 0.0], [4.0, 0.0, 1.0], [4.0, 2.0, 1.0], [0.0, 2.0, 0.0]],
+        &[
+            [0.0, 0.0, 0.0],
+            [4.0, 0.0, 1.0],
+            [4.0, 2.0, 1.0],
+            [0.0, 2.0, 0.0],
+        ],
     );
     a.plane = Some(DVec4::new(0.25, 0.0, -1.0, 0.0)); // Z = X/4
     let mut b = Polygon::from_xyz(
         [0, 0, 255],
-        &[[0.0, 0.0, 1.0], [4.0, 0.0, 0.0], [4.0, 2.0, 0.0], [0.0, 2.0, 1.0]],
+        &[
+            [0.0, 0.0, 1.0],
+            [4.0, 0.0, 0.0],
+            [4.0, 2.0, 0.0],
+            [0.0, 2.0, 1.0],
+        ],
     );
     b.plane = Some(DVec4::new(-0.25, 0.0, -1.0, 1.0)); // Z = 1 − X/4
     let polys = [a, b];
