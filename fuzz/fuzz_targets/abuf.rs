@@ -28,16 +28,38 @@ fn lists(b: &mut Bytes) {
     while !b.is_empty() && frags.len() < 64 {
         let mask = match b.u8() % 4 {
             0 => u64::MAX,
-            1 => u64::from_le_bytes([b.u8(), b.u8(), b.u8(), b.u8(), b.u8(), b.u8(), b.u8(), b.u8()]),
+            1 => u64::from_le_bytes([
+                b.u8(),
+                b.u8(),
+                b.u8(),
+                b.u8(),
+                b.u8(),
+                b.u8(),
+                b.u8(),
+                b.u8(),
+            ]),
             2 => (b.u8() as u64) << (8 * (b.u8() % 8)),
             _ => !(1u64 << (b.u8() % 64)),
         };
         let zmin = match b.u8() % 3 {
             0 => (b.u8() % 8) as i64,
             1 => i64::MIN + (b.u8() as i64),
-            _ => i64::from_le_bytes([b.u8(), b.u8(), b.u8(), b.u8(), b.u8(), b.u8(), b.u8(), b.u8()]),
+            _ => i64::from_le_bytes([
+                b.u8(),
+                b.u8(),
+                b.u8(),
+                b.u8(),
+                b.u8(),
+                b.u8(),
+                b.u8(),
+                b.u8(),
+            ]),
         };
-        let zmax = if flat { zmin } else { zmin.saturating_add((b.u8() % 16) as i64) };
+        let zmax = if flat {
+            zmin
+        } else {
+            zmin.saturating_add((b.u8() % 16) as i64)
+        };
         let colour = if b.u8() & 1 == 0 {
             palette[(b.u8() % 4) as usize]
         } else {
@@ -47,7 +69,13 @@ fn lists(b: &mut Bytes) {
         let order = (i << 8) | b.u8() as u32;
         i += 1;
         if mask != 0 {
-            frags.push(Fragment { colour, mask, zmin, zmax, order });
+            frags.push(Fragment {
+                colour,
+                mask,
+                zmin,
+                zmax,
+                order,
+            });
         }
     }
     let (mut pool, mut stats) = (Vec::new(), ListStats::default());
@@ -56,7 +84,10 @@ fn lists(b: &mut Bytes) {
         p.insert(*f, &mut pool, &mut stats);
         let list = p.fragments();
         for pair in list.windows(2) {
-            assert!((pair[0].zmin, pair[0].order) <= (pair[1].zmin, pair[1].order), "{list:?}");
+            assert!(
+                (pair[0].zmin, pair[0].order) <= (pair[1].zmin, pair[1].order),
+                "{list:?}"
+            );
         }
         for (k, g) in list.iter().enumerate() {
             if g.mask == u64::MAX {
@@ -78,7 +109,10 @@ fn lists(b: &mut Bytes) {
     for ch in 0..3 {
         let values = frags.iter().map(|f| f.colour[ch]).chain([background[ch]]);
         let (lo, hi) = (values.clone().min().unwrap(), values.max().unwrap());
-        assert!(lo <= got[ch] && got[ch] <= hi, "{got:?} out of range, {frags:?}");
+        assert!(
+            lo <= got[ch] && got[ch] <= hi,
+            "{got:?} out of range, {frags:?}"
+        );
     }
     if flat {
         let mut sum = [0u32; 3];
@@ -128,10 +162,13 @@ fn frame(b: &mut Bytes) {
     let samples = scan::frame::zbuffer_image(&fine, width * 8, height * 8);
     for y in 0..height {
         for x in 0..width {
-            let covered = (0..64).any(|s| {
-                samples[((y * 8 + s / 8) * width * 8 + x * 8 + s % 8) as usize].is_some()
-            });
-            assert_eq!(image[(y * width + x) as usize].is_some(), covered, "({x}, {y})");
+            let covered = (0..64)
+                .any(|s| samples[((y * 8 + s / 8) * width * 8 + x * 8 + s % 8) as usize].is_some());
+            assert_eq!(
+                image[(y * width + x) as usize].is_some(),
+                covered,
+                "({x}, {y})"
+            );
         }
     }
 }

@@ -69,7 +69,11 @@ impl Fragment {
     /// fragment keeps that one's place and the list stays sorted.
     #[inline]
     fn combine(&self, other: &Fragment) -> Fragment {
-        let front = if self.key() <= other.key() { self } else { other };
+        let front = if self.key() <= other.key() {
+            self
+        } else {
+            other
+        };
         Fragment {
             colour: self.colour,
             mask: self.mask | other.mask,
