@@ -38,6 +38,19 @@ impl EdgeTable {
         supports: &[Option<[DVec2; 2]>],
         height: u32,
     ) -> Range<i64> {
+        self.build_in(points, supports, 0..height)
+    }
+
+    /// [`EdgeTable::build`] for the scanlines `band` only: each edge's rows are clamped
+    /// to the band, so a band of a tall polygon costs its edges and the band's rows, not
+    /// the rows above it. Crossings are evaluated from each edge's top end, never
+    /// stepped, so a row walked in a band is crossed exactly as in the whole walk.
+    pub fn build_in(
+        &mut self,
+        points: &[DVec2],
+        supports: &[Option<[DVec2; 2]>],
+        band: Range<u32>,
+    ) -> Range<i64> {
         for b in &mut self.buckets[..self.len] {
             b.clear();
         }
@@ -45,10 +58,11 @@ impl EdgeTable {
         self.edges.clear();
         self.edges.extend((0..points.len()).filter_map(|i| {
             let edge = polygon_edge(points, supports, i)?;
-            // The edge's rows, clamped to the screen: rows above 0 are never walked.
+            // The edge's rows, clamped to the band (the screen, for a whole walk): rows
+            // above it are never walked.
             let rows = edge.rows();
-            let start = rows.start.max(0);
-            let end = rows.end.min(height as i64);
+            let start = rows.start.max(band.start as i64);
+            let end = rows.end.min(band.end as i64);
             (start < end).then_some((start, ActiveEdge { edge, end_row: end }))
         }));
         let Some(first) = self.edges.iter().map(|(s, _)| *s).min() else {

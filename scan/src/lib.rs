@@ -36,6 +36,7 @@
 
 mod depth;
 mod edges;
+pub mod fine;
 pub mod frame;
 pub mod region;
 mod walk;

@@ -60,6 +60,12 @@ impl SpanWalker {
     /// it covers nothing: fewer than three vertices, every vertex on one line, or no edge
     /// across a scanline centre on the screen.
     pub fn start(&mut self, polygon: &Polygon, height: u32) -> Range<i64> {
+        self.start_in(polygon, 0..height)
+    }
+
+    /// [`SpanWalker::start`] for the rows of `band` only (a band of a frame drawn a few
+    /// rows at a time): the rows of the band the polygon may cover.
+    pub fn start_in(&mut self, polygon: &Polygon, band: Range<u32>) -> Range<i64> {
         if polygon.vertices.len() < 3 {
             return 0..0;
         }
@@ -77,7 +83,7 @@ impl SpanWalker {
             return 0..0;
         }
         self.aet.clear();
-        self.et.build(&self.points, &self.supports, height)
+        self.et.build_in(&self.points, &self.supports, band)
     }
 
     /// The sorted crossings of the loaded polygon's edges with the centre line of `row`:
@@ -94,9 +100,21 @@ impl SpanWalker {
         polygon: &Polygon,
         width: u32,
         height: u32,
+        emit: impl FnMut(Span) -> Result<(), E>,
+    ) -> Result<u64, E> {
+        self.spans_in(polygon, width, 0..height, emit)
+    }
+
+    /// [`SpanWalker::spans`] on the rows of `band` only: exactly the spans of those rows
+    /// that the whole walk gives, at the cost of the polygon's edges and the band's rows.
+    pub fn spans_in<E>(
+        &mut self,
+        polygon: &Polygon,
+        width: u32,
+        band: Range<u32>,
         mut emit: impl FnMut(Span) -> Result<(), E>,
     ) -> Result<u64, E> {
-        let rows = self.start(polygon, height);
+        let rows = self.start_in(polygon, band);
         if rows.is_empty() {
             return Ok(0);
         }
@@ -122,6 +140,21 @@ impl SpanWalker {
             }
         }
         Ok(covered)
+    }
+
+    /// [`SpanWalker::spans_in`] for an `emit` that cannot fail.
+    pub fn for_each_span_in(
+        &mut self,
+        polygon: &Polygon,
+        width: u32,
+        band: Range<u32>,
+        mut emit: impl FnMut(Span),
+    ) -> u64 {
+        let Ok(n) = self.spans_in(polygon, width, band, |s| {
+            emit(s);
+            Ok::<(), Infallible>(())
+        });
+        n
     }
 
     /// [`SpanWalker::spans`] for an `emit` that cannot fail.
@@ -499,6 +532,26 @@ mod tests {
                     }
                     prop_assert_eq!(&map[r as usize], &want, "row {}", r);
                 }
+            }
+
+            /// Walking a polygon a band of rows at a time gives exactly the spans of the
+            /// whole walk, band by band.
+            #[test]
+            fn bands_give_the_whole_walks_spans(
+                pts in prop::collection::vec((-4.0f64..20.0, -4.0f64..20.0, 0.0f64..1.0), 3..9),
+                band in 1u32..6,
+            ) {
+                let (w, h) = (16u32, 16u32);
+                let p = Polygon::from_xyz([1, 1, 1], &pts.iter().map(|&(x, y, z)| [x, y, z]).collect::<Vec<_>>());
+                let whole = spans_of(w, h, std::slice::from_ref(&p));
+                let mut banded = Vec::new();
+                let mut walker = SpanWalker::new();
+                let mut r0 = 0;
+                while r0 < h {
+                    walker.for_each_span_in(&p, w, r0..(r0 + band).min(h), |s| banded.push(s));
+                    r0 += band;
+                }
+                prop_assert_eq!(banded, whole);
             }
 
             /// A jittered grid cut into triangles, reaching past the screen, covers every

@@ -10,6 +10,21 @@ use std::ffi::OsString;
 use std::io::Write;
 use std::process::ExitCode;
 
+/// Parses `R,G,B` (each 0–255), for `--background`; the messages are zbuf's.
+pub fn parse_colour(s: &str) -> Result<proto::Colour, String> {
+    let parts: Vec<&str> = s.split(',').map(str::trim).collect();
+    if parts.len() != 3 {
+        return Err(format!("expected R,G,B (three numbers 0-255), got `{s}`"));
+    }
+    let mut c = [0u8; 3];
+    for (slot, p) in c.iter_mut().zip(parts) {
+        *slot = p
+            .parse()
+            .map_err(|_| format!("`{p}` is not a colour component 0-255"))?;
+    }
+    Ok(c)
+}
+
 /// Parses the command line of stage `stage` into `C`.
 ///
 /// `--help` and `--version` print as clap prints them and give `Err(0)`; any other

@@ -32,7 +32,7 @@ pub mod error;
 pub mod leaf;
 pub mod stream;
 
-pub use args::{parse, PpmTextFlag, TextFlag, ViewArgs};
+pub use args::{parse, parse_colour, PpmTextFlag, TextFlag, ViewArgs};
 pub use error::{Context, Error, Kind, Result};
 pub use leaf::{resolve_frames, FrameCounts};
 pub use stream::{

@@ -1,0 +1,44 @@
+//! abuf: a leaf that anti-aliases with Carpenter's a-buffer.
+
+use abuf::ABuffer;
+use clap::Parser;
+use proto::Colour;
+use stagecli::TextFlag;
+use std::process::ExitCode;
+
+/// Anti-aliasing with Carpenter's a-buffer (seeds/001, chapter 6.3; docs/DESIGN.md,
+/// "Anti-aliasing"), a leaf of the splitter tree.
+///
+/// Reads a screen-space polygon stream (from persp) on stdin and gathers each frame. Per
+/// pixel it keeps a list of fragments sorted by depth, each with an 8×8 coverage mask of
+/// the sub-pixel samples (c+(i+½)/8, r+(j+½)/8) the polygon covers by the point rule, its
+/// colour and its zmin/zmax; a pixel one polygon covers wholly in front of the rest needs
+/// no list. The packer resolves each list front to back, splitting the samples of two
+/// fragments that intersect in depth by their zmin/zmax. It works one pixel row at a
+/// time, so its memory does not grow with the screen. The output is runs of finished
+/// pixels (`run Y X0 X1 R G B`) for zbuf, which must be given the same --background.
+///
+/// Example:
+///   persp --size 500x500 < eye.pp | abuf --stats | zbuf > frame.ppm
+#[derive(Parser)]
+#[command(name = "abuf", version, verbatim_doc_comment)]
+struct Args {
+    /// Background colour R,G,B: what shows through the uncovered samples of a pixel.
+    #[arg(long, value_parser = stagecli::parse_colour, default_value = "0,0,0")]
+    background: Colour,
+    #[command(flatten)]
+    text: TextFlag,
+    /// Print counts (polygons in, frames, runs out; fragments, simple pixelstructs,
+    /// lists, the longest list, fragments combined and hidden, intersect cases, pixels
+    /// out) on stderr at the end.
+    #[arg(long)]
+    stats: bool,
+}
+
+fn main() -> ExitCode {
+    stagecli::main("abuf", |args: Args| {
+        let mut method = ABuffer::new(args.background);
+        stagecli::resolve_frames("abuf", args.text.form(), args.stats, &mut method)?;
+        Ok(())
+    })
+}

@@ -1,0 +1,45 @@
+//! supersample: a leaf that anti-aliases by K×K samples per pixel.
+
+use clap::Parser;
+use proto::Colour;
+use stagecli::{Error, TextFlag};
+use std::process::ExitCode;
+use supersample::Supersample;
+
+/// Anti-aliasing by supersampling (docs/DESIGN.md, "Anti-aliasing"), a leaf of the
+/// splitter tree.
+///
+/// Reads a screen-space polygon stream (from persp) on stdin, gathers each frame, samples
+/// every pixel at the K×K sub-pixel centres (c+(i+½)/K, r+(j+½)/K) by the point rule (the
+/// pixel centres of a screen K times finer), and writes each pixel some polygon reaches as
+/// the average of its samples, each channel (sum + K²/2)/K², uncovered samples counting as
+/// the background. The output is runs of finished pixels (`run Y X0 X1 R G B`) for zbuf,
+/// which must be given the same --background. `zspec --samples K` is its exact reference.
+///
+/// Example:
+///   persp --size 500x500 < eye.pp | supersample --samples 4 | zbuf > frame.ppm
+#[derive(Parser)]
+#[command(name = "supersample", version, verbatim_doc_comment)]
+struct Args {
+    /// K: samples a side of each pixel, 2, 4, 8 or 16 (1 is point sampling).
+    #[arg(long, value_name = "K", default_value_t = 4)]
+    samples: u32,
+    /// Background colour R,G,B: what uncovered samples of a partly covered pixel show.
+    #[arg(long, value_parser = stagecli::parse_colour, default_value = "0,0,0")]
+    background: Colour,
+    #[command(flatten)]
+    text: TextFlag,
+    /// Print counts (polygons in, frames, runs out, samples tested and written, pixels out)
+    /// on stderr at the end.
+    #[arg(long)]
+    stats: bool,
+}
+
+fn main() -> ExitCode {
+    stagecli::main("supersample", |args: Args| {
+        let mut method = Supersample::new(args.samples, args.background)
+            .map_err(|m| Error::usage(format!("--samples {m}")))?;
+        stagecli::resolve_frames("supersample", args.text.form(), args.stats, &mut method)?;
+        Ok(())
+    })
+}

@@ -1,0 +1,183 @@
+//! The a-buffer's fragment lists (seeds/001 6.3.4 to 6.3.6; bins/abuf/src/list.rs), and
+//! the whole method on arbitrary screen polygons.
+//!
+//! Lists: fragments of arbitrary masks, depths, colours and order inserted one by one.
+//! No panic; the list stays sorted by (zmin, order), holds nothing behind an earlier
+//! fully covering fragment, and a simple pixelstruct holds one full fragment; the packed
+//! colour lies within the fragments' and background's colours. When every fragment has
+//! one depth (zmin = zmax; nothing intersects), the packed colour is exactly the
+//! box-filtered per-sample answer: each sample shows the covering fragment of least
+//! (depth, order), or the background.
+//!
+//! Frames: polygons through `ABuffer::resolve` on screens up to 24×24: no panic, each
+//! pixel sent once (image_of checks), and exactly the pixels with a covered sample.
+#![no_main]
+use abuf::list::{Fragment, ListStats, Packer, PixelStruct};
+use abuf::ABuffer;
+use libfuzzer_sys::fuzz_target;
+use polypipe_fuzz::{polygon, Bytes};
+use proto::Vertex;
+use scan::frame::{image_of, HiddenSurface};
+
+fn lists(b: &mut Bytes) {
+    let flat = b.u8() & 1 == 0;
+    let background = [b.u8(), b.u8(), b.u8()];
+    let palette = [[255, 0, 0], [0, 255, 0], [0, 0, 255], [255, 255, 255]];
+    let mut frags = Vec::new();
+    let mut i = 0u32;
+    while !b.is_empty() && frags.len() < 64 {
+        let mask = match b.u8() % 4 {
+            0 => u64::MAX,
+            1 => u64::from_le_bytes([
+                b.u8(),
+                b.u8(),
+                b.u8(),
+                b.u8(),
+                b.u8(),
+                b.u8(),
+                b.u8(),
+                b.u8(),
+            ]),
+            2 => (b.u8() as u64) << (8 * (b.u8() % 8)),
+            _ => !(1u64 << (b.u8() % 64)),
+        };
+        let zmin = match b.u8() % 3 {
+            0 => (b.u8() % 8) as i64,
+            1 => i64::MIN + (b.u8() as i64),
+            _ => i64::from_le_bytes([
+                b.u8(),
+                b.u8(),
+                b.u8(),
+                b.u8(),
+                b.u8(),
+                b.u8(),
+                b.u8(),
+                b.u8(),
+            ]),
+        };
+        let zmax = if flat {
+            zmin
+        } else {
+            zmin.saturating_add((b.u8() % 16) as i64)
+        };
+        let colour = if b.u8() & 1 == 0 {
+            palette[(b.u8() % 4) as usize]
+        } else {
+            [b.u8(), b.u8(), b.u8()]
+        };
+        // Increasing, as polygons come in stream order, with gaps.
+        let order = (i << 8) | b.u8() as u32;
+        i += 1;
+        if mask != 0 {
+            frags.push(Fragment {
+                colour,
+                mask,
+                zmin,
+                zmax,
+                order,
+            });
+        }
+    }
+    let (mut pool, mut stats) = (Vec::new(), ListStats::default());
+    let mut p = PixelStruct::Empty;
+    for f in &frags {
+        p.insert(*f, &mut pool, &mut stats);
+        let list = p.fragments();
+        for pair in list.windows(2) {
+            assert!(
+                (pair[0].zmin, pair[0].order) <= (pair[1].zmin, pair[1].order),
+                "{list:?}"
+            );
+        }
+        for (k, g) in list.iter().enumerate() {
+            if g.mask == u64::MAX {
+                for x in &list[k + 1..] {
+                    assert!(
+                        !(x.zmin > g.zmax || (x.zmin == g.zmax && x.order > g.order)),
+                        "{x:?} behind {g:?} kept"
+                    );
+                }
+            }
+        }
+        if let PixelStruct::Simple(s) = &p {
+            assert_eq!(s.mask, u64::MAX);
+        }
+    }
+    let got = p.pack(background, &mut Packer::default(), &mut stats);
+    assert_eq!(got.is_some(), !frags.is_empty());
+    let Some(got) = got else { return };
+    for ch in 0..3 {
+        let values = frags.iter().map(|f| f.colour[ch]).chain([background[ch]]);
+        let (lo, hi) = (values.clone().min().unwrap(), values.max().unwrap());
+        assert!(
+            lo <= got[ch] && got[ch] <= hi,
+            "{got:?} out of range, {frags:?}"
+        );
+    }
+    if flat {
+        let mut sum = [0u32; 3];
+        for s in 0..64 {
+            let front = frags
+                .iter()
+                .filter(|f| f.mask >> s & 1 == 1)
+                .min_by_key(|f| (f.zmin, f.order));
+            let c = front.map_or(background, |f| f.colour);
+            for (t, v) in sum.iter_mut().zip(c) {
+                *t += v as u32;
+            }
+        }
+        let want = sum.map(|t| ((t + 32) / 64) as u8);
+        assert_eq!(got, want, "{frags:?}");
+    }
+}
+
+fn frame(b: &mut Bytes) {
+    let width = 1 + (b.u8() % 24) as u32;
+    let height = 1 + (b.u8() % 24) as u32;
+    let mut polys = Vec::new();
+    while !b.is_empty() && polys.len() < 8 {
+        let mut p = polygon(b, |b| {
+            let c = |b: &mut Bytes| {
+                if b.u8() % 8 == 0 {
+                    b.f64()
+                } else {
+                    b.grid() + 8.0
+                }
+            };
+            Vertex::new(c(b), c(b), b.coord(), 1.0)
+        });
+        if b.u8() % 4 == 0 {
+            p.plane = Some(Vertex::new(b.coord(), b.coord(), b.coord(), b.coord()));
+        }
+        if scan::check_on_screen(&p, width, height).is_ok() {
+            polys.push(p);
+        }
+    }
+    let mut runs = Vec::new();
+    ABuffer::new([b.u8(), b.u8(), b.u8()]).resolve(&polys, width, height, &mut runs);
+    let image = image_of(&runs, width, height);
+    // The pixels sent are those with a covered sample: the z-buffer of the 8-times-finer
+    // screen says which.
+    let fine: Vec<_> = polys.iter().map(|p| scan::fine::scaled(p, 8)).collect();
+    let samples = scan::frame::zbuffer_image(&fine, width * 8, height * 8);
+    for y in 0..height {
+        for x in 0..width {
+            let covered = (0..64)
+                .any(|s| samples[((y * 8 + s / 8) * width * 8 + x * 8 + s % 8) as usize].is_some());
+            assert_eq!(
+                image[(y * width + x) as usize].is_some(),
+                covered,
+                "({x}, {y})"
+            );
+        }
+    }
+}
+
+fuzz_target!(|data: &[u8]| {
+    let mut b = Bytes(data);
+    if b.u8() & 1 == 0 {
+        lists(&mut b);
+    } else {
+        frame(&mut b);
+    }
+});

@@ -1,0 +1,243 @@
+//! The anti-aliasing leaves, `supersample --samples K` and `abuf`, through the pipeline
+//! (docs/DESIGN.md, "Anti-aliasing" and "Measures"): supersampling equals its exact
+//! reference `zspec --samples K`; both cut the edge-pixel error against `zspec --samples
+//! 16` to at most a quarter of point sampling's, at tree depth 0 and 2; frames are byte
+//! for byte the same at every tree depth; two white triangles sharing an edge show no seam.
+
+use pipeline_tests::{parse_ppm_stream, run, sh};
+use std::path::Path;
+
+const SIZE: &str = "64x48";
+
+/// The scenes: a random environment (thesis 5.2), a sphere, the thesis's penetrating
+/// polygons, and needle-thin triangles, as world-space files in `dir`.
+fn scenes(dir: &Path) -> Vec<(&'static str, String)> {
+    let env = dir.join("environment.pp");
+    run(&format!(
+        "scene environment --polygons 200 --seed 7 > {}",
+        env.display()
+    ));
+    let sphere = dir.join("sphere.pp");
+    run(&format!(
+        "scene sphere --stacks 8 --slices 12 > {}",
+        sphere.display()
+    ));
+    let needles = dir.join("needles.txt");
+    std::fs::write(&needles, needles_scene()).unwrap();
+    vec![
+        ("environment", env.display().to_string()),
+        ("sphere", sphere.display().to_string()),
+        ("penetrating", "examples/penetrating.txt".to_string()),
+        ("needles", needles.display().to_string()),
+    ]
+}
+
+/// Triangles about half a pixel wide at their base, tapering to a point 20 world units
+/// away, at many slopes: point sampling breaks them into dashes.
+fn needles_scene() -> String {
+    let mut s = String::from("polypipe 1 world\n");
+    for i in 0..24 {
+        if i > 0 {
+            s.push_str("NEXT.POLYGON\n");
+        }
+        let x = -11.0 + i as f64 * 0.93;
+        let lean = (i % 7) as f64 - 3.0;
+        let colour = [255 - i * 8, 60 + i * 7, 40 + i * 9];
+        s.push_str(&format!(
+            "colour {} {} {}\n{x} -10 {z}\n{} -10 {z}\n{} 10 {z}\n",
+            colour[0],
+            colour[1],
+            colour[2],
+            x + 0.25,
+            x + lean,
+            z = (i % 5) as f64 - 2.0,
+        ));
+    }
+    s.push_str("END\n");
+    s
+}
+
+/// The frame of `scene` rendered through a splitter tree of `depth` built by hand as
+/// render.sh's start_tree builds it (`splitter --node K --depth N`), each leaf
+/// `persp | METHOD`, the leaves merged by zbuf.
+fn render(scene: &str, depth: u32, method: &str) -> Vec<u8> {
+    run(&format!(
+        r#"d=$(mktemp -d); trap 'rm -rf "$d"' EXIT
+viewxf --size {SIZE} < {scene} | clipbatch > "$d/node-1"
+for ((n = 1; n < 1 << {depth}; n++)); do
+    splitter --node $n --depth {depth} --size {SIZE} "$d/node-$((2 * n))" "$d/node-$((2 * n + 1))" < "$d/node-$n"
+done
+leaves=()
+for ((l = 0; l < 1 << {depth}; l++)); do
+    persp --size {SIZE} < "$d/node-$(((1 << {depth}) + l))" | {method} > "$d/leaf-$l"
+    leaves+=("$d/leaf-$l")
+done
+zbuf "${{leaves[@]}}""#
+    ))
+}
+
+/// The edge-pixel RMSE of `frame` against `zspec --samples 16` of `scene`.
+fn edge_rmse(dir: &Path, scene: &str, frame: &[u8]) -> f64 {
+    let (reference, mask, out) = (
+        dir.join("ref16.ppm"),
+        dir.join("edges.ppm"),
+        dir.join("out.ppm"),
+    );
+    run(&format!(
+        "zspec --size {SIZE} --samples 16 --edge-mask {} < {scene} > {}",
+        mask.display(),
+        reference.display()
+    ));
+    std::fs::write(&out, frame).unwrap();
+    let report = String::from_utf8(run(&format!(
+        "zspec compare --metrics --edges {} {} {}",
+        mask.display(),
+        reference.display(),
+        out.display()
+    )))
+    .unwrap();
+    let overall = report
+        .lines()
+        .find(|l| l.starts_with("overall"))
+        .unwrap_or_else(|| panic!("no overall line in {report}"));
+    let words: Vec<&str> = overall.split_whitespace().collect();
+    let at = words.iter().position(|w| *w == "edge_rmse").unwrap();
+    words[at + 1].parse().unwrap()
+}
+
+#[test]
+fn supersampling_equals_its_exact_reference() {
+    let dir = tempfile::tempdir().unwrap();
+    for (name, scene) in scenes(dir.path()) {
+        for k in [2, 4, 8, 16] {
+            let got = render(&scene, 0, &format!("supersample --samples {k}"));
+            let want = run(&format!("zspec --size {SIZE} --samples {k} < {scene}"));
+            let (got, want) = (
+                parse_ppm_stream(&got).unwrap(),
+                parse_ppm_stream(&want).unwrap(),
+            );
+            let differing = got[0]
+                .pixels
+                .iter()
+                .zip(&want[0].pixels)
+                .filter(|(a, b)| a != b)
+                .count();
+            assert_eq!(differing, 0, "{name}, K = {k}");
+        }
+    }
+}
+
+#[test]
+fn edge_error_is_at_most_a_quarter_of_point_samplings() {
+    let dir = tempfile::tempdir().unwrap();
+    for (name, scene) in scenes(dir.path()) {
+        for depth in [0, 2] {
+            let point = edge_rmse(
+                dir.path(),
+                &scene,
+                &render(&scene, depth, "scanconv --resolve"),
+            );
+            assert!(
+                point > 5.0,
+                "{name}: point sampling's edge RMSE only {point}"
+            );
+            for method in ["abuf", "supersample --samples 4"] {
+                let e = edge_rmse(dir.path(), &scene, &render(&scene, depth, method));
+                assert!(
+                    e <= point / 4.0,
+                    "{name} at depth {depth}: {method} edge RMSE {e}, point sampling {point}"
+                );
+            }
+        }
+    }
+}
+
+#[test]
+fn frames_are_the_same_at_every_tree_depth() {
+    let dir = tempfile::tempdir().unwrap();
+    let scenes = scenes(dir.path());
+    for method in [
+        "abuf",
+        "supersample --samples 2",
+        "supersample --samples 4",
+        "supersample --samples 8",
+        "supersample --samples 16",
+    ] {
+        for (name, scene) in &scenes[..3] {
+            let base = render(scene, 0, method);
+            for depth in 1..=4 {
+                assert!(
+                    render(scene, depth, method) == base,
+                    "{name}: {method} at depth {depth} differs from depth 0"
+                );
+            }
+        }
+    }
+}
+
+#[test]
+fn two_white_triangles_sharing_an_edge_show_no_seam() {
+    // A square of two triangles, its diagonal from corner to corner, on black.
+    let scene = "polypipe 1 world\ncolour 255 255 255\n-10 -10 0\n10 -10 0\n-10 10 0\n\
+                 NEXT.POLYGON\ncolour 255 255 255\n10 -10 0\n10 10 0\n-10 10 0\nEND\n";
+    for method in ["abuf", "supersample --samples 4"] {
+        let out = sh(
+            &format!("viewxf --size 32x32 | clipbatch | persp --size 32x32 | {method} | zbuf"),
+            scene.as_bytes(),
+        );
+        assert!(
+            out.status.success(),
+            "{}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        let frame = &parse_ppm_stream(&out.stdout).unwrap()[0];
+        // The square spans X, Y from 3.2 to 28.8: pixels 4..28 are inside it, the
+        // diagonal's among them.
+        for y in 4..28 {
+            for x in 4..28 {
+                let p = frame.at(x, y);
+                assert!(
+                    p.iter().all(|&c| c >= 252),
+                    "{method}: pixel ({x}, {y}) is {p:?}"
+                );
+            }
+        }
+        // The square's own border is anti-aliased: its edge X = 3.2 leaves 6 of pixel 3's
+        // 8 sample columns (3 of 4) covered.
+        assert_eq!(frame.at(3, 16), [191; 3], "{method}");
+    }
+}
+
+#[test]
+fn bad_samples_and_bad_input_are_refused() {
+    let out = sh("supersample --samples 3 < /dev/null", b"");
+    assert_eq!(out.status.code(), Some(2));
+    assert_eq!(
+        String::from_utf8_lossy(&out.stderr),
+        "supersample: --samples 3 samples a side: K must be 1, 2, 4, 8 or 16 (a power of \
+         two, so that the finer screen is exact)\n"
+    );
+    for method in ["abuf", "supersample --samples 4"] {
+        let out = sh(method, b"polypipe 1 screen 4 4\ncolour 1 2\n");
+        assert_eq!(out.status.code(), Some(1), "{method}");
+        assert!(!out.stderr.is_empty());
+        let out = sh(&format!("{method} --background 1,2"), b"");
+        assert_eq!(out.status.code(), Some(2), "{method}");
+    }
+}
+
+#[test]
+fn abuf_stats_count_the_fragments() {
+    // One square over 2×2 pixels, wholly covering them: four simple pixelstructs.
+    let out = sh(
+        "abuf --stats --text",
+        b"polypipe 1 screen 4 4\ncolour 9 9 9\n1 1 0.5\n3 1 0.5\n3 3 0.5\n1 3 0.5\nEND\n",
+    );
+    assert!(out.status.success());
+    assert_eq!(
+        String::from_utf8_lossy(&out.stderr),
+        "abuf: 1 polygons in, 1 frames, 2 runs out, 4 fragments, 4 simple, 0 lists, max list \
+         length 0, 0 combined, 0 hidden, 0 intersect cases, 4 pixels out\n"
+    );
+    assert!(String::from_utf8_lossy(&out.stdout).contains("run 1 1 3 9 9 9"));
+}
