@@ -233,7 +233,7 @@ validate_options() {
 # The stages render.sh runs, and the other binaries the README's examples use: all built
 # on the first run, so that every command in the README works after it.
 binaries=(viewxf clipplane clipbatch splitter persp scanconv zbuf scanline warnock painter
-    hiddenline scene zspec frames chart)
+    hiddenline supersample abuf scene zspec frames chart)
 stages=(viewxf clipplane clipbatch splitter persp scanconv zbuf) # the ones a render runs
 
 # Sets `bindir`, and builds the binaries with cargo when one is missing or stale. Without
@@ -246,6 +246,8 @@ ensure_binaries() {
         bindir=$POLYPIPE_BIN
         local method=()
         [[ $hse == zbuf ]] || method=("$hse")
+        [[ $aa != ss* ]] || method=(supersample)
+        [[ $aa != abuf ]] || method=(abuf)
         for b in "${stages[@]}" "${method[@]}"; do
             [[ -x $bindir/$b ]] || fail 3 "no $b in $bindir (POLYPIPE_BIN)"
         done

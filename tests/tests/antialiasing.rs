@@ -241,3 +241,63 @@ fn abuf_stats_count_the_fragments() {
     );
     assert!(String::from_utf8_lossy(&out.stdout).contains("run 1 1 3 9 9 9"));
 }
+
+/// `scripts/render.sh --aa MODE` as a user runs it: every mode gives the same bytes at
+/// depths 0-4 (the tree's cuts are on pixel boundaries, so each pixel's samples are all in
+/// one leaf), and `ssK` is byte for byte `zspec --samples K` of the same view.
+#[test]
+fn render_sh_aa_is_the_same_at_every_depth_and_ss_k_is_its_reference() {
+    let dir = tempfile::tempdir().unwrap();
+    let scene = dir.path().join("env.pp");
+    run(&format!(
+        "scene environment --polygons 300 --frames 2 --size 96x64 --seed 5 > {}",
+        scene.display()
+    ));
+    let s = scene.display();
+    for mode in ["ss2", "ss4", "ss8", "ss16", "abuf"] {
+        let at0 = run(&format!("scripts/render.sh --size 96x64 --aa {mode} {s}"));
+        assert_eq!(parse_ppm_stream(&at0).unwrap().len(), 2);
+        for depth in 1..=4 {
+            let deeper = run(&format!(
+                "scripts/render.sh --size 96x64 --aa {mode} --depth {depth} {s}"
+            ));
+            assert!(
+                deeper == at0,
+                "--aa {mode} --depth {depth} differs from depth 0"
+            );
+        }
+        if let Some(k) = mode.strip_prefix("ss") {
+            let reference = run(&format!("zspec --size 96x64 --samples {k} {s}"));
+            assert!(at0 == reference, "--aa {mode} is not zspec --samples {k}");
+        }
+    }
+    let point = run(&format!("scripts/render.sh --size 96x64 {s}"));
+    let abuf = run(&format!("scripts/render.sh --size 96x64 --aa abuf {s}"));
+    assert!(point != abuf, "the a-buffer changes the edge pixels");
+}
+
+#[test]
+fn render_sh_refuses_aa_with_another_method_or_the_one_zbuffer() {
+    for (options, message) in [
+        (
+            "--aa ss3",
+            "render.sh: --aa must be none, ss2, ss4, ss8, ss16 or abuf, not 'ss3'",
+        ),
+        (
+            "--aa abuf --hse warnock",
+            "render.sh: --aa abuf is a z-buffer's anti-aliasing: not with --hse warnock",
+        ),
+        (
+            "--aa ss4 --merge buffer",
+            "render.sh: --merge buffer is the z-buffer's, point-sampled: not with --hse zbuf --aa ss4",
+        ),
+    ] {
+        let out = sh(&format!("scripts/render.sh {options}"), b"");
+        assert_eq!(out.status.code(), Some(2), "{options}");
+        assert_eq!(
+            String::from_utf8(out.stderr).unwrap().lines().next(),
+            Some(message),
+            "{options}"
+        );
+    }
+}

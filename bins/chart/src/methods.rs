@@ -35,10 +35,9 @@ const ROOT: &[u8] = &[0];
 
 /// Every method the chart runs, in the order of the CSV.
 ///
-/// The rows for the methods other branches build (`--hse scanline|warnock|painter`,
-/// `--aa ss2…ss16|abuf`, `--merge buffer --pixels` as `zbuf-pixels`) are added here as
-/// each lands in `render.sh`, e.g.
-/// `Method { name: "scanline", options: &["--hse", "scanline"], input: Input::AsGiven, depths: TREE, quick: true }`.
+/// The hidden-surface methods (`--hse`) at every depth, the anti-aliasing modes (`--aa`,
+/// the same frames at every depth, so two depths show what the tree does to their time),
+/// and the z-buffer's variants.
 pub const METHODS: &[Method] = &[
     Method {
         name: "scanline",
@@ -60,6 +59,41 @@ pub const METHODS: &[Method] = &[
         input: Input::AsGiven,
         depths: TREE,
         quick: true,
+    },
+    Method {
+        name: "abuf",
+        options: &["--aa", "abuf"],
+        input: Input::AsGiven,
+        depths: &[0, 2],
+        quick: true,
+    },
+    Method {
+        name: "ss2",
+        options: &["--aa", "ss2"],
+        input: Input::AsGiven,
+        depths: &[0, 2],
+        quick: false,
+    },
+    Method {
+        name: "ss4",
+        options: &["--aa", "ss4"],
+        input: Input::AsGiven,
+        depths: &[0, 2],
+        quick: true,
+    },
+    Method {
+        name: "ss8",
+        options: &["--aa", "ss8"],
+        input: Input::AsGiven,
+        depths: &[0, 2],
+        quick: false,
+    },
+    Method {
+        name: "ss16",
+        options: &["--aa", "ss16"],
+        input: Input::AsGiven,
+        depths: &[0, 2],
+        quick: false,
     },
     Method {
         name: "zbuf-pixels",
