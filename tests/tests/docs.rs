@@ -108,7 +108,9 @@ fn every_citation_of_the_design_is_docs_design_md_and_names_a_section_it_has() {
         "The merge",
         "Errors and exit statuses",
         "Departures from the thesis and the card",
-        "Wave 2 (in progress)",
+        "Wave 2: leaves that see, other methods, anti-aliasing, the chart, other hosts",
+        "Hidden-surface methods",
+        "Stages on other hosts",
     ] {
         assert!(
             sections.contains(wanted),
