@@ -30,11 +30,13 @@
 pub mod args;
 pub mod error;
 pub mod leaf;
+pub mod names;
 pub mod stream;
 
 pub use args::{parse, parse_colour, PpmTextFlag, TextFlag, ViewArgs};
 pub use error::{Context, Error, Kind, Result};
 pub use leaf::{resolve_frames, FrameCounts};
+pub use names::FrameNames;
 pub use stream::{
     check_finite, filter_polygons, input_error, input_name, next, open_input, open_output,
     read_stdin, same_file, stdout, write_stdout, Branch, Named,

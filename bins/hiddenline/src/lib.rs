@@ -489,71 +489,6 @@ pub fn svg(
     s
 }
 
-/// `-o PATTERN`: a file name with `%d` or `%0Nd` for the frame number (ffmpeg's image2
-/// convention, as zbuf's -o), `%%` for a `%`.
-#[derive(Clone, Debug, PartialEq, Eq)]
-pub struct FramePattern {
-    prefix: String,
-    /// The field's width and the text after it.
-    field: Option<(usize, String)>,
-}
-
-impl FramePattern {
-    pub fn parse(pattern: &str) -> Result<Self, String> {
-        let mut prefix = String::new();
-        let mut field: Option<(usize, String)> = None;
-        let mut chars = pattern.chars().peekable();
-        while let Some(ch) = chars.next() {
-            let text = match &mut field {
-                Some((_, suffix)) => suffix,
-                None => &mut prefix,
-            };
-            if ch != '%' {
-                text.push(ch);
-                continue;
-            }
-            if chars.peek() == Some(&'%') {
-                chars.next();
-                text.push('%');
-                continue;
-            }
-            let mut digits = String::new();
-            while let Some(d) = chars.peek().filter(|d| d.is_ascii_digit()) {
-                digits.push(*d);
-                chars.next();
-            }
-            if chars.next() != Some('d') {
-                return Err(format!(
-                    "-o {pattern}: `%` must start %d, %0Nd or %% (as in ffmpeg's image2)"
-                ));
-            }
-            if field.is_some() {
-                return Err(format!("-o {pattern}: more than one frame number field"));
-            }
-            let width = match digits.parse::<usize>() {
-                _ if digits.is_empty() => 0,
-                Ok(w) if w <= 20 => w,
-                _ => return Err(format!("-o {pattern}: field width {digits} is too wide")),
-            };
-            field = Some((width, String::new()));
-        }
-        Ok(FramePattern { prefix, field })
-    }
-
-    /// Does the name have a frame number field?
-    pub fn numbered(&self) -> bool {
-        self.field.is_some()
-    }
-
-    /// The file name of frame `n`.
-    pub fn name(&self, n: u64) -> String {
-        match &self.field {
-            Some((width, suffix)) => format!("{}{n:0width$}{suffix}", self.prefix),
-            None => self.prefix.clone(),
-        }
-    }
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -700,20 +635,6 @@ mod tests {
              <line x1=\"1.5\" y1=\"2\" x2=\"3\" y2=\"0.1\" stroke=\"rgb(1,2,3)\"/>\n\
              </g>\n</svg>\n"
         );
-    }
-
-    #[test]
-    fn frame_patterns() {
-        let p = FramePattern::parse("f%03d.svg").unwrap();
-        assert!(p.numbered());
-        assert_eq!(p.name(7), "f007.svg");
-        assert_eq!(
-            FramePattern::parse("a%d%%.svg").unwrap().name(12),
-            "a12%.svg"
-        );
-        assert!(!FramePattern::parse("one.svg").unwrap().numbered());
-        assert!(FramePattern::parse("x%s").is_err());
-        assert!(FramePattern::parse("%d%d").is_err());
     }
 
     mod properties {

@@ -1,7 +1,8 @@
 //! hiddenline: screen-space polygons in, the visible parts of their edges out, as SVG.
 
 use clap::Parser;
-use hiddenline::{svg, visible_segments, FramePattern, LineStats};
+use hiddenline::{svg, visible_segments, LineStats};
+use stagecli::FrameNames;
 use proto::{Colour, Polygon, SpaceKind, Token};
 use stagecli::Error;
 use std::io::Write;
@@ -32,7 +33,7 @@ struct Args {
     #[arg(short = 'o', value_name = "PATTERN")]
     output: Option<String>,
     /// Background colour R,G,B (a rectangle under the lines).
-    #[arg(long, value_parser = parse_colour, default_value = "255,255,255")]
+    #[arg(long, value_parser = stagecli::parse_colour, default_value = "255,255,255")]
     background: Colour,
     /// Line width in pixels.
     #[arg(long, default_value_t = 1.0, value_parser = parse_width)]
@@ -41,19 +42,6 @@ struct Args {
     /// screen border), edge–polygon pairs tested, pieces drawn.
     #[arg(long)]
     stats: bool,
-}
-
-fn parse_colour(s: &str) -> Result<Colour, String> {
-    let parts: Vec<&str> = s.split(',').collect();
-    let bad = || format!("`{s}` is not a colour R,G,B (three numbers 0 to 255)");
-    if parts.len() != 3 {
-        return Err(bad());
-    }
-    let mut c = [0u8; 3];
-    for (slot, p) in c.iter_mut().zip(parts) {
-        *slot = p.trim().parse().map_err(|_| bad())?;
-    }
-    Ok(c)
 }
 
 fn parse_width(s: &str) -> Result<f64, String> {
@@ -68,7 +56,7 @@ fn main() -> ExitCode {
         let pattern = args
             .output
             .as_deref()
-            .map(FramePattern::parse)
+            .map(FrameNames::parse)
             .transpose()
             .map_err(Error::usage)?;
         let mut input = stagecli::read_stdin::<Token>(SpaceKind::Screen)?;

@@ -289,28 +289,13 @@ fn filled<T: Clone>(n: usize, value: T) -> Option<Vec<T>> {
     Some(v)
 }
 
-/// Parses `R,G,B` (each 0–255), e.g. for `--background`.
-pub fn parse_colour(s: &str) -> Result<Colour, String> {
-    let parts: Vec<&str> = s.split(',').map(str::trim).collect();
-    if parts.len() != 3 {
-        return Err(format!("expected R,G,B (three numbers 0-255), got `{s}`"));
-    }
-    let mut c = [0u8; 3];
-    for (slot, p) in c.iter_mut().zip(parts) {
-        *slot = p
-            .parse()
-            .map_err(|_| format!("`{p}` is not a colour component 0-255"))?;
-    }
-    Ok(c)
-}
+pub use stagecli::parse_colour;
 
-/// A file name pattern for one file per frame, as ffmpeg's image2 muxer reads it: `%d`
-/// is the frame number (from 0), `%0Nd` (or `%Nd`) the frame number zero-padded to N
-/// digits, `%%` a literal `%`. At most one number field.
+/// `-o PATTERN`: one picture file per frame ([`stagecli::FrameNames`]: `%d`, `%0Nd` the
+/// frame number), in the format its extension names.
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct FramePattern {
-    /// The text before and after the number field; `None` when the pattern has no field.
-    parts: (String, Option<(usize, String)>),
+    names: stagecli::FrameNames,
     /// The image format, chosen by the extension.
     pub format: ImageFormat,
 }
@@ -324,47 +309,7 @@ pub enum ImageFormat {
 
 impl FramePattern {
     pub fn parse(pattern: &str) -> Result<Self, String> {
-        let mut prefix = String::new();
-        let mut field: Option<(usize, String)> = None;
-        let mut chars = pattern.chars().peekable();
-        while let Some(ch) = chars.next() {
-            let text = match &mut field {
-                Some((_, suffix)) => suffix,
-                None => &mut prefix,
-            };
-            if ch != '%' {
-                text.push(ch);
-                continue;
-            }
-            if chars.peek() == Some(&'%') {
-                chars.next();
-                text.push('%');
-                continue;
-            }
-            let mut digits = String::new();
-            while let Some(d) = chars.peek().filter(|d| d.is_ascii_digit()) {
-                digits.push(*d);
-                chars.next();
-            }
-            if chars.next() != Some('d') {
-                return Err(format!(
-                    "-o {pattern}: `%` must start %d, %0Nd or %% (as in ffmpeg's image2)"
-                ));
-            }
-            if field.is_some() {
-                return Err(format!("-o {pattern}: more than one frame number field"));
-            }
-            let width = if digits.is_empty() {
-                0
-            } else {
-                digits
-                    .parse::<usize>()
-                    .ok()
-                    .filter(|w| *w <= 20)
-                    .ok_or_else(|| format!("-o {pattern}: field width {digits} is too wide"))?
-            };
-            field = Some((width, String::new()));
-        }
+        let names = stagecli::FrameNames::parse(pattern)?;
         let ext = Path::new(pattern)
             .extension()
             .and_then(|e| e.to_str())
@@ -374,24 +319,17 @@ impl FramePattern {
             Some("ppm") => ImageFormat::Ppm,
             _ => return Err(format!("-o {pattern}: the file name must end .png or .ppm")),
         };
-        Ok(FramePattern {
-            parts: (prefix, field),
-            format,
-        })
+        Ok(FramePattern { names, format })
     }
 
     /// Whether the pattern numbers its files (and so can take more than one frame).
     pub fn numbered(&self) -> bool {
-        self.parts.1.is_some()
+        self.names.numbered()
     }
 
     /// The file name of frame `frame`.
     pub fn path(&self, frame: u64) -> PathBuf {
-        let (prefix, field) = &self.parts;
-        match field {
-            Some((width, suffix)) => format!("{prefix}{frame:0width$}{suffix}").into(),
-            None => prefix.into(),
-        }
+        self.names.name(frame).into()
     }
 
     /// Writes frame `frame` to its file; a .ppm file in the given form.

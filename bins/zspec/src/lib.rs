@@ -446,20 +446,7 @@ pub fn compare(a: &[Image], b: &[Image]) -> Result<Vec<FrameAgreement>, String> 
         .collect()
 }
 
-/// Parses a colour `R,G,B`.
-pub fn parse_colour(s: &str) -> Result<Colour, String> {
-    let parts: Vec<&str> = s.split(',').map(str::trim).collect();
-    if parts.len() != 3 {
-        return Err(format!("expected R,G,B, found `{s}`"));
-    }
-    let mut c = [0u8; 3];
-    for (slot, p) in c.iter_mut().zip(&parts) {
-        *slot = p
-            .parse::<u8>()
-            .map_err(|_| format!("`{p}` in `{s}` is not a number from 0 to 255"))?;
-    }
-    Ok(c)
-}
+pub use stagecli::parse_colour;
 
 #[cfg(test)]
 mod tests;
