@@ -107,20 +107,25 @@ pub fn differing_pixels(a: &[Option<Colour>], b: &[Option<Colour>]) -> usize {
 /// The runs of one row of finished pixels (`None`: not covered), each as long as it can
 /// be: how a method that decides a row at a time sends it.
 pub fn push_row_runs(y: u32, row: &[Option<Colour>], runs: &mut Vec<Run>) {
+    push_row_runs_at(y, 0, row, runs)
+}
+
+/// [`push_row_runs`] for a piece of a row whose first pixel is column `x0`.
+pub fn push_row_runs_at(y: u32, x0: u32, row: &[Option<Colour>], runs: &mut Vec<Run>) {
     let mut x = 0;
     while x < row.len() {
         let Some(colour) = row[x] else {
             x += 1;
             continue;
         };
-        let x0 = x;
+        let start = x;
         while x < row.len() && row[x] == Some(colour) {
             x += 1;
         }
         runs.push(Run {
             y,
-            x0: x0 as u32,
-            x1: x as u32,
+            x0: x0 + start as u32,
+            x1: x0 + x as u32,
             colour,
         });
     }

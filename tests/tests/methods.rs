@@ -191,31 +191,3 @@ fn hidden_lines_go_to_the_svg_file() {
         "{text}"
     );
 }
-
-#[test]
-fn the_painter_on_the_degenerate_scenes() {
-    // Right on the nine with a depth order; wrong, by these many pixels of 64×48, on
-    // those where polygons pass through each other (docs/methods.md).
-    for (scene, wrong) in [
-        ("bowtie-nonplanar", 0),
-        ("collinear-leading", 380),
-        ("concave-clipped", 73),
-        ("coplanar-ties", 0),
-        ("edge-on", 0),
-        ("edges-in-clip-planes", 24),
-        ("eye-plane", 0),
-        ("huge-and-tiny", 13),
-        ("huge-through-eye", 0),
-        ("mesh", 0),
-        ("minima-horizontal", 0),
-        ("on-clip-planes", 56),
-        ("on-split-planes", 78),
-        ("slivers-and-specks", 0),
-        ("vertex-counts", 0),
-    ] {
-        let options = format!("--size 64x48 examples/degenerate/{scene}.txt");
-        let zbuf = render(&options);
-        let painter = render(&format!("--hse painter {options}"));
-        assert_eq!(differing(&painter, &zbuf), wrong, "{scene}");
-    }
-}

@@ -32,7 +32,7 @@ pub mod list;
 use list::{Fragment, ListStats, Mask, Packer, PixelStruct};
 use proto::{Colour, Polygon};
 use scan::fine::{scaled, ActiveRows};
-use scan::frame::{push_row_runs, HiddenSurface};
+use scan::frame::{push_row_runs_at, HiddenSurface};
 use scan::{Run, SpanWalker};
 
 /// Sub-pixel samples a side.
@@ -155,12 +155,7 @@ impl ABuffer {
             self.row.push(colour);
             p.clear(&mut self.pool);
         }
-        let from = runs.len();
-        push_row_runs(r, &self.row, runs);
-        for run in &mut runs[from..] {
-            run.x0 += cols.start;
-            run.x1 += cols.start;
-        }
+        push_row_runs_at(r, cols.start, &self.row, runs);
     }
 }
 

@@ -2,9 +2,9 @@
 
 use clap::Parser;
 use hiddenline::{svg, visible_segments, LineStats};
-use stagecli::FrameNames;
 use proto::{Colour, Polygon, SpaceKind, Token};
 use stagecli::Error;
+use stagecli::FrameNames;
 use std::io::Write;
 use std::process::ExitCode;
 

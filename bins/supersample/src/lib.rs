@@ -20,7 +20,7 @@
 
 use proto::{Colour, Polygon};
 use scan::fine::{scaled, ActiveRows};
-use scan::frame::{push_row_runs, HiddenSurface};
+use scan::frame::{push_row_runs_at, HiddenSurface};
 use scan::{Run, SpanWalker};
 
 /// No polygon has covered the sample yet.
@@ -147,12 +147,7 @@ impl Supersample {
                 sum.map(|s| ((s + count / 2) / count) as u8)
             }));
         }
-        let from = runs.len();
-        push_row_runs(r, &self.row, runs);
-        for run in &mut runs[from..] {
-            run.x0 += cols.start;
-            run.x1 += cols.start;
-        }
+        push_row_runs_at(r, cols.start, &self.row, runs);
     }
 }
 
