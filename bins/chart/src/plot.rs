@@ -147,34 +147,121 @@ where
             .axis_desc_style(("sans-serif", 18))
             .label_style(("sans-serif", 16))
             .x_labels(10)
-            .x_label_formatter(&|v| format!("{v:.3}"))
+            .x_label_formatter(&|v| log_tick(*v))
             .y_label_formatter(&|v| format!("{v:.1}"))
             .light_line_style(RGBColor(235, 235, 235))
             .draw()?;
         let front: Vec<(f64, f64)> = pareto(&marks).iter().map(|r| (r.wall_s, r.rmse)).collect();
         chart.draw_series(LineSeries::new(front, RGBColor(90, 90, 90).stroke_width(2)))?;
-        // Marks in order of time; labels stacked in four rows above them, so that methods
-        // of equal error and nearly equal time stay readable.
+        // Marks in order of time, each label placed where it overlaps no label placed
+        // before it and no mark: the first free slot of a column of slots above the mark,
+        // then below it, each joined to its mark by a leader line.
         let mut by_time = marks.clone();
         by_time.sort_by(|a, b| a.wall_s.total_cmp(&b.wall_s));
-        for (i, r) in by_time.iter().enumerate() {
+        let at: Vec<(i32, i32)> = by_time
+            .iter()
+            .map(|r| chart.backend_coord(&(r.wall_s, r.rmse)))
+            .collect();
+        let area = chart.plotting_area().get_pixel_range();
+        let mut placed: Vec<LabelBox> = at.iter().map(|&(x, y)| LabelBox::mark(x, y)).collect();
+        for (r, &(x, y)) in by_time.iter().zip(&at) {
             let c = colour_of(&r.method);
             let label = if r.depth > 0 {
                 format!("{} d{}", r.method, r.depth)
             } else {
                 r.method.clone()
             };
-            let dy = -12 - 18 * (i % 4) as i32;
+            let dy = place_label(&label, (x, y), (&area.0, &area.1), &placed);
+            placed.push(LabelBox::text(&label, x + 2, y + dy - 8));
             chart.draw_series(std::iter::once(
                 EmptyElement::at((r.wall_s, r.rmse))
                     + Circle::new((0, 0), 7, c.filled())
-                    + PathElement::new([(0, 0), (0, dy + 4)], c.stroke_width(1))
+                    + PathElement::new(
+                        [
+                            (0, if dy < 0 { -7 } else { 7 }),
+                            (0, dy + if dy < 0 { 4 } else { -8 }),
+                        ],
+                        c.stroke_width(1),
+                    )
                     + Text::new(label, (2, dy - 8), ("sans-serif", 16).into_font().color(&c)),
             ))?;
         }
     }
     root.present()?;
     Ok(())
+}
+
+/// A log axis's tick label: the value at 1, 2 and 5 times a power of ten, nothing at the
+/// ticks between (their labels would run together near each power of ten).
+fn log_tick(v: f64) -> String {
+    let mantissa = v / 10f64.powf(v.log10().floor());
+    if [1.0, 2.0, 5.0, 10.0]
+        .iter()
+        .any(|m| (mantissa - m).abs() < 0.01)
+    {
+        let digits = (-v.log10().floor()).max(0.0) as usize;
+        format!("{v:.digits$}")
+    } else {
+        String::new()
+    }
+}
+
+/// A box on the picture, in pixels: a placed label, or a mark.
+#[derive(Clone, Copy, Debug, PartialEq)]
+struct LabelBox {
+    x0: i32,
+    y0: i32,
+    x1: i32,
+    y1: i32,
+}
+
+impl LabelBox {
+    /// Text `label` at 16 px whose top left is (x, y): about 9 px a character.
+    fn text(label: &str, x: i32, y: i32) -> Self {
+        LabelBox {
+            x0: x,
+            y0: y,
+            x1: x + 9 * label.chars().count() as i32,
+            y1: y + 16,
+        }
+    }
+
+    /// A mark of radius 7 at (x, y).
+    fn mark(x: i32, y: i32) -> Self {
+        LabelBox {
+            x0: x - 7,
+            y0: y - 7,
+            x1: x + 7,
+            y1: y + 7,
+        }
+    }
+
+    fn overlaps(&self, o: &LabelBox) -> bool {
+        self.x0 < o.x1 && o.x0 < self.x1 && self.y0 < o.y1 && o.y0 < self.y1
+    }
+}
+
+/// The vertical offset from its mark at `at` of the first slot for `label` that overlaps
+/// none of `placed` and stays inside the plotting area `xs`×`ys` (pixels): slots 18 px
+/// apart above the mark, then below it; the nearest above if none is free.
+fn place_label(
+    label: &str,
+    at: (i32, i32),
+    (xs, ys): (&std::ops::Range<i32>, &std::ops::Range<i32>),
+    placed: &[LabelBox],
+) -> i32 {
+    let above = (0..14).map(|k| -16 - 18 * k);
+    let below = (0..10).map(|k| 24 + 18 * k);
+    for dy in above.chain(below) {
+        let b = LabelBox::text(label, at.0 + 2, at.1 + dy - 8);
+        let inside = b.y0 >= ys.start && b.y1 <= ys.end && b.x1 <= xs.end + 40;
+        // The mark's own box is among `placed`; a label never sits on a mark, its own
+        // included.
+        if inside && !placed.iter().any(|p| p.overlaps(&b)) {
+            return dy;
+        }
+    }
+    -16
 }
 
 fn png(
@@ -233,8 +320,8 @@ where
         .y_desc("predicted, seconds (log scale)")
         .axis_desc_style(("sans-serif", 18))
         .label_style(("sans-serif", 16))
-        .x_label_formatter(&|v| format!("{v:.3}"))
-        .y_label_formatter(&|v| format!("{v:.3}"))
+        .x_label_formatter(&|v| log_tick(*v))
+        .y_label_formatter(&|v| log_tick(*v))
         .light_line_style(RGBColor(235, 235, 235))
         .draw()?;
     chart
@@ -334,6 +421,38 @@ mod tests {
         assert_eq!(m[0].depth, 1);
         let front: Vec<&str> = pareto(&m).iter().map(|r| r.method.as_str()).collect();
         assert_eq!(front, ["zbuf", "ss4"]);
+    }
+
+    #[test]
+    fn log_ticks_are_labelled_at_1_2_and_5() {
+        let labels: Vec<String> = [0.1, 0.2, 0.3, 0.5, 0.9, 1.0, 2.0, 0.02, 0.05]
+            .iter()
+            .map(|v| log_tick(*v))
+            .collect();
+        assert_eq!(
+            labels,
+            ["0.1", "0.2", "", "0.5", "", "1", "2", "0.02", "0.05"]
+        );
+    }
+
+    #[test]
+    fn labels_take_the_first_free_slot_above_then_below() {
+        let area = (0..400, 0..300);
+        let at = (100, 150);
+        let marks = [LabelBox::mark(at.0, at.1)];
+        assert_eq!(place_label("zbuf", at, (&area.0, &area.1), &marks), -16);
+        let mut placed = marks.to_vec();
+        placed.push(LabelBox::text("zbuf", at.0 + 2, at.1 - 16 - 8));
+        assert_eq!(
+            place_label("scanline", at, (&area.0, &area.1), &placed),
+            -34
+        );
+        // Near the top edge: no room above, so below.
+        let top = (100, 10);
+        assert_eq!(
+            place_label("ss4", top, (&area.0, &area.1), &[LabelBox::mark(100, 10)]),
+            24
+        );
     }
 
     #[test]

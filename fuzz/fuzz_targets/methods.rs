@@ -1,0 +1,55 @@
+//! The whole-frame hidden-surface methods (docs/methods.md) on arbitrary frames of screen
+//! polygons: Watkins's scan line and Warnock's subdivision give the z-buffer's picture
+//! pixel for pixel, the painter and the hidden-line solver do not panic, and every
+//! method's runs stay on the screen, each pixel at most once (`scan::frame::image_of`
+//! checks both).
+#![no_main]
+use libfuzzer_sys::fuzz_target;
+use polypipe_fuzz::{polygon, Bytes};
+use proto::Vertex;
+use scan::frame::{differing_pixels, image_of, zbuffer_image, HiddenSurface};
+
+fuzz_target!(|data: &[u8]| {
+    let mut b = Bytes(data);
+    let width = 1 + (b.u8() % 48) as u32;
+    let height = 1 + (b.u8() % 48) as u32;
+    let count = 1 + b.u8() % 8;
+    let mut polygons = Vec::new();
+    for _ in 0..count {
+        // Screen vertices: X and Y mostly on a grid near the screen (shared edges, ties),
+        // depth mostly from a few planes (equal depths), else anything finite.
+        let poly = polygon(&mut b, |b| {
+            let c = |b: &mut Bytes| {
+                if b.u8() % 8 == 0 {
+                    b.f64()
+                } else {
+                    b.grid() * 2.0 + 24.0
+                }
+            };
+            let z = if b.u8() % 4 == 0 {
+                b.coord()
+            } else {
+                (b.u8() % 4) as f64 * 0.25
+            };
+            Vertex::new(c(b), c(b), z, 1.0)
+        });
+        // The stages refuse a polygon far off the screen before any method sees it.
+        if scan::check_on_screen(&poly, width, height).is_ok() {
+            polygons.push(poly);
+        }
+    }
+    let reference = zbuffer_image(&polygons, width, height);
+    let mut runs = Vec::new();
+    scanline::Scanline::default().resolve(&polygons, width, height, &mut runs);
+    let image = image_of(&runs, width, height);
+    assert_eq!(differing_pixels(&image, &reference), 0, "scanline");
+    runs.clear();
+    warnock::Warnock::default().resolve(&polygons, width, height, &mut runs);
+    let image = image_of(&runs, width, height);
+    assert_eq!(differing_pixels(&image, &reference), 0, "warnock");
+    for mut painter in [painter::Painter::new(), painter::Painter::with_split()] {
+        runs.clear();
+        painter.resolve(&polygons, width, height, &mut runs);
+        image_of(&runs, width, height);
+    }
+});
