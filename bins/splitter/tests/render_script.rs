@@ -833,7 +833,7 @@ fn option_errors_are_one_line_naming_the_option_typed() {
         ),
         (
             &["--depth", "7"],
-            "render.sh: --depth must be an integer from 0 to 6, not '7'",
+            "render.sh: --depth must be an integer from 0 to 6 or auto, not '7'",
         ),
         (
             &["--size", "65537x10"],
@@ -1150,7 +1150,7 @@ fn only_the_binaries_sources_make_render_sh_call_cargo() {
     assert_eq!(out.status.code(), Some(3));
     let err = String::from_utf8_lossy(&out.stderr);
     assert!(
-        err.starts_with("render.sh: cannot build viewxf clipplane clipbatch splitter persp scanconv zbuf scene zspec frames into ")
+        err.starts_with("render.sh: cannot build viewxf clipplane clipbatch splitter persp scanconv zbuf scanline warnock painter hiddenline supersample abuf scene zspec frames chart into ")
             && err.ends_with(": cargo is not on PATH (Rust: https://rustup.rs)\n"),
         "{err}"
     );
@@ -1186,7 +1186,8 @@ fn only_the_binaries_sources_make_render_sh_call_cargo() {
     assert_eq!(out.stdout, first.stdout);
     assert_eq!(
         String::from_utf8_lossy(&out.stderr),
-        "render.sh: warning: viewxf clipplane clipbatch splitter persp scanconv zbuf scene zspec frames: \
+        "render.sh: warning: viewxf clipplane clipbatch splitter persp scanconv zbuf scanline warnock painter \
+         hiddenline supersample abuf scene zspec frames chart: \
          older than their sources, and no cargo on PATH to rebuild them; running them as they are\n"
     );
     // With cargo: rebuilt, once.
