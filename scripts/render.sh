@@ -61,9 +61,11 @@ Options:
                     thesis's six clipplane processes
   --stats           splitter nodes, scan converters and zbuf print counts on stderr
   -o PATTERN        zbuf writes one file per frame (e.g. frame%04d.png) instead
-  --hosts H1,H2,…   run the tree's leaves (persp and the method) on other hosts
-                    over ssh ($POLYPIPE_SSH HOST …, default ssh), round-robin: the
-                    leaves' streams go there and their finished pixels come back
+  --hosts H1,H2,…   run the tree on other hosts over ssh ($POLYPIPE_SSH HOST …,
+                    default ssh), round-robin: each host a leaf, or a whole subtree
+                    (its splitters and leaves) when the tree has more leaves than
+                    there are hosts; the streams go there, the finished pixels
+                    come back, and the frames are a local run's
   --by MODE         with --hosts: leaves (default), or frames: split a movie's
                     frames across the hosts in contiguous chunks, each rendered
                     there whole (scripts/render-frames.sh)
