@@ -568,18 +568,40 @@ fn a_host_that_drops_mid_run_ends_it_within_seconds_leaving_nothing() {
     };
     let tmp = local_tmp(&hosts);
     let movie = long_movie(&hosts);
-    let (mut child, stdout_path) = start_long_run(&hosts, &tmp, &movie, 1);
+    let (child, stdout_path) = start_long_run(&hosts, &tmp, &movie, 1);
     assert_eq!(hosts.sessions(1), 1);
     hosts.drop_host(1); // node2's sshd and its session, render.sh and stages there: SIGKILL
+                        // The frames written are node1's, in order.
+    the_dropped_run_ends_well(
+        &hosts,
+        &tmp,
+        child,
+        &stdout_path,
+        "render.sh: host node2: ",
+        "",
+    );
+}
 
+/// After node2 dropped: the run ends within 10 s, status 3, its last line starting
+/// `prefix`; what it wrote is whole frames, the first of the movie as `render.sh
+/// --size 128x128 LOCAL` renders it here, fewer than all; node1 and here are clean. (node2
+/// went down with its processes killed outright, as a machine losing power does: what
+/// that left in node2's own TMPDIR is node2's.)
+fn the_dropped_run_ends_well(
+    hosts: &Hosts,
+    tmp: &Path,
+    mut child: std::process::Child,
+    stdout_path: &Path,
+    prefix: &str,
+    local: &str,
+) {
+    let movie = hosts.dir().join("long.pp");
     let (status, err, took) = wait_at_most(&mut child, Duration::from_secs(10));
     assert_eq!(status.code(), Some(3), "{err}");
     let message = err.lines().last().unwrap_or("");
-    assert!(message.starts_with("render.sh: host node2: "), "{err}");
+    assert!(message.starts_with(prefix), "{err}");
     assert!(took < Duration::from_secs(10), "took {took:?}");
-
-    // The frames written are whole, and the movie's first ones (node1's, in order).
-    let written = std::fs::read(&stdout_path).unwrap();
+    let written = std::fs::read(stdout_path).unwrap();
     let f = frame_bytes(128, 128);
     assert_eq!(
         written.len() % f,
@@ -587,21 +609,19 @@ fn a_host_that_drops_mid_run_ends_it_within_seconds_leaving_nothing() {
         "{} bytes: a frame cut short",
         written.len()
     );
-    let local = render_locally(&format!("--size 128x128 {}", movie.display()));
+    let whole = render_locally(&format!("--size 128x128 {local} {}", movie.display()));
     assert!(
-        local.starts_with(&written),
+        whole.starts_with(&written),
         "the {} frames written are not the movie's first",
         written.len() / f
     );
-    assert!(written.len() < local.len());
+    assert!(written.len() < whole.len());
     eprintln!(
         "node2 dropped: the run ended {took:?} later, {message:?}, {} of {} frames written",
         written.len() / f,
-        local.len() / f
+        whole.len() / f
     );
-    // node1 and here are clean. node2 went down with its render.sh killed outright, as
-    // a machine losing power does: what that left in node2's own TMPDIR is node2's.
-    assert_nothing_left(&hosts, 1, &tmp);
+    assert_nothing_left(hosts, 1, tmp);
 }
 
 #[test]
@@ -933,26 +953,12 @@ fn a_leaf_host_that_drops_mid_movie_ends_the_run_within_seconds() {
         std::thread::sleep(Duration::from_millis(5));
     }
     hosts.drop_host(1);
-    let (status, err, took) = wait_at_most(&mut child, Duration::from_secs(10));
-    assert_eq!(status.code(), Some(3), "{err}");
-    let message = err.lines().last().unwrap_or("");
-    assert!(
-        message.starts_with("render.sh: host node2 (leaf 1): ssh"),
-        "{err}"
+    the_dropped_run_ends_well(
+        &hosts,
+        &tmp,
+        child,
+        &stdout_path,
+        "render.sh: host node2 (leaf 1): ssh",
+        "--depth 1",
     );
-    assert!(took < Duration::from_secs(10), "took {took:?}");
-    let written = std::fs::read(&stdout_path).unwrap();
-    assert_eq!(
-        written.len() % f,
-        0,
-        "{} bytes: a frame cut short",
-        written.len()
-    );
-    let local = render_locally(&format!("--size 128x128 --depth 1 {}", movie.display()));
-    assert!(
-        local.starts_with(&written),
-        "the frames written are not the movie's first"
-    );
-    assert!(written.len() < local.len());
-    assert_nothing_left(&hosts, 1, &tmp);
 }
