@@ -246,11 +246,9 @@ ensure_binaries() {
     # `POLYPIPE_BIN=DIR render.sh …` there), which may have no sources and no cargo.
     if [[ -n ${POLYPIPE_BIN-} ]]; then
         bindir=$POLYPIPE_BIN
-        local method=()
-        [[ $hse == zbuf ]] || method=("$hse")
-        [[ $aa != ss* ]] || method=(supersample)
-        [[ $aa != abuf ]] || method=(abuf)
-        for b in "${stages[@]}" "${method[@]}"; do
+        local method
+        leaf_method
+        for b in "${stages[@]}" "${method[0]}"; do
             [[ -x $bindir/$b ]] || fail 3 "no $b in $bindir (POLYPIPE_BIN)"
         done
         return 0
@@ -422,19 +420,20 @@ start_tree() {
 }
 
 # The hidden-surface stage at each leaf, as --merge, --hse and --aa choose it (sets
-# `method`): by default scanconv resolves its region with a z-buffer; --merge buffer sends
-# fragments on for the one zbuf to test (the thesis's PAR.BUFF).
+# `method`: the binary's name, then its options): by default scanconv resolves its region
+# with a z-buffer; --merge buffer sends fragments on for the one zbuf to test (the
+# thesis's PAR.BUFF).
 leaf_method() {
     if [[ $merge == buffer ]]; then
-        method=("$bindir/scanconv" "${pixels[@]}")
+        method=(scanconv "${pixels[@]}")
     elif [[ $aa == ss* ]]; then
-        method=("$bindir/supersample" --samples "${aa#ss}")
+        method=(supersample --samples "${aa#ss}")
     elif [[ $aa == abuf ]]; then
-        method=("$bindir/abuf")
+        method=(abuf)
     elif [[ $hse == zbuf ]]; then
-        method=("$bindir/scanconv" --resolve)
+        method=(scanconv --resolve)
     else
-        method=("$bindir/$hse")
+        method=("$hse")
     fi
 }
 
@@ -446,7 +445,8 @@ start_leaf() {
     fifo "screen-$leaf"
     start "persp$label" "$in" "$tmp/screen-$leaf" \
         "$bindir/persp" --size "$size" --depth "$zmode"
-    start "${method[0]##*/}$label" "$tmp/screen-$leaf" "$out" "${method[@]}" "${stats[@]}"
+    start "${method[0]}$label" "$tmp/screen-$leaf" "$out" \
+        "$bindir/${method[0]}" "${method[@]:1}" "${stats[@]}"
 }
 
 # The level of the tree whose subtrees go to the hosts (`--hosts`): the first with at least
@@ -483,8 +483,7 @@ start_subtrees() {
         fragments+=("$tmp/from-$node")
         start "$(what_node "$node") (host $host)" "${input_of[node]}" "$tmp/from-$node" \
             "${ssh_cmd[@]}" "$host" "$remote"
-        host_of[$!]="$host ($(what_node "$node"))"
-        node_of[$!]=$node
+        host_of[$!]=$host node_of[$!]=$node
     done
 }
 
@@ -509,7 +508,7 @@ start_leaves() {
 # --subtree K, from stdin into node K) to stdout.
 start_graph() {
     local top=${subtree:-1}
-    declare -gA host_of=() node_of=() # an ssh's pid → "HOST (leaf N)", its node
+    declare -gA host_of=() node_of=() # an ssh's pid → its host, and the node it runs
     input_of=([top]=$clipped)
     fragments=()
     if ((${#hosts[@]})); then
@@ -584,7 +583,7 @@ labelled_stderr() {
     while IFS= read -r line || [[ -n $line ]]; do
         line=${line//"$tmp/"/}
         if [[ -n $host ]]; then # a host's render.sh, which labelled its own lines
-            line="host ${host%% *}: ${line#render.sh: }"
+            line="host $host: ${line#render.sh: }"
         elif [[ $line == "$program: "* ]]; then
             line="$label: ${line#"$program: "}"
         fi
@@ -608,7 +607,7 @@ links() {
         fi
         line=$(grep -h "^zbuf: .*from-$node: " "$tmp"/stderr.* 2>/dev/null)
         [[ ! $line =~ \ ([0-9]+)\ bytes\ in$ ]] || back="${BASH_REMATCH[1]} bytes back"
-        echo "render.sh: $(what_node "$node") on host ${host_of[$pid]%% *}: $there, $back"
+        echo "render.sh: $(what_node "$node") on host ${host_of[$pid]}: $there, $back"
     done
 }
 
@@ -685,7 +684,7 @@ watch() {
             # A leaf on a host: what ssh or the far side said last is the message.
             labelled_stderr "$i" | head -n -1 >&2
             what_failed "$tmp/stderr.$i" "${status_of[$cause]}" render.sh
-            fail "$exit_status" "host ${host_of[$cause]}: $message"
+            fail "$exit_status" "host ${host_of[$cause]} ($(what_node "${node_of[$cause]}")): $message"
         fi
         labelled_stderr "$i" >&2
     done
