@@ -12,7 +12,7 @@
 //! the row (gathered once per frame and sorted by their top row, Watkins-style), so a
 //! method keeps one band of fine rows at a time and never the K·W × K·H screen.
 
-use proto::{DVec4, Polygon};
+use proto::{Colour, DVec4, Polygon};
 
 /// The largest K a method samples with: the K² samples of a pixel, 255 each, sum within
 /// a u32, and a fine row of a 65,536-pixel screen still fits in one.
@@ -149,15 +149,64 @@ impl ActiveRows {
         (&self.indices, left..right.max(left))
     }
 
+    /// Moves to the first pixel row from `row` on, below `height`, that some polygon may
+    /// cover, skipping the rows none reaches: that row and the columns its polygons may
+    /// cover (those polygons are then [`ActiveRows::indices`]), or `None` past the last.
+    /// Rows must come in increasing order.
+    pub fn next_row(&mut self, mut row: u32, height: u32) -> Option<(u32, std::ops::Range<u32>)> {
+        while row < height {
+            let (now, cols) = self.advance(row);
+            if !now.is_empty() {
+                return Some((row, cols));
+            }
+            row = self.next_top()?.max(row + 1);
+        }
+        None
+    }
+
+    /// The polygons of the row last moved to, in stream order.
+    pub fn indices(&self) -> &[u32] {
+        &self.indices
+    }
+
     /// The top row of the next polygon not yet active, if any.
     pub fn next_top(&self) -> Option<u32> {
         self.order.get(self.next).map(|(e, _)| e.top)
     }
+}
 
-    /// Whether no polygon is active.
-    pub fn idle(&self) -> bool {
-        self.active.is_empty()
+/// The exact K×K supersampled picture of `polygons` on a `width`×`height` screen, the
+/// reference the anti-aliasing leaves are tested against: the z-buffer's picture of the
+/// K-times-finer screen, box-filtered (`(sum + K²/2)/K²`, uncovered samples counting as
+/// `background`), `None` where no sample is covered.
+pub fn supersampled_image(
+    polygons: &[Polygon],
+    width: u32,
+    height: u32,
+    k: u32,
+    background: Colour,
+) -> Vec<Option<Colour>> {
+    let fine: Vec<Polygon> = polygons.iter().map(|p| scaled(p, k)).collect();
+    let image = crate::frame::zbuffer_image(&fine, width * k, height * k);
+    let count = k * k;
+    let mut out = Vec::with_capacity(width as usize * height as usize);
+    for r in 0..height {
+        for c in 0..width {
+            let mut sum = [0u32; 3];
+            let mut covered = false;
+            for j in 0..k {
+                for i in 0..k {
+                    let s = image[((r * k + j) * width * k + c * k + i) as usize];
+                    covered |= s.is_some();
+                    for (t, v) in sum.iter_mut().zip(s.unwrap_or(background)) {
+                        *t += v as u32;
+                    }
+                }
+            }
+            out.push(covered.then(|| sum.map(|s| ((s + count / 2) / count) as u8)));
+        }
     }
+    out
 }
 
 #[cfg(test)]
@@ -227,5 +276,16 @@ mod tests {
         assert_eq!(seen[3], (3, vec![1, 2], 0..5));
         assert_eq!(seen[10], (10, vec![0, 2], 0..5));
         assert_eq!(seen[14], (14, vec![], 0..0));
+        // next_row visits exactly the rows with polygons, skipping the others.
+        let mut rows = ActiveRows::new();
+        rows.start(&polys, 20, 20);
+        let mut visited = Vec::new();
+        let mut from = 0;
+        while let Some((r, cols)) = rows.next_row(from, 20) {
+            visited.push((r, rows.indices().to_vec(), cols));
+            from = r + 1;
+        }
+        let want: Vec<_> = seen.into_iter().filter(|(_, a, _)| !a.is_empty()).collect();
+        assert_eq!(visited, want);
     }
 }

@@ -167,23 +167,13 @@ impl HiddenSurface for ABuffer {
         self.fine.clear();
         self.fine.extend(polygons.iter().map(|p| scaled(p, K)));
         self.rows.start(polygons, width, height);
-        let mut r = self.rows.first_row().unwrap_or(height);
+        let mut from = self.rows.first_row().unwrap_or(height);
         let mut active = Vec::new();
-        while r < height {
-            let (now, cols) = self.rows.advance(r);
-            if now.is_empty() {
-                match self.rows.next_top() {
-                    Some(top) => {
-                        r = top.max(r + 1);
-                        continue;
-                    }
-                    None => break,
-                }
-            }
+        while let Some((r, cols)) = self.rows.next_row(from, height) {
             active.clear();
-            active.extend_from_slice(now);
+            active.extend_from_slice(self.rows.indices());
             self.draw_row(r, &active, cols, width * K, runs);
-            r += 1;
+            from = r + 1;
         }
         self.fine.clear();
     }

@@ -2,34 +2,9 @@ use super::list::FULL;
 use super::*;
 use proptest::prelude::*;
 use proto::DVec4;
-use scan::frame::{image_of, zbuffer_image};
-
-/// The exact K×K reference: the z-buffer's picture of the K-times-finer screen,
-/// box-filtered ((sum + K²/2)/K², uncovered samples the background); `None` where no
-/// sample is covered.
-fn reference(polys: &[Polygon], w: u32, h: u32, k: u32, bg: Colour) -> Vec<Option<Colour>> {
-    let fine: Vec<Polygon> = polys.iter().map(|p| scaled(p, k)).collect();
-    let image = zbuffer_image(&fine, w * k, h * k);
-    let count = k * k;
-    let mut out = Vec::new();
-    for r in 0..h {
-        for c in 0..w {
-            let mut sum = [0u32; 3];
-            let mut covered = false;
-            for j in 0..k {
-                for i in 0..k {
-                    let s = image[((r * k + j) * w * k + c * k + i) as usize];
-                    covered |= s.is_some();
-                    for (t, v) in sum.iter_mut().zip(s.unwrap_or(bg)) {
-                        *t += v as u32;
-                    }
-                }
-            }
-            out.push(covered.then(|| sum.map(|s| ((s + count / 2) / count) as u8)));
-        }
-    }
-    out
-}
+/// The exact K×K reference.
+use scan::fine::supersampled_image as reference;
+use scan::frame::image_of;
 
 fn render_with(polys: &[Polygon], w: u32, h: u32, bg: Colour) -> (Vec<Option<Colour>>, ListStats) {
     let mut runs = Vec::new();

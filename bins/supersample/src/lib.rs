@@ -161,21 +161,13 @@ impl HiddenSurface for Supersample {
         self.fine.clear();
         self.fine.extend(polygons.iter().map(|p| scaled(p, k)));
         self.rows.start(polygons, width, height);
-        let mut r = self.rows.first_row().unwrap_or(height);
-        while r < height {
-            let (active, cols) = self.rows.advance(r);
-            if active.is_empty() {
-                match self.rows.next_top() {
-                    Some(top) => {
-                        r = top.max(r + 1);
-                        continue;
-                    }
-                    None => break,
-                }
-            }
-            let active = active.to_vec();
+        let mut from = self.rows.first_row().unwrap_or(height);
+        let mut active = Vec::new();
+        while let Some((r, cols)) = self.rows.next_row(from, height) {
+            active.clear();
+            active.extend_from_slice(self.rows.indices());
             self.draw_row(r, &active, cols, fine_w, runs);
-            r += 1;
+            from = r + 1;
         }
         self.fine.clear();
     }
