@@ -28,32 +28,14 @@ fn lists(b: &mut Bytes) {
     while !b.is_empty() && frags.len() < 64 {
         let mask = match b.u8() % 4 {
             0 => u64::MAX,
-            1 => u64::from_le_bytes([
-                b.u8(),
-                b.u8(),
-                b.u8(),
-                b.u8(),
-                b.u8(),
-                b.u8(),
-                b.u8(),
-                b.u8(),
-            ]),
+            1 => b.u64(),
             2 => (b.u8() as u64) << (8 * (b.u8() % 8)),
             _ => !(1u64 << (b.u8() % 64)),
         };
         let zmin = match b.u8() % 3 {
             0 => (b.u8() % 8) as i64,
             1 => i64::MIN + (b.u8() as i64),
-            _ => i64::from_le_bytes([
-                b.u8(),
-                b.u8(),
-                b.u8(),
-                b.u8(),
-                b.u8(),
-                b.u8(),
-                b.u8(),
-                b.u8(),
-            ]),
+            _ => b.u64() as i64,
         };
         let zmax = if flat {
             zmin

@@ -18,6 +18,11 @@ impl Bytes<'_> {
         }
     }
 
+    /// The next 8 bytes, little-endian (zeros past the end, as [`Bytes::u8`] gives).
+    pub fn u64(&mut self) -> u64 {
+        u64::from_le_bytes(std::array::from_fn(|_| self.u8()))
+    }
+
     /// A finite f64: the next 8 bytes as bits when they are finite, otherwise a small
     /// integer made from the first, so both the whole range and simple values come up.
     pub fn f64(&mut self) -> f64 {
