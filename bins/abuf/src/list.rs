@@ -58,7 +58,8 @@ impl Fragment {
     /// objects, and this is the closest the fragments themselves can tell.
     #[inline]
     fn combines_with(&self, next: &Fragment) -> bool {
-        let slack = (self.zmax - self.zmin).max(next.zmax - next.zmin);
+        // Saturating: a saturated plane's fragment can span more depth than i64 holds.
+        let slack = (self.zmax.saturating_sub(self.zmin)).max(next.zmax.saturating_sub(next.zmin));
         self.colour == next.colour
             && self.mask & next.mask == 0
             && next.zmin <= self.zmax.saturating_add(slack)

@@ -211,6 +211,26 @@ fn a_combined_fragment_keeps_its_place() {
     assert_eq!(stats.combined, 1);
 }
 
+/// Found by fuzzing (fuzz/artifacts/abuf, a debug build's "subtract with overflow"): a
+/// fragment whose depths span more than i64 holds (a saturated plane) overflowed its depth
+/// extent; in release the extent wrapped negative and a neighbour of one surface within
+/// that extent did not combine with it.
+#[test]
+fn a_depth_extent_past_i64_still_combines() {
+    let frag = |mask, zmin: i64, zmax, order| Fragment {
+        colour: BLUE,
+        mask,
+        zmin,
+        zmax,
+        order,
+    };
+    let (mut pool, mut stats) = (Vec::new(), ListStats::default());
+    let mut p = PixelStruct::Empty;
+    p.insert(frag(0x00FF, i64::MIN + 10, 100, 1), &mut pool, &mut stats);
+    p.insert(frag(0xFF00, 200, 200, 2), &mut pool, &mut stats);
+    assert_eq!(p.fragments(), [frag(0xFFFF, i64::MIN + 10, 200, 1)]);
+}
+
 fn polygon_strategy(flat: bool) -> impl Strategy<Value = Polygon> {
     (
         prop::collection::vec((-2.0f64..10.0, -2.0f64..8.0), 3..7),
