@@ -104,8 +104,7 @@ fn main() -> ExitCode {
             if args.runs {
                 let out = match &mut relay {
                     Some(w) => w,
-                    None => relay.insert(proto::Writer::new(
-                        stagecli::stdout(),
+                    None => relay.insert(stagecli::write_stdout(
                         proto::Header::new(proto::Space::Fragments {
                             width: fb.width(),
                             height: fb.height(),
