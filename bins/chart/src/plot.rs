@@ -25,22 +25,24 @@ fn register_font() {
     });
 }
 
-/// A method's colour: its place in the method table, on a palette of distinct hues.
+/// Distinct hues: the methods' marks, the model picture's scenes.
+const PALETTE: [RGBColor; 12] = [
+    RGBColor(31, 119, 180),
+    RGBColor(214, 39, 40),
+    RGBColor(44, 160, 44),
+    RGBColor(255, 127, 14),
+    RGBColor(148, 103, 189),
+    RGBColor(140, 86, 75),
+    RGBColor(227, 119, 194),
+    RGBColor(127, 127, 127),
+    RGBColor(188, 189, 34),
+    RGBColor(23, 190, 207),
+    RGBColor(0, 0, 128),
+    RGBColor(128, 0, 0),
+];
+
+/// A method's colour: its place in the method table, on [`PALETTE`].
 fn colour_of(method: &str) -> RGBColor {
-    const PALETTE: [RGBColor; 12] = [
-        RGBColor(31, 119, 180),
-        RGBColor(214, 39, 40),
-        RGBColor(44, 160, 44),
-        RGBColor(255, 127, 14),
-        RGBColor(148, 103, 189),
-        RGBColor(140, 86, 75),
-        RGBColor(227, 119, 194),
-        RGBColor(127, 127, 127),
-        RGBColor(188, 189, 34),
-        RGBColor(23, 190, 207),
-        RGBColor(0, 0, 128),
-        RGBColor(128, 0, 0),
-    ];
     let i = METHODS
         .iter()
         .position(|m| m.name == method)
@@ -340,16 +342,8 @@ where
             scenes.push(&r.scene);
         }
     }
-    const HUES: [RGBColor; 6] = [
-        RGBColor(31, 119, 180),
-        RGBColor(214, 39, 40),
-        RGBColor(44, 160, 44),
-        RGBColor(255, 127, 14),
-        RGBColor(148, 103, 189),
-        RGBColor(140, 86, 75),
-    ];
     for (i, scene) in scenes.iter().enumerate() {
-        let c = HUES[i % HUES.len()];
+        let c = PALETTE[i % PALETTE.len()];
         let mine: Vec<&ModelRow> = rows.iter().filter(|r| r.scene == *scene).collect();
         chart
             .draw_series(
