@@ -108,8 +108,18 @@ die_usage() { fail 2 "$@"; }
 
 # Sets `root` to the repository this script belongs to, through any symlink to it.
 locate_repository() {
-    local script
-    script=$(readlink -f -- "${BASH_SOURCE[0]}") || fail 3 "cannot find where render.sh lives"
+    local script=${BASH_SOURCE[0]} here=$PWD dir
+    # Where the script is not a symlink, its folder resolved by cd, without a process.
+    if [[ ! -L $script ]]; then
+        dir=.
+        [[ $script != */* ]] || dir=${script%/*}
+        if CDPATH= cd -P -- "$dir/.." 2>/dev/null; then
+            root=$PWD
+            cd -- "$here" || fail 3 "cannot go back to $here"
+            return
+        fi
+    fi
+    script=$(readlink -f -- "$script") || fail 3 "cannot find where render.sh lives"
     root=${script%/*/*}
 }
 
@@ -259,6 +269,7 @@ ensure_binaries() {
     bindir=$target/release
     local stamp=$bindir/.render.sh-asked-cargo
     local -a missing=() stale=() packages=()
+    ! all_fresh "$stamp" || return 0
     for b in "${binaries[@]}"; do
         packages+=(-p "$b")
         if [[ ! -x $bindir/$b ]]; then
@@ -283,6 +294,28 @@ ensure_binaries() {
     fi
     (cd "$root" && cargo build --release --quiet "${packages[@]}") >&2 || fail 3 "cargo build failed"
     touch "$stamp" 2>/dev/null
+}
+
+# all_fresh STAMP: a quick look that finds nothing to do on most runs: every binary is
+# there, and no file under the repository that a binary could be built from (anything
+# but the build's output, git's folder, tests, benches, fuzz targets, scripts, documents
+# and examples) is newer than the oldest binary and than STAMP. One process (find, stopping
+# at the first such file) instead of is_stale's look at each binary's sources, which
+# takes ten times as long. When it finds a file, is_stale decides binary by binary.
+all_fresh() {
+    local b oldest= found
+    for b in "${binaries[@]}"; do
+        [[ -x $bindir/$b ]] || return 1
+        [[ -n $oldest && ! $bindir/$b -ot $oldest ]] || oldest=$bindir/$b
+    done
+    local -a newer=(-newer "$oldest")
+    [[ ! -e $1 ]] || newer+=(-newer "$1")
+    found=$(find "$root" \( -path "$bindir" -o -path "$root/target" -o -path "$root/.git" \
+        -o -path "$root/fuzz" -o -path "$root/docs" -o -path "$root/examples" \
+        -o -path "$root/scripts" -o -path "$root/bench" -o -name tests -o -name benches \
+        -o -name '*.md' \) -prune -o -type f "${newer[@]}" -print -quit \
+        2>/dev/null) || return 1
+    [[ -z $found ]]
 }
 
 # is_stale BINARY STAMP: whether a source of BINARY is newer than it and than STAMP (when
@@ -344,7 +377,12 @@ cleanup() {
     exit "$status"
 }
 
-fifo() { mkfifo "$tmp/$1" || exit 3; }
+# The process graph is built twice (see `graph`): first only to name its fifos, which
+# one mkfifo then makes, then to start the stages. A process for each fifo would cost a
+# millisecond apiece, most of a small render's start-up at depth 1 and beyond.
+planning=0
+fifos=()
+fifo() { ((!planning)) || fifos+=("$tmp/$1"); }
 
 # start NAME IN OUT CMD...: runs one stage in the background, reading IN and writing OUT
 # (`-`: the script's stdout), and records it. Each stage's stderr goes to a file of its
@@ -352,6 +390,7 @@ fifo() { mkfifo "$tmp/$1" || exit 3; }
 # failure only the causing stage's, since the stages downstream of it then fail too
 # ("stream ends without END"), which is noise.
 start() {
+    ((!planning)) || return 0
     local name=$1 in=$2 out=$3 err=$tmp/stderr.${#pids[@]}
     shift 3
     # The script's stdin (kept on fd 3) and stdout are handed on, not opened again: a
@@ -483,7 +522,7 @@ start_subtrees() {
         fragments+=("$tmp/from-$node")
         start "$(what_node "$node") (host $host)" "${input_of[node]}" "$tmp/from-$node" \
             "${ssh_cmd[@]}" "$host" "$remote"
-        host_of[$!]=$host node_of[$!]=$node
+        ((planning)) || host_of[$!]=$host node_of[$!]=$node
     done
 }
 
@@ -712,7 +751,19 @@ main() {
     if [[ $depth == auto ]]; then
         if ((hidden_line)); then depth=0; else choose_depth; fi
     fi
+    planning=1
+    graph
+    planning=0
+    ((${#fifos[@]} == 0)) || mkfifo -m 600 -- "${fifos[@]}" || exit 3
     exec 3<&0
+    graph
+    exec 3<&-
+    watch
+}
+
+# The stages, from the scene (or, for --subtree K, the stream into node K on stdin) to
+# the frames on stdout: named only while `planning`, started after.
+graph() {
     if [[ -n $subtree ]]; then
         clipped=/dev/fd/3 # the stream into node K
     else
@@ -723,8 +774,6 @@ main() {
     else
         start_graph
     fi
-    exec 3<&-
-    watch
 }
 
 main "$@"
