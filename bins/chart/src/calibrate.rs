@@ -191,7 +191,7 @@ fn overheads(
             .args(["--size", "500x500"])
             .stdout(File::create(&scene)?),
     )?;
-    let env = crate::look::look(bin, &scene, 500, 500, &[])?;
+    let env = crate::look::look(&scene, 500, 500, &[], None)?;
     let cores = cores();
     let mut rows = Vec::new();
     let mut y = Vec::new();

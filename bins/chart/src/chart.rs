@@ -328,7 +328,7 @@ pub fn chart(
     for scene in scenes {
         tick(&format!("{}: references", scene.name));
         let refs = setup.references(scene)?;
-        let env = look::look(&setup.bin, &scene.path, scene.width, scene.height, &[])?;
+        let env = look::look(&scene.path, scene.width, scene.height, &[], None)?;
         for (method, depth) in &runs {
             tick(&format!("{}: {} depth {depth}", scene.name, method.name));
             rows.push(setup.run(scene, &env, &refs, method, *depth)?);

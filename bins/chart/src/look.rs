@@ -2,13 +2,13 @@
 //! model needs — polygons and vertices before clipping (P_t), after it (P_r), the screen
 //! (X_res × Y_res), the depth complexity Dc (projected area over screen area) and the
 //! number of frames. The world-space scene is counted as it is read; the screen-space
-//! figures come from `viewxf | clipbatch | persp`, the stages a render runs first.
+//! figures come from the libraries of viewxf, clipbatch and persp, the stages a render
+//! runs first, called in this process.
 
-use anyhow::{bail, Context, Result};
+use anyhow::{Context, Result};
 use proto::{Polygon, Reader, Token};
 use std::io::Read;
 use std::path::Path;
-use std::process::{Command, Stdio};
 
 /// The environment parameters of one scene (totals over all its frames).
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
@@ -112,62 +112,149 @@ pub fn is_text(scene: &Path) -> Result<bool> {
     Ok(n > 0 && first[..n] != proto::header::BINARY_MAGIC[..n])
 }
 
-/// Looks at a scene for a `width`×`height` screen, running the first stages from `bin`.
-/// `camera` are viewxf's options as render.sh was given them (`--eye X,Y,Z` …).
+/// How much of a scene `render.sh --depth auto` reads before it judges the whole by it:
+/// 512 KiB, about 2,000 quads of the text form (a millisecond or two of parsing). The
+/// depth a scene needs depends on its polygons' sizes and the screen, not on each
+/// polygon, so the first stretch of the scene is a fair sample of a scene whose polygons
+/// are not ordered by size.
+pub const SAMPLE_BYTES: u64 = 512 * 1024;
+
+/// A reader that counts the bytes read through it.
+struct Counted<R> {
+    inner: R,
+    bytes: std::rc::Rc<std::cell::Cell<u64>>,
+}
+
+impl<R: Read> Read for Counted<R> {
+    fn read(&mut self, buf: &mut [u8]) -> std::io::Result<usize> {
+        let n = self.inner.read(buf)?;
+        self.bytes.set(self.bytes.get() + n as u64);
+        Ok(n)
+    }
+}
+
+/// Looks at a scene for a `width`×`height` screen: the world-space counts as read, and
+/// the screen-space ones through the first stages' own libraries (viewxf, clipbatch,
+/// persp) in this process, as `viewxf | clipbatch | persp` computes them. `camera` are
+/// viewxf's options as render.sh was given them (`--eye X,Y,Z` …).
+///
+/// With `sample` (bytes), reading stops at the first polygon past that many bytes of
+/// the scene and the counts are scaled up to the whole file by its size: polygons,
+/// vertices and area by the file's size over the sample's bytes a polygon, frames by the
+/// polygons per frame seen (the polygons before the first NEXT.FRAME), when a NEXT.FRAME
+/// was seen. Without, the
+/// whole scene is read and the counts are exact.
 pub fn look(
-    bin: &Path,
     scene: &Path,
     width: u32,
     height: u32,
     camera: &[String],
+    sample: Option<u64>,
 ) -> Result<Environment> {
+    #[derive(clap::Parser)]
+    struct Camera {
+        #[command(flatten)]
+        view: stagecli::ViewArgs,
+    }
+    let size = format!("{width}x{height}");
+    let args = ["viewxf", "--size", &size]
+        .into_iter()
+        .map(String::from)
+        .chain(camera.iter().cloned());
+    let cam = <Camera as clap::Parser>::try_parse_from(args)
+        .map_err(|e| anyhow::anyhow!("camera options {camera:?}: {e}"))?;
+    let (frame, view) = cam.view.resolve().map_err(|e| anyhow::anyhow!("{e}"))?;
+    let perspective = persp::Perspective::new(width, height, view, persp::DepthMode::Projective)
+        .map_err(|e| anyhow::anyhow!("{e}"))?;
+    let mut batch = clipbatch::ClipBatch::new(&view, clipbatch::DEFAULT_BATCH);
+
     let text = is_text(scene)?;
     let file =
         std::fs::File::open(scene).with_context(|| format!("cannot open {}", scene.display()))?;
-    let (frames, polygons, vertices) = count_world(std::io::BufReader::new(file))
-        .with_context(|| format!("reading {}", scene.display()))?;
-    let size = format!("{width}x{height}");
-    let q = |p: &Path| format!("'{}'", p.display().to_string().replace('\'', r"'\''"));
-    let line = format!(
-        "{v} --size {size} {cam} < {s} | {c} | {p} --size {size}",
-        v = q(&bin.join("viewxf")),
-        cam = camera
-            .iter()
-            .map(|a| q(Path::new(a)))
-            .collect::<Vec<_>>()
-            .join(" "),
-        s = q(scene),
-        c = q(&bin.join("clipbatch")),
-        p = q(&bin.join("persp")),
-    );
-    let mut child = Command::new("bash")
-        .args(["-o", "pipefail", "-c", &line])
-        .stdout(Stdio::piped())
-        .stderr(Stdio::piped())
-        .spawn()
-        .context("cannot run viewxf | clipbatch | persp")?;
-    let out = child.stdout.take().context("persp's output")?;
-    let counted = count_screen(std::io::BufReader::new(out));
-    let output = child.wait_with_output()?;
-    if !output.status.success() {
-        bail!(
-            "viewxf | clipbatch | persp failed on {}: {}",
-            scene.display(),
-            String::from_utf8_lossy(&output.stderr).trim()
-        );
-    }
-    let (relevant, relevant_vertices, area) = counted?;
-    Ok(Environment {
-        frames,
-        polygons,
-        vertices,
-        relevant,
-        relevant_vertices,
-        area,
+    let total = file.metadata().map(|m| m.len()).unwrap_or(0);
+    let bytes = std::rc::Rc::new(std::cell::Cell::new(0));
+    let mut reader = Reader::<Token, _>::new(std::io::BufReader::with_capacity(
+        1 << 16,
+        Counted {
+            inner: file,
+            bytes: bytes.clone(),
+        },
+    ))
+    .with_context(|| format!("reading {}", scene.display()))?;
+    let mut e = Environment {
+        frames: 1,
         width,
         height,
         text,
-    })
+        ..Default::default()
+    };
+    let mut per_frame = None; // polygons before the first NEXT.FRAME
+    let (mut read_so_far, mut anchor) = (0u64, (0u64, 0u64)); // bytes; (polygons, their bytes)
+    let mut whole = true;
+    let screen = |batch: &mut clipbatch::ClipBatch, e: &mut Environment| -> Result<()> {
+        for mut p in batch.clip() {
+            if p.vertices.is_empty() {
+                continue;
+            }
+            perspective
+                .project_polygon(&mut p)
+                .map_err(|u| anyhow::anyhow!("{}: {}", scene.display(), u.reason))?;
+            e.relevant += 1;
+            e.relevant_vertices += p.vertices.len() as u64;
+            e.area += area(&p);
+        }
+        Ok(())
+    };
+    let mut record = Token::default();
+    while reader
+        .next_into(&mut record)
+        .with_context(|| format!("reading {}", scene.display()))?
+    {
+        match &mut record {
+            Token::Polygon(p) => {
+                e.polygons += 1;
+                e.vertices += p.vertices.len() as u64;
+                // The reader refills its buffer a block at a time: at a refill, the
+                // polygons before this one took the bytes read until then.
+                if bytes.get() != read_so_far {
+                    if read_so_far > 0 {
+                        anchor = (e.polygons - 1, read_so_far);
+                    }
+                    read_so_far = bytes.get();
+                }
+                let mut p = std::mem::take(p);
+                viewxf::view_polygon(&frame, &mut p);
+                if !batch.fits(&p) {
+                    screen(&mut batch, &mut e)?;
+                }
+                batch.push(p);
+                if sample.is_some_and(|s| bytes.get() > s) {
+                    whole = false;
+                    break;
+                }
+            }
+            Token::NextFrame => {
+                per_frame.get_or_insert(e.polygons);
+                e.frames += 1;
+            }
+            Token::Skip(_) | Token::End => {}
+        }
+    }
+    screen(&mut batch, &mut e)?;
+    if !whole && total > 0 && anchor.0 > 0 && e.polygons > 0 {
+        // Polygons in the whole file at the sample's bytes a polygon, over those seen.
+        let scale = total as f64 * anchor.0 as f64 / anchor.1 as f64 / e.polygons as f64;
+        let up = |n: u64| (n as f64 * scale).round() as u64;
+        e.polygons = up(e.polygons);
+        e.vertices = up(e.vertices);
+        e.relevant = up(e.relevant);
+        e.relevant_vertices = up(e.relevant_vertices);
+        e.area *= scale;
+        if let Some(n) = per_frame.filter(|n| *n > 0) {
+            e.frames = (e.polygons as f64 / n as f64).round().max(1.0) as u64;
+        }
+    }
+    Ok(e)
 }
 
 #[cfg(test)]
@@ -201,6 +288,89 @@ mod tests {
         assert!((e.depth_complexity() - 1.0).abs() < 1e-12);
         let h = e.spans() / 512.0;
         assert!((h - 22.097).abs() < 0.01, "{h}");
+    }
+
+    /// A text scene of `frames` frames of `n` small squares, a third of them out of view.
+    fn squares(frames: usize, n: usize) -> tempfile::NamedTempFile {
+        use std::io::Write;
+        let mut f = tempfile::NamedTempFile::new().unwrap();
+        writeln!(f, "polypipe 1 world").unwrap();
+        for frame in 0..frames {
+            if frame > 0 {
+                writeln!(f, "NEXT.FRAME").unwrap();
+            }
+            for i in 0..n {
+                let (x, y) = (
+                    (i % 60) as f64 * 0.5 - 15.0,
+                    (i / 60 % 40) as f64 * 0.5 - 10.0,
+                );
+                if i > 0 {
+                    writeln!(f, "NEXT.POLYGON").unwrap();
+                }
+                writeln!(f, "colour 1 2 3").unwrap();
+                for (dx, dy) in [(0.0, 0.0), (0.4, 0.0), (0.4, 0.4), (0.0, 0.4)] {
+                    writeln!(f, "{:.15} {:.15} 0.123456789012345", x + dx, y + dy).unwrap();
+                }
+            }
+        }
+        writeln!(f, "END").unwrap();
+        f
+    }
+
+    #[test]
+    fn a_sample_judges_the_whole() {
+        // 8 frames of 1,000 squares (about 2 MB): the sample reads about a quarter.
+        let f = squares(8, 1000);
+        let whole = look(f.path(), 500, 500, &[], None).unwrap();
+        assert_eq!(
+            (whole.frames, whole.polygons, whole.vertices),
+            (8, 8_000, 32_000)
+        );
+        assert!(whole.relevant > 0 && whole.relevant < whole.polygons);
+        let part = look(f.path(), 500, 500, &[], Some(SAMPLE_BYTES)).unwrap();
+        let near = |a: f64, b: f64| (a / b - 1.0).abs() < 0.02;
+        assert!(near(part.polygons as f64, 8_000.0), "{part:?}");
+        assert!(
+            near(part.relevant as f64, whole.relevant as f64),
+            "{part:?}"
+        );
+        assert!(near(part.area, whole.area), "{part:?} {whole:?}");
+        assert_eq!(part.frames, 8);
+        // A scene smaller than the sample is read whole.
+        let small = squares(2, 100);
+        assert_eq!(
+            look(small.path(), 500, 500, &[], Some(SAMPLE_BYTES)).unwrap(),
+            look(small.path(), 500, 500, &[], None).unwrap()
+        );
+    }
+
+    #[test]
+    fn the_camera_moves_what_is_in_view() {
+        let f = squares(1, 1600);
+        let front = look(f.path(), 500, 500, &[], None).unwrap();
+        let away = look(
+            f.path(),
+            500,
+            500,
+            &[
+                "--eye".into(),
+                "0,0,-20".into(),
+                "--at".into(),
+                "0,0,-40".into(),
+            ],
+            None,
+        )
+        .unwrap();
+        assert!(front.relevant > 0);
+        assert_eq!(away.relevant, 0);
+        assert!(look(
+            f.path(),
+            500,
+            500,
+            &["--eye".into(), "nonsense".into()],
+            None
+        )
+        .is_err());
     }
 
     #[test]

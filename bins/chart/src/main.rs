@@ -353,7 +353,13 @@ fn choose_depth(
 ) -> Result<()> {
     let root = root_dir(root)?;
     let k = load_constants(model.as_deref(), &root)?;
-    let env = chart::look::look(&bin_dir()?, &scene, size.0, size.1, &camera)?;
+    let env = chart::look::look(
+        &scene,
+        size.0,
+        size.1,
+        &camera,
+        Some(chart::look::SAMPLE_BYTES),
+    )?;
     let cores = cores.map_or_else(chart::calibrate::cores, |c| c as usize);
     let (depth, reason, _) = chart::model::choose_depth(&k, &env, cores, max_depth);
     println!("{depth} ({reason})");
