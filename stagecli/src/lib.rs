@@ -48,6 +48,8 @@ use std::process::ExitCode;
 /// A stage's `main`: parses the command line into `C` (a usage error exits 2 at once),
 /// runs `body` and [`report`]s its result.
 pub fn main<C: clap::Parser>(stage: &str, body: impl FnOnce(C) -> Result<()>) -> ExitCode {
+    stream::widen_pipe(0);
+    stream::widen_pipe(1);
     match parse::<C>(stage) {
         Ok(cli) => report(stage, body(cli)),
         Err(code) => code,
