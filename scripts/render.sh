@@ -580,9 +580,9 @@ start_merger() {
 }
 
 # --depth auto: the depth the cost model predicts fastest (thesis 5.2 and 6.4, with this
-# machine's constants; docs/DESIGN.md, "Measures"), from a look at the scene through
-# viewxf | clipbatch | persp. A scene on stdin is kept in the private folder first, to be
-# read twice. With --stats, the choice and its reason.
+# machine's constants; docs/DESIGN.md, "Measures"), from a look at the scene's first
+# 512 KiB (`chart choose-depth`). A scene on stdin is kept in the private folder first,
+# to be read twice. With --stats, the choice and its reason.
 choose_depth() {
     local line status
     [[ -x $bindir/chart ]] || fail 3 "no chart in $bindir, for --depth auto"

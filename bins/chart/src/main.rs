@@ -65,8 +65,9 @@ struct Cli {
 #[derive(Subcommand, Debug)]
 enum Sub {
     /// Prints the splitter tree depth the cost model predicts is fastest for a scene on
-    /// this machine, and why, as one line `N (reason)`. It looks at the scene through
-    /// viewxf | clipbatch | persp: polygons in view, screen, depth complexity.
+    /// this machine, and why, as one line `N (reason)`. It looks at the scene's first 512
+    /// KiB through the libraries of viewxf, clipbatch and persp, in this process, and
+    /// scales what it saw to the whole file: polygons in view, screen, depth complexity.
     #[command(
         name = "choose-depth",
         after_help = "Example:\n  chart choose-depth --size 1920x1080 --cores 2 fill.txt\n  \
