@@ -8,7 +8,7 @@
 
 use crate::look::{count_screen, count_world, Environment};
 use crate::measure::{self, Usage};
-use crate::model::{fit, predict, stage_work, Constants, Cost, Overheads, Work};
+use crate::model::{fit, predict, stage_work, Constants, Cost, Overheads, StageWork, Work};
 use anyhow::{Context, Result};
 use std::fs::File;
 use std::path::Path;
@@ -145,13 +145,19 @@ pub fn calibrate(
             height: h,
             text: true,
         };
-        let (world, rel, merge_work) = stage_work(&env);
+        let StageWork {
+            world,
+            flowing,
+            merge: merge_work,
+            ..
+        } = stage_work(&env);
         vt.push(&world, t_vt);
         vb.push(&world, t_vb);
         clip.push(&world, t_clip);
-        split.push(&rel, t_split);
-        persp.push(&rel, t_persp);
-        hse.push(&rel, t_hse);
+        // The stages after the clipper, as at depth 0 (and the root splitter).
+        split.push(&flowing, t_split);
+        persp.push(&flowing, t_persp);
+        hse.push(&flowing, t_hse);
         merge.push(&merge_work, t_merge);
     }
     // Every scene is of quads (E = 4), so a cost per vertex cannot be told from one per

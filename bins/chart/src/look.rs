@@ -88,13 +88,17 @@ pub fn area(p: &Polygon) -> f64 {
     (twice / 2.0).abs()
 }
 
-/// Counts a screen-space stream: (polygons, vertices, Σ area).
+/// Counts a screen-space stream's polygons in view (those the clipper left vertices
+/// of): (polygons, vertices, Σ area).
 pub fn count_screen<R: Read>(input: R) -> Result<(u64, u64, f64)> {
     let mut reader = Reader::<Token, _>::new(input)?;
     let (mut polygons, mut vertices, mut sum) = (0u64, 0u64, 0.0);
     let mut record = Token::default();
     while reader.next_into(&mut record)? {
         if let Token::Polygon(p) = &record {
+            if p.vertices.is_empty() {
+                continue;
+            }
             polygons += 1;
             vertices += p.vertices.len() as u64;
             sum += area(p);

@@ -200,8 +200,25 @@ impl Prediction {
     }
 }
 
-/// The work of each stage for an environment, before any split (all frames).
-pub fn stage_work(env: &Environment) -> (Work, Work, Work) {
+/// The work of the stages for an environment, before any split (all frames).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct StageWork {
+    /// What viewxf and the clipper read: every polygon of the scene.
+    pub world: Work,
+    /// What leaves the clipper: a polygon record for every polygon of the scene (one the
+    /// clipper emptied still goes on, with no vertices, to keep the numbering), the
+    /// vertices and the pixels of those in view. The root splitter, and at depth 0 persp
+    /// and the hidden-surface stage, read this.
+    pub flowing: Work,
+    /// The polygons in view (P_r) only: a splitter sends an emptied polygon on as a skip,
+    /// so below the root the work is this, split among the nodes of a level.
+    pub relevant: Work,
+    /// The merger's: the screen a frame, and the runs (a span's worth each).
+    pub merge: Work,
+}
+
+/// The work of each stage for an environment.
+pub fn stage_work(env: &Environment) -> StageWork {
     let world = Work {
         polygons: env.polygons as f64,
         vertices: env.vertices as f64,
@@ -214,18 +231,41 @@ pub fn stage_work(env: &Environment) -> (Work, Work, Work) {
         pixels: env.area,
         screen: env.screen() * env.frames as f64,
     };
+    let flowing = Work {
+        polygons: env.polygons.max(env.relevant) as f64,
+        ..relevant
+    };
     let merge = Work {
         spans: env.spans(),
         screen: env.screen() * env.frames as f64,
         ..Default::default()
     };
-    (world, relevant, merge)
+    StageWork {
+        world,
+        flowing,
+        relevant,
+        merge,
+    }
 }
 
 /// The predicted time of a render of `env` at tree depth `depth` on `cores` cores.
 pub fn predict(k: &Constants, env: &Environment, depth: u8, cores: usize) -> Prediction {
-    let (world, relevant, merge_work) = stage_work(env);
+    let StageWork {
+        world,
+        flowing,
+        relevant,
+        merge: merge_work,
+    } = stage_work(env);
     let leaves = (1u64 << depth) as f64;
+    // What a node of level l reads: the root every polygon, a lower one its share of those
+    // in view.
+    let node = |l: u8| {
+        if l == 0 {
+            flowing
+        } else {
+            relevant.share((1u64 << l) as f64)
+        }
+    };
     let viewxf = if env.text {
         &k.viewxf_text
     } else {
@@ -238,19 +278,16 @@ pub fn predict(k: &Constants, env: &Environment, depth: u8, cores: usize) -> Pre
     if depth > 0 {
         // Level l has 2^l nodes, each reading P_r/2^l (6.4); the root is the busiest.
         let total: f64 = (0..depth)
-            .map(|l| {
-                let n = (1u64 << l) as f64;
-                n * k.splitter.time(&relevant.share(n))
-            })
+            .map(|l| (1u64 << l) as f64 * k.splitter.time(&node(l)))
             .sum();
         stages.push(StageTime {
             stage: "splitter",
-            each_s: k.splitter.time(&relevant),
+            each_s: k.splitter.time(&node(0)),
             processes: (1usize << depth) - 1,
             total_s: total,
         });
     }
-    let leaf = relevant.share(leaves);
+    let leaf = node(depth);
     for (stage, cost) in [("persp", &k.persp), ("hse", &k.hse)] {
         let each = cost.time(&leaf);
         stages.push(StageTime {
@@ -552,7 +589,18 @@ mod tests {
         assert_eq!(p0.processes, 5);
         assert_eq!(p2.processes, 2 + 3 + 8 + 1);
         let hse = |p: &Prediction| p.stages.iter().find(|s| s.stage == "hse").unwrap().clone();
-        assert!((hse(&p2).each_s - 0.001 - (hse(&p0).each_s - 0.001) / 4.0).abs() < 1e-12);
+        // At depth 0 the leaf reads every polygon the clipper passes on (half of them
+        // emptied here); a leaf of depth 2 a quarter of those in view and of the screen.
+        let w = stage_work(&e);
+        assert_eq!(w.flowing.polygons, 20_000.0);
+        assert_eq!(hse(&p0).each_s, k.hse.time(&w.flowing));
+        let quarter = w.relevant.share(4.0);
+        assert_eq!(
+            (quarter.polygons, quarter.screen),
+            (2_500.0, 1920.0 * 1080.0 / 4.0)
+        );
+        assert!((hse(&p2).each_s - k.hse.time(&quarter)).abs() < 1e-15);
+        assert!(hse(&p2).each_s < hse(&p0).each_s / 4.0);
         assert_eq!(p0.bottleneck(), "hse");
     }
 
