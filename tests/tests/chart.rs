@@ -2,7 +2,7 @@
 //! scene, with the columns the design names and real values in them; the cost model's
 //! rows for depths 0-4; and `chart choose-depth`, render.sh's `--depth auto`.
 
-use pipeline_tests::sh;
+use pipeline_tests::{repo_root, sh};
 use std::collections::HashMap;
 use std::path::Path;
 
@@ -135,6 +135,48 @@ fn quick_chart_of_a_small_scene_makes_its_files_with_real_values() {
     // Each level adds processes: 5 at depth 0, 2 + 15 + 32 + 1 at depth 4.
     assert_eq!(rows[0]["processes"], "5");
     assert_eq!(rows[4]["processes"], "50");
+
+    // --remodel predicts again from another model file and keeps what was measured: a
+    // script a second slower is every prediction a second later.
+    let committed = std::fs::read_to_string(repo_root().join("bench/model.toml")).unwrap();
+    let slower: String = committed
+        .lines()
+        .map(|l| match l.strip_prefix("script = ") {
+            Some(v) => format!("script = {}\n", v.parse::<f64>().unwrap() + 1.0),
+            None => format!("{l}\n"),
+        })
+        .collect();
+    let model = d.join("slower.toml");
+    std::fs::write(&model, slower).unwrap();
+    let out = sh(
+        &format!(
+            "scripts/chart.sh -o {} --remodel --model {} examples/penetrating.txt@120x90",
+            d.display(),
+            model.display()
+        ),
+        b"",
+    );
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let (_, again) = read_csv(&d.join("model.csv"));
+    assert_eq!(again.len(), rows.len());
+    for (a, r) in again.iter().zip(&rows) {
+        assert_eq!(a["measured_s"], r["measured_s"]);
+        let later = num(a, "predicted_s") - num(r, "predicted_s");
+        assert!((later - 1.0).abs() < 1e-3, "{later}: {a:?} {r:?}");
+    }
+    // Scenes that are not those of the run are refused.
+    let out = sh(
+        &format!(
+            "scripts/chart.sh -o {} --remodel examples/cube.txt",
+            d.display()
+        ),
+        b"",
+    );
+    assert!(!out.status.success());
 }
 
 #[test]

@@ -55,6 +55,11 @@ struct Cli {
     /// Only draw the pictures again from DIR/results.csv and DIR/model.csv.
     #[arg(long)]
     replot: bool,
+    /// Only predict again: DIR/model.csv's measured times kept, its predictions made
+    /// anew from the model file and a look at the scenes (the same SCENEs, or
+    /// --standard, as the run that wrote it), and model.png drawn again.
+    #[arg(long, conflicts_with_all = ["replot", "calibrate"])]
+    remodel: bool,
     /// The repository (scripts/render.sh, bench/); chart.sh gives it.
     #[arg(long, value_name = "DIR")]
     root: Option<PathBuf>,
@@ -243,6 +248,9 @@ fn run(cli: Cli) -> Result<()> {
             cli.quick,
         )?);
     }
+    if cli.remodel {
+        return remodel(&out, &scenes, cli.model.as_deref(), &root, cores);
+    }
     if cli.calibrate {
         let work = out.join("calibration");
         std::fs::create_dir_all(&work)?;
@@ -315,9 +323,58 @@ fn run(cli: Cli) -> Result<()> {
     chart::chart::write_csv(&out.join("model.csv"), &model_rows)?;
     chart::plot::speed_accuracy(&out, &rows)?;
     chart::plot::model(&out, &model_rows)?;
+    print_model_table(&model_rows);
+    eprintln!(
+        "chart: wrote {0}/results.csv, {0}/speed-accuracy.png, {0}/speed-accuracy.svg, {0}/model.csv, {0}/model.png",
+        out.display()
+    );
+    Ok(())
+}
+
+/// `--remodel`: the predictions of `DIR/model.csv` made again beside its measurements.
+fn remodel(
+    out: &Path,
+    scenes: &[Scene],
+    model: Option<&Path>,
+    root: &Path,
+    cores: usize,
+) -> Result<()> {
+    let k = load_constants(model, root)?;
+    let path = out.join("model.csv");
+    let old: Vec<chart::chart::ModelRow> = chart::chart::read_csv(&path)?;
+    let mut rows = Vec::with_capacity(old.len());
+    for scene in scenes {
+        let env = chart::look::look(&scene.path, scene.width, scene.height, &[], None)?;
+        for r in old.iter().filter(|r| r.scene == scene.name) {
+            rows.push(chart::chart::model_row(
+                &k,
+                &env,
+                &scene.name,
+                r.depth,
+                cores,
+                r.measured_s,
+            ));
+        }
+    }
+    if rows.len() != old.len() {
+        bail!(
+            "{} has rows of scenes not given ({} of {} matched): give the same scenes as the run that wrote it",
+            path.display(),
+            rows.len(),
+            old.len()
+        );
+    }
+    chart::chart::write_csv(&path, &rows)?;
+    chart::plot::model(out, &rows)?;
+    print_model_table(&rows);
+    Ok(())
+}
+
+/// The model's rows as a markdown table, and the mean |error|.
+fn print_model_table(rows: &[chart::chart::ModelRow]) {
     println!("| scene | depth | predicted s | measured s | error | bottleneck |");
     println!("|---|---|---|---|---|---|");
-    for r in &model_rows {
+    for r in rows {
         println!(
             "| {} | {} | {:.3} | {:.3} | {:+.0}% | {} |",
             r.scene,
@@ -328,18 +385,12 @@ fn run(cli: Cli) -> Result<()> {
             r.bottleneck
         );
     }
-    let mean =
-        model_rows.iter().map(|r| r.error.abs()).sum::<f64>() / model_rows.len().max(1) as f64;
+    let mean = rows.iter().map(|r| r.error.abs()).sum::<f64>() / rows.len().max(1) as f64;
     println!(
         "\nmean |error| {:.1}% over {} rows",
         mean * 100.0,
-        model_rows.len()
+        rows.len()
     );
-    eprintln!(
-        "chart: wrote {0}/results.csv, {0}/speed-accuracy.png, {0}/speed-accuracy.svg, {0}/model.csv, {0}/model.png",
-        out.display()
-    );
-    Ok(())
 }
 
 #[allow(clippy::too_many_arguments)]
