@@ -114,6 +114,8 @@ pub struct Setup {
     /// The output folder.
     pub out: PathBuf,
     pub quick: bool,
+    /// Only these methods (`--methods`), or all.
+    pub only: Option<Vec<String>>,
     /// Timed runs per row (the median is kept).
     pub reps: usize,
     pub cores: usize,
@@ -322,7 +324,7 @@ pub fn chart(
     scenes: &[Scene],
     mut tick: impl FnMut(&str),
 ) -> Result<(Vec<Row>, Vec<ModelRow>)> {
-    let runs = methods::runs(setup.quick);
+    let runs = methods::runs(setup.quick, setup.only.as_deref());
     let mut rows = Vec::new();
     let mut model_rows = Vec::new();
     for scene in scenes {

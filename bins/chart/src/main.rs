@@ -52,6 +52,10 @@ struct Cli {
     /// The model's constants file (default: the repository's bench/model.toml).
     #[arg(long, value_name = "FILE")]
     model: Option<PathBuf>,
+    /// Only these methods, by the names results.csv gives them (`--methods zbuf` measures
+    /// what model.csv needs and no more).
+    #[arg(long, value_delimiter = ',', value_name = "NAME,…", value_parser = method_name)]
+    methods: Option<Vec<String>>,
     /// Only draw the pictures again from DIR/results.csv and DIR/model.csv.
     #[arg(long)]
     replot: bool,
@@ -302,13 +306,15 @@ fn run(cli: Cli) -> Result<()> {
         render,
         out: out.clone(),
         quick: cli.quick,
+        only: cli.methods.clone(),
         reps: cli
             .reps
             .map_or(if cli.quick { 1 } else { 3 }, |r| r as usize),
         cores,
         constants,
     };
-    let total = scenes.len() as u64 * (chart::methods::runs(cli.quick).len() as u64 + 1);
+    let total = scenes.len() as u64
+        * (chart::methods::runs(cli.quick, cli.methods.as_deref()).len() as u64 + 1);
     let progress = bar(total);
     let mut first = true;
     let (rows, model_rows) = chart::chart::chart(&setup, &scenes, |what| {
@@ -416,6 +422,21 @@ fn choose_depth(
     let (depth, reason, _) = chart::model::choose_depth(&k, &env, cores, max_depth);
     println!("{depth} ({reason})");
     Ok(())
+}
+
+/// A method's name, one of the chart's.
+fn method_name(s: &str) -> Result<String, String> {
+    match chart::methods::by_name(s) {
+        Some(m) => Ok(m.name.to_string()),
+        None => Err(format!(
+            "no method {s}; the methods: {}",
+            chart::methods::METHODS
+                .iter()
+                .map(|m| m.name)
+                .collect::<Vec<_>>()
+                .join(", ")
+        )),
+    }
 }
 
 fn main() -> ExitCode {

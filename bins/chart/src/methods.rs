@@ -148,11 +148,11 @@ pub const METHODS: &[Method] = &[
 
 /// The runs of one scene: (method, depth) pairs, every depth of every method, or with
 /// `quick` the quick methods at their first depth (and zbuf at depths 0 to 4, which the
-/// cost model is measured against).
-pub fn runs(quick: bool) -> Vec<(Method, u8)> {
+/// cost model is measured against); with `only`, of the methods it names.
+pub fn runs(quick: bool, only: Option<&[String]>) -> Vec<(Method, u8)> {
     let mut runs = Vec::new();
     for m in METHODS {
-        if quick && !m.quick {
+        if quick && !m.quick || only.is_some_and(|o| !o.iter().any(|n| n == m.name)) {
             continue;
         }
         let depths: &[u8] = match (quick, m.name) {
@@ -186,8 +186,8 @@ mod tests {
 
     #[test]
     fn quick_is_a_subset() {
-        let all = runs(false);
-        let quick = runs(true);
+        let all = runs(false, None);
+        let quick = runs(true, None);
         assert!(quick.len() < all.len());
         for (m, d) in &quick {
             assert!(all.iter().any(|(a, e)| a.name == m.name && e == d));
@@ -197,5 +197,9 @@ mod tests {
             5,
             "zbuf at depths 0-4 in a quick run"
         );
+        let only = ["zbuf".to_string(), "painter".to_string()];
+        let some = runs(false, Some(&only));
+        assert_eq!(some.len(), 10, "zbuf and painter at depths 0-4");
+        assert!(some.iter().all(|(m, _)| only.iter().any(|o| o == m.name)));
     }
 }
