@@ -10,6 +10,7 @@
 //! defined by any number of planes".
 
 use crate::header::View;
+use crate::polygon::Vertex;
 use glam::{DVec3, DVec4};
 use std::fmt;
 use std::str::FromStr;
@@ -345,6 +346,39 @@ impl Plane {
     /// The same plane with its inside and outside exchanged.
     pub fn flipped(&self) -> Plane {
         Plane::new(-self.n, -self.k)
+    }
+}
+
+/// Clips the closed polygon `vertices` against `plane` (f_plane of thesis section 3.2, Sutherland–Hodgman: the
+/// vertices in pairs (s, p), each pair giving p if inside, the crossing if the pair
+/// straddles the plane), writing
+/// the clipped polygon to `out` (cleared first, its capacity reused). A polygon wholly
+/// outside gives no vertices; one wholly inside (or on) the plane comes out unchanged,
+/// vertex for vertex. Degenerate inputs (1 or 2 vertices) follow the same rule.
+#[inline]
+pub fn clip_against(vertices: &[Vertex], plane: &Plane, out: &mut Vec<Vertex>) {
+    out.clear();
+    let Some(&last) = vertices.last() else {
+        return;
+    };
+    // A convex polygon gains at most one vertex from one plane.
+    out.reserve(vertices.len() + 1);
+    // s starts as the last vertex, so the closing edge (v_n, v_1) comes first and the
+    // output starts where the input does.
+    let mut s = last;
+    let (mut s_side, mut s_dist) = plane.classify(s);
+    for &p in vertices {
+        let (p_side, p_dist) = plane.classify(p);
+        if matches!(
+            (s_side, p_side),
+            (Side::Inside, Side::Outside) | (Side::Outside, Side::Inside)
+        ) {
+            out.push(plane.intersect(s, s_dist, p, p_dist));
+        }
+        if p_side != Side::Outside {
+            out.push(p);
+        }
+        (s, s_side, s_dist) = (p, p_side, p_dist);
     }
 }
 

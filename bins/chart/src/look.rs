@@ -2,11 +2,13 @@
 //! model needs — polygons and vertices before clipping (P_t), after it (P_r), the screen
 //! (X_res × Y_res), the depth complexity Dc (projected area over screen area) and the
 //! number of frames. The world-space scene is counted as it is read; the screen-space
-//! figures come from the libraries of viewxf, clipbatch and persp, the stages a render
-//! runs first, called in this process.
+//! figures come from the geometry the first stages of a render are built on (proto's
+//! eye frame, Sutherland–Hodgman clipping and device mapping), called in this process.
 
 use anyhow::{Context, Result};
-use proto::{Polygon, Reader, Token};
+use proto::camera::Device;
+use proto::geometry::{clip_against, PyramidPlane};
+use proto::{Polygon, Reader, Token, Vertex};
 use std::io::Read;
 use std::path::Path;
 
@@ -78,11 +80,16 @@ pub fn count_world<R: Read>(input: R) -> Result<(u64, u64, u64)> {
 
 /// The area of a screen-space polygon, pixels (the shoelace formula; either winding).
 pub fn area(p: &Polygon) -> f64 {
-    let n = p.vertices.len();
+    area_of(&p.vertices)
+}
+
+/// The area of the screen-space outline `vertices` (X, Y), pixels.
+fn area_of(vertices: &[Vertex]) -> f64 {
+    let n = vertices.len();
     let mut twice = 0.0;
     for i in 0..n {
-        let a = p.vertices[i];
-        let b = p.vertices[(i + 1) % n];
+        let a = vertices[i];
+        let b = vertices[(i + 1) % n];
         twice += a.x * b.y - b.x * a.y;
     }
     (twice / 2.0).abs()
@@ -138,8 +145,8 @@ impl<R: Read> Read for Counted<R> {
 }
 
 /// Looks at a scene for a `width`×`height` screen: the world-space counts as read, and
-/// the screen-space ones through the first stages' own libraries (viewxf, clipbatch,
-/// persp) in this process, as `viewxf | clipbatch | persp` computes them. `camera` are
+/// the screen-space ones as `viewxf | clipplane ×6 | persp` computes them, through the
+/// same proto geometry, in this process. `camera` are
 /// viewxf's options as render.sh was given them (`--eye X,Y,Z` …).
 ///
 /// With `sample` (bytes), reading stops at the first polygon past that many bytes of
@@ -168,9 +175,15 @@ pub fn look(
     let cam = <Camera as clap::Parser>::try_parse_from(args)
         .map_err(|e| anyhow::anyhow!("camera options {camera:?}: {e}"))?;
     let (frame, view) = cam.view.resolve().map_err(|e| anyhow::anyhow!("{e}"))?;
-    let perspective = persp::Perspective::new(width, height, view, persp::DepthMode::Projective)
-        .map_err(|e| anyhow::anyhow!("{e}"))?;
-    let mut batch = clipbatch::ClipBatch::new(&view, clipbatch::DEFAULT_BATCH);
+    // The pyramid's six planes and the device mapping, as clipplane and persp take them
+    // from the stream's view volume.
+    let planes = PyramidPlane::ALL.map(|p| p.plane(&view));
+    let device = Device {
+        width,
+        height,
+        view,
+    };
+    let (mut eye, mut clipped) = (Vec::new(), Vec::new());
 
     let text = is_text(scene)?;
     let file =
@@ -195,20 +208,6 @@ pub fn look(
     let mut per_frame = None; // polygons before the first NEXT.FRAME
     let (mut read_so_far, mut anchor) = (0u64, (0u64, 0u64)); // bytes; (polygons, their bytes)
     let mut whole = true;
-    let screen = |batch: &mut clipbatch::ClipBatch, e: &mut Environment| -> Result<()> {
-        for mut p in batch.clip() {
-            if p.vertices.is_empty() {
-                continue;
-            }
-            perspective
-                .project_polygon(&mut p)
-                .map_err(|u| anyhow::anyhow!("{}: {}", scene.display(), u.reason))?;
-            e.relevant += 1;
-            e.relevant_vertices += p.vertices.len() as u64;
-            e.area += area(&p);
-        }
-        Ok(())
-    };
     let mut record = Token::default();
     while reader
         .next_into(&mut record)
@@ -226,12 +225,22 @@ pub fn look(
                     }
                     read_so_far = bytes.get();
                 }
-                let mut p = std::mem::take(p);
-                viewxf::view_polygon(&frame, &mut p);
-                if !batch.fits(&p) {
-                    screen(&mut batch, &mut e)?;
+                // viewxf, the six clipplane stages, then persp's device mapping.
+                eye.clear();
+                eye.extend(p.vertices.iter().map(|v| frame.to_eye(v.truncate())));
+                for plane in &planes {
+                    clip_against(&eye, plane, &mut clipped);
+                    std::mem::swap(&mut eye, &mut clipped);
                 }
-                batch.push(p);
+                if !eye.is_empty() {
+                    e.relevant += 1;
+                    e.relevant_vertices += eye.len() as u64;
+                    for v in &mut eye {
+                        let (x, y) = device.project(*v);
+                        *v = Vertex::new(x, y, 0.0, 1.0);
+                    }
+                    e.area += area_of(&eye);
+                }
                 if sample.is_some_and(|s| bytes.get() > s) {
                     whole = false;
                     break;
@@ -244,7 +253,6 @@ pub fn look(
             Token::Skip(_) | Token::End => {}
         }
     }
-    screen(&mut batch, &mut e)?;
     if !whole && total > 0 && anchor.0 > 0 && e.polygons > 0 {
         // Polygons in the whole file at the sample's bytes a polygon, over those seen.
         let scale = total as f64 * anchor.0 as f64 / anchor.1 as f64 / e.polygons as f64;

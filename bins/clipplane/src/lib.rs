@@ -20,39 +20,13 @@
 //! general half-space `a·x_e + b·y_e + c·z_e + d·w + k ≥ 0` is accepted as well as the
 //! six pyramid planes of Appendix 2.1.
 
-use proto::geometry::{Plane, PyramidPlane, Side};
-use proto::{Vertex, View};
+use proto::geometry::{Plane, PyramidPlane};
+use proto::View;
 
-/// Clips the closed polygon `vertices` against `plane` (f_plane of section 3.2), writing
-/// the clipped polygon to `out` (cleared first, its capacity reused). A polygon wholly
-/// outside gives no vertices; one wholly inside (or on) the plane comes out unchanged,
-/// vertex for vertex. Degenerate inputs (1 or 2 vertices) follow the same rule.
-#[inline]
-pub fn clip_against(vertices: &[Vertex], plane: &Plane, out: &mut Vec<Vertex>) {
-    out.clear();
-    let Some(&last) = vertices.last() else {
-        return;
-    };
-    // A convex polygon gains at most one vertex from one plane.
-    out.reserve(vertices.len() + 1);
-    // s starts as the last vertex, so the closing edge (v_n, v_1) comes first and the
-    // output starts where the input does.
-    let mut s = last;
-    let (mut s_side, mut s_dist) = plane.classify(s);
-    for &p in vertices {
-        let (p_side, p_dist) = plane.classify(p);
-        if matches!(
-            (s_side, p_side),
-            (Side::Inside, Side::Outside) | (Side::Outside, Side::Inside)
-        ) {
-            out.push(plane.intersect(s, s_dist, p, p_dist));
-        }
-        if p_side != Side::Outside {
-            out.push(p);
-        }
-        (s, s_side, s_dist) = (p, p_side, p_dist);
-    }
-}
+/// f_plane itself, Sutherland–Hodgman against one plane, lives in [`proto::geometry`]
+/// beside the classification and intersection it is built from, so that everything that
+/// clips (this stage, the fused run, chart's look at a scene) clips the same way.
+pub use proto::geometry::clip_against;
 
 /// Which plane a clipping stage clips against.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -107,7 +81,8 @@ impl ClipPlane {
 mod tests {
     use super::*;
     use proptest::prelude::*;
-    use proto::DVec4;
+    use proto::geometry::Side;
+    use proto::{DVec4, Vertex};
 
     /// Eye point at z_e = 16 (w = 10 with the default s/d).
     fn e(x: f64, y: f64) -> Vertex {
