@@ -2,11 +2,13 @@
 # render.sh: compose the polypipe stages into the thesis's pipeline, the way occam's PAR
 # wires channels (docs/DESIGN.md, "The splitter tree"; thesis chapter 6.3, CLIPPER/SPLITTER):
 #
-#   viewxf | clipplane left | right | top | bottom | hither | yon
-#     depth 0:  | persp | scanconv | zbuf
+#   viewxf | clipbatch (the six planes; --clip chain: clipplane left | right | … | yon)
+#     depth 0:  | persp | zbuf (which scan-converts and resolves the one leaf itself)
 #     depth N:  | a binary tree of splitter nodes, N levels, each node computing its own
-#               plane from its number (`splitter --node K`); persp | scanconv on each of
-#               the 2^N leaves; one zbuf reading all leaves.
+#               plane from its number (`splitter --node K`); persp | scanconv --resolve
+#               (or --hse's method) on each of the 2^N leaves; one zbuf placing the
+#               leaves' finished regions (--merge buffer: persp | scanconv on each leaf,
+#               every fragment depth-tested in the one zbuf, the thesis's PAR.BUFF).
 #
 # Every stage is a process of its own, joined to the next by a named pipe in a private
 # temporary directory. The script watches them all: when one fails (or is killed), it
@@ -471,6 +473,9 @@ leaf_method() {
         method=(abuf)
     elif [[ $hse == zbuf ]]; then
         method=(scanconv --resolve)
+        # One leaf, here: its region is the screen, so the merger is the leaf. zbuf reads
+        # persp's polygons and resolves them itself, with no runs encoded for a pipe.
+        if [[ $depth == 0 && -z $subtree ]] && ((${#hosts[@]} == 0)); then method=(zbuf); fi
     else
         method=("$hse")
     fi
@@ -482,6 +487,10 @@ start_leaf() {
     local leaf=$1 in=$2 out=$3 label=
     ((depth == 0)) || label=" (leaf $leaf)"
     fifo "screen-$leaf"
+    if [[ ${method[0]} == zbuf ]]; then # the merger resolves the leaf's polygons
+        start "persp$label" "$in" "$out" "$bindir/persp" --size "$size" --depth "$zmode"
+        return
+    fi
     start "persp$label" "$in" "$tmp/screen-$leaf" \
         "$bindir/persp" --size "$size" --depth "$zmode"
     start "${method[0]}$label" "$tmp/screen-$leaf" "$out" \

@@ -375,6 +375,21 @@ impl<T: Record, R: Read> Reader<T, R> {
         &self.header
     }
 
+    /// The same stream, read on as records of kind `U`: for a stage that takes more than
+    /// one kind of stream and learns which from the header (`zbuf` reads fragments, or a
+    /// screen-space polygon stream that it resolves itself). Meant to be called before
+    /// the first record; the position and the frame count carry over.
+    pub fn into_kind<U: Record>(self) -> Reader<U, R> {
+        Reader {
+            source: self.source,
+            header: self.header,
+            frame: self.frame,
+            polygons_in_frame: self.polygons_in_frame,
+            ended: self.ended,
+            spare: U::default(),
+        }
+    }
+
     /// Where the reader is, in the stream's own terms, for messages about a record:
     /// `frame 0, polygon 3` (both from 0).
     pub fn position(&self) -> String {

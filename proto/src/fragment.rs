@@ -29,7 +29,7 @@ pub const DEPTH_ONE: f64 = (1u64 << 40) as f64;
 
 /// A depth in fixed point, rounded to the nearest unit and saturated at the `i64` range.
 pub fn depth_to_fixed(z: f64) -> i64 {
-    (z * DEPTH_ONE).round() as i64
+    crate::raster::round(z * DEPTH_ONE) as i64
 }
 
 /// A fixed-point depth back as a float.

@@ -13,11 +13,51 @@
 use glam::DVec2;
 use std::ops::Range;
 
+/// Below this magnitude every f64 converts to i64 and back without overflow, and
+/// `x − trunc(x)` is exact (the two are within a factor of two, or trunc(x) is 0).
+const EXACT_TRUNC: f64 = 4_503_599_627_370_496.0; // 2^52
+
+/// `x.ceil()`, the same value, without the library call that baseline x86-64 (no
+/// SSE4.1 `roundsd`) makes for it: the scan converter takes two a span. The sign of a
+/// zero result may differ (`ceil(−0.5)` is −0 here +0), which no integer cast sees.
+#[inline]
+pub fn ceil(x: f64) -> f64 {
+    if x.abs() < EXACT_TRUNC {
+        let t = x as i64 as f64;
+        if t < x {
+            t + 1.0
+        } else {
+            t
+        }
+    } else {
+        x.ceil()
+    }
+}
+
+/// `x.round()` (halves away from zero), the same value, without the library call; see
+/// [`ceil`]. Not `(x + 0.5).floor()`, which rounds 0.49999999999999994 up.
+#[inline]
+pub fn round(x: f64) -> f64 {
+    if x.abs() < EXACT_TRUNC {
+        let t = x as i64 as f64;
+        let d = x - t;
+        if d >= 0.5 {
+            t + 1.0
+        } else if d <= -0.5 {
+            t - 1.0
+        } else {
+            t
+        }
+    } else {
+        x.round()
+    }
+}
+
 /// The pixel indices `i` whose centres `i + ½` satisfy `lo ≤ i + ½ < hi`.
 #[inline]
 pub fn centres_in(lo: f64, hi: f64) -> Range<i64> {
-    let first = (lo - 0.5).ceil();
-    let end = (hi - 0.5).ceil();
+    let first = ceil(lo - 0.5);
+    let end = ceil(hi - 0.5);
     // Saturating casts: a huge coordinate (bad input, a polygon seen edge-on) gives an
     // empty or screen-clamped range rather than wrapping.
     (first as i64)..(end as i64).max(first as i64)
@@ -133,6 +173,36 @@ pub fn on_one_line(points: &[DVec2]) -> bool {
 
 #[cfg(test)]
 mod tests {
+    #[test]
+    fn ceil_and_round_agree_with_the_library() {
+        let cases = [
+            0.0, -0.0, 0.5, -0.5, 1.5, -1.5, 2.5, -2.5, 0.49999999999999994,
+            -0.49999999999999994, 1e-300, -1e-300, 3.0, -3.0, 4503599627370495.5,
+            -4503599627370495.5, 4503599627370496.0, 9.007199254740993e15, 1e300, -1e300,
+            f64::INFINITY, f64::NEG_INFINITY, f64::NAN, 123.456, -123.456, 0.999999999999,
+        ];
+        for x in cases {
+            for (ours, theirs) in [(super::ceil(x), x.ceil()), (super::round(x), x.round())] {
+                assert!(
+                    ours == theirs || (ours.is_nan() && theirs.is_nan()),
+                    "{x}: {ours} against {theirs}"
+                );
+            }
+        }
+        let mut state = 0x2545f4914f6cdd1du64;
+        for _ in 0..100_000 {
+            state ^= state << 13;
+            state ^= state >> 7;
+            state ^= state << 17;
+            let x = f64::from_bits(state);
+            let y = (state >> 11) as f64 / (1u64 << 40) as f64 - 4096.0;
+            for v in [x, y] {
+                assert!(super::ceil(v) == v.ceil() || v.is_nan(), "{v}");
+                assert!(super::round(v) == v.round() || v.is_nan(), "{v}");
+            }
+        }
+    }
+
     use super::*;
 
     #[test]

@@ -263,6 +263,38 @@ impl RegionBuffer {
         result
     }
 
+    /// Ends the frame as [`RegionBuffer::finish_frame`] does, but paints the covered
+    /// pixels straight into `raster`, the screen's row-major RGB pixels (a frame buffer
+    /// holding the background), instead of handing them on as runs: for the merger that
+    /// is also the only leaf (`zbuf` reading persp's stream at depth 0), where runs would
+    /// only be taken apart again.
+    pub fn finish_into(&mut self, raster: &mut [Colour]) {
+        let width = self.width as usize;
+        assert_eq!(raster.len(), width * self.height as usize, "raster size");
+        for ty in 0..self.tiles_y {
+            let rows = TILE.min(self.height - ty * TILE);
+            for tx in 0..self.tiles_x {
+                let s = self.slot[(ty * self.tiles_x + tx) as usize];
+                if s == UNTOUCHED {
+                    continue;
+                }
+                let tile = &self.pool[s as usize].colour;
+                let left = (tx * TILE) as usize;
+                let cols = (TILE as usize).min(width - left);
+                for r in 0..rows {
+                    let line = &tile[(r << SHIFT) as usize..][..cols];
+                    let at = (ty * TILE + r) as usize * width + left;
+                    for (out, &p) in raster[at..at + cols].iter_mut().zip(line) {
+                        if p != 0 {
+                            *out = unpack(p);
+                        }
+                    }
+                }
+            }
+        }
+        self.clear();
+    }
+
     /// Forgets this frame's pixels: the tiles in use are cleared and go back to the pool.
     pub fn clear(&mut self) {
         for s in &mut self.slot {
@@ -442,6 +474,34 @@ mod tests {
         }
         runs(&mut rb);
         assert_eq!(rb.stats.tiles, 8 * 5);
+    }
+
+    #[test]
+    fn finish_into_paints_what_the_runs_say() {
+        // Spans over three tiles across and two down, on a screen whose last tiles are
+        // partial: the raster gets exactly the runs' pixels, the rest keeps its colour.
+        let (w, h) = (150u32, 70u32);
+        let draw = |rb: &mut RegionBuffer| {
+            rb.span(3, 10..140, 5, 0, R);
+            rb.span(3, 60..70, 4, 0, G);
+            rb.span(69, 120..150, 1, 0, B);
+            rb.span(64, 0..1, 1, 0, G);
+        };
+        let mut rb = RegionBuffer::new(w, h);
+        draw(&mut rb);
+        let back = [9, 9, 9];
+        let mut want = vec![back; (w * h) as usize];
+        for r in runs(&mut rb) {
+            for x in r.x0..r.x1 {
+                want[(r.y * w + x) as usize] = r.colour;
+            }
+        }
+        draw(&mut rb);
+        let mut got = vec![back; (w * h) as usize];
+        rb.finish_into(&mut got);
+        assert_eq!(got, want);
+        // Cleared for the next frame.
+        assert_eq!(rb.colour_at(10, 3), None);
     }
 
     #[test]

@@ -262,6 +262,13 @@ impl FrameBuffer {
         }
     }
 
+    /// The F-buffer's pixels, row-major, for a leaf that resolved the whole screen to
+    /// paint into ([`scan::RegionBuffer::finish_into`]). Not for a frame where runs are
+    /// passed on or depth-tested fragments come: what is painted here is not recorded.
+    pub fn raster_mut(&mut self) -> &mut [Colour] {
+        &mut self.colour
+    }
+
     /// The F-buffer as RGB bytes, row 0 first.
     pub fn rgb(&self) -> &[u8] {
         self.colour.as_flattened()

@@ -13,10 +13,14 @@ use zbuf::{parse_colour, FramePattern, ImageFormat};
 /// Reads fragment streams from scanconv, all inputs at once, keeps for each pixel the
 /// nearest polygon (the earlier one on a tie), and writes each frame as a binary PPM (P6;
 /// plain P3 with --text) when every input has finished it: frames concatenated on
-/// stdout, or one file per frame.
+/// stdout, or one file per frame. An input may also be a screen-space polygon stream
+/// (persp's output): zbuf then scan-converts and depth-tests it itself, as
+/// `scanconv --resolve` would, and places the result (render.sh --depth 0 runs
+/// `persp | zbuf`).
 ///
 /// Examples:
 ///   persp --size 500x500 < eye.pp | scanconv | zbuf > frame.ppm
+///   persp --size 500x500 < eye.pp | zbuf > frame.ppm
 ///   zbuf --background 20,20,40 -o frame%04d.png left.frag right.frag
 ///   scene spheres --frames 100 | viewxf | clipplane left | ... | clipplane yon \
 ///     | persp --size 500x500 | scanconv | zbuf --progress -o frame%03d.png
@@ -24,8 +28,8 @@ use zbuf::{parse_colour, FramePattern, ImageFormat};
 #[derive(Parser)]
 #[command(name = "zbuf", version, verbatim_doc_comment)]
 struct Args {
-    /// Fragment streams (files or named pipes; `-` or none for stdin, at most once), read
-    /// concurrently.
+    /// Fragment streams, or screen-space polygon streams to resolve here (files or named
+    /// pipes; `-` or none for stdin, at most once), read concurrently.
     inputs: Vec<String>,
     /// Background colour R,G,B.
     #[arg(long, value_parser = parse_colour, default_value = "0,0,0")]
@@ -41,7 +45,8 @@ struct Args {
     /// host, whose leaves resolve their regions (runs only).
     #[arg(long, conflicts_with = "output")]
     runs: bool,
-    /// Print, per input, the spans and pixels received, on stderr at the end.
+    /// Print, per input, the spans and pixels received (for a screen-space input, the
+    /// polygons read and the pixels tested), on stderr at the end.
     #[arg(long)]
     stats: bool,
     /// Show frames done and frames per second on stderr while rendering; does nothing
@@ -100,7 +105,11 @@ fn main() -> ExitCode {
         let mut out = io::BufWriter::with_capacity(1 << 16, stagecli::stdout());
         let progress = zbuf::frame_progress(args.progress);
         let mut relay: Option<proto::Writer<proto::Fragment, _>> = None;
-        let stats = par_buff(inputs, args.background, |frame, fb| {
+        // One input and pictures out: a screen-space input is resolved and painted in
+        // this thread, with nothing passed between threads (`one_input`).
+        let alone = names.len() == 1 && !args.runs;
+        let mut inputs: Vec<Input> = inputs;
+        let on_frame = |frame: u64, fb: &zbuf::FrameBuffer| -> stagecli::Result<()> {
             if args.runs {
                 let out = match &mut relay {
                     Some(w) => w,
@@ -143,7 +152,14 @@ fn main() -> ExitCode {
             }
             progress.inc(1);
             Ok(())
-        });
+        };
+        let stats = match inputs.pop() {
+            Some(input) if alone => zbuf::par_buff::one_input(input, args.background, on_frame),
+            last => {
+                inputs.extend(last);
+                par_buff(inputs, args.background, on_frame)
+            }
+        };
         // Leave the last count on the terminal, its line ended (also after an error, so
         // that the message starts a line of its own).
         progress.abandon();
@@ -158,7 +174,18 @@ fn main() -> ExitCode {
         if args.stats {
             for (name, s) in names.iter().zip(stats) {
                 let name = stagecli::input_name(name);
-                if s.runs > 0 {
+                if let Some(r) = s.resolved {
+                    // Runs only where they were passed between threads.
+                    let runs = if s.runs > 0 {
+                        format!(", {} runs", s.runs)
+                    } else {
+                        String::new()
+                    };
+                    eprintln!(
+                        "zbuf: {name}: {} polygons in, {} pixels tested, {} written{runs}",
+                        r.polygons, r.pixels_tested, r.pixels_written
+                    );
+                } else if s.runs > 0 {
                     eprintln!(
                         "zbuf: {name}: {} spans, {} runs, {} pixels, {} bytes in",
                         s.spans, s.runs, s.pixels, s.bytes

@@ -13,7 +13,8 @@
 //! inputs, nothing deadlocks, and memory stays one frame buffer and a few batches.
 
 use crate::FrameBuffer;
-use proto::{Colour, Fragment, Reader, SpaceKind};
+use proto::{Colour, Fragment, Reader, SpaceKind, Token};
+use scan::{check_on_screen, RegionBuffer, SpanWalker};
 use stagecli::{Context, Error, Result};
 use std::io::Read;
 use std::sync::atomic::{AtomicU64, Ordering};
@@ -42,6 +43,18 @@ pub struct InputStats {
     pub pixels: u64,
     /// Bytes read from the input: the load on its link (thesis 6.5).
     pub bytes: u64,
+    /// For a screen-space input, resolved in zbuf: what its z-buffer did (all frames).
+    pub resolved: Option<Resolved>,
+}
+
+/// The counts of a screen-space input that zbuf resolved itself.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct Resolved {
+    /// Polygons read.
+    pub polygons: u64,
+    /// Pixels depth-tested, and of those written (the nearer so far).
+    pub pixels_tested: u64,
+    pub pixels_written: u64,
 }
 
 /// A reader that counts the bytes read through it.
@@ -71,8 +84,13 @@ enum Message {
         input: usize,
         fragments: Vec<Fragment>,
     },
-    /// The input reached NEXT.FRAME (`end == false`, and now waits) or END.
-    Boundary { input: usize, end: bool },
+    /// The input reached NEXT.FRAME (`end == false`, and now waits) or END; a
+    /// screen-space input resolved here says what it has done so far.
+    Boundary {
+        input: usize,
+        end: bool,
+        resolved: Option<Resolved>,
+    },
     /// The input failed; the error says where.
     Failed { input: usize, error: Error },
 }
@@ -174,8 +192,15 @@ pub fn par_buff(
                 let s = &mut states[input];
                 apply(fb, s, &fragments).with_context(|| format!("{}: frame {frame}", s.name))?;
             }
-            Message::Boundary { input, end } => {
+            Message::Boundary {
+                input,
+                end,
+                resolved,
+            } => {
                 states[input].at = if end { At::End } else { At::NextFrame };
+                if resolved.is_some() {
+                    states[input].stats.resolved = resolved;
+                }
                 at_boundary += 1;
                 if at_boundary < n {
                     continue;
@@ -284,7 +309,22 @@ fn read_input(
             bytes,
         };
         let mut reader = Reader::<Fragment, _>::new(counted)?;
-        reader.header().expect(SpaceKind::Fragments)?;
+        match SpaceKind::of(&reader.header().space) {
+            SpaceKind::Fragments => {}
+            SpaceKind::Screen => return resolve_input(input, reader.into_kind(), &tx, &wait),
+            other => {
+                let first = if other == SpaceKind::Eye {
+                    "persp"
+                } else {
+                    "viewxf, the clipper and persp"
+                };
+                return Err(Error::data(format!(
+                    "input is {}-space, expected fragments (scanconv's) or screen-space \
+                     polygons (persp's); put {first} first",
+                    other.name()
+                )));
+            }
+        }
         let (width, height) = reader
             .header()
             .space
@@ -335,7 +375,12 @@ fn read_input(
                             return Ok(());
                         }
                     }
-                    if !send(Message::Boundary { input, end }) || end {
+                    if !send(Message::Boundary {
+                        input,
+                        end,
+                        resolved: None,
+                    }) || end
+                    {
                         return Ok(());
                     }
                     // Hold here until every input has finished the frame and it is out.
@@ -362,6 +407,231 @@ fn read_input(
     if let Err(error) = result {
         let _ = tx.send(Message::Failed { input, error });
     }
+}
+
+/// [`par_buff`] for one input. When the input is a screen-space polygon stream (the
+/// whole screen's one leaf, as render.sh runs `persp | zbuf` at depth 0) its polygons are
+/// resolved in this thread and each frame painted straight into the frame buffer
+/// ([`RegionBuffer::finish_into`]): no runs, no reader thread, no batches. Any other
+/// input goes to [`par_buff`]. The header is recognised from the input's first bytes
+/// without consuming them; if they do not hold the whole header, par_buff decides.
+pub fn one_input(
+    input: Input,
+    background: Colour,
+    mut on_frame: impl FnMut(u64, &FrameBuffer) -> Result<()>,
+) -> Result<Vec<InputStats>> {
+    let name = input.name.clone();
+    let bytes = Arc::new(AtomicU64::new(0));
+    let mut buffered = std::io::BufReader::with_capacity(
+        1 << 16,
+        Counted {
+            inner: (input.open)().map_err(|e| e.context(name.clone()))?,
+            bytes: Arc::clone(&bytes),
+        },
+    );
+    let peeked = loop {
+        match std::io::BufRead::fill_buf(&mut buffered) {
+            Ok(b) => break b,
+            Err(e) if e.kind() == std::io::ErrorKind::Interrupted => {}
+            Err(e) => return Err(Error::io(stagecli::error::io_message(&e)).context(name)),
+        }
+    };
+    let screen = Reader::<Token, _>::new(peeked)
+        .is_ok_and(|r| SpaceKind::of(&r.header().space) == SpaceKind::Screen);
+    if !screen {
+        let rest = Input {
+            name: input.name,
+            open: Box::new(move || Ok(Box::new(buffered) as Box<dyn Read + Send>)),
+        };
+        return par_buff(vec![rest], background, on_frame);
+    }
+    // Two region buffers go round between two threads: this one paints frame k from one
+    // into the frame buffer and writes it while the reader thread scan-converts frame
+    // k + 1 into the other.
+    let (to_paint, painting) = sync_channel::<RegionBuffer>(1);
+    let (to_reuse, reusable) = sync_channel::<RegionBuffer>(2);
+    let resolved = std::thread::scope(|scope| -> Result<Resolved> {
+        let reader_thread = scope.spawn(move || -> Result<Resolved> {
+            let mut reader = Reader::<Token, _>::new(buffered)?;
+            let (width, height) = reader
+                .header()
+                .space
+                .screen_size()
+                .ok_or_else(|| Error::data("screen-space header without a size"))?;
+            let mut walker = SpanWalker::new();
+            let mut region = RegionBuffer::new(width, height);
+            let mut spare = Some(RegionBuffer::new(width, height));
+            let mut counts = Resolved::default();
+            let mut record = Token::default();
+            while reader.next_into(&mut record)? {
+                match &record {
+                    Token::Polygon(p) => {
+                        check_on_screen(p, width, height)
+                            .map_err(|m| Error::data(format!("{}: {m}", reader.position())))?;
+                        counts.polygons += 1;
+                        let colour = p.colour;
+                        walker.for_each_span(p, width, height, |span| region.draw(&span, colour));
+                    }
+                    Token::Skip(_) => {}
+                    Token::NextFrame | Token::End => {
+                        let stats = std::mem::take(&mut region.stats);
+                        counts.pixels_tested += stats.pixels_tested;
+                        counts.pixels_written += stats.pixels_written;
+                        let next = match spare.take() {
+                            Some(r) => r,
+                            None => match reusable.recv() {
+                                Ok(r) => r,
+                                Err(_) => break, // the painter stopped; it says why
+                            },
+                        };
+                        if to_paint.send(std::mem::replace(&mut region, next)).is_err() {
+                            break;
+                        }
+                    }
+                }
+            }
+            Ok(counts)
+        });
+        let mut fb: Option<FrameBuffer> = None;
+        let mut frame = 0u64;
+        let painted = (|| -> Result<()> {
+            for mut region in painting.iter() {
+                let fb = match &mut fb {
+                    Some(fb) => fb,
+                    None => {
+                        let (w, h) = region.size();
+                        fb.insert(FrameBuffer::new(w, h, background).map_err(Error::data)?)
+                    }
+                };
+                region.finish_into(fb.raster_mut());
+                on_frame(frame, fb)?;
+                fb.clear();
+                frame += 1;
+                let _ = to_reuse.send(region);
+            }
+            Ok(())
+        })();
+        drop(painting);
+        drop(to_reuse);
+        let read = reader_thread
+            .join()
+            .unwrap_or_else(|_| Err(Error::data("the reader thread panicked")));
+        // A read error first: the painter stops for it too, with nothing of its own.
+        let counts = read?;
+        painted?;
+        Ok(counts)
+    })
+    .map_err(|e| e.context(name))?;
+    Ok(vec![InputStats {
+        bytes: bytes.load(Ordering::Relaxed),
+        resolved: Some(resolved),
+        ..Default::default()
+    }])
+}
+
+/// A screen-space input (persp's output) is a leaf's and its merger's work at once: the
+/// reader thread scan-converts its polygons into a [`RegionBuffer`], the leaf's z-buffer
+/// (docs/DESIGN.md, "Leaves resolve visibility"), and at each frame's end sends the finished
+/// pixels on as runs, as `scanconv --resolve` would have written them, without encoding
+/// them for a pipe and decoding them again. `render.sh --depth 0` runs `persp | zbuf` so.
+///
+/// Such an input sends nothing until a frame is resolved, so it need not wait for the
+/// go-ahead before it reads the next frame's polygons, only before it sends that frame:
+/// the next frame is scan-converted while the buffer thread shows this one.
+fn resolve_input<R: Read>(
+    input: usize,
+    mut reader: Reader<Token, R>,
+    tx: &SyncSender<Message>,
+    wait: &Receiver<()>,
+) -> Result<()> {
+    let (width, height) = reader
+        .header()
+        .space
+        .screen_size()
+        .ok_or_else(|| Error::data("screen-space header without a size"))?;
+    let send = |m| tx.send(m).is_ok();
+    if !send(Message::Header {
+        input,
+        width,
+        height,
+    }) {
+        return Ok(());
+    }
+    let mut walker = SpanWalker::new();
+    let mut region = RegionBuffer::new(width, height);
+    let mut polygons = 0u64;
+    let mut record = Token::default();
+    let mut batch = Vec::with_capacity(BATCH);
+    let mut waiting = false; // for the go-ahead after the last frame sent
+    while reader.next_into(&mut record)? {
+        let end = match &record {
+            Token::Polygon(p) => {
+                check_on_screen(p, width, height)
+                    .map_err(|m| Error::data(format!("{}: {m}", reader.position())))?;
+                polygons += 1;
+                let colour = p.colour;
+                walker.for_each_span(p, width, height, |span| region.draw(&span, colour));
+                continue;
+            }
+            // A skip carries nothing a leaf needs: the order of the polygons it gets
+            // decides ties.
+            Token::Skip(_) => continue,
+            Token::NextFrame => false,
+            Token::End => true,
+        };
+        // Nothing of a frame is sent before the buffer thread has shown the frame
+        // before it (its go-ahead); the polygons of this frame were resolved meanwhile.
+        if waiting && wait.recv().is_err() {
+            return Ok(());
+        }
+        waiting = true;
+        let mut stopped = false;
+        let _ = region.finish_frame(|run| {
+            batch.push(Fragment::Run {
+                y: run.y,
+                x0: run.x0,
+                x1: run.x1,
+                colour: run.colour,
+            });
+            if batch.len() == BATCH {
+                let full = std::mem::replace(&mut batch, Vec::with_capacity(BATCH));
+                if !send(Message::Batch {
+                    input,
+                    fragments: full,
+                }) {
+                    stopped = true;
+                    return Err(());
+                }
+            }
+            Ok(())
+        });
+        if stopped {
+            return Ok(());
+        }
+        if !batch.is_empty() {
+            let full = std::mem::replace(&mut batch, Vec::with_capacity(BATCH));
+            if !send(Message::Batch {
+                input,
+                fragments: full,
+            }) {
+                return Ok(());
+            }
+        }
+        let resolved = Some(Resolved {
+            polygons,
+            pixels_tested: region.stats.pixels_tested,
+            pixels_written: region.stats.pixels_written,
+        });
+        if !send(Message::Boundary {
+            input,
+            end,
+            resolved,
+        }) || end
+        {
+            return Ok(());
+        }
+    }
+    Ok(())
 }
 
 #[cfg(test)]

@@ -360,12 +360,86 @@ fn a_bad_input_is_named_and_earlier_frames_are_written() {
             dir.path().join("missing").display()
         ));
     zbuf()
-        .write_stdin("polypipe 1 screen 2 2\nEND\n")
+        .write_stdin("polypipe 1 eye 1 2 3 1\nEND\n")
         .assert()
         .code(1)
         .stderr(
-            "zbuf: stdin: input is screen-space, expected fragments-space; put scanconv first\n",
+            "zbuf: stdin: input is eye-space, expected fragments (scanconv's) or screen-space \
+             polygons (persp's); put persp first\n",
         );
+}
+
+/// A screen-space input (persp's output) is scan-converted and resolved in zbuf: the
+/// frame `scanconv | zbuf` makes, with the leaf's counts under --stats.
+#[test]
+fn a_screen_space_input_is_resolved_here() {
+    let picture = ppm(
+        4,
+        4,
+        &[
+            B, B, B, K, //
+            B, B, R, K, //
+            B, R, R, K, //
+            K, K, K, K,
+        ],
+    );
+    zbuf()
+        .write_stdin(scanconv(OVERLAP))
+        .assert()
+        .success()
+        .stdout(picture.clone());
+    // Square: 4 pixels; triangle: 6, all written (it is the nearer where the two meet,
+    // row 1, column 1).
+    zbuf()
+        .arg("--stats")
+        .write_stdin(OVERLAP)
+        .assert()
+        .success()
+        .stdout(picture)
+        .stderr("zbuf: stdin: 2 polygons in, 10 pixels tested, 10 written\n");
+}
+
+/// Two screen-space inputs, a frame each of two, over disjoint halves of the screen (two
+/// leaves of a splitter tree): each is resolved on its own and the frames assembled.
+#[test]
+fn screen_space_inputs_are_leaves_and_frames_stay_apart() {
+    let dir = tempfile::tempdir().unwrap();
+    let left = write(
+        dir.path(),
+        "left",
+        "polypipe 1 screen 4 1\ncolour 255 0 0\n0 0 0.5\n2 0 0.5\n2 1 0.5\n0 1 0.5\n\
+         NEXT.FRAME\ncolour 0 255 0\n0 0 0.5\n1 0 0.5\n1 1 0.5\n0 1 0.5\nEND\n",
+    );
+    let right = write(
+        dir.path(),
+        "right",
+        "polypipe 1 screen 4 1\ncolour 0 0 255\n3 0 0.5\n4 0 0.5\n4 1 0.5\n3 1 0.5\n\
+         NEXT.FRAME\nskip 1\nNEXT.POLYGON\ncolour 255 0 0\n2 0 0.5\n4 0 0.5\n4 1 0.5\n2 1 0.5\nEND\n",
+    );
+    let mut frames = ppm(4, 1, &[R, R, K, B]);
+    frames.extend(ppm(4, 1, &[G, K, R, R]));
+    zbuf()
+        .args([&left, &right])
+        .assert()
+        .success()
+        .stdout(frames);
+}
+
+/// A screen-space polygon off the guard band is refused as scanconv refuses it, the
+/// input and the polygon named, the frames before it written.
+#[test]
+fn a_bad_screen_space_input_is_named() {
+    zbuf()
+        .write_stdin(
+            "polypipe 1 screen 2 1\ncolour 1 2 3\n0 0 0\n2 0 0\n2 1 0\n0 1 0\nNEXT.FRAME\n\
+             colour 1 2 3\n0 0 0\n1e12 0 0\n2 1 0\nEND\n",
+        )
+        .assert()
+        .code(1)
+        .stdout(ppm(2, 1, &[[1, 2, 3], [1, 2, 3]]))
+        .stderr(predicates::str::starts_with(
+            "zbuf: stdin: frame 1, polygon 0: ",
+        ));
 }
 
 /// A big uneven frame through two named pipes written at once: input a has one pixel a
