@@ -132,8 +132,9 @@ fn quick_chart_of_a_small_scene_makes_its_files_with_real_values() {
         );
         assert_eq!(r["polygons_in_view"], "2");
     }
-    // Each level adds processes: 5 at depth 0, 2 + 15 + 32 + 1 at depth 4.
-    assert_eq!(rows[0]["processes"], "5");
+    // Each level adds processes: 4 at depth 0 (viewxf, clipbatch, persp, zbuf resolving
+    // the one leaf), 2 + 15 + 32 + 1 at depth 4.
+    assert_eq!(rows[0]["processes"], "4");
     assert_eq!(rows[4]["processes"], "50");
 
     // --remodel predicts again from another model file and keeps what was measured: a

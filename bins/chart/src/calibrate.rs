@@ -84,7 +84,7 @@ pub fn calibrate(
     mut tick: impl FnMut(&str),
 ) -> Result<Constants> {
     let reps = if quick { 1 } else { 3 };
-    let [mut vt, mut vb, mut clip, mut split, mut persp, mut hse, mut merge] =
+    let [mut vt, mut vb, mut clip, mut split, mut persp, mut hse, mut merge, mut resolve] =
         std::array::from_fn(|_| Samples::default());
     let f = |n: &str| work.join(n);
     for (i, &(p, w, h, dc)) in grid(quick).iter().enumerate() {
@@ -133,6 +133,7 @@ pub fn calibrate(
             c.arg(f("r.pp")).stdin(Stdio::null());
             Ok(c)
         })?;
+        let t_resolve = cpu(reps, || stage(bin, "zbuf", &f("p.pp"), None))?;
         let (relevant, relevant_vertices, area) = count_screen(File::open(f("p.pp"))?)?;
         let env = Environment {
             frames,
@@ -159,6 +160,10 @@ pub fn calibrate(
         persp.push(&flowing, t_persp);
         hse.push(&flowing, t_hse);
         merge.push(&merge_work, t_merge);
+        // zbuf resolving the screen stream (depth 0): the leaf's work and the frames'.
+        let mut both = flowing;
+        both.screen += merge_work.screen;
+        resolve.push(&both, t_resolve);
     }
     // Every scene is of quads (E = 4), so a cost per vertex cannot be told from one per
     // polygon: the geometry stages get a cost per polygon of four vertices.
@@ -173,6 +178,7 @@ pub fn calibrate(
         // T_sc's terms (5.2.4): per polygon, span and pixel, and the region.
         hse: hse.fit([true, true, false, true, true, true]),
         merge: merge.fit([true, false, false, true, false, true]),
+        resolve: resolve.fit([true, true, false, true, true, true]),
         overheads: Overheads::default(),
     };
     tick("render.sh on two polygons, depths 0-4");

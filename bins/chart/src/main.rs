@@ -75,8 +75,9 @@ struct Cli {
 enum Sub {
     /// Prints the splitter tree depth the cost model predicts is fastest for a scene on
     /// this machine, and why, as one line `N (reason)`. It looks at the scene's first 512
-    /// KiB through the libraries of viewxf, clipbatch and persp, in this process, and
-    /// scales what it saw to the whole file: polygons in view, screen, depth complexity.
+    /// KiB through the geometry viewxf, clipplane and persp share (proto's), in this
+    /// process, and scales what it saw to the whole file: polygons in view, screen, depth
+    /// complexity.
     #[command(
         name = "choose-depth",
         after_help = "Example:\n  chart choose-depth --size 1920x1080 --cores 2 fill.txt\n  \
@@ -289,6 +290,7 @@ fn run(cli: Cli) -> Result<()> {
             ("persp", k.persp),
             ("hse", k.hse),
             ("merge", k.merge),
+            ("resolve (depth 0)", k.resolve),
         ] {
             println!("{name:16} {cost:?}");
         }

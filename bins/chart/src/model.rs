@@ -142,6 +142,9 @@ pub struct Constants {
     pub hse: Cost,
     /// The merger, zbuf, placing the leaves' runs and writing the frames.
     pub merge: Cost,
+    /// zbuf resolving the one leaf itself at depth 0 (`persp | zbuf`): the leaf's
+    /// z-buffer and the frames, in one process, with no runs between them.
+    pub resolve: Cost,
 }
 
 /// The constants committed after a calibration run on the project's machine.
@@ -288,16 +291,23 @@ pub fn predict(k: &Constants, env: &Environment, depth: u8, cores: usize) -> Pre
         });
     }
     let leaf = node(depth);
-    for (stage, cost) in [("persp", &k.persp), ("hse", &k.hse)] {
-        let each = cost.time(&leaf);
-        stages.push(StageTime {
-            stage,
-            each_s: each,
-            processes: 1 << depth,
-            total_s: each * leaves,
-        });
+    if depth == 0 {
+        // One leaf, whose region is the screen: render.sh runs `persp | zbuf`, zbuf
+        // resolving the leaf and writing the frames in one process.
+        stages.push(one("persp", k.persp.time(&leaf)));
+        stages.push(one("hse", k.resolve.time(&leaf)));
+    } else {
+        for (stage, cost) in [("persp", &k.persp), ("hse", &k.hse)] {
+            let each = cost.time(&leaf);
+            stages.push(StageTime {
+                stage,
+                each_s: each,
+                processes: 1 << depth,
+                total_s: each * leaves,
+            });
+        }
+        stages.push(one("merge", k.merge.time(&merge_work)));
     }
-    stages.push(one("merge", k.merge.time(&merge_work)));
     let processes: usize = stages.iter().map(|s| s.processes).sum();
     let slowest_s = stages.iter().map(|s| s.each_s).fold(0.0, f64::max);
     let work: f64 = stages.iter().map(|s| s.total_s).sum();
@@ -549,6 +559,13 @@ mod tests {
                 screen: 5e-9,
                 ..Default::default()
             },
+            resolve: Cost {
+                process: 0.001,
+                polygon: 8e-7,
+                pixel: 4e-9,
+                screen: 2e-9,
+                ..Default::default()
+            },
             ..Default::default()
         }
     }
@@ -586,21 +603,23 @@ mod tests {
         let e = env(10_000, 1920, 1080, 10.0);
         let p0 = predict(&k, &e, 0, 2);
         let p2 = predict(&k, &e, 2, 2);
-        assert_eq!(p0.processes, 5);
+        assert_eq!(p0.processes, 4); // viewxf, clipbatch, persp, zbuf (resolving the leaf)
         assert_eq!(p2.processes, 2 + 3 + 8 + 1);
         let hse = |p: &Prediction| p.stages.iter().find(|s| s.stage == "hse").unwrap().clone();
         // At depth 0 the leaf reads every polygon the clipper passes on (half of them
         // emptied here); a leaf of depth 2 a quarter of those in view and of the screen.
         let w = stage_work(&e);
         assert_eq!(w.flowing.polygons, 20_000.0);
-        assert_eq!(hse(&p0).each_s, k.hse.time(&w.flowing));
+        // At depth 0 zbuf resolves the one leaf itself, at its own cost.
+        assert_eq!(hse(&p0).each_s, k.resolve.time(&w.flowing));
+        assert!(p0.stages.iter().all(|s| s.stage != "merge"));
         let quarter = w.relevant.share(4.0);
         assert_eq!(
             (quarter.polygons, quarter.screen),
             (2_500.0, 1920.0 * 1080.0 / 4.0)
         );
         assert!((hse(&p2).each_s - k.hse.time(&quarter)).abs() < 1e-15);
-        assert!(hse(&p2).each_s < hse(&p0).each_s / 4.0);
+        assert!(hse(&p2).each_s < k.hse.time(&w.flowing) / 4.0);
         assert_eq!(p0.bottleneck(), "hse");
     }
 
