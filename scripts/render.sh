@@ -38,9 +38,9 @@ examples/penetrating.txt) and writes one binary PPM (P6) per frame on stdout.
 
 Options:
   --size WxH        screen size in pixels, W and H from 1 to 65536 (default 500x500)
-  --depth N         splitter tree depth, 0 to 6 (default 0: no splitter), or auto:
-                    the depth the cost model (bench/model.toml, `chart choose-depth`)
-                    predicts fastest for this scene, screen and machine
+  --depth N         splitter tree depth, 0 to 6 (0: no splitter), or auto (the
+                    default): the depth the cost model (bench/model.toml, `chart
+                    choose-depth`) predicts fastest for this scene, screen and machine
   --eye X,Y,Z  --at X,Y,Z  --up X,Y,Z  --s S  --d D  --hither K1  --yon K2
                     camera and view volume, passed to viewxf
   --zmode MODE      persp's depth: projective (default) or eye-z (the occam code's)
@@ -132,7 +132,8 @@ polypipe_version() { # the workspace's version, from its Cargo.toml
 # --- Options. ---------------------------------------------------------------------------
 
 size=500x500
-depth=0
+depth=auto # --depth (auto: chart choose-depth decides, or 0 when there is no chart)
+depth_asked=0
 zmode=projective
 hse=zbuf    # --hse: the leaves' hidden-surface method
 aa=none     # --aa: the leaves' anti-aliasing
@@ -172,7 +173,7 @@ parse_options() {
             -h | --help) usage; exit 0 ;;
             --version) echo "render.sh $(polypipe_version)"; exit 0 ;;
             --size) size=$value ;;
-            --depth) depth=$value ;;
+            --depth) depth=$value depth_asked=1 ;;
             --zmode) zmode=$value ;;
             --merge) merge=$value ;;
             --hse) hse=$value ;;
@@ -600,14 +601,31 @@ start_merger() {
 # to be read twice. With --stats, the choice and its reason.
 choose_depth() {
     local line status
-    [[ -x $bindir/chart ]] || fail 3 "no chart in $bindir, for --depth auto"
+    if [[ ! -x $bindir/chart ]]; then
+        # Asked for, the model is missed; by default (a host's binaries, say), depth 0.
+        ((!depth_asked)) || fail 3 "no chart in $bindir, for --depth auto"
+        depth=0
+        return
+    fi
+    # A scene that cannot be read twice (stdin, a pipe, `<(…)`) is kept first.
     if [[ $scene == - ]]; then
         cat >"$tmp/scene" || fail 3 "cannot keep the scene from stdin in $tmp"
         scene=$tmp/scene
+    elif [[ ! -f $scene ]]; then
+        cat -- "$scene" >"$tmp/scene" || fail 3 "cannot keep the scene $scene in $tmp"
+        scene=$tmp/scene
     fi
-    line=$("$bindir/chart" choose-depth --root "$root" --size "$size" "${camera[@]}" "$scene")
-    status=$?
-    ((status == 0)) || exit "$status" # chart said why, as `chart: …`
+    if ((depth_asked)); then
+        line=$("$bindir/chart" choose-depth --root "$root" --size "$size" "${camera[@]}" "$scene")
+        status=$?
+        ((status == 0)) || exit "$status" # chart said why, as `chart: …`
+    elif ! line=$("$bindir/chart" choose-depth --root "$root" --size "$size" "${camera[@]}" \
+        "$scene" 2>/dev/null); then
+        # By default, a scene or an option chart cannot take is left to the stages, which
+        # say what is wrong in their own terms, at depth 0.
+        depth=0
+        return
+    fi
     depth=${line%% *}
     [[ $depth =~ ^[0-6]$ ]] || fail 3 "chart choose-depth answered '$line'"
     ((${#stats[@]} == 0)) || echo "render.sh: depth auto chose $line" >&2
@@ -763,27 +781,50 @@ main() {
     [[ -r /proc/self/stat ]] || fail 3 "needs /proc (Linux), to watch its stages"
     ensure_binaries
     make_private_dir
-    if [[ $depth == auto ]]; then
-        if ((hidden_line)); then depth=0; else choose_depth; fi
-    fi
-    planning=1
-    graph
-    planning=0
-    ((${#fifos[@]} == 0)) || mkfifo -m 600 -- "${fifos[@]}" || exit 3
+    if [[ $depth == auto ]] && ((hidden_line)); then depth=0; fi
     exec 3<&0
-    graph
+    if [[ $depth == auto && -f $scene && -z $subtree ]]; then
+        # The clipper chain is the same at every depth: it starts, and reads the scene,
+        # while chart looks at the scene file (a scene on stdin or a pipe is kept first).
+        in_pieces front
+        choose_depth
+        in_pieces back
+    else
+        [[ $depth != auto ]] || choose_depth
+        in_pieces graph
+    fi
     exec 3<&-
     watch
 }
 
+# in_pieces PART: names the stages of PART (front, back or graph) and their fifos, makes
+# the fifos in one mkfifo, and starts the stages.
+in_pieces() {
+    fifos=()
+    planning=1
+    "$1"
+    planning=0
+    ((${#fifos[@]} == 0)) || mkfifo -m 600 -- "${fifos[@]}" || exit 3
+    "$1"
+}
+
 # The stages, from the scene (or, for --subtree K, the stream into node K on stdin) to
-# the frames on stdout: named only while `planning`, started after.
+# the frames on stdout: named only while `planning`, started after. `front` is the
+# clipper chain, which sets `clipped`; `back` all after it.
 graph() {
+    front
+    back
+}
+
+front() {
     if [[ -n $subtree ]]; then
         clipped=/dev/fd/3 # the stream into node K
     else
         start_clipper_chain
     fi
+}
+
+back() {
     if ((hidden_line)); then
         start_hidden_line
     else

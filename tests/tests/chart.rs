@@ -322,3 +322,32 @@ fn render_depth_auto_says_its_choice_and_renders_at_it() {
     let quiet = sh("scripts/render.sh --depth auto", b"");
     assert!(quiet.status.success() && quiet.stderr.is_empty());
 }
+
+#[test]
+fn auto_is_the_default_depth_and_a_scene_it_cannot_look_at_goes_to_the_stages() {
+    // No --depth: the model chooses, here depth 0 for two polygons, from a pipe too
+    // (`<(…)`, read twice: once by chart, once by the render), with a camera whose
+    // coordinate starts with a minus.
+    let out = sh(
+        "scripts/render.sh --stats --eye -8,5,18 <(cat examples/penetrating.txt)",
+        b"",
+    );
+    assert!(out.status.success(), "{out:?}");
+    let err = String::from_utf8(out.stderr).unwrap();
+    assert!(
+        err.starts_with("render.sh: depth auto chose 0 (2 polygons in view, "),
+        "{err}"
+    );
+    let at0 = sh("scripts/render.sh --depth 0 --eye -8,5,18 examples/penetrating.txt", b"");
+    assert!(out.stdout == at0.stdout, "not depth 0's frame");
+    // A scene the look cannot read: by default the stages say what is wrong (viewxf,
+    // status 1), as at depth 0; with --depth auto asked for, chart says it.
+    let bad = b"polypipe 1 world\ncolour 1 2 3\n0 0\n";
+    let out = sh("scripts/render.sh -", bad);
+    assert_eq!(out.status.code(), Some(1));
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(err.contains("viewxf: line 3, column 4: expected z of vertex 0"), "{err}");
+    let out = sh("scripts/render.sh --depth auto -", bad);
+    assert_eq!(out.status.code(), Some(1));
+    assert!(String::from_utf8_lossy(&out.stderr).starts_with("chart: "));
+}

@@ -101,19 +101,19 @@ enum Sub {
         #[arg(long, value_name = "DIR")]
         root: Option<PathBuf>,
         /// viewxf's camera options, as render.sh was given them, e.g. `--eye 10,10,20`.
-        #[arg(long = "eye", value_name = "X,Y,Z")]
+        #[arg(long = "eye", value_name = "X,Y,Z", allow_hyphen_values = true)]
         eye: Option<String>,
-        #[arg(long = "at", value_name = "X,Y,Z")]
+        #[arg(long = "at", value_name = "X,Y,Z", allow_hyphen_values = true)]
         at: Option<String>,
-        #[arg(long = "up", value_name = "X,Y,Z")]
+        #[arg(long = "up", value_name = "X,Y,Z", allow_hyphen_values = true)]
         up: Option<String>,
-        #[arg(long = "s", value_name = "S")]
+        #[arg(long = "s", value_name = "S", allow_hyphen_values = true)]
         s: Option<String>,
-        #[arg(long = "d", value_name = "D")]
+        #[arg(long = "d", value_name = "D", allow_hyphen_values = true)]
         d: Option<String>,
-        #[arg(long = "hither", value_name = "K1")]
+        #[arg(long = "hither", value_name = "K1", allow_hyphen_values = true)]
         hither: Option<String>,
-        #[arg(long = "yon", value_name = "K2")]
+        #[arg(long = "yon", value_name = "K2", allow_hyphen_values = true)]
         yon: Option<String>,
         /// The scene (a file: it is read here and again by the render).
         scene: PathBuf,
@@ -476,8 +476,8 @@ fn main() -> ExitCode {
                 ("--yon", yon),
             ] {
                 if let Some(v) = v {
-                    camera.push(opt.to_string());
-                    camera.push(v);
+                    // One word, so that a value with a leading minus stays a value.
+                    camera.push(format!("{opt}={v}"));
                 }
             }
             choose_depth(size, cores, max_depth, model, root, camera, scene)

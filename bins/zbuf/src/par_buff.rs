@@ -413,8 +413,8 @@ fn read_input(
 /// whole screen's one leaf, as render.sh runs `persp | zbuf` at depth 0) its polygons are
 /// resolved in this thread and each frame painted straight into the frame buffer
 /// ([`RegionBuffer::finish_into`]): no runs, no reader thread, no batches. Any other
-/// input goes to [`par_buff`]. The header is recognised from the input's first bytes
-/// without consuming them; if they do not hold the whole header, par_buff decides.
+/// input goes to [`par_buff`]. The header is recognised from the input's first bytes,
+/// which are then read again as the start of the stream.
 pub fn one_input(
     input: Input,
     background: Colour,
@@ -422,22 +422,29 @@ pub fn one_input(
 ) -> Result<Vec<InputStats>> {
     let name = input.name.clone();
     let bytes = Arc::new(AtomicU64::new(0));
-    let mut buffered = std::io::BufReader::with_capacity(
-        1 << 16,
-        Counted {
-            inner: (input.open)().map_err(|e| e.context(name.clone()))?,
-            bytes: Arc::clone(&bytes),
-        },
-    );
-    let peeked = loop {
-        match std::io::BufRead::fill_buf(&mut buffered) {
-            Ok(b) => break b,
+    let mut inner = Counted {
+        inner: (input.open)().map_err(|e| e.context(name.clone()))?,
+        bytes: Arc::clone(&bytes),
+    };
+    // The first bytes, read until they hold a whole header (a pipe may deliver it in
+    // pieces), or 64 KiB, or the end; then handed on ahead of the rest.
+    let mut head = Vec::new();
+    let screen = loop {
+        if let Ok(r) = Reader::<Token, _>::new(&head[..]) {
+            break SpaceKind::of(&r.header().space) == SpaceKind::Screen;
+        }
+        if head.len() >= 1 << 16 {
+            break false;
+        }
+        let mut chunk = [0u8; 4096];
+        match inner.read(&mut chunk) {
+            Ok(0) => break false,
+            Ok(n) => head.extend_from_slice(&chunk[..n]),
             Err(e) if e.kind() == std::io::ErrorKind::Interrupted => {}
             Err(e) => return Err(Error::io(stagecli::error::io_message(&e)).context(name)),
         }
     };
-    let screen = Reader::<Token, _>::new(peeked)
-        .is_ok_and(|r| SpaceKind::of(&r.header().space) == SpaceKind::Screen);
+    let buffered = std::io::Cursor::new(head).chain(inner);
     if !screen {
         let rest = Input {
             name: input.name,
