@@ -44,5 +44,5 @@ mod walk;
 pub use depth::{depth_at, DepthPlane};
 pub use edges::{polygon_edge, ActiveEdgeTable, EdgeTable};
 pub use frame::{HiddenSurface, ZBuffer};
-pub use region::{RegionBuffer, RegionStats, Run};
+pub use region::{advise_huge_pages, RegionBuffer, RegionStats, Run};
 pub use walk::{check_on_screen, covered_on_row, Span, SpanWalker, GUARD_BAND};

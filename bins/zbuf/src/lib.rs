@@ -96,6 +96,8 @@ impl FrameBuffer {
         let mut polygon: Vec<u32> = Vec::new();
         depth.try_reserve_exact(tiled_n).map_err(|_| refuse())?;
         polygon.try_reserve_exact(tiled_n).map_err(|_| refuse())?;
+        scan::advise_huge_pages(&depth);
+        scan::advise_huge_pages(&polygon);
         Ok(FrameBuffer {
             width,
             height,
@@ -288,10 +290,12 @@ impl FrameBuffer {
 /// A frame buffer's memory per pixel: depth (i64), polygon index (u32), colour (RGB).
 pub const BYTES_PER_PIXEL: u64 = 8 + 4 + 3;
 
-/// `n` copies of `value`, or `None` when the memory cannot be had.
+/// `n` copies of `value`, or `None` when the memory cannot be had; in huge pages where
+/// the kernel gives them.
 fn filled<T: Clone>(n: usize, value: T) -> Option<Vec<T>> {
     let mut v = Vec::new();
     v.try_reserve_exact(n).ok()?;
+    scan::advise_huge_pages(&v);
     v.resize(n, value);
     Some(v)
 }
