@@ -168,12 +168,21 @@ impl<R: Read> Lexer<R> {
         while stop > start && self.buf[stop - 1] == b'\r' {
             stop -= 1;
         }
-        let line = std::str::from_utf8(&self.buf[start..stop]).map_err(|e| StreamError::Text {
-            line: self.line_no,
-            column: e.valid_up_to() + 1,
-            msg: "not UTF-8 text (is this a binary stream cut or corrupted before its magic?)"
-                .into(),
-        })?;
+        let bytes = &self.buf[start..stop];
+        let ascii = bytes.is_ascii();
+        let line = if ascii {
+            // SAFETY: ASCII bytes are UTF-8. The check is the same as from_utf8's on the
+            // lines of numbers that make up nearly all of a scene, but without its
+            // per-call set-up, which on 60-byte lines was a tenth of viewxf's time.
+            unsafe { std::str::from_utf8_unchecked(bytes) }
+        } else {
+            std::str::from_utf8(bytes).map_err(|e| StreamError::Text {
+                line: self.line_no,
+                column: e.valid_up_to() + 1,
+                msg: "not UTF-8 text (is this a binary stream cut or corrupted before its magic?)"
+                    .into(),
+            })?
+        };
         // A byte-order mark, which some editors put first, is not part of the text.
         let line = match line.strip_prefix('\u{feff}') {
             Some(rest) if self.line_no == 1 => rest,
@@ -186,7 +195,7 @@ impl<R: Read> Lexer<R> {
         };
         self.line.clear();
         self.line.push_str(line);
-        self.ascii = self.line.is_ascii();
+        self.ascii = ascii;
         self.cursor = 0;
         Ok(true)
     }
