@@ -338,7 +338,10 @@ fn auto_is_the_default_depth_and_a_scene_it_cannot_look_at_goes_to_the_stages() 
         err.starts_with("render.sh: depth auto chose 0 (2 polygons in view, "),
         "{err}"
     );
-    let at0 = sh("scripts/render.sh --depth 0 --eye -8,5,18 examples/penetrating.txt", b"");
+    let at0 = sh(
+        "scripts/render.sh --depth 0 --eye -8,5,18 examples/penetrating.txt",
+        b"",
+    );
     assert!(out.stdout == at0.stdout, "not depth 0's frame");
     // A scene the look cannot read: by default the stages say what is wrong (viewxf,
     // status 1), as at depth 0; with --depth auto asked for, chart says it.
@@ -346,7 +349,10 @@ fn auto_is_the_default_depth_and_a_scene_it_cannot_look_at_goes_to_the_stages() 
     let out = sh("scripts/render.sh -", bad);
     assert_eq!(out.status.code(), Some(1));
     let err = String::from_utf8_lossy(&out.stderr);
-    assert!(err.contains("viewxf: line 3, column 4: expected z of vertex 0"), "{err}");
+    assert!(
+        err.contains("viewxf: line 3, column 4: expected z of vertex 0"),
+        "{err}"
+    );
     let out = sh("scripts/render.sh --depth auto -", bad);
     assert_eq!(out.status.code(), Some(1));
     assert!(String::from_utf8_lossy(&out.stderr).starts_with("chart: "));

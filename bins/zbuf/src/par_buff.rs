@@ -325,11 +325,7 @@ fn read_input(
                 )));
             }
         }
-        let (width, height) = reader
-            .header()
-            .space
-            .screen_size()
-            .ok_or_else(|| Error::data("fragment header without a screen size"))?;
+        let (width, height) = screen_of(&reader, "fragment")?;
         // A send fails only when the buffer thread has stopped (on another input's
         // error): then there is nothing left to do.
         let send = |m| tx.send(m).is_ok();
@@ -409,6 +405,31 @@ fn read_input(
     }
 }
 
+/// The screen size a stream's header gives; `what` names the header in the message.
+fn screen_of<T: proto::Record, R: Read>(reader: &Reader<T, R>, what: &str) -> Result<(u32, u32)> {
+    reader
+        .header()
+        .space
+        .screen_size()
+        .ok_or_else(|| Error::data(format!("{what} header without a screen size")))
+}
+
+/// A leaf's z-buffer at work (a screen-space input resolved here): one polygon checked
+/// against the screen's guard band, as scanconv checks it, and its spans depth-tested.
+fn resolve_polygon<R: Read>(
+    walker: &mut SpanWalker,
+    region: &mut RegionBuffer,
+    polygon: &proto::Polygon,
+    reader: &Reader<Token, R>,
+) -> Result<()> {
+    let (width, height) = region.size();
+    check_on_screen(polygon, width, height)
+        .map_err(|m| Error::data(format!("{}: {m}", reader.position())))?;
+    let colour = polygon.colour;
+    walker.for_each_span(polygon, width, height, |span| region.draw(&span, colour));
+    Ok(())
+}
+
 /// [`par_buff`] for one input. When the input is a screen-space polygon stream (the
 /// whole screen's one leaf, as render.sh runs `persp | zbuf` at depth 0) its polygons are
 /// resolved in this thread and each frame painted straight into the frame buffer
@@ -460,11 +481,7 @@ pub fn one_input(
     let resolved = std::thread::scope(|scope| -> Result<Resolved> {
         let reader_thread = scope.spawn(move || -> Result<Resolved> {
             let mut reader = Reader::<Token, _>::new(buffered)?;
-            let (width, height) = reader
-                .header()
-                .space
-                .screen_size()
-                .ok_or_else(|| Error::data("screen-space header without a size"))?;
+            let (width, height) = screen_of(&reader, "screen-space")?;
             let mut walker = SpanWalker::new();
             let mut region = RegionBuffer::new(width, height);
             let mut spare = Some(RegionBuffer::new(width, height));
@@ -473,11 +490,8 @@ pub fn one_input(
             while reader.next_into(&mut record)? {
                 match &record {
                     Token::Polygon(p) => {
-                        check_on_screen(p, width, height)
-                            .map_err(|m| Error::data(format!("{}: {m}", reader.position())))?;
+                        resolve_polygon(&mut walker, &mut region, p, &reader)?;
                         counts.polygons += 1;
-                        let colour = p.colour;
-                        walker.for_each_span(p, width, height, |span| region.draw(&span, colour));
                     }
                     Token::Skip(_) => {}
                     Token::NextFrame | Token::End => {
@@ -551,11 +565,7 @@ fn resolve_input<R: Read>(
     tx: &SyncSender<Message>,
     wait: &Receiver<()>,
 ) -> Result<()> {
-    let (width, height) = reader
-        .header()
-        .space
-        .screen_size()
-        .ok_or_else(|| Error::data("screen-space header without a size"))?;
+    let (width, height) = screen_of(&reader, "screen-space")?;
     let send = |m| tx.send(m).is_ok();
     if !send(Message::Header {
         input,
@@ -573,11 +583,8 @@ fn resolve_input<R: Read>(
     while reader.next_into(&mut record)? {
         let end = match &record {
             Token::Polygon(p) => {
-                check_on_screen(p, width, height)
-                    .map_err(|m| Error::data(format!("{}: {m}", reader.position())))?;
+                resolve_polygon(&mut walker, &mut region, p, &reader)?;
                 polygons += 1;
-                let colour = p.colour;
-                walker.for_each_span(p, width, height, |span| region.draw(&span, colour));
                 continue;
             }
             // A skip carries nothing a leaf needs: the order of the polygons it gets
