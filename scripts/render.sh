@@ -615,12 +615,12 @@ choose_depth() {
         cat -- "$scene" >"$tmp/scene" || fail 3 "cannot keep the scene $scene in $tmp"
         scene=$tmp/scene
     fi
+    chart_look() { "$bindir/chart" choose-depth --root "$root" --size "$size" "${camera[@]}" "$scene"; }
     if ((depth_asked)); then
-        line=$("$bindir/chart" choose-depth --root "$root" --size "$size" "${camera[@]}" "$scene")
+        line=$(chart_look)
         status=$?
         ((status == 0)) || exit "$status" # chart said why, as `chart: …`
-    elif ! line=$("$bindir/chart" choose-depth --root "$root" --size "$size" "${camera[@]}" \
-        "$scene" 2>/dev/null); then
+    elif ! line=$(chart_look 2>/dev/null); then
         # By default, a scene or an option chart cannot take is left to the stages, which
         # say what is wrong in their own terms, at depth 0.
         depth=0

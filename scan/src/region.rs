@@ -115,6 +115,18 @@ pub struct Run {
     pub colour: Colour,
 }
 
+/// A finished run as the fragment stream carries it (`run Y X0 X1 R G B`).
+impl From<Run> for proto::Fragment {
+    fn from(r: Run) -> Self {
+        proto::Fragment::Run {
+            y: r.y,
+            x0: r.x0,
+            x1: r.x1,
+            colour: r.colour,
+        }
+    }
+}
+
 /// Counts for `--stats`, over all frames.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct RegionStats {

@@ -54,12 +54,7 @@ pub fn resolve_frames(
         counts.frames += 1;
         counts.runs_out += runs.len() as u64;
         for r in runs.drain(..) {
-            out.write(&Fragment::Run {
-                y: r.y,
-                x0: r.x0,
-                x1: r.x1,
-                colour: r.colour,
-            })?;
+            out.write(&r.into())?;
         }
         out.write(&end)?;
     }

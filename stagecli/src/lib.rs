@@ -39,7 +39,7 @@ pub use leaf::{resolve_frames, FrameCounts};
 pub use names::FrameNames;
 pub use stream::{
     check_finite, filter_polygons, input_error, input_name, next, open_input, open_output,
-    read_stdin, same_file, stdout, write_stdout, Branch, Named,
+    read_stdin, same_file, stdout, write_stdout, Branch, Counted, Named,
 };
 
 use std::io::Write;

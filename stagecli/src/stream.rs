@@ -116,6 +116,22 @@ impl<W: Write> Write for Named<W> {
     }
 }
 
+/// A reader that counts the bytes read through it into a counter it shares: the load on
+/// an input's link (zbuf's `--stats`), or how far into a scene a look has read (chart).
+pub struct Counted<R> {
+    pub inner: R,
+    pub bytes: std::sync::Arc<std::sync::atomic::AtomicU64>,
+}
+
+impl<R: Read> Read for Counted<R> {
+    fn read(&mut self, buf: &mut [u8]) -> io::Result<usize> {
+        let n = self.inner.read(buf)?;
+        self.bytes
+            .fetch_add(n as u64, std::sync::atomic::Ordering::Relaxed);
+        Ok(n)
+    }
+}
+
 /// Standard output, named `stdout` in its errors.
 pub fn stdout() -> Named<io::StdoutLock<'static>> {
     Named::new(io::stdout().lock(), "stdout")

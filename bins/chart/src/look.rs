@@ -9,8 +9,11 @@ use anyhow::{Context, Result};
 use proto::camera::Device;
 use proto::geometry::{clip_against, PyramidPlane};
 use proto::{Polygon, Reader, Token, Vertex};
+use stagecli::Counted;
 use std::io::Read;
 use std::path::Path;
+use std::sync::atomic::{AtomicU64, Ordering::Relaxed};
+use std::sync::Arc;
 
 /// The environment parameters of one scene (totals over all its frames).
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
@@ -130,20 +133,6 @@ pub fn is_text(scene: &Path) -> Result<bool> {
 /// are not ordered by size.
 pub const SAMPLE_BYTES: u64 = 512 * 1024;
 
-/// A reader that counts the bytes read through it.
-struct Counted<R> {
-    inner: R,
-    bytes: std::rc::Rc<std::cell::Cell<u64>>,
-}
-
-impl<R: Read> Read for Counted<R> {
-    fn read(&mut self, buf: &mut [u8]) -> std::io::Result<usize> {
-        let n = self.inner.read(buf)?;
-        self.bytes.set(self.bytes.get() + n as u64);
-        Ok(n)
-    }
-}
-
 /// Looks at a scene for a `width`×`height` screen: the world-space counts as read, and
 /// the screen-space ones as `viewxf | clipplane ×6 | persp` computes them, through the
 /// same proto geometry, in this process. `camera` are
@@ -189,12 +178,12 @@ pub fn look(
     let file =
         std::fs::File::open(scene).with_context(|| format!("cannot open {}", scene.display()))?;
     let total = file.metadata().map(|m| m.len()).unwrap_or(0);
-    let bytes = std::rc::Rc::new(std::cell::Cell::new(0));
+    let bytes = Arc::new(AtomicU64::new(0));
     let mut reader = Reader::<Token, _>::new(std::io::BufReader::with_capacity(
         1 << 16,
         Counted {
             inner: file,
-            bytes: bytes.clone(),
+            bytes: Arc::clone(&bytes),
         },
     ))
     .with_context(|| format!("reading {}", scene.display()))?;
@@ -219,11 +208,11 @@ pub fn look(
                 e.vertices += p.vertices.len() as u64;
                 // The reader refills its buffer a block at a time: at a refill, the
                 // polygons before this one took the bytes read until then.
-                if bytes.get() != read_so_far {
+                if bytes.load(Relaxed) != read_so_far {
                     if read_so_far > 0 {
                         anchor = (e.polygons - 1, read_so_far);
                     }
-                    read_so_far = bytes.get();
+                    read_so_far = bytes.load(Relaxed);
                 }
                 // viewxf, the six clipplane stages, then persp's device mapping.
                 eye.clear();
@@ -241,7 +230,7 @@ pub fn look(
                     }
                     e.area += area_of(&eye);
                 }
-                if sample.is_some_and(|s| bytes.get() > s) {
+                if sample.is_some_and(|s| bytes.load(Relaxed) > s) {
                     whole = false;
                     break;
                 }

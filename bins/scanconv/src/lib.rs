@@ -146,14 +146,7 @@ impl ScanConverter {
         emit: &mut impl FnMut(Fragment) -> Result<(), E>,
     ) -> Result<(), E> {
         match &mut self.region {
-            Some(region) => region.finish_frame(|r| {
-                emit(Fragment::Run {
-                    y: r.y,
-                    x0: r.x0,
-                    x1: r.x1,
-                    colour: r.colour,
-                })
-            }),
+            Some(region) => region.finish_frame(|r| emit(r.into())),
             None => Ok(()),
         }
     }

@@ -91,7 +91,7 @@ fn main() -> ExitCode {
     stagecli::main("zbuf", |args: Args| {
         let (pattern, names) = plan(&args)?;
         let form = args.text.form();
-        let inputs = names
+        let mut inputs: Vec<Input> = names
             .iter()
             .map(|name| {
                 let path = name.clone();
@@ -105,10 +105,6 @@ fn main() -> ExitCode {
         let mut out = io::BufWriter::with_capacity(1 << 16, stagecli::stdout());
         let progress = zbuf::frame_progress(args.progress);
         let mut relay: Option<proto::Writer<proto::Fragment, _>> = None;
-        // One input and pictures out: a screen-space input is resolved and painted in
-        // this thread, with nothing passed between threads (`one_input`).
-        let alone = names.len() == 1 && !args.runs;
-        let mut inputs: Vec<Input> = inputs;
         let on_frame = |frame: u64, fb: &zbuf::FrameBuffer| -> stagecli::Result<()> {
             if args.runs {
                 let out = match &mut relay {
@@ -153,12 +149,12 @@ fn main() -> ExitCode {
             progress.inc(1);
             Ok(())
         };
-        let stats = match inputs.pop() {
-            Some(input) if alone => zbuf::par_buff::one_input(input, args.background, on_frame),
-            last => {
-                inputs.extend(last);
-                par_buff(inputs, args.background, on_frame)
-            }
+        // One input and pictures out: a screen-space input is resolved and painted in
+        // this thread, with nothing passed between threads (`one_input`).
+        let stats = if inputs.len() == 1 && !args.runs {
+            zbuf::par_buff::one_input(inputs.remove(0), args.background, on_frame)
+        } else {
+            par_buff(inputs, args.background, on_frame)
         };
         // Leave the last count on the terminal, its line ended (also after an error, so
         // that the message starts a line of its own).

@@ -15,7 +15,7 @@
 use crate::FrameBuffer;
 use proto::{Colour, Fragment, Reader, SpaceKind, Token};
 use scan::{check_on_screen, RegionBuffer, SpanWalker};
-use stagecli::{Context, Error, Result};
+use stagecli::{Context, Counted, Error, Result};
 use std::io::Read;
 use std::sync::atomic::{AtomicU64, Ordering};
 use std::sync::mpsc::{channel, sync_channel, Receiver, Sender, SyncSender};
@@ -55,20 +55,6 @@ pub struct Resolved {
     /// Pixels depth-tested, and of those written (the nearer so far).
     pub pixels_tested: u64,
     pub pixels_written: u64,
-}
-
-/// A reader that counts the bytes read through it.
-struct Counted<R> {
-    inner: R,
-    bytes: Arc<AtomicU64>,
-}
-
-impl<R: Read> Read for Counted<R> {
-    fn read(&mut self, buf: &mut [u8]) -> std::io::Result<usize> {
-        let n = self.inner.read(buf)?;
-        self.bytes.fetch_add(n as u64, Ordering::Relaxed);
-        Ok(n)
-    }
 }
 
 /// From a reader thread to the buffer thread.
@@ -325,17 +311,10 @@ fn read_input(
                 )));
             }
         }
-        let (width, height) = screen_of(&reader, "fragment")?;
-        // A send fails only when the buffer thread has stopped (on another input's
-        // error): then there is nothing left to do.
-        let send = |m| tx.send(m).is_ok();
-        if !send(Message::Header {
-            input,
-            width,
-            height,
-        }) {
+        if !send_header(&tx, input, screen_of(&reader, "fragment")?) {
             return Ok(());
         }
+        let send = |m| tx.send(m).is_ok();
         let mut batch = Vec::with_capacity(BATCH);
         let mut frame = 0u64;
         let mut in_polygon = false;
@@ -362,14 +341,8 @@ fn read_input(
                 }
                 Fragment::NextFrame | Fragment::End => {
                     let end = record == Fragment::End;
-                    if !batch.is_empty() {
-                        let full = std::mem::replace(&mut batch, Vec::with_capacity(BATCH));
-                        if !send(Message::Batch {
-                            input,
-                            fragments: full,
-                        }) {
-                            return Ok(());
-                        }
+                    if !batch.is_empty() && !send_batch(&tx, input, &mut batch) {
+                        return Ok(());
                     }
                     if !send(Message::Boundary {
                         input,
@@ -388,14 +361,8 @@ fn read_input(
                     continue;
                 }
             }
-            if batch.len() == BATCH {
-                let full = std::mem::replace(&mut batch, Vec::with_capacity(BATCH));
-                if !send(Message::Batch {
-                    input,
-                    fragments: full,
-                }) {
-                    return Ok(());
-                }
+            if batch.len() == BATCH && !send_batch(&tx, input, &mut batch) {
+                return Ok(());
             }
         }
         Ok(())
@@ -412,6 +379,24 @@ fn screen_of<T: proto::Record, R: Read>(reader: &Reader<T, R>, what: &str) -> Re
         .space
         .screen_size()
         .ok_or_else(|| Error::data(format!("{what} header without a screen size")))
+}
+
+/// A reader thread's first message: its input's screen size. `false` when the buffer
+/// thread has stopped (on another input's error): then there is nothing left to do.
+fn send_header(tx: &SyncSender<Message>, input: usize, (width, height): (u32, u32)) -> bool {
+    tx.send(Message::Header {
+        input,
+        width,
+        height,
+    })
+    .is_ok()
+}
+
+/// Sends the fragments gathered so far and starts a new batch; `false` as
+/// [`send_header`].
+fn send_batch(tx: &SyncSender<Message>, input: usize, batch: &mut Vec<Fragment>) -> bool {
+    let fragments = std::mem::replace(batch, Vec::with_capacity(BATCH));
+    tx.send(Message::Batch { input, fragments }).is_ok()
 }
 
 /// A leaf's z-buffer at work (a screen-space input resolved here): one polygon checked
@@ -566,14 +551,10 @@ fn resolve_input<R: Read>(
     wait: &Receiver<()>,
 ) -> Result<()> {
     let (width, height) = screen_of(&reader, "screen-space")?;
-    let send = |m| tx.send(m).is_ok();
-    if !send(Message::Header {
-        input,
-        width,
-        height,
-    }) {
+    if !send_header(tx, input, (width, height)) {
         return Ok(());
     }
+    let send = |m| tx.send(m).is_ok();
     let mut walker = SpanWalker::new();
     let mut region = RegionBuffer::new(width, height);
     let mut polygons = 0u64;
@@ -599,37 +580,15 @@ fn resolve_input<R: Read>(
             return Ok(());
         }
         waiting = true;
-        let mut stopped = false;
-        let _ = region.finish_frame(|run| {
-            batch.push(Fragment::Run {
-                y: run.y,
-                x0: run.x0,
-                x1: run.x1,
-                colour: run.colour,
-            });
-            if batch.len() == BATCH {
-                let full = std::mem::replace(&mut batch, Vec::with_capacity(BATCH));
-                if !send(Message::Batch {
-                    input,
-                    fragments: full,
-                }) {
-                    stopped = true;
-                    return Err(());
-                }
+        let sent = region.finish_frame(|run| {
+            batch.push(run.into());
+            if batch.len() == BATCH && !send_batch(tx, input, &mut batch) {
+                return Err(());
             }
             Ok(())
         });
-        if stopped {
+        if sent.is_err() || (!batch.is_empty() && !send_batch(tx, input, &mut batch)) {
             return Ok(());
-        }
-        if !batch.is_empty() {
-            let full = std::mem::replace(&mut batch, Vec::with_capacity(BATCH));
-            if !send(Message::Batch {
-                input,
-                fragments: full,
-            }) {
-                return Ok(());
-            }
         }
         let resolved = Some(Resolved {
             polygons,
