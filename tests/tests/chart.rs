@@ -286,6 +286,22 @@ fn choose_depth_refuses_a_bad_size_and_a_missing_scene() {
         "{}",
         String::from_utf8_lossy(&out.stderr)
     );
+    // A camera nothing can be seen through is the command line's fault, 2, as viewxf
+    // says of the same options; through render.sh's --depth auto as well.
+    let out = sh(
+        "scripts/chart.sh choose-depth --hither 0 examples/penetrating.txt",
+        b"",
+    );
+    assert_eq!(out.status.code(), Some(2));
+    assert_eq!(
+        String::from_utf8_lossy(&out.stderr),
+        "chart: --hither 0 --yon 30: they must satisfy 0 < hither < yon\n"
+    );
+    let out = sh(
+        "scripts/render.sh --depth auto --hither 0 examples/penetrating.txt",
+        b"",
+    );
+    assert_eq!(out.status.code(), Some(2));
     let out = sh("scripts/chart.sh choose-depth no-such-scene.txt", b"");
     assert_eq!(out.status.code(), Some(1));
     assert!(

@@ -133,6 +133,19 @@ pub fn is_text(scene: &Path) -> Result<bool> {
 /// are not ordered by size.
 pub const SAMPLE_BYTES: u64 = 512 * 1024;
 
+/// A camera or view volume that cannot be looked through (`--hither 0`): the command
+/// line's fault, so `chart` exits 2 for it, as `viewxf` does for the same options.
+#[derive(Debug)]
+pub struct UsageError(pub String);
+
+impl std::fmt::Display for UsageError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(&self.0)
+    }
+}
+
+impl std::error::Error for UsageError {}
+
 /// Looks at a scene for a `width`×`height` screen: the world-space counts as read, and
 /// the screen-space ones as `viewxf | clipplane ×6 | persp` computes them, through the
 /// same proto geometry, in this process. `camera` are
@@ -162,8 +175,8 @@ pub fn look(
         .map(String::from)
         .chain(camera.iter().cloned());
     let cam = <Camera as clap::Parser>::try_parse_from(args)
-        .map_err(|e| anyhow::anyhow!("camera options {camera:?}: {e}"))?;
-    let (frame, view) = cam.view.resolve().map_err(|e| anyhow::anyhow!("{e}"))?;
+        .map_err(|e| UsageError(format!("camera options {camera:?}: {e}")))?;
+    let (frame, view) = cam.view.resolve().map_err(|e| UsageError(e.to_string()))?;
     // The pyramid's six planes and the device mapping, as clipplane and persp take them
     // from the stream's view volume.
     let planes = PyramidPlane::ALL.map(|p| p.plane(&view));

@@ -488,7 +488,9 @@ fn main() -> ExitCode {
         Ok(()) => ExitCode::SUCCESS,
         Err(e) => {
             eprintln!("chart: {e:#}");
-            ExitCode::from(1)
+            // A camera the look cannot use is a usage error (2), as in every stage.
+            let usage = e.downcast_ref::<chart::look::UsageError>().is_some();
+            ExitCode::from(if usage { 2 } else { 1 })
         }
     }
 }
