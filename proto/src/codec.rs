@@ -312,6 +312,19 @@ pub struct Reader<T, R> {
     ended: bool,
     /// Where a polygon's buffers wait while the caller's record holds something else.
     spare: T,
+    /// A piece of a text stream ([`Reader::piece_of_text`]): its end is not an error.
+    piece: bool,
+}
+
+/// A text stream taken apart after its header ([`Reader::into_text_rest`]): the bytes read
+/// but not yet lexed, then the rest of the input; `lines` lines were read.
+pub struct TextRest<R> {
+    pub unread: Vec<u8>,
+    pub input: R,
+    pub lines: u64,
+    /// The header's last line, from the end of which a message about a stream that
+    /// stops there counts its column.
+    pub last_line: String,
 }
 
 /// Where a binary record of role `control` stands, for a message: ` (frame F, polygon
@@ -368,7 +381,90 @@ impl<T: Record, R: Read> Reader<T, R> {
             polygons_in_frame: 0,
             ended: false,
             spare: T::default(),
+            piece: false,
         })
+    }
+
+    /// A reader of a text stream from part way through: `input` starts at the start of a
+    /// line, after `lines` lines (the last of them `last_line`, see [`Lexer::resume`]),
+    /// in frame `frame` after `polygons_in_frame` of its polygons. It reads what a reader
+    /// of the whole stream would read from there, with the same messages.
+    pub fn resume_text(
+        input: R,
+        header: Header,
+        (lines, last_line): (u64, String),
+        frame: u64,
+        polygons_in_frame: u64,
+    ) -> Self {
+        let lex = Lexer::resume(BufReader::with_capacity(IO_BUFFER, input), lines, last_line);
+        Reader {
+            source: Source::Text(lex),
+            header,
+            frame,
+            polygons_in_frame,
+            ended: false,
+            spare: T::default(),
+            piece: false,
+        }
+    }
+
+    /// [`Reader::resume_text`] over a piece of a stream cut between two records, whose
+    /// end is the end of the piece: `next_into` answers `false` there (or after END)
+    /// rather than finding the stream cut short.
+    pub fn piece_of_text(
+        input: R,
+        header: Header,
+        lines: (u64, String),
+        frame: u64,
+        polygons_in_frame: u64,
+    ) -> Self {
+        Reader {
+            piece: true,
+            ..Self::resume_text(input, header, lines, frame, polygons_in_frame)
+        }
+    }
+
+    /// A text stream's rest, right after its header (for a reader of it in pieces,
+    /// `stagecli`'s); a binary stream, or a text one whose header line goes on, is handed
+    /// back.
+    #[allow(clippy::result_large_err)] // once a stream, and the reader is handed back whole
+    pub fn into_text_rest(self) -> Result<TextRest<R>, Self> {
+        let Reader {
+            source,
+            header,
+            frame,
+            polygons_in_frame,
+            ended,
+            spare,
+            piece,
+        } = self;
+        let back = |source| Reader {
+            source,
+            header,
+            frame,
+            polygons_in_frame,
+            ended,
+            spare,
+            piece,
+        };
+        if frame != 0 || polygons_in_frame != 0 || ended || piece {
+            return Err(back(source));
+        }
+        match source {
+            Source::Text(lex) => match lex.into_rest() {
+                Ok((mut unread, buffered, lines, last_line)) => {
+                    unread.extend_from_slice(buffered.buffer());
+                    Ok(TextRest {
+                        unread,
+                        input: buffered.into_inner(),
+                        lines,
+                        last_line,
+                    })
+                }
+                Err(lex) => Err(back(Source::Text(lex))),
+            },
+            binary => Err(back(binary)),
+        }
     }
 
     pub fn header(&self) -> &Header {
@@ -387,6 +483,7 @@ impl<T: Record, R: Read> Reader<T, R> {
             polygons_in_frame: self.polygons_in_frame,
             ended: self.ended,
             spare: U::default(),
+            piece: self.piece,
         }
     }
 
@@ -465,6 +562,9 @@ impl<T: Record, R: Read> Reader<T, R> {
             }
             Source::Text(lex) => {
                 if lex.peek()?.is_none() {
+                    if self.piece {
+                        return Ok(false);
+                    }
                     return Err(lex.error_at_end("the stream ends without END (cut short?)"));
                 }
                 record.read_text(&mut self.spare, lex, &self.header.space, first_in_frame)?;
@@ -664,6 +764,31 @@ impl<T: Record, W: Write> Writer<T, W> {
             polygons_in_frame: 0,
             _kind: std::marker::PhantomData,
         })
+    }
+
+    /// A binary writer that goes on with a stream whose header is written elsewhere: for
+    /// a piece of the stream encoded apart, to be put in its place by the stream's own
+    /// writer with [`Writer::write_encoded`].
+    pub fn continuing_binary(out: W, header: Header) -> Self {
+        Writer {
+            out: BufWriter::with_capacity(IO_BUFFER, out),
+            form: Form::Binary,
+            space: header.space,
+            polygons_in_frame: 0,
+            _kind: std::marker::PhantomData,
+        }
+    }
+
+    /// Writes records encoded by a [`Writer::continuing_binary`] (a binary stream only),
+    /// flushing when they end a frame, as `write` does at a frame's end.
+    pub fn write_encoded(&mut self, bytes: &[u8], ends_a_frame: bool) -> io::Result<()> {
+        debug_assert!(self.form == Form::Binary);
+        self.out.write_all(bytes)?;
+        if ends_a_frame {
+            self.polygons_in_frame = 0;
+            self.out.flush()?;
+        }
+        Ok(())
     }
 
     /// Writes one record.

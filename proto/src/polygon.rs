@@ -506,7 +506,11 @@ fn read_polygon_text<R: BufRead>(
         // A line of just the vertex's numbers (nearly every line of a scene) is read
         // whole; anything else, word by word, with its messages.
         let whole_line = lex.numbers_to_line_end(&mut v[..arity]);
-        for (k, c) in v.iter_mut().take(if whole_line { 0 } else { arity }).enumerate() {
+        for (k, c) in v
+            .iter_mut()
+            .take(if whole_line { 0 } else { arity })
+            .enumerate()
+        {
             *c = lex.number(format_args!(
                 "{} of vertex {i} ({arity} numbers a vertex in {space_name} space)",
                 coordinate_name(space, k)

@@ -95,6 +95,32 @@ impl<R: Read> Lexer<R> {
         }
     }
 
+    /// A lexer that goes on with a stream part way through: `input` starts at the start
+    /// of a line, and `lines_before` lines came before it, the last of them `last_line`
+    /// (as [`Lexer::into_rest`] gives it; empty will do where `input` has a line), so
+    /// that messages give lines and columns as in the whole stream.
+    pub fn resume(input: R, lines_before: u64, last_line: String) -> Self {
+        let mut lx = Lexer::new(input);
+        lx.line_no = lines_before;
+        lx.ascii = last_line.is_ascii();
+        lx.cursor = last_line.len();
+        lx.line = last_line;
+        lx.at = (lines_before.max(1), lx.cursor + 1);
+        lx
+    }
+
+    /// Takes the lexer apart where it stands at the end of a line with nothing peeked
+    /// (after a stream's header): the bytes it has read but not lexed, its input, the
+    /// lines read and the last of them. Anywhere else it is handed back.
+    pub fn into_rest(self) -> Result<(Vec<u8>, R, u64, String), Self> {
+        let rest = &self.line.as_bytes()[self.cursor.min(self.line.len())..];
+        if self.peeked.is_some() || !rest.iter().all(|&b| is_space(b)) {
+            return Err(self);
+        }
+        let unread = self.buf[self.next..self.end].to_vec();
+        Ok((unread, self.input, self.line_no, self.line))
+    }
+
     /// An error located at the word last peeked or taken.
     pub fn error(&self, msg: impl Into<String>) -> StreamError {
         self.error_at(self.at, msg)
@@ -546,7 +572,11 @@ mod tests {
         let cases = [
             ("1 2 3", 3, true),
             ("  -1.5e3\t2.25 +3  ", 3, true),
-            ("7.475800962976068 -0.9027782933982392 3.843741095252387", 3, true),
+            (
+                "7.475800962976068 -0.9027782933982392 3.843741095252387",
+                3,
+                true,
+            ),
             ("1 2 3 # a comment", 3, true),
             ("1 2", 3, false),
             ("1 2 3 4", 3, false),

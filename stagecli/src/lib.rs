@@ -31,6 +31,7 @@ pub mod args;
 pub mod error;
 pub mod leaf;
 pub mod names;
+pub mod pieces;
 pub mod stream;
 
 pub use args::{parse, parse_colour, PpmTextFlag, TextFlag, ViewArgs};

@@ -289,6 +289,9 @@ pub fn check_finite(poly: &Polygon) -> std::result::Result<(), String> {
 /// the transformation refuses, or leaves with a number that is not finite, ends the stage
 /// with a data error naming the polygon's place in the input (`frame 0, polygon 3: …`);
 /// `doing` says what the stage did to it (`the viewing transformation`).
+///
+/// A text stream written on as binary is read in pieces on several threads where there
+/// are cores for them ([`crate::pieces`]), with the same output and messages.
 pub fn filter_polygons<F>(
     expect: SpaceKind,
     form: Form,
@@ -296,11 +299,58 @@ pub fn filter_polygons<F>(
     setup: impl FnOnce(&Header) -> Result<(Header, F)>,
 ) -> Result<()>
 where
-    F: FnMut(&mut Polygon) -> std::result::Result<(), String>,
+    F: FnMut(&mut Polygon) -> std::result::Result<(), String> + Clone + Send,
 {
-    let mut reader = read_stdin::<Token>(expect)?;
+    let reader = read_stdin::<Token>(expect)?;
+    let in_header = *reader.header();
     let (header, mut transform) = setup(reader.header())?;
     let mut writer = write_stdout(header, form)?;
+    let mut reader = match (form, crate::pieces::piece_workers()) {
+        (Form::Binary, Some(workers)) => match reader.into_text_rest() {
+            Ok(rest) => {
+                crate::pieces::filter_text_in_pieces(
+                    rest,
+                    in_header,
+                    header,
+                    &mut writer,
+                    transform,
+                    doing,
+                    workers,
+                    crate::pieces::PIECE_BYTES,
+                )?;
+                writer.flush()?;
+                return Ok(());
+            }
+            Err(reader) => reader,
+        },
+        _ => reader,
+    };
+    filter_records(&mut reader, &mut writer, &mut transform, doing)?;
+    writer.flush()?;
+    Ok(())
+}
+
+/// What [`filter_records`] read: NEXT.FRAMEs, the polygons after the last of them (or
+/// from the start, if none), and whether END was among the records.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub(crate) struct Counts {
+    pub frames: u64,
+    pub polygons: u64,
+    pub ended: bool,
+}
+
+/// [`filter_polygons`]'s loop: every record of `reader` to `writer`, each polygon
+/// transformed and checked, until the reader has no more.
+pub(crate) fn filter_records<R: Read, W: Write, F>(
+    reader: &mut Reader<Token, R>,
+    writer: &mut Writer<Token, W>,
+    transform: &mut F,
+    doing: &str,
+) -> Result<Counts>
+where
+    F: FnMut(&mut Polygon) -> std::result::Result<(), String>,
+{
+    let mut counts = Counts::default();
     // One token, its polygon's vertex list reused from record to record: the loop
     // allocates nothing per polygon.
     let mut token = Token::default();
@@ -308,24 +358,32 @@ where
         .next_into(&mut token)
         .map_err(|e| input_error("stdin", e))?
     {
-        if let Token::Polygon(poly) = &mut token {
-            transform(poly)
-                .and_then(|()| {
-                    check_finite(poly).map_err(|m| {
-                        format!(
-                            "{m} after {doing}: not a finite number (coordinates this large \
-                             overflow)"
-                        )
+        match &mut token {
+            Token::Polygon(poly) => {
+                transform(poly)
+                    .and_then(|()| {
+                        check_finite(poly).map_err(|m| {
+                            format!(
+                                "{m} after {doing}: not a finite number (coordinates this \
+                                 large overflow)"
+                            )
+                        })
                     })
-                })
-                .map_err(|m| Error::data(format!("{}: {m}", reader.position())))?;
-            writer.write_polygon(poly)?;
-        } else {
-            writer.write(&token)?;
+                    .map_err(|m| Error::data(format!("{}: {m}", reader.position())))?;
+                writer.write_polygon(poly)?;
+                counts.polygons += 1;
+                continue;
+            }
+            Token::Skip(n) => counts.polygons += *n as u64,
+            Token::NextFrame => {
+                counts.frames += 1;
+                counts.polygons = 0;
+            }
+            Token::End => counts.ended = true,
         }
+        writer.write(&token)?;
     }
-    writer.flush()?;
-    Ok(())
+    Ok(counts)
 }
 
 #[cfg(test)]
