@@ -429,29 +429,9 @@ impl<T: Record, R: Read> Reader<T, R> {
     /// back.
     #[allow(clippy::result_large_err)] // once a stream, and the reader is handed back whole
     pub fn into_text_rest(self) -> Result<TextRest<R>, Self> {
-        let Reader {
-            source,
-            header,
-            frame,
-            polygons_in_frame,
-            ended,
-            spare,
-            piece,
-        } = self;
-        let back = |source| Reader {
-            source,
-            header,
-            frame,
-            polygons_in_frame,
-            ended,
-            spare,
-            piece,
-        };
-        if frame != 0 || polygons_in_frame != 0 || ended || piece {
-            return Err(back(source));
-        }
-        match source {
-            Source::Text(lex) => match lex.into_rest() {
+        let fresh = self.frame == 0 && self.polygons_in_frame == 0 && !self.ended && !self.piece;
+        match self.source {
+            Source::Text(lex) if fresh => match lex.into_rest() {
                 Ok((mut unread, buffered, lines, last_line)) => {
                     unread.extend_from_slice(buffered.buffer());
                     Ok(TextRest {
@@ -461,9 +441,12 @@ impl<T: Record, R: Read> Reader<T, R> {
                         last_line,
                     })
                 }
-                Err(lex) => Err(back(Source::Text(lex))),
+                Err(lex) => Err(Reader {
+                    source: Source::Text(lex),
+                    ..self
+                }),
             },
-            binary => Err(back(binary)),
+            source => Err(Reader { source, ..self }),
         }
     }
 

@@ -386,6 +386,33 @@ where
     Ok(counts)
 }
 
+/// [`widen_pipe`] on an opened file (a named pipe, say).
+fn widen(f: &File) {
+    #[cfg(unix)]
+    widen_pipe(std::os::fd::AsRawFd::as_raw_fd(f));
+}
+
+/// The capacity asked for a pipe between stages: 1 MiB, Linux's default most a process
+/// may ask for (`/proc/sys/fs/pipe-max-size`), against the 64 KiB a pipe starts with.
+pub const PIPE_BYTES: i32 = 1 << 20;
+
+/// Widens the pipe (or fifo) on file descriptor `fd` to [`PIPE_BYTES`], so that a stage
+/// ahead of its reader can write on for longer before it blocks: with more stages than
+/// cores, every block is a switch of process, and with the default 64 KiB the stages of
+/// a render switched ten times as often. Nothing happens where `fd` is not a pipe, or
+/// the system refuses (the stages work at any capacity).
+pub fn widen_pipe(fd: i32) {
+    #[cfg(target_os = "linux")]
+    // SAFETY: F_SETPIPE_SZ on a descriptor only changes that pipe's capacity; on a
+    // descriptor that is not a pipe (or not open) it fails with EBADF/EINVAL and does
+    // nothing.
+    unsafe {
+        libc::fcntl(fd, libc::F_SETPIPE_SZ, PIPE_BYTES);
+    }
+    #[cfg(not(target_os = "linux"))]
+    let _ = fd;
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -509,31 +536,4 @@ mod tests {
         );
         assert_eq!(missing.kind(), Kind::Io);
     }
-}
-
-/// [`widen_pipe`] on an opened file (a named pipe, say).
-fn widen(f: &File) {
-    #[cfg(unix)]
-    widen_pipe(std::os::fd::AsRawFd::as_raw_fd(f));
-}
-
-/// The capacity asked for a pipe between stages: 1 MiB, Linux's default most a process
-/// may ask for (`/proc/sys/fs/pipe-max-size`), against the 64 KiB a pipe starts with.
-pub const PIPE_BYTES: i32 = 1 << 20;
-
-/// Widens the pipe (or fifo) on file descriptor `fd` to [`PIPE_BYTES`], so that a stage
-/// ahead of its reader can write on for longer before it blocks: with more stages than
-/// cores, every block is a switch of process, and with the default 64 KiB the stages of
-/// a render switched ten times as often. Nothing happens where `fd` is not a pipe, or
-/// the system refuses (the stages work at any capacity).
-pub fn widen_pipe(fd: i32) {
-    #[cfg(target_os = "linux")]
-    // SAFETY: F_SETPIPE_SZ on a descriptor only changes that pipe's capacity; on a
-    // descriptor that is not a pipe (or not open) it fails with EBADF/EINVAL and does
-    // nothing.
-    unsafe {
-        libc::fcntl(fd, libc::F_SETPIPE_SZ, PIPE_BYTES);
-    }
-    #[cfg(not(target_os = "linux"))]
-    let _ = fd;
 }

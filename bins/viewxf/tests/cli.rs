@@ -265,3 +265,83 @@ fn a_reader_that_goes_away_ends_the_stage_quietly() {
     assert_eq!(out.status.code(), Some(0));
     assert_eq!(String::from_utf8_lossy(&out.stderr), "");
 }
+
+/// A text scene long enough to be read in pieces (several times stagecli's 256 KiB):
+/// `n` quads, numbers of every length, a frame break every 5,000.
+fn long_scene(n: usize) -> String {
+    let mut s = String::from("polypipe 1 world\n");
+    let mut x: u64 = 0x2545_f491_4f6c_dd1d;
+    let mut number = || {
+        x ^= x << 13;
+        x ^= x >> 7;
+        x ^= x << 17;
+        (x % 2_000_000) as f64 / 997.0 - 1000.0
+    };
+    for i in 0..n {
+        if i > 0 {
+            s += if i % 5000 == 0 {
+                "NEXT.FRAME\n"
+            } else {
+                "NEXT.POLYGON\n"
+            };
+        }
+        s += &format!("colour {} 2 3\n", i % 256);
+        for _ in 0..4 {
+            s += &format!("{} {} {}\n", number(), number(), number());
+        }
+    }
+    s + "END\n"
+}
+
+/// What viewxf writes, says and exits with, on all the cores or on one (`taskset -c 0`,
+/// where it reads the text with one reader).
+fn run(scene: &str, one_core: bool) -> (Vec<u8>, String, Option<i32>) {
+    let mut cmd = if one_core {
+        let mut c = Command::new("taskset");
+        c.args(["-c", "0"])
+            .arg(assert_cmd::cargo::cargo_bin("viewxf"));
+        c
+    } else {
+        viewxf()
+    };
+    let out = cmd.write_stdin(scene.as_bytes().to_vec()).output().unwrap();
+    let err = String::from_utf8(out.stderr).unwrap();
+    (out.stdout, err, out.status.code())
+}
+
+/// A long text scene read in pieces on two cores gives the bytes, the message and the
+/// status one reader gives: whole, and spoilt at a line far into it in each way a piece
+/// can go wrong.
+#[test]
+fn a_long_text_scene_reads_in_pieces_as_with_one_reader() {
+    let good = long_scene(20_000);
+    assert!(good.len() > 1 << 20, "{}", good.len());
+    let line_start = |k: usize| good.match_indices('\n').nth(k - 2).unwrap().0 + 1;
+    let at = line_start(70_001);
+    let spoilt = [
+        format!("{}1 2 x\n{}", &good[..at], &good[at..]),
+        format!("{}NEXT.FRAME\nNEXT.POLYGON\n{}", &good[..at], &good[at..]),
+        format!("{}END\n{}", &good[..at], &good[at..]),
+        good[..good.len() - 4].to_string(),
+        format!("{good}NEXT.POLYGON\n"),
+    ];
+    let whole = run(&good, false);
+    assert_eq!(whole.2, Some(0), "{}", whole.1);
+    assert_eq!(whole, run(&good, true));
+    for (i, scene) in spoilt.iter().enumerate() {
+        let (out, err, code) = run(scene, false);
+        assert_eq!(code, Some(1), "{err}");
+        assert!(err.starts_with("viewxf: line "), "{err}");
+        if i == 0 || i == 3 {
+            // What came before the fault is written, as it was in the whole scene.
+            assert!(out.len() > whole.0.len() / 2 && whole.0.starts_with(&out));
+        }
+        assert_eq!((out, err, code), run(scene, true), "spoilt scene {i}");
+    }
+    // The first spoilt line is named where it is.
+    assert_eq!(
+        run(&spoilt[0], false).1,
+        "viewxf: line 70001, column 5: expected z of vertex 2 (3 numbers a vertex in world \
+         space), found `x`\n"
+    );
+}
