@@ -294,7 +294,11 @@ struct Spare(Mutex<Vec<Vec<u8>>>);
 impl Spare {
     /// An empty buffer, one used before if there is one.
     fn take(&self) -> Vec<u8> {
-        self.0.lock().ok().and_then(|mut v| v.pop()).unwrap_or_default()
+        self.0
+            .lock()
+            .ok()
+            .and_then(|mut v| v.pop())
+            .unwrap_or_default()
     }
 
     fn give(&self, mut buffer: Vec<u8>) {

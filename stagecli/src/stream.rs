@@ -132,16 +132,37 @@ impl<R: Read> Read for Counted<R> {
     }
 }
 
-/// Standard output, named `stdout` in its errors.
-pub fn stdout() -> Named<io::StdoutLock<'static>> {
-    Named::new(io::stdout().lock(), "stdout")
+/// Standard output, named `stdout` in its errors, unbuffered: every writer of a stage's
+/// stdout buffers for itself (the stream [`Writer`], zbuf's frames) or writes a line or two.
+pub fn stdout() -> Named<RawStdout> {
+    Named::new(RawStdout, "stdout")
+}
+
+/// File descriptor 1, written with `write(2)`. std's `Stdout` is a `LineWriter`, which
+/// searches every write for its last newline: over binary records and PPM frames that
+/// search was a tenth of zbuf's CPU placing a full-HD frame's runs.
+#[derive(Debug)]
+pub struct RawStdout;
+
+impl Write for RawStdout {
+    fn write(&mut self, buf: &[u8]) -> io::Result<usize> {
+        // SAFETY: write(2) reads `buf.len()` bytes from a live slice; on a descriptor that
+        // is closed or not writable it fails with an errno, returned as the error.
+        let n = unsafe { libc::write(1, buf.as_ptr().cast(), buf.len()) };
+        if n < 0 {
+            Err(io::Error::last_os_error())
+        } else {
+            Ok(n as usize)
+        }
+    }
+
+    fn flush(&mut self) -> io::Result<()> {
+        Ok(())
+    }
 }
 
 /// A stream writer on standard output.
-pub fn write_stdout<T: Record>(
-    header: Header,
-    form: Form,
-) -> Result<Writer<T, Named<io::StdoutLock<'static>>>> {
+pub fn write_stdout<T: Record>(header: Header, form: Form) -> Result<Writer<T, Named<RawStdout>>> {
     Ok(Writer::new(stdout(), header, form)?)
 }
 
@@ -333,7 +354,7 @@ where
 /// What [`filter_records`] read: NEXT.FRAMEs, the polygons after the last of them (or
 /// from the start, if none), and whether END was among the records.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
-pub(crate) struct Counts {
+pub struct Counts {
     pub frames: u64,
     pub polygons: u64,
     pub ended: bool,
@@ -341,7 +362,7 @@ pub(crate) struct Counts {
 
 /// [`filter_polygons`]'s loop: every record of `reader` to `writer`, each polygon
 /// transformed and checked, until the reader has no more.
-pub(crate) fn filter_records<R: Read, W: Write, F>(
+pub fn filter_records<R: Read, W: Write, F>(
     reader: &mut Reader<Token, R>,
     writer: &mut Writer<Token, W>,
     transform: &mut F,
