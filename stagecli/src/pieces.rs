@@ -40,19 +40,36 @@ pub fn piece_workers() -> Option<usize> {
     (cores > 1).then(|| cores.min(4))
 }
 
-/// Where the stream stands between two pieces: lines read, frame, and polygons of the
-/// frame so far.
-#[derive(Clone, Copy, Debug)]
+/// Where the stream stands between two pieces: lines read and the last of them (as the
+/// lexer keeps it, for a message about a stream that stops there), frame, and polygons
+/// of the frame so far.
+#[derive(Clone, Debug)]
 struct Place {
     lines: u64,
+    last_line: String,
     frame: u64,
     polygons: u64,
+}
+
+/// The last line of a piece (which ends with a newline) as the lexer keeps a line: its
+/// carriage returns and comment taken off.
+fn last_line(piece: &[u8]) -> String {
+    let body = piece.strip_suffix(b"\n").unwrap_or(piece);
+    let mut line = &body[memchr::memrchr(b'\n', body).map_or(0, |i| i + 1)..];
+    while let Some(rest) = line.strip_suffix(b"\r") {
+        line = rest;
+    }
+    if let Some(hash) = memchr::memchr(b'#', line) {
+        line = &line[..hash];
+    }
+    String::from_utf8_lossy(line).into_owned()
 }
 
 /// A piece cut from the input, and where its answer will come.
 struct InFlight {
     bytes: Arc<Vec<u8>>,
-    lines_before: u64,
+    /// Lines read at its end.
+    lines_after: u64,
     /// The piece right after the header (the others start at NEXT.POLYGON).
     first: bool,
     answer: Receiver<Answer>,
@@ -85,27 +102,44 @@ fn cut_at(bytes: &[u8], limit: usize) -> Option<usize> {
     None
 }
 
-/// Reads into `pending` until it holds `want` bytes or the input ends; `true` at the end.
-fn fill<R: Read>(input: &mut R, pending: &mut Vec<u8>, want: usize) -> Result<bool> {
-    while pending.len() < want {
-        let have = pending.len();
-        pending.resize(want, 0);
-        let n = loop {
-            match input.read(&mut pending[have..]) {
-                Ok(n) => break n,
-                Err(e) if e.kind() == io::ErrorKind::Interrupted => {}
-                Err(e) => {
-                    pending.truncate(have);
-                    return Err(input_error("stdin", StreamError::Io(e)));
-                }
+/// The input after the header, and what its reads have said.
+struct Input<R, P> {
+    read: R,
+    /// Whether more input can be read at once, without waiting (`poll`).
+    ready: P,
+    /// The input has ended.
+    ended: bool,
+    /// The input comes slower than it is read (nothing there to read at once): a live
+    /// stream, or a slow writer. Pieces would only hold its polygons back, so the one
+    /// reader takes it from here, record by record as it comes.
+    dry: bool,
+}
+
+impl<R: Read, P: Fn() -> bool> Input<R, P> {
+    /// Reads into `pending` until it holds `want` bytes, the input ends, or it runs dry.
+    fn fill(&mut self, pending: &mut Vec<u8>, want: usize) -> Result<()> {
+        while pending.len() < want && !self.ended && !self.dry {
+            if !(self.ready)() {
+                self.dry = true;
+                break;
             }
-        };
-        pending.truncate(have + n);
-        if n == 0 {
-            return Ok(true);
+            let have = pending.len();
+            pending.resize(want, 0);
+            let n = loop {
+                match self.read.read(&mut pending[have..]) {
+                    Ok(n) => break n,
+                    Err(e) if e.kind() == io::ErrorKind::Interrupted => {}
+                    Err(e) => {
+                        pending.truncate(have);
+                        return Err(input_error("stdin", StreamError::Io(e)));
+                    }
+                }
+            };
+            pending.truncate(have + n);
+            self.ended = n == 0;
         }
+        Ok(())
     }
-    Ok(false)
 }
 
 /// [`crate::filter_polygons`]'s loop over a text stream after its header (`rest`), in
@@ -119,8 +153,8 @@ pub fn filter_text_in_pieces<R, W, F>(
     writer: &mut Writer<Token, W>,
     transform: F,
     doing: &str,
-    workers: usize,
-    piece_bytes: usize,
+    (workers, piece_bytes): (usize, usize),
+    ready: impl Fn() -> bool,
 ) -> Result<()>
 where
     R: Read,
@@ -130,30 +164,28 @@ where
     let most_bytes = piece_bytes.saturating_mul(MOST_PIECES);
     let TextRest {
         unread,
-        mut input,
+        input,
         lines,
         last_line: header_line,
     } = rest;
     let mut pending = unread;
+    let mut input = Input {
+        read: input,
+        ready,
+        ended: false,
+        dry: false,
+    };
     let mut at = Place {
         lines,
+        last_line: header_line,
         frame: 0,
         polygons: 0,
     };
-    // A short stream is read here, as one piece would be, without threads.
-    let mut ended = fill(&mut input, &mut pending, piece_bytes)?;
-    if ended {
-        let start = (at.lines, header_line);
-        return one_reader(
-            vec![pending],
-            input,
-            in_header,
-            start,
-            at,
-            writer,
-            transform,
-            doing,
-        );
+    // A short stream, or a live one, is read here by one reader, without threads.
+    input.fill(&mut pending, piece_bytes)?;
+    if input.ended || input.dry {
+        let rest = vec![pending];
+        return one_reader(rest, input.read, in_header, at, writer, transform, doing);
     }
     let (jobs, queue) = channel::<Job>();
     let queue = Mutex::new(queue);
@@ -188,24 +220,27 @@ where
         // Where one reader takes over, if it must: the pieces not written, and the place
         // before them. `None`: the stream ended well in a piece.
         let one_reader_from: Option<(Vec<Vec<u8>>, Place)> = loop {
-            // Cut pieces while the workers could use more and there is input.
-            while in_flight.len() < 2 * workers && !(ended && pending.is_empty()) {
-                let mut cut = if ended {
+            // Cut pieces while the workers could use more and there is input, coming fast.
+            while in_flight.len() < 2 * workers
+                && !input.dry
+                && !(input.ended && pending.is_empty())
+            {
+                let mut cut = if input.ended {
                     Some(pending.len())
                 } else {
                     cut_at(&pending, piece_bytes)
                 };
-                while cut.is_none() && !ended && pending.len() < most_bytes {
+                while cut.is_none() && !input.ended && !input.dry && pending.len() < most_bytes {
                     let want = (pending.len() * 2).clamp(piece_bytes, most_bytes);
-                    ended = fill(&mut input, &mut pending, want)?;
-                    cut = if ended {
+                    input.fill(&mut pending, want)?;
+                    cut = if input.ended {
                         Some(pending.len())
                     } else {
                         cut_at(&pending, want)
                     };
                 }
-                let Some(cut) = cut else {
-                    break; // no NEXT.POLYGON line in most_bytes
+                let Some(cut) = cut.filter(|_| !input.dry) else {
+                    break; // no NEXT.POLYGON line in most_bytes, or a live stream
                 };
                 let mut rest = spare.take();
                 rest.extend_from_slice(&pending[cut..]);
@@ -214,6 +249,7 @@ where
                 let (answer_to, answer) = sync_channel(1);
                 let lines_before = lines_next;
                 lines_next += memchr::memchr_iter(b'\n', &bytes).count() as u64;
+                let lines_after = lines_next;
                 if jobs
                     .send((Arc::clone(&bytes), lines_before, first, answer_to))
                     .is_err()
@@ -222,20 +258,18 @@ where
                 }
                 in_flight.push_back(InFlight {
                     bytes,
-                    lines_before,
+                    lines_after,
                     first,
                     answer,
                 });
                 first = false;
-                if !ended {
-                    ended = fill(&mut input, &mut pending, piece_bytes)?;
-                }
+                input.fill(&mut pending, piece_bytes)?;
             }
             let Some(piece) = in_flight.pop_front() else {
-                // Nothing to cut at: one reader for the rest.
+                // Nothing to cut at, or a live stream: one reader for the rest.
                 break Some((Vec::new(), at));
             };
-            let last = in_flight.is_empty() && ended && pending.is_empty();
+            let last = in_flight.is_empty() && input.ended && pending.is_empty();
             let answer = piece.answer.recv().ok().flatten();
             let fits = match &answer {
                 // A piece after the first starts at NEXT.POLYGON: the frame must have a
@@ -246,14 +280,12 @@ where
             let Some((encoded, counts)) = answer.filter(|_| fits) else {
                 let mut rest = vec![Arc::unwrap_or_clone(piece.bytes)];
                 rest.extend(in_flight.drain(..).map(|p| Arc::unwrap_or_clone(p.bytes)));
-                let place = Place {
-                    lines: piece.lines_before,
-                    ..at
-                };
-                break Some((rest, place));
+                break Some((rest, at));
             };
             writer.write_encoded(&encoded, counts.frames > 0 || counts.ended)?;
             spare.give(encoded);
+            at.lines = piece.lines_after;
+            at.last_line = last_line(&piece.bytes);
             if let Ok(bytes) = Arc::try_unwrap(piece.bytes) {
                 spare.give(bytes);
             }
@@ -272,16 +304,7 @@ where
             None => Ok(()),
             Some((mut rest, place)) => {
                 rest.push(std::mem::take(&mut pending));
-                // From the header's end, its line; from a piece's start, a line follows.
-                let last_line = if place.lines == lines {
-                    header_line
-                } else {
-                    String::new()
-                };
-                let start = (place.lines, last_line);
-                one_reader(
-                    rest, input, in_header, start, place, writer, transform, doing,
-                )
+                one_reader(rest, input.read, in_header, place, writer, transform, doing)
             }
         }
     })
@@ -332,15 +355,12 @@ where
     Some((writer.into_inner().ok()?, counts))
 }
 
-/// The one-reader loop from `place` on (after the lines `start` gives, see
-/// [`Reader::resume_text`]): `rest` (bytes already read, in order), then the input. What
-/// it writes and says is what a reader of the whole stream would.
-#[allow(clippy::too_many_arguments)]
+/// The one-reader loop from `place` on: `rest` (bytes already read, in order), then the
+/// input. What it writes and says is what a reader of the whole stream would.
 fn one_reader<R, W, F>(
     rest: Vec<Vec<u8>>,
     input: R,
     in_header: Header,
-    start: (u64, String),
     place: Place,
     writer: &mut Writer<Token, W>,
     mut transform: F,
@@ -352,6 +372,7 @@ where
     F: FnMut(&mut Polygon) -> std::result::Result<(), String>,
 {
     let read = io::Cursor::new(rest.concat()).chain(input);
+    let start = (place.lines, place.last_line);
     let mut reader =
         Reader::<Token, _>::resume_text(read, in_header, start, place.frame, place.polygons);
     filter_records(&mut reader, writer, &mut transform, doing)?;
@@ -392,18 +413,53 @@ mod tests {
 
     /// The same, in pieces of about `size` bytes on `workers` threads.
     fn in_pieces(text: &[u8], size: usize, workers: usize) -> (Vec<u8>, Option<String>) {
+        in_pieces_from(text, size, workers, usize::MAX)
+    }
+
+    /// [`in_pieces`] from `input`, which runs dry (more input not there at once) after
+    /// `ready` looks.
+    fn in_pieces_from(
+        input: impl Read,
+        size: usize,
+        workers: usize,
+        ready: usize,
+    ) -> (Vec<u8>, Option<String>) {
         let header = Header::new(Space::World);
         let mut out = Writer::new(Vec::new(), header, Form::Binary).unwrap();
-        let reader = Reader::<Token, _>::new(text).unwrap();
+        let reader = Reader::<Token, _>::new(input).unwrap();
         let rest = reader.into_text_rest().ok().expect("a text header line");
+        let looks = std::cell::Cell::new(0);
+        let ready = || {
+            looks.set(looks.get() + 1);
+            looks.get() <= ready
+        };
         let result = filter_text_in_pieces(
-            rest, header, header, &mut out, shift, "shifting", workers, size,
+            rest,
+            header,
+            header,
+            &mut out,
+            shift,
+            "shifting",
+            (workers, size),
+            ready,
         );
         out.flush().unwrap();
         (
             out.into_inner().unwrap(),
             result.err().map(|e| e.to_string()),
         )
+    }
+
+    /// Hands `text` out `chunk` bytes a read, as a pipe fed by a slower writer does.
+    struct Chunks<'a>(&'a [u8], usize);
+
+    impl Read for Chunks<'_> {
+        fn read(&mut self, buf: &mut [u8]) -> io::Result<usize> {
+            let n = self.1.min(buf.len()).min(self.0.len());
+            buf[..n].copy_from_slice(&self.0[..n]);
+            self.0 = &self.0[n..];
+            Ok(n)
+        }
     }
 
     /// A small pseudo-random generator (xorshift), so that the cases are the same each run.
@@ -510,6 +566,78 @@ mod tests {
         }
         // The cases did go wrong, in most of the ways there are.
         assert!(faults_seen > 150, "{faults_seen}");
+    }
+
+    /// A stream that comes slower than it is read (a live one) goes to the one reader,
+    /// at once or after some pieces, and reads as the one reader reads it.
+    #[test]
+    fn a_stream_running_dry_goes_on_with_one_reader() {
+        let mut rng = Rng(0x2545_f491_4f6c_dd1d);
+        for case in 0..60 {
+            let frames = 1 + rng.next(4);
+            let mut text = scene(&mut rng, frames);
+            match case % 3 {
+                0 => {}
+                1 => text.truncate(text.len() - 4), // no END: the message's column counts
+                _ => {
+                    // At the start of a line past the middle (and past the header).
+                    let at = text[text.len() / 2..].find('\n').unwrap() + text.len() / 2 + 1;
+                    text.insert_str(at, "1 2 x\n")
+                }
+            }
+            let want = one(text.as_bytes());
+            for ready in [0, 1, 2, 5] {
+                for chunk in [7, 50] {
+                    let got = in_pieces_from(Chunks(text.as_bytes(), chunk), 64, 2, ready);
+                    assert_eq!(
+                        got, want,
+                        "case {case}, dry after {ready}, reads of {chunk}"
+                    );
+                }
+            }
+        }
+    }
+
+    /// Pieces, then a stretch with no place to cut and a fault in it: the one reader
+    /// takes over at the right line.
+    #[test]
+    fn one_reader_after_pieces_counts_lines_from_the_pieces() {
+        let mut text = String::from("polypipe 1 world\ncolour 1 2 3\n0 0 0\n");
+        for _ in 0..40 {
+            text += "NEXT.POLYGON\ncolour 4 5 6\n1 1 1\n2 2 2\n";
+        }
+        for f in 0..60 {
+            text += "NEXT.FRAME\ncolour 1 2 3\n0 0 0\n1 0 0\n";
+            if f == 50 {
+                text += "0 x 0\n";
+            }
+        }
+        text += "END\n";
+        let want = one(text.as_bytes());
+        assert!(
+            want.1.as_deref().unwrap_or("").contains(", column 3: "),
+            "{want:?}"
+        );
+        assert_eq!(in_pieces(text.as_bytes(), 40, 2), want);
+        // And cut short after the pieces: the column past the last line's end.
+        let short = &text[..text.find("NEXT.FRAME").unwrap()];
+        let want = one(short.as_bytes());
+        assert!(
+            want.1.as_deref().unwrap_or("").contains("ends without END"),
+            "{want:?}"
+        );
+        assert_eq!(in_pieces(short.as_bytes(), 40, 2), want);
+        assert_eq!(
+            in_pieces_from(Chunks(short.as_bytes(), 300), 40, 2, 3),
+            want
+        );
+    }
+
+    #[test]
+    fn last_lines_are_kept_as_the_lexer_keeps_them() {
+        assert_eq!(last_line(b"a\nb c\n"), "b c");
+        assert_eq!(last_line(b"b c # note\r\n"), "b c ");
+        assert_eq!(last_line(b"x\n\r\r\n"), "");
     }
 
     #[test]

@@ -336,8 +336,8 @@ where
                     &mut writer,
                     transform,
                     doing,
-                    workers,
-                    crate::pieces::PIECE_BYTES,
+                    (workers, crate::pieces::PIECE_BYTES),
+                    stdin_ready,
                 )?;
                 writer.flush()?;
                 return Ok(());
@@ -349,6 +349,18 @@ where
     filter_records(&mut reader, &mut writer, &mut transform, doing)?;
     writer.flush()?;
     Ok(())
+}
+
+/// Whether standard input can be read at once, without waiting: more input there, or
+/// its end.
+fn stdin_ready() -> bool {
+    let mut fd = libc::pollfd {
+        fd: 0,
+        events: libc::POLLIN,
+        revents: 0,
+    };
+    // SAFETY: poll reads and writes the one pollfd it is given, and waits not at all.
+    unsafe { libc::poll(&mut fd, 1, 0) > 0 }
 }
 
 /// What [`filter_records`] read: NEXT.FRAMEs, the polygons after the last of them (or

@@ -345,3 +345,47 @@ fn a_long_text_scene_reads_in_pieces_as_with_one_reader() {
          space), found `x`\n"
     );
 }
+
+/// A live stream (a writer that sends a frame and waits) gets its frame back at once:
+/// viewxf does not hold polygons back to make pieces of a stream that comes slower than
+/// it reads.
+#[test]
+fn a_live_stream_gets_each_frame_back_as_it_ends() {
+    use std::io::{Read, Write};
+    use std::process::{Command as Std, Stdio};
+    let frame = "polypipe 1 world\ncolour 1 2 3\n0 0 0\n1 0 0\n0 1 0\nNEXT.FRAME\n";
+    // What the frame comes to: the whole stream's output but its END record.
+    let whole = viewxf()
+        .write_stdin(format!("{frame}END\n"))
+        .assert()
+        .success()
+        .get_output()
+        .stdout
+        .clone();
+    let want = whole[..whole.len() - 8].to_vec();
+    let mut child = Std::new(assert_cmd::cargo::cargo_bin("viewxf"))
+        .stdin(Stdio::piped())
+        .stdout(Stdio::piped())
+        .spawn()
+        .unwrap();
+    let mut stdin = child.stdin.take().unwrap();
+    stdin.write_all(frame.as_bytes()).unwrap();
+    stdin.flush().unwrap();
+    // Read the frame while stdin stays open; a reader that waited for more would hang,
+    // and the test fails after 20 s instead.
+    let mut stdout = child.stdout.take().unwrap();
+    let n = want.len();
+    let (tx, rx) = std::sync::mpsc::channel();
+    std::thread::spawn(move || {
+        let mut got = vec![0u8; n];
+        let _ = tx.send(stdout.read_exact(&mut got).map(|()| got));
+    });
+    let got = rx
+        .recv_timeout(std::time::Duration::from_secs(20))
+        .expect("the first frame, before the stream goes on")
+        .unwrap();
+    assert_eq!(got, want);
+    stdin.write_all(b"END\n").unwrap();
+    drop(stdin);
+    assert!(child.wait().unwrap().success());
+}
