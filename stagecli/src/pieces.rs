@@ -84,17 +84,24 @@ type Answer = Option<(Vec<u8>, Counts)>;
 type Job = (Arc<Vec<u8>>, u64, bool, SyncSender<Answer>);
 
 /// Where `bytes` may be cut: just before the last line that begins with `NEXT.POLYGON`
-/// (followed by whitespace or a comment) in its first `limit` bytes; `None` if there is
-/// none, or only at its start.
+/// (followed by whitespace or a comment) in its first `limit` bytes, and ends, as UTF-8,
+/// within `bytes`; `None` if there is none, or only at its start. The one reader takes in
+/// the line after a polygon's last vertex before the polygon is done: a line it could not
+/// take in (not UTF-8) would stop it before that polygon, so a piece must not end there.
 fn cut_at(bytes: &[u8], limit: usize) -> Option<usize> {
     const WORD: &[u8] = b"\nNEXT.POLYGON";
     let mut hay = &bytes[..limit.min(bytes.len())];
     while let Some(i) = memchr::memmem::rfind(hay, WORD) {
-        let after = bytes.get(i + WORD.len()).copied();
+        let line = &bytes[i + 1..];
+        let after = line.get(WORD.len() - 1).copied();
+        let ends_well = || {
+            memchr::memchr(b'\n', line).is_some_and(|end| std::str::from_utf8(&line[..end]).is_ok())
+        };
         if matches!(
             after,
-            None | Some(b' ' | b'\t' | b'\n' | b'\r' | 0x0b | 0x0c | b'#')
-        ) {
+            Some(b' ' | b'\t' | b'\n' | b'\r' | 0x0b | 0x0c | b'#')
+        ) && ends_well()
+        {
             return Some(i + 1);
         }
         hay = &hay[..i];
@@ -633,6 +640,22 @@ mod tests {
         );
     }
 
+    /// Found by the `pieces` fuzz target: a NEXT.POLYGON line that is not UTF-8 stops the
+    /// one reader before the polygon above it is done, so no piece may end above it.
+    #[test]
+    fn no_piece_ends_above_a_line_the_lexer_refuses() {
+        let body = b"colour\x0b\n\x0b20\x0b2\x0b\x0b2\x0b20\x0b2\x0b12\x0b\x0b#{kiq\nNEXT.POLYGON\r\x01\0\0 \r\r\r\r\0\0\xefc\0\0\x0020\x0b2\xbfgN\xbbcdEND\n\xef\xbb\xbf\x93\x93\r\r\xfd";
+        let mut text = b"polypipe 1 world\n".to_vec();
+        text.extend_from_slice(body);
+        let want = one(&text);
+        assert!(
+            want.1.as_deref().unwrap_or("").contains("not UTF-8"),
+            "{want:?}"
+        );
+        assert_eq!(in_pieces_from(Chunks(&text, 48), 16, 1, 13), want);
+        assert_eq!(in_pieces(&text, 16, 2), want);
+    }
+
     #[test]
     fn last_lines_are_kept_as_the_lexer_keeps_them() {
         assert_eq!(last_line(b"a\nb c\n"), "b c");
@@ -667,6 +690,12 @@ mod tests {
         assert_eq!(cut_at(text, text.len()), Some(line));
         assert_eq!(cut_at(text, line - 1), None);
         assert_eq!(cut_at(b"NEXT.POLYGON\n1 2 3\n", 100), None);
-        assert_eq!(cut_at(b"1 2 3\nNEXT.POLYGON", 100), Some(6));
+        assert_eq!(cut_at(b"1 2 3\nNEXT.POLYGON\n", 100), Some(6));
+        // Not where the line has not ended yet, nor where it is not UTF-8.
+        assert_eq!(cut_at(b"1 2 3\nNEXT.POLYGON", 100), None);
+        assert_eq!(
+            cut_at(b"1\nNEXT.POLYGON\n2\nNEXT.POLYGON \xff\n", 100),
+            Some(2)
+        );
     }
 }
