@@ -51,18 +51,12 @@ struct Place {
     polygons: u64,
 }
 
-/// The last line of a piece (which ends with a newline) as the lexer keeps a line: its
-/// carriage returns and comment taken off.
+/// The last line of a piece (which ends with a newline, and was read whole, so is
+/// UTF-8) as the lexer keeps a line.
 fn last_line(piece: &[u8]) -> String {
     let body = piece.strip_suffix(b"\n").unwrap_or(piece);
-    let mut line = &body[memchr::memrchr(b'\n', body).map_or(0, |i| i + 1)..];
-    while let Some(rest) = line.strip_suffix(b"\r") {
-        line = rest;
-    }
-    if let Some(hash) = memchr::memchr(b'#', line) {
-        line = &line[..hash];
-    }
-    String::from_utf8_lossy(line).into_owned()
+    let raw = &body[memchr::memrchr(b'\n', body).map_or(0, |i| i + 1)..];
+    proto::text::kept_line(raw, false).map_or_else(|_| String::new(), |(line, _)| line.to_string())
 }
 
 /// A piece cut from the input, and where its answer will come.
