@@ -58,6 +58,7 @@ Options:
                     quadruplets) instead of spans
   --hidden-line     draw the visible parts of the polygons' edges as SVG, to the
                     file -o names (FILE.svg; frame%03d.svg for a movie), at depth 0
+                    (not with --hse, --aa, --merge buffer or --pixels)
   --clip MODE       batch (default): clipbatch, the six planes in one process over a
                     batch of polygons (Theoharis & Page's DAP clipper); chain: the
                     thesis's six clipplane processes
@@ -227,6 +228,10 @@ validate_options() {
         [[ $depth == [0a]* ]] ||
             die_usage "--hidden-line draws at depth 0 (the tree's cuts are not edges), not --depth $depth"
         ((${#output[@]})) || die_usage "--hidden-line needs -o FILE.svg"
+        # Its drawing has no hidden-surface method, samples or merger of its own to
+        # change: options for those would be taken and do nothing.
+        [[ $hse == zbuf && $aa == none && $merge == tiles && ${#pixels[@]} == 0 ]] ||
+            die_usage "--hidden-line draws the visible edges: not with --hse, --aa, --merge buffer or --pixels"
     fi
     if [[ -n $subtree ]]; then
         [[ $subtree =~ ^[1-9][0-9]*$ ]] && ((subtree < 2 << depth)) ||
@@ -241,6 +246,9 @@ validate_options() {
     fi
     ((scene_given)) || scene=$root/examples/penetrating.txt
     [[ $scene == - || -r $scene ]] || fail 3 "cannot read scene $scene"
+    # As the stages say of a folder given as their input (viewxf would say it too, but
+    # --depth auto first copies a scene it cannot look at twice).
+    [[ ! -d $scene ]] || fail 3 "$scene: Is a directory"
 }
 
 # --- The binaries: built when missing or older than their sources. ---------------------
@@ -588,7 +596,7 @@ start_graph() {
 start_hidden_line() {
     fifo screen
     start persp "$clipped" "$tmp/screen" "$bindir/persp" --size "$size" --depth "$zmode"
-    start hiddenline "$tmp/screen" - "$bindir/hiddenline" "${output[@]}"
+    start hiddenline "$tmp/screen" - "$bindir/hiddenline" "${stats[@]}" "${output[@]}"
 }
 
 # The merger (chapter 6.3.3): one zbuf reading every leaf, writing the frames.

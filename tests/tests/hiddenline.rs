@@ -204,6 +204,15 @@ fn a_movie_is_one_file_per_frame() {
     assert!(String::from_utf8_lossy(&out.stderr).starts_with("hiddenline: "));
     let out = sh("hiddenline -o 'x%s.svg' < /dev/null", b"");
     assert_eq!(out.status.code(), Some(2));
+    // SVG under another name (render.sh --hidden-line -o lines.png wrote SVG into a .png).
+    for name in ["lines.png", "-", "frame%03d"] {
+        let out = sh(&format!("hiddenline -o '{name}' < /dev/null"), b"");
+        assert_eq!(out.status.code(), Some(2), "-o {name}");
+        assert_eq!(
+            String::from_utf8_lossy(&out.stderr),
+            format!("hiddenline: -o {name}: the file name must end .svg\n")
+        );
+    }
 }
 
 #[test]

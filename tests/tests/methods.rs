@@ -160,6 +160,18 @@ fn options_that_cannot_combine_are_refused() {
             "--hidden-line --depth 2 -o x.svg",
             "render.sh: --hidden-line draws at depth 0 (the tree's cuts are not edges), not --depth 2",
         ),
+        (
+            "--hidden-line --aa ss4 -o x.svg",
+            "render.sh: --hidden-line draws the visible edges: not with --hse, --aa, --merge buffer or --pixels",
+        ),
+        (
+            "--hidden-line --hse painter -o x.svg",
+            "render.sh: --hidden-line draws the visible edges: not with --hse, --aa, --merge buffer or --pixels",
+        ),
+        (
+            "--hidden-line --merge buffer -o x.svg",
+            "render.sh: --hidden-line draws the visible edges: not with --hse, --aa, --merge buffer or --pixels",
+        ),
     ] {
         let out = sh(&format!("scripts/render.sh {options}"), b"");
         assert_eq!(out.status.code(), Some(2), "{options}");

@@ -310,3 +310,16 @@ fn text_on_the_picture_stages_writes_plain_ppm() {
     assert!(f1.starts_with(b"P3\n"));
     assert_eq!(parse_ppm_stream(&f1).unwrap()[0], frames[1]);
 }
+
+/// Session 9's review: `render.sh /tmp` let `cat` say `cat: /tmp: Is a directory` and then
+/// said only that it could not keep the scene; now one line in the stages' words, status 3,
+/// at any depth (`--depth auto` copies a scene before looking at it; a given depth does not).
+#[test]
+fn render_sh_says_a_folder_is_not_a_scene() {
+    for depth in ["auto", "0", "2"] {
+        let out = sh(&format!("scripts/render.sh --depth {depth} /tmp"), b"");
+        assert_eq!(out.status.code(), Some(3), "--depth {depth}");
+        assert_eq!(stderr(&out), "render.sh: /tmp: Is a directory\n", "--depth {depth}");
+        assert!(out.stdout.is_empty());
+    }
+}

@@ -29,7 +29,7 @@ use std::process::ExitCode;
 #[command(name = "hiddenline", version, verbatim_doc_comment)]
 struct Args {
     /// Write one file per frame instead of one SVG on stdout: `%d` or `%0Nd` in the name
-    /// is the frame number from 0 (as zbuf's -o).
+    /// is the frame number from 0 (as zbuf's -o); the name must end .svg.
     #[arg(short = 'o', value_name = "PATTERN")]
     output: Option<String>,
     /// Background colour R,G,B (a rectangle under the lines).
@@ -51,12 +51,26 @@ fn parse_width(s: &str) -> Result<f64, String> {
         .ok_or_else(|| format!("`{s}` is not a line width (a positive number)"))
 }
 
+/// `-o PATTERN`'s file names, which must be SVG's (as zbuf's must be .png or .ppm): a
+/// drawing written under another name would be read as something it is not.
+fn svg_names(pattern: &str) -> Result<FrameNames, String> {
+    let names = FrameNames::parse(pattern)?;
+    let svg = std::path::Path::new(pattern)
+        .extension()
+        .and_then(|e| e.to_str())
+        .is_some_and(|e| e.eq_ignore_ascii_case("svg"));
+    if !svg {
+        return Err(format!("-o {pattern}: the file name must end .svg"));
+    }
+    Ok(names)
+}
+
 fn main() -> ExitCode {
     stagecli::main("hiddenline", |args: Args| {
         let pattern = args
             .output
             .as_deref()
-            .map(FrameNames::parse)
+            .map(svg_names)
             .transpose()
             .map_err(Error::usage)?;
         let mut input = stagecli::read_stdin::<Token>(SpaceKind::Screen)?;
