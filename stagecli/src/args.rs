@@ -144,6 +144,8 @@ impl PpmTextFlag {
 
 /// The camera and view-volume options, shared by every binary that views a world-space
 /// scene (`viewxf`, and the exact reference `zspec`) so that they read the same words.
+/// A negative number is taken as the value it is (`--s -3`, `--hither -1`), so that the
+/// message says what is wrong with it rather than that `-3` is not an option.
 #[derive(Clone, Debug, clap::Args)]
 pub struct ViewArgs {
     /// Where the eye is, `X,Y,Z` (default: the thesis's 0,0,20).
@@ -156,22 +158,22 @@ pub struct ViewArgs {
     #[arg(long, value_parser = parse_triple, allow_hyphen_values = true, value_name = "X,Y,Z")]
     pub up: Option<DVec3>,
     /// s: half the screen height, in eye units at distance d.
-    #[arg(long, default_value_t = 10.0)]
+    #[arg(long, allow_negative_numbers = true, default_value_t = 10.0)]
     pub s: f64,
     /// d: the eye-to-screen distance.
-    #[arg(long, default_value_t = 16.0)]
+    #[arg(long, allow_negative_numbers = true, default_value_t = 16.0)]
     pub d: f64,
     /// The screen's aspect ratio W/H (default 1, or W/H of --size).
-    #[arg(long, conflicts_with = "size")]
+    #[arg(long, conflicts_with = "size", allow_negative_numbers = true)]
     pub aspect: Option<f64>,
     /// The screen size the scene will be drawn at, `WxH`; sets the aspect ratio.
     #[arg(long, value_parser = parse_size, value_name = "WxH")]
     pub size: Option<(u32, u32)>,
     /// K1: the hither plane z_e = K1.
-    #[arg(long, default_value_t = 1.0)]
+    #[arg(long, allow_negative_numbers = true, default_value_t = 1.0)]
     pub hither: f64,
     /// K2: the yon plane z_e = K2.
-    #[arg(long, default_value_t = 30.0)]
+    #[arg(long, allow_negative_numbers = true, default_value_t = 30.0)]
     pub yon: f64,
 }
 
@@ -353,6 +355,25 @@ mod tests {
             .unwrap_err()
             .to_string()
             .starts_with("--s 0 --d 16: "));
+        // A negative value is the option's value, and the message says what is wrong
+        // with it (clap took `-3` for an unknown option before).
+        for (args, message) in [
+            (
+                ["--s", "-3"],
+                "--s -3 --d 16: s = -3 and d = 16 must be positive",
+            ),
+            (
+                ["--hither", "-1"],
+                "--hither -1 --yon 30: they must satisfy 0 < hither < yon",
+            ),
+            (
+                ["--aspect", "-2"],
+                "--aspect -2: the aspect ratio must be a positive number",
+            ),
+        ] {
+            let v = ViewArgs::try_parse_from_view(&args);
+            assert_eq!(v.resolve().unwrap_err().to_string(), message);
+        }
     }
 
     impl ViewArgs {

@@ -319,7 +319,11 @@ fn render_sh_says_a_folder_is_not_a_scene() {
     for depth in ["auto", "0", "2"] {
         let out = sh(&format!("scripts/render.sh --depth {depth} /tmp"), b"");
         assert_eq!(out.status.code(), Some(3), "--depth {depth}");
-        assert_eq!(stderr(&out), "render.sh: /tmp: Is a directory\n", "--depth {depth}");
+        assert_eq!(
+            stderr(&out),
+            "render.sh: /tmp: Is a directory\n",
+            "--depth {depth}"
+        );
         assert!(out.stdout.is_empty());
     }
 }
