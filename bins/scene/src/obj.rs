@@ -37,7 +37,7 @@ pub fn load<R: BufRead>(input: &mut R, dir: &Path, name: &str) -> stagecli::Resu
     // parse error of tobj's, and the vertices can be checked with their line numbers.
     let mut text = Vec::new();
     input.read_to_end(&mut text).context(name)?;
-    check_vertices(&text).map_err(|m| Error::data(format!("{name}: {m}")))?;
+    check_lines(&text).map_err(|m| Error::data(format!("{name}: {m}")))?;
     let input = &mut std::io::Cursor::new(text);
     let warnings = RefCell::new(Vec::new());
     let options = tobj::LoadOptions {
@@ -106,25 +106,102 @@ pub fn load<R: BufRead>(input: &mut R, dir: &Path, name: &str) -> stagecli::Resu
     Ok(Model { faces, warnings })
 }
 
-/// Refuses a vertex (`v x y z`) with a coordinate that is not a finite number (`nan`,
-/// `inf`, which Rust's and tobj's number parsing accept), naming its line: such a
-/// vertex has no place, and the stages after this one would otherwise take the blame.
-fn check_vertices(text: &[u8]) -> Result<(), String> {
-    for (k, line) in text.split(|&b| b == b'\n').enumerate() {
-        let line = String::from_utf8_lossy(line);
+/// Finds, with its line, what would make the model unusable or tobj refuse it without
+/// saying where (its errors name no line: `position parse error`, `face vertex index out
+/// of bounds`):
+///
+/// - a vertex (`v x y z`) without three numbers, or with one that is not finite (`nan`,
+///   `inf`, which Rust's and tobj's number parsing accept: such a vertex has no place,
+///   and the stages after this one would otherwise take the blame);
+/// - a texture coordinate (`vt u v`) or normal (`vn x y z`) without its numbers;
+/// - a face or line (`f`, `l`) with a word that is not `v`, `v/vt`, `v//vn` or `v/vt/vn`
+///   indices, or whose vertex index is 0 or beyond the file's vertices (tobj counts a
+///   negative index back from the vertices read so far, 1-based ones from the start).
+///
+/// What this does not catch, tobj still refuses, in its own words.
+fn check_lines(text: &[u8]) -> Result<(), String> {
+    let lines = || text.split(|&b| b == b'\n').map(String::from_utf8_lossy);
+    let vertices = lines()
+        .filter(|l| l.split_whitespace().next() == Some("v"))
+        .count();
+    let mut seen = 0usize; // vertices before this line
+    for (k, line) in lines().enumerate() {
+        let at = |what: String| format!("line {}: {what}", k + 1);
         let mut words = line.split_whitespace();
-        if words.next() != Some("v") {
-            continue;
+        let (kind, numbers) = match words.next() {
+            Some("v") => ("vertex", 3),
+            Some("vt") => ("texture coordinate", 2),
+            Some("vn") => ("normal", 3),
+            Some("f" | "l") => {
+                for word in words {
+                    check_face_word(word, seen, vertices)
+                        .map_err(|why| at(format!("face `{}`: {why}", line.trim())))?;
+                }
+                continue;
+            }
+            _ => continue,
+        };
+        let values: Vec<&str> = words.take(numbers).collect();
+        if values.len() < numbers {
+            return Err(at(format!(
+                "{kind} `{}` needs {numbers} numbers",
+                line.trim()
+            )));
         }
-        for word in words.take(3) {
-            if word.parse::<f64>().is_ok_and(|x| !x.is_finite()) {
-                return Err(format!(
-                    "line {}: vertex `{}` has a coordinate `{word}` that is not a finite number",
-                    k + 1,
-                    line.trim()
-                ));
+        for word in values {
+            match word.parse::<f64>() {
+                Err(_) => {
+                    return Err(at(format!(
+                        "{kind} `{}` has `{word}`, which is not a number",
+                        line.trim()
+                    )))
+                }
+                Ok(x) if kind == "vertex" && !x.is_finite() => {
+                    return Err(at(format!(
+                        "vertex `{}` has a coordinate `{word}` that is not a finite number",
+                        line.trim()
+                    )))
+                }
+                Ok(_) => {}
             }
         }
+        if kind == "vertex" {
+            seen += 1;
+        }
+    }
+    Ok(())
+}
+
+/// One vertex of a face, `v`, `v/vt`, `v//vn` or `v/vt/vn`, read as tobj reads it; its
+/// vertex index checked against the `vertices` of the file (`seen` of them before the
+/// face, for an index counted back from there).
+fn check_face_word(word: &str, seen: usize, vertices: usize) -> Result<(), String> {
+    let parts: Vec<&str> = word.split('/').collect();
+    if parts.len() > 3 || parts[0].is_empty() {
+        return Err(format!("`{word}` is not a vertex's indices"));
+    }
+    for part in parts.iter().filter(|p| !p.is_empty()) {
+        if part.parse::<isize>().is_err() {
+            return Err(format!("`{word}` is not a vertex's indices"));
+        }
+    }
+    let index: isize = parts[0].parse().unwrap_or(0);
+    let place = if index < 0 {
+        seen as isize + index
+    } else {
+        index - 1
+    };
+    if index == 0 || place < 0 || place >= vertices as isize {
+        let count = |n: usize| match n {
+            1 => "1 vertex".to_string(),
+            n => format!("{n} vertices"),
+        };
+        let have = if index < 0 {
+            format!("{} before it", count(seen))
+        } else {
+            format!("the file has {}", count(vertices))
+        };
+        return Err(format!("vertex index {index} is out of bounds ({have})"));
     }
     Ok(())
 }
@@ -286,7 +363,49 @@ mod tests {
         .unwrap_err();
         assert_eq!(
             err.to_string(),
-            "bad.obj: not a valid OBJ file: face vertex index out of bounds"
+            "bad.obj: line 2: face `f 1 2 3`: vertex index 2 is out of bounds (the file has 1 vertex)"
         );
+    }
+
+    #[test]
+    fn a_line_tobj_cannot_read_is_named() {
+        for (obj, message) in [
+            (
+                "v 0 0 0\nv 1 0 x\n",
+                "line 2: vertex `v 1 0 x` has `x`, which is not a number",
+            ),
+            ("v 0 0\n", "line 1: vertex `v 0 0` needs 3 numbers"),
+            (
+                "vt 0 q\n",
+                "line 1: texture coordinate `vt 0 q` has `q`, which is not a number",
+            ),
+            ("vn 0 0\n", "line 1: normal `vn 0 0` needs 3 numbers"),
+            (
+                "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 0\n",
+                "line 4: face `f 1 2 0`: vertex index 0 is out of bounds (the file has 3 vertices)",
+            ),
+            (
+                "v 0 0 0\nf -1 -2 -3\nv 1 0 0\nv 0 1 0\n",
+                "line 2: face `f -1 -2 -3`: vertex index -2 is out of bounds (1 vertex before it)",
+            ),
+            (
+                "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 x3\n",
+                "line 4: face `f 1 2 x3`: `x3` is not a vertex's indices",
+            ),
+            (
+                "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1/1/1/1 2 3\n",
+                "line 4: face `f 1/1/1/1 2 3`: `1/1/1/1` is not a vertex's indices",
+            ),
+        ] {
+            let err = load(&mut Cursor::new(obj), Path::new("."), "m.obj").unwrap_err();
+            assert_eq!(err.kind(), stagecli::Kind::Data, "{obj}");
+            assert_eq!(err.to_string(), format!("m.obj: {message}"), "{obj}");
+        }
+        // What tobj reads, this lets by: a weight after a vertex, every index form,
+        // indices counted back, a face before its vertices (tobj resolves them at the
+        // object's end), texture indices in a file without texture coordinates.
+        let good = "v 0 0 0 1\nv 1 0 0 2\nf 1/1 2//1 3/1/1\nv 0 1 0\nf -3 -2 -1\nl 1 2\n";
+        let model = load(&mut Cursor::new(good), Path::new("."), "m").unwrap();
+        assert_eq!(model.faces.len(), 3);
     }
 }

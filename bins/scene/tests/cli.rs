@@ -367,7 +367,18 @@ fn obj_errors() {
         .write_stdin("v 0 0 0\nf 1 2 3\n")
         .assert()
         .code(1)
-        .stderr("scene: <stdin>: not a valid OBJ file: face vertex index out of bounds\n");
+        .stderr(
+            "scene: <stdin>: line 2: face `f 1 2 3`: vertex index 2 is out of bounds (the file has 1 vertex)\n",
+        );
+    // What the line check does not catch is tobj's to say, without a line.
+    scene()
+        .args(["obj", "-"])
+        .write_stdin("v 0 0 0 0\n")
+        .assert()
+        .code(1)
+        .stderr(predicate::str::starts_with(
+            "scene: <stdin>: not a valid OBJ file: ",
+        ));
 }
 
 #[test]
