@@ -5,7 +5,7 @@
 
 use crate::chart::{ModelRow, Row};
 use crate::methods::METHODS;
-use anyhow::{anyhow, Result};
+use anyhow::{anyhow, Context, Result};
 use plotters::coord::Shift;
 use plotters::prelude::*;
 use plotters::style::text_anchor::{HPos, Pos, VPos};
@@ -101,18 +101,78 @@ fn layout(n: usize) -> (usize, usize) {
 
 const PANEL: (u32, u32) = (760, 560);
 
-fn speed_accuracy_on<DB: DrawingBackend>(root: DrawingArea<DB, Shift>, rows: &[Row]) -> Drawn
+const TITLE: &str =
+    "Speed against accuracy: each method at its fastest tree depth; the line is the Pareto front";
+
+/// The title's font size and line height, pixels.
+const TITLE_FONT: (u32, u32) = (24, 30);
+
+/// The title broken into lines that fit a picture `width` pixels wide (with 12 px either
+/// side): one panel is narrower than the title, which a single line would clip on both
+/// sides.
+fn title_lines(width: u32) -> Vec<String> {
+    register_font();
+    let font = ("sans-serif", TITLE_FONT.0).into_font();
+    // Should the font not measure, about 14 px a character (its width at 24 px).
+    let wide = |s: &str| {
+        font.box_size(s)
+            .map_or(14 * s.chars().count() as u32, |(w, _)| w)
+    };
+    wrap(TITLE, |s| wide(s) + 24 <= width)
+}
+
+/// The height of a title of `lines` lines: 50 px for one, as the picture always had.
+fn title_height(lines: usize) -> u32 {
+    20 + TITLE_FONT.1 * lines.max(1) as u32
+}
+
+/// `text` in lines that `fits`: broken at its clauses (after a `;`) where it must break,
+/// as a person would, and a clause too long for a line alone by words; as much a line as
+/// fits. A word too long for a line alone has the line to itself.
+fn wrap(text: &str, fits: impl Fn(&str) -> bool) -> Vec<String> {
+    let mut lines: Vec<String> = Vec::new();
+    for clause in text.split_inclusive("; ").map(str::trim) {
+        let pieces: Vec<&str> = if fits(clause) {
+            vec![clause]
+        } else {
+            clause.split_whitespace().collect()
+        };
+        for piece in pieces {
+            match lines.last_mut() {
+                Some(line) if fits(&format!("{line} {piece}")) => {
+                    line.push(' ');
+                    line.push_str(piece);
+                }
+                _ => lines.push(piece.to_string()),
+            }
+        }
+    }
+    lines
+}
+
+fn speed_accuracy_on<DB: DrawingBackend>(
+    root: DrawingArea<DB, Shift>,
+    rows: &[Row],
+    title_text: &[String],
+) -> Drawn
 where
     DB::ErrorType: 'static,
 {
     root.fill(&WHITE)?;
     let scenes = scenes_of(rows);
     let (cols, nrows) = layout(scenes.len());
-    let (title, body) = root.split_vertically(50);
-    title.titled(
-        "Speed against accuracy: each method at its fastest tree depth; the line is the Pareto front",
-        ("sans-serif", 24).into_font().color(&BLACK),
-    )?;
+    let (title, body) = root.split_vertically(title_height(title_text.len()));
+    let centre = title.dim_in_pixel().0 as i32 / 2;
+    for (i, line) in title_text.iter().enumerate() {
+        title.draw(&Text::new(
+            line.as_str(),
+            (centre, 12 + (TITLE_FONT.1 * i as u32) as i32),
+            ("sans-serif", TITLE_FONT.0)
+                .into_font()
+                .color(&BLACK)
+                .pos(Pos::new(HPos::Center, VPos::Top)),
+        ))?;
+    }
     let panels = body.split_evenly((nrows, cols));
     for (scene, panel) in scenes.iter().zip(panels) {
         let marks = marks(rows, scene);
@@ -279,20 +339,24 @@ fn png(
     }
     let image =
         image::RgbImage::from_raw(size.0, size.1, buf).ok_or_else(|| anyhow!("picture buffer"))?;
-    image.save(path)?;
+    image
+        .save(path)
+        .with_context(|| format!("cannot write {}", path.display()))?;
     Ok(())
 }
 
 /// `speed-accuracy.png` and `.svg` in `dir`.
 pub fn speed_accuracy(dir: &Path, rows: &[Row]) -> Result<()> {
     let (cols, nrows) = layout(scenes_of(rows).len());
-    let size = (PANEL.0 * cols as u32, PANEL.1 * nrows as u32 + 50);
+    let width = PANEL.0 * cols as u32;
+    let title = title_lines(width);
+    let size = (width, PANEL.1 * nrows as u32 + title_height(title.len()));
     png(&dir.join("speed-accuracy.png"), size, |root| {
-        speed_accuracy_on(root, rows)
+        speed_accuracy_on(root, rows, &title)
     })?;
     let svg = dir.join("speed-accuracy.svg");
     let root = SVGBackend::new(&svg, size).into_drawing_area();
-    speed_accuracy_on(root, rows).map_err(|e| anyhow!("drawing {}: {e}", svg.display()))
+    speed_accuracy_on(root, rows, &title).map_err(|e| anyhow!("drawing {}: {e}", svg.display()))
 }
 
 fn model_on<DB: DrawingBackend>(root: DrawingArea<DB, Shift>, rows: &[ModelRow]) -> Drawn
@@ -450,12 +514,40 @@ mod tests {
     }
 
     #[test]
+    fn the_title_is_wrapped_to_fit_one_panel_and_kept_whole_on_three() {
+        for (width, lines) in [(PANEL.0, 2), (3 * PANEL.0, 1)] {
+            let t = title_lines(width);
+            assert_eq!(t.len(), lines, "{width}: {t:?}");
+            assert_eq!(t.join(" "), TITLE);
+            let font = ("sans-serif", TITLE_FONT.0).into_font();
+            for line in &t {
+                let (w, _) = font.box_size(line).unwrap();
+                assert!(w + 24 <= width, "{line:?} is {w} px in {width}");
+            }
+        }
+    }
+
+    #[test]
+    fn wrap_fills_lines_by_words() {
+        let fits = |s: &str| s.len() <= 7;
+        assert_eq!(
+            wrap("ab cd ef ghijklmno p", fits),
+            ["ab cd", "ef", "ghijklmno", "p"]
+        );
+        // At the clause, though its first word would fit on the line before.
+        assert_eq!(wrap("ab; cd ef", fits), ["ab;", "cd ef"]);
+        assert_eq!(wrap("ab; cd", fits), ["ab; cd"]);
+        assert_eq!(wrap("", fits), Vec::<String>::new());
+    }
+
+    #[test]
     fn pictures_are_written() {
         let dir = tempfile::tempdir().unwrap();
         let rows = vec![row("zbuf", 0, 0.2, 30.0), row("zbuf-eye-z", 0, 0.3, 31.0)];
         speed_accuracy(dir.path(), &rows).unwrap();
         let png = image::open(dir.path().join("speed-accuracy.png")).unwrap();
-        assert_eq!((png.width(), png.height()), (PANEL.0, PANEL.1 + 50));
+        // One panel is narrower than the title: two lines, the picture taller by one.
+        assert_eq!((png.width(), png.height()), (PANEL.0, PANEL.1 + 80));
         let svg = std::fs::read_to_string(dir.path().join("speed-accuracy.svg")).unwrap();
         assert!(svg.contains("zbuf-eye-z"), "the label is in the SVG");
         assert!(svg.contains("wall time, seconds"));
