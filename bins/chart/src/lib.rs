@@ -11,6 +11,7 @@
 
 pub mod calibrate;
 pub mod chart;
+pub mod error;
 pub mod look;
 pub mod measure;
 pub mod methods;

@@ -117,12 +117,20 @@ pub fn count_screen<R: Read>(input: R) -> Result<(u64, u64, f64)> {
     Ok((polygons, vertices, sum))
 }
 
-/// Whether the file starts like a text-form stream (else binary).
-pub fn is_text(scene: &Path) -> Result<bool> {
+/// Opens a scene, an I/O error naming it as the stages do: `cannot open PATH: reason`.
+pub fn open(scene: &Path) -> stagecli::Result<std::fs::File> {
+    std::fs::File::open(scene)
+        .map_err(|e| stagecli::Error::from(e).context(format!("cannot open {}", scene.display())))
+}
+
+/// Whether the file starts like a text-form stream (else binary). Reading its first
+/// bytes is also the check that it can be read at all: a folder opens, and fails only
+/// here, as `PATH: Is a directory` (zspec's words for the same).
+pub fn is_text(scene: &Path) -> stagecli::Result<bool> {
     let mut first = [0u8; 8];
-    let mut f =
-        std::fs::File::open(scene).with_context(|| format!("cannot open {}", scene.display()))?;
-    let n = f.read(&mut first)?;
+    let n = open(scene)?
+        .read(&mut first)
+        .map_err(|e| stagecli::Error::from(e).context(scene.display()))?;
     Ok(n > 0 && first[..n] != proto::header::BINARY_MAGIC[..n])
 }
 
@@ -132,19 +140,6 @@ pub fn is_text(scene: &Path) -> Result<bool> {
 /// polygon, so the first stretch of the scene is a fair sample of a scene whose polygons
 /// are not ordered by size.
 pub const SAMPLE_BYTES: u64 = 512 * 1024;
-
-/// A camera or view volume that cannot be looked through (`--hither 0`): the command
-/// line's fault, so `chart` exits 2 for it, as `viewxf` does for the same options.
-#[derive(Debug)]
-pub struct UsageError(pub String);
-
-impl std::fmt::Display for UsageError {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        f.write_str(&self.0)
-    }
-}
-
-impl std::error::Error for UsageError {}
 
 /// Looks at a scene for a `width`×`height` screen: the world-space counts as read, and
 /// the screen-space ones as `viewxf | clipplane ×6 | persp` computes them, through the
@@ -175,8 +170,10 @@ pub fn look(
         .map(String::from)
         .chain(camera.iter().cloned());
     let cam = <Camera as clap::Parser>::try_parse_from(args)
-        .map_err(|e| UsageError(format!("camera options {camera:?}: {e}")))?;
-    let (frame, view) = cam.view.resolve().map_err(|e| UsageError(e.to_string()))?;
+        .map_err(|e| stagecli::Error::usage(format!("camera options {camera:?}: {e}")))?;
+    // A camera or view volume that cannot be looked through (`--hither 0`) is a usage
+    // error of viewxf's words, so chart exits 2 for it as viewxf does.
+    let (frame, view) = cam.view.resolve()?;
     // The pyramid's six planes and the device mapping, as clipplane and persp take them
     // from the stream's view volume.
     let planes = PyramidPlane::ALL.map(|p| p.plane(&view));
@@ -188,8 +185,7 @@ pub fn look(
     let (mut eye, mut clipped) = (Vec::new(), Vec::new());
 
     let text = is_text(scene)?;
-    let file =
-        std::fs::File::open(scene).with_context(|| format!("cannot open {}", scene.display()))?;
+    let file = open(scene)?;
     let total = file.metadata().map(|m| m.len()).unwrap_or(0);
     let bytes = Arc::new(AtomicU64::new(0));
     let mut reader = Reader::<Token, _>::new(std::io::BufReader::with_capacity(

@@ -1,10 +1,12 @@
 //! chart: the command line of `scripts/chart.sh` and of `render.sh --depth auto`.
 
 use anyhow::{bail, Context, Result};
-use chart::chart::{parse_size, Scene, Setup};
+use chart::chart::{Scene, Setup};
 use chart::model::Constants;
 use clap::{Parser, Subcommand};
 use indicatif::{ProgressBar, ProgressStyle};
+use proto::camera::parse_size;
+use std::io::Write;
 use std::path::{Path, PathBuf};
 use std::process::{Command, ExitCode};
 
@@ -44,7 +46,7 @@ struct Cli {
     #[arg(long)]
     standard: bool,
     /// The screen for scenes without their own `@WxH`.
-    #[arg(long, default_value = "500x500", value_parser = size_arg, value_name = "WxH")]
+    #[arg(long, default_value = "500x500", value_parser = parse_size, value_name = "WxH")]
     size: (u32, u32),
     /// Timed runs of each row; the median is kept (default 3, or 1 with --quick).
     #[arg(long, value_name = "N", value_parser = clap::value_parser!(u32).range(1..=100))]
@@ -85,7 +87,7 @@ enum Sub {
     )]
     ChooseDepth {
         /// The screen size, as render.sh's --size.
-        #[arg(long, default_value = "500x500", value_parser = size_arg, value_name = "WxH")]
+        #[arg(long, default_value = "500x500", value_parser = parse_size, value_name = "WxH")]
         size: (u32, u32),
         /// Cores to plan for (default: this machine's).
         #[arg(long, value_parser = clap::value_parser!(u32).range(1..=4096))]
@@ -118,10 +120,6 @@ enum Sub {
         /// The scene (a file: it is read here and again by the render).
         scene: PathBuf,
     },
-}
-
-fn size_arg(s: &str) -> std::result::Result<(u32, u32), String> {
-    parse_size(s).ok_or_else(|| format!("`{s}` is not WxH with W and H from 1 to 65536"))
 }
 
 /// The built binaries: beside this one.
@@ -217,8 +215,26 @@ fn standard_scenes(bin: &Path, root: &Path, dir: &Path, quick: bool) -> Result<V
 
 fn run(cli: Cli) -> Result<()> {
     let Some(out) = cli.out else {
-        bail!("-o DIR is needed (where the CSV files and pictures go)");
+        return Err(stagecli::Error::usage(
+            "-o DIR is needed (where the CSV files and pictures go)",
+        )
+        .into());
     };
+    // The scene arguments first: a bad `@WxH` is a usage error, said before anything is
+    // made or read.
+    let mut scenes: Vec<Scene> = cli
+        .scenes
+        .iter()
+        .map(|s| Scene::parse(s, cli.size))
+        .collect::<Result<_>>()?;
+    if scenes.is_empty() && !(cli.standard || cli.calibrate || cli.replot) {
+        return Err(stagecli::Error::usage("no SCENE given (or --standard)").into());
+    }
+    // Each scene opened and its first bytes read before anything is made or run, so that
+    // one that cannot be read is said at once, in the stages' words (`cannot open PATH: …`).
+    for s in &scenes {
+        chart::look::is_text(&s.path)?;
+    }
     let root = root_dir(cli.root)?;
     let bin = bin_dir()?;
     let render = root.join("scripts/render.sh");
@@ -235,16 +251,6 @@ fn run(cli: Cli) -> Result<()> {
         .clone()
         .unwrap_or_else(|| root.join("bench/model.toml"));
     let cores = chart::calibrate::cores();
-    let mut scenes: Vec<Scene> = cli
-        .scenes
-        .iter()
-        .map(|s| Scene::parse(s, cli.size))
-        .collect::<Result<_>>()?;
-    for s in &scenes {
-        if !s.path.is_file() {
-            bail!("cannot read scene {}", s.path.display());
-        }
-    }
     if cli.standard {
         scenes.extend(standard_scenes(
             &bin,
@@ -281,7 +287,8 @@ fn run(cli: Cli) -> Result<()> {
         );
         std::fs::write(&model_path, text)
             .with_context(|| format!("cannot write {}", model_path.display()))?;
-        eprintln!("chart: wrote {}", model_path.display());
+        say_err(&format!("chart: wrote {}", model_path.display()));
+        let mut table = String::new();
         for (name, cost) in [
             ("viewxf (text)", k.viewxf_text),
             ("viewxf (binary)", k.viewxf_binary),
@@ -292,15 +299,13 @@ fn run(cli: Cli) -> Result<()> {
             ("merge", k.merge),
             ("resolve (depth 0)", k.resolve),
         ] {
-            println!("{name:16} {cost:?}");
+            table += &format!("{name:16} {cost:?}\n");
         }
-        println!("overheads        {:?}", k.overheads);
+        table += &format!("overheads        {:?}\n", k.overheads);
+        say(&table)?;
         if scenes.is_empty() {
             return Ok(());
         }
-    }
-    if scenes.is_empty() {
-        bail!("no SCENE given (or --standard)");
     }
     let constants = load_constants(cli.model.as_deref(), &root)?;
     let setup = Setup {
@@ -331,11 +336,11 @@ fn run(cli: Cli) -> Result<()> {
     chart::chart::write_csv(&out.join("model.csv"), &model_rows)?;
     chart::plot::speed_accuracy(&out, &rows)?;
     chart::plot::model(&out, &model_rows)?;
-    print_model_table(&model_rows);
-    eprintln!(
+    say(&model_table(&model_rows))?;
+    say_err(&format!(
         "chart: wrote {0}/results.csv, {0}/speed-accuracy.png, {0}/speed-accuracy.svg, {0}/model.csv, {0}/model.png",
         out.display()
-    );
+    ));
     Ok(())
 }
 
@@ -374,17 +379,32 @@ fn remodel(
     }
     chart::chart::write_csv(&path, &rows)?;
     chart::plot::model(out, &rows)?;
-    print_model_table(&rows);
+    say(&model_table(&rows))
+}
+
+/// Writes `text` to stdout as the stages do ([`stagecli::stdout`]): the reader going
+/// away (`| head`) ends chart quietly with 0, a failed write is `stdout: reason`, 3.
+/// (println! would panic on either.)
+fn say(text: &str) -> Result<()> {
+    stagecli::stdout()
+        .write_all(text.as_bytes())
+        .map_err(stagecli::Error::from)?;
     Ok(())
 }
 
+/// A line to stderr, for the person watching: if stderr is gone there is no one to tell,
+/// and the run goes on (eprintln! would panic).
+fn say_err(line: &str) {
+    let _ = writeln!(std::io::stderr(), "{line}");
+}
+
 /// The model's rows as a markdown table, and the mean |error|.
-fn print_model_table(rows: &[chart::chart::ModelRow]) {
-    println!("| scene | depth | predicted s | measured s | error | bottleneck |");
-    println!("|---|---|---|---|---|---|");
+fn model_table(rows: &[chart::chart::ModelRow]) -> String {
+    let mut t = String::from("| scene | depth | predicted s | measured s | error | bottleneck |\n");
+    t += "|---|---|---|---|---|---|\n";
     for r in rows {
-        println!(
-            "| {} | {} | {:.3} | {:.3} | {:+.0}% | {} |",
+        t += &format!(
+            "| {} | {} | {:.3} | {:.3} | {:+.0}% | {} |\n",
             r.scene,
             r.depth,
             r.predicted_s,
@@ -394,11 +414,12 @@ fn print_model_table(rows: &[chart::chart::ModelRow]) {
         );
     }
     let mean = rows.iter().map(|r| r.error.abs()).sum::<f64>() / rows.len().max(1) as f64;
-    println!(
-        "\nmean |error| {:.1}% over {} rows",
+    t += &format!(
+        "\nmean |error| {:.1}% over {} rows\n",
         mean * 100.0,
         rows.len()
     );
+    t
 }
 
 #[allow(clippy::too_many_arguments)]
@@ -422,8 +443,7 @@ fn choose_depth(
     )?;
     let cores = cores.map_or_else(chart::calibrate::cores, |c| c as usize);
     let (depth, reason, _) = chart::model::choose_depth(&k, &env, cores, max_depth);
-    println!("{depth} ({reason})");
-    Ok(())
+    say(&format!("{depth} ({reason})\n"))
 }
 
 /// A method's name, one of the chart's.
@@ -441,15 +461,16 @@ fn method_name(s: &str) -> Result<String, String> {
     }
 }
 
+/// Through stagecli, as every stage: a usage error is one line `chart: …` and 2, and
+/// any other error one line and its kind's status (0 quietly when the reader went away).
 fn main() -> ExitCode {
-    let cli = match Cli::try_parse() {
-        Ok(c) => c,
-        Err(e) => {
-            let _ = e.print();
-            return ExitCode::from(if e.use_stderr() { 2 } else { 0 });
-        }
-    };
-    let result = match cli.command {
+    stagecli::main::<Cli>("chart", |cli| {
+        dispatch(cli).map_err(|e| chart::error::stage_error(&e))
+    })
+}
+
+fn dispatch(cli: Cli) -> Result<()> {
+    match cli.command {
         Some(Sub::ChooseDepth {
             size,
             cores,
@@ -483,14 +504,5 @@ fn main() -> ExitCode {
             choose_depth(size, cores, max_depth, model, root, camera, scene)
         }
         None => run(cli),
-    };
-    match result {
-        Ok(()) => ExitCode::SUCCESS,
-        Err(e) => {
-            eprintln!("chart: {e:#}");
-            // A camera the look cannot use is a usage error (2), as in every stage.
-            let usage = e.downcast_ref::<chart::look::UsageError>().is_some();
-            ExitCode::from(if usage { 2 } else { 1 })
-        }
     }
 }
