@@ -302,12 +302,120 @@ fn choose_depth_refuses_a_bad_size_and_a_missing_scene() {
         b"",
     );
     assert_eq!(out.status.code(), Some(2));
+    // A scene that cannot be read is an I/O error, 3, in the stages' words.
     let out = sh("scripts/chart.sh choose-depth no-such-scene.txt", b"");
-    assert_eq!(out.status.code(), Some(1));
+    assert_eq!(out.status.code(), Some(3));
+    assert_eq!(
+        String::from_utf8_lossy(&out.stderr),
+        "chart: cannot open no-such-scene.txt: No such file or directory\n"
+    );
+}
+
+/// Runs a command line and gives its status and whole stderr.
+fn status_and_stderr(command: &str) -> (Option<i32>, String) {
+    let out = sh(command, b"");
+    (
+        out.status.code(),
+        String::from_utf8_lossy(&out.stderr).into_owned(),
+    )
+}
+
+#[test]
+fn chart_exits_as_the_stages_do() {
+    // The README's table: 0 when the reader went away, quietly; 2 bad arguments, one line
+    // `chart: …`; 3 a file that cannot be opened, read or written, named.
+    let cases: &[(&str, i32, &str)] = &[
+        // The reader gone before chart writes its line.
+        (
+            "{ sleep 0.3; exec chart choose-depth examples/penetrating.txt; } | true",
+            0,
+            "",
+        ),
+        (
+            "chart choose-depth examples/penetrating.txt > /dev/full",
+            3,
+            "chart: stdout: No space left on device\n",
+        ),
+        (
+            "chart choose-depth /nonexistent/s.txt",
+            3,
+            "chart: cannot open /nonexistent/s.txt: No such file or directory\n",
+        ),
+        ("chart choose-depth /", 3, "chart: /: Is a directory\n"),
+        (
+            "chart -o OUT --quick /nonexistent/s.txt",
+            3,
+            "chart: cannot open /nonexistent/s.txt: No such file or directory\n",
+        ),
+        (
+            "scripts/chart.sh -o OUT --quick /tmp",
+            3,
+            "chart: /tmp: Is a directory\n",
+        ),
+        (
+            "scripts/chart.sh --quick examples/penetrating.txt",
+            2,
+            "chart: -o DIR is needed (where the CSV files and pictures go)\n",
+        ),
+        (
+            "chart -o OUT --quick",
+            2,
+            "chart: no SCENE given (or --standard)\n",
+        ),
+        // A bad `@WxH` in --size's words (proto::camera::parse_size), before any folder
+        // is made.
+        (
+            "scripts/chart.sh -o OUT --quick examples/penetrating.txt@0x5",
+            2,
+            "chart: invalid size in scene 'examples/penetrating.txt@0x5': \
+             `0` in `0x5` is not a size from 1 to 65536\n",
+        ),
+        (
+            "chart -o OUT --size 0x5 examples/penetrating.txt",
+            2,
+            "chart: invalid value '0x5' for '--size <WxH>': \
+             `0` in `0x5` is not a size from 1 to 65536\n",
+        ),
+        // clap's message as one line, its list of the valid values kept.
+        (
+            "chart -o OUT --methods foo examples/penetrating.txt",
+            2,
+            "chart: invalid value 'foo' for '--methods <NAME,…>': no method foo; the methods: \
+             scanline, warnock, painter, abuf, ss2, ss4, ss8, ss16, zbuf-pixels, zbuf, \
+             zbuf-eye-z, zbuf-buffer, zbuf-chain, zbuf-text, zbuf-binary\n",
+        ),
+    ];
+    // OUT: a folder that none of these makes, each failing before anything is written.
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("out");
+    for &(command, status, stderr) in cases {
+        let command = command.replace("OUT", &out.to_string_lossy());
+        assert_eq!(
+            status_and_stderr(&command),
+            (Some(status), stderr.to_string()),
+            "{command}"
+        );
+        assert!(!out.exists(), "{command} made {}", out.display());
+    }
+}
+
+#[test]
+fn the_model_table_ends_quietly_when_its_reader_goes_away() {
+    // The chart's own stdout (the model's table) is written as choose-depth's line is.
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path().display();
+    // `true` is gone long before the table is written, a second or so of runs later.
+    let (status, err) = status_and_stderr(&format!(
+        "chart --root . -o {d} --quick --methods zbuf examples/penetrating.txt@40x30 | true"
+    ));
+    assert_eq!((status, err.as_str()), (Some(0), ""));
+    let (status, err) = status_and_stderr(&format!(
+        "chart --root . -o {d} --quick --methods zbuf examples/penetrating.txt@40x30 > /dev/full"
+    ));
+    assert_eq!(status, Some(3), "{err}");
     assert!(
-        String::from_utf8_lossy(&out.stderr).contains("no-such-scene.txt"),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
+        err.ends_with("chart: stdout: No space left on device\n"),
+        "{err}"
     );
 }
 

@@ -26,17 +26,27 @@ pub struct Scene {
 
 impl Scene {
     /// `PATH` or `PATH@WxH` (the screen; else `default_size`).
+    ///
+    /// The part after the last `@` is a size when it could be meant as one (it starts with
+    /// a digit and is no folder), and then it must be a good one: `fill.txt@0x5` is a
+    /// usage error in `--size`'s words, not a scene file of that name that is missing. A
+    /// file whose name has such an `@` in it is still the file when it exists.
     pub fn parse(arg: &str, default_size: (u32, u32)) -> Result<Scene> {
         let (path, size) = match arg.rsplit_once('@') {
-            Some((p, s)) if parse_size(s).is_some() => (p, parse_size(s)),
-            _ => (arg, None),
+            Some((p, s)) if meant_as_size(s) && !Path::new(arg).exists() => {
+                let size = proto::camera::parse_size(s).map_err(|why| {
+                    stagecli::Error::usage(format!("invalid size in scene '{arg}': {why}"))
+                })?;
+                (p, size)
+            }
+            _ => (arg, default_size),
         };
-        let (width, height) = size.unwrap_or(default_size);
+        let (width, height) = size;
         let path = PathBuf::from(path);
         let name = path
             .file_stem()
             .map(|s| s.to_string_lossy().into_owned())
-            .ok_or_else(|| anyhow!("no scene file in '{arg}'"))?;
+            .ok_or_else(|| stagecli::Error::usage(format!("no scene file in '{arg}'")))?;
         Ok(Scene {
             path,
             name,
@@ -50,11 +60,10 @@ impl Scene {
     }
 }
 
-/// `WxH` with W and H from 1 to 65536.
-pub fn parse_size(s: &str) -> Option<(u32, u32)> {
-    let (w, h) = s.split_once(['x', 'X'])?;
-    let (w, h) = (w.parse::<u32>().ok()?, h.parse::<u32>().ok()?);
-    ((1..=65536).contains(&w) && (1..=65536).contains(&h)).then_some((w, h))
+/// Whether the text after a scene's `@` is meant as `WxH`: it starts with a digit and
+/// names no folder (`b@c.txt` is a file's name).
+fn meant_as_size(s: &str) -> bool {
+    s.starts_with(|c: char| c.is_ascii_digit()) && !s.contains('/')
 }
 
 /// One row of `results.csv`.
@@ -421,8 +430,29 @@ mod tests {
         assert_eq!(s.path, PathBuf::from("a/fill.txt"));
         let s = Scene::parse("b@c.txt", (500, 400)).unwrap();
         assert_eq!((s.name.as_str(), s.width, s.height), ("b@c", 500, 400));
-        assert_eq!(parse_size("0x10"), None);
-        assert_eq!(parse_size("65537x10"), None);
+    }
+
+    #[test]
+    fn a_bad_size_after_at_is_a_usage_error_in_sizes_words() {
+        for (arg, why) in [
+            ("p.txt@0x5", "`0` in `0x5` is not a size from 1 to 65536"),
+            (
+                "p.txt@65537x10",
+                "`65537` in `65537x10` is not a size from 1 to 65536",
+            ),
+            ("p.txt@500", "expected WxH, e.g. 500x500, found `500`"),
+        ] {
+            let e = Scene::parse(arg, (500, 500)).unwrap_err();
+            let s = crate::error::stage_error(&e);
+            assert_eq!(s.kind(), stagecli::Kind::Usage, "{arg}");
+            assert_eq!(s.message(), format!("invalid size in scene '{arg}': {why}"));
+        }
+        // A file named so is taken whole.
+        let dir = tempfile::tempdir().unwrap();
+        let odd = dir.path().join("take@2x.txt");
+        std::fs::write(&odd, "").unwrap();
+        let s = Scene::parse(&odd.to_string_lossy(), (5, 6)).unwrap();
+        assert_eq!((s.path, s.width, s.height), (odd, 5, 6));
     }
 
     #[test]
