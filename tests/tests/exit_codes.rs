@@ -7,7 +7,8 @@
 //! | 2 | usage: one line `stage: …` naming the option typed, before any input is read |
 //! | 3 | an input or output cannot be opened, read or written |
 //!
-//! `zspec compare` follows cmp instead: 0 same, 1 different, 2 trouble.
+//! `zspec compare` too, with and without `--metrics`; its 1 is also "the frames differ"
+//! (the message tells which).
 
 use pipeline_tests::{bin, sh};
 use std::io::Read;
@@ -192,12 +193,18 @@ const READERS: &[(&str, &str, &str, i32)] = &[
         "scene obj -",
         1,
     ),
-    // cmp's table: a PPM cut short is trouble.
+    // A PPM cut short, as any stream cut short.
     (
         "zspec",
         "zspec --size 4x4 T",
         "zspec compare - /dev/null",
-        2,
+        1,
+    ),
+    (
+        "zspec",
+        "zspec --size 4x4 T",
+        "zspec compare --metrics - /dev/null",
+        1,
     ),
 ];
 
@@ -355,12 +362,30 @@ const UNREADABLE: &[(&str, &str, i32, &str)] = &[
         3,
         "scene: cannot open /nonexistent/m.obj: No such file or directory",
     ),
-    // cmp's table: a missing file is trouble.
+    // A missing file, as any file that cannot be opened, with --metrics or without.
     (
         "zspec",
         "zspec compare /nonexistent/a /dev/null",
-        2,
+        3,
         "zspec compare: cannot open /nonexistent/a: No such file or directory",
+    ),
+    (
+        "zspec",
+        "zspec compare --metrics /nonexistent/a /dev/null",
+        3,
+        "zspec compare: cannot open /nonexistent/a: No such file or directory",
+    ),
+    (
+        "zspec",
+        "zspec compare /dev/null /",
+        3,
+        "zspec compare: /: Is a directory",
+    ),
+    (
+        "zspec",
+        "zspec compare --metrics /dev/null /",
+        3,
+        "zspec compare: /: Is a directory",
     ),
 ];
 
@@ -429,5 +454,62 @@ fn an_unwritable_output_exits_3() {
         let out = sh(&cmd.replace('T', t), b"");
         assert_eq!(out.status.code(), Some(3), "{cmd}");
         assert_eq!(String::from_utf8_lossy(&out.stderr), message, "{cmd}");
+    }
+}
+
+/// `zspec compare`, with `--metrics` and without, exits alike for the same trouble, by the
+/// table: 1 a file that is not a PPM stream, 2 a bad argument, 3 a file that cannot be
+/// opened or read (before, the plain form said 2 for all of them and --metrics 1 or 3).
+/// A (a good PPM) and the file named by each case, its status and whole message.
+#[test]
+fn zspec_compare_exits_alike_with_and_without_metrics() {
+    let dir = tempfile::tempdir().unwrap();
+    let file = |name: &str, bytes: &[u8]| {
+        let p = dir.path().join(name);
+        std::fs::write(&p, bytes).unwrap();
+        p.display().to_string()
+    };
+    let a = file("a.ppm", b"P6\n1 1\n255\n\xff\x00\x00");
+    let png = file("b.png", b"\x89PNG\r\n\x1a\n\x00\x00\x00\rIHDR");
+    let cut = file("cut.ppm", b"P6\n2 2\n255\n\xff\x00");
+    let cases: &[(&str, i32, String)] = &[
+        (
+            &png,
+            1,
+            format!(
+                "zspec compare: {png}: frame 0: expected a PPM (P6 or P3), found \"\u{fffd}P\"\n"
+            ),
+        ),
+        (
+            &cut,
+            1,
+            format!(
+                "zspec compare: {cut}: frame 0: the PPM ends before the 2x2 pixels (2 of 12 \
+                 bytes; cut short?)\n"
+            ),
+        ),
+        (
+            "/nonexistent/b.ppm",
+            3,
+            "zspec compare: cannot open /nonexistent/b.ppm: No such file or directory\n".into(),
+        ),
+        ("/", 3, "zspec compare: /: Is a directory\n".into()),
+    ];
+    for metrics in ["", "--metrics "] {
+        for (b, status, message) in cases {
+            let cmd = format!("zspec compare {metrics}{a} {b}");
+            let out = sh(&cmd, b"");
+            assert_eq!(out.status.code(), Some(*status), "{cmd}");
+            assert_eq!(String::from_utf8_lossy(&out.stderr), *message, "{cmd}");
+            assert!(out.stdout.is_empty(), "{cmd}");
+        }
+        let cmd = format!("zspec compare {metrics}- -");
+        let out = sh(&cmd, b"");
+        assert_eq!(out.status.code(), Some(2), "{cmd}");
+        assert_eq!(
+            String::from_utf8_lossy(&out.stderr),
+            "zspec compare: `-` (stdin) is named twice: it can be read only once\n",
+            "{cmd}"
+        );
     }
 }

@@ -179,10 +179,12 @@ fn an_obj_file_that_cannot_be_read_is_an_io_error() {
     assert_eq!(stderr(&out), "scene: /tmp: Is a directory\n");
 }
 
-/// #4: `zspec compare` used 1 both for "differ" and for "not a PPM"; now cmp's 0 same,
-/// 1 different, 2 trouble.
+/// #4: `zspec compare` used 1 both for "differ" and for "not a PPM", then cmp's 0 same,
+/// 1 different, 2 trouble, while `compare --metrics` used every stage's table. Now both
+/// use the table (README, "Errors and exit status"): 0 same, 1 different or not a PPM
+/// (the message tells which), 2 usage, 3 a file that cannot be opened.
 #[test]
-fn zspec_compare_exits_as_cmp_does() {
+fn zspec_compare_exits_as_every_stage_does() {
     let dir = tempfile::tempdir().unwrap();
     let file = |name: &str, bytes: &[u8]| {
         let p = dir.path().join(name);
@@ -211,12 +213,12 @@ fn zspec_compare_exits_as_cmp_does() {
         ),
         (
             format!("zspec compare {red} {text}"),
-            2,
+            1,
             "expected a PPM (P6 or P3), found \"po\"\n",
         ),
         (
             format!("zspec compare {red} /nonexistent"),
-            2,
+            3,
             "zspec compare: cannot open /nonexistent: No such file or directory\n",
         ),
         (
