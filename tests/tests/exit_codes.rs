@@ -513,3 +513,58 @@ fn zspec_compare_exits_alike_with_and_without_metrics() {
         );
     }
 }
+
+/// A screen too large to hold is refused as its header is read, before zbuf waits for
+/// (or scan-converts) a single polygon, with status 1 and the same line whichever way
+/// zbuf reads it: resolved here with pictures out (`one_input`, which made its frame
+/// buffer only when the first frame was painted: 40 s and 10 GB for persp's 65536x65536
+/// screen) or through the reader threads (`--runs`). The address space is limited to 8 GB
+/// so that the frame cannot be had on any machine; the input stays open, so a zbuf that
+/// waited for more would be stopped after 20 s and fail.
+#[test]
+fn a_screen_too_large_to_hold_is_refused_at_its_header() {
+    for args in [&[][..], &["--runs"]] {
+        let mut child = Command::new("bash")
+            .arg("-c")
+            .arg("ulimit -v 8000000; exec \"$0\" \"$@\"")
+            .arg(bin("zbuf"))
+            .args(args)
+            .stdin(Stdio::piped())
+            .stdout(Stdio::piped())
+            .stderr(Stdio::piped())
+            .spawn()
+            .unwrap();
+        let mut stdin = child.stdin.take().unwrap();
+        std::io::Write::write_all(&mut stdin, b"polypipe 1 screen 65536 65536\ncolour 1 2 3\n")
+            .unwrap();
+        let start = Instant::now();
+        let status = loop {
+            if let Some(status) = child.try_wait().unwrap() {
+                break status;
+            }
+            if start.elapsed() > Duration::from_secs(20) {
+                let _ = child.kill();
+                panic!("zbuf {args:?} waited for polygons instead of refusing the screen");
+            }
+            std::thread::sleep(Duration::from_millis(10));
+        };
+        drop(stdin);
+        let mut out = Vec::new();
+        let mut err = String::new();
+        child.stdout.take().unwrap().read_to_end(&mut out).unwrap();
+        child
+            .stderr
+            .take()
+            .unwrap()
+            .read_to_string(&mut err)
+            .unwrap();
+        assert_eq!(status.code(), Some(1), "zbuf {args:?}: {err}");
+        assert_eq!(
+            err,
+            "zbuf: stdin: a 65536x65536 frame needs 60 GiB (15 bytes a pixel: depth, polygon \
+             and colour), more memory than can be had\n",
+            "zbuf {args:?}"
+        );
+        assert!(out.is_empty(), "zbuf {args:?}");
+    }
+}

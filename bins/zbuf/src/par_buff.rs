@@ -458,6 +458,16 @@ pub fn one_input(
         };
         return par_buff(vec![rest], background, on_frame);
     }
+    let mut reader =
+        Reader::<Token, _>::new(buffered).map_err(|e| Error::from(e).context(&name))?;
+    let (width, height) = screen_of(&reader, "screen-space").map_err(|e| e.context(&name))?;
+    // The frame buffer is made as the header is read, as par_buff makes it at the first
+    // header: a screen too large to hold is refused at once, with what it needs, rather
+    // than after its first frame has been scan-converted (tens of seconds and gigabytes
+    // of region buffer for a 65536x65536 screen). Too large is the input's fault, as
+    // there: bad data, naming the input.
+    let mut fb = FrameBuffer::new(width, height, background)
+        .map_err(|m| Error::data(format!("{name}: {m}")))?;
     // Two region buffers go round between two threads: this one paints frame k from one
     // into the frame buffer and writes it while the reader thread scan-converts frame
     // k + 1 into the other.
@@ -465,8 +475,6 @@ pub fn one_input(
     let (to_reuse, reusable) = sync_channel::<RegionBuffer>(2);
     let resolved = std::thread::scope(|scope| -> Result<Resolved> {
         let reader_thread = scope.spawn(move || -> Result<Resolved> {
-            let mut reader = Reader::<Token, _>::new(buffered)?;
-            let (width, height) = screen_of(&reader, "screen-space")?;
             let mut walker = SpanWalker::new();
             let mut region = RegionBuffer::new(width, height);
             let mut spare = Some(RegionBuffer::new(width, height));
@@ -498,19 +506,11 @@ pub fn one_input(
             }
             Ok(counts)
         });
-        let mut fb: Option<FrameBuffer> = None;
         let mut frame = 0u64;
         let painted = (|| -> Result<()> {
             for mut region in painting.iter() {
-                let fb = match &mut fb {
-                    Some(fb) => fb,
-                    None => {
-                        let (w, h) = region.size();
-                        fb.insert(FrameBuffer::new(w, h, background).map_err(Error::data)?)
-                    }
-                };
                 region.finish_into(fb.raster_mut());
-                on_frame(frame, fb)?;
+                on_frame(frame, &fb)?;
                 fb.clear();
                 frame += 1;
                 let _ = to_reuse.send(region);
