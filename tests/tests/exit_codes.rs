@@ -449,6 +449,21 @@ fn an_unwritable_output_exits_3() {
             "viewxf < T | persp --size 4x4 | scanconv | zbuf > /dev/full",
             "zbuf: stdout: No space left on device\n",
         ),
+        // zbuf resolving a screen-space input itself (`one_input`): the output is named,
+        // not the input (this was `zbuf: stdin: stdout: …`, `zbuf: leaf-0: cannot write …`).
+        (
+            "viewxf < T | persp --size 4x4 | zbuf > /dev/full",
+            "zbuf: stdout: No space left on device\n",
+        ),
+        (
+            "viewxf < T | persp --size 4x4 | zbuf -o /nonexistent/f.png",
+            "zbuf: cannot write /nonexistent/f.png: No such file or directory\n",
+        ),
+        (
+            "scripts/render.sh --size 4x4 -o /nonexistent/dir/a.png T",
+            "zbuf: cannot write /nonexistent/dir/a.png: No such file or directory\n\
+             render.sh: zbuf failed (status 3)\n",
+        ),
     ];
     for &(cmd, message) in cases {
         let out = sh(&cmd.replace('T', t), b"");
@@ -566,5 +581,33 @@ fn a_screen_too_large_to_hold_is_refused_at_its_header() {
             "zbuf {args:?}"
         );
         assert!(out.is_empty(), "zbuf {args:?}");
+    }
+}
+
+/// A movie where `-o` names one file is refused when its second frame comes, status 1,
+/// naming the option and not the input (this was `zbuf: stdin: -o one.png: …` when zbuf
+/// resolved a screen-space input itself), the same from persp and from scanconv.
+#[test]
+fn a_movie_to_one_file_name_is_refused_naming_the_option() {
+    let dir = tempfile::tempdir().unwrap();
+    let one = dir.path().join("one.png").display().to_string();
+    for leaf in ["", " | scanconv"] {
+        let cmd = format!(
+            "scene sphere --frames 3 | viewxf | clipplane hither | persp --size 8x8{leaf} \
+             | zbuf -o {one}"
+        );
+        let out = sh(&cmd, b"");
+        assert_eq!(out.status.code(), Some(1), "{cmd}");
+        assert_eq!(
+            String::from_utf8_lossy(&out.stderr),
+            format!(
+                "zbuf: -o {one}: more than one frame, but the name has no %d for the frame \
+                 number\n"
+            ),
+            "{cmd}"
+        );
+        // The first frame was written before the second came.
+        assert!(std::path::Path::new(&one).exists(), "{cmd}");
+        std::fs::remove_file(&one).unwrap();
     }
 }

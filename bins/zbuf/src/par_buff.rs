@@ -522,12 +522,14 @@ pub fn one_input(
         let read = reader_thread
             .join()
             .unwrap_or_else(|_| Err(Error::data("the reader thread panicked")));
-        // A read error first: the painter stops for it too, with nothing of its own.
-        let counts = read?;
+        // A read error first: the painter stops for it too, with nothing of its own. Only
+        // the reader's errors are the input's and name it; the painter's are on_frame's,
+        // writing the output (`stdout: …`, `cannot write a.png: …`), which on_frame
+        // labels itself.
+        let counts = read.map_err(|e| e.context(&name))?;
         painted?;
         Ok(counts)
-    })
-    .map_err(|e| e.context(name))?;
+    })?;
     Ok(vec![InputStats {
         bytes: bytes.load(Ordering::Relaxed),
         resolved: Some(resolved),
