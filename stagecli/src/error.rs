@@ -37,6 +37,16 @@ impl Kind {
             Kind::Io => 3,
         }
     }
+
+    /// The exit status of a comparison (`zspec compare`), in cmp's terms: 0 the same,
+    /// 1 different (decided by the comparison, not by an error), 2 trouble: any error
+    /// but the reader of the report going away.
+    pub const fn cmp_status(self) -> u8 {
+        match self {
+            Kind::ReaderGone => 0,
+            Kind::Data | Kind::Usage | Kind::Io => 2,
+        }
+    }
 }
 
 /// An error: its kind and a one-line message, printed after the stage's name.
@@ -204,5 +214,13 @@ mod tests {
         assert_eq!(bytes_text(700), "700 bytes");
         assert_eq!(bytes_text(1536 << 10), "1.5 MiB");
         assert_eq!(bytes_text(44 << 30), "44 GiB");
+    }
+
+    #[test]
+    fn cmp_statuses() {
+        assert_eq!(Kind::Data.cmp_status(), 2);
+        assert_eq!(Kind::Io.cmp_status(), 2);
+        assert_eq!(Kind::Usage.cmp_status(), 2);
+        assert_eq!(Kind::ReaderGone.cmp_status(), 0);
     }
 }

@@ -19,10 +19,9 @@
 //! | 2 | [`Kind::Usage`] | bad command-line arguments, found before any input is read |
 //! | 3 | [`Kind::Io`] | an input or output could not be opened, read or written |
 //!
-//! A comparison (`zspec compare`) ends with [`report_cmp`]: 0 the same, 1 different,
-//! and an error with the table's status like any stage's (1 a file that is not a PPM, 2
-//! a usage error, 3 a missing file), so that `--metrics`, which reports like any stage,
-//! and the plain comparison exit alike for the same trouble.
+//! A comparison (`zspec compare`) exits as cmp does instead ([`report_cmp`]): 0 the
+//! same, 1 different, 2 trouble (a usage error, a file that is not a PPM, a missing
+//! file).
 //!
 //! Usage errors are one line too, naming the option as the user typed it: clap's
 //! several-line messages are joined ([`args::usage_line`]), with clap's status 2.
@@ -68,15 +67,13 @@ pub fn report(stage: &str, result: Result<()>) -> ExitCode {
     }
 }
 
-/// Ends a comparison: `Ok(true)` the same (0), `Ok(false)` different (1; the
-/// comparison has said how on its own), an error as [`report`] ends it (its message and
-/// its kind's status). A file that is not a PPM then exits 1 as a disagreement does,
-/// told apart by its message.
+/// Ends a comparison, as cmp does: `Ok(true)` the same (0), `Ok(false)` different (1;
+/// the comparison has said how on its own), an error trouble (2, with its message).
 pub fn report_cmp(stage: &str, result: Result<bool>) -> ExitCode {
     match result {
         Ok(true) => ExitCode::SUCCESS,
         Ok(false) => ExitCode::from(1),
-        Err(e) => report(stage, Err(e)),
+        Err(e) => fail(stage, &e, e.kind().cmp_status()),
     }
 }
 

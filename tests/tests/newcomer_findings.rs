@@ -179,12 +179,10 @@ fn an_obj_file_that_cannot_be_read_is_an_io_error() {
     assert_eq!(stderr(&out), "scene: /tmp: Is a directory\n");
 }
 
-/// #4: `zspec compare` used 1 both for "differ" and for "not a PPM", then cmp's 0 same,
-/// 1 different, 2 trouble, while `compare --metrics` used every stage's table. Now both
-/// use the table (README, "Errors and exit status"): 0 same, 1 different or not a PPM
-/// (the message tells which), 2 usage, 3 a file that cannot be opened.
+/// #4: `zspec compare` used 1 both for "differ" and for "not a PPM"; now cmp's 0 same,
+/// 1 different, 2 trouble.
 #[test]
-fn zspec_compare_exits_as_every_stage_does() {
+fn zspec_compare_exits_as_cmp_does() {
     let dir = tempfile::tempdir().unwrap();
     let file = |name: &str, bytes: &[u8]| {
         let p = dir.path().join(name);
@@ -213,12 +211,12 @@ fn zspec_compare_exits_as_every_stage_does() {
         ),
         (
             format!("zspec compare {red} {text}"),
-            1,
+            2,
             "expected a PPM (P6 or P3), found \"po\"\n",
         ),
         (
             format!("zspec compare {red} /nonexistent"),
-            3,
+            2,
             "zspec compare: cannot open /nonexistent: No such file or directory\n",
         ),
         (

@@ -63,12 +63,10 @@ struct Cli {
 #[derive(Subcommand, Debug)]
 enum Command {
     /// Compare two PPM streams frame by frame: prints, per frame, the pixels, the
-    /// differing pixels and the percentage that agree. Exit status: 0 when every frame
-    /// agrees on at least --min-agreement percent; 1 when one does not (or the streams
-    /// have different numbers or sizes of frames), or when a file is not a PPM stream;
-    /// 2 for a bad argument; 3 for a file that cannot be opened or read. The statuses are
-    /// every stage's (README, "Errors and exit status"), the same with --metrics; the
-    /// message on stderr tells a disagreement from a file that is not a PPM.
+    /// differing pixels and the percentage that agree. Exit status as cmp's: 0 when every
+    /// frame agrees on at least --min-agreement percent, 1 when one does not (or the
+    /// streams have different numbers or sizes of frames), 2 for trouble (a missing file,
+    /// one that is not a PPM stream, a bad argument).
     #[command(after_help = "Example:\n  zspec compare ref.ppm pipe.ppm --min-agreement 99.9")]
     Compare {
         /// The first PPM stream (`-` for stdin).
@@ -81,8 +79,8 @@ enum Command {
         /// Instead, measure B against A: per frame and `overall`, the differing
         /// fraction, the RMSE (0-255 units, three channels), the largest channel error
         /// and, with --edges, the RMSE over the edge pixels, as `key value` pairs. Exit
-        /// status 0 whatever the error; 1, 2 and 3 as without --metrics (1: a file that
-        /// is not a PPM stream, or streams of different numbers or sizes of frames).
+        /// status 0 whatever the error; 2 for trouble, as without --metrics, and for
+        /// streams of different numbers or sizes of frames, which cannot be measured.
         #[arg(long, conflicts_with = "min_agreement")]
         metrics: bool,
         /// The edge mask (`zspec --samples 16 --edge-mask MASK`) naming the edge pixels.
@@ -115,9 +113,9 @@ fn main() -> ExitCode {
             edges,
             csv,
             ..
-        }) => stagecli::report(
+        }) => stagecli::report_cmp(
             "zspec compare",
-            compare_metrics(&a, &b, edges.as_deref(), csv),
+            compare_metrics(&a, &b, edges.as_deref(), csv).map(|()| true),
         ),
         Some(Command::Compare {
             a,

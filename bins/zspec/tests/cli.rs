@@ -147,14 +147,13 @@ fn compare_reports_and_decides() {
         .assert()
         .code(1)
         .stderr("zspec compare: the streams have 2 and 1 frames\n");
-    // A cut-short stream is not a valid PPM stream (status 1, as any stage's input cut
-    // short), located by file and frame.
+    // A cut-short stream is trouble (cmp's status 2), located by file and frame.
     std::fs::write(&b, &pa[..pa.len() - 1]).unwrap();
     zspec()
         .arg("compare")
         .args([&a, &b])
         .assert()
-        .code(1)
+        .code(2)
         .stdout("")
         .stderr(format!(
             "zspec compare: {}: frame 1: the PPM ends before the 2x2 pixels (11 of 12 \
@@ -360,14 +359,14 @@ fn compare_metrics_reports_the_measures() {
              1,4,0,0.000000,0.000000,0,0,\n\
              overall,8,1,0.125000,73.612159,255,2,147.224319\n",
         );
-    // Trouble: a mask that is not black and white, streams of other lengths, and the
-    // options that need --metrics.
+    // Trouble (2, as cmp's): a mask that is not black and white, streams of other lengths
+    // (which cannot be measured against each other), and the options that need --metrics.
     std::fs::write(&m, ppm(2, 2, &["RR", "GG"])).unwrap();
     zspec()
         .args(["compare", "--metrics", "--edges"])
         .args([&m, &a, &a])
         .assert()
-        .code(1)
+        .code(2)
         .stderr(contains(
             "zspec compare: the edge mask has 1 frames and the streams 2",
         ));
@@ -380,7 +379,7 @@ fn compare_metrics_reports_the_measures() {
         .args(["compare", "--metrics", "--edges"])
         .args([&m, &a, &a])
         .assert()
-        .code(1)
+        .code(2)
         .stderr(
             "zspec compare: edge mask frame 1: pixel (0, 0) is [255, 0, 0]: an edge mask is \
              black and white only\n",
@@ -390,7 +389,7 @@ fn compare_metrics_reports_the_measures() {
         .args(["compare", "--metrics"])
         .args([&a, &b])
         .assert()
-        .code(1)
+        .code(2)
         .stderr("zspec compare: the streams have 2 and 1 frames\n");
     zspec()
         .args(["compare", "--csv"])
