@@ -86,6 +86,25 @@ const USAGE: &[(&str, &[&str], &str)] = &[
     ),
 ];
 
+/// Waits for `child` to exit, its stdin still open; kills it and fails with `what()` if it
+/// is still running after 20 s (it is waiting for input it should not need).
+fn end_within_20s(
+    child: &mut std::process::Child,
+    what: impl Fn() -> String,
+) -> std::process::ExitStatus {
+    let start = Instant::now();
+    loop {
+        if let Some(status) = child.try_wait().unwrap() {
+            return status;
+        }
+        if start.elapsed() > Duration::from_secs(20) {
+            let _ = child.kill();
+            panic!("{}", what());
+        }
+        std::thread::sleep(Duration::from_millis(10));
+    }
+}
+
 /// Runs `name args` with its stdin a pipe that stays open: a usage error must end it at
 /// once, before it reads (or waits for) any input. Returns (status, stdout, stderr).
 fn run_without_input(name: &str, args: &[&str]) -> (Option<i32>, String, String) {
@@ -97,17 +116,9 @@ fn run_without_input(name: &str, args: &[&str]) -> (Option<i32>, String, String)
         .spawn()
         .unwrap();
     let stdin = child.stdin.take();
-    let start = Instant::now();
-    let status = loop {
-        if let Some(status) = child.try_wait().unwrap() {
-            break status;
-        }
-        if start.elapsed() > Duration::from_secs(20) {
-            let _ = child.kill();
-            panic!("{name} {args:?} waited for its input instead of refusing its arguments");
-        }
-        std::thread::sleep(Duration::from_millis(10));
-    };
+    let status = end_within_20s(&mut child, || {
+        format!("{name} {args:?} waited for its input instead of refusing its arguments")
+    });
     drop(stdin);
     let mut out = String::new();
     let mut err = String::new();
@@ -528,17 +539,9 @@ fn a_screen_too_large_to_hold_is_refused_at_its_header() {
         let mut stdin = child.stdin.take().unwrap();
         std::io::Write::write_all(&mut stdin, b"polypipe 1 screen 65536 65536\ncolour 1 2 3\n")
             .unwrap();
-        let start = Instant::now();
-        let status = loop {
-            if let Some(status) = child.try_wait().unwrap() {
-                break status;
-            }
-            if start.elapsed() > Duration::from_secs(20) {
-                let _ = child.kill();
-                panic!("zbuf {args:?} waited for polygons instead of refusing the screen");
-            }
-            std::thread::sleep(Duration::from_millis(10));
-        };
+        let status = end_within_20s(&mut child, || {
+            format!("zbuf {args:?} waited for polygons instead of refusing the screen")
+        });
         drop(stdin);
         let mut out = Vec::new();
         let mut err = String::new();
