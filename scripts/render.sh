@@ -370,29 +370,44 @@ declare -A stage_of # pid → stage name, for the messages
 make_private_dir() {
     tmp=$(mktemp -d "${TMPDIR:-/tmp}/render.XXXXXX") || exit 3
     trap cleanup EXIT
-    trap 'exit 130' INT
-    trap 'exit 143' TERM
+    # The first signal ends the run; any after it, until the clean-up is done, is ignored
+    # (`timeout` and a terminal's Ctrl-C signal the script and then its whole group, and a
+    # second `exit` in the middle of the clean-up would leave the private folder).
+    trap 'trap "" INT TERM; exit 130' INT
+    trap 'trap "" INT TERM; exit 143' TERM
 }
 
 # Stops every stage still running (TERM, then KILL after a second), reaps them all.
 stop_all() {
     local pid alive i
-    for pid in "${pids[@]}"; do kill -TERM "$pid" 2>/dev/null; done
+    # Every background job bash knows, not only the recorded stages: a signal can come
+    # between a stage's fork and `pids+=($!)`, and that child, left alive, waits for ever
+    # in the open of a named pipe whose other end is gone, and the `wait` below with it.
+    # (`jobs -p` into a file: the builtin, without a subshell to fork.)
+    local -a all=("${pids[@]}") jobs_now=()
+    if [[ -n ${tmp-} && -d $tmp ]] && jobs -p > "$tmp/jobs" 2>/dev/null; then
+        mapfile -t jobs_now < "$tmp/jobs"
+        all+=("${jobs_now[@]}")
+    fi
+    for pid in "${all[@]}"; do kill -TERM "$pid" 2>/dev/null; done
     for ((i = 0; i < 20; i++)); do
         alive=0
-        for pid in "${pids[@]}"; do
+        for pid in "${all[@]}"; do
             if kill -0 "$pid" 2>/dev/null; then alive=1; break; fi
         done
         ((alive)) || break
         sleep 0.05
     done
-    for pid in "${pids[@]}"; do kill -KILL "$pid" 2>/dev/null; done
+    for pid in "${all[@]}"; do kill -KILL "$pid" 2>/dev/null; done
     wait 2>/dev/null
 }
 
+# On every way out. A Ctrl-C or TERM while it works is ignored, not obeyed (see the traps
+# in make_private_dir): obeyed, it ended the script before the private folder was removed.
 cleanup() {
     local status=$?
-    trap - EXIT INT TERM
+    trap - EXIT
+    trap '' INT TERM
     stop_all
     rm -rf "$tmp"
     exit "$status"
