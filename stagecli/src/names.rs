@@ -58,6 +58,36 @@ impl FrameNames {
         Ok(FrameNames { prefix, field })
     }
 
+    /// Parses `pattern` as [`FrameNames::parse`] does, and requires its file names to end
+    /// in one of `extensions` (any case): a picture or drawing written under another
+    /// name would be read as something it is not. Returns the names and the extension
+    /// matched, as `extensions` spells it.
+    pub fn parse_ending<'a>(
+        pattern: &str,
+        extensions: &[&'a str],
+    ) -> Result<(Self, &'a str), String> {
+        let names = FrameNames::parse(pattern)?;
+        let ext = std::path::Path::new(pattern)
+            .extension()
+            .and_then(|e| e.to_str());
+        let found = extensions
+            .iter()
+            .find(|want| ext.is_some_and(|e| e.eq_ignore_ascii_case(want)));
+        match found {
+            Some(&want) => Ok((names, want)),
+            None => {
+                let mut list: Vec<String> = extensions.iter().map(|e| format!(".{e}")).collect();
+                let last = list.pop().unwrap_or_default();
+                let ends = if list.is_empty() {
+                    last
+                } else {
+                    format!("{} or {last}", list.join(", "))
+                };
+                Err(format!("-o {pattern}: the file name must end {ends}"))
+            }
+        }
+    }
+
     /// Whether the pattern numbers its files (and so can take more than one frame).
     pub fn numbered(&self) -> bool {
         self.field.is_some()
@@ -75,6 +105,33 @@ impl FrameNames {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn an_ending_is_required_in_any_case_and_named_when_missing() {
+        let (names, ext) = FrameNames::parse_ending("f%02d.PNG", &["png", "ppm"]).unwrap();
+        assert_eq!((names.name(3).as_str(), ext), ("f03.PNG", "png"));
+        assert_eq!(
+            FrameNames::parse_ending("a.ppm", &["png", "ppm"])
+                .unwrap()
+                .1,
+            "ppm"
+        );
+        for (pattern, extensions, ends) in [
+            ("x.jpg", &["png", "ppm"][..], ".png or .ppm"),
+            ("lines.png", &["svg"][..], ".svg"),
+            ("-", &["svg"][..], ".svg"),
+            ("f.x", &["a", "b", "c"][..], ".a, .b or .c"),
+        ] {
+            assert_eq!(
+                FrameNames::parse_ending(pattern, extensions).unwrap_err(),
+                format!("-o {pattern}: the file name must end {ends}")
+            );
+        }
+        // The pattern's own errors come first.
+        assert!(FrameNames::parse_ending("x%s.svg", &["svg"])
+            .unwrap_err()
+            .contains("`%` must start"));
+    }
 
     #[test]
     fn fields_widths_and_percent_signs() {

@@ -51,26 +51,12 @@ fn parse_width(s: &str) -> Result<f64, String> {
         .ok_or_else(|| format!("`{s}` is not a line width (a positive number)"))
 }
 
-/// `-o PATTERN`'s file names, which must be SVG's (as zbuf's must be .png or .ppm): a
-/// drawing written under another name would be read as something it is not.
-fn svg_names(pattern: &str) -> Result<FrameNames, String> {
-    let names = FrameNames::parse(pattern)?;
-    let svg = std::path::Path::new(pattern)
-        .extension()
-        .and_then(|e| e.to_str())
-        .is_some_and(|e| e.eq_ignore_ascii_case("svg"));
-    if !svg {
-        return Err(format!("-o {pattern}: the file name must end .svg"));
-    }
-    Ok(names)
-}
-
 fn main() -> ExitCode {
     stagecli::main("hiddenline", |args: Args| {
         let pattern = args
             .output
             .as_deref()
-            .map(svg_names)
+            .map(|p| FrameNames::parse_ending(p, &["svg"]).map(|(names, _)| names))
             .transpose()
             .map_err(Error::usage)?;
         let mut input = stagecli::read_stdin::<Token>(SpaceKind::Screen)?;

@@ -19,7 +19,7 @@ pub mod par_buff;
 use proto::{ppm, Colour};
 use stagecli::{Context, Error};
 use std::io::{self, Write};
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 
 /// The Z-buffer, the polygon index per pixel and the F-buffer of one screen.
 ///
@@ -320,15 +320,10 @@ pub enum ImageFormat {
 
 impl FramePattern {
     pub fn parse(pattern: &str) -> Result<Self, String> {
-        let names = stagecli::FrameNames::parse(pattern)?;
-        let ext = Path::new(pattern)
-            .extension()
-            .and_then(|e| e.to_str())
-            .map(str::to_ascii_lowercase);
-        let format = match ext.as_deref() {
-            Some("png") => ImageFormat::Png,
-            Some("ppm") => ImageFormat::Ppm,
-            _ => return Err(format!("-o {pattern}: the file name must end .png or .ppm")),
+        let (names, ext) = stagecli::FrameNames::parse_ending(pattern, &["png", "ppm"])?;
+        let format = match ext {
+            "png" => ImageFormat::Png,
+            _ => ImageFormat::Ppm,
         };
         Ok(FramePattern { names, format })
     }
