@@ -8,7 +8,7 @@
 pub mod hosts;
 
 use std::path::{Path, PathBuf};
-use std::process::{Command, Output, Stdio};
+use std::process::{Child, Command, ExitStatus, Output, Stdio};
 use std::sync::OnceLock;
 
 /// The repository's root folder.
@@ -131,6 +131,27 @@ impl Frame {
             s.push('\n');
         }
         s
+    }
+}
+
+/// Waits for `child` to exit, and returns its status and the time it took; if it is still
+/// running after `limit` (waiting for input it should not need, or hung), kills it and
+/// fails the test with `what()`.
+pub fn wait_within(
+    child: &mut Child,
+    limit: std::time::Duration,
+    what: impl Fn() -> String,
+) -> (ExitStatus, std::time::Duration) {
+    let start = std::time::Instant::now();
+    loop {
+        if let Some(status) = child.try_wait().unwrap() {
+            return (status, start.elapsed());
+        }
+        if start.elapsed() > limit {
+            let _ = child.kill();
+            panic!("{}", what());
+        }
+        std::thread::sleep(std::time::Duration::from_millis(10));
     }
 }
 

@@ -9,10 +9,10 @@
 //!
 //! `zspec compare` follows cmp instead: 0 same, 1 different, 2 trouble.
 
-use pipeline_tests::{bin, sh};
+use pipeline_tests::{bin, sh, wait_within};
 use std::io::Read;
 use std::process::{Command, Stdio};
-use std::time::{Duration, Instant};
+use std::time::Duration;
 
 /// Every binary, to check that no table below forgets one.
 const BINARIES: &[&str] = &[
@@ -86,25 +86,6 @@ const USAGE: &[(&str, &[&str], &str)] = &[
     ),
 ];
 
-/// Waits for `child` to exit, its stdin still open; kills it and fails with `what()` if it
-/// is still running after 20 s (it is waiting for input it should not need).
-fn end_within_20s(
-    child: &mut std::process::Child,
-    what: impl Fn() -> String,
-) -> std::process::ExitStatus {
-    let start = Instant::now();
-    loop {
-        if let Some(status) = child.try_wait().unwrap() {
-            return status;
-        }
-        if start.elapsed() > Duration::from_secs(20) {
-            let _ = child.kill();
-            panic!("{}", what());
-        }
-        std::thread::sleep(Duration::from_millis(10));
-    }
-}
-
 /// Runs `name args` with its stdin a pipe that stays open: a usage error must end it at
 /// once, before it reads (or waits for) any input. Returns (status, stdout, stderr).
 fn run_without_input(name: &str, args: &[&str]) -> (Option<i32>, String, String) {
@@ -116,7 +97,7 @@ fn run_without_input(name: &str, args: &[&str]) -> (Option<i32>, String, String)
         .spawn()
         .unwrap();
     let stdin = child.stdin.take();
-    let status = end_within_20s(&mut child, || {
+    let (status, _) = wait_within(&mut child, Duration::from_secs(20), || {
         format!("{name} {args:?} waited for its input instead of refusing its arguments")
     });
     drop(stdin);
@@ -539,7 +520,7 @@ fn a_screen_too_large_to_hold_is_refused_at_its_header() {
         let mut stdin = child.stdin.take().unwrap();
         std::io::Write::write_all(&mut stdin, b"polypipe 1 screen 65536 65536\ncolour 1 2 3\n")
             .unwrap();
-        let status = end_within_20s(&mut child, || {
+        let (status, _) = wait_within(&mut child, Duration::from_secs(20), || {
             format!("zbuf {args:?} waited for polygons instead of refusing the screen")
         });
         drop(stdin);

@@ -540,24 +540,16 @@ fn wait_at_most(
     limit: Duration,
 ) -> (std::process::ExitStatus, String, Duration) {
     use std::io::Read;
-    let start = Instant::now();
-    loop {
-        if let Some(status) = child.try_wait().unwrap() {
-            let mut err = String::new();
-            child
-                .stderr
-                .take()
-                .unwrap()
-                .read_to_string(&mut err)
-                .unwrap();
-            return (status, err, start.elapsed());
-        }
-        if start.elapsed() > limit {
-            let _ = child.kill();
-            panic!("still running {limit:?} later");
-        }
-        std::thread::sleep(Duration::from_millis(10));
-    }
+    let (status, took) =
+        pipeline_tests::wait_within(child, limit, || format!("still running {limit:?} later"));
+    let mut err = String::new();
+    child
+        .stderr
+        .take()
+        .unwrap()
+        .read_to_string(&mut err)
+        .unwrap();
+    (status, err, took)
 }
 
 #[test]

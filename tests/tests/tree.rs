@@ -151,23 +151,26 @@ fn an_interrupted_render_ends_at_once_and_leaves_nothing() {
     );
     assert!(made.status.success());
     let root = pipeline_tests::repo_root();
-    for (depth, after) in [
-        ("6", "0.05"),
-        ("6", "0.1"),
-        ("6", "0.2"),
-        ("3", "0.05"),
-        ("3", "0.1"),
-        ("6", "0.15"),
-        ("6", "0.3"),
-        ("auto", "0.1"),
-        ("0", "0.05"),
-        ("6", "0.25"),
+    // The scene named (a child of render.sh not yet started as its stage has render.sh's
+    // command line, with the scene's path in it) and on stdin.
+    let named = movie.display().to_string();
+    for (depth, after, scene) in [
+        ("6", "0.05", "-"),
+        ("6", "0.1", named.as_str()),
+        ("6", "0.2", "-"),
+        ("3", "0.05", named.as_str()),
+        ("3", "0.1", "-"),
+        ("6", "0.15", named.as_str()),
+        ("6", "0.3", "-"),
+        ("auto", "0.1", "-"),
+        ("0", "0.05", named.as_str()),
+        ("6", "0.25", named.as_str()),
     ] {
-        let what = format!("--depth {depth}, INT after {after} s");
+        let what = format!("--depth {depth} {scene}, INT after {after} s");
         let mut child = std::process::Command::new("timeout")
             .args(["--preserve-status", "-s", "INT", after])
             .arg(root.join("scripts/render.sh"))
-            .args(["--depth", depth, "-"])
+            .args(["--depth", depth, scene])
             .stdin(std::fs::File::open(&movie).unwrap())
             .stdout(std::process::Stdio::null())
             .stderr(std::process::Stdio::null())
@@ -175,26 +178,20 @@ fn an_interrupted_render_ends_at_once_and_leaves_nothing() {
             .env("POLYPIPE_BIN", pipeline_tests::bin_dir())
             .spawn()
             .unwrap();
-        let start = std::time::Instant::now();
-        let status = loop {
-            if let Some(status) = child.try_wait().unwrap() {
-                break status;
-            }
-            if start.elapsed() > std::time::Duration::from_secs(20) {
-                let _ = child.kill();
-                panic!("{what}: render.sh still running after 20 s");
-            }
-            std::thread::sleep(std::time::Duration::from_millis(20));
-        };
+        let (status, _) =
+            pipeline_tests::wait_within(&mut child, std::time::Duration::from_secs(20), || {
+                format!("{what}: render.sh still running after 20 s")
+            });
         assert!(
             matches!(status.code(), Some(130) | Some(0)),
             "{what}: {status:?}"
         );
         let left: Vec<_> = std::fs::read_dir(&tmp).unwrap().collect();
         assert!(left.is_empty(), "{what}: left {left:?}");
-        // No stage left running: those that open the named pipes themselves (splitter,
-        // zbuf) have them on their command lines.
-        let needle = tmp.display().to_string();
+        // No process of the run left: the stages that open the named pipes themselves
+        // (splitter, zbuf) have them on their command lines, render.sh and its children
+        // the scene's path.
+        let needle = dir.path().display().to_string();
         let running: Vec<String> = std::fs::read_dir("/proc")
             .unwrap()
             .filter_map(|e| std::fs::read(e.ok()?.path().join("cmdline")).ok())
