@@ -76,6 +76,19 @@ impl DepthPlane {
     }
 }
 
+/// A pixel's depth as every hidden-surface method holds it. Methods name this type, not
+/// the representation, so that the depth form can change in one place.
+pub type Depth = i64;
+
+/// The tie rule of docs/DESIGN.md's Z specification, the one comparison every method
+/// makes: does a polygon later in the stream, at depth `new` at a pixel centre, take the
+/// pixel from the polygon that holds it at depth `held`? (At equal depth the holder, the
+/// earlier polygon, keeps it.)
+#[inline]
+pub fn takes(new: Depth, held: Depth) -> bool {
+    new < held
+}
+
 /// The depth of column `x` on a row: `z_row + x·dz` in 128 bits, saturated to `i64`.
 ///
 /// Stepping `z ← z + dz` with saturating adds from any column gives the same values: the

@@ -41,7 +41,7 @@ pub mod frame;
 pub mod region;
 mod walk;
 
-pub use depth::{depth_at, DepthPlane};
+pub use depth::{depth_at, takes, Depth, DepthPlane};
 pub use edges::{polygon_edge, ActiveEdgeTable, EdgeTable};
 pub use frame::{HiddenSurface, ZBuffer};
 pub use region::{advise_huge_pages, RegionBuffer, RegionStats, Run};
