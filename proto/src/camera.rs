@@ -115,6 +115,16 @@ impl Device {
         let (k1, k2) = (self.view.hither, self.view.yon);
         (1.0 - k1 / z_e) * (k2 / (k2 - k1))
     }
+
+    /// The reciprocal depth D = −K1/z_e: −1 at the hither plane, −K1/K2 at yon, smaller
+    /// nearer. Like the projective depth it is an affine function of 1/z_e, so planes
+    /// stay planes on the screen; unlike it, it is not crowded against a constant far
+    /// from the eye, so an f64 holds it to 2⁻⁵³ of itself at every depth, which is what
+    /// the tie rule needs ([`crate::depth`]). One correctly rounded division.
+    #[inline]
+    pub fn reciprocal_depth(&self, z_e: f64) -> f64 {
+        -self.view.hither / z_e
+    }
 }
 
 /// Parses `N` comma-separated finite numbers, e.g. `X,Y,Z`; `form` names them for the

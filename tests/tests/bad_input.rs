@@ -64,7 +64,7 @@ fn wrong_magic_version_and_space() {
         let wrong = if stage == "viewxf" || stage == "zspec" {
             "polypipe 1 screen 8 8\nEND\n"
         } else {
-            "polypipe 1 fragments 8 8\nEND\n"
+            "polypipe 2 fragments 8 8\nEND\n"
         };
         let wrong = if stage == "zbuf" {
             "polypipe 1 world\nEND\n"

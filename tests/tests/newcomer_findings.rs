@@ -9,13 +9,13 @@ fn stderr(out: &std::process::Output) -> String {
     String::from_utf8_lossy(&out.stderr).into_owned()
 }
 
-/// #1: `printf 'polypipe 1 fragments 65536 65536\nEND\n' | zbuf` aborted with SIGABRT
+/// #1: `printf 'polypipe 2 fragments 65536 65536\nEND\n' | zbuf` aborted with SIGABRT
 /// (`memory allocation of 34359738368 bytes failed`). The address space is limited to
 /// 8 GB so that the frame cannot be had on any machine.
 #[test]
 fn a_frame_too_large_for_memory_is_refused_in_one_line() {
     let out = sh(
-        "ulimit -v 8000000; printf 'polypipe 1 fragments 65536 65536\\nEND\\n' | zbuf",
+        "ulimit -v 8000000; printf 'polypipe 2 fragments 65536 65536\\nEND\\n' | zbuf",
         b"",
     );
     assert_eq!(out.status.code(), Some(1), "{}", stderr(&out));

@@ -36,7 +36,7 @@ fn runs_and_counters_of_a_hand_written_stream() {
         )
     };
     let want = format!(
-        "polypipe 1 fragments 8 4\n{}{}{}{}NEXT.FRAME\nrun 1 1 3 0 0 255\nrun 2 2 3 0 0 255\nEND\n",
+        "polypipe 2 fragments 8 4\n{}{}{}{}NEXT.FRAME\nrun 1 1 3 0 0 255\nrun 2 2 3 0 0 255\nEND\n",
         row(0),
         row(1),
         row(2),

@@ -13,7 +13,7 @@ const W: u32 = 16;
 const H: u32 = 12;
 
 /// (x, y) → depth of every pixel the polygons cover; a pixel covered twice is an error.
-fn pixels(polys: &[Polygon]) -> Result<BTreeMap<(u32, u32), i64>, String> {
+fn pixels(polys: &[Polygon]) -> Result<BTreeMap<(u32, u32), f64>, String> {
     let mut sc = ScanConverter::new(W, H, Output::Pixels);
     let mut map = BTreeMap::new();
     for p in polys {

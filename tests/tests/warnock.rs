@@ -37,7 +37,7 @@ colour 9 9 9
 END
 ";
 
-const RUNS: &str = "polypipe 1 fragments 8 6
+const RUNS: &str = "polypipe 2 fragments 8 6
 run 0 0 8 255 0 0
 run 1 0 2 255 0 0
 run 1 2 5 0 255 0

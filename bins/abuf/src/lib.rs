@@ -43,8 +43,8 @@ pub const K: u32 = 8;
 #[derive(Clone, Copy, Debug, Default)]
 struct MaskElement {
     mask: Mask,
-    zmin: i64,
-    zmax: i64,
+    zmin: scan::Depth,
+    zmax: scan::Depth,
 }
 
 /// The a-buffer method.

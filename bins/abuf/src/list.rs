@@ -18,12 +18,12 @@ pub const SAMPLES: u32 = 64;
 /// samples the polygon covers, the least and greatest depth of the polygon at those
 /// samples (fixed point, smaller is nearer), and the polygon's place in the frame's
 /// stream, which breaks ties of depth as the z-buffer does (the earlier is in front).
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Fragment {
     pub colour: Colour,
     pub mask: Mask,
-    pub zmin: i64,
-    pub zmax: i64,
+    pub zmin: scan::Depth,
+    pub zmax: scan::Depth,
     pub order: u32,
 }
 
@@ -35,9 +35,13 @@ impl Fragment {
     }
 
     /// The order of the sorted list: by zmin, then stream order.
+    /// Whether this fragment comes before `other` in the sorted list.
     #[inline]
-    fn key(&self) -> (i64, u32) {
-        (self.zmin, self.order)
+    fn before(&self, other: &Fragment) -> bool {
+        self.zmin
+            .total_cmp(&other.zmin)
+            .then(self.order.cmp(&other.order))
+            .is_lt()
     }
 
     /// Whether the fragment lies wholly behind `front`, a fully covering opaque fragment,
@@ -58,11 +62,8 @@ impl Fragment {
     /// objects, and this is the closest the fragments themselves can tell.
     #[inline]
     fn combines_with(&self, next: &Fragment) -> bool {
-        // Saturating: a saturated plane's fragment can span more depth than i64 holds.
-        let slack = (self.zmax.saturating_sub(self.zmin)).max(next.zmax.saturating_sub(next.zmin));
-        self.colour == next.colour
-            && self.mask & next.mask == 0
-            && next.zmin <= self.zmax.saturating_add(slack)
+        let slack = (self.zmax - self.zmin).max(next.zmax - next.zmin);
+        self.colour == next.colour && self.mask & next.mask == 0 && next.zmin <= self.zmax + slack
     }
 
     /// The combined fragment: both masks, the depths of both, and the place in the list
@@ -70,11 +71,7 @@ impl Fragment {
     /// fragment keeps that one's place and the list stays sorted.
     #[inline]
     fn combine(&self, other: &Fragment) -> Fragment {
-        let front = if self.key() <= other.key() {
-            self
-        } else {
-            other
-        };
+        let front = if !other.before(self) { self } else { other };
         Fragment {
             colour: self.colour,
             mask: self.mask | other.mask,
@@ -173,7 +170,7 @@ impl PixelStruct {
         let PixelStruct::List(list) = self else {
             return;
         };
-        let pos = list.partition_point(|x| x.key() < f.key());
+        let pos = list.partition_point(|x| x.before(&f));
         if list[..pos].iter().any(|g| f.behind(g)) {
             stats.hidden += 1;
             return;
@@ -297,8 +294,8 @@ impl Packer {
             let next = list.get(i + 1).filter(|n| n.zmin < f.zmax);
             // f: this fragment's share of the samples both it and the next one cover.
             let share = next.map(|n| {
-                let extent = (f.zmax as f64 - f.zmin as f64) + (n.zmax as f64 - n.zmin as f64);
-                let front = (n.zmax as f64 - f.zmin as f64) / extent;
+                let extent = (f.zmax - f.zmin) + (n.zmax - n.zmin);
+                let front = (n.zmax - f.zmin) / extent;
                 if front.is_finite() {
                     front.clamp(0.0, 1.0)
                 } else {

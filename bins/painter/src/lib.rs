@@ -94,8 +94,8 @@ struct Item {
     y_min: u32,
     y_max: u32,
     /// Depth extent of the covered pixels (fixed point; smaller is nearer).
-    z_min: i64,
-    z_max: i64,
+    z_min: scan::Depth,
+    z_max: scan::Depth,
     /// Moved to the head once (the survey's mark).
     moved: bool,
     /// Still in the sorted run of the list (not moved, not a piece).
@@ -114,8 +114,8 @@ impl Item {
             x_max: 0,
             y_min: u32::MAX,
             y_max: 0,
-            z_min: i64::MAX,
-            z_max: i64::MIN,
+            z_min: f64::INFINITY,
+            z_max: f64::NEG_INFINITY,
             moved: false,
             sorted: true,
         };
@@ -135,11 +135,15 @@ impl Item {
 }
 
 /// Does `a` (depth `za`, stream place `ia`) win a pixel over `b` (depth `zb`, place `ib`),
-/// as the z-buffer decides it: nearer, or as near and earlier. Pieces of one polygon
+/// as the z-buffer decides it, by the tie rule for two polygons. Pieces of one polygon
 /// (equal places) never share a pixel; either answer is right for them.
 #[inline]
-fn wins(za: i64, ia: usize, zb: i64, ib: usize) -> bool {
-    za < zb || (za == zb && ia <= ib)
+fn wins(za: scan::Depth, ia: usize, zb: scan::Depth, ib: usize) -> bool {
+    if ia > ib {
+        scan::takes(za, zb)
+    } else {
+        proto::depth::takes_back(za, zb)
+    }
 }
 
 /// At every pixel `a` covers, does `a` win (`front`) or lose (`!front`) against `b`'s
@@ -277,7 +281,7 @@ impl Painter {
                 items.push(Item::new(index, p.colour, DepthPlane::of(p), spans));
             }
         }
-        items.sort_by(|a, b| b.z_max.cmp(&a.z_max).then(b.index.cmp(&a.index)));
+        items.sort_by(|a, b| b.z_max.total_cmp(&a.z_max).then(b.index.cmp(&a.index)));
         items
     }
 

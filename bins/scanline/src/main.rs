@@ -32,8 +32,7 @@ struct Args {
     text: TextFlag,
     /// Print counts on stderr at the end: polygons in, frames, runs out, then Watkins's
     /// quantities: scan lines, segments, sample spans, segments examined, depth
-    /// comparisons, crossings (splits where another segment comes in front), and sample
-    /// spans decided pixel by pixel (where a depth is clamped).
+    /// comparisons and crossings (splits where another segment comes in front).
     #[arg(long)]
     stats: bool,
 }

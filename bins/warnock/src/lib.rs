@@ -139,7 +139,7 @@ struct Coverage {
     /// Index of its first row in [`Warnock::rows`]; row y is `rows[row + (y − y0)]`, and
     /// its spans are `spans[rows[i].start..rows[i + 1].start]`.
     row: usize,
-    dz: i64,
+    dz: scan::Depth,
     colour: Colour,
 }
 
@@ -147,7 +147,7 @@ struct Coverage {
 #[derive(Clone, Copy, Debug)]
 struct Row {
     start: usize,
-    z_row: i64,
+    z_row: scan::Depth,
 }
 
 /// An entry of a window's polygon list: an index into the frame's coverages (stream
@@ -190,7 +190,7 @@ impl Warnock {
         let (rows, spans) = (&mut self.rows, &mut self.spans);
         for p in polygons {
             let row = rows.len();
-            let mut first: Option<(u32, i64)> = None;
+            let mut first: Option<(u32, scan::Depth)> = None;
             let (mut y_next, mut x0, mut x1) = (0u32, u32::MAX, 0u32);
             self.walker.for_each_span(p, width, height, |s| {
                 if first.is_none() {
@@ -202,7 +202,7 @@ impl Warnock {
                 while y_next <= s.y {
                     rows.push(Row {
                         start: spans.len(),
-                        z_row: 0,
+                        z_row: 0.0,
                     });
                     y_next += 1;
                 }
@@ -216,7 +216,7 @@ impl Warnock {
             let Some((y0, dz)) = first else { continue };
             rows.push(Row {
                 start: spans.len(),
-                z_row: 0,
+                z_row: 0.0,
             });
             self.covs.push(Coverage {
                 y0,
@@ -231,7 +231,7 @@ impl Warnock {
     }
 
     /// The spans of polygon `c` on row `y` (which must be one of its rows).
-    fn row_spans(&self, c: &Coverage, y: u32) -> (&[(u32, u32)], i64) {
+    fn row_spans(&self, c: &Coverage, y: u32) -> (&[(u32, u32)], scan::Depth) {
         let i = c.row + (y - c.y0) as usize;
         let (r, next) = (self.rows[i], self.rows[i + 1]);
         (&self.spans[r.start..next.start], r.z_row)
@@ -301,11 +301,12 @@ impl Warnock {
             let (_, zb) = self.row_spans(&cb, y);
             for x in [first, last] {
                 let (da, db) = (depth_at(za, ca.dz, x), depth_at(zb, cb.dz, x));
-                if [da, db].iter().any(|&d| d == i64::MIN || d == i64::MAX) {
-                    result = None;
-                    break 'rows;
-                }
-                if !(da < db || (da == db && a < b)) {
+                let a_in_front = if a > b {
+                    scan::takes(da, db)
+                } else {
+                    proto::depth::takes_back(da, db)
+                };
+                if !a_in_front {
                     result = Some(false);
                     break 'rows;
                 }
@@ -316,7 +317,7 @@ impl Warnock {
     }
 
     /// The depth of polygon `poly` at pixel (x, y), which it covers.
-    fn depth(&self, poly: u32, x: u32, y: u32) -> i64 {
+    fn depth(&self, poly: u32, x: u32, y: u32) -> scan::Depth {
         let c = &self.covs[poly as usize];
         let (_, z_row) = self.row_spans(c, y);
         depth_at(z_row, c.dz, x)
@@ -386,12 +387,17 @@ impl Warnock {
             return Resolution::Empty;
         }
         if w.is_pixel() {
-            // Display by default: every polygon of a one-pixel window's list covers it.
-            let best = self.lists[start..]
-                .iter()
-                .map(|e| (self.depth(e.poly, w.x0, w.y0), e.poly))
-                .min()
-                .expect("the list is not empty");
+            // Display by default: every polygon of a one-pixel window's list covers it; the
+            // tie rule's fold in stream order picks the one seen.
+            let mut order: Vec<u32> = self.lists[start..].iter().map(|e| e.poly).collect();
+            order.sort_unstable();
+            let mut best = (self.depth(order[0], w.x0, w.y0), order[0]);
+            for &p in &order[1..] {
+                let z = self.depth(p, w.x0, w.y0);
+                if scan::takes(z, best.0) {
+                    best = (z, p);
+                }
+            }
             self.fill(w, self.covs[best.1 as usize].colour);
             return Resolution::Pixel;
         }
@@ -409,7 +415,7 @@ impl Warnock {
             .iter()
             .filter(|e| e.surrounds)
             .map(|e| (self.depth(e.poly, w.x0, w.y0), e.poly))
-            .min()
+            .min_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)))
         else {
             return Resolution::Subdivided;
         };

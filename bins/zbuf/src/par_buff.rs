@@ -252,10 +252,10 @@ fn apply(fb: &mut FrameBuffer, s: &mut InputState, fragments: &[Fragment]) -> Re
                     .ok_or_else(|| Error::data("more than 4294967294 polygons in one frame"))?;
                 s.colour = colour;
             }
-            Fragment::Span { y, x0, x1, z0, dz } => {
+            Fragment::Span { y, x0, x1, z, dz } => {
                 s.stats.spans += 1;
                 s.stats.pixels += (x1 - x0) as u64;
-                fb.span(y, x0..x1, z0, dz, polygon, s.colour);
+                fb.span(y, x0..x1, z, dz, polygon, s.colour);
             }
             Fragment::Pixel { x, y, z } => {
                 s.stats.pixels += 1;
@@ -640,7 +640,7 @@ mod tests {
     /// The fragment text of `frames` frames of `polygons` polygons on an 8x4 screen,
     /// keeping only the spans `keep` accepts (every polygon keeps its colour record).
     fn stream(polygons: usize, frames: &[Vec<Span>], keep: impl Fn(usize) -> bool) -> String {
-        let mut s = String::from("polypipe 1 fragments 8 4\n");
+        let mut s = String::from("polypipe 2 fragments 8 4\n");
         let mut k = 0;
         for (f, spans) in frames.iter().enumerate() {
             if f > 0 {
