@@ -16,7 +16,7 @@ pub const TEXT_MAGIC: &str = "polypipe";
 
 /// The stream format version this code reads and writes, in the binary header.
 ///
-/// Version 2 (wave 2) replaced version 1's bincode records by fixed-layout little-endian
+/// Version 2 replaced version 1's bincode records by fixed-layout little-endian
 /// records read and written in place (`proto::codec`, "The binary records"); the header
 /// itself is still bincode. A binary reader accepts version 2 only: every stage of one
 /// build writes it.

@@ -1,6 +1,6 @@
 //! The repository explains itself: every citation of the design points at the copy in the
 //! repository, docs/DESIGN.md, by that path and by a section it has, and nothing cites a
-//! file outside the repository. (Issue 14: the code cited a design kept beside the
+//! file outside the repository. (The code once cited a design kept beside the
 //! repository, which a reader of the repository never sees.)
 
 use pipeline_tests::repo_root;

@@ -18,7 +18,7 @@
 //! vertex projected lies in front of the eye. The cut removes only points that the depth
 //! test would reject anyway, so it changes no pixel.
 //!
-//! Two more things live here for the anti-aliasing methods of wave 2: the K×K
+//! Two more things live here for the anti-aliasing methods: the K×K
 //! supersampled reference ([`supersample`]: the same rules at every sub-pixel centre,
 //! box-filtered) and the error measures of a frame against a reference ([`metrics`]:
 //! differing fraction, RMSE, maximum error, edge-pixel RMSE).
