@@ -1,4 +1,4 @@
-//! zspec: the exact reference renderer, docs/DESIGN.md's "Conventions" evaluated directly.
+//! zspec: the exact reference renderer, docs/DESIGN.md's "The Z specification" evaluated directly.
 //!
 //! The pipeline reaches its pictures through clipping (chapter 3), perspective, an edge
 //! table scan converter (chapter 4, Appendix 3) and a depth buffer with fixed-point depth
