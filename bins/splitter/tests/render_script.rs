@@ -1135,7 +1135,7 @@ fn the_first_run_builds_every_binary_the_readme_uses() {
     assert_eq!(cargo_calls(&dir), Vec::<String>::new());
 }
 
-/// Finding 7: only the binaries' sources (src/ .rs files, Cargo.toml, Cargo.lock) make
+/// Only the binaries' sources (src/ .rs files, Cargo.toml, Cargo.lock) make
 /// render.sh call cargo; without cargo it runs what is built.
 #[test]
 fn only_the_binaries_sources_make_render_sh_call_cargo() {
