@@ -1,4 +1,4 @@
-//! The viewing and perspective mappings of docs/DESIGN.md's "Conventions", written once for
+//! The viewing and perspective mappings of docs/DESIGN.md's "The Z specification", written once for
 //! `viewxf`, `persp` and the exact reference.
 //!
 //! World coordinates are right-handed; eye coordinates are left-handed with the origin at

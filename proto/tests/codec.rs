@@ -457,7 +457,7 @@ END
 
 #[test]
 fn annotation_errors_are_located() {
-    // (These were world-space streams until annotations there were refused, issue 14.)
+    // (These were world-space streams until annotations there were refused.)
     assert_eq!(
         decode_err::<Token>(b"polypipe 1 screen 8 8\ncolour 1 2 3\nplane 1 2 x 4\nEND\n"),
         "line 3, column 11: expected c of the polygon's plane (plane a b c d), found `x`"
@@ -482,7 +482,7 @@ fn annotation_errors_are_located() {
     ));
 }
 
-/// Issue 14, finding 10: a `plane` or `on` in a world-space stream would pass viewxf
+/// A `plane` or `on` in a world-space stream would pass viewxf
 /// untransformed and draw a wrong picture; the reader refuses it where it stands, in
 /// both forms.
 #[test]

@@ -1,5 +1,5 @@
 //! A z-buffer for the region of the screen one leaf of the splitter tree sees (docs/DESIGN.md,
-//! "Wave 2": leaves resolve visibility, the merger assembles).
+//! "Leaves resolve visibility": the merger assembles).
 //!
 //! The leaf does what the thesis's BUFFER does (chapter 4.2.3), but only for the pixels
 //! its polygons cover, and at the end of each frame sends the finished pixels on as runs

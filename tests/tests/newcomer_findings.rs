@@ -1,4 +1,4 @@
-//! What a new user and an attacker tripped on (issue 14's findings), each with the
+//! What a new user and an attacker tripped on, each with the
 //! command that showed it and the behaviour now. The exit-status and usage findings (#4,
 //! #5, #10: `zbuf -o x.jpg`, `clipplane --plane 1,2,3`, `zspec compare --min-agreement
 //! nan`, `zbuf - -`, `splitter x=0 same same`) are rows of the tables in exit_codes.rs.
@@ -311,7 +311,7 @@ fn text_on_the_picture_stages_writes_plain_ppm() {
     assert_eq!(parse_ppm_stream(&f1).unwrap()[0], frames[1]);
 }
 
-/// Session 9's review: `render.sh /tmp` let `cat` say `cat: /tmp: Is a directory` and then
+/// A review: `render.sh /tmp` let `cat` say `cat: /tmp: Is a directory` and then
 /// said only that it could not keep the scene; now one line in the stages' words, status 3,
 /// at any depth (`--depth auto` copies a scene before looking at it; a given depth does not).
 #[test]

@@ -1,4 +1,4 @@
-//! Issue 3 at library level: a polygon cut by the splitter and projected by persp scan
+//! Split invariance at library level: a polygon cut by the splitter and projected by persp scan
 //! converts, piece by piece, to exactly the pixels and depths of the whole polygon: each
 //! pixel once, with the same fixed-point depth. The pieces' edge supports give their
 //! crossings to the bit, and the plane recorded before the cut gives their depths.

@@ -98,7 +98,7 @@ fn penetrating_polygons_match_the_thesis_sample() {
 /// the README's default size and others, and where it does not, only on the line along
 /// which its two polygons are at exactly the same depth, which the Z spec gives to the
 /// earlier, red polygon and the pipeline's rounded depth step gives to the blue one
-/// (README, "Coordinates and pixels"; docs/DESIGN.md, "Conventions"): blue for red, at
+/// (README, "Coordinates and pixels"; docs/DESIGN.md, "The Z specification"): blue for red, at
 /// most one pixel a row and a column, as few as the sizes below have always had.
 #[test]
 fn penetrating_polygons_agree_with_the_reference_but_on_their_line_of_equal_depth() {

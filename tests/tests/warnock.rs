@@ -1,4 +1,4 @@
-//! `warnock`, Warnock's area subdivision as a leaf stage (seeds/004_…, 14.3 and Appendix
+//! `warnock`, Warnock's area subdivision as a leaf stage (Newman and Sproull 1973, 14.3 and Appendix
 //! VI): its exact records on a hand-written screen stream, its `--stats`, its refusals of
 //! bad input, and frames byte-identical to the z-buffer leaf's (`scanconv --resolve`) on
 //! the test scenes at tree depths 0 to 2, including the scenes where area subdivision
@@ -208,7 +208,7 @@ fn frames_are_the_zbuffer_leafs_at_depths_0_to_2() {
     }
 }
 
-/// Where area subdivision slows down (issue 10, item 7): it stays exact, and its
+/// Where area subdivision slows down: it stays exact, and its
 /// counters show why it is slow.
 mod where_it_slows {
     use super::*;

@@ -1,9 +1,9 @@
-//! abuf: Carpenter's a-buffer as seeds/001 chapter 6.3 builds it, as a leaf of the splitter
+//! abuf: Carpenter's a-buffer as the sampling thesis, 6.3, builds it, as a leaf of the splitter
 //! tree (docs/DESIGN.md, "Anti-aliasing").
 //!
 //! Scan conversion makes, for every pixel a polygon reaches, a *fragment*: its colour, an
 //! 8×8 bit mask of the sub-pixel samples it covers, and its least and greatest depth
-//! there (zmin, zmax; seeds/001, 6.3.2). The fragments go into the pixel's *pixelstruct*:
+//! there (zmin, zmax; sampling thesis 6.3.2). The fragments go into the pixel's *pixelstruct*:
 //! empty, simple (one fragment covering the whole pixel in front of all others: the fast
 //! path, no list) or a list sorted by depth (6.3.1, 6.3.4, 6.3.5). After the last polygon
 //! the *packer* resolves each list front to back (6.3.6), see [`list`].
@@ -12,7 +12,7 @@
 //! (c + (i+½)/8, r + (j+½)/8), the pixel centre of a screen 8 times finer, and the polygon
 //! is carried onto that screen exactly ([`scan::fine::scaled`]) and walked by
 //! [`scan::SpanWalker`]: a sample on an edge shared by two polygons goes to exactly one
-//! of them, so two polygons of one colour sharing an edge leave no seam (the seed's grey
+//! of them, so two polygons of one colour sharing an edge leave no seam (the sampling thesis's grey
 //! seam, 6.3). The seed computes masks from each edge's crossings of the pixel, and'ed
 //! together; here they are the spans of the pixel row's eight sub-scanlines, or'ed, which
 //! is the same region sampled by the same rule as every other method. zmin and zmax are
@@ -38,7 +38,7 @@ use scan::{Run, SpanWalker};
 /// Sub-pixel samples a side.
 pub const K: u32 = 8;
 
-/// An element of the mask buffer (seeds/001, figure 6.9), less the area, which is the
+/// An element of the mask buffer (the sampling thesis, figure 6.9), less the area, which is the
 /// mask's count of samples.
 #[derive(Clone, Copy, Debug, Default)]
 struct MaskElement {

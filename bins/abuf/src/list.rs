@@ -1,11 +1,11 @@
-//! The a-buffer's pixelstructs: per pixel nothing, one fully covering fragment (the seed's
-//! *simple* pixelstruct), or a list of fragments sorted by depth (seeds/001, 6.3.1), with
-//! the seed's insertion cases (6.3.4, 6.3.5) and the fragment packer (6.3.6).
+//! The a-buffer's pixelstructs: per pixel nothing, one fully covering fragment (the sampling thesis's
+//! *simple* pixelstruct), or a list of fragments sorted by depth (sampling thesis 6.3.1), with
+//! the sampling thesis's insertion cases (6.3.4, 6.3.5) and the fragment packer (6.3.6).
 
 use proto::Colour;
 
 /// A fragment's coverage: bit `8·j + i` is sub-pixel sample (i, j), at
-/// (c + (i+½)/8, r + (j+½)/8) of pixel (c, r) (the seed's 8×8 pixel mask, 6.3.1).
+/// (c + (i+½)/8, r + (j+½)/8) of pixel (c, r) (the sampling thesis's 8×8 pixel mask, 6.3.1).
 pub type Mask = u64;
 
 /// Every sample covered.
@@ -14,7 +14,7 @@ pub const FULL: Mask = u64::MAX;
 /// Samples in a mask.
 pub const SAMPLES: u32 = 64;
 
-/// A pixel fragment (seeds/001, figure 6.6), opaque: the colour, the bit mask of the
+/// A pixel fragment (the sampling thesis, figure 6.6), opaque: the colour, the bit mask of the
 /// samples the polygon covers, the least and greatest depth of the polygon at those
 /// samples (fixed point, smaller is nearer), and the polygon's place in the frame's
 /// stream, which breaks ties of depth as the z-buffer does (the earlier is in front).
@@ -102,7 +102,7 @@ pub struct ListStats {
     pub intersections: u64,
 }
 
-/// A pixel of the a-buffer (seeds/001, figures 6.4 and 6.5): the seed flags the kind by
+/// A pixel of the a-buffer (the sampling thesis, figures 6.4 and 6.5): the thesis flags the kind by
 /// the sign of its z; here it is the variant.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub enum PixelStruct {
@@ -115,7 +115,7 @@ pub enum PixelStruct {
 }
 
 impl PixelStruct {
-    /// Inserts a fragment (seeds/001, 6.3.4's six cases: a completely or partially covered
+    /// Inserts a fragment (sampling thesis 6.3.4's six cases: a completely or partially covered
     /// incoming fragment into an empty, simple or list pixelstruct; 6.3.5's sorting,
     /// combining and throwing away). `pool` lends and takes back the lists' storage.
     pub fn insert(&mut self, f: Fragment, pool: &mut Vec<Vec<Fragment>>, stats: &mut ListStats) {
@@ -255,9 +255,9 @@ impl PixelStruct {
     }
 }
 
-/// The fragment packer (seeds/001, 6.3.6), front to back with masks.
+/// The fragment packer (the sampling thesis, 6.3.6), front to back with masks.
 ///
-/// The seed's recursion C = P_i·A_i + T_i·Q_i, with the areas as masks
+/// The sampling thesis's recursion C = P_i·A_i + T_i·Q_i, with the areas as masks
 /// M_A_i = M_Q_{i+1} ∩ M_i (covered and visible) and M_Q_i = M_Q_{i+1} ∩ ¬M_i (visible and
 /// not covered; M_Q at the front is the full mask, I), is evaluated as a walk down the
 /// list carrying the still-visible region: fragment i paints the samples of M_A_i in its
@@ -266,7 +266,7 @@ impl PixelStruct {
 /// bits"), so a list whose fragments do not intersect packs to exactly the 8×8
 /// supersampled colour.
 ///
-/// Intersecting fragments (Carpenter's a-buffer, which the seed follows): when the next
+/// Intersecting fragments (Carpenter's a-buffer, which the sampling thesis follows): when the next
 /// fragment's zmin is nearer than this one's zmax the two surfaces may cross inside the
 /// pixel, and on the samples both cover the nearer one is not known. Taking both as
 /// planes across the pixel, the share of this fragment in front is

@@ -25,7 +25,7 @@ const RED: Colour = [255, 0, 0];
 const BLUE: Colour = [0, 0, 255];
 const WHITE: Colour = [255, 255, 255];
 
-/// Figure 6.7 of seeds/001: a near edge splits the pixel vertically in half, a far one
+/// Sampling thesis figure 6.7: a near edge splits the pixel vertically in half, a far one
 /// horizontally; the near fragment gives 50 %, the far one the 25 % not behind the near
 /// one, the background the other 25 %.
 #[test]
@@ -60,7 +60,7 @@ fn seed_figure_6_7_a_pixel_covered_50_25_25() {
     }
 }
 
-/// The grey seam of seeds/001, 6.3: two white polygons sharing an edge on black. Mixing
+/// The grey seam of sampling thesis 6.3: two white polygons sharing an edge on black. Mixing
 /// each one's coverage into the frame buffer leaves the shared edge grey; the a-buffer's
 /// masks give every sample on it to one polygon, and the two fragments of the one
 /// surface combine into one fully covering fragment.

@@ -1,7 +1,7 @@
 //! # painter: depth sort, drawn back to front (Newell, Newell and Sancha)
 //!
 //! The depth-priority method of the survey the thesis cites for its cost figures
-//! ([SuSp74], thesis chapter 5.1; `seeds/000_…`): sort the frame's polygons by their
+//! ([SuSp74], thesis chapter 5.1 [references.md]): sort the frame's polygons by their
 //! farthest depth, then paint them from the back to the front into a frame of colours
 //! alone: no depth buffer, a nearer polygon simply paints over a farther one. Sorting by
 //! one number per polygon is not enough where depth extents overlap, so before the

@@ -1,15 +1,15 @@
 //! # scanline: Watkins's scan-line hidden-surface algorithm
 //!
-//! After Watkins's algorithm as Archuleta describes it (`seeds/003_…`, "Watkins'
+//! After Watkins's algorithm as Archuleta describes it (Archuleta (1972), "Watkins'
 //! Algorithm" and the listing of HIDDEN) and as Newman and Sproull's chapter 14.4 explains
-//! it (`seeds/004_…`, 14.4.1 "Processing a scan-line", 14.4.2 "Scan-line coherence"). A
+//! it (Newman and Sproull 1973, 14.4.1 "Processing a scan-line", 14.4.2 "Scan-line coherence"). A
 //! frame is resolved one scan line at a time, top to bottom, with no depth buffer:
 //!
 //! 1. **Active polygons.** The frame's polygons are sorted by the first scan line they
-//!    can reach (the seeds' "sorted with respect to Y" preframe processing). A polygon
+//!    can reach (Archuleta's "sorted with respect to Y" preframe processing). A polygon
 //!    enters the active list at that line and leaves it after its last. Each active
 //!    polygon keeps its own [`scan::SpanWalker`] (its Edge Table and Active Edge Table),
-//!    stepped one line at a time and never rebuilt: the seeds' "after a scan line has
+//!    stepped one line at a time and never rebuilt: Archuleta's "after a scan line has
 //!    been completed, all segments are updated to the next scan line".
 //! 2. **Segments.** On each line, an active polygon's crossings, paired by the even-odd
 //!    rule, give its *segments* (14.4: "the intersection of the scan-line window and a
@@ -24,7 +24,7 @@
 //!    with the tie rule (docs/DESIGN.md, "The Z specification": a later polygon takes the
 //!    pixel only when nearer by more than 2⁻³⁰ of the holder's depth). Then, instead of
 //!    subdividing at midpoints, the first column where another segment comes in front is
-//!    found on the two depth lines ([`first_in_front`]; the seeds' XINTER, "the X point
+//!    found on the two depth lines ([`first_in_front`]; Archuleta's XINTER, "the X point
 //!    of intersection"): the rule between two planar depths changes its answer once at
 //!    most along a line, so a binary search over the columns, each decided by the
 //!    z-buffer's own arithmetic, finds exactly the column where the z-buffer's answer
@@ -71,7 +71,7 @@ pub struct ScanlineStats {
     pub crossings: u64,
 }
 
-/// One polygon's segment on the current scan line (Archuleta's report, "pairs of edges
+/// One polygon's segment on the current scan line (Archuleta (1972), "pairs of edges
 /// that belong to the same polygon are linked together to form segments").
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Segment {
@@ -108,7 +108,7 @@ impl Segment {
 }
 
 /// The first column `c ≥ from` at which `s` is in front of `front` ([`Segment::in_front_of`])
-/// while both are on the line, or `None` — the seeds' XINTER, "the X point of
+/// while both are on the line, or `None` — Archuleta's XINTER, "the X point of
 /// intersection", rounded to the pixel centres the z-buffer samples. Both depths are
 /// linear in x, so the answer changes at most once along their overlap: a binary search
 /// on the z-buffer's own test finds the column where it does.
@@ -257,7 +257,7 @@ fn overtaken_at(
 }
 
 /// Finds the front segment at column x afresh and the first column where another comes
-/// in front of it: the seeds' "depth processing" of every segment in the span.
+/// in front of it: Archuleta's "depth processing" of every segment in the span.
 fn front_afresh(
     segments: &[Segment],
     present: &[usize],
@@ -311,7 +311,7 @@ fn sample_span(
         return;
     }
     // Cases 2 and 3: the front segment holds until the first column where another comes
-    // in front of it; split there (the seeds' XINTER) and go on from that column.
+    // in front of it; split there (Archuleta's XINTER) and go on from that column.
     let mut f = match *front {
         // The front is still here and nothing overtakes it at `a`: it is in front of every
         // segment that was here before, so only those coming in need looking at.
@@ -451,7 +451,7 @@ impl HiddenSurface for Scanline {
             }
             self.stats.segments += self.segments.len() as u64;
             // Watkins's list is kept in X order from line to line with "some minor sorting"
-            // (seeds/003, HIDDEN); here the line's segments are sorted afresh. Keeping the
+            // (Archuleta (1972), HIDDEN); here the line's segments are sorted afresh. Keeping the
             // active list in the last line's X order so that they came out nearly sorted
             // measured slower (moving the active polygons costs more than the sort saves).
             self.segments.sort_unstable_by_key(|s| (s.x0, s.polygon));

@@ -5,7 +5,7 @@ use scanline::Scanline;
 use stagecli::TextFlag;
 use std::process::ExitCode;
 
-/// Watkins's scan-line hidden-surface algorithm (seeds/003, seeds/004 section 14.4).
+/// Watkins's scan-line hidden-surface algorithm (Archuleta (1972); Newman and Sproull (1973), 14.4).
 ///
 /// Reads a screen-space polygon stream (from persp) on stdin and resolves each frame
 /// one scan line at a time, with no depth buffer: the active polygons' segments on the

@@ -1,5 +1,5 @@
 //! # warnock: Warnock's area subdivision at a leaf of the splitter tree
-//! (seeds/004_…, 14.3 and Appendix VI; docs/DESIGN.md, "Leaves resolve visibility")
+//! (Newman and Sproull 1973, 14.3, Appendix VI; docs/DESIGN.md, "Leaves resolve visibility")
 //!
 //! Warnock examines *windows* of the screen instead of polygons (14.3): for a window the
 //! **Looker** sorts every polygon still in question into surrounders, intersectors and
@@ -12,7 +12,7 @@
 //!
 //! ## At pixel resolution
 //!
-//! The seed's Looker clips polygon edges against the window in real coordinates; here
+//! Newman and Sproull's Looker clips polygon edges against the window in real coordinates; here
 //! every decision is taken on the pixels themselves, with the point sampling every other
 //! method uses, so that the frame is byte for byte the z-buffer's
 //! ([`scan::frame::ZBuffer`]):
@@ -52,7 +52,7 @@
 //!    AVI.2, Thinker 2 with I = 1).
 //!
 //! Otherwise the window is subdivided. Penetrating polygons fail cases 4 and 5 along
-//! their line of intersection and are subdivided down to pixels there, as the seed says
+//! their line of intersection and are subdivided down to pixels there, as Newman and Sproull say
 //! the implied edge is found (14.3.3, Figure 14-18).
 //!
 //! Output: each resolved window puts its pieces of rows on its rows' lists (memory for

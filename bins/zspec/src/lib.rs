@@ -1,4 +1,4 @@
-//! zspec: the exact reference renderer, docs/DESIGN.md's "Conventions" evaluated directly.
+//! zspec: the exact reference renderer, docs/DESIGN.md's "The Z specification" evaluated directly.
 //!
 //! The pipeline reaches its pictures through clipping (chapter 3), perspective, an edge
 //! table scan converter (chapter 4, Appendix 3) and a depth buffer with fixed-point depth
@@ -27,7 +27,7 @@
 //! vertex projected lies in front of the eye. The cut removes only points that the depth
 //! test would reject anyway, so it changes no pixel.
 //!
-//! Two more things live here for the anti-aliasing methods of wave 2: the K×K
+//! Two more things live here for the anti-aliasing methods: the K×K
 //! supersampled reference ([`supersample`]: the same rules at every sub-pixel centre,
 //! box-filtered) and the error measures of a frame against a reference ([`metrics`]:
 //! differing fraction, RMSE, maximum error, edge-pixel RMSE).
