@@ -634,8 +634,8 @@ fn read_text_header<R: BufRead>(lex: &mut Lexer<R>) -> Result<Header, StreamErro
             Shown(&magic.chars().take(20).collect::<String>())
         )));
     }
-    let version_at = lex.mark();
     let version = lex.integer("the stream version", u32::MAX as u64)? as u32;
+    let version_at = lex.mark();
     let space_word = lex.expect_word("a coordinate space (world, eye, screen W H)")?;
     let space_at = lex.mark();
     let space = match space_word.as_str() {
@@ -682,8 +682,8 @@ fn read_text_header<R: BufRead>(lex: &mut Lexer<R>) -> Result<Header, StreamErro
         return Err(lex.error_at(
             version_at,
             format!(
-                "stream version {version} is not supported for {} streams (this is version \
-                 {wanted}){why}",
+                "stream version {version} is not supported (this is version {wanted} for {} \
+                 streams){why}",
                 space.name()
             ),
         ));

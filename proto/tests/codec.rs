@@ -150,7 +150,7 @@ fn text_errors_say_line_and_column() {
     let cases: &[(&str, &str)] = &[
         ("", "empty input: expected a polypipe stream header"),
         ("hello 1 world\nEND\n", "line 1, column 1: not a polypipe stream: expected the header `polypipe 1 SPACE`, found `hello`"),
-        ("polypipe 2 world\nEND\n", "line 1, column 10: stream version 2 is not supported (this is version 1)"),
+        ("polypipe 2 world\nEND\n", "line 1, column 10: stream version 2 is not supported (this is version 1 for world streams)"),
         ("polypipe 1 mars\nEND\n", "line 1, column 12: unknown coordinate space `mars` (expected world, eye, screen or fragments)"),
         ("polypipe 1 world\ncolour 256 0 0\nEND\n", "line 2, column 8: the red component of the colour is 256, out of range 0..=255"),
         ("polypipe 1 world\ncolour 1 2 3\n1 2\nEND\n", "line 4, column 1: expected z of vertex 0 (3 numbers a vertex in world space), found `END`"),
@@ -277,12 +277,12 @@ fn binary_version_1_is_refused() {
     v1.extend_from_slice(&[1, 0, 0, 0, 0, 0, 0, 0, 2, 0, 0, 0]);
     assert_eq!(
         decode_err::<Token>(&v1),
-        "byte 8: stream version 1 is not supported (this is version 2)"
+        "byte 8: stream version 1 is not supported (this is version 3)"
     );
     // The text form is still version 1, and says so.
     let text = encode(Header::new(Space::World), &[Token::End], Form::Text);
     assert_eq!(text, b"polypipe 1 world\nEND\n");
-    assert_eq!(Header::new(Space::World).version, 2);
+    assert_eq!(Header::new(Space::World).version, 3);
 }
 
 #[test]

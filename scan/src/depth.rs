@@ -36,7 +36,8 @@ impl DepthPlane {
             z: c,
             w: d,
         } = recorded.unwrap_or_else(|| proto::geometry::newell_plane(&points));
-        let dz = -a / c;
+        // `+ 0.0` turns −0 into +0 (and changes nothing else), so that text shows `0`.
+        let dz = -a / c + 0.0;
         // A plane so steep that a row of the largest screen would step past f64's range
         // is taken as edge-on: its depths could not be finite across the row.
         if c != 0.0
@@ -61,7 +62,7 @@ impl DepthPlane {
         match *self {
             DepthPlane::Plane { a, b, c, d, dz } => {
                 let y = row as f64 + 0.5;
-                (-(a * 0.5 + b * y + d) / c, dz)
+                (-(a * 0.5 + b * y + d) / c + 0.0, dz)
             }
             DepthPlane::Flat(z) => (z, 0.0),
         }

@@ -33,19 +33,19 @@ colour 0 255 0
 END
 ";
 
-// DEPTH_ONE = 2^40: 0.5 is 549755813888. The triangle's plane is depth = 0.25 + Y/8, so
+// DEPTH_ONE = 2^40: 0.5 is 0.5. The triangle's plane is depth = 0.25 + Y/8, so
 // row r has depth 0.25 + (r + ½)/8 and a zero step along the row.
 const SPANS: &str = "polypipe 2 fragments 4 4
 colour 255 0 0
-span 1 1 3 549755813888 0
-span 2 1 3 549755813888 0
+span 1 1 3 0.5 0
+span 2 1 3 0.5 0
 NEXT.POLYGON
 colour 9 9 9
 NEXT.POLYGON
 colour 0 0 255
-span 0 0 3 343597383680 0
-span 1 0 2 481036337152 0
-span 2 0 1 618475290624 0
+span 0 0 3 0.3125 0
+span 1 0 2 0.4375 0
+span 2 0 1 0.5625 0
 NEXT.FRAME
 colour 0 255 0
 span 0 0 3 0 0
@@ -73,18 +73,18 @@ END
     scanconv(&["--text", "--pixels"], input).success().stdout(
         "polypipe 2 fragments 4 2
 colour 1 2 3
-pixel 0 0 68719476736
-pixel 1 0 206158430208
-pixel 0 1 68719476736
-pixel 1 1 206158430208
+pixel 0 0 0.0625
+pixel 1 0 0.1875
+pixel 0 1 0.0625
+pixel 1 1 0.1875
 END
 ",
     );
     scanconv(&["--text"], input).success().stdout(
         "polypipe 2 fragments 4 2
 colour 1 2 3
-span 0 0 2 68719476736 137438953472
-span 1 0 2 68719476736 137438953472
+span 0 0 2 0.0625 0.125
+span 1 0 2 0.0625 0.125
 END
 ",
     );

@@ -23,12 +23,10 @@
 //!   **surrounder** when it covers all of them, an **intersector** otherwise. As in the
 //!   listing's HISTORY array, what is known of a window holds for its descendants: a
 //!   disjoint polygon is not in their lists, a surrounder is not examined again.
-//! - Depth is the fixed-point depth of [`scan::DepthPlane`]: pixel x of row y has
-//!   `depth_at(z_row, dz, x)`, smaller in front, a tie to the polygon earlier in the
-//!   stream. On a row it is linear in x, so whether polygon A is in front of polygon B
-//!   over a stretch of the row is decided by its two end columns (unless a depth there
-//!   sits at the `i64` bounds, where it may be saturated: then nothing is decided and the
-//!   window is subdivided). The seed compares the planes at the window's four corners,
+//! - Depth is the depth of [`scan::DepthPlane`]: pixel x of row y has
+//!   `depth_at(z_row, dz, x)`, smaller in front, decided by the tie rule
+//!   ([`scan::takes`]). On a row it is linear in x, so whether polygon A is in front of
+//!   polygon B over a stretch of the row is decided by its two end columns. The seed compares the planes at the window's four corners,
 //!   extending intersectors over the whole window (AVI.1.1, "sufficient but not
 //!   necessary"); here each row of the window is compared where B covers it, which is
 //!   exact for this sampling and still sufficient.
@@ -773,55 +771,6 @@ mod tests {
         assert_eq!(think_on(&mut m, win(0, 0, 8, 8)), Resolution::InFront);
         assert_eq!(picture(&mut m)[2 * 8 + 2], Some(RED));
         assert_eq!(picture(&mut m)[0], Some(GREEN));
-    }
-
-    #[test]
-    fn saturated_depths_are_not_decided_but_pixels_are() {
-        // Depths beyond the fixed point's range (about 8.4e6 units) saturate at i64::MAX:
-        // two such planes tie there although they differ, so the windows fail down to
-        // single pixels, which the z-buffer's rule decides as the z-buffer does.
-        let polygons = [
-            square(RED, 0.0, 0.0, 4.0, 4.0, 1e8),
-            square(GREEN, 0.0, 0.0, 4.0, 4.0, 2e7),
-        ];
-        let mut m = loaded(&polygons, 4, 4);
-        assert_eq!(think_on(&mut m, win(0, 0, 4, 4)), Resolution::Subdivided);
-        let (runs, m) = resolved(&polygons, 4, 4);
-        assert_eq!(image_of(&runs, 4, 4), zbuffer_image(&polygons, 4, 4));
-        assert_eq!(image_of(&runs, 4, 4), vec![Some(RED); 16]);
-        assert_eq!(m.stats.windows_by_depth, vec![1, 4, 16]);
-        assert_eq!(m.stats.pixels, 16);
-    }
-
-    #[test]
-    fn a_saturated_end_column_decides_nothing() {
-        // M: the depth where the fixed point saturates (i64::MAX / 2^40 ≈ 2^23). On one
-        // row of three pixels, A is in front at column 0, B at column 1, and at column 2
-        // both are past M: saturated, they tie there, and A, earlier, would win the tie.
-        // Judged by its end columns the row would be A's, wrongly: the window must fail.
-        let m = 8_388_608.0;
-        let row = |colour, z0: f64, slope: f64| {
-            let z = |x: f64| z0 + slope * (x - 0.5);
-            Polygon::from_xyz(
-                colour,
-                &[
-                    [0.0, 0.0, z(0.0)],
-                    [3.0, 0.0, z(3.0)],
-                    [3.0, 1.0, z(3.0)],
-                    [0.0, 1.0, z(0.0)],
-                ],
-            )
-        };
-        let polygons = [row(RED, -1.0, 0.6 * m), row(GREEN, 0.0, 0.55 * m)];
-        let mut w = loaded(&polygons, 3, 1);
-        assert_eq!(think_on(&mut w, win(0, 0, 3, 1)), Resolution::Subdivided);
-        let (runs, w) = resolved(&polygons, 3, 1);
-        assert_eq!(
-            image_of(&runs, 3, 1),
-            vec![Some(RED), Some(GREEN), Some(RED)]
-        );
-        assert_eq!(image_of(&runs, 3, 1), zbuffer_image(&polygons, 3, 1));
-        assert_eq!(w.stats.pixels, 3);
     }
 
     #[test]

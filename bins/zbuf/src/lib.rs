@@ -301,7 +301,9 @@ impl FrameBuffer {
 /// `held`: the tie rule ([`proto::depth::takes`]) when it comes later in the stream than
 /// the holder, the rule seen from the other side ([`proto::depth::takes_back`]) when
 /// earlier. An empty pixel is held by [`NO_POLYGON`], after every polygon, at `+∞`; a
-/// finished pixel (a leaf's run) by polygon 0 at `−∞`, which nothing takes.
+/// finished pixel (a leaf's run) by polygon 0 at `−∞`, which nothing takes. Two
+/// fragments of one polygon at one pixel (which a polygon's own spans never make) keep
+/// the nearer, whichever came first.
 #[inline]
 pub fn wins(z: f64, polygon: u32, held: f64, held_polygon: u32) -> bool {
     if polygon > held_polygon {
@@ -309,7 +311,7 @@ pub fn wins(z: f64, polygon: u32, held: f64, held_polygon: u32) -> bool {
     } else if polygon < held_polygon {
         proto::depth::takes_back(z, held)
     } else {
-        false
+        z < held
     }
 }
 
