@@ -217,3 +217,35 @@ fn generated_eyes_and_sizes_agree_with_the_reference() {
         );
     }
 }
+
+#[test]
+fn the_precision_table_is_right_for_the_reciprocal_form_only() {
+    // docs/methods.md, "The z-buffer near yon": the example that prints it is built with
+    // the tests.
+    let exe = pipeline_tests::bin_dir().join("examples/depth_precision");
+    let out = std::process::Command::new(&exe)
+        .output()
+        .unwrap_or_else(|e| panic!("{}: {e}", exe.display()));
+    assert!(out.status.success());
+    let text = String::from_utf8(out.stdout).unwrap();
+    let blocks: Vec<&str> = text.split("\n\n").collect();
+    let table = |name: &str| -> Vec<&str> {
+        let at = blocks.iter().position(|b| b.starts_with(name)).expect(name);
+        blocks[at + 1].lines().skip(2).collect()
+    };
+    // The default: every ratio, every gap.
+    assert!(table("reciprocal").iter().all(|r| !r.contains('✗')));
+    // The old fixed point loses the pair at 10^6 for gaps 1e-7..1e-9.
+    let fixed = table("projective, 2⁻⁴⁰ fixed point");
+    assert_eq!(fixed.len(), 7);
+    assert!(
+        fixed[0].split('|').all(|c| !c.contains('✗')),
+        "{}",
+        fixed[0]
+    );
+    assert!(
+        fixed[3].starts_with("| 1e6 |") && fixed[3].matches('✗').count() == 3,
+        "{}",
+        fixed[3]
+    );
+}
