@@ -208,7 +208,7 @@ impl RegionBuffer {
     }
 
     /// Pixels `columns` of row `y` in `colour`: pixel x has depth `z_row + x·dz`
-    /// ([`depth_at`]), as `zbuf` computes a fragment span's. A pixel is written when it is
+    /// ([`crate::depth_at`]), as `zbuf` computes a fragment span's. A pixel is written when it is
     /// empty or the tie rule gives it to this polygon. Spans must come polygon by polygon
     /// in stream order (see the module notes). A span off the screen is clipped.
     pub fn span(&mut self, y: u32, columns: Range<u32>, z_row: Depth, dz: Depth, colour: Colour) {
@@ -368,7 +368,7 @@ impl RegionBuffer {
 }
 
 /// The z-test over one tile row's piece of a span (BUFFER's inner loop): the pieces's
-/// first column is `x`, and column x has depth `z_row + x·dz` ([`depth_at`]). Returns
+/// first column is `x`, and column x has depth `z_row + x·dz` ([`crate::depth_at`]). Returns
 /// the pixels written. A pixel is taken when empty (colour 0) or when its depth is under
 /// the bar kept there; a taken pixel keeps this polygon's bar.
 #[inline]
