@@ -438,7 +438,7 @@ mod tests {
                 .iter()
                 .flat_map(|s| s.columns().map(move |x| (s.y, x, s.depth(x))))
                 .collect();
-            v.sort_by(|a, b| (a.0, a.1).cmp(&(b.0, b.1)));
+            v.sort_by_key(|a| (a.0, a.1));
             v
         };
         let w = pixels(&[whole]);

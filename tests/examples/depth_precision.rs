@@ -22,9 +22,11 @@ pub const GAPS: [f64; 11] = [
 /// Hither distances for yon 1000: ratios 10³ to 10⁹.
 pub const HITHERS: [f64; 7] = [1.0, 1e-1, 1e-2, 1e-3, 1e-4, 1e-5, 1e-6];
 
-/// The forms compared: a name, and whether blue (at `near`) is drawn over red (at
-/// `far`), both eye-space depths, in that form.
-fn forms() -> Vec<(&'static str, Box<dyn Fn(View, f64, f64) -> bool>)> {
+/// Whether a form draws blue (at eye depth `near`) over red (at `far`) in a view.
+type Draws = Box<dyn Fn(View, f64, f64) -> bool>;
+
+/// The forms compared, by name.
+fn forms() -> Vec<(&'static str, Draws)> {
     let depth = |mode: DepthMode, view: View, z: f64| {
         let p = Perspective::new(1, 1, view, mode).expect("a square screen");
         p.project_vertex(DVec4::new(0.0, 0.0, z, z * 0.625)).z

@@ -558,8 +558,8 @@ mod tests {
         // Polygon 2 (earlier): a tie at column 0 is its; half a width farther at column
         // 1 still ties (the later polygon 5 did not take it); two widths farther it loses.
         fb.pixel(0, 0, -1.0, 2, [2, 2, 2]);
-        fb.pixel(1, 0, -1.0 * (1.0 - 0.5 * TIE), 2, [2, 2, 2]);
-        fb.pixel(2, 0, -1.0 * (1.0 - 2.0 * TIE), 2, [2, 2, 2]);
+        fb.pixel(1, 0, -(1.0 - 0.5 * TIE), 2, [2, 2, 2]);
+        fb.pixel(2, 0, -(1.0 - 2.0 * TIE), 2, [2, 2, 2]);
         assert_eq!(fb.rgb(), &[2, 2, 2, 2, 2, 2, 1, 1, 1]);
     }
 
