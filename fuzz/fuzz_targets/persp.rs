@@ -8,10 +8,10 @@ use proto::View;
 
 fuzz_target!(|data: &[u8]| {
     let mut b = Bytes(data);
-    let depth = if b.u8() & 1 == 0 {
-        DepthMode::Projective
-    } else {
-        DepthMode::EyeZ
+    let depth = match b.u8() % 3 {
+        0 => DepthMode::Reciprocal,
+        1 => DepthMode::Projective,
+        _ => DepthMode::EyeZ,
     };
     let p = Perspective::new(64, 64, View::default(), depth).unwrap();
     let mut poly = polygon(&mut b, eye_vertex);

@@ -118,7 +118,7 @@ pub fn drain<T: proto::Record + PartialEq + std::fmt::Debug>(bytes: &[u8]) {
     }
 }
 
-/// A binary stream's start: the magic and a version-2 header for `space`.
+/// A binary stream's start: the magic and a header of the current version for `space`.
 pub fn binary_header(space: proto::Space) -> Vec<u8> {
     let w = proto::Writer::<proto::Token, _>::new(
         Vec::new(),

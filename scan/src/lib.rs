@@ -16,7 +16,7 @@
 //!    (MOVE.ET.BUCKET.TO.AET), dropping edges past their last scanline (UPDATE.AET),
 //!    sorting the crossings (the thesis's BUBBLESORT) and pairing them into spans,
 //! 3. gives every covered pixel its depth on the plane, stepping by `−a/c` along the row
-//!    (Appendix 3.3), in fixed point ([`DepthPlane`]).
+//!    (Appendix 3.3), an f64 in the form persp wrote ([`DepthPlane`]).
 //!
 //! Coverage is the rule of docs/DESIGN.md, "Coverage", taken from [`proto::raster`]: pixel (c, r) is covered when
 //! its centre (c+½, r+½) is inside by the even-odd rule, a centre on an edge going to the

@@ -15,7 +15,7 @@
 //!    rule, give its *segments* (14.4: "the intersection of the scan-line window and a
 //!    planar polygon"): the columns whose pixel centres it covers, exactly the spans the
 //!    z-buffer draws (docs/DESIGN.md, "Leaves resolve visibility"), each with the
-//!    polygon's fixed-point depth plane on the line (`z_row`, `dz`) and its stream index.
+//!    polygon's depth plane on the line (`z_row`, `dz`) and its stream index.
 //! 3. **Sample spans.** The line is cut at every segment end into *sample spans*, inside
 //!    which the set of segments does not change. A sample span with one segment is that
 //!    segment's (14.4.1, simple case 1); a span with none is background.

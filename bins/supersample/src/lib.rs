@@ -5,7 +5,7 @@
 //! (K·c + i + ½, K·r + j + ½) of a screen K times finer. Each polygon is carried onto that
 //! screen exactly ([`scan::fine::scaled`]; K is a power of two) and every sample is decided
 //! there by the z-buffer's own rule: coverage by [`scan::SpanWalker`], depth by the
-//! polygon's fixed-point plane, the smaller depth wins, a tie keeps the earlier polygon.
+//! polygon's depth plane, decided by the tie rule (`scan::takes`).
 //! The picture is thus the point-sampled K·W × K·H picture box-filtered in K×K blocks,
 //! which is what `zspec --samples K` computes in f64.
 //!

@@ -1,7 +1,7 @@
 //! zspec: the exact reference renderer, docs/DESIGN.md's "The Z specification" evaluated directly.
 //!
 //! The pipeline reaches its pictures through clipping (chapter 3), perspective, an edge
-//! table scan converter (chapter 4, Appendix 3) and a depth buffer with fixed-point depth
+//! table scan converter (chapter 4, Appendix 3) and a depth buffer with reciprocal depth
 //! (chapter 2.3's Z-buffer). zspec shares none of those algorithms: it is the *Z spec*
 //! of chapter 2.3 written out literally, in f64, one pixel centre at a time:
 //!
