@@ -1,6 +1,6 @@
-# hosts.sh: what render.sh (leaves on hosts) and render-frames.sh (frames on hosts) share
-# about reaching other hosts over ssh (docs/DESIGN.md, "Stages on other hosts"). Sourced,
-# not run.
+# hosts.sh: how render.sh reaches other hosts over ssh for --by leaves (docs/DESIGN.md,
+# "Stages on other hosts"; --by frames is the farm binary's, which does the same in
+# Rust). Sourced, not run.
 
 # The command that reaches a host, in the array `ssh_cmd`. Plain ssh gets the options
 # that make a dead host known within seconds; a POLYPIPE_SSH of the user's is taken as

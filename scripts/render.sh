@@ -69,9 +69,12 @@ Options:
                     (its splitters and leaves) when the tree has more leaves than
                     there are hosts; the streams go there, the finished pixels
                     come back, and the frames are a local run's
-  --by MODE         with --hosts: leaves (default), or frames: split a movie's
-                    frames across the hosts in contiguous chunks, each rendered
-                    there whole (scripts/render-frames.sh)
+  --by MODE         with --hosts: leaves (default), or frames: cut a movie into
+                    chunks of a few frames, each rendered whole by render.sh on
+                    the next host free, the frames written back in order as they
+                    come (the `farm` binary; not with -o)
+  --chunk N         with --by frames: frames a chunk, one ssh session each
+                    (default 8)
   --remote-bin DIR  with --hosts: the binaries' folder on the hosts (default: this one's)
   --subtree K       what --hosts runs on a host: node K's part of the tree (its
                     splitters, leaves and a zbuf --runs), from the stream into node K
@@ -147,13 +150,15 @@ scene_given=0
 hosts=()  # --hosts H1,H2,… (a list until check_hosts makes it the array)
 by=       # --by leaves|frames
 remote_bin= # --remote-bin DIR
+chunk=()    # --chunk N, for farm (--by frames)
+forward=()  # the options a host's render.sh gets with --by frames
 subtree=    # --subtree K: this is a host rendering node K's subtree for --hosts
 camera=() # viewxf's options, as given
 stats=()  # --stats, for the stages that count
 output=() # zbuf's -o PATTERN
 
 # The options that take a value (each also as --option=value), and those that do not.
-valued=" --size --depth --zmode --hse --aa --merge --clip -o --eye --at --up --s --d --hither --yon --hosts --by --remote-bin --subtree "
+valued=" --size --depth --zmode --hse --aa --merge --clip -o --eye --at --up --s --d --hither --yon --hosts --by --remote-bin --subtree --chunk "
 flags=" -h --help --version --stats --pixels --hidden-line "
 
 parse_options() {
@@ -170,6 +175,11 @@ parse_options() {
             value=$1
             shift
         fi
+        # With --by frames, the hosts' render.sh gets every option about the picture.
+        case $opt in
+            --hosts | --by | --remote-bin | --chunk | -o | -h | --help | --version | [!-]* | -) ;;
+            *) forward+=("$opt"); [[ $valued != *" $opt "* ]] || forward+=("$value") ;;
+        esac
         case $opt in
             -h | --help) usage; exit 0 ;;
             --version) echo "render.sh $(polypipe_version)"; exit 0 ;;
@@ -188,6 +198,7 @@ parse_options() {
             --hosts) hosts=$value ;;
             --by) by=$value ;;
             --remote-bin) remote_bin=$value ;;
+            --chunk) chunk=(--chunk "$value") ;;
             --subtree) subtree=$value ;;
             -?*) die_usage "unknown option ${opt%%=*}" ;;
             *)
@@ -234,6 +245,8 @@ validate_options() {
             die_usage "--hidden-line draws the visible edges: not with --hse, --aa, --merge buffer or --pixels"
     fi
     if [[ -n $subtree ]]; then
+        # A host's part of the tree is cut by the tree's depth, which --hosts gives it.
+        [[ $depth != auto ]] || die_usage "--subtree needs --depth N, the depth of the tree it is part of"
         [[ $subtree =~ ^[1-9][0-9]*$ ]] && ((subtree < 2 << depth)) ||
             die_usage "--subtree must be a node of the tree, 1 to $(((2 << depth) - 1)), not '$subtree'"
         [[ $merge == tiles && ${#hosts[@]} == 0 && $hidden_line == 0 ]] ||
@@ -256,14 +269,14 @@ validate_options() {
 # The stages render.sh runs, and the other binaries the README's examples use: all built
 # on the first run, so that every command in the README works after it.
 binaries=(viewxf clipplane clipbatch splitter persp scanconv zbuf scanline warnock painter
-    hiddenline supersample abuf scene zspec frames chart)
+    hiddenline supersample abuf scene zspec frames farm chart)
 stages=(viewxf clipplane clipbatch splitter persp scanconv zbuf) # the ones a render runs
 
 # Sets `bindir`, and builds the binaries with cargo when one is missing or stale. Without
 # cargo, binaries already built are run as they are (with a warning if stale).
 ensure_binaries() {
     # POLYPIPE_BIN names a folder of built binaries, run as they are and never built: a
-    # host's, given by `render.sh --hosts … --remote-bin DIR` (render-frames.sh runs
+    # host's, given by `render.sh --hosts … --remote-bin DIR` (farm runs
     # `POLYPIPE_BIN=DIR render.sh …` there), which may have no sources and no cargo.
     if [[ -n ${POLYPIPE_BIN-} ]]; then
         bindir=$POLYPIPE_BIN
@@ -793,6 +806,22 @@ watch() {
     fail "$st" "${stage_of[$cause]} failed ($(describe "${status_of[$cause]}"))"
 }
 
+# --by frames: the `farm` binary cuts the movie into chunks and runs each on a host,
+# `render.sh OPTIONS -` there (this script, at the same path, with the binaries of
+# --remote-bin), and writes the frames back in order. The options are checked here
+# first, as a local render would check them.
+frames_on_hosts() {
+    ((${#output[@]} == 0)) ||
+        die_usage "-o is not available with --by frames: the frames come back on stdout"
+    [[ -z $subtree ]] || die_usage "--subtree is a host's part of --by leaves: not with --by frames"
+    local list=$hosts
+    hosts=()
+    validate_options
+    ensure_binaries
+    exec "$bindir/farm" --hosts "$list" "${chunk[@]}" "${stats[@]}" "$scene" -- \
+        env POLYPIPE_BIN="${remote_bin:-$bindir}" "$root/scripts/render.sh" "${forward[@]}" -
+}
+
 main() {
     locate_repository
     parse_options "$@"
@@ -800,10 +829,11 @@ main() {
         [[ -n ${hosts-} ]] || die_usage "--by $by needs --hosts H1,H2,…"
         [[ ${by:-leaves} == @(leaves|frames) ]] ||
             die_usage "--by must be leaves or frames, not '$by'"
-        [[ $by != frames ]] || exec "$root/scripts/render-frames.sh" "$@"
         source "$root/scripts/hosts.sh"
         check_hosts "$hosts"
+        [[ $by != frames ]] || frames_on_hosts
     fi
+    ((${#chunk[@]} == 0)) || die_usage "--chunk is for --by frames"
     validate_options
     [[ -r /proc/self/stat ]] || fail 3 "needs /proc (Linux), to watch its stages"
     ensure_binaries
