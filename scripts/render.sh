@@ -814,7 +814,8 @@ frames_on_hosts() {
     ((${#output[@]} == 0)) ||
         die_usage "-o is not available with --by frames: the frames come back on stdout"
     [[ -z $subtree ]] || die_usage "--subtree is a host's part of --by leaves: not with --by frames"
-    local list=$hosts
+    local list
+    list=$(IFS=,; printf '%s' "${hosts[*]}") # check_hosts made it an array
     hosts=()
     validate_options
     ensure_binaries
