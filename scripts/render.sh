@@ -792,6 +792,16 @@ watch() {
     fi
     for i in "${!pids[@]}"; do
         [[ ${pids[$i]} == "$cause" ]] || continue
+        # The merger found a host's runs empty: that host answered with nothing (a
+        # command that is not render.sh, say), which is the host's fault, not the data's.
+        if [[ -z ${host_of[$cause]-} ]] &&
+            [[ $(<"$tmp/stderr.$i") =~ from-([0-9]+):\ empty\ input ]]; then
+            local node=${BASH_REMATCH[1]} p
+            for p in "${pids[@]}"; do
+                [[ ${node_of[$p]-} == "$node" ]] || continue
+                fail 3 "host ${host_of[$p]} ($(what_node "$node")): sent back nothing ($(describe "${status_of[$p]-0}") from its command)"
+            done
+        fi
         if [[ -n ${host_of[$cause]-} ]]; then
             # A leaf on a host: what ssh or the far side said last is the message.
             labelled_stderr "$i" | head -n -1 >&2

@@ -1053,6 +1053,15 @@ fn each_way_a_leaf_host_fails_is_named_within_seconds_leaving_nothing() {
                     .into()
             },
         },
+        // Answers with nothing: a forced command that reads the stream and succeeds.
+        LeafFault {
+            kinds: vec![Host::ForcedCommand("cat >/dev/null".into())],
+            args: &["--hosts", "node1", "--depth", "0"],
+            message: |_| {
+                "render.sh: host node1 (leaf 0): sent back nothing (status 0 from its command)"
+                    .into()
+            },
+        },
         // Lacks the binaries. Depth 0: one leaf (at depth 1 both would fail, and either
         // may be named first).
         LeafFault {
