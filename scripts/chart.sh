@@ -25,6 +25,7 @@ fail() {
 # shellcheck source=lib/binaries.sh
 source "$root/scripts/lib/binaries.sh"
 build_binaries
+# shellcheck disable=SC2154 # bindir, set by build_binaries
 
 case ${1-} in
     choose-depth) exec "$bindir/chart" "$@" --root "$root" ;;

@@ -1,3 +1,5 @@
+# shellcheck shell=bash
+# shellcheck disable=SC2034 # ssh_cmd, message, exit_status: for the script that sources this
 # hosts.sh: how render.sh reaches other hosts over ssh for --by leaves (docs/DESIGN.md,
 # "Stages on other hosts"; --by frames is the farm binary's, which does the same in
 # Rust). Sourced, not run.

@@ -119,7 +119,7 @@ locate_repository() {
     if [[ ! -L $script ]]; then
         dir=.
         [[ $script != */* ]] || dir=${script%/*}
-        if CDPATH= cd -P -- "$dir/.." 2>/dev/null; then
+        if CDPATH='' cd -P -- "$dir/.." 2>/dev/null; then
             root=$PWD
             cd -- "$here" || fail 3 "cannot go back to $here"
             return
@@ -144,10 +144,11 @@ aa=none     # --aa: the leaves' anti-aliasing
 pixels=()   # --pixels: scanconv's one record per pixel (with --merge buffer)
 hidden_line=0 # --hidden-line: hiddenline's SVG instead of frames
 merge=tiles # --merge: leaves resolve their regions (tiles), or one z-buffer (buffer)
-clip=batch  # --clip: clipbatch (batch), or the six clipplane processes (chain)
+clip="batch" # --clip: clipbatch (batch), or the six clipplane processes (chain)
 scene=
 scene_given=0
-hosts=()  # --hosts H1,H2,… (a list until check_hosts makes it the array)
+hosts=()  # the hosts, an array made by check_hosts from --hosts
+hosts_list= # --hosts H1,H2,…
 by=       # --by leaves|frames
 remote_bin= # --remote-bin DIR
 chunk=()    # --chunk N, for farm (--by frames)
@@ -195,7 +196,7 @@ parse_options() {
             -o) output=(-o "$value") ;;
             --eye | --at | --up | --s | --d | --hither | --yon) camera+=("$opt" "$value") ;;
             --stats) stats=(--stats) ;;
-            --hosts) hosts=$value ;;
+            --hosts) hosts_list=$value ;;
             --by) by=$value ;;
             --remote-bin) remote_bin=$value ;;
             --chunk) chunk=(--chunk "$value") ;;
@@ -652,7 +653,7 @@ finished() { # finished PID: whether it has exited (reaped or a zombie)
 # PID`, and success means every stage was seen to exit 0.
 watch() {
     local -A status_of=() # pid → exit status, as learnt
-    local failed= done_pid status pid st cause= i
+    local failed='' done_pid status pid st cause='' i
     while :; do
         done_pid=
         wait -n -p done_pid
@@ -736,8 +737,7 @@ frames_on_hosts() {
     ((${#output[@]} == 0)) ||
         die_usage "-o is not available with --by frames: the frames come back on stdout"
     [[ -z $subtree ]] || die_usage "--subtree is a host's part of --by leaves: not with --by frames"
-    local list
-    list=$(IFS=,; printf '%s' "${hosts[*]}") # check_hosts made it an array
+    local list=$hosts_list
     hosts=()
     validate_options
     ensure_binaries
@@ -748,14 +748,16 @@ frames_on_hosts() {
 main() {
     locate_repository
     me=render.sh
+    # shellcheck source=lib/binaries.sh
     source "$root/scripts/lib/binaries.sh"
     parse_options "$@"
-    if [[ -n ${hosts-} || -n $by ]]; then # rendering on other hosts
-        [[ -n ${hosts-} ]] || die_usage "--by $by needs --hosts H1,H2,…"
+    if [[ -n $hosts_list || -n $by ]]; then # rendering on other hosts
+        [[ -n $hosts_list ]] || die_usage "--by $by needs --hosts H1,H2,…"
         [[ ${by:-leaves} == @(leaves|frames) ]] ||
             die_usage "--by must be leaves or frames, not '$by'"
+        # shellcheck source=hosts.sh
         source "$root/scripts/hosts.sh"
-        check_hosts "$hosts"
+        check_hosts "$hosts_list"
         [[ $by != frames ]] || frames_on_hosts
     fi
     ((${#chunk[@]} == 0)) || die_usage "--chunk is for --by frames"

@@ -1,3 +1,5 @@
+# shellcheck shell=bash
+# shellcheck disable=SC2154 # root, set by the script that sources this
 # binaries.sh: the polypipe binaries built when missing or older than their sources,
 # for the scripts that run them (render.sh, chart.sh), with one freshness check: a
 # glance that starts no process on most runs, cargo only when a source is newer. Sourced,
@@ -61,7 +63,7 @@ build_binaries() {
 # start no process: a `find` over the tree cost 2.5 ms of every render. When it finds a
 # file, is_stale decides binary by binary.
 all_fresh() {
-    local b oldest= file
+    local b oldest='' file
     for b in "${binaries[@]}"; do
         [[ -x $bindir/$b ]] || return 1
         [[ -n $oldest && ! $bindir/$b -ot $oldest ]] || oldest=$bindir/$b
