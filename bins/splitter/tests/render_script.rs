@@ -157,7 +157,6 @@ fn splitter_trees_render_the_penetrating_polygons_as_the_linear_pipeline() {
     }
 }
 
-/// Every scene in examples/ (and its subdirectories), at a square and an odd size.
 // Every example at depths 1 to 6 is checked in process (tests/tests/split_invariance.rs:
 // the stage libraries, no processes, in about a second); the 336 render.sh runs that did
 // it here took most of the suite's time. The tests here keep a handful of real trees.
