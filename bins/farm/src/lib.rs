@@ -855,3 +855,190 @@ fn kill(pid: u32, sig: i32) {
         }
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use proptest::prelude::*;
+
+    /// A text movie of `n` frames, frame k one triangle of colour (k, 0, 0).
+    fn movie(n: u64) -> String {
+        let frames: Vec<String> = (0..n)
+            .map(|k| format!("colour {k} 0 0\n0 0 0\n1 0 0\n0 1 0\n"))
+            .collect();
+        format!("polypipe 1 world\n{}END\n", frames.join("NEXT.FRAME\n"))
+    }
+
+    fn chunks(n: u64, size: u64) -> Vec<Chunk> {
+        let text = movie(n);
+        let reader = Reader::<Token, _>::new(std::io::Cursor::new(text.into_bytes())).unwrap();
+        let mut cutter = Cutter::new(reader, size).unwrap();
+        let mut out = Vec::new();
+        while let Some(c) = cutter.next_chunk().unwrap() {
+            out.push(c);
+        }
+        out
+    }
+
+    /// A chunk's frames, each as its colour's red.
+    fn reds(chunk: &Chunk) -> Vec<u8> {
+        let mut reader = Reader::<Token, _>::new(&chunk.bytes[..]).unwrap();
+        let mut reds = Vec::new();
+        let mut ends = 0;
+        while let Some(t) = reader.next_record().unwrap() {
+            match t {
+                Token::Polygon(p) => reds.push(p.colour[0]),
+                Token::End => ends += 1,
+                _ => {}
+            }
+        }
+        assert_eq!(ends, 1, "a chunk ends with one END");
+        reds
+    }
+
+    #[test]
+    fn a_movie_is_cut_into_chunks_that_are_movies_of_their_own() {
+        let c = chunks(7, 3);
+        let places: Vec<(usize, u64, u64)> =
+            c.iter().map(|c| (c.index, c.first, c.frames)).collect();
+        assert_eq!(places, [(0, 0, 3), (1, 3, 3), (2, 6, 1)]);
+        assert_eq!(reds(&c[0]), [0, 1, 2]);
+        assert_eq!(reds(&c[1]), [3, 4, 5]);
+        assert_eq!(reds(&c[2]), [6]);
+        // One chunk of the whole movie when it is no longer than a chunk.
+        let c = chunks(2, 8);
+        assert_eq!((c.len(), c[0].frames), (1, 2));
+    }
+
+    #[test]
+    fn a_fragment_stream_is_refused() {
+        let reader = Reader::<Token, _>::new(&b"polypipe 1 fragments 4 4\nEND\n"[..]).unwrap();
+        let err = Cutter::new(reader, 4).err().unwrap();
+        assert_eq!(err.kind(), stagecli::Kind::Data);
+        assert_eq!(
+            err.to_string(),
+            "a fragment stream; the hosts render polygon streams (world, eye or screen)"
+        );
+    }
+
+    #[test]
+    fn frames_are_written_in_order_whatever_order_they_come_in() {
+        let mut order = InOrder::new();
+        let f = |k: u8| vec![k];
+        // Chunk 1 finishes first: kept; chunk 0's frames go out as they come.
+        assert!(order.frame(1, f(2)).is_empty());
+        assert!(order.frame(1, f(3)).is_empty());
+        assert!(order.ended(1).is_empty());
+        assert_eq!(order.held(), 2);
+        assert_eq!(order.frame(0, f(0)), [f(0)]);
+        assert_eq!(order.frame(0, f(1)), [f(1)]);
+        // Chunk 0 ends: chunk 1's kept frames follow, and chunk 2 is the head.
+        assert_eq!(order.ended(0), [f(2), f(3)]);
+        assert_eq!((order.head(), order.held()), (2, 0));
+        assert_eq!(order.frame(2, f(4)), [f(4)]);
+    }
+
+    proptest! {
+        /// However the chunks' frames and ends interleave (each chunk's own in order),
+        /// the frames come out as the movie's, each once.
+        #[test]
+        fn any_interleaving_gives_the_movie(sizes in prop::collection::vec(0usize..4, 1..6),
+                                            picks in prop::collection::vec(0usize..100, 0..60)) {
+            // Events per chunk: its frames, then its end.
+            let mut next_frame = 0u8;
+            let mut queues: Vec<VecDeque<Option<u8>>> = sizes.iter().map(|&n| {
+                let mut q: VecDeque<Option<u8>> = (0..n).map(|_| { next_frame += 1; Some(next_frame - 1) }).collect();
+                q.push_back(None);
+                q
+            }).collect();
+            let mut order = InOrder::new();
+            let mut out = Vec::new();
+            let mut picks = picks.into_iter();
+            while queues.iter().any(|q| !q.is_empty()) {
+                let live: Vec<usize> = (0..queues.len()).filter(|&i| !queues[i].is_empty()).collect();
+                let i = live[picks.next().unwrap_or(0) % live.len()];
+                match queues[i].pop_front().unwrap() {
+                    Some(frame) => out.extend(order.frame(i, vec![frame])),
+                    None => out.extend(order.ended(i)),
+                }
+            }
+            let want: Vec<Vec<u8>> = (0..next_frame).map(|k| vec![k]).collect();
+            prop_assert_eq!(out, want);
+            prop_assert_eq!(order.head(), sizes.len());
+        }
+    }
+
+    #[test]
+    fn how_a_session_ended_is_told_in_one_line() {
+        let f = |status, signal, err: &str| classify(status, signal, err);
+        assert_eq!(f(Some(0), None, "render.sh: zbuf: 3 frames\n"), None);
+        let ssh = f(
+            Some(255),
+            None,
+            "ssh: connect to host x port 22: Connection refused\n",
+        )
+        .unwrap();
+        assert_eq!(
+            (ssh.message.as_str(), ssh.status),
+            ("ssh: connect to host x port 22: Connection refused", 3)
+        );
+        let far = f(
+            Some(1),
+            None,
+            "render.sh: viewxf: stdin: line 3: not a number\n",
+        )
+        .unwrap();
+        assert_eq!(
+            (far.message.as_str(), far.status),
+            ("viewxf: stdin: line 3: not a number", 1)
+        );
+        let silent = f(Some(1), None, "").unwrap();
+        assert_eq!(
+            (silent.message.as_str(), silent.status),
+            (
+                "the command exited with status 1 and no message (does the host allow only \
+                 another command?)",
+                3
+            )
+        );
+        let missing = f(Some(127), None, "sh: 1: exec: render.sh: not found\n").unwrap();
+        assert_eq!(
+            missing.message,
+            "cannot run the command there: sh: 1: exec: render.sh: not found"
+        );
+        let killed = f(None, Some(libc::SIGKILL), "").unwrap();
+        assert_eq!(
+            (killed.message.as_str(), killed.status),
+            ("ssh was killed by SIGKILL", 3)
+        );
+        let info = ChunkInfo {
+            first: 8,
+            frames: 4,
+        };
+        assert_eq!(
+            short_failure(0, &info).message,
+            "sent back nothing for its frames 8 to 11"
+        );
+        assert_eq!(
+            short_failure(2, &info).message,
+            "sent back 2 of its frames 8 to 11"
+        );
+    }
+
+    #[test]
+    fn hosts_and_the_remote_command_are_checked_and_quoted() {
+        assert_eq!(parse_hosts("a,b,a").unwrap(), ["a", "b", "a"]);
+        for bad in ["", "a,,b", "-o", "a b"] {
+            assert_eq!(
+                parse_hosts(bad).unwrap_err(),
+                format!("--hosts must be host names separated by commas, not '{bad}'")
+            );
+        }
+        assert_eq!(
+            remote_command(&["render.sh".into(), "--eye".into(), "it's".into()]),
+            r"exec 'render.sh' '--eye' 'it'\''s'"
+        );
+        assert_eq!(ssh_command(Some("ssh -p 2222")), ["ssh", "-p", "2222"]);
+        assert_eq!(ssh_command(None)[0], "ssh");
+    }
+}
