@@ -294,13 +294,19 @@ pids=()             # every stage, upstream first
 declare -A stage_of # pid → stage name, for the messages
 
 make_private_dir() {
-    tmp=$(mktemp -d "${TMPDIR:-/tmp}/render.XXXXXX") || exit 3
+    # The folder's name is chosen, and the traps that remove it set, before it is made:
+    # a signal while `mktemp` ran (a process of its own) ended the script before it knew
+    # the name, and left the folder. mkdir refuses a name that exists (a link included);
+    # the random part makes one hard to guess.
+    tmp=${TMPDIR:-/tmp}/render.$$.$SRANDOM
     trap cleanup EXIT
     # The first signal ends the run; any after it, until the clean-up is done, is ignored
     # (`timeout` and a terminal's Ctrl-C signal the script and then its whole group, and a
     # second `exit` in the middle of the clean-up would leave the private folder).
     trap 'trap "" INT TERM; exit 130' INT
     trap 'trap "" INT TERM; exit 143' TERM
+    # Not ours if it could not be made: nothing for the clean-up to remove.
+    mkdir -m 700 -- "$tmp" 2>/dev/null || { tmp=''; fail 3 "cannot make a private folder in ${TMPDIR:-/tmp}"; }
 }
 
 # Stops every stage still running (TERM, then KILL after a second), reaps them all.
