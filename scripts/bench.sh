@@ -55,6 +55,8 @@ done
 [[ $reps =~ ^[1-9][0-9]*$ ]] || { echo "bench.sh: --reps must be a positive integer, not '$reps'" >&2; exit 2; }
 
 root=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
+# shellcheck source=lib/bench.sh
+source "$root/scripts/lib/bench.sh"
 cd "$root"
 B=${CARGO_TARGET_DIR:-$root/target}/release
 render=${RENDER:-$root/scripts/render.sh}
@@ -150,10 +152,9 @@ for ((r = 1; r <= reps; r++)); do
     done
 done
 
-median() { # JOB: the median of its times, or nothing
+job_median() { # JOB: the median of its times, or nothing
     [[ -n ${times[$1]:-} ]] || return 0
-    tr ' ' '\n' <<< "${times[$1]}" | grep . | sort -g |
-        awk '{ t[NR] = $1 } END { printf "%.3f", NR % 2 ? t[(NR + 1) / 2] : (t[NR / 2] + t[NR / 2 + 1]) / 2 }'
+    tr ' ' '\n' <<< "${times[$1]}" | grep . | median
 }
 
 # differ A B: how two runs' pictures compare ("identical", or differing pixels of all).
@@ -169,11 +170,11 @@ differ() {
 # row WHAT SCENE-LABEL JOB-A JOB-B CHECK
 row() {
     local ta tb ratio=n/a
-    ta=$(median "$3") tb=$(median "$4")
+    ta=$(job_median "$3") tb=$(job_median "$4")
     [[ -n $ta ]] || ta=n/a
     [[ -n $tb ]] || tb=n/a
     if [[ $ta != n/a && $tb != n/a ]]; then
-        ratio=$(awk -v a="$ta" -v b="$tb" 'BEGIN { printf "%.2f", a / b }')
+        ratio=$(ratio "$ta" "$tb")
     fi
     echo "| $1 | $2 | $ta | $tb | **$ratio** | $5 |"
 }

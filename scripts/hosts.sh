@@ -1,6 +1,8 @@
-# hosts.sh: what render.sh (leaves on hosts) and render-frames.sh (frames on hosts) share
-# about reaching other hosts over ssh (docs/DESIGN.md, "Stages on other hosts"). Sourced,
-# not run.
+# shellcheck shell=bash
+# shellcheck disable=SC2034 # ssh_cmd, message, exit_status: for the script that sources this
+# hosts.sh: how render.sh reaches other hosts over ssh for --by leaves (docs/DESIGN.md,
+# "Stages on other hosts"; --by frames is the farm binary's, which does the same in
+# Rust). Sourced, not run.
 
 # The command that reaches a host, in the array `ssh_cmd`. Plain ssh gets the options
 # that make a dead host known within seconds; a POLYPIPE_SSH of the user's is taken as

@@ -71,9 +71,12 @@ Options:
                     (its splitters and leaves) when the tree has more leaves than
                     there are hosts; the streams go there, the finished pixels
                     come back, and the frames are a local run's
-  --by MODE         with --hosts: leaves (default), or frames: split a movie's
-                    frames across the hosts in contiguous chunks, each rendered
-                    there whole (scripts/render-frames.sh)
+  --by MODE         with --hosts: leaves (default), or frames: cut a movie into
+                    chunks of a few frames, each rendered whole by render.sh on
+                    the next host free, the frames written back in order as they
+                    come (the `farm` binary; not with -o)
+  --chunk N         with --by frames: frames a chunk, one ssh session each
+                    (default 8)
   --remote-bin DIR  with --hosts: the binaries' folder on the hosts (default: this one's)
   --subtree K       what --hosts runs on a host: node K's part of the tree (its
                     splitters, leaves and a zbuf --runs), from the stream into node K
@@ -118,7 +121,7 @@ locate_repository() {
     if [[ ! -L $script ]]; then
         dir=.
         [[ $script != */* ]] || dir=${script%/*}
-        if CDPATH= cd -P -- "$dir/.." 2>/dev/null; then
+        if CDPATH='' cd -P -- "$dir/.." 2>/dev/null; then
             root=$PWD
             cd -- "$here" || fail 3 "cannot go back to $here"
             return
@@ -143,19 +146,22 @@ aa=none     # --aa: the leaves' anti-aliasing
 pixels=()   # --pixels: scanconv's one record per pixel (with --merge buffer)
 hidden_line=0 # --hidden-line: hiddenline's SVG instead of frames
 merge=tiles # --merge: leaves resolve their regions (tiles), or one z-buffer (buffer)
-clip=batch  # --clip: clipbatch (batch), or the six clipplane processes (chain)
+clip="batch" # --clip: clipbatch (batch), or the six clipplane processes (chain)
 scene=
 scene_given=0
-hosts=()  # --hosts H1,H2,… (a list until check_hosts makes it the array)
+hosts=()  # the hosts, an array made by check_hosts from --hosts
+hosts_list= # --hosts H1,H2,…
 by=       # --by leaves|frames
 remote_bin= # --remote-bin DIR
+chunk=()    # --chunk N, for farm (--by frames)
+forward=()  # the options a host's render.sh gets with --by frames
 subtree=    # --subtree K: this is a host rendering node K's subtree for --hosts
 camera=() # viewxf's options, as given
 stats=()  # --stats, for the stages that count
 output=() # zbuf's -o PATTERN
 
 # The options that take a value (each also as --option=value), and those that do not.
-valued=" --size --depth --zmode --hse --aa --merge --clip -o --eye --at --up --s --d --hither --yon --hosts --by --remote-bin --subtree "
+valued=" --size --depth --zmode --hse --aa --merge --clip -o --eye --at --up --s --d --hither --yon --hosts --by --remote-bin --subtree --chunk "
 flags=" -h --help --version --stats --pixels --hidden-line "
 
 parse_options() {
@@ -172,6 +178,11 @@ parse_options() {
             value=$1
             shift
         fi
+        # With --by frames, the hosts' render.sh gets every option about the picture.
+        case $opt in
+            --hosts | --by | --remote-bin | --chunk | -o | -h | --help | --version | [!-]* | -) ;;
+            *) forward+=("$opt"); [[ $valued != *" $opt "* ]] || forward+=("$value") ;;
+        esac
         case $opt in
             -h | --help) usage; exit 0 ;;
             --version) echo "render.sh $(polypipe_version)"; exit 0 ;;
@@ -187,9 +198,10 @@ parse_options() {
             -o) output=(-o "$value") ;;
             --eye | --at | --up | --s | --d | --hither | --yon) camera+=("$opt" "$value") ;;
             --stats) stats=(--stats) ;;
-            --hosts) hosts=$value ;;
+            --hosts) hosts_list=$value ;;
             --by) by=$value ;;
             --remote-bin) remote_bin=$value ;;
+            --chunk) chunk=(--chunk "$value") ;;
             --subtree) subtree=$value ;;
             -?*) die_usage "unknown option ${opt%%=*}" ;;
             *)
@@ -236,6 +248,8 @@ validate_options() {
             die_usage "--hidden-line draws the visible edges: not with --hse, --aa, --merge buffer or --pixels"
     fi
     if [[ -n $subtree ]]; then
+        # A host's part of the tree is cut by the tree's depth, which --hosts gives it.
+        [[ $depth != auto ]] || die_usage "--subtree needs --depth N, the depth of the tree it is part of"
         [[ $subtree =~ ^[1-9][0-9]*$ ]] && ((subtree < 2 << depth)) ||
             die_usage "--subtree must be a node of the tree, 1 to $(((2 << depth) - 1)), not '$subtree'"
         [[ $merge == tiles && ${#hosts[@]} == 0 && $hidden_line == 0 ]] ||
@@ -255,17 +269,13 @@ validate_options() {
 
 # --- The binaries: built when missing or older than their sources. ---------------------
 
-# The stages render.sh runs, and the other binaries the README's examples use: all built
-# on the first run, so that every command in the README works after it.
-binaries=(viewxf clipplane clipbatch splitter persp scanconv zbuf scanline warnock painter
-    hiddenline supersample abuf scene zspec frames chart)
 stages=(viewxf clipplane clipbatch splitter persp scanconv zbuf) # the ones a render runs
 
-# Sets `bindir`, and builds the binaries with cargo when one is missing or stale. Without
-# cargo, binaries already built are run as they are (with a warning if stale).
+# Sets `bindir`: a host's folder of binaries (POLYPIPE_BIN), or this repository's
+# `binaries`, built when missing or stale (scripts/lib/binaries.sh).
 ensure_binaries() {
     # POLYPIPE_BIN names a folder of built binaries, run as they are and never built: a
-    # host's, given by `render.sh --hosts … --remote-bin DIR` (render-frames.sh runs
+    # host's, given by `render.sh --hosts … --remote-bin DIR` (farm runs
     # `POLYPIPE_BIN=DIR render.sh …` there), which may have no sources and no cargo.
     if [[ -n ${POLYPIPE_BIN-} ]]; then
         bindir=$POLYPIPE_BIN
@@ -276,93 +286,9 @@ ensure_binaries() {
         done
         return 0
     fi
-    # cargo runs in the repository root and takes a relative CARGO_TARGET_DIR from there.
-    local target=${CARGO_TARGET_DIR:-target} b
-    [[ $target == /* ]] || target=$root/$target
-    bindir=$target/release
-    local stamp=$bindir/.render.sh-asked-cargo
-    local -a missing=() stale=() packages=()
-    ! all_fresh "$stamp" || return 0
-    for b in "${binaries[@]}"; do
-        packages+=(-p "$b")
-        if [[ ! -x $bindir/$b ]]; then
-            missing+=("$b")
-        elif is_stale "$bindir/$b" "$stamp"; then
-            stale+=("$b")
-        fi
-    done
-    if ((${#missing[@]} + ${#stale[@]} == 0)); then
-        # Every binary is current by its own sources: say so in the stamp, so that the
-        # next run's quick look passes instead of reading every dep-info again (after a
-        # `cargo build` by hand that left some binary untouched, every run did).
-        touch "$stamp" 2>/dev/null
-        return 0
-    fi
-    if ! command -v cargo >/dev/null; then
-        ((${#missing[@]} == 0)) ||
-            fail 3 "cannot build ${missing[*]} into $bindir: cargo is not on PATH (Rust: https://rustup.rs)"
-        echo "render.sh: warning: ${stale[*]}: older than their sources, and no cargo on PATH to rebuild them; running them as they are" >&2
-        return 0
-    fi
-    if ((${#missing[@]} == ${#binaries[@]})); then
-        echo "render.sh: building the polypipe binaries (first run only)…" >&2
-    elif ((${#missing[@]} > 0)); then
-        echo "render.sh: building ${missing[*]}…" >&2
-    elif [[ -t 2 ]]; then
-        echo "render.sh: rebuilding the polypipe binaries (their sources changed)…" >&2
-    fi
-    (cd "$root" && cargo build --release --quiet "${packages[@]}") >&2 || fail 3 "cargo build failed"
-    touch "$stamp" 2>/dev/null
+    build_binaries
 }
 
-# all_fresh STAMP: a quick look that finds nothing to do on most runs: every binary is
-# there, and no file a binary could be built from is newer than the oldest binary and
-# than STAMP. Those files are the workspace's manifests and lock and, in each of its
-# crates (proto, scan, stagecli and bins/*: docs/DESIGN.md's layout), the manifest, a
-# build script, and what is under src/ or fonts/ (chart's font) to three levels; not
-# tests, benches, scripts, documents or examples. Globs and `-nt` in the shell, which
-# start no process: a `find` over the tree cost 2.5 ms of every render. When it finds a
-# file, is_stale decides binary by binary.
-all_fresh() {
-    local b oldest= file
-    for b in "${binaries[@]}"; do
-        [[ -x $bindir/$b ]] || return 1
-        [[ -n $oldest && ! $bindir/$b -ot $oldest ]] || oldest=$bindir/$b
-    done
-    local -a files=("$root"/Cargo.toml "$root"/Cargo.lock)
-    local had_nullglob=0
-    ! shopt -q nullglob || had_nullglob=1
-    shopt -s nullglob
-    files+=("$root"/{proto,scan,stagecli,bins/*}/{Cargo.toml,build.rs,src/*,src/*/*,src/*/*/*,fonts/*})
-    ((had_nullglob)) || shopt -u nullglob
-    for file in "${files[@]}"; do
-        [[ $file -nt $oldest && (! -e $1 || $file -nt $1) ]] && return 1
-    done
-    return 0
-}
-
-# is_stale BINARY STAMP: whether a source of BINARY is newer than it and than STAMP (when
-# render.sh last had cargo bring the binaries up to date: cargo leaves a binary alone when
-# what changed does not affect it, as an unrelated change to Cargo.lock). The sources are
-# the files cargo's dep-info (BINARY.d, "BINARY: SOURCE…") lists, the Cargo.toml of each
-# crate among them, and the workspace's Cargo.toml and Cargo.lock; not tests, benches or
-# documents, which no binary is built from.
-is_stale() {
-    local bin=$1 text file crate
-    local -a files tomls=("$root/Cargo.toml" "$root/Cargo.lock")
-    [[ -r $bin.d ]] || return 0
-    IFS= read -r -d '' text <"$bin.d"
-    text=${text#*: } text=${text//\\ /$'\1'} # a space in a name is `\ `
-    read -r -a files <<<"${text//$'\n'/ }"
-    for file in "${files[@]//$'\1'/ }"; do
-        crate=${file#"$root"/} crate=${crate%%/src/*}
-        [[ $file == "$root"/*/src/* ]] && tomls+=("$root/$crate/Cargo.toml")
-    done
-    for file in "${files[@]//$'\1'/ }" "${tomls[@]}"; do
-        [[ $file -nt $bin && $file -nt $2 ]] && return 0
-    done
-    return 1
-}
 
 # --- Processes and their clean-up. ------------------------------------------------------
 
@@ -370,13 +296,19 @@ pids=()             # every stage, upstream first
 declare -A stage_of # pid → stage name, for the messages
 
 make_private_dir() {
-    tmp=$(mktemp -d "${TMPDIR:-/tmp}/render.XXXXXX") || exit 3
+    # The folder's name is chosen, and the traps that remove it set, before it is made:
+    # a signal while `mktemp` ran (a process of its own) ended the script before it knew
+    # the name, and left the folder. mkdir refuses a name that exists (a link included);
+    # the random part makes one hard to guess.
+    tmp=${TMPDIR:-/tmp}/render.$$.$SRANDOM
     trap cleanup EXIT
     # The first signal ends the run; any after it, until the clean-up is done, is ignored
     # (`timeout` and a terminal's Ctrl-C signal the script and then its whole group, and a
     # second `exit` in the middle of the clean-up would leave the private folder).
     trap 'trap "" INT TERM; exit 130' INT
     trap 'trap "" INT TERM; exit 143' TERM
+    # Not ours if it could not be made: nothing for the clean-up to remove.
+    mkdir -m 700 -- "$tmp" 2>/dev/null || { tmp=''; fail 3 "cannot make a private folder in ${TMPDIR:-/tmp}"; }
 }
 
 # Stops every stage still running (TERM, then KILL after a second), reaps them all.
@@ -729,7 +661,7 @@ finished() { # finished PID: whether it has exited (reaped or a zombie)
 # PID`, and success means every stage was seen to exit 0.
 watch() {
     local -A status_of=() # pid → exit status, as learnt
-    local failed= done_pid status pid st cause= i
+    local failed='' done_pid status pid st cause='' i
     while :; do
         done_pid=
         wait -n -p done_pid
@@ -781,6 +713,16 @@ watch() {
     fi
     for i in "${!pids[@]}"; do
         [[ ${pids[$i]} == "$cause" ]] || continue
+        # The merger found a host's runs empty: that host answered with nothing (a
+        # command that is not render.sh, say), which is the host's fault, not the data's.
+        if [[ -z ${host_of[$cause]-} ]] &&
+            [[ $(<"$tmp/stderr.$i") =~ from-([0-9]+):\ empty\ input ]]; then
+            local node=${BASH_REMATCH[1]} p
+            for p in "${pids[@]}"; do
+                [[ ${node_of[$p]-} == "$node" ]] || continue
+                fail 3 "host ${host_of[$p]} ($(what_node "$node")): sent back nothing ($(describe "${status_of[$p]-0}") from its command)"
+            done
+        fi
         if [[ -n ${host_of[$cause]-} ]]; then
             # A leaf on a host: what ssh or the far side said last is the message.
             labelled_stderr "$i" | head -n -1 >&2
@@ -795,17 +737,38 @@ watch() {
     fail "$st" "${stage_of[$cause]} failed ($(describe "${status_of[$cause]}"))"
 }
 
+# --by frames: the `farm` binary cuts the movie into chunks and runs each on a host,
+# `render.sh OPTIONS -` there (this script, at the same path, with the binaries of
+# --remote-bin), and writes the frames back in order. The options are checked here
+# first, as a local render would check them.
+frames_on_hosts() {
+    ((${#output[@]} == 0)) ||
+        die_usage "-o is not available with --by frames: the frames come back on stdout"
+    [[ -z $subtree ]] || die_usage "--subtree is a host's part of --by leaves: not with --by frames"
+    local list=$hosts_list
+    hosts=()
+    validate_options
+    ensure_binaries
+    exec "$bindir/farm" --hosts "$list" "${chunk[@]}" "${stats[@]}" "$scene" -- \
+        env POLYPIPE_BIN="${remote_bin:-$bindir}" "$root/scripts/render.sh" "${forward[@]}" -
+}
+
 main() {
     locate_repository
+    me=render.sh
+    # shellcheck source=lib/binaries.sh
+    source "$root/scripts/lib/binaries.sh"
     parse_options "$@"
-    if [[ -n ${hosts-} || -n $by ]]; then # rendering on other hosts
-        [[ -n ${hosts-} ]] || die_usage "--by $by needs --hosts H1,H2,…"
+    if [[ -n $hosts_list || -n $by ]]; then # rendering on other hosts
+        [[ -n $hosts_list ]] || die_usage "--by $by needs --hosts H1,H2,…"
         [[ ${by:-leaves} == @(leaves|frames) ]] ||
             die_usage "--by must be leaves or frames, not '$by'"
-        [[ $by != frames ]] || exec "$root/scripts/render-frames.sh" "$@"
+        # shellcheck source=hosts.sh
         source "$root/scripts/hosts.sh"
-        check_hosts "$hosts"
+        check_hosts "$hosts_list"
+        [[ $by != frames ]] || frames_on_hosts
     fi
+    ((${#chunk[@]} == 0)) || die_usage "--chunk is for --by frames"
     validate_options
     [[ -r /proc/self/stat ]] || fail 3 "needs /proc (Linux), to watch its stages"
     ensure_binaries

@@ -461,7 +461,7 @@ pub fn kept_line(raw: &[u8], first: bool) -> Result<(&str, bool), usize> {
 /// algorithm of fast_float since Rust 1.55. `fast-float2` and `lexical-core` measured
 /// within a few per cent of it on the environment scene's numbers, and a Clinger fast
 /// path of our own slower (half of those numbers have 17 digits and miss it); see
-/// `scripts/bench-codec.sh`. The text reader's speed comes from not allocating or
+/// `scripts/bench-stages.sh codec`. The text reader's speed comes from not allocating or
 /// formatting per word.
 #[inline]
 pub fn parse_f64(w: &str) -> Option<f64> {

@@ -17,7 +17,7 @@
 //! | 0 | — / [`Kind::ReaderGone`] | success; also when the reader of our output went away (`… \| head`), quietly |
 //! | 1 | [`Kind::Data`] | the input is not a valid stream for this stage, or a record in it cannot be processed (the message says where) |
 //! | 2 | [`Kind::Usage`] | bad command-line arguments, found before any input is read |
-//! | 3 | [`Kind::Io`] | an input or output could not be opened, read or written |
+//! | 3 | [`Kind::Io`] | an input or output could not be opened, read or written, or the screen is too large for this machine's memory ([`memory::check_screen`]) |
 //!
 //! A comparison (`zspec compare`) exits as cmp does instead ([`report_cmp`]): 0 the
 //! same, 1 different, 2 trouble (a usage error, a file that is not a PPM, a missing
@@ -30,6 +30,7 @@
 pub mod args;
 pub mod error;
 pub mod leaf;
+pub mod memory;
 pub mod names;
 pub mod pieces;
 pub mod stream;

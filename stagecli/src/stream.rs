@@ -472,6 +472,7 @@ mod tests {
         } else {
             1 << 16
         };
+        // SAFETY: the pipe made above, whose descriptors nothing else has closed.
         unsafe {
             assert_eq!(libc::fcntl(fds[0], libc::F_GETPIPE_SZ), want);
             libc::close(fds[0]);

@@ -1,6 +1,7 @@
 //! Benchmark: a movie rendered here, split by frames over 1, 2 and 3 loopback ssh hosts
-//! (`scripts/render-frames.sh`), and with the splitter tree's leaves or subtrees on them
-//! (`render.sh --hosts … --by leaves`, depth 2), with the bytes each link carried.
+//! (`render.sh --by frames`, the farm binary), and with the splitter tree's leaves or
+//! subtrees on them
+//! (`render.sh --hosts … --by leaves`, depth 2), with the bytes each link carried (issue 13).
 //!
 //!     cargo run --release -p pipeline-tests --example bench_hosts [RUNS]
 //!
@@ -109,8 +110,9 @@ fn main() {
             let mut links = String::new();
             let (t, bytes) = best(runs, || {
                 let mut cmd = Command::new("bash");
-                cmd.arg(repo_root().join("scripts/render-frames.sh"))
-                    .args(["--hosts", &names, "--size", movie.size, "--stats"])
+                cmd.arg(repo_root().join("scripts/render.sh"))
+                    .args(["--hosts", &names, "--by", "frames"])
+                    .args(["--size", movie.size, "--stats"])
                     .arg(&path)
                     .env("POLYPIPE_SSH", hosts.ssh());
                 cmd
@@ -120,14 +122,21 @@ fn main() {
                 "{n} hosts: not the local run's bytes"
             );
             for line in bytes.1.lines().filter(|l| l.contains(" sent ")) {
-                // render.sh: host node1: frames 0 to 149 (150), sent S bytes, received R bytes, T s
+                // farm: host node1: 8 frames in 2 chunks (…), sent S bytes, received R bytes, T s
                 let w: Vec<&str> = line.split_whitespace().collect();
+                let after = |word: &str| {
+                    w.iter()
+                        .position(|x| *x == word)
+                        .and_then(|i| w.get(i + 1))
+                        .copied()
+                        .unwrap_or("?")
+                };
                 links += &format!(
                     "{} {} fr, {} → {}; ",
                     w[2].trim_end_matches(':'),
-                    w[7].trim_matches(|c| c == '(' || c == ')' || c == ','),
-                    w[9],
-                    w[12]
+                    w[3],
+                    after("sent"),
+                    after("received")
                 );
             }
             row(

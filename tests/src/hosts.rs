@@ -12,7 +12,9 @@
 //! ([`Hosts::sessions`]). Dropping a [`Hosts`] kills every server and its sessions.
 //!
 //! Where sshd is not installed, [`Hosts::start`] prints why the test is skipped and
-//! returns `None`: the test returns early, it does not fail. (`.ci/run` installs
+//! returns `None`: the test returns early, it does not fail; except under `CI=true`
+//! (`.ci/run`, and most CI services), where it fails the test, so that a CI that lost
+//! its sshd does not pass the hosts tests without running them. (`.ci/run` installs
 //! openssh-server and openssh-client first where it can.)
 
 use std::collections::HashMap;
@@ -89,6 +91,11 @@ pub fn unavailable(sshd: &Path) -> Option<String> {
     None
 }
 
+/// Whether the hosts tests must run rather than be skipped: under `CI=true`.
+pub fn must_run() -> bool {
+    std::env::var("CI").is_ok_and(|v| v == "true")
+}
+
 fn is_root() -> bool {
     Command::new("id")
         .arg("-u")
@@ -131,9 +138,21 @@ fn keygen(path: &Path) {
 impl Hosts {
     /// Starts one host of each kind given, named node1, node2, … in that order, on
     /// 127.0.0.2, 127.0.0.3, … . Returns `None`, having printed why, where sshd is not
-    /// installed; panics if an installed sshd does not start.
+    /// installed (under `CI=true`, panics instead); panics if an installed sshd does not
+    /// start.
     pub fn start(kinds: &[Host]) -> Option<Hosts> {
-        Self::start_using(Path::new(SSHD), kinds)
+        Self::start_checked(Path::new(SSHD), must_run(), kinds)
+    }
+
+    /// [`Hosts::start`] with the server at `sshd`, failing rather than skipping where
+    /// it cannot run when `must` is true.
+    pub fn start_checked(sshd: &Path, must: bool, kinds: &[Host]) -> Option<Hosts> {
+        if must {
+            if let Some(why) = unavailable(sshd) {
+                panic!("no loopback ssh hosts under CI=true, where they must run: {why}");
+            }
+        }
+        Self::start_using(sshd, kinds)
     }
 
     /// [`Hosts::start`] with the server at `sshd` (an absolute path).

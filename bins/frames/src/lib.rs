@@ -3,8 +3,8 @@
 //! A movie is `frame { NEXT.FRAME frame } END` (thesis Appendix 1; docs/DESIGN.md,
 //! "Grammar"), so its frames are independent: a range of them is a movie of its own, and
 //! rendering the ranges one after another gives the frames of the whole.
-//! `scripts/render-frames.sh` cuts a movie this way to render its parts on other hosts
-//! (`render.sh --hosts … --by frames`).
+//! The farm binary (`render.sh --hosts … --by frames`) cuts a movie the same way, as it
+//! reads it, to render its parts on other hosts.
 //!
 //! The cut renumbers nothing: polygon numbers restart in every frame, so the records of
 //! the frames kept pass through unchanged, and only the frame boundaries around them are
@@ -49,6 +49,31 @@ pub fn count_frames<T: Record, R: Read>(reader: &mut Reader<T, R>) -> Result<u64
         }
     }
     Ok(frames)
+}
+
+/// Reads the frames before `from` (numbered from 0), so that the next record read is
+/// frame `from`'s first. A movie that ends before frame `from` is an error naming its
+/// length, found before anything is written: a movie of no frames cannot be written, and
+/// a header with no END after it would be a broken stream.
+pub fn skip_frames<R: Read>(reader: &mut Reader<Token, R>, from: u64) -> stagecli::Result<()> {
+    let mut frame = 0;
+    while frame < from {
+        let Some(record) = reader.next_record()? else {
+            unreachable!("the reader returns END before it returns None")
+        };
+        match record.control() {
+            Control::NextFrame => frame += 1,
+            Control::End => {
+                return Err(stagecli::Error::data(format!(
+                    "the movie has {} frame{} (0 to {frame}): --from {from} selects none",
+                    frame + 1,
+                    if frame == 0 { "" } else { "s" },
+                )))
+            }
+            _ => {}
+        }
+    }
+    Ok(())
 }
 
 /// Copies the frames of `range` from `reader` to `writer` as a movie of their own, and
@@ -206,6 +231,36 @@ mod tests {
         assert_eq!(
             err.to_string(),
             "the movie has 1 frame (0 to 0): --from 1 selects none"
+        );
+    }
+
+    #[test]
+    fn skipping_past_the_end_is_an_error_and_skipping_within_reaches_the_frame() {
+        let text = movie(3);
+        let mut reader = Reader::<Token, _>::new(text.as_bytes()).unwrap();
+        let err = skip_frames(&mut reader, 3).unwrap_err();
+        assert_eq!(
+            err.to_string(),
+            "the movie has 3 frames (0 to 2): --from 3 selects none"
+        );
+        let mut reader = Reader::<Token, _>::new(text.as_bytes()).unwrap();
+        skip_frames(&mut reader, 2).unwrap();
+        let first = reader.next_record().unwrap().unwrap();
+        assert_eq!(
+            first,
+            Token::Polygon(
+                match Reader::<Token, _>::new(
+                    "polypipe 1 world\ncolour 2 0 0\n0 0 0\n1 0 0\n0 1 2\nEND\n".as_bytes()
+                )
+                .unwrap()
+                .next_record()
+                .unwrap()
+                .unwrap()
+                {
+                    Token::Polygon(p) => p,
+                    other => panic!("{other:?}"),
+                }
+            )
         );
     }
 

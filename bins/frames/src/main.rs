@@ -1,7 +1,7 @@
 //! frames: a movie's frame count, or a contiguous range of its frames as a movie.
 
 use clap::Parser;
-use frames::{count_frames, pass_frames, FrameRange};
+use frames::{count_frames, pass_frames, skip_frames, FrameRange};
 use proto::{Form, Reader, SpaceKind, Token, Writer};
 use stagecli::Error;
 use std::io::Write;
@@ -60,9 +60,13 @@ fn main() -> ExitCode {
             out.flush()?;
             return Ok(());
         }
+        // The frames before the range first, so that a range past the movie's end is
+        // refused with nothing written (not a header and no END).
+        skip_frames(&mut reader, range.from).map_err(|e| e.context(&name))?;
+        let rest = FrameRange::new(0, range.to.map(|to| to - range.from)).map_err(Error::usage)?;
         let header = *reader.header();
         let mut writer = Writer::new(stagecli::stdout(), header, Form::from_text_flag(cli.text))?;
-        pass_frames(&mut reader, &mut writer, range).map_err(|e| e.context(&name))?;
+        pass_frames(&mut reader, &mut writer, rest).map_err(|e| e.context(&name))?;
         Ok(())
     })
 }

@@ -87,6 +87,34 @@ fn a_range_beyond_the_movie_fails_naming_its_length() {
 }
 
 #[test]
+fn a_range_beyond_the_movie_writes_nothing_not_a_broken_stream() {
+    // `frames --from 30 --to 40` on a 30-frame movie wrote a header and no END; now
+    // nothing, in either form.
+    let movie = (0..30)
+        .map(|k| format!("colour {k} 0 0\n0 0 0\n1 0 0\n0 1 0\n"))
+        .collect::<Vec<_>>()
+        .join("NEXT.FRAME\n");
+    let movie = format!("polypipe 1 world\n{movie}END\n");
+    for text in [&[][..], &["--text"]] {
+        frames()
+            .args(["--from", "30", "--to", "40"])
+            .args(text)
+            .write_stdin(movie.clone())
+            .assert()
+            .code(1)
+            .stdout("")
+            .stderr("frames: stdin: the movie has 30 frames (0 to 29): --from 30 selects none\n");
+    }
+    // The last frame is still a movie of its own.
+    frames()
+        .args(["--from", "29", "--to", "40", "--text"])
+        .write_stdin(movie)
+        .assert()
+        .success()
+        .stdout("polypipe 1 world\ncolour 29 0 0\n0 0 0\n1 0 0\n0 1 0\nEND\n");
+}
+
+#[test]
 fn an_empty_range_is_a_usage_error() {
     frames()
         .args(["--from", "2", "--to", "2"])

@@ -43,10 +43,18 @@ fn main() -> ExitCode {
             .space
             .screen_size()
             .ok_or_else(|| Error::data("screen-space header without a size"))?;
+        if args.resolve {
+            // The region buffer, where the leaf's polygons cover the whole screen: a
+            // depth and a packed colour a pixel.
+            let bytes = std::mem::size_of::<scan::Depth>() as u64 + 4;
+            stagecli::memory::check_screen(width, height, bytes, "depth and colour")?;
+        }
         let mut out = stagecli::write_stdout::<Fragment>(
             Header::new(Space::Fragments { width, height }),
             args.text.form(),
         )?;
+        // The header at once: the merger checks the screen's size before any frame.
+        out.flush()?;
         let output = if args.resolve {
             Output::Resolve
         } else if args.pixels {

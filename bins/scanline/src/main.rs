@@ -16,7 +16,7 @@ use std::process::ExitCode;
 /// a depth test. The picture is the z-buffer's (`scanconv --resolve`) to the pixel.
 ///
 /// It fails on no scene; what it pays for is segments and sample spans, not pixels
-/// (docs/methods.md, scripts/bench-scanline.sh): much faster than the z-buffer
+/// (docs/methods.md, scripts/bench-methods.sh scanline): much faster than the z-buffer
 /// on piles of big polygons (25 times on 64 stacked full-screen planes), slower with
 /// hundreds of crossings a line on polygons a few pixels wide (1.2 to 1.3 times) and on
 /// many small polygons piled deep (2.2 times on the test environment at depth

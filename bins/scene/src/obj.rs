@@ -37,9 +37,11 @@ pub fn load<R: BufRead>(input: &mut R, dir: &Path, name: &str) -> stagecli::Resu
     // parse error of tobj's, and the vertices can be checked with their line numbers.
     let mut text = Vec::new();
     input.read_to_end(&mut text).context(name)?;
+    let text = join_continued_lines(&text);
     check_lines(&text).map_err(|m| Error::data(format!("{name}: {m}")))?;
     let input = &mut std::io::Cursor::new(text);
     let warnings = RefCell::new(Vec::new());
+    let bad_material = RefCell::new(None);
     let options = tobj::LoadOptions {
         triangulate: false,
         single_index: true,
@@ -47,6 +49,12 @@ pub fn load<R: BufRead>(input: &mut R, dir: &Path, name: &str) -> stagecli::Resu
     };
     let (models, materials) = tobj::load_obj_buf(input, &options, |mtl: &Path| {
         let path: PathBuf = dir.join(mtl);
+        if let Ok(text) = std::fs::read(&path) {
+            if let Err(why) = check_material_lines(&join_continued_lines(&text)) {
+                bad_material.replace(Some(format!("{}: {why}", path.display())));
+                return Ok((Vec::new(), Default::default()));
+            }
+        }
         match tobj::load_mtl(&path) {
             Ok(m) => Ok(m),
             Err(e) => {
@@ -59,6 +67,9 @@ pub fn load<R: BufRead>(input: &mut R, dir: &Path, name: &str) -> stagecli::Resu
         }
     })
     .map_err(|e| Error::data(format!("{name}: not a valid OBJ file: {e}")))?;
+    if let Some(why) = bad_material.into_inner() {
+        return Err(Error::data(why));
+    }
     let mut warnings = warnings.into_inner();
     let materials = materials.unwrap_or_default();
     let mut faces = Vec::new();
@@ -106,6 +117,67 @@ pub fn load<R: BufRead>(input: &mut R, dir: &Path, name: &str) -> stagecli::Resu
     Ok(Model { faces, warnings })
 }
 
+/// The text with each line that ends in `\` joined to the next (the OBJ and MTL
+/// formats' continuation, which tobj does not read), the backslash and line break
+/// becoming a space; an empty line is left after the joined line for each break taken
+/// out, so that the lines after it keep their numbers in messages.
+fn join_continued_lines(text: &[u8]) -> Vec<u8> {
+    let mut out = Vec::with_capacity(text.len());
+    let mut owed = 0; // line breaks taken out of the current line
+    let mut i = 0;
+    while i < text.len() {
+        let b = text[i];
+        let continued = b == b'\\'
+            && (text.get(i + 1) == Some(&b'\n')
+                || (text.get(i + 1) == Some(&b'\r') && text.get(i + 2) == Some(&b'\n')));
+        if continued {
+            out.push(b' ');
+            i += if text[i + 1] == b'\r' { 3 } else { 2 };
+            owed += 1;
+            continue;
+        }
+        out.push(b);
+        if b == b'\n' {
+            out.extend(std::iter::repeat_n(b'\n', owed));
+            owed = 0;
+        }
+        i += 1;
+    }
+    out.extend(std::iter::repeat_n(b'\n', owed));
+    out
+}
+
+/// Finds, with its line, what in a material library would give a face a colour it does
+/// not have: a diffuse colour (`Kd r g b`) whose numbers are not three from 0 to 1
+/// (`Kd 2 -1 nan` became 255 0 0 without a word).
+fn check_material_lines(text: &[u8]) -> Result<(), String> {
+    for (k, line) in text.split(|&b| b == b'\n').enumerate() {
+        let line = String::from_utf8_lossy(line);
+        let mut words = line.split_whitespace();
+        if words.next() != Some("Kd") {
+            continue;
+        }
+        let values: Vec<&str> = words.collect();
+        let at = |why: String| format!("line {}: `{}`: {why}", k + 1, line.trim());
+        if values.len() != 3 {
+            return Err(at("a diffuse colour is three numbers from 0 to 1".into()));
+        }
+        for word in values {
+            match word.parse::<f64>() {
+                Ok(x) if (0.0..=1.0).contains(&x) => {}
+                Ok(_) => {
+                    return Err(at(format!(
+                        "`{word}` is not from 0 to 1 (a diffuse colour is three numbers \
+                         from 0 to 1)"
+                    )))
+                }
+                Err(_) => return Err(at(format!("`{word}` is not a number"))),
+            }
+        }
+    }
+    Ok(())
+}
+
 /// Finds, with its line, what would make the model unusable or tobj refuse it without
 /// saying where (its errors name no line: `position parse error`, `face vertex index out
 /// of bounds`):
@@ -120,6 +192,16 @@ pub fn load<R: BufRead>(input: &mut R, dir: &Path, name: &str) -> stagecli::Resu
 ///
 /// What this does not catch, tobj still refuses, in its own words.
 fn check_lines(text: &[u8]) -> Result<(), String> {
+    // tobj reads lines as UTF-8 and refuses others without saying where.
+    for (k, line) in text.split(|&b| b == b'\n').enumerate() {
+        if let Err(e) = std::str::from_utf8(line) {
+            return Err(format!(
+                "line {}: not text: byte {} of the line is not UTF-8 (is this an OBJ file?)",
+                k + 1,
+                e.valid_up_to() + 1
+            ));
+        }
+    }
     let lines = || text.split(|&b| b == b'\n').map(String::from_utf8_lossy);
     let vertices = lines()
         .filter(|l| l.split_whitespace().next() == Some("v"))
@@ -186,6 +268,13 @@ fn check_face_word(word: &str, seen: usize, vertices: usize) -> Result<(), Strin
         }
     }
     let index: isize = parts[0].parse().unwrap_or(0);
+    if index == 0 {
+        return Err(
+            "vertex index 0: OBJ counts vertices from 1 (and back from the last \
+                    with -1, -2, …), so 0 names none"
+                .into(),
+        );
+    }
     let place = if index < 0 {
         seen as isize + index
     } else {
@@ -354,6 +443,67 @@ mod tests {
     }
 
     #[test]
+    fn continued_lines_are_joined_and_later_lines_keep_their_numbers() {
+        // A vertex and a face broken over two lines each; line 7's error keeps its number.
+        let obj = "v 0 0 0\nv 1 0 \\\n0\nv 0 1 0\nf 1 2 \\\r\n3\nf 1 2 x\n";
+        let err = load(&mut Cursor::new(obj), Path::new("."), "m.obj").unwrap_err();
+        assert_eq!(
+            err.to_string(),
+            "m.obj: line 7: face `f 1 2 x`: `x` is not a vertex's indices"
+        );
+        let obj = "v 0 0 0\nv 1 0 \\\n0\nv 0 1 0\nf 1 2 \\\n3\n";
+        let m = load_str(obj);
+        assert_eq!(m.faces.len(), 1);
+        assert_eq!(m.faces[0].points[1], DVec3::new(1.0, 0.0, 0.0));
+        assert_eq!(join_continued_lines(b"a \\\nb\nc\n"), b"a  b\n\nc\n");
+    }
+
+    #[test]
+    fn bytes_that_are_not_text_are_named_by_line() {
+        let err = load(
+            &mut Cursor::new(&b"v 0 0 0\nv 1 \xff 0\n"[..]),
+            Path::new("."),
+            "r.obj",
+        )
+        .unwrap_err();
+        assert_eq!(err.kind(), stagecli::Kind::Data);
+        assert_eq!(
+            err.to_string(),
+            "r.obj: line 2: not text: byte 5 of the line is not UTF-8 (is this an OBJ file?)"
+        );
+    }
+
+    #[test]
+    fn a_diffuse_colour_that_is_not_three_numbers_from_0_to_1_is_refused() {
+        let dir = tempfile::tempdir().unwrap();
+        let obj = "mtllib m.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nusemtl red\nf 1 2 3\n";
+        let mtl = dir.path().join("m.mtl");
+        for (kd, why) in [
+            (
+                "Kd 2 -1 nan",
+                "`2` is not from 0 to 1 (a diffuse colour is three numbers from 0 to 1)",
+            ),
+            (
+                "Kd 1 0 nan",
+                "`nan` is not from 0 to 1 (a diffuse colour is three numbers from 0 to 1)",
+            ),
+            ("Kd 1 0", "a diffuse colour is three numbers from 0 to 1"),
+            ("Kd 1 0 q", "`q` is not a number"),
+        ] {
+            std::fs::write(&mtl, format!("newmtl red\n{kd}\n")).unwrap();
+            let err = load(&mut Cursor::new(obj), dir.path(), "m.obj").unwrap_err();
+            assert_eq!(err.kind(), stagecli::Kind::Data);
+            assert_eq!(
+                err.to_string(),
+                format!("{}: line 2: `{kd}`: {why}", mtl.display())
+            );
+        }
+        std::fs::write(&mtl, "newmtl red\nKd 1 0 0.5\n").unwrap();
+        let m = load(&mut Cursor::new(obj), dir.path(), "m.obj").unwrap();
+        assert_eq!(m.faces[0].colour, [255, 0, 128]);
+    }
+
+    #[test]
     fn a_bad_index_is_an_error() {
         let err = load(
             &mut Cursor::new("v 0 0 0\nf 1 2 3\n"),
@@ -382,7 +532,8 @@ mod tests {
             ("vn 0 0\n", "line 1: normal `vn 0 0` needs 3 numbers"),
             (
                 "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 0\n",
-                "line 4: face `f 1 2 0`: vertex index 0 is out of bounds (the file has 3 vertices)",
+                "line 4: face `f 1 2 0`: vertex index 0: OBJ counts vertices from 1 (and back \
+                 from the last with -1, -2, …), so 0 names none",
             ),
             (
                 "v 0 0 0\nf -1 -2 -3\nv 1 0 0\nv 0 1 0\n",

@@ -78,6 +78,12 @@ fn tiled(tiles_x: u32, x: u32, y: u32) -> usize {
     (tile << (2 * SHIFT)) + (((y & (TILE - 1)) << SHIFT) + (x & (TILE - 1))) as usize
 }
 
+/// Refuses, at the header, a screen whose frame buffer this machine cannot hold
+/// (`stagecli::memory`: status 3, with what it would need).
+pub fn check_memory(width: u32, height: u32) -> stagecli::Result<()> {
+    stagecli::memory::check_screen(width, height, BYTES_PER_PIXEL, "depth, polygon and colour")
+}
+
 impl FrameBuffer {
     /// A cleared buffer (KH(MAX.DEPTH), KH(BACK.GROUND.COLOUR) in the thesis's CSP).
     /// The memory is asked for, not assumed: a screen too large for this machine is

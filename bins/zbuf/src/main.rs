@@ -134,11 +134,16 @@ fn main() -> ExitCode {
             match &pattern {
                 // Known only once a second frame comes: the input is a movie where one
                 // picture was asked for (so not a usage error, found before reading).
+                // The first frame's picture is taken back: a movie cut to its first
+                // frame is not what was asked for.
                 Some(p) if frame > 0 && !p.numbered() => {
+                    let _ = std::fs::remove_file(p.path(0));
+                    let name = args.output.as_deref().unwrap_or_default();
                     return Err(Error::data(format!(
-                        "-o {}: more than one frame, but the name has no %d for the frame number",
-                        args.output.as_deref().unwrap_or_default()
-                    )))
+                        "-o {name}: the input is a movie (a second frame came), and {name} \
+                         names one picture: give a pattern with %d for the frame number \
+                         (as frame%03d.png); nothing was kept"
+                    )));
                 }
                 Some(p) => p.save(frame, fb, form)?,
                 None => {

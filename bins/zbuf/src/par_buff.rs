@@ -163,10 +163,12 @@ pub fn par_buff(
                 }
                 (Some(_), _) => {}
                 (None, _) => {
-                    // The first header decides the screen; one too large to hold is bad
-                    // input (the message says how much it needs).
+                    // The first header decides the screen; one too large for this
+                    // machine is refused (status 3; the message says how much it needs).
+                    let name = &states[input].name;
+                    crate::check_memory(width, height).map_err(|e| e.context(name))?;
                     let buffer = FrameBuffer::new(width, height, background)
-                        .map_err(|m| Error::data(format!("{}: {m}", states[input].name)))?;
+                        .map_err(|m| Error::io(format!("{name}: {m}")))?;
                     fb = Some(buffer);
                     first_header = Some(input);
                 }
@@ -464,10 +466,11 @@ pub fn one_input(
     // The frame buffer is made as the header is read, as par_buff makes it at the first
     // header: a screen too large to hold is refused at once, with what it needs, rather
     // than after its first frame has been scan-converted (tens of seconds and gigabytes
-    // of region buffer for a 65536x65536 screen). Too large is the input's fault, as
-    // there: bad data, naming the input.
+    // of region buffer for a 65536x65536 screen). Too large is this machine's limit, as
+    // there: status 3, naming the input.
+    crate::check_memory(width, height).map_err(|e| e.context(&name))?;
     let mut fb = FrameBuffer::new(width, height, background)
-        .map_err(|m| Error::data(format!("{name}: {m}")))?;
+        .map_err(|m| Error::io(format!("{name}: {m}")))?;
     // Two region buffers go round between two threads: this one paints frame k from one
     // into the frame buffer and writes it while the reader thread scan-converts frame
     // k + 1 into the other.

@@ -211,7 +211,7 @@ fn one_file_per_frame() {
         ppm(2, 2, &[K, K, K, G])
     );
 
-    // No frame number in the name: the first frame is written, the second refused.
+    // No frame number in the name: the second frame is refused, the first taken back.
     let still = dir.path().join("still.png");
     zbuf()
         .arg("-o")
@@ -220,10 +220,12 @@ fn one_file_per_frame() {
         .assert()
         .code(1)
         .stderr(format!(
-            "zbuf: -o {}: more than one frame, but the name has no %d for the frame number\n",
-            still.display()
+            "zbuf: -o {s}: the input is a movie (a second frame came), and {s} names one \
+             picture: give a pattern with %d for the frame number (as frame%03d.png); \
+             nothing was kept\n",
+            s = still.display()
         ));
-    assert!(still.exists());
+    assert!(!still.exists());
     zbuf()
         .args(["-o", "x%d.jpg"])
         .write_stdin(TWO_FRAMES)

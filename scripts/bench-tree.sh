@@ -1,4 +1,23 @@
 #!/usr/bin/env bash
+# bench-tree.sh: the splitter tree and its merge measured, one mode a run:
+#
+#   scripts/bench-tree.sh pipeline [OPTIONS]      the whole pipeline's tables: depths
+#                                                 0-4, fragment encodings, accuracy,
+#                                                 memory, a processor per process
+#   scripts/bench-tree.sh merge [OPTIONS]         leaves that resolve (--merge tiles)
+#                                                 against PAR.BUFF (--merge buffer)
+#   scripts/bench-tree.sh depth-auto [--reps N]   --depth auto against every fixed depth
+#
+# Each mode's own notes are at its function below. They share scripts/lib/bench.sh.
+
+# The modes are functions of their own (each a subshell), and some reuse a name for an
+# array in one and a string in another, which shellcheck reads as one variable.
+# shellcheck disable=SC2128,SC2154,SC2178
+# shellcheck source=lib/bench.sh
+source "$(dirname "${BASH_SOURCE[0]}")/lib/bench.sh"
+
+# --- pipeline (was scripts/bench-pipeline.sh) -----------------------------------
+mode_pipeline() (
 # bench-pipeline.sh: the whole pipeline measured, printed as tables.
 #
 #   1. wall time of the linear pipeline (render.sh --depth 0) on 100,000 polygons at 500x500
@@ -16,7 +35,7 @@
 # Times are the best of REPS runs (default 3) on whatever else the machine is doing:
 # compare the figures within one run of the script, not across machines.
 #
-# Usage: scripts/bench-pipeline.sh [SECTION...]   (sections 1-6; default all)
+# Usage: scripts/bench-tree.sh pipeline [SECTION...]   (sections 1-6; default all)
 set -euo pipefail
 
 root=$(cd "$(dirname "$0")/.." && pwd)
@@ -33,7 +52,7 @@ want() { [[ " ${sections[*]} " == *" $1 "* ]]; }
 
 # best_of CMD...: the smallest wall time of REPS runs, in seconds.
 best_of() {
-    local best= t
+    local best='' t
     for ((i = 0; i < REPS; i++)); do
         /usr/bin/time -f %e -o "$work/time" bash -c "$1" >/dev/null 2>&1
         t=$(tail -n 1 "$work/time")
@@ -146,7 +165,7 @@ if want 6; then
     echo
     # cpu CMD: the smallest user + system seconds of REPS runs of a shell command.
     cpu() {
-        local best= t
+        local best='' t
         for ((i = 0; i < REPS; i++)); do
             t=$( { TIMEFORMAT='%3U %3S'; time bash -c "$1" >/dev/null 2>&1; } 2>&1 | awk '{ print $1 + $2 }')
             if [[ -z $best ]] || awk -v a="$t" -v b="$best" 'BEGIN { exit !(a < b) }'; then best=$t; fi
@@ -223,3 +242,184 @@ if want 6; then
     tree_cost "Fill-heavy (10,000 polygons, Dc 10, 1920x1080)" "$work/fill.pp" 1920x1080
     tree_cost "Geometry-heavy (100,000 small polygons, 500x500)" "$work/geo.pp" 500x500
 fi
+)
+
+# --- merge (was scripts/bench-merge.sh) -----------------------------------------
+mode_merge() (
+# bench-merge.sh: leaves that see against the thesis's PAR.BUFF (issue 9 item 1).
+#
+#   1. wall time of render.sh at splitter depths 0..4 with --merge tiles (each leaf
+#      resolves its region, zbuf places runs) and --merge buffer (every fragment to one
+#      z-buffer), on the fill-heavy scene (10,000 quads, Dc 10, 1920x1080) and the
+#      geometry-heavy one (100,000 small polygons, 500x500); best of REPS runs (default
+#      5; the machine is shared, and the fastest run is the one least disturbed), whole
+#      process, each depth's speed-up over depth 0 of the same mode, and render.sh's own
+#      cost at each depth (two polygons at 8x8: the processes, pipes and script)
+#   2. the leaves and the merger alone, file to file: CPU seconds and peak resident
+#      memory of the largest leaf's scanconv and of zbuf, per depth and mode
+#
+# Compare figures within one run of the script: the machine is shared.
+#
+# Usage: scripts/bench-merge.sh [SECTION...]   (sections 1-2; default both)
+set -euo pipefail
+
+root=$(cd "$(dirname "$0")/.." && pwd)
+cd "$root"
+cargo build --release --quiet --bins
+B=$root/target/release
+# render.sh rebuilds when any source under a stage's crate (tests included) is newer than
+# its binary, and cargo does not relink a binary for a change to its tests: mark the
+# binaries just built as current, or every run below would time a cargo build too.
+touch "$B"/{viewxf,clipplane,splitter,persp,scanconv,zbuf}
+REPS=${REPS:-5}
+work=$(mktemp -d)
+trap 'rm -rf "$work"' EXIT
+
+sections=("$@")
+((${#sections[@]})) || sections=(1 2)
+want() { [[ " ${sections[*]} " == *" $1 "* ]]; }
+
+"$B/scene" environment --polygons 10000 --depth-complexity 10 --size 1920x1080 --seed 2 > "$work/fill.pp"
+"$B/scene" environment --polygons 100000 --depth-complexity 1 --seed 3 > "$work/geo.pp"
+
+# best CMD: the smallest wall time of REPS runs, in seconds.
+best() {
+    local i
+    for ((i = 0; i < REPS; i++)); do
+        /usr/bin/time -f %e -o "$work/time" bash -c "$1" >/dev/null 2>&1
+        tail -n 1 "$work/time"
+    done | sort -n | head -n 1
+}
+
+
+if want 1; then
+    echo "## 1. render.sh wall seconds (best of $REPS) and speed-up over depth 0"
+    echo
+    echo "| depth | fill tiles | fill buffer | geometry tiles | geometry buffer | render.sh alone |"
+    echo "|---|---|---|---|---|---|"
+    declare -A base=()
+    for d in 0 1 2 3 4; do
+        row="| $d |"
+        for s in fill:1920x1080 geo:500x500; do
+            for m in tiles buffer; do
+                t=$(best "$root/scripts/render.sh --merge $m --depth $d --size ${s#*:} $work/${s%%:*}.pp")
+                [[ -n ${base[$s$m]-} ]] || base[$s$m]=$t
+                row+=" $t ($(ratio "${base[$s$m]}" "$t")x) |"
+            done
+        done
+        row+=" $(best "$root/scripts/render.sh --depth $d --size 8x8 $root/examples/penetrating.txt") |"
+        echo "$row"
+    done
+    echo
+fi
+
+if want 2; then
+    echo "## 2. Leaves and merger alone, file to file, fill-heavy scene (CPU s, best of $REPS; peak KiB)"
+    echo
+    echo "| depth | mode | slowest leaf scanconv s | largest leaf scanconv KiB | zbuf s | zbuf KiB | bytes to zbuf |"
+    echo "|---|---|---|---|---|---|---|"
+    source "$root/scripts/tree-planes.sh"
+    size=1920x1080
+    clip="$B/clipplane left | $B/clipplane right | $B/clipplane top | $B/clipplane bottom | $B/clipplane hither | $B/clipplane yon"
+    "$B/viewxf" --size $size < "$work/fill.pp" | bash -c "$clip" > "$work/node1"
+    # cpu_rss CMD: "seconds KiB", the smallest CPU time (user + system, to the
+    # millisecond) of REPS runs, and the peak resident memory of one more.
+    cpu_rss() {
+        local i best='' t
+        for ((i = 0; i < REPS; i++)); do
+            t=$( { TIMEFORMAT='%3U %3S'; time bash -c "exec $1" >/dev/null 2>&1; } 2>&1 | awk '{ printf "%.3f", $1 + $2 }')
+            if [[ -z $best ]] || awk -v a="$t" -v b="$best" 'BEGIN { exit !(a < b) }'; then best=$t; fi
+        done
+        /usr/bin/time -f %M -o "$work/rss" bash -c "exec $1" >/dev/null 2>&1
+        echo "$best $(tail -n 1 "$work/rss")"
+    }
+    for d in 0 1 2 3 4; do
+        leaves=$((1 << d))
+        tree_planes 1920 1080 "$d"
+        for ((node = 1; node < leaves; node++)); do
+            "$B/splitter" "${plane_of[$node]}" "$work/node$((2 * node))" "$work/node$((2 * node + 1))" < "$work/node$node"
+        done
+        for m in tiles buffer; do
+            flag=; [[ $m == tiles ]] && flag=--resolve
+            slow=0 big=0 frags=() bytes=0
+            for ((leaf = leaves; leaf < 2 * leaves; leaf++)); do
+                "$B/persp" --size $size < "$work/node$leaf" > "$work/screen$leaf"
+                "$B/scanconv" $flag < "$work/screen$leaf" > "$work/frag$leaf"
+                read -r s k < <(cpu_rss "$B/scanconv $flag < $work/screen$leaf")
+                slow=$(awk -v a="$s" -v b="$slow" 'BEGIN { print (a > b ? a : b) }')
+                ((k > big)) && big=$k
+                bytes=$((bytes + $(stat -c %s "$work/frag$leaf")))
+                frags+=("$work/frag$leaf")
+            done
+            read -r zs zk < <(cpu_rss "$B/zbuf ${frags[*]}")
+            echo "| $d | $m | $slow | $big | $zs | $zk | $bytes |"
+        done
+        for ((node = 2; node < 2 * leaves; node++)); do rm -f "$work/node$node"; done
+        rm -f "$work"/screen* "$work"/frag*
+    done
+    echo
+fi
+)
+
+# --- depth-auto (was scripts/bench-depth-auto.sh) -------------------------------
+mode_depth_auto() (
+# bench-depth-auto.sh: render.sh --depth auto against every fixed depth 0-4 on the
+# fill-heavy scene of scripts/bench.sh (10,000 quads, Dc≈10, 1920×1080) and on two
+# polygons: whole-process wall seconds, median of N, in one run, and auto over the best
+# fixed depth (issue 12: within 10%). Not part of CI.
+#
+# Usage: scripts/bench-depth-auto.sh [--reps N]
+set -euo pipefail
+export LC_ALL=C
+reps=5
+case ${1-} in
+    --reps) reps=${2:?--reps needs N} ;;
+    -h | --help) sed -n '2,7p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
+    '') ;;
+    *) echo "bench-depth-auto.sh: unknown argument $1" >&2; exit 2 ;;
+esac
+root=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
+cd "$root"
+B=${CARGO_TARGET_DIR:-$root/target}/release
+cargo build --release --quiet --bins
+work=$(mktemp -d)
+trap 'rm -rf "$work"' EXIT
+"$B/scene" environment --text --seed 2 --polygons 10000 --depth-complexity 10 --size 1920x1080 > "$work/fill.txt"
+
+
+table() { # SCENE SIZE LABEL
+    local scene=$1 size=$2 label=$3 d best='' bestd='' auto choice
+    declare -A t
+    for d in 0 1 2 3 4 auto; do
+        t[$d]=$(for ((r = 0; r < reps; r++)); do
+            seconds scripts/render.sh --size "$size" --depth "$d" "$scene"
+        done | median)
+    done
+    for d in 0 1 2 3 4; do
+        if [[ -z $best ]] || awk -v a="${t[$d]}" -v b="$best" 'BEGIN { exit !(a < b) }'; then
+            best=${t[$d]} bestd=$d
+        fi
+    done
+    choice=$(scripts/render.sh --size "$size" --depth auto --stats "$scene" 2>&1 >/dev/null |
+        sed -n 's/^render.sh: depth auto chose //p')
+    auto=$(awk -v a="${t[auto]}" -v b="$best" 'BEGIN { printf "%.2f", a / b }')
+    echo "| $label | ${t[0]} | ${t[1]} | ${t[2]} | ${t[3]} | ${t[4]} | $bestd | ${t[auto]} | **$auto** | ${choice%% (*} |"
+}
+
+echo
+echo "Measured by \`scripts/bench-depth-auto.sh\` at commit $(git rev-parse --short HEAD)," \
+    "$(nproc) cores, $(date -u +%Y-%m-%d): render.sh wall seconds, median of $reps, one run."
+echo
+echo "| scene | depth 0 | 1 | 2 | 3 | 4 | best | auto | auto / best | auto chose |"
+echo "|---|---|---|---|---|---|---|---|---|---|"
+table "$work/fill.txt" 1920x1080 "10,000 quads, Dc≈10, 1920×1080"
+table examples/penetrating.txt 500x500 "2 polygons, 500×500"
+)
+
+case ${1-} in
+    pipeline) shift; mode_pipeline "$@" ;;
+    merge) shift; mode_merge "$@" ;;
+    depth-auto) shift; mode_depth_auto "$@" ;;
+    -h | --help | "") sed -n '2,/^$/{s/^# \{0,1\}//;p}' "${BASH_SOURCE[0]}"; [[ -n ${1-} ]] ;;
+    *) echo "bench-tree.sh: no mode '$1' (modes: pipeline merge depth-auto)" >&2; exit 2 ;;
+esac
