@@ -29,7 +29,7 @@ mode_geometry() (
 # realistic share of them is cut by the side planes. It is written directly in the
 # binary form (python3; verified through viewxf), viewed once by viewxf into an
 # eye-space file for the clippers, and clipped once into the input of persp.
-# Target (issue 2): every stage ≥ 2 million polygons per second.
+# Target: every stage ≥ 2 million polygons per second.
 set -euo pipefail
 
 N=${1:-1000000}
@@ -118,7 +118,7 @@ bench "chain (8 procs)" "$TMP/world.bin" chain
 mode_clip() (
 # Clipping throughput: clipbatch (Theoharis & Page's batch clipper, the six planes in one
 # process) against the six-process chain clipplane left | right | top | bottom | hither
-# | yon, and against the paper's DAP figure of 25,000 polygons a second (seeds/002_…
+# | yon, and against the paper's DAP figure of 25,000 polygons a second (Theoharis & Page 1989,
 # §4.3). Binary to binary, eye-space file → /dev/null, median of REPS runs, all in one
 # run of this script.
 #
@@ -206,7 +206,7 @@ echo "DAP in DAP Fortran, §4.3)."
 
 # --- codec (was scripts/bench-codec.sh) -----------------------------------------
 mode_codec() (
-# bench-codec.sh: the stream codec measured (issue 9), printed as tables.
+# bench-codec.sh: the stream codec measured, printed as tables.
 #
 #   scripts/bench-codec.sh [POLYGONS] [REPS]     (defaults 200000 and 5)
 #
@@ -220,7 +220,7 @@ mode_codec() (
 #      1,000,000 polygons)
 #
 # Each figure is the best of REPS runs on whatever else the machine is doing: compare
-# figures within one run of the script, not across machines. Targets (issue 9): every
+# figures within one run of the script, not across machines. Targets: every
 # geometry stage ≥ 5 million four-vertex polygons/s, the text reader ≥ 200 MB/s.
 set -euo pipefail
 
@@ -271,7 +271,7 @@ mode_fused() (
 # polygon encoded and decoded between stages) against `fused` (tests/src/bin/fused.rs:
 # the same stage libraries called one after the other in one process), on the same scene
 # file, writing the same PPM bytes (checked before anything is timed). Wall time, median
-# of REPS runs, all in one run of this script; the goal of issue 9 is pipes ≤ 1.3 × fused.
+# of REPS runs, all in one run of this script; the goal is pipes ≤ 1.3 × fused.
 #
 #   scripts/bench-fused.sh [REPS]      (default 5)
 #

@@ -246,7 +246,7 @@ fi
 
 # --- merge (was scripts/bench-merge.sh) -----------------------------------------
 mode_merge() (
-# bench-merge.sh: leaves that see against the thesis's PAR.BUFF (issue 9 item 1).
+# bench-merge.sh: leaves that see against the thesis's PAR.BUFF.
 #
 #   1. wall time of render.sh at splitter depths 0..4 with --merge tiles (each leaf
 #      resolves its region, zbuf places runs) and --merge buffer (every fragment to one
@@ -366,7 +366,7 @@ mode_depth_auto() (
 # bench-depth-auto.sh: render.sh --depth auto against every fixed depth 0-4 on the
 # fill-heavy scene of scripts/bench.sh (10,000 quads, Dc≈10, 1920×1080) and on two
 # polygons: whole-process wall seconds, median of N, in one run, and auto over the best
-# fixed depth (issue 12: within 10%). Not part of CI.
+# fixed depth (the goal: within 10%). Not part of CI.
 #
 # Usage: scripts/bench-depth-auto.sh [--reps N]
 set -euo pipefail

@@ -81,8 +81,8 @@ fn render(scene: &[u8], size: &str, depth: u32) -> Result<Vec<u8>, String> {
                 let polygon = *index;
                 sc.convert(&piece, &mut |f| {
                     match f {
-                        proto::Fragment::Span { y, x0, x1, z0, dz } => {
-                            fb.span(y, x0..x1, z0, dz, polygon, colour)
+                        proto::Fragment::Span { y, x0, x1, z, dz } => {
+                            fb.span(y, x0..x1, z, dz, polygon, colour)
                         }
                         proto::Fragment::Pixel { x, y, z } => fb.pixel(x, y, z, polygon, colour),
                         _ => {}
