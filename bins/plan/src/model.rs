@@ -122,12 +122,34 @@ pub struct Overheads {
     pub process: f64,
 }
 
-/// The model's constants: one [`Cost`] per stage, as `chart.sh --calibrate` measures them.
+/// The machine a calibration was made on: what [`crate::cache`] compares to tell a
+/// calibration of this machine and of these binaries from a foreign or stale one.
+#[derive(Clone, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(default)]
+pub struct Machine {
+    /// The CPU model, as /proc/cpuinfo names it.
+    pub cpu: String,
+    /// The cores the calibration saw (`available_parallelism`).
+    pub cores: usize,
+    /// The polypipe version of the binaries measured.
+    pub version: String,
+    /// The measured binaries' fingerprint (their sizes and modification times): another
+    /// build of them makes the calibration stale.
+    pub binaries: String,
+}
+
+/// The model's constants: one [`Cost`] per stage, as `chart calibrate` measures them.
 #[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
 #[serde(default)]
 pub struct Constants {
-    /// Where and when they were measured.
+    /// Where and when they were measured, in words.
     pub measured_on: String,
+    /// The machine, for telling this machine's calibration from another's.
+    pub machine: Machine,
+    /// Whether the clipper drops a polygon it empties (the thesis's occam clipper does);
+    /// polypipe's passes it on with no vertices, to keep the numbering, so that the root
+    /// splitter and a depth-0 leaf read every polygon of the scene.
+    pub drops_emptied: bool,
     pub overheads: Overheads,
     /// viewxf reading a text scene.
     pub viewxf_text: Cost,
@@ -147,7 +169,8 @@ pub struct Constants {
     pub resolve: Cost,
 }
 
-/// The constants committed after a calibration run on the project's machine.
+/// The constants committed after a calibration run on the project's machine: the fallback
+/// until this machine is calibrated, and the documented example of the file.
 pub const COMMITTED: &str = include_str!("../../../bench/model.toml");
 
 impl Constants {
@@ -191,6 +214,8 @@ pub struct Prediction {
     /// Script and process start-up.
     pub overhead_s: f64,
     pub processes: usize,
+    /// With hosts: the seconds a host's link is busy (its bytes over the link's rate).
+    pub link_s: f64,
 }
 
 impl Prediction {
@@ -220,8 +245,9 @@ pub struct StageWork {
     pub merge: Work,
 }
 
-/// The work of each stage for an environment.
-pub fn stage_work(env: &Environment) -> StageWork {
+/// The work of each stage for an environment. `drops_emptied`: the clipper drops the
+/// polygons it empties (the thesis's), so that what flows on is only those in view.
+pub fn stage_work(env: &Environment, drops_emptied: bool) -> StageWork {
     let world = Work {
         polygons: env.polygons as f64,
         vertices: env.vertices as f64,
@@ -234,9 +260,13 @@ pub fn stage_work(env: &Environment) -> StageWork {
         pixels: env.area,
         screen: env.screen() * env.frames as f64,
     };
-    let flowing = Work {
-        polygons: env.polygons.max(env.relevant) as f64,
-        ..relevant
+    let flowing = if drops_emptied {
+        relevant
+    } else {
+        Work {
+            polygons: env.polygons.max(env.relevant) as f64,
+            ..relevant
+        }
     };
     let merge = Work {
         spans: env.spans(),
@@ -251,14 +281,73 @@ pub fn stage_work(env: &Environment) -> StageWork {
     }
 }
 
-/// The predicted time of a render of `env` at tree depth `depth` on `cores` cores.
+/// Other hosts that take the tree's subtrees (`render.sh --hosts`, by leaves).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Hosts {
+    /// How many.
+    pub count: usize,
+    /// Cores each.
+    pub cores: usize,
+    /// The link to each, bytes a second each way (1 Gb/s: 125e6).
+    pub link_bytes_per_s: f64,
+    /// Seconds to start a host's part (an ssh login and its render.sh).
+    pub start_s: f64,
+}
+
+/// What the render runs on: this machine's cores, and perhaps other hosts.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Target {
+    /// Cores here. [`Target::unbounded`]: a processor for every process, the thesis's
+    /// assumption (6.4: "each of our processes is running on a separate transputer").
+    pub cores: usize,
+    pub hosts: Option<Hosts>,
+}
+
+impl Target {
+    pub fn cores(cores: usize) -> Target {
+        Target {
+            cores: cores.max(1),
+            hosts: None,
+        }
+    }
+
+    /// A processor for every process.
+    pub fn unbounded() -> Target {
+        Target {
+            cores: usize::MAX,
+            hosts: None,
+        }
+    }
+
+    /// The shallowest depth that gives every host a subtree: 2^depth ≥ hosts.
+    pub fn min_depth(&self) -> u8 {
+        match self.hosts {
+            Some(h) if h.count > 1 => (h.count as f64).log2().ceil().min(6.0) as u8,
+            _ => 0,
+        }
+    }
+}
+
+/// Bytes of the binary eye-space stream a polygon: an 8-byte head, 32 bytes a vertex
+/// (four f64), and about 40 more for the annotations a split adds (the plane, the
+/// supports of cut edges); a run of finished pixels back is 16 bytes.
+const LINK_POLYGON: f64 = 48.0;
+const LINK_VERTEX: f64 = 32.0;
+const LINK_RUN: f64 = 16.0;
+
+/// The predicted time of a render of `env` at tree depth `depth` on `cores` cores here.
 pub fn predict(k: &Constants, env: &Environment, depth: u8, cores: usize) -> Prediction {
+    predict_on(k, env, depth, &Target::cores(cores))
+}
+
+/// The predicted time of a render of `env` at tree depth `depth` on `target`.
+pub fn predict_on(k: &Constants, env: &Environment, depth: u8, target: &Target) -> Prediction {
     let StageWork {
         world,
         flowing,
         relevant,
         merge: merge_work,
-    } = stage_work(env);
+    } = stage_work(env, k.drops_emptied);
     let leaves = (1u64 << depth) as f64;
     // What a node of level l reads: the root every polygon, a lower one its share of those
     // in view.
@@ -278,20 +367,32 @@ pub fn predict(k: &Constants, env: &Environment, depth: u8, cores: usize) -> Pre
         one("viewxf", viewxf.time(&world)),
         one("clip", k.clip.time(&world)),
     ];
+    // The level whose subtrees go to the hosts (render.sh's host_level): the first with a
+    // node for every host, or the leaves'.
+    let host_level = target.hosts.map(|h| {
+        (0..depth)
+            .find(|&l| (1usize << l) >= h.count)
+            .unwrap_or(depth)
+    });
+    let here_levels = host_level.unwrap_or(depth);
     if depth > 0 {
         // Level l has 2^l nodes, each reading P_r/2^l (6.4); the root is the busiest.
-        let total: f64 = (0..depth)
+        let total: f64 = (0..here_levels)
             .map(|l| (1u64 << l) as f64 * k.splitter.time(&node(l)))
             .sum();
-        stages.push(StageTime {
-            stage: "splitter",
-            each_s: k.splitter.time(&node(0)),
-            processes: (1usize << depth) - 1,
-            total_s: total,
-        });
+        if here_levels > 0 {
+            stages.push(StageTime {
+                stage: "splitter",
+                each_s: k.splitter.time(&node(0)),
+                processes: (1usize << here_levels) - 1,
+                total_s: total,
+            });
+        }
     }
     let leaf = node(depth);
-    if depth == 0 {
+    // The leaves' part: persp and the hidden-surface stage on each.
+    let mut leaf_stages = Vec::new();
+    if depth == 0 && host_level.is_none() {
         // One leaf, whose region is the screen: render.sh runs `persp | zbuf`, zbuf
         // resolving the leaf and writing the frames in one process.
         stages.push(one("persp", k.persp.time(&leaf)));
@@ -299,7 +400,7 @@ pub fn predict(k: &Constants, env: &Environment, depth: u8, cores: usize) -> Pre
     } else {
         for (stage, cost) in [("persp", &k.persp), ("hse", &k.hse)] {
             let each = cost.time(&leaf);
-            stages.push(StageTime {
+            leaf_stages.push(StageTime {
                 stage,
                 each_s: each,
                 processes: 1 << depth,
@@ -308,11 +409,47 @@ pub fn predict(k: &Constants, env: &Environment, depth: u8, cores: usize) -> Pre
         }
         stages.push(one("merge", k.merge.time(&merge_work)));
     }
+    let mut hosts_s = 0.0;
+    let mut link_s = 0.0;
+    let mut host_starts = 0.0;
+    match (target.hosts, host_level) {
+        (Some(h), Some(level)) => {
+            // Each host takes its round-robin share of the 2^level subtrees: their
+            // splitters below `level`, their leaves and a relaying zbuf --runs; what it
+            // reads and sends back crosses its link while it works.
+            let subtrees = 1usize << level;
+            let per_host = subtrees.div_ceil(h.count.max(1)) as f64;
+            let lower: f64 = (level..depth)
+                .map(|l| (1u64 << l) as f64 * k.splitter.time(&node(l)))
+                .sum();
+            let leaves_work: f64 = leaf_stages.iter().map(|s| s.total_s).sum();
+            let relay = k.merge.time(&merge_work.share(subtrees as f64));
+            let share = (lower + leaves_work) / subtrees as f64 + relay;
+            let slowest_there = leaf_stages
+                .iter()
+                .map(|s| s.each_s)
+                .chain((level..depth).map(|l| k.splitter.time(&node(l))))
+                .fold(relay, f64::max);
+            let compute = (share * per_host / h.cores.max(1) as f64).max(slowest_there);
+            let into = relevant.share(subtrees as f64);
+            let bytes_in = LINK_POLYGON * into.polygons + LINK_VERTEX * into.vertices;
+            let runs = relevant.spans / env.depth_complexity().max(1.0).sqrt();
+            let bytes_back = LINK_RUN * runs / subtrees as f64;
+            link_s = per_host * bytes_in.max(bytes_back) / h.link_bytes_per_s.max(1.0);
+            hosts_s = compute.max(link_s);
+            host_starts = h.start_s;
+        }
+        _ => stages.extend(leaf_stages),
+    }
     let processes: usize = stages.iter().map(|s| s.processes).sum();
-    let slowest_s = stages.iter().map(|s| s.each_s).fold(0.0, f64::max);
+    let slowest_s = stages.iter().map(|s| s.each_s).fold(hosts_s, f64::max);
     let work: f64 = stages.iter().map(|s| s.total_s).sum();
-    let shared_s = work / cores.max(1) as f64;
-    let overhead_s = k.overheads.script + k.overheads.process * processes as f64;
+    let shared_s = if target.cores == usize::MAX {
+        0.0
+    } else {
+        work / target.cores.max(1) as f64
+    };
+    let overhead_s = k.overheads.script + k.overheads.process * processes as f64 + host_starts;
     Prediction {
         depth,
         total_s: overhead_s + slowest_s.max(shared_s),
@@ -321,6 +458,7 @@ pub fn predict(k: &Constants, env: &Environment, depth: u8, cores: usize) -> Pre
         shared_s,
         overhead_s,
         processes,
+        link_s,
     }
 }
 
@@ -333,36 +471,81 @@ fn one(stage: &'static str, t: f64) -> StageTime {
     }
 }
 
-/// The depth the model says is fastest (0 to `max_depth`), with its reason. Model no more
-/// than a scene needs: a deeper tree must be predicted at least 5% faster than the best
-/// shallower one to be chosen.
+/// How much faster a deeper tree must be predicted to be chosen over the best shallower
+/// one: 5%. Model no more than a scene needs (docs/DESIGN.md): a deeper tree costs more
+/// processes and memory for a gain the model cannot promise within its error.
+pub const DEEPER_BY: f64 = 0.05;
+
+/// The rule [`choose_depth`] applies, in words, for its output.
+pub const RULE: &str =
+    "rule: a deeper tree only when predicted at least 5% faster than the best shallower one";
+
+/// The depth the model says is fastest (the target's least depth to `max_depth`), with its
+/// reason. Model no more than a scene needs: a deeper tree must be predicted at least
+/// [`DEEPER_BY`] faster than the best shallower one to be chosen. With a processor for
+/// every process ([`Target::unbounded`]) and no start-up costs this is thesis 6.4's rule,
+/// "increase the depth of the splitter tree until the rate of flow through the HSE layer
+/// is equal to the smallest rate of flow over all the other stages": past that depth the
+/// slowest stage is no longer the leaves' and a level more gains nothing.
 pub fn choose_depth(
     k: &Constants,
     env: &Environment,
     cores: usize,
     max_depth: u8,
 ) -> (u8, String, Vec<Prediction>) {
-    let all: Vec<Prediction> = (0..=max_depth).map(|d| predict(k, env, d, cores)).collect();
+    choose_depth_on(k, env, &Target::cores(cores), max_depth)
+}
+
+/// [`choose_depth`] for a target with hosts, or unbounded.
+pub fn choose_depth_on(
+    k: &Constants,
+    env: &Environment,
+    target: &Target,
+    max_depth: u8,
+) -> (u8, String, Vec<Prediction>) {
+    let least = target.min_depth().min(max_depth);
+    let all: Vec<Prediction> = (least..=max_depth)
+        .map(|d| predict_on(k, env, d, target))
+        .collect();
     let mut best = &all[0];
     for p in &all[1..] {
-        if p.total_s < best.total_s * 0.95 {
+        if p.total_s < best.total_s * (1.0 - DEEPER_BY) {
             best = p;
         }
     }
-    let next = all
-        .get(best.depth as usize + 1)
-        .map(|p| format!(", depth {} {:.3} s", p.depth, p.total_s))
-        .unwrap_or_default();
+    let fastest = all
+        .iter()
+        .min_by(|a, b| a.total_s.total_cmp(&b.total_s))
+        .unwrap_or(best);
+    let others = if fastest.depth != best.depth {
+        format!(
+            "; depth {} predicted {:.3} s, not 5% faster",
+            fastest.depth, fastest.total_s
+        )
+    } else {
+        all.get((best.depth - least) as usize + 1)
+            .map(|p| format!("; depth {} {:.3} s", p.depth, p.total_s))
+            .unwrap_or_default()
+    };
+    let on = match (target.hosts, target.cores) {
+        (Some(h), c) => format!(
+            "{c} core{} here, {} hosts of {} cores at {:.0} Mb/s",
+            if c == 1 { "" } else { "s" },
+            h.count,
+            h.cores,
+            h.link_bytes_per_s * 8e-6
+        ),
+        (None, usize::MAX) => "a processor per process".to_string(),
+        (None, c) => format!("{c} core{}", if c == 1 { "" } else { "s" }),
+    };
     let reason = format!(
-        "{} polygons in view, Dc {:.1}, {}x{}, {} frame{}, {} core{}: predicted {:.3} s{next}; slowest stage {}",
+        "{} polygons in view, Dc {:.1}, {}x{}, {} frame{}, {on}: predicted {:.3} s{others}; slowest stage {}; {RULE}",
         env.relevant / env.frames.max(1),
         env.depth_complexity(),
         env.width,
         env.height,
         env.frames,
         if env.frames == 1 { "" } else { "s" },
-        cores,
-        if cores == 1 { "" } else { "s" },
         best.total_s,
         best.bottleneck()
     );
@@ -443,63 +626,6 @@ fn solve(mut a: Vec<Vec<f64>>) -> Option<Vec<f64>> {
         }
     }
     Some((0..n).map(|i| a[i][n] / a[i][i]).collect())
-}
-
-/// The thesis's constants (5.2, 6.4) in seconds on its T424-20 (20 MHz: 50 ns a cycle),
-/// in [`Cost`]'s terms with E = 4, for the report beside the fitted ones.
-pub fn thesis_constants() -> Vec<(&'static str, Cost)> {
-    let s = |cycles: f64| cycles * 50e-9;
-    vec![
-        // T_v = P_t·(138 + E·399)
-        (
-            "viewxf (T_v)",
-            Cost {
-                polygon: s(138.0),
-                vertex: s(399.0),
-                ..Default::default()
-            },
-        ),
-        // T_c = P_c·(1213 + (E−1)·979): 234 a polygon, 979 a vertex
-        (
-            "clip, one plane (T_c)",
-            Cost {
-                polygon: s(1213.0 - 979.0),
-                vertex: s(979.0),
-                ..Default::default()
-            },
-        ),
-        // T_SP = P_r·(1430 + (E−1)·1131)
-        (
-            "splitter (T_SP)",
-            Cost {
-                polygon: s(1430.0 - 1131.0),
-                vertex: s(1131.0),
-                ..Default::default()
-            },
-        ),
-        // T_p = P_r·(138 + E·439)
-        (
-            "persp (T_p)",
-            Cost {
-                polygon: s(138.0),
-                vertex: s(439.0),
-                ..Default::default()
-            },
-        ),
-        // T_sc: per polygon 1034 + T_cl (13686) + 2·T_IN + 2·T_MH; per edge beyond two
-        // 139 + T_IN + T_MH (694, counted per vertex here less the two); per scan line
-        // 44 + T_MD + T_UP + T_SO + E_aet·414 (E_aet = 2); per pixel 152.
-        (
-            "hse (T_sc)",
-            Cost {
-                polygon: s(1034.0 + 13686.0 + 2.0 * 501.0 + 2.0 * 54.0 - 2.0 * 694.0),
-                vertex: s(694.0),
-                span: s(44.0 + 71.0 + 240.0 + 505.0 + 2.0 * 414.0),
-                pixel: s(152.0),
-                ..Default::default()
-            },
-        ),
-    ]
 }
 
 #[cfg(test)]
@@ -608,7 +734,7 @@ mod tests {
         let hse = |p: &Prediction| p.stages.iter().find(|s| s.stage == "hse").unwrap().clone();
         // At depth 0 the leaf reads every polygon the clipper passes on (half of them
         // emptied here); a leaf of depth 2 a quarter of those in view and of the screen.
-        let w = stage_work(&e);
+        let w = stage_work(&e, false);
         assert_eq!(w.flowing.polygons, 20_000.0);
         // At depth 0 zbuf resolves the one leaf itself, at its own cost.
         assert_eq!(hse(&p0).each_s, k.resolve.time(&w.flowing));

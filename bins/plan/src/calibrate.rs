@@ -1,4 +1,5 @@
-//! `chart --calibrate`: the model's constants measured on this machine. Each stage binary
+//! `chart calibrate` (and the first use of the model on a machine): the model's constants
+//! measured on this machine, in at most 20 seconds. Each stage binary
 //! is run alone on the streams of synthetic scenes (`scene environment`, the thesis's
 //! test environment of 5.2, over a grid of polygon counts, screens and depth
 //! complexities), reading a file and writing a file, and its CPU seconds are fitted by
@@ -53,26 +54,37 @@ fn stage(bin: &Path, name: &str, input: &Path, output: Option<&Path>) -> Result<
     Ok(cmd)
 }
 
-/// The synthetic scenes: (polygons, width, height, depth complexity).
+/// The synthetic scenes: (polygons, width, height, depth complexity). Chosen so that the
+/// hidden-surface stage's five terms (a process, a polygon, a span, a pixel, a screen
+/// pixel) vary independently: polygons against screen and Dc, which set the spans and
+/// pixels, over a factor of 30 each, in few enough scenes to fit 20 seconds.
+/// `quick`: four small scenes, for tests (about two seconds).
 pub fn grid(quick: bool) -> Vec<(u64, u32, u32, f64)> {
-    let (ps, sizes, dcs): (&[u64], &[(u32, u32)], &[f64]) = if quick {
-        (&[500, 4000], &[(300, 300), (800, 600)], &[1.0, 6.0])
-    } else {
-        (
-            &[1000, 8000, 40000],
-            &[(400, 400), (1280, 720)],
-            &[1.0, 8.0],
-        )
-    };
-    let mut g = Vec::new();
-    for &p in ps {
-        for &(w, h) in sizes {
-            for &dc in dcs {
-                g.push((p, w, h, dc));
-            }
-        }
+    if quick {
+        return vec![
+            (300, 200, 150, 1.0),
+            (2000, 200, 150, 6.0),
+            (300, 640, 480, 6.0),
+            (2000, 640, 480, 1.0),
+        ];
     }
-    g
+    vec![
+        (1000, 400, 400, 1.0),
+        (1000, 1280, 720, 8.0),
+        (8000, 400, 400, 8.0),
+        (8000, 1280, 720, 1.0),
+        (8000, 1920, 1080, 10.0),
+        (30000, 640, 480, 4.0),
+        (30000, 1280, 720, 8.0),
+        (2000, 1920, 1080, 2.0),
+    ]
+}
+
+/// Whether the automatic calibration should be the quick one: `POLYPIPE_CALIBRATION=quick`
+/// (the tests set it, so that a test that meets an uncalibrated machine does not spend
+/// 20 seconds fitting it).
+pub fn quick_from_env() -> bool {
+    std::env::var("POLYPIPE_CALIBRATION").is_ok_and(|v| v == "quick")
 }
 
 /// Measures the stages and fits the constants. `tick` is called after each scene.
@@ -83,7 +95,7 @@ pub fn calibrate(
     quick: bool,
     mut tick: impl FnMut(&str),
 ) -> Result<Constants> {
-    let reps = if quick { 1 } else { 3 };
+    let reps = if quick { 1 } else { 2 };
     let [mut vt, mut vb, mut clip, mut split, mut persp, mut hse, mut merge, mut resolve] =
         std::array::from_fn(|_| Samples::default());
     let f = |n: &str| work.join(n);
@@ -151,7 +163,7 @@ pub fn calibrate(
             flowing,
             merge: merge_work,
             ..
-        } = stage_work(&env);
+        } = stage_work(&env, false);
         vt.push(&world, t_vt);
         vb.push(&world, t_vb);
         clip.push(&world, t_clip);
@@ -170,6 +182,8 @@ pub fn calibrate(
     let geometry = [true, true, false, false, false, false];
     let mut k = Constants {
         measured_on: machine(),
+        machine: crate::cache::this_machine(bin),
+        drops_emptied: false,
         viewxf_text: vt.fit(geometry),
         viewxf_binary: vb.fit(geometry),
         clip: clip.fit(geometry),
@@ -182,7 +196,8 @@ pub fn calibrate(
         overheads: Overheads::default(),
     };
     tick("render.sh on two polygons, depths 0-4");
-    k.overheads = overheads(bin, render, work, &k, if quick { 3 } else { 5 })?;
+    let depths: &[u8] = if quick { &[0, 2] } else { &[0, 1, 2, 3, 4] };
+    k.overheads = overheads(bin, render, work, &k, depths, if quick { 1 } else { 3 })?;
     Ok(k)
 }
 
@@ -194,6 +209,7 @@ fn overheads(
     render: &Path,
     work: &Path,
     k: &Constants,
+    depths: &[u8],
     reps: usize,
 ) -> Result<Overheads> {
     let scene = work.join("two.txt");
@@ -207,7 +223,7 @@ fn overheads(
     let cores = cores();
     let mut rows = Vec::new();
     let mut y = Vec::new();
-    for d in 0..=4u8 {
+    for &d in depths {
         let mut runs: Vec<Usage> = Vec::new();
         for _ in 0..reps {
             runs.push(measure::run(
@@ -237,17 +253,97 @@ pub fn cores() -> usize {
 
 /// The CPU model and cores, and the date, for the constants file.
 pub fn machine() -> String {
-    let cpu = std::fs::read_to_string("/proc/cpuinfo")
-        .ok()
-        .and_then(|s| {
-            s.lines()
-                .find(|l| l.starts_with("model name"))
-                .and_then(|l| l.split(':').nth(1))
-                .map(|s| s.trim().to_string())
-        })
-        .unwrap_or_else(|| "an unknown CPU".into());
+    let cpu = crate::cache::cpu_model();
     let days = std::time::SystemTime::now()
         .duration_since(std::time::UNIX_EPOCH)
         .map_or(0, |d| d.as_secs() / 86400);
     format!("{cpu}, {} cores, day {days} since 1970", cores())
+}
+
+/// The steps [`calibrate`] reports to its `tick`: a scene each, and the start-up fit.
+pub fn steps(quick: bool) -> usize {
+    grid(quick).len() + 1
+}
+
+/// Calibrates this machine and keeps the result in the cache ([`crate::cache`]), saying
+/// how far it is on one line of stderr (`STAGE: calibrating the cost model for this
+/// machine (at most 20 s): 3/9 …`, rewritten in place on a terminal; elsewhere said at
+/// the start and at the end). `bin`: the binaries; `render`: scripts/render.sh.
+pub fn calibrate_and_store(
+    stage: &str,
+    bin: &Path,
+    render: &Path,
+    quick: bool,
+) -> Result<(Constants, std::path::PathBuf)> {
+    use std::io::{IsTerminal, Write};
+    let work = std::env::temp_dir().join(format!("polypipe-calibration.{}", std::process::id()));
+    std::fs::create_dir_all(&work).with_context(|| format!("cannot make {}", work.display()))?;
+    let start = std::time::Instant::now();
+    let tty = std::io::stderr().is_terminal();
+    let total = steps(quick);
+    let head = format!("{stage}: calibrating the cost model for this machine (at most 20 s)");
+    if !tty {
+        let _ = writeln!(std::io::stderr(), "{head}…");
+    }
+    let mut step = 0;
+    let trace = std::env::var_os("POLYPIPE_CALIBRATION_TRACE").is_some();
+    let result = calibrate(bin, render, &work, quick, |what| {
+        step += 1;
+        if trace {
+            let _ = writeln!(
+                std::io::stderr(),
+                "{stage}: {:.2} s: {step}/{total} {what}",
+                start.elapsed().as_secs_f64()
+            );
+        }
+        if tty {
+            let _ = write!(std::io::stderr(), "\r\x1b[K{head}: {step}/{total} {what}");
+        }
+    });
+    let _ = std::fs::remove_dir_all(&work);
+    let k = result?;
+    let header = format!(
+        "# The cost model's constants for this machine (bins/plan/src/model.rs), seconds,\n\
+         # fitted by `chart calibrate{}` in {:.1} s: each stage binary alone on synthetic\n\
+         # scenes, least squares. `render.sh --depth auto`, `plan depth` and `chart` read it.\n",
+        if quick { " --quick" } else { "" },
+        start.elapsed().as_secs_f64()
+    );
+    let path = crate::cache::store(&k, &header)?;
+    let done = format!(
+        "{stage}: calibrated in {:.1} s: {}",
+        start.elapsed().as_secs_f64(),
+        path.display()
+    );
+    let _ = if tty {
+        writeln!(std::io::stderr(), "\r\x1b[K{done}")
+    } else {
+        writeln!(std::io::stderr(), "{done}")
+    };
+    Ok((k, path))
+}
+
+/// The constants as a table, one stage a line, for `chart calibrate`'s report.
+pub fn table(k: &Constants) -> String {
+    let mut t = String::new();
+    for (name, cost) in [
+        ("viewxf (text)", k.viewxf_text),
+        ("viewxf (binary)", k.viewxf_binary),
+        ("clip", k.clip),
+        ("splitter", k.splitter),
+        ("persp", k.persp),
+        ("hse", k.hse),
+        ("merge", k.merge),
+        ("resolve (depth 0)", k.resolve),
+    ] {
+        t += &format!(
+            "{name:18} process {:.2e} s, polygon {:.2e}, span {:.2e}, pixel {:.2e}, screen pixel {:.2e}\n",
+            cost.process, cost.polygon, cost.span, cost.pixel, cost.screen
+        );
+    }
+    t += &format!(
+        "{:18} script {:.4} s, each process {:.5} s\n",
+        "start-up", k.overheads.script, k.overheads.process
+    );
+    t
 }
