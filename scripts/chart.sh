@@ -1,36 +1,27 @@
 #!/usr/bin/env bash
 # chart.sh: speed against accuracy of every method, and the thesis's cost model
-# (docs/DESIGN.md, "Measures"). A thin wrapper: it builds the binaries when cargo is there
-# (cargo leaves them alone when they are current), then runs bins/chart, which runs
+# (docs/DESIGN.md, "Measures"; docs/model.md). A thin wrapper: it brings the binaries up to
+# date with render.sh's own check (ensure_binaries: cargo runs only when a binary is
+# missing or older than its sources, as for a render), then runs bins/chart, which runs
 # scripts/render.sh as a user would for each scene, method and depth.
 #
-# Usage: scripts/chart.sh -o DIR [--quick] [--calibrate] [--standard] [--size WxH] [--reps N] SCENE[@WxH]…
-#        scripts/chart.sh choose-depth [--size WxH] [--cores N] SCENE
+# Usage: scripts/chart.sh -o DIR [--quick] [--standard] [--size WxH] [--reps N] SCENE[@WxH]…
+#        scripts/chart.sh calibrate [--quick]     # fit the cost model to this machine now
+#        scripts/chart.sh thesis                  # thesis 5.2's timings and 6.4's depth
+#        scripts/chart.sh choose-depth [--size WxH] [--cores N] SCENE   # plan depth's alias
 # Writes DIR/results.csv, DIR/speed-accuracy.png and .svg, DIR/model.csv and DIR/model.png;
-# --calibrate first measures the model's constants into bench/model.toml. `chart.sh --help`
-# tells the rest.
-set -u
+# the first run on a machine calibrates the model (at most 20 s). `chart.sh --help` tells
+# the rest.
 
 script=$(readlink -f -- "${BASH_SOURCE[0]}") || { echo "chart.sh: cannot find where chart.sh lives" >&2; exit 3; }
 root=${script%/*/*}
-target=${CARGO_TARGET_DIR:-target}
-[[ $target == /* ]] || target=$root/$target
-bindir=$target/release
-
-# The binaries chart and render.sh run, built together (render.sh would build the others
-# on its first run, but chart runs zspec, scene and frames before that).
-binaries=(chart viewxf clipplane clipbatch splitter persp scanconv zbuf scene zspec frames)
-if command -v cargo >/dev/null; then
-    packages=()
-    for b in "${binaries[@]}"; do packages+=(-p "$b"); done
-    (cd "$root" && cargo build --release --quiet "${packages[@]}") >&2 ||
-        { echo "chart.sh: cargo build failed" >&2; exit 3; }
-elif [[ ! -x $bindir/chart ]]; then
-    echo "chart.sh: no $bindir/chart, and cargo is not on PATH to build it (Rust: https://rustup.rs)" >&2
-    exit 3
-fi
+# render.sh's functions (it needs bash 5.1, and says so), without its main.
+source "$root/scripts/render.sh" || exit 3
+set -u
+ensure_binaries
 
 case ${1-} in
-    choose-depth) exec "$bindir/chart" "$@" --root "$root" ;;
+    choose-depth | calibrate) exec "$bindir/chart" "$@" --root "$root" ;;
+    thesis) exec "$bindir/chart" "$@" ;;
     *) exec "$bindir/chart" --root "$root" "$@" ;;
 esac

@@ -876,4 +876,6 @@ back() {
     fi
 }
 
-main "$@"
+# Sourced (scripts/chart.sh does, for ensure_binaries: one freshness check for both), it
+# only defines; run, it renders.
+[[ ${BASH_SOURCE[0]} != "$0" ]] || main "$@"

@@ -1,6 +1,8 @@
-//! `scripts/chart.sh` (docs/DESIGN.md, "Measures"): the chart's three files on a small
-//! scene, with the columns the design names and real values in them; the cost model's
-//! rows for depths 0-4; and `chart choose-depth`, render.sh's `--depth auto`.
+//! `scripts/chart.sh` (docs/DESIGN.md, "Measures"; docs/model.md): the chart's three files
+//! on a small scene, with the columns the design names and real values in them; the cost
+//! model's rows for depths 0-4; and `chart choose-depth` (`plan depth`), render.sh's
+//! `--depth auto`. Every run that could calibrate the model is given a cache folder of
+//! its own (XDG_CACHE_HOME) and the quick calibration (POLYPIPE_CALIBRATION=quick).
 
 use pipeline_tests::{repo_root, sh};
 use std::collections::HashMap;
@@ -30,10 +32,22 @@ fn num(row: &HashMap<String, String>, column: &str) -> f64 {
         .unwrap_or_else(|_| panic!("{column} = {:?} in {row:?}", row[column]))
 }
 
+/// The environment of a run with a cache folder of its own, and the quick calibration.
+fn cached(cache: &Path) -> String {
+    format!(
+        "XDG_CACHE_HOME={} POLYPIPE_CALIBRATION=quick",
+        cache.display()
+    )
+}
+
 fn chart(args: &str) -> tempfile::TempDir {
     let dir = tempfile::tempdir().unwrap();
     let out = sh(
-        &format!("scripts/chart.sh -o {} {args}", dir.path().display()),
+        &format!(
+            "{} scripts/chart.sh -o {} {args}",
+            cached(&dir.path().join("cache")),
+            dir.path().display()
+        ),
         b"",
     );
     assert!(
@@ -172,7 +186,8 @@ fn quick_chart_of_a_small_scene_makes_its_files_with_real_values() {
     // Scenes that are not those of the run are refused.
     let out = sh(
         &format!(
-            "scripts/chart.sh -o {} --remodel examples/cube.txt",
+            "{} scripts/chart.sh -o {} --remodel examples/cube.txt",
+            cached(&d.join("cache")),
             d.display()
         ),
         b"",
@@ -468,7 +483,8 @@ fn auto_is_the_default_depth_and_a_scene_it_cannot_look_at_goes_to_the_stages() 
     );
     assert!(out.stdout == at0.stdout, "not depth 0's frame");
     // A scene the look cannot read: by default the stages say what is wrong (viewxf,
-    // status 1), as at depth 0; with --depth auto asked for, chart says it.
+    // status 1), as at depth 0; with --depth auto asked for too: the sample the planner
+    // could not read goes on to viewxf, which says what is wrong.
     let bad = b"polypipe 1 world\ncolour 1 2 3\n0 0\n";
     let out = sh("scripts/render.sh -", bad);
     assert_eq!(out.status.code(), Some(1));
@@ -479,5 +495,10 @@ fn auto_is_the_default_depth_and_a_scene_it_cannot_look_at_goes_to_the_stages() 
     );
     let out = sh("scripts/render.sh --depth auto -", bad);
     assert_eq!(out.status.code(), Some(1));
-    assert!(String::from_utf8_lossy(&out.stderr).starts_with("chart: "));
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        err.contains("viewxf: line 3, column 4: expected z of vertex 0")
+            && err.ends_with("render.sh: viewxf failed (status 1)\n"),
+        "{err}"
+    );
 }

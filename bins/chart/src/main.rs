@@ -240,8 +240,9 @@ fn run(cli: Cli) -> Result<()> {
         let rows: Vec<chart::chart::Row> = chart::chart::read_csv(&out.join("results.csv"))?;
         let model_rows: Vec<chart::chart::ModelRow> =
             chart::chart::read_csv(&out.join("model.csv"))?;
+        let extra = read_extrapolation(&out)?;
         chart::plot::speed_accuracy(&out, &rows)?;
-        return chart::plot::model(&out, &model_rows);
+        return chart::plot::model(&out, &model_rows, &extra);
     }
     let cores = chart::calibrate::cores();
     if cli.standard {
@@ -283,7 +284,7 @@ fn run(cli: Cli) -> Result<()> {
         * (chart::methods::runs(cli.quick, cli.methods.as_deref()).len() as u64 + 1);
     let progress = bar(total);
     let mut first = true;
-    let (rows, model_rows) = chart::chart::chart(&setup, &scenes, |what| {
+    let (rows, model_rows, extra) = chart::chart::chart(&setup, &scenes, |what| {
         if !first {
             progress.inc(1);
         }
@@ -293,8 +294,9 @@ fn run(cli: Cli) -> Result<()> {
     progress.finish_and_clear();
     chart::chart::write_csv(&out.join("results.csv"), &rows)?;
     chart::chart::write_csv(&out.join("model.csv"), &model_rows)?;
+    chart::chart::write_csv(&out.join("model-extrapolation.csv"), &extra)?;
     chart::plot::speed_accuracy(&out, &rows)?;
-    chart::plot::model(&out, &model_rows)?;
+    chart::plot::model(&out, &model_rows, &extra)?;
     say(&model_table(&model_rows))?;
     say_err(&format!(
         "chart: wrote {0}/results.csv, {0}/speed-accuracy.png, {0}/speed-accuracy.svg, {0}/model.csv, {0}/model.png",
@@ -338,8 +340,28 @@ fn remodel(
         );
     }
     chart::chart::write_csv(&path, &rows)?;
-    chart::plot::model(out, &rows)?;
+    let mut extra = Vec::new();
+    let mut most = -1.0;
+    for scene in scenes {
+        let env = chart::look::look(&scene.path, scene.width, scene.height, &[], None)?;
+        if env.area > most {
+            most = env.area;
+            extra = chart::chart::extrapolate(&k, &env, &scene.name, cores);
+        }
+    }
+    chart::chart::write_csv(&out.join("model-extrapolation.csv"), &extra)?;
+    chart::plot::model(out, &rows, &extra)?;
     say(&model_table(&rows))
+}
+
+/// DIR/model-extrapolation.csv, when there is one (a run before it had none).
+fn read_extrapolation(out: &Path) -> Result<Vec<chart::chart::Extrapolation>> {
+    let path = out.join("model-extrapolation.csv");
+    if path.exists() {
+        chart::chart::read_csv(&path)
+    } else {
+        Ok(Vec::new())
+    }
 }
 
 /// Writes `text` to stdout as the stages do ([`stagecli::stdout`]): the reader going

@@ -201,9 +201,9 @@ pub fn calibrate(
     Ok(k)
 }
 
-/// The script's and the processes' start-up: `render.sh` on two polygons at depths 0-4
+/// The script's and the processes' start-up: `render.sh` on two polygons at `depths`
 /// (wall seconds, median of `reps`) less the stages' predicted time, fitted to
-/// script + process × processes.
+/// script + process × processes / cores.
 fn overheads(
     bin: &Path,
     render: &Path,
@@ -235,9 +235,13 @@ fn overheads(
             )?);
         }
         let wall = measure::median(&runs).wall_s;
+        // With no start-up costs yet in `k`, shared_s is the stages' work over the
+        // cores: the wall time is the script's plus that plus the processes' starts over
+        // the cores (a two-polygon render is all start-up: the shared bound is the
+        // larger).
         let p = predict(k, &env, d, cores);
-        rows.push([1.0, p.processes as f64, 0.0, 0.0, 0.0, 0.0]);
-        y.push(wall - p.slowest_s.max(p.shared_s));
+        rows.push([1.0, p.processes as f64 / cores as f64, 0.0, 0.0, 0.0, 0.0]);
+        y.push(wall - p.shared_s.max(p.slowest_s));
     }
     let c = fit(&rows, &y, [true, true, false, false, false, false]);
     Ok(Overheads {

@@ -26,8 +26,9 @@
 //! reasons ("the rate of flow through a pipeline is only as large as the smallest rate of
 //! flow over all its stages") — when each stage has a processor of its own. With C cores
 //! for its 2 + (2^N − 1) + 2·2^N + 1 processes, it can be no faster than all their work
-//! shared among the cores either; so the time is the larger of the two, plus what
-//! starting the processes and the script costs ([`Overheads`]).
+//! shared among the cores either (starting each process is part of that work); so the
+//! time is the larger of the two, plus what the script costs before the first stage
+//! starts ([`Overheads`]).
 
 use crate::look::Environment;
 use serde::{Deserialize, Serialize};
@@ -209,9 +210,10 @@ pub struct Prediction {
     pub stages: Vec<StageTime>,
     /// The slowest stage process's seconds (the thesis's bound).
     pub slowest_s: f64,
-    /// Every process's work over the cores (the machine's bound).
+    /// Every process's work, its start included, over the cores (the machine's bound).
     pub shared_s: f64,
-    /// Script and process start-up.
+    /// Script and process start-up (the script's is added to the larger bound; the
+    /// processes' is in `shared_s`).
     pub overhead_s: f64,
     pub processes: usize,
     /// With hosts: the seconds a host's link is busy (its bytes over the link's rate).
@@ -443,16 +445,20 @@ pub fn predict_on(k: &Constants, env: &Environment, depth: u8, target: &Target) 
     }
     let processes: usize = stages.iter().map(|s| s.processes).sum();
     let slowest_s = stages.iter().map(|s| s.each_s).fold(hosts_s, f64::max);
-    let work: f64 = stages.iter().map(|s| s.total_s).sum();
+    // Starting a process (bash's fork and redirections, the exec, a named pipe's open)
+    // is work for the cores like the stages' own, done while the stages run; the
+    // script's own start is before any of it.
+    let starting = k.overheads.process * processes as f64;
+    let work: f64 = stages.iter().map(|s| s.total_s).sum::<f64>() + starting;
     let shared_s = if target.cores == usize::MAX {
         0.0
     } else {
         work / target.cores.max(1) as f64
     };
-    let overhead_s = k.overheads.script + k.overheads.process * processes as f64 + host_starts;
+    let overhead_s = k.overheads.script + starting + host_starts;
     Prediction {
         depth,
-        total_s: overhead_s + slowest_s.max(shared_s),
+        total_s: k.overheads.script + host_starts + slowest_s.max(shared_s),
         stages,
         slowest_s,
         shared_s,
@@ -757,6 +763,60 @@ mod tests {
         assert!(reason.contains("1 polygons in view"), "{reason}");
         let (d, reason, _) = choose_depth(&k, &env(10_000, 1920, 1080, 10.0), 64, 6);
         assert!(d >= 2, "{d}: {reason}");
+    }
+
+    #[test]
+    fn hosts_get_a_subtree_each_and_a_slow_link_shows() {
+        let k = constants();
+        let e = env(10_000, 1920, 1080, 10.0);
+        let hosts = |count, gbps: f64| Target {
+            cores: 2,
+            hosts: Some(Hosts {
+                count,
+                cores: 2,
+                link_bytes_per_s: gbps * 1e9 / 8.0,
+                start_s: 0.1,
+            }),
+        };
+        assert_eq!(hosts(1, 1.0).min_depth(), 0);
+        assert_eq!(hosts(3, 1.0).min_depth(), 2);
+        assert_eq!(hosts(4, 1.0).min_depth(), 2);
+        assert_eq!(hosts(5, 1.0).min_depth(), 3);
+        let (d, reason, all) = choose_depth_on(&k, &e, &hosts(4, 1.0), 6);
+        assert!(d >= 2 && all[0].depth == 2, "{reason}");
+        assert!(
+            reason.contains("4 hosts of 2 cores at 1000 Mb/s"),
+            "{reason}"
+        );
+        // The link: 48 bytes a polygon and 32 a vertex of a quarter of those in view, in
+        // to each host; 16 bytes a run back, a run a visible span (spans over √Dc); over
+        // 1 Mb/s (125,000 bytes a second) and over 10 Gb/s.
+        let slow = predict_on(&k, &e, 2, &hosts(4, 0.001));
+        let fast = predict_on(&k, &e, 2, &hosts(4, 10.0));
+        let bytes_in = 2_500.0 * 48.0 + 10_000.0 * 32.0;
+        let bytes_back = 16.0 * e.spans() / 10f64.sqrt() / 4.0;
+        assert!(bytes_back > bytes_in);
+        assert!(
+            (slow.link_s - bytes_back / 125_000.0).abs() < 1e-9,
+            "{slow:?}"
+        );
+        assert!(slow.total_s > fast.total_s + 3.0);
+        // The local stages are the ones above the hosts' level: viewxf and the clipper.
+        assert!(fast.stages.iter().all(|s| s.stage != "hse"));
+    }
+
+    #[test]
+    fn starting_processes_is_work_shared_by_the_cores() {
+        let mut k = constants();
+        k.overheads.process = 0.01;
+        let e = env(1, 500, 500, 0.01);
+        let p1 = predict(&k, &e, 4, 1);
+        let p2 = predict(&k, &e, 4, 2);
+        // 50 processes' starts: 0.5 s on one core, 0.25 s on two, after the script's (and
+        // the stages' own 0.05 s of work, halved too).
+        let gain = p1.total_s - p2.total_s;
+        assert!(gain > 0.25 && gain < 0.3, "{p1:?} {p2:?}");
+        assert!(p2.total_s > k.overheads.script + 0.25);
     }
 
     #[test]
