@@ -121,7 +121,9 @@ pub fn constants(
     ))
 }
 
-pub fn depth(a: DepthArgs) -> Result<()> {
+/// What `plan depth` and `plan predict` share: the constants (and a note when they are
+/// not this machine's), the look at the scene, and the target.
+fn setup(a: &DepthArgs) -> Result<(Constants, Option<String>, State, look::Environment, Target)> {
     let root = root_dir(a.root.clone())?;
     let bin = bin_dir()?;
     let (k, note, state) = constants(a.model.as_deref(), &root, &bin)?;
@@ -155,6 +157,12 @@ pub fn depth(a: DepthArgs) -> Result<()> {
             start_s: 0.1,
         }),
     };
+    Ok((k, note, state, env, target))
+}
+
+pub fn depth(a: DepthArgs) -> Result<()> {
+    let root = root_dir(a.root.clone())?;
+    let (k, note, state, env, target) = setup(&a)?;
     let (depth, reason, _) = model::choose_depth_on(&k, &env, &target, a.max_depth);
     let reason = match note {
         Some(n) => format!("{reason}; {n}"),
@@ -165,6 +173,51 @@ pub fn depth(a: DepthArgs) -> Result<()> {
         tell_once(&state, &root);
     }
     Ok(())
+}
+
+/// `plan predict`: every depth's prediction, a row each.
+pub fn predict(a: DepthArgs) -> Result<()> {
+    let (k, note, _, env, target) = setup(&a)?;
+    let (chosen, _, all) = model::choose_depth_on(&k, &env, &target, a.max_depth);
+    let mut t = String::from(
+        "| depth | predicted s | slowest s | shared s | processes | viewxf | clip | splitter (root) | persp (leaf) | hse (leaf) | merge | bottleneck |\n\
+         |---|---|---|---|---|---|---|---|---|---|---|---|\n",
+    );
+    for p in &all {
+        let stage = |name: &str| {
+            p.stages
+                .iter()
+                .find(|s| s.stage == name)
+                .map_or("–".to_string(), |s| format!("{:.4}", s.each_s))
+        };
+        t += &format!(
+            "| {}{} | {:.4} | {:.4} | {:.4} | {} | {} | {} | {} | {} | {} | {} | {} |\n",
+            p.depth,
+            if p.depth == chosen { " (chosen)" } else { "" },
+            p.total_s,
+            p.slowest_s,
+            p.shared_s,
+            p.processes,
+            stage("viewxf"),
+            stage("clip"),
+            stage("splitter"),
+            stage("persp"),
+            stage("hse"),
+            stage("merge"),
+            p.bottleneck()
+        );
+    }
+    t += &format!(
+        "\n{} polygons in view of {}, Dc {:.2}, {}x{}, {} frame(s); {}\n",
+        env.relevant,
+        env.polygons,
+        env.depth_complexity(),
+        env.width,
+        env.height,
+        env.frames,
+        note.unwrap_or_else(|| k.measured_on.clone())
+    );
+    crate::say(&t)
 }
 
 /// Says once (a marker in the cache folder remembers) that this machine is not
