@@ -151,8 +151,33 @@ fn quick_chart_of_a_small_scene_makes_its_files_with_real_values() {
     assert_eq!(rows[0]["processes"], "4");
     assert_eq!(rows[4]["processes"], "50");
 
+    // The machine had no calibration: the chart made one first, and kept it.
+    let kept = std::fs::read_to_string(d.join("cache/polypipe/model.toml")).unwrap();
+    assert!(kept.contains("[machine]"), "{kept}");
+    // The extrapolation beside it: 1 to 64 cores, depths 0-6, and four hosts.
+    let (_, extra) = read_csv(&d.join("model-extrapolation.csv"));
+    assert_eq!(extra.iter().filter(|r| r["target"] == "64 cores").count(), 7);
+    assert!(extra.iter().any(|r| r["target"].starts_with("4 hosts") && r["depth"] == "2"));
+
     // --remodel predicts again from another model file and keeps what was measured: a
-    // script a second slower is every prediction a second later.
+    // script a second slower is every prediction a second later than the committed
+    // file's.
+    let remodel = |model: &str| {
+        let out = sh(
+            &format!(
+                "scripts/chart.sh -o {} --remodel --model {model} examples/penetrating.txt@120x90",
+                d.display()
+            ),
+            b"",
+        );
+        assert!(
+            out.status.success(),
+            "{}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        read_csv(&d.join("model.csv")).1
+    };
+    let rows = remodel("bench/model.toml");
     let committed = std::fs::read_to_string(repo_root().join("bench/model.toml")).unwrap();
     let slower: String = committed
         .lines()
@@ -163,20 +188,7 @@ fn quick_chart_of_a_small_scene_makes_its_files_with_real_values() {
         .collect();
     let model = d.join("slower.toml");
     std::fs::write(&model, slower).unwrap();
-    let out = sh(
-        &format!(
-            "scripts/chart.sh -o {} --remodel --model {} examples/penetrating.txt@120x90",
-            d.display(),
-            model.display()
-        ),
-        b"",
-    );
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    let (_, again) = read_csv(&d.join("model.csv"));
+    let again = remodel(&model.to_string_lossy());
     assert_eq!(again.len(), rows.len());
     for (a, r) in again.iter().zip(&rows) {
         assert_eq!(a["measured_s"], r["measured_s"]);
@@ -421,11 +433,11 @@ fn the_model_table_ends_quietly_when_its_reader_goes_away() {
     let d = dir.path().display();
     // `true` is gone long before the table is written, a second or so of runs later.
     let (status, err) = status_and_stderr(&format!(
-        "chart --root . -o {d} --quick --methods zbuf examples/penetrating.txt@40x30 | true"
+        "chart --root . -o {d} --model bench/model.toml --quick --methods zbuf examples/penetrating.txt@40x30 | true"
     ));
     assert_eq!((status, err.as_str()), (Some(0), ""));
     let (status, err) = status_and_stderr(&format!(
-        "chart --root . -o {d} --quick --methods zbuf examples/penetrating.txt@40x30 > /dev/full"
+        "chart --root . -o {d} --model bench/model.toml --quick --methods zbuf examples/penetrating.txt@40x30 > /dev/full"
     ));
     assert_eq!(status, Some(3), "{err}");
     assert!(

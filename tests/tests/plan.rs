@@ -409,3 +409,39 @@ fn chart_sh_runs_cargo_only_when_a_binary_is_stale() {
     run();
     assert!(!log.exists(), "cargo was run: {:?}", std::fs::read_to_string(&log));
 }
+
+#[test]
+fn depth_auto_with_hosts_gives_every_host_a_subtree() {
+    // A "host" reached by running the command here (POLYPIPE_SSH: the host's name is
+    // dropped): four hosts, so the tree is at least two levels deep, and the frames are a
+    // local run's. The planner said so (before the fix, depth 0, and hosts idle).
+    let dir = tempfile::tempdir().unwrap();
+    let fake = dir.path().join("here-ssh");
+    std::fs::write(&fake, "#!/bin/bash\nshift\nexec bash -c \"$1\"\n").unwrap();
+    let mut perms = std::fs::metadata(&fake).unwrap().permissions();
+    std::os::unix::fs::PermissionsExt::set_mode(&mut perms, 0o755);
+    std::fs::set_permissions(&fake, perms).unwrap();
+    let scene = environment(dir.path(), 2000, 1);
+    let out = sh(
+        &format!(
+            "{} POLYPIPE_SSH={} scripts/render.sh --hosts a,b,c,d --stats {}",
+            cached(&dir.path().join("c")),
+            fake.display(),
+            scene.display()
+        ),
+        b"",
+    );
+    assert!(out.status.success(), "{}", text(&out.stderr));
+    let err = text(&out.stderr);
+    let line = err.lines().next().unwrap();
+    let depth: u8 = line
+        .strip_prefix("render.sh: depth auto chose ")
+        .and_then(|l| l.split(' ').next())
+        .and_then(|d| d.parse().ok())
+        .unwrap_or_else(|| panic!("{err}"));
+    assert!(depth >= 2, "{line}");
+    assert!(line.contains(" here, 4 hosts of "), "{line}");
+    assert!(err.contains("on host d"), "every host had a subtree: {err}");
+    let at0 = sh(&format!("scripts/render.sh --depth 0 {}", scene.display()), b"");
+    assert!(out.stdout == at0.stdout);
+}

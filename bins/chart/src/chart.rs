@@ -121,7 +121,7 @@ pub struct ModelRow {
 #[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
 pub struct Extrapolation {
     pub scene: String,
-    /// `N cores`, or `4 hosts × C cores, G Gb/s`.
+    /// `N cores`, or `4 hosts × C cores at G Gb/s` (no comma: a CSV field unquoted).
     pub target: String,
     pub depth: u8,
     pub predicted_s: f64,
@@ -165,7 +165,7 @@ pub fn extrapolate(
             let p = predict_on(k, env, depth, &target);
             rows.push(Extrapolation {
                 scene: scene.to_string(),
-                target: format!("4 hosts × {cores} cores, {gbps} Gb/s"),
+                target: format!("4 hosts × {cores} cores at {gbps} Gb/s"),
                 depth,
                 predicted_s: p.total_s,
                 link_s: p.link_s,

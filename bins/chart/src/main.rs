@@ -82,7 +82,7 @@ enum Sub {
         after_help = "Example:\n  chart choose-depth --size 1920x1080 --cores 2 fill.txt\n  \
                       1 (10000 polygons in view, Dc 9.8, …; rule: …)"
     )]
-    ChooseDepth(plan::cli::DepthArgs),
+    ChooseDepth(Box<plan::cli::DepthArgs>),
     /// Fits the cost model's constants on this machine now (at most 20 s) and keeps them
     /// in ${XDG_CACHE_HOME:-$HOME/.cache}/polypipe/model.toml, where `render.sh --depth
     /// auto` and the chart read them; prints them.
@@ -449,7 +449,7 @@ fn main() -> ExitCode {
 
 fn dispatch(cli: Cli) -> Result<()> {
     match cli.command {
-        Some(Sub::ChooseDepth(args)) => plan::cli::depth(args),
+        Some(Sub::ChooseDepth(args)) => plan::cli::depth(*args),
         Some(Sub::Calibrate { quick, model, root }) => {
             let root = root_dir(root)?;
             calibrate(quick, model.as_deref(), &root, &bin_dir()?)

@@ -34,11 +34,11 @@ enum Sub {
     /// Prints the splitter tree depth the cost model predicts fastest for a scene, and
     /// why, as one line `N (reason; rule: …)`. It looks at the scene's first 512 KiB
     /// through the geometry viewxf, clipplane and persp share (proto's), in this process.
-    Depth(plan::cli::DepthArgs),
+    Depth(Box<plan::cli::DepthArgs>),
     /// Prints the model's prediction at every depth (0 to --max-depth) for a scene, each
     /// stage's seconds (its busiest process) and the tree's per-level work, as a table:
     /// what `plan depth` chooses from.
-    Predict(plan::cli::DepthArgs),
+    Predict(Box<plan::cli::DepthArgs>),
     /// Fits the model's constants on this machine (at most 20 s) and keeps them in
     /// ${XDG_CACHE_HOME:-$HOME/.cache}/polypipe/model.toml.
     Calibrate {
@@ -132,8 +132,8 @@ fn relay(file: &Path) -> Result<()> {
 fn main() -> ExitCode {
     stagecli::main::<Cli>("plan", |cli| {
         let done = match cli.command {
-            Sub::Depth(a) => plan::cli::depth(a),
-            Sub::Predict(a) => plan::cli::predict(a),
+            Sub::Depth(a) => plan::cli::depth(*a),
+            Sub::Predict(a) => plan::cli::predict(*a),
             Sub::Calibrate {
                 quick,
                 background,
