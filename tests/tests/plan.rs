@@ -201,7 +201,7 @@ fn choose_depth_states_its_rule_and_plans_for_cores_and_hosts() {
     let plan = |args: &str| {
         let out = sh(
             &format!(
-                "plan depth --model bench/model.toml --size 1920x1080 {args} {}",
+                "plan depth --model bench/model.toml --load 0 --size 1920x1080 {args} {}",
                 scene.display()
             ),
             b"",
@@ -223,7 +223,7 @@ fn choose_depth_states_its_rule_and_plans_for_cores_and_hosts() {
     // The old name says the same.
     let alias = sh(
         &format!(
-            "chart choose-depth --model bench/model.toml --size 1920x1080 --cores 64 {}",
+            "chart choose-depth --model bench/model.toml --load 0 --size 1920x1080 --cores 64 {}",
             scene.display()
         ),
         b"",

@@ -114,6 +114,10 @@ pub struct ModelRow {
     pub bottleneck: String,
     pub polygons_in_view: u64,
     pub depth_complexity: f64,
+    /// Other programs' runnable threads when the scene was measured (the load average
+    /// less one): the prediction shares the cores with them, as the runs did.
+    #[serde(default)]
+    pub load: f64,
 }
 
 /// One row of `model-extrapolation.csv`: the model's prediction for a scene at a depth on
@@ -154,6 +158,7 @@ pub fn extrapolate(
     for gbps in [1.0, 10.0] {
         let target = Target {
             cores,
+            load: 0.0,
             hosts: Some(Hosts {
                 count: 4,
                 cores,
@@ -427,6 +432,8 @@ pub fn chart(
             tick(&format!("{}: {} depth {depth}", scene.name, method.name));
             rows.push(setup.run(scene, &env, &refs, method, *depth)?);
         }
+        // The machine's load while this scene was measured.
+        let load = crate::calibrate::background_load();
         for depth in 0..=4u8 {
             let measured = rows
                 .iter()
@@ -439,6 +446,7 @@ pub fn chart(
                 &scene.name,
                 depth,
                 setup.cores,
+                load,
                 measured_s,
             ));
         }
@@ -457,9 +465,10 @@ pub fn model_row(
     scene: &str,
     depth: u8,
     cores: usize,
+    load: f64,
     measured_s: f64,
 ) -> ModelRow {
-    let p = model::predict(k, env, depth, cores);
+    let p = model::predict_on(k, env, depth, &model::Target::cores(cores).loaded(load));
     let stage = |name: &str| {
         p.stages
             .iter()
@@ -485,6 +494,7 @@ pub fn model_row(
         bottleneck: p.bottleneck().to_string(),
         polygons_in_view: env.relevant / env.frames.max(1),
         depth_complexity: env.depth_complexity(),
+        load,
     }
 }
 

@@ -327,6 +327,7 @@ fn remodel(
                 &scene.name,
                 r.depth,
                 cores,
+                r.load,
                 r.measured_s,
             ));
         }

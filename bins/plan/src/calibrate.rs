@@ -9,7 +9,7 @@
 
 use crate::look::{count_screen, count_world, Environment};
 use crate::measure::{self, Usage};
-use crate::model::{fit, predict, stage_work, Constants, Cost, Overheads, StageWork, Work};
+use crate::model::{fit, stage_work, Constants, Cost, Overheads, StageWork, Work};
 use anyhow::{Context, Result};
 use std::fs::File;
 use std::path::Path;
@@ -240,6 +240,9 @@ fn overheads(
     )?;
     let env = crate::look::look(&scene, 500, 500, &[], None)?;
     let cores = cores();
+    // The start-up is timed on the machine as it is: its load, as the predictions will
+    // take it, is taken out of what is fitted.
+    let load = background_load();
     let mut rows = Vec::new();
     let mut y = Vec::new();
     for &d in depths {
@@ -261,8 +264,10 @@ fn overheads(
         // cores: the wall time is the script's plus that plus the processes' starts over
         // the cores (a two-polygon render is all start-up: the shared bound is the
         // larger).
-        let p = predict(k, &env, d, cores);
-        rows.push([1.0, p.processes as f64 / cores as f64, 0.0, 0.0, 0.0, 0.0]);
+        let target = crate::model::Target::cores(cores).loaded(load);
+        let p = crate::model::predict_on(k, &env, d, &target);
+        let (_, all) = target.shares(p.processes);
+        rows.push([1.0, p.processes as f64 / all, 0.0, 0.0, 0.0, 0.0]);
         y.push(wall - p.shared_s.max(p.slowest_s));
     }
     let c = fit(&rows, &y, [true, true, false, false, false, false]);
@@ -270,6 +275,18 @@ fn overheads(
         script: c[0],
         process: c[1],
     })
+}
+
+/// Other programs' runnable threads on the cores now: the 1-minute load average of
+/// /proc/loadavg, less one (the render's own stages, or the runs before it, are in the
+/// average too), never below 0; 0 where there is no /proc/loadavg. On a machine shared
+/// with others, a render gets only its fair share of the cores
+/// ([`crate::model::Target::shares`]); on an idle one this is 0 and changes nothing.
+pub fn background_load() -> f64 {
+    std::fs::read_to_string("/proc/loadavg")
+        .ok()
+        .and_then(|s| s.split_whitespace().next()?.parse::<f64>().ok())
+        .map_or(0.0, |l| (l - 1.0).max(0.0))
 }
 
 /// The machine's cores (what the standard library sees as available).

@@ -26,6 +26,11 @@ pub struct DepthArgs {
     /// Cores of each host (default: as many as this machine's).
     #[arg(long, value_name = "C", value_parser = clap::value_parser!(u32).range(1..=4096))]
     pub host_cores: Option<u32>,
+    /// Other programs' runnable threads on this machine's cores, which the render shares
+    /// them with (default: the 1-minute load average, less one for the render's own
+    /// stages seen in it; 0 plans for an idle machine).
+    #[arg(long, value_name = "L")]
+    pub load: Option<f64>,
     /// The links to the hosts, gigabits a second (default 1).
     #[arg(long, value_name = "G", default_value_t = 1.0)]
     pub link_gbps: f64,
@@ -150,6 +155,17 @@ fn setup(a: &DepthArgs) -> Result<(Constants, Option<String>, State, look::Envir
     let cores = a.cores.map_or_else(crate::calibrate::cores, |c| c as usize);
     let target = Target {
         cores,
+        load: a.load.unwrap_or_else(|| {
+            // The load is spread over the machine's cores: a plan for fewer of them
+            // (taskset) meets its part; one for more cores than this machine has is a
+            // plan for another, idle, machine.
+            let here = crate::calibrate::cores();
+            if cores <= here {
+                crate::calibrate::background_load() * cores as f64 / here as f64
+            } else {
+                0.0
+            }
+        }),
         hosts: a.hosts.map(|n| Hosts {
             count: n as usize,
             cores: a.host_cores.map_or(cores, |c| c as usize),

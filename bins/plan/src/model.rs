@@ -28,7 +28,9 @@
 //! for its 2 + (2^N − 1) + 2·2^N + 1 processes, it can be no faster than all their work
 //! shared among the cores either (starting each process is part of that work); so the
 //! time is the larger of the two, plus what the script costs before the first stage
-//! starts ([`Overheads`]).
+//! starts ([`Overheads`]). On a machine already loaded by other programs, each process
+//! runs at its fair share of a core and the render's processes get their share of the
+//! cores together ([`Target::shares`]).
 
 use crate::look::Environment;
 use serde::{Deserialize, Serialize};
@@ -296,13 +298,17 @@ pub struct Hosts {
     pub start_s: f64,
 }
 
-/// What the render runs on: this machine's cores, and perhaps other hosts.
+/// What the render runs on: this machine's cores and the load already on them, and
+/// perhaps other hosts.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Target {
     /// Cores here. [`Target::unbounded`]: a processor for every process, the thesis's
     /// assumption (6.4: "each of our processes is running on a separate transputer").
     pub cores: usize,
     pub hosts: Option<Hosts>,
+    /// Other programs' runnable threads on these cores (the load average, less the
+    /// render's own): the render's processes share the cores with them.
+    pub load: f64,
 }
 
 impl Target {
@@ -310,6 +316,7 @@ impl Target {
         Target {
             cores: cores.max(1),
             hosts: None,
+            load: 0.0,
         }
     }
 
@@ -318,7 +325,27 @@ impl Target {
         Target {
             cores: usize::MAX,
             hosts: None,
+            load: 0.0,
         }
+    }
+
+    /// The same, with `load` other runnable threads on the cores.
+    pub fn loaded(self, load: f64) -> Target {
+        Target {
+            load: load.max(0.0),
+            ..self
+        }
+    }
+
+    /// The share of the cores a busy process gets, and the cores `processes` busy
+    /// processes get together, beside [`Target::load`] other runnable threads: the
+    /// scheduler's fair share (Linux's CFS), C/(1 + L) of a core for one (one at most)
+    /// and N·C/(N + L) for N (C at most). Unloaded: 1 and C.
+    pub fn shares(&self, processes: usize) -> (f64, f64) {
+        let c = self.cores as f64;
+        let l = self.load.max(0.0);
+        let n = processes.max(1) as f64;
+        ((c / (1.0 + l)).min(1.0), (n * c / (n + l)).min(c))
     }
 
     /// The shallowest depth that gives every host a subtree: 2^depth ≥ hosts.
@@ -450,10 +477,13 @@ pub fn predict_on(k: &Constants, env: &Environment, depth: u8, target: &Target) 
     // script's own start is before any of it.
     let starting = k.overheads.process * processes as f64;
     let work: f64 = stages.iter().map(|s| s.total_s).sum::<f64>() + starting;
-    let shared_s = if target.cores == usize::MAX {
-        0.0
+    // On a loaded machine each process runs at its fair share of a core, and the
+    // render's processes together get their share of the cores.
+    let (slowest_s, shared_s) = if target.cores == usize::MAX {
+        (slowest_s, 0.0)
     } else {
-        work / target.cores.max(1) as f64
+        let (one, all) = target.shares(processes);
+        (slowest_s / one, work / all)
     };
     let overhead_s = k.overheads.script + starting + host_starts;
     Prediction {
@@ -533,6 +563,11 @@ pub fn choose_depth_on(
             .map(|p| format!("; depth {} {:.3} s", p.depth, p.total_s))
             .unwrap_or_default()
     };
+    let loaded = if target.load >= 0.05 {
+        format!(", load {:.1}", target.load)
+    } else {
+        String::new()
+    };
     let on = match (target.hosts, target.cores) {
         (Some(h), c) => format!(
             "{c} core{} here, {} hosts of {} cores at {:.0} Mb/s",
@@ -545,7 +580,7 @@ pub fn choose_depth_on(
         (None, c) => format!("{c} core{}", if c == 1 { "" } else { "s" }),
     };
     let reason = format!(
-        "{} polygons in view, Dc {:.1}, {}x{}, {} frame{}, {on}: predicted {:.3} s{others}; slowest stage {}; {RULE}",
+        "{} polygons in view, Dc {:.1}, {}x{}, {} frame{}, {on}{loaded}: predicted {:.3} s{others}; slowest stage {}; {RULE}",
         env.relevant / env.frames.max(1),
         env.depth_complexity(),
         env.width,
@@ -770,6 +805,7 @@ mod tests {
         let k = constants();
         let e = env(10_000, 1920, 1080, 10.0);
         let hosts = |count, gbps: f64| Target {
+            load: 0.0,
             cores: 2,
             hosts: Some(Hosts {
                 count,
@@ -817,6 +853,34 @@ mod tests {
         let gain = p1.total_s - p2.total_s;
         assert!(gain > 0.25 && gain < 0.3, "{p1:?} {p2:?}");
         assert!(p2.total_s > k.overheads.script + 0.25);
+    }
+
+    #[test]
+    fn a_loaded_machine_gives_each_process_its_fair_share() {
+        let t = Target::cores(2).loaded(6.0);
+        // One busy process: 2/7 of a core; four: 8/10 of a core together; fifty: 2·50/56.
+        let (one, four) = t.shares(4);
+        assert!((one - 2.0 / 7.0).abs() < 1e-12 && (four - 0.8).abs() < 1e-12);
+        assert!((t.shares(50).1 - 100.0 / 56.0).abs() < 1e-12);
+        assert_eq!(Target::cores(2).shares(4), (1.0, 2.0));
+        // So a loaded machine makes every render slower, and the deeper trees (more
+        // processes, a larger share) less so.
+        let k = constants();
+        let e = env(10_000, 1920, 1080, 10.0);
+        let quiet: Vec<f64> = (0..=4).map(|d| predict(&k, &e, d, 2).total_s).collect();
+        let busy: Vec<f64> = (0..=4).map(|d| predict_on(&k, &e, d, &t).total_s).collect();
+        for d in 0..=4 {
+            assert!(busy[d] > quiet[d], "{busy:?} {quiet:?}");
+        }
+        assert!(
+            busy[0] / quiet[0] > busy[4] / quiet[4],
+            "{busy:?} {quiet:?}"
+        );
+        let (_, reason, _) = choose_depth_on(&k, &e, &t, 6);
+        assert!(
+            reason.contains(", 2 cores, load 6.0: predicted "),
+            "{reason}"
+        );
     }
 
     #[test]
