@@ -288,6 +288,8 @@ where
             .axis_desc_style(("sans-serif", 18))
             .label_style(("sans-serif", 16))
             .x_labels(log_ticks(xlo, xhi))
+            // The 1-9 of every decade are the grid; no lighter lines between them.
+            .x_max_light_lines(0)
             .x_label_formatter(&|v| log_tick(*v))
             .y_label_formatter(&|v| format!("{v:.1}"))
             .light_line_style(RGBColor(235, 235, 235))
@@ -341,10 +343,9 @@ where
 /// ticks between (their labels would run together near each power of ten).
 fn log_tick(v: f64) -> String {
     let mantissa = v / 10f64.powf(v.log10().floor());
-    if [1.0, 2.0, 5.0, 10.0]
-        .iter()
-        .any(|m| (mantissa - m).abs() < 0.01)
-    {
+    // Not at a mantissa of 10: that is the last light tick of the decade below (0.01·10,
+    // a hair under 0.1), drawn beside the next decade's own first tick.
+    if [1.0, 2.0, 5.0].iter().any(|m| (mantissa - m).abs() < 0.01) {
         let digits = (-v.log10().floor()).max(0.0) as usize;
         format!("{v:.digits$}")
     } else {
@@ -538,6 +539,7 @@ where
         .label_style(("sans-serif", 16))
         .x_labels(log_ticks(lo, hi))
         .y_labels(log_ticks(lo, hi))
+        .max_light_lines(0)
         .x_label_formatter(&|v| log_tick(*v))
         .y_label_formatter(&|v| log_tick(*v))
         .light_line_style(RGBColor(235, 235, 235))
@@ -566,8 +568,9 @@ where
         }
     }
     for (i, scene) in scenes.iter().enumerate() {
-        let style = STYLES[i % STYLES.len()];
-        let c = style.0;
+        // Circles, as the legend draws them: the scenes differ by colour.
+        let c = STYLES[i % STYLES.len()].0;
+        let style = (c, Shape::Circle);
         let mine: Vec<&ModelRow> = rows.iter().filter(|r| r.scene == *scene).collect();
         for r in &mine {
             draw_mark(
@@ -639,6 +642,7 @@ where
         .x_labels(7)
         .x_label_formatter(&|v| format!("{v:.0}"))
         .y_labels(log_ticks(lo, hi))
+        .y_max_light_lines(0)
         .y_label_formatter(&|v| log_tick(*v))
         .light_line_style(RGBColor(235, 235, 235))
         .draw()?;
