@@ -156,8 +156,13 @@ fn quick_chart_of_a_small_scene_makes_its_files_with_real_values() {
     assert!(kept.contains("[machine]"), "{kept}");
     // The extrapolation beside it: 1 to 64 cores, depths 0-6, and four hosts.
     let (_, extra) = read_csv(&d.join("model-extrapolation.csv"));
-    assert_eq!(extra.iter().filter(|r| r["target"] == "64 cores").count(), 7);
-    assert!(extra.iter().any(|r| r["target"].starts_with("4 hosts") && r["depth"] == "2"));
+    assert_eq!(
+        extra.iter().filter(|r| r["target"] == "64 cores").count(),
+        7
+    );
+    assert!(extra
+        .iter()
+        .any(|r| r["target"].starts_with("4 hosts") && r["depth"] == "2"));
 
     // --remodel predicts again from another model file and keeps what was measured: a
     // script a second slower is every prediction a second later than the committed

@@ -65,10 +65,7 @@ fn calibration_is_kept_with_its_machine_and_judged_by_it() {
     let dir = tempfile::tempdir().unwrap();
     let cache = dir.path().join("cache");
     let start = Instant::now();
-    let out = sh(
-        &format!("{} chart calibrate", cached(&cache)),
-        b"",
-    );
+    let out = sh(&format!("{} chart calibrate", cached(&cache)), b"");
     assert!(out.status.success(), "{}", text(&out.stderr));
     assert!(start.elapsed() < Duration::from_secs(20));
     let err = text(&out.stderr);
@@ -77,14 +74,22 @@ fn calibration_is_kept_with_its_machine_and_judged_by_it() {
         err.starts_with("chart: calibrating the cost model for this machine (at most 20 s)…\n"),
         "{err}"
     );
-    assert!(
-        err.contains(&format!("s: {}\n", file.display())),
-        "{err}"
-    );
+    assert!(err.contains(&format!("s: {}\n", file.display())), "{err}");
     // The constants, printed: a line a stage.
     let table = text(&out.stdout);
-    for stage in ["viewxf (text)", "clip", "splitter", "persp", "hse", "merge", "start-up"] {
-        assert!(table.lines().any(|l| l.starts_with(stage)), "{stage}: {table}");
+    for stage in [
+        "viewxf (text)",
+        "clip",
+        "splitter",
+        "persp",
+        "hse",
+        "merge",
+        "start-up",
+    ] {
+        assert!(
+            table.lines().any(|l| l.starts_with(stage)),
+            "{stage}: {table}"
+        );
     }
     // The file names the machine: its CPU model and cores, the binaries' version.
     let kept = std::fs::read_to_string(&file).unwrap();
@@ -101,14 +106,21 @@ fn calibration_is_kept_with_its_machine_and_judged_by_it() {
     assert!(kept.contains("version = \"0.1.0\""), "{kept}");
 
     let status = |cache: &Path| text(&sh(&format!("{} plan status", cached(cache)), b"").stdout);
-    assert!(status(&cache).starts_with("calibrated: "), "{}", status(&cache));
+    assert!(
+        status(&cache).starts_with("calibrated: "),
+        "{}",
+        status(&cache)
+    );
     // --depth auto plans with it, and says nothing of calibration.
     let auto = sh(
         &format!("{} scripts/render.sh --stats", cached(&cache)),
         b"",
     );
     let line = text(&auto.stderr).lines().next().unwrap_or("").to_string();
-    assert!(line.starts_with("render.sh: depth auto chose 0 ("), "{line}");
+    assert!(
+        line.starts_with("render.sh: depth auto chose 0 ("),
+        "{line}"
+    );
     assert!(!line.contains("calibrat"), "{line}");
 
     // Rebuilt binaries: stale (still this machine's, planned with, and said so).
@@ -182,7 +194,11 @@ fn uncalibrated_depth_auto_uses_the_fallback_and_says_so_under_stats_only() {
     );
     // Not a terminal: nothing said without --stats, nothing started, nothing kept.
     let out = sh(&format!("{} scripts/render.sh", cached(&cache)), b"");
-    assert!(out.status.success() && out.stderr.is_empty(), "{}", text(&out.stderr));
+    assert!(
+        out.status.success() && out.stderr.is_empty(),
+        "{}",
+        text(&out.stderr)
+    );
     assert!(!cache.exists());
 }
 
@@ -232,7 +248,10 @@ fn choose_depth_states_its_rule_and_plans_for_cores_and_hosts() {
     // Four hosts: every host a subtree, so depth 2 at least, whatever the cores here.
     let (hosts, line) = plan("--cores 1 --hosts 4 --link-gbps 10");
     assert!(hosts >= 2, "{line}");
-    assert!(line.contains("1 core here, 4 hosts of 1 cores at 10000 Mb/s"), "{line}");
+    assert!(
+        line.contains("1 core here, 4 hosts of 1 cores at 10000 Mb/s"),
+        "{line}"
+    );
 }
 
 /// A text environment of `polygons` quads on stdin-sized scales.
@@ -257,7 +276,10 @@ fn a_stream_longer_than_the_sample_is_planned_from_it_and_rendered_whole() {
     assert!(std::fs::metadata(&scene).unwrap().len() > 1_000_000);
     let stream = std::fs::read(&scene).unwrap();
     let out = sh(
-        &format!("{} scripts/render.sh --stats -", cached(&dir.path().join("c"))),
+        &format!(
+            "{} scripts/render.sh --stats -",
+            cached(&dir.path().join("c"))
+        ),
         &stream,
     );
     assert!(out.status.success(), "{}", text(&out.stderr));
@@ -274,8 +296,14 @@ fn a_stream_longer_than_the_sample_is_planned_from_it_and_rendered_whole() {
         &format!("scripts/render.sh --depth {depth} {}", scene.display()),
         b"",
     );
-    assert!(out.stdout == at.stdout, "not the file's frame at depth {depth}");
-    let at0 = sh(&format!("scripts/render.sh --depth 0 {}", scene.display()), b"");
+    assert!(
+        out.stdout == at.stdout,
+        "not the file's frame at depth {depth}"
+    );
+    let at0 = sh(
+        &format!("scripts/render.sh --depth 0 {}", scene.display()),
+        b"",
+    );
     assert!(out.stdout == at0.stdout);
 }
 
@@ -346,7 +374,10 @@ fn the_sample_is_all_that_is_kept_of_a_stream() {
         &stream,
     );
     assert!(out.status.success(), "{}", text(&out.stderr));
-    assert_eq!(std::fs::read_to_string(dir.path().join("ended")).unwrap(), "more\n");
+    assert_eq!(
+        std::fs::read_to_string(dir.path().join("ended")).unwrap(),
+        "more\n"
+    );
     assert_eq!(std::fs::metadata(&sample).unwrap().len(), 512 * 1024);
     assert!(std::fs::read(dir.path().join("relayed")).unwrap() == stream);
     // A short stream is whole.
@@ -407,7 +438,11 @@ fn chart_sh_runs_cargo_only_when_a_binary_is_stale() {
     run();
     let _ = std::fs::remove_file(&log);
     run();
-    assert!(!log.exists(), "cargo was run: {:?}", std::fs::read_to_string(&log));
+    assert!(
+        !log.exists(),
+        "cargo was run: {:?}",
+        std::fs::read_to_string(&log)
+    );
 }
 
 #[test]
@@ -442,6 +477,9 @@ fn depth_auto_with_hosts_gives_every_host_a_subtree() {
     assert!(depth >= 2, "{line}");
     assert!(line.contains(" here, 4 hosts of "), "{line}");
     assert!(err.contains("on host d"), "every host had a subtree: {err}");
-    let at0 = sh(&format!("scripts/render.sh --depth 0 {}", scene.display()), b"");
+    let at0 = sh(
+        &format!("scripts/render.sh --depth 0 {}", scene.display()),
+        b"",
+    );
     assert!(out.stdout == at0.stdout);
 }
