@@ -117,6 +117,16 @@ fn quick_chart_of_a_small_scene_makes_its_files_with_real_values() {
         let e = num(r, "edge_rmse");
         assert!(e > 1.0 && e < 255.0, "{r:?}");
     }
+    // max_rss_kib is the whole tree's: the stages' peaks summed, so that depth 4's 50
+    // processes hold several times depth 0's 4 (ru_maxrss, the largest one process's,
+    // was bash's 4 MB on every row).
+    let rss = |d: usize| num(zbuf[d], "max_rss_kib");
+    assert!(
+        rss(4) > 3.0 * rss(0),
+        "depth 0 {} KiB, depth 4 {} KiB",
+        rss(0),
+        rss(4)
+    );
     // Text and binary input give the same frame, so the same error.
     let bin = rows.iter().find(|r| r["method"] == "zbuf-binary").unwrap();
     assert_eq!(bin["edge_rmse"], zbuf[0]["edge_rmse"]);
