@@ -1,15 +1,16 @@
 #!/usr/bin/env bash
 # chart.sh: speed against accuracy of every method, and the thesis's cost model
-# (docs/DESIGN.md, "Measures"). A thin wrapper: it builds the binaries when they are
+# (docs/DESIGN.md, "Measures"; docs/model.md). A thin wrapper: it builds the binaries when they are
 # missing or stale, then runs bins/chart, which runs
 # scripts/render.sh as a user would for each scene, method and depth.
 #
-# Usage: scripts/chart.sh -o DIR [--quick] [--calibrate] [--standard] [--size WxH] [--reps N] SCENE[@WxH]…
-#        scripts/chart.sh choose-depth [--size WxH] [--cores N] SCENE
+# Usage: scripts/chart.sh -o DIR [--quick] [--standard] [--size WxH] [--reps N] SCENE[@WxH]…
+#        scripts/chart.sh calibrate [--quick]     # fit the cost model to this machine now
+#        scripts/chart.sh thesis                  # thesis 5.2's timings and 6.4's depth
+#        scripts/chart.sh choose-depth [--size WxH] [--cores N] SCENE   # plan depth's alias
 # Writes DIR/results.csv, DIR/speed-accuracy.png and .svg, DIR/model.csv and DIR/model.png;
-# --calibrate first measures the model's constants into bench/model.toml. `chart.sh --help`
-# tells the rest.
-set -u
+# the first run on a machine calibrates the model (at most 20 s). `chart.sh --help` tells
+# the rest.
 
 script=$(readlink -f -- "${BASH_SOURCE[0]}") || { echo "chart.sh: cannot find where chart.sh lives" >&2; exit 3; }
 root=${script%/*/*}
@@ -28,6 +29,7 @@ build_binaries
 # shellcheck disable=SC2154 # bindir, set by build_binaries
 
 case ${1-} in
-    choose-depth) exec "$bindir/chart" "$@" --root "$root" ;;
+    choose-depth | calibrate) exec "$bindir/chart" "$@" --root "$root" ;;
+    thesis) exec "$bindir/chart" "$@" ;;
     *) exec "$bindir/chart" --root "$root" "$@" ;;
 esac

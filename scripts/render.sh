@@ -39,8 +39,10 @@ examples/penetrating.txt) and writes one binary PPM (P6) per frame on stdout.
 Options:
   --size WxH        screen size in pixels, W and H from 1 to 65536 (default 500x500)
   --depth N         splitter tree depth, 0 to 6 (0: no splitter), or auto (the
-                    default): the depth the cost model (bench/model.toml, `chart
-                    choose-depth`) predicts fastest for this scene, screen and machine
+                    default): the depth the cost model (`plan depth`, docs/model.md)
+                    predicts fastest for this scene, screen and machine (and --hosts),
+                    from a look at its first 512 KiB; `chart calibrate` fits the
+                    model to this machine
   --eye X,Y,Z  --at X,Y,Z  --up X,Y,Z  --s S  --d D  --hither K1  --yon K2
                     camera and view volume, passed to viewxf
   --zmode MODE      persp's depth: reciprocal (default: -K1/z_e), projective (the
@@ -138,7 +140,7 @@ polypipe_version() { # the workspace's version, from its Cargo.toml
 # --- Options. ---------------------------------------------------------------------------
 
 size=500x500
-depth=auto # --depth (auto: chart choose-depth decides, or 0 when there is no chart)
+depth=auto # --depth (auto: plan depth decides, or 0 when there is no plan)
 depth_asked=0
 zmode=reciprocal
 hse=zbuf    # --hse: the leaves' hidden-surface method
@@ -158,6 +160,7 @@ forward=()  # the options a host's render.sh gets with --by frames
 subtree=    # --subtree K: this is a host rendering node K's subtree for --hosts
 camera=() # viewxf's options, as given
 stats=()  # --stats, for the stages that count
+feed=     # --depth auto's sample of a stream, fed to viewxf before the rest
 output=() # zbuf's -o PATTERN
 
 # The options that take a value (each also as --option=value), and those that do not.
@@ -263,7 +266,7 @@ validate_options() {
     ((scene_given)) || scene=$root/examples/penetrating.txt
     [[ $scene == - || -r $scene ]] || fail 3 "cannot read scene $scene"
     # As the stages say of a folder given as their input (viewxf would say it too, but
-    # --depth auto first copies a scene it cannot look at twice).
+    # --depth auto first samples a scene it cannot read twice).
     [[ ! -d $scene ]] || fail 3 "$scene: Is a directory"
 }
 
@@ -383,10 +386,16 @@ start() {
 # --- The process graph. -----------------------------------------------------------------
 
 # The clipper chain: viewxf and the six planes of the pyramid (chapter 3). The scene on
-# stdin is read through fd 3 (a background job's stdin is /dev/null). Sets `clipped`.
+# stdin is read through fd 3 (a background job's stdin is /dev/null); after --depth
+# auto's sample of it, through `plan relay`. Sets `clipped`.
 start_clipper_chain() {
     local in=$scene plane
     [[ $scene != - ]] || in=/dev/fd/3
+    if [[ -n $feed ]]; then
+        fifo feed
+        start "plan relay" /dev/fd/3 "$tmp/feed" "$bindir/plan" relay "$feed"
+        in=$tmp/feed
+    fi
     fifo view
     start viewxf "$in" "$tmp/view" "$bindir/viewxf" --size "$size" "${camera[@]}"
     in=$tmp/view
@@ -557,38 +566,40 @@ start_merger() {
 }
 
 # --depth auto: the depth the cost model predicts fastest (thesis 5.2 and 6.4, with this
-# machine's constants; docs/DESIGN.md, "Measures"), from a look at the scene's first
-# 512 KiB (`chart choose-depth`). A scene on stdin is kept in the private folder first,
-# to be read twice. With --stats, the choice and its reason.
+# machine's calibration: docs/model.md), from `plan depth`'s look at the scene's first
+# 512 KiB. A file is looked at while the clipper chain starts reading it. A stream (stdin,
+# or a pipe given as the scene) is sampled first: `plan sample` keeps its first 512 KiB,
+# or less when the stream ends, or pauses (a live source is not held up), and `plan
+# relay` then feeds viewxf that sample and the rest of the stream behind it, so that no
+# more than the sample is kept. A scene the look cannot read is left to the stages, at
+# depth 0, which report it as they do at any depth. With --hosts, the plan is for the
+# hosts (every host a subtree). On a terminal, an uncalibrated machine is said once.
 choose_depth() {
-    local line status
-    if [[ ! -x $bindir/chart ]]; then
+    local line look=$scene ended
+    local -a extra=()
+    if [[ ! -x $bindir/plan ]]; then
         # Asked for, the model is missed; by default (a host's binaries, say), depth 0.
-        ((!depth_asked)) || fail 3 "no chart in $bindir, for --depth auto"
+        ((!depth_asked)) || fail 3 "no plan in $bindir, for --depth auto"
         depth=0
         return
     fi
-    # A scene that cannot be read twice (stdin, a pipe, `<(…)`) is kept first.
     if [[ $scene == - ]]; then
-        cat >"$tmp/scene" || fail 3 "cannot keep the scene from stdin in $tmp"
-        scene=$tmp/scene
-    elif [[ ! -f $scene ]]; then
-        cat -- "$scene" >"$tmp/scene" || fail 3 "cannot keep the scene $scene in $tmp"
-        scene=$tmp/scene
+        ended=$("$bindir/plan" sample -o "$tmp/sample" <&3) ||
+            fail 3 "cannot keep the sample of the scene in $tmp"
+        look=$tmp/sample
+        extra=(--stream "$ended")
+        if [[ $ended == whole ]]; then scene=$tmp/sample; else feed=$tmp/sample; fi
     fi
-    chart_look() { "$bindir/chart" choose-depth --root "$root" --size "$size" "${camera[@]}" "$scene"; }
-    if ((depth_asked)); then
-        line=$(chart_look)
-        status=$?
-        ((status == 0)) || exit "$status" # chart said why, as `chart: …`
-    elif ! line=$(chart_look 2>/dev/null); then
-        # By default, a scene or an option chart cannot take is left to the stages, which
-        # say what is wrong in their own terms, at depth 0.
+    ((${#hosts[@]} == 0)) || extra+=(--hosts "${#hosts[@]}")
+    [[ ! -t 2 ]] || extra+=(--tell-once)
+    if ! line=$("$bindir/plan" depth --root "$root" --size "$size" "${extra[@]}" \
+        "${camera[@]}" "$look" 2>"$tmp/plan.err"); then
         depth=0
         return
     fi
+    [[ ! -s $tmp/plan.err ]] || cat "$tmp/plan.err" >&2 # the once-said note
     depth=${line%% *}
-    [[ $depth =~ ^[0-6]$ ]] || fail 3 "chart choose-depth answered '$line'"
+    [[ $depth =~ ^[0-6]$ ]] || fail 3 "plan depth answered '$line'"
     ((${#stats[@]} == 0)) || echo "render.sh: depth auto chose $line" >&2
 }
 
@@ -775,6 +786,12 @@ main() {
     make_private_dir
     if [[ $depth == auto ]] && ((hidden_line)); then depth=0; fi
     exec 3<&0
+    # A scene that can be read only once (a pipe, `<(…)`), looked at by --depth auto, is
+    # sampled as stdin is.
+    if [[ $depth == auto && $scene != - && ! -f $scene && -z $subtree ]]; then
+        exec 3<"$scene" || fail 3 "cannot read scene $scene"
+        scene=-
+    fi
     if [[ $depth == auto && -f $scene && -z $subtree ]]; then
         # The clipper chain is the same at every depth: it starts, and reads the scene,
         # while chart looks at the scene file (a scene on stdin or a pipe is kept first).
@@ -824,4 +841,6 @@ back() {
     fi
 }
 
-main "$@"
+# Sourced (scripts/chart.sh does, for ensure_binaries: one freshness check for both), it
+# only defines; run, it renders.
+[[ ${BASH_SOURCE[0]} != "$0" ]] || main "$@"

@@ -9,7 +9,7 @@
 # The stages render.sh runs, and the other binaries the README's examples use: all built
 # on the first run, so that every command in the README works after it.
 binaries=(viewxf clipplane clipbatch splitter persp scanconv zbuf scanline warnock painter
-    hiddenline supersample abuf scene zspec frames farm chart)
+    hiddenline supersample abuf scene zspec frames farm chart plan)
 
 # build_binaries: sets `bindir`, and builds the binaries with cargo when one is missing
 # or stale. Without cargo, binaries already built are run as they are (with a warning

@@ -1,6 +1,8 @@
-//! `scripts/chart.sh` (docs/DESIGN.md, "Measures"): the chart's three files on a small
-//! scene, with the columns the design names and real values in them; the cost model's
-//! rows for depths 0-4; and `chart choose-depth`, render.sh's `--depth auto`.
+//! `scripts/chart.sh` (docs/DESIGN.md, "Measures"; docs/model.md): the chart's three files
+//! on a small scene, with the columns the design names and real values in them; the cost
+//! model's rows for depths 0-4; and `chart choose-depth` (`plan depth`), render.sh's
+//! `--depth auto`. Every run that could calibrate the model is given a cache folder of
+//! its own (XDG_CACHE_HOME) and the quick calibration (POLYPIPE_CALIBRATION=quick).
 
 use pipeline_tests::{repo_root, sh};
 use std::collections::HashMap;
@@ -30,10 +32,22 @@ fn num(row: &HashMap<String, String>, column: &str) -> f64 {
         .unwrap_or_else(|_| panic!("{column} = {:?} in {row:?}", row[column]))
 }
 
+/// The environment of a run with a cache folder of its own, and the quick calibration.
+fn cached(cache: &Path) -> String {
+    format!(
+        "XDG_CACHE_HOME={} POLYPIPE_CALIBRATION=quick",
+        cache.display()
+    )
+}
+
 fn chart(args: &str) -> tempfile::TempDir {
     let dir = tempfile::tempdir().unwrap();
     let out = sh(
-        &format!("scripts/chart.sh -o {} {args}", dir.path().display()),
+        &format!(
+            "{} scripts/chart.sh -o {} {args}",
+            cached(&dir.path().join("cache")),
+            dir.path().display()
+        ),
         b"",
     );
     assert!(
@@ -103,6 +117,16 @@ fn quick_chart_of_a_small_scene_makes_its_files_with_real_values() {
         let e = num(r, "edge_rmse");
         assert!(e > 1.0 && e < 255.0, "{r:?}");
     }
+    // max_rss_kib is the whole tree's: the stages' peaks summed, so that depth 4's 50
+    // processes hold several times depth 0's 4 (ru_maxrss, the largest one process's,
+    // was bash's 4 MB on every row).
+    let rss = |d: usize| num(zbuf[d], "max_rss_kib");
+    assert!(
+        rss(4) > 3.0 * rss(0),
+        "depth 0 {} KiB, depth 4 {} KiB",
+        rss(0),
+        rss(4)
+    );
     // Text and binary input give the same frame, so the same error.
     let bin = rows.iter().find(|r| r["method"] == "zbuf-binary").unwrap();
     assert_eq!(bin["edge_rmse"], zbuf[0]["edge_rmse"]);
@@ -137,8 +161,38 @@ fn quick_chart_of_a_small_scene_makes_its_files_with_real_values() {
     assert_eq!(rows[0]["processes"], "4");
     assert_eq!(rows[4]["processes"], "50");
 
+    // The machine had no calibration: the chart made one first, and kept it.
+    let kept = std::fs::read_to_string(d.join("cache/polypipe/model.toml")).unwrap();
+    assert!(kept.contains("[machine]"), "{kept}");
+    // The extrapolation beside it: 1 to 64 cores, depths 0-6, and four hosts.
+    let (_, extra) = read_csv(&d.join("model-extrapolation.csv"));
+    assert_eq!(
+        extra.iter().filter(|r| r["target"] == "64 cores").count(),
+        7
+    );
+    assert!(extra
+        .iter()
+        .any(|r| r["target"].starts_with("4 hosts") && r["depth"] == "2"));
+
     // --remodel predicts again from another model file and keeps what was measured: a
-    // script a second slower is every prediction a second later.
+    // script a second slower is every prediction a second later than the committed
+    // file's.
+    let remodel = |model: &str| {
+        let out = sh(
+            &format!(
+                "scripts/chart.sh -o {} --remodel --model {model} examples/penetrating.txt@120x90",
+                d.display()
+            ),
+            b"",
+        );
+        assert!(
+            out.status.success(),
+            "{}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        read_csv(&d.join("model.csv")).1
+    };
+    let rows = remodel("bench/model.toml");
     let committed = std::fs::read_to_string(repo_root().join("bench/model.toml")).unwrap();
     let slower: String = committed
         .lines()
@@ -149,20 +203,7 @@ fn quick_chart_of_a_small_scene_makes_its_files_with_real_values() {
         .collect();
     let model = d.join("slower.toml");
     std::fs::write(&model, slower).unwrap();
-    let out = sh(
-        &format!(
-            "scripts/chart.sh -o {} --remodel --model {} examples/penetrating.txt@120x90",
-            d.display(),
-            model.display()
-        ),
-        b"",
-    );
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    let (_, again) = read_csv(&d.join("model.csv"));
+    let again = remodel(&model.to_string_lossy());
     assert_eq!(again.len(), rows.len());
     for (a, r) in again.iter().zip(&rows) {
         assert_eq!(a["measured_s"], r["measured_s"]);
@@ -172,7 +213,8 @@ fn quick_chart_of_a_small_scene_makes_its_files_with_real_values() {
     // Scenes that are not those of the run are refused.
     let out = sh(
         &format!(
-            "scripts/chart.sh -o {} --remodel examples/cube.txt",
+            "{} scripts/chart.sh -o {} --remodel examples/cube.txt",
+            cached(&d.join("cache")),
             d.display()
         ),
         b"",
@@ -406,11 +448,11 @@ fn the_model_table_ends_quietly_when_its_reader_goes_away() {
     let d = dir.path().display();
     // `true` is gone long before the table is written, a second or so of runs later.
     let (status, err) = status_and_stderr(&format!(
-        "chart --root . -o {d} --quick --methods zbuf examples/penetrating.txt@40x30 | true"
+        "chart --root . -o {d} --model bench/model.toml --quick --methods zbuf examples/penetrating.txt@40x30 | true"
     ));
     assert_eq!((status, err.as_str()), (Some(0), ""));
     let (status, err) = status_and_stderr(&format!(
-        "chart --root . -o {d} --quick --methods zbuf examples/penetrating.txt@40x30 > /dev/full"
+        "chart --root . -o {d} --model bench/model.toml --quick --methods zbuf examples/penetrating.txt@40x30 > /dev/full"
     ));
     assert_eq!(status, Some(3), "{err}");
     assert!(
@@ -468,7 +510,8 @@ fn auto_is_the_default_depth_and_a_scene_it_cannot_look_at_goes_to_the_stages() 
     );
     assert!(out.stdout == at0.stdout, "not depth 0's frame");
     // A scene the look cannot read: by default the stages say what is wrong (viewxf,
-    // status 1), as at depth 0; with --depth auto asked for, chart says it.
+    // status 1), as at depth 0; with --depth auto asked for too: the sample the planner
+    // could not read goes on to viewxf, which says what is wrong.
     let bad = b"polypipe 1 world\ncolour 1 2 3\n0 0\n";
     let out = sh("scripts/render.sh -", bad);
     assert_eq!(out.status.code(), Some(1));
@@ -479,5 +522,10 @@ fn auto_is_the_default_depth_and_a_scene_it_cannot_look_at_goes_to_the_stages() 
     );
     let out = sh("scripts/render.sh --depth auto -", bad);
     assert_eq!(out.status.code(), Some(1));
-    assert!(String::from_utf8_lossy(&out.stderr).starts_with("chart: "));
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        err.contains("viewxf: line 3, column 4: expected z of vertex 0")
+            && err.ends_with("render.sh: viewxf failed (status 1)\n"),
+        "{err}"
+    );
 }

@@ -78,6 +78,8 @@ pub struct Row {
     pub frames: u64,
     pub wall_s: f64,
     pub cpu_s: f64,
+    /// Peak memory of the whole process tree, KiB: the sum of its processes' own peaks
+    /// (`VmHWM`, sampled from /proc), in the first of the timed runs.
     pub max_rss_kib: u64,
     /// Pixels differing from `zspec`, over all pixels.
     pub error_fraction: f64,
@@ -112,6 +114,70 @@ pub struct ModelRow {
     pub bottleneck: String,
     pub polygons_in_view: u64,
     pub depth_complexity: f64,
+    /// Other programs' runnable threads when the scene was measured (the load average
+    /// less one): the prediction shares the cores with them, as the runs did.
+    #[serde(default)]
+    pub load: f64,
+}
+
+/// One row of `model-extrapolation.csv`: the model's prediction for a scene at a depth on
+/// a target this machine cannot measure (more cores; hosts over a link).
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
+pub struct Extrapolation {
+    pub scene: String,
+    /// `N cores`, or `4 hosts × C cores at G Gb/s` (no comma: a CSV field unquoted).
+    pub target: String,
+    pub depth: u8,
+    pub predicted_s: f64,
+    /// With hosts: the seconds a host's link is busy.
+    pub link_s: f64,
+}
+
+/// The model's predictions for `env` at depths 0–6 on 1 to 64 cores, and on four hosts of
+/// this machine's cores at 1 and 10 Gb/s (depths 2–6, every host a subtree).
+pub fn extrapolate(
+    k: &Constants,
+    env: &Environment,
+    scene: &str,
+    cores: usize,
+) -> Vec<Extrapolation> {
+    use crate::model::{predict_on, Hosts, Target};
+    let mut rows = Vec::new();
+    for c in [1usize, 2, 4, 8, 16, 32, 64] {
+        for depth in 0..=6u8 {
+            let p = predict_on(k, env, depth, &Target::cores(c));
+            rows.push(Extrapolation {
+                scene: scene.to_string(),
+                target: format!("{c} core{}", if c == 1 { "" } else { "s" }),
+                depth,
+                predicted_s: p.total_s,
+                link_s: 0.0,
+            });
+        }
+    }
+    for gbps in [1.0, 10.0] {
+        let target = Target {
+            cores,
+            load: 0.0,
+            hosts: Some(Hosts {
+                count: 4,
+                cores,
+                link_bytes_per_s: gbps * 1e9 / 8.0,
+                start_s: 0.1,
+            }),
+        };
+        for depth in target.min_depth()..=6 {
+            let p = predict_on(k, env, depth, &target);
+            rows.push(Extrapolation {
+                scene: scene.to_string(),
+                target: format!("4 hosts × {cores} cores at {gbps} Gb/s"),
+                depth,
+                predicted_s: p.total_s,
+                link_s: p.link_s,
+            });
+        }
+    }
+    rows
 }
 
 /// Where things are, and how to run.
@@ -149,8 +215,19 @@ fn newer(a: &Path, b: &Path) -> bool {
 }
 
 fn quiet(cmd: &mut Command, err: &Path) -> Result<Usage> {
+    quiet_with(cmd, err, false)
+}
+
+/// Runs `cmd` with its stderr in `err` (said in the error when it fails); `watched`: its
+/// process tree's memory measured too ([`measure::run_watched`]).
+fn quiet_with(cmd: &mut Command, err: &Path, watched: bool) -> Result<Usage> {
     cmd.stderr(File::create(err)?);
-    measure::run(cmd).map_err(|e| {
+    let usage = if watched {
+        measure::run_watched(cmd)
+    } else {
+        measure::run(cmd)
+    };
+    usage.map_err(|e| {
         let said = std::fs::read_to_string(err).unwrap_or_default();
         anyhow!("{e}: {}", said.trim())
     })
@@ -237,13 +314,16 @@ impl Setup {
             } else {
                 cmd.stdout(Stdio::null());
             }
+            // The first run's memory is the tree's (the stages' peaks summed, sampled
+            // from /proc); the others are timed undisturbed by the sampling.
             runs.push(
-                quiet(&mut cmd, &err).with_context(|| {
+                quiet_with(&mut cmd, &err, rep == 0).with_context(|| {
                     format!("{} at depth {depth} on {}", method.name, scene.name)
                 })?,
             );
         }
         let usage = measure::median(&runs);
+        let max_rss_kib = runs[0].max_rss_kib;
         let point = self.compare(&refs.point, &frames, None)?;
         let sixteen = self.compare(&refs.sixteen, &frames, Some(&refs.mask))?;
         let _ = std::fs::remove_file(&frames);
@@ -256,7 +336,7 @@ impl Setup {
             frames: env.frames,
             wall_s: usage.wall_s,
             cpu_s: usage.cpu_s,
-            max_rss_kib: usage.max_rss_kib,
+            max_rss_kib,
             error_fraction: point.differing as f64 / point.pixels.max(1) as f64,
             edge_rmse: sixteen.edge_rmse,
             rmse: sixteen.rmse,
@@ -332,18 +412,28 @@ pub fn chart(
     setup: &Setup,
     scenes: &[Scene],
     mut tick: impl FnMut(&str),
-) -> Result<(Vec<Row>, Vec<ModelRow>)> {
+) -> Result<(Vec<Row>, Vec<ModelRow>, Vec<Extrapolation>)> {
     let runs = methods::runs(setup.quick, setup.only.as_deref());
     let mut rows = Vec::new();
     let mut model_rows = Vec::new();
+    // The extrapolation is drawn for the scene with the most work (pixels drawn).
+    let mut heaviest: Option<(f64, Vec<Extrapolation>)> = None;
     for scene in scenes {
         tick(&format!("{}: references", scene.name));
         let refs = setup.references(scene)?;
         let env = look::look(&scene.path, scene.width, scene.height, &[], None)?;
+        if heaviest.as_ref().is_none_or(|(area, _)| env.area > *area) {
+            heaviest = Some((
+                env.area,
+                extrapolate(&setup.constants, &env, &scene.name, setup.cores),
+            ));
+        }
         for (method, depth) in &runs {
             tick(&format!("{}: {} depth {depth}", scene.name, method.name));
             rows.push(setup.run(scene, &env, &refs, method, *depth)?);
         }
+        // The machine's load while this scene was measured.
+        let load = crate::calibrate::background_load();
         for depth in 0..=4u8 {
             let measured = rows
                 .iter()
@@ -356,11 +446,16 @@ pub fn chart(
                 &scene.name,
                 depth,
                 setup.cores,
+                load,
                 measured_s,
             ));
         }
     }
-    Ok((rows, model_rows))
+    Ok((
+        rows,
+        model_rows,
+        heaviest.map(|(_, e)| e).unwrap_or_default(),
+    ))
 }
 
 /// The model's prediction for a scene at a depth, beside what was measured.
@@ -370,9 +465,10 @@ pub fn model_row(
     scene: &str,
     depth: u8,
     cores: usize,
+    load: f64,
     measured_s: f64,
 ) -> ModelRow {
-    let p = model::predict(k, env, depth, cores);
+    let p = model::predict_on(k, env, depth, &model::Target::cores(cores).loaded(load));
     let stage = |name: &str| {
         p.stages
             .iter()
@@ -398,6 +494,7 @@ pub fn model_row(
         bottleneck: p.bottleneck().to_string(),
         polygons_in_view: env.relevant / env.frames.max(1),
         depth_complexity: env.depth_complexity(),
+        load,
     }
 }
 

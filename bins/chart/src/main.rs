@@ -75,51 +75,32 @@ struct Cli {
 
 #[derive(Subcommand, Debug)]
 enum Sub {
-    /// Prints the splitter tree depth the cost model predicts is fastest for a scene on
-    /// this machine, and why, as one line `N (reason)`. It looks at the scene's first 512
-    /// KiB through the geometry viewxf, clipplane and persp share (proto's), in this
-    /// process, and scales what it saw to the whole file: polygons in view, screen, depth
-    /// complexity.
+    /// `plan depth` under its old name: the splitter tree depth the cost model predicts
+    /// fastest for a scene on this machine, and why, as one line `N (reason; rule: …)`.
     #[command(
         name = "choose-depth",
         after_help = "Example:\n  chart choose-depth --size 1920x1080 --cores 2 fill.txt\n  \
-                      2 (10000 polygons in view, Dc 9.8, …)"
+                      1 (10000 polygons in view, Dc 9.8, …; rule: …)"
     )]
-    ChooseDepth {
-        /// The screen size, as render.sh's --size.
-        #[arg(long, default_value = "500x500", value_parser = parse_size, value_name = "WxH")]
-        size: (u32, u32),
-        /// Cores to plan for (default: this machine's).
-        #[arg(long, value_parser = clap::value_parser!(u32).range(1..=4096))]
-        cores: Option<u32>,
-        /// The deepest tree to consider.
-        #[arg(long, default_value_t = 6, value_parser = clap::value_parser!(u8).range(0..=6))]
-        max_depth: u8,
-        /// The model's constants file (default: the repository's bench/model.toml, else
-        /// the constants built in).
+    ChooseDepth(Box<plan::cli::DepthArgs>),
+    /// Fits the cost model's constants on this machine now (at most 20 s) and keeps them
+    /// in ${XDG_CACHE_HOME:-$HOME/.cache}/polypipe/model.toml, where `render.sh --depth
+    /// auto` and the chart read them; prints them.
+    Calibrate {
+        /// A small fit (four small scenes, about two seconds): for tests.
+        #[arg(long)]
+        quick: bool,
+        /// Also write the constants to FILE (`--model bench/model.toml`: the repository's
+        /// fallback and example).
         #[arg(long, value_name = "FILE")]
         model: Option<PathBuf>,
-        /// The repository, for bench/model.toml.
+        /// The repository (scripts/render.sh); chart.sh gives it.
         #[arg(long, value_name = "DIR")]
         root: Option<PathBuf>,
-        /// viewxf's camera options, as render.sh was given them, e.g. `--eye 10,10,20`.
-        #[arg(long = "eye", value_name = "X,Y,Z", allow_hyphen_values = true)]
-        eye: Option<String>,
-        #[arg(long = "at", value_name = "X,Y,Z", allow_hyphen_values = true)]
-        at: Option<String>,
-        #[arg(long = "up", value_name = "X,Y,Z", allow_hyphen_values = true)]
-        up: Option<String>,
-        #[arg(long = "s", value_name = "S", allow_hyphen_values = true)]
-        s: Option<String>,
-        #[arg(long = "d", value_name = "D", allow_hyphen_values = true)]
-        d: Option<String>,
-        #[arg(long = "hither", value_name = "K1", allow_hyphen_values = true)]
-        hither: Option<String>,
-        #[arg(long = "yon", value_name = "K2", allow_hyphen_values = true)]
-        yon: Option<String>,
-        /// The scene (a file: it is read here and again by the render).
-        scene: PathBuf,
     },
+    /// Thesis 5.2's stage timings on its T424-20 from its own constants, beside its
+    /// figures, and 6.4's depth (5), through the model code `--depth auto` uses.
+    Thesis,
 }
 
 /// The built binaries: beside this one.
@@ -142,15 +123,23 @@ fn root_dir(root: Option<PathBuf>) -> Result<PathBuf> {
     Ok(std::env::current_dir()?)
 }
 
-fn load_constants(model: Option<&Path>, root: &Path) -> Result<Constants> {
-    let path = model
-        .map(Path::to_path_buf)
-        .unwrap_or_else(|| root.join("bench/model.toml"));
-    match std::fs::read_to_string(&path) {
-        Ok(text) => Constants::parse(&text).with_context(|| format!("reading {}", path.display())),
-        Err(_) if model.is_none() => Ok(Constants::committed()),
-        Err(e) => Err(e).with_context(|| format!("cannot read {}", path.display())),
+/// The constants the chart predicts with: `--model FILE`; else this machine's
+/// calibration, made first (at most 20 s, with a progress line) when there is none, or
+/// when it is stale or another machine's.
+fn load_constants(model: Option<&Path>, root: &Path, bin: &Path) -> Result<Constants> {
+    if let Some(path) = model {
+        let text = std::fs::read_to_string(path)
+            .with_context(|| format!("cannot read {}", path.display()))?;
+        return Constants::parse(&text).with_context(|| format!("reading {}", path.display()));
     }
+    match chart::cache::load(bin) {
+        chart::cache::State::Current(k) => Ok(k),
+        _ => Ok(calibrate_now(root, bin, chart::calibrate::quick_from_env())?.0),
+    }
+}
+
+fn calibrate_now(root: &Path, bin: &Path, quick: bool) -> Result<(Constants, PathBuf)> {
+    chart::calibrate::calibrate_and_store("chart", bin, &root.join("scripts/render.sh"), quick)
 }
 
 fn bar(len: u64) -> ProgressBar {
@@ -238,18 +227,23 @@ fn run(cli: Cli) -> Result<()> {
     let root = root_dir(cli.root)?;
     let bin = bin_dir()?;
     let render = root.join("scripts/render.sh");
-    std::fs::create_dir_all(&out).with_context(|| format!("cannot make {}", out.display()))?;
+    if out.exists() && !out.is_dir() {
+        return Err(stagecli::Error::usage(format!(
+            "-o {0}: {0} is a file; -o names a folder for the CSV files and pictures (a new one, or one to write into)",
+            out.display()
+        ))
+        .into());
+    }
+    std::fs::create_dir_all(&out)
+        .with_context(|| format!("cannot make the folder {}", out.display()))?;
     if cli.replot {
         let rows: Vec<chart::chart::Row> = chart::chart::read_csv(&out.join("results.csv"))?;
         let model_rows: Vec<chart::chart::ModelRow> =
             chart::chart::read_csv(&out.join("model.csv"))?;
+        let extra = read_extrapolation(&out)?;
         chart::plot::speed_accuracy(&out, &rows)?;
-        return chart::plot::model(&out, &model_rows);
+        return chart::plot::model(&out, &model_rows, &extra);
     }
-    let model_path = cli
-        .model
-        .clone()
-        .unwrap_or_else(|| root.join("bench/model.toml"));
     let cores = chart::calibrate::cores();
     if cli.standard {
         scenes.extend(standard_scenes(
@@ -260,54 +254,20 @@ fn run(cli: Cli) -> Result<()> {
         )?);
     }
     if cli.remodel {
-        return remodel(&out, &scenes, cli.model.as_deref(), &root, cores);
+        return remodel(&out, &scenes, cli.model.as_deref(), &root, &bin, cores);
     }
     if cli.calibrate {
-        let work = out.join("calibration");
-        std::fs::create_dir_all(&work)?;
-        let grid = chart::calibrate::grid(cli.quick).len() as u64;
-        let progress = bar(grid + 1);
-        progress.set_message("calibrating");
-        let mut first = true;
-        let k = chart::calibrate::calibrate(&bin, &render, &work, cli.quick, |what| {
-            if !first {
-                progress.inc(1);
-            }
-            first = false;
-            progress.set_message(format!("calibrating: {what}"));
-        })?;
-        progress.finish_and_clear();
-        let _ = std::fs::remove_dir_all(&work);
-        let text = format!(
-            "# The cost model's constants (bins/chart/src/model.rs), seconds, measured by\n\
-             # `scripts/chart.sh --calibrate{}`: each stage binary alone on synthetic scenes,\n\
-             # least squares. Read by chart's model.csv and `chart choose-depth`.\n{}",
-            if cli.quick { " --quick" } else { "" },
-            k.to_toml()?
-        );
-        std::fs::write(&model_path, text)
-            .with_context(|| format!("cannot write {}", model_path.display()))?;
-        say_err(&format!("chart: wrote {}", model_path.display()));
-        let mut table = String::new();
-        for (name, cost) in [
-            ("viewxf (text)", k.viewxf_text),
-            ("viewxf (binary)", k.viewxf_binary),
-            ("clip", k.clip),
-            ("splitter", k.splitter),
-            ("persp", k.persp),
-            ("hse", k.hse),
-            ("merge", k.merge),
-            ("resolve (depth 0)", k.resolve),
-        ] {
-            table += &format!("{name:16} {cost:?}\n");
-        }
-        table += &format!("overheads        {:?}\n", k.overheads);
-        say(&table)?;
+        calibrate(cli.quick, cli.model.as_deref(), &root, &bin)?;
         if scenes.is_empty() {
             return Ok(());
         }
     }
-    let constants = load_constants(cli.model.as_deref(), &root)?;
+    let constants = if cli.calibrate {
+        // Just fitted: this machine's, whatever --model named for writing.
+        load_constants(None, &root, &bin)?
+    } else {
+        load_constants(cli.model.as_deref(), &root, &bin)?
+    };
     let setup = Setup {
         bin,
         render,
@@ -324,7 +284,7 @@ fn run(cli: Cli) -> Result<()> {
         * (chart::methods::runs(cli.quick, cli.methods.as_deref()).len() as u64 + 1);
     let progress = bar(total);
     let mut first = true;
-    let (rows, model_rows) = chart::chart::chart(&setup, &scenes, |what| {
+    let (rows, model_rows, extra) = chart::chart::chart(&setup, &scenes, |what| {
         if !first {
             progress.inc(1);
         }
@@ -334,8 +294,9 @@ fn run(cli: Cli) -> Result<()> {
     progress.finish_and_clear();
     chart::chart::write_csv(&out.join("results.csv"), &rows)?;
     chart::chart::write_csv(&out.join("model.csv"), &model_rows)?;
+    chart::chart::write_csv(&out.join("model-extrapolation.csv"), &extra)?;
     chart::plot::speed_accuracy(&out, &rows)?;
-    chart::plot::model(&out, &model_rows)?;
+    chart::plot::model(&out, &model_rows, &extra)?;
     say(&model_table(&model_rows))?;
     say_err(&format!(
         "chart: wrote {0}/results.csv, {0}/speed-accuracy.png, {0}/speed-accuracy.svg, {0}/model.csv, {0}/model.png",
@@ -350,9 +311,10 @@ fn remodel(
     scenes: &[Scene],
     model: Option<&Path>,
     root: &Path,
+    bin: &Path,
     cores: usize,
 ) -> Result<()> {
-    let k = load_constants(model, root)?;
+    let k = load_constants(model, root, bin)?;
     let path = out.join("model.csv");
     let old: Vec<chart::chart::ModelRow> = chart::chart::read_csv(&path)?;
     let mut rows = Vec::with_capacity(old.len());
@@ -365,6 +327,7 @@ fn remodel(
                 &scene.name,
                 r.depth,
                 cores,
+                r.load,
                 r.measured_s,
             ));
         }
@@ -378,8 +341,28 @@ fn remodel(
         );
     }
     chart::chart::write_csv(&path, &rows)?;
-    chart::plot::model(out, &rows)?;
+    let mut extra = Vec::new();
+    let mut most = -1.0;
+    for scene in scenes {
+        let env = chart::look::look(&scene.path, scene.width, scene.height, &[], None)?;
+        if env.area > most {
+            most = env.area;
+            extra = chart::chart::extrapolate(&k, &env, &scene.name, cores);
+        }
+    }
+    chart::chart::write_csv(&out.join("model-extrapolation.csv"), &extra)?;
+    chart::plot::model(out, &rows, &extra)?;
     say(&model_table(&rows))
+}
+
+/// DIR/model-extrapolation.csv, when there is one (a run before it had none).
+fn read_extrapolation(out: &Path) -> Result<Vec<chart::chart::Extrapolation>> {
+    let path = out.join("model-extrapolation.csv");
+    if path.exists() {
+        chart::chart::read_csv(&path)
+    } else {
+        Ok(Vec::new())
+    }
 }
 
 /// Writes `text` to stdout as the stages do ([`stagecli::stdout`]): the reader going
@@ -422,28 +405,24 @@ fn model_table(rows: &[chart::chart::ModelRow]) -> String {
     t
 }
 
-#[allow(clippy::too_many_arguments)]
-fn choose_depth(
-    size: (u32, u32),
-    cores: Option<u32>,
-    max_depth: u8,
-    model: Option<PathBuf>,
-    root: Option<PathBuf>,
-    camera: Vec<String>,
-    scene: PathBuf,
-) -> Result<()> {
-    let root = root_dir(root)?;
-    let k = load_constants(model.as_deref(), &root)?;
-    let env = chart::look::look(
-        &scene,
-        size.0,
-        size.1,
-        &camera,
-        Some(chart::look::SAMPLE_BYTES),
-    )?;
-    let cores = cores.map_or_else(chart::calibrate::cores, |c| c as usize);
-    let (depth, reason, _) = chart::model::choose_depth(&k, &env, cores, max_depth);
-    say(&format!("{depth} ({reason})\n"))
+/// `chart calibrate`: this machine's constants fitted now, kept in the cache (and in
+/// `model` when given), and printed.
+fn calibrate(quick: bool, model: Option<&Path>, root: &Path, bin: &Path) -> Result<()> {
+    let (k, _) = calibrate_now(root, bin, quick || chart::calibrate::quick_from_env())?;
+    if let Some(path) = model {
+        let text = format!(
+            "# The cost model's constants (bins/plan/src/model.rs), seconds, fitted by\n\
+             # `chart calibrate{}` on {}: each stage binary alone on\n\
+             # synthetic scenes, least squares. The fallback of `render.sh --depth auto`\n\
+             # until a machine has its own calibration, and the example of the file.\n{}",
+            if quick { " --quick" } else { "" },
+            k.measured_on,
+            k.to_toml()?
+        );
+        std::fs::write(path, text).with_context(|| format!("cannot write {}", path.display()))?;
+        say_err(&format!("chart: wrote {}", path.display()));
+    }
+    say(&chart::calibrate::table(&k))
 }
 
 /// A method's name, one of the chart's.
@@ -471,38 +450,12 @@ fn main() -> ExitCode {
 
 fn dispatch(cli: Cli) -> Result<()> {
     match cli.command {
-        Some(Sub::ChooseDepth {
-            size,
-            cores,
-            max_depth,
-            model,
-            root,
-            eye,
-            at,
-            up,
-            s,
-            d,
-            hither,
-            yon,
-            scene,
-        }) => {
-            let mut camera = Vec::new();
-            for (opt, v) in [
-                ("--eye", eye),
-                ("--at", at),
-                ("--up", up),
-                ("--s", s),
-                ("--d", d),
-                ("--hither", hither),
-                ("--yon", yon),
-            ] {
-                if let Some(v) = v {
-                    // One word, so that a value with a leading minus stays a value.
-                    camera.push(format!("{opt}={v}"));
-                }
-            }
-            choose_depth(size, cores, max_depth, model, root, camera, scene)
+        Some(Sub::ChooseDepth(args)) => plan::cli::depth(*args),
+        Some(Sub::Calibrate { quick, model, root }) => {
+            let root = root_dir(root)?;
+            calibrate(quick, model.as_deref(), &root, &bin_dir()?)
         }
+        Some(Sub::Thesis) => say(&chart::thesis::report()),
         None => run(cli),
     }
 }

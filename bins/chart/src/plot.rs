@@ -3,7 +3,7 @@
 //! with plotters in a font committed beside this crate (DejaVu Sans, through ab_glyph, so
 //! no system font library is needed).
 
-use crate::chart::{ModelRow, Row};
+use crate::chart::{Extrapolation, ModelRow, Row};
 use crate::methods::METHODS;
 use anyhow::{anyhow, Context, Result};
 use plotters::coord::Shift;
@@ -25,29 +25,109 @@ fn register_font() {
     });
 }
 
-/// Distinct hues: the methods' marks, the model picture's scenes.
-const PALETTE: [RGBColor; 12] = [
-    RGBColor(31, 119, 180),
-    RGBColor(214, 39, 40),
-    RGBColor(44, 160, 44),
-    RGBColor(255, 127, 14),
-    RGBColor(148, 103, 189),
-    RGBColor(140, 86, 75),
-    RGBColor(227, 119, 194),
-    RGBColor(127, 127, 127),
-    RGBColor(188, 189, 34),
-    RGBColor(23, 190, 207),
-    RGBColor(0, 0, 128),
-    RGBColor(128, 0, 0),
+/// A mark's shape.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Shape {
+    Circle,
+    Square,
+    Triangle,
+    Diamond,
+    Cross,
+}
+
+/// Fifteen colours that tell apart on screen and in print (no two of one hue and
+/// lightness; none too light for white paper): the methods' marks, in the order of
+/// [`METHODS`], each with a shape as well, so that the hues that are nearest (the
+/// blues, say) differ in shape too. The model picture's scenes and lines take them in
+/// order.
+pub const STYLES: [(RGBColor, Shape); 15] = [
+    (RGBColor(31, 119, 180), Shape::Square),    // scanline: blue
+    (RGBColor(214, 39, 40), Shape::Triangle),   // warnock: red
+    (RGBColor(44, 160, 44), Shape::Diamond),    // painter: green
+    (RGBColor(255, 127, 14), Shape::Circle),    // abuf: orange
+    (RGBColor(148, 103, 189), Shape::Diamond),  // ss2: purple
+    (RGBColor(140, 86, 75), Shape::Square),     // ss4: brown
+    (RGBColor(227, 119, 194), Shape::Triangle), // ss8: pink
+    (RGBColor(127, 127, 127), Shape::Circle),   // ss16: grey
+    (RGBColor(188, 189, 34), Shape::Square),    // zbuf-pixels: olive
+    (RGBColor(0, 0, 0), Shape::Circle),         // zbuf: black
+    (RGBColor(23, 190, 207), Shape::Triangle),  // zbuf-eye-z: cyan
+    (RGBColor(0, 0, 128), Shape::Diamond),      // zbuf-buffer: navy
+    (RGBColor(128, 0, 0), Shape::Square),       // zbuf-chain: maroon
+    (RGBColor(0, 128, 128), Shape::Cross),      // zbuf-text: teal
+    (RGBColor(184, 134, 11), Shape::Triangle),  // zbuf-binary: dark gold
 ];
 
-/// A method's colour: its place in the method table, on [`PALETTE`].
-fn colour_of(method: &str) -> RGBColor {
+/// The colours alone, in order.
+const PALETTE: [RGBColor; 15] = {
+    let mut p = [RGBColor(0, 0, 0); 15];
+    let mut i = 0;
+    while i < 15 {
+        p[i] = STYLES[i].0;
+        i += 1;
+    }
+    p
+};
+
+/// A method's colour and shape: its place in the method table, on [`STYLES`].
+pub fn style_of(method: &str) -> (RGBColor, Shape) {
     let i = METHODS
         .iter()
         .position(|m| m.name == method)
         .unwrap_or(METHODS.len());
-    PALETTE[i % PALETTE.len()]
+    STYLES[i % STYLES.len()]
+}
+
+/// Draws a mark of `shape` and radius `r` at `at` (data coordinates) on `area`.
+fn draw_mark<DB: DrawingBackend, CT: plotters::coord::CoordTranslate>(
+    area: &DrawingArea<DB, CT>,
+    at: CT::From,
+    (colour, shape): (RGBColor, Shape),
+    r: i32,
+) -> Drawn
+where
+    DB::ErrorType: 'static,
+    CT::From: Clone,
+{
+    let fill = colour.filled();
+    match shape {
+        Shape::Circle => area.draw(&(EmptyElement::at(at) + Circle::new((0, 0), r, fill)))?,
+        Shape::Square => area.draw(
+            &(EmptyElement::at(at) + Rectangle::new([(-r + 1, -r + 1), (r - 1, r - 1)], fill)),
+        )?,
+        Shape::Triangle => area.draw(
+            &(EmptyElement::at(at)
+                + Polygon::new(vec![(0, -r - 1), (r + 1, r - 1), (-r - 1, r - 1)], fill)),
+        )?,
+        Shape::Diamond => area.draw(
+            &(EmptyElement::at(at)
+                + Polygon::new(vec![(0, -r - 1), (r + 1, 0), (0, r + 1), (-r - 1, 0)], fill)),
+        )?,
+        Shape::Cross => area.draw(
+            &(EmptyElement::at(at)
+                + PathElement::new([(-r, -r), (r, r)], colour.stroke_width(3))
+                + PathElement::new([(-r, r), (r, -r)], colour.stroke_width(3))),
+        )?,
+    }
+    Ok(())
+}
+
+/// A log axis's range widened to whole decades below (`lo` down to a power of ten), so
+/// that its ticks at 1, 2 and 5 of every decade in range are all drawn (plotters counts
+/// a log axis's light ticks from the first power of ten in it), and at least one decade
+/// wide.
+pub fn decades(lo: f64, hi: f64) -> (f64, f64) {
+    let lo = 10f64.powf(lo.max(1e-6).log10().floor());
+    // A hair below the power of ten: plotters finds the first decade as
+    // 10^ceil(ln(lo)/ln(10)), and ln(0.1)/ln(10) is −0.9999999999999998, whose ceiling
+    // would skip the decade 0.1–1.
+    (lo * (1.0 - 1e-9), hi.max(lo * 10.0))
+}
+
+/// Enough tick requests that plotters draws every 1..9 of each decade (the labels then
+/// keep 1, 2 and 5: [`log_tick`]).
+fn log_ticks(lo: f64, hi: f64) -> usize {
+    10 * ((hi / lo).log10().ceil().max(1.0) as usize + 1)
 }
 
 /// Each method's mark on a scene's panel: its fastest depth.
@@ -161,7 +241,9 @@ where
     root.fill(&WHITE)?;
     let scenes = scenes_of(rows);
     let (cols, nrows) = layout(scenes.len());
-    let (title, body) = root.split_vertically(title_height(title_text.len()));
+    let (title, rest) = root.split_vertically(title_height(title_text.len()));
+    let height = rest.dim_in_pixel().1;
+    let (body, foot) = rest.split_vertically(height - legend_height(rest.dim_in_pixel().0));
     let centre = title.dim_in_pixel().0 as i32 / 2;
     for (i, line) in title_text.iter().enumerate() {
         title.draw(&Text::new(
@@ -181,6 +263,7 @@ where
             (a.min(r.wall_s), b.max(r.wall_s))
         });
         let emax = marks.iter().map(|r| r.rmse).fold(0.0f64, f64::max).max(0.5) * 1.3;
+        let (xlo, xhi) = decades(tmin / 1.3, tmax * 1.6);
         let caption = format!(
             "{} ({} polygons{}, {})",
             scene,
@@ -197,27 +280,26 @@ where
             .margin(12)
             .x_label_area_size(52)
             .y_label_area_size(72)
-            .build_cartesian_2d(
-                // At least a factor of ten, so that the log axis has its labels.
-                ((tmin / 1.6).min(tmax * 1.6 / 10.0).max(1e-4)..(tmax * 1.6).max(2e-4)).log_scale(),
-                0.0..emax * 1.2,
-            )?;
+            .build_cartesian_2d((xlo..xhi).log_scale(), 0.0..emax * 1.2)?;
         chart
             .configure_mesh()
             .x_desc("wall time, seconds (log scale)")
             .y_desc("RMS error vs 16×16 reference (0–255)")
             .axis_desc_style(("sans-serif", 18))
             .label_style(("sans-serif", 16))
-            .x_labels(10)
+            .x_labels(log_ticks(xlo, xhi))
+            // The 1-9 of every decade are the grid; no lighter lines between them.
+            .x_max_light_lines(0)
             .x_label_formatter(&|v| log_tick(*v))
             .y_label_formatter(&|v| format!("{v:.1}"))
             .light_line_style(RGBColor(235, 235, 235))
             .draw()?;
         let front: Vec<(f64, f64)> = pareto(&marks).iter().map(|r| (r.wall_s, r.rmse)).collect();
         chart.draw_series(LineSeries::new(front, RGBColor(90, 90, 90).stroke_width(2)))?;
-        // Marks in order of time, each label placed where it overlaps no label placed
-        // before it and no mark: the first free slot of a column of slots above the mark,
-        // then below it, each joined to its mark by a leader line.
+        // Marks in order of time, each drawn in its method's colour and shape, and
+        // labelled where the label overlaps no label placed before it and no mark: the
+        // first free slot beside it, above or below. A mark in a crowd whose label finds
+        // no free slot is named by the legend alone.
         let mut by_time = marks.clone();
         by_time.sort_by(|a, b| a.wall_s.total_cmp(&b.wall_s));
         let at: Vec<(i32, i32)> = by_time
@@ -226,29 +308,33 @@ where
             .collect();
         let area = chart.plotting_area().get_pixel_range();
         let mut placed: Vec<LabelBox> = at.iter().map(|&(x, y)| LabelBox::mark(x, y)).collect();
+        for r in &by_time {
+            draw_mark(
+                chart.plotting_area(),
+                (r.wall_s, r.rmse),
+                style_of(&r.method),
+                7,
+            )?;
+        }
         for (r, &(x, y)) in by_time.iter().zip(&at) {
-            let c = colour_of(&r.method);
+            let (c, _) = style_of(&r.method);
             let label = if r.depth > 0 {
                 format!("{} d{}", r.method, r.depth)
             } else {
                 r.method.clone()
             };
-            let dy = place_label(&label, (x, y), (&area.0, &area.1), &placed);
-            placed.push(LabelBox::text(&label, x + 2, y + dy - 8));
-            chart.draw_series(std::iter::once(
-                EmptyElement::at((r.wall_s, r.rmse))
-                    + Circle::new((0, 0), 7, c.filled())
-                    + PathElement::new(
-                        [
-                            (0, if dy < 0 { -7 } else { 7 }),
-                            (0, dy + if dy < 0 { 4 } else { -8 }),
-                        ],
-                        c.stroke_width(1),
-                    )
-                    + Text::new(label, (2, dy - 8), ("sans-serif", 16).into_font().color(&c)),
-            ))?;
+            let Some((dx, dy)) = place_label(&label, (x, y), (&area.0, &area.1), &placed) else {
+                continue;
+            };
+            let b = LabelBox::text(&label, x + dx, y + dy);
+            placed.push(b);
+            chart.plotting_area().draw(
+                &(EmptyElement::at((r.wall_s, r.rmse))
+                    + Text::new(label, (dx, dy), ("sans-serif", 16).into_font().color(&c))),
+            )?;
         }
     }
+    legend(&foot)?;
     root.present()?;
     Ok(())
 }
@@ -257,10 +343,9 @@ where
 /// ticks between (their labels would run together near each power of ten).
 fn log_tick(v: f64) -> String {
     let mantissa = v / 10f64.powf(v.log10().floor());
-    if [1.0, 2.0, 5.0, 10.0]
-        .iter()
-        .any(|m| (mantissa - m).abs() < 0.01)
-    {
+    // Not at a mantissa of 10: that is the last light tick of the decade below (0.01·10,
+    // a hair under 0.1), drawn beside the next decade's own first tick.
+    if [1.0, 2.0, 5.0].iter().any(|m| (mantissa - m).abs() < 0.01) {
         let digits = (-v.log10().floor()).max(0.0) as usize;
         format!("{v:.digits$}")
     } else {
@@ -303,27 +388,74 @@ impl LabelBox {
     }
 }
 
-/// The vertical offset from its mark at `at` of the first slot for `label` that overlaps
-/// none of `placed` and stays inside the plotting area `xs`×`ys` (pixels): slots 18 px
-/// apart above the mark, then below it; the nearest above if none is free.
+/// The offset (from its mark at `at`, to the label's top left) of the first slot for
+/// `label` that overlaps none of `placed` and stays inside the plotting area `xs`×`ys`
+/// (pixels): right of the mark, above it, below it, left of it, then a little further
+/// out above and below; `None` when every one is taken.
 fn place_label(
     label: &str,
     at: (i32, i32),
     (xs, ys): (&std::ops::Range<i32>, &std::ops::Range<i32>),
     placed: &[LabelBox],
-) -> i32 {
-    let above = (0..14).map(|k| -16 - 18 * k);
-    let below = (0..10).map(|k| 24 + 18 * k);
-    for dy in above.chain(below) {
-        let b = LabelBox::text(label, at.0 + 2, at.1 + dy - 8);
-        let inside = b.y0 >= ys.start && b.y1 <= ys.end && b.x1 <= xs.end + 40;
-        // The mark's own box is among `placed`; a label never sits on a mark, its own
-        // included.
-        if inside && !placed.iter().any(|p| p.overlaps(&b)) {
-            return dy;
-        }
+) -> Option<(i32, i32)> {
+    let w = LabelBox::text(label, 0, 0).x1;
+    let slots = [
+        (10, -8),
+        (-w / 2, -27),
+        (-w / 2, 11),
+        (-w - 10, -8),
+        (6, -27),
+        (6, 11),
+        (-w - 6, -27),
+        (-w - 6, 11),
+        (-w / 2, -45),
+        (-w / 2, 29),
+    ];
+    slots.into_iter().find(|&(dx, dy)| {
+        let b = LabelBox::text(label, at.0 + dx, at.1 + dy);
+        let inside = b.y0 >= ys.start && b.y1 <= ys.end && b.x0 >= xs.start && b.x1 <= xs.end;
+        // The mark's own box is among `placed`; a label never sits on a mark.
+        inside && !placed.iter().any(|p| p.overlaps(&b))
+    })
+}
+
+/// The legend's height for a picture `width` pixels wide: a row of entries of
+/// [`LEGEND_ENTRY`] px each, as many rows as the fifteen methods need.
+fn legend_height(width: u32) -> u32 {
+    let per_row = (width.saturating_sub(40) / LEGEND_ENTRY).max(1) as usize;
+    16 + 26 * METHODS.len().div_ceil(per_row) as u32
+}
+
+const LEGEND_ENTRY: u32 = 150;
+
+/// Every method's colour and shape, under the panels.
+fn legend<DB: DrawingBackend>(area: &DrawingArea<DB, Shift>) -> Drawn
+where
+    DB::ErrorType: 'static,
+{
+    let width = area.dim_in_pixel().0;
+    let per_row = (width.saturating_sub(40) / LEGEND_ENTRY).max(1) as usize;
+    let rows = METHODS.len().div_ceil(per_row);
+    // Centred: the last row's entries line up under the others'.
+    let used = (per_row.min(METHODS.len()) as u32 * LEGEND_ENTRY) as i32;
+    let left = (width as i32 - used) / 2;
+    for (i, m) in METHODS.iter().enumerate() {
+        let (row, col) = (i / per_row, i % per_row);
+        let x = left + col as i32 * LEGEND_ENTRY as i32;
+        let y = 8 + row as i32 * 26 + 10;
+        let style = style_of(m.name);
+        draw_mark(area, (x + 8, y), style, 7)?;
+        area.draw(&Text::new(
+            m.name,
+            (x + 22, y),
+            ("sans-serif", 16)
+                .into_font()
+                .color(&BLACK)
+                .pos(Pos::new(HPos::Left, VPos::Center)),
+        ))?;
     }
-    -16
+    let _ = rows;
+    Ok(())
 }
 
 fn png(
@@ -350,7 +482,10 @@ pub fn speed_accuracy(dir: &Path, rows: &[Row]) -> Result<()> {
     let (cols, nrows) = layout(scenes_of(rows).len());
     let width = PANEL.0 * cols as u32;
     let title = title_lines(width);
-    let size = (width, PANEL.1 * nrows as u32 + title_height(title.len()));
+    let size = (
+        width,
+        PANEL.1 * nrows as u32 + title_height(title.len()) + legend_height(width),
+    );
     png(&dir.join("speed-accuracy.png"), size, |root| {
         speed_accuracy_on(root, rows, &title)
     })?;
@@ -359,22 +494,38 @@ pub fn speed_accuracy(dir: &Path, rows: &[Row]) -> Result<()> {
     speed_accuracy_on(root, rows, &title).map_err(|e| anyhow!("drawing {}: {e}", svg.display()))
 }
 
-fn model_on<DB: DrawingBackend>(root: DrawingArea<DB, Shift>, rows: &[ModelRow]) -> Drawn
+fn model_on<DB: DrawingBackend>(
+    root: DrawingArea<DB, Shift>,
+    rows: &[ModelRow],
+    extra: &[Extrapolation],
+) -> Drawn
 where
     DB::ErrorType: 'static,
 {
     root.fill(&WHITE)?;
+    let (left, right) = root.split_horizontally(900);
+    measured_panel(&left, rows)?;
+    prediction_panel(&right, extra)?;
+    root.present()?;
+    Ok(())
+}
+
+/// The model against measurement: predicted against measured seconds, a mark a depth.
+fn measured_panel<DB: DrawingBackend>(root: &DrawingArea<DB, Shift>, rows: &[ModelRow]) -> Drawn
+where
+    DB::ErrorType: 'static,
+{
     let all = rows.iter().flat_map(|r| [r.predicted_s, r.measured_s]);
     let (lo, hi) = all.fold((f64::INFINITY, 0.0f64), |(a, b), v| (a.min(v), b.max(v)));
-    let (lo, hi) = ((lo / 1.5).max(1e-4), (hi * 1.5).max(2e-4));
+    let (lo, hi) = decades(lo / 1.3, hi * 1.5);
     let mean = rows.iter().map(|r| r.error.abs()).sum::<f64>() / rows.len().max(1) as f64;
-    let mut chart = ChartBuilder::on(&root)
+    let mut chart = ChartBuilder::on(root)
         .caption(
             format!(
                 "Cost model (thesis 5.2, 6.4) against measurement: mean |error| {:.0}%",
                 mean * 100.0
             ),
-            ("sans-serif", 24),
+            ("sans-serif", 22),
         )
         .margin(16)
         .x_label_area_size(56)
@@ -382,10 +533,13 @@ where
         .build_cartesian_2d((lo..hi).log_scale(), (lo..hi).log_scale())?;
     chart
         .configure_mesh()
-        .x_desc("measured wall time, seconds (log scale)")
+        .x_desc("measured wall time of render.sh, seconds (log scale)")
         .y_desc("predicted, seconds (log scale)")
         .axis_desc_style(("sans-serif", 18))
         .label_style(("sans-serif", 16))
+        .x_labels(log_ticks(lo, hi))
+        .y_labels(log_ticks(lo, hi))
+        .max_light_lines(0)
         .x_label_formatter(&|v| log_tick(*v))
         .y_label_formatter(&|v| log_tick(*v))
         .light_line_style(RGBColor(235, 235, 235))
@@ -394,12 +548,19 @@ where
         .draw_series(LineSeries::new([(lo, lo), (hi, hi)], BLACK.stroke_width(1)))?
         .label("predicted = measured")
         .legend(|(x, y)| PathElement::new([(x, y), (x + 20, y)], BLACK));
-    for f in [0.7, 1.3] {
-        chart.draw_series(LineSeries::new(
+    let grey = RGBColor(150, 150, 150);
+    for f in [0.75, 1.25] {
+        chart.draw_series(DashedLineSeries::new(
             [(lo, lo * f), (hi, hi * f)],
-            RGBColor(170, 170, 170).stroke_width(1),
+            6,
+            4,
+            grey.stroke_width(1),
         ))?;
     }
+    chart
+        .draw_series(std::iter::empty::<Circle<(f64, f64), i32>>())?
+        .label("±25% (the target)")
+        .legend(move |(x, y)| PathElement::new([(x, y), (x + 20, y)], grey));
     let mut scenes: Vec<&str> = Vec::new();
     for r in rows {
         if !scenes.contains(&r.scene.as_str()) {
@@ -407,14 +568,21 @@ where
         }
     }
     for (i, scene) in scenes.iter().enumerate() {
-        let c = PALETTE[i % PALETTE.len()];
+        // Circles, as the legend draws them: the scenes differ by colour.
+        let c = STYLES[i % STYLES.len()].0;
+        let style = (c, Shape::Circle);
         let mine: Vec<&ModelRow> = rows.iter().filter(|r| r.scene == *scene).collect();
+        for r in &mine {
+            draw_mark(
+                chart.plotting_area(),
+                (r.measured_s, r.predicted_s),
+                style,
+                6,
+            )?;
+        }
         chart
-            .draw_series(
-                mine.iter()
-                    .map(|r| Circle::new((r.measured_s, r.predicted_s), 6, c.filled())),
-            )?
-            .label(scene.to_string())
+            .draw_series(std::iter::empty::<Circle<(f64, f64), i32>>())?
+            .label(format!("{scene} (dN: depth N)"))
             .legend(move |(x, y)| Circle::new((x + 10, y), 6, c.filled()));
         chart.draw_series(mine.iter().map(|r| {
             Text::new(
@@ -430,18 +598,103 @@ where
     chart
         .configure_series_labels()
         .position(SeriesLabelPosition::UpperLeft)
-        .label_font(("sans-serif", 17))
+        .label_font(("sans-serif", 16))
         .background_style(WHITE.mix(0.9))
         .border_style(BLACK)
         .draw()?;
-    root.present()?;
     Ok(())
 }
 
-/// `model.png` in `dir` (the grey lines are ±30%).
-pub fn model(dir: &Path, rows: &[ModelRow]) -> Result<()> {
-    png(&dir.join("model.png"), (900, 760), |root| {
-        model_on(root, rows)
+/// The model's extrapolation, not measured: one scene's predicted time at each depth on
+/// more cores than this machine has, and with its subtrees on other hosts.
+fn prediction_panel<DB: DrawingBackend>(
+    root: &DrawingArea<DB, Shift>,
+    extra: &[Extrapolation],
+) -> Drawn
+where
+    DB::ErrorType: 'static,
+{
+    let Some(first) = extra.first() else {
+        return Ok(());
+    };
+    let (lo, hi) = extra.iter().fold((f64::INFINITY, 0.0f64), |(a, b), r| {
+        (a.min(r.predicted_s), b.max(r.predicted_s))
+    });
+    let (lo, hi) = decades(lo / 1.3, hi * 1.5);
+    let mut chart = ChartBuilder::on(root)
+        .caption(
+            format!(
+                "PREDICTION, not measured: {} on more cores, on hosts",
+                first.scene
+            ),
+            ("sans-serif", 22),
+        )
+        .margin(16)
+        .x_label_area_size(56)
+        .y_label_area_size(80)
+        .build_cartesian_2d(-0.2f64..6.2f64, (lo..hi).log_scale())?;
+    chart
+        .configure_mesh()
+        .x_desc("splitter tree depth (2^depth leaves)")
+        .y_desc("predicted wall time, seconds (log scale)")
+        .axis_desc_style(("sans-serif", 18))
+        .label_style(("sans-serif", 16))
+        .x_labels(7)
+        .x_label_formatter(&|v| format!("{v:.0}"))
+        .y_labels(log_ticks(lo, hi))
+        .y_max_light_lines(0)
+        .y_label_formatter(&|v| log_tick(*v))
+        .light_line_style(RGBColor(235, 235, 235))
+        .draw()?;
+    let mut targets: Vec<&str> = Vec::new();
+    for r in extra {
+        if !targets.contains(&r.target.as_str()) {
+            targets.push(&r.target);
+        }
+    }
+    for (i, target) in targets.iter().enumerate() {
+        let c = PALETTE[i % PALETTE.len()];
+        let points: Vec<(f64, f64)> = extra
+            .iter()
+            .filter(|r| r.target == *target)
+            .map(|r| (r.depth as f64, r.predicted_s))
+            .collect();
+        let hosts = target.contains("host");
+        // The first hosts' line is drawn wide, so that where the second lies on it
+        // (the link is not what limits) both show.
+        let line = c.stroke_width(if hosts && i + 2 == targets.len() {
+            6
+        } else {
+            2
+        });
+        if hosts {
+            chart
+                .draw_series(DashedLineSeries::new(points.clone(), 8, 5, line))?
+                .label(target.to_string())
+                .legend(move |(x, y)| PathElement::new([(x, y), (x + 20, y)], c.stroke_width(2)));
+        } else {
+            chart
+                .draw_series(LineSeries::new(points.clone(), line))?
+                .label(target.to_string())
+                .legend(move |(x, y)| PathElement::new([(x, y), (x + 20, y)], c.stroke_width(2)));
+        }
+        chart.draw_series(points.iter().map(|&p| Circle::new(p, 4, c.filled())))?;
+    }
+    chart
+        .configure_series_labels()
+        .position(SeriesLabelPosition::LowerLeft)
+        .label_font(("sans-serif", 16))
+        .background_style(WHITE.mix(0.9))
+        .border_style(BLACK)
+        .draw()?;
+    Ok(())
+}
+
+/// `model.png` in `dir`: the model against measurement (left; the dashed lines ±25%) and
+/// its extrapolation to more cores and to hosts (right), marked as prediction.
+pub fn model(dir: &Path, rows: &[ModelRow], extra: &[Extrapolation]) -> Result<()> {
+    png(&dir.join("model.png"), (1800, 760), |root| {
+        model_on(root, rows, extra)
     })
 }
 
@@ -482,6 +735,70 @@ mod tests {
     }
 
     #[test]
+    fn a_log_axis_from_decades_gets_its_ticks_at_1_2_and_5_of_every_decade() {
+        use plotters::coord::ranged1d::{KeyPointHint, Ranged};
+        let (lo, hi) = decades(0.135, 0.28);
+        let axis: plotters::coord::combinators::LogCoord<f64> = (lo..hi).log_scale().into();
+        let labels: Vec<String> = axis
+            .key_points(log_ticks(lo, hi))
+            .iter()
+            .map(|v| log_tick(*v))
+            .filter(|l| !l.is_empty())
+            .fold(Vec::new(), |mut v: Vec<String>, l| {
+                // The last light tick of a decade is the next decade's first: drawn twice
+                // in one place.
+                if v.last() != Some(&l) {
+                    v.push(l);
+                }
+                v
+            });
+        assert_eq!(labels, ["0.1", "0.2", "0.5", "1"]);
+        let (lo, hi) = decades(0.004, 0.9);
+        let axis: plotters::coord::combinators::LogCoord<f64> = (lo..hi).log_scale().into();
+        let labels: Vec<String> = axis
+            .key_points(log_ticks(lo, hi))
+            .iter()
+            .map(|v| log_tick(*v))
+            .filter(|l| !l.is_empty())
+            .fold(Vec::new(), |mut v: Vec<String>, l| {
+                // The last light tick of a decade is the next decade's first: drawn twice
+                // in one place.
+                if v.last() != Some(&l) {
+                    v.push(l);
+                }
+                v
+            });
+        assert_eq!(
+            labels,
+            ["0.001", "0.002", "0.005", "0.01", "0.02", "0.05", "0.1", "0.2", "0.5"]
+        );
+        let _ = KeyPointHint::max_num_points(&3usize);
+    }
+
+    #[test]
+    fn fifteen_methods_fifteen_colours_and_no_two_alike() {
+        assert_eq!(METHODS.len(), STYLES.len());
+        for (i, a) in STYLES.iter().enumerate() {
+            for b in &STYLES[i + 1..] {
+                let d = (a.0 .0 as i32 - b.0 .0 as i32).abs()
+                    + (a.0 .1 as i32 - b.0 .1 as i32).abs()
+                    + (a.0 .2 as i32 - b.0 .2 as i32).abs();
+                // Apart in colour, and those nearest apart in shape too.
+                assert!(d > 60, "{a:?} and {b:?}");
+                assert!(d > 150 || a.1 != b.1, "{a:?} and {b:?}");
+            }
+            // Dark enough to print on white: no channel sum above 600.
+            assert!(
+                (a.0 .0 as u32 + a.0 .1 as u32 + a.0 .2 as u32) < 600,
+                "{a:?}"
+            );
+        }
+        // The pairs the old chart confused.
+        assert_ne!(style_of("painter"), style_of("zbuf-binary"));
+        assert_ne!(style_of("scanline").1, style_of("zbuf-eye-z").1);
+    }
+
+    #[test]
     fn log_ticks_are_labelled_at_1_2_and_5() {
         let labels: Vec<String> = [0.1, 0.2, 0.3, 0.5, 0.9, 1.0, 2.0, 0.02, 0.05]
             .iter()
@@ -494,23 +811,41 @@ mod tests {
     }
 
     #[test]
-    fn labels_take_the_first_free_slot_above_then_below() {
+    fn labels_take_the_first_free_slot_and_none_when_all_are_taken() {
         let area = (0..400, 0..300);
         let at = (100, 150);
         let marks = [LabelBox::mark(at.0, at.1)];
-        assert_eq!(place_label("zbuf", at, (&area.0, &area.1), &marks), -16);
+        // Right of the mark first.
+        assert_eq!(
+            place_label("zbuf", at, (&area.0, &area.1), &marks),
+            Some((10, -8))
+        );
         let mut placed = marks.to_vec();
-        placed.push(LabelBox::text("zbuf", at.0 + 2, at.1 - 16 - 8));
+        placed.push(LabelBox::text("zbuf", at.0 + 10, at.1 - 8));
+        // Then above, centred.
+        let w = LabelBox::text("scanline", 0, 0).x1;
         assert_eq!(
             place_label("scanline", at, (&area.0, &area.1), &placed),
-            -34
+            Some((-w / 2, -27))
         );
-        // Near the top edge: no room above, so below.
-        let top = (100, 10);
+        // In the top right corner: no room right, above or below; so left.
         assert_eq!(
-            place_label("ss4", top, (&area.0, &area.1), &[LabelBox::mark(100, 10)]),
-            24
+            place_label(
+                "ss4",
+                (395, 10),
+                (&area.0, &area.1),
+                &[LabelBox::mark(395, 10)]
+            ),
+            Some((-LabelBox::text("ss4", 0, 0).x1 - 10, -8))
         );
+        // Every slot taken: no label (the legend names the mark).
+        let crowd = [LabelBox {
+            x0: 0,
+            y0: 0,
+            x1: 400,
+            y1: 300,
+        }];
+        assert_eq!(place_label("abuf", at, (&area.0, &area.1), &crowd), None);
     }
 
     #[test]
@@ -546,8 +881,13 @@ mod tests {
         let rows = vec![row("zbuf", 0, 0.2, 30.0), row("zbuf-eye-z", 0, 0.3, 31.0)];
         speed_accuracy(dir.path(), &rows).unwrap();
         let png = image::open(dir.path().join("speed-accuracy.png")).unwrap();
-        // One panel is narrower than the title: two lines, the picture taller by one.
-        assert_eq!((png.width(), png.height()), (PANEL.0, PANEL.1 + 80));
+        // One panel is narrower than the title: two lines, the picture taller by one;
+        // the legend below, its fifteen methods four to a row.
+        assert_eq!(
+            (png.width(), png.height()),
+            (PANEL.0, PANEL.1 + 80 + legend_height(PANEL.0))
+        );
+        assert_eq!(legend_height(PANEL.0), 16 + 26 * 4);
         let svg = std::fs::read_to_string(dir.path().join("speed-accuracy.svg")).unwrap();
         assert!(svg.contains("zbuf-eye-z"), "the label is in the SVG");
         assert!(svg.contains("wall time, seconds"));

@@ -1,4 +1,5 @@
-//! `chart --calibrate`: the model's constants measured on this machine. Each stage binary
+//! `chart calibrate` (and the first use of the model on a machine): the model's constants
+//! measured on this machine, in at most 20 seconds. Each stage binary
 //! is run alone on the streams of synthetic scenes (`scene environment`, the thesis's
 //! test environment of 5.2, over a grid of polygon counts, screens and depth
 //! complexities), reading a file and writing a file, and its CPU seconds are fitted by
@@ -8,7 +9,7 @@
 
 use crate::look::{count_screen, count_world, Environment};
 use crate::measure::{self, Usage};
-use crate::model::{fit, predict, stage_work, Constants, Cost, Overheads, StageWork, Work};
+use crate::model::{fit, stage_work, Constants, Cost, Overheads, StageWork, Work};
 use anyhow::{Context, Result};
 use std::fs::File;
 use std::path::Path;
@@ -53,26 +54,41 @@ fn stage(bin: &Path, name: &str, input: &Path, output: Option<&Path>) -> Result<
     Ok(cmd)
 }
 
-/// The synthetic scenes: (polygons, width, height, depth complexity).
+/// The synthetic scenes: (polygons, width, height, depth complexity). Chosen so that the
+/// hidden-surface stage's five terms (a process, a polygon, a span, a pixel, a screen
+/// pixel) vary independently: polygons against screen and Dc, which set the spans and
+/// pixels, over a factor of 30 each, in few enough scenes to fit 20 seconds.
+/// `quick`: four small scenes, for tests (about two seconds).
 pub fn grid(quick: bool) -> Vec<(u64, u32, u32, f64)> {
-    let (ps, sizes, dcs): (&[u64], &[(u32, u32)], &[f64]) = if quick {
-        (&[500, 4000], &[(300, 300), (800, 600)], &[1.0, 6.0])
-    } else {
-        (
-            &[1000, 8000, 40000],
-            &[(400, 400), (1280, 720)],
-            &[1.0, 8.0],
-        )
-    };
-    let mut g = Vec::new();
-    for &p in ps {
-        for &(w, h) in sizes {
-            for &dc in dcs {
-                g.push((p, w, h, dc));
-            }
-        }
+    if quick {
+        return vec![
+            (300, 200, 150, 1.0),
+            (2000, 200, 150, 6.0),
+            (300, 640, 480, 6.0),
+            (2000, 640, 480, 1.0),
+        ];
     }
-    g
+    vec![
+        (1000, 400, 400, 1.0),
+        (1000, 1280, 720, 8.0),
+        (8000, 400, 400, 8.0),
+        (8000, 1280, 720, 1.0),
+        (8000, 1920, 1080, 10.0),
+        (30000, 640, 480, 4.0),
+        (30000, 1280, 720, 8.0),
+        (2000, 1920, 1080, 2.0),
+    ]
+}
+
+/// How long the scenes may take before the calibration cuts itself short (it has 20 s in
+/// all; the start-up's renders take 2 to 4 s after the scenes).
+pub const LATE: std::time::Duration = std::time::Duration::from_secs(13);
+
+/// Whether the automatic calibration should be the quick one: `POLYPIPE_CALIBRATION=quick`
+/// (the tests set it, so that a test that meets an uncalibrated machine does not spend
+/// 20 seconds fitting it).
+pub fn quick_from_env() -> bool {
+    std::env::var("POLYPIPE_CALIBRATION").is_ok_and(|v| v == "quick")
 }
 
 /// Measures the stages and fits the constants. `tick` is called after each scene.
@@ -83,11 +99,17 @@ pub fn calibrate(
     quick: bool,
     mut tick: impl FnMut(&str),
 ) -> Result<Constants> {
-    let reps = if quick { 1 } else { 3 };
+    let reps = if quick { 1 } else { 2 };
     let [mut vt, mut vb, mut clip, mut split, mut persp, mut hse, mut merge, mut resolve] =
         std::array::from_fn(|_| Samples::default());
     let f = |n: &str| work.join(n);
+    let start = std::time::Instant::now();
     for (i, &(p, w, h, dc)) in grid(quick).iter().enumerate() {
+        // The 20 s bound on a loaded machine: past LATE, no more scenes once the five
+        // the fit needs at least (five terms of the leaf's cost) are measured.
+        if i >= 5 && start.elapsed() > LATE {
+            break;
+        }
         let size = format!("{w}x{h}");
         tick(&format!("{p} polygons, {size}, Dc {dc}"));
         for (text, name) in [(false, "w.pp"), (true, "w.txt")] {
@@ -151,7 +173,7 @@ pub fn calibrate(
             flowing,
             merge: merge_work,
             ..
-        } = stage_work(&env);
+        } = stage_work(&env, false);
         vt.push(&world, t_vt);
         vb.push(&world, t_vb);
         clip.push(&world, t_clip);
@@ -170,6 +192,8 @@ pub fn calibrate(
     let geometry = [true, true, false, false, false, false];
     let mut k = Constants {
         measured_on: machine(),
+        machine: crate::cache::this_machine(bin),
+        drops_emptied: false,
         viewxf_text: vt.fit(geometry),
         viewxf_binary: vb.fit(geometry),
         clip: clip.fit(geometry),
@@ -182,18 +206,29 @@ pub fn calibrate(
         overheads: Overheads::default(),
     };
     tick("render.sh on two polygons, depths 0-4");
-    k.overheads = overheads(bin, render, work, &k, if quick { 3 } else { 5 })?;
+    // Late, the start-up is timed once at three depths instead of three times at five.
+    let late = start.elapsed() > LATE;
+    let depths: &[u8] = if quick {
+        &[0, 2]
+    } else if late {
+        &[0, 2, 4]
+    } else {
+        &[0, 1, 2, 3, 4]
+    };
+    let reps = if quick || late { 1 } else { 3 };
+    k.overheads = overheads(bin, render, work, &k, depths, reps)?;
     Ok(k)
 }
 
-/// The script's and the processes' start-up: `render.sh` on two polygons at depths 0-4
+/// The script's and the processes' start-up: `render.sh` on two polygons at `depths`
 /// (wall seconds, median of `reps`) less the stages' predicted time, fitted to
-/// script + process × processes.
+/// script + process × processes / cores.
 fn overheads(
     bin: &Path,
     render: &Path,
     work: &Path,
     k: &Constants,
+    depths: &[u8],
     reps: usize,
 ) -> Result<Overheads> {
     let scene = work.join("two.txt");
@@ -205,13 +240,19 @@ fn overheads(
     )?;
     let env = crate::look::look(&scene, 500, 500, &[], None)?;
     let cores = cores();
+    // The start-up is timed on the machine as it is: its load, as the predictions will
+    // take it, is taken out of what is fitted.
+    let load = background_load();
     let mut rows = Vec::new();
     let mut y = Vec::new();
-    for d in 0..=4u8 {
+    for &d in depths {
         let mut runs: Vec<Usage> = Vec::new();
         for _ in 0..reps {
             runs.push(measure::run(
                 Command::new(render)
+                    // The binaries measured, run as they are: render.sh's own check for
+                    // stale binaries could start a build in the middle of the timing.
+                    .env("POLYPIPE_BIN", bin)
                     .args(["--size", "500x500", "--depth", &d.to_string()])
                     .arg(&scene)
                     .stdout(Stdio::null())
@@ -219,15 +260,33 @@ fn overheads(
             )?);
         }
         let wall = measure::median(&runs).wall_s;
-        let p = predict(k, &env, d, cores);
-        rows.push([1.0, p.processes as f64, 0.0, 0.0, 0.0, 0.0]);
-        y.push(wall - p.slowest_s.max(p.shared_s));
+        // With no start-up costs yet in `k`, shared_s is the stages' work over the
+        // cores: the wall time is the script's plus that plus the processes' starts over
+        // the cores (a two-polygon render is all start-up: the shared bound is the
+        // larger).
+        let target = crate::model::Target::cores(cores).loaded(load);
+        let p = crate::model::predict_on(k, &env, d, &target);
+        let (_, all) = target.shares(p.processes);
+        rows.push([1.0, p.processes as f64 / all, 0.0, 0.0, 0.0, 0.0]);
+        y.push(wall - p.shared_s.max(p.slowest_s));
     }
     let c = fit(&rows, &y, [true, true, false, false, false, false]);
     Ok(Overheads {
         script: c[0],
         process: c[1],
     })
+}
+
+/// Other programs' runnable threads on the cores now: the 1-minute load average of
+/// /proc/loadavg, less one (the render's own stages, or the runs before it, are in the
+/// average too), never below 0; 0 where there is no /proc/loadavg. On a machine shared
+/// with others, a render gets only its fair share of the cores
+/// ([`crate::model::Target::shares`]); on an idle one this is 0 and changes nothing.
+pub fn background_load() -> f64 {
+    std::fs::read_to_string("/proc/loadavg")
+        .ok()
+        .and_then(|s| s.split_whitespace().next()?.parse::<f64>().ok())
+        .map_or(0.0, |l| (l - 1.0).max(0.0))
 }
 
 /// The machine's cores (what the standard library sees as available).
@@ -237,17 +296,97 @@ pub fn cores() -> usize {
 
 /// The CPU model and cores, and the date, for the constants file.
 pub fn machine() -> String {
-    let cpu = std::fs::read_to_string("/proc/cpuinfo")
-        .ok()
-        .and_then(|s| {
-            s.lines()
-                .find(|l| l.starts_with("model name"))
-                .and_then(|l| l.split(':').nth(1))
-                .map(|s| s.trim().to_string())
-        })
-        .unwrap_or_else(|| "an unknown CPU".into());
+    let cpu = crate::cache::cpu_model();
     let days = std::time::SystemTime::now()
         .duration_since(std::time::UNIX_EPOCH)
         .map_or(0, |d| d.as_secs() / 86400);
     format!("{cpu}, {} cores, day {days} since 1970", cores())
+}
+
+/// The steps [`calibrate`] reports to its `tick`: a scene each, and the start-up fit.
+pub fn steps(quick: bool) -> usize {
+    grid(quick).len() + 1
+}
+
+/// Calibrates this machine and keeps the result in the cache ([`crate::cache`]), saying
+/// how far it is on one line of stderr (`STAGE: calibrating the cost model for this
+/// machine (at most 20 s): 3/9 …`, rewritten in place on a terminal; elsewhere said at
+/// the start and at the end). `bin`: the binaries; `render`: scripts/render.sh.
+pub fn calibrate_and_store(
+    stage: &str,
+    bin: &Path,
+    render: &Path,
+    quick: bool,
+) -> Result<(Constants, std::path::PathBuf)> {
+    use std::io::{IsTerminal, Write};
+    let work = std::env::temp_dir().join(format!("polypipe-calibration.{}", std::process::id()));
+    std::fs::create_dir_all(&work).with_context(|| format!("cannot make {}", work.display()))?;
+    let start = std::time::Instant::now();
+    let tty = std::io::stderr().is_terminal();
+    let total = steps(quick);
+    let head = format!("{stage}: calibrating the cost model for this machine (at most 20 s)");
+    if !tty {
+        let _ = writeln!(std::io::stderr(), "{head}…");
+    }
+    let mut step = 0;
+    let trace = std::env::var_os("POLYPIPE_CALIBRATION_TRACE").is_some();
+    let result = calibrate(bin, render, &work, quick, |what| {
+        step += 1;
+        if trace {
+            let _ = writeln!(
+                std::io::stderr(),
+                "{stage}: {:.2} s: {step}/{total} {what}",
+                start.elapsed().as_secs_f64()
+            );
+        }
+        if tty {
+            let _ = write!(std::io::stderr(), "\r\x1b[K{head}: {step}/{total} {what}");
+        }
+    });
+    let _ = std::fs::remove_dir_all(&work);
+    let k = result?;
+    let header = format!(
+        "# The cost model's constants for this machine (bins/plan/src/model.rs), seconds,\n\
+         # fitted by `chart calibrate{}` in {:.1} s: each stage binary alone on synthetic\n\
+         # scenes, least squares. `render.sh --depth auto`, `plan depth` and `chart` read it.\n",
+        if quick { " --quick" } else { "" },
+        start.elapsed().as_secs_f64()
+    );
+    let path = crate::cache::store(&k, &header)?;
+    let done = format!(
+        "{stage}: calibrated in {:.1} s: {}",
+        start.elapsed().as_secs_f64(),
+        path.display()
+    );
+    let _ = if tty {
+        writeln!(std::io::stderr(), "\r\x1b[K{done}")
+    } else {
+        writeln!(std::io::stderr(), "{done}")
+    };
+    Ok((k, path))
+}
+
+/// The constants as a table, one stage a line, for `chart calibrate`'s report.
+pub fn table(k: &Constants) -> String {
+    let mut t = String::new();
+    for (name, cost) in [
+        ("viewxf (text)", k.viewxf_text),
+        ("viewxf (binary)", k.viewxf_binary),
+        ("clip", k.clip),
+        ("splitter", k.splitter),
+        ("persp", k.persp),
+        ("hse", k.hse),
+        ("merge", k.merge),
+        ("resolve (depth 0)", k.resolve),
+    ] {
+        t += &format!(
+            "{name:18} process {:.2e} s, polygon {:.2e}, span {:.2e}, pixel {:.2e}, screen pixel {:.2e}\n",
+            cost.process, cost.polygon, cost.span, cost.pixel, cost.screen
+        );
+    }
+    t += &format!(
+        "{:18} script {:.4} s, each process {:.5} s\n",
+        "start-up", k.overheads.script, k.overheads.process
+    );
+    t
 }

@@ -159,6 +159,53 @@ pub fn look(
     camera: &[String],
     sample: Option<u64>,
 ) -> Result<Environment> {
+    look_with(scene, width, height, camera, sample, false)
+}
+
+/// How many times its sample a stream on stdin is planned as, when it did not end within
+/// the sample: 64 (32 MiB for a full sample). Its length is unknown; a stream longer than
+/// the sample is planned as a long one, whose start-up costs are small against its work,
+/// rather than as the sample alone, which would always favour the shallow trees' cheaper
+/// start.
+pub const STREAM_SCALE: f64 = 64.0;
+
+/// Looks at the sample of a stream ([`crate::sample`]) kept in `sample`: when `whole`,
+/// the stream is the sample and the look is exact; otherwise the sample was cut where it
+/// was (in the middle of a record, perhaps: what is cut off is not counted), and the
+/// counts are scaled to a stream [`STREAM_SCALE`] times as long, its frames the
+/// sample's polygons a frame (when a NEXT.FRAME was seen; else one frame).
+pub fn look_stream(
+    sample: &Path,
+    width: u32,
+    height: u32,
+    camera: &[String],
+    whole: bool,
+) -> Result<Environment> {
+    if whole {
+        return look(sample, width, height, camera, None);
+    }
+    let mut e = look_with(sample, width, height, camera, None, true)?;
+    let frames_seen = e.frames;
+    let up = |n: u64| (n as f64 * STREAM_SCALE).round() as u64;
+    e.polygons = up(e.polygons);
+    e.vertices = up(e.vertices);
+    e.relevant = up(e.relevant);
+    e.relevant_vertices = up(e.relevant_vertices);
+    e.area *= STREAM_SCALE;
+    if frames_seen > 1 {
+        e.frames = up(frames_seen);
+    }
+    Ok(e)
+}
+
+fn look_with(
+    scene: &Path,
+    width: u32,
+    height: u32,
+    camera: &[String],
+    sample: Option<u64>,
+    cut: bool,
+) -> Result<Environment> {
     #[derive(clap::Parser)]
     struct Camera {
         #[command(flatten)]
@@ -207,10 +254,17 @@ pub fn look(
     let (mut read_so_far, mut anchor) = (0u64, (0u64, 0u64)); // bytes; (polygons, their bytes)
     let mut whole = true;
     let mut record = Token::default();
-    while reader
-        .next_into(&mut record)
-        .with_context(|| format!("reading {}", scene.display()))?
-    {
+    loop {
+        match reader.next_into(&mut record) {
+            Ok(true) => {}
+            Ok(false) => break,
+            // A sample cut from a stream ends where it was cut: in a record, perhaps.
+            Err(_) if cut && e.polygons > 0 => break,
+            Err(err) => {
+                return Err(anyhow::Error::from(err))
+                    .with_context(|| format!("reading {}", scene.display()))
+            }
+        }
         match &mut record {
             Token::Polygon(p) => {
                 e.polygons += 1;

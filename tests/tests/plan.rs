@@ -1,0 +1,485 @@
+//! The cost model's planner and its calibration (docs/model.md): `plan` and `chart`'s
+//! `calibrate`, `thesis` and `choose-depth`; the calibration kept in the XDG cache with
+//! the machine it was made on; `render.sh --depth auto` on a stream (sampled, then
+//! relayed, never kept whole) and on a live source; `chart -o FILE`; and chart.sh's
+//! freshness check. Every run that could calibrate is given a cache folder of its own and
+//! the quick calibration, so that no test spends 20 seconds fitting the machine.
+
+use pipeline_tests::{bin, repo_root, sh};
+use std::io::{Read, Write};
+use std::path::Path;
+use std::process::{Command, Stdio};
+use std::time::{Duration, Instant};
+
+/// The environment of a run with the cache folder `cache`, and the quick calibration.
+fn cached(cache: &Path) -> String {
+    format!(
+        "XDG_CACHE_HOME={} POLYPIPE_CALIBRATION=quick",
+        cache.display()
+    )
+}
+
+fn text(bytes: &[u8]) -> String {
+    String::from_utf8_lossy(bytes).into_owned()
+}
+
+#[test]
+fn thesis_reproduces_5_2s_timings_and_6_4s_depth() {
+    for command in ["chart thesis", "plan thesis", "scripts/chart.sh thesis"] {
+        let out = sh(command, b"");
+        assert!(out.status.success(), "{command}: {}", text(&out.stderr));
+        let report = text(&out.stdout);
+        // Each stage's row: | name | formula | model cycles | model s | thesis | ratio |.
+        for (name, thesis_s) in [
+            ("T_v", 0.09),
+            ("T_p", 0.05),
+            ("T_c", 0.21),
+            ("T_SP", 0.12),
+            ("T_sc", 5.2),
+        ] {
+            let row = report
+                .lines()
+                .find(|l| l.starts_with(&format!("| {name} |")))
+                .unwrap_or_else(|| panic!("{command}: no {name} row in {report}"));
+            let cells: Vec<&str> = row.split('|').map(str::trim).collect();
+            let model_s: f64 = cells[4].parse().unwrap();
+            assert!(
+                (model_s / thesis_s - 1.0).abs() < 0.05,
+                "{name}: {model_s} against the thesis's {thesis_s}: {row}"
+            );
+            let ratio: f64 = cells[6].parse().unwrap();
+            assert!((ratio - 1.0).abs() < 0.05, "{row}");
+        }
+        // The exact figures of the formulas: T_v = 1024·(138 + 4·399) cycles, T_sc 103 M.
+        assert!(report.contains("| T_v | P_t·(138 + E·399) | 1.78 M | 0.089 |"));
+        assert!(report.contains("| 103.91 M | 5.196 |"), "{report}");
+        assert!(
+            report.contains("\ndepth 5 (32 leaves): 512 polygons in view, Dc 1.0, 500x500, 1 frame, a processor per process: predicted 0.212 s"),
+            "{report}"
+        );
+    }
+}
+
+#[test]
+fn calibration_is_kept_with_its_machine_and_judged_by_it() {
+    let dir = tempfile::tempdir().unwrap();
+    let cache = dir.path().join("cache");
+    let start = Instant::now();
+    let out = sh(&format!("{} chart calibrate", cached(&cache)), b"");
+    assert!(out.status.success(), "{}", text(&out.stderr));
+    assert!(start.elapsed() < Duration::from_secs(20));
+    let err = text(&out.stderr);
+    let file = cache.join("polypipe/model.toml");
+    assert!(
+        err.starts_with("chart: calibrating the cost model for this machine (at most 20 s)…\n"),
+        "{err}"
+    );
+    assert!(err.contains(&format!("s: {}\n", file.display())), "{err}");
+    // The constants, printed: a line a stage.
+    let table = text(&out.stdout);
+    for stage in [
+        "viewxf (text)",
+        "clip",
+        "splitter",
+        "persp",
+        "hse",
+        "merge",
+        "start-up",
+    ] {
+        assert!(
+            table.lines().any(|l| l.starts_with(stage)),
+            "{stage}: {table}"
+        );
+    }
+    // The file names the machine: its CPU model and cores, the binaries' version.
+    let kept = std::fs::read_to_string(&file).unwrap();
+    let cpu = std::fs::read_to_string("/proc/cpuinfo")
+        .unwrap()
+        .lines()
+        .find(|l| l.starts_with("model name"))
+        .map(|l| l.split_once(':').unwrap().1.trim().to_string());
+    if let Some(cpu) = cpu {
+        assert!(kept.contains(&format!("cpu = \"{cpu}\"")), "{kept}");
+    }
+    let cores = std::thread::available_parallelism().unwrap().get();
+    assert!(kept.contains(&format!("\ncores = {cores}\n")), "{kept}");
+    assert!(kept.contains("version = \"0.1.0\""), "{kept}");
+
+    let status = |cache: &Path| text(&sh(&format!("{} plan status", cached(cache)), b"").stdout);
+    assert!(
+        status(&cache).starts_with("calibrated: "),
+        "{}",
+        status(&cache)
+    );
+    // --depth auto plans with it, and says nothing of calibration.
+    let auto = sh(
+        &format!("{} scripts/render.sh --stats", cached(&cache)),
+        b"",
+    );
+    let line = text(&auto.stderr).lines().next().unwrap_or("").to_string();
+    assert!(
+        line.starts_with("render.sh: depth auto chose 0 ("),
+        "{line}"
+    );
+    assert!(!line.contains("calibrat"), "{line}");
+
+    // Rebuilt binaries: stale (still this machine's, planned with, and said so).
+    let binaries = kept
+        .lines()
+        .find(|l| l.starts_with("binaries = "))
+        .unwrap()
+        .to_string();
+    std::fs::write(&file, kept.replace(&binaries, "binaries = \"0000\"")).unwrap();
+    assert_eq!(
+        status(&cache).lines().next().unwrap(),
+        "stale calibration (the binaries were rebuilt since)"
+    );
+    let plan = sh(
+        &format!("{} plan depth examples/penetrating.txt", cached(&cache)),
+        b"",
+    );
+    assert!(text(&plan.stdout).ends_with("; calibration stale: the binaries were rebuilt since)\n"));
+    // Another machine's (other cores): foreign, not used; the repository's file instead.
+    std::fs::write(
+        &file,
+        kept.replace(&format!("\ncores = {cores}\n"), "\ncores = 977\n"),
+    )
+    .unwrap();
+    assert!(
+        status(&cache).starts_with("not calibrated on this machine (made on "),
+        "{}",
+        status(&cache)
+    );
+    let plan = sh(
+        &format!("{} plan depth examples/penetrating.txt", cached(&cache)),
+        b"",
+    );
+    assert!(
+        text(&plan.stdout).ends_with(
+            "; uncalibrated: bench/model.toml's constants; `chart calibrate` fits this machine's)\n"
+        ),
+        "{}",
+        text(&plan.stdout)
+    );
+    // A chart run refits a foreign one first.
+    let out_dir = dir.path().join("out");
+    let run = sh(
+        &format!(
+            "{} chart --root . -o {} --quick --methods zbuf examples/penetrating.txt@40x30",
+            cached(&cache),
+            out_dir.display()
+        ),
+        b"",
+    );
+    assert!(run.status.success(), "{}", text(&run.stderr));
+    assert!(text(&run.stderr).starts_with("chart: calibrating the cost model"));
+    assert!(status(&cache).starts_with("calibrated: "));
+}
+
+#[test]
+fn uncalibrated_depth_auto_uses_the_fallback_and_says_so_under_stats_only() {
+    let dir = tempfile::tempdir().unwrap();
+    let cache = dir.path().join("empty");
+    let out = sh(
+        &format!("{} scripts/render.sh --stats", cached(&cache)),
+        b"",
+    );
+    assert!(out.status.success());
+    let err = text(&out.stderr);
+    assert!(
+        err.lines().next().unwrap().ends_with(
+            "; uncalibrated: bench/model.toml's constants; `chart calibrate` fits this machine's)"
+        ),
+        "{err}"
+    );
+    // Not a terminal: nothing said without --stats, nothing started, nothing kept.
+    let out = sh(&format!("{} scripts/render.sh", cached(&cache)), b"");
+    assert!(
+        out.status.success() && out.stderr.is_empty(),
+        "{}",
+        text(&out.stderr)
+    );
+    assert!(!cache.exists());
+}
+
+#[test]
+fn choose_depth_states_its_rule_and_plans_for_cores_and_hosts() {
+    let dir = tempfile::tempdir().unwrap();
+    let scene = dir.path().join("fill.txt");
+    let made = sh(
+        &format!(
+            "scene environment --text --seed 2 --polygons 10000 --depth-complexity 10 --size 1920x1080 > {}",
+            scene.display()
+        ),
+        b"",
+    );
+    assert!(made.status.success());
+    let plan = |args: &str| {
+        let out = sh(
+            &format!(
+                "plan depth --model bench/model.toml --load 0 --size 1920x1080 {args} {}",
+                scene.display()
+            ),
+            b"",
+        );
+        assert!(out.status.success(), "{}", text(&out.stderr));
+        let line = text(&out.stdout);
+        let depth: u8 = line.split(' ').next().unwrap().parse().unwrap();
+        (depth, line)
+    };
+    let rule =
+        "; rule: a deeper tree only when predicted at least 5% faster than the best shallower one)\n";
+    let (one, line) = plan("--cores 1");
+    assert_eq!(one, 0, "{line}");
+    assert!(line.ends_with(rule), "{line}");
+    assert!(line.contains(", 1 core: predicted "), "{line}");
+    // More cores, a deeper tree; 64 cores deeper still.
+    let (many, line) = plan("--cores 64");
+    assert!(many >= 2, "{line}");
+    // The old name says the same.
+    let alias = sh(
+        &format!(
+            "chart choose-depth --model bench/model.toml --load 0 --size 1920x1080 --cores 64 {}",
+            scene.display()
+        ),
+        b"",
+    );
+    assert_eq!(text(&alias.stdout), line);
+    // Four hosts: every host a subtree, so depth 2 at least, whatever the cores here.
+    let (hosts, line) = plan("--cores 1 --hosts 4 --link-gbps 10");
+    assert!(hosts >= 2, "{line}");
+    assert!(
+        line.contains("1 core here, 4 hosts of 1 cores at 10000 Mb/s"),
+        "{line}"
+    );
+}
+
+/// A text environment of `polygons` quads on stdin-sized scales.
+fn environment(dir: &Path, polygons: u32, frames: u32) -> std::path::PathBuf {
+    let scene = dir.join(format!("env-{polygons}-{frames}.txt"));
+    let made = sh(
+        &format!(
+            "scene environment --text --seed 7 --polygons {polygons} --frames {frames} --depth-complexity 3 > {}",
+            scene.display()
+        ),
+        b"",
+    );
+    assert!(made.status.success());
+    scene
+}
+
+#[test]
+fn a_stream_longer_than_the_sample_is_planned_from_it_and_rendered_whole() {
+    let dir = tempfile::tempdir().unwrap();
+    // About 1.3 MB of text: the sample is its first 512 KiB.
+    let scene = environment(dir.path(), 5000, 1);
+    assert!(std::fs::metadata(&scene).unwrap().len() > 1_000_000);
+    let stream = std::fs::read(&scene).unwrap();
+    let out = sh(
+        &format!(
+            "{} scripts/render.sh --stats -",
+            cached(&dir.path().join("c"))
+        ),
+        &stream,
+    );
+    assert!(out.status.success(), "{}", text(&out.stderr));
+    let err = text(&out.stderr);
+    let line = err.lines().next().unwrap();
+    let depth: u8 = line
+        .strip_prefix("render.sh: depth auto chose ")
+        .and_then(|l| l.split(' ').next())
+        .and_then(|d| d.parse().ok())
+        .unwrap_or_else(|| panic!("{err}"));
+    // The frame is the one the file gives at that depth (and at depth 0: every depth
+    // draws the same bytes): the sample and the rest of the stream reached viewxf whole.
+    let at = sh(
+        &format!("scripts/render.sh --depth {depth} {}", scene.display()),
+        b"",
+    );
+    assert!(
+        out.stdout == at.stdout,
+        "not the file's frame at depth {depth}"
+    );
+    let at0 = sh(
+        &format!("scripts/render.sh --depth 0 {}", scene.display()),
+        b"",
+    );
+    assert!(out.stdout == at0.stdout);
+}
+
+#[test]
+fn a_live_source_s_first_frame_comes_out_at_once() {
+    // A movie written a frame at a time, a second apart, as `scene … | render.sh - |
+    // ffmpeg` would be fed: the first frame must come out long before the source ends.
+    let dir = tempfile::tempdir().unwrap();
+    let scene = std::fs::read_to_string(repo_root().join("examples/penetrating.txt")).unwrap();
+    let body = scene.trim_end().strip_suffix("END").unwrap();
+    let mut render = Command::new("bash")
+        .args(["-c", "exec scripts/render.sh --size 100x100 -"])
+        .current_dir(repo_root())
+        .env("POLYPIPE_BIN", pipeline_tests::bin_dir())
+        .env("XDG_CACHE_HOME", dir.path())
+        .stdin(Stdio::piped())
+        .stdout(Stdio::piped())
+        .stderr(Stdio::null())
+        .spawn()
+        .unwrap();
+    let mut input = render.stdin.take().unwrap();
+    let mut output = render.stdout.take().unwrap();
+    // render.sh started and waiting on the stream.
+    std::thread::sleep(Duration::from_millis(500));
+    input
+        .write_all(format!("{body}NEXT.FRAME\n").as_bytes())
+        .unwrap();
+    input.flush().unwrap();
+    let written = Instant::now();
+    let frame = 15 + 100 * 100 * 3; // "P6\n100 100\n255\n" and the pixels
+    let mut got = vec![0u8; frame];
+    output.read_exact(&mut got).unwrap();
+    let first = written.elapsed();
+    // The rest of the movie, then its end.
+    std::thread::sleep(Duration::from_millis(300));
+    let second = body.lines().skip(1).collect::<Vec<_>>().join("\n");
+    input
+        .write_all(format!("{second}\nEND\n").as_bytes())
+        .unwrap();
+    drop(input);
+    let mut rest = Vec::new();
+    output.read_to_end(&mut rest).unwrap();
+    assert!(render.wait().unwrap().success());
+    assert_eq!(rest.len(), frame, "two frames in all");
+    assert!(got.starts_with(b"P6\n100 100\n255\n"));
+    assert!(
+        first < Duration::from_millis(500),
+        "the first frame came {first:?} after it was written"
+    );
+}
+
+#[test]
+fn the_sample_is_all_that_is_kept_of_a_stream() {
+    // A stream of 3 MB through `plan sample` and `plan relay`: the sample file is 512 KiB,
+    // and what comes out is the stream, byte for byte.
+    let dir = tempfile::tempdir().unwrap();
+    let scene = environment(dir.path(), 12000, 1);
+    let stream = std::fs::read(&scene).unwrap();
+    assert!(stream.len() > 3_000_000);
+    let sample = dir.path().join("sample");
+    let out = sh(
+        &format!(
+            "{p} sample -o {s} > {d}/ended && {p} relay {s} > {d}/relayed",
+            p = bin("plan").display(),
+            s = sample.display(),
+            d = dir.path().display()
+        ),
+        &stream,
+    );
+    assert!(out.status.success(), "{}", text(&out.stderr));
+    assert_eq!(
+        std::fs::read_to_string(dir.path().join("ended")).unwrap(),
+        "more\n"
+    );
+    assert_eq!(std::fs::metadata(&sample).unwrap().len(), 512 * 1024);
+    assert!(std::fs::read(dir.path().join("relayed")).unwrap() == stream);
+    // A short stream is whole.
+    let out = sh(
+        &format!("plan sample -o {}", sample.display()),
+        b"polypipe 1 world\nEND\n",
+    );
+    assert_eq!(text(&out.stdout), "whole\n");
+}
+
+#[test]
+fn chart_o_an_existing_file_says_what_o_wants() {
+    let dir = tempfile::tempdir().unwrap();
+    let file = dir.path().join("results");
+    std::fs::write(&file, "mine").unwrap();
+    let out = sh(
+        &format!("chart -o {} examples/penetrating.txt", file.display()),
+        b"",
+    );
+    assert_eq!(out.status.code(), Some(2));
+    assert_eq!(
+        text(&out.stderr),
+        format!(
+            "chart: -o {0}: {0} is a file; -o names a folder for the CSV files and pictures (a new one, or one to write into)\n",
+            file.display()
+        )
+    );
+    assert_eq!(std::fs::read_to_string(&file).unwrap(), "mine");
+}
+
+#[test]
+fn chart_sh_runs_cargo_only_when_a_binary_is_stale() {
+    // A cargo that only says it was called: once the binaries are current (the first
+    // run's cargo, if any, brings render.sh's stamp up to date), chart.sh does not call
+    // it again.
+    let dir = tempfile::tempdir().unwrap();
+    let fake = dir.path().join("cargo");
+    let log = dir.path().join("called");
+    std::fs::write(
+        &fake,
+        format!("#!/bin/sh\necho \"$@\" >> {}\n", log.display()),
+    )
+    .unwrap();
+    let mut perms = std::fs::metadata(&fake).unwrap().permissions();
+    std::os::unix::fs::PermissionsExt::set_mode(&mut perms, 0o755);
+    std::fs::set_permissions(&fake, perms).unwrap();
+    let run = || {
+        let out = sh(
+            &format!(
+                "env -u POLYPIPE_BIN PATH={}:$PATH CARGO_TARGET_DIR={} scripts/chart.sh thesis",
+                dir.path().display(),
+                pipeline_tests::bin_dir().parent().unwrap().display()
+            ),
+            b"",
+        );
+        assert!(out.status.success(), "{}", text(&out.stderr));
+    };
+    run();
+    let _ = std::fs::remove_file(&log);
+    run();
+    assert!(
+        !log.exists(),
+        "cargo was run: {:?}",
+        std::fs::read_to_string(&log)
+    );
+}
+
+#[test]
+fn depth_auto_with_hosts_gives_every_host_a_subtree() {
+    // A "host" reached by running the command here (POLYPIPE_SSH: the host's name is
+    // dropped): four hosts, so the tree is at least two levels deep, and the frames are a
+    // local run's. The planner said so (before the fix, depth 0, and hosts idle).
+    let dir = tempfile::tempdir().unwrap();
+    let fake = dir.path().join("here-ssh");
+    std::fs::write(&fake, "#!/bin/bash\nshift\nexec bash -c \"$1\"\n").unwrap();
+    let mut perms = std::fs::metadata(&fake).unwrap().permissions();
+    std::os::unix::fs::PermissionsExt::set_mode(&mut perms, 0o755);
+    std::fs::set_permissions(&fake, perms).unwrap();
+    let scene = environment(dir.path(), 2000, 1);
+    let out = sh(
+        &format!(
+            "{} POLYPIPE_SSH={} scripts/render.sh --hosts a,b,c,d --stats {}",
+            cached(&dir.path().join("c")),
+            fake.display(),
+            scene.display()
+        ),
+        b"",
+    );
+    assert!(out.status.success(), "{}", text(&out.stderr));
+    let err = text(&out.stderr);
+    let line = err.lines().next().unwrap();
+    let depth: u8 = line
+        .strip_prefix("render.sh: depth auto chose ")
+        .and_then(|l| l.split(' ').next())
+        .and_then(|d| d.parse().ok())
+        .unwrap_or_else(|| panic!("{err}"));
+    assert!(depth >= 2, "{line}");
+    assert!(line.contains(" here, 4 hosts of "), "{line}");
+    assert!(err.contains("on host d"), "every host had a subtree: {err}");
+    let at0 = sh(
+        &format!("scripts/render.sh --depth 0 {}", scene.display()),
+        b"",
+    );
+    assert!(out.stdout == at0.stdout);
+}
