@@ -574,7 +574,7 @@ impl Warnock {
                 continue;
             }
             let d = f.pixel_depth(x, y);
-            if best.map_or(true, |(g, dg, _)| beats(&f, d, &g, dg)) {
+            if best.is_none_or(|(g, dg, _)| beats(&f, d, &g, dg)) {
                 let planar = f.planar_depth(x, y).map(|_| f.depth_at_centre(x, y));
                 best = Some((f, d, planar));
             }
