@@ -80,7 +80,8 @@ fn exact_runs_and_stats_on_a_hand_written_stream() {
         String::from_utf8_lossy(&out.stderr),
         "warnock: 4 polygons in, 2 frames, 20 runs out, windows by depth: 2 4 6; 0 empty, \
          0 single pixels, 0 one polygon, 4 surrounded, 5 one in front of a surrounder, \
-         3 subdivided; 21 coverage rows looked at, 22 depth rows compared\n"
+         3 subdivided; 22 polygons looked at, 2 hidden by a surrounder, 0 ZMIN exits \
+         leaving 0 unexamined\n"
     );
     // The z-buffer leaf sends the same records.
     let zbuf = Command::new(bin("scanconv"))
@@ -260,14 +261,18 @@ mod where_it_slows {
         assert!(out.stdout == want.stdout, "runs differ");
         let stats = String::from_utf8_lossy(&out.stderr);
         // 64×64: levels 0 to 6, all visited: windows holding two slivers are split
-        // again and again; near the fan's apex only pixels decide.
+        // again and again. The Looker decides on the polygons' edges, as the listing's
+        // does, not on the pixels they cover: a window that a sliver's edge passes
+        // through between its centres holds it as an intersector, so windows are split
+        // along every edge down to pixels (480 of them; deciding on covered pixels, as
+        // this stage did before, split down to 32).
         assert_eq!(
             windows_by_depth(&stats),
-            vec![1, 4, 16, 60, 200, 412, 32],
+            vec![1, 4, 16, 60, 216, 740, 480],
             "{stats}"
         );
-        assert_eq!(count(&stats, " single pixels"), 32, "{stats}");
-        assert_eq!(count(&stats, " subdivided"), 181, "{stats}");
+        assert_eq!(count(&stats, " single pixels"), 480, "{stats}");
+        assert_eq!(count(&stats, " subdivided"), 379, "{stats}");
     }
 
     /// Deep subdivision: two planes that penetrate along a line across the screen fail
