@@ -1,7 +1,7 @@
 //! hiddenline: screen-space polygons in, the visible parts of their edges out, as SVG.
 
 use clap::Parser;
-use hiddenline::{svg, visible_segments, LineStats};
+use hiddenline::{for_each_segment, svg_line, svg_start, LineStats, SVG_END};
 use proto::{Colour, Polygon, SpaceKind, Token};
 use stagecli::Error;
 use stagecli::FrameNames;
@@ -79,10 +79,9 @@ fn main() -> ExitCode {
                 Token::Skip(_) => continue,
                 Token::NextFrame | Token::End => {}
             }
-            let segments = visible_segments(&polygons, width, height, &mut stats);
-            polygons.clear();
-            let text = svg(&segments, width, height, args.background, args.stroke_width);
-            match &pattern {
+            // The SVG is written as its pieces are found: memory for the frame's
+            // polygons, not for its drawing.
+            let mut sink: Box<dyn Write> = match &pattern {
                 Some(p) if frame > 0 && !p.numbered() => {
                     return Err(Error::data(format!(
                         "-o {}: more than one frame, but the name has no %d for the frame number",
@@ -91,27 +90,42 @@ fn main() -> ExitCode {
                 }
                 Some(p) => {
                     let name = p.name(frame);
-                    std::fs::write(&name, text)
+                    let file = std::fs::File::create(&name)
                         .map_err(|e| Error::io(format!("cannot write {name}: {e}")))?;
+                    Box::new(std::io::BufWriter::with_capacity(1 << 16, file))
                 }
                 None if frame > 0 => {
                     return Err(Error::data(
                         "more than one frame: give -o with %d in the name (e.g. -o frame%03d.svg)",
                     ))
                 }
-                None => {
-                    let mut out = stagecli::stdout();
-                    out.write_all(text.as_bytes())?;
-                    out.flush()?;
+                None => Box::new(stagecli::stdout()),
+            };
+            let mut text = svg_start(width, height, args.background, args.stroke_width);
+            let mut failed: Option<std::io::Error> = None;
+            for_each_segment(&polygons, width, height, &mut stats, |seg| {
+                svg_line(&mut text, &seg);
+                if text.len() >= 1 << 16 && failed.is_none() {
+                    failed = sink.write_all(text.as_bytes()).err();
+                    text.clear();
                 }
+            });
+            polygons.clear();
+            text.push_str(SVG_END);
+            if let Some(e) = failed {
+                return Err(e.into());
             }
+            sink.write_all(text.as_bytes())?;
+            sink.flush()?;
             frame += 1;
         }
         if args.stats {
             let s = stats;
             eprintln!(
-                "hiddenline: {frame} frames, {} edges, {} shared, {} cuts, {} on the border, {} pairs tested, {} pieces drawn",
-                s.edges, s.shared, s.cuts, s.border, s.pairs_tested, s.segments
+                "hiddenline: {frame} frames, {} edges, {} shared, {} cuts, {} on the border, {} pairs tested, {} pieces drawn; \
+                 {} lines of intersection, {} pieces drawn; {} placements in cells hidden by a surrounder",
+                s.edges, s.shared, s.cuts, s.border, s.pairs_tested, s.segments,
+                s.intersection_lines, s.intersections, s.culled
             );
         }
         Ok(())
