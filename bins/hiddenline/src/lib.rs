@@ -87,7 +87,7 @@ pub struct LineStats {
     pub intersection_lines: u64,
     pub intersections: u64,
     /// Placements of a polygon in a cell left out because a surrounder of the cell
-    /// hides it there (the ZMIN test).
+    /// hides it there (the ZMIN test); a polygon hidden in every cell counts once.
     pub culled: u64,
 }
 
@@ -99,6 +99,8 @@ struct Face {
     depths: Vec<f64>,
     /// Depth = −(a·X + b·Y + d)/c.
     plane: [f64; 4],
+    /// The same as depth = gx·X + gy·Y + g0.
+    gradient: [f64; 3],
     recorded: Option<[u64; 4]>,
     min: DVec2,
     max: DVec2,
@@ -132,6 +134,7 @@ impl Face {
             depths,
             points,
             plane: [n.x, n.y, n.z, n.w],
+            gradient: [-n.x / n.z, -n.y / n.z, -n.w / n.z],
             recorded: p.plane.map(|n| n.to_array().map(f64::to_bits)),
             min,
             max,
@@ -139,8 +142,8 @@ impl Face {
     }
 
     fn depth_at(&self, q: DVec2) -> f64 {
-        let [a, b, c, d] = self.plane;
-        -(a * q.x + b * q.y + d) / c
+        let [gx, gy, g0] = self.gradient;
+        gx * q.x + gy * q.y + g0
     }
 
     fn edge(&self, i: usize) -> (DVec2, DVec2) {
@@ -158,7 +161,7 @@ impl Face {
             } else {
                 0.0
             };
-            (a + ab * t - q).length() <= tol
+            (a + ab * t - q).length_squared() <= tol * tol
         })
     }
 
@@ -194,7 +197,10 @@ impl Face {
         let corners = [lo, DVec2::new(hi.x, lo.y), hi, DVec2::new(lo.x, hi.y)];
         for i in 0..self.points.len() {
             let (a, b) = self.edge(i);
-            if a.x.max(b.x) < lo.x || a.x.min(b.x) > hi.x || a.y.max(b.y) < lo.y || a.y.min(b.y) > hi.y
+            if a.x.max(b.x) < lo.x
+                || a.x.min(b.x) > hi.x
+                || a.y.max(b.y) < lo.y
+                || a.y.min(b.y) > hi.y
             {
                 continue;
             }
@@ -258,7 +264,23 @@ impl Grid {
         // A polygon farther than this in a cell is hidden there (the listing's ZMINMAX).
         let mut zminmax = vec![f64::INFINITY; n * n];
         let margin = 1e-9 * (1.0 + min.abs().max(max.abs()).max_element());
+        // An upper bound of the largest ZMINMAX of all cells (infinite while a cell has
+        // no surrounder), recomputed when a polygon passes it after ZMINMAX changed: a
+        // polygon beyond it is hidden in every cell, and is passed over at once.
+        let (mut bound, mut changed) = (f64::INFINITY, false);
         for (k, f) in faces.iter().enumerate() {
+            if f.zmin > bound {
+                stats.culled += 1;
+                continue;
+            }
+            if changed {
+                bound = zminmax.iter().copied().fold(f64::NEG_INFINITY, f64::max);
+                changed = false;
+                if f.zmin > bound {
+                    stats.culled += 1;
+                    continue;
+                }
+            }
             let (xs, ys) = grid.range(f.min, f.max);
             for j in ys {
                 for i in xs.clone() {
@@ -267,7 +289,7 @@ impl Grid {
                         stats.culled += 1;
                         continue;
                     }
-                    let (lo, hi) = grid.rect(i, j);
+                    let (lo, hi) = grid.finite_rect(i, j);
                     let class = f.classify(lo - margin, hi + margin);
                     if class == Class::Disjoint {
                         continue;
@@ -278,7 +300,10 @@ impl Grid {
                             .iter()
                             .map(|&q| f.depth_at(q))
                             .fold(f64::NEG_INFINITY, f64::max);
-                        zminmax[c] = zminmax[c].min(far);
+                        if far < zminmax[c] {
+                            zminmax[c] = far;
+                            changed = true;
+                        }
                     }
                 }
             }
@@ -306,6 +331,12 @@ impl Grid {
             self.index(min.x, 0)..self.index(max.x, 0) + 1,
             self.index(min.y, 1)..self.index(max.y, 1) + 1,
         )
+    }
+
+    /// Cell (i, j)'s rectangle within the grid.
+    fn finite_rect(&self, i: usize, j: usize) -> (DVec2, DVec2) {
+        let lo = self.origin + self.cell * DVec2::new(i as f64, j as f64);
+        (lo, lo + self.cell)
     }
 
     /// Cell (i, j)'s rectangle; the last row and column reach to infinity, so that
@@ -388,6 +419,21 @@ fn collinear_overlap(a: DVec2, b: DVec2, c: DVec2, d: DVec2, tol: f64) -> bool {
     hi.min(1.0) - lo.max(0.0) > tol / len
 }
 
+/// The first and last parameters of t0..t1 that the sorted, disjoint intervals `hidden`
+/// leave uncovered; `None` when they cover all of it.
+fn uncovered(hidden: &[(f64, f64)], t0: f64, t1: f64) -> Option<(f64, f64)> {
+    let (mut lo, mut hi) = (t0, t1);
+    let i = hidden.partition_point(|&(_, e)| e < lo);
+    if i < hidden.len() && hidden[i].0 <= lo {
+        lo = hidden[i].1;
+    }
+    let j = hidden.partition_point(|&(s, _)| s <= hi);
+    if j > 0 && hidden[j - 1].1 >= hi {
+        hi = hidden[j - 1].0;
+    }
+    (lo < hi).then_some((lo, hi))
+}
+
 /// Adds interval (a, b) to a sorted list of disjoint intervals, merging.
 fn add_interval(list: &mut Vec<(f64, f64)>, (a, b): (f64, f64)) {
     let at = list.partition_point(|&(_, e)| e < a);
@@ -404,8 +450,20 @@ fn add_interval(list: &mut Vec<(f64, f64)>, (a, b): (f64, f64)) {
 /// A frame's polygons, ready to be drawn: faces in ZMIN order, and the grid.
 struct Frame {
     faces: Vec<Face>,
+    /// Each face's ZMIN and box, packed together for the walk's candidate loop.
+    hot: Vec<(f64, DVec2, DVec2)>,
     grid: Grid,
     tol: f64,
+}
+
+/// What the tests of one line after another reuse.
+struct Scratch {
+    /// Per face, the last line it was tested against (each face is tested against a
+    /// line once, over the whole line, however many cells they share).
+    tested: Vec<u32>,
+    line: u32,
+    /// A test's breakpoints.
+    ts: Vec<f64>,
 }
 
 /// A segment to find the hidden parts of: its ends and depths, the faces (places in
@@ -422,11 +480,26 @@ struct Line {
 
 impl Frame {
     /// The hidden parameter intervals of `line`, sorted and merged.
-    fn hidden(&self, line: &Line, stats: &mut LineStats) -> Vec<(f64, f64)> {
+    fn hidden(&self, scratch: &mut Scratch, line: &Line, stats: &mut LineStats) -> Vec<(f64, f64)> {
         let mut hidden: Vec<(f64, f64)> = Vec::new();
-        let mut local: Vec<(f64, f64)> = Vec::new();
-        self.grid.walk(line.p0, line.p1, |c, t0, t1| {
-            let list = &self.grid.cells[c];
+        scratch.line = scratch.line.wrapping_add(1);
+        if scratch.line == u32::MAX {
+            scratch.tested.iter_mut().for_each(|t| *t = u32::MAX);
+            scratch.line = 0;
+        }
+        let Frame {
+            faces,
+            hot,
+            grid,
+            tol,
+        } = self;
+        let Scratch {
+            tested,
+            line: id,
+            ts,
+        } = scratch;
+        grid.walk(line.p0, line.p1, |c, t0, t1| {
+            let list = &grid.cells[c];
             if line.owners.iter().any(|o| list.binary_search(o).is_err()) {
                 // Its polygon is hidden in this cell by a surrounder.
                 add_interval(&mut hidden, (t0, t1));
@@ -435,84 +508,37 @@ impl Frame {
             let z = |t: f64| line.z0 + (line.z1 - line.z0) * t;
             let far = z(t0).max(z(t1));
             let scale = 1e-12 * (1.0 + line.z0.abs().max(line.z1.abs()));
-            local.clear();
+            // The box of what is not yet hidden of the piece: a polygon that cannot
+            // hold a point of it strictly inside is passed over at once.
+            let mut gap = (line.p0, line.p1);
+            let mut gap_changed = true;
             for &k in list {
-                let b = &self.faces[k as usize];
-                if b.zmin > far + scale {
+                let (zmin, bmin, bmax) = hot[k as usize];
+                if zmin > far + scale {
                     break; // this and every later polygon lie behind the piece
                 }
-                if line.owners.contains(&k) {
+                if gap_changed {
+                    let Some((g0, g1)) = uncovered(&hidden, t0, t1) else {
+                        break; // all of the piece is hidden
+                    };
+                    let r = line.p1 - line.p0;
+                    gap = (line.p0 + r * g0, line.p0 + r * g1);
+                    gap_changed = false;
+                }
+                if tested[k as usize] == *id
+                    || line.owners.contains(&k)
+                    || !straddles(bmin, bmax, gap.0.min(gap.1), gap.0.max(gap.1))
+                {
                     continue;
                 }
-                self.hidden_by(b, line, (t0, t1), &mut local, stats);
-                if local.len() == 1 && local[0].0 <= t0 && local[0].1 >= t1 {
-                    break; // all of the piece is hidden
-                }
-            }
-            for &i in &local {
-                add_interval(&mut hidden, i);
+                tested[k as usize] = *id;
+                let before = hidden.len();
+                hidden_by(&faces[k as usize], line, &mut hidden, ts, *tol, stats);
+                gap_changed = hidden.len() != before || before > 0;
             }
             true
         });
         hidden
-    }
-
-    /// The intervals of `line`'s parameters t0..t1 that face `b` hides, added to `out`.
-    fn hidden_by(
-        &self,
-        b: &Face,
-        line: &Line,
-        (t0, t1): (f64, f64),
-        out: &mut Vec<(f64, f64)>,
-        stats: &mut LineStats,
-    ) {
-        let (p0, r) = (line.p0, line.p1 - line.p0);
-        let (q0, q1) = (p0 + r * t0, p0 + r * t1);
-        if !straddles(b.min, b.max, q0.min(q1), q0.max(q1)) {
-            return; // apart, or touching only: no point of the piece strictly inside B
-        }
-        stats.pairs_tested += 1;
-        // How much nearer B is than the line, along it: linear in t.
-        let z = |t: f64| line.z0 + (line.z1 - line.z0) * t;
-        let (d0, d1) = (z(t0) - b.depth_at(q0), z(t1) - b.depth_at(q1));
-        let scale = 1e-12 * (1.0 + line.z0.abs().max(line.z1.abs()));
-        let tie_hides = b.index < line.tie;
-        if d0 < -scale && d1 < -scale {
-            return; // the line is nearer than B's plane all along
-        }
-        if (d0.abs() <= scale && d1.abs() <= scale) && !tie_hides {
-            return; // coplanar, and B later: B does not hide it
-        }
-        let mut ts = vec![t0, t1];
-        if (d0 > scale && d1 < -scale) || (d0 < -scale && d1 > scale) {
-            ts.push(t0 + (t1 - t0) * d0 / (d0 - d1));
-        }
-        for j in 0..b.points.len() {
-            let (e0, e1) = b.edge(j);
-            let s = e1 - e0;
-            let denom = cross(r, s);
-            if denom == 0.0 {
-                continue;
-            }
-            let t = cross(e0 - p0, s) / denom;
-            let u = cross(e0 - p0, r) / denom;
-            if t > t0 && t < t1 && (-1e-9..=1.0 + 1e-9).contains(&u) {
-                ts.push(t);
-            }
-        }
-        ts.sort_by(f64::total_cmp);
-        for k in 0..ts.len() - 1 {
-            let (ta, tb) = (ts[k], ts[k + 1]);
-            if tb <= ta {
-                continue;
-            }
-            let m = 0.5 * (ta + tb);
-            let d = d0 + (d1 - d0) * (m - t0) / (t1 - t0);
-            let nearer = if d.abs() <= scale { tie_hides } else { d > 0.0 };
-            if nearer && b.strictly_inside(p0 + r * m, self.tol.max(1e-9)) {
-                add_interval(out, (ta, tb));
-            }
-        }
     }
 
     /// Emits the visible pieces of `line` (the complement of `hidden` in 0..1).
@@ -557,6 +583,63 @@ impl Frame {
     }
 }
 
+/// The intervals of `line`'s parameters that face `b` hides, added to `out`.
+fn hidden_by(
+    b: &Face,
+    line: &Line,
+    out: &mut Vec<(f64, f64)>,
+    ts: &mut Vec<f64>,
+    tol: f64,
+    stats: &mut LineStats,
+) {
+    let (p0, p1, r) = (line.p0, line.p1, line.p1 - line.p0);
+    if !straddles(b.min, b.max, p0.min(p1), p0.max(p1)) {
+        return; // apart, or touching only: no point of the line strictly inside B
+    }
+    stats.pairs_tested += 1;
+    // How much nearer B is than the line, along it: linear in t.
+    let (d0, d1) = (line.z0 - b.depth_at(p0), line.z1 - b.depth_at(p1));
+    let scale = 1e-12 * (1.0 + line.z0.abs().max(line.z1.abs()));
+    let tie_hides = b.index < line.tie;
+    if d0 < -scale && d1 < -scale {
+        return; // the line is nearer than B's plane all along
+    }
+    if (d0.abs() <= scale && d1.abs() <= scale) && !tie_hides {
+        return; // coplanar, and B later: B does not hide it
+    }
+    ts.clear();
+    ts.extend([0.0, 1.0]);
+    if (d0 > scale && d1 < -scale) || (d0 < -scale && d1 > scale) {
+        ts.push(d0 / (d0 - d1));
+    }
+    for j in 0..b.points.len() {
+        let (e0, e1) = b.edge(j);
+        let s = e1 - e0;
+        let denom = cross(r, s);
+        if denom == 0.0 {
+            continue;
+        }
+        let t = cross(e0 - p0, s) / denom;
+        let u = cross(e0 - p0, r) / denom;
+        if t > 0.0 && t < 1.0 && (-1e-9..=1.0 + 1e-9).contains(&u) {
+            ts.push(t);
+        }
+    }
+    ts.sort_by(f64::total_cmp);
+    for k in 0..ts.len() - 1 {
+        let (ta, tb) = (ts[k], ts[k + 1]);
+        if tb <= ta {
+            continue;
+        }
+        let m = 0.5 * (ta + tb);
+        let d = d0 + (d1 - d0) * m;
+        let nearer = if d.abs() <= scale { tie_hides } else { d > 0.0 };
+        if nearer && b.strictly_inside(p0 + r * m, tol.max(1e-9)) {
+            add_interval(out, (ta, tb));
+        }
+    }
+}
+
 /// The visible pieces of every edge of a frame of screen-space polygons (stream order)
 /// on a `width`×`height` screen, and of the lines where they pass through each other.
 pub fn visible_segments(
@@ -592,7 +675,18 @@ pub fn for_each_segment(
     let tol = 1e-12 * (width as f64 + height as f64).max(1.0);
     let (w, h) = (width as f64, height as f64);
     let grid = Grid::new(&faces, stats);
-    let frame = Frame { faces, grid, tol };
+    let mut scratch = Scratch {
+        tested: vec![u32::MAX; faces.len()],
+        line: 0,
+        ts: Vec::new(),
+    };
+    let hot = faces.iter().map(|f| (f.zmin, f.min, f.max)).collect();
+    let frame = Frame {
+        faces,
+        hot,
+        grid,
+        tol,
+    };
     let faces = &frame.faces;
     let mut by_stream: Vec<u32> = (0..faces.len() as u32).collect();
     by_stream.sort_by_key(|&k| faces[k as usize].index);
@@ -670,16 +764,21 @@ pub fn for_each_segment(
                 owners: [k, k],
                 tie: a.index,
             };
-            let hidden = frame.hidden(&line, stats);
+            let hidden = frame.hidden(&mut scratch, &line, stats);
             stats.segments += frame.emit_visible(&line, &hidden, colour, false, &mut emit);
         }
     }
-    intersections(&frame, stats, &mut emit);
+    intersections(&frame, &mut scratch, stats, &mut emit);
 }
 
 /// The lines where two polygons pass through each other (see the module notes), each
 /// found in the first cell along it that holds both polygons.
-fn intersections(frame: &Frame, stats: &mut LineStats, emit: &mut impl FnMut(Segment)) {
+fn intersections(
+    frame: &Frame,
+    scratch: &mut Scratch,
+    stats: &mut LineStats,
+    emit: &mut impl FnMut(Segment),
+) {
     let (faces, grid) = (&frame.faces, &frame.grid);
     for (c, list) in grid.cells.iter().enumerate() {
         let (lo, hi) = grid.rect(c % grid.n, c / grid.n);
@@ -745,8 +844,12 @@ fn intersections(frame: &Frame, stats: &mut LineStats, emit: &mut impl FnMut(Seg
                         owners: [ka, kb],
                         tie: a.index.min(b.index),
                     };
-                    let hidden = frame.hidden(&line, stats);
-                    let colour = if a.index < b.index { a.colour } else { b.colour };
+                    let hidden = frame.hidden(scratch, &line, stats);
+                    let colour = if a.index < b.index {
+                        a.colour
+                    } else {
+                        b.colour
+                    };
                     stats.intersections += frame.emit_visible(&line, &hidden, colour, true, emit);
                 }
             }
@@ -773,7 +876,7 @@ fn line_in_both(a: &Face, b: &Face, (al, be, ga): (f64, f64, f64)) -> Vec<(DVec2
             s1 = s1.min(u.max(v));
         }
     }
-    if !(s0 < s1) {
+    if s0.partial_cmp(&s1) != Some(std::cmp::Ordering::Less) {
         return vec![];
     }
     let (q0, q1) = (base + dir * s0, base + dir * s1);
@@ -842,7 +945,9 @@ fn side_shows(f: &Face, frame: &Frame, p0: DVec2, p1: DVec2) -> bool {
     };
     let z = f.depth_at(q);
     let list = &frame.grid.cells[frame.grid.cell_of(q)];
-    let this = list.iter().any(|&k| frame.faces[k as usize].index == f.index);
+    let this = list
+        .iter()
+        .any(|&k| frame.faces[k as usize].index == f.index);
     this && !list.iter().map(|&k| &frame.faces[k as usize]).any(|b| {
         b.index != f.index && b.strictly_inside(q, tol) && {
             let zb = b.depth_at(q);
@@ -928,6 +1033,7 @@ mod tests {
     }
 
     const RED: Colour = [255, 0, 0];
+    const GREEN: Colour = [0, 255, 0];
     const BLUE: Colour = [0, 0, 255];
 
     #[test]
@@ -1008,6 +1114,94 @@ mod tests {
                 &(60.0, 50.0, 40.0, 50.0, BLUE),
             ]
         );
+    }
+
+    #[test]
+    fn the_line_where_two_polygons_cross_is_drawn() {
+        // Blue slopes through red's plane (z = 0.5) at X = 40, inside red: the line of
+        // intersection is X = 40 across blue, from Y = 30 to Y = 50, in red's colour
+        // (red is earlier in the stream).
+        let red = square(RED, 10.0, 10.0, 70.0, 70.0, 0.5);
+        let blue = Polygon::from_xyz(
+            BLUE,
+            &[
+                [20.0, 30.0, 0.7],
+                [60.0, 30.0, 0.3],
+                [60.0, 50.0, 0.3],
+                [20.0, 50.0, 0.7],
+            ],
+        );
+        let mut stats = LineStats::default();
+        let segs = visible_segments(&[red.clone(), blue.clone()], 100, 100, &mut stats);
+        let crossing: Vec<_> = segs.iter().filter(|s| s.intersection).collect();
+        assert_eq!(crossing.len(), 1, "{segs:?}");
+        let c = crossing[0];
+        let ends = [(c.from.x, c.from.y), (c.to.x, c.to.y)];
+        assert!(
+            ends.iter().all(|&(x, y)| (x - 40.0).abs() < 1e-9
+                && ((y - 30.0).abs() < 1e-9 || (y - 50.0).abs() < 1e-9)),
+            "{c:?}"
+        );
+        assert!((c.from.y - c.to.y).abs() > 19.999);
+        assert_eq!(c.colour, RED);
+        assert_eq!((stats.intersection_lines, stats.intersections), (1, 1));
+        // A third square in front of the middle of it hides Y = 35..45 of it.
+        let front = square(GREEN, 30.0, 35.0, 50.0, 45.0, 0.1);
+        let segs = visible_segments(&[red, blue, front], 100, 100, &mut stats);
+        let mut crossing: Vec<(f64, f64)> = segs
+            .iter()
+            .filter(|s| s.intersection)
+            .map(|s| (s.from.y.min(s.to.y), s.from.y.max(s.to.y)))
+            .collect();
+        crossing.sort_by(|a, b| a.partial_cmp(b).unwrap());
+        assert_eq!(crossing.len(), 2);
+        assert!((crossing[0].0 - 30.0).abs() < 1e-9 && (crossing[0].1 - 35.0).abs() < 1e-9);
+        assert!((crossing[1].0 - 45.0).abs() < 1e-9 && (crossing[1].1 - 50.0).abs() < 1e-9);
+        // Parallel planes have no line.
+        let a = square(RED, 10.0, 10.0, 70.0, 70.0, 0.5);
+        let b = square(BLUE, 20.0, 20.0, 60.0, 60.0, 0.25);
+        let segs = visible_segments(&[a, b], 100, 100, &mut LineStats::default());
+        assert!(segs.iter().all(|s| !s.intersection));
+    }
+
+    #[test]
+    fn a_stack_costs_one_polygon_per_cell() {
+        // 400 squares over the same 80×80, nearest in the middle of the stream: in every
+        // cell the nearest surrounds it and the others are left out (the ZMIN test), so
+        // the hidden edges are never tested against the stack.
+        let polygons: Vec<Polygon> = (0..400)
+            .map(|k| {
+                let z = 0.1 + 0.002 * ((k * 241) % 400) as f64;
+                square([k as u8, 1, 2], 10.0, 10.0, 90.0, 90.0, z)
+            })
+            .collect();
+        let mut stats = LineStats::default();
+        let segs = visible_segments(&polygons, 100, 100, &mut stats);
+        // Four edges of the nearest (k = 0: z = 0.1) drawn; the same edges of the others
+        // are shared with it and drawn once.
+        assert_eq!(segs.len(), 4);
+        assert!(segs.iter().all(|s| s.colour == [0, 1, 2]));
+        assert_eq!(stats.shared, 4 * 399);
+        assert_eq!(stats.pairs_tested, 0);
+        assert!(stats.culled > 0);
+        // Smaller squares stacked behind a screen-filling one are hidden in their
+        // cells: their edges are hidden without a test (and the screen-filling one's
+        // edges are the screen's border).
+        let mut polygons = vec![square(RED, 0.0, 0.0, 100.0, 100.0, 0.05)];
+        polygons.extend((0..300).map(|k| {
+            square(
+                BLUE,
+                20.0 + (k % 7) as f64,
+                20.0,
+                60.0,
+                60.0,
+                0.5 + k as f64 * 1e-3,
+            )
+        }));
+        let mut stats = LineStats::default();
+        let segs = visible_segments(&polygons, 100, 100, &mut stats);
+        assert_eq!(segs.len(), 0);
+        assert_eq!((stats.border, stats.pairs_tested), (4, 0));
     }
 
     #[test]

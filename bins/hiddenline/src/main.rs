@@ -81,26 +81,25 @@ fn main() -> ExitCode {
             }
             // The SVG is written as its pieces are found: memory for the frame's
             // polygons, not for its drawing.
-            let mut sink: Box<dyn Write> = match &pattern {
-                Some(p) if frame > 0 && !p.numbered() => {
-                    return Err(Error::data(format!(
+            let mut sink: Box<dyn Write> =
+                match &pattern {
+                    Some(p) if frame > 0 && !p.numbered() => {
+                        return Err(Error::data(format!(
                         "-o {}: more than one frame, but the name has no %d for the frame number",
                         args.output.as_deref().unwrap_or_default()
                     )))
-                }
-                Some(p) => {
-                    let name = p.name(frame);
-                    let file = std::fs::File::create(&name)
-                        .map_err(|e| Error::io(format!("cannot write {name}: {e}")))?;
-                    Box::new(std::io::BufWriter::with_capacity(1 << 16, file))
-                }
-                None if frame > 0 => {
-                    return Err(Error::data(
+                    }
+                    Some(p) => {
+                        let name = p.name(frame);
+                        let file = std::fs::File::create(&name)
+                            .map_err(|e| Error::io(format!("cannot write {name}: {e}")))?;
+                        Box::new(std::io::BufWriter::with_capacity(1 << 16, file))
+                    }
+                    None if frame > 0 => return Err(Error::data(
                         "more than one frame: give -o with %d in the name (e.g. -o frame%03d.svg)",
-                    ))
-                }
-                None => Box::new(stagecli::stdout()),
-            };
+                    )),
+                    None => Box::new(stagecli::stdout()),
+                };
             let mut text = svg_start(width, height, args.background, args.stroke_width);
             let mut failed: Option<std::io::Error> = None;
             for_each_segment(&polygons, width, height, &mut stats, |seg| {
