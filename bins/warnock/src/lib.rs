@@ -282,6 +282,9 @@ pub struct Warnock {
     bbox: Window,
     width: u32,
     pub stats: Stats,
+    /// When set, every window visited and how it was resolved, in the order visited
+    /// (for pictures of the subdivision: `cargo run --example windows`).
+    pub record: Option<Vec<(Window, Resolution)>>,
 }
 
 impl Warnock {
@@ -659,6 +662,9 @@ impl Warnock {
         }
         self.stats.windows_by_depth[depth] += 1;
         let r = self.think(polygons, w, start);
+        if let Some(record) = &mut self.record {
+            record.push((w, r));
+        }
         match r {
             Resolution::Empty => self.stats.empty += 1,
             Resolution::Pixel => self.stats.pixels += 1,
