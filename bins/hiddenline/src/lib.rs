@@ -107,6 +107,9 @@ struct Face {
     /// Its nearest and farthest vertex depths.
     zmin: f64,
     zmax: f64,
+    /// For a convex triangle or quadrilateral, each edge's start and unit inward normal:
+    /// the inside test without divisions.
+    convex: Option<Vec<(DVec2, DVec2)>>,
 }
 
 impl Face {
@@ -126,7 +129,9 @@ impl Face {
         let min = points.iter().copied().fold(DVec2::INFINITY, DVec2::min);
         let max = points.iter().copied().fold(DVec2::NEG_INFINITY, DVec2::max);
         let depths: Vec<f64> = p.vertices.iter().map(|v| v.z).collect();
+        let convex = convex_edges(&points);
         Some(Face {
+            convex,
             index,
             colour: p.colour,
             zmin: depths.iter().copied().fold(f64::INFINITY, f64::min),
@@ -183,7 +188,10 @@ impl Face {
 
     /// Is `q` strictly inside (even-odd, the boundary excluded)?
     fn strictly_inside(&self, q: DVec2, tol: f64) -> bool {
-        !self.on_boundary(q, tol) && self.inside(q)
+        match &self.convex {
+            Some(edges) => edges.iter().all(|&(a, n)| n.dot(q - a) > tol),
+            None => !self.on_boundary(q, tol) && self.inside(q),
+        }
     }
 
     /// The Looker's class of this polygon for the rectangle [lo, hi] (Appendix VI,
@@ -216,6 +224,36 @@ impl Face {
             Class::Disjoint
         }
     }
+}
+
+/// A triangle's or a convex quadrilateral's edges as (start, unit inward normal); `None`
+/// for anything else (concave, self-intersecting, more vertices, a repeated vertex).
+fn convex_edges(points: &[DVec2]) -> Option<Vec<(DVec2, DVec2)>> {
+    let n = points.len();
+    if !(3..=4).contains(&n) {
+        return None;
+    }
+    let turns: Vec<f64> = (0..n)
+        .map(|i| {
+            let (a, b, c) = (points[i], points[(i + 1) % n], points[(i + 2) % n]);
+            cross(b - a, c - b)
+        })
+        .collect();
+    let sign = if turns.iter().all(|&t| t > 0.0) {
+        1.0
+    } else if turns.iter().all(|&t| t < 0.0) {
+        -1.0
+    } else {
+        return None;
+    };
+    (0..n)
+        .map(|i| {
+            let (a, b) = (points[i], points[(i + 1) % n]);
+            let d = b - a;
+            let len = d.length();
+            (len > 0.0 && len.is_finite()).then(|| (a, DVec2::new(-d.y, d.x) * (sign / len)))
+        })
+        .collect()
 }
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
