@@ -490,6 +490,9 @@ struct Frame {
     faces: Vec<Face>,
     /// Each face's ZMIN and box, packed together for the walk's candidate loop.
     hot: Vec<(f64, DVec2, DVec2)>,
+    /// Each face packed for the hidden test, when it is a convex triangle or
+    /// quadrilateral.
+    shapes: Vec<Option<Shape>>,
     grid: Grid,
     tol: f64,
 }
@@ -528,6 +531,7 @@ impl Frame {
         let Frame {
             faces,
             hot,
+            shapes,
             grid,
             tol,
         } = self;
@@ -550,11 +554,16 @@ impl Frame {
             // hold a point of it strictly inside is passed over at once.
             let mut gap = (line.p0, line.p1);
             let mut gap_changed = true;
+            // Polygons from this place in ZMIN order on lie behind the piece.
+            let behind = hot.partition_point(|h| h.0 <= far + scale) as u32;
             for &k in list {
-                let (zmin, bmin, bmax) = hot[k as usize];
-                if zmin > far + scale {
-                    break; // this and every later polygon lie behind the piece
+                if k >= behind {
+                    break;
                 }
+                if tested[k as usize] == *id {
+                    continue;
+                }
+                let (_, bmin, bmax) = hot[k as usize];
                 if gap_changed {
                     let Some((g0, g1)) = uncovered(&hidden, t0, t1) else {
                         break; // all of the piece is hidden
@@ -563,15 +572,17 @@ impl Frame {
                     gap = (line.p0 + r * g0, line.p0 + r * g1);
                     gap_changed = false;
                 }
-                if tested[k as usize] == *id
-                    || line.owners.contains(&k)
+                if line.owners.contains(&k)
                     || !straddles(bmin, bmax, gap.0.min(gap.1), gap.0.max(gap.1))
                 {
                     continue;
                 }
                 tested[k as usize] = *id;
                 let before = hidden.len();
-                hidden_by(&faces[k as usize], line, &mut hidden, ts, *tol, stats);
+                match &shapes[k as usize] {
+                    Some(shape) => hidden_by(shape, line, &mut hidden, ts, *tol, stats),
+                    None => hidden_by(&faces[k as usize], line, &mut hidden, ts, *tol, stats),
+                }
                 gap_changed = hidden.len() != before || before > 0;
             }
             true
@@ -621,9 +632,78 @@ impl Frame {
     }
 }
 
-/// The intervals of `line`'s parameters that face `b` hides, added to `out`.
+/// A convex triangle or quadrilateral packed for the hidden test: what the test reads,
+/// in one place (the walk tests many polygons, each once, so the reads are cache misses).
+#[derive(Clone, Copy)]
+struct Shape {
+    gradient: [f64; 3],
+    index: usize,
+    len: usize,
+    points: [DVec2; 4],
+    normals: [DVec2; 4],
+}
+
+impl Shape {
+    fn of(f: &Face) -> Option<Shape> {
+        let edges = f.convex.as_ref()?;
+        let mut shape = Shape {
+            gradient: f.gradient,
+            index: f.index,
+            len: edges.len(),
+            points: [DVec2::ZERO; 4],
+            normals: [DVec2::ZERO; 4],
+        };
+        for (i, &(a, n)) in edges.iter().enumerate() {
+            shape.points[i] = a;
+            shape.normals[i] = n;
+        }
+        Some(shape)
+    }
+}
+
+/// What the hidden test needs of a polygon.
+trait Hider {
+    fn index(&self) -> usize;
+    fn depth(&self, q: DVec2) -> f64;
+    fn points(&self) -> &[DVec2];
+    fn strictly_inside(&self, q: DVec2, tol: f64) -> bool;
+}
+
+impl Hider for Face {
+    fn index(&self) -> usize {
+        self.index
+    }
+    fn depth(&self, q: DVec2) -> f64 {
+        self.depth_at(q)
+    }
+    fn points(&self) -> &[DVec2] {
+        &self.points
+    }
+    fn strictly_inside(&self, q: DVec2, tol: f64) -> bool {
+        Face::strictly_inside(self, q, tol)
+    }
+}
+
+impl Hider for Shape {
+    fn index(&self) -> usize {
+        self.index
+    }
+    fn depth(&self, q: DVec2) -> f64 {
+        let [gx, gy, g0] = self.gradient;
+        gx * q.x + gy * q.y + g0
+    }
+    fn points(&self) -> &[DVec2] {
+        &self.points[..self.len]
+    }
+    fn strictly_inside(&self, q: DVec2, tol: f64) -> bool {
+        (0..self.len).all(|i| self.normals[i].dot(q - self.points[i]) > tol)
+    }
+}
+
+/// The intervals of `line`'s parameters that polygon `b` hides, added to `out`. (The
+/// caller has checked that `b`'s box meets the line's.)
 fn hidden_by(
-    b: &Face,
+    b: &impl Hider,
     line: &Line,
     out: &mut Vec<(f64, f64)>,
     ts: &mut Vec<f64>,
@@ -631,14 +711,11 @@ fn hidden_by(
     stats: &mut LineStats,
 ) {
     let (p0, p1, r) = (line.p0, line.p1, line.p1 - line.p0);
-    if !straddles(b.min, b.max, p0.min(p1), p0.max(p1)) {
-        return; // apart, or touching only: no point of the line strictly inside B
-    }
     stats.pairs_tested += 1;
     // How much nearer B is than the line, along it: linear in t.
-    let (d0, d1) = (line.z0 - b.depth_at(p0), line.z1 - b.depth_at(p1));
+    let (d0, d1) = (line.z0 - b.depth(p0), line.z1 - b.depth(p1));
     let scale = 1e-12 * (1.0 + line.z0.abs().max(line.z1.abs()));
-    let tie_hides = b.index < line.tie;
+    let tie_hides = b.index() < line.tie;
     if d0 < -scale && d1 < -scale {
         return; // the line is nearer than B's plane all along
     }
@@ -650,8 +727,9 @@ fn hidden_by(
     if (d0 > scale && d1 < -scale) || (d0 < -scale && d1 > scale) {
         ts.push(d0 / (d0 - d1));
     }
-    for j in 0..b.points.len() {
-        let (e0, e1) = b.edge(j);
+    let points = b.points();
+    for j in 0..points.len() {
+        let (e0, e1) = (points[j], points[(j + 1) % points.len()]);
         let s = e1 - e0;
         let denom = cross(r, s);
         if denom == 0.0 {
@@ -719,9 +797,11 @@ pub fn for_each_segment(
         ts: Vec::new(),
     };
     let hot = faces.iter().map(|f| (f.zmin, f.min, f.max)).collect();
+    let shapes = faces.iter().map(Shape::of).collect();
     let frame = Frame {
         faces,
         hot,
+        shapes,
         grid,
         tol,
     };
