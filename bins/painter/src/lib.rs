@@ -43,7 +43,7 @@
 //!   as its *support* (proto's polygon annotation): the scan converter then computes their
 //!   crossings from the whole edge, so the pieces cover exactly the pixels of the whole,
 //!   each once; pixels on the cut line go to one piece by the sampling rule.
-//! * The cut budget ([`Painter::cut_budget`]): at most `4·n + 256` cuts in a frame of n
+//! * The cut budget ([`Painter::cut_budget`]): at most `4·n + 2048` cuts in a frame of n
 //!   polygons. Every pair of N planes that all pass through each other must be cut (N² /
 //!   2 pieces and more), and every cut adds a polygon the sort must test: unbounded, the
 //!   method's time grows with the cube of the scene.
@@ -157,7 +157,8 @@ impl Item {
             moved: 0,
             sorted: true,
         };
-        for v in &item.polygon.vertices {
+        for i in 0..item.polygon.vertices.len() {
+            let v = item.vertex(i);
             item.x_min = item.x_min.min(v.x);
             item.x_max = item.x_max.max(v.x);
             item.y_min = item.y_min.min(v.y);
@@ -166,6 +167,16 @@ impl Item {
             item.z_max = item.z_max.max(v.z);
         }
         item
+    }
+
+    /// Vertex `i` with its depth on the polygon's own plane: the depth the z-buffer gives
+    /// the polygon's pixels there (persp's vertex depths may lie a rounding off the
+    /// recorded plane, and two planes that cross at a shallow angle would move their line
+    /// of intersection by that much over many pixels).
+    fn vertex(&self, i: usize) -> Vertex {
+        let v = self.polygon.vertices[i];
+        let p = self.plane;
+        DVec4::new(v.x, v.y, -(p.x * v.x + p.y * v.y + p.w), 1.0)
     }
 
     /// Where `v` lies against this polygon's plane, within a rounding band of the terms'
@@ -187,8 +198,8 @@ impl Item {
     /// are on it, `earlier_wins` decides (the coplanar tie).
     fn wholly(&self, other: &Item, wanted: Depthwise, tie: bool) -> bool {
         let mut all_on = true;
-        for &v in &self.polygon.vertices {
-            match other.side(v) {
+        for i in 0..self.polygon.vertices.len() {
+            match other.side(self.vertex(i)) {
                 Depthwise::On => {}
                 s if s == wanted => all_on = false,
                 _ => return false,
@@ -201,8 +212,8 @@ impl Item {
     /// behind it: a cut by that plane leaves two pieces with area.
     fn straddles(&self, other: &Item) -> bool {
         let (mut front, mut behind) = (false, false);
-        for &v in &self.polygon.vertices {
-            match other.side(v) {
+        for i in 0..self.polygon.vertices.len() {
+            match other.side(self.vertex(i)) {
                 Depthwise::Front => front = true,
                 Depthwise::Behind => behind = true,
                 Depthwise::On => {}
@@ -313,8 +324,20 @@ type Outline = (Vec<Vertex>, Vec<Option<[Vertex; 2]>>);
 /// meet exactly). Each piece's edges that lie on an edge of `x` keep that edge as their
 /// support. `None` unless both pieces have three vertices.
 fn cut(x: &Item, by: &Item) -> Option<(Item, Item)> {
-    let plane = Plane::new(by.plane, 0.0);
-    let vertices = &x.polygon.vertices;
+    // The tie rule on the cut line: a pixel centre exactly on the line of intersection is
+    // the earlier polygon's. The cut plane is moved by a hair (10⁻¹¹ of the depth scale,
+    // far less than a pixel's depth step, and within the band in which a vertex is on
+    // a plane) so that such centres fall strictly inside the
+    // piece that the tie puts behind (x later) or in front (x earlier).
+    let p = by.plane;
+    let delta = 1e-11 * (1.0 + p.w.abs());
+    let w = if x.index > by.index {
+        p.w + delta
+    } else {
+        p.w - delta
+    };
+    let plane = Plane::new(DVec4::new(p.x, p.y, 1.0, w), 0.0);
+    let vertices: Vec<Vertex> = (0..x.polygon.vertices.len()).map(|i| x.vertex(i)).collect();
     let n = vertices.len();
     let support = |i: usize| {
         x.polygon
@@ -323,12 +346,15 @@ fn cut(x: &Item, by: &Item) -> Option<(Item, Item)> {
     };
     let mut pieces: [Outline; 2] = Default::default();
     let classify = |v: Vertex| {
-        // Plane's inside (distance ≥ 0) is behind: depth − depth_of_plane ≥ 0.
-        let (_, d) = plane.classify(v.with_w(1.0));
-        let side = match by.side(v) {
-            Depthwise::Front => Side::Outside,
-            Depthwise::On => Side::On,
-            Depthwise::Behind => Side::Inside,
+        // Plane's inside (distance > 0) is behind: depth − depth_of_plane > 0.
+        let d = plane.distance(v.with_w(1.0));
+        let scale = (p.x * v.x).abs() + (p.y * v.y).abs() + v.z.abs() + w.abs();
+        let side = if d.abs() <= 1e-15 * scale {
+            Side::On
+        } else if d > 0.0 {
+            Side::Inside
+        } else {
+            Side::Outside
         };
         (side, d)
     };
@@ -434,7 +460,7 @@ pub struct Painter {
 /// The default cut budget: `CUTS_PER_POLYGON·n + CUTS_BASE` cuts for a frame of n
 /// polygons.
 pub const CUTS_PER_POLYGON: usize = 4;
-pub const CUTS_BASE: usize = 256;
+pub const CUTS_BASE: usize = 2048;
 
 impl Painter {
     /// The classic method: cycles are painted in the order at hand.
@@ -479,7 +505,7 @@ impl Painter {
         (self.split && s.given_up > 0).then(|| {
             format!(
                 "could not order every polygon: {} cycle(s) painted in the order at hand, the \
-                 picture differs from the z-buffer's there ({} frame(s) spent the cut budget \
+                 picture may differ from the z-buffer's there ({} frame(s) spent the cut budget \
                  of {} cuts a polygon + {})",
                 s.given_up, s.budget_spent, self.cuts_per_polygon, self.cuts_base
             )
@@ -563,6 +589,8 @@ impl HiddenSurface for Painter {
         let mut spent = false;
         // Marks are of this generation; 0 is no mark.
         let mut generation = 1u64;
+        // Moves since the last paint.
+        let mut moves = 0usize;
         while let Some(&p) = list.front() {
             // Find a Q that P might hide part of.
             let mut obstructing = None;
@@ -592,6 +620,7 @@ impl HiddenSurface for Painter {
                 if items[q].moved != generation && (q_first || !self.split) {
                     // Q goes before P, marked.
                     items[q].moved = generation;
+                    moves += 1;
                     items[q].sorted = false;
                     list.remove(k);
                     list.push_front(q);
@@ -601,6 +630,16 @@ impl HiddenSurface for Painter {
                 // Q has moved before (a cycle), or neither may go first: they pass
                 // through each other.
                 self.stats.cycles += 1;
+                if q_first && moves < list.len() + 16 {
+                    // A mark can outlive its reason (thin pieces whose tests fail for
+                    // one pair and pass for the next): while the tests say Q may go
+                    // first, it goes, a bounded number of times before a paint.
+                    list.remove(k);
+                    list.push_front(q);
+                    moves += 1;
+                    self.stats.swaps += 1;
+                    continue;
+                }
                 if self.split {
                     if cuts < budget {
                         if self.split_cycle(&mut items, &mut list, k, generation) {
@@ -617,6 +656,7 @@ impl HiddenSurface for Painter {
             list.pop_front();
             self.paint(&items[p].polygon, width, height);
             generation += 1;
+            moves = 0;
         }
         self.stats.budget_spent += spent as u64;
         for (y, row) in self.frame.chunks_exact(width.max(1) as usize).enumerate() {

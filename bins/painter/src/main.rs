@@ -24,6 +24,9 @@ use std::process::ExitCode;
 ///     (Sutherland-Hodgman) and the pieces sorted on, up to a cut budget a frame
 ///     (--cuts-per-polygon x polygons + --cuts-base); when the budget is spent the rest
 ///     is painted in the order at hand and painter says so on stderr, every time.
+///   - coincident polygons and equal depths in general: the earlier in the stream is in
+///     front, as the z-buffer decides; a vertex within a rounding band of a plane
+///     counts as on it.
 ///
 /// Exit status: 0 done (also when the budget was spent: the frames are written), 1 bad
 /// input, 2 usage, 3 I/O.
