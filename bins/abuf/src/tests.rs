@@ -363,3 +363,39 @@ mod cull {
         }
     }
 }
+
+#[test]
+fn the_depth_extent_artefact_along_a_column() {
+    // examples/screen/abuf-depth-extent.txt: a flat red rectangle (depth 2) ends at
+    // X = 7.5, inside pixel column 7; a steep green plane crosses depth 2 at X = 7.55,
+    // just outside it. Where both cover (X < 7.5) the green is behind everywhere, but
+    // its fragment's depth extent in column 7 straddles the red's depth, so the packer
+    // takes the two as crossing inside the pixel and gives green a share of the red's
+    // samples: 48 levels of red too few, all down the column.
+    let red = quad(
+        [255, 40, 40],
+        [[0.0, 0.0, 2.0], [7.5, 0.0, 2.0], [7.5, 16.0, 2.0], [0.0, 16.0, 2.0]],
+    );
+    let green = quad(
+        [40, 200, 40],
+        [
+            [0.0, 0.0, 2.3775],
+            [16.0, 0.0, 1.5775],
+            [16.0, 16.0, 1.5775],
+            [0.0, 16.0, 2.3775],
+        ],
+    );
+    let scene = [red, green];
+    let (image, stats) = render_with(&scene, 16, 16, [0; 3]);
+    let exact = reference(&scene, 16, 16, 8, [0; 3]);
+    for y in 0..16 {
+        let at = y * 16 + 7;
+        assert_eq!(exact[at], Some([148, 120, 40]), "row {y}");
+        assert_eq!(image[at], Some([100, 155, 40]), "row {y}");
+        // Every other column is exact.
+        for x in (0..16).filter(|&x| x != 7) {
+            assert_eq!(image[y * 16 + x], exact[y * 16 + x], "({x}, {y})");
+        }
+    }
+    assert_eq!(stats.intersections, 16);
+}

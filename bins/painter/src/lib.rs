@@ -43,7 +43,7 @@
 //!   as its *support* (proto's polygon annotation): the scan converter then computes their
 //!   crossings from the whole edge, so the pieces cover exactly the pixels of the whole,
 //!   each once; pixels on the cut line go to one piece by the sampling rule.
-//! * The cut budget ([`Painter::cut_budget`]): at most `4·n + 2048` cuts in a frame of n
+//! * The cut budget ([`Painter::cut_budget`]): at most `n + 2048` cuts in a frame of n
 //!   polygons. Every pair of N planes that all pass through each other must be cut (N² /
 //!   2 pieces and more), and every cut adds a polygon the sort must test: unbounded, the
 //!   method's time grows with the cube of the scene.
@@ -459,7 +459,7 @@ pub struct Painter {
 
 /// The default cut budget: `CUTS_PER_POLYGON·n + CUTS_BASE` cuts for a frame of n
 /// polygons.
-pub const CUTS_PER_POLYGON: usize = 4;
+pub const CUTS_PER_POLYGON: usize = 1;
 pub const CUTS_BASE: usize = 2048;
 
 impl Painter {
