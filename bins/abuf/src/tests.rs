@@ -374,7 +374,12 @@ fn the_depth_extent_artefact_along_a_column() {
     // samples: 48 levels of red too few, all down the column.
     let red = quad(
         [255, 40, 40],
-        [[0.0, 0.0, 2.0], [7.5, 0.0, 2.0], [7.5, 16.0, 2.0], [0.0, 16.0, 2.0]],
+        [
+            [0.0, 0.0, 2.0],
+            [7.5, 0.0, 2.0],
+            [7.5, 16.0, 2.0],
+            [0.0, 16.0, 2.0],
+        ],
     );
     let green = quad(
         [40, 200, 40],
