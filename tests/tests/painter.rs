@@ -250,3 +250,43 @@ fn the_degenerate_scenes_painted_and_split() {
         assert_eq!(total(&s), 0, "{scene}");
     }
 }
+
+#[test]
+fn render_sh_passes_split_to_the_painter_leaves() {
+    // At depths 0 and 2 the penetrating scene with --split is zspec's picture; the
+    // planes that all pass through each other are said on stderr, leaf by leaf, when
+    // the cut budget runs out; --split needs --hse painter.
+    for depth in [0, 2] {
+        let out = sh(
+            &format!("scripts/render.sh --size 64x64 --depth {depth} --hse painter --split"),
+            b"",
+        );
+        assert!(
+            out.status.success(),
+            "{}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        let frames = parse_ppm_stream(&out.stdout).expect("PPM");
+        assert_eq!(
+            differences(&zspec_frame("64x64"), &frames[0]).len(),
+            0,
+            "depth {depth}"
+        );
+    }
+    let out = sh(
+        "scene planes 50 | scripts/render.sh --size 120x120 --depth 0 --hse painter --split - >/dev/null",
+        b"",
+    );
+    assert!(out.status.success());
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        err.starts_with("painter: could not order every polygon: "),
+        "{err}"
+    );
+    let out = sh("scripts/render.sh --split >/dev/null", b"");
+    assert_eq!(out.status.code(), Some(2));
+    assert_eq!(
+        String::from_utf8_lossy(&out.stderr),
+        "render.sh: --split is the painter's splitting step: it needs --hse painter\n"
+    );
+}
