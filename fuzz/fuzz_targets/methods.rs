@@ -1,7 +1,9 @@
 //! The whole-frame hidden-surface methods (docs/methods.md) on arbitrary frames of screen
 //! polygons: Watkins's scan line and Warnock's subdivision give the z-buffer's picture
-//! pixel for pixel, the painter and the hidden-line solver (edges and lines of
-//! intersection, every piece finite and within the polygons' extent) do not panic, and every
+//! pixel for pixel, the painter (with and without its cuts, and with a cut budget of
+//! one) covers exactly the z-buffer's pixels, the hidden-line solver does not panic and
+//! keeps every piece (edges and lines of intersection) finite and within the polygons'
+//! extent, and every
 //! method's runs stay on the screen, each pixel at most once (`scan::frame::image_of`
 //! checks both).
 #![no_main]
@@ -65,9 +67,19 @@ fuzz_target!(|data: &[u8]| {
             );
         }
     });
-    for mut painter in [painter::Painter::new(), painter::Painter::with_split()] {
+    // The painter: no panic, and whatever order it paints in (cuts, a spent cut budget,
+    // cycles painted in the order at hand), exactly the z-buffer's covered pixels: a cut
+    // polygon's pieces cover its pixels, each once.
+    for mut painter in [
+        painter::Painter::new(),
+        painter::Painter::with_split(),
+        painter::Painter::with_split_budget(0, 1),
+    ] {
         runs.clear();
         painter.resolve(&polygons, width, height, &mut runs);
-        image_of(&runs, width, height);
+        let image = image_of(&runs, width, height);
+        for (i, (a, z)) in image.iter().zip(&reference).enumerate() {
+            assert_eq!(a.is_some(), z.is_some(), "painter: pixel {i}");
+        }
     }
 });

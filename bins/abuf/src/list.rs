@@ -65,6 +65,32 @@ impl Fragment {
             && next.zmin <= self.zmax.saturating_add(slack)
     }
 
+    /// The fragment that stands for `self` and `behind`, the next farther one, when a list
+    /// is cut short: both masks; each sample the colour of the nearer fragment that
+    /// covers it, so the colour is the mean over the merged mask with `self`'s samples in
+    /// its colour and the rest in `behind`'s; the depth extent of both; `self`'s place.
+    /// What the packer would have made of the pair's intersection is lost.
+    pub fn merge_behind(&self, behind: &Fragment) -> Fragment {
+        let mask = self.mask | behind.mask;
+        let (near, far) = (
+            self.mask.count_ones() as u64,
+            (behind.mask & !self.mask).count_ones() as u64,
+        );
+        let total = (near + far).max(1);
+        let mut colour = [0u8; 3];
+        for (k, c) in colour.iter_mut().enumerate() {
+            let sum = near * self.colour[k] as u64 + far * behind.colour[k] as u64;
+            *c = ((sum + total / 2) / total) as u8;
+        }
+        Fragment {
+            colour,
+            mask,
+            zmin: self.zmin.min(behind.zmin),
+            zmax: self.zmax.max(behind.zmax),
+            order: self.order,
+        }
+    }
+
     /// The combined fragment: both masks, the depths of both, and the place in the list
     /// (zmin, then stream order) of the one nearer the front, so that the combined
     /// fragment keeps that one's place and the list stays sorted.
@@ -103,7 +129,18 @@ pub struct ListStats {
     pub hidden: u64,
     /// Intersecting fragments whose common samples the packer split by zmin/zmax.
     pub intersections: u64,
+    /// Fragments merged into their neighbour because a list outgrew [`MAX_LIST`].
+    pub merged: u64,
 }
+
+/// The longest a fragment list may grow. A longer one has its two farthest fragments
+/// merged into one ([`Fragment::merge_behind`]): the seed (6.3.5) keeps lists short only by
+/// combining fragments of one surface and throwing away those behind a fully covering
+/// one, which does nothing for many small fragments at different depths (N tiny
+/// triangles on one pixel: a list of N, and an insertion that costs N). 64, the samples
+/// of a pixel: a list that long has, unless its fragments intersect in depth, at most 64
+/// fragments that show at a sample.
+pub const MAX_LIST: usize = 64;
 
 /// A pixel of the a-buffer (seeds/001, figures 6.4 and 6.5): the seed flags the kind by
 /// the sign of its z; here it is the variant.
@@ -214,6 +251,12 @@ impl PixelStruct {
             });
             stats.hidden += (before - list.len()) as u64;
         }
+        while list.len() > MAX_LIST {
+            if let (Some(far), Some(near)) = (list.pop(), list.last_mut()) {
+                *near = near.merge_behind(&far);
+                stats.merged += 1;
+            }
+        }
         stats.max_list = stats.max_list.max(list.len() as u64);
         if list.len() == 1 && list[0].full() {
             let only = list[0];
@@ -222,6 +265,22 @@ impl PixelStruct {
             pool.push(list);
             stats.simple += 1;
             *self = PixelStruct::Simple(only);
+        }
+    }
+
+    /// The depth behind which every fragment is thrown away (6.3.5): the farthest depth
+    /// of the nearest fully covering fragment; `i64::MAX` when none covers the pixel.
+    /// A fragment of a later polygon whose zmin is beyond it never enters the list.
+    pub fn occluding_depth(&self) -> i64 {
+        match self {
+            PixelStruct::Empty => i64::MAX,
+            PixelStruct::Simple(f) => f.zmax,
+            PixelStruct::List(list) => list
+                .iter()
+                .filter(|f| f.full())
+                .map(|f| f.zmax)
+                .min()
+                .unwrap_or(i64::MAX),
         }
     }
 
