@@ -18,7 +18,9 @@ use std::process::ExitCode;
 /// is hidden where it lies strictly inside a nearer polygon; at equal depth the earlier
 /// polygon hides the later. An edge two polygons share is drawn once; edges that the
 /// splitter tree or the clipper made (cuts along a splitting plane, the screen's border)
-/// are not drawn, and neither are the lines where polygons pass through each other.
+/// are not drawn. Where two polygons pass through each other, the visible part of their
+/// line of intersection is drawn as <line class="intersection"> (Archuleta's "second
+/// problem"), in the colour of the earlier polygon.
 ///
 /// One frame goes to stdout; a movie needs -o with %d in the name.
 ///
@@ -39,7 +41,9 @@ struct Args {
     #[arg(long, default_value_t = 1.0, value_parser = parse_width)]
     stroke_width: f64,
     /// Print counts on stderr at the end: frames, edges, edges left out (shared, cuts,
-    /// screen border), edge–polygon pairs tested, pieces drawn.
+    /// screen border), edge–polygon pairs tested, pieces drawn; lines of intersection and
+    /// their pieces drawn; placements of polygons in the grid's cells that a surrounder
+    /// hid.
     #[arg(long)]
     stats: bool,
 }
