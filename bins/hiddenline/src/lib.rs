@@ -104,7 +104,7 @@ struct Face {
     recorded: Option<[u64; 4]>,
     min: DVec2,
     max: DVec2,
-    /// Its nearest and farthest vertex depths.
+    /// Its nearest and farthest depths (its plane's, at its vertices).
     zmin: f64,
     zmax: f64,
     /// For a convex triangle or quadrilateral, each edge's start and unit inward normal:
@@ -130,12 +130,16 @@ impl Face {
         let max = points.iter().copied().fold(DVec2::NEG_INFINITY, DVec2::max);
         let depths: Vec<f64> = p.vertices.iter().map(|v| v.z).collect();
         let convex = convex_edges(&points);
+        // The extremes of its plane's depth over it (at its vertices): what it can hide
+        // with, since its depth at a point is its plane's (its vertices' own depths may be
+        // off the plane when it is not planar).
+        let on_plane = points.iter().map(|q| -(n.x * q.x + n.y * q.y + n.w) / n.z);
         Some(Face {
             convex,
             index,
             colour: p.colour,
-            zmin: depths.iter().copied().fold(f64::INFINITY, f64::min),
-            zmax: depths.iter().copied().fold(f64::NEG_INFINITY, f64::max),
+            zmin: on_plane.clone().fold(f64::INFINITY, f64::min),
+            zmax: on_plane.fold(f64::NEG_INFINITY, f64::max),
             depths,
             points,
             plane: [n.x, n.y, n.z, n.w],

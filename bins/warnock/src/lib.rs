@@ -191,7 +191,7 @@ struct Face {
     /// Its bounding box (Figure AVI-1).
     min: DVec2,
     max: DVec2,
-    /// The listing's POLY!ZMIN: its nearest vertex depth; and its farthest.
+    /// The listing's POLY!ZMIN: its nearest vertex depth, on its plane; and its farthest.
     zmin: f64,
     zmax: f64,
     /// Its plane in `f64`, depth = −(a·X + b·Y + d)/c (AVI.1.1), for the ZMIN test;
@@ -310,9 +310,6 @@ impl Warnock {
             }
             let min = pts.iter().copied().fold(DVec2::INFINITY, DVec2::min);
             let max = pts.iter().copied().fold(DVec2::NEG_INFINITY, DVec2::max);
-            let zs = p.vertices.iter().map(|v| v.z);
-            let zmin = zs.clone().fold(f64::INFINITY, f64::min);
-            let zmax = zs.fold(f64::NEG_INFINITY, f64::max);
             let n = p
                 .plane
                 .filter(|n| n.z != 0.0 && n.is_finite())
@@ -321,6 +318,15 @@ impl Warnock {
                     proto::geometry::newell_plane(&v)
                 });
             let plane = (n.z != 0.0 && n.is_finite()).then_some([n.x, n.y, n.z, n.w]);
+            // ZMIN and ZMAX of the plane the pixels get, at the vertices (where an affine
+            // depth has its extremes over the polygon): a polygon that is not planar has
+            // vertex depths off its plane, and the listing's test must bound the plane.
+            let zs = p.vertices.iter().map(|v| match plane {
+                Some([a, b, c, d]) => -(a * v.x + b * v.y + d) / c,
+                None => v.z,
+            });
+            let zmin = zs.clone().fold(f64::INFINITY, f64::min);
+            let zmax = zs.fold(f64::NEG_INFINITY, f64::max);
             let mut face = Face {
                 poly: i as u32,
                 start: start as u32,
@@ -1080,6 +1086,40 @@ mod tests {
         assert_eq!(m.stats.windows_by_depth, vec![1]);
         assert_eq!(m.stats.looked_at, 1);
         assert_eq!((m.stats.zmin_exits, m.stats.zmin_skipped), (1, 999));
+    }
+
+    #[test]
+    fn zmin_bounds_the_plane_not_the_vertices() {
+        // Found by the methods fuzz target: a quadrilateral whose vertex depths are not on
+        // one plane (two vertices at one point, depths 0.75 and 0.25). Its pixels take
+        // Newell's plane, 0 at (6.5, 9.25) where its vertex says 0.25: a ZMIN from the
+        // vertices (0.25) let the ZMIN test pass over it behind the triangle's 0.25 there.
+        let quad = Polygon::from_xyz(
+            RED,
+            &[
+                [23.75, 7.75, 0.75],
+                [9.25, 47.0, 0.75],
+                [9.25, 47.0, 0.25],
+                [6.5, 9.25, 0.25],
+            ],
+        );
+        let triangle = Polygon::from_xyz(
+            GREEN,
+            &[
+                [9.25, 9.25, 0.25],
+                [18.75, 24.0, 0.25],
+                [-128.0, -128.0, 0.0],
+            ],
+        );
+        let polygons = [quad, triangle];
+        let (runs, m) = resolved(&polygons, 16, 16);
+        assert_eq!(image_of(&runs, 16, 16), zbuffer_image(&polygons, 16, 16));
+        let quad = m
+            .faces
+            .iter()
+            .find(|f| f.poly == 0)
+            .expect("the quadrilateral");
+        assert!(quad.zmin.abs() < 1e-12, "{}", quad.zmin);
     }
 
     #[test]
