@@ -53,7 +53,10 @@ fuzz_target!(|data: &[u8]| {
     // Hidden lines: no panic, and every piece (edges and lines of intersection) finite
     // and within the polygons' extent.
     let (lo, hi) = polygons.iter().flat_map(|p| &p.vertices).fold(
-        ((f64::INFINITY, f64::INFINITY), (f64::NEG_INFINITY, f64::NEG_INFINITY)),
+        (
+            (f64::INFINITY, f64::INFINITY),
+            (f64::NEG_INFINITY, f64::NEG_INFINITY),
+        ),
         |(l, h), v| ((l.0.min(v.x), l.1.min(v.y)), (h.0.max(v.x), h.1.max(v.y))),
     );
     let mut line_stats = hiddenline::LineStats::default();
@@ -62,7 +65,10 @@ fuzz_target!(|data: &[u8]| {
             let slack = 1e-6 * (1.0 + q.x.abs().max(q.y.abs()));
             assert!(q.is_finite(), "hiddenline: {s:?}");
             assert!(
-                lo.0 - slack <= q.x && q.x <= hi.0 + slack && lo.1 - slack <= q.y && q.y <= hi.1 + slack,
+                lo.0 - slack <= q.x
+                    && q.x <= hi.0 + slack
+                    && lo.1 - slack <= q.y
+                    && q.y <= hi.1 + slack,
                 "hiddenline: {s:?} outside {lo:?}..{hi:?}"
             );
         }
