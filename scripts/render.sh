@@ -55,6 +55,8 @@ Options:
                     (Watkins), warnock (area subdivision) or painter (depth sort,
                     wrong where polygons interpenetrate or overlap cyclically);
                     every one at every --depth, with --merge tiles
+  --split           with --hse painter: cut polygons by each other's planes where no
+                    depth order exists (Newell, Newell and Sancha's splitting step)
   --aa MODE         anti-aliasing at the leaves: none (default: one sample at each
                     pixel centre), ss2, ss4, ss8, ss16 (K×K samples a pixel, box
                     filter) or abuf (Carpenter's a-buffer, 8×8 coverage masks)
@@ -144,6 +146,7 @@ depth=auto # --depth (auto: plan depth decides, or 0 when there is no plan)
 depth_asked=0
 zmode=reciprocal
 hse=zbuf    # --hse: the leaves' hidden-surface method
+split=()    # --split: painter's splitting step
 aa=none     # --aa: the leaves' anti-aliasing
 pixels=()   # --pixels: scanconv's one record per pixel (with --merge buffer)
 hidden_line=0 # --hidden-line: hiddenline's SVG instead of frames
@@ -165,7 +168,7 @@ output=() # zbuf's -o PATTERN
 
 # The options that take a value (each also as --option=value), and those that do not.
 valued=" --size --depth --zmode --hse --aa --merge --clip -o --eye --at --up --s --d --hither --yon --hosts --by --remote-bin --subtree --chunk "
-flags=" -h --help --version --stats --pixels --hidden-line "
+flags=" -h --help --version --stats --pixels --hidden-line --split "
 
 parse_options() {
     local opt value
@@ -196,6 +199,7 @@ parse_options() {
             --hse) hse=$value ;;
             --aa) aa=$value ;;
             --pixels) pixels=(--pixels) ;;
+            --split) split=(--split) ;;
             --hidden-line) hidden_line=1 ;;
             --clip) clip=$value ;;
             -o) output=(-o "$value") ;;
@@ -231,6 +235,8 @@ validate_options() {
     [[ $clip == @(batch|chain) ]] || die_usage "--clip must be batch or chain, not '$clip'"
     [[ $hse == @(zbuf|scanline|warnock|painter) ]] ||
         die_usage "--hse must be zbuf, scanline, warnock or painter, not '$hse'"
+    ((${#split[@]} == 0)) || [[ $hse == painter ]] ||
+        die_usage "--split is the painter's splitting step: it needs --hse painter"
     [[ $aa == @(none|ss2|ss4|ss8|ss16|abuf) ]] ||
         die_usage "--aa must be none, ss2, ss4, ss8, ss16 or abuf, not '$aa'"
     # The methods and anti-aliasing modes are the leaves' own: PAR.BUFF sends every
@@ -453,6 +459,8 @@ leaf_method() {
         # One leaf, here: its region is the screen, so the merger is the leaf. zbuf reads
         # persp's polygons and resolves them itself, with no runs encoded for a pipe.
         if [[ $depth == 0 && -z $subtree ]] && ((${#hosts[@]} == 0)); then method=(zbuf); fi
+    elif [[ $hse == painter ]]; then
+        method=(painter "${split[@]}")
     else
         method=("$hse")
     fi
@@ -501,7 +509,7 @@ start_subtrees() {
         host=${hosts[i++ % ${#hosts[@]}]}
         remote="exec env POLYPIPE_BIN=$(quote "$dir") $(quote "$root/scripts/render.sh")"
         for word in --subtree "$node" --depth "$depth" --size "$size" --zmode "$zmode" \
-            --hse "$hse" --aa "$aa" "${stats[@]}"; do
+            --hse "$hse" "${split[@]}" --aa "$aa" "${stats[@]}"; do
             remote+=" $(quote "$word")"
         done
         fifo "from-$node"

@@ -9,8 +9,11 @@
 //! box-filtered per-sample answer: each sample shows the covering fragment of least
 //! (depth, order), or the background.
 //!
+//! Lists past [`abuf::list::MAX_LIST`] merge their farthest fragments: never longer.
+//!
 //! Frames: polygons through `ABuffer::resolve` on screens up to 24×24: no panic, each
-//! pixel sent once (image_of checks), and exactly the pixels with a covered sample.
+//! pixel sent once (image_of checks), exactly the pixels with a covered sample, and the
+//! same runs with the cull as without it.
 #![no_main]
 use abuf::list::{Fragment, ListStats, Packer, PixelStruct};
 use abuf::ABuffer;
@@ -25,7 +28,8 @@ fn lists(b: &mut Bytes) {
     let palette = [[255, 0, 0], [0, 255, 0], [0, 0, 255], [255, 255, 255]];
     let mut frags = Vec::new();
     let mut i = 0u32;
-    while !b.is_empty() && frags.len() < 64 {
+    // Up to 96: past 64 (list::MAX_LIST) the farthest fragments merge.
+    while !b.is_empty() && frags.len() < 96 {
         let mask = match b.u8() % 4 {
             0 => u64::MAX,
             1 => b.u64(),
@@ -96,7 +100,8 @@ fn lists(b: &mut Bytes) {
             "{got:?} out of range, {frags:?}"
         );
     }
-    if flat {
+    assert!(stats.max_list <= abuf::list::MAX_LIST as u64);
+    if flat && stats.merged == 0 {
         let mut sum = [0u32; 3];
         for s in 0..64 {
             let front = frags
@@ -136,8 +141,13 @@ fn frame(b: &mut Bytes) {
         }
     }
     let mut runs = Vec::new();
-    ABuffer::new([b.u8(), b.u8(), b.u8()]).resolve(&polys, width, height, &mut runs);
+    let background = [b.u8(), b.u8(), b.u8()];
+    ABuffer::new(background).resolve(&polys, width, height, &mut runs);
     let image = image_of(&runs, width, height);
+    // The cull leaves out only what would be thrown away: the same runs without it.
+    let mut uncut = Vec::new();
+    ABuffer::without_cull(background).resolve(&polys, width, height, &mut uncut);
+    assert_eq!(runs, uncut);
     // The pixels sent are those with a covered sample: the z-buffer of the 8-times-finer
     // screen says which.
     let fine: Vec<_> = polys.iter().map(|p| scan::fine::scaled(p, 8)).collect();

@@ -1,6 +1,9 @@
 //! The whole-frame hidden-surface methods (docs/methods.md) on arbitrary frames of screen
 //! polygons: Watkins's scan line and Warnock's subdivision give the z-buffer's picture
-//! pixel for pixel, the painter and the hidden-line solver do not panic, and every
+//! pixel for pixel, the painter (with and without its cuts, and with a cut budget of
+//! one) covers exactly the z-buffer's pixels, the hidden-line solver does not panic and
+//! keeps every piece (edges and lines of intersection) finite and within the polygons'
+//! extent, and every
 //! method's runs stay on the screen, each pixel at most once (`scan::frame::image_of`
 //! checks both).
 #![no_main]
@@ -47,9 +50,42 @@ fuzz_target!(|data: &[u8]| {
     warnock::Warnock::default().resolve(&polygons, width, height, &mut runs);
     let image = image_of(&runs, width, height);
     assert_eq!(differing_pixels(&image, &reference), 0, "warnock");
-    for mut painter in [painter::Painter::new(), painter::Painter::with_split()] {
+    // Hidden lines: no panic, and every piece (edges and lines of intersection) finite
+    // and within the polygons' extent.
+    let (lo, hi) = polygons.iter().flat_map(|p| &p.vertices).fold(
+        (
+            (f64::INFINITY, f64::INFINITY),
+            (f64::NEG_INFINITY, f64::NEG_INFINITY),
+        ),
+        |(l, h), v| ((l.0.min(v.x), l.1.min(v.y)), (h.0.max(v.x), h.1.max(v.y))),
+    );
+    let mut line_stats = hiddenline::LineStats::default();
+    hiddenline::for_each_segment(&polygons, width, height, &mut line_stats, |s| {
+        for q in [s.from, s.to] {
+            let slack = 1e-6 * (1.0 + q.x.abs().max(q.y.abs()));
+            assert!(q.is_finite(), "hiddenline: {s:?}");
+            assert!(
+                lo.0 - slack <= q.x
+                    && q.x <= hi.0 + slack
+                    && lo.1 - slack <= q.y
+                    && q.y <= hi.1 + slack,
+                "hiddenline: {s:?} outside {lo:?}..{hi:?}"
+            );
+        }
+    });
+    // The painter: no panic, and whatever order it paints in (cuts, a spent cut budget,
+    // cycles painted in the order at hand), exactly the z-buffer's covered pixels: a cut
+    // polygon's pieces cover its pixels, each once.
+    for mut painter in [
+        painter::Painter::new(),
+        painter::Painter::with_split(),
+        painter::Painter::with_split_budget(0, 1),
+    ] {
         runs.clear();
         painter.resolve(&polygons, width, height, &mut runs);
-        image_of(&runs, width, height);
+        let image = image_of(&runs, width, height);
+        for (i, (a, z)) in image.iter().zip(&reference).enumerate() {
+            assert_eq!(a.is_some(), z.is_some(), "painter: pixel {i}");
+        }
     }
 });

@@ -237,7 +237,8 @@ fn abuf_stats_count_the_fragments() {
     assert_eq!(
         String::from_utf8_lossy(&out.stderr),
         "abuf: 1 polygons in, 1 frames, 2 runs out, 4 fragments, 4 simple, 0 lists, max list \
-         length 0, 0 combined, 0 hidden, 0 intersect cases, 4 pixels out\n"
+         length 0, 0 combined, 0 hidden, 0 intersect cases, 0 merged past 64 a list, 0 polygon \
+         rows, 0 blocks and 0 pixels culled, 4 pixels out\n"
     );
     assert!(String::from_utf8_lossy(&out.stdout).contains("run 1 1 3 9 9 9"));
 }

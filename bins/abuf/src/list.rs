@@ -1,11 +1,11 @@
-//! The a-buffer's pixelstructs: per pixel nothing, one fully covering fragment (the sampling thesis's
-//! *simple* pixelstruct), or a list of fragments sorted by depth (sampling thesis 6.3.1), with
-//! the sampling thesis's insertion cases (6.3.4, 6.3.5) and the fragment packer (6.3.6).
+//! The a-buffer's pixelstructs: per pixel nothing, one fully covering fragment (the seed's
+//! *simple* pixelstruct), or a list of fragments sorted by depth (seeds/001, 6.3.1), with
+//! the seed's insertion cases (6.3.4, 6.3.5) and the fragment packer (6.3.6).
 
 use proto::Colour;
 
 /// A fragment's coverage: bit `8·j + i` is sub-pixel sample (i, j), at
-/// (c + (i+½)/8, r + (j+½)/8) of pixel (c, r) (the sampling thesis's 8×8 pixel mask, 6.3.1).
+/// (c + (i+½)/8, r + (j+½)/8) of pixel (c, r) (the seed's 8×8 pixel mask, 6.3.1).
 pub type Mask = u64;
 
 /// Every sample covered.
@@ -14,16 +14,16 @@ pub const FULL: Mask = u64::MAX;
 /// Samples in a mask.
 pub const SAMPLES: u32 = 64;
 
-/// A pixel fragment (the sampling thesis, figure 6.6), opaque: the colour, the bit mask of the
+/// A pixel fragment (seeds/001, figure 6.6), opaque: the colour, the bit mask of the
 /// samples the polygon covers, the least and greatest depth of the polygon at those
 /// samples (fixed point, smaller is nearer), and the polygon's place in the frame's
 /// stream, which breaks ties of depth as the z-buffer does (the earlier is in front).
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct Fragment {
     pub colour: Colour,
     pub mask: Mask,
-    pub zmin: scan::Depth,
-    pub zmax: scan::Depth,
+    pub zmin: i64,
+    pub zmax: i64,
     pub order: u32,
 }
 
@@ -35,13 +35,9 @@ impl Fragment {
     }
 
     /// The order of the sorted list: by zmin, then stream order.
-    /// Whether this fragment comes before `other` in the sorted list.
     #[inline]
-    fn before(&self, other: &Fragment) -> bool {
-        self.zmin
-            .total_cmp(&other.zmin)
-            .then(self.order.cmp(&other.order))
-            .is_lt()
+    fn key(&self) -> (i64, u32) {
+        (self.zmin, self.order)
     }
 
     /// Whether the fragment lies wholly behind `front`, a fully covering opaque fragment,
@@ -62,8 +58,37 @@ impl Fragment {
     /// objects, and this is the closest the fragments themselves can tell.
     #[inline]
     fn combines_with(&self, next: &Fragment) -> bool {
-        let slack = (self.zmax - self.zmin).max(next.zmax - next.zmin);
-        self.colour == next.colour && self.mask & next.mask == 0 && next.zmin <= self.zmax + slack
+        // Saturating: a saturated plane's fragment can span more depth than i64 holds.
+        let slack = (self.zmax.saturating_sub(self.zmin)).max(next.zmax.saturating_sub(next.zmin));
+        self.colour == next.colour
+            && self.mask & next.mask == 0
+            && next.zmin <= self.zmax.saturating_add(slack)
+    }
+
+    /// The fragment that stands for `self` and `behind`, the next farther one, when a list
+    /// is cut short: both masks; each sample the colour of the nearer fragment that
+    /// covers it, so the colour is the mean over the merged mask with `self`'s samples in
+    /// its colour and the rest in `behind`'s; the depth extent of both; `self`'s place.
+    /// What the packer would have made of the pair's intersection is lost.
+    pub fn merge_behind(&self, behind: &Fragment) -> Fragment {
+        let mask = self.mask | behind.mask;
+        let (near, far) = (
+            self.mask.count_ones() as u64,
+            (behind.mask & !self.mask).count_ones() as u64,
+        );
+        let total = (near + far).max(1);
+        let mut colour = [0u8; 3];
+        for (k, c) in colour.iter_mut().enumerate() {
+            let sum = near * self.colour[k] as u64 + far * behind.colour[k] as u64;
+            *c = ((sum + total / 2) / total) as u8;
+        }
+        Fragment {
+            colour,
+            mask,
+            zmin: self.zmin.min(behind.zmin),
+            zmax: self.zmax.max(behind.zmax),
+            order: self.order,
+        }
     }
 
     /// The combined fragment: both masks, the depths of both, and the place in the list
@@ -71,7 +96,11 @@ impl Fragment {
     /// fragment keeps that one's place and the list stays sorted.
     #[inline]
     fn combine(&self, other: &Fragment) -> Fragment {
-        let front = if !other.before(self) { self } else { other };
+        let front = if self.key() <= other.key() {
+            self
+        } else {
+            other
+        };
         Fragment {
             colour: self.colour,
             mask: self.mask | other.mask,
@@ -100,9 +129,20 @@ pub struct ListStats {
     pub hidden: u64,
     /// Intersecting fragments whose common samples the packer split by zmin/zmax.
     pub intersections: u64,
+    /// Fragments merged into their neighbour because a list outgrew [`MAX_LIST`].
+    pub merged: u64,
 }
 
-/// A pixel of the a-buffer (the sampling thesis, figures 6.4 and 6.5): the thesis flags the kind by
+/// The longest a fragment list may grow. A longer one has its two farthest fragments
+/// merged into one ([`Fragment::merge_behind`]): the seed (6.3.5) keeps lists short only by
+/// combining fragments of one surface and throwing away those behind a fully covering
+/// one, which does nothing for many small fragments at different depths (N tiny
+/// triangles on one pixel: a list of N, and an insertion that costs N). 64, the samples
+/// of a pixel: a list that long has, unless its fragments intersect in depth, at most 64
+/// fragments that show at a sample.
+pub const MAX_LIST: usize = 64;
+
+/// A pixel of the a-buffer (seeds/001, figures 6.4 and 6.5): the seed flags the kind by
 /// the sign of its z; here it is the variant.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub enum PixelStruct {
@@ -115,7 +155,7 @@ pub enum PixelStruct {
 }
 
 impl PixelStruct {
-    /// Inserts a fragment (sampling thesis 6.3.4's six cases: a completely or partially covered
+    /// Inserts a fragment (seeds/001, 6.3.4's six cases: a completely or partially covered
     /// incoming fragment into an empty, simple or list pixelstruct; 6.3.5's sorting,
     /// combining and throwing away). `pool` lends and takes back the lists' storage.
     pub fn insert(&mut self, f: Fragment, pool: &mut Vec<Vec<Fragment>>, stats: &mut ListStats) {
@@ -170,7 +210,7 @@ impl PixelStruct {
         let PixelStruct::List(list) = self else {
             return;
         };
-        let pos = list.partition_point(|x| x.before(&f));
+        let pos = list.partition_point(|x| x.key() < f.key());
         if list[..pos].iter().any(|g| f.behind(g)) {
             stats.hidden += 1;
             return;
@@ -211,6 +251,12 @@ impl PixelStruct {
             });
             stats.hidden += (before - list.len()) as u64;
         }
+        while list.len() > MAX_LIST {
+            if let (Some(far), Some(near)) = (list.pop(), list.last_mut()) {
+                *near = near.merge_behind(&far);
+                stats.merged += 1;
+            }
+        }
         stats.max_list = stats.max_list.max(list.len() as u64);
         if list.len() == 1 && list[0].full() {
             let only = list[0];
@@ -219,6 +265,22 @@ impl PixelStruct {
             pool.push(list);
             stats.simple += 1;
             *self = PixelStruct::Simple(only);
+        }
+    }
+
+    /// The depth behind which every fragment is thrown away (6.3.5): the farthest depth
+    /// of the nearest fully covering fragment; `i64::MAX` when none covers the pixel.
+    /// A fragment of a later polygon whose zmin is beyond it never enters the list.
+    pub fn occluding_depth(&self) -> i64 {
+        match self {
+            PixelStruct::Empty => i64::MAX,
+            PixelStruct::Simple(f) => f.zmax,
+            PixelStruct::List(list) => list
+                .iter()
+                .filter(|f| f.full())
+                .map(|f| f.zmax)
+                .min()
+                .unwrap_or(i64::MAX),
         }
     }
 
@@ -255,9 +317,9 @@ impl PixelStruct {
     }
 }
 
-/// The fragment packer (the sampling thesis, 6.3.6), front to back with masks.
+/// The fragment packer (seeds/001, 6.3.6), front to back with masks.
 ///
-/// The sampling thesis's recursion C = P_i·A_i + T_i·Q_i, with the areas as masks
+/// The seed's recursion C = P_i·A_i + T_i·Q_i, with the areas as masks
 /// M_A_i = M_Q_{i+1} ∩ M_i (covered and visible) and M_Q_i = M_Q_{i+1} ∩ ¬M_i (visible and
 /// not covered; M_Q at the front is the full mask, I), is evaluated as a walk down the
 /// list carrying the still-visible region: fragment i paints the samples of M_A_i in its
@@ -266,7 +328,7 @@ impl PixelStruct {
 /// bits"), so a list whose fragments do not intersect packs to exactly the 8×8
 /// supersampled colour.
 ///
-/// Intersecting fragments (Carpenter's a-buffer, which the sampling thesis follows): when the next
+/// Intersecting fragments (Carpenter's a-buffer, which the seed follows): when the next
 /// fragment's zmin is nearer than this one's zmax the two surfaces may cross inside the
 /// pixel, and on the samples both cover the nearer one is not known. Taking both as
 /// planes across the pixel, the share of this fragment in front is
@@ -294,8 +356,8 @@ impl Packer {
             let next = list.get(i + 1).filter(|n| n.zmin < f.zmax);
             // f: this fragment's share of the samples both it and the next one cover.
             let share = next.map(|n| {
-                let extent = (f.zmax - f.zmin) + (n.zmax - n.zmin);
-                let front = (n.zmax - f.zmin) / extent;
+                let extent = (f.zmax as f64 - f.zmin as f64) + (n.zmax as f64 - n.zmin as f64);
+                let front = (n.zmax as f64 - f.zmin as f64) / extent;
                 if front.is_finite() {
                     front.clamp(0.0, 1.0)
                 } else {

@@ -15,7 +15,10 @@ use std::process::ExitCode;
 /// colour and its zmin/zmax; a pixel one polygon covers wholly in front of the rest needs
 /// no list. The packer resolves each list front to back, splitting the samples of two
 /// fragments that intersect in depth by their zmin/zmax. It works one pixel row at a
-/// time, so its memory does not grow with the screen. The output is runs of finished
+/// time, so its memory does not grow with the screen. A list longer than 64 fragments
+/// has its two farthest merged into one (counted as `merged`), and a polygon wholly
+/// behind the fully covering fragments of a block of 8 pixels is left out there unmade
+/// (`culled`): time stays bounded in fragments per pixel and in depth complexity. The output is runs of finished
 /// pixels (`run Y X0 X1 R G B`) for zbuf, which must be given the same --background.
 ///
 /// Example:

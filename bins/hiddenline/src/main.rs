@@ -1,7 +1,7 @@
 //! hiddenline: screen-space polygons in, the visible parts of their edges out, as SVG.
 
 use clap::Parser;
-use hiddenline::{svg, visible_segments, LineStats};
+use hiddenline::{for_each_segment, svg_line, svg_start, LineStats, SVG_END};
 use proto::{Colour, Polygon, SpaceKind, Token};
 use stagecli::Error;
 use stagecli::FrameNames;
@@ -18,7 +18,9 @@ use std::process::ExitCode;
 /// is hidden where it lies strictly inside a nearer polygon; at equal depth the earlier
 /// polygon hides the later. An edge two polygons share is drawn once; edges that the
 /// splitter tree or the clipper made (cuts along a splitting plane, the screen's border)
-/// are not drawn, and neither are the lines where polygons pass through each other.
+/// are not drawn. Where two polygons pass through each other, the visible part of their
+/// line of intersection is drawn as <line class="intersection"> (Archuleta's "second
+/// problem"), in the colour of the earlier polygon.
 ///
 /// One frame goes to stdout; a movie needs -o with %d in the name.
 ///
@@ -39,7 +41,9 @@ struct Args {
     #[arg(long, default_value_t = 1.0, value_parser = parse_width)]
     stroke_width: f64,
     /// Print counts on stderr at the end: frames, edges, edges left out (shared, cuts,
-    /// screen border), edge–polygon pairs tested, pieces drawn.
+    /// screen border), edge–polygon pairs tested, pieces drawn; lines of intersection and
+    /// their pieces drawn; placements of polygons in the grid's cells that a surrounder
+    /// hid.
     #[arg(long)]
     stats: bool,
 }
@@ -79,39 +83,52 @@ fn main() -> ExitCode {
                 Token::Skip(_) => continue,
                 Token::NextFrame | Token::End => {}
             }
-            let segments = visible_segments(&polygons, width, height, &mut stats);
-            polygons.clear();
-            let text = svg(&segments, width, height, args.background, args.stroke_width);
-            match &pattern {
-                Some(p) if frame > 0 && !p.numbered() => {
-                    return Err(Error::data(format!(
+            // The SVG is written as its pieces are found: memory for the frame's
+            // polygons, not for its drawing.
+            let mut sink: Box<dyn Write> =
+                match &pattern {
+                    Some(p) if frame > 0 && !p.numbered() => {
+                        return Err(Error::data(format!(
                         "-o {}: more than one frame, but the name has no %d for the frame number",
                         args.output.as_deref().unwrap_or_default()
                     )))
-                }
-                Some(p) => {
-                    let name = p.name(frame);
-                    std::fs::write(&name, text)
-                        .map_err(|e| Error::io(format!("cannot write {name}: {e}")))?;
-                }
-                None if frame > 0 => {
-                    return Err(Error::data(
+                    }
+                    Some(p) => {
+                        let name = p.name(frame);
+                        let file = std::fs::File::create(&name)
+                            .map_err(|e| Error::io(format!("cannot write {name}: {e}")))?;
+                        Box::new(std::io::BufWriter::with_capacity(1 << 16, file))
+                    }
+                    None if frame > 0 => return Err(Error::data(
                         "more than one frame: give -o with %d in the name (e.g. -o frame%03d.svg)",
-                    ))
+                    )),
+                    None => Box::new(stagecli::stdout()),
+                };
+            let mut text = svg_start(width, height, args.background, args.stroke_width);
+            let mut failed: Option<std::io::Error> = None;
+            for_each_segment(&polygons, width, height, &mut stats, |seg| {
+                svg_line(&mut text, &seg);
+                if text.len() >= 1 << 16 && failed.is_none() {
+                    failed = sink.write_all(text.as_bytes()).err();
+                    text.clear();
                 }
-                None => {
-                    let mut out = stagecli::stdout();
-                    out.write_all(text.as_bytes())?;
-                    out.flush()?;
-                }
+            });
+            polygons.clear();
+            text.push_str(SVG_END);
+            if let Some(e) = failed {
+                return Err(e.into());
             }
+            sink.write_all(text.as_bytes())?;
+            sink.flush()?;
             frame += 1;
         }
         if args.stats {
             let s = stats;
             eprintln!(
-                "hiddenline: {frame} frames, {} edges, {} shared, {} cuts, {} on the border, {} pairs tested, {} pieces drawn",
-                s.edges, s.shared, s.cuts, s.border, s.pairs_tested, s.segments
+                "hiddenline: {frame} frames, {} edges, {} shared, {} cuts, {} on the border, {} pairs tested, {} pieces drawn; \
+                 {} lines of intersection, {} pieces drawn; {} placements in cells hidden by a surrounder",
+                s.edges, s.shared, s.cuts, s.border, s.pairs_tested, s.segments,
+                s.intersection_lines, s.intersections, s.culled
             );
         }
         Ok(())

@@ -5,37 +5,35 @@ use painter::Painter;
 use stagecli::TextFlag;
 use std::process::ExitCode;
 
-/// Depth sort, painted back to front (Newell, Newell and Sancha, in the survey the thesis
-/// cites, [SuSp74]): a hidden-surface method for a leaf of the splitter tree.
+/// Depth sort, painted back to front (Newell, Newell and Sancha, in Sutherland, Sproull
+/// and Schumacker's survey of ten hidden-surface algorithms, [SuSp74]): a hidden-surface
+/// method for a leaf of the splitter tree.
 ///
 /// Reads a screen-space polygon stream (from persp) on stdin; per frame, sorts the
-/// polygons by their farthest depth, orders the ones whose depths overlap by the five
-/// tests of Newell, Newell and Sancha (depth extents, bounding boxes, P behind Q's plane,
-/// Q in front of P's plane, disjoint projections), paints them from the back to the front
-/// into a frame of colours (no depth buffer), and writes the finished pixels as runs
-/// (`run Y X0 X1 R G B`) for zbuf to place. Every test is decided on the pixels the
-/// polygons cover, with the depths the z-buffer uses: a scene that has a depth order comes
-/// out pixel for pixel as the z-buffer draws it, and at equal depth the earlier polygon
-/// is in front.
+/// polygons by their farthest vertex depth, orders the ones whose depths overlap by the
+/// five tests of Newell, Newell and Sancha on their geometry (depth extents, bounding
+/// boxes, P behind Q's plane, Q in front of P's plane, projections disjoint), paints them
+/// from the back to the front into a frame of colours (no depth buffer), and writes the
+/// finished pixels as runs (`run Y X0 X1 R G B`) for zbuf to place.
 ///
-/// Where it fails (the failures are kept, and counted by --stats):
-///   - interpenetrating polygons (the thesis's scene, examples/penetrating.txt): neither
-///     is in front, there is no order to paint in; one of them is painted whole over
-///     the other where the z-buffer shows each in front on its side of the crossing;
-///   - cyclic overlap (A over B over C over A): likewise, one of the cycle is painted
-///     wrong where it overlaps the others;
-///   - coincident polygons and equal depths in general are decided by the stream order
-///     (the earlier in front), as the z-buffer decides them; the fixed-point depths are
-///     compared, so polygons that differ only below their resolution tie.
+/// Where it fails (counted by --stats):
+///   - interpenetrating polygons (examples/penetrating.txt) and cyclic overlap
+///     (A over B over C over A): there is no order to paint in; without --split one
+///     polygon of the cycle is painted whole over the others;
+///   - with --split the cycle is broken by cutting a polygon by the other's plane
+///     (Sutherland-Hodgman) and the pieces sorted on, up to a cut budget a frame
+///     (--cuts-per-polygon x polygons + --cuts-base); when the budget is spent the rest
+///     is painted in the order at hand and painter says so on stderr, every time.
+///   - coincident polygons and equal depths in general: the earlier in the stream is in
+///     front, as the z-buffer decides; a vertex within a rounding band of a plane
+///     counts as on it.
 ///
-/// Both failures are met as a polygon that would have to move twice (a cycle); without
-/// --split it is painted in the order at hand. With --split the cycle is broken by cutting
-/// one polygon by the other's plane, on the pixel grid, and the pieces sorted on: the
-/// frame is then the z-buffer's.
+/// Exit status: 0 done (also when the budget was spent: the frames are written), 1 bad
+/// input, 2 usage, 3 I/O.
 ///
 /// Example:
 ///   persp --size 500x500 < eye.pp | painter --stats > leaf.frag
-///   scene spheres | viewxf | clipbatch | persp --size 64x64 | painter --split | zbuf > f.ppm
+///   scene planes 50 | viewxf | clipbatch | persp --size 300x300 | painter --split | zbuf > f.ppm
 #[derive(Parser)]
 #[command(name = "painter", version, verbatim_doc_comment)]
 struct Args {
@@ -45,8 +43,14 @@ struct Args {
     /// polygon by the other's plane instead of painting it in the order at hand.
     #[arg(long)]
     split: bool,
-    /// Print counts on stderr at the end: polygons, the pairs each of the five tests
-    /// resolved, swaps, cycles met, splits, cycles painted out of order.
+    /// With --split: cuts allowed a frame, per polygon of the frame.
+    #[arg(long, default_value_t = painter::CUTS_PER_POLYGON, requires = "split")]
+    cuts_per_polygon: usize,
+    /// With --split: cuts allowed a frame, in addition to those per polygon.
+    #[arg(long, default_value_t = painter::CUTS_BASE, requires = "split")]
+    cuts_base: usize,
+    /// Print counts on stderr at the end: polygons, pieces painted, the pairs each of
+    /// the five tests resolved, swaps, cycles met, splits, cycles painted out of order.
     #[arg(long)]
     stats: bool,
 }
@@ -54,11 +58,16 @@ struct Args {
 fn main() -> ExitCode {
     stagecli::main("painter", |args: Args| {
         let mut method = if args.split {
-            Painter::with_split()
+            Painter::with_split_budget(args.cuts_per_polygon, args.cuts_base)
         } else {
             Painter::new()
         };
-        stagecli::resolve_frames("painter", args.text.form(), args.stats, &mut method)?;
+        let result = stagecli::resolve_frames("painter", args.text.form(), args.stats, &mut method);
+        // Said whether or not --stats was given, and whatever became of the output.
+        if let Some(line) = method.gave_up_message() {
+            eprintln!("painter: {line}");
+        }
+        result?;
         Ok(())
     })
 }

@@ -118,6 +118,47 @@ enum Command {
         after_help = "Example:\n  scene triangle-square --text"
     )]
     TriangleSquare,
+    /// Hostile: N full-screen squares stacked in depth (depth complexity N everywhere).
+    #[command(after_help = "Example:\n  scene stack 20000 | scripts/render.sh --hse painter -")]
+    Stack {
+        /// N, the number of squares.
+        #[arg(value_parser = hostile_count)]
+        count: usize,
+    },
+    /// Hostile: N long thin triangles across the screen at random heights, slopes and
+    /// depths, about 0.4 of a pixel wide at 500×500.
+    #[command(after_help = "Example:\n  scene slivers 10000 --seed 2")]
+    Slivers {
+        #[arg(value_parser = hostile_count)]
+        count: usize,
+        #[arg(long, default_value_t = 1)]
+        seed: u64,
+    },
+    /// Hostile: N tiny triangles at distinct depths all covering one pixel's centre at
+    /// 500×500 (pixel 250, 249): N fragments in one pixel.
+    #[command(after_help = "Example:\n  scene pinhead 100000 | scripts/render.sh --aa abuf -")]
+    Pinhead {
+        #[arg(value_parser = hostile_count)]
+        count: usize,
+        #[arg(long, default_value_t = 1)]
+        seed: u64,
+    },
+    /// Hostile: N full-screen planes tilted about different axes, every pair crossing on
+    /// the screen (no depth order exists; a depth sort must cut them).
+    #[command(
+        after_help = "Example:\n  scene planes 50 | scripts/render.sh --hse painter --split -"
+    )]
+    Planes {
+        #[arg(value_parser = hostile_count)]
+        count: usize,
+    },
+    /// Hostile: N horizontal strips, disjoint on the screen, each slanted in depth so that
+    /// all their depth extents overlap (a depth sort's quadratic case).
+    #[command(after_help = "Example:\n  scene strips 3000 | scripts/render.sh --hse painter -")]
+    Strips {
+        #[arg(value_parser = hostile_count)]
+        count: usize,
+    },
     /// A Wavefront OBJ model: each face one polygon, coloured by its material's diffuse
     /// colour (200 200 200 without one).
     #[command(
@@ -147,6 +188,18 @@ fn positive(s: &str) -> Result<f64, String> {
         Ok(v)
     } else {
         Err(format!("{v} must be a finite number > 0"))
+    }
+}
+
+/// A hostile scene's polygon count: 1 to 2^24 (each polygon keeps a colour of its own).
+fn hostile_count(s: &str) -> Result<usize, String> {
+    let v: usize = s
+        .parse()
+        .map_err(|_| format!("`{s}` is not a whole number"))?;
+    if (1..=1 << 24).contains(&v) {
+        Ok(v)
+    } else {
+        Err(format!("{v} is not from 1 to 16777216"))
     }
 }
 
@@ -252,6 +305,27 @@ fn main() -> ExitCode {
                 DVec3::ZERO,
                 Shading::Flat,
             ),
+            Command::Stack { count } => {
+                spin(&shapes::stack(count), frames, DVec3::ZERO, Shading::Flat)
+            }
+            Command::Slivers { count, seed } => spin(
+                &shapes::slivers(count, seed),
+                frames,
+                DVec3::ZERO,
+                Shading::Flat,
+            ),
+            Command::Pinhead { count, seed } => spin(
+                &shapes::pinhead(count, seed),
+                frames,
+                DVec3::ZERO,
+                Shading::Flat,
+            ),
+            Command::Planes { count } => {
+                spin(&shapes::planes(count), frames, DVec3::ZERO, Shading::Flat)
+            }
+            Command::Strips { count } => {
+                spin(&shapes::strips(count), frames, DVec3::ZERO, Shading::Flat)
+            }
             Command::Obj {
                 file,
                 no_fit,

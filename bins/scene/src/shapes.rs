@@ -372,6 +372,178 @@ pub fn triangle_square() -> Vec<Face> {
     ]
 }
 
+// ---------------------------------------------------------------------------------------
+// Hostile scenes: depth complexity, slivers, many fragments in one pixel, and planes that
+// all pass through each other. They are what a user can make in a minute to break a
+// hidden-surface method (issue 21), and what the methods' bounds are tested on.
+
+/// Half the side of the square every hostile "full-screen" polygon spans: wide enough to
+/// cover the default camera's screen at every depth these scenes use (|z| ≤ 8, where the
+/// visible half side is at most (20 + 8)·10/16 = 17.5), so the clipper cuts them to the
+/// screen.
+pub const FULL_SCREEN_HALF: f64 = 20.0;
+
+/// A colour of its own for polygon `k` of up to 2^24: the bijective mix of
+/// [`mesh_colour`], kept away from black (the background) by setting the top bit of red.
+fn hostile_colour(k: usize) -> Colour {
+    let m = (k as u32).wrapping_mul(0x9E3779) & 0xFF_FFFF;
+    [(m >> 16) as u8 | 0x80, (m >> 8) as u8, m as u8]
+}
+
+/// The order in which a hostile scene writes its `n` polygons: k·p mod n for a step p
+/// prime to n near n·0.618, so the stream is neither back to front nor front to back
+/// (each order favours some method).
+fn shuffled(n: usize) -> impl Iterator<Item = usize> {
+    let mut p = ((n as f64 * 0.618) as usize).max(1);
+    while gcd(p, n.max(1)) != 1 {
+        p += 1;
+    }
+    (0..n).map(move |k| (k * p) % n)
+}
+
+fn gcd(a: usize, b: usize) -> usize {
+    if b == 0 {
+        a
+    } else {
+        gcd(b, a % b)
+    }
+}
+
+/// `scene stack N`: N full-screen squares facing the viewer, stacked in depth from
+/// z = −6 to z = 6 (distinct depths), written in a shuffled order: depth complexity N at
+/// every pixel, the worst case for any method whose cost follows the polygons that
+/// cover a pixel rather than the visible ones.
+pub fn stack(n: usize) -> Vec<Face> {
+    let h = FULL_SCREEN_HALF;
+    shuffled(n)
+        .map(|k| {
+            let z = if n > 1 {
+                -6.0 + 12.0 * k as f64 / (n - 1) as f64
+            } else {
+                0.0
+            };
+            Face::new(
+                hostile_colour(k),
+                vec![
+                    DVec3::new(-h, -h, z),
+                    DVec3::new(h, -h, z),
+                    DVec3::new(h, h, z),
+                    DVec3::new(-h, h, z),
+                ],
+            )
+        })
+        .collect()
+}
+
+/// `scene slivers N`: N long thin triangles across the screen, each from a point on the
+/// left edge to a short base on the right edge (0.02 world units, about 0.4 of a pixel at
+/// 500×500), at random heights, slopes and depths (|z| ≤ 4, tilted in depth along their
+/// length), crossing one another everywhere: many edges, little area, the worst case for
+/// area subdivision along edges and for scan-line segment lists.
+pub fn slivers(n: usize, seed: u64) -> Vec<Face> {
+    let mut rng = fastrand::Rng::with_seed(seed);
+    let x = HALF_VIEW_AT_ORIGIN * 1.05;
+    (0..n)
+        .map(|k| {
+            let y0 = (rng.f64() * 2.0 - 1.0) * HALF_VIEW_AT_ORIGIN;
+            let y1 = (rng.f64() * 2.0 - 1.0) * HALF_VIEW_AT_ORIGIN;
+            let z0 = (rng.f64() * 2.0 - 1.0) * 4.0;
+            let z1 = (rng.f64() * 2.0 - 1.0) * 4.0;
+            let (a, b) = if rng.bool() { (-x, x) } else { (x, -x) };
+            Face::new(
+                hostile_colour(k),
+                vec![
+                    DVec3::new(a, y0, z0),
+                    DVec3::new(b, y1 - 0.01, z1),
+                    DVec3::new(b, y1 + 0.01, z1),
+                ],
+            )
+        })
+        .collect()
+}
+
+/// The world point that the default camera at 500×500 sees at the centre of pixel
+/// (250, 249): one pixel there is 25/500 = 0.05 world units wide.
+pub const PINHEAD_CENTRE: (f64, f64) = (0.025, 0.025);
+
+/// `scene pinhead N`: N tiny triangles around one point ([`PINHEAD_CENTRE`]), each
+/// containing it (three vertices at random radii 0.012 to 0.03 and angles about 120°
+/// apart), at N distinct depths in a shuffled order (|z| ≤ 2): at 500×500 they all
+/// cover the centre of one pixel and parts of its neighbours, N fragments in a pixel.
+pub fn pinhead(n: usize, seed: u64) -> Vec<Face> {
+    let mut rng = fastrand::Rng::with_seed(seed);
+    let (cx, cy) = PINHEAD_CENTRE;
+    shuffled(n)
+        .map(|k| {
+            let z = if n > 1 {
+                -2.0 + 4.0 * k as f64 / (n - 1) as f64
+            } else {
+                0.0
+            };
+            let start = rng.f64() * TAU;
+            let points = (0..3)
+                .map(|i| {
+                    let angle = start + TAU * i as f64 / 3.0 + (rng.f64() - 0.5) * 0.6;
+                    let r = 0.012 + 0.018 * rng.f64();
+                    DVec3::new(cx + r * angle.cos(), cy + r * angle.sin(), z)
+                })
+                .collect();
+            Face::new(hostile_colour(k), points)
+        })
+        .collect()
+}
+
+/// `scene planes N`: N full-screen planes through the origin's neighbourhood, plane k
+/// tilted by 0.3 (about 17°) about the axis at angle π·k/N in the screen, and shifted in
+/// depth by at most ±0.5: every pair crosses inside the screen, so no plane is wholly in
+/// front of another and a depth sort must cut them (the painter's hardest case).
+pub fn planes(n: usize) -> Vec<Face> {
+    let h = FULL_SCREEN_HALF;
+    (0..n)
+        .map(|k| {
+            let phi = PI * k as f64 / n.max(1) as f64;
+            let (gx, gy) = (0.3 * phi.cos(), 0.3 * phi.sin());
+            let offset = if n > 1 {
+                -0.5 + k as f64 / (n - 1) as f64
+            } else {
+                0.0
+            };
+            let z = |x: f64, y: f64| gx * x + gy * y + offset;
+            Face::new(
+                hostile_colour(k),
+                [(-h, -h), (h, -h), (h, h), (-h, h)]
+                    .iter()
+                    .map(|&(x, y)| DVec3::new(x, y, z(x, y)))
+                    .collect(),
+            )
+        })
+        .collect()
+}
+
+/// `scene strips N`: N horizontal strips, each the screen's width and 1/N of its height
+/// (no two overlap on the screen), each slanted in depth from z = −3 at one end to 3 at
+/// the other (drawn so that its edges are level on the screen): every strip's depth extent overlaps every other's, so a depth sort that
+/// resolves overlaps by extents alone compares every pair (the painter's quadratic case),
+/// though no pixel has more than one polygon.
+pub fn strips(n: usize) -> Vec<Face> {
+    let (w, top) = (FULL_SCREEN_HALF, HALF_VIEW_AT_ORIGIN);
+    let band = 2.0 * top / n.max(1) as f64;
+    shuffled(n)
+        .map(|k| {
+            let (y0, y1) = (top - band * (k + 1) as f64, top - band * k as f64);
+            let (zl, zr) = if k % 2 == 0 { (-3.0, 3.0) } else { (3.0, -3.0) };
+            // y scaled by (20 − z)/20, the eye's distance over the origin's, so that the
+            // strip's edges are the horizontal lines y0 and y1 on the screen, wherever
+            // along the strip the depth is.
+            let at = |x: f64, y: f64, z: f64| DVec3::new(x, y * (20.0 - z) / 20.0, z);
+            Face::new(
+                hostile_colour(k),
+                vec![at(-w, y0, zl), at(w, y0, zr), at(w, y1, zr), at(-w, y1, zl)],
+            )
+        })
+        .collect()
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -467,6 +639,124 @@ mod tests {
         let colours: std::collections::HashSet<_> =
             mesh(64, 64, 1.0, 1)[0].iter().map(|p| p.colour).collect();
         assert_eq!(colours.len(), 64 * 64);
+    }
+
+    /// Screen position under the default camera: x·16/(10·(20 − z)) of the half side.
+    fn on_screen(p: DVec3) -> (f64, f64) {
+        let k = 20.0 / (20.0 - p.z);
+        (p.x * k, p.y * k)
+    }
+
+    #[test]
+    fn stack_covers_the_screen_at_distinct_depths() {
+        let faces = stack(100);
+        assert_eq!(faces.len(), 100);
+        let mut depths: Vec<f64> = faces.iter().map(|f| f.points[0].z).collect();
+        assert!(faces
+            .iter()
+            .all(|f| f.points.iter().all(|p| p.z == f.points[0].z)));
+        // Neither back to front nor front to back.
+        assert!(depths.windows(2).any(|w| w[0] < w[1]));
+        assert!(depths.windows(2).any(|w| w[0] > w[1]));
+        depths.sort_by(f64::total_cmp);
+        assert_eq!(depths[0], -6.0);
+        assert_eq!(depths[99], 6.0);
+        assert!(depths.windows(2).all(|w| w[0] < w[1]));
+        for f in &faces {
+            // Each corner is outside the visible square at its depth.
+            for p in &f.points {
+                let (x, y) = on_screen(*p);
+                assert!(x.abs() > HALF_VIEW_AT_ORIGIN && y.abs() > HALF_VIEW_AT_ORIGIN);
+            }
+        }
+        let colours: std::collections::HashSet<_> = faces.iter().map(|f| f.colour).collect();
+        assert_eq!(colours.len(), 100);
+    }
+
+    #[test]
+    fn pinhead_triangles_all_contain_the_centre() {
+        let (cx, cy) = PINHEAD_CENTRE;
+        let faces = pinhead(500, 3);
+        assert_eq!(faces.len(), 500);
+        for f in &faces {
+            assert_eq!(f.points.len(), 3);
+            // The centre is on the same side of all three edges.
+            let sides: Vec<f64> = (0..3)
+                .map(|i| {
+                    let (a, b) = (f.points[i], f.points[(i + 1) % 3]);
+                    (b.x - a.x) * (cy - a.y) - (b.y - a.y) * (cx - a.x)
+                })
+                .collect();
+            assert!(
+                sides.iter().all(|s| *s > 0.0) || sides.iter().all(|s| *s < 0.0),
+                "{f:?}"
+            );
+            // Inside one pixel's neighbourhood: 0.03 world units is 0.6 pixel at 500×500.
+            assert!(f
+                .points
+                .iter()
+                .all(|p| (p.x - cx).hypot(p.y - cy) <= 0.0300001));
+        }
+    }
+
+    #[test]
+    fn every_pair_of_planes_crosses_on_the_screen() {
+        let faces = planes(7);
+        let plane = |f: &Face| {
+            let n = proto::geometry::newell_normal(&f.points);
+            (n, n.dot(f.points[0]))
+        };
+        for i in 0..faces.len() {
+            for j in i + 1..faces.len() {
+                // z_i − z_j changes sign over the screen's corners at z ≈ 0.
+                let (ni, di) = plane(&faces[i]);
+                let (nj, dj) = plane(&faces[j]);
+                let z = |n: DVec3, d: f64, x: f64, y: f64| (d - n.x * x - n.y * y) / n.z;
+                let h = HALF_VIEW_AT_ORIGIN * 0.8;
+                let signs: Vec<bool> = [(-h, -h), (h, -h), (h, h), (-h, h)]
+                    .iter()
+                    .map(|&(x, y)| z(ni, di, x, y) > z(nj, dj, x, y))
+                    .collect();
+                assert!(signs.contains(&true) && signs.contains(&false), "{i} {j}");
+            }
+        }
+    }
+
+    #[test]
+    fn strips_are_level_and_disjoint_on_screen_with_overlapping_depths() {
+        let n = 30;
+        let faces = strips(n);
+        let mut bands: Vec<(f64, f64)> = faces
+            .iter()
+            .map(|f| {
+                let ys: Vec<f64> = f.points.iter().map(|p| on_screen(*p).1).collect();
+                // The bottom edge is level, and so is the top.
+                assert!((ys[0] - ys[1]).abs() < 1e-9 && (ys[2] - ys[3]).abs() < 1e-9);
+                let zs: Vec<f64> = f.points.iter().map(|p| p.z).collect();
+                assert_eq!(zs.iter().cloned().fold(f64::INFINITY, f64::min), -3.0);
+                assert_eq!(zs.iter().cloned().fold(f64::NEG_INFINITY, f64::max), 3.0);
+                (ys[0], ys[2])
+            })
+            .collect();
+        bands.sort_by(|a, b| a.0.total_cmp(&b.0));
+        for w in bands.windows(2) {
+            assert!((w[0].1 - w[1].0).abs() < 1e-9, "{w:?}");
+        }
+        assert!((bands[0].0 + HALF_VIEW_AT_ORIGIN).abs() < 1e-9);
+        assert!((bands[n - 1].1 - HALF_VIEW_AT_ORIGIN).abs() < 1e-9);
+    }
+
+    #[test]
+    fn slivers_cross_the_screen_thinly() {
+        let faces = slivers(50, 1);
+        assert_eq!(faces.len(), 50);
+        for f in &faces {
+            let width = f.points[1].distance(f.points[2]);
+            assert!((width - 0.02).abs() < 1e-9);
+            assert!((f.points[0].x - f.points[1].x).abs() > 2.0 * HALF_VIEW_AT_ORIGIN);
+        }
+        assert_eq!(slivers(50, 1), faces);
+        assert_ne!(slivers(50, 2), faces);
     }
 
     #[test]

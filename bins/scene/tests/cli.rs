@@ -200,6 +200,37 @@ fn bad_arguments_are_usage_errors() {
 }
 
 #[test]
+fn hostile_scenes_have_their_counts() {
+    for (name, n) in [
+        ("stack", 7),
+        ("slivers", 9),
+        ("pinhead", 11),
+        ("planes", 5),
+        ("strips", 13),
+    ] {
+        let out = scene().args([name, &n.to_string()]).output().unwrap();
+        assert!(out.status.success(), "{name}");
+        let frames = frames_of(&out.stdout);
+        assert_eq!(frames.len(), 1, "{name}");
+        assert_eq!(frames[0].len(), n, "{name}");
+    }
+    let two = frames_of(
+        &scene()
+            .args(["stack", "3", "--frames", "2"])
+            .output()
+            .unwrap()
+            .stdout,
+    );
+    assert_eq!(two.len(), 2);
+    scene()
+        .args(["stack", "0"])
+        .assert()
+        .code(2)
+        .stderr(predicate::str::contains("0 is not from 1 to 16777216"));
+    scene().args(["pinhead", "many"]).assert().code(2);
+}
+
+#[test]
 fn help_shows_examples() {
     scene()
         .args(["environment", "--help"])
