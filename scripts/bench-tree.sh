@@ -476,7 +476,7 @@ for ((r = 0; r < reps; r++)); do
     done
 done
 declare -A med
-best= bestd=
+best='' bestd=''
 for d in "${depths[@]}"; do
     med[$d]=$(tr ' ' '\n' <<<"${plan_times[$d]}" | grep . | median)
     if [[ $d != auto ]] && { [[ -z $best ]] || awk -v a="${med[$d]}" -v b="$best" 'BEGIN { exit !(a < b) }'; }; then
