@@ -12,19 +12,20 @@ pub(crate) struct ActiveEdge {
     end_row: i64,
 }
 
-/// The Edge Table (Appendix 3.1): one bucket per scanline of the polygon's (screen-clamped)
-/// extent, each holding the edges whose first covered scanline it is. Buckets keep their
-/// allocations from polygon to polygon.
+/// The Edge Table (Appendix 3.1): the polygon's edges by the first scanline they cross,
+/// the thesis's bucket of a scanline being the run of edges that start on it. Kept as one
+/// sorted list rather than a bucket per scanline, so that its memory is the polygon's
+/// edges whatever its height: the scan-line method keeps a table for every active polygon,
+/// and 20,000 full-screen quads at 500 rows took 240 MB in buckets.
 #[derive(Debug, Default)]
 pub struct EdgeTable {
-    /// Screen row of bucket 0.
-    first_row: i64,
-    buckets: Vec<Vec<ActiveEdge>>,
-    /// Buckets in use for the current polygon.
-    len: usize,
-    /// Scratch: the polygon's edges that cross a scanline centre on the screen, with
-    /// their first row.
+    /// The polygon's edges that cross a scanline centre in the band, with their first
+    /// row, sorted by it (stably: edges starting on one row keep the polygon's order).
     edges: Vec<(i64, ActiveEdge)>,
+    /// The first rows alone, in the same order, for the bucket look-up.
+    starts: Vec<i64>,
+    /// The edges alone, in the same order: a bucket is a slice of them.
+    sorted: Vec<ActiveEdge>,
 }
 
 impl EdgeTable {
@@ -51,11 +52,9 @@ impl EdgeTable {
         supports: &[Option<[DVec2; 2]>],
         band: Range<u32>,
     ) -> Range<i64> {
-        for b in &mut self.buckets[..self.len] {
-            b.clear();
-        }
-        self.len = 0;
         self.edges.clear();
+        self.starts.clear();
+        self.sorted.clear();
         self.edges.extend((0..points.len()).filter_map(|i| {
             let edge = polygon_edge(points, supports, i)?;
             // The edge's rows, clamped to the band (the screen, for a whole walk): rows
@@ -74,21 +73,18 @@ impl EdgeTable {
             .map(|(_, e)| e.end_row)
             .max()
             .unwrap_or(first);
-        self.first_row = first;
-        self.len = (last - first) as usize;
-        if self.buckets.len() < self.len {
-            self.buckets.resize_with(self.len, Vec::new);
-        }
-        for &(start, e) in &self.edges {
-            self.buckets[(start - first) as usize].push(e);
-        }
+        self.edges.sort_by_key(|(start, _)| *start);
+        self.starts.extend(self.edges.iter().map(|(s, _)| *s));
+        self.sorted.extend(self.edges.iter().map(|(_, e)| *e));
         first..last
     }
 
     /// The bucket of edges that start on screen row `row` (one of the rows `build`
     /// returned).
     pub(crate) fn bucket(&self, row: i64) -> &[ActiveEdge] {
-        &self.buckets[(row - self.first_row) as usize]
+        let from = self.starts.partition_point(|&s| s < row);
+        let to = from + self.starts[from..].partition_point(|&s| s <= row);
+        &self.sorted[from..to]
     }
 }
 
