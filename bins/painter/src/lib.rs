@@ -543,7 +543,17 @@ impl Painter {
         let mut items: Vec<Item> = polygons
             .iter()
             .enumerate()
-            .filter(|(_, p)| p.vertices.len() >= 3 && p.vertices.iter().all(|v| v.is_finite()))
+            .filter(|(_, p)| {
+                // A polygon whose vertices all lie on one line in the screen covers no
+                // pixel centre: it is neither sorted nor painted (nor cut by, its plane
+                // being no plane).
+                let n = p.vertices.len();
+                let turns = (0..n).any(|i| {
+                    let at = |k: usize| p.vertices[(i + k) % n].truncate().truncate();
+                    orient(at(0), at(1), at(2)) != 0.0
+                });
+                n >= 3 && p.vertices.iter().all(|v| v.is_finite()) && turns
+            })
             .map(|(index, p)| Item::new(index, p.clone(), depth_plane(p)))
             .collect();
         items.sort_by(|a, b| b.z_max.total_cmp(&a.z_max).then(b.index.cmp(&a.index)));

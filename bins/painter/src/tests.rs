@@ -459,3 +459,30 @@ fn projections_touching_along_an_edge_do_not_overlap() {
     assert!(projections_overlap(&a, &inner));
     assert!(projections_overlap(&inner, &a));
 }
+
+#[test]
+fn a_concave_polygon_is_not_cut_and_a_line_is_not_sorted() {
+    // Found by fuzz target `methods` (fuzz/regressions/methods/painter-concave-cut): a
+    // concave quadrilateral and a polygon whose vertices all lie on one line. Cutting
+    // the concave one by the line's "plane" (ten times) lost pixel (14, 10) of its
+    // coverage. Now the line, which covers no pixel centre, is not sorted.
+    let concave = Polygon::from_xyz(
+        [1, 1, 1],
+        &[
+            [43.0, 43.0, 0.25],
+            [10.5, 10.5, -0.125],
+            [18.5, 10.5, 0.0],
+            [23.75, 36.0, 4.75],
+        ],
+    );
+    let mut line = vec![[27.5, 24.0, 0.5]];
+    line.extend([[-128.0, -128.0, 0.0]; 13]);
+    let line = Polygon::from_xyz([2, 2, 2], &line);
+    let scene = [concave, Polygon::default(), line];
+    let (w, h) = (23, 43);
+    let z = zbuffer_image(&scene, w, h);
+    let mut s = Painter::with_split();
+    let image = paint(&mut s, &scene, w, h);
+    assert_eq!(differing_pixels(&z, &image), 0);
+    assert_eq!((s.stats.polygons, s.stats.splits), (1, 0));
+}
