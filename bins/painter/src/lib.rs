@@ -547,12 +547,13 @@ impl Painter {
                 // A polygon whose vertices all lie on one line in the screen covers no
                 // pixel centre: it is neither sorted nor painted (nor cut by, its plane
                 // being no plane).
-                let n = p.vertices.len();
-                let turns = (0..n).any(|i| {
-                    let at = |k: usize| p.vertices[(i + k) % n].truncate().truncate();
-                    orient(at(0), at(1), at(2)) != 0.0
+                let xy: Vec<DVec2> = p.vertices.iter().map(|v| v.truncate().truncate()).collect();
+                let turns = xy.first().is_some_and(|&a| {
+                    xy.iter()
+                        .find(|&&b| b != a)
+                        .is_some_and(|&b| xy.iter().any(|&c| orient(a, b, c) != 0.0))
                 });
-                n >= 3 && p.vertices.iter().all(|v| v.is_finite()) && turns
+                p.vertices.len() >= 3 && p.vertices.iter().all(|v| v.is_finite()) && turns
             })
             .map(|(index, p)| Item::new(index, p.clone(), depth_plane(p)))
             .collect();

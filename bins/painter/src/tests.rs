@@ -486,3 +486,31 @@ fn a_concave_polygon_is_not_cut_and_a_line_is_not_sorted() {
     assert_eq!(differing_pixels(&z, &image), 0);
     assert_eq!((s.stats.polygons, s.stats.splits), (1, 0));
 }
+
+#[test]
+fn a_thin_triangle_with_repeated_vertices_is_painted() {
+    // Found by fuzz target `methods` (fuzz/regressions/methods/painter-repeated-vertices):
+    // every three consecutive vertices of this outline repeat one, so a test of
+    // consecutive turns took it for a line and left it out; it is a thin triangle and
+    // covers pixel (0, 0).
+    let thin = Polygon::from_xyz(
+        [1, 1, 1],
+        &[
+            [47.0, 47.0, 11.5],
+            [47.0, 47.0, 11.5],
+            [34.5, 33.0, 11.5],
+            [34.5, 33.0, -92.0],
+            [-128.0, -128.0, 0.0],
+            [-128.0, -128.0, 0.0],
+            [-128.0, -128.0, 0.0],
+        ],
+    );
+    let scene = [thin];
+    let (w, h) = (13, 37);
+    let z = zbuffer_image(&scene, w, h);
+    assert!(z[0].is_some());
+    for mut p in [Painter::new(), Painter::with_split()] {
+        assert_eq!(differing_pixels(&z, &paint(&mut p, &scene, w, h)), 0);
+        assert_eq!(p.stats.polygons, 1);
+    }
+}
