@@ -122,6 +122,11 @@ struct Item {
     moved: u64,
     /// Still in the sorted run of the list (not moved, not a piece).
     sorted: bool,
+    /// Its plane gives its own vertices' depths (to 10⁻³): only such a polygon is cut,
+    /// or cut by. A polygon that is not planar, or whose plane's terms cancel (a depth
+    /// of 10³⁰⁴ beside depths of 1), would be cut along a line its plane misplaces, into
+    /// pieces that need not tile it.
+    cuttable: bool,
 }
 
 /// The depth plane of a polygon's screen vertices, with c = 1: persp's recorded plane,
@@ -156,7 +161,12 @@ impl Item {
             z_max: f64::NEG_INFINITY,
             moved: 0,
             sorted: true,
+            cuttable: true,
         };
+        item.cuttable = (0..item.polygon.vertices.len()).all(|i| {
+            let (z, on) = (item.polygon.vertices[i].z, item.vertex(i).z);
+            (z - on).abs() <= 1e-3 * (1.0 + z.abs() + on.abs())
+        });
         for i in 0..item.polygon.vertices.len() {
             let v = item.vertex(i);
             item.x_min = item.x_min.min(v.x);
@@ -383,6 +393,13 @@ fn cut(x: &Item, by: &Item) -> Option<(Item, Item)> {
         ) {
             let mut c = plane.intersect(vertices[s].with_w(1.0), s_d, vertices[p].with_w(1.0), p_d);
             c.w = vertices[s].w;
+            // A crossing that rounding has put off the edge it cuts (depths of 10³⁰⁰
+            // beside depths of 1: the plane's terms cancel) would give pieces that do not
+            // tile the whole: no cut.
+            let [s0, s1] = support(s);
+            if !c.is_finite() || !on_segment_line(c, s0, s1) {
+                return None;
+            }
             for piece in &mut pieces {
                 piece.0.push(c);
                 piece.1.push(Some(support(s)));
@@ -583,7 +600,7 @@ impl Painter {
         }
         for (x, by) in tries {
             let (xi, bi) = (list[x], list[by]);
-            if !items[xi].straddles(&items[bi]) {
+            if !items[xi].cuttable || !items[bi].cuttable || !items[xi].straddles(&items[bi]) {
                 continue;
             }
             let Some((front, back)) = cut(&items[xi], &items[bi]) else {

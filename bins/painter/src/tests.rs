@@ -514,3 +514,39 @@ fn a_thin_triangle_with_repeated_vertices_is_painted() {
         assert_eq!(p.stats.polygons, 1);
     }
 }
+
+#[test]
+fn a_plane_whose_terms_cancel_is_not_cut() {
+    // Found by fuzz target `methods` (fuzz/regressions/methods/painter-huge-depth): a
+    // triangle with one vertex at depth -1e304, whose plane's terms (1e303) cancel to
+    // garbage at its other vertices, against a self-crossing polygon of no net area (a
+    // flat plane at its nearest depth). Cut 2,050 times along misplaced lines, the
+    // pieces lost three pixels of the triangle. Neither is cuttable now: the cycle is
+    // painted in the order at hand, and said.
+    let a = Polygon::from_xyz(
+        [142, 113, 113],
+        &[
+            [7.5, 31.5, 0.5],
+            [23.75, 26.75, -1.0412437994227626e304],
+            [3.5, -4.5, 0.5],
+        ],
+    );
+    let mut v = vec![
+        [52.25, 24.0, 0.5],
+        [24.0, -128.0, 0.0],
+        [31.25, 24.0, -114.0],
+    ];
+    v.extend([[-128.0, -128.0, 0.0]; 8]);
+    let b = Polygon::from_xyz([0, 0, 0], &v);
+    let scene = [a, b];
+    let (w, h) = (47, 47);
+    let z = zbuffer_image(&scene, w, h);
+    let mut s = Painter::with_split();
+    let image = paint(&mut s, &scene, w, h);
+    assert!(z
+        .iter()
+        .zip(&image)
+        .all(|(a, b)| a.is_some() == b.is_some()));
+    assert_eq!((s.stats.splits, s.stats.given_up), (0, 1));
+    assert!(s.gave_up_message().is_some());
+}
