@@ -54,7 +54,10 @@ fuzz_target!(|data: &[u8]| {
     for (name, mut painter) in [
         ("painter", painter::Painter::new()),
         ("painter --split", painter::Painter::with_split()),
-        ("painter, one cut", painter::Painter::with_split_budget(0, 1)),
+        (
+            "painter, one cut",
+            painter::Painter::with_split_budget(0, 1),
+        ),
     ] {
         runs.clear();
         painter.resolve(&polygons, width, height, &mut runs);
