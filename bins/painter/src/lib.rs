@@ -393,6 +393,15 @@ fn cut(x: &Item, by: &Item) -> Option<(Item, Item)> {
         ) {
             let mut c = plane.intersect(vertices[s].with_w(1.0), s_d, vertices[p].with_w(1.0), p_d);
             c.w = vertices[s].w;
+            // A crossing within 10⁻⁶ pixel of an end of its edge is that end: a vertex on
+            // the cutting plane (two polygons that share it and cross through it) is
+            // moved off it by the hair the plane is moved, and a piece whose corner sits
+            // a hair below a row of centres loses that row.
+            for end in [vertices[s], vertices[p]] {
+                if (c.x - end.x).abs() <= 1e-6 && (c.y - end.y).abs() <= 1e-6 {
+                    c = end;
+                }
+            }
             // A crossing that rounding has put off the edge it cuts (depths of 10³⁰⁰
             // beside depths of 1: the plane's terms cancel) would give pieces that do not
             // tile the whole: no cut.
