@@ -43,6 +43,11 @@
 //!   as its *support* (proto's polygon annotation): the scan converter then computes their
 //!   crossings from the whole edge, so the pieces cover exactly the pixels of the whole,
 //!   each once; pixels on the cut line go to one piece by the sampling rule.
+//! * What is cut: only a polygon whose plane gives its own vertices' depths (planar, and
+//!   well conditioned) is cut or cut by, into pieces of at most [`MAX_PIECE_VERTICES`];
+//!   a crossing within 10⁻⁶ pixel of a vertex is that vertex; a polygon whose vertices
+//!   all lie on one line covers no pixel centre and is not sorted (each found by the
+//!   `methods` fuzz target: pieces that lost pixels).
 //! * The cut budget ([`Painter::cut_budget`]): at most `n + 2048` cuts in a frame of n
 //!   polygons. Every pair of N planes that all pass through each other must be cut (N² /
 //!   2 pieces and more), and every cut adds a polygon the sort must test: unbounded, the
