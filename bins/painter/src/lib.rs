@@ -2,7 +2,7 @@
 //!
 //! The depth-priority method of Sutherland, Sproull and Schumacker's survey, "A
 //! Characterization of Ten Hidden-Surface Algorithms" (1974: the survey the thesis cites
-//! as [SuSp74] for its cost figures, chapter 5.1), after Newell, Newell and Sancha (1972):
+//! as \[SuSp74\] for its cost figures, chapter 5.1), after Newell, Newell and Sancha (1972):
 //! sort the frame's polygons by their farthest depth, then paint them from the back to
 //! the front into a frame of colours alone: no depth buffer, a nearer polygon simply
 //! paints over a farther one, and each pixel ends with the colour painted last. Sorting
