@@ -578,3 +578,39 @@ fn triangles_crossing_through_a_shared_vertex_keep_their_pixels() {
         .all(|(a, b)| a.is_some() == b.is_some()));
     assert_eq!(s.stats.splits, 1);
 }
+
+#[test]
+fn a_sliver_a_hair_wide_keeps_its_edge_pixels_when_cut() {
+    // Found by fuzz target `methods` (fuzz/regressions/methods/painter-sliver-support):
+    // a triangle 5e-10 pixel wide along the diagonal X = Y, whose centres (32.5, 32.5) to
+    // (36.5, 36.5) lie on its edge, cut four times. With a tolerance of 1e-9 for "this
+    // vertex lies on that edge", a piece's edge took the support of the other long edge,
+    // a hair away, and lost those five pixels; the tolerance is now 1e-15 (crossings are
+    // computed on their edge to about 1e-16).
+    let p0 = Polygon::from_xyz(
+        [14, 190, 20],
+        &[[19.0, 33.25, 0.0], [24.25, 27.5, 0.0], [38.75, 31.25, 0.5]],
+    );
+    let p1 = Polygon::from_xyz(
+        [105, 105, 105],
+        &[
+            [1.2266928598059648e-172, -5.16450324766402e-10, 0.0],
+            [7.5, 7.5, 0.75],
+            [50.25, 50.25, 0.5],
+        ],
+    );
+    let p2 = Polygon::from_xyz(
+        [190, 212, 194],
+        &[[7.5, 7.5, 0.75], [27.5, 29.0, 0.75], [7.5, 19.75, 0.5]],
+    );
+    let scene = [p0, p1, p2];
+    let (w, h) = (47, 48);
+    let z = zbuffer_image(&scene, w, h);
+    let mut s = Painter::with_split();
+    let image = paint(&mut s, &scene, w, h);
+    assert!(z
+        .iter()
+        .zip(&image)
+        .all(|(a, b)| a.is_some() == b.is_some()));
+    assert!(s.stats.splits > 0);
+}
