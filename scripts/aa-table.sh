@@ -90,7 +90,7 @@ frames = [ppm(p) for p in sys.argv[1:]]
 w, h = frames[0][0], frames[0][1]
 z, gap = 4, 4
 W = len(frames) * (w * z + gap) - gap
-print(f"polypipe 1 fragments {W} {h * z}")
+print(f"polypipe 2 fragments {W} {h * z}")
 for y in range(h * z):
     print(f"run {y} 0 {W} 255 255 255")
 for k, (_, _, px) in enumerate(frames):

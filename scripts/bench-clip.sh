@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Clipping throughput: clipbatch (Theoharis & Page's batch clipper, the six planes in one
 # process) against the six-process chain clipplane left | right | top | bottom | hither
-# | yon, and against the paper's DAP figure of 25,000 polygons a second (seeds/002_…
+# | yon, and against the paper's DAP figure of 25,000 polygons a second (Theoharis and Page (1989),
 # §4.3). Binary to binary, eye-space file → /dev/null, median of REPS runs, all in one
 # run of this script.
 #

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# bench-codec.sh: the stream codec measured (issue 9), printed as tables.
+# bench-codec.sh: the stream codec measured, printed as tables.
 #
 #   scripts/bench-codec.sh [POLYGONS] [REPS]     (defaults 200000 and 5)
 #
@@ -13,7 +13,7 @@
 #      1,000,000 polygons)
 #
 # Each figure is the best of REPS runs on whatever else the machine is doing: compare
-# figures within one run of the script, not across machines. Targets (issue 9): every
+# figures within one run of the script, not across machines. Targets: every
 # geometry stage ≥ 5 million four-vertex polygons/s, the text reader ≥ 200 MB/s.
 set -euo pipefail
 

@@ -2,7 +2,7 @@
 # bench-depth-auto.sh: render.sh --depth auto against every fixed depth 0-4 on the
 # fill-heavy scene of scripts/bench.sh (10,000 quads, Dc≈10, 1920×1080) and on two
 # polygons: whole-process wall seconds, median of N, in one run, and auto over the best
-# fixed depth (issue 12: within 10%). Not part of CI.
+# fixed depth (the aim: within 10%). Not part of CI.
 #
 # Usage: scripts/bench-depth-auto.sh [--reps N]
 set -euo pipefail

@@ -3,7 +3,7 @@
 # polygon encoded and decoded between stages) against `fused` (tests/src/bin/fused.rs:
 # the same stage libraries called one after the other in one process), on the same scene
 # file, writing the same PPM bytes (checked before anything is timed). Wall time, median
-# of REPS runs, all in one run of this script; the goal of issue 9 is pipes ≤ 1.3 × fused.
+# of REPS runs, all in one run of this script; the goal is pipes ≤ 1.3 × fused.
 #
 #   scripts/bench-fused.sh [REPS]      (default 5)
 #

@@ -9,7 +9,7 @@
 # realistic share of them is cut by the side planes. It is written directly in the
 # binary form (python3; verified through viewxf), viewed once by viewxf into an
 # eye-space file for the clippers, and clipped once into the input of persp.
-# Target (issue 2): every stage ≥ 2 million polygons per second.
+# Target: every stage ≥ 2 million polygons per second.
 set -euo pipefail
 
 N=${1:-1000000}

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# bench-merge.sh: leaves that see against the thesis's PAR.BUFF (issue 9 item 1).
+# bench-merge.sh: leaves that see against the thesis's PAR.BUFF.
 #
 #   1. wall time of render.sh at splitter depths 0..4 with --merge tiles (each leaf
 #      resolves its region, zbuf places runs) and --merge buffer (every fragment to one

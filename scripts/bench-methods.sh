@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # bench-methods.sh: each hidden-surface method (render.sh --hse) at depth 0 and at its best
 # depth of 0-4, on the four scene classes of scripts/bench.sh, whole process, wall seconds,
-# median of N, in one run (issue 10). Not part of CI.
+# median of N, in one run. Not part of CI.
 #
 # Usage: scripts/bench-methods.sh [--quick] [--reps N]
 #   --quick    smaller scenes (20,000 quads, the fill scene at 960x540, 20 frames)

@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # bench-scanline.sh: how Watkins's scan-line method (`scanline`) grows against the
 # z-buffer leaf (`scanconv --resolve`) on the same screen-space streams, leaf alone, file
-# to file (issue 10 items 2 and 7; seeds/004 14.4.3: "its dependence on complexity of the
+# to file (Newman and Sproull 1973, 14.4.3: "its dependence on complexity of the
 # scene is difficult to analyze ... the computation grows roughly as the *visible*
 # complexity increases").
 #
@@ -15,7 +15,7 @@
 #   4. environment Dc: the thesis's test environment (scene environment, 10,000 quads
 #      at 500x500, half of them outside the pyramid, 10 frames) through viewxf, the
 #      clippers and persp
-#   5. Archuleta's figures 2 and 3 (seeds/003): the building (scene building, 1000
+#   5. Archuleta's figures 2 and 3 (Archuleta 1972): the building (scene building, 1000
 #      frames) at 256 and at 1024 scan lines, against his 7.2 s and 23.7 s on a
 #      DECsystem-10 (3.3 times for 4 times the lines)
 #

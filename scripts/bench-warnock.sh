@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # bench-warnock.sh: where Warnock's area subdivision slows down, against the z-buffer
-# leaf (issue 10, items 3 and 7).
+# leaf.
 #
 # Each scene is made once as a screen-space stream (scene | viewxf | clipbatch | persp),
 # then timed through one leaf, file to /dev/null: `warnock` and `scanconv --resolve`

@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # bench.sh: polypipe against Mesa's llvmpipe, against its own fused run, and against
-# itself at splitter depths 0-4 (issue 9): one markdown table of ratios, every figure
+# itself at splitter depths 0-4: one markdown table of ratios, every figure
 # from this one run, so the ratios compare runs made on the same machine under the same
 # load. Not part of CI.
 #
@@ -11,7 +11,7 @@
 # once more first, not timed, to warm the page cache and to keep its pictures for the
 # table's last column.
 #
-# The scenes are the four classes of issue 9, made by `scene environment` as text (the
+# The scenes are the four classes below, made by `scene environment` as text (the
 # user's input and llvmpipe's is text):
 #   (a) 1,024 quads at 500x500            (b) 100,000 quads, depth complexity 2, 500x500
 #   (c) 10,000 quads, depth complexity 10, 1920x1080 (the fill-heavy scene)
@@ -109,7 +109,7 @@ for s in "${scenes[@]}"; do
     [[ -n $gl ]] && job "gl.$s" "$gl" --size "${size[$s]}" "$work/$s.txt"
     [[ -n $fused ]] && job "fused.$s" "$fused" --size "${size[$s]}" "$work/$s.txt"
 done
-# Without --merge (render.sh before issue 9's leaves), the depths are measured as they are.
+# Without --merge (a render.sh older than the leaves that resolve), the depths are measured as they are.
 modes=(tiles buffer)
 ((merge)) || modes=(default tiles buffer)
 for m in "${modes[@]}"; do

@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # render-frames.sh: `render.sh --hosts H1,H2,… --by frames`: a movie's frames split across
 # hosts in contiguous chunks, each chunk rendered whole on its host by render.sh there,
-# the frames written back in order (issue 13; docs/DESIGN.md, "Stages on other hosts").
+# the frames written back in order (docs/DESIGN.md, "Stages on other hosts").
 #
 #   frames --count MOVIE                      N frames; K = min(hosts, N) chunks
 #   frames --from a --to b MOVIE > in.k       chunk k: frames a .. b−1, a = k·N/K, b = (k+1)·N/K

@@ -43,7 +43,9 @@ Options:
                     choose-depth`) predicts fastest for this scene, screen and machine
   --eye X,Y,Z  --at X,Y,Z  --up X,Y,Z  --s S  --d D  --hither K1  --yon K2
                     camera and view volume, passed to viewxf
-  --zmode MODE      persp's depth: projective (default) or eye-z (the occam code's)
+  --zmode MODE      persp's depth: reciprocal (default: -K1/z_e), projective (the
+                    classic z-buffer's, which loses precision near yon) or eye-z
+                    (the occam code's)
   --merge MODE      tiles (default): each leaf resolves its own region and zbuf only
                     places the finished pixels; buffer: the thesis's PAR.BUFF, every
                     fragment depth-tested in the one zbuf
@@ -81,7 +83,7 @@ Options:
   -h, --help        this text
   --version         the version
 
-The frames are byte-identical for every --depth with projective depth, but not
+The frames are byte-identical for every --depth with reciprocal or projective depth, but not
 with --zmode eye-z: eye-space z is not linear across the screen, and each piece
 of a split polygon interpolates it between its own vertices.
 
@@ -137,7 +139,7 @@ polypipe_version() { # the workspace's version, from its Cargo.toml
 size=500x500
 depth=auto # --depth (auto: chart choose-depth decides, or 0 when there is no chart)
 depth_asked=0
-zmode=projective
+zmode=reciprocal
 hse=zbuf    # --hse: the leaves' hidden-surface method
 split=()    # --split: painter's splitting step
 aa=none     # --aa: the leaves' anti-aliasing
@@ -212,8 +214,8 @@ validate_options() {
         ((BASH_REMATCH[1] > 65536 || BASH_REMATCH[2] > 65536)); then
         die_usage "--size must be WxH with W and H from 1 to 65536, not '$size'"
     fi
-    [[ $zmode == @(projective|eye-z) ]] ||
-        die_usage "--zmode must be projective or eye-z, not '$zmode'"
+    [[ $zmode == @(reciprocal|projective|eye-z) ]] ||
+        die_usage "--zmode must be reciprocal, projective or eye-z, not '$zmode'"
     [[ $merge == @(tiles|buffer) ]] || die_usage "--merge must be tiles or buffer, not '$merge'"
     [[ $clip == @(batch|chain) ]] || die_usage "--clip must be batch or chain, not '$clip'"
     [[ $hse == @(zbuf|scanline|warnock|painter) ]] ||

@@ -1,4 +1,4 @@
-//! The a-buffer's fragment lists (seeds/001 6.3.4 to 6.3.6; bins/abuf/src/list.rs), and
+//! The a-buffer's fragment lists (sampling thesis 6.3.4 to 6.3.6; bins/abuf/src/list.rs), and
 //! the whole method on arbitrary screen polygons.
 //!
 //! Lists: fragments of arbitrary masks, depths, colours and order inserted one by one.

@@ -183,8 +183,8 @@ fn fragments(polygons: usize) -> Vec<Fragment> {
                 y: (i as u32 + y) % 1000,
                 x0: y,
                 x1: y + 37,
-                z0: 1 << 39,
-                dz: -12345,
+                z: 0.5,
+                dz: -1.2345e-8,
             });
         }
     }

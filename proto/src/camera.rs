@@ -1,4 +1,4 @@
-//! The viewing and perspective mappings of docs/DESIGN.md's "Conventions", written once for
+//! The viewing and perspective mappings of docs/DESIGN.md's "The Z specification", written once for
 //! `viewxf`, `persp` and the exact reference.
 //!
 //! World coordinates are right-handed; eye coordinates are left-handed with the origin at
@@ -114,6 +114,16 @@ impl Device {
     pub fn projective_depth(&self, z_e: f64) -> f64 {
         let (k1, k2) = (self.view.hither, self.view.yon);
         (1.0 - k1 / z_e) * (k2 / (k2 - k1))
+    }
+
+    /// The reciprocal depth D = −K1/z_e: −1 at the hither plane, −K1/K2 at yon, smaller
+    /// nearer. Like the projective depth it is an affine function of 1/z_e, so planes
+    /// stay planes on the screen; unlike it, it is not crowded against a constant far
+    /// from the eye, so an f64 holds it to 2⁻⁵³ of itself at every depth, which is what
+    /// the tie rule needs ([`crate::depth`]). One correctly rounded division.
+    #[inline]
+    pub fn reciprocal_depth(&self, z_e: f64) -> f64 {
+        -self.view.hither / z_e
     }
 }
 

@@ -26,7 +26,7 @@
 //! [`Token`]: crate::Token
 //! [`Fragment`]: crate::Fragment
 
-use crate::header::{Header, Space, BINARY_MAGIC, TEXT_MAGIC, TEXT_VERSION, VERSION};
+use crate::header::{text_version, Header, Space, BINARY_MAGIC, TEXT_MAGIC, VERSION};
 use crate::text::{Lexer, Number, Shown};
 use crate::StreamError;
 use bincode::Options;
@@ -635,11 +635,7 @@ fn read_text_header<R: BufRead>(lex: &mut Lexer<R>) -> Result<Header, StreamErro
         )));
     }
     let version = lex.integer("the stream version", u32::MAX as u64)? as u32;
-    if version != TEXT_VERSION {
-        return Err(lex.error(format!(
-            "stream version {version} is not supported (this is version {TEXT_VERSION})"
-        )));
-    }
+    let version_at = lex.mark();
     let space_word = lex.expect_word("a coordinate space (world, eye, screen W H)")?;
     let space_at = lex.mark();
     let space = match space_word.as_str() {
@@ -675,6 +671,23 @@ fn read_text_header<R: BufRead>(lex: &mut Lexer<R>) -> Result<Header, StreamErro
             )))
         }
     };
+    let wanted = text_version(&space);
+    if version != wanted {
+        let why = if matches!(space, Space::Fragments { .. }) && version == 1 {
+            " (version 1 fragments carry fixed-point depths; scan-convert again with this \
+             build's scanconv)"
+        } else {
+            ""
+        };
+        return Err(lex.error_at(
+            version_at,
+            format!(
+                "stream version {version} is not supported (this is version {wanted} for {} \
+                 streams){why}",
+                space.name()
+            ),
+        ));
+    }
     check_space(&space).map_err(|m| lex.error_at(space_at, m))?;
     Ok(Header {
         version: VERSION,
@@ -724,7 +737,7 @@ pub struct Writer<T, W: Write> {
 impl<T: Record, W: Write> Writer<T, W> {
     /// Writes the header: the binary form's magic and bincode header (version
     /// [`VERSION`], whatever `header.version` says), or the text form's
-    /// `polypipe 1 SPACE` ([`TEXT_VERSION`]).
+    /// `polypipe N SPACE` ([`text_version`]).
     pub fn new(out: W, header: Header, form: Form) -> io::Result<Self> {
         let mut out = BufWriter::with_capacity(IO_BUFFER, out);
         match form {
@@ -738,7 +751,12 @@ impl<T: Record, W: Write> Writer<T, W> {
                     .serialize_into(&mut out, &header)
                     .map_err(into_io)?;
             }
-            Form::Text => writeln!(out, "{TEXT_MAGIC} {TEXT_VERSION} {}", header.space)?,
+            Form::Text => writeln!(
+                out,
+                "{TEXT_MAGIC} {} {}",
+                text_version(&header.space),
+                header.space
+            )?,
         }
         Ok(Writer {
             out,

@@ -8,10 +8,12 @@
 //! which is what lets `zbuf` give a tie in depth to the earlier polygon whichever input
 //! its pixels came from.
 //!
-//! Depth is fixed point: [`DEPTH_ONE`] units to one unit of depth. A span carries the
-//! depth at its first pixel and the step to the next; in integers the stepping is exact,
-//! so a pixel's depth is the same whether its span started at the polygon's left edge or
-//! at a splitting plane (which is what keeps a split polygon identical to the whole).
+//! Depth is an f64 in the form persp wrote (the reciprocal depth −K1/z_e by default;
+//! [`crate::depth`]). A span carries its row's depth plane, not its first pixel's depth:
+//! pixel x of the span has depth `z + x·dz`, where `z` is the plane's depth at the centre
+//! of column 0 of the row ([`span_depth`]). So a pixel's depth is computed the same way,
+//! to the bit, whether its span started at the polygon's left edge or at a splitting
+//! plane (which is what keeps a split polygon identical to the whole).
 
 use crate::codec::{expect_zero, head, head_n, BinaryError, BinaryInput, Control, Record};
 use crate::header::Space;
@@ -23,38 +25,33 @@ use crate::StreamError;
 use serde::{Deserialize, Serialize};
 use std::io::{self, BufRead, Read, Write};
 
-/// Fixed-point units in one unit of depth: 2^40, about 1e-12 resolution for depths in
-/// [0, 1], with room in an `i64` for depths up to about 8 million (eye-z mode).
-pub const DEPTH_ONE: f64 = (1u64 << 40) as f64;
-
-/// A depth in fixed point, rounded to the nearest unit and saturated at the `i64` range.
-pub fn depth_to_fixed(z: f64) -> i64 {
-    crate::raster::round(z * DEPTH_ONE) as i64
-}
-
-/// A fixed-point depth back as a float.
-pub fn depth_from_fixed(z: i64) -> f64 {
-    z as f64 / DEPTH_ONE
+/// The depth of pixel `x` of a span whose row has depth `z` at column 0 and steps `dz`
+/// a column: `z + x·dz`, one multiplication and one addition, each rounded (no fused
+/// multiply-add, so that every stage and every vector width computes the same bits).
+#[inline]
+pub fn span_depth(z: f64, dz: f64, x: u32) -> f64 {
+    z + x as f64 * dz
 }
 
 /// One record of the fragment stream.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 pub enum Fragment {
     /// Opens the next polygon (NEXT.POLYGON and its colour, in the thesis's terms).
     Polygon(Colour),
-    /// Pixels `x0..x1` (end exclusive) of row `y`; pixel `x` has depth `z0 + (x − x0)·dz`.
+    /// Pixels `x0..x1` (end exclusive) of row `y`; pixel `x` has depth `z + x·dz`
+    /// ([`span_depth`]): `z` is the row's depth at column 0, wherever the span starts.
     Span {
         y: u32,
         x0: u32,
         x1: u32,
-        z0: i64,
-        dz: i64,
+        z: f64,
+        dz: f64,
     },
     /// One pixel and its depth: the thesis's quadruplet, less the colour sent once above.
     Pixel {
         x: u32,
         y: u32,
-        z: i64,
+        z: f64,
     },
     NextFrame,
     End,
@@ -81,14 +78,14 @@ impl Default for Fragment {
     }
 }
 
-/// The binary records of the fragment stream (stream version 2; `proto::codec`
+/// The binary records of the fragment stream (stream version 3; `proto::codec`
 /// describes the 8-byte head `tag, three bytes, n`), each a multiple of 8 bytes:
 ///
 /// | tag | record | head | then |
 /// |-----|--------|------|------|
 /// | 0 | colour (a polygon starts) | colour, n = 0 | – |
-/// | 1 | span | zeros, n = y | `x0: u32, x1: u32, z0: i64, dz: i64` |
-/// | 2 | pixel | zeros, n = y | `x: u32`, a zero `u32`, `z: i64` |
+/// | 1 | span | zeros, n = y | `x0: u32, x1: u32, z: f64, dz: f64` |
+/// | 2 | pixel | zeros, n = y | `x: u32`, a zero `u32`, `z: f64` |
 /// | 3 | NEXT.FRAME | zeros | – |
 /// | 4 | END | zeros | – |
 /// | 5 | `skip N` | zeros, n = N | – |
@@ -109,8 +106,8 @@ fn u32_at(b: &[u8], i: usize) -> u32 {
 }
 
 #[inline]
-fn i64_at(b: &[u8], i: usize) -> i64 {
-    i64::from_le_bytes(b[i..i + 8].try_into().expect("8 bytes"))
+fn f64_at(b: &[u8], i: usize) -> f64 {
+    f64::from_le_bytes(b[i..i + 8].try_into().expect("8 bytes"))
 }
 
 impl Record for Fragment {
@@ -141,6 +138,12 @@ impl Record for Fragment {
                 Err(format!(
                     "run of row {y}, columns {x0}..{x1}, is outside the {width}x{height} screen"
                 ))
+            }
+            Fragment::Span { z, dz, .. } if !(z.is_finite() && dz.is_finite()) => Err(format!(
+                "span depth {z} and step {dz}: depths must be finite"
+            )),
+            Fragment::Pixel { z, .. } if !z.is_finite() => {
+                Err(format!("pixel depth {z}: depths must be finite"))
             }
             Fragment::Skip(0) => Err("`skip 0`: a skip stands for at least one polygon".into()),
             _ => Ok(()),
@@ -183,8 +186,8 @@ impl Record for Fragment {
                     y: n,
                     x0: u32_at(&b, 0),
                     x1: u32_at(&b, 4),
-                    z0: i64_at(&b, 8),
-                    dz: i64_at(&b, 16),
+                    z: f64_at(&b, 8),
+                    dz: f64_at(&b, 16),
                 }
             }
             tag::PIXEL => {
@@ -199,7 +202,7 @@ impl Record for Fragment {
                 Fragment::Pixel {
                     x: u32_at(&b, 0),
                     y: n,
-                    z: i64_at(&b, 8),
+                    z: f64_at(&b, 8),
                 }
             }
             tag::NEXT_FRAME => {
@@ -236,12 +239,12 @@ impl Record for Fragment {
     fn write_binary<W: Write>(&self, out: &mut W) -> io::Result<()> {
         match *self {
             Fragment::Polygon(colour) => out.write_all(&head(tag::POLYGON, colour, 0)),
-            Fragment::Span { y, x0, x1, z0, dz } => {
+            Fragment::Span { y, x0, x1, z, dz } => {
                 let mut b = [0u8; 32];
                 b[..8].copy_from_slice(&head(tag::SPAN, [0; 3], y));
                 b[8..12].copy_from_slice(&x0.to_le_bytes());
                 b[12..16].copy_from_slice(&x1.to_le_bytes());
-                b[16..24].copy_from_slice(&z0.to_le_bytes());
+                b[16..24].copy_from_slice(&z.to_le_bytes());
                 b[24..32].copy_from_slice(&dz.to_le_bytes());
                 out.write_all(&b)
             }
@@ -281,15 +284,15 @@ impl Record for Fragment {
                 let y = lex.integer("the span's row", u32::MAX as u64)? as u32;
                 let x0 = lex.integer("the span's first column", u32::MAX as u64)? as u32;
                 let x1 = lex.integer("the span's end column", u32::MAX as u64)? as u32;
-                let z0 = lex.signed("the span's first depth")?;
-                let dz = lex.signed("the span's depth step")?;
-                Fragment::Span { y, x0, x1, z0, dz }
+                let z = lex.number("the span's depth at column 0")?;
+                let dz = lex.number("the span's depth step")?;
+                Fragment::Span { y, x0, x1, z, dz }
             }
             Some("pixel") => {
                 lex.skip_word();
                 let x = lex.integer("the pixel's column", u32::MAX as u64)? as u32;
                 let y = lex.integer("the pixel's row", u32::MAX as u64)? as u32;
-                let z = lex.signed("the pixel's depth")?;
+                let z = lex.number("the pixel's depth")?;
                 Fragment::Pixel { x, y, z }
             }
             Some("run") => {
@@ -326,7 +329,7 @@ impl Record for Fragment {
     ) -> io::Result<()> {
         match *self {
             Fragment::Polygon(colour) => write_polygon_start(out, colour, first_in_frame),
-            Fragment::Span { y, x0, x1, z0, dz } => writeln!(out, "span {y} {x0} {x1} {z0} {dz}"),
+            Fragment::Span { y, x0, x1, z, dz } => writeln!(out, "span {y} {x0} {x1} {z} {dz}"),
             Fragment::Pixel { x, y, z } => writeln!(out, "pixel {x} {y} {z}"),
             Fragment::Skip(n) => write_skip(out, n, first_in_frame),
             Fragment::Run {

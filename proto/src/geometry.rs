@@ -125,7 +125,7 @@ impl Plane {
     /// the point `(x[i], y[i], z[i], w[i])`): writes each lane's distance to `dist` and its
     /// side to `side`, both exactly as `classify` gives them, bit for bit.
     ///
-    /// This is the inside test of the DAP clipper (Theoharis & Page, `seeds/002_…` §4.2,
+    /// This is the inside test of the DAP clipper (Theoharis and Page 1989, §4.2,
     /// step 1: `INSIDEV1 = VERTEXY(,,I).LE.VERTEXW(,,I)` for all N² polygons at once).
     /// The loop has no branch, so the compiler vectorises it; the rare lane whose terms
     /// overflow (coordinates near f64::MAX, where `classify` rescales) is then decided

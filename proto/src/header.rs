@@ -16,17 +16,27 @@ pub const TEXT_MAGIC: &str = "polypipe";
 
 /// The stream format version this code reads and writes, in the binary header.
 ///
-/// Version 2 (wave 2) replaced version 1's bincode records by fixed-layout little-endian
-/// records read and written in place (`proto::codec`, "The binary records"); the header
-/// itself is still bincode. A binary reader accepts version 2 only: every stage of one
-/// build writes it.
-pub const VERSION: u32 = 2;
+/// Version 2 replaced version 1's bincode records by fixed-layout little-endian records
+/// read and written in place (`proto::codec`, "The binary records"); the header itself is
+/// still bincode. Version 3 made a fragment's depth an f64 (it was 64-bit fixed point), a
+/// span's depth its row's depth at column 0, and screen depth reciprocal by default
+/// ([`crate::depth`]). A binary reader accepts version 3 only: every stage of one build
+/// writes it.
+pub const VERSION: u32 = 3;
 
-/// The version the text form's header spells, `polypipe 1 SPACE`: the text form did not
-/// change when the binary records did, so it keeps version 1, and a text reader accepts
-/// `polypipe 1` only. A [`Header`] read from either form carries [`VERSION`]: it is the
-/// format this code speaks, whichever form carried it.
-pub const TEXT_VERSION: u32 = 1;
+/// The version the text form's header spells, `polypipe N SPACE`. The polygon streams'
+/// text (world, eye, screen) has not changed since version 1, and people's scene files
+/// say `polypipe 1`; the fragment stream's text changed with the binary version 3 (its
+/// depths are decimal f64s, a span's depth is at column 0), so it says
+/// `polypipe 2 fragments W H`, and a version 1 fragment text (fixed-point depths) is
+/// refused. A [`Header`] read from either form carries [`VERSION`]: it is the format this
+/// code speaks, whichever form carried it.
+pub fn text_version(space: &Space) -> u32 {
+    match space {
+        Space::Fragments { .. } => 2,
+        _ => 1,
+    }
+}
 
 /// The view volume that eye coordinates were computed for: the clipping pyramid
 /// −a·w ≤ x_e ≤ a·w, −w ≤ y_e ≤ w, K1 ≤ z_e ≤ K2 (docs/DESIGN.md, "The clipping pyramid").

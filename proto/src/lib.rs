@@ -9,6 +9,7 @@
 
 pub mod camera;
 pub mod codec;
+pub mod depth;
 pub mod error;
 pub mod fragment;
 pub mod geometry;

@@ -1,7 +1,7 @@
 //! The text form's lexer: whitespace-separated words, `#` to the end of the line is a
 //! comment, and every word knows its `line:column` so that errors can point at it.
 //!
-//! It is written for speed as well as for people (issue 9: a stage reads text at
+//! It is written for speed as well as for people (a stage reads text at
 //! hundreds of MB/s): a line is read into a buffer kept from line to line, words are
 //! found by scanning its bytes, and numbers are parsed from the line in place; nothing
 //! is allocated per word, and a message is formatted only when there is an error.

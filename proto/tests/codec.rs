@@ -98,10 +98,14 @@ fn fragments_round_trip() {
             y: 3,
             x0: 1,
             x1: 8,
-            z0: -5,
-            dz: 1 << 40,
+            z: -0.05,
+            dz: 1.0 / 3.0,
         },
-        Fragment::Pixel { x: 7, y: 0, z: 12 },
+        Fragment::Pixel {
+            x: 7,
+            y: 0,
+            z: 12.0,
+        },
         Fragment::Polygon([1, 1, 1]),
         Fragment::NextFrame,
         Fragment::End,
@@ -116,7 +120,7 @@ fn fragments_round_trip() {
     let text = String::from_utf8(encode(header, &records, Form::Text)).unwrap();
     assert_eq!(
         text,
-        "polypipe 1 fragments 8 4\ncolour 9 8 7\nspan 3 1 8 -5 1099511627776\npixel 7 0 12\nNEXT.POLYGON\ncolour 1 1 1\nNEXT.FRAME\nEND\n"
+        "polypipe 2 fragments 8 4\ncolour 9 8 7\nspan 3 1 8 -0.05 0.3333333333333333\npixel 7 0 12\nNEXT.POLYGON\ncolour 1 1 1\nNEXT.FRAME\nEND\n"
     );
 }
 
@@ -126,7 +130,7 @@ fn pixels_before_a_colour_are_refused_in_both_forms() {
         width: 4,
         height: 4,
     });
-    let records = [Fragment::Pixel { x: 1, y: 1, z: 0 }, Fragment::End];
+    let records = [Fragment::Pixel { x: 1, y: 1, z: 0.0 }, Fragment::End];
     let bin = encode(header, &records, Form::Binary);
     // The pixel record is 24 bytes, END 8.
     let offset = bin.len() - 8 - 24;
@@ -134,7 +138,7 @@ fn pixels_before_a_colour_are_refused_in_both_forms() {
         decode_err::<Fragment>(&bin),
         format!("byte {offset} (frame 0): pixels before the frame's first colour record")
     );
-    let text = "polypipe 1 fragments 4 4\npixel 1 1 0\nEND\n";
+    let text = "polypipe 2 fragments 4 4\npixel 1 1 0\nEND\n";
     assert_eq!(
         decode_err::<Fragment>(text.as_bytes()),
         "line 2, column 1: pixels before the frame's first `colour`"
@@ -146,7 +150,7 @@ fn text_errors_say_line_and_column() {
     let cases: &[(&str, &str)] = &[
         ("", "empty input: expected a polypipe stream header"),
         ("hello 1 world\nEND\n", "line 1, column 1: not a polypipe stream: expected the header `polypipe 1 SPACE`, found `hello`"),
-        ("polypipe 2 world\nEND\n", "line 1, column 10: stream version 2 is not supported (this is version 1)"),
+        ("polypipe 2 world\nEND\n", "line 1, column 10: stream version 2 is not supported (this is version 1 for world streams)"),
         ("polypipe 1 mars\nEND\n", "line 1, column 12: unknown coordinate space `mars` (expected world, eye, screen or fragments)"),
         ("polypipe 1 world\ncolour 256 0 0\nEND\n", "line 2, column 8: the red component of the colour is 256, out of range 0..=255"),
         ("polypipe 1 world\ncolour 1 2 3\n1 2\nEND\n", "line 4, column 1: expected z of vertex 0 (3 numbers a vertex in world space), found `END`"),
@@ -273,12 +277,12 @@ fn binary_version_1_is_refused() {
     v1.extend_from_slice(&[1, 0, 0, 0, 0, 0, 0, 0, 2, 0, 0, 0]);
     assert_eq!(
         decode_err::<Token>(&v1),
-        "byte 8: stream version 1 is not supported (this is version 2)"
+        "byte 8: stream version 1 is not supported (this is version 3)"
     );
     // The text form is still version 1, and says so.
     let text = encode(Header::new(Space::World), &[Token::End], Form::Text);
     assert_eq!(text, b"polypipe 1 world\nEND\n");
-    assert_eq!(Header::new(Space::World).version, 2);
+    assert_eq!(Header::new(Space::World).version, 3);
 }
 
 #[test]
@@ -286,7 +290,7 @@ fn polygons_in_a_fragments_stream_are_refused_at_once() {
     // Found by the decode_text fuzz target: polygons in a fragments stream have vertices
     // of no numbers, and reading them took nothing from the input (2 million empty
     // vertices before the size limit stopped it).
-    let text = "polypipe 1 fragments 8 8\ncolour 1 2 3\n22\nEND\n";
+    let text = "polypipe 2 fragments 8 8\ncolour 1 2 3\n22\nEND\n";
     assert_eq!(
         decode_err::<Token>(text.as_bytes()),
         "line 2, column 12: a polygon in a fragments-space stream, which holds no vertices"
@@ -453,7 +457,7 @@ END
 
 #[test]
 fn annotation_errors_are_located() {
-    // (These were world-space streams until annotations there were refused, issue 14.)
+    // (These were world-space streams until annotations there were refused.)
     assert_eq!(
         decode_err::<Token>(b"polypipe 1 screen 8 8\ncolour 1 2 3\nplane 1 2 x 4\nEND\n"),
         "line 3, column 11: expected c of the polygon's plane (plane a b c d), found `x`"
@@ -478,7 +482,7 @@ fn annotation_errors_are_located() {
     ));
 }
 
-/// Issue 14, finding 10: a `plane` or `on` in a world-space stream would pass viewxf
+/// A `plane` or `on` in a world-space stream would pass viewxf
 /// untransformed and draw a wrong picture; the reader refuses it where it stands, in
 /// both forms.
 #[test]
@@ -540,8 +544,8 @@ fn skips_and_runs_round_trip_and_keep_numbering() {
             y: 1,
             x0: 0,
             x1: 3,
-            z0: 5,
-            dz: 0,
+            z: 5.0,
+            dz: 0.0,
         },
         Fragment::Run {
             y: 2,
@@ -580,7 +584,7 @@ fn skips_and_runs_round_trip_and_keep_numbering() {
         "line 2, column 6: `skip 0`: a skip stands for at least one polygon"
     );
     assert_eq!(
-        decode_err::<Fragment>(b"polypipe 1 fragments 4 4\nrun 4 0 1 1 1 1\nEND\n"),
+        decode_err::<Fragment>(b"polypipe 2 fragments 4 4\nrun 4 0 1 1 1 1\nEND\n"),
         "line 2, column 15: run of row 4, columns 0..1, is outside the 4x4 screen"
     );
 }

@@ -1,5 +1,5 @@
 //! A z-buffer for the region of the screen one leaf of the splitter tree sees (docs/DESIGN.md,
-//! "Wave 2": leaves resolve visibility, the merger assembles).
+//! "Leaves resolve visibility": the merger assembles).
 //!
 //! The leaf does what the thesis's BUFFER does (chapter 4.2.3), but only for the pixels
 //! its polygons cover, and at the end of each frame sends the finished pixels on as runs
@@ -12,14 +12,17 @@
 //! leaf about 130,000 pixels; a whole-screen buffer would be 2 million). Tiles go back to
 //! a pool at the end of each frame, cleared, and are reused by the next.
 //!
-//! Visibility is chapter 2.3's Z spec, as in `zbuf`: the smaller depth wins, and at equal
-//! depth the polygon earlier in the stream. A leaf reads one stream, whose polygons come
-//! in stream order, so the earlier polygon of a tie is always the one already in the
-//! buffer: a fragment wins only when strictly nearer, or when the pixel is still empty.
+//! Visibility is chapter 2.3's Z spec with the tie rule of docs/DESIGN.md, as in `zbuf`:
+//! folding the polygons in stream order, a later one takes a pixel only when nearer by
+//! more than 2⁻³⁰ of the holder's depth ([`proto::depth`]). A leaf reads one stream,
+//! whose polygons come in stream order, so the holder is always the earlier polygon, and
+//! the buffer keeps for each pixel not the holder's depth but the *bar* a newcomer must
+//! get under ([`proto::depth::bar`]): the test is then one comparison a pixel.
 //! The polygon index `zbuf` keeps per pixel to decide ties between its inputs is implied
 //! by the order here, and a `skip N` (polygons of which the leaf gets nothing) needs no
 //! record at all.
 
+use crate::depth::{depth_at, Depth};
 use crate::walk::Span;
 use proto::Colour;
 use std::ops::Range;
@@ -45,8 +48,8 @@ fn unpack(p: u32) -> Colour {
 }
 
 /// The tiles' memory: tile k's pixels are `k·AREA .. (k+1)·AREA`, row-major within the
-/// tile, in one slab for depth and one for packed colour. A pixel's depth means something
-/// only where its colour is non-zero.
+/// tile, in one slab for the depth bar and one for packed colour. A pixel's bar means
+/// something only where its colour is non-zero.
 ///
 /// Each slab reserves room for every tile of the screen up front (address space, not
 /// memory: a page is mapped when a tile is first made in it), so that it never moves, and
@@ -150,7 +153,8 @@ pub struct RegionBuffer {
     slot: Vec<u32>,
     /// Every tile ever made; the first `in_use` hold this frame's pixels, the rest are
     /// clear.
-    depth: Slab<i64>,
+    /// Per pixel, the bar a later polygon's depth must be under to take it.
+    depth: Slab<Depth>,
     colour: Slab<u32>,
     in_use: usize,
     pub stats: RegionStats,
@@ -200,20 +204,19 @@ impl RegionBuffer {
     /// One polygon's span ([`crate::SpanWalker`]) in its colour.
     #[inline]
     pub fn draw(&mut self, span: &Span, colour: Colour) {
-        self.span(span.y, span.columns(), span.z0(), span.dz, colour);
+        self.span(span.y, span.columns(), span.z_row, span.dz, colour);
     }
 
-    /// Pixels `columns` of row `y` in `colour`: pixel x has depth `z0 + (x − x0)·dz`,
-    /// stepped with saturating adds as `zbuf` steps a fragment span. A pixel is written
-    /// when it is empty or the new depth is smaller. Spans must come polygon by polygon
+    /// Pixels `columns` of row `y` in `colour`: pixel x has depth `z_row + x·dz`
+    /// ([`crate::depth_at`]), as `zbuf` computes a fragment span's. A pixel is written when it is
+    /// empty or the tie rule gives it to this polygon. Spans must come polygon by polygon
     /// in stream order (see the module notes). A span off the screen is clipped.
-    pub fn span(&mut self, y: u32, columns: Range<u32>, z0: i64, dz: i64, colour: Colour) {
+    pub fn span(&mut self, y: u32, columns: Range<u32>, z_row: Depth, dz: Depth, colour: Colour) {
         if y >= self.height {
             return;
         }
         let x1 = columns.end.min(self.width);
-        let first = columns.start;
-        let mut x = first.min(x1);
+        let mut x = columns.start.min(x1);
         let colour = pack(colour);
         let (ty, offset) = (y >> SHIFT, ((y & (TILE - 1)) << SHIFT) as usize);
         let mut written = 0u64;
@@ -221,16 +224,13 @@ impl RegionBuffer {
             let tx = x >> SHIFT;
             let end = x1.min((tx + 1) << SHIFT);
             let n = (end - x) as usize;
-            // The depth at x, as the saturating steps from `first` reach it (they are
-            // exact until they leave the i64 range, then stay at the bound).
-            let z = (z0 as i128 + (x - first) as i128 * dz as i128)
-                .clamp(i64::MIN as i128, i64::MAX as i128) as i64;
             let tile = self.tile(tx, ty);
             let at = offset + (x & (TILE - 1)) as usize;
             written += z_test(
                 &mut self.depth.tile_mut(tile)[at..at + n],
                 &mut self.colour.tile_mut(tile)[at..at + n],
-                z,
+                x,
+                z_row,
                 dz,
                 colour,
             );
@@ -367,45 +367,22 @@ impl RegionBuffer {
     }
 }
 
-/// The z-test over one tile row's piece of a span (BUFFER's inner loop): `z` is the depth
-/// at the first pixel, `dz` the step. Returns the pixels written.
-///
-/// A plain branch on the test: on the fill-heavy scene's own spans (`scanconv --text`
-/// fed to a throwaway harness) it ran 1.37 ns a pixel against 1.93 for the branch-free
-/// form, which without AVX becomes masked stores done a lane at a time, and 1.29 for that
-/// form compiled for AVX2: a polygon wins or loses whole stretches of a row, so the branch
-/// predicts well, and not worth a second, CPU-dependent path.
+/// The z-test over one tile row's piece of a span (BUFFER's inner loop): the pieces's
+/// first column is `x`, and column x has depth `z_row + x·dz` ([`crate::depth_at`]). Returns
+/// the pixels written. A pixel is taken when empty (colour 0) or when its depth is under
+/// the bar kept there; a taken pixel keeps this polygon's bar.
 #[inline]
-fn z_test(depth: &mut [i64], colour: &mut [u32], z: i64, dz: i64, c: u32) -> u64 {
-    let n = depth.len();
-    if n == 0 {
-        return 0;
-    }
-    let colour = &mut colour[..n];
-    let last = z as i128 + (n as i128 - 1) * dz as i128;
+fn z_test(bars: &mut [Depth], colour: &mut [u32], x: u32, z_row: Depth, dz: Depth, c: u32) -> u64 {
+    let colour = &mut colour[..bars.len()];
     let mut written = 0u64;
-    let mut z = z;
-    if last >= i64::MIN as i128 && last <= i64::MAX as i128 {
-        // No step leaves the i64 range: plain adds.
-        for (d, f) in depth.iter_mut().zip(colour.iter_mut()) {
-            let win = *f == 0 || z < *d;
-            if win {
-                *d = z;
-                *f = c;
-            }
-            written += win as u64;
-            z = z.wrapping_add(dz);
+    for (i, (bar, f)) in bars.iter_mut().zip(colour.iter_mut()).enumerate() {
+        let z = depth_at(z_row, dz, x + i as u32);
+        let win = (*f == 0 && !z.is_nan()) || z < *bar;
+        if win {
+            *bar = proto::depth::bar(z);
+            *f = c;
         }
-    } else {
-        for (d, f) in depth.iter_mut().zip(colour.iter_mut()) {
-            let win = *f == 0 || z < *d;
-            if win {
-                *d = z;
-                *f = c;
-            }
-            written += win as u64;
-            z = z.saturating_add(dz);
-        }
+        written += win as u64;
     }
     written
 }
@@ -436,9 +413,9 @@ mod tests {
     #[test]
     fn nearer_wins_and_a_tie_keeps_the_earlier_polygon() {
         let mut rb = RegionBuffer::new(4, 1);
-        rb.span(0, 0..4, 10, 0, R); // polygon 0 at depth 10
-        rb.span(0, 0..2, 10, 0, G); // polygon 1 ties: polygon 0 stays
-        rb.span(0, 1..4, 9, 1, B); // polygon 2 at 9, 10, 11: nearer only at column 1
+        rb.span(0, 0..4, 10.0, 0.0, R); // polygon 0 at depth 10
+        rb.span(0, 0..2, 10.0, 0.0, G); // polygon 1 ties: polygon 0 stays
+        rb.span(0, 1..4, 8.0, 1.0, B); // polygon 2 at 9, 10, 11: nearer only at column 1
         assert_eq!(
             (0..4).map(|x| rb.colour_at(x, 0)).collect::<Vec<_>>(),
             [Some(R), Some(B), Some(R), Some(R)]
@@ -459,52 +436,51 @@ mod tests {
         // The next frame starts empty, in the same tile.
         assert_eq!(rb.colour_at(0, 0), None);
         assert_eq!(runs(&mut rb), []);
-        rb.span(0, 3..4, 0, 0, G);
+        rb.span(0, 3..4, 0.0, 0.0, G);
         assert_eq!(runs(&mut rb), [run(0, 3, 4, G)]);
         assert_eq!(rb.stats.tiles, 1);
     }
 
     #[test]
     fn the_farthest_depth_still_covers_an_empty_pixel() {
-        // As in zbuf, where an empty pixel is (MAX, no polygon): depth MAX draws.
         let mut rb = RegionBuffer::new(3, 1);
-        rb.span(0, 0..3, i64::MAX - 1, i64::MAX, R); // MAX − 1, then MAX, MAX
+        rb.span(0, 0..3, f64::MAX, 0.0, R);
         assert_eq!(runs(&mut rb), [run(0, 0, 3, R)]);
-        rb.span(0, 0..3, i64::MAX, 0, R);
-        rb.span(0, 0..3, i64::MAX, 0, G); // a tie at MAX: the earlier stays
-        rb.span(0, 1..3, i64::MIN + 1, i64::MIN, B); // MIN + 1, then MIN
+        rb.span(0, 0..3, f64::MAX, 0.0, R);
+        rb.span(0, 0..3, f64::MAX, 0.0, G); // a tie at the largest depth: the earlier stays
+        rb.span(0, 1..3, -f64::MAX, 0.0, B);
         assert_eq!(runs(&mut rb), [run(0, 0, 1, R), run(0, 1, 3, B)]);
     }
 
     #[test]
-    fn depth_saturates_across_tiles_as_stepping_does() {
-        // A span over three tiles whose depths pass i64::MIN in the second: the steps
-        // stay at MIN, so a later polygon at MIN does not win there (a tie) but wins
-        // where the first polygon was still above MIN.
-        let mut rb = RegionBuffer::new(200, 1);
-        let dz = -(i64::MAX / 100); // leaves the range after ~100 columns
-        rb.span(0, 0..200, 0, dz, R);
-        rb.span(0, 0..200, i64::MIN, 0, G);
-        let mut z = 0i64;
-        let mut want = vec![];
-        for _ in 0..200 {
-            want.push(if z == i64::MIN { R } else { G });
-            z = z.saturating_add(dz);
-        }
-        let got: Vec<Colour> = (0..200).map(|x| rb.colour_at(x, 0).unwrap()).collect();
-        assert_eq!(got, want);
-        assert!(got.contains(&R) && got.contains(&G));
+    fn a_later_polygon_must_be_nearer_by_more_than_the_tie_width() {
+        // Reciprocal depths near yon (−1e-6), the later polygons 0.5 and 2 tie widths
+        // nearer: the first ties (the earlier stays), the second takes the pixel.
+        use proto::depth::TIE;
+        let mut rb = RegionBuffer::new(3, 1);
+        let held = -1e-6;
+        rb.span(0, 0..3, held, 0.0, R);
+        rb.span(0, 0..1, held * (1.0 + 0.5 * TIE), 0.0, G);
+        rb.span(0, 1..2, held * (1.0 + 2.0 * TIE), 0.0, B);
+        // A NaN depth draws nothing, even on an empty pixel.
+        rb.span(0, 2..3, f64::NAN, 0.0, B);
+        assert_eq!(
+            runs(&mut rb),
+            [run(0, 0, 1, R), run(0, 1, 2, B), run(0, 2, 3, R)]
+        );
+        rb.span(0, 0..3, f64::NAN, 0.0, B);
+        assert_eq!(runs(&mut rb), []);
     }
 
     #[test]
     fn runs_join_across_tile_edges_and_split_at_colour_changes() {
         let mut rb = RegionBuffer::new(300, 130);
-        rb.span(129, 10..250, 5, 0, R); // one run over four tiles
-        rb.span(129, 128..129, 1, 0, G); // a nearer pixel at a tile's first column
-        rb.span(0, 60..70, 5, 0, B);
-        rb.span(0, 62..64, 5, 0, R); // tie: stays blue
-        rb.span(64, 299..400, 5, 0, G); // clipped to the screen
-        rb.span(130, 0..10, 5, 0, G); // below the screen: nothing
+        rb.span(129, 10..250, 5.0, 0.0, R); // one run over four tiles
+        rb.span(129, 128..129, 1.0, 0.0, G); // a nearer pixel at a tile's first column
+        rb.span(0, 60..70, 5.0, 0.0, B);
+        rb.span(0, 62..64, 5.0, 0.0, R); // tie: stays blue
+        rb.span(64, 299..400, 5.0, 0.0, G); // clipped to the screen
+        rb.span(130, 0..10, 5.0, 0.0, G); // below the screen: nothing
         assert_eq!(
             runs(&mut rb),
             [
@@ -525,12 +501,12 @@ mod tests {
         // of the screen's 30x17.
         let mut rb = RegionBuffer::new(1920, 1080);
         for y in 0..270 {
-            rb.span(y, 0..480, 1, 0, R);
+            rb.span(y, 0..480, 1.0, 0.0, R);
         }
         assert_eq!(rb.stats.tiles, 8 * 5);
         assert_eq!(runs(&mut rb).len(), 270);
         for y in 0..270 {
-            rb.span(y, 0..480, 1, 0, R);
+            rb.span(y, 0..480, 1.0, 0.0, R);
         }
         runs(&mut rb);
         assert_eq!(rb.stats.tiles, 8 * 5);
@@ -542,10 +518,10 @@ mod tests {
         // partial: the raster gets exactly the runs' pixels, the rest keeps its colour.
         let (w, h) = (150u32, 70u32);
         let draw = |rb: &mut RegionBuffer| {
-            rb.span(3, 10..140, 5, 0, R);
-            rb.span(3, 60..70, 4, 0, G);
-            rb.span(69, 120..150, 1, 0, B);
-            rb.span(64, 0..1, 1, 0, G);
+            rb.span(3, 10..140, 5.0, 0.0, R);
+            rb.span(3, 60..70, 4.0, 0.0, G);
+            rb.span(69, 120..150, 1.0, 0.0, B);
+            rb.span(64, 0..1, 1.0, 0.0, G);
         };
         let mut rb = RegionBuffer::new(w, h);
         draw(&mut rb);
@@ -567,8 +543,8 @@ mod tests {
     #[test]
     fn an_error_from_emit_still_clears() {
         let mut rb = RegionBuffer::new(4, 2);
-        rb.span(0, 0..1, 0, 0, R);
-        rb.span(1, 0..1, 0, 0, G);
+        rb.span(0, 0..1, 0.0, 0.0, R);
+        rb.span(1, 0..1, 0.0, 0.0, G);
         let mut n = 0;
         assert_eq!(
             rb.finish_frame(|_| {

@@ -1,4 +1,4 @@
-//! A text stream read in pieces on several threads (issue 9: the text parser set the
+//! A text stream read in pieces on several threads (the text parser had set the
 //! pace of a 100,000-polygon render, one core parsing while the other waited).
 //!
 //! After its header a text stream is cut into pieces of about [`PIECE_BYTES`], each just

@@ -1,5 +1,5 @@
 //! Hosts that a test makes for itself: OpenSSH servers on loopback addresses, for the
-//! tests of `render.sh --hosts` (issue 13).
+//! tests of `render.sh --hosts`.
 //!
 //! Each host is an `sshd` of its own on 127.0.0.2, 127.0.0.3, … (Linux routes all of
 //! 127/8 to the loopback interface, so no set-up is needed), on a free port, with its own

@@ -64,7 +64,7 @@ fn wrong_magic_version_and_space() {
         let wrong = if stage == "viewxf" || stage == "zspec" {
             "polypipe 1 screen 8 8\nEND\n"
         } else {
-            "polypipe 1 fragments 8 8\nEND\n"
+            "polypipe 2 fragments 8 8\nEND\n"
         };
         let wrong = if stage == "zbuf" {
             "polypipe 1 world\nEND\n"
@@ -127,19 +127,20 @@ fn text_errors_are_located() {
             "zbuf" => ("fragments 8 8", "span 1 1 3 0 0"),
             _ => ("eye", "0 0 16 10"),
         };
-        let syntax = format!("polypipe 1 {space}\ncolour 1 2 3\n{vertex}\n  oops\nEND\n");
+        let version = if stage == "zbuf" { 2 } else { 1 };
+        let syntax = format!("polypipe {version} {space}\ncolour 1 2 3\n{vertex}\n  oops\nEND\n");
         let e = refused(stage, "syntax", &run(cmd, syntax.as_bytes()));
         assert!(e.contains("line 4, column 3"), "{e}");
-        let colour = format!("polypipe 1 {space}\ncolour 1 256 3\n{vertex}\nEND\n");
+        let colour = format!("polypipe {version} {space}\ncolour 1 256 3\n{vertex}\nEND\n");
         let e = refused(stage, "colour", &run(cmd, colour.as_bytes()));
         assert!(
             e.contains("line 2, column 10") && e.contains("out of range 0..=255"),
             "{e}"
         );
-        let missing = format!("polypipe 1 {space}\ncolour 1 2 3\n{vertex}\n");
+        let missing = format!("polypipe {version} {space}\ncolour 1 2 3\n{vertex}\n");
         let e = refused(stage, "missing END", &run(cmd, missing.as_bytes()));
         assert!(e.contains("without END"), "{e}");
-        let after = format!("polypipe 1 {space}\ncolour 1 2 3\n{vertex}\nEND\nEND\n");
+        let after = format!("polypipe {version} {space}\ncolour 1 2 3\n{vertex}\nEND\nEND\n");
         let e = refused(stage, "after END", &run(cmd, after.as_bytes()));
         assert!(e.contains("line 5, column 1: data after END"), "{e}");
     }

@@ -1,6 +1,6 @@
 //! The repository explains itself: every citation of the design points at the copy in the
 //! repository, docs/DESIGN.md, by that path and by a section it has, and nothing cites a
-//! file outside the repository. (Issue 14: the code cited a design kept beside the
+//! file outside the repository. (The code once cited a design kept beside the
 //! repository, which a reader of the repository never sees.)
 
 use pipeline_tests::repo_root;
@@ -75,7 +75,7 @@ fn problems(text: &str, sections: &BTreeSet<String>) -> Vec<String> {
                 continue;
             }
             // A section named right after it, `docs/DESIGN.md, "Coverage"` or
-            // `docs/DESIGN.md's "Conventions"` or `docs/DESIGN.md ("Depth")`, must exist.
+            // `docs/DESIGN.md's "Coverage"` or `docs/DESIGN.md ("Depth")`, must exist.
             let after = &line[at + NAME.len()..];
             let after = after.strip_prefix("'s").unwrap_or(after);
             let after = after.trim_start_matches([',', ' ', '(']);
@@ -100,7 +100,7 @@ fn every_citation_of_the_design_is_docs_design_md_and_names_a_section_it_has() {
     let sections = sections(&design);
     for wanted in [
         "The token stream",
-        "Conventions",
+        "The Z specification",
         "Coverage",
         "Visibility",
         "The stages",
@@ -108,7 +108,7 @@ fn every_citation_of_the_design_is_docs_design_md_and_names_a_section_it_has() {
         "The merge",
         "Errors and exit statuses",
         "Departures from the thesis and the card",
-        "Wave 2: leaves that see, other methods, anti-aliasing, the chart, other hosts",
+        "The leaves and the merge",
         "Hidden-surface methods",
         "Stages on other hosts",
     ] {

@@ -1,4 +1,4 @@
-//! `hiddenline` end to end (Archuleta's hidden-line output, seeds/003_…): the exact
+//! `hiddenline` end to end (Archuleta's hidden-line output, 1972): the exact
 //! visible pieces of the edges of a scene where one square hides part of another, shared
 //! edges once, colours, the SVG's device coordinates, one file per frame, and, where
 //! Chromium is installed, the SVG as a browser draws it.

@@ -1,4 +1,4 @@
-//! Rendering on other hosts (issue 13): `render.sh --hosts … --by frames`, which
+//! Rendering on other hosts: `render.sh --hosts … --by frames`, which
 //! `scripts/render-frames.sh` does, over OpenSSH to sshd servers the tests start on
 //! loopback addresses (`pipeline_tests::hosts`).
 //!

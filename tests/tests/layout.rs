@@ -1,4 +1,4 @@
-//! The workspace's shape (issue 14): `proto` is the stream and the geometry, with no
+//! The workspace's shape: `proto` is the stream and the geometry, with no
 //! command-line parser in it, and no stage crate depends on another stage crate (shared
 //! code lives in the libraries: proto, stagecli, scan).
 

@@ -16,8 +16,8 @@ const H: u32 = 90;
 /// runs have to join (or not) across polygon and tile edges.
 const PALETTE: [Colour; 4] = [[255, 0, 0], [0, 255, 0], [0, 0, 255], [255, 0, 0]];
 
-/// A span as zbuf receives it: row, columns, depth at the first column, step.
-type Span = (u32, u32, u32, i64, i64);
+/// A span as zbuf receives it: row, columns, depth at column 0, step.
+type Span = (u32, u32, u32, f64, f64);
 
 /// The frame as zbuf draws it from every polygon's spans, numbered in order.
 fn par_buff(fb: &mut FrameBuffer, polygons: &[(Colour, Vec<Span>)]) -> Vec<u8> {
@@ -71,7 +71,7 @@ fn spans_of(polygons: &[Polygon]) -> Vec<(Colour, Vec<Span>)> {
         .iter()
         .map(|p| {
             let mut spans = vec![];
-            walker.for_each_span(p, W, H, |s| spans.push((s.y, s.x0, s.x1, s.z0(), s.dz)));
+            walker.for_each_span(p, W, H, |s| spans.push((s.y, s.x0, s.x1, s.z_row, s.dz)));
             (p.colour, spans)
         })
         .collect()
@@ -97,17 +97,18 @@ fn polygon() -> impl Strategy<Value = Polygon> {
         })
 }
 
-/// A depth or a step from the ends of the range as well as near zero.
-fn extreme() -> impl Strategy<Value = i64> {
+/// A depth or a step from the ends of the range, near zero, and within a few tie widths
+/// of one another (so that the tie rule, not the order of depths, decides).
+fn extreme() -> impl Strategy<Value = f64> {
+    use proto::depth::TIE;
     prop_oneof![
-        -3i64..3,
-        Just(i64::MIN),
-        Just(i64::MIN + 1),
-        Just(i64::MAX - 1),
-        Just(i64::MAX),
-        any::<i64>(),
-        Just(i64::MAX / 60),
-        Just(-(i64::MAX / 60)),
+        (-3i32..3).prop_map(f64::from),
+        Just(f64::MAX),
+        Just(-f64::MAX),
+        Just(f64::MAX / 60.0),
+        Just(-1e-300),
+        any::<f64>().prop_filter("finite", |z| z.is_finite()),
+        (0usize..5).prop_map(|k| -0.25 * (1.0 + [0.0, 0.5, 0.99, 1.01, 2.0][k] * TIE)),
     ]
 }
 
@@ -127,10 +128,10 @@ proptest! {
         }
     }
 
-    /// Spans at the ends of the depth range, stepping out of it: the leaf saturates
-    /// and breaks ties as zbuf does.
+    /// Spans at the ends of the depth range, stepping out of it, and near ties: the leaf
+    /// decides as zbuf does.
     #[test]
-    fn saturated_depths_and_ties_resolve_as_in_zbuf(
+    fn extreme_depths_and_ties_resolve_as_in_zbuf(
         polygons in prop::collection::vec(
             (0usize..4, prop::collection::vec((0u32..H, 0u32..W, 1u32..140, extreme(), extreme()), 1..6)),
             1..10,

@@ -1,4 +1,4 @@
-//! The hidden-surface methods through `scripts/render.sh --hse` (issue 10; docs/DESIGN.md,
+//! The hidden-surface methods through `scripts/render.sh --hse` (docs/DESIGN.md,
 //! "Leaves resolve visibility"): Watkins's scan line and Warnock's subdivision draw the
 //! z-buffer's frames byte for byte at every tree depth, on every scene of the suite, on
 //! random environments of 1,000 and 100,000 polygons and on movies; the painter draws

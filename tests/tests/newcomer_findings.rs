@@ -1,4 +1,4 @@
-//! What a new user and an attacker tripped on (issue 14's findings), each with the
+//! What a new user and an attacker tripped on, each with the
 //! command that showed it and the behaviour now. The exit-status and usage findings (#4,
 //! #5, #10: `zbuf -o x.jpg`, `clipplane --plane 1,2,3`, `zspec compare --min-agreement
 //! nan`, `zbuf - -`, `splitter x=0 same same`) are rows of the tables in exit_codes.rs.
@@ -9,13 +9,13 @@ fn stderr(out: &std::process::Output) -> String {
     String::from_utf8_lossy(&out.stderr).into_owned()
 }
 
-/// #1: `printf 'polypipe 1 fragments 65536 65536\nEND\n' | zbuf` aborted with SIGABRT
+/// #1: `printf 'polypipe 2 fragments 65536 65536\nEND\n' | zbuf` aborted with SIGABRT
 /// (`memory allocation of 34359738368 bytes failed`). The address space is limited to
 /// 8 GB so that the frame cannot be had on any machine.
 #[test]
 fn a_frame_too_large_for_memory_is_refused_in_one_line() {
     let out = sh(
-        "ulimit -v 8000000; printf 'polypipe 1 fragments 65536 65536\\nEND\\n' | zbuf",
+        "ulimit -v 8000000; printf 'polypipe 2 fragments 65536 65536\\nEND\\n' | zbuf",
         b"",
     );
     assert_eq!(out.status.code(), Some(1), "{}", stderr(&out));
@@ -311,7 +311,7 @@ fn text_on_the_picture_stages_writes_plain_ppm() {
     assert_eq!(parse_ppm_stream(&f1).unwrap()[0], frames[1]);
 }
 
-/// Session 9's review: `render.sh /tmp` let `cat` say `cat: /tmp: Is a directory` and then
+/// A review: `render.sh /tmp` let `cat` say `cat: /tmp: Is a directory` and then
 /// said only that it could not keep the scene; now one line in the stages' words, status 3,
 /// at any depth (`--depth auto` copies a scene before looking at it; a given depth does not).
 #[test]

@@ -36,7 +36,7 @@ fn runs_and_counters_of_a_hand_written_stream() {
         )
     };
     let want = format!(
-        "polypipe 1 fragments 8 4\n{}{}{}{}NEXT.FRAME\nrun 1 1 3 0 0 255\nrun 2 2 3 0 0 255\nEND\n",
+        "polypipe 2 fragments 8 4\n{}{}{}{}NEXT.FRAME\nrun 1 1 3 0 0 255\nrun 2 2 3 0 0 255\nEND\n",
         row(0),
         row(1),
         row(2),
@@ -170,7 +170,7 @@ fn tree(scene: &str, depth: u32, leaf: &str) -> Vec<u8> {
     out.stdout
 }
 
-/// Issue 10 item 7, the cases common to every method (docs/degenerate.md's scenes:
+/// The cases common to every method (docs/degenerate.md's scenes:
 /// coincident polygons, polygons edge-on, huge and tiny coordinates, horizontal edges
 /// and local minima, slivers, concave pieces, bowties) and the scenes of the suite, at
 /// splitter depths 0 to 3: scanline's frames are the z-buffer leaf's to the byte.
@@ -229,7 +229,7 @@ fn crossings(k: u32) -> String {
     s
 }
 
-/// Issue 10 item 7, scanline's own hard case: many crossings per line. 64 crossings on
+/// Scanline's own hard case: many crossings per line. 64 crossings on
 /// each of 16 lines: exactly 64 splits a line, the z-buffer's picture, and the counters
 /// that say what it cost.
 #[test]
@@ -249,7 +249,7 @@ fn many_crossings_per_line() {
     );
 }
 
-/// Issue 10 item 7, near-equal depths: planes within 64 units of the fixed point (2^-40)
+/// Near-equal depths: planes within 64 units of the fixed point (2^-40)
 /// of each other, their depths stepping one unit a column, crossing and tying: decided as
 /// the z-buffer decides them, to the pixel.
 #[test]

@@ -1,4 +1,4 @@
-//! Issue 3 at library level: a polygon cut by the splitter and projected by persp scan
+//! Split invariance at library level: a polygon cut by the splitter and projected by persp scan
 //! converts, piece by piece, to exactly the pixels and depths of the whole polygon: each
 //! pixel once, with the same fixed-point depth. The pieces' edge supports give their
 //! crossings to the bit, and the plane recorded before the cut gives their depths.
@@ -13,7 +13,7 @@ const W: u32 = 16;
 const H: u32 = 12;
 
 /// (x, y) → depth of every pixel the polygons cover; a pixel covered twice is an error.
-fn pixels(polys: &[Polygon]) -> Result<BTreeMap<(u32, u32), i64>, String> {
+fn pixels(polys: &[Polygon]) -> Result<BTreeMap<(u32, u32), f64>, String> {
     let mut sc = ScanConverter::new(W, H, Output::Pixels);
     let mut map = BTreeMap::new();
     for p in polys {

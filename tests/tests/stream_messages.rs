@@ -1,4 +1,4 @@
-//! Issue 14, findings 9 and 10, each as the command that showed it: messages that echo
+//! Stream messages, each case as the command that showed it: messages that echo
 //! the input escape what cannot be seen (a byte-order mark first is read past), numbers
 //! print in exponent form when very large or small, a cut binary stream names frame and
 //! polygon, and annotations in a world-space stream are refused at the reader.

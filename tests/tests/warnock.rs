@@ -1,4 +1,4 @@
-//! `warnock`, Warnock's area subdivision as a leaf stage (seeds/004_…, 14.3 and Appendix
+//! `warnock`, Warnock's area subdivision as a leaf stage (Newman and Sproull 1973, 14.3 and Appendix
 //! VI): its exact records on a hand-written screen stream, its `--stats`, its refusals of
 //! bad input, and frames byte-identical to the z-buffer leaf's (`scanconv --resolve`) on
 //! the test scenes at tree depths 0 to 2, including the scenes where area subdivision
@@ -37,7 +37,7 @@ colour 9 9 9
 END
 ";
 
-const RUNS: &str = "polypipe 1 fragments 8 6
+const RUNS: &str = "polypipe 2 fragments 8 6
 run 0 0 8 255 0 0
 run 1 0 2 255 0 0
 run 1 2 5 0 255 0
@@ -208,7 +208,7 @@ fn frames_are_the_zbuffer_leafs_at_depths_0_to_2() {
     }
 }
 
-/// Where area subdivision slows down (issue 10, item 7): it stays exact, and its
+/// Where area subdivision slows down: it stays exact, and its
 /// counters show why it is slow.
 mod where_it_slows {
     use super::*;

@@ -6,7 +6,7 @@ use proto::Colour;
 use stagecli::TextFlag;
 use std::process::ExitCode;
 
-/// Anti-aliasing with Carpenter's a-buffer (seeds/001, chapter 6.3; docs/DESIGN.md,
+/// Anti-aliasing with Carpenter's a-buffer (sampling thesis 6.3; docs/DESIGN.md,
 /// "Anti-aliasing"), a leaf of the splitter tree.
 ///
 /// Reads a screen-space polygon stream (from persp) on stdin and gathers each frame. Per

@@ -1,7 +1,7 @@
 //! # clipbatch: a batch of polygons clipped against the whole pyramid at once
 //!
-//! Theoharis and Page (`seeds/002_…`, "Parallel polygon clipping on the transputer and the
-//! DAP") give two parallel forms of Sutherland–Hodgman. The thesis's pipeline, one process
+//! Theoharis and Page (1989, "Two Parallel Methods for Polygon
+//! Clipping") give two parallel forms of Sutherland–Hodgman. The thesis's pipeline, one process
 //! per plane (§3, `clipplane`), is their method A: different polygons against different
 //! planes at the same time. This crate is method B (§2.2): many polygons against the
 //! *same* plane at the same time, as they ran it on the 64×64 ICL DAP (§4), where each

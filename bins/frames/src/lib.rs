@@ -4,7 +4,7 @@
 //! "Grammar"), so its frames are independent: a range of them is a movie of its own, and
 //! rendering the ranges one after another gives the frames of the whole.
 //! `scripts/render-frames.sh` cuts a movie this way to render its parts on other hosts
-//! (issue 13, `render.sh --hosts … --by frames`).
+//! (`render.sh --hosts … --by frames`).
 //!
 //! The cut renumbers nothing: polygon numbers restart in every frame, so the records of
 //! the frames kept pass through unchanged, and only the frame boundaries around them are

@@ -135,7 +135,7 @@ fn a_missing_file_is_an_io_error() {
 fn fragment_streams_are_refused() {
     frames()
         .arg("--count")
-        .write_stdin("polypipe 1 fragments 4 4\nEND\n")
+        .write_stdin("polypipe 2 fragments 4 4\nEND\n")
         .assert()
         .code(1)
         .stderr("frames: stdin: a fragment stream; frames cuts polygon streams (world, eye or screen)\n");

@@ -1,6 +1,6 @@
 //! # hiddenline: the visible parts of polygon edges, as SVG (Archuleta's output)
 //!
-//! Archuleta's hidden-surface line drawing (`seeds/003_…`, "LINE DRAWING ALGORITHM")
+//! Archuleta's hidden-surface line drawing (1972, "Line Drawing Algorithm")
 //! takes Watkins's scan-line visibility and, instead of shading the visible segments,
 //! draws the parts of the polygons' edges that are visible, as vectors. His vectors are
 //! found a scan line at a time, so they inherit the raster's resolution (his "third

@@ -8,7 +8,7 @@ use stagecli::FrameNames;
 use std::io::Write;
 use std::process::ExitCode;
 
-/// Hidden-line drawing (Archuleta's output of Watkins's algorithm, seeds/003_…): the
+/// Hidden-line drawing (Archuleta's output of Watkins's algorithm, Archuleta (1972)): the
 /// visible parts of every polygon edge, as SVG.
 ///
 /// Reads a screen-space polygon stream (from persp) on stdin and writes, per frame, an

@@ -8,11 +8,14 @@
 //!
 //! Depth: the occam code (thesis Appendix 4) passes z_e on, which is exact at the
 //! vertices but not linear across the screen, so interpolating it in the scan converter
-//! is wrong inside a polygon. The projective depth z_s = (1 − K1/z_e)·K2/(K2 − K1) is an
-//! affine function of 1/z_e, hence of screen position on any plane: it interpolates
-//! exactly. Both are kept so the difference can be measured.
+//! is wrong inside a polygon. Any affine function of 1/z_e is an affine function of
+//! screen position on a plane, so it interpolates exactly: the reciprocal depth
+//! D = −K1/z_e (the default) and the projective z_s = (1 − K1/z_e)·K2/(K2 − K1), which
+//! crowds every far depth against 1, where an f64 can no longer tell polygons one part in
+//! 10⁹ apart (docs/methods.md, "The z-buffer near yon"). All three are kept so the
+//! differences can be measured.
 //!
-//! Depth plane: in projective mode every polygon leaves persp carrying its depth plane
+//! Depth plane: in the reciprocal and projective modes every polygon leaves persp carrying its depth plane
 //! `P·X + Q·Y − depth + R = 0`, taken from its eye-space plane (the one an earlier
 //! splitter recorded before cutting it, or [`Polygon::eye_plane`] of the polygon as it
 //! is). The scan converter uses it instead of a plane fitted to the screen vertices, so
@@ -31,7 +34,11 @@ use proto::{DVec4, Polygon, Vertex, View};
 /// What `persp` writes as a vertex's depth.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
 pub enum DepthMode {
-    /// z_s = (1 − K1/z_e)·K2/(K2 − K1): 0 at hither, 1 at yon, linear on the screen.
+    /// D = −K1/z_e: −1 at hither, −K1/K2 at yon, linear on the screen, and held by an f64
+    /// to 2⁻⁵³ of itself at every depth (the tie rule's form, docs/DESIGN.md).
+    Reciprocal,
+    /// z_s = (1 − K1/z_e)·K2/(K2 − K1): 0 at hither, 1 at yon, linear on the screen, but
+    /// crowded against 1 far from the eye (the classic z-buffer's precision failure).
     Projective,
     /// z_e itself, as the thesis's occam code does. An approximation (z_e is not linear on
     /// the screen): each polygon's depth plane is fitted to its own screen vertices, so a
@@ -88,6 +95,7 @@ impl Perspective {
     pub fn project_vertex(&self, v: Vertex) -> Vertex {
         let (x, y) = self.device.project(v);
         let depth = match self.depth {
+            DepthMode::Reciprocal => self.device.reciprocal_depth(v.z),
             DepthMode::Projective => self.device.projective_depth(v.z),
             DepthMode::EyeZ => v.z,
         };
@@ -98,20 +106,28 @@ impl Perspective {
     /// plane `n` of [`Polygon::eye_plane`]: a·x' + b·y' + c·z_e + d = 0 with
     /// (x', y') = z_e·(u, v), u = x_e/w = a_s·(2X/W − 1) and v = y_e/w = 1 − 2Y/H (a_s the
     /// aspect ratio). Dividing by z_e: 1/z_e = −(a·u + b·v + c)/d, an affine function of
-    /// X and Y, and projective depth is k − m/z_e with k = K2/(K2 − K1), m = K1·k.
-    /// `None` in eye-z mode, and for a plane through the eye (d = 0: the polygon is seen
-    /// edge-on and 1/z_e is not a function of screen position) or any non-finite result.
+    /// X and Y, and either depth is k − m/z_e: reciprocal k = 0, m = K1; projective
+    /// k = K2/(K2 − K1), m = K1·k. `None` in eye-z mode, and for a plane through the eye
+    /// (d = 0: the polygon is seen edge-on and 1/z_e is not a function of screen position)
+    /// or any non-finite result.
     pub fn screen_plane(&self, n: DVec4) -> Option<DVec4> {
-        if self.depth != DepthMode::Projective || n.w == 0.0 {
-            return None;
-        }
         let Device {
             width,
             height,
             view,
         } = self.device;
-        let k = view.yon / (view.yon - view.hither);
-        let m_d = view.hither * k / n.w;
+        let (k, m) = match self.depth {
+            DepthMode::Reciprocal => (0.0, view.hither),
+            DepthMode::Projective => {
+                let k = view.yon / (view.yon - view.hither);
+                (k, view.hither * k)
+            }
+            DepthMode::EyeZ => return None,
+        };
+        if n.w == 0.0 {
+            return None;
+        }
+        let m_d = m / n.w;
         let p = m_d * n.x * view.aspect * 2.0 / width as f64;
         let q = -m_d * n.y * 2.0 / height as f64;
         let r = k + m_d * (n.z + n.y - n.x * view.aspect);
@@ -180,7 +196,9 @@ impl Perspective {
             }
         }
         let eye_plane = match self.depth {
-            DepthMode::Projective => poly.plane.or_else(|| poly.eye_plane()),
+            DepthMode::Reciprocal | DepthMode::Projective => {
+                poly.plane.or_else(|| poly.eye_plane())
+            }
             DepthMode::EyeZ => None,
         };
         for v in poly.vertices.iter_mut() {

@@ -25,7 +25,7 @@ struct Cli {
     #[arg(long, value_parser = parse_size, value_name = "WxH")]
     size: (u32, u32),
     /// The depth written for each vertex.
-    #[arg(long, value_enum, default_value_t = DepthMode::Projective)]
+    #[arg(long, value_enum, default_value_t = DepthMode::Reciprocal)]
     depth: DepthMode,
     #[command(flatten)]
     text: TextFlag,

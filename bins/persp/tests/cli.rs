@@ -43,7 +43,7 @@ END
 #[test]
 fn projective_depth_text_to_text() {
     persp()
-        .args(["--size", "400x200", "--text"])
+        .args(["--size", "400x200", "--depth", "projective", "--text"])
         .write_stdin(EYE)
         .assert()
         .success()
@@ -76,7 +76,7 @@ fn eye_z_depth_passes_z_e() {
 fn thesis_scene_at_500x500() {
     // viewxf's output for docs/DESIGN.md's "The example scene" (thesis camera, K1 = 1, K2 = 30).
     persp()
-        .args(["--size", "500x500", "--text"])
+        .args(["--size", "500x500", "--depth", "projective", "--text"])
         .write_stdin(
             "polypipe 1 eye aspect 1 hither 1 yon 30\ncolour 60 60 255\n-9 5 16 10\n7 -7 24 15\nEND\n",
         )
@@ -86,6 +86,18 @@ fn thesis_scene_at_500x500() {
         .stdout(
             "polypipe 1 screen 500 500\ncolour 60 60 255\n24.999999999999993 125 0.9698275862068966\n\
              366.6666666666667 366.6666666666667 0.9913793103448277\nEND\n",
+        );
+    // The default, reciprocal depth: −K1/z_e, −1/16 and −1/24.
+    persp()
+        .args(["--size", "500x500", "--text"])
+        .write_stdin(
+            "polypipe 1 eye aspect 1 hither 1 yon 30\ncolour 60 60 255\n-9 5 16 10\n7 -7 24 15\nEND\n",
+        )
+        .assert()
+        .success()
+        .stdout(
+            "polypipe 1 screen 500 500\ncolour 60 60 255\n24.999999999999993 125 -0.0625\n\
+             366.6666666666667 366.6666666666667 -0.041666666666666664\nEND\n",
         );
 }
 
@@ -125,7 +137,7 @@ fn wrong_space_is_refused() {
 #[test]
 fn behind_the_eye_names_frame_and_polygon() {
     let out = persp()
-        .args(["--size", "400x200", "--text"])
+        .args(["--size", "400x200", "--depth", "projective", "--text"])
         .write_stdin(
             "polypipe 1 eye aspect 2 hither 2 yon 4\ncolour 1 1 1\n0 0 2 1.25\nNEXT.FRAME\n\
              colour 2 2 2\nNEXT.POLYGON\ncolour 3 3 3\n0 0 2 1.25\n1 1 -1 -0.625\nEND\n",
@@ -215,14 +227,14 @@ fn binary_in_and_out_match_text() {
     let binary_in = w.into_inner().unwrap();
     // Binary in, text out.
     persp()
-        .args(["--size", "400x200", "--text"])
+        .args(["--size", "400x200", "--depth", "projective", "--text"])
         .write_stdin(binary_in.clone())
         .assert()
         .success()
         .stdout(SCREEN);
     // Binary in, binary out: the same records as the text output.
     let binary_out = persp()
-        .args(["--size", "400x200"])
+        .args(["--size", "400x200", "--depth", "projective"])
         .write_stdin(binary_in)
         .assert()
         .success()

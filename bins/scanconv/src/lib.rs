@@ -21,7 +21,7 @@ use scan::{RegionBuffer, SpanWalker};
 /// What becomes of covered pixels.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
 pub enum Output {
-    /// Runs of pixels on one row, depth at the first and a step (the default).
+    /// Runs of pixels on one row, with the row's depth at column 0 and a step (the default).
     #[default]
     Spans,
     /// One record per pixel, the thesis's (colour, x, y, depth) quadruplet.
@@ -111,7 +111,7 @@ impl ScanConverter {
                         y: s.y,
                         x0: s.x0,
                         x1: s.x1,
-                        z0: s.z0(),
+                        z: s.z_row,
                         dz: s.dz,
                     })
                 })?
@@ -155,7 +155,6 @@ impl ScanConverter {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use proto::fragment::depth_to_fixed;
     use proto::Polygon;
 
     fn poly(points: &[[f64; 3]]) -> Polygon {
@@ -189,13 +188,12 @@ mod tests {
     fn square_covers_its_pixels_at_constant_depth() {
         let sq = square([10, 20, 30], 1.0, 3.0, 0.5);
         let frags = run(4, 4, Output::Spans, &[sq]);
-        let half = depth_to_fixed(0.5);
         let span = |y| Fragment::Span {
             y,
             x0: 1,
             x1: 3,
-            z0: half,
-            dz: 0,
+            z: 0.5,
+            dz: 0.0,
         };
         assert_eq!(
             frags,
@@ -205,21 +203,21 @@ mod tests {
 
     #[test]
     fn pixels_carry_the_depths_of_the_spans() {
-        // depth = X/8 + Y/16: a span's z0 + (x − x0)·dz is each pixel's depth.
+        // depth = X/8 + Y/16: a span's z + x·dz is each pixel's depth.
         let p = |x: f64, y: f64| [x, y, x / 8.0 + y / 16.0];
         let sq = poly(&[p(0.0, 0.0), p(4.0, 0.0), p(4.0, 4.0), p(0.0, 4.0)]);
         let pixels = run(4, 4, Output::Pixels, std::slice::from_ref(&sq));
         assert_eq!(pixels.len(), 17);
         let mut from_spans = vec![];
         for f in &run(4, 4, Output::Spans, &[sq])[1..] {
-            let Fragment::Span { y, x0, x1, z0, dz } = *f else {
+            let Fragment::Span { y, x0, x1, z, dz } = *f else {
                 panic!("{f:?}")
             };
             for x in x0..x1 {
                 from_spans.push(Fragment::Pixel {
                     x,
                     y,
-                    z: z0 + (x - x0) as i64 * dz,
+                    z: proto::fragment::span_depth(z, dz, x),
                 });
             }
         }

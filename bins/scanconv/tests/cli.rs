@@ -33,19 +33,19 @@ colour 0 255 0
 END
 ";
 
-// DEPTH_ONE = 2^40: 0.5 is 549755813888. The triangle's plane is depth = 0.25 + Y/8, so
+// DEPTH_ONE = 2^40: 0.5 is 0.5. The triangle's plane is depth = 0.25 + Y/8, so
 // row r has depth 0.25 + (r + ½)/8 and a zero step along the row.
-const SPANS: &str = "polypipe 1 fragments 4 4
+const SPANS: &str = "polypipe 2 fragments 4 4
 colour 255 0 0
-span 1 1 3 549755813888 0
-span 2 1 3 549755813888 0
+span 1 1 3 0.5 0
+span 2 1 3 0.5 0
 NEXT.POLYGON
 colour 9 9 9
 NEXT.POLYGON
 colour 0 0 255
-span 0 0 3 343597383680 0
-span 1 0 2 481036337152 0
-span 2 0 1 618475290624 0
+span 0 0 3 0.3125 0
+span 1 0 2 0.4375 0
+span 2 0 1 0.5625 0
 NEXT.FRAME
 colour 0 255 0
 span 0 0 3 0 0
@@ -71,20 +71,20 @@ END
 ";
     // depth = X/8: pixel centres 0.5 and 1.5 give 1/16 and 3/16; the step is 1/8.
     scanconv(&["--text", "--pixels"], input).success().stdout(
-        "polypipe 1 fragments 4 2
+        "polypipe 2 fragments 4 2
 colour 1 2 3
-pixel 0 0 68719476736
-pixel 1 0 206158430208
-pixel 0 1 68719476736
-pixel 1 1 206158430208
+pixel 0 0 0.0625
+pixel 1 0 0.1875
+pixel 0 1 0.0625
+pixel 1 1 0.1875
 END
 ",
     );
     scanconv(&["--text"], input).success().stdout(
-        "polypipe 1 fragments 4 2
+        "polypipe 2 fragments 4 2
 colour 1 2 3
-span 0 0 2 68719476736 137438953472
-span 1 0 2 68719476736 137438953472
+span 0 0 2 0.0625 0.125
+span 1 0 2 0.0625 0.125
 END
 ",
     );
@@ -128,7 +128,7 @@ fn bad_input_names_the_position() {
         "polypipe 1 screen 4 4\ncolour 1 1 1\n0 0 0\n1 x 0\nEND\n",
     )
     .code(1)
-    .stdout("polypipe 1 fragments 4 4\n")
+    .stdout("polypipe 2 fragments 4 4\n")
     .stderr("scanconv: line 4, column 3: expected y of vertex 1 (3 numbers a vertex in screen space), found `x`\n");
 }
 
@@ -139,7 +139,7 @@ fn frames_before_a_fault_are_written() {
         "polypipe 1 screen 2 2\ncolour 1 1 1\n0 0 0\n2 0 0\n2 2 0\nNEXT.FRAME\ncolour 1 1 1\n0 0\n",
     )
     .code(1)
-    .stdout("polypipe 1 fragments 2 2\ncolour 1 1 1\nspan 0 0 2 0 0\nspan 1 1 2 0 0\nNEXT.FRAME\n");
+    .stdout("polypipe 2 fragments 2 2\ncolour 1 1 1\nspan 0 0 2 0 0\nspan 1 1 2 0 0\nNEXT.FRAME\n");
 }
 
 /// `--resolve`: the leaf decides visibility and sends, at each frame's end, its finished
@@ -154,7 +154,7 @@ fn resolve_exactly() {
         1,
     );
     scanconv(&["--text", "--resolve"], &input).success().stdout(
-        "polypipe 1 fragments 4 4
+        "polypipe 2 fragments 4 4
 run 0 0 3 0 0 255
 run 1 0 2 0 0 255
 run 1 2 3 255 0 0

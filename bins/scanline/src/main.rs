@@ -5,7 +5,7 @@ use scanline::Scanline;
 use stagecli::TextFlag;
 use std::process::ExitCode;
 
-/// Watkins's scan-line hidden-surface algorithm (seeds/003, seeds/004 section 14.4).
+/// Watkins's scan-line hidden-surface algorithm (Archuleta (1972); Newman and Sproull (1973), 14.4).
 ///
 /// Reads a screen-space polygon stream (from persp) on stdin and resolves each frame
 /// one scan line at a time, with no depth buffer: the active polygons' segments on the
@@ -32,8 +32,7 @@ struct Args {
     text: TextFlag,
     /// Print counts on stderr at the end: polygons in, frames, runs out, then Watkins's
     /// quantities: scan lines, segments, sample spans, segments examined, depth
-    /// comparisons, crossings (splits where another segment comes in front), and sample
-    /// spans decided pixel by pixel (where a depth is clamped).
+    /// comparisons and crossings (splits where another segment comes in front).
     #[arg(long)]
     stats: bool,
 }

@@ -27,7 +27,7 @@
 //! the first, the edges are walked from (v_{n−1}, v_0) on, so a polygon wholly on one side
 //! comes out with its vertices unchanged and in the same order.
 //!
-//! ## The lean stream (issue 9)
+//! ## The lean stream
 //!
 //! The occam splitter sends every polygon down both branches, empty where it lies on the
 //! other side, so that polygon k is polygon k at every leaf. A node here sends an output
@@ -239,7 +239,7 @@ fn midpoint(a: u32, b: u32) -> u32 {
 /// that is empty comes out as a polygon without vertices, so that polygon k stays
 /// polygon k on both branches. The outputs' vertex buffers are reused.
 ///
-/// So that the pieces render bit for bit as the whole would have (issue 3), a polygon that
+/// So that the pieces render bit for bit as the whole would have, a polygon that
 /// is really cut (three vertices or more on each side) is given its plane,
 /// [`Polygon::eye_plane`], unless an earlier node already gave it one; and every piece of
 /// an edge that is cut gets the edge's *support*: the ends of the original edge (of the

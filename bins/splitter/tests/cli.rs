@@ -330,7 +330,7 @@ fn bad_input_is_located_and_finished_frames_are_kept() {
     }
 }
 
-/// The lean stream (issue 9): polygons an output gets nothing of in a row, and skips
+/// The lean stream: polygons an output gets nothing of in a row, and skips
 /// that arrive, become one `skip N` on that output, written just before its next record;
 /// polygon k stays polygon k on both outputs.
 #[test]

@@ -47,7 +47,7 @@ pub struct Supersample {
     /// The frame's polygons on the fine screen, in stream order.
     fine: Vec<Polygon>,
     /// The band: K fine rows of the columns in use, depth and polygon of each sample.
-    depth: Vec<i64>,
+    depth: Vec<scan::Depth>,
     owner: Vec<u32>,
     /// One pixel row of finished pixels.
     row: Vec<Option<Colour>>,
@@ -93,7 +93,7 @@ impl Supersample {
         let n = ((cols.end - cols.start) * k) as usize;
         let len = n * k as usize;
         if self.depth.len() < len {
-            self.depth.resize(len, 0);
+            self.depth.resize(len, 0.0);
             self.owner.resize(len, NONE);
         }
         self.owner[..len].fill(NONE);
@@ -107,9 +107,9 @@ impl Supersample {
                         let at = base + (x - fx0) as usize;
                         let z = s.depth(x);
                         stats.samples_tested += 1;
-                        // Strictly nearer replaces: polygons come in stream order, so a
-                        // tie keeps the earlier one (the z-buffer's rule).
-                        if owner[at] == NONE || z < depth[at] {
+                        // Polygons come in stream order, so the holder is the earlier
+                        // one: the tie rule (the z-buffer's).
+                        if (owner[at] == NONE && !z.is_nan()) || scan::takes(z, depth[at]) {
                             depth[at] = z;
                             owner[at] = i;
                             stats.samples_written += 1;

@@ -1,7 +1,7 @@
 //! # viewxf: the viewing transformation, world → eye (thesis chapter 1, Appendix 4)
 //!
 //! Every world point p becomes eye coordinates (x_e, y_e, z_e, w): its components along
-//! the camera's axes, measured from the eye, with w = z_e·s/d (docs/DESIGN.md, "Conventions").
+//! the camera's axes, measured from the eye, with w = z_e·s/d (docs/DESIGN.md, "Coordinates and camera").
 //! The camera itself (axes, w) is [`proto::camera::EyeFrame`]; this crate only applies it
 //! to a stream's polygons, in place, so the stage allocates nothing of its own.
 

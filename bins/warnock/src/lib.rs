@@ -1,5 +1,5 @@
 //! # warnock: Warnock's area subdivision at a leaf of the splitter tree
-//! (seeds/004_…, 14.3 and Appendix VI; docs/DESIGN.md, "Leaves resolve visibility")
+//! (Newman and Sproull 1973, 14.3, Appendix VI; docs/DESIGN.md, "Leaves resolve visibility")
 //!
 //! Warnock examines *windows* of the screen instead of polygons (14.3): for a window the
 //! **Looker** sorts every polygon still in question into surrounders, intersectors and
@@ -12,7 +12,7 @@
 //!
 //! ## At pixel resolution
 //!
-//! The seed's Looker clips polygon edges against the window in real coordinates; here
+//! Newman and Sproull's Looker clips polygon edges against the window in real coordinates; here
 //! every decision is taken on the pixels themselves, with the point sampling every other
 //! method uses, so that the frame is byte for byte the z-buffer's
 //! ([`scan::frame::ZBuffer`]):
@@ -23,12 +23,10 @@
 //!   **surrounder** when it covers all of them, an **intersector** otherwise. As in the
 //!   listing's HISTORY array, what is known of a window holds for its descendants: a
 //!   disjoint polygon is not in their lists, a surrounder is not examined again.
-//! - Depth is the fixed-point depth of [`scan::DepthPlane`]: pixel x of row y has
-//!   `depth_at(z_row, dz, x)`, smaller in front, a tie to the polygon earlier in the
-//!   stream. On a row it is linear in x, so whether polygon A is in front of polygon B
-//!   over a stretch of the row is decided by its two end columns (unless a depth there
-//!   sits at the `i64` bounds, where it may be saturated: then nothing is decided and the
-//!   window is subdivided). The seed compares the planes at the window's four corners,
+//! - Depth is the depth of [`scan::DepthPlane`]: pixel x of row y has
+//!   `depth_at(z_row, dz, x)`, smaller in front, decided by the tie rule
+//!   ([`scan::takes`]). On a row it is linear in x, so whether polygon A is in front of
+//!   polygon B over a stretch of the row is decided by its two end columns. The seed compares the planes at the window's four corners,
 //!   extending intersectors over the whole window (AVI.1.1, "sufficient but not
 //!   necessary"); here each row of the window is compared where B covers it, which is
 //!   exact for this sampling and still sufficient.
@@ -52,7 +50,7 @@
 //!    AVI.2, Thinker 2 with I = 1).
 //!
 //! Otherwise the window is subdivided. Penetrating polygons fail cases 4 and 5 along
-//! their line of intersection and are subdivided down to pixels there, as the seed says
+//! their line of intersection and are subdivided down to pixels there, as Newman and Sproull say
 //! the implied edge is found (14.3.3, Figure 14-18).
 //!
 //! Output: each resolved window puts its pieces of rows on its rows' lists (memory for
@@ -139,7 +137,7 @@ struct Coverage {
     /// Index of its first row in [`Warnock::rows`]; row y is `rows[row + (y − y0)]`, and
     /// its spans are `spans[rows[i].start..rows[i + 1].start]`.
     row: usize,
-    dz: i64,
+    dz: scan::Depth,
     colour: Colour,
 }
 
@@ -147,7 +145,7 @@ struct Coverage {
 #[derive(Clone, Copy, Debug)]
 struct Row {
     start: usize,
-    z_row: i64,
+    z_row: scan::Depth,
 }
 
 /// An entry of a window's polygon list: an index into the frame's coverages (stream
@@ -190,7 +188,7 @@ impl Warnock {
         let (rows, spans) = (&mut self.rows, &mut self.spans);
         for p in polygons {
             let row = rows.len();
-            let mut first: Option<(u32, i64)> = None;
+            let mut first: Option<(u32, scan::Depth)> = None;
             let (mut y_next, mut x0, mut x1) = (0u32, u32::MAX, 0u32);
             self.walker.for_each_span(p, width, height, |s| {
                 if first.is_none() {
@@ -202,7 +200,7 @@ impl Warnock {
                 while y_next <= s.y {
                     rows.push(Row {
                         start: spans.len(),
-                        z_row: 0,
+                        z_row: 0.0,
                     });
                     y_next += 1;
                 }
@@ -216,7 +214,7 @@ impl Warnock {
             let Some((y0, dz)) = first else { continue };
             rows.push(Row {
                 start: spans.len(),
-                z_row: 0,
+                z_row: 0.0,
             });
             self.covs.push(Coverage {
                 y0,
@@ -231,7 +229,7 @@ impl Warnock {
     }
 
     /// The spans of polygon `c` on row `y` (which must be one of its rows).
-    fn row_spans(&self, c: &Coverage, y: u32) -> (&[(u32, u32)], i64) {
+    fn row_spans(&self, c: &Coverage, y: u32) -> (&[(u32, u32)], scan::Depth) {
         let i = c.row + (y - c.y0) as usize;
         let (r, next) = (self.rows[i], self.rows[i + 1]);
         (&self.spans[r.start..next.start], r.z_row)
@@ -301,11 +299,12 @@ impl Warnock {
             let (_, zb) = self.row_spans(&cb, y);
             for x in [first, last] {
                 let (da, db) = (depth_at(za, ca.dz, x), depth_at(zb, cb.dz, x));
-                if [da, db].iter().any(|&d| d == i64::MIN || d == i64::MAX) {
-                    result = None;
-                    break 'rows;
-                }
-                if !(da < db || (da == db && a < b)) {
+                let a_in_front = if a > b {
+                    scan::takes(da, db)
+                } else {
+                    proto::depth::takes_back(da, db)
+                };
+                if !a_in_front {
                     result = Some(false);
                     break 'rows;
                 }
@@ -316,7 +315,7 @@ impl Warnock {
     }
 
     /// The depth of polygon `poly` at pixel (x, y), which it covers.
-    fn depth(&self, poly: u32, x: u32, y: u32) -> i64 {
+    fn depth(&self, poly: u32, x: u32, y: u32) -> scan::Depth {
         let c = &self.covs[poly as usize];
         let (_, z_row) = self.row_spans(c, y);
         depth_at(z_row, c.dz, x)
@@ -386,12 +385,17 @@ impl Warnock {
             return Resolution::Empty;
         }
         if w.is_pixel() {
-            // Display by default: every polygon of a one-pixel window's list covers it.
-            let best = self.lists[start..]
-                .iter()
-                .map(|e| (self.depth(e.poly, w.x0, w.y0), e.poly))
-                .min()
-                .expect("the list is not empty");
+            // Display by default: every polygon of a one-pixel window's list covers it; the
+            // tie rule's fold in stream order picks the one seen.
+            let mut order: Vec<u32> = self.lists[start..].iter().map(|e| e.poly).collect();
+            order.sort_unstable();
+            let mut best = (self.depth(order[0], w.x0, w.y0), order[0]);
+            for &p in &order[1..] {
+                let z = self.depth(p, w.x0, w.y0);
+                if scan::takes(z, best.0) {
+                    best = (z, p);
+                }
+            }
             self.fill(w, self.covs[best.1 as usize].colour);
             return Resolution::Pixel;
         }
@@ -409,7 +413,7 @@ impl Warnock {
             .iter()
             .filter(|e| e.surrounds)
             .map(|e| (self.depth(e.poly, w.x0, w.y0), e.poly))
-            .min()
+            .min_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)))
         else {
             return Resolution::Subdivided;
         };
@@ -767,55 +771,6 @@ mod tests {
         assert_eq!(think_on(&mut m, win(0, 0, 8, 8)), Resolution::InFront);
         assert_eq!(picture(&mut m)[2 * 8 + 2], Some(RED));
         assert_eq!(picture(&mut m)[0], Some(GREEN));
-    }
-
-    #[test]
-    fn saturated_depths_are_not_decided_but_pixels_are() {
-        // Depths beyond the fixed point's range (about 8.4e6 units) saturate at i64::MAX:
-        // two such planes tie there although they differ, so the windows fail down to
-        // single pixels, which the z-buffer's rule decides as the z-buffer does.
-        let polygons = [
-            square(RED, 0.0, 0.0, 4.0, 4.0, 1e8),
-            square(GREEN, 0.0, 0.0, 4.0, 4.0, 2e7),
-        ];
-        let mut m = loaded(&polygons, 4, 4);
-        assert_eq!(think_on(&mut m, win(0, 0, 4, 4)), Resolution::Subdivided);
-        let (runs, m) = resolved(&polygons, 4, 4);
-        assert_eq!(image_of(&runs, 4, 4), zbuffer_image(&polygons, 4, 4));
-        assert_eq!(image_of(&runs, 4, 4), vec![Some(RED); 16]);
-        assert_eq!(m.stats.windows_by_depth, vec![1, 4, 16]);
-        assert_eq!(m.stats.pixels, 16);
-    }
-
-    #[test]
-    fn a_saturated_end_column_decides_nothing() {
-        // M: the depth where the fixed point saturates (i64::MAX / 2^40 ≈ 2^23). On one
-        // row of three pixels, A is in front at column 0, B at column 1, and at column 2
-        // both are past M: saturated, they tie there, and A, earlier, would win the tie.
-        // Judged by its end columns the row would be A's, wrongly: the window must fail.
-        let m = 8_388_608.0;
-        let row = |colour, z0: f64, slope: f64| {
-            let z = |x: f64| z0 + slope * (x - 0.5);
-            Polygon::from_xyz(
-                colour,
-                &[
-                    [0.0, 0.0, z(0.0)],
-                    [3.0, 0.0, z(3.0)],
-                    [3.0, 1.0, z(3.0)],
-                    [0.0, 1.0, z(0.0)],
-                ],
-            )
-        };
-        let polygons = [row(RED, -1.0, 0.6 * m), row(GREEN, 0.0, 0.55 * m)];
-        let mut w = loaded(&polygons, 3, 1);
-        assert_eq!(think_on(&mut w, win(0, 0, 3, 1)), Resolution::Subdivided);
-        let (runs, w) = resolved(&polygons, 3, 1);
-        assert_eq!(
-            image_of(&runs, 3, 1),
-            vec![Some(RED), Some(GREEN), Some(RED)]
-        );
-        assert_eq!(image_of(&runs, 3, 1), zbuffer_image(&polygons, 3, 1));
-        assert_eq!(w.stats.pixels, 3);
     }
 
     #[test]

@@ -1,5 +1,5 @@
 //! warnock: screen-space polygons in, each frame's finished pixels out, by Warnock's area
-//! subdivision (seeds/004_…, 14.3 and Appendix VI).
+//! subdivision (Newman and Sproull (1973), 14.3 and Appendix VI).
 
 use clap::Parser;
 use stagecli::TextFlag;

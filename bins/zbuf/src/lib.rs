@@ -5,12 +5,17 @@
 //! scan converters at once and shows the frame once every one of them has sent its
 //! NEXT.FRAME.
 //!
-//! Visibility (docs/DESIGN.md, "Visibility"; thesis 2.3): the smaller depth wins; at equal depth the
-//! polygon earlier in the stream wins. Each pixel therefore keeps, beside its depth, the
-//! index of the polygon that wrote it, and a fragment wins when `(depth, polygon)` is
-//! lexicographically smaller. Polygon k is the same polygon on every branch of a splitter
-//! tree, so the result does not depend on which input a pixel came through, nor on the
-//! order the inputs' fragments arrive in: the frame is deterministic.
+//! Visibility (docs/DESIGN.md, "The Z specification"; thesis 2.3) is the tie rule of
+//! [`proto::depth`]: folding the polygons at a pixel in stream order, a later one takes
+//! the pixel only when nearer by more than 2⁻³⁰ of the holder's depth. Fragments of one
+//! input come in stream order, but inputs are read concurrently, so each pixel keeps,
+//! beside its depth, the index of the polygon that holds it, and a fragment of a polygon
+//! earlier than the holder is judged from the other side ([`wins`]). Polygon k is the
+//! same polygon on every branch of a splitter tree, and the tree's leaves cover disjoint
+//! pixels, so every pixel's polygons arrive through one input, in stream order: the
+//! result does not depend on the order the inputs' fragments arrive in, and the frame is
+//! deterministic. (Inputs that overlap, which the tree never makes, get the fold's answer
+//! for any two polygons at a pixel.)
 //!
 //! The concurrent reading of many inputs lives in [`par_buff`].
 
@@ -44,9 +49,9 @@ pub struct FrameBuffer {
     background: Colour,
     /// Tiles across the screen.
     tiles_x: u32,
-    /// Fixed-point depth per pixel, tiled ([`FrameBuffer::tiled`]); `i64::MAX`
-    /// (MAX.DEPTH) where nothing is drawn. Empty until the first depth-tested fragment.
-    depth: Vec<i64>,
+    /// Depth per pixel, tiled ([`FrameBuffer::tiled`]); `+∞` (MAX.DEPTH) where nothing
+    /// is drawn. Empty until the first depth-tested fragment.
+    depth: Vec<f64>,
     /// Index in the frame of the polygon that drew each pixel, tiled; `u32::MAX` for none.
     polygon: Vec<u32>,
     /// The F-buffer: RGB per pixel, row-major, row 0 at the top (a P6 PPM's raster).
@@ -92,7 +97,7 @@ impl FrameBuffer {
         // asked for now, so that a screen too large is refused before any input is read.
         let tiles_x = width.div_ceil(TILE);
         let tiled_n = (tiles_x as usize * height.div_ceil(TILE) as usize) << (2 * SHIFT);
-        let mut depth: Vec<i64> = Vec::new();
+        let mut depth: Vec<f64> = Vec::new();
         let mut polygon: Vec<u32> = Vec::new();
         depth.try_reserve_exact(tiled_n).map_err(|_| refuse())?;
         polygon.try_reserve_exact(tiled_n).map_err(|_| refuse())?;
@@ -128,7 +133,7 @@ impl FrameBuffer {
     /// Re-initialises the buffers for the next frame.
     pub fn clear(&mut self) {
         if self.depth_live {
-            self.depth.fill(i64::MAX);
+            self.depth.fill(f64::INFINITY);
             self.polygon.fill(NO_POLYGON);
             self.depth_live = false;
         }
@@ -150,7 +155,7 @@ impl FrameBuffer {
         let n = tiles << (2 * SHIFT);
         if self.depth.len() != n {
             // Within the capacity reserved by `new`: no allocation here.
-            self.depth.resize(n, i64::MAX);
+            self.depth.resize(n, f64::INFINITY);
             self.polygon.resize(n, NO_POLYGON);
         }
         self.depth_live = true;
@@ -166,22 +171,23 @@ impl FrameBuffer {
         while x < x1 {
             let end = x1.min(((x >> SHIFT) + 1) << SHIFT);
             let (at, n) = (self.tiled(x, y), (end - x) as usize);
-            self.depth[at..at + n].fill(i64::MIN);
+            self.depth[at..at + n].fill(f64::NEG_INFINITY);
             self.polygon[at..at + n].fill(0);
             x = end;
         }
     }
 
     /// Pixels `columns` = `x0..x1` of row `y` from polygon `polygon`: pixel x has depth
-    /// `z0 + (x − x0)·dz`. The caller (the stream reader) has checked the span lies on the
-    /// screen; an out-of-range span is clipped rather than trusted.
+    /// `z_row + x·dz` ([`proto::fragment::span_depth`]). The caller (the stream reader) has
+    /// checked the span lies on the screen; an out-of-range span is clipped rather than
+    /// trusted.
     #[inline]
     pub fn span(
         &mut self,
         y: u32,
         columns: std::ops::Range<u32>,
-        z0: i64,
-        dz: i64,
+        z_row: f64,
+        dz: f64,
         polygon: u32,
         colour: Colour,
     ) {
@@ -191,7 +197,6 @@ impl FrameBuffer {
         self.depth_tested();
         let x1 = columns.end.min(self.width);
         let x0 = columns.start.min(x1);
-        let mut z = z0;
         let row = y as usize * self.width as usize;
         let mut x = x0;
         while x < x1 {
@@ -201,13 +206,18 @@ impl FrameBuffer {
             let depth = &mut self.depth[at..at + n];
             let index = &mut self.polygon[at..at + n];
             let frame = &mut self.colour[frame_at..frame_at + n];
-            for ((d, i), f) in depth.iter_mut().zip(index.iter_mut()).zip(frame.iter_mut()) {
-                if z < *d || (z == *d && polygon < *i) {
+            for (k, ((d, i), f)) in depth
+                .iter_mut()
+                .zip(index.iter_mut())
+                .zip(frame.iter_mut())
+                .enumerate()
+            {
+                let z = proto::fragment::span_depth(z_row, dz, x + k as u32);
+                if wins(z, polygon, *d, *i) {
                     *d = z;
                     *i = polygon;
                     *f = colour;
                 }
-                z = z.saturating_add(dz);
             }
             x = end;
         }
@@ -251,13 +261,13 @@ impl FrameBuffer {
 
     /// One pixel (the thesis's quadruplet).
     #[inline]
-    pub fn pixel(&mut self, x: u32, y: u32, z: i64, polygon: u32, colour: Colour) {
+    pub fn pixel(&mut self, x: u32, y: u32, z: f64, polygon: u32, colour: Colour) {
         if x >= self.width || y >= self.height {
             return;
         }
         self.depth_tested();
         let k = self.tiled(x, y);
-        if z < self.depth[k] || (z == self.depth[k] && polygon < self.polygon[k]) {
+        if wins(z, polygon, self.depth[k], self.polygon[k]) {
             self.depth[k] = z;
             self.polygon[k] = polygon;
             self.colour[y as usize * self.width as usize + x as usize] = colour;
@@ -287,7 +297,25 @@ impl FrameBuffer {
     }
 }
 
-/// A frame buffer's memory per pixel: depth (i64), polygon index (u32), colour (RGB).
+/// Whether polygon `polygon` at depth `z` takes a pixel held by polygon `held_polygon` at
+/// `held`: the tie rule ([`proto::depth::takes`]) when it comes later in the stream than
+/// the holder, the rule seen from the other side ([`proto::depth::takes_back`]) when
+/// earlier. An empty pixel is held by [`NO_POLYGON`], after every polygon, at `+∞`; a
+/// finished pixel (a leaf's run) by polygon 0 at `−∞`, which nothing takes. Two
+/// fragments of one polygon at one pixel (which a polygon's own spans never make) keep
+/// the nearer, whichever came first.
+#[inline]
+pub fn wins(z: f64, polygon: u32, held: f64, held_polygon: u32) -> bool {
+    if polygon > held_polygon {
+        proto::depth::takes(z, held)
+    } else if polygon < held_polygon {
+        proto::depth::takes_back(z, held)
+    } else {
+        z < held
+    }
+}
+
+/// A frame buffer's memory per pixel: depth (f64), polygon index (u32), colour (RGB).
 pub const BYTES_PER_PIXEL: u64 = 8 + 4 + 3;
 
 /// `n` copies of `value`, or `None` when the memory cannot be had; in huge pages where
@@ -411,14 +439,16 @@ mod tests {
     fn nearer_wins_and_ties_go_to_the_earlier_polygon() {
         let mut fb = FrameBuffer::new(4, 1, [0, 0, 0]).unwrap();
         // Polygon 1 at depth 10 over columns 0..4.
-        fb.span(0, 0..4, 10, 0, 1, [1, 1, 1]);
+        fb.span(0, 0..4, 10.0, 0.0, 1, [1, 1, 1]);
         // Polygon 0, later in arrival but earlier in the stream, ties at depth 10: wins.
-        fb.span(0, 0..2, 10, 0, 0, [2, 2, 2]);
+        fb.span(0, 0..2, 10.0, 0.0, 0, [2, 2, 2]);
         // Polygon 2 over columns 1..4 at depths 9, 10, 11: nearer at column 1; a tie at
         // column 2, where the earlier polygon 1 stays; farther at column 3.
-        fb.span(0, 1..4, 9, 1, 2, [3, 3, 3]);
-        fb.pixel(3, 0, 10, 5, [4, 4, 4]); // tie with polygon 1, later: loses
-        fb.pixel(3, 0, 9, 5, [5, 5, 5]); // nearer: wins
+        fb.span(0, 1..4, 8.0, 1.0, 2, [3, 3, 3]);
+        fb.pixel(3, 0, 10.0, 5, [4, 4, 4]); // tie with polygon 1, later: loses
+                                            // Nearer, but within the tie width of the holder: loses too.
+        fb.pixel(3, 0, 10.0 * (1.0 - 0.5 * proto::depth::TIE), 5, [4, 4, 4]);
+        fb.pixel(3, 0, 9.0, 5, [5, 5, 5]); // nearer: wins
         assert_eq!(fb.rgb(), &[2, 2, 2, 3, 3, 3, 1, 1, 1, 5, 5, 5]);
         fb.clear();
         assert_eq!(fb.rgb(), &[0; 12]);
@@ -432,20 +462,20 @@ mod tests {
         assert!(fb.depth.is_empty());
         // A span after the run: made now, with the run's pixels marked; the nearest
         // possible depth still does not replace them.
-        fb.span(0, 0..4, i64::MIN, 0, 0, [2, 2, 2]);
+        fb.span(0, 0..4, -f64::MAX, 0.0, 0, [2, 2, 2]);
         assert_eq!(
             fb.rgb(),
             [[2; 3], [1; 3], [1; 3], [2; 3], [0; 3], [0; 3], [0; 3], [0; 3]].as_flattened()
         );
         // A run after spans replaces what they drew.
         fb.paint(0, 0..1, [3, 3, 3]);
-        fb.pixel(0, 0, i64::MIN, 0, [4, 4, 4]);
+        fb.pixel(0, 0, -f64::MAX, 0, [4, 4, 4]);
         assert_eq!(fb.colour_at(0, 0), [3, 3, 3]);
         // The next frame: clear, runs listed again, the depth buffer kept but clear.
         fb.clear();
         fb.paint(1, 0..2, [5, 5, 5]);
-        fb.span(1, 0..4, 7, 0, 9, [6, 6, 6]);
-        fb.span(0, 0..1, 7, 0, 9, [6, 6, 6]);
+        fb.span(1, 0..4, 7.0, 0.0, 9, [6, 6, 6]);
+        fb.span(0, 0..1, 7.0, 0.0, 9, [6, 6, 6]);
         assert_eq!(
             fb.rgb(),
             [[6; 3], [0; 3], [0; 3], [0; 3], [5; 3], [5; 3], [6; 3], [6; 3]].as_flattened()
@@ -454,14 +484,14 @@ mod tests {
         fb.clear();
         fb.paint(0, 3..4, [8, 8, 8]);
         fb.clear();
-        fb.span(0, 0..4, i64::MAX, 0, 5, [9, 9, 9]);
+        fb.span(0, 0..4, f64::MAX, 0.0, 5, [9, 9, 9]);
         assert_eq!(fb.rgb()[..12], [9; 12]);
     }
 
     proptest::proptest! {
-        /// Spans and pixels over several tiles, some painted runs among them, against
-        /// each pixel's least (depth, polygon) worked out directly: the tiled depth
-        /// buffer puts every pixel where it belongs.
+        /// Spans and pixels over several tiles, some painted runs among them, in stream
+        /// order, against each pixel's fold by the tie rule worked out directly: the
+        /// tiled depth buffer puts every pixel where it belongs.
         #[test]
         fn tiles_hold_each_pixel_where_it_belongs(
             spans in proptest::collection::vec((0u32..70, 0u32..150, 1u32..150, -3i64..3, -1i64..=1), 1..40),
@@ -470,7 +500,7 @@ mod tests {
             const W: u32 = 150;
             const H: u32 = 70;
             let mut fb = FrameBuffer::new(W, H, [0, 0, 0]).unwrap();
-            let mut best: Vec<Option<(i64, u32)>> = vec![None; (W * H) as usize];
+            let mut best: Vec<Option<(f64, u32)>> = vec![None; (W * H) as usize];
             let mut painted = vec![false; (W * H) as usize];
             let colour = |p: u32| [p as u8, 1, 2];
             if let Some((y, x0, len)) = paint {
@@ -482,16 +512,17 @@ mod tests {
             }
             for (p, &(y, x0, len, z0, dz)) in spans.iter().enumerate() {
                 let (p, x1) = (p as u32, (x0 + len).min(W));
+                let (z_row, dz) = (z0 as f64, dz as f64);
                 if p % 5 == 4 {
-                    fb.pixel(x0, y, z0, p, colour(p));
+                    fb.pixel(x0, y, proto::fragment::span_depth(z_row, dz, x0), p, colour(p));
                 } else {
-                    fb.span(y, x0..x1, z0, dz, p, colour(p));
+                    fb.span(y, x0..x1, z_row, dz, p, colour(p));
                 }
                 let x1 = if p % 5 == 4 { x0 + 1 } else { x1 };
                 for x in x0..x1 {
-                    let z = z0 + (x - x0) as i64 * dz;
+                    let z = proto::fragment::span_depth(z_row, dz, x);
                     let slot = &mut best[(y * W + x) as usize];
-                    if slot.is_none_or(|b| (z, p) < b) {
+                    if slot.is_none_or(|b| proto::depth::takes(z, b.0)) {
                         *slot = Some((z, p));
                     }
                 }
@@ -511,19 +542,31 @@ mod tests {
     }
 
     #[test]
-    fn depth_saturates_rather_than_wrapping() {
+    fn the_farthest_depths_still_draw_on_an_empty_pixel() {
         let mut fb = FrameBuffer::new(3, 1, [0, 0, 0]).unwrap();
-        fb.span(0, 0..3, i64::MAX - 1, i64::MAX, 0, [7, 7, 7]);
-        // Depth MAX − 1, then MAX, MAX: all beat the empty pixel (MAX, no polygon).
+        fb.span(0, 0..3, f64::MAX, 0.0, 0, [7, 7, 7]);
         assert_eq!(fb.rgb(), &[7; 9]);
-        fb.span(0, 0..3, i64::MIN + 1, i64::MIN, 1, [8, 8, 8]);
+        fb.span(0, 0..3, -f64::MAX, 0.0, 1, [8, 8, 8]);
         assert_eq!(fb.rgb(), &[8; 9]);
+    }
+
+    #[test]
+    fn an_earlier_polygon_arriving_later_takes_back_only_beyond_the_tie_width() {
+        use proto::depth::TIE;
+        let mut fb = FrameBuffer::new(3, 1, [0, 0, 0]).unwrap();
+        fb.span(0, 0..3, -1.0, 0.0, 5, [1, 1, 1]);
+        // Polygon 2 (earlier): a tie at column 0 is its; half a width farther at column
+        // 1 still ties (the later polygon 5 did not take it); two widths farther it loses.
+        fb.pixel(0, 0, -1.0, 2, [2, 2, 2]);
+        fb.pixel(1, 0, -(1.0 - 0.5 * TIE), 2, [2, 2, 2]);
+        fb.pixel(2, 0, -(1.0 - 2.0 * TIE), 2, [2, 2, 2]);
+        assert_eq!(fb.rgb(), &[2, 2, 2, 2, 2, 2, 1, 1, 1]);
     }
 
     #[test]
     fn ppm_bytes() {
         let mut fb = FrameBuffer::new(2, 1, [9, 8, 7]).unwrap();
-        fb.pixel(1, 0, 0, 0, [1, 2, 3]);
+        fb.pixel(1, 0, 0.0, 0, [1, 2, 3]);
         let mut out = Vec::new();
         fb.write_ppm(&mut out, ppm::Form::Binary).unwrap();
         assert_eq!(out, b"P6\n2 1\n255\n\x09\x08\x07\x01\x02\x03");

@@ -29,7 +29,7 @@ fn scanconv(screen: &str) -> Vec<u8> {
                             y: s.y,
                             x0: s.x0,
                             x1: s.x1,
-                            z0: s.z0(),
+                            z: s.z_row,
                             dz: s.dz,
                         })
                     })
@@ -102,7 +102,7 @@ fn nearer_polygon_wins() {
 
 #[test]
 fn text_fragments_background_and_stats() {
-    let text = "polypipe 1 fragments 3 1
+    let text = "polypipe 2 fragments 3 1
 colour 0 255 0
 span 0 1 3 5 0
 NEXT.POLYGON
@@ -130,12 +130,12 @@ fn equal_depth_goes_to_the_earlier_polygon_across_inputs() {
     let a = write(
         dir.path(),
         "a.frag",
-        "polypipe 1 fragments 2 1\ncolour 255 0 0\nspan 0 0 2 7 0\nNEXT.POLYGON\ncolour 0 0 255\nEND\n",
+        "polypipe 2 fragments 2 1\ncolour 255 0 0\nspan 0 0 2 7 0\nNEXT.POLYGON\ncolour 0 0 255\nEND\n",
     );
     let b = write(
         dir.path(),
         "b.frag",
-        "polypipe 1 fragments 2 1\ncolour 255 0 0\nNEXT.POLYGON\ncolour 0 0 255\nspan 0 0 2 7 0\nEND\n",
+        "polypipe 2 fragments 2 1\ncolour 255 0 0\nNEXT.POLYGON\ncolour 0 0 255\nspan 0 0 2 7 0\nEND\n",
     );
     for args in [[&a, &b], [&b, &a]] {
         zbuf()
@@ -146,13 +146,13 @@ fn equal_depth_goes_to_the_earlier_polygon_across_inputs() {
     }
     // And within one input, blue later in the stream loses the tie too.
     zbuf()
-        .write_stdin("polypipe 1 fragments 2 1\ncolour 255 0 0\nspan 0 0 2 7 0\nNEXT.POLYGON\ncolour 0 0 255\nspan 0 0 2 7 0\nspan 0 1 2 6 0\nEND\n")
+        .write_stdin("polypipe 2 fragments 2 1\ncolour 255 0 0\nspan 0 0 2 7 0\nNEXT.POLYGON\ncolour 0 0 255\nspan 0 0 2 7 0\nspan 0 1 2 6 0\nEND\n")
         .assert()
         .success()
         .stdout(ppm(2, 1, &[R, B]));
 }
 
-const TWO_FRAMES: &str = "polypipe 1 fragments 2 2
+const TWO_FRAMES: &str = "polypipe 2 fragments 2 2
 colour 255 0 0
 span 0 0 2 0 0
 NEXT.FRAME
@@ -172,7 +172,7 @@ fn frames_are_concatenated() {
         .stdout(want);
     // An empty last frame is a frame: the grammar is frame { NEXT.FRAME frame } END.
     zbuf()
-        .write_stdin("polypipe 1 fragments 1 1\nNEXT.FRAME\nEND\n")
+        .write_stdin("polypipe 2 fragments 1 1\nNEXT.FRAME\nEND\n")
         .assert()
         .success()
         .stdout([ppm(1, 1, &[K]), ppm(1, 1, &[K])].concat());
@@ -277,8 +277,8 @@ fn two_inputs_as_files() {
 #[test]
 fn mismatched_sizes_are_refused() {
     let dir = tempfile::tempdir().unwrap();
-    let a = write(dir.path(), "a", "polypipe 1 fragments 4 4\nEND\n");
-    let b = write(dir.path(), "b", "polypipe 1 fragments 8 8\nEND\n");
+    let a = write(dir.path(), "a", "polypipe 2 fragments 4 4\nEND\n");
+    let b = write(dir.path(), "b", "polypipe 2 fragments 8 8\nEND\n");
     let out = zbuf().args([&a, &b]).output().unwrap();
     assert_eq!(out.status.code(), Some(1));
     assert!(out.stdout.is_empty());
@@ -298,9 +298,9 @@ fn mismatched_frame_counts_are_refused_after_the_common_frames() {
     let a = write(
         dir.path(),
         "a",
-        "polypipe 1 fragments 1 1\nNEXT.FRAME\nEND\n",
+        "polypipe 2 fragments 1 1\nNEXT.FRAME\nEND\n",
     );
-    let b = write(dir.path(), "b", "polypipe 1 fragments 1 1\nEND\n");
+    let b = write(dir.path(), "b", "polypipe 2 fragments 1 1\nEND\n");
     zbuf()
         .args([&a, &b])
         .assert()
@@ -320,7 +320,7 @@ fn a_bad_input_is_named_and_earlier_frames_are_written() {
     let bad = write(
         dir.path(),
         "bad",
-        "polypipe 1 fragments 2 2\ncolour 0 0 255\npixel 0 1 0\nNEXT.FRAME\ncolour 0 0 255\npixel 5 0 0\nEND\n",
+        "polypipe 2 fragments 2 2\ncolour 0 0 255\npixel 0 1 0\nNEXT.FRAME\ncolour 0 0 255\npixel 5 0 0\nEND\n",
     );
     zbuf()
         .args([&good, &bad])
@@ -347,7 +347,7 @@ fn a_bad_input_is_named_and_earlier_frames_are_written() {
     );
     // Pixels before any colour record.
     zbuf()
-        .write_stdin("polypipe 1 fragments 2 2\nspan 0 0 1 0 0\nEND\n")
+        .write_stdin("polypipe 2 fragments 2 2\nspan 0 0 1 0 0\nEND\n")
         .assert()
         .code(1)
         .stderr("zbuf: stdin: line 2, column 1: pixels before the frame's first `colour`\n");
@@ -457,7 +457,7 @@ fn named_pipes_with_uneven_inputs() {
     }
     let frames = 3;
     let (w, h) = (96u32, 96u32);
-    let mut a = format!("polypipe 1 fragments {w} {h}\n");
+    let mut a = format!("polypipe 2 fragments {w} {h}\n");
     let mut b = a.clone();
     let mut want = Vec::new();
     for f in 0..frames {
@@ -498,7 +498,7 @@ fn named_pipes_with_uneven_inputs() {
 
 #[test]
 fn closed_stdout_ends_quietly() {
-    let mut text = String::from("polypipe 1 fragments 64 64\n");
+    let mut text = String::from("polypipe 2 fragments 64 64\n");
     for _ in 0..200 {
         text += "NEXT.FRAME\n";
     }
@@ -547,7 +547,7 @@ fn progress_is_silent_when_stderr_is_a_file() {
         .stdout(want);
     zbuf()
         .arg("--progress")
-        .write_stdin("polypipe 1 fragments 1 1\nbogus\n")
+        .write_stdin("polypipe 2 fragments 1 1\nbogus\n")
         .assert()
         .code(1)
         .stderr(predicates::str::starts_with("zbuf: stdin: line 2"));
@@ -598,12 +598,12 @@ fn skip_keeps_numbering_for_ties() {
     let a = write(
         dir.path(),
         "a",
-        "polypipe 1 fragments 2 1\nskip 2\nNEXT.POLYGON\ncolour 0 0 255\nspan 0 0 2 7 0\nEND\n",
+        "polypipe 2 fragments 2 1\nskip 2\nNEXT.POLYGON\ncolour 0 0 255\nspan 0 0 2 7 0\nEND\n",
     );
     let b = write(
         dir.path(),
         "b",
-        "polypipe 1 fragments 2 1\ncolour 255 0 0\npixel 0 0 7\nNEXT.POLYGON\nskip 2\nEND\n",
+        "polypipe 2 fragments 2 1\ncolour 255 0 0\npixel 0 0 7\nNEXT.POLYGON\nskip 2\nEND\n",
     );
     for order in [[&a, &b], [&b, &a]] {
         zbuf()
@@ -615,7 +615,7 @@ fn skip_keeps_numbering_for_ties() {
     // Spans after a skip belong to no polygon: refused.
     zbuf()
         .write_stdin(
-            "polypipe 1 fragments 2 1\ncolour 1 1 1\nNEXT.POLYGON\nskip 1\nspan 0 0 1 0 0\nEND\n",
+            "polypipe 2 fragments 2 1\ncolour 1 1 1\nNEXT.POLYGON\nskip 1\nspan 0 0 1 0 0\nEND\n",
         )
         .assert()
         .code(1)
@@ -630,12 +630,12 @@ fn runs_are_placed_without_a_depth_test() {
     let left = write(
         dir.path(),
         "l",
-        "polypipe 1 fragments 3 2\nrun 0 0 2 255 0 0\nrun 1 0 1 0 255 0\nEND\n",
+        "polypipe 2 fragments 3 2\nrun 0 0 2 255 0 0\nrun 1 0 1 0 255 0\nEND\n",
     );
     let right = write(
         dir.path(),
         "r",
-        "polypipe 1 fragments 3 2\nrun 1 2 3 0 0 255\nEND\n",
+        "polypipe 2 fragments 3 2\nrun 1 2 3 0 0 255\nEND\n",
     );
     zbuf()
         .args([&left, &right])

@@ -1,4 +1,4 @@
-//! zspec: the exact reference renderer, docs/DESIGN.md's "Conventions" evaluated directly.
+//! zspec: the exact reference renderer, docs/DESIGN.md's "The Z specification" evaluated directly.
 //!
 //! The pipeline reaches its pictures through clipping (chapter 3), perspective, an edge
 //! table scan converter (chapter 4, Appendix 3) and a depth buffer with fixed-point depth
@@ -12,13 +12,22 @@
 //! * its depth there is the z_e where the ray from the eye through the centre meets the
 //!   polygon's (Newell) plane, and it counts only when K1 ≤ z_e ≤ K2 (the hither/yon clip;
 //!   the side planes of the pyramid are the screen's edges);
-//! * the smallest z_e wins; at equal z_e the polygon earlier in the stream wins.
+//! * folding the covering polygons in stream order, a later one takes the pixel only when
+//!   its z_e is smaller than the holder's by more than 2⁻³⁰ of it (the tie rule,
+//!   [`proto::depth`]), so coplanar polygons tie and the earlier one shows.
+//!
+//! The depth at a centre is computed robustly enough that the rule's decision does not
+//! depend on rounding: z_e = −d/(n·r) for Newell's plane (n, d) and the ray r through the
+//! centre, with n·r evaluated by the compensated algorithm of Ogita, Rump and Oishi
+//! ([`dot3`]: as accurate as if computed in twice the precision, then rounded), so that a
+//! plane seen at a grazing angle, where the terms of n·r cancel, still gives its depth to
+//! a few ulps.
 //!
 //! Polygons that reach behind the hither plane are first cut at z_e = K1, so that every
 //! vertex projected lies in front of the eye. The cut removes only points that the depth
 //! test would reject anyway, so it changes no pixel.
 //!
-//! Two more things live here for the anti-aliasing methods of wave 2: the K×K
+//! Two more things live here for the anti-aliasing methods: the K×K
 //! supersampled reference ([`supersample`]: the same rules at every sub-pixel centre,
 //! box-filtered) and the error measures of a frame against a reference ([`metrics`]:
 //! differing fraction, RMSE, maximum error, edge-pixel RMSE).
@@ -104,6 +113,32 @@ fn cut_at_hither(vertices: &[DVec4], k1: f64, w_per_z: f64) -> Vec<DVec4> {
         }
     }
     out
+}
+
+/// `a·b` for three-vectors, as accurately as if computed in twice the working precision
+/// and then rounded: Ogita, Rump and Oishi's Dot2 ("Accurate sum and dot product", SIAM
+/// J. Sci. Comput. 26, 2005), each product split exactly by a fused multiply-add and the
+/// sum carried with its rounding errors (TwoSum).
+pub fn dot3(a: DVec3, b: DVec3) -> f64 {
+    #[inline]
+    fn two_sum(a: f64, b: f64) -> (f64, f64) {
+        let s = a + b;
+        let bb = s - a;
+        (s, (a - (s - bb)) + (b - bb))
+    }
+    #[inline]
+    fn two_product(a: f64, b: f64) -> (f64, f64) {
+        let p = a * b;
+        (p, a.mul_add(b, -p))
+    }
+    let (mut s, mut c) = two_product(a.x, b.x);
+    for (x, y) in [(a.y, b.y), (a.z, b.z)] {
+        let (p, e) = two_product(x, y);
+        let (t, f) = two_sum(s, p);
+        s = t;
+        c += e + f;
+    }
+    s + c
 }
 
 /// The reference's view of one frame: camera, view volume and screen.
@@ -256,8 +291,9 @@ impl Setup {
                     continue;
                 }
                 // The ray t·dir meets the plane n·v + d = 0 at t = −d / (n·dir); t is z_e.
+                // n·dir is where a plane seen at a grazing angle cancels: compensated.
                 let dir = self.ray(xc, yc);
-                let z = -p.plane.w / n.dot(dir);
+                let z = -p.plane.w / dot3(n, dir);
                 if z.is_finite() && k1 <= z && z <= k2 {
                     f(c, r, z);
                 }
@@ -313,8 +349,9 @@ impl ReferenceFrame {
         let (colour, depth, w) = (&mut self.colour, &mut self.depth, self.width);
         setup.for_each_covered(&p, |c, r, z| {
             let i = r as usize * w + c as usize;
-            // Strictly nearer: an equal depth leaves the earlier polygon.
-            if z < depth[i] {
+            // The tie rule: nearer by more than 2^-30 of the holder's depth (an empty
+            // pixel is held at +inf).
+            if proto::depth::takes(z, depth[i]) {
                 depth[i] = z;
                 colour[i] = p.colour;
             }
@@ -393,17 +430,25 @@ impl std::fmt::Display for FrameAgreement {
     }
 }
 
-/// Whether every frame agrees on at least `min_agreement` percent of its pixels; if
-/// not, the message names the frames that do not.
-pub fn agreed(frames: &[FrameAgreement], min_agreement: f64) -> Result<(), String> {
+/// Whether no frame has more than `tolerance` (a fraction) of its pixels differing; if
+/// one does, the message names the frames that do.
+pub fn agreed(frames: &[FrameAgreement], tolerance: f64) -> Result<(), String> {
     let failing: Vec<usize> = (0..frames.len())
-        .filter(|&k| frames[k].percent() < min_agreement)
+        .filter(|&k| {
+            let f = &frames[k];
+            f.differing > 0 && f.differing as f64 > tolerance * f.pixels as f64
+        })
         .collect();
     if failing.is_empty() {
         return Ok(());
     }
+    let allowed = if tolerance == 0.0 {
+        String::new()
+    } else {
+        format!(" (more than --tolerance {tolerance})")
+    };
     Err(format!(
-        "{} of {} frames agree on fewer than {min_agreement}% of pixels (frames {failing:?})",
+        "{} of {} frames differ{allowed} (frames {failing:?})",
         failing.len(),
         frames.len(),
     ))

@@ -63,25 +63,32 @@ struct Cli {
 #[derive(Subcommand, Debug)]
 enum Command {
     /// Compare two PPM streams frame by frame: prints, per frame, the pixels, the
-    /// differing pixels and the percentage that agree. Exit status as cmp's: 0 when every
-    /// frame agrees on at least --min-agreement percent, 1 when one does not (or the
-    /// streams have different numbers or sizes of frames), 2 for trouble (a missing file,
-    /// one that is not a PPM stream, a bad argument).
-    #[command(after_help = "Example:\n  zspec compare ref.ppm pipe.ppm --min-agreement 99.9")]
+    /// differing pixels and the percentage that agree. Exit status as cmp's: 0 when the
+    /// frames are the same (or differ in no more than --tolerance of a frame's pixels),
+    /// 1 when any pixel differs (or the streams have different numbers or sizes of
+    /// frames), 2 for trouble (a missing or empty file, one that is not a PPM stream, a
+    /// bad argument).
+    #[command(after_help = "Example:\n  zspec compare ref.ppm pipe.ppm\n  \
+                            zspec compare ref.ppm pipe.ppm --tolerance 0.001")]
     Compare {
         /// The first PPM stream (`-` for stdin).
         a: String,
         /// The second PPM stream (`-` for stdin, if the first is not).
         b: String,
-        /// The least percentage of agreeing pixels every frame must reach (0 to 100).
-        #[arg(long, default_value_t = 99.95, value_parser = percentage)]
-        min_agreement: f64,
+        /// The largest fraction of a frame's pixels that may differ with the streams still
+        /// called the same (0 to 1; default 0: any differing pixel is a difference).
+        #[arg(long, value_parser = fraction, value_name = "FRACTION")]
+        tolerance: Option<f64>,
+        /// The same as --tolerance (100 − P)/100: the least percentage of agreeing pixels
+        /// every frame must reach (0 to 100).
+        #[arg(long, value_parser = percentage, conflicts_with = "tolerance")]
+        min_agreement: Option<f64>,
         /// Instead, measure B against A: per frame and `overall`, the differing
         /// fraction, the RMSE (0-255 units, three channels), the largest channel error
         /// and, with --edges, the RMSE over the edge pixels, as `key value` pairs. Exit
         /// status 0 whatever the error; 2 for trouble, as without --metrics, and for
         /// streams of different numbers or sizes of frames, which cannot be measured.
-        #[arg(long, conflicts_with = "min_agreement")]
+        #[arg(long, conflicts_with_all = ["min_agreement", "tolerance"])]
         metrics: bool,
         /// The edge mask (`zspec --samples 16 --edge-mask MASK`) naming the edge pixels.
         #[arg(long, requires = "metrics", value_name = "MASK")]
@@ -90,6 +97,14 @@ enum Command {
         #[arg(long, requires = "metrics")]
         csv: bool,
     },
+}
+
+/// A fraction from 0 to 1.
+fn fraction(s: &str) -> Result<f64, String> {
+    s.parse::<f64>()
+        .ok()
+        .filter(|p| (0.0..=1.0).contains(p))
+        .ok_or_else(|| format!("`{s}` is not a fraction from 0 to 1"))
 }
 
 /// A percentage from 0 to 100.
@@ -120,9 +135,15 @@ fn main() -> ExitCode {
         Some(Command::Compare {
             a,
             b,
+            tolerance,
             min_agreement,
             ..
-        }) => stagecli::report_cmp("zspec compare", compare(&a, &b, min_agreement)),
+        }) => {
+            let tolerance = tolerance
+                .or(min_agreement.map(|p| (100.0 - p) / 100.0))
+                .unwrap_or(0.0);
+            stagecli::report_cmp("zspec compare", compare(&a, &b, tolerance))
+        }
         None if cli.samples == 1 && cli.edge_mask.is_none() => stagecli::report(
             "zspec",
             render(&cli.view, cli.background, cli.text, cli.scene),
@@ -268,14 +289,22 @@ fn read_ppms(path: &str) -> stagecli::Result<Vec<ppm::Image>> {
         .map_err(|e| Error::from(e).context(stagecli::input_name(path)))
 }
 
-/// Compares two PPM streams: `Ok(true)` when every frame agrees well enough.
-fn compare(a: &str, b: &str, min_agreement: f64) -> stagecli::Result<bool> {
+/// Compares two PPM streams: `Ok(true)` when no frame has more than `tolerance` of its
+/// pixels differing. An empty input is trouble, not a stream of no frames: comparing two
+/// files that were never written would otherwise say they are the same.
+fn compare(a: &str, b: &str, tolerance: f64) -> stagecli::Result<bool> {
     if a == "-" && b == "-" {
         return Err(Error::usage(
             "`-` (stdin) is named twice: it can be read only once",
         ));
     }
     let (ia, ib) = (read_ppms(a)?, read_ppms(b)?);
+    for (path, frames) in [(a, &ia), (b, &ib)] {
+        if frames.is_empty() {
+            return Err(Error::data("empty: not a PPM stream (no frame)")
+                .context(stagecli::input_name(path)));
+        }
+    }
     let frames = zspec::compare(&ia, &ib);
     if let Ok(frames) = &frames {
         let mut out = stagecli::stdout();
@@ -285,7 +314,7 @@ fn compare(a: &str, b: &str, min_agreement: f64) -> stagecli::Result<bool> {
         out.flush()?;
     }
     // Different, as cmp says: status 1, and a line saying how.
-    match frames.and_then(|f| zspec::agreed(&f, min_agreement)) {
+    match frames.and_then(|f| zspec::agreed(&f, tolerance)) {
         Ok(()) => Ok(true),
         Err(why) => {
             let _ = writeln!(io::stderr(), "zspec compare: {why}");

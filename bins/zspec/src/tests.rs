@@ -265,10 +265,14 @@ fn comparison() {
     );
     assert!((cmp[0].percent() - 100.0 / 6.0).abs() < 1e-12);
     assert_eq!(cmp[0].to_string(), "6 pixels, 5 differ, 16.6667% agree");
-    assert_eq!(agreed(&cmp, 16.0), Ok(()));
+    assert_eq!(agreed(&cmp, 5.0 / 6.0), Ok(()));
     assert_eq!(
-        agreed(&cmp, 99.95),
-        Err("1 of 1 frames agree on fewer than 99.95% of pixels (frames [0])".into())
+        agreed(&cmp, 0.5),
+        Err("1 of 1 frames differ (more than --tolerance 0.5) (frames [0])".into())
+    );
+    assert_eq!(
+        agreed(&cmp, 0.0),
+        Err("1 of 1 frames differ (frames [0])".into())
     );
     assert_eq!(
         compare(&imgs, &imgs[..1]).unwrap_err(),

@@ -132,13 +132,44 @@ fn compare_reports_and_decides() {
         .assert()
         .code(1)
         .stdout(report)
-        .stderr("zspec compare: 1 of 2 frames agree on fewer than 99.95% of pixels (frames [1])\n");
+        .stderr("zspec compare: 1 of 2 frames differ (frames [1])\n");
     zspec()
         .args(["compare", "--min-agreement", "75"])
         .args([&a, &b])
         .assert()
         .success()
         .stdout(report);
+    // A tolerance is explicit: a quarter of a frame may differ, a fifth may not.
+    zspec()
+        .args(["compare", "--tolerance", "0.25"])
+        .args([&a, &b])
+        .assert()
+        .success()
+        .stdout(report);
+    zspec()
+        .args(["compare", "--tolerance", "0.2"])
+        .args([&a, &b])
+        .assert()
+        .code(1)
+        .stderr("zspec compare: 1 of 2 frames differ (more than --tolerance 0.2) (frames [1])\n");
+    zspec()
+        .args(["compare", "--tolerance", "1.5"])
+        .args([&a, &b])
+        .assert()
+        .code(2);
+    // Two empty files are trouble, not two equal streams of no frames.
+    let empty = dir.path().join("empty.ppm");
+    std::fs::write(&empty, b"").unwrap();
+    zspec()
+        .arg("compare")
+        .args([&empty, &empty])
+        .assert()
+        .code(2)
+        .stdout("")
+        .stderr(format!(
+            "zspec compare: {}: empty: not a PPM stream (no frame)\n",
+            empty.display()
+        ));
     // Different numbers of frames: nothing to compare.
     std::fs::write(&b, ppm(2, 2, &["RR", "GG"])).unwrap();
     zspec()

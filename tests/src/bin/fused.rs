@@ -40,7 +40,7 @@ struct Cli {
     #[command(flatten)]
     view: ViewArgs,
     /// The depth persp writes (render.sh --zmode).
-    #[arg(long, value_enum, default_value_t = DepthMode::Projective)]
+    #[arg(long, value_enum, default_value_t = DepthMode::Reciprocal)]
     zmode: DepthMode,
     /// The clipper: the six clipplane stages one polygon at a time, or clipbatch's batch
     /// clipper (the same output).
@@ -200,9 +200,9 @@ impl ZBuffer {
                     .context("more than 4294967294 polygons in one frame")?;
                 self.colour = colour;
             }
-            Fragment::Span { y, x0, x1, z0, dz } => {
+            Fragment::Span { y, x0, x1, z, dz } => {
                 self.fb
-                    .span(y, x0..x1, z0, dz, self.polygons - 1, self.colour)
+                    .span(y, x0..x1, z, dz, self.polygons - 1, self.colour)
             }
             Fragment::Pixel { x, y, z } => self.fb.pixel(x, y, z, self.polygons - 1, self.colour),
             Fragment::Skip(n) => {
