@@ -50,6 +50,9 @@ fn lists(b: &mut Bytes) {
                 }
             }
         };
+        // As scan's depths are: never -0 (DepthPlane::row adds +0.0), which total_cmp
+        // would order before 0 and so before an earlier fragment at the same depth.
+        let zmin = zmin + 0.0;
         let zmax = if flat {
             zmin
         } else {
@@ -85,7 +88,11 @@ fn lists(b: &mut Bytes) {
         let list = p.fragments();
         for pair in list.windows(2) {
             assert!(
-                (pair[0].zmin, pair[0].order) <= (pair[1].zmin, pair[1].order),
+                pair[0]
+                    .zmin
+                    .total_cmp(&pair[1].zmin)
+                    .then(pair[0].order.cmp(&pair[1].order))
+                    .is_le(),
                 "{list:?}"
             );
         }
