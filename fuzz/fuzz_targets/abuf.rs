@@ -36,15 +36,32 @@ fn lists(b: &mut Bytes) {
             2 => (b.u8() as u64) << (8 * (b.u8() % 8)),
             _ => !(1u64 << (b.u8() % 64)),
         };
+        // Depths as the f64 depth form has them (issue 22): a few small values (ties),
+        // extremes, and any finite number.
         let zmin = match b.u8() % 3 {
-            0 => (b.u8() % 8) as i64,
-            1 => i64::MIN + (b.u8() as i64),
-            _ => b.u64() as i64,
+            0 => (b.u8() % 8) as f64 * 0.125,
+            1 => -f64::MAX + (b.u8() as f64) * 1e292,
+            _ => {
+                let z = f64::from_bits(b.u64());
+                if z.is_finite() {
+                    z
+                } else {
+                    0.0
+                }
+            }
         };
+        // As scan's depths are: never -0 (DepthPlane::row adds +0.0), which total_cmp
+        // would order before 0 and so before an earlier fragment at the same depth.
+        let zmin = zmin + 0.0;
         let zmax = if flat {
             zmin
         } else {
-            zmin.saturating_add((b.u8() % 16) as i64)
+            let z = zmin + (b.u8() % 16) as f64 * 0.0625;
+            if z.is_finite() {
+                z
+            } else {
+                zmin
+            }
         };
         let colour = if b.u8() & 1 == 0 {
             palette[(b.u8() % 4) as usize]
@@ -71,7 +88,11 @@ fn lists(b: &mut Bytes) {
         let list = p.fragments();
         for pair in list.windows(2) {
             assert!(
-                (pair[0].zmin, pair[0].order) <= (pair[1].zmin, pair[1].order),
+                pair[0]
+                    .zmin
+                    .total_cmp(&pair[1].zmin)
+                    .then(pair[0].order.cmp(&pair[1].order))
+                    .is_le(),
                 "{list:?}"
             );
         }
@@ -107,7 +128,7 @@ fn lists(b: &mut Bytes) {
             let front = frags
                 .iter()
                 .filter(|f| f.mask >> s & 1 == 1)
-                .min_by_key(|f| (f.zmin, f.order));
+                .min_by(|f, g| f.zmin.total_cmp(&g.zmin).then(f.order.cmp(&g.order)));
             let c = front.map_or(background, |f| f.colour);
             for (t, v) in sum.iter_mut().zip(c) {
                 *t += v as u32;

@@ -76,16 +76,24 @@ fuzz_target!(|data: &[u8]| {
     // The painter: no panic, and whatever order it paints in (cuts, a spent cut budget,
     // cycles painted in the order at hand), exactly the z-buffer's covered pixels: a cut
     // polygon's pieces cover its pixels, each once.
-    for mut painter in [
-        painter::Painter::new(),
-        painter::Painter::with_split(),
-        painter::Painter::with_split_budget(0, 1),
+    for (name, mut painter) in [
+        ("painter", painter::Painter::new()),
+        ("painter --split", painter::Painter::with_split()),
+        (
+            "painter, one cut",
+            painter::Painter::with_split_budget(0, 1),
+        ),
     ] {
         runs.clear();
         painter.resolve(&polygons, width, height, &mut runs);
         let image = image_of(&runs, width, height);
         for (i, (a, z)) in image.iter().zip(&reference).enumerate() {
-            assert_eq!(a.is_some(), z.is_some(), "painter: pixel {i}");
+            assert_eq!(
+                a.is_some(),
+                z.is_some(),
+                "{name}: pixel {i} of {width}x{height}, {:?}: {polygons:?}",
+                painter.stats
+            );
         }
     }
 });

@@ -1,9 +1,9 @@
-//! abuf: Carpenter's a-buffer as seeds/001 chapter 6.3 builds it, as a leaf of the splitter
+//! abuf: Carpenter's a-buffer as the sampling thesis, 6.3, builds it, as a leaf of the splitter
 //! tree (docs/DESIGN.md, "Anti-aliasing").
 //!
 //! Scan conversion makes, for every pixel a polygon reaches, a *fragment*: its colour, an
 //! 8×8 bit mask of the sub-pixel samples it covers, and its least and greatest depth
-//! there (zmin, zmax; seeds/001, 6.3.2). The fragments go into the pixel's *pixelstruct*:
+//! there (zmin, zmax; sampling thesis 6.3.2). The fragments go into the pixel's *pixelstruct*:
 //! empty, simple (one fragment covering the whole pixel in front of all others: the fast
 //! path, no list) or a list sorted by depth (6.3.1, 6.3.4, 6.3.5). After the last polygon
 //! the *packer* resolves each list front to back (6.3.6), see [`list`].
@@ -12,7 +12,7 @@
 //! (c + (i+½)/8, r + (j+½)/8), the pixel centre of a screen 8 times finer, and the polygon
 //! is carried onto that screen exactly ([`scan::fine::scaled`]) and walked by
 //! [`scan::SpanWalker`]: a sample on an edge shared by two polygons goes to exactly one
-//! of them, so two polygons of one colour sharing an edge leave no seam (the seed's grey
+//! of them, so two polygons of one colour sharing an edge leave no seam (the sampling thesis's grey
 //! seam, 6.3). The seed computes masks from each edge's crossings of the pixel, and'ed
 //! together; here they are the spans of the pixel row's eight sub-scanlines, or'ed, which
 //! is the same region sampled by the same rule as every other method. zmin and zmax are
@@ -61,13 +61,13 @@ pub const K: u32 = 8;
 /// being made (every fragment it would make there would be thrown away, 6.3.5).
 pub const BLOCK: u32 = 8;
 
-/// An element of the mask buffer (seeds/001, figure 6.9), less the area, which is the
+/// An element of the mask buffer (the sampling thesis, figure 6.9), less the area, which is the
 /// mask's count of samples.
 #[derive(Clone, Copy, Debug, Default)]
 struct MaskElement {
     mask: Mask,
-    zmin: i64,
-    zmax: i64,
+    zmin: scan::Depth,
+    zmax: scan::Depth,
 }
 
 /// The a-buffer method.
@@ -165,16 +165,16 @@ impl ABuffer {
         let (fx0, fx1) = (cols.start * K, cols.end * K);
         let blocks = (n as u32).div_ceil(BLOCK) as usize;
         self.occluding.clear();
-        self.occluding.resize(blocks, i64::MAX);
+        self.occluding.resize(blocks, f64::INFINITY);
         self.stale.clear();
         self.stale.resize(blocks, false);
         self.culled.clear();
         self.culled.resize(blocks, false);
         self.occluding_px.clear();
-        self.occluding_px.resize(n, i64::MAX);
+        self.occluding_px.resize(n, f64::INFINITY);
         self.pixel_culled.clear();
         self.pixel_culled.resize(n, false);
-        let mut row_occluding = i64::MAX;
+        let mut row_occluding = f64::INFINITY;
         let mut row_stale = false;
         for &i in active {
             // The cull: the polygon's nearest depth over the row (then over each block)
@@ -202,12 +202,15 @@ impl ABuffer {
                         self.occluding[b] = self.occluding_px[from..to]
                             .iter()
                             .copied()
-                            .max()
-                            .unwrap_or(i64::MAX);
+                            .fold(f64::NEG_INFINITY, f64::max);
                         *stale = false;
                     }
                 }
-                row_occluding = self.occluding.iter().copied().max().unwrap_or(i64::MAX);
+                row_occluding = self
+                    .occluding
+                    .iter()
+                    .copied()
+                    .fold(f64::NEG_INFINITY, f64::max);
                 row_stale = false;
             }
             if nearest(left, right) > row_occluding {
@@ -234,7 +237,8 @@ impl ABuffer {
             // pixel against the pixel's occluding depth.
             if self.cull {
                 // (A block with a pixel nothing covers fully has nothing to cull by.)
-                for b in (b0..b1).filter(|&b| !self.culled[b] && self.occluding[b] != i64::MAX) {
+                for b in (b0..b1).filter(|&b| !self.culled[b] && self.occluding[b] != f64::INFINITY)
+                {
                     let a = (cols.start + b as u32 * BLOCK).max(left);
                     let e = (cols.start + (b as u32 + 1) * BLOCK).min(right);
                     for c in a..e {

@@ -1,11 +1,11 @@
-//! The a-buffer's pixelstructs: per pixel nothing, one fully covering fragment (the seed's
-//! *simple* pixelstruct), or a list of fragments sorted by depth (seeds/001, 6.3.1), with
-//! the seed's insertion cases (6.3.4, 6.3.5) and the fragment packer (6.3.6).
+//! The a-buffer's pixelstructs: per pixel nothing, one fully covering fragment (the sampling thesis's
+//! *simple* pixelstruct), or a list of fragments sorted by depth (sampling thesis 6.3.1), with
+//! the sampling thesis's insertion cases (6.3.4, 6.3.5) and the fragment packer (6.3.6).
 
 use proto::Colour;
 
 /// A fragment's coverage: bit `8·j + i` is sub-pixel sample (i, j), at
-/// (c + (i+½)/8, r + (j+½)/8) of pixel (c, r) (the seed's 8×8 pixel mask, 6.3.1).
+/// (c + (i+½)/8, r + (j+½)/8) of pixel (c, r) (the sampling thesis's 8×8 pixel mask, 6.3.1).
 pub type Mask = u64;
 
 /// Every sample covered.
@@ -14,16 +14,16 @@ pub const FULL: Mask = u64::MAX;
 /// Samples in a mask.
 pub const SAMPLES: u32 = 64;
 
-/// A pixel fragment (seeds/001, figure 6.6), opaque: the colour, the bit mask of the
+/// A pixel fragment (the sampling thesis, figure 6.6), opaque: the colour, the bit mask of the
 /// samples the polygon covers, the least and greatest depth of the polygon at those
 /// samples (fixed point, smaller is nearer), and the polygon's place in the frame's
 /// stream, which breaks ties of depth as the z-buffer does (the earlier is in front).
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Fragment {
     pub colour: Colour,
     pub mask: Mask,
-    pub zmin: i64,
-    pub zmax: i64,
+    pub zmin: scan::Depth,
+    pub zmax: scan::Depth,
     pub order: u32,
 }
 
@@ -35,9 +35,13 @@ impl Fragment {
     }
 
     /// The order of the sorted list: by zmin, then stream order.
+    /// Whether this fragment comes before `other` in the sorted list.
     #[inline]
-    fn key(&self) -> (i64, u32) {
-        (self.zmin, self.order)
+    fn before(&self, other: &Fragment) -> bool {
+        self.zmin
+            .total_cmp(&other.zmin)
+            .then(self.order.cmp(&other.order))
+            .is_lt()
     }
 
     /// Whether the fragment lies wholly behind `front`, a fully covering opaque fragment,
@@ -58,11 +62,8 @@ impl Fragment {
     /// objects, and this is the closest the fragments themselves can tell.
     #[inline]
     fn combines_with(&self, next: &Fragment) -> bool {
-        // Saturating: a saturated plane's fragment can span more depth than i64 holds.
-        let slack = (self.zmax.saturating_sub(self.zmin)).max(next.zmax.saturating_sub(next.zmin));
-        self.colour == next.colour
-            && self.mask & next.mask == 0
-            && next.zmin <= self.zmax.saturating_add(slack)
+        let slack = (self.zmax - self.zmin).max(next.zmax - next.zmin);
+        self.colour == next.colour && self.mask & next.mask == 0 && next.zmin <= self.zmax + slack
     }
 
     /// The fragment that stands for `self` and `behind`, the next farther one, when a list
@@ -96,11 +97,7 @@ impl Fragment {
     /// fragment keeps that one's place and the list stays sorted.
     #[inline]
     fn combine(&self, other: &Fragment) -> Fragment {
-        let front = if self.key() <= other.key() {
-            self
-        } else {
-            other
-        };
+        let front = if !other.before(self) { self } else { other };
         Fragment {
             colour: self.colour,
             mask: self.mask | other.mask,
@@ -142,7 +139,7 @@ pub struct ListStats {
 /// fragments that show at a sample.
 pub const MAX_LIST: usize = 64;
 
-/// A pixel of the a-buffer (seeds/001, figures 6.4 and 6.5): the seed flags the kind by
+/// A pixel of the a-buffer (the sampling thesis, figures 6.4 and 6.5): the thesis flags the kind by
 /// the sign of its z; here it is the variant.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub enum PixelStruct {
@@ -155,7 +152,7 @@ pub enum PixelStruct {
 }
 
 impl PixelStruct {
-    /// Inserts a fragment (seeds/001, 6.3.4's six cases: a completely or partially covered
+    /// Inserts a fragment (sampling thesis 6.3.4's six cases: a completely or partially covered
     /// incoming fragment into an empty, simple or list pixelstruct; 6.3.5's sorting,
     /// combining and throwing away). `pool` lends and takes back the lists' storage.
     pub fn insert(&mut self, f: Fragment, pool: &mut Vec<Vec<Fragment>>, stats: &mut ListStats) {
@@ -210,7 +207,7 @@ impl PixelStruct {
         let PixelStruct::List(list) = self else {
             return;
         };
-        let pos = list.partition_point(|x| x.key() < f.key());
+        let pos = list.partition_point(|x| x.before(&f));
         if list[..pos].iter().any(|g| f.behind(g)) {
             stats.hidden += 1;
             return;
@@ -269,18 +266,17 @@ impl PixelStruct {
     }
 
     /// The depth behind which every fragment is thrown away (6.3.5): the farthest depth
-    /// of the nearest fully covering fragment; `i64::MAX` when none covers the pixel.
+    /// of the nearest fully covering fragment; `+∞` when none covers the pixel.
     /// A fragment of a later polygon whose zmin is beyond it never enters the list.
-    pub fn occluding_depth(&self) -> i64 {
+    pub fn occluding_depth(&self) -> scan::Depth {
         match self {
-            PixelStruct::Empty => i64::MAX,
+            PixelStruct::Empty => f64::INFINITY,
             PixelStruct::Simple(f) => f.zmax,
             PixelStruct::List(list) => list
                 .iter()
                 .filter(|f| f.full())
                 .map(|f| f.zmax)
-                .min()
-                .unwrap_or(i64::MAX),
+                .fold(f64::INFINITY, f64::min),
         }
     }
 
@@ -317,9 +313,9 @@ impl PixelStruct {
     }
 }
 
-/// The fragment packer (seeds/001, 6.3.6), front to back with masks.
+/// The fragment packer (the sampling thesis, 6.3.6), front to back with masks.
 ///
-/// The seed's recursion C = P_i·A_i + T_i·Q_i, with the areas as masks
+/// The sampling thesis's recursion C = P_i·A_i + T_i·Q_i, with the areas as masks
 /// M_A_i = M_Q_{i+1} ∩ M_i (covered and visible) and M_Q_i = M_Q_{i+1} ∩ ¬M_i (visible and
 /// not covered; M_Q at the front is the full mask, I), is evaluated as a walk down the
 /// list carrying the still-visible region: fragment i paints the samples of M_A_i in its
@@ -328,7 +324,7 @@ impl PixelStruct {
 /// bits"), so a list whose fragments do not intersect packs to exactly the 8×8
 /// supersampled colour.
 ///
-/// Intersecting fragments (Carpenter's a-buffer, which the seed follows): when the next
+/// Intersecting fragments (Carpenter's a-buffer, which the sampling thesis follows): when the next
 /// fragment's zmin is nearer than this one's zmax the two surfaces may cross inside the
 /// pixel, and on the samples both cover the nearer one is not known. Taking both as
 /// planes across the pixel, the share of this fragment in front is
@@ -356,8 +352,8 @@ impl Packer {
             let next = list.get(i + 1).filter(|n| n.zmin < f.zmax);
             // f: this fragment's share of the samples both it and the next one cover.
             let share = next.map(|n| {
-                let extent = (f.zmax as f64 - f.zmin as f64) + (n.zmax as f64 - n.zmin as f64);
-                let front = (n.zmax as f64 - f.zmin as f64) / extent;
+                let extent = (f.zmax - f.zmin) + (n.zmax - n.zmin);
+                let front = (n.zmax - f.zmin) / extent;
                 if front.is_finite() {
                     front.clamp(0.0, 1.0)
                 } else {

@@ -314,21 +314,21 @@ fn merge_behind_keeps_the_nearer_colour_where_both_cover() {
     let near = Fragment {
         colour: [200, 0, 0],
         mask: 0xFFFF_FFFF,
-        zmin: 10,
-        zmax: 20,
+        zmin: 10.0,
+        zmax: 20.0,
         order: 3,
     };
     let far = Fragment {
         colour: [0, 0, 100],
         mask: 0xFFFF_FFFF_0000_0000 | 0xFFFF,
-        zmin: 15,
-        zmax: 40,
+        zmin: 15.0,
+        zmax: 40.0,
         order: 1,
     };
     let m = near.merge_behind(&far);
     // 32 samples red, 32 blue: the mean.
     assert_eq!(m.colour, [100, 0, 50]);
-    assert_eq!((m.mask, m.zmin, m.zmax, m.order), (u64::MAX, 10, 40, 3));
+    assert_eq!((m.mask, m.zmin, m.zmax, m.order), (u64::MAX, 10.0, 40.0, 3));
 }
 
 mod cull {

@@ -2,7 +2,7 @@
 //!
 //! The depth-priority method of Sutherland, Sproull and Schumacker's survey, "A
 //! Characterization of Ten Hidden-Surface Algorithms" (1974: the survey the thesis cites
-//! as [SuSp74] for its cost figures, chapter 5.1), after Newell, Newell and Sancha (1972):
+//! as \[SuSp74\] for its cost figures, chapter 5.1), after Newell, Newell and Sancha (1972):
 //! sort the frame's polygons by their farthest depth, then paint them from the back to
 //! the front into a frame of colours alone: no depth buffer, a nearer polygon simply
 //! paints over a farther one, and each pixel ends with the colour painted last. Sorting
@@ -43,6 +43,11 @@
 //!   as its *support* (proto's polygon annotation): the scan converter then computes their
 //!   crossings from the whole edge, so the pieces cover exactly the pixels of the whole,
 //!   each once; pixels on the cut line go to one piece by the sampling rule.
+//! * What is cut: only a polygon whose plane gives its own vertices' depths (planar, and
+//!   well conditioned) is cut or cut by, into pieces of at most [`MAX_PIECE_VERTICES`];
+//!   a crossing within 10⁻⁶ pixel of a vertex is that vertex; a polygon whose vertices
+//!   all lie on one line covers no pixel centre and is not sorted (each found by the
+//!   `methods` fuzz target: pieces that lost pixels).
 //! * The cut budget ([`Painter::cut_budget`]): at most `n + 2048` cuts in a frame of n
 //!   polygons. Every pair of N planes that all pass through each other must be cut (N² /
 //!   2 pieces and more), and every cut adds a polygon the sort must test: unbounded, the
@@ -122,6 +127,11 @@ struct Item {
     moved: u64,
     /// Still in the sorted run of the list (not moved, not a piece).
     sorted: bool,
+    /// Its plane gives its own vertices' depths (to 10⁻³): only such a polygon is cut,
+    /// or cut by. A polygon that is not planar, or whose plane's terms cancel (a depth
+    /// of 10³⁰⁴ beside depths of 1), would be cut along a line its plane misplaces, into
+    /// pieces that need not tile it.
+    cuttable: bool,
 }
 
 /// The depth plane of a polygon's screen vertices, with c = 1: persp's recorded plane,
@@ -156,7 +166,12 @@ impl Item {
             z_max: f64::NEG_INFINITY,
             moved: 0,
             sorted: true,
+            cuttable: true,
         };
+        item.cuttable = (0..item.polygon.vertices.len()).all(|i| {
+            let (z, on) = (item.polygon.vertices[i].z, item.vertex(i).z);
+            (z - on).abs() <= 1e-3 * (1.0 + z.abs() + on.abs())
+        });
         for i in 0..item.polygon.vertices.len() {
             let v = item.vertex(i);
             item.x_min = item.x_min.min(v.x);
@@ -383,6 +398,22 @@ fn cut(x: &Item, by: &Item) -> Option<(Item, Item)> {
         ) {
             let mut c = plane.intersect(vertices[s].with_w(1.0), s_d, vertices[p].with_w(1.0), p_d);
             c.w = vertices[s].w;
+            // A crossing within 10⁻⁶ pixel of an end of its edge is that end: a vertex on
+            // the cutting plane (two polygons that share it and cross through it) is
+            // moved off it by the hair the plane is moved, and a piece whose corner sits
+            // a hair below a row of centres loses that row.
+            for end in [vertices[s], vertices[p]] {
+                if (c.x - end.x).abs() <= 1e-6 && (c.y - end.y).abs() <= 1e-6 {
+                    c = end;
+                }
+            }
+            // A crossing that rounding has put off the edge it cuts (depths of 10³⁰⁰
+            // beside depths of 1: the plane's terms cancel) would give pieces that do not
+            // tile the whole: no cut.
+            let [s0, s1] = support(s);
+            if !c.is_finite() || !on_segment_line(c, s0, s1, 1e-9) {
+                return None;
+            }
             for piece in &mut pieces {
                 piece.0.push(c);
                 piece.1.push(Some(support(s)));
@@ -394,14 +425,14 @@ fn cut(x: &Item, by: &Item) -> Option<(Item, Item)> {
     // support is right only if both its ends lie on it; fix the cut edges.
     let mut out = Vec::with_capacity(2);
     for (mut verts, mut supports) in pieces {
-        // Cuts through one point (planes that all pass near it) leave crossings a
-        // rounding apart: a vertex within 10⁻⁷ pixel of the one before it is dropped,
-        // the edge leaving it kept, so that repeated cuts do not pile vertices up.
+        // A vertex equal to the one before it (a crossing that is a vertex) is dropped,
+        // the edge leaving it kept. (Only equal ones: dropping one a hair away changes
+        // the outline of a sliver a hair wide, which the fuzz target `methods` found.)
         let mut j = 0;
         while verts.len() > 3 && j < verts.len() {
             let next = (j + 1) % verts.len();
             let (a, b) = (verts[j], verts[next]);
-            if (a.x - b.x).abs() <= 1e-7 && (a.y - b.y).abs() <= 1e-7 {
+            if a.x == b.x && a.y == b.y {
                 supports[j] = supports[next];
                 verts.remove(next);
                 supports.remove(next);
@@ -419,7 +450,7 @@ fn cut(x: &Item, by: &Item) -> Option<(Item, Item)> {
         for j in 0..m {
             let (a, b) = (verts[j], verts[(j + 1) % m]);
             if let Some([s0, s1]) = supports[j] {
-                if !on_segment_line(a, s0, s1) || !on_segment_line(b, s0, s1) {
+                if !on_segment_line(a, s0, s1, 1e-15) || !on_segment_line(b, s0, s1, 1e-15) {
                     supports[j] = None;
                 }
             }
@@ -437,15 +468,19 @@ fn cut(x: &Item, by: &Item) -> Option<(Item, Item)> {
     Some((front, back))
 }
 
-/// Whether `v` lies on the line through `s0` and `s1` (in X, Y), to rounding.
-fn on_segment_line(v: Vertex, s0: Vertex, s1: Vertex) -> bool {
+/// Whether `v` lies on the line through `s0` and `s1` (in X, Y), to `tolerance` of the
+/// terms: 10⁻⁹ to accept a crossing as on the edge it cuts, 10⁻¹⁵ (crossings are computed
+/// on their edge to about 10⁻¹⁶) to give a piece's edge the support of an edge of the
+/// whole: a sliver's two long edges lie a hair apart, and the looser test gave a piece's
+/// edge the other one's support (the fuzz target `methods` found pixels lost so).
+fn on_segment_line(v: Vertex, s0: Vertex, s1: Vertex, tolerance: f64) -> bool {
     let (a, b, p) = (
         s0.truncate().truncate(),
         s1.truncate().truncate(),
         v.truncate().truncate(),
     );
     let len = (b - a).length();
-    orient(a, b, p).abs() <= 1e-9 * len * (len + (p - a).length()).max(1.0)
+    orient(a, b, p).abs() <= tolerance * len * (len + (p - a).length()).max(1.0)
 }
 
 /// Puts `items[i]` into the sorted run of `list` (after the moved polygons at its head),
@@ -543,7 +578,18 @@ impl Painter {
         let mut items: Vec<Item> = polygons
             .iter()
             .enumerate()
-            .filter(|(_, p)| p.vertices.len() >= 3 && p.vertices.iter().all(|v| v.is_finite()))
+            .filter(|(_, p)| {
+                // A polygon whose vertices all lie on one line in the screen covers no
+                // pixel centre: it is neither sorted nor painted (nor cut by, its plane
+                // being no plane).
+                let xy: Vec<DVec2> = p.vertices.iter().map(|v| v.truncate().truncate()).collect();
+                let turns = xy.first().is_some_and(|&a| {
+                    xy.iter()
+                        .find(|&&b| b != a)
+                        .is_some_and(|&b| xy.iter().any(|&c| orient(a, b, c) != 0.0))
+                });
+                p.vertices.len() >= 3 && p.vertices.iter().all(|v| v.is_finite()) && turns
+            })
             .map(|(index, p)| Item::new(index, p.clone(), depth_plane(p)))
             .collect();
         items.sort_by(|a, b| b.z_max.total_cmp(&a.z_max).then(b.index.cmp(&a.index)));
@@ -572,7 +618,7 @@ impl Painter {
         }
         for (x, by) in tries {
             let (xi, bi) = (list[x], list[by]);
-            if !items[xi].straddles(&items[bi]) {
+            if !items[xi].cuttable || !items[bi].cuttable || !items[xi].straddles(&items[bi]) {
                 continue;
             }
             let Some((front, back)) = cut(&items[xi], &items[bi]) else {

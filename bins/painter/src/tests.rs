@@ -459,3 +459,158 @@ fn projections_touching_along_an_edge_do_not_overlap() {
     assert!(projections_overlap(&a, &inner));
     assert!(projections_overlap(&inner, &a));
 }
+
+#[test]
+fn a_concave_polygon_is_not_cut_and_a_line_is_not_sorted() {
+    // Found by fuzz target `methods` (fuzz/regressions/methods/painter-concave-cut): a
+    // concave quadrilateral and a polygon whose vertices all lie on one line. Cutting
+    // the concave one by the line's "plane" (ten times) lost pixel (14, 10) of its
+    // coverage. Now the line, which covers no pixel centre, is not sorted.
+    let concave = Polygon::from_xyz(
+        [1, 1, 1],
+        &[
+            [43.0, 43.0, 0.25],
+            [10.5, 10.5, -0.125],
+            [18.5, 10.5, 0.0],
+            [23.75, 36.0, 4.75],
+        ],
+    );
+    let mut line = vec![[27.5, 24.0, 0.5]];
+    line.extend([[-128.0, -128.0, 0.0]; 13]);
+    let line = Polygon::from_xyz([2, 2, 2], &line);
+    let scene = [concave, Polygon::default(), line];
+    let (w, h) = (23, 43);
+    let z = zbuffer_image(&scene, w, h);
+    let mut s = Painter::with_split();
+    let image = paint(&mut s, &scene, w, h);
+    assert_eq!(differing_pixels(&z, &image), 0);
+    assert_eq!((s.stats.polygons, s.stats.splits), (1, 0));
+}
+
+#[test]
+fn a_thin_triangle_with_repeated_vertices_is_painted() {
+    // Found by fuzz target `methods` (fuzz/regressions/methods/painter-repeated-vertices):
+    // every three consecutive vertices of this outline repeat one, so a test of
+    // consecutive turns took it for a line and left it out; it is a thin triangle and
+    // covers pixel (0, 0).
+    let thin = Polygon::from_xyz(
+        [1, 1, 1],
+        &[
+            [47.0, 47.0, 11.5],
+            [47.0, 47.0, 11.5],
+            [34.5, 33.0, 11.5],
+            [34.5, 33.0, -92.0],
+            [-128.0, -128.0, 0.0],
+            [-128.0, -128.0, 0.0],
+            [-128.0, -128.0, 0.0],
+        ],
+    );
+    let scene = [thin];
+    let (w, h) = (13, 37);
+    let z = zbuffer_image(&scene, w, h);
+    assert!(z[0].is_some());
+    for mut p in [Painter::new(), Painter::with_split()] {
+        assert_eq!(differing_pixels(&z, &paint(&mut p, &scene, w, h)), 0);
+        assert_eq!(p.stats.polygons, 1);
+    }
+}
+
+#[test]
+fn a_plane_whose_terms_cancel_is_not_cut() {
+    // Found by fuzz target `methods` (fuzz/regressions/methods/painter-huge-depth): a
+    // triangle with one vertex at depth -1e304, whose plane's terms (1e303) cancel to
+    // garbage at its other vertices, against a self-crossing polygon of no net area (a
+    // flat plane at its nearest depth). Cut 2,050 times along misplaced lines, the
+    // pieces lost three pixels of the triangle. Neither is cuttable now: the cycle is
+    // painted in the order at hand, and said.
+    let a = Polygon::from_xyz(
+        [142, 113, 113],
+        &[
+            [7.5, 31.5, 0.5],
+            [23.75, 26.75, -1.0412437994227626e304],
+            [3.5, -4.5, 0.5],
+        ],
+    );
+    let mut v = vec![
+        [52.25, 24.0, 0.5],
+        [24.0, -128.0, 0.0],
+        [31.25, 24.0, -114.0],
+    ];
+    v.extend([[-128.0, -128.0, 0.0]; 8]);
+    let b = Polygon::from_xyz([0, 0, 0], &v);
+    let scene = [a, b];
+    let (w, h) = (47, 47);
+    let z = zbuffer_image(&scene, w, h);
+    let mut s = Painter::with_split();
+    let image = paint(&mut s, &scene, w, h);
+    assert!(z
+        .iter()
+        .zip(&image)
+        .all(|(a, b)| a.is_some() == b.is_some()));
+    assert_eq!((s.stats.splits, s.stats.given_up), (0, 1));
+    assert!(s.gave_up_message().is_some());
+}
+
+#[test]
+fn triangles_crossing_through_a_shared_vertex_keep_their_pixels() {
+    // Found by fuzz target `methods` (fuzz/regressions/methods/painter-shared-vertex):
+    // two triangles share the vertex (34.5, 7.5) and cross along a line through it. The
+    // cut, its plane moved by a hair for the tie rule, put a crossing 6e-10 pixel off
+    // that vertex, below the row of centres at Y = 7.5: pixel (24, 7) of the top edge
+    // was lost. Now a crossing that close is the vertex itself.
+    let a = Polygon::from_xyz(
+        [190, 20, 190],
+        &[[34.5, 7.5, 0.5], [23.75, 7.5, 0.0], [7.5, 32.25, 0.75]],
+    );
+    let b = Polygon::from_xyz(
+        [190, 190, 190],
+        &[[34.5, 7.5, 0.5], [7.5, 23.75, 0.25], [32.25, 29.0, 0.5]],
+    );
+    let scene = [a, b];
+    let (w, h) = (47, 21);
+    let z = zbuffer_image(&scene, w, h);
+    let mut s = Painter::with_split();
+    let image = paint(&mut s, &scene, w, h);
+    assert!(image[7 * 47 + 24].is_some());
+    assert!(z
+        .iter()
+        .zip(&image)
+        .all(|(a, b)| a.is_some() == b.is_some()));
+    assert_eq!(s.stats.splits, 1);
+}
+
+#[test]
+fn a_sliver_a_hair_wide_keeps_its_edge_pixels_when_cut() {
+    // Found by fuzz target `methods` (fuzz/regressions/methods/painter-sliver-support):
+    // a triangle 5e-10 pixel wide along the diagonal X = Y, whose centres (32.5, 32.5) to
+    // (36.5, 36.5) lie on its edge, cut four times. With a tolerance of 1e-9 for "this
+    // vertex lies on that edge", a piece's edge took the support of the other long edge,
+    // a hair away, and lost those five pixels; the tolerance is now 1e-15 (crossings are
+    // computed on their edge to about 1e-16).
+    let p0 = Polygon::from_xyz(
+        [14, 190, 20],
+        &[[19.0, 33.25, 0.0], [24.25, 27.5, 0.0], [38.75, 31.25, 0.5]],
+    );
+    let p1 = Polygon::from_xyz(
+        [105, 105, 105],
+        &[
+            [1.2266928598059648e-172, -5.16450324766402e-10, 0.0],
+            [7.5, 7.5, 0.75],
+            [50.25, 50.25, 0.5],
+        ],
+    );
+    let p2 = Polygon::from_xyz(
+        [190, 212, 194],
+        &[[7.5, 7.5, 0.75], [27.5, 29.0, 0.75], [7.5, 19.75, 0.5]],
+    );
+    let scene = [p0, p1, p2];
+    let (w, h) = (47, 48);
+    let z = zbuffer_image(&scene, w, h);
+    let mut s = Painter::with_split();
+    let image = paint(&mut s, &scene, w, h);
+    assert!(z
+        .iter()
+        .zip(&image)
+        .all(|(a, b)| a.is_some() == b.is_some()));
+    assert!(s.stats.splits > 0);
+}
