@@ -11,7 +11,7 @@
 # 100,000 polygons, depth complexity 3, 500x500; the thesis's penetrating scene.
 #
 # Usage: scripts/bench-painter.sh            the environments above
-#        scripts/bench-painter.sh --hostile  issue 21's hostile scenes (`scene stack`,
+#        scripts/bench-painter.sh --hostile  the hostile scenes (`scene stack`,
 #            `slivers`, `pinhead`, `strips`, `planes`) at 500x500: painter, painter --split
 #            and abuf against the z-buffer leaf, each run under `timeout 120`; wall s (best
 #            of REPS, default 3), peak RSS, the ratios to the z-buffer, and for the

@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # hostile-pictures.sh: the painter's and the a-buffer's failure pictures of
-# docs/methods.md (issue 21), remade. Needs python3 (its zlib writes the PNGs); no
+# docs/methods.md, remade. Needs python3 (its zlib writes the PNGs); no
 # ImageMagick. Not CI.
 #   docs/images/painter-planes-{5,50}.png  scene planes 5, 50, 250x250: zbuf, painter,
 #                                    painter --split, and the pixels --split gets wrong

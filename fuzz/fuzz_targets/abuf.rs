@@ -36,7 +36,7 @@ fn lists(b: &mut Bytes) {
             2 => (b.u8() as u64) << (8 * (b.u8() % 8)),
             _ => !(1u64 << (b.u8() % 64)),
         };
-        // Depths as the f64 depth form has them (issue 22): a few small values (ties),
+        // Depths as the f64 depth form has them: a few small values (ties),
         // extremes, and any finite number.
         let zmin = match b.u8() % 3 {
             0 => (b.u8() % 8) as f64 * 0.125,

@@ -1,7 +1,7 @@
 //! Benchmark: a movie rendered here, split by frames over 1, 2 and 3 loopback ssh hosts
 //! (`render.sh --by frames`, the farm binary), and with the splitter tree's leaves or
 //! subtrees on them
-//! (`render.sh --hosts … --by leaves`, depth 2), with the bytes each link carried (issue 13).
+//! (`render.sh --hosts … --by leaves`, depth 2), with the bytes each link carried.
 //!
 //!     cargo run --release -p pipeline-tests --example bench_hosts [RUNS]
 //!

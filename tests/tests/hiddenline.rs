@@ -323,7 +323,7 @@ fn the_degenerate_scenes_draw_without_error() {
 
 /// A stack of 2,000 squares over the same place, shuffled in depth: in every cell of the
 /// grid the nearest surrounds it and the rest are left out, so no edge is tested against
-/// the stack (issue 21: 8,000 stacked quads took 267 MB and 100,000 more than 60 s).
+/// the stack.
 #[test]
 fn a_stack_costs_nothing_but_its_nearest() {
     let n = 2000;

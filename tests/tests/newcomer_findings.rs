@@ -205,7 +205,7 @@ fn zspec_compare_exits_as_cmp_does() {
         (
             format!("zspec compare {red} {blue}"),
             1,
-            "zspec compare: 1 of 1 frames agree on fewer than 99.95% of pixels (frames [0])\n",
+            "zspec compare: 1 of 1 frames differ (frames [0])\n",
         ),
         (
             format!("zspec compare {red} {two}"),
@@ -331,7 +331,7 @@ fn render_sh_says_a_folder_is_not_a_scene() {
     }
 }
 
-// --- What a newcomer tripped on in wave 3 (the items of the house issue). The others
+// --- What a newcomer tripped on (the newcomer's list). The others
 // have their tests beside their code: `frames --from` past the end
 // (bins/frames/tests/cli.rs), `zbuf -o one.png` on a movie (bins/zbuf/tests/cli.rs and
 // exit_codes.rs), the OBJ reader's four (bins/scene/src/obj.rs), the `--by frames -o`

@@ -912,7 +912,7 @@ mod tests {
 
     #[test]
     fn a_fragment_stream_is_refused() {
-        let reader = Reader::<Token, _>::new(&b"polypipe 1 fragments 4 4\nEND\n"[..]).unwrap();
+        let reader = Reader::<Token, _>::new(&b"polypipe 2 fragments 4 4\nEND\n"[..]).unwrap();
         let err = Cutter::new(reader, 4).err().unwrap();
         assert_eq!(err.kind(), stagecli::Kind::Data);
         assert_eq!(

@@ -310,15 +310,19 @@ impl Grid {
         // no surrounder), recomputed when a polygon passes it after ZMINMAX changed: a
         // polygon beyond it is hidden in every cell, and is passed over at once.
         let (mut bound, mut changed) = (f64::INFINITY, false);
+        // "Farther" by the tie rule (the far depth must take the pixel from the polygon's
+        // nearest), so that a polygon earlier in the stream within the tie width of a
+        // surrounder, whose edges then show, is not passed over.
+        let hidden = |zmin: f64, far: f64| proto::depth::takes(far, zmin);
         for (k, f) in faces.iter().enumerate() {
-            if f.zmin > bound {
+            if hidden(f.zmin, bound) {
                 stats.culled += 1;
                 continue;
             }
             if changed {
                 bound = zminmax.iter().copied().fold(f64::NEG_INFINITY, f64::max);
                 changed = false;
-                if f.zmin > bound {
+                if hidden(f.zmin, bound) {
                     stats.culled += 1;
                     continue;
                 }
@@ -327,7 +331,7 @@ impl Grid {
             for j in ys {
                 for i in xs.clone() {
                     let c = j * n + i;
-                    if f.zmin > zminmax[c] {
+                    if hidden(f.zmin, zminmax[c]) {
                         stats.culled += 1;
                         continue;
                     }

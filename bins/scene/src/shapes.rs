@@ -375,7 +375,7 @@ pub fn triangle_square() -> Vec<Face> {
 // ---------------------------------------------------------------------------------------
 // Hostile scenes: depth complexity, slivers, many fragments in one pixel, and planes that
 // all pass through each other. They are what a user can make in a minute to break a
-// hidden-surface method (issue 21), and what the methods' bounds are tested on.
+// hidden-surface method, and what the methods' bounds are tested on.
 
 /// Half the side of the square every hostile "full-screen" polygon spans: wide enough to
 /// cover the default camera's screen at every depth these scenes use (|z| ≤ 8, where the

@@ -110,8 +110,7 @@ fn trees(depths: &[&'static str]) -> Vec<(&'static str, &'static str)> {
 }
 
 /// Asserts that render.sh at depths 1, 2 and 5, with either merge mode, and with the leaves
-/// resolving at depth 0, gives the bytes of the linear pipeline (issue 3; issue 9's
-/// "byte-identical for every depth and both modes"), for `args` and standard input
+/// resolving at depth 0, gives the bytes of the linear pipeline, for `args` and standard input
 /// `stdin`. A scene that depth 0 refuses must be refused the same way by every tree.
 fn assert_trees_render_as_depth_0(what: &str, args: &[&str], stdin: &[u8]) {
     let linear = render(
@@ -384,7 +383,7 @@ fn stats_name_each_node_and_leaf_and_add_up_to_the_linear_pipeline() {
          zbuf: leaf-0: 543 spans, 59356 pixels, 17424 bytes in\n"
     );
     // Node 3's second output gets a one-vertex piece of one polygon, which draws
-    // nothing: the lean stream sends leaf 3 a `skip 1` for it (issue 9).
+    // nothing: the lean stream sends leaf 3 a `skip 1` for it.
     assert_eq!(
         stats("buffer", "2"),
         SPLITTERS.to_string()
@@ -442,7 +441,7 @@ fn a_failing_stage_is_named() {
     assert_eq!(out.status.code(), Some(2));
     assert!(String::from_utf8_lossy(&out.stderr)
         .contains("render.sh: --merge must be tiles or buffer, not 'zbuf'\n"));
-    // viewxf's usage error stays a usage error (issue 14, finding 4).
+    // viewxf's usage error stays a usage error.
     let out = render(&["--hither", "0"], b"");
     assert_eq!(out.status.code(), Some(2));
     assert!(String::from_utf8_lossy(&out.stderr).contains("render.sh: viewxf failed (status 2)\n"));
@@ -580,7 +579,7 @@ mod random_scenes {
         // (tests/tests/split_invariance.rs), so a few cases suffice here.
         #![proptest_config(ProptestConfig { cases: 6, ..ProptestConfig::default() })]
 
-        /// Issue 3 as a property: any scene, trees of depth 1–3 at 64×48, either merge
+        /// As a property: any scene, trees of depth 1–3 at 64×48, either merge
         /// mode, byte for byte.
         #[test]
         fn any_scene_renders_the_same_through_any_tree(text in scene_text()) {
@@ -603,7 +602,7 @@ mod random_scenes {
 }
 
 // ---------------------------------------------------------------------------------------
-// Issue 14: the tree's planes computed by the nodes, the script's exit statuses, option
+// The tree's planes computed by the nodes, the script's exit statuses, option
 // errors, the first build, the freshness check and the script's own requirements.
 
 /// The old scripts/tree-planes.sh, which render.sh sourced until the nodes computed their
@@ -757,7 +756,7 @@ fn splitter_node_refuses_a_node_outside_its_tree() {
     assert_eq!(out.status.code(), Some(2));
 }
 
-/// Finding 4: render.sh exits with the failing stage's class (1 bad data, 2 usage, 3 I/O),
+/// render.sh exits with the failing stage's class (1 bad data, 2 usage, 3 I/O),
 /// not always 1. Bad data (viewxf, 1) and a stage's usage error (viewxf --hither 0, 2)
 /// are in `a_failing_stage_is_named`.
 #[test]
@@ -790,18 +789,18 @@ fn a_failing_stages_status_class_passes_through() {
     );
 }
 
-/// Finding 5: an option error is one line, starting with `render.sh:`, naming the option
+/// an option error is one line, starting with `render.sh:`, naming the option
 /// the user typed (`--zmode foo` used to come back as persp's `--depth <DEPTH>`).
 #[test]
 fn option_errors_are_one_line_naming_the_option_typed() {
     for (args, message) in [
         (
             &["--zmode", "foo"][..],
-            "render.sh: --zmode must be projective or eye-z, not 'foo'",
+            "render.sh: --zmode must be reciprocal, projective or eye-z, not 'foo'",
         ),
         (
             &["--zmode=bar"],
-            "render.sh: --zmode must be projective or eye-z, not 'bar'",
+            "render.sh: --zmode must be reciprocal, projective or eye-z, not 'bar'",
         ),
         (
             &["--depth", "7"],
@@ -833,7 +832,7 @@ fn option_errors_are_one_line_naming_the_option_typed() {
     assert_eq!(frames(&eye_z).len(), 1);
 }
 
-/// Finding 11: `--version`, and what --help and the README say about eye-z and the
+/// `--version`, and what --help and the README say about eye-z and the
 /// depth.
 #[test]
 fn version_and_the_eye_z_caveat() {
@@ -845,7 +844,7 @@ fn version_and_the_eye_z_caveat() {
     );
     let help = String::from_utf8(render(&["--help"], b"").stdout).unwrap();
     assert!(
-        help.contains("The frames are byte-identical for every --depth with projective depth, but not\nwith --zmode eye-z"),
+        help.contains("The frames are byte-identical for every --depth with reciprocal or projective depth, but not\nwith --zmode eye-z"),
         "{help}"
     );
     assert!(
@@ -869,7 +868,7 @@ fn version_and_the_eye_z_caveat() {
     );
 }
 
-/// Finding 11: render.sh needs bash 5.1 (`wait -n -p`); an older bash or plain sh stops
+/// render.sh needs bash 5.1 (`wait -n -p`); an older bash or plain sh stops
 /// at the first lines with one clear message and status 3 (the environment, as for a
 /// missing cargo), not a syntax error half-way.
 #[test]
@@ -1046,7 +1045,7 @@ fn binaries_the_readme_uses() -> std::collections::BTreeSet<String> {
     names
 }
 
-/// Finding 6: the README's first command builds every binary the README goes on to use,
+/// the README's first command builds every binary the README goes on to use,
 /// saying so on stderr, and the README's next commands then run.
 #[test]
 fn the_first_run_builds_every_binary_the_readme_uses() {
@@ -1107,7 +1106,7 @@ fn the_first_run_builds_every_binary_the_readme_uses() {
     assert_eq!(cargo_calls(&dir), Vec::<String>::new());
 }
 
-/// Finding 7: only the binaries' sources (src/ .rs files, Cargo.toml, Cargo.lock) make
+/// only the binaries' sources (src/ .rs files, Cargo.toml, Cargo.lock) make
 /// render.sh call cargo; without cargo it runs what is built.
 #[test]
 fn only_the_binaries_sources_make_render_sh_call_cargo() {
@@ -1122,7 +1121,7 @@ fn only_the_binaries_sources_make_render_sh_call_cargo() {
     assert_eq!(out.status.code(), Some(3));
     let err = String::from_utf8_lossy(&out.stderr);
     assert!(
-        err.starts_with("render.sh: cannot build viewxf clipplane clipbatch splitter persp scanconv zbuf scanline warnock painter hiddenline supersample abuf scene zspec frames farm chart into ")
+        err.starts_with("render.sh: cannot build viewxf clipplane clipbatch splitter persp scanconv zbuf scanline warnock painter hiddenline supersample abuf scene zspec frames farm chart plan into ")
             && err.ends_with(": cargo is not on PATH (Rust: https://rustup.rs)\n"),
         "{err}"
     );
@@ -1193,7 +1192,7 @@ fn only_the_binaries_sources_make_render_sh_call_cargo() {
     assert_eq!(cargo_calls(&dir).len(), 1);
 }
 
-/// Finding 7: a relative CARGO_TARGET_DIR is where cargo, run from the repository root,
+/// a relative CARGO_TARGET_DIR is where cargo, run from the repository root,
 /// builds; and a symlink to render.sh finds the repository the script is in.
 #[test]
 fn a_relative_target_dir_and_a_symlinked_script_find_the_binaries() {
@@ -1241,7 +1240,7 @@ fn a_relative_target_dir_and_a_symlinked_script_find_the_binaries() {
     assert_eq!(cargo_calls(&dir), Vec::<String>::new());
 }
 
-/// Finding 7, with the real cargo's dep-info: right after cargo built the binaries (as
+/// With the real cargo's dep-info: right after cargo built the binaries (as
 /// the tests' `bin_dir` does), render.sh finds them current and, without cargo on PATH,
 /// runs them without a warning.
 #[test]

@@ -433,9 +433,14 @@ impl Warnock {
         for i in start..end {
             let e = self.lists[i];
             let f = self.faces[e.face as usize];
-            if f.zmin > zminmax {
+            if takes(zminmax, f.zmin) {
                 // `IF POLY!ZMIN[P] > ZMINMAX THEN DONE`: behind a surrounder, and so is
-                // every polygon after it.
+                // every polygon after it. "Behind" by the tie rule: the surrounder's
+                // farthest depth must take the pixel from the polygon's nearest, so that a
+                // polygon earlier in the stream within the tie width of the surrounder,
+                // which keeps its pixels, is not passed over. (Later polygons would need
+                // only ZMIN > ZMINMAX; the stricter test serves both, and as the list is
+                // in ZMIN order, every polygon after it passes it too.)
                 self.stats.zmin_exits += 1;
                 self.stats.zmin_skipped += (end - i) as u64;
                 break;
@@ -1020,17 +1025,25 @@ mod tests {
     }
 
     #[test]
-    fn clamped_depths_are_decided_at_pixels() {
-        // Depths beyond the fixed point's range clamp: two such planes tie there although
-        // they differ, so windows fail down to single pixels, decided as the z-buffer does.
+    fn far_depths_are_ordered_and_a_tie_width_apart_tie() {
+        // Depths far beyond the old fixed point's range are f64s like any other: the
+        // nearer square hides the farther in one window; one within the tie width of the
+        // first (2^-30 of its depth) ties, and the earlier square shows.
         let polygons = [
             square(RED, 0.0, 0.0, 4.0, 4.0, 1e8),
             square(GREEN, 0.0, 0.0, 4.0, 4.0, 2e7),
         ];
         let (runs, m) = resolved(&polygons, 4, 4);
         assert_eq!(image_of(&runs, 4, 4), zbuffer_image(&polygons, 4, 4));
-        assert_eq!(m.stats.windows_by_depth, vec![1, 4, 16]);
-        assert_eq!(m.stats.pixels, 16);
+        assert_eq!(m.stats.windows_by_depth, vec![1]);
+        let near = 1e8 * (1.0 - 0.5 / (1u64 << 30) as f64);
+        let polygons = [
+            square(RED, 0.0, 0.0, 4.0, 4.0, 1e8),
+            square(GREEN, 0.0, 0.0, 4.0, 4.0, near),
+        ];
+        let (runs, _) = resolved(&polygons, 4, 4);
+        assert_eq!(image_of(&runs, 4, 4), zbuffer_image(&polygons, 4, 4));
+        assert!(runs.iter().all(|r| r.colour == RED), "{runs:?}");
     }
 
     #[test]
