@@ -314,6 +314,11 @@ fn write_script(path: &Path, text: &str) {
 /// Starts one host's sshd in the foreground (`-D`), logging to its file. The log goes by
 /// `-e` to stderr, redirected: with `-E FILE`, OpenSSH 9.2 logs only the listener, not the
 /// sessions (the re-executed child does not get the file).
+///
+/// Sessions get `SHLVL=1`: bash, run by sshd at shell level 1, reads the user's ~/.bashrc,
+/// and root's on these machines starts pyenv, whose `rehash` waits up to a minute on a lock
+/// that a session killed mid-test (a host dropped on purpose) leaves behind; every later
+/// test then waited that minute. At level 2 bash reads no startup file.
 fn start_sshd(sshd: &Path, dir: &Path, node: &Node, authorized: &str) -> Child {
     let host_key = dir.join(format!("host-key-{}", node.name));
     keygen(&host_key);
@@ -331,7 +336,7 @@ fn start_sshd(sshd: &Path, dir: &Path, node: &Node, authorized: &str) -> Child {
          PasswordAuthentication no\n\
          KbdInteractiveAuthentication no\n\
          LogLevel VERBOSE\n\
-         SetEnv TMPDIR={tmp}\n",
+         SetEnv TMPDIR={tmp} SHLVL=1\n",
         address = node.address,
         port = node.port,
         host_key = host_key.display(),

@@ -1159,7 +1159,7 @@ fn only_the_binaries_sources_make_render_sh_call_cargo() {
     assert_eq!(
         String::from_utf8_lossy(&out.stderr),
         "render.sh: warning: viewxf clipplane clipbatch splitter persp scanconv zbuf scanline warnock painter \
-         hiddenline supersample abuf scene zspec frames farm chart: \
+         hiddenline supersample abuf scene zspec frames farm chart plan: \
          older than their sources, and no cargo on PATH to rebuild them; running them as they are\n"
     );
     // With cargo: rebuilt, once.
