@@ -52,6 +52,19 @@ pub fn takes_back(early: f64, held: f64) -> bool {
     !takes(held, early) && !early.is_nan()
 }
 
+/// Whether a polygon at depth `z` is in front of another at depth `other` at one pixel,
+/// the rule for two polygons: coming `later` in the stream it must take the pixel from the
+/// other ([`takes`]); coming earlier, the other must not take the pixel from it
+/// ([`takes_back`]). The pairwise test of every method that does not fold in stream order.
+#[inline]
+pub fn in_front(z: f64, later: bool, other: f64) -> bool {
+    if later {
+        takes(z, other)
+    } else {
+        takes_back(z, other)
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

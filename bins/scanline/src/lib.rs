@@ -99,11 +99,7 @@ impl Segment {
     /// earlier, `other` must not take the pixel from it.
     #[inline]
     pub fn in_front_of(&self, other: &Segment, x: u32) -> bool {
-        if self.polygon > other.polygon {
-            scan::takes(self.depth(x), other.depth(x))
-        } else {
-            proto::depth::takes_back(self.depth(x), other.depth(x))
-        }
+        proto::depth::in_front(self.depth(x), self.polygon > other.polygon, other.depth(x))
     }
 }
 
@@ -205,21 +201,21 @@ impl RowRuns<'_> {
 /// order (by left end); the fold visits it by stream index.
 #[inline]
 fn front_at(segments: &[Segment], present: &[usize], x: u32, comparisons: &mut u64) -> usize {
-    let mut front = present[0];
-    if present.is_sorted_by_key(|&i| segments[i].polygon) {
-        for &i in &present[1..] {
-            if scan::takes(segments[i].depth(x), segments[front].depth(x)) {
-                front = i;
-            }
-        }
+    let sorted;
+    let order = if present.is_sorted_by_key(|&i| segments[i].polygon) {
+        present
     } else {
-        let mut order = present.to_vec();
-        order.sort_unstable_by_key(|&i| segments[i].polygon);
-        front = order[0];
-        for &i in &order[1..] {
-            if scan::takes(segments[i].depth(x), segments[front].depth(x)) {
-                front = i;
-            }
+        sorted = {
+            let mut v = present.to_vec();
+            v.sort_unstable_by_key(|&i| segments[i].polygon);
+            v
+        };
+        &sorted[..]
+    };
+    let mut front = order[0];
+    for &i in &order[1..] {
+        if scan::takes(segments[i].depth(x), segments[front].depth(x)) {
+            front = i;
         }
     }
     *comparisons += present.len() as u64 - 1;

@@ -242,11 +242,7 @@ impl Face {
 /// Does polygon `a`, at depth `da` at a pixel, beat polygon `b` at depth `db` there (the
 /// tie rule: the later one must [`takes`] the pixel from the earlier)?
 fn beats(a: &Face, da: Depth, b: &Face, db: Depth) -> bool {
-    if a.poly < b.poly {
-        !takes(db, da)
-    } else {
-        takes(da, db)
-    }
+    proto::depth::in_front(da, a.poly >= b.poly, db)
 }
 
 /// A depth (or a depth step) that may have been clamped to the representation's range:

@@ -312,10 +312,8 @@ impl FrameBuffer {
 /// the nearer, whichever came first.
 #[inline]
 pub fn wins(z: f64, polygon: u32, held: f64, held_polygon: u32) -> bool {
-    if polygon > held_polygon {
-        proto::depth::takes(z, held)
-    } else if polygon < held_polygon {
-        proto::depth::takes_back(z, held)
+    if polygon != held_polygon {
+        proto::depth::in_front(z, polygon > held_polygon, held)
     } else {
         z < held
     }
