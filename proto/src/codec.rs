@@ -610,19 +610,27 @@ fn read_binary_header<R: Read>(input: &mut BinaryInput<R>) -> Result<Header, Str
     if Read::read_exact(input, &mut magic).is_err() || magic != BINARY_MAGIC {
         return Err(bad(0, "not a polypipe stream (bad magic)"));
     }
-    let header: Header = bincode_options()
+    // The version first, alone, so that a stream of another version is named as such
+    // whatever the rest of its header holds.
+    let version: u32 = bincode_options()
         .deserialize_from(&mut *input)
         .map_err(|_| bad(8, "unreadable stream header"))?;
-    if header.version != VERSION {
+    if version != VERSION {
         return Err(bad(
             8,
-            &format!(
-                "stream version {} is not supported (this is version {VERSION})",
-                header.version
-            ),
+            &format!("stream version {version} is not supported (this is version {VERSION})"),
         ));
     }
+    let (space, attributes): (Space, crate::header::Attributes) = bincode_options()
+        .deserialize_from(&mut *input)
+        .map_err(|_| bad(12, "unreadable stream header"))?;
+    let header = Header {
+        version,
+        space,
+        attributes,
+    };
     check_space(&header.space).map_err(|m| bad(8, &m))?;
+    check_attributes(&header).map_err(|m| bad(8, &m))?;
     Ok(header)
 }
 
@@ -689,10 +697,78 @@ fn read_text_header<R: BufRead>(lex: &mut Lexer<R>) -> Result<Header, StreamErro
         ));
     }
     check_space(&space).map_err(|m| lex.error_at(space_at, m))?;
+    let attributes = read_text_attributes(lex, &space)?;
     Ok(Header {
         version: VERSION,
         space,
+        attributes,
     })
+}
+
+/// The header's attribute words after the space's ([`crate::header::Attributes`]):
+/// `depth reciprocal K1`, `depth projective K1 K2` or `depth eye-z`, for screen and
+/// fragment streams. A record's keyword ends them.
+fn read_text_attributes<R: BufRead>(
+    lex: &mut Lexer<R>,
+    space: &Space,
+) -> Result<crate::header::Attributes, StreamError> {
+    use crate::header::DepthForm;
+    let mut attributes = crate::header::Attributes::default();
+    while lex.peek()? == Some("depth") {
+        lex.next_word()?;
+        let at = lex.mark();
+        if space.screen_size().is_none() {
+            return Err(lex.error_at(
+                at,
+                format!(
+                    "`depth` in the header is for screen and fragment streams, not {}-space",
+                    space.name()
+                ),
+            ));
+        }
+        if attributes.depth.is_some() {
+            return Err(lex.error_at(at, "the header names the depth form twice".to_string()));
+        }
+        let form = lex.expect_word("a depth form (reciprocal K1, projective K1 K2, eye-z)")?;
+        let form_at = lex.mark();
+        let mut positive = |what: &str| -> Result<f64, StreamError> {
+            let v = lex.number_with(|| format!("the depth form's {what}"))?;
+            if v.is_finite() && v > 0.0 {
+                Ok(v)
+            } else {
+                Err(lex.error(format!("the depth form's {what} {} must be positive", Number(v))))
+            }
+        };
+        let depth = match form.as_str() {
+            "reciprocal" => DepthForm::Reciprocal {
+                hither: positive("hither")?,
+            },
+            "projective" => {
+                let hither = positive("hither")?;
+                let yon = positive("yon")?;
+                if hither >= yon {
+                    return Err(lex.error(format!(
+                        "the depth form's hither {} and yon {} must satisfy hither < yon",
+                        Number(hither),
+                        Number(yon)
+                    )));
+                }
+                DepthForm::Projective { hither, yon }
+            }
+            "eye-z" => DepthForm::EyeZ,
+            other => {
+                return Err(lex.error_at(
+                    form_at,
+                    format!(
+                        "unknown depth form `{}` (expected reciprocal, projective or eye-z)",
+                        Shown(other)
+                    ),
+                ))
+            }
+        };
+        attributes.depth = Some(depth);
+    }
+    Ok(attributes)
 }
 
 /// The header's numbers must make sense before any stage computes with them.
@@ -725,6 +801,32 @@ fn check_space(space: &Space) -> Result<(), String> {
     Ok(())
 }
 
+/// A binary header's attributes must be what a text header could say.
+fn check_attributes(header: &Header) -> Result<(), String> {
+    use crate::header::DepthForm;
+    let Some(form) = header.attributes.depth else {
+        return Ok(());
+    };
+    if header.space.screen_size().is_none() {
+        return Err(format!(
+            "a depth form in the header is for screen and fragment streams, not {}-space",
+            header.space.name()
+        ));
+    }
+    let positive = |v: f64| v.is_finite() && v > 0.0;
+    match form {
+        DepthForm::Reciprocal { hither } if !positive(hither) => {
+            Err("the depth form's hither must be positive".to_string())
+        }
+        DepthForm::Projective { hither, yon }
+            if !(positive(hither) && positive(yon) && hither < yon) =>
+        {
+            Err("the depth form's hither and yon must satisfy 0 < hither < yon".to_string())
+        }
+        _ => Ok(()),
+    }
+}
+
 /// Writes a stream of records of kind `T` in either form, buffered.
 pub struct Writer<T, W: Write> {
     out: BufWriter<W>,
@@ -753,9 +855,10 @@ impl<T: Record, W: Write> Writer<T, W> {
             }
             Form::Text => writeln!(
                 out,
-                "{TEXT_MAGIC} {} {}",
+                "{TEXT_MAGIC} {} {}{}",
                 text_version(&header.space),
-                header.space
+                header.space,
+                header.attributes
             )?,
         }
         Ok(Writer {

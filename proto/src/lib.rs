@@ -23,5 +23,5 @@ pub use codec::{Form, Reader, Record, Writer};
 pub use error::StreamError;
 pub use fragment::Fragment;
 pub use glam::{DVec2, DVec3, DVec4};
-pub use header::{Header, Space, SpaceKind, View};
+pub use header::{Attributes, DepthForm, Header, Space, SpaceKind, View};
 pub use polygon::{Colour, Polygon, Token, Vertex};

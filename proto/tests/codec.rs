@@ -3,7 +3,7 @@
 
 use proptest::prelude::*;
 use proto::fragment::Fragment;
-use proto::{Form, Header, Polygon, Reader, Space, Token, View, Writer};
+use proto::{Attributes, DepthForm, Form, Header, Polygon, Reader, Space, Token, View, Writer};
 
 fn encode<T: proto::Record>(header: Header, records: &[T], form: Form) -> Vec<u8> {
     let mut w = Writer::new(Vec::new(), header, form).unwrap();
@@ -277,12 +277,12 @@ fn binary_version_1_is_refused() {
     v1.extend_from_slice(&[1, 0, 0, 0, 0, 0, 0, 0, 2, 0, 0, 0]);
     assert_eq!(
         decode_err::<Token>(&v1),
-        "byte 8: stream version 1 is not supported (this is version 3)"
+        "byte 8: stream version 1 is not supported (this is version 4)"
     );
     // The text form is still version 1, and says so.
     let text = encode(Header::new(Space::World), &[Token::End], Form::Text);
     assert_eq!(text, b"polypipe 1 world\nEND\n");
-    assert_eq!(Header::new(Space::World).version, 3);
+    assert_eq!(Header::new(Space::World).version, 4);
 }
 
 #[test]
@@ -506,7 +506,7 @@ fn annotations_in_world_space_are_refused() {
     );
     assert_eq!(
         decode_err::<Token>(&bin),
-        "byte 16 (frame 0, polygon 0): an annotated polygon in a world-space stream: \
+        "byte 17 (frame 0, polygon 0): an annotated polygon in a world-space stream: \
          annotations (`plane`, `on`) are defined for eye and screen space only"
     );
 }
@@ -586,5 +586,83 @@ fn skips_and_runs_round_trip_and_keep_numbering() {
     assert_eq!(
         decode_err::<Fragment>(b"polypipe 2 fragments 4 4\nrun 4 0 1 1 1 1\nEND\n"),
         "line 2, column 15: run of row 4, columns 0..1, is outside the 4x4 screen"
+    );
+}
+
+/// The depth form persp names in the header: written after the space's words, read back
+/// from either form, and refused where it means nothing or its numbers cannot be.
+#[test]
+fn the_depth_form_in_the_header_round_trips_and_is_checked() {
+    let screen = Space::Screen {
+        width: 8,
+        height: 4,
+    };
+    for (form, words) in [
+        (DepthForm::Reciprocal { hither: 1.0 }, "depth reciprocal 1"),
+        (
+            DepthForm::Projective {
+                hither: 0.001,
+                yon: 1000.0,
+            },
+            "depth projective 0.001 1000",
+        ),
+        (DepthForm::EyeZ, "depth eye-z"),
+    ] {
+        let header = Header::new(screen).with(Attributes { depth: Some(form) });
+        let text = encode(header, &[Token::End], Form::Text);
+        assert_eq!(
+            String::from_utf8(text.clone()).unwrap(),
+            format!("polypipe 1 screen 8 4 {words}\nEND\n")
+        );
+        for bytes in [text, encode(header, &[Token::End], Form::Binary)] {
+            let (back, records) = decode::<Token>(&bytes).unwrap();
+            assert_eq!((back, records), (header, vec![Token::End]));
+        }
+        let fragments = Header::new(Space::Fragments {
+            width: 8,
+            height: 4,
+        })
+        .with(Attributes { depth: Some(form) });
+        let text = encode(fragments, &[Fragment::End], Form::Text);
+        assert!(String::from_utf8_lossy(&text).starts_with(&format!("polypipe 2 fragments 8 4 {words}\n")));
+        assert_eq!(decode::<Fragment>(&text).unwrap().0, fragments);
+    }
+    // Without the words: no form, as every hand-written screen stream.
+    let (plain, _) = decode::<Token>(b"polypipe 1 screen 8 4\nEND\n").unwrap();
+    assert_eq!(plain.attributes.depth, None);
+    for (text, message) in [
+        (
+            "polypipe 1 world depth eye-z\nEND\n",
+            "line 1, column 18: `depth` in the header is for screen and fragment streams, not world-space",
+        ),
+        (
+            "polypipe 1 screen 8 4 depth linear\nEND\n",
+            "line 1, column 29: unknown depth form `linear` (expected reciprocal, projective or eye-z)",
+        ),
+        (
+            "polypipe 1 screen 8 4 depth projective 2 1\nEND\n",
+            "line 1, column 42: the depth form's hither 2 and yon 1 must satisfy hither < yon",
+        ),
+        (
+            "polypipe 1 screen 8 4 depth reciprocal -1\nEND\n",
+            "line 1, column 40: the depth form's hither -1 must be positive",
+        ),
+        (
+            "polypipe 1 screen 8 4 depth eye-z depth eye-z\nEND\n",
+            "line 1, column 35: the header names the depth form twice",
+        ),
+    ] {
+        assert_eq!(decode_err::<Token>(text.as_bytes()), message, "{text}");
+    }
+    // A binary header holds what a text one could say, or is refused.
+    let bad = Header::new(screen).with(Attributes {
+        depth: Some(DepthForm::Projective {
+            hither: 5.0,
+            yon: 1.0,
+        }),
+    });
+    assert_eq!(
+        decode_err::<Token>(&encode(bad, &[Token::End], Form::Binary)),
+        "byte 8: the depth form's hither and yon must satisfy 0 < hither < yon"
     );
 }
