@@ -16,6 +16,7 @@
 
 use proto::Fragment;
 pub use scan::{check_on_screen, depth_at, DepthPlane, GUARD_BAND};
+use scan::precision::QuantumWatch;
 use scan::{RegionBuffer, SpanWalker};
 
 /// What becomes of covered pixels.
@@ -41,6 +42,8 @@ pub struct Stats {
     pub spans: u64,
     /// Pixels covered (whether sent as spans or as pixels, or depth-tested here).
     pub pixels: u64,
+    /// Depth tests that rounding, not the tie rule, decided ([`scan::precision`]).
+    pub rounding_decided: u64,
 }
 
 /// The scan converter for one screen, its tables reused from polygon to polygon.
@@ -51,6 +54,9 @@ pub struct ScanConverter {
     walker: SpanWalker,
     /// The leaf's Z-buffer, in [`Output::Resolve`] only.
     region: Option<RegionBuffer>,
+    /// Where rounding in a coarse depth form decides ties, in [`Output::Resolve`] only
+    /// ([`scan::precision`]).
+    watch: Option<QuantumWatch>,
     pub stats: Stats,
 }
 
@@ -62,8 +68,28 @@ impl ScanConverter {
             output,
             walker: SpanWalker::new(),
             region: (output == Output::Resolve).then(|| RegionBuffer::new(width, height)),
+            watch: None,
             stats: Stats::default(),
         }
+    }
+
+    /// When resolving, watch for depth tests that the stream's depth `form` (its header's)
+    /// is too coarse to decide by the tie rule ([`scan::precision::QuantumWatch`]); a form
+    /// that is fine enough everywhere costs nothing.
+    pub fn watch_depth(&mut self, form: Option<proto::DepthForm>) {
+        if self.output == Output::Resolve {
+            self.watch = QuantumWatch::for_form(form, self.width, self.height);
+        }
+    }
+
+    /// At a frame's end (`frame` from 0): the warning for it, when rounding decided some
+    /// of its depth tests ([`ScanConverter::watch_depth`]), counted in
+    /// [`Stats::rounding_decided`].
+    pub fn quantum_warning(&mut self, frame: u64) -> Option<String> {
+        let watch = self.watch.as_mut()?;
+        let lost = watch.end_frame();
+        self.stats.rounding_decided += lost;
+        (lost > 0).then(|| watch.message(frame, lost))
     }
 
     /// The region buffer's counts (pixels tested and written, runs, tiles), in
@@ -86,8 +112,15 @@ impl ScanConverter {
         let covered = match (self.output, &mut self.region) {
             (Output::Resolve, Some(region)) => {
                 let colour = polygon.colour;
-                self.walker
-                    .for_each_span(polygon, width, height, |s| region.draw(&s, colour))
+                match &mut self.watch {
+                    None => self
+                        .walker
+                        .for_each_span(polygon, width, height, |s| region.draw(&s, colour)),
+                    Some(watch) => self.walker.for_each_span(polygon, width, height, |s| {
+                        region.draw(&s, colour);
+                        watch.span(&s);
+                    }),
+                }
             }
             (Output::Pixels, _) => {
                 emit(Fragment::Polygon(polygon.colour))?;
