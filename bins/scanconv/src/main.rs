@@ -114,7 +114,7 @@ fn main() -> ExitCode {
 /// The --stats line's count of depth tests decided by rounding, where there were any.
 fn rounding(n: u64) -> String {
     if n > 0 {
-        format!(", {n} depth tests decided by rounding, not the tie rule")
+        format!(", {n} depth tests lost to the depth form's quantum")
     } else {
         String::new()
     }

@@ -184,7 +184,7 @@ fn main() -> ExitCode {
                     };
                     let rounding = if r.rounding_decided > 0 {
                         format!(
-                            ", {} depth tests decided by rounding, not the tie rule",
+                            ", {} depth tests lost to the depth form's quantum",
                             r.rounding_decided
                         )
                     } else {
