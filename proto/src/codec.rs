@@ -707,14 +707,15 @@ fn read_text_header<R: BufRead>(lex: &mut Lexer<R>) -> Result<Header, StreamErro
 
 /// The header's attribute words after the space's ([`crate::header::Attributes`]):
 /// `depth reciprocal K1`, `depth projective K1 K2` or `depth eye-z`, for screen and
-/// fragment streams. A record's keyword ends them.
+/// fragment streams, on the header's own line (so that the header is read without
+/// reading into the records: `stagecli::pieces` cuts the rest of a text stream).
 fn read_text_attributes<R: BufRead>(
     lex: &mut Lexer<R>,
     space: &Space,
 ) -> Result<crate::header::Attributes, StreamError> {
     use crate::header::DepthForm;
     let mut attributes = crate::header::Attributes::default();
-    while lex.peek()? == Some("depth") {
+    while lex.more_on_line() && lex.peek()? == Some("depth") {
         lex.next_word()?;
         let at = lex.mark();
         if space.screen_size().is_none() {
@@ -736,7 +737,10 @@ fn read_text_attributes<R: BufRead>(
             if v.is_finite() && v > 0.0 {
                 Ok(v)
             } else {
-                Err(lex.error(format!("the depth form's {what} {} must be positive", Number(v))))
+                Err(lex.error(format!(
+                    "the depth form's {what} {} must be positive",
+                    Number(v)
+                )))
             }
         };
         let depth = match form.as_str() {

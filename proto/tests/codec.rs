@@ -624,7 +624,8 @@ fn the_depth_form_in_the_header_round_trips_and_is_checked() {
         })
         .with(Attributes { depth: Some(form) });
         let text = encode(fragments, &[Fragment::End], Form::Text);
-        assert!(String::from_utf8_lossy(&text).starts_with(&format!("polypipe 2 fragments 8 4 {words}\n")));
+        assert!(String::from_utf8_lossy(&text)
+            .starts_with(&format!("polypipe 2 fragments 8 4 {words}\n")));
         assert_eq!(decode::<Fragment>(&text).unwrap().0, fragments);
     }
     // Without the words: no form, as every hand-written screen stream.

@@ -177,7 +177,10 @@ fn zbuf_says_when_projective_depth_ties_what_the_rule_orders() {
     let camera = "--hither 0.001 --yon 1000 --size 200x200";
     for (options, lines) in [
         ("--depth 0", vec![format!("zbuf: frame 0: 2916 {warning}")]),
-        ("--depth 2 --merge buffer", vec![format!("zbuf: frame 0: 2916 {warning}")]),
+        (
+            "--depth 2 --merge buffer",
+            vec![format!("zbuf: frame 0: 2916 {warning}")],
+        ),
         (
             "--depth 2",
             (0..4)

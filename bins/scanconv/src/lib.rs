@@ -15,8 +15,8 @@
 //!   test. The leaves share the per-pixel work; the merger only assembles.
 
 use proto::Fragment;
-pub use scan::{check_on_screen, depth_at, DepthPlane, GUARD_BAND};
 use scan::precision::QuantumWatch;
+pub use scan::{check_on_screen, depth_at, DepthPlane, GUARD_BAND};
 use scan::{RegionBuffer, SpanWalker};
 
 /// What becomes of covered pixels.
@@ -343,7 +343,8 @@ mod tests {
                 polygons_in: 2,
                 polygons_drawn: 1,
                 spans: 2,
-                pixels: 4
+                pixels: 4,
+                rounding_decided: 0
             }
         );
         assert_eq!(sc.region_stats(), None);
@@ -361,7 +362,8 @@ mod tests {
                 polygons_in: 2,
                 polygons_drawn: 2,
                 spans: 0,
-                pixels: 6
+                pixels: 6,
+                rounding_decided: 0
             }
         );
         assert_eq!(
