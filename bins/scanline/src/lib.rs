@@ -69,6 +69,23 @@ pub struct ScanlineStats {
     /// Splits of a sample span where another segment comes in front (intersections and
     /// segments emerging from behind).
     pub crossings: u64,
+    /// The minor sorting of the kept segment list (Archuleta (1972), HIDDEN): segments new
+    /// on their line, merged in; segments found out of order and moved back by the
+    /// insertion sort; and the places they moved past.
+    pub merged: u64,
+    pub resorted: u64,
+    pub swaps: u64,
+    /// The line above's front at a column tried first, and verified, when the front is
+    /// looked for afresh: held, or failed (and the fold run).
+    pub fronts_predicted: u64,
+    pub fronts_mispredicted: u64,
+    /// The column where the line above changed from one polygon to another tried first
+    /// for the crossing of the same two: held (two tests), or failed (a binary search).
+    pub crossings_predicted: u64,
+    pub crossings_mispredicted: u64,
+    /// Cuts of a span that is none of the simple cases (more than one segment coming in
+    /// front of the front inside it), at the line above's split or at the midpoint.
+    pub midpoint_subdivisions: u64,
 }
 
 /// One polygon's segment on the current scan line (Archuleta (1972), "pairs of edges
@@ -84,6 +101,9 @@ pub struct Segment {
     pub dz: Depth,
     /// The polygon's place in the frame's stream: the tie rule favours the earlier.
     pub polygon: usize,
+    /// Which of the polygon's segments on the line this is, counting from the left (a
+    /// concave polygon has several): the k-th takes the k-th's place on the next line.
+    pub k: u32,
     pub colour: Colour,
 }
 
@@ -151,11 +171,33 @@ pub struct Scanline {
     active: Vec<ActivePolygon>,
     /// Walkers of polygons that have left, for the next to enter.
     pool: Vec<SpanWalker>,
-    /// The current line's segments, sorted by left end.
+    /// The segment list, kept in X order (by left end, then stream index) from one line
+    /// to the next.
     segments: Vec<Segment>,
+    /// The current line's segments of each active polygon, and where each polygon's are
+    /// (indexed by stream index).
+    fresh: Vec<Segment>,
+    fresh_of: Vec<Fresh>,
+    /// Segments new on the line, and the list they are merged into.
+    incoming: Vec<Segment>,
+    merged: Vec<Segment>,
     /// Indices into `segments` of those in the current sample span.
     present: Vec<usize>,
+    /// The line above's pieces and this line's (the record of subdivisions).
+    above: Vec<Piece>,
+    pieces: Vec<Piece>,
+    /// The segments that may come in front inside a span.
+    candidates: Vec<usize>,
     pub stats: ScanlineStats,
+}
+
+/// Where one polygon's segments on the current line are in `fresh`, and how many of them
+/// were already in the kept list.
+#[derive(Clone, Copy, Default)]
+struct Fresh {
+    start: u32,
+    len: u32,
+    kept: u32,
 }
 
 impl Scanline {
@@ -230,40 +272,308 @@ struct Front {
     until: u32,
 }
 
-/// The first column from `from` on where a segment of `present` comes in front of
-/// `front` (`u32::MAX` if none): one crossing solve for each.
-fn overtaken_at(
-    segments: &[Segment],
-    present: &[usize],
-    front: usize,
-    from: u32,
-    stats: &mut ScanlineStats,
-) -> u32 {
-    let f = &segments[front];
-    let mut until = u32::MAX;
-    for &i in present {
-        if i != front {
-            stats.depth_comparisons += 1;
-            if let Some(c) = first_in_front(&segments[i], f, from) {
-                until = until.min(c);
+/// One stretch of a line's picture: the columns `x0..x1` where the segment of `polygon`
+/// was found in front. The pieces of line k are Watkins's "record of subdivisions on scan
+/// line k", which predicts the front and the crossings on line k + 1 (Newman and Sproull
+/// 1973, 14.4.2).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+struct Piece {
+    x0: u32,
+    x1: u32,
+    polygon: usize,
+}
+
+/// What the sweep along one line works with: the line's segments, the line above's
+/// pieces (the prediction), and where the decisions go.
+struct Sweep<'a, 'r> {
+    segments: &'a [Segment],
+    /// The line above's pieces, left to right.
+    above: &'a [Piece],
+    /// This line's pieces, as they are decided.
+    pieces: &'a mut Vec<Piece>,
+    /// The segments that may come in front of the front inside the span being decided.
+    candidates: &'a mut Vec<usize>,
+    stats: &'a mut ScanlineStats,
+    out: RowRuns<'r>,
+}
+
+impl Sweep<'_, '_> {
+    /// Paints `x0..x1` with `segment`'s colour and records the piece.
+    #[inline]
+    fn paint(&mut self, x0: u32, x1: u32, segment: usize) {
+        let s = &self.segments[segment];
+        self.out.paint(x0, x1, s.colour);
+        match self.pieces.last_mut() {
+            Some(p) if p.x1 == x0 && p.polygon == s.polygon => p.x1 = x1,
+            _ => self.pieces.push(Piece {
+                x0,
+                x1,
+                polygon: s.polygon,
+            }),
+        }
+    }
+
+    /// The line above's piece holding column x.
+    #[inline]
+    fn above_at(&self, x: u32) -> Option<usize> {
+        let i = self.above.partition_point(|p| p.x1 <= x);
+        (i < self.above.len() && self.above[i].x0 <= x).then_some(i)
+    }
+
+    /// The column where, on the line above, `front`'s polygon stopped being in front after
+    /// column `lo` (the end of its piece there), when `lo < c < hi`, and the polygon that
+    /// came in front there: the subdivision that line made, predicted for this one.
+    #[inline]
+    fn predicted_split(&self, front: usize, lo: u32, hi: u32) -> Option<(u32, Option<usize>)> {
+        let i = self.above_at(lo)?;
+        let p = &self.above[i];
+        if p.polygon != self.segments[front].polygon || p.x1 <= lo || p.x1 >= hi {
+            return None;
+        }
+        let next = self
+            .above
+            .get(i + 1)
+            .filter(|q| q.x0 == p.x1)
+            .map(|q| q.polygon);
+        Some((p.x1, next))
+    }
+
+    /// The first column in `lo + 1..=hi` where `s` is in front of `front`, given that it is
+    /// not at `lo` and is at `hi` (Archuleta's XINTER on the z-buffer's own test). The
+    /// column where the line above changed from `front` to `s`, if it did near here, is
+    /// tried first (two tests verify it); otherwise, or if it fails, a binary search.
+    fn crossing(&mut self, s: usize, front: usize, mut lo: u32, mut hi: u32) -> u32 {
+        let segments = self.segments;
+        let (a, f) = (&segments[s], &segments[front]);
+        if let Some((g, Some(next))) = self.predicted_split(front, lo, hi + 1) {
+            if next == a.polygon {
+                self.stats.depth_comparisons += 1;
+                if a.in_front_of(f, g) {
+                    self.stats.depth_comparisons += 1;
+                    if g - 1 == lo || !a.in_front_of(f, g - 1) {
+                        self.stats.crossings_predicted += 1;
+                        return g;
+                    }
+                    hi = g - 1;
+                } else {
+                    lo = g;
+                }
+                self.stats.crossings_mispredicted += 1;
+            }
+        }
+        while hi - lo > 1 {
+            let mid = lo + (hi - lo) / 2;
+            self.stats.depth_comparisons += 1;
+            if a.in_front_of(f, mid) {
+                hi = mid;
+            } else {
+                lo = mid;
+            }
+        }
+        hi
+    }
+
+    /// The first column where one of `self.candidates` comes in front of `front`, given
+    /// that none is at `lo` and all are at `hi`: Watkins's subdivision of a span that is
+    /// not one of the simple cases. While more than one candidate is left, the span is cut
+    /// at the column where the line above changed (if it did inside it) or else at its
+    /// midpoint, and the half holding the first crossing kept, with the candidates that
+    /// cross in it; one candidate left is a simple intersection, solved by [`Self::crossing`].
+    fn subdivide(&mut self, front: usize, mut lo: u32, mut hi: u32) -> u32 {
+        let f = self.segments[front];
+        loop {
+            if let [only] = self.candidates[..] {
+                return self.crossing(only, front, lo, hi);
+            }
+            if hi - lo <= 1 {
+                return hi;
+            }
+            let m = match self.predicted_split(front, lo, hi) {
+                Some((c, _)) => c,
+                None => lo + (hi - lo) / 2,
+            };
+            self.stats.midpoint_subdivisions += 1;
+            // The candidates in front at m, moved to the head of the list.
+            let mut k = 0;
+            for j in 0..self.candidates.len() {
+                let c = self.candidates[j];
+                self.stats.depth_comparisons += 1;
+                if self.segments[c].in_front_of(&f, m) {
+                    self.candidates.swap(j, k);
+                    k += 1;
+                }
+            }
+            if k > 0 {
+                self.candidates.truncate(k);
+                hi = m;
+            } else {
+                lo = m;
             }
         }
     }
-    until
-}
 
-/// Finds the front segment at column x afresh and the first column where another comes
-/// in front of it: Archuleta's "depth processing" of every segment in the span.
-fn front_afresh(
-    segments: &[Segment],
-    present: &[usize],
-    x: u32,
-    stats: &mut ScanlineStats,
-) -> Front {
-    let segment = front_at(segments, present, x, &mut stats.depth_comparisons);
-    Front {
-        segment,
-        until: overtaken_at(segments, present, segment, x + 1, stats),
+    /// The first column from `x + 1` on where a segment of `others` comes in front of
+    /// `front` (`u32::MAX` if none), the span being `x..b`. Each segment is tested at
+    /// `x + 1` and at the end of its overlap with the front (the two depths are planar, so
+    /// the answer changes once at most between them); those that cross inside the span
+    /// are the candidates for [`Self::subdivide`], those that cross beyond it are solved
+    /// at once (the bound carried along the line).
+    fn overtaken_at(&mut self, others: &[usize], front: usize, x: u32, b: u32) -> u32 {
+        let segments = self.segments;
+        let f = segments[front];
+        let from = x + 1;
+        let span_last = b - 1;
+        let mut until = u32::MAX;
+        self.candidates.clear();
+        for &i in others {
+            if i == front {
+                continue;
+            }
+            let s = &segments[i];
+            let last = match s.x1.min(f.x1).checked_sub(1) {
+                Some(last) if last >= from => last,
+                _ => continue,
+            };
+            self.stats.depth_comparisons += 1;
+            if s.in_front_of(&f, from) {
+                // Nothing can come in front earlier.
+                self.candidates.clear();
+                return from;
+            }
+            self.stats.depth_comparisons += 1;
+            if !s.in_front_of(&f, last) {
+                continue;
+            }
+            let inside = from <= span_last
+                && (last <= span_last || {
+                    self.stats.depth_comparisons += 1;
+                    s.in_front_of(&f, span_last)
+                });
+            if inside {
+                self.candidates.push(i);
+            } else {
+                // Not in front at `from` nor (if the span goes on past it) at its end.
+                let c = self.crossing(i, front, span_last.max(from), last);
+                until = until.min(c);
+            }
+        }
+        if !self.candidates.is_empty() {
+            until = until.min(self.subdivide(front, from, span_last));
+        }
+        until
+    }
+
+    /// The segment in front at column x, found afresh, and the first column where another
+    /// comes in front of it. The line above's front at x is tried first: it is verified
+    /// against every other segment by the tie rule (a segment in front of each of the
+    /// others is what the z-buffer's fold leaves), and only if that fails is the fold run.
+    fn front_afresh(&mut self, present: &[usize], x: u32, b: u32) -> Front {
+        let predicted = self.above_at(x).and_then(|i| {
+            let polygon = self.above[i].polygon;
+            present
+                .iter()
+                .copied()
+                .find(|&j| self.segments[j].polygon == polygon)
+        });
+        let mut segment = None;
+        if let Some(p) = predicted {
+            let segments = self.segments;
+            let s = &segments[p];
+            let mut held = true;
+            for &j in present {
+                if j != p {
+                    self.stats.depth_comparisons += 1;
+                    if !s.in_front_of(&segments[j], x) {
+                        held = false;
+                        break;
+                    }
+                }
+            }
+            if held {
+                self.stats.fronts_predicted += 1;
+                segment = Some(p);
+            } else {
+                self.stats.fronts_mispredicted += 1;
+            }
+        }
+        let segment = segment.unwrap_or_else(|| {
+            front_at(self.segments, present, x, &mut self.stats.depth_comparisons)
+        });
+        Front {
+            segment,
+            until: self.overtaken_at(present, segment, x, b),
+        }
+    }
+
+    /// Decides a sample span (14.4.1), carrying `front` along the line.
+    ///
+    /// Depth is compared only where segments overlap, and only as much as the last span
+    /// left undecided: while the front segment stays, a segment coming in is compared with
+    /// it alone, and everything is looked at again only where the front leaves or is
+    /// overtaken (Watkins's coherence along a scan line).
+    fn sample_span(&mut self, span: SampleSpan, front: &mut Option<Front>) {
+        let SampleSpan {
+            present,
+            entering,
+            a,
+            b,
+        } = span;
+        let segments = self.segments;
+        self.stats.sample_spans += 1;
+        self.stats.segments_examined += present.len() as u64;
+        if let [only] = present {
+            // Case 1: one segment, visible across the span.
+            self.paint(a, b, *only);
+            *front = Some(Front {
+                segment: *only,
+                until: u32::MAX,
+            });
+            return;
+        }
+        // Cases 2 and 3 and the rest: the front segment holds until the first column where
+        // another comes in front of it; split there and go on from that column.
+        let mut f = match *front {
+            // The front is still here and nothing overtakes it at `a`: it is in front of
+            // every segment that was here before, so only those coming in need looking at.
+            Some(f) if segments[f.segment].x1 > a && f.until > a => {
+                let mut best = f.segment;
+                for &e in &present[entering..] {
+                    self.stats.depth_comparisons += 1;
+                    if segments[e].in_front_of(&segments[best], a) {
+                        best = e;
+                    }
+                }
+                if best == f.segment {
+                    let until = self.overtaken_at(&present[entering..], best, a, b);
+                    Front {
+                        segment: best,
+                        until: f.until.min(until),
+                    }
+                } else {
+                    // A segment comes in in front: every other is solved against it.
+                    Front {
+                        segment: best,
+                        until: self.overtaken_at(present, best, a, b),
+                    }
+                }
+            }
+            _ => self.front_afresh(present, a, b),
+        };
+        let mut x = a;
+        loop {
+            let split = f.until.min(b);
+            self.paint(x, split, f.segment);
+            if split >= b {
+                break;
+            }
+            x = split;
+            let next = self.front_afresh(present, x, b);
+            if next.segment != f.segment {
+                self.stats.crossings += 1;
+            }
+            f = next;
+        }
+        *front = Some(f);
     }
 }
 
@@ -276,80 +586,111 @@ struct SampleSpan<'a> {
     b: u32,
 }
 
-/// Decides a sample span (14.4.1), carrying `front` along the line.
-///
-/// Depth is compared only where segments overlap, and only as much as the last span left
-/// undecided: while the front segment stays, a segment coming in is compared with it
-/// alone (at `a`, and by one crossing solve); everything is looked at again only where
-/// the front leaves or may be overtaken (Watkins's coherence along a scan line).
-fn sample_span(
-    segments: &[Segment],
-    span: SampleSpan,
-    front: &mut Option<Front>,
-    stats: &mut ScanlineStats,
-    out: &mut RowRuns,
-) {
-    let SampleSpan {
-        present,
-        entering,
-        a,
-        b,
-    } = span;
-    stats.sample_spans += 1;
-    stats.segments_examined += present.len() as u64;
-    if let [only] = present {
-        // Case 1: one segment, visible across the span.
-        out.paint(a, b, segments[*only].colour);
-        *front = Some(Front {
-            segment: *only,
-            until: u32::MAX,
-        });
-        return;
-    }
-    // Cases 2 and 3: the front segment holds until the first column where another comes
-    // in front of it; split there (Archuleta's XINTER) and go on from that column.
-    let mut f = match *front {
-        // The front is still here and nothing overtakes it at `a`: it is in front of every
-        // segment that was here before, so only those coming in need looking at.
-        Some(f) if segments[f.segment].x1 > a && f.until > a => {
-            let mut best = f.segment;
-            for &e in &present[entering..] {
-                stats.depth_comparisons += 1;
-                if segments[e].in_front_of(&segments[best], a) {
-                    best = e;
+/// The order of the segment list: by left end, then stream index.
+#[inline]
+fn key(s: &Segment) -> (u32, usize) {
+    (s.x0, s.polygon)
+}
+
+impl Scanline {
+    /// Steps the kept segment list to the next line (Watkins's list "in X order", brought
+    /// up to date "with some minor sorting", Archuleta (1972), HIDDEN): every segment
+    /// still on the line takes its new ends and depth line in place, those gone are
+    /// dropped, the list is put back in order by an insertion sort (a few exchanges where
+    /// segments moved past one another; none where nothing moved), and the segments that
+    /// begin on this line, sorted among themselves, are merged in.
+    fn step_segments(&mut self, y: u32, width: u32) {
+        let line = y as i64;
+        // This line's segments of each active polygon, in the order of its crossings.
+        self.fresh.clear();
+        for a in &mut self.active {
+            let start = self.fresh.len() as u32;
+            if line >= a.rows.start {
+                let (z_row, dz) = a.depth.row(y);
+                let mut k = 0;
+                for pair in a.walker.crossings(line).chunks_exact(2) {
+                    let cols = centres_in_clamped(pair[0], pair[1], width);
+                    if cols.is_empty() {
+                        continue;
+                    }
+                    self.fresh.push(Segment {
+                        x0: cols.start,
+                        x1: cols.end,
+                        z_row,
+                        dz,
+                        polygon: a.polygon,
+                        k,
+                        colour: a.colour,
+                    });
+                    k += 1;
                 }
             }
-            if best == f.segment {
-                let until = overtaken_at(segments, &present[entering..], best, a + 1, stats);
-                Front {
-                    segment: best,
-                    until: f.until.min(until),
+            self.fresh_of[a.polygon] = Fresh {
+                start,
+                len: self.fresh.len() as u32 - start,
+                kept: 0,
+            };
+        }
+        // The kept list, updated in place: a polygon's k-th segment takes the values of its
+        // k-th segment on this line, or leaves.
+        let mut w = 0;
+        for r in 0..self.segments.len() {
+            let k = self.segments[r].k;
+            let e = &mut self.fresh_of[self.segments[r].polygon];
+            if k < e.len {
+                e.kept = e.kept.max(k + 1);
+                self.segments[w] = self.fresh[(e.start + k) as usize];
+                w += 1;
+            }
+        }
+        self.segments.truncate(w);
+        // The minor sorting: an insertion sort, linear on a list still in order.
+        let list = &mut self.segments;
+        for i in 1..list.len() {
+            if key(&list[i]) < key(&list[i - 1]) {
+                self.stats.resorted += 1;
+                let s = list[i];
+                let mut j = i;
+                while j > 0 && key(&s) < key(&list[j - 1]) {
+                    list[j] = list[j - 1];
+                    j -= 1;
                 }
+                self.stats.swaps += (i - j) as u64;
+                list[j] = s;
+            }
+        }
+        // The segments new on this line, merged in.
+        self.incoming.clear();
+        for a in &self.active {
+            let e = self.fresh_of[a.polygon];
+            for k in e.kept..e.len {
+                self.incoming.push(self.fresh[(e.start + k) as usize]);
+            }
+        }
+        if !self.incoming.is_empty() {
+            self.stats.merged += self.incoming.len() as u64;
+            self.incoming.sort_unstable_by_key(key);
+            if self.segments.is_empty() {
+                std::mem::swap(&mut self.segments, &mut self.incoming);
             } else {
-                // A segment comes in in front: every other is solved against it.
-                Front {
-                    segment: best,
-                    until: overtaken_at(segments, present, best, a + 1, stats),
+                self.merged.clear();
+                let (mut i, mut j) = (0, 0);
+                let (old, new) = (&self.segments, &self.incoming);
+                while i < old.len() && j < new.len() {
+                    if key(&new[j]) < key(&old[i]) {
+                        self.merged.push(new[j]);
+                        j += 1;
+                    } else {
+                        self.merged.push(old[i]);
+                        i += 1;
+                    }
                 }
+                self.merged.extend_from_slice(&old[i..]);
+                self.merged.extend_from_slice(&new[j..]);
+                std::mem::swap(&mut self.segments, &mut self.merged);
             }
         }
-        _ => front_afresh(segments, present, a, stats),
-    };
-    let mut x = a;
-    loop {
-        let split = f.until.min(b);
-        out.paint(x, split, segments[f.segment].colour);
-        if split >= b {
-            break;
-        }
-        x = split;
-        let next = front_afresh(segments, present, x, stats);
-        if next.segment != f.segment {
-            stats.crossings += 1;
-        }
-        f = next;
     }
-    *front = Some(f);
 }
 
 impl HiddenSurface for Scanline {
@@ -374,6 +715,10 @@ impl HiddenSurface for Scanline {
         for a in self.active.drain(..) {
             self.pool.push(a.walker);
         }
+        self.segments.clear();
+        self.above.clear();
+        self.fresh_of.clear();
+        self.fresh_of.resize(polygons.len(), Fresh::default());
 
         let mut next = 0;
         for y in 0..height {
@@ -402,17 +747,20 @@ impl HiddenSurface for Scanline {
                     walker,
                 });
             }
-            // Polygons past their last line leave.
+            // Polygons past their last line leave (their segments with them).
             let mut k = 0;
             while k < self.active.len() {
                 if self.active[k].rows.end <= line {
                     let gone = self.active.swap_remove(k);
+                    self.fresh_of[gone.polygon] = Fresh::default();
                     self.pool.push(gone.walker);
                 } else {
                     k += 1;
                 }
             }
             if self.active.is_empty() {
+                self.segments.clear();
+                self.above.clear();
                 if next == self.entering.len() {
                     break;
                 }
@@ -420,45 +768,29 @@ impl HiddenSurface for Scanline {
             }
             self.stats.scan_lines += 1;
 
-            // The active polygons' segments on this line, stepping each one's edges.
-            self.segments.clear();
-            for a in &mut self.active {
-                if line < a.rows.start {
-                    continue;
-                }
-                let (z_row, dz) = a.depth.row(y);
-                for pair in a.walker.crossings(line).chunks_exact(2) {
-                    let cols = centres_in_clamped(pair[0], pair[1], width);
-                    if cols.is_empty() {
-                        continue;
-                    }
-                    self.segments.push(Segment {
-                        x0: cols.start,
-                        x1: cols.end,
-                        z_row,
-                        dz,
-                        polygon: a.polygon,
-                        colour: a.colour,
-                    });
-                }
-            }
+            // The active polygons' segments on this line, in X order.
+            self.step_segments(y, width);
+            self.pieces.clear();
             if self.segments.is_empty() {
+                std::mem::swap(&mut self.above, &mut self.pieces);
                 continue;
             }
             self.stats.segments += self.segments.len() as u64;
-            // Watkins's list is kept in X order from line to line with "some minor sorting"
-            // (Archuleta (1972), HIDDEN); here the line's segments are sorted afresh. Keeping the
-            // active list in the last line's X order so that they came out nearly sorted
-            // measured slower (moving the active polygons costs more than the sort saves).
-            self.segments.sort_unstable_by_key(|s| (s.x0, s.polygon));
 
             // The sample spans, left to right: cut at every segment end.
-            let mut out = RowRuns {
-                y,
-                open: None,
-                runs,
-            };
             let segments = &self.segments;
+            let mut sweep = Sweep {
+                segments,
+                above: &self.above,
+                pieces: &mut self.pieces,
+                candidates: &mut self.candidates,
+                stats: &mut self.stats,
+                out: RowRuns {
+                    y,
+                    open: None,
+                    runs,
+                },
+            };
             let present = &mut self.present;
             present.clear();
             let mut entered = 0;
@@ -491,7 +823,7 @@ impl HiddenSurface for Scanline {
                     a: x,
                     b: end,
                 };
-                sample_span(segments, span, &mut front, &mut self.stats, &mut out);
+                sweep.sample_span(span, &mut front);
                 x = end;
                 if first_end <= x {
                     // Some segment ends here: drop those that do, finding the next end.
@@ -507,7 +839,9 @@ impl HiddenSurface for Scanline {
                     });
                 }
             }
-            out.finish();
+            sweep.out.finish();
+            // This line's record of subdivisions predicts the next.
+            std::mem::swap(&mut self.above, &mut self.pieces);
         }
     }
 
@@ -515,13 +849,23 @@ impl HiddenSurface for Scanline {
         let s = &self.stats;
         format!(
             "{} scan lines, {} segments, {} sample spans, {} segments examined, \
-             {} depth comparisons, {} crossings",
+             {} depth comparisons, {} crossings; minor sort: {} segments merged in, \
+             {} re-sorted, {} swaps; predicted from the line above: {} fronts held, \
+             {} failed, {} crossings held, {} failed; {} midpoint subdivisions",
             s.scan_lines,
             s.segments,
             s.sample_spans,
             s.segments_examined,
             s.depth_comparisons,
-            s.crossings
+            s.crossings,
+            s.merged,
+            s.resorted,
+            s.swaps,
+            s.fronts_predicted,
+            s.fronts_mispredicted,
+            s.crossings_predicted,
+            s.crossings_mispredicted,
+            s.midpoint_subdivisions,
         )
     }
 }
@@ -538,6 +882,7 @@ mod tests {
             z_row,
             dz,
             polygon,
+            k: 0,
             colour: [0, 0, 0],
         }
     }
@@ -683,9 +1028,13 @@ mod tests {
                 segments: 2,
                 sample_spans: 3,
                 segments_examined: 4,
-                // front at 2, solve, front at 5, solve
-                depth_comparisons: 4,
+                // At 2 green (coming in) against red (carried); red tested at 3 and at
+                // 5 (in front there: a simple intersection), one bisection step at 4;
+                // the fold at 5, where green has no column left to come back in.
+                depth_comparisons: 5,
                 crossings: 1,
+                merged: 2,
+                ..ScanlineStats::default()
             }
         );
     }
