@@ -1039,6 +1039,112 @@ mod tests {
         );
     }
 
+    /// Where Watkins's simple cases miss a crossing: A is in front at the span's left end,
+    /// B at its right end, and the two cross at column 32; a span decided by its two ends
+    /// alone (14.4.1's "simple intersection") would paint A then B and miss C, which is in
+    /// front of both in the middle. Two segments come in front of A inside the span, so
+    /// it is subdivided (at the midpoint on the first line, at the line above's split on
+    /// the next ones, which predict C's crossing exactly), and C shows where the z-buffer
+    /// shows it.
+    #[test]
+    fn a_crossing_the_simple_cases_miss_is_found_by_subdivision() {
+        const CYAN: Colour = [0, 255, 255];
+        let a = quad(
+            RED,
+            [[0., 0., 0.2], [64., 0., 0.8], [64., 4., 0.8], [0., 4., 0.2]],
+        );
+        let b = quad(
+            GREEN,
+            [[0., 0., 0.8], [64., 0., 0.2], [64., 4., 0.2], [0., 4., 0.8]],
+        );
+        let c = quad(
+            CYAN,
+            [
+                [0., 0., 0.45],
+                [64., 0., 0.45],
+                [64., 4., 0.45],
+                [0., 4., 0.45],
+            ],
+        );
+        let polygons = [a, b, c];
+        // The crossing of A and B alone: the simple intersection.
+        let seg = |p: &Polygon, i| {
+            let (z_row, dz) = DepthPlane::of(p).row(0);
+            Segment {
+                x0: 0,
+                x1: 64,
+                z_row,
+                dz,
+                polygon: i,
+                k: 0,
+                colour: p.colour,
+            }
+        };
+        let (sa, sb) = (seg(&polygons[0], 0), seg(&polygons[1], 1));
+        assert_eq!(first_in_front(&sb, &sa, 0), Some(32));
+        let (runs, stats) = resolve(&polygons, 64, 4);
+        assert_eq!(image_of(&runs, 64, 4), zbuffer_image(&polygons, 64, 4));
+        for y in 0..4 {
+            assert_eq!(
+                runs[3 * y as usize..3 * y as usize + 3],
+                [
+                    run(y, 0, 27, RED),
+                    run(y, 27, 37, CYAN),
+                    run(y, 37, 64, GREEN)
+                ]
+            );
+        }
+        // Line 0: cut at 32 (B and C in front there), 16 and 24 (neither), 28 (C alone:
+        // a simple intersection, bisected to 27). Lines 1-3: one cut each, at 27, where
+        // line 0 changed from A to C, and C's crossing there verified.
+        assert_eq!(stats.midpoint_subdivisions, 4 + 3);
+        assert_eq!(stats.crossings_predicted, 3 + 3);
+        assert_eq!(stats.crossings_mispredicted, 0);
+        assert_eq!(stats.crossings, 2 * 4);
+    }
+
+    /// Where the coherence does not pay: 64 thin quads whose order along the line reverses
+    /// from the top of the screen to the bottom, so that every pair changes places once.
+    /// The minor sort does at least one exchange per pair (64·63/2 = 2,016), spread over
+    /// the lines where they pass, and a few more where two passing segments' left ends,
+    /// rounded to columns, meet and part again; the same quads side by side, not
+    /// crossing, cost none. (A sort afresh costs the same whatever the order; Watkins's
+    /// list costs what moved.)
+    #[test]
+    fn segments_that_all_change_places_cost_one_swap_a_pair() {
+        let strips = |cross: bool| -> Vec<Polygon> {
+            (0..64)
+                .map(|i| {
+                    let top = 4.0 * i as f64 + 0.25;
+                    let bottom = if cross { 252.25 - 4.0 * i as f64 } else { top };
+                    let z = 0.1 + 0.01 * i as f64;
+                    quad(
+                        [i as u8, 100, 200],
+                        [
+                            [top, 0., z],
+                            [top + 1.5, 0., z],
+                            [bottom + 1.5, 64., z],
+                            [bottom, 64., z],
+                        ],
+                    )
+                })
+                .collect()
+        };
+        for (cross, swaps) in [(true, 2208), (false, 0)] {
+            let polygons = strips(cross);
+            let (runs, stats) = resolve(&polygons, 256, 64);
+            assert_eq!(
+                differing_pixels(
+                    &image_of(&runs, 256, 64),
+                    &zbuffer_image(&polygons, 256, 64)
+                ),
+                0
+            );
+            assert_eq!(stats.swaps, swaps, "cross {cross}: {stats:?}");
+            assert_eq!(stats.merged, 64);
+        }
+    }
+
     #[test]
     fn a_tie_inside_a_span_goes_to_the_earlier_polygon() {
         // Red (earlier) flat at 0.5; green (later) z = 0.5 + (X − 4.5)/16, in front left of
