@@ -189,6 +189,9 @@ pub struct Scanline {
     /// The segments that may come in front inside a span.
     candidates: Vec<usize>,
     pub stats: ScanlineStats,
+    /// Without the coherence from line to line, to measure what it buys: the segments
+    /// sorted afresh on every line, and no prediction from the line above (`--sort-afresh`).
+    pub sort_afresh: bool,
 }
 
 /// Where one polygon's segments on the current line are in `fresh`, and how many of them
@@ -593,6 +596,34 @@ fn key(s: &Segment) -> (u32, usize) {
 }
 
 impl Scanline {
+    /// The line's segments built afresh and sorted, the line above forgotten: the method
+    /// without its coherence from line to line.
+    fn segments_afresh(&mut self, y: u32, width: u32) {
+        let line = y as i64;
+        self.segments.clear();
+        for a in &mut self.active {
+            if line < a.rows.start {
+                continue;
+            }
+            let (z_row, dz) = a.depth.row(y);
+            for (k, pair) in a.walker.crossings(line).chunks_exact(2).enumerate() {
+                let cols = centres_in_clamped(pair[0], pair[1], width);
+                if !cols.is_empty() {
+                    self.segments.push(Segment {
+                        x0: cols.start,
+                        x1: cols.end,
+                        z_row,
+                        dz,
+                        polygon: a.polygon,
+                        k: k as u32,
+                        colour: a.colour,
+                    });
+                }
+            }
+        }
+        self.segments.sort_unstable_by_key(key);
+    }
+
     /// Steps the kept segment list to the next line (Watkins's list "in X order", brought
     /// up to date "with some minor sorting", Archuleta (1972), HIDDEN): every segment
     /// still on the line takes its new ends and depth line in place, those gone are
@@ -769,7 +800,11 @@ impl HiddenSurface for Scanline {
             self.stats.scan_lines += 1;
 
             // The active polygons' segments on this line, in X order.
-            self.step_segments(y, width);
+            if self.sort_afresh {
+                self.segments_afresh(y, width);
+            } else {
+                self.step_segments(y, width);
+            }
             self.pieces.clear();
             if self.segments.is_empty() {
                 std::mem::swap(&mut self.above, &mut self.pieces);
@@ -841,7 +876,9 @@ impl HiddenSurface for Scanline {
             }
             sweep.out.finish();
             // This line's record of subdivisions predicts the next.
-            std::mem::swap(&mut self.above, &mut self.pieces);
+            if !self.sort_afresh {
+                std::mem::swap(&mut self.above, &mut self.pieces);
+            }
         }
     }
 
@@ -1490,6 +1527,14 @@ mod properties {
         let mut runs = vec![];
         method.resolve(polygons, w, h, &mut runs);
         let want = zbuffer_image(polygons, w, h);
+        // Without the coherence: the same runs.
+        let mut afresh = Scanline {
+            sort_afresh: true,
+            ..Scanline::new()
+        };
+        let mut runs_afresh = vec![];
+        afresh.resolve(polygons, w, h, &mut runs_afresh);
+        prop_assert_eq!(&runs_afresh, &runs);
         prop_assert_eq!(differing_pixels(&image_of(&runs, w, h), &want), 0);
         // Runs are in row order, left to right, and as long as they can be.
         for pair in runs.windows(2) {

@@ -32,14 +32,23 @@ struct Args {
     text: TextFlag,
     /// Print counts on stderr at the end: polygons in, frames, runs out, then Watkins's
     /// quantities: scan lines, segments, sample spans, segments examined, depth
-    /// comparisons and crossings (splits where another segment comes in front).
+    /// comparisons (tests of the tie rule at a column) and crossings (splits where another
+    /// segment comes in front); the minor sort's segments merged in, re-sorted and swaps;
+    /// the predictions from the line above (fronts and crossing columns) that held and
+    /// that failed; and the midpoint subdivisions.
     #[arg(long)]
     stats: bool,
+    /// Sort the segments afresh on every line and predict nothing from the line above:
+    /// the method without Watkins's scan-line coherence, for measuring what it buys
+    /// (scripts/bench-methods.sh scanline). The picture is the same.
+    #[arg(long)]
+    sort_afresh: bool,
 }
 
 fn main() -> ExitCode {
     stagecli::main("scanline", |args: Args| {
         let mut method = Scanline::new();
+        method.sort_afresh = args.sort_afresh;
         stagecli::resolve_frames("scanline", args.text.form(), args.stats, &mut method)?;
         Ok(())
     })
