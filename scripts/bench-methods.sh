@@ -9,6 +9,9 @@
 #                                                 and the depth complexity grow
 #   scripts/bench-methods.sh warnock [OPTIONS]    where area subdivision slows down
 #   scripts/bench-methods.sh aa [N] [WxH] [REPS]  what anti-aliasing costs at a leaf
+#   scripts/bench-methods.sh bounds [REPS]        every method on the hostile scenes
+#                                                 against 256 MB and 30 s, and painter
+#                                                 --split on crossing planes
 #
 # Each mode's own notes are at its function below. They share scripts/lib/bench.sh.
 
@@ -621,12 +624,103 @@ measure ss8 "$B/supersample" --samples 8
 measure abuf "$B/abuf"
 )
 
+# --- bounds ---------------------------------------------------------------------
+mode_bounds() (
+# The bounds every method must keep on the scenes a user makes in a minute to break it:
+# on `scene stack 20000`, `scene slivers 10000` and `scene pinhead 100000` at 500x500,
+# each of scanline, warnock, painter, painter --split, hiddenline and abuf under 256 MB
+# of peak resident memory and 30 s; and painter --split on `scene planes N` (N = 5, 50,
+# 400) within 0.5% of the z-buffer's pixels, or saying on stderr that it could not.
+#
+# Each method runs as a leaf alone, the screen-space stream (scene | viewxf | clipbatch |
+# persp, made once) in and its output to /dev/null, under `timeout 120`, through
+# /usr/bin/time: wall seconds, CPU seconds (user + system) and peak RSS of the run with
+# the least CPU of REPS (default 1). The z-buffer leaf (`scanconv --resolve`) is the
+# yardstick. On a loaded machine wall time can be several times the CPU time; the
+# bound is checked on both, and a row says which it misses.
+#
+# Usage: scripts/bench-methods.sh bounds [REPS]
+set -euo pipefail
+root=$(cd "$(dirname "$0")/.." && pwd)
+cd "$root"
+nice -n 10 cargo build --release --quiet -p scene -p viewxf -p clipbatch -p persp -p scanconv \
+    -p zbuf -p zspec -p scanline -p warnock -p painter -p abuf -p hiddenline
+B=${CARGO_TARGET_DIR:-$root/target}/release
+REPS=${1:-1}
+[[ $REPS =~ ^[1-9][0-9]*$ ]] || { echo "bench-methods.sh bounds: REPS must be a positive integer" >&2; exit 2; }
+work=$(mktemp -d)
+trap 'rm -rf "$work"' EXIT
+screen() { "$B/scene" "$@" | "$B/viewxf" | "$B/clipbatch" | "$B/persp" --size 500x500; }
+
+# measure CMD...: "wall cpu rss_mb" of the run with the least CPU of REPS, from $in; or
+# "timeout" past 120 s.
+measure() {
+    local best='' i
+    for ((i = 0; i < REPS; i++)); do
+        if ! timeout 120 /usr/bin/time -o "$work/time" -f '%e %U %S %M' "$@" < "$in" > /dev/null 2> /dev/null; then
+            echo timeout
+            return
+        fi
+        local line
+        line=$(tail -n 1 "$work/time" | awk '{ printf "%.2f %.2f %.1f", $1, $2 + $3, $4 / 1024 }')
+        if [[ -z $best ]] || awk -v a="$line" -v b="$best" 'BEGIN { split(a, x, " "); split(b, y, " "); exit !(x[2] < y[2]) }'; then
+            best=$line
+        fi
+    done
+    echo "$best"
+}
+
+echo "| scene, 500x500 | method | wall s | CPU s | peak RSS MB | CPU / zbuf | within 256 MB and 30 s |"
+echo "|---|---|---|---|---|---|---|"
+for s in "stack 20000" "slivers 10000" "pinhead 100000"; do
+    in=$work/${s// /-}.scr
+    # shellcheck disable=SC2086
+    screen $s > "$in"
+    zcpu=
+    for method in "scanconv --resolve" scanline warnock painter "painter --split" hiddenline abuf; do
+        echo "bench-methods.sh bounds: $s, $method" >&2
+        # shellcheck disable=SC2086
+        read -r wall cpu rss <<< "$(measure "$B"/$method)"
+        if [[ $wall == timeout ]]; then
+            echo "| $s | $method | over 120 | — | — | — | no: over 120 s wall |"
+            continue
+        fi
+        [[ -n $zcpu ]] || zcpu=$cpu
+        ratio=$(awk -v a="$cpu" -v b="$zcpu" 'BEGIN { if (b > 0) printf "%.1f", a / b; else print "—" }')
+        ok=$(awk -v w="$wall" -v c="$cpu" -v m="$rss" 'BEGIN {
+            if (m >= 256) print "no: memory"; else if (c >= 30) print "no: CPU time";
+            else if (w >= 30) print "CPU yes, wall no"; else print "yes" }')
+        label=$method
+        [[ $method == "scanconv --resolve" ]] && label="zbuf (scanconv --resolve)"
+        echo "| $s | $label | $wall | $cpu | $rss | $ratio | $ok |"
+    done
+done
+
+echo
+echo "| scene planes N, 500x500 | pixels unlike the z-buffer | share | painter --split said it could not order | within 0.5% or said |"
+echo "|---|---|---|---|---|"
+for n in 5 50 400; do
+    in=$work/planes-$n.scr
+    screen planes "$n" > "$in"
+    "$B/scanconv" --resolve < "$in" | "$B/zbuf" > "$work/z.ppm"
+    "$B/painter" --split < "$in" 2> "$work/err" | "$B/zbuf" > "$work/p.ppm"
+    differ=$("$B/zspec" compare "$work/z.ppm" "$work/p.ppm" 2> /dev/null | sed -n 's/.* pixels, \([0-9]*\) differ.*/\1/p' || true)
+    [[ -n $differ ]] || differ=0
+    said=no
+    grep -q "could not order" "$work/err" && said=yes
+    share=$(awk -v d="$differ" 'BEGIN { printf "%.2f%%", 100 * d / 250000 }')
+    ok=$(awk -v d="$differ" -v s="$said" 'BEGIN { print (d < 1250 || s == "yes") ? "yes" : "no" }')
+    echo "| $n | $differ | $share | $said | $ok |"
+done
+)
+
 case ${1-} in
     methods) shift; mode_methods "$@" ;;
     painter) shift; mode_painter "$@" ;;
     scanline) shift; mode_scanline "$@" ;;
     warnock) shift; mode_warnock "$@" ;;
     aa) shift; mode_aa "$@" ;;
+    bounds) shift; mode_bounds "$@" ;;
     -h | --help | "") sed -n '2,/^$/{s/^# \{0,1\}//;p}' "${BASH_SOURCE[0]}"; [[ -n ${1-} ]] ;;
-    *) echo "bench-methods.sh: no mode '$1' (modes: methods painter scanline warnock aa)" >&2; exit 2 ;;
+    *) echo "bench-methods.sh: no mode '$1' (modes: methods painter scanline warnock aa bounds)" >&2; exit 2 ;;
 esac
