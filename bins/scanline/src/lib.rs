@@ -194,13 +194,12 @@ pub struct Scanline {
     pub sort_afresh: bool,
 }
 
-/// Where one polygon's segments on the current line are in `fresh`, and how many of them
-/// were already in the kept list.
+/// Where one polygon's segments on the current line are in `fresh` (until the next line
+/// is stepped: then `len` is how many it has in the kept list).
 #[derive(Clone, Copy, Default)]
 struct Fresh {
     start: u32,
     len: u32,
-    kept: u32,
 }
 
 impl Scanline {
@@ -634,6 +633,7 @@ impl Scanline {
         let line = y as i64;
         // This line's segments of each active polygon, in the order of its crossings.
         self.fresh.clear();
+        self.incoming.clear();
         for a in &mut self.active {
             let start = self.fresh.len() as u32;
             if line >= a.rows.start {
@@ -656,20 +656,22 @@ impl Scanline {
                     k += 1;
                 }
             }
-            self.fresh_of[a.polygon] = Fresh {
-                start,
-                len: self.fresh.len() as u32 - start,
-                kept: 0,
-            };
+            let e = &mut self.fresh_of[a.polygon];
+            let len = self.fresh.len() as u32 - start;
+            // Its segments on the line above are all in the list, as the 0th to the
+            // last: those past them are new.
+            for k in e.len.min(len)..len {
+                self.incoming.push(self.fresh[(start + k) as usize]);
+            }
+            *e = Fresh { start, len };
         }
         // The kept list, updated in place: a polygon's k-th segment takes the values of its
         // k-th segment on this line, or leaves.
         let mut w = 0;
         for r in 0..self.segments.len() {
             let k = self.segments[r].k;
-            let e = &mut self.fresh_of[self.segments[r].polygon];
+            let e = self.fresh_of[self.segments[r].polygon];
             if k < e.len {
-                e.kept = e.kept.max(k + 1);
                 self.segments[w] = self.fresh[(e.start + k) as usize];
                 w += 1;
             }
@@ -691,13 +693,6 @@ impl Scanline {
             }
         }
         // The segments new on this line, merged in.
-        self.incoming.clear();
-        for a in &self.active {
-            let e = self.fresh_of[a.polygon];
-            for k in e.kept..e.len {
-                self.incoming.push(self.fresh[(e.start + k) as usize]);
-            }
-        }
         if !self.incoming.is_empty() {
             self.stats.merged += self.incoming.len() as u64;
             self.incoming.sort_unstable_by_key(key);
