@@ -257,6 +257,13 @@ mode_scanline() (
 #   5. Archuleta's figures 2 and 3 (Archuleta 1972): the building (scene building, 1000
 #      frames) at 256 and at 1024 scan lines, against his 7.2 s and 23.7 s on a
 #      DECsystem-10 (3.3 times for 4 times the lines)
+#   6. what the coherence from line to line buys: `scanline` (the segment list kept in
+#      X order by the minor sort, the line above's front and crossings tried first)
+#      against `scanline --sort-afresh` (sorted afresh, no prediction) on scenes with
+#      much coherence (Archuleta's spheres, 20,000 stacked quads) and little (10,000
+#      slivers; 1,000 strips whose order along the line reverses from top to bottom),
+#      500x500: instructions by `valgrind --tool=callgrind` (steady on a loaded machine;
+#      skipped without valgrind), CPU seconds, and the counters per scan line
 #
 # Sections 1-3 are FRAMES frames (default 10) of one scene each, so that times are
 # measurable. Each cell is the smallest CPU time (user + system) of REPS runs (default 3; the
@@ -264,20 +271,20 @@ mode_scanline() (
 # `scanline --stats`: segments, sample spans, depth comparisons and crossings (splits of a
 # sample span where another segment comes in front), per scan line.
 #
-# Usage: scripts/bench-scanline.sh [SECTION...]   (sections 1-5; default all)
+# Usage: scripts/bench-methods.sh scanline [SECTION...]   (sections 1-6; default all)
 set -euo pipefail
 
 root=$(cd "$(dirname "$0")/.." && pwd)
 cd "$root"
 cargo build --release --quiet -p scanline -p scanconv -p scene -p viewxf -p clipplane \
-    -p persp -p frames
+    -p clipbatch -p persp -p frames
 B=$root/target/release
 REPS=${REPS:-3}
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
 
 sections=("$@")
-((${#sections[@]})) || sections=(1 2 3 4 5)
+((${#sections[@]})) || sections=(1 2 3 4 5 6)
 want() { [[ " ${sections[*]} " == *" $1 "* ]]; }
 
 # cpu CMD: the smallest user + system seconds of REPS runs.
@@ -299,7 +306,7 @@ row() {
     # Counters: "scanline: P polygons in, F frames, R runs out, L scan lines, S segments,
     # N sample spans, E segments examined, C depth comparisons, X crossings, ..."
     stats=$("$B/scanline" --stats < "$2" 2>&1 >/dev/null |
-        awk -F'[:,] *' '{
+        awk -F'[:;,] *' '{
             split($2, p, " "); split($3, fr, " "); split($5, l, " "); split($6, g, " "); split($7, n, " ");
             split($9, c, " "); split($10, x, " ");
             L = (l[1] > 0 ? l[1] : 1);
@@ -410,6 +417,57 @@ if want 5; then
         "$B/scene" building --frames 1000 | "$B/viewxf" --size ${n}x$n | bash -c "$clip" |
             "$B/persp" --size ${n}x$n > "$work/building$n"
         row "$n" "$work/building$n"
+    done
+    echo
+fi
+
+if want 6; then
+    echo "## 6. What the coherence from line to line buys, 500x500 (instructions: callgrind; CPU s, best of $REPS)"
+    echo
+    echo "| scene | segments/line | merged in/line | re-sorted/line | swaps/line | fronts predicted held / failed | crossings predicted held / failed | midpoint subdivisions/line | instructions, coherent | instructions, --sort-afresh | ratio | CPU s, coherent | CPU s, --sort-afresh |"
+    echo "|---|---|---|---|---|---|---|---|---|---|---|---|---|"
+    instructions() { # instructions FILE ARGS...: callgrind's instruction count, or "-"
+        local f=$1
+        shift
+        if command -v valgrind > /dev/null; then
+            valgrind --tool=callgrind --callgrind-out-file=/dev/null "$B/scanline" "$@" < "$f" 2>&1 > /dev/null |
+                sed -n 's/.*Collected : \([0-9]*\).*/\1/p'
+        else
+            echo -
+        fi
+    }
+    screen() { "$B/viewxf" | "$B/clipbatch" | "$B/persp" --size 500x500; }
+    "$B/scene" spheres | screen > "$work/spheres"
+    "$B/scene" stack 20000 | screen > "$work/stack20000"
+    "$B/scene" slivers 10000 | screen > "$work/slivers10000"
+    # 1,000 strips a pixel wide whose order along the line reverses from the top of the
+    # screen to the bottom: every pair changes places once.
+    awk 'BEGIN {
+        print "polypipe 1 screen 500 500"
+        for (i = 0; i < 1000; i++) {
+            if (i) print "NEXT.POLYGON"
+            t = 0.5 * i + 0.1; b = 499.1 - 0.5 * i; z = 0.1 + 0.0008 * i
+            print "colour " (i % 256) " 100 200"
+            print t, 0, z; print t + 1, 0, z; print b + 1, 500, z; print b, 500, z
+        }
+        print "END"
+    }' | to_binary "$work/reversing1000"
+    for name in spheres stack20000 slivers10000 reversing1000; do
+        f=$work/$name
+        stats=$("$B/scanline" --stats < "$f" 2>&1 > /dev/null |
+            awk -F'[:;,] *' '{
+                split($5, l, " "); split($6, g, " "); split($12, m, " "); split($13, r, " ");
+                split($14, w, " "); split($16, fh, " "); split($17, ff, " "); split($18, ch, " ");
+                split($19, cf, " "); split($20, md, " ");
+                L = (l[1] > 0 ? l[1] : 1);
+                printf "%.1f | %.2f | %.2f | %.2f | %d / %d | %d / %d | %.2f", g[1] / L, m[1] / L, r[1] / L, w[1] / L, fh[1], ff[1], ch[1], cf[1], md[1] / L
+            }')
+        ic=$(instructions "$f")
+        ia=$(instructions "$f" --sort-afresh)
+        ir=$(awk -v a="$ic" -v b="$ia" 'BEGIN { if (b > 0) printf "%.3f", a / b; else print "-" }')
+        cc=$(cpu "$B/scanline < $f > /dev/null")
+        ca=$(cpu "$B/scanline --sort-afresh < $f > /dev/null")
+        echo "| $name | $stats | $ic | $ia | $ir | $cc | $ca |"
     done
     echo
 fi
