@@ -11,32 +11,56 @@
 //!    polygon keeps its own [`scan::SpanWalker`] (its Edge Table and Active Edge Table),
 //!    stepped one line at a time and never rebuilt: Archuleta's "after a scan line has
 //!    been completed, all segments are updated to the next scan line".
-//! 2. **Segments.** On each line, an active polygon's crossings, paired by the even-odd
-//!    rule, give its *segments* (14.4: "the intersection of the scan-line window and a
-//!    planar polygon"): the columns whose pixel centres it covers, exactly the spans the
-//!    z-buffer draws (docs/DESIGN.md, "Leaves resolve visibility"), each with the
-//!    polygon's depth plane on the line (`z_row`, `dz`) and its stream index.
+//! 2. **Segments, kept in X order.** On each line, an active polygon's crossings, paired
+//!    by the even-odd rule, give its *segments* (14.4: "the intersection of the
+//!    scan-line window and a planar polygon"): the columns whose pixel centres it covers,
+//!    exactly the spans the z-buffer draws (docs/DESIGN.md, "Leaves resolve
+//!    visibility"), each with the polygon's depth plane on the line (`z_row`, `dz`) and
+//!    its stream index. The segment list is kept from one line to the next in X order
+//!    (Archuleta: "all segments are updated to the next scan line. Some minor sorting is
+//!    performed at this time, due to exiting edges and new entering edges"): each segment
+//!    takes its new ends in place, those gone are dropped, an insertion sort puts back the
+//!    few that moved past one another (none where nothing did), and the segments that
+//!    begin on the line are sorted among themselves and merged in.
 //! 3. **Sample spans.** The line is cut at every segment end into *sample spans*, inside
 //!    which the set of segments does not change. A sample span with one segment is that
 //!    segment's (14.4.1, simple case 1); a span with none is background.
 //! 4. **Depth only where segments overlap.** In a sample span with several segments the
-//!    front one at its left end is found by folding their depths there in stream order
-//!    with the tie rule (docs/DESIGN.md, "The Z specification": a later polygon takes the
-//!    pixel only when nearer by more than 2⁻³⁰ of the holder's depth). Then, instead of
-//!    subdividing at midpoints, the first column where another segment comes in front is
-//!    found on the two depth lines ([`first_in_front`]; Archuleta's XINTER, "the X point
-//!    of intersection"): the rule between two planar depths changes its answer once at
-//!    most along a line, so a binary search over the columns, each decided by the
-//!    z-buffer's own arithmetic, finds exactly the column where the z-buffer's answer
-//!    changes. The span is split there (14.4.1 case 3, "simple intersection", and Figure
-//!    14-33's non-recursive subdivision: process the left part, then go on with the
-//!    remainder), and the search goes on from that column. A spanner in front of all the
-//!    others (case 2) needs no split at all. The front segment and the column up to
-//!    which it holds are carried from one sample span to the next: while it stays, a
-//!    segment coming in is compared with it alone, and the whole span is looked at again
-//!    only where the front leaves or may be overtaken. The active polygons' segments are
-//!    sorted afresh on each line (see the note in [`Scanline`]'s resolve on Watkins's
-//!    "minor sorting").
+//!    front one at its left end is, in this order: the front carried from the span before
+//!    (while it stays, a segment coming in is compared with it alone); the front the line
+//!    above had at that column, verified against every other segment by the tie rule (a
+//!    segment in front of each of the others is what the z-buffer's fold leaves); or the
+//!    fold itself, their depths in stream order with the tie rule (docs/DESIGN.md, "The Z
+//!    specification": a later polygon takes the pixel only when nearer by more than 2⁻³⁰
+//!    of the holder's depth). Every other segment is then tested against the front at the
+//!    next column and at the end of their overlap: the rule between two planar depths
+//!    changes its answer once at most along a line, so two tests say whether it comes in
+//!    front at all. Then Watkins's cases (14.4.1): no segment comes in front inside the
+//!    span — the front is a spanner, visible across it (case 2); one does — a simple
+//!    intersection (case 3), whose column is found on the two depth lines
+//!    ([`first_in_front`]; Archuleta's XINTER, "the X point of intersection") by a binary
+//!    search each step of which is the z-buffer's own test, so that it is exactly the
+//!    column where the z-buffer's answer changes; several do — a complicated case (case
+//!    4): the span is subdivided at its midpoint (14.4.1 divides "at the left-most
+//!    segment endpoint in the span", and "if there is no segment endpoint in the span ...
+//!    at its midpoint by default"; a sample span here holds no endpoint), or where the line
+//!    above changed (below), keeping the half where the first of them comes in front,
+//!    until one is left. The
+//!    span is split at that column (Figure 14-33's non-recursive subdivision: process the
+//!    left part, then go on with the remainder), and the front is found afresh there.
+//!    Segments that come in front only past the span's end are solved at once, so the
+//!    bound carried to the next span is exact.
+//! 5. **Coherence from line to line** (14.4.2: "use the record of subdivisions on scan
+//!    line k to predict fruitful subdivisions for scan line k+1"). Each line keeps its
+//!    *pieces*, the stretches where one polygon was found in front. On the next line the
+//!    piece at a column predicts the front there (verified as above, the fold only if it
+//!    fails), the column where that piece ended predicts where a segment subdivision
+//!    should cut, and, when the next piece is the same polygon that now comes in front,
+//!    the crossing column itself, verified by two tests (in front there, not one column
+//!    before) before any binary search. `--stats` counts what held and what failed.
+//!
+//! Without the coherence (`sort_afresh`, `scanline --sort-afresh`), the line's segments
+//! are sorted afresh and nothing is predicted; the picture is the same.
 //!
 //! Depths are [`scan::depth_at`]'s, the z-buffer's, so the result is the z-buffer's
 //! picture to the pixel ([`scan::frame::zbuffer_image`]). (Where three or more polygons

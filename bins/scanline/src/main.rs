@@ -9,9 +9,11 @@ use std::process::ExitCode;
 ///
 /// Reads a screen-space polygon stream (from persp) on stdin and resolves each frame
 /// one scan line at a time, with no depth buffer: the active polygons' segments on the
-/// line, cut into sample spans at the segment ends; in a span where segments overlap,
-/// depth is compared at its left end and the first column where another segment comes
-/// in front is solved for exactly, and the span split there. Writes the visible pixels
+/// line, kept in X order from line to line by a minor sort, cut into sample spans at
+/// the segment ends; in a span where segments overlap, depth is compared at its left
+/// end, the first column where another segment comes in front is solved for exactly (by
+/// midpoint subdivision where several may), and the span split there; the line above's
+/// front and crossing columns are tried first and verified. Writes the visible pixels
 /// of each frame as runs of one colour (`run Y X0 X1 R G B`), which zbuf places without
 /// a depth test. The picture is the z-buffer's (`scanconv --resolve`) to the pixel.
 ///
