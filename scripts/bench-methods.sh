@@ -261,8 +261,8 @@ mode_scanline() (
 #      X order by the minor sort, the line above's front and crossings tried first)
 #      against `scanline --sort-afresh` (sorted afresh, no prediction) on scenes with
 #      much coherence (Archuleta's spheres, 20,000 stacked quads) and little (10,000
-#      slivers; 1,000 strips whose order along the line reverses from top to bottom),
-#      500x500: instructions by `valgrind --tool=callgrind` (steady on a loaded machine;
+#      slivers; 1,000 strips whose order along the line reverses from top to bottom;
+#      400 planes all crossing, where the front changes ~118 times a line), 500x500: instructions by `valgrind --tool=callgrind` (steady on a loaded machine;
 #      skipped without valgrind), CPU seconds, and the counters per scan line
 #
 # Sections 1-3 are FRAMES frames (default 10) of one scene each, so that times are
@@ -440,6 +440,7 @@ if want 6; then
     "$B/scene" spheres | screen > "$work/spheres"
     "$B/scene" stack 20000 | screen > "$work/stack20000"
     "$B/scene" slivers 10000 | screen > "$work/slivers10000"
+    "$B/scene" planes 400 | screen > "$work/planes400"
     # 1,000 strips a pixel wide whose order along the line reverses from the top of the
     # screen to the bottom: every pair changes places once.
     awk 'BEGIN {
@@ -452,7 +453,7 @@ if want 6; then
         }
         print "END"
     }' | to_binary "$work/reversing1000"
-    for name in spheres stack20000 slivers10000 reversing1000; do
+    for name in spheres stack20000 slivers10000 reversing1000 planes400; do
         f=$work/$name
         stats=$("$B/scanline" --stats < "$f" 2>&1 > /dev/null |
             awk -F'[:;,] *' '{
