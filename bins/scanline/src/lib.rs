@@ -18,10 +18,11 @@
 //!    visibility"), each with the polygon's depth plane on the line (`z_row`, `dz`) and
 //!    its stream index. The segment list is kept from one line to the next in X order
 //!    (Archuleta: "all segments are updated to the next scan line. Some minor sorting is
-//!    performed at this time, due to exiting edges and new entering edges"): each segment
-//!    takes its new ends in place, those gone are dropped, an insertion sort puts back the
-//!    few that moved past one another (none where nothing did), and the segments that
-//!    begin on the line are sorted among themselves and merged in.
+//!    performed at this time, due to exiting edges and new entering edges"): the polygons
+//!    are stepped in the X order of their first segments on the line above, so that their
+//!    new segments come out in that order, those gone are dropped, an insertion sort puts
+//!    back the few that moved past one another (none where nothing did), and the segments
+//!    new on the line are sorted among themselves and merged in.
 //! 3. **Sample spans.** The line is cut at every segment end into *sample spans*, inside
 //!    which the set of segments does not change. A sample span with one segment is that
 //!    segment's (14.4.1, simple case 1); a span with none is background.
@@ -94,8 +95,9 @@ pub struct ScanlineStats {
     /// segments emerging from behind).
     pub crossings: u64,
     /// The minor sorting of the kept segment list (Archuleta (1972), HIDDEN): segments new
-    /// on their line, merged in; segments found out of order and moved back by the
-    /// insertion sort; and the places they moved past.
+    /// on their line (and a concave polygon's second and later segments), merged in;
+    /// segments found out of order and moved back by the insertion sort; and the places
+    /// they moved past.
     pub merged: u64,
     pub resorted: u64,
     pub swaps: u64,
@@ -184,6 +186,48 @@ struct ActivePolygon {
     rows: Range<i64>,
     depth: DepthPlane,
     walker: SpanWalker,
+    /// The last line its edges were stepped to.
+    stepped: i64,
+}
+
+impl ActivePolygon {
+    /// Steps the polygon's edges to line y and appends its segments there, left to right:
+    /// the first to `first`, the others to `rest` (or to `first` too).
+    #[inline]
+    fn segments(
+        &mut self,
+        y: u32,
+        width: u32,
+        first: &mut Vec<Segment>,
+        mut rest: Option<&mut Vec<Segment>>,
+    ) {
+        let line = y as i64;
+        self.stepped = line;
+        if line < self.rows.start {
+            return;
+        }
+        let (z_row, dz) = self.depth.row(y);
+        let mut k = 0;
+        for pair in self.walker.crossings(line).chunks_exact(2) {
+            let cols = centres_in_clamped(pair[0], pair[1], width);
+            if !cols.is_empty() {
+                let s = Segment {
+                    x0: cols.start,
+                    x1: cols.end,
+                    z_row,
+                    dz,
+                    polygon: self.polygon,
+                    k,
+                    colour: self.colour,
+                };
+                match &mut rest {
+                    Some(rest) if k > 0 => rest.push(s),
+                    _ => first.push(s),
+                }
+                k += 1;
+            }
+        }
+    }
 }
 
 /// Watkins's scan-line method as a [`HiddenSurface`]. Its tables (walkers, lists) are
@@ -198,10 +242,11 @@ pub struct Scanline {
     /// The segment list, kept in X order (by left end, then stream index) from one line
     /// to the next.
     segments: Vec<Segment>,
-    /// The current line's segments of each active polygon, and where each polygon's are
-    /// (indexed by stream index).
-    fresh: Vec<Segment>,
-    fresh_of: Vec<Fresh>,
+    /// The active polygons with a segment on the line above, in the X order of their
+    /// first segment there (stream indices), and each polygon's slot in `active`
+    /// (`GONE` when it is not active), indexed by stream index.
+    order: Vec<usize>,
+    slot_of: Vec<u32>,
     /// Segments new on the line, and the list they are merged into.
     incoming: Vec<Segment>,
     merged: Vec<Segment>,
@@ -218,13 +263,8 @@ pub struct Scanline {
     pub sort_afresh: bool,
 }
 
-/// Where one polygon's segments on the current line are in `fresh` (until the next line
-/// is stepped: then `len` is how many it has in the kept list).
-#[derive(Clone, Copy, Default)]
-struct Fresh {
-    start: u32,
-    len: u32,
-}
+/// The slot of a polygon that is not in the active list.
+const GONE: u32 = u32::MAX;
 
 impl Scanline {
     pub fn new() -> Self {
@@ -647,60 +687,33 @@ impl Scanline {
         self.segments.sort_unstable_by_key(key);
     }
 
-    /// Steps the kept segment list to the next line (Watkins's list "in X order", brought
-    /// up to date "with some minor sorting", Archuleta (1972), HIDDEN): every segment
-    /// still on the line takes its new ends and depth line in place, those gone are
-    /// dropped, the list is put back in order by an insertion sort (a few exchanges where
-    /// segments moved past one another; none where nothing moved), and the segments that
-    /// begin on this line, sorted among themselves, are merged in.
+    /// Steps the segment list to the next line, keeping it in X order (Archuleta (1972):
+    /// "all segments are updated to the next scan line. Some minor sorting is performed at
+    /// this time"): the polygons are stepped in the X order of their first segments on
+    /// the line above, so that the new segments come out in that order, those gone
+    /// dropped; an insertion sort puts back the few that moved past one another (none
+    /// where nothing moved); and the segments new on this line (of polygons that had none
+    /// above, and a concave polygon's second and later ones), sorted among themselves,
+    /// are merged in.
     fn step_segments(&mut self, y: u32, width: u32) {
         let line = y as i64;
-        // This line's segments of each active polygon, in the order of its crossings.
-        self.fresh.clear();
+        self.segments.clear();
         self.incoming.clear();
+        // The polygons in the order of the line above: their first segments come out in
+        // that order, which the minor sort then repairs where they moved past one another.
+        for &p in &self.order {
+            let slot = self.slot_of[p];
+            if slot != GONE {
+                let a = &mut self.active[slot as usize];
+                a.segments(y, width, &mut self.segments, Some(&mut self.incoming));
+            }
+        }
+        // The polygons that had no segment on the line above: all theirs are new.
         for a in &mut self.active {
-            let start = self.fresh.len() as u32;
-            if line >= a.rows.start {
-                let (z_row, dz) = a.depth.row(y);
-                let mut k = 0;
-                for pair in a.walker.crossings(line).chunks_exact(2) {
-                    let cols = centres_in_clamped(pair[0], pair[1], width);
-                    if cols.is_empty() {
-                        continue;
-                    }
-                    self.fresh.push(Segment {
-                        x0: cols.start,
-                        x1: cols.end,
-                        z_row,
-                        dz,
-                        polygon: a.polygon,
-                        k,
-                        colour: a.colour,
-                    });
-                    k += 1;
-                }
-            }
-            let e = &mut self.fresh_of[a.polygon];
-            let len = self.fresh.len() as u32 - start;
-            // Its segments on the line above are all in the list, as the 0th to the
-            // last: those past them are new.
-            for k in e.len.min(len)..len {
-                self.incoming.push(self.fresh[(start + k) as usize]);
-            }
-            *e = Fresh { start, len };
-        }
-        // The kept list, updated in place: a polygon's k-th segment takes the values of its
-        // k-th segment on this line, or leaves.
-        let mut w = 0;
-        for r in 0..self.segments.len() {
-            let k = self.segments[r].k;
-            let e = self.fresh_of[self.segments[r].polygon];
-            if k < e.len {
-                self.segments[w] = self.fresh[(e.start + k) as usize];
-                w += 1;
+            if a.stepped != line {
+                a.segments(y, width, &mut self.incoming, None);
             }
         }
-        self.segments.truncate(w);
         // The minor sorting: an insertion sort, linear on a list still in order.
         let list = &mut self.segments;
         for i in 1..list.len() {
@@ -740,6 +753,9 @@ impl Scanline {
                 std::mem::swap(&mut self.segments, &mut self.merged);
             }
         }
+        self.order.clear();
+        self.order
+            .extend(self.segments.iter().filter(|s| s.k == 0).map(|s| s.polygon));
     }
 }
 
@@ -767,8 +783,9 @@ impl HiddenSurface for Scanline {
         }
         self.segments.clear();
         self.above.clear();
-        self.fresh_of.clear();
-        self.fresh_of.resize(polygons.len(), Fresh::default());
+        self.order.clear();
+        self.slot_of.clear();
+        self.slot_of.resize(polygons.len(), GONE);
 
         let mut next = 0;
         for y in 0..height {
@@ -789,12 +806,14 @@ impl HiddenSurface for Scanline {
                 for skipped in rows.start..line {
                     walker.crossings(skipped);
                 }
+                self.slot_of[i] = self.active.len() as u32;
                 self.active.push(ActivePolygon {
                     polygon: i,
                     colour: p.colour,
                     rows,
                     depth: DepthPlane::of(p),
                     walker,
+                    stepped: -1,
                 });
             }
             // Polygons past their last line leave (their segments with them).
@@ -802,7 +821,10 @@ impl HiddenSurface for Scanline {
             while k < self.active.len() {
                 if self.active[k].rows.end <= line {
                     let gone = self.active.swap_remove(k);
-                    self.fresh_of[gone.polygon] = Fresh::default();
+                    self.slot_of[gone.polygon] = GONE;
+                    if let Some(moved) = self.active.get(k) {
+                        self.slot_of[moved.polygon] = k as u32;
+                    }
                     self.pool.push(gone.walker);
                 } else {
                     k += 1;
@@ -810,6 +832,7 @@ impl HiddenSurface for Scanline {
             }
             if self.active.is_empty() {
                 self.segments.clear();
+                self.order.clear();
                 self.above.clear();
                 if next == self.entering.len() {
                     break;
