@@ -22,9 +22,9 @@ use std::process::ExitCode;
 /// on piles of big polygons (about 30 times on 64 stacked full-screen planes), slower
 /// with hundreds of crossings a line on polygons a few pixels wide (up to 1.9 times) and
 /// on many small polygons piled deep (1.7 times on the test environment at depth
-/// complexity 16). The coherence from line to line saves 5% of the instructions on
-/// Archuleta's spheres and costs up to 10% where nothing moves (20,000 stacked quads)
-/// or everything does (slivers): --sort-afresh measures it.
+/// complexity 16). The coherence from line to line saves 6% of the instructions on
+/// Archuleta's spheres and costs 2 to 7% where everything moves (slivers) or nothing
+/// does (20,000 stacked quads): --sort-afresh measures it.
 ///
 /// Example:
 ///   persp --size 500x500 < leaf.pp | scanline > leaf.frag
