@@ -6,7 +6,8 @@
 #   scripts/bench-methods.sh painter [OPTIONS]    depth sort and hidden lines against the
 #                                                 z-buffer leaf
 #   scripts/bench-methods.sh scanline [OPTIONS]   Watkins's scan line as the crossings
-#                                                 and the depth complexity grow
+#                                                 and the depth complexity grow, and
+#                                                 what its line-to-line coherence buys
 #   scripts/bench-methods.sh warnock [OPTIONS]    where area subdivision slows down
 #   scripts/bench-methods.sh aa [N] [WxH] [REPS]  what anti-aliasing costs at a leaf
 #   scripts/bench-methods.sh bounds [REPS]        every method on the hostile scenes
