@@ -44,11 +44,11 @@
 //!    column where the z-buffer's answer changes; several do — a complicated case (case
 //!    4): the span is subdivided at its midpoint (14.4.1 divides "at the left-most
 //!    segment endpoint in the span", and "if there is no segment endpoint in the span ...
-//!    at its midpoint by default"; a sample span here holds no endpoint), or where the line
-//!    above changed (below), keeping the half where the first of them comes in front,
-//!    until one is left. The
-//!    span is split at that column (Figure 14-33's non-recursive subdivision: process the
-//!    left part, then go on with the remainder), and the front is found afresh there.
+//!    at its midpoint by default"; a sample span here holds no endpoint), or where the
+//!    line above changed (below), keeping the half where the first of them comes in
+//!    front, until one is left. The span is split at that column (Figure 14-33's
+//!    non-recursive subdivision: process the left part, then go on with the remainder),
+//!    and the front is found afresh there.
 //!    Segments that come in front only past the span's end are solved at once, so the
 //!    bound carried to the next span is exact.
 //! 5. **Coherence from line to line** (14.4.2: "use the record of subdivisions on scan
@@ -128,7 +128,8 @@ pub struct Segment {
     /// The polygon's place in the frame's stream: the tie rule favours the earlier.
     pub polygon: usize,
     /// Which of the polygon's segments on the line this is, counting from the left (a
-    /// concave polygon has several): the k-th takes the k-th's place on the next line.
+    /// concave polygon has several): the 0th's place in the list orders the polygon for
+    /// the next line, the others are merged in anew.
     pub k: u32,
     pub colour: Colour,
 }
