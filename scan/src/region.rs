@@ -22,8 +22,9 @@
 //! by the order here, and a `skip N` (polygons of which the leaf gets nothing) needs no
 //! record at all.
 
-use crate::depth::{depth_at, Depth};
+use crate::depth::Depth;
 use crate::walk::Span;
+use crate::ztest::{self, ZTest};
 use proto::Colour;
 use std::ops::Range;
 
@@ -33,6 +34,8 @@ const SHIFT: u32 = TILE.trailing_zeros();
 const AREA: usize = (TILE * TILE) as usize;
 /// The slot of a tile position no span has touched this frame.
 const UNTOUCHED: u32 = u32::MAX;
+/// How many rows below a span the cells under it are prefetched.
+const AHEAD: u32 = 2;
 
 /// A pixel's colour as stored: R, G, B in the low three bytes and a non-zero top byte,
 /// so that 0 means "no polygon covers this pixel yet".
@@ -157,6 +160,8 @@ pub struct RegionBuffer {
     depth: Slab<Depth>,
     colour: Slab<u32>,
     in_use: usize,
+    /// The z-test's kernel, the fastest this processor has.
+    kernel: ZTest,
     pub stats: RegionStats,
 }
 
@@ -174,8 +179,25 @@ impl RegionBuffer {
             depth: Slab::new(tiles_x as usize * tiles_y as usize),
             colour: Slab::new(tiles_x as usize * tiles_y as usize),
             in_use: 0,
+            kernel: ZTest::detect(),
             stats: RegionStats::default(),
         }
+    }
+
+    /// The z-test kernel in use ([`ZTest::detect`]'s choice unless set).
+    pub fn kernel(&self) -> ZTest {
+        self.kernel
+    }
+
+    /// Runs the z-test with `kernel` from now on (the tests and benchmarks compare the
+    /// kernels; the result is the same with each).
+    ///
+    /// # Panics
+    ///
+    /// When this processor cannot run it ([`ZTest::available`]).
+    pub fn set_kernel(&mut self, kernel: ZTest) {
+        assert!(kernel.available(), "this processor cannot run {kernel:?}");
+        self.kernel = kernel;
     }
 
     /// The screen's width and height.
@@ -212,6 +234,54 @@ impl RegionBuffer {
     /// empty or the tie rule gives it to this polygon. Spans must come polygon by polygon
     /// in stream order (see the module notes). A span off the screen is clipped.
     pub fn span(&mut self, y: u32, columns: Range<u32>, z_row: Depth, dz: Depth, colour: Colour) {
+        match self.kernel {
+            ZTest::Scalar => self.span_in(y, columns, z_row, dz, colour, ztest::scalar),
+            #[cfg(target_arch = "x86_64")]
+            // SAFETY: `kernel` is Avx2 only where the processor has AVX2 and POPCNT
+            // (`ZTest::detect`, `set_kernel`).
+            ZTest::Avx2 => unsafe { self.span_avx2(y, columns, z_row, dz, colour) },
+            #[cfg(not(target_arch = "x86_64"))]
+            ZTest::Avx2 => unreachable!("AVX2 is never detected off x86-64"),
+        }
+    }
+
+    /// [`RegionBuffer::span`] compiled for AVX2, so that the kernel is inlined into the
+    /// loop over the span's tiles.
+    ///
+    /// # Safety
+    ///
+    /// The processor must have AVX2 and POPCNT.
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx2,popcnt")]
+    unsafe fn span_avx2(
+        &mut self,
+        y: u32,
+        columns: Range<u32>,
+        z_row: Depth,
+        dz: Depth,
+        colour: Colour,
+    ) {
+        self.span_in(y, columns, z_row, dz, colour, |b, c, lo, hi, l, z, d, p| {
+            // SAFETY: the caller promises AVX2 and POPCNT; `span_in` passes one tile
+            // row's cells (TILE of each, a multiple of 4) and lo <= hi <= TILE.
+            unsafe { ztest::avx2(b, c, lo, hi, l, z, d, p) }
+        })
+    }
+
+    /// The loop over the tiles a span crosses, each tile row's piece z-tested by
+    /// `kernel` (bars, colours, first and end cell, the row's first column, z_row, dz,
+    /// colour; it returns the pixels taken).
+    #[allow(clippy::too_many_arguments)]
+    #[inline(always)]
+    fn span_in(
+        &mut self,
+        y: u32,
+        columns: Range<u32>,
+        z_row: Depth,
+        dz: Depth,
+        colour: Colour,
+        kernel: impl Fn(&mut [Depth], &mut [u32], usize, usize, u32, Depth, Depth, u32) -> u64,
+    ) {
         if y >= self.height {
             return;
         }
@@ -222,22 +292,59 @@ impl RegionBuffer {
         let mut written = 0u64;
         while x < x1 {
             let tx = x >> SHIFT;
-            let end = x1.min((tx + 1) << SHIFT);
-            let n = (end - x) as usize;
+            let left = tx << SHIFT;
+            let end = x1.min(left + TILE);
             let tile = self.tile(tx, ty);
-            let at = offset + (x & (TILE - 1)) as usize;
-            written += z_test(
-                &mut self.depth.tile_mut(tile)[at..at + n],
-                &mut self.colour.tile_mut(tile)[at..at + n],
-                x,
+            // The tile's row y: cell i is column left + i.
+            let row = offset..offset + TILE as usize;
+            written += kernel(
+                &mut self.depth.tile_mut(tile)[row.clone()],
+                &mut self.colour.tile_mut(tile)[row],
+                (x - left) as usize,
+                (end - left) as usize,
+                left,
                 z_row,
                 dz,
                 colour,
             );
-            self.stats.pixels_tested += n as u64;
+            self.stats.pixels_tested += (end - x) as u64;
+            if (y & (TILE - 1)) + AHEAD < TILE {
+                self.prefetch(
+                    tile,
+                    offset + (AHEAD << SHIFT) as usize,
+                    x - left,
+                    end - left,
+                );
+            }
             x = end;
         }
         self.stats.pixels_written += written;
+    }
+
+    /// Asks for the cells `lo..hi` of the tile row starting at cell `row` to be brought
+    /// into the cache: where the polygon's next spans will most likely fall.
+    #[inline(always)]
+    fn prefetch(&self, tile: u32, row: usize, lo: u32, hi: u32) {
+        #[cfg(target_arch = "x86_64")]
+        {
+            use std::arch::x86_64::{_mm_prefetch, _MM_HINT_T0};
+            let base = tile as usize * AREA + row;
+            let (lo, hi) = (lo as usize, hi as usize);
+            let bars = self.depth.cells.as_ptr().wrapping_add(base) as *const i8;
+            let colours = self.colour.cells.as_ptr().wrapping_add(base) as *const i8;
+            let mut b = (lo * 8) & !63;
+            while b < hi * 8 {
+                // SAFETY: a prefetch is a hint; it does not fault, whatever the address.
+                unsafe { _mm_prefetch::<_MM_HINT_T0>(bars.wrapping_add(b)) };
+                b += 64;
+            }
+            let mut c = (lo * 4) & !63;
+            while c < hi * 4 {
+                // SAFETY: as above.
+                unsafe { _mm_prefetch::<_MM_HINT_T0>(colours.wrapping_add(c)) };
+                c += 64;
+            }
+        }
     }
 
     /// The colour of pixel (x, y) so far this frame, if a polygon covers it.
@@ -365,26 +472,6 @@ impl RegionBuffer {
         }
         self.in_use = 0;
     }
-}
-
-/// The z-test over one tile row's piece of a span (BUFFER's inner loop): the pieces's
-/// first column is `x`, and column x has depth `z_row + x·dz` ([`crate::depth_at`]). Returns
-/// the pixels written. A pixel is taken when empty (colour 0) or when its depth is under
-/// the bar kept there; a taken pixel keeps this polygon's bar.
-#[inline]
-fn z_test(bars: &mut [Depth], colour: &mut [u32], x: u32, z_row: Depth, dz: Depth, c: u32) -> u64 {
-    let colour = &mut colour[..bars.len()];
-    let mut written = 0u64;
-    for (i, (bar, f)) in bars.iter_mut().zip(colour.iter_mut()).enumerate() {
-        let z = depth_at(z_row, dz, x + i as u32);
-        let win = (*f == 0 && !z.is_nan()) || z < *bar;
-        if win {
-            *bar = proto::depth::bar(z);
-            *f = c;
-        }
-        written += win as u64;
-    }
-    written
 }
 
 #[cfg(test)]
@@ -538,6 +625,30 @@ mod tests {
         assert_eq!(got, want);
         // Cleared for the next frame.
         assert_eq!(rb.colour_at(10, 3), None);
+    }
+
+    proptest::proptest! {
+        /// The vector z-test gives the scalar one's runs and counts, span for span, on
+        /// spans crossing tiles and the screen's edges.
+        #[test]
+        fn every_kernel_draws_the_same_frame(
+            spans in proptest::collection::vec(
+                (0u32..140, 0u32..300, 0u32..80, -2.0f64..2.0, -0.1f64..0.1, 0usize..3),
+                1..60,
+            )
+        ) {
+            proptest::prop_assume!(ZTest::Avx2.available());
+            let draw = |kernel: ZTest| {
+                let mut rb = RegionBuffer::new(200, 130);
+                rb.set_kernel(kernel);
+                for &(y, x0, n, z, dz, c) in &spans {
+                    rb.span(y, x0..x0 + n, z, dz, [R, G, B][c]);
+                }
+                let out = runs(&mut rb);
+                (out, rb.stats)
+            };
+            proptest::prop_assert_eq!(draw(ZTest::Avx2), draw(ZTest::Scalar));
+        }
     }
 
     #[test]
