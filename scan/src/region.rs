@@ -67,26 +67,57 @@ struct Slab<T> {
     cells: Vec<T>,
     /// The cells before the first tile, there to align it.
     start: usize,
+    /// Whether the vector's spare capacity is zeroed memory no one has written (its
+    /// first allocation, asked of the allocator zeroed): a new tile is then there already.
+    zeroed: bool,
 }
 
 /// The alignment of a slab's first tile, in bytes.
 const LINE: usize = 64;
 
-impl<T: Copy + Default> Slab<T> {
+/// Cell types whose all-zero bytes are their `Default` value (0.0, 0), so that a tile
+/// in zeroed memory needs no writing.
+trait ZeroIsDefault: Copy + Default {}
+impl ZeroIsDefault for f64 {}
+impl ZeroIsDefault for u32 {}
+
+/// An empty vector with room for `n` cells in zeroed memory, or `None` where the
+/// allocator cannot give it. For a large `n` the allocator maps fresh pages, which the
+/// kernel zeroes only when they are first touched, and writes nothing itself.
+fn zeroed_vec<T: ZeroIsDefault>(n: usize) -> Option<Vec<T>> {
+    let layout = std::alloc::Layout::array::<T>(n).ok()?;
+    if layout.size() == 0 {
+        return None;
+    }
+    // SAFETY: the layout has a non-zero size.
+    let p = unsafe { std::alloc::alloc_zeroed(layout) } as *mut T;
+    if p.is_null() {
+        return None;
+    }
+    // SAFETY: `p` was allocated by the global allocator with the layout of `n` cells of
+    // T (so capacity `n`, T's alignment), and no cell is claimed initialised (length 0).
+    Some(unsafe { Vec::from_raw_parts(p, 0, n) })
+}
+
+impl<T: ZeroIsDefault> Slab<T> {
     fn new(tiles: usize) -> Self {
-        let mut cells = Vec::new();
         let pad = LINE / std::mem::size_of::<T>();
-        if cells
-            .try_reserve_exact(tiles.saturating_mul(AREA).saturating_add(pad))
-            .is_ok()
-        {
+        let (mut cells, zeroed) = match zeroed_vec(tiles.saturating_mul(AREA).saturating_add(pad)) {
+            Some(v) => (v, true),
+            None => (Vec::new(), false),
+        };
+        if zeroed {
             advise_huge_pages(&cells);
         }
         // Cells up to the next line boundary (the reserved vector does not move; one that
         // grows later may, and its tiles are then merely unaligned).
         let start = (cells.as_ptr() as usize).wrapping_neg() % LINE / std::mem::size_of::<T>();
         cells.resize(start, T::default());
-        Slab { cells, start }
+        Slab {
+            cells,
+            start,
+            zeroed,
+        }
     }
 
     /// Tiles made so far.
@@ -96,7 +127,17 @@ impl<T: Copy + Default> Slab<T> {
 
     /// A new tile, every cell `T::default()`.
     fn push_tile(&mut self) {
-        self.cells.resize(self.cells.len() + AREA, T::default());
+        let len = self.cells.len() + AREA;
+        if self.zeroed && len <= self.cells.capacity() {
+            // SAFETY: the cells up to `len` are within the capacity, in memory the
+            // allocator zeroed and nothing has written since (`zeroed`), and all-zero
+            // bytes are a valid T, its default (`ZeroIsDefault`).
+            unsafe { self.cells.set_len(len) };
+        } else {
+            // Beyond the first allocation the vector may move, into memory not zeroed.
+            self.zeroed = false;
+            self.cells.resize(len, T::default());
+        }
     }
 
     /// The index of tile k's first cell.
@@ -229,20 +270,28 @@ impl RegionBuffer {
     }
 
     /// The tile at tile position (tx, ty), made (or taken from the pool) on first touch.
-    #[inline]
+    #[inline(always)]
     fn tile(&mut self, tx: u32, ty: u32) -> u32 {
         let at = (ty * self.tiles_x + tx) as usize;
-        let mut s = self.slot[at];
-        if s == UNTOUCHED {
-            if self.in_use == self.depth.tiles() {
-                self.depth.push_tile();
-                self.colour.push_tile();
-                self.stats.tiles += 1;
-            }
-            s = self.in_use as u32;
-            self.in_use += 1;
-            self.slot[at] = s;
+        let s = self.slot[at];
+        if s != UNTOUCHED {
+            return s;
         }
+        self.first_touch(at)
+    }
+
+    /// The tile for tile position `at`, touched for the first time this frame.
+    #[cold]
+    #[inline(never)]
+    fn first_touch(&mut self, at: usize) -> u32 {
+        if self.in_use == self.depth.tiles() {
+            self.depth.push_tile();
+            self.colour.push_tile();
+            self.stats.tiles += 1;
+        }
+        let s = self.in_use as u32;
+        self.in_use += 1;
+        self.slot[at] = s;
         s
     }
 
