@@ -328,10 +328,22 @@ pub const BYTES_PER_PIXEL: u64 = 8 + 4 + 3;
 /// `n` copies of `value`, or `None` when the memory cannot be had; in huge pages where
 /// the kernel gives them.
 fn filled(n: usize, value: Colour) -> Option<Vec<Colour>> {
-    let mut v = Vec::new();
-    v.try_reserve_exact(n).ok()?;
+    if n == 0 {
+        return Some(Vec::new());
+    }
+    // Zeroed memory from the allocator: for a frame of any size, fresh pages that the
+    // kernel zeroes as they are first touched, so that a black background costs no
+    // writing here (a full-HD frame is 6 MB).
+    let layout = std::alloc::Layout::array::<Colour>(n).ok()?;
+    // SAFETY: the layout has a non-zero size (n > 0, a Colour is 3 bytes).
+    let p = unsafe { std::alloc::alloc_zeroed(layout) } as *mut Colour;
+    if p.is_null() {
+        return None;
+    }
+    // SAFETY: `p` holds n Colours' worth of zeroed bytes from the global allocator with
+    // Colour's layout, and all-zero bytes are a valid Colour ([0, 0, 0]).
+    let mut v = unsafe { Vec::from_raw_parts(p, n, n) };
     scan::advise_huge_pages(&v);
-    v.resize(n, [0; 3]);
     if value != [0; 3] {
         fill_colour(&mut v, value);
     }
@@ -343,20 +355,17 @@ fn filled(n: usize, value: Colour) -> Option<Vec<Colour>> {
 /// for a grey.
 #[inline]
 pub fn fill_colour(pixels: &mut [Colour], colour: Colour) {
-    let bytes = pixels.as_flattened_mut();
     if colour[0] == colour[1] && colour[1] == colour[2] {
-        bytes.fill(colour[0]);
+        pixels.as_flattened_mut().fill(colour[0]);
         return;
     }
-    let pattern = [colour; 16];
-    let pattern = pattern.as_flattened();
-    let mut blocks = bytes.chunks_exact_mut(pattern.len());
-    for block in &mut blocks {
-        block.copy_from_slice(pattern);
+    let (blocks, rest) = pixels.as_chunks_mut::<16>();
+    for block in blocks {
+        *block = [colour; 16];
     }
-    let rest = blocks.into_remainder();
-    let n = rest.len();
-    rest.copy_from_slice(&pattern[..n]);
+    for pixel in rest {
+        *pixel = colour;
+    }
 }
 
 pub use stagecli::parse_colour;
