@@ -24,8 +24,9 @@
 # stage libraries; run as `fused --size WxH SCENE`), then render.sh --depth 0..4 on the
 # fill-heavy scene with each merge mode (--merge tiles and --merge buffer, if render.sh
 # has them), each against depth 0 in the same mode. A/B below 1 means A is faster.
-# A second table gives the work the tree adds: the CPU seconds (user + system of the
-# whole process tree) of render.sh --depth 0..4 on the fill-heavy scene, all on one core
+# A second table gives render.sh against llvmpipe by CPU seconds (user + system of the
+# whole process tree) from the same runs, and a third the work the tree adds: the CPU
+# seconds of render.sh --depth 0..4 on the fill-heavy scene, all on one core
 # (`taskset -c 0`), each against depth 0's.
 #
 # --scaling instead runs render.sh --depth 0..6 on the fill-heavy scene on every core
@@ -147,7 +148,7 @@ else
             job "depth.$m.$d" "$render" --size "$fill_size" --depth "$d" "${merge_opt[@]}" "$work/fill.txt"
         done
     done
-    # The work on one core: CPU seconds, not wall (see cpu_of below).
+    # The work on one core: CPU seconds, not wall.
     for d in 0 1 2 3 4; do
         job "one.$d" taskset -c 0 "$render" --size "$fill_size" --depth "$d" "$work/fill.txt"
     done
@@ -167,35 +168,32 @@ for j in "${jobs[@]}"; do
 done
 
 # --- The timed rounds. ----------------------------------------------------------------
-# cpu_of JOB: the user + system seconds of one run of JOB's whole process tree (bash's
-# `time` counts the children it waited for), to the millisecond.
-cpu_of() {
-    local TIMEFORMAT='%3U %3S' line
-    line=$({ time eval "${cmd[$1]}" > /dev/null 2> "$work/err.$1"; } 2>&1) ||
-        { echo "bench.sh: $1 failed" >&2; cat "$work/err.$1" >&2; exit 1; }
-    awk '{ printf "%.3f", $1 + $2 }' <<< "$line"
-}
-declare -A times
+# Each run's wall seconds (bash's microsecond clock) and CPU seconds (user + system of the
+# whole process tree: bash's `time` counts the children it waited for, to the
+# millisecond; written to a file, so that no subshell is timed).
+declare -A times cpus
+TIMEFORMAT='%3U %3S'
 for ((r = 1; r <= reps; r++)); do
     echo "bench.sh: round $r of $reps" >&2
     for j in "${jobs[@]}"; do
         [[ -n ${ok[$j]:-} ]] || continue
-        if [[ $j == one.* ]]; then
-            t=$(cpu_of "$j") || exit 1
-            times[$j]+="$t "
-            continue
-        fi
         t0=$EPOCHREALTIME
-        eval "${cmd[$j]}" > /dev/null 2> "$work/err.$j" ||
+        { time eval "${cmd[$j]}" > /dev/null 2> "$work/err.$j"; } 2> "$work/time.$j" ||
             { echo "bench.sh: $j failed in round $r" >&2; cat "$work/err.$j" >&2; exit 1; }
         t1=$EPOCHREALTIME
         times[$j]+="$(awk -v a="$t0" -v b="$t1" 'BEGIN { printf "%.6f", b - a }') "
+        cpus[$j]+="$(awk '{ printf "%.3f", $1 + $2 }' "$work/time.$j") "
     done
 done
 
-job_median() { # JOB: the median of its times, or nothing
+job_median() { # JOB: the median of its wall times, or nothing
     [[ -n ${times[$1]:-} ]] || return 0
     tr ' ' '\n' <<< "${times[$1]}" | grep . | median
+}
+
+cpu_median() { # JOB: the median of its CPU times, or nothing
+    [[ -n ${cpus[$1]:-} ]] || return 0
+    tr ' ' '\n' <<< "${cpus[$1]}" | grep . | median
 }
 
 # differ A B: how two runs' pictures compare ("identical", or differing pixels of all).
@@ -278,13 +276,24 @@ for m in "${modes[@]}"; do
 done
 
 echo
+echo "The same runs by CPU: user + system seconds of the whole process tree (llvmpipe's" \
+    "threads counted), median of $reps."
+echo
+echo "| A against B | scene | A CPU s | B CPU s | A/B |"
+echo "|---|---|---|---|---|"
+for s in "${scenes[@]}"; do
+    a=$(cpu_median "pipe.$s") b=$(cpu_median "gl.$s")
+    echo "| render.sh against llvmpipe | ${label[$s]} | ${a:-n/a} | ${b:-n/a} | **$(ratio "${a:-0}" "${b:-0}")** |"
+done
+
+echo
 echo "The work the tree adds: render.sh --depth D on ${label[fill]}, all on one core" \
     "(\`taskset -c 0\`), CPU seconds (user + system of the whole process tree), median of $reps."
 echo
 echo "| depth | CPU s | against depth 0 |"
 echo "|---|---|---|"
-base=$(job_median one.0)
+base=$(cpu_median one.0)
 for d in 0 1 2 3 4; do
-    t=$(job_median "one.$d")
+    t=$(cpu_median "one.$d")
     echo "| $d | ${t:-n/a} | **$(ratio "${t:-0}" "${base:-0}")** |"
 done
