@@ -577,7 +577,11 @@ impl Warnock {
         for i in start..self.lists.len() {
             let e = self.lists[i];
             let f = self.faces[e.face as usize];
-            if best.is_some_and(|(_, _, z)| z.is_some_and(|z| f.zmin > z)) {
+            // Behind the winner by the tie rule, as the Looker's ZMIN exit: the winner's
+            // depth must take the pixel from this polygon's nearest, so that one earlier
+            // in the stream within the tie width (which keeps its pixel) is not passed
+            // over; the polygons after it in ZMIN order are farther still.
+            if best.is_some_and(|(_, _, z)| z.is_some_and(|z| takes(z, f.zmin))) {
                 break;
             }
             if !e.surrounds && !self.covers(polygons, &f, x, y) {
@@ -1129,6 +1133,50 @@ mod tests {
             .find(|f| f.poly == 0)
             .expect("the quadrilateral");
         assert!(quad.zmin.abs() < 1e-12, "{}", quad.zmin);
+    }
+
+    #[test]
+    fn a_pixel_on_an_edge_two_polygons_share_at_one_depth_goes_to_the_earlier() {
+        // Found by the methods fuzz target: two triangles with an edge on the diagonal
+        // x = y at depth 0.25, both on its x > y side, the yellow one later in the
+        // stream and nearer off the diagonal. On the diagonal's centres they tie and the
+        // earlier (cream) one shows. The pixel window's search stopped at the cream one
+        // because its ZMIN, its plane at its vertices, came out a rounding above yellow's
+        // depth there: it stops now only where the tie rule puts a polygon behind.
+        const CREAM: Colour = [217, 217, 173];
+        const YELLOW: Colour = [173, 173, 0];
+        let polygons = [
+            Polygon::from_xyz(
+                CREAM,
+                &[
+                    [23.75, 3.25, 0.75],
+                    [3.25, 23.75, 0.25],
+                    [14.25, 14.25, 0.75],
+                ],
+            ),
+            Polygon::from_xyz(
+                CREAM,
+                &[
+                    [23.75, 23.75, 0.25],
+                    [25.75, 14.25, 0.75],
+                    [14.25, 14.25, 0.25],
+                ],
+            ),
+            Polygon::from_xyz(
+                YELLOW,
+                &[
+                    [23.75, 23.75, 0.25],
+                    [41.0, -8.939734142804938e-7, 0.75],
+                    [3.25, 3.25, 0.25],
+                ],
+            ),
+        ];
+        let (runs, _) = resolved(&polygons, 36, 45);
+        let image = image_of(&runs, 36, 45);
+        assert_eq!(image, zbuffer_image(&polygons, 36, 45));
+        for k in 14..24 {
+            assert_eq!(image[k * 36 + k], Some(CREAM), "pixel ({k}, {k})");
+        }
     }
 
     #[test]
