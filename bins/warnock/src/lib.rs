@@ -209,13 +209,30 @@ impl Face {
         depth_at(z_row, dz, x)
     }
 
-    /// Its depth at the centre of pixel (x, y) where that depth follows its plane: not
-    /// where the fixed point clamps the depth, its row's origin or its step, and the
-    /// z-buffer's depth is then no longer affine across a window.
+    /// Its depth at the centre of pixel (x, y) where that depth follows its plane, so
+    /// that comparisons at a window's corners hold at every centre between: not where
+    /// the depth, its row's origin or its step is clamped, nor where the rounding of
+    /// `z_row + x·dz` may be more than 2⁻¹⁰ of the tie rule's width (a plane so steep
+    /// that its terms cancel: a vertex at depth 1e135 two pixels from others at 0.25
+    /// leaves the z-buffer's depths there rounding noise, which only a pixel can decide).
     fn planar_depth(&self, x: u32, y: u32) -> Option<Depth> {
         let (z_row, dz) = self.depth.row(y);
         let d = depth_at(z_row, dz, x);
-        (!clamped(z_row) && !clamped(dz) && !clamped(d)).then_some(d)
+        if clamped(z_row) || clamped(dz) || clamped(d) {
+            return None;
+        }
+        if let DepthPlane::Plane { a, b, c, d: e, .. } = self.depth {
+            // A bound on the rounding: a few ulps of each term's magnitude.
+            let terms = (a.abs() * 0.5 + b.abs() * (y as f64 + 0.5) + e.abs()) / c.abs()
+                + x as f64 * dz.abs()
+                + d.abs();
+            // Written so that a NaN bound refuses too.
+            let affine = 4.0 * f64::EPSILON * terms <= proto::depth::TIE / 1024.0 * d.abs();
+            if !affine {
+                return None;
+            }
+        }
+        Some(d)
     }
 
     /// Its largest depth at the corners of `w`'s sample rectangle (the listing's
@@ -1177,6 +1194,44 @@ mod tests {
         for k in 14..24 {
             assert_eq!(image[k * 36 + k], Some(CREAM), "pixel ({k}, {k})");
         }
+    }
+
+    #[test]
+    fn a_plane_too_steep_to_be_affine_is_decided_at_its_pixels() {
+        // Found by the methods fuzz target: a triangle with two vertices at depth 0.25 on
+        // the diagonal x = y and a third at depth 1.45e135 a few pixels off it. Its plane's
+        // terms cancel along the diagonal, where the z-buffer's depths are rounding noise
+        // of about 1e118: comparisons at a window's corners say nothing of the centres
+        // between, and three diagonal pixels came out unlike the z-buffer. Such depths
+        // are now decided pixel by pixel, as the z-buffer decides them.
+        const WHITE: Colour = [255, 255, 255];
+        const CYAN: Colour = [18, 217, 217];
+        let polygons = [
+            Polygon::from_xyz(
+                WHITE,
+                &[
+                    [23.75, 23.75, 0.75],
+                    [3.25, 24.0, 0.75],
+                    [34.25, 3.25, 0.25],
+                    [29.25, 24.0, 0.25],
+                    [27.25, 24.0, 0.25],
+                ],
+            ),
+            Polygon::from_xyz(
+                WHITE,
+                &[
+                    [3.25, 3.25, 0.25],
+                    [36.25, 35.0, 1.4536201648020902e135],
+                    [23.75, 23.75, 0.25],
+                ],
+            ),
+            Polygon::from_xyz(
+                CYAN,
+                &[[37.5, 3.25, 0.0], [3.25, 3.25, 0.25], [14.25, 24.0, 0.25]],
+            ),
+        ];
+        let (runs, _) = resolved(&polygons, 36, 45);
+        assert_eq!(image_of(&runs, 36, 45), zbuffer_image(&polygons, 36, 45));
     }
 
     #[test]
