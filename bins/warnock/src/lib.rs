@@ -352,6 +352,14 @@ impl Warnock {
                 depth: DepthPlane::of(p),
                 colour: p.colour,
             };
+            // A polygon whose plane is not finite across the screen gets one depth from
+            // the z-buffer, its nearest vertex's (`DepthPlane::Flat`): its plane in `f64`
+            // then says nothing of its pixels, and ZMIN and ZMAX are that depth.
+            if let DepthPlane::Flat(z) = face.depth {
+                face.plane = None;
+                face.zmin = z;
+                face.zmax = z;
+            }
             // Where the z-buffer's depth of a polygon leaves its plane (clamped at a row's
             // origin, column 0, which may lie far outside the polygon), its vertices say
             // nothing of the depths the z-buffer gives it: such a polygon is never passed
@@ -1232,6 +1240,50 @@ mod tests {
         ];
         let (runs, _) = resolved(&polygons, 36, 45);
         assert_eq!(image_of(&runs, 36, 45), zbuffer_image(&polygons, 36, 45));
+    }
+
+    #[test]
+    fn a_polygon_without_a_finite_plane_has_its_flat_depth_for_zmin() {
+        // Found by the methods fuzz target: a thirteen-vertex polygon, far from planar,
+        // one vertex at depth -2.01e305. Its plane is not finite across the screen, so
+        // the z-buffer gives its pixels its nearest vertex depth (`DepthPlane::Flat`) and
+        // it is in front; but its ZMIN came from the f64 plane at its vertices (1.2e306),
+        // and the Looker passed over it behind the grey quadrilateral: 207 pixels.
+        const GREY: Colour = [38, 53, 62];
+        const BLACK: Colour = [0, 0, 0];
+        let polygons = [
+            Polygon::from_xyz(
+                GREY,
+                &[
+                    [24.0, 34.25, 0.25],
+                    [35.0, 3.25, 0.25],
+                    [23.75, 3.25, 0.75],
+                    [3.25, 3.25, 0.25],
+                ],
+            ),
+            Polygon::from_xyz(
+                BLACK,
+                &[
+                    [44.5, 44.5, 0.5],
+                    [38.5, 22.5, 0.75],
+                    [23.75, 3.25, -2.0102879725023188e305],
+                    [15.25, 14.25, 0.25],
+                    [1.74686011721e-312, 44.5, 0.5],
+                    [44.5, 44.5, 0.5],
+                    [3.25, 23.75, 0.25],
+                    [36.25, 36.25, 0.5],
+                    [36.25, 36.25, 0.75],
+                    [-128.0, -128.0, 0.75],
+                    [-128.0, -128.0, 0.0],
+                    [-128.0, -128.0, 0.0],
+                    [-128.0, -128.0, 0.0],
+                ],
+            ),
+        ];
+        let (runs, _) = resolved(&polygons, 38, 38);
+        let image = image_of(&runs, 38, 38);
+        assert_eq!(image, zbuffer_image(&polygons, 38, 38));
+        assert_eq!(image[4 * 38 + 23], Some(BLACK));
     }
 
     #[test]
