@@ -1280,10 +1280,18 @@ mod tests {
                 ],
             ),
         ];
-        let (runs, _) = resolved(&polygons, 38, 38);
+        let (runs, m) = resolved(&polygons, 38, 38);
         let image = image_of(&runs, 38, 38);
         assert_eq!(image, zbuffer_image(&polygons, 38, 38));
         assert_eq!(image[4 * 38 + 23], Some(BLACK));
+        // ZMIN and ZMAX are the depth the z-buffer gives it, and no plane is kept.
+        let black = m.faces.iter().find(|f| f.poly == 1).expect("the polygon");
+        assert!(matches!(black.depth, DepthPlane::Flat(_)));
+        assert_eq!(
+            (black.zmin, black.zmax),
+            (-2.0102879725023188e305, -2.0102879725023188e305)
+        );
+        assert_eq!(black.plane, None);
     }
 
     #[test]
