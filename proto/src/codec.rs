@@ -30,7 +30,7 @@ use crate::header::{text_version, Header, Space, BINARY_MAGIC, TEXT_MAGIC, VERSI
 use crate::text::{Lexer, Number, Shown};
 use crate::StreamError;
 use bincode::Options;
-use glam::DVec4;
+use glam::{DVec3, DVec4};
 use std::io::{self, BufRead, BufReader, BufWriter, Read, Write};
 
 /// The largest binary record a reader accepts: 64 MiB, two million eye-space vertices.
@@ -238,6 +238,24 @@ impl<R: Read> BinaryInput<R> {
     }
 
     /// Whether the input is at its end (no byte left).
+    /// Reads `n` vertex colours (three little-endian `f64`s each) into `colours`, in
+    /// blocks as they arrive, as [`BinaryInput::vertices`] reads vertices.
+    #[inline]
+    pub fn colours(&mut self, colours: &mut Vec<DVec3>, n: usize) -> Result<(), BinaryError> {
+        colours.clear();
+        while colours.len() < n {
+            let from = colours.len();
+            let to = from + (n - from).min(VERTEX_BLOCK);
+            colours.resize(to, DVec3::ZERO);
+            self.read_exact(bytemuck::cast_slice_mut(&mut colours[from..to]))?;
+        }
+        #[cfg(target_endian = "big")]
+        for x in bytemuck::cast_slice_mut::<DVec3, f64>(colours) {
+            *x = f64::from_bits(u64::from_le(x.to_bits()));
+        }
+        Ok(())
+    }
+
     fn at_end(&mut self) -> io::Result<bool> {
         loop {
             match self.inner.fill_buf() {
@@ -273,6 +291,22 @@ pub fn write_vertices<W: Write>(out: &mut W, vertices: &[DVec4]) -> io::Result<(
 }
 
 /// A record's 8-byte head: tag, three bytes (a colour, or zero) and a count or number.
+/// Writes vertex colours as one block of little-endian `f64`s, three a colour.
+#[inline]
+pub fn write_colours<W: Write>(out: &mut W, colours: &[DVec3]) -> io::Result<()> {
+    #[cfg(target_endian = "little")]
+    {
+        out.write_all(bytemuck::cast_slice(colours))
+    }
+    #[cfg(target_endian = "big")]
+    {
+        for x in bytemuck::cast_slice::<DVec3, f64>(colours) {
+            out.write_all(&x.to_le_bytes())?;
+        }
+        Ok(())
+    }
+}
+
 #[inline]
 pub fn head(tag: u8, bytes: [u8; 3], n: u32) -> [u8; 8] {
     let n = n.to_le_bytes();

@@ -69,6 +69,16 @@ pub enum Fragment {
         x1: u32,
         colour: Colour,
     },
+    /// `shade K A B C D`: one channel (K = 0 red, 1 green, 2 blue) of the current
+    /// polygon's colour plane over device coordinates, `A·X + B·Y + C·c + D = 0`, after its
+    /// colour record and before its spans: the polygon is Gouraud-shaded, and each of its
+    /// pixels takes the colour the planes give at its centre, as the scan converter
+    /// computes it ([`crate::shade::Shading`]), instead of the colour record's. Three
+    /// records, one a channel, so that a fragment stays as small as a span.
+    Shade {
+        channel: u8,
+        plane: [f64; 4],
+    },
 }
 
 impl Default for Fragment {
@@ -98,6 +108,7 @@ mod tag {
     pub const END: u8 = 4;
     pub const SKIP: u8 = 5;
     pub const RUN: u8 = 6;
+    pub const SHADE: u8 = 7;
 }
 
 #[inline]
@@ -115,7 +126,9 @@ impl Record for Fragment {
     fn control(&self) -> Control {
         match self {
             Fragment::Polygon(_) => Control::Polygon,
-            Fragment::Span { .. } | Fragment::Pixel { .. } => Control::Data,
+            Fragment::Span { .. } | Fragment::Pixel { .. } | Fragment::Shade { .. } => {
+                Control::Data
+            }
             Fragment::Skip(n) => Control::Skip(*n),
             Fragment::Run { .. } => Control::Finished,
             Fragment::NextFrame => Control::NextFrame,
@@ -145,6 +158,17 @@ impl Record for Fragment {
             Fragment::Pixel { z, .. } if !z.is_finite() => {
                 Err(format!("pixel depth {z}: depths must be finite"))
             }
+            Fragment::Shade { channel, .. } if channel > 2 => Err(format!(
+                "shade of channel {channel}: the channels are 0 (red), 1 (green) and 2 (blue)"
+            )),
+            Fragment::Shade { plane, .. }
+                if !(plane.iter().all(|c| c.is_finite()) && plane[2] != 0.0) =>
+            {
+                Err(format!(
+                    "colour plane {plane:?}: its numbers must be finite and its colour \
+                     coefficient (the third) not zero"
+                ))
+            }
             Fragment::Skip(0) => Err("`skip 0`: a skip stands for at least one polygon".into()),
             _ => Ok(()),
         }
@@ -153,7 +177,7 @@ impl Record for Fragment {
     fn binary_control(head: &[u8; 8]) -> Option<Control> {
         match head[0] {
             tag::POLYGON => Some(Control::Polygon),
-            tag::SPAN | tag::PIXEL => Some(Control::Data),
+            tag::SPAN | tag::PIXEL | tag::SHADE => Some(Control::Data),
             tag::NEXT_FRAME => Some(Control::NextFrame),
             tag::END => Some(Control::End),
             tag::SKIP => Some(Control::Skip(head_n(head))),
@@ -226,6 +250,20 @@ impl Record for Fragment {
                     colour: [head[1], head[2], head[3]],
                 }
             }
+            tag::SHADE => {
+                if head[2..].iter().any(|&b| b != 0) {
+                    return Err(BinaryError::Invalid(
+                        "not a valid shade record (unused bytes are not zero); is the stream \
+                         corrupt?"
+                            .into(),
+                    ));
+                }
+                let b: [u8; 32] = input.array()?;
+                Fragment::Shade {
+                    channel: head[1],
+                    plane: [f64_at(&b, 0), f64_at(&b, 8), f64_at(&b, 16), f64_at(&b, 24)],
+                }
+            }
             other => {
                 return Err(BinaryError::Invalid(format!(
                 "not a valid record (unknown fragment-stream tag {other}); is the stream corrupt?"
@@ -265,6 +303,14 @@ impl Record for Fragment {
                 b[12..16].copy_from_slice(&x1.to_le_bytes());
                 out.write_all(&b)
             }
+            Fragment::Shade { channel, plane } => {
+                let mut b = [0u8; 40];
+                b[..8].copy_from_slice(&head(tag::SHADE, [channel, 0, 0], 0));
+                for (k, c) in plane.iter().enumerate() {
+                    b[8 + 8 * k..16 + 8 * k].copy_from_slice(&c.to_le_bytes());
+                }
+                out.write_all(&b)
+            }
         }
     }
 
@@ -276,7 +322,7 @@ impl Record for Fragment {
         first_in_frame: bool,
     ) -> Result<(), StreamError> {
         let record = match lex.peek()? {
-            Some("span") | Some("pixel") if first_in_frame => {
+            Some("span") | Some("pixel") | Some("shade") if first_in_frame => {
                 return Err(lex.error("pixels before the frame's first `colour`"));
             }
             Some("span") => {
@@ -294,6 +340,15 @@ impl Record for Fragment {
                 let y = lex.integer("the pixel's row", u32::MAX as u64)? as u32;
                 let z = lex.number("the pixel's depth")?;
                 Fragment::Pixel { x, y, z }
+            }
+            Some("shade") => {
+                lex.skip_word();
+                let channel = lex.integer("the shade's channel (0, 1 or 2)", 2)? as u8;
+                let mut plane = [0.0; 4];
+                for (c, name) in plane.iter_mut().zip(["A", "B", "C", "D"]) {
+                    *c = lex.number(format_args!("{name} of the colour plane"))?;
+                }
+                Fragment::Shade { channel, plane }
             }
             Some("run") => {
                 lex.skip_word();
@@ -340,6 +395,10 @@ impl Record for Fragment {
             } => {
                 writeln!(out, "run {y} {x0} {x1} {r} {g} {b}")
             }
+            Fragment::Shade {
+                channel,
+                plane: [a, b, c, d],
+            } => writeln!(out, "shade {channel} {a} {b} {c} {d}"),
             Fragment::NextFrame => writeln!(out, "{NEXT_FRAME}"),
             Fragment::End => writeln!(out, "{END}"),
         }

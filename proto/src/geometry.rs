@@ -176,13 +176,22 @@ impl Plane {
     /// planes and on the splitter's planes, and within rounding of any other.
     #[inline]
     pub fn intersect(&self, a: DVec4, da: f64, b: DVec4, db: f64) -> DVec4 {
-        let (p, dp, q, dq) = if da >= db {
+        self.crossing(a, da, b, db).point
+    }
+
+    /// [`Plane::intersect`], with the parameter of the crossing along the edge, so that
+    /// what else the vertices carry (their colours, for Gouraud shading) is interpolated at
+    /// the same point: [`Crossing::mix`].
+    #[inline]
+    pub fn crossing(&self, a: DVec4, da: f64, b: DVec4, db: f64) -> Crossing {
+        let from_b = da < db;
+        let (p, dp, q, dq) = if !from_b {
             (a, da, b, db)
         } else {
             (b, db, a, da)
         };
         // dp > 0 > dq, so the divisor is positive and at least dp: α lies in [0, 1].
-        let alpha = dp / (dp - dq);
+        let mut alpha = dp / (dp - dq);
         let mut v = p + (q - p) * alpha;
         let mut along = q - p;
         if !(alpha.is_finite() && v.is_finite()) {
@@ -193,7 +202,7 @@ impl Plane {
             let down = self.scaled_down();
             let (ps, qs) = (p * DOWN, q * DOWN);
             let (dps, dqs) = (down.distance(ps), down.distance(qs));
-            let alpha = (dps / (dps - dqs)).clamp(0.0, 1.0);
+            alpha = (dps / (dps - dqs)).clamp(0.0, 1.0);
             along = qs - ps;
             v = (ps + (qs - ps) * alpha) * UP;
             if !v.is_finite() {
@@ -204,7 +213,11 @@ impl Plane {
         if let Some(solved) = self.snap(&mut v, along) {
             self.keep_w_proportional_to_z(&mut v, p, q, solved);
         }
-        v
+        Crossing {
+            point: v,
+            alpha,
+            from_b,
+        }
     }
 
     /// Eye space has w = z_e·s/d at every point (docs/DESIGN.md, "Coordinates and camera"),
@@ -346,6 +359,70 @@ impl Plane {
     /// The same plane with its inside and outside exchanged.
     pub fn flipped(&self) -> Plane {
         Plane::new(-self.n, -self.k)
+    }
+}
+
+/// Where an edge (a, b) crosses a plane ([`Plane::crossing`]): the point, and α, the
+/// fraction of the way from the edge's inside end to its outside end at which the
+/// position was interpolated (before it was put exactly on the plane).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Crossing {
+    pub point: DVec4,
+    alpha: f64,
+    /// Whether the inside end, interpolated from, is b.
+    from_b: bool,
+}
+
+impl Crossing {
+    /// The value at the crossing of something linear along the edge, `at_a` at a and
+    /// `at_b` at b (a vertex colour): interpolated from the same end with the same α as
+    /// the position, so either direction of travel gives the same bits, as it does for
+    /// the point.
+    #[inline]
+    pub fn mix(&self, at_a: DVec3, at_b: DVec3) -> DVec3 {
+        let (p, q) = if self.from_b {
+            (at_b, at_a)
+        } else {
+            (at_a, at_b)
+        };
+        p + (q - p) * self.alpha
+    }
+}
+
+/// [`clip_against`] for a polygon with per-vertex colours: the same vertices, bit for bit,
+/// and beside them in `out_colours` the colours, a crossing's interpolated with the
+/// position's parameter ([`Crossing::mix`]). `colours` has one per vertex.
+pub fn clip_coloured(
+    vertices: &[Vertex],
+    colours: &[DVec3],
+    plane: &Plane,
+    out: &mut Vec<Vertex>,
+    out_colours: &mut Vec<DVec3>,
+) {
+    out.clear();
+    out_colours.clear();
+    let (Some(&last), Some(&last_colour)) = (vertices.last(), colours.last()) else {
+        return;
+    };
+    out.reserve(vertices.len() + 1);
+    out_colours.reserve(vertices.len() + 1);
+    let (mut s, mut s_colour) = (last, last_colour);
+    let (mut s_side, mut s_dist) = plane.classify(s);
+    for (&p, &p_colour) in vertices.iter().zip(colours) {
+        let (p_side, p_dist) = plane.classify(p);
+        if matches!(
+            (s_side, p_side),
+            (Side::Inside, Side::Outside) | (Side::Outside, Side::Inside)
+        ) {
+            let crossing = plane.crossing(s, s_dist, p, p_dist);
+            out.push(crossing.point);
+            out_colours.push(crossing.mix(s_colour, p_colour));
+        }
+        if p_side != Side::Outside {
+            out.push(p);
+            out_colours.push(p_colour);
+        }
+        (s, s_colour, s_side, s_dist) = (p, p_colour, p_side, p_dist);
     }
 }
 

@@ -36,11 +36,12 @@
 //! annotated one is a record kind of its own (see `tag` below).
 
 use crate::codec::{
-    expect_zero, head, head_n, write_vertices, BinaryError, BinaryInput, Control, Record,
-    MAX_VERTICES,
+    expect_zero, head, head_n, write_colours, write_vertices, BinaryError, BinaryInput, Control,
+    Record, MAX_VERTICES,
 };
 use crate::geometry::newell_plane;
 use crate::header::Space;
+use crate::shade::{ColourPlanes, VertexColour};
 use crate::text::{Lexer, Shown};
 use crate::StreamError;
 use glam::{DVec3, DVec4};
@@ -56,7 +57,7 @@ pub type Colour = [u8; 3];
 pub type Vertex = DVec4;
 
 /// A polygon: a colour and its vertices in order (either winding).
-#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct Polygon {
     pub colour: Colour,
     pub vertices: Vec<Vertex>,
@@ -64,7 +65,34 @@ pub struct Polygon {
     pub plane: Option<DVec4>,
     /// Per edge i, the original edge it lies on, if it is a piece of one; empty = none.
     pub supports: Vec<Option<[Vertex; 2]>>,
+    /// Per vertex, its colour (Gouraud shading, [`crate::shade`]); empty = the polygon is
+    /// one flat `colour`. A stream declares them in its header (`vertex-colours`).
+    pub colours: Vec<VertexColour>,
+    /// The colour planes of the whole polygon ([`crate::shade`]), if a stage recorded
+    /// them: over the screen position in eye space, over device coordinates in screen
+    /// space. Text: a line `shade` and twelve numbers after `plane`.
+    pub shade: Option<ColourPlanes>,
+    /// The colour's opacity, 0–255 (255 opaque, the default). A stream declares it in its
+    /// header (`opacity`), and every colour record is then `colour R G B A`.
+    pub opacity: u8,
 }
+
+impl Default for Polygon {
+    fn default() -> Self {
+        Polygon {
+            colour: [0; 3],
+            vertices: Vec::new(),
+            plane: None,
+            supports: Vec::new(),
+            colours: Vec::new(),
+            shade: None,
+            opacity: OPAQUE,
+        }
+    }
+}
+
+/// The opacity of an opaque colour.
+pub const OPAQUE: u8 = 255;
 
 impl Polygon {
     pub fn new(colour: Colour, vertices: Vec<Vertex>) -> Self {
@@ -73,6 +101,12 @@ impl Polygon {
             vertices,
             ..Default::default()
         }
+    }
+
+    /// Whether the polygon carries per-vertex colours (is Gouraud-shaded).
+    #[inline]
+    pub fn is_shaded(&self) -> bool {
+        !self.colours.is_empty()
     }
 
     /// The support of edge i (vertex i → vertex i+1), if it has one.
@@ -100,9 +134,9 @@ impl Polygon {
         (n.is_finite() && n.truncate() != DVec3::ZERO).then_some(n)
     }
 
-    /// Whether the polygon carries either annotation.
+    /// Whether the polygon carries an annotation (`plane`, `on` or `shade`).
     pub fn is_annotated(&self) -> bool {
-        self.plane.is_some() || self.supports.iter().any(Option::is_some)
+        self.plane.is_some() || self.shade.is_some() || self.supports.iter().any(Option::is_some)
     }
 
     /// A polygon with its vertices given as `[x, y, z]` triples (w = 1).
@@ -179,11 +213,12 @@ impl Token {
 /// | 0 | polygon | colour, n = vertex count | n vertices |
 /// | 1 | NEXT.FRAME | zeros | – |
 /// | 2 | END | zeros | – |
-/// | 3 | annotated polygon | colour, n | `flags: u32` (1 = plane, 2 = supports) and a zero `u32`; the plane (one vertex's 32 bytes) if flagged; n vertices; if flagged, the supports in groups of eight edges: eight bytes 0/1 (edge has one), then the two ends of each that has one |
+/// | 3 | annotated polygon | colour, n | `flags: u32` (1 = plane, 2 = supports, 4 = shade, 8 = vertex colours) and a `u32` whose low byte is 255 − opacity (zero: opaque), the rest zero; the plane (one vertex's 32 bytes) if flagged; the three colour planes (96 bytes) if flagged; n vertices; if flagged, n vertex colours (three `f64`s, 24 bytes each); if flagged, the supports in groups of eight edges: eight bytes 0/1 (edge has one), then the two ends of each that has one |
 /// | 4 | `skip N` | zero colour, n = N | – |
 ///
-/// A polygon without annotations is tag 0, so the common record is its head and its
-/// vertices, which are read and written as one block.
+/// A polygon without annotations, vertex colours or opacity is tag 0, so the common record
+/// is its head and its vertices, which are read and written as one block; a flat stream's
+/// records are those of stream version 3.
 mod tag {
     pub const POLYGON: u8 = 0;
     pub const NEXT_FRAME: u8 = 1;
@@ -192,8 +227,14 @@ mod tag {
     pub const SKIP: u8 = 4;
 }
 
-const FLAG_PLANE: u32 = 1;
-const FLAG_SUPPORTS: u32 = 2;
+const FLAG_PLANE: u64 = 1;
+const FLAG_SUPPORTS: u64 = 2;
+const FLAG_SHADE: u64 = 4;
+const FLAG_COLOURS: u64 = 8;
+/// The flag word's bits 32–39 hold 255 − opacity, so an opaque polygon's are zero.
+const TRANSPARENCY_SHIFT: u32 = 32;
+const KNOWN_FLAGS: u64 =
+    FLAG_PLANE | FLAG_SUPPORTS | FLAG_SHADE | FLAG_COLOURS | (0xff << TRANSPARENCY_SHIFT);
 
 /// Writes a polygon's binary record (tag 0, or tag 3 when it carries annotations).
 #[inline]
@@ -206,7 +247,8 @@ pub(crate) fn write_polygon_binary<W: Write>(p: &Polygon, out: &mut W) -> io::Re
         ));
     }
     let supports = p.supports.iter().any(Option::is_some);
-    if p.plane.is_none() && !supports {
+    let shaded = !p.colours.is_empty();
+    if p.plane.is_none() && !supports && !shaded && p.shade.is_none() && p.opacity == OPAQUE {
         out.write_all(&head(tag::POLYGON, p.colour, n as u32))?;
         return write_vertices(out, &p.vertices);
     }
@@ -216,14 +258,30 @@ pub(crate) fn write_polygon_binary<W: Write>(p: &Polygon, out: &mut W) -> io::Re
             format!("{} edge supports for {n} vertices", p.supports.len()),
         ));
     }
+    if shaded && p.colours.len() != n {
+        return Err(io::Error::new(
+            io::ErrorKind::InvalidInput,
+            format!("{} vertex colours for {n} vertices", p.colours.len()),
+        ));
+    }
     out.write_all(&head(tag::ANNOTATED, p.colour, n as u32))?;
-    let flags =
-        if p.plane.is_some() { FLAG_PLANE } else { 0 } | if supports { FLAG_SUPPORTS } else { 0 };
-    out.write_all(&(flags as u64).to_le_bytes())?;
+    let flag = |set: bool, f: u64| if set { f } else { 0 };
+    let flags = flag(p.plane.is_some(), FLAG_PLANE)
+        | flag(supports, FLAG_SUPPORTS)
+        | flag(p.shade.is_some(), FLAG_SHADE)
+        | flag(shaded, FLAG_COLOURS)
+        | u64::from(OPAQUE - p.opacity) << TRANSPARENCY_SHIFT;
+    out.write_all(&flags.to_le_bytes())?;
     if let Some(plane) = p.plane {
         write_vertices(out, &[plane])?;
     }
+    if let Some(shade) = &p.shade {
+        write_vertices(out, shade)?;
+    }
     write_vertices(out, &p.vertices)?;
+    if shaded {
+        write_colours(out, &p.colours)?;
+    }
     if supports {
         for group in (0..n).step_by(8) {
             let edges = group..(group + 8).min(n);
@@ -252,6 +310,11 @@ fn read_polygon_binary<R: Read>(
     p.colour = [head[1], head[2], head[3]];
     p.plane = None;
     p.supports.clear();
+    p.shade = None;
+    p.opacity = OPAQUE;
+    if !p.colours.is_empty() {
+        p.colours.clear();
+    }
     let n = head_n(head) as usize;
     if n > MAX_VERTICES {
         return Err(BinaryError::TooLarge);
@@ -260,16 +323,23 @@ fn read_polygon_binary<R: Read>(
         return input.vertices(&mut p.vertices, n);
     }
     let flags = u64::from_le_bytes(input.array()?);
-    if flags & !u64::from(FLAG_PLANE | FLAG_SUPPORTS) != 0 {
+    if flags & !KNOWN_FLAGS != 0 {
         return Err(BinaryError::Invalid(format!(
             "not a valid annotated polygon (flags {flags:#x}); is the stream corrupt?"
         )));
     }
-    if flags & u64::from(FLAG_PLANE) != 0 {
+    p.opacity = OPAQUE - (flags >> TRANSPARENCY_SHIFT) as u8;
+    if flags & FLAG_PLANE != 0 {
         p.plane = Some(input.vertex()?);
     }
+    if flags & FLAG_SHADE != 0 {
+        p.shade = Some([input.vertex()?, input.vertex()?, input.vertex()?]);
+    }
     input.vertices(&mut p.vertices, n)?;
-    if flags & u64::from(FLAG_SUPPORTS) != 0 {
+    if flags & FLAG_COLOURS != 0 {
+        input.colours(&mut p.colours, n)?;
+    }
+    if flags & FLAG_SUPPORTS != 0 {
         for group in (0..n).step_by(8) {
             let present: [u8; 8] = input.array()?;
             let edges = (n - group).min(8);
@@ -572,6 +642,29 @@ pub(crate) fn write_polygon_text<W: Write>(
     Ok(())
 }
 
+/// Checks a polygon's vertex colours: one a vertex, each channel a number from 0 to 255.
+fn check_colours(p: &Polygon) -> Result<(), String> {
+    if p.colours.len() != p.vertices.len() {
+        return Err(format!(
+            "{} vertex colours for {} vertices (one per vertex)",
+            p.colours.len(),
+            p.vertices.len()
+        ));
+    }
+    match p
+        .colours
+        .iter()
+        .position(|c| !(c.cmpge(DVec3::ZERO).all() && c.cmple(DVec3::splat(255.0)).all()))
+    {
+        Some(i) => Err(format!(
+            "the colour of vertex {i} is {:?}; a vertex colour's channels are numbers from 0 \
+             to 255",
+            p.colours[i].to_array()
+        )),
+        None => Ok(()),
+    }
+}
+
 impl Record for Token {
     #[inline]
     fn control(&self) -> Control {
@@ -611,7 +704,10 @@ impl Record for Token {
                     p.vertices[i].to_array()
                 ));
             }
-            if p.supports.is_empty() && p.plane.is_none() {
+            if !p.colours.is_empty() {
+                check_colours(p)?;
+            }
+            if p.supports.is_empty() && p.plane.is_none() && p.shade.is_none() {
                 return Ok(());
             }
             if !annotations_allowed(space) && p.is_annotated() {
@@ -638,6 +734,9 @@ impl Record for Token {
             }
             if p.plane.is_some_and(|n| !n.is_finite()) {
                 return Err("the polygon's plane is not finite".into());
+            }
+            if p.shade.is_some_and(|s| s.iter().any(|n| !n.is_finite())) {
+                return Err("the polygon's colour planes (`shade`) are not finite".into());
             }
         }
         Ok(())

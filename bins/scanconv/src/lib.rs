@@ -14,6 +14,7 @@
 //!   as runs of finished pixels (`Fragment::Run`), which `zbuf` places without a depth
 //!   test. The leaves share the per-pixel work; the merger only assembles.
 
+use proto::shade::Shading;
 use proto::Fragment;
 pub use scan::{check_on_screen, depth_at, DepthPlane, GUARD_BAND};
 use scan::{RegionBuffer, SpanWalker};
@@ -84,13 +85,17 @@ impl ScanConverter {
         self.stats.polygons_in += 1;
         let (width, height) = (self.width, self.height);
         let covered = match (self.output, &mut self.region) {
-            (Output::Resolve, Some(region)) => {
-                let colour = polygon.colour;
-                self.walker
-                    .for_each_span(polygon, width, height, |s| region.draw(&s, colour))
-            }
+            (Output::Resolve, Some(region)) => match Shading::of(polygon) {
+                Some(shading) => region.draw_shaded(&mut self.walker, polygon, &shading),
+                None => {
+                    let colour = polygon.colour;
+                    self.walker
+                        .for_each_span(polygon, width, height, |s| region.draw(&s, colour))
+                }
+            },
             (Output::Pixels, _) => {
                 emit(Fragment::Polygon(polygon.colour))?;
+                emit_shade(polygon, emit)?;
                 self.walker.spans(polygon, width, height, |s| {
                     for x in s.columns() {
                         emit(Fragment::Pixel {
@@ -104,6 +109,7 @@ impl ScanConverter {
             }
             _ => {
                 emit(Fragment::Polygon(polygon.colour))?;
+                emit_shade(polygon, emit)?;
                 let spans = &mut self.stats.spans;
                 self.walker.spans(polygon, width, height, |s| {
                     *spans += 1;
@@ -150,6 +156,24 @@ impl ScanConverter {
             None => Ok(()),
         }
     }
+}
+
+/// A Gouraud-shaded polygon's colour planes, as three `shade` records after its colour
+/// record (docs/DESIGN.md, "Fragment records"): one record a channel a polygon, where
+/// per-span gradients would be six numbers a span. Nothing for a flat polygon.
+fn emit_shade<E>(
+    polygon: &proto::Polygon,
+    emit: &mut impl FnMut(Fragment) -> Result<(), E>,
+) -> Result<(), E> {
+    if let Some(shading) = Shading::of(polygon) {
+        for (channel, plane) in shading.planes().iter().enumerate() {
+            emit(Fragment::Shade {
+                channel: channel as u8,
+                plane: plane.to_array(),
+            })?;
+        }
+    }
+    Ok(())
 }
 
 #[cfg(test)]
