@@ -373,6 +373,8 @@ pub const END: &str = "END";
 pub const COLOUR: &str = "colour";
 /// The optional plane line after `colour`.
 pub const PLANE: &str = "plane";
+/// The optional colour planes line (three planes, four numbers each) after `plane`.
+pub const SHADE: &str = "shade";
 /// Starts a vertex's support (the original edge from it to the next vertex lies on).
 pub const ON: &str = "on";
 /// `skip N`, standing for N polygons of which the stream carries nothing.
@@ -524,7 +526,7 @@ fn annotations_allowed(space: &Space) -> bool {
 }
 
 const NO_WORLD_ANNOTATIONS: &str =
-    "annotations (`plane`, `on`) are defined for eye and screen space only";
+    "annotations (`plane`, `shade`, `on`) are defined for eye and screen space only";
 
 /// Reads a polygon's text after its `colour R G B` into `p`, reusing its buffers.
 #[inline]
@@ -536,8 +538,11 @@ fn read_polygon_text<R: BufRead>(
 ) -> Result<(), StreamError> {
     p.colour = colour;
     p.plane = None;
+    p.shade = None;
+    p.opacity = OPAQUE;
     p.vertices.clear();
     p.supports.clear();
+    p.colours.clear();
     let arity = space.vertex_arity();
     if arity == 0 {
         // A fragments stream has no vertices: a polygon's vertices there would have no
@@ -564,6 +569,26 @@ fn read_polygon_text<R: BufRead>(
             ))?;
         }
         p.plane = Some(DVec4::from_array(n));
+    }
+    if lex.peek()? == Some(SHADE) {
+        if !annotations_allowed(space) {
+            return Err(lex.error(format!(
+                "a `shade` line in a {}-space stream: {NO_WORLD_ANNOTATIONS}",
+                space.name()
+            )));
+        }
+        lex.skip_word();
+        let mut planes = [DVec4::ZERO; 3];
+        for (plane, channel) in planes.iter_mut().zip(["red", "green", "blue"]) {
+            let mut n = [0.0; 4];
+            for (c, name) in n.iter_mut().zip(["a", "b", "c", "d"]) {
+                *c = lex.number(format_args!(
+                    "{name} of the {channel} colour plane (shade, four numbers a channel)"
+                ))?;
+            }
+            *plane = DVec4::from_array(n);
+        }
+        p.shade = Some(planes);
     }
     let space_name = space.name();
     while lex.next_is_number()? {
@@ -624,6 +649,13 @@ pub(crate) fn write_polygon_text<W: Write>(
     write_polygon_start(out, p.colour, first_in_frame)?;
     if let Some(n) = p.plane {
         writeln!(out, "{PLANE} {} {} {} {}", n.x, n.y, n.z, n.w)?;
+    }
+    if let Some([r, g, b]) = p.shade {
+        writeln!(
+            out,
+            "{SHADE} {} {} {} {}  {} {} {} {}  {} {} {} {}",
+            r.x, r.y, r.z, r.w, g.x, g.y, g.z, g.w, b.x, b.y, b.z, b.w
+        )?;
     }
     let point = |out: &mut W, v: &Vertex| match space.vertex_arity() {
         4 => write!(out, "{} {} {} {}", v.x, v.y, v.z, v.w),

@@ -489,13 +489,13 @@ fn annotation_errors_are_located() {
 fn annotations_in_world_space_are_refused() {
     assert_eq!(
         decode_err::<Token>(b"polypipe 1 world\ncolour 1 2 3\nplane 0 0 1 -16\n0 0 0\nEND\n"),
-        "line 3, column 1: a `plane` line in a world-space stream: annotations (`plane`, `on`) \
+        "line 3, column 1: a `plane` line in a world-space stream: annotations (`plane`, `shade`, `on`) \
          are defined for eye and screen space only"
     );
     assert_eq!(
         decode_err::<Token>(b"polypipe 1 world\ncolour 1 2 3\n0 0 0\n1 0 0 on 1 0 0 0 1 0\nEND\n"),
         "line 4, column 7: an edge support (`on`) in a world-space stream: annotations \
-         (`plane`, `on`) are defined for eye and screen space only"
+         (`plane`, `shade`, `on`) are defined for eye and screen space only"
     );
     let mut p = Polygon::from_xyz([1, 1, 1], &[[0.0, 0.0, 0.0]]);
     p.plane = Some(proto::DVec4::new(0.0, 0.0, 1.0, 0.0));
@@ -507,7 +507,7 @@ fn annotations_in_world_space_are_refused() {
     assert_eq!(
         decode_err::<Token>(&bin),
         "byte 16 (frame 0, polygon 0): an annotated polygon in a world-space stream: \
-         annotations (`plane`, `on`) are defined for eye and screen space only"
+         annotations (`plane`, `shade`, `on`) are defined for eye and screen space only"
     );
 }
 
@@ -587,4 +587,121 @@ fn skips_and_runs_round_trip_and_keep_numbering() {
         decode_err::<Fragment>(b"polypipe 2 fragments 4 4\nrun 4 0 1 1 1 1\nEND\n"),
         "line 2, column 15: run of row 4, columns 0..1, is outside the 4x4 screen"
     );
+}
+
+/// A Gouraud-shaded polygon's record: vertex colours, colour planes and opacity come back
+/// from the binary form bit for bit, and a flat polygon's record is unchanged by them.
+#[test]
+fn vertex_colours_shade_and_opacity_round_trip_in_binary() {
+    use proto::{DVec3, DVec4};
+    let header = Header::new(Space::Eye(View::default()));
+    let mut p = Polygon::new(
+        [1, 2, 3],
+        vec![
+            DVec4::new(-8.0, -4.0, 20.0, 12.5),
+            DVec4::new(0.0, 7.0, 20.0, 12.5),
+            DVec4::new(8.0, -4.0, 20.0, 12.5),
+        ],
+    );
+    let flat = encode(
+        header,
+        &[Token::Polygon(p.clone()), Token::End],
+        Form::Binary,
+    );
+    p.colours = vec![
+        DVec3::new(255.0, 0.0, 0.0),
+        DVec3::new(0.1, 254.9, 1.0 / 3.0),
+        DVec3::new(0.0, 0.0, 255.0),
+    ];
+    p.shade = Some([
+        DVec4::new(1.0, 2.0, 3.0, 4.0),
+        DVec4::new(-1.0, 0.5, 1.0, -7.25),
+        DVec4::new(0.0, 0.0, 1.0, -255.0),
+    ]);
+    p.opacity = 128;
+    let tokens = vec![Token::Polygon(p.clone()), Token::End];
+    let bin = encode(header, &tokens, Form::Binary);
+    assert_eq!(decode::<Token>(&bin).unwrap().1, tokens);
+    // The head, flags (4 shade | 8 colours, transparency 127 in byte 4), 96 bytes of
+    // planes, 96 of vertices, 72 of colours: 8 + 8 + 96 + 96 + 72 more than the header.
+    assert_eq!(bin.len() - flat.len(), 8 + 96 + 72);
+    let at = flat.len() - 8 - 8 - 96; // the flat record starts there
+    assert_eq!(
+        &bin[at..at + 16],
+        &[3, 1, 2, 3, 3, 0, 0, 0, 12, 0, 0, 0, 127, 0, 0, 0]
+    );
+    // The colour planes' text line, in eye space.
+    let text = String::from_utf8(encode(header, &tokens[..1], Form::Text)).unwrap();
+    assert!(
+        text.contains("\nshade 1 2 3 4  -1 0.5 1 -7.25  0 0 1 -255\n"),
+        "{text}"
+    );
+}
+
+#[test]
+fn colour_plane_text_reads_back_and_is_refused_in_world_space() {
+    let eye = "polypipe 1 eye\ncolour 1 2 3\nshade 1 2 3 4 5 6 7 8 9 10 11 12\n0 0 1 1\n1 0 1 1\n0 1 1 1\nEND\n";
+    let (_, tokens) = decode::<Token>(eye.as_bytes()).unwrap();
+    let Token::Polygon(p) = &tokens[0] else {
+        panic!("{tokens:?}")
+    };
+    assert_eq!(
+        p.shade.unwrap()[2],
+        proto::DVec4::new(9.0, 10.0, 11.0, 12.0)
+    );
+    let world = "polypipe 1 world\ncolour 1 2 3\nshade 1 2 3 4 5 6 7 8 9 10 11 12\nEND\n";
+    assert_eq!(
+        decode_err::<Token>(world.as_bytes()),
+        "line 3, column 1: a `shade` line in a world-space stream: annotations (`plane`, \
+         `shade`, `on`) are defined for eye and screen space only"
+    );
+    let short = "polypipe 1 eye\ncolour 1 2 3\nshade 1 2 3 4 5\nEND\n";
+    assert!(decode_err::<Token>(short.as_bytes())
+        .contains("b of the green colour plane (shade, four numbers a channel)"));
+}
+
+#[test]
+fn shade_fragments_round_trip_and_are_checked() {
+    let header = Header::new(Space::Fragments {
+        width: 8,
+        height: 4,
+    });
+    let records = vec![
+        Fragment::Polygon([9, 8, 7]),
+        Fragment::Shade {
+            channel: 0,
+            plane: [0.25, -1.5, 1.0, -100.0],
+        },
+        Fragment::Shade {
+            channel: 2,
+            plane: [0.0, 0.0, -2.0, 3.0],
+        },
+        Fragment::Span {
+            y: 3,
+            x0: 1,
+            x1: 8,
+            z: -0.05,
+            dz: 0.0,
+        },
+        Fragment::End,
+    ];
+    for form in [Form::Text, Form::Binary] {
+        let bytes = encode(header, &records, form);
+        assert_eq!(
+            decode::<Fragment>(&bytes).unwrap(),
+            (header, records.clone())
+        );
+    }
+    let text = String::from_utf8(encode(header, &records, Form::Text)).unwrap();
+    assert!(
+        text.contains("\nshade 0 0.25 -1.5 1 -100\nshade 2 0 0 -2 3\n"),
+        "{text}"
+    );
+    let bad = "polypipe 2 fragments 8 4\ncolour 1 1 1\nshade 1 1 2 0 4\nEND\n";
+    assert!(
+        decode_err::<Fragment>(bad.as_bytes()).contains("colour coefficient (the third) not zero")
+    );
+    let early = "polypipe 2 fragments 8 4\nshade 1 1 2 1 4\nEND\n";
+    assert!(decode_err::<Fragment>(early.as_bytes())
+        .contains("pixels before the frame's first `colour`"));
 }
