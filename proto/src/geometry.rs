@@ -578,9 +578,68 @@ pub fn newell_plane(points: &[DVec3]) -> DVec4 {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use proptest::prelude::*;
 
     fn view() -> View {
         View::default()
+    }
+
+    #[test]
+    fn colours_are_interpolated_where_the_edge_is_cut() {
+        // Left plane x_e ≥ −w = −10: the edge from x = 2 to x = −22 crosses at half way
+        // (α = 12/24), the edge back from −22 at x = 2, the same point from its inside end.
+        let left = PyramidPlane::Left.plane(&view());
+        let e = |x: f64, y: f64| DVec4::new(x, y, 16.0, 10.0);
+        let tri = [e(2.0, 0.0), e(-22.0, 8.0), e(2.0, 8.0)];
+        let colours = [
+            DVec3::new(200.0, 0.0, 10.0),
+            DVec3::new(0.0, 100.0, 30.0),
+            DVec3::new(50.0, 50.0, 50.0),
+        ];
+        let (mut out, mut out_colours) = (vec![], vec![]);
+        clip_coloured(&tri, &colours, &left, &mut out, &mut out_colours);
+        let mut flat = vec![];
+        clip_against(&tri, &left, &mut flat);
+        assert_eq!(out, flat);
+        assert_eq!(
+            out,
+            [e(2.0, 0.0), e(-10.0, 4.0), e(-10.0, 8.0), e(2.0, 8.0)]
+        );
+        assert_eq!(
+            out_colours,
+            [
+                DVec3::new(200.0, 0.0, 10.0),
+                DVec3::new(100.0, 50.0, 20.0),
+                DVec3::new(25.0, 75.0, 40.0),
+                DVec3::new(50.0, 50.0, 50.0),
+            ]
+        );
+    }
+
+    proptest! {
+        /// The crossing's colour is the same bits whichever way the edge is walked, as
+        /// its position is, and lies between the ends' colours.
+        #[test]
+        fn a_crossings_colour_does_not_depend_on_the_direction(
+            a in prop::array::uniform4(-50.0f64..50.0),
+            b in prop::array::uniform4(-50.0f64..50.0),
+            ca in prop::array::uniform3(0.0f64..=255.0),
+            cb in prop::array::uniform3(0.0f64..=255.0),
+        ) {
+            let plane = PyramidPlane::Left.plane(&view());
+            let (a, b) = (DVec4::from_array(a), DVec4::from_array(b));
+            let (ca, cb) = (DVec3::from_array(ca), DVec3::from_array(cb));
+            let (sa, da) = plane.classify(a);
+            let (sb, db) = plane.classify(b);
+            prop_assume!(matches!((sa, sb), (Side::Inside, Side::Outside) | (Side::Outside, Side::Inside)));
+            let forth = plane.crossing(a, da, b, db);
+            let back = plane.crossing(b, db, a, da);
+            prop_assert_eq!(forth.point, back.point);
+            prop_assert_eq!(forth.point, plane.intersect(a, da, b, db));
+            let (c1, c2) = (forth.mix(ca, cb), back.mix(cb, ca));
+            prop_assert_eq!(c1, c2);
+            prop_assert!(c1.cmpge(ca.min(cb) - 1e-9).all() && c1.cmple(ca.max(cb) + 1e-9).all());
+        }
     }
 
     /// Fuzz target `clip`'s first crash (fuzz/regressions/clip-subnormal): an edge of

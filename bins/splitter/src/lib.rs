@@ -558,6 +558,41 @@ mod tests {
     }
 
     #[test]
+    fn vertex_colours_are_cut_with_the_edges_and_the_whole_shade_is_kept() {
+        // The square −2 ≤ x_e ≤ 2, red on the left, blue on the right: cut at x_e = 0,
+        // both new vertices are half way, purple; both pieces get the whole square's
+        // colour planes, and the opacity.
+        let mut square = poly(&[(-2.0, -2.0), (2.0, -2.0), (2.0, 2.0), (-2.0, 2.0)]);
+        let (red, blue) = (DVec3::new(255.0, 0.0, 0.0), DVec3::new(0.0, 0.0, 255.0));
+        square.colours = vec![red, blue, blue, red];
+        square.opacity = 99;
+        let whole = proto::shade::eye_colour_planes(&square.vertices, &square.colours);
+        assert!(whole.is_some());
+        let (mut a, mut b) = (Polygon::default(), Polygon::default());
+        split(&square, &x0(), &mut a, &mut b);
+        let purple = DVec3::new(127.5, 0.0, 127.5);
+        assert_eq!(
+            a.vertices,
+            [v(-2.0, -2.0), v(0.0, -2.0), v(0.0, 2.0), v(-2.0, 2.0)]
+        );
+        assert_eq!(a.colours, [red, purple, purple, red]);
+        assert_eq!(
+            b.vertices,
+            [v(0.0, -2.0), v(2.0, -2.0), v(2.0, 2.0), v(0.0, 2.0)]
+        );
+        assert_eq!(b.colours, [purple, blue, blue, purple]);
+        assert_eq!((a.shade, b.shade), (whole, whole));
+        assert_eq!((a.opacity, b.opacity), (99, 99));
+        // A recorded shade is kept, not refitted; a flat polygon's pieces stay flat.
+        square.shade = Some([DVec4::new(0.0, 0.0, 1.0, -7.0); 3]);
+        split(&square, &x0(), &mut a, &mut b);
+        assert_eq!(a.shade, square.shade);
+        let flat = poly(&[(-2.0, -2.0), (2.0, -2.0), (2.0, 2.0)]);
+        split(&flat, &x0(), &mut a, &mut b);
+        assert!(a.colours.is_empty() && b.colours.is_empty() && a.shade.is_none());
+    }
+
+    #[test]
     fn case_1_and_2_wholly_on_one_side() {
         // Inside (x_e ≤ 0): everything to out1, unchanged; out2 gets an empty polygon.
         let tri = [(-3.0, 0.0), (-1.0, 4.0), (-2.0, -2.0)];
