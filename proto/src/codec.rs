@@ -121,9 +121,9 @@ pub trait Record: Sized + Default {
     /// the reader names in a message about a record it could not finish reading.
     fn binary_control(head: &[u8; 8]) -> Option<Control>;
 
-    /// Checks a decoded binary record (finite numbers, sizes); the message names what is
-    /// wrong and the reader adds where.
-    fn validate(&self, space: &Space) -> Result<(), String>;
+    /// Checks a decoded binary record (finite numbers, sizes, what the header declares);
+    /// the message names what is wrong and the reader adds where.
+    fn validate(&self, header: &Header) -> Result<(), String>;
 
     /// Decodes the rest of the binary record that starts with `head` into `self`.
     fn read_binary<R: Read>(
@@ -143,7 +143,7 @@ pub trait Record: Sized + Default {
         &mut self,
         spare: &mut Self,
         lex: &mut Lexer<R>,
-        space: &Space,
+        header: &Header,
         first_in_frame: bool,
     ) -> Result<(), StreamError>;
 
@@ -151,7 +151,7 @@ pub trait Record: Sized + Default {
     fn write_text<W: Write>(
         &self,
         out: &mut W,
-        space: &Space,
+        header: &Header,
         first_in_frame: bool,
     ) -> io::Result<()>;
 }
@@ -573,7 +573,7 @@ impl<T: Record, R: Read> Reader<T, R> {
                         "pixels before the frame's first colour record".into(),
                     ));
                 }
-                if let Err(msg) = record.validate(&self.header.space) {
+                if let Err(msg) = record.validate(&self.header) {
                     return Err(fail(start, Some(control), msg));
                 }
             }
@@ -584,7 +584,7 @@ impl<T: Record, R: Read> Reader<T, R> {
                     }
                     return Err(lex.error_at_end("the stream ends without END (cut short?)"));
                 }
-                record.read_text(&mut self.spare, lex, &self.header.space, first_in_frame)?;
+                record.read_text(&mut self.spare, lex, &self.header, first_in_frame)?;
             }
         }
         match record.control() {
@@ -644,19 +644,27 @@ fn read_binary_header<R: Read>(input: &mut BinaryInput<R>) -> Result<Header, Str
     if Read::read_exact(input, &mut magic).is_err() || magic != BINARY_MAGIC {
         return Err(bad(0, "not a polypipe stream (bad magic)"));
     }
-    let header: Header = bincode_options()
+    // The version first, alone, so that a stream of another version is named as such
+    // whatever the rest of its header holds.
+    let version: u32 = bincode_options()
         .deserialize_from(&mut *input)
         .map_err(|_| bad(8, "unreadable stream header"))?;
-    if header.version != VERSION {
+    if version != VERSION {
         return Err(bad(
             8,
-            &format!(
-                "stream version {} is not supported (this is version {VERSION})",
-                header.version
-            ),
+            &format!("stream version {version} is not supported (this is version {VERSION})"),
         ));
     }
+    let (space, attributes): (Space, crate::header::Attributes) = bincode_options()
+        .deserialize_from(&mut *input)
+        .map_err(|_| bad(12, "unreadable stream header"))?;
+    let header = Header {
+        version,
+        space,
+        attributes,
+    };
     check_space(&header.space).map_err(|m| bad(8, &m))?;
+    check_attributes(&header).map_err(|m| bad(8, &m))?;
     Ok(header)
 }
 
@@ -723,10 +731,105 @@ fn read_text_header<R: BufRead>(lex: &mut Lexer<R>) -> Result<Header, StreamErro
         ));
     }
     check_space(&space).map_err(|m| lex.error_at(space_at, m))?;
+    let attributes = read_text_attributes(lex, &space)?;
     Ok(Header {
         version: VERSION,
         space,
+        attributes,
     })
+}
+
+/// The header's attribute words after the space's ([`crate::header::Attributes`]), in any
+/// order: `depth reciprocal K1`, `depth projective K1 K2` or `depth eye-z`, for screen and
+/// fragment streams; `vertex-colours` and `opacity` for polygon streams. A record's
+/// keyword ends them.
+fn read_text_attributes<R: BufRead>(
+    lex: &mut Lexer<R>,
+    space: &Space,
+) -> Result<crate::header::Attributes, StreamError> {
+    use crate::header::DepthForm;
+    let mut attributes = crate::header::Attributes::default();
+    loop {
+        let flag = match lex.peek()? {
+            Some("depth") => None,
+            Some("vertex-colours") => Some(&mut attributes.vertex_colours),
+            Some("opacity") => Some(&mut attributes.opacity),
+            _ => break,
+        };
+        let word = lex.next_word()?.unwrap_or_default();
+        let at = lex.mark();
+        if let Some(flag) = flag {
+            if space.vertex_arity() == 0 {
+                return Err(lex.error_at(
+                    at,
+                    format!(
+                        "`{word}` in the header is for polygon streams (world, eye, screen), \
+                         not {}-space",
+                        space.name()
+                    ),
+                ));
+            }
+            if *flag {
+                return Err(lex.error_at(at, format!("the header says `{word}` twice")));
+            }
+            *flag = true;
+            continue;
+        }
+        if space.screen_size().is_none() {
+            return Err(lex.error_at(
+                at,
+                format!(
+                    "`depth` in the header is for screen and fragment streams, not {}-space",
+                    space.name()
+                ),
+            ));
+        }
+        if attributes.depth.is_some() {
+            return Err(lex.error_at(at, "the header names the depth form twice".to_string()));
+        }
+        let form = lex.expect_word("a depth form (reciprocal K1, projective K1 K2, eye-z)")?;
+        let form_at = lex.mark();
+        let mut positive = |what: &str| -> Result<f64, StreamError> {
+            let v = lex.number_with(|| format!("the depth form's {what}"))?;
+            if v.is_finite() && v > 0.0 {
+                Ok(v)
+            } else {
+                Err(lex.error(format!(
+                    "the depth form's {what} {} must be positive",
+                    Number(v)
+                )))
+            }
+        };
+        let depth = match form.as_str() {
+            "reciprocal" => DepthForm::Reciprocal {
+                hither: positive("hither")?,
+            },
+            "projective" => {
+                let hither = positive("hither")?;
+                let yon = positive("yon")?;
+                if hither >= yon {
+                    return Err(lex.error(format!(
+                        "the depth form's hither {} and yon {} must satisfy hither < yon",
+                        Number(hither),
+                        Number(yon)
+                    )));
+                }
+                DepthForm::Projective { hither, yon }
+            }
+            "eye-z" => DepthForm::EyeZ,
+            other => {
+                return Err(lex.error_at(
+                    form_at,
+                    format!(
+                        "unknown depth form `{}` (expected reciprocal, projective or eye-z)",
+                        Shown(other)
+                    ),
+                ))
+            }
+        };
+        attributes.depth = Some(depth);
+    }
+    Ok(attributes)
 }
 
 /// The header's numbers must make sense before any stage computes with them.
@@ -759,11 +862,44 @@ fn check_space(space: &Space) -> Result<(), String> {
     Ok(())
 }
 
+/// A binary header's attributes must be what a text header could say.
+fn check_attributes(header: &Header) -> Result<(), String> {
+    use crate::header::DepthForm;
+    let a = &header.attributes;
+    if (a.vertex_colours || a.opacity) && header.space.vertex_arity() == 0 {
+        return Err(format!(
+            "vertex colours and opacity in the header are for polygon streams, not {}-space",
+            header.space.name()
+        ));
+    }
+    let Some(form) = header.attributes.depth else {
+        return Ok(());
+    };
+    if header.space.screen_size().is_none() {
+        return Err(format!(
+            "a depth form in the header is for screen and fragment streams, not {}-space",
+            header.space.name()
+        ));
+    }
+    let positive = |v: f64| v.is_finite() && v > 0.0;
+    match form {
+        DepthForm::Reciprocal { hither } if !positive(hither) => {
+            Err("the depth form's hither must be positive".to_string())
+        }
+        DepthForm::Projective { hither, yon }
+            if !(positive(hither) && positive(yon) && hither < yon) =>
+        {
+            Err("the depth form's hither and yon must satisfy 0 < hither < yon".to_string())
+        }
+        _ => Ok(()),
+    }
+}
+
 /// Writes a stream of records of kind `T` in either form, buffered.
 pub struct Writer<T, W: Write> {
     out: BufWriter<W>,
     form: Form,
-    space: Space,
+    header: Header,
     polygons_in_frame: u64,
     _kind: std::marker::PhantomData<T>,
 }
@@ -787,15 +923,16 @@ impl<T: Record, W: Write> Writer<T, W> {
             }
             Form::Text => writeln!(
                 out,
-                "{TEXT_MAGIC} {} {}",
+                "{TEXT_MAGIC} {} {}{}",
                 text_version(&header.space),
-                header.space
+                header.space,
+                header.attributes
             )?,
         }
         Ok(Writer {
             out,
             form,
-            space: header.space,
+            header,
             polygons_in_frame: 0,
             _kind: std::marker::PhantomData,
         })
@@ -808,7 +945,7 @@ impl<T: Record, W: Write> Writer<T, W> {
         Writer {
             out: BufWriter::with_capacity(IO_BUFFER, out),
             form: Form::Binary,
-            space: header.space,
+            header,
             polygons_in_frame: 0,
             _kind: std::marker::PhantomData,
         }
@@ -832,7 +969,7 @@ impl<T: Record, W: Write> Writer<T, W> {
         match self.form {
             Form::Binary => record.write_binary(&mut self.out)?,
             Form::Text => {
-                record.write_text(&mut self.out, &self.space, self.polygons_in_frame == 0)?
+                record.write_text(&mut self.out, &self.header, self.polygons_in_frame == 0)?
             }
         }
         self.count(record.control())
@@ -883,7 +1020,7 @@ impl<W: Write> Writer<crate::Token, W> {
             Form::Text => crate::polygon::write_polygon_text(
                 p,
                 &mut self.out,
-                &self.space,
+                &self.header,
                 self.polygons_in_frame == 0,
             )?,
         }

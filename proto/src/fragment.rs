@@ -16,7 +16,7 @@
 //! plane (which is what keeps a split polygon identical to the whole).
 
 use crate::codec::{expect_zero, head, head_n, BinaryError, BinaryInput, Control, Record};
-use crate::header::Space;
+use crate::header::Header;
 use crate::polygon::{
     read_polygon_start, write_polygon_start, write_skip, Colour, Start, END, NEXT_FRAME,
 };
@@ -136,8 +136,8 @@ impl Record for Fragment {
         }
     }
 
-    fn validate(&self, space: &Space) -> Result<(), String> {
-        let (width, height) = space.screen_size().unwrap_or((0, 0));
+    fn validate(&self, header: &Header) -> Result<(), String> {
+        let (width, height) = header.space.screen_size().unwrap_or((0, 0));
         match *self {
             Fragment::Span { y, x0, x1, .. } if y >= height || x0 > x1 || x1 > width => {
                 Err(format!(
@@ -318,7 +318,7 @@ impl Record for Fragment {
         &mut self,
         _spare: &mut Self,
         lex: &mut Lexer<R>,
-        space: &Space,
+        header: &Header,
         first_in_frame: bool,
     ) -> Result<(), StreamError> {
         let record = match lex.peek()? {
@@ -371,7 +371,7 @@ impl Record for Fragment {
                 Start::End => Fragment::End,
             },
         };
-        record.validate(space).map_err(|m| lex.error(m))?;
+        record.validate(header).map_err(|m| lex.error(m))?;
         *self = record;
         Ok(())
     }
@@ -379,7 +379,7 @@ impl Record for Fragment {
     fn write_text<W: Write>(
         &self,
         out: &mut W,
-        _space: &Space,
+        _header: &Header,
         first_in_frame: bool,
     ) -> io::Result<()> {
         match *self {

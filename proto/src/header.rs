@@ -20,9 +20,10 @@ pub const TEXT_MAGIC: &str = "polypipe";
 /// read and written in place (`proto::codec`, "The binary records"); the header itself is
 /// still bincode. Version 3 made a fragment's depth an f64 (it was 64-bit fixed point), a
 /// span's depth its row's depth at column 0, and screen depth reciprocal by default
-/// ([`crate::depth`]). A binary reader accepts version 3 only: every stage of one build
-/// writes it.
-pub const VERSION: u32 = 3;
+/// ([`crate::depth`]). Version 4 added the header's [`Attributes`] (what a screen or
+/// fragment stream's depths are: [`DepthForm`]). A binary reader accepts version 4 only:
+/// every stage of one build writes it.
+pub const VERSION: u32 = 4;
 
 /// The version the text form's header spells, `polypipe N SPACE`. The polygon streams'
 /// text (world, eye, screen) has not changed since version 1, and people's scene files
@@ -124,20 +125,154 @@ impl fmt::Display for Space {
     }
 }
 
+/// What the third number of a screen vertex, and a fragment's depth, is: the form persp
+/// wrote (`persp --depth`), with the view volume's planes it was computed from. Smaller is
+/// nearer in every form. A stage that knows the form can tell how finely its f64 depths
+/// order eye-space depth ([`DepthForm::quantum`]); one that does not (a hand-written
+/// screen stream says nothing) treats depths as numbers.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub enum DepthForm {
+    /// D = −K1/z_e ([`crate::camera::Device::reciprocal_depth`]), K1 the hither distance.
+    Reciprocal { hither: f64 },
+    /// z_s = (1 − K1/z_e)·K2/(K2 − K1) ([`crate::camera::Device::projective_depth`]).
+    Projective { hither: f64, yon: f64 },
+    /// z_e itself (the thesis's occam code).
+    EyeZ,
+}
+
+impl DepthForm {
+    /// The eye-space depth z_e (K1 ≤ z_e ≤ K2, smaller nearer) of the depth `d` in this
+    /// form: −K1/D for reciprocal depth, K1/(1 − z_s·(K2 − K1)/K2) for projective depth.
+    pub fn eye_depth(&self, d: f64) -> f64 {
+        match *self {
+            DepthForm::Reciprocal { hither } => -hither / d,
+            DepthForm::Projective { hither, yon } => hither / (1.0 - d * ((yon - hither) / yon)),
+            DepthForm::EyeZ => d,
+        }
+    }
+
+    /// The relative width in eye space, |Δz_e|/z_e, of one f64 ulp of the depth `d` in this
+    /// form: how far apart in eye space two polygons can be and still get the same depth.
+    /// About 2⁻⁵² for reciprocal depth and eye-z at any distance; for projective depth
+    /// ulp(z_s)·z_e·(K2 − K1)/(K1·K2), which grows with the distance (its derivative
+    /// dz_s/dz_e = K1·K2/((K2 − K1)·z_e²) vanishes far from the eye).
+    pub fn quantum(&self, d: f64) -> f64 {
+        let ulp = d.abs() * f64::EPSILON;
+        match *self {
+            DepthForm::Reciprocal { .. } | DepthForm::EyeZ => f64::EPSILON,
+            DepthForm::Projective { hither, yon } => {
+                ulp * self.eye_depth(d) * (yon - hither) / (hither * yon)
+            }
+        }
+    }
+
+    /// The relative width in eye space of the tie rule's 2⁻³⁰·|d| ([`crate::depth::TIE`])
+    /// when a z-buffer applies it to depths of this form, as every stage does: exactly
+    /// 2⁻³⁰ for reciprocal depth and eye-z (the rule is relative, and so are they), but
+    /// 2⁻³⁰·(z_e − K1)/K1 for projective depth, since z_s = k·(1 − K1/z_e) moves by only
+    /// k·K1/z_e for a relative step of z_e. Projective depth ties two polygons that the
+    /// rule orders wherever z_e > 2·K1.
+    pub fn rule_width(&self, d: f64) -> f64 {
+        match *self {
+            DepthForm::Reciprocal { .. } | DepthForm::EyeZ => crate::depth::TIE,
+            DepthForm::Projective { hither, .. } => {
+                crate::depth::TIE * (self.eye_depth(d) - hither) / hither
+            }
+        }
+    }
+
+    /// The widest relative eye-space width, over the view volume, within which a z-buffer
+    /// holding this form cannot order two polygons: the rule's width or `ulps` ulps,
+    /// whichever is wider, at yon for projective depth. Above 2⁻³⁰, the form can tie
+    /// polygons that the rule orders.
+    pub fn widest(&self, ulps: f64) -> f64 {
+        match *self {
+            DepthForm::Reciprocal { .. } | DepthForm::EyeZ => {
+                crate::depth::TIE.max(ulps * f64::EPSILON)
+            }
+            DepthForm::Projective { hither, yon } => {
+                let at_yon = (yon - hither) / hither;
+                (crate::depth::TIE * at_yon).max(ulps * f64::EPSILON * at_yon)
+            }
+        }
+    }
+
+    /// The header's words for it, after `depth`: `reciprocal K1`, `projective K1 K2`, `eye-z`.
+    fn words(&self) -> String {
+        match *self {
+            DepthForm::Reciprocal { hither } => format!("reciprocal {hither}"),
+            DepthForm::Projective { hither, yon } => format!("projective {hither} {yon}"),
+            DepthForm::EyeZ => "eye-z".to_string(),
+        }
+    }
+}
+
+/// What a stream's header says about its records beyond the space: written after the
+/// space's words in the text form (`polypipe 1 screen 500 500 depth reciprocal 1`), and in
+/// the binary form's header. Every stage passes on the attributes of its input that still
+/// hold for its output.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
+pub struct Attributes {
+    /// The form of the depths (screen and fragment streams): `depth FORM …`. `None` where
+    /// the writer did not say (a hand-written stream, a stage that has no depths).
+    pub depth: Option<DepthForm>,
+    /// `vertex-colours` (polygon streams): every vertex carries a colour, `r g b` after its
+    /// coordinates, numbers from 0 to 255 ([`crate::shade`]: Gouraud shading).
+    pub vertex_colours: bool,
+    /// `opacity` (polygon streams): every colour record is `colour R G B A`, A the opacity
+    /// from 0 (clear) to 255 (opaque).
+    pub opacity: bool,
+}
+
+impl Attributes {
+    /// What a fragment stream scan-converted from a stream with these attributes says:
+    /// the depth form. Vertex colours and opacity belong to polygon records (a shaded
+    /// polygon's fragments carry its colour planes in `shade` records instead).
+    pub fn for_fragments(&self) -> Attributes {
+        Attributes {
+            depth: self.depth,
+            ..Attributes::default()
+        }
+    }
+}
+
+impl fmt::Display for Attributes {
+    /// The text header's words, each with a leading space (nothing for the default).
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        if let Some(form) = &self.depth {
+            write!(f, " depth {}", form.words())?;
+        }
+        if self.vertex_colours {
+            write!(f, " vertex-colours")?;
+        }
+        if self.opacity {
+            write!(f, " opacity")?;
+        }
+        Ok(())
+    }
+}
+
 /// A stream's header. The magic is implied by the form; the version is checked on read.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 pub struct Header {
     pub version: u32,
     pub space: Space,
+    pub attributes: Attributes,
 }
 
 impl Header {
-    /// A header of the current version.
+    /// A header of the current version, with no attributes.
     pub fn new(space: Space) -> Self {
         Header {
             version: VERSION,
             space,
+            attributes: Attributes::default(),
         }
+    }
+
+    /// The same header with `attributes`.
+    pub fn with(self, attributes: Attributes) -> Self {
+        Header { attributes, ..self }
     }
 
     /// Checks that the stream is in the space a stage consumes, with a message that tells

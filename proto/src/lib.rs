@@ -24,6 +24,6 @@ pub use codec::{Form, Reader, Record, Writer};
 pub use error::StreamError;
 pub use fragment::Fragment;
 pub use glam::{DVec2, DVec3, DVec4};
-pub use header::{Header, Space, SpaceKind, View};
+pub use header::{Attributes, DepthForm, Header, Space, SpaceKind, View};
 pub use polygon::{Colour, Polygon, Token, Vertex, OPAQUE};
 pub use shade::{ColourPlanes, VertexColour};

@@ -40,7 +40,7 @@ use crate::codec::{
     Record, MAX_VERTICES,
 };
 use crate::geometry::newell_plane;
-use crate::header::Space;
+use crate::header::{Header, Space};
 use crate::shade::{ColourPlanes, VertexColour};
 use crate::text::{Lexer, Shown};
 use crate::StreamError;
@@ -528,14 +528,17 @@ fn annotations_allowed(space: &Space) -> bool {
 const NO_WORLD_ANNOTATIONS: &str =
     "annotations (`plane`, `shade`, `on`) are defined for eye and screen space only";
 
-/// Reads a polygon's text after its `colour R G B` into `p`, reusing its buffers.
+/// Reads a polygon's text after its `colour R G B` into `p`, reusing its buffers: the
+/// opacity `A` where the header declares `opacity`, and each vertex's colour `r g b` after
+/// its coordinates where it declares `vertex-colours`.
 #[inline]
 fn read_polygon_text<R: BufRead>(
     p: &mut Polygon,
     colour: Colour,
     lex: &mut Lexer<R>,
-    space: &Space,
+    header: &Header,
 ) -> Result<(), StreamError> {
+    let space = &header.space;
     p.colour = colour;
     p.plane = None;
     p.shade = None;
@@ -553,6 +556,12 @@ fn read_polygon_text<R: BufRead>(
             "a polygon in a {}-space stream, which holds no vertices",
             space.name()
         )));
+    }
+    if header.attributes.opacity {
+        p.opacity = lex.integer(
+            "the opacity of the colour (colour R G B A: the header says `opacity`)",
+            255,
+        )? as u8;
     }
     if lex.peek()? == Some(PLANE) {
         if !annotations_allowed(space) {
@@ -591,27 +600,54 @@ fn read_polygon_text<R: BufRead>(
         p.shade = Some(planes);
     }
     let space_name = space.name();
+    let coloured = header.attributes.vertex_colours;
+    // The numbers of a vertex line: its coordinates, then its colour if declared.
+    let numbers = arity + if coloured { 3 } else { 0 };
     while lex.next_is_number()? {
         if p.vertices.len() == MAX_VERTICES {
             lex.peek()?;
             return Err(lex.error(format!("polygon has more than {MAX_VERTICES} vertices")));
         }
-        let mut v = [0.0, 0.0, 0.0, 1.0];
+        let mut v = [0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0];
         let i = p.vertices.len();
         // A line of just the vertex's numbers (nearly every line of a scene) is read
         // whole; anything else, word by word, with its messages.
-        let whole_line = lex.numbers_to_line_end(&mut v[..arity]);
-        for (k, c) in v
-            .iter_mut()
-            .take(if whole_line { 0 } else { arity })
-            .enumerate()
-        {
-            *c = lex.number(format_args!(
-                "{} of vertex {i} ({arity} numbers a vertex in {space_name} space)",
-                coordinate_name(space, k)
-            ))?;
+        let whole_line = lex.numbers_to_line_end(&mut v[..numbers]);
+        if !whole_line {
+            for (k, c) in v.iter_mut().take(arity).enumerate() {
+                *c = lex.number(format_args!(
+                    "{} of vertex {i} ({numbers} numbers a vertex in {space_name} space{})",
+                    coordinate_name(space, k),
+                    if coloured { " with vertex colours" } else { "" }
+                ))?;
+            }
+            for (k, name) in ["red", "green", "blue"]
+                .into_iter()
+                .enumerate()
+                .take(if coloured { 3 } else { 0 })
+            {
+                v[arity + k] = lex.number(format_args!(
+                    "the {name} of vertex {i}'s colour (the header says `vertex-colours`: \
+                     r g b after the coordinates)"
+                ))?;
+            }
         }
-        p.vertices.push(DVec4::from_array(v));
+        if coloured {
+            let c = DVec3::new(v[arity], v[arity + 1], v[arity + 2]);
+            if !(c.cmpge(DVec3::ZERO).all() && c.cmple(DVec3::splat(255.0)).all()) {
+                return Err(lex.error(format!(
+                    "vertex {i}'s colour {} {} {}: a vertex colour's channels are numbers from \
+                     0 to 255",
+                    c.x, c.y, c.z
+                )));
+            }
+            p.colours.push(c);
+            v[arity..].fill(0.0);
+            if arity == 3 {
+                v[3] = 1.0;
+            }
+        }
+        p.vertices.push(DVec4::new(v[0], v[1], v[2], v[3]));
         if lex.peek()? == Some(ON) {
             if !annotations_allowed(space) {
                 return Err(lex.error(format!(
@@ -639,14 +675,24 @@ fn read_polygon_text<R: BufRead>(
     Ok(())
 }
 
-/// Writes a polygon's text form (colour, plane, vertices and supports).
+/// Writes a polygon's text form (colour, plane, vertices and supports), with the opacity
+/// and the vertex colours where the header declares them.
 pub(crate) fn write_polygon_text<W: Write>(
     p: &Polygon,
     out: &mut W,
-    space: &Space,
+    header: &Header,
     first_in_frame: bool,
 ) -> io::Result<()> {
-    write_polygon_start(out, p.colour, first_in_frame)?;
+    let space = &header.space;
+    if header.attributes.opacity {
+        if !first_in_frame {
+            writeln!(out, "{NEXT_POLYGON}")?;
+        }
+        let [r, g, b] = p.colour;
+        writeln!(out, "{COLOUR} {r} {g} {b} {}", p.opacity)?;
+    } else {
+        write_polygon_start(out, p.colour, first_in_frame)?;
+    }
     if let Some(n) = p.plane {
         writeln!(out, "{PLANE} {} {} {} {}", n.x, n.y, n.z, n.w)?;
     }
@@ -661,8 +707,15 @@ pub(crate) fn write_polygon_text<W: Write>(
         4 => write!(out, "{} {} {} {}", v.x, v.y, v.z, v.w),
         _ => write!(out, "{} {} {}", v.x, v.y, v.z),
     };
+    let coloured = header.attributes.vertex_colours;
     for (i, v) in p.vertices.iter().enumerate() {
         point(out, v)?;
+        if coloured {
+            // A polygon of a declared stream has one colour a vertex (the writer's
+            // caller validated it); a missing one is written black rather than dropped.
+            let c = p.colours.get(i).copied().unwrap_or_default();
+            write!(out, " {} {} {}", c.x, c.y, c.z)?;
+        }
         if let Some([a, b]) = p.support(i) {
             write!(out, " {ON} ")?;
             point(out, &a)?;
@@ -719,7 +772,8 @@ impl Record for Token {
     }
 
     #[inline]
-    fn validate(&self, space: &Space) -> Result<(), String> {
+    fn validate(&self, header: &Header) -> Result<(), String> {
+        let space = &header.space;
         if let Token::Skip(0) = self {
             return Err("`skip 0`: a skip stands for at least one polygon".into());
         }
@@ -736,8 +790,23 @@ impl Record for Token {
                     p.vertices[i].to_array()
                 ));
             }
-            if !p.colours.is_empty() {
+            if !p.colours.is_empty() || (header.attributes.vertex_colours && !p.vertices.is_empty())
+            {
+                if !header.attributes.vertex_colours {
+                    return Err(
+                        "a polygon with vertex colours in a stream whose header does not \
+                         declare them (`vertex-colours`)"
+                            .into(),
+                    );
+                }
                 check_colours(p)?;
+            }
+            if p.opacity != OPAQUE && !header.attributes.opacity {
+                return Err(format!(
+                    "a polygon of opacity {} in a stream whose header does not declare \
+                     `opacity`",
+                    p.opacity
+                ));
             }
             if p.supports.is_empty() && p.plane.is_none() && p.shade.is_none() {
                 return Ok(());
@@ -821,11 +890,11 @@ impl Record for Token {
         &mut self,
         spare: &mut Self,
         lex: &mut Lexer<R>,
-        space: &Space,
+        header: &Header,
         first_in_frame: bool,
     ) -> Result<(), StreamError> {
         match read_polygon_start(lex, first_in_frame)? {
-            Start::Colour(c) => read_polygon_text(self.polygon_mut(spare), c, lex, space)?,
+            Start::Colour(c) => read_polygon_text(self.polygon_mut(spare), c, lex, header)?,
             Start::Skip(n) => self.set(spare, Token::Skip(n)),
             Start::NextFrame => self.set(spare, Token::NextFrame),
             Start::End => self.set(spare, Token::End),
@@ -836,11 +905,11 @@ impl Record for Token {
     fn write_text<W: Write>(
         &self,
         out: &mut W,
-        space: &Space,
+        header: &Header,
         first_in_frame: bool,
     ) -> io::Result<()> {
         match self {
-            Token::Polygon(p) => write_polygon_text(p, out, space, first_in_frame),
+            Token::Polygon(p) => write_polygon_text(p, out, header, first_in_frame),
             Token::Skip(n) => write_skip(out, *n, first_in_frame),
             Token::NextFrame => writeln!(out, "{NEXT_FRAME}"),
             Token::End => writeln!(out, "{END}"),

@@ -3,7 +3,7 @@
 
 use proptest::prelude::*;
 use proto::fragment::Fragment;
-use proto::{Form, Header, Polygon, Reader, Space, Token, View, Writer};
+use proto::{Attributes, DepthForm, Form, Header, Polygon, Reader, Space, Token, View, Writer};
 
 fn encode<T: proto::Record>(header: Header, records: &[T], form: Form) -> Vec<u8> {
     let mut w = Writer::new(Vec::new(), header, form).unwrap();
@@ -277,12 +277,12 @@ fn binary_version_1_is_refused() {
     v1.extend_from_slice(&[1, 0, 0, 0, 0, 0, 0, 0, 2, 0, 0, 0]);
     assert_eq!(
         decode_err::<Token>(&v1),
-        "byte 8: stream version 1 is not supported (this is version 3)"
+        "byte 8: stream version 1 is not supported (this is version 4)"
     );
     // The text form is still version 1, and says so.
     let text = encode(Header::new(Space::World), &[Token::End], Form::Text);
     assert_eq!(text, b"polypipe 1 world\nEND\n");
-    assert_eq!(Header::new(Space::World).version, 3);
+    assert_eq!(Header::new(Space::World).version, 4);
 }
 
 #[test]
@@ -506,7 +506,7 @@ fn annotations_in_world_space_are_refused() {
     );
     assert_eq!(
         decode_err::<Token>(&bin),
-        "byte 16 (frame 0, polygon 0): an annotated polygon in a world-space stream: \
+        "byte 19 (frame 0, polygon 0): an annotated polygon in a world-space stream: \
          annotations (`plane`, `shade`, `on`) are defined for eye and screen space only"
     );
 }
@@ -593,8 +593,13 @@ fn skips_and_runs_round_trip_and_keep_numbering() {
 /// from the binary form bit for bit, and a flat polygon's record is unchanged by them.
 #[test]
 fn vertex_colours_shade_and_opacity_round_trip_in_binary() {
-    use proto::{DVec3, DVec4};
-    let header = Header::new(Space::Eye(View::default()));
+    use proto::{Attributes, DVec3, DVec4};
+    let plain = Header::new(Space::Eye(View::default()));
+    let header = plain.with(Attributes {
+        vertex_colours: true,
+        opacity: true,
+        ..Attributes::default()
+    });
     let mut p = Polygon::new(
         [1, 2, 3],
         vec![
@@ -603,11 +608,11 @@ fn vertex_colours_shade_and_opacity_round_trip_in_binary() {
             DVec4::new(8.0, -4.0, 20.0, 12.5),
         ],
     );
-    let flat = encode(
-        header,
-        &[Token::Polygon(p.clone()), Token::End],
-        Form::Binary,
-    );
+    // A flat polygon is a head and its vertices (the record of stream version 3).
+    let flat = encode(plain, &[Token::Polygon(p.clone())], Form::Binary);
+    let start = encode::<Token>(plain, &[], Form::Binary).len();
+    assert_eq!(flat.len() - start, 8 + 96);
+    assert_eq!(&flat[start..start + 8], &[0, 1, 2, 3, 3, 0, 0, 0]);
     p.colours = vec![
         DVec3::new(255.0, 0.0, 0.0),
         DVec3::new(0.1, 254.9, 1.0 / 3.0),
@@ -623,19 +628,64 @@ fn vertex_colours_shade_and_opacity_round_trip_in_binary() {
     let bin = encode(header, &tokens, Form::Binary);
     assert_eq!(decode::<Token>(&bin).unwrap().1, tokens);
     // The head, flags (4 shade | 8 colours, transparency 127 in byte 4), 96 bytes of
-    // planes, 96 of vertices, 72 of colours: 8 + 8 + 96 + 96 + 72 more than the header.
-    assert_eq!(bin.len() - flat.len(), 8 + 96 + 72);
-    let at = flat.len() - 8 - 8 - 96; // the flat record starts there
+    // planes, 96 of vertices, 72 of colours, and END.
+    let start = encode::<Token>(header, &[], Form::Binary).len();
+    assert_eq!(bin.len() - start, 8 + 8 + 96 + 96 + 72 + 8);
     assert_eq!(
-        &bin[at..at + 16],
+        &bin[start..start + 16],
         &[3, 1, 2, 3, 3, 0, 0, 0, 12, 0, 0, 0, 127, 0, 0, 0]
     );
-    // The colour planes' text line, in eye space.
-    let text = String::from_utf8(encode(header, &tokens[..1], Form::Text)).unwrap();
-    assert!(
-        text.contains("\nshade 1 2 3 4  -1 0.5 1 -7.25  0 0 1 -255\n"),
-        "{text}"
+    // The text form: the opacity after the colour, the colour planes' line, each vertex's
+    // colour after its coordinates; and it reads back.
+    let text = encode(header, &tokens, Form::Text);
+    assert_eq!(
+        String::from_utf8(text.clone()).unwrap(),
+        "polypipe 1 eye aspect 1 hither 1 yon 30 vertex-colours opacity\n\
+         colour 1 2 3 128\n\
+         shade 1 2 3 4  -1 0.5 1 -7.25  0 0 1 -255\n\
+         -8 -4 20 12.5 255 0 0\n\
+         0 7 20 12.5 0.1 254.9 0.3333333333333333\n\
+         8 -4 20 12.5 0 0 255\n\
+         END\n"
     );
+    assert_eq!(decode::<Token>(&text).unwrap(), (header, tokens.clone()));
+    // A stream that does not declare them refuses them, and one that does refuses a
+    // polygon without them.
+    let undeclared = encode(plain, &tokens, Form::Binary);
+    assert!(decode_err::<Token>(&undeclared).contains("does not declare them (`vertex-colours`)"));
+    let bare = encode(
+        header,
+        &[
+            Token::Polygon(Polygon::new([1, 2, 3], vec![DVec4::W; 3])),
+            Token::End,
+        ],
+        Form::Binary,
+    );
+    assert!(decode_err::<Token>(&bare).contains("0 vertex colours for 3 vertices"));
+}
+
+#[test]
+fn vertex_colour_text_is_checked_where_it_stands() {
+    let header = "polypipe 1 world vertex-colours\ncolour 1 2 3\n0 0 0 1 2 3\n1 0 0 4 5\n";
+    assert_eq!(
+        decode_err::<Token>(format!("{header}END\n").as_bytes()),
+        "line 5, column 1: expected the blue of vertex 1's colour (the header says \
+         `vertex-colours`: r g b after the coordinates), found `END`"
+    );
+    let over = "polypipe 1 world vertex-colours\ncolour 1 2 3\n0 0 0 1 2 256\nEND\n";
+    assert!(decode_err::<Token>(over.as_bytes()).contains(
+        "vertex 0's colour 1 2 256: a vertex colour's channels are numbers from 0 to 255"
+    ));
+    let twice = "polypipe 1 world vertex-colours opacity vertex-colours\nEND\n";
+    assert!(
+        decode_err::<Token>(twice.as_bytes()).contains("the header says `vertex-colours` twice")
+    );
+    let fragments = "polypipe 2 fragments 4 4 opacity\nEND\n";
+    assert!(decode_err::<Fragment>(fragments.as_bytes()).contains(
+        "`opacity` in the header is for polygon streams (world, eye, screen), not fragments-space"
+    ));
+    let alpha = "polypipe 1 world opacity\ncolour 1 2 3\nEND\n";
+    assert!(decode_err::<Token>(alpha.as_bytes()).contains("expected the opacity of the colour"));
 }
 
 #[test]
@@ -704,4 +754,90 @@ fn shade_fragments_round_trip_and_are_checked() {
     let early = "polypipe 2 fragments 8 4\nshade 1 1 2 1 4\nEND\n";
     assert!(decode_err::<Fragment>(early.as_bytes())
         .contains("pixels before the frame's first `colour`"));
+}
+
+/// The depth form persp names in the header: written after the space's words, read back
+/// from either form, and refused where it means nothing or its numbers cannot be.
+#[test]
+fn the_depth_form_in_the_header_round_trips_and_is_checked() {
+    let screen = Space::Screen {
+        width: 8,
+        height: 4,
+    };
+    for (form, words) in [
+        (DepthForm::Reciprocal { hither: 1.0 }, "depth reciprocal 1"),
+        (
+            DepthForm::Projective {
+                hither: 0.001,
+                yon: 1000.0,
+            },
+            "depth projective 0.001 1000",
+        ),
+        (DepthForm::EyeZ, "depth eye-z"),
+    ] {
+        let header = Header::new(screen).with(Attributes {
+            depth: Some(form),
+            ..Attributes::default()
+        });
+        let text = encode(header, &[Token::End], Form::Text);
+        assert_eq!(
+            String::from_utf8(text.clone()).unwrap(),
+            format!("polypipe 1 screen 8 4 {words}\nEND\n")
+        );
+        for bytes in [text, encode(header, &[Token::End], Form::Binary)] {
+            let (back, records) = decode::<Token>(&bytes).unwrap();
+            assert_eq!((back, records), (header, vec![Token::End]));
+        }
+        let fragments = Header::new(Space::Fragments {
+            width: 8,
+            height: 4,
+        })
+        .with(Attributes {
+            depth: Some(form),
+            ..Attributes::default()
+        });
+        let text = encode(fragments, &[Fragment::End], Form::Text);
+        assert!(String::from_utf8_lossy(&text)
+            .starts_with(&format!("polypipe 2 fragments 8 4 {words}\n")));
+        assert_eq!(decode::<Fragment>(&text).unwrap().0, fragments);
+    }
+    // Without the words: no form, as every hand-written screen stream.
+    let (plain, _) = decode::<Token>(b"polypipe 1 screen 8 4\nEND\n").unwrap();
+    assert_eq!(plain.attributes.depth, None);
+    for (text, message) in [
+        (
+            "polypipe 1 world depth eye-z\nEND\n",
+            "line 1, column 18: `depth` in the header is for screen and fragment streams, not world-space",
+        ),
+        (
+            "polypipe 1 screen 8 4 depth linear\nEND\n",
+            "line 1, column 29: unknown depth form `linear` (expected reciprocal, projective or eye-z)",
+        ),
+        (
+            "polypipe 1 screen 8 4 depth projective 2 1\nEND\n",
+            "line 1, column 42: the depth form's hither 2 and yon 1 must satisfy hither < yon",
+        ),
+        (
+            "polypipe 1 screen 8 4 depth reciprocal -1\nEND\n",
+            "line 1, column 40: the depth form's hither -1 must be positive",
+        ),
+        (
+            "polypipe 1 screen 8 4 depth eye-z depth eye-z\nEND\n",
+            "line 1, column 35: the header names the depth form twice",
+        ),
+    ] {
+        assert_eq!(decode_err::<Token>(text.as_bytes()), message, "{text}");
+    }
+    // A binary header holds what a text one could say, or is refused.
+    let bad = Header::new(screen).with(Attributes {
+        depth: Some(DepthForm::Projective {
+            hither: 5.0,
+            yon: 1.0,
+        }),
+        ..Attributes::default()
+    });
+    assert_eq!(
+        decode_err::<Token>(&encode(bad, &[Token::End], Form::Binary)),
+        "byte 8: the depth form's hither and yon must satisfy 0 < hither < yon"
+    );
 }

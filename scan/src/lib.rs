@@ -38,6 +38,7 @@ mod depth;
 mod edges;
 pub mod fine;
 pub mod frame;
+pub mod precision;
 pub mod region;
 mod walk;
 

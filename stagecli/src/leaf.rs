@@ -34,7 +34,9 @@ pub fn resolve_frames(
         .ok_or_else(|| Error::data("screen-space header without a size"))?;
     // At least a resolved colour for every pixel a frame's polygons may cover.
     crate::memory::check_screen(width, height, 3, "at least a resolved colour")?;
-    let mut out = write_stdout::<Fragment>(Header::new(Space::Fragments { width, height }), form)?;
+    let header = Header::new(Space::Fragments { width, height })
+        .with(input.header().attributes.for_fragments());
+    let mut out = write_stdout::<Fragment>(header, form)?;
     // The header goes on at once, so that the merger can refuse a screen too large for
     // it now, not after this leaf's first frame (a minute, at 65536x65536).
     out.flush()?;

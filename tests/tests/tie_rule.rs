@@ -163,6 +163,69 @@ fn projective_depth_loses_the_near_yon_square() {
     assert!(count(&f, BLUE) < 2916, "{} blue", count(&f, BLUE));
 }
 
+/// The z-buffer says where projective depth ties what the rule orders: one line a frame
+/// from the stage that resolves (zbuf at depth 0 and with one z-buffer, each leaf's
+/// scanconv in a tree), with the number of depth tests, and nothing for reciprocal depth
+/// or eye-z, whose test is the rule.
+#[test]
+fn zbuf_says_when_projective_depth_ties_what_the_rule_orders() {
+    let scene = near_yon_pair(3.4e-7);
+    let warning = "depth tests where a polygon nearer than the tie rule's 2^-30 lost to one \
+                   within the projective depth's quantum (up to 9.3e-4 of the eye-space depth \
+                   in this view volume): the earlier polygon shows there (persp --depth \
+                   reciprocal keeps the rule at any hither/yon)";
+    let camera = "--hither 0.001 --yon 1000 --size 200x200";
+    for (options, lines) in [
+        ("--depth 0", vec![format!("zbuf: frame 0: 2916 {warning}")]),
+        (
+            "--depth 2 --merge buffer",
+            vec![format!("zbuf: frame 0: 2916 {warning}")],
+        ),
+        (
+            "--depth 2",
+            (0..4)
+                .map(|leaf| format!("scanconv (leaf {leaf}): frame 0: 729 {warning}"))
+                .collect(),
+        ),
+    ] {
+        let out = sh(
+            &format!("scripts/render.sh {camera} --zmode projective {options} -"),
+            scene.as_bytes(),
+        );
+        assert!(out.status.success(), "{options}");
+        let stderr = String::from_utf8_lossy(&out.stderr);
+        let mut got: Vec<&str> = stderr.lines().filter(|l| l.contains("frame 0:")).collect();
+        got.sort();
+        assert_eq!(got, lines, "{options}");
+        // --stats counts them too.
+        if options == "--depth 0" {
+            let out = sh(
+                &format!("scripts/render.sh {camera} --zmode projective {options} --stats -"),
+                scene.as_bytes(),
+            );
+            let stderr = String::from_utf8_lossy(&out.stderr);
+            assert!(
+                stderr.contains(", 2916 depth tests lost to the depth form's quantum"),
+                "{stderr}"
+            );
+        }
+    }
+    for zmode in ["reciprocal", "eye-z"] {
+        for options in ["--depth 0", "--depth 2", "--depth 2 --merge buffer"] {
+            let out = sh(
+                &format!("scripts/render.sh {camera} --zmode {zmode} {options} -"),
+                scene.as_bytes(),
+            );
+            assert!(out.status.success());
+            assert!(
+                !String::from_utf8_lossy(&out.stderr).contains("tie rule"),
+                "{zmode} {options}: {}",
+                String::from_utf8_lossy(&out.stderr)
+            );
+        }
+    }
+}
+
 #[test]
 fn penetrating_polygons_are_the_reference_at_every_size() {
     // Sizes at which pixel centres lie on the polygons' line of equal depth, and others.

@@ -66,6 +66,21 @@ pub struct Unprojectable {
 }
 
 impl Perspective {
+    /// The form of the depths it writes, for the screen stream's header.
+    pub fn depth_form(&self) -> proto::DepthForm {
+        let view = self.device.view;
+        match self.depth {
+            DepthMode::Reciprocal => proto::DepthForm::Reciprocal {
+                hither: view.hither,
+            },
+            DepthMode::Projective => proto::DepthForm::Projective {
+                hither: view.hither,
+                yon: view.yon,
+            },
+            DepthMode::EyeZ => proto::DepthForm::EyeZ,
+        }
+    }
+
     /// The mapping for a `width`×`height` screen and the view volume of the eye-space
     /// stream. The screen's W/H must be the aspect ratio the stream was viewed (and
     /// clipped) with, or the picture would be stretched and the clipped edges would not

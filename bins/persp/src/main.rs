@@ -45,8 +45,15 @@ fn main() -> ExitCode {
                 // A view volume persp cannot map (from the stream's header) is bad input.
                 let perspective =
                     Perspective::new(width, height, view, cli.depth).map_err(Error::data)?;
+                // The header says which depth it is, and from which planes, so that a
+                // z-buffer can tell how finely it orders eye-space depth.
+                let form = perspective.depth_form();
+                let attributes = proto::Attributes {
+                    depth: Some(form),
+                    ..header.attributes
+                };
                 Ok((
-                    Header::new(Space::Screen { width, height }),
+                    Header::new(Space::Screen { width, height }).with(attributes),
                     move |poly: &mut Polygon| {
                         perspective.project_polygon(poly).map_err(|e| e.reason)
                     },

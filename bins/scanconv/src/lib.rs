@@ -16,6 +16,7 @@
 
 use proto::shade::Shading;
 use proto::Fragment;
+use scan::precision::QuantumWatch;
 pub use scan::{check_on_screen, depth_at, DepthPlane, GUARD_BAND};
 use scan::{RegionBuffer, SpanWalker};
 
@@ -42,6 +43,8 @@ pub struct Stats {
     pub spans: u64,
     /// Pixels covered (whether sent as spans or as pixels, or depth-tested here).
     pub pixels: u64,
+    /// Depth tests that rounding, not the tie rule, decided ([`scan::precision`]).
+    pub rounding_decided: u64,
 }
 
 /// The scan converter for one screen, its tables reused from polygon to polygon.
@@ -52,6 +55,9 @@ pub struct ScanConverter {
     walker: SpanWalker,
     /// The leaf's Z-buffer, in [`Output::Resolve`] only.
     region: Option<RegionBuffer>,
+    /// Where rounding in a coarse depth form decides ties, in [`Output::Resolve`] only
+    /// ([`scan::precision`]).
+    watch: Option<QuantumWatch>,
     pub stats: Stats,
 }
 
@@ -63,8 +69,28 @@ impl ScanConverter {
             output,
             walker: SpanWalker::new(),
             region: (output == Output::Resolve).then(|| RegionBuffer::new(width, height)),
+            watch: None,
             stats: Stats::default(),
         }
+    }
+
+    /// When resolving, watch for depth tests that the stream's depth `form` (its header's)
+    /// is too coarse to decide by the tie rule ([`scan::precision::QuantumWatch`]); a form
+    /// that is fine enough everywhere costs nothing.
+    pub fn watch_depth(&mut self, form: Option<proto::DepthForm>) {
+        if self.output == Output::Resolve {
+            self.watch = QuantumWatch::for_form(form, self.width, self.height);
+        }
+    }
+
+    /// At a frame's end (`frame` from 0): the warning for it, when rounding decided some
+    /// of its depth tests ([`ScanConverter::watch_depth`]), counted in
+    /// [`Stats::rounding_decided`].
+    pub fn quantum_warning(&mut self, frame: u64) -> Option<String> {
+        let watch = self.watch.as_mut()?;
+        let lost = watch.end_frame();
+        self.stats.rounding_decided += lost;
+        (lost > 0).then(|| watch.message(frame, lost))
     }
 
     /// The region buffer's counts (pixels tested and written, runs, tiles), in
@@ -85,14 +111,26 @@ impl ScanConverter {
         self.stats.polygons_in += 1;
         let (width, height) = (self.width, self.height);
         let covered = match (self.output, &mut self.region) {
-            (Output::Resolve, Some(region)) => match Shading::of(polygon) {
-                Some(shading) => region.draw_shaded(&mut self.walker, polygon, &shading),
-                None => {
-                    let colour = polygon.colour;
-                    self.walker
-                        .for_each_span(polygon, width, height, |s| region.draw(&s, colour))
+            (Output::Resolve, Some(region)) => {
+                let colour = polygon.colour;
+                match (&mut self.watch, Shading::of(polygon)) {
+                    (None, None) => self
+                        .walker
+                        .for_each_span(polygon, width, height, |s| region.draw(&s, colour)),
+                    (Some(watch), None) => self.walker.for_each_span(polygon, width, height, |s| {
+                        region.draw(&s, colour);
+                        watch.span(&s);
+                    }),
+                    (watch, Some(shading)) => {
+                        self.walker.for_each_span(polygon, width, height, |s| {
+                            region.draw_shaded(&s, &shading);
+                            if let Some(watch) = watch {
+                                watch.span(&s);
+                            }
+                        })
+                    }
                 }
-            },
+            }
             (Output::Pixels, _) => {
                 emit(Fragment::Polygon(polygon.colour))?;
                 emit_shade(polygon, emit)?;

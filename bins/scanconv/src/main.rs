@@ -49,8 +49,9 @@ fn main() -> ExitCode {
             let bytes = std::mem::size_of::<scan::Depth>() as u64 + 4;
             stagecli::memory::check_screen(width, height, bytes, "depth and colour")?;
         }
+        let attributes = input.header().attributes.for_fragments();
         let mut out = stagecli::write_stdout::<Fragment>(
-            Header::new(Space::Fragments { width, height }),
+            Header::new(Space::Fragments { width, height }).with(attributes),
             args.text.form(),
         )?;
         // The header at once: the merger checks the screen's size before any frame.
@@ -63,6 +64,14 @@ fn main() -> ExitCode {
             Output::Spans
         };
         let mut sc = ScanConverter::new(width, height, output);
+        sc.watch_depth(attributes.depth);
+        let mut frame = 0u64;
+        let warn = |sc: &mut ScanConverter, frame: &mut u64| {
+            if let Some(message) = sc.quantum_warning(*frame) {
+                eprintln!("scanconv: {message}");
+            }
+            *frame += 1;
+        };
         while let Some(token) = stagecli::next(&mut input)? {
             match token {
                 Token::Polygon(p) => {
@@ -73,10 +82,12 @@ fn main() -> ExitCode {
                 Token::Skip(n) => sc.skip(n, &mut |f| out.write(&f))?,
                 Token::NextFrame => {
                     sc.finish_frame(&mut |f| out.write(&f))?;
+                    warn(&mut sc, &mut frame);
                     out.write(&Fragment::NextFrame)?
                 }
                 Token::End => {
                     sc.finish_frame(&mut |f| out.write(&f))?;
+                    warn(&mut sc, &mut frame);
                     out.write(&Fragment::End)?
                 }
             }
@@ -86,8 +97,9 @@ fn main() -> ExitCode {
             let s = sc.stats;
             match sc.region_stats() {
                 Some(r) => eprintln!(
-                    "scanconv: {} polygons in, {} drawn, {} pixels tested, {} written, {} runs out, {} tiles",
-                    s.polygons_in, s.polygons_drawn, r.pixels_tested, r.pixels_written, r.runs, r.tiles
+                    "scanconv: {} polygons in, {} drawn, {} pixels tested, {} written, {} runs out, {} tiles{}",
+                    s.polygons_in, s.polygons_drawn, r.pixels_tested, r.pixels_written, r.runs, r.tiles,
+                    rounding(s.rounding_decided)
                 ),
                 None => eprintln!(
                     "scanconv: {} polygons in, {} drawn, {} spans, {} pixels",
@@ -97,4 +109,13 @@ fn main() -> ExitCode {
         }
         Ok(())
     })
+}
+
+/// The --stats line's count of depth tests decided by rounding, where there were any.
+fn rounding(n: u64) -> String {
+    if n > 0 {
+        format!(", {n} depth tests lost to the depth form's quantum")
+    } else {
+        String::new()
+    }
 }

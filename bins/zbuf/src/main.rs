@@ -182,8 +182,16 @@ fn main() -> ExitCode {
                     } else {
                         String::new()
                     };
+                    let rounding = if r.rounding_decided > 0 {
+                        format!(
+                            ", {} depth tests lost to the depth form's quantum",
+                            r.rounding_decided
+                        )
+                    } else {
+                        String::new()
+                    };
                     eprintln!(
-                        "zbuf: {name}: {} polygons in, {} pixels tested, {} written{runs}",
+                        "zbuf: {name}: {} polygons in, {} pixels tested, {} written{runs}{rounding}",
                         r.polygons, r.pixels_tested, r.pixels_written
                     );
                 } else if s.runs > 0 {

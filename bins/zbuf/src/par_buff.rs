@@ -14,7 +14,8 @@
 
 use crate::FrameBuffer;
 use proto::shade::Shading;
-use proto::{Colour, DVec4, Fragment, Reader, SpaceKind, Token};
+use proto::{Colour, DVec4, DepthForm, Fragment, Reader, SpaceKind, Token};
+use scan::precision::QuantumWatch;
 use scan::{check_on_screen, RegionBuffer, SpanWalker};
 use stagecli::{Context, Counted, Error, Result};
 use std::io::Read;
@@ -56,6 +57,9 @@ pub struct Resolved {
     /// Pixels depth-tested, and of those written (the nearer so far).
     pub pixels_tested: u64,
     pub pixels_written: u64,
+    /// Depth tests that rounding in a coarse depth form, not the tie rule, decided
+    /// ([`scan::precision`]).
+    pub rounding_decided: u64,
 }
 
 /// From a reader thread to the buffer thread.
@@ -65,6 +69,7 @@ enum Message {
         input: usize,
         width: u32,
         height: u32,
+        depth: Option<DepthForm>,
     },
     /// Fragments in stream order (polygon records, spans, pixels; no control records).
     Batch {
@@ -145,6 +150,9 @@ pub fn par_buff(
 
     let mut fb: Option<FrameBuffer> = None;
     let mut first_header: Option<usize> = None;
+    // Fragments whose depths rounding, not the tie rule, ordered (the first header's depth
+    // form decides; arrival order stands in for stream order, which it is for one input).
+    let mut watch: Option<QuantumWatch> = None;
     let mut frame = 0u64;
     let mut at_boundary = 0usize;
     loop {
@@ -156,6 +164,7 @@ pub fn par_buff(
                 input,
                 width,
                 height,
+                depth,
             } => match (&fb, first_header) {
                 (Some(b), Some(first)) if (b.width(), b.height()) != (width, height) => {
                     return Err(Error::data(format!(
@@ -176,6 +185,7 @@ pub fn par_buff(
                         .map_err(|m| Error::io(format!("{name}: {m}")))?;
                     fb = Some(buffer);
                     first_header = Some(input);
+                    watch = QuantumWatch::for_form(depth, width, height);
                 }
             },
             Message::Batch { input, fragments } => {
@@ -183,7 +193,8 @@ pub fn par_buff(
                     .as_mut()
                     .ok_or_else(|| Error::data("fragments before a header"))?;
                 let s = &mut states[input];
-                apply(fb, s, &fragments).with_context(|| format!("{}: frame {frame}", s.name))?;
+                apply(fb, s, &fragments, watch.as_mut())
+                    .with_context(|| format!("{}: frame {frame}", s.name))?;
             }
             Message::Boundary {
                 input,
@@ -203,6 +214,12 @@ pub fn par_buff(
                 let fb = fb
                     .as_mut()
                     .ok_or_else(|| Error::data("a frame before a header"))?;
+                if let Some(w) = watch.as_mut() {
+                    let lost = w.end_frame();
+                    if lost > 0 {
+                        eprintln!("zbuf: {}", w.message(frame, lost));
+                    }
+                }
                 on_frame(frame, fb)?;
                 let ended = states.iter().filter(|s| s.at == At::End).count();
                 if ended == n {
@@ -245,7 +262,12 @@ pub fn par_buff(
 }
 
 /// BUFFER's inner loop: a batch of one input's fragments into the frame buffer.
-fn apply(fb: &mut FrameBuffer, s: &mut InputState, fragments: &[Fragment]) -> Result<()> {
+fn apply(
+    fb: &mut FrameBuffer,
+    s: &mut InputState,
+    fragments: &[Fragment],
+    mut watch: Option<&mut QuantumWatch>,
+) -> Result<()> {
     // The current polygon's index in the frame; set by its colour record.
     let mut polygon = s.polygons.wrapping_sub(1);
     for f in fragments {
@@ -267,6 +289,9 @@ fn apply(fb: &mut FrameBuffer, s: &mut InputState, fragments: &[Fragment]) -> Re
                     None => fb.span(y, x0..x1, z, dz, polygon, s.colour),
                     Some(shading) => fb.shaded_span(y, x0..x1, (z, dz), polygon, shading.row(y)),
                 }
+                if let Some(w) = watch.as_deref_mut() {
+                    w.row(y, x0, x1, z, dz);
+                }
             }
             Fragment::Pixel { x, y, z } => {
                 s.stats.pixels += 1;
@@ -275,6 +300,9 @@ fn apply(fb: &mut FrameBuffer, s: &mut InputState, fragments: &[Fragment]) -> Re
                     Some(shading) => shading.at(x, y),
                 };
                 fb.pixel(x, y, z, polygon, colour);
+                if let Some(w) = watch.as_deref_mut() {
+                    w.pixel(x, y, z);
+                }
             }
             Fragment::Shade { channel, plane } => {
                 // The channels come red, green, blue; one not sent keeps the colour
@@ -336,7 +364,8 @@ fn read_input(
                 )));
             }
         }
-        if !send_header(&tx, input, screen_of(&reader, "fragment")?) {
+        let depth = reader.header().attributes.depth;
+        if !send_header(&tx, input, screen_of(&reader, "fragment")?, depth) {
             return Ok(());
         }
         let send = |m| tx.send(m).is_ok();
@@ -408,11 +437,17 @@ fn screen_of<T: proto::Record, R: Read>(reader: &Reader<T, R>, what: &str) -> Re
 
 /// A reader thread's first message: its input's screen size. `false` when the buffer
 /// thread has stopped (on another input's error): then there is nothing left to do.
-fn send_header(tx: &SyncSender<Message>, input: usize, (width, height): (u32, u32)) -> bool {
+fn send_header(
+    tx: &SyncSender<Message>,
+    input: usize,
+    (width, height): (u32, u32),
+    depth: Option<DepthForm>,
+) -> bool {
     tx.send(Message::Header {
         input,
         width,
         height,
+        depth,
     })
     .is_ok()
 }
@@ -429,19 +464,42 @@ fn send_batch(tx: &SyncSender<Message>, input: usize, batch: &mut Vec<Fragment>)
 fn resolve_polygon<R: Read>(
     walker: &mut SpanWalker,
     region: &mut RegionBuffer,
+    watch: &mut Option<QuantumWatch>,
     polygon: &proto::Polygon,
     reader: &Reader<Token, R>,
 ) -> Result<()> {
     let (width, height) = region.size();
     check_on_screen(polygon, width, height)
         .map_err(|m| Error::data(format!("{}: {m}", reader.position())))?;
-    if let Some(shading) = proto::shade::Shading::of(polygon) {
-        region.draw_shaded(walker, polygon, &shading);
+    if let Some(shading) = Shading::of(polygon) {
+        walker.for_each_span(polygon, width, height, |span| {
+            region.draw_shaded(&span, &shading);
+            if let Some(watch) = watch {
+                watch.span(&span);
+            }
+        });
         return Ok(());
     }
     let colour = polygon.colour;
-    walker.for_each_span(polygon, width, height, |span| region.draw(&span, colour));
+    match watch {
+        None => walker.for_each_span(polygon, width, height, |span| region.draw(&span, colour)),
+        Some(watch) => walker.for_each_span(polygon, width, height, |span| {
+            region.draw(&span, colour);
+            watch.span(&span);
+        }),
+    };
     Ok(())
+}
+
+/// At a frame's end, the warning of [`scan::precision`] on stderr when rounding in the
+/// stream's depth form decided some of the frame's depth tests; their count.
+fn warn_rounding(watch: &mut Option<QuantumWatch>, frame: u64) -> u64 {
+    let Some(watch) = watch else { return 0 };
+    let lost = watch.end_frame();
+    if lost > 0 {
+        eprintln!("zbuf: {}", watch.message(frame, lost));
+    }
+    lost
 }
 
 /// [`par_buff`] for one input. When the input is a screen-space polygon stream (the
@@ -490,6 +548,7 @@ pub fn one_input(
     let mut reader =
         Reader::<Token, _>::new(buffered).map_err(|e| Error::from(e).context(&name))?;
     let (width, height) = screen_of(&reader, "screen-space").map_err(|e| e.context(&name))?;
+    let depth = reader.header().attributes.depth;
     // The frame buffer is made as the header is read, as par_buff makes it at the first
     // header: a screen too large to hold is refused at once, with what it needs, rather
     // than after its first frame has been scan-converted (tens of seconds and gigabytes
@@ -510,14 +569,18 @@ pub fn one_input(
             let mut spare = Some(RegionBuffer::new(width, height));
             let mut counts = Resolved::default();
             let mut record = Token::default();
+            let mut watch = QuantumWatch::for_form(depth, width, height);
+            let mut frame = 0u64;
             while reader.next_into(&mut record)? {
                 match &record {
                     Token::Polygon(p) => {
-                        resolve_polygon(&mut walker, &mut region, p, &reader)?;
+                        resolve_polygon(&mut walker, &mut region, &mut watch, p, &reader)?;
                         counts.polygons += 1;
                     }
                     Token::Skip(_) => {}
                     Token::NextFrame | Token::End => {
+                        counts.rounding_decided += warn_rounding(&mut watch, frame);
+                        frame += 1;
                         let stats = std::mem::take(&mut region.stats);
                         counts.pixels_tested += stats.pixels_tested;
                         counts.pixels_written += stats.pixels_written;
@@ -583,7 +646,8 @@ fn resolve_input<R: Read>(
     wait: &Receiver<()>,
 ) -> Result<()> {
     let (width, height) = screen_of(&reader, "screen-space")?;
-    if !send_header(tx, input, (width, height)) {
+    let depth = reader.header().attributes.depth;
+    if !send_header(tx, input, (width, height), depth) {
         return Ok(());
     }
     let send = |m| tx.send(m).is_ok();
@@ -593,10 +657,12 @@ fn resolve_input<R: Read>(
     let mut record = Token::default();
     let mut batch = Vec::with_capacity(BATCH);
     let mut waiting = false; // for the go-ahead after the last frame sent
+    let mut watch = QuantumWatch::for_form(depth, width, height);
+    let (mut frame, mut rounding_decided) = (0u64, 0u64);
     while reader.next_into(&mut record)? {
         let end = match &record {
             Token::Polygon(p) => {
-                resolve_polygon(&mut walker, &mut region, p, &reader)?;
+                resolve_polygon(&mut walker, &mut region, &mut watch, p, &reader)?;
                 polygons += 1;
                 continue;
             }
@@ -606,6 +672,8 @@ fn resolve_input<R: Read>(
             Token::NextFrame => false,
             Token::End => true,
         };
+        rounding_decided += warn_rounding(&mut watch, frame);
+        frame += 1;
         // Nothing of a frame is sent before the buffer thread has shown the frame
         // before it (its go-ahead); the polygons of this frame were resolved meanwhile.
         if waiting && wait.recv().is_err() {
@@ -626,6 +694,7 @@ fn resolve_input<R: Read>(
             polygons,
             pixels_tested: region.stats.pixels_tested,
             pixels_written: region.stats.pixels_written,
+            rounding_decided,
         });
         if !send(Message::Boundary {
             input,

@@ -4,28 +4,23 @@
 
 use super::{pack, RegionBuffer, SHIFT, TILE};
 use crate::depth::{depth_at, Depth};
-use crate::walk::SpanWalker;
+use crate::walk::Span;
 use proto::shade::{shade_at, Shading};
-use proto::{DVec3, Polygon};
+use proto::DVec3;
 use std::ops::Range;
 
 impl RegionBuffer {
-    /// Draws every span of a Gouraud-shaded polygon ([`RegionBuffer::shaded_span`]), its
-    /// colours given by `shading` (`Shading::of(polygon)`). Returns the pixels covered.
-    pub fn draw_shaded(
-        &mut self,
-        walker: &mut SpanWalker,
-        polygon: &Polygon,
-        shading: &Shading,
-    ) -> u64 {
-        let (width, height) = (self.width, self.height);
-        let mut row = (u32::MAX, (DVec3::ZERO, DVec3::ZERO));
-        walker.for_each_span(polygon, width, height, |s| {
-            if row.0 != s.y {
-                row = (s.y, shading.row(s.y));
-            }
-            self.shaded_span(s.y, s.columns(), (s.z_row, s.dz), row.1);
-        })
+    /// One span of a Gouraud-shaded polygon ([`crate::SpanWalker`]), its colours given by
+    /// `shading` (`Shading::of(polygon)`): [`RegionBuffer::shaded_span`] with the row's
+    /// colours.
+    #[inline]
+    pub fn draw_shaded(&mut self, span: &Span, shading: &Shading) {
+        self.shaded_span(
+            span.y,
+            span.columns(),
+            (span.z_row, span.dz),
+            shading.row(span.y),
+        );
     }
 
     /// [`RegionBuffer::span`] for a Gouraud-shaded polygon: pixel x of row `y` has depth
