@@ -1,0 +1,126 @@
+//! Gouraud shading through the pipeline (docs/DESIGN.md, "Shading"): a stream that
+//! declares `vertex-colours` is shaded by every stage alike. Through `scripts/render.sh`
+//! at tree depths 0 to 3, in both merge modes and with either clipper, its frames are
+//! `zspec`'s byte for byte; and a triangle's pixels are, to within one level a channel, a
+//! held-out computation of Gouraud's rule written here from scratch: the vertex colours
+//! interpolated linearly across the screen (barycentric weights at each pixel centre).
+
+use pipeline_tests::{parse_ppm_stream, run, sh, Frame};
+
+/// The one frame of a PPM stream.
+fn frame(ppm: &[u8]) -> Frame {
+    let mut frames = parse_ppm_stream(ppm).expect("a PPM stream");
+    assert_eq!(frames.len(), 1);
+    frames.remove(0)
+}
+
+#[test]
+fn a_shaded_scene_is_zspecs_at_every_depth_in_both_merge_modes() {
+    let reference = run("zspec --size 96x80 < examples/gouraud.txt");
+    let f = frame(&reference);
+    // The triangle's red corner, the square's yellow corner and the flat grey one.
+    let colours: std::collections::HashSet<[u8; 3]> = f.pixels.iter().copied().collect();
+    assert!(colours.len() > 1000, "{} colours", colours.len());
+    assert!(colours.contains(&[90, 90, 90]));
+    for depth in 0..=3 {
+        for merge in ["tiles", "buffer"] {
+            let ppm = run(&format!(
+                "scripts/render.sh --size 96x80 --depth {depth} --merge {merge} \
+                 examples/gouraud.txt"
+            ));
+            assert!(ppm == reference, "--depth {depth} --merge {merge}");
+        }
+    }
+    let chain = run("scripts/render.sh --size 96x80 --depth 2 --clip chain examples/gouraud.txt");
+    assert!(chain == reference, "--clip chain");
+}
+
+/// A triangle's screen-space Gouraud colour at every pixel centre it covers, computed
+/// here without the pipeline's code: project the vertices with the thesis's camera
+/// (eye at z = 20, s = 10, d = 16, so w = 0.625·z_e), take barycentric weights of the
+/// centre, and mix the vertex colours. `None` for a centre outside it (a weight below
+/// `margin`).
+fn held_out(
+    vertices: [[f64; 3]; 3],
+    colours: [[f64; 3]; 3],
+    (width, height): (usize, usize),
+    x: usize,
+    y: usize,
+    margin: f64,
+) -> Option<[f64; 3]> {
+    let aspect = width as f64 / height as f64;
+    let screen = vertices.map(|[x, y, z]| {
+        let w = 0.625 * (20.0 - z);
+        (
+            (x / (aspect * w) + 1.0) * width as f64 / 2.0,
+            (1.0 - y / w) * height as f64 / 2.0,
+        )
+    });
+    let (px, py) = (x as f64 + 0.5, y as f64 + 0.5);
+    let area = |a: (f64, f64), b: (f64, f64), c: (f64, f64)| {
+        (b.0 - a.0) * (c.1 - a.1) - (c.0 - a.0) * (b.1 - a.1)
+    };
+    let whole = area(screen[0], screen[1], screen[2]);
+    let p = (px, py);
+    let l = [
+        area(p, screen[1], screen[2]) / whole,
+        area(screen[0], p, screen[2]) / whole,
+        area(screen[0], screen[1], p) / whole,
+    ];
+    if l.iter().any(|&w| w < margin) {
+        return None;
+    }
+    Some([0, 1, 2].map(|k| l[0] * colours[0][k] + l[1] * colours[1][k] + l[2] * colours[2][k]))
+}
+
+#[test]
+fn a_triangles_pixels_are_the_screen_space_interpolation_of_its_vertex_colours() {
+    let vertices = [[-7.3, -5.1, 0.3], [1.2, 7.7, -1.1], [8.1, -3.9, 2.2]];
+    let colours = [
+        [250.3, 10.2, 20.7],
+        [15.1, 240.6, 30.4],
+        [40.9, 35.2, 230.1],
+    ];
+    let mut scene = String::from("polypipe 1 world vertex-colours\ncolour 0 0 0\n");
+    for (v, c) in vertices.iter().zip(&colours) {
+        scene += &format!("{} {} {} {} {} {}\n", v[0], v[1], v[2], c[0], c[1], c[2]);
+    }
+    scene += "END\n";
+    let size = (120, 90);
+    for depth in [0, 3] {
+        let out = sh(
+            &format!("scripts/render.sh --size 120x90 --depth {depth} -"),
+            scene.as_bytes(),
+        );
+        assert!(
+            out.status.success(),
+            "{}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        let f = frame(&out.stdout);
+        let mut covered = 0;
+        for y in 0..size.1 {
+            for x in 0..size.0 {
+                let got = f.at(x, y);
+                if got == [0, 0, 0] {
+                    // The background: no centre well inside the triangle is left out.
+                    assert!(
+                        held_out(vertices, colours, size, x, y, 1e-6).is_none(),
+                        "pixel ({x}, {y}) is inside the triangle and not drawn"
+                    );
+                    continue;
+                }
+                covered += 1;
+                let want = held_out(vertices, colours, size, x, y, -1e-9)
+                    .unwrap_or_else(|| panic!("pixel ({x}, {y}) is drawn outside the triangle"));
+                for k in 0..3 {
+                    assert!(
+                        (got[k] as f64 - want[k]).abs() <= 1.0,
+                        "pixel ({x}, {y}): {got:?} against {want:?}"
+                    );
+                }
+            }
+        }
+        assert!(covered > 1200, "{covered} pixels covered");
+    }
+}
