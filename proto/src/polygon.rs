@@ -70,8 +70,9 @@ pub struct Polygon {
     pub colours: Vec<VertexColour>,
     /// The colour planes of the whole polygon ([`crate::shade`]), if a stage recorded
     /// them: over the screen position in eye space, over device coordinates in screen
-    /// space. Text: a line `shade` and twelve numbers after `plane`.
-    pub shade: Option<ColourPlanes>,
+    /// space. Text: a line `shade` and twelve numbers after `plane`. Boxed, so that a flat
+    /// polygon stays as small as it was (the codec's encode loop measured it).
+    pub shade: Option<Box<ColourPlanes>>,
     /// The colour's opacity, 0–255 (255 opaque, the default). A stream declares it in its
     /// header (`opacity`), and every colour record is then `colour R G B A`.
     pub opacity: u8,
@@ -246,6 +247,23 @@ pub(crate) fn write_polygon_binary<W: Write>(p: &Polygon, out: &mut W) -> io::Re
             format!("polygon of {n} vertices (at most {MAX_VERTICES})"),
         ));
     }
+    if p.plane.is_none()
+        && p.supports.is_empty()
+        && p.colours.is_empty()
+        && p.shade.is_none()
+        && p.opacity == OPAQUE
+    {
+        // The common record: a flat polygon with nothing else (tag 0).
+        out.write_all(&head(tag::POLYGON, p.colour, n as u32))?;
+        return write_vertices(out, &p.vertices);
+    }
+    write_annotated(p, out)
+}
+
+/// The rest of [`write_polygon_binary`]: tag 3, or tag 0 for a list of no support.
+#[inline(never)]
+fn write_annotated<W: Write>(p: &Polygon, out: &mut W) -> io::Result<()> {
+    let n = p.vertices.len();
     let supports = p.supports.iter().any(Option::is_some);
     let shaded = !p.colours.is_empty();
     if p.plane.is_none() && !supports && !shaded && p.shade.is_none() && p.opacity == OPAQUE {
@@ -276,7 +294,7 @@ pub(crate) fn write_polygon_binary<W: Write>(p: &Polygon, out: &mut W) -> io::Re
         write_vertices(out, &[plane])?;
     }
     if let Some(shade) = &p.shade {
-        write_vertices(out, shade)?;
+        write_vertices(out, &shade[..])?;
     }
     write_vertices(out, &p.vertices)?;
     if shaded {
@@ -333,7 +351,11 @@ fn read_polygon_binary<R: Read>(
         p.plane = Some(input.vertex()?);
     }
     if flags & FLAG_SHADE != 0 {
-        p.shade = Some([input.vertex()?, input.vertex()?, input.vertex()?]);
+        p.shade = Some(Box::new([
+            input.vertex()?,
+            input.vertex()?,
+            input.vertex()?,
+        ]));
     }
     input.vertices(&mut p.vertices, n)?;
     if flags & FLAG_COLOURS != 0 {
@@ -597,7 +619,7 @@ fn read_polygon_text<R: BufRead>(
             }
             *plane = DVec4::from_array(n);
         }
-        p.shade = Some(planes);
+        p.shade = Some(Box::new(planes));
     }
     let space_name = space.name();
     let coloured = header.attributes.vertex_colours;
@@ -696,7 +718,7 @@ pub(crate) fn write_polygon_text<W: Write>(
     if let Some(n) = p.plane {
         writeln!(out, "{PLANE} {} {} {} {}", n.x, n.y, n.z, n.w)?;
     }
-    if let Some([r, g, b]) = p.shade {
+    if let Some(&[r, g, b]) = p.shade.as_deref() {
         writeln!(
             out,
             "{SHADE} {} {} {} {}  {} {} {} {}  {} {} {} {}",
@@ -836,7 +858,10 @@ impl Record for Token {
             if p.plane.is_some_and(|n| !n.is_finite()) {
                 return Err("the polygon's plane is not finite".into());
             }
-            if p.shade.is_some_and(|s| s.iter().any(|n| !n.is_finite())) {
+            if p.shade
+                .as_ref()
+                .is_some_and(|s| s.iter().any(|n| !n.is_finite()))
+            {
                 return Err("the polygon's colour planes (`shade`) are not finite".into());
             }
         }

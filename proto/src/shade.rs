@@ -136,6 +136,8 @@ impl Shading {
         }
         let planes = polygon
             .shade
+            .as_deref()
+            .copied()
             .or_else(|| screen_colour_planes(&polygon.vertices, &polygon.colours))
             .unwrap_or_else(|| {
                 let c = polygon.colours[0];

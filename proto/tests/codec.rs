@@ -618,11 +618,11 @@ fn vertex_colours_shade_and_opacity_round_trip_in_binary() {
         DVec3::new(0.1, 254.9, 1.0 / 3.0),
         DVec3::new(0.0, 0.0, 255.0),
     ];
-    p.shade = Some([
+    p.shade = Some(Box::new([
         DVec4::new(1.0, 2.0, 3.0, 4.0),
         DVec4::new(-1.0, 0.5, 1.0, -7.25),
         DVec4::new(0.0, 0.0, 1.0, -255.0),
-    ]);
+    ]));
     p.opacity = 128;
     let tokens = vec![Token::Polygon(p.clone()), Token::End];
     let bin = encode(header, &tokens, Form::Binary);
@@ -696,7 +696,7 @@ fn colour_plane_text_reads_back_and_is_refused_in_world_space() {
         panic!("{tokens:?}")
     };
     assert_eq!(
-        p.shade.unwrap()[2],
+        p.shade.as_ref().unwrap()[2],
         proto::DVec4::new(9.0, 10.0, 11.0, 12.0)
     );
     let world = "polypipe 1 world\ncolour 1 2 3\nshade 1 2 3 4 5 6 7 8 9 10 11 12\nEND\n";

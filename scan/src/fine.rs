@@ -47,7 +47,8 @@ pub fn scaled(polygon: &Polygon, k: u32) -> Polygon {
         colours: polygon.colours.clone(),
         shade: polygon
             .shade
-            .map(|planes| planes.map(|p| DVec4::new(p.x / k, p.y / k, p.z, p.w))),
+            .as_ref()
+            .map(|planes| Box::new(planes.map(|p| DVec4::new(p.x / k, p.y / k, p.z, p.w)))),
         opacity: polygon.opacity,
     }
 }

@@ -216,8 +216,8 @@ impl Perspective {
             }
             DepthMode::EyeZ => None,
         };
-        let eye_shade = match poly.shade {
-            Some(planes) => Some(planes),
+        let eye_shade = match poly.shade.as_deref() {
+            Some(planes) => Some(*planes),
             None if poly.is_shaded() => {
                 proto::shade::eye_colour_planes(&poly.vertices, &poly.colours)
             }
@@ -238,9 +238,11 @@ impl Perspective {
                 height,
                 view,
             } = self.device;
-            poly.shade = eye_shade.and_then(|planes| {
-                proto::shade::colour_planes_to_screen(&planes, view.aspect, width, height)
-            });
+            poly.shade = eye_shade
+                .and_then(|planes| {
+                    proto::shade::colour_planes_to_screen(&planes, view.aspect, width, height)
+                })
+                .map(Box::new);
         } else {
             poly.shade = None;
         }

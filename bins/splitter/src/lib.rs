@@ -254,7 +254,7 @@ pub fn split(poly: &Polygon, plane: &Plane, out1: &mut Polygon, out2: &mut Polyg
         out.supports.clear();
         out.colours.clear();
         out.plane = poly.plane;
-        out.shade = poly.shade;
+        out.shade.clone_from(&poly.shade);
     }
     if poly.vertices.is_empty() {
         return;
@@ -282,8 +282,8 @@ pub fn split(poly: &Polygon, plane: &Plane, out1: &mut Polygon, out2: &mut Polyg
             // The whole polygon's colour planes, as its depth plane (viewxf records them
             // first, unless a vertex was behind the eye).
             let whole = proto::shade::eye_colour_planes(&poly.vertices, &poly.colours);
-            out1.shade = whole;
-            out2.shade = whole;
+            out1.shade = whole.map(Box::new);
+            out2.shade = whole.map(Box::new);
         }
     }
 }
@@ -581,10 +581,13 @@ mod tests {
             [v(0.0, -2.0), v(2.0, -2.0), v(2.0, 2.0), v(0.0, 2.0)]
         );
         assert_eq!(b.colours, [purple, blue, blue, purple]);
-        assert_eq!((a.shade, b.shade), (whole, whole));
+        assert_eq!(
+            (a.shade.clone(), b.shade.clone()),
+            (whole.map(Box::new), whole.map(Box::new))
+        );
         assert_eq!((a.opacity, b.opacity), (99, 99));
         // A recorded shade is kept, not refitted; a flat polygon's pieces stay flat.
-        square.shade = Some([DVec4::new(0.0, 0.0, 1.0, -7.0); 3]);
+        square.shade = Some(Box::new([DVec4::new(0.0, 0.0, 1.0, -7.0); 3]));
         split(&square, &x0(), &mut a, &mut b);
         assert_eq!(a.shade, square.shade);
         let flat = poly(&[(-2.0, -2.0), (2.0, -2.0), (2.0, 2.0)]);

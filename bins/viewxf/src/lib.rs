@@ -27,7 +27,7 @@ pub fn view_polygon(frame: &EyeFrame, poly: &mut Polygon) {
         *v = view_vertex(frame, *v);
     }
     if poly.is_shaded() {
-        poly.shade = proto::shade::eye_colour_planes(&poly.vertices, &poly.colours);
+        poly.shade = proto::shade::eye_colour_planes(&poly.vertices, &poly.colours).map(Box::new);
     }
 }
 
