@@ -124,3 +124,48 @@ fn a_triangles_pixels_are_the_screen_space_interpolation_of_its_vertex_colours()
         assert!(covered > 1200, "{covered} pixels covered");
     }
 }
+
+#[test]
+fn supersampling_shades_each_sample_as_zspec_does() {
+    for k in [2, 4] {
+        let reference = run(&format!(
+            "zspec --size 96x80 --samples {k} < examples/gouraud.txt"
+        ));
+        for depth in [0, 2] {
+            let ppm = run(&format!(
+                "scripts/render.sh --size 96x80 --aa ss{k} --depth {depth} examples/gouraud.txt"
+            ));
+            assert!(ppm == reference, "--aa ss{k} --depth {depth}");
+        }
+    }
+}
+
+/// The methods that draw a polygon in one colour refuse a shaded stream (status 2, and
+/// a line naming what does shade) rather than draw it flat.
+#[test]
+fn flat_only_methods_refuse_a_shaded_stream_and_name_what_shades() {
+    let svg = format!(
+        "--hidden-line -o {}/shaded.svg",
+        env!("CARGO_TARGET_TMPDIR")
+    );
+    for (options, stage) in [
+        ("--hse scanline --depth 1", "scanline (leaf 0)"),
+        ("--hse warnock", "warnock"),
+        ("--hse painter --depth 2", "painter (leaf 0)"),
+        ("--aa abuf", "abuf"),
+        (svg.as_str(), "hiddenline"),
+    ] {
+        let out = sh(
+            &format!("scripts/render.sh --size 96x80 {options} examples/gouraud.txt"),
+            b"",
+        );
+        let stderr = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(2), "{options}: {stderr}");
+        assert!(
+            stderr.contains(&format!("{stage}: "))
+                && stderr.contains("this stream is Gouraud-shaded (its header says `vertex-colours`); shading is drawn by the z-buffer (render.sh --hse zbuf, the default) and by supersampling (--aa ssK)"),
+            "{options}: {stderr}"
+        );
+        assert!(out.stdout.is_empty(), "{options}");
+    }
+}
