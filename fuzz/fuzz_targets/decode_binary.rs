@@ -1,4 +1,4 @@
-//! The binary stream decoder (stream version 3's fixed-layout records: polygons plain and
+//! The binary stream decoder (stream version 4's fixed-layout records: polygons plain and
 //! annotated, skips, fragment spans, pixels and runs) on arbitrary bytes, after the magic
 //! alone and after a valid header of each space: no panic, every error a message, and
 //! what was read writes back and reads again the same (polypipe_fuzz::drain).

@@ -15,7 +15,8 @@ fuzz_target!(|data: &[u8]| {
         "polypipe 1 world\n",
         "polypipe 1 eye\n",
         "polypipe 1 screen 8 8\n",
-        "polypipe 1 fragments 8 8\n",
+        "polypipe 1 screen 8 8 depth projective 0.001 1000\n",
+        "polypipe 2 fragments 8 8\n",
     ] {
         let mut s = header.as_bytes().to_vec();
         s.extend_from_slice(data);

@@ -741,15 +741,16 @@ fn read_text_header<R: BufRead>(lex: &mut Lexer<R>) -> Result<Header, StreamErro
 
 /// The header's attribute words after the space's ([`crate::header::Attributes`]), in any
 /// order: `depth reciprocal K1`, `depth projective K1 K2` or `depth eye-z`, for screen and
-/// fragment streams; `vertex-colours` and `opacity` for polygon streams. A record's
-/// keyword ends them.
+/// fragment streams; `vertex-colours` and `opacity` for polygon streams. All on the
+/// header's own line (so that the header is read without reading into the records:
+/// `stagecli::pieces` cuts the rest of a text stream).
 fn read_text_attributes<R: BufRead>(
     lex: &mut Lexer<R>,
     space: &Space,
 ) -> Result<crate::header::Attributes, StreamError> {
     use crate::header::DepthForm;
     let mut attributes = crate::header::Attributes::default();
-    loop {
+    while lex.more_on_line() {
         let flag = match lex.peek()? {
             Some("depth") => None,
             Some("vertex-colours") => Some(&mut attributes.vertex_colours),

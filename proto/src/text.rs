@@ -122,6 +122,14 @@ impl<R: Read> Lexer<R> {
         Ok((unread, self.input, self.line_no, self.line))
     }
 
+    /// Does the current line hold another word (or one peeked)? A header's optional words
+    /// are looked for only on its own line, so that reading them never reads ahead into
+    /// the records (see [`Lexer::into_rest`]).
+    pub fn more_on_line(&self) -> bool {
+        let rest = &self.line.as_bytes()[self.cursor.min(self.line.len())..];
+        self.peeked.is_some() || !rest.iter().all(|&b| is_space(b))
+    }
+
     /// An error located at the word last peeked or taken.
     pub fn error(&self, msg: impl Into<String>) -> StreamError {
         self.error_at(self.at, msg)

@@ -76,9 +76,10 @@ fn a_cut_binary_stream_names_frame_and_polygon() {
                  colour 2 2 2\n0 0 0\n1 0 0\n0 1 0\nNEXT.POLYGON\ncolour 3 3 3\n0 0 0\n\
                  1 0 0\n0 1 0\nNEXT.FRAME\ncolour 4 4 4\n0 0 0\n1 0 0\n0 1 0\nNEXT.POLYGON\n\
                  colour 5 5 5\n0 0 0\n1 0 0\n0 1 0\nEND\n";
-    // The eye-space header is the magic's 8 bytes, the version and space tag (4 + 4) and
-    // the view volume (3 · 8); a triangle is 8 + 3 · 32 = 104 bytes; NEXT.FRAME 8.
-    let polygon_4 = 40 + 3 * 104 + 8 + 104;
+    // The eye-space header is the magic's 8 bytes, the version and space tag (4 + 4), the
+    // view volume (3 · 8) and the attributes (1: no depth form); a triangle is
+    // 8 + 3 · 32 = 104 bytes; NEXT.FRAME 8.
+    let polygon_4 = 41 + 3 * 104 + 8 + 104;
     let cut = polygon_4 + 50;
     let (status, err) = run(
         &format!("viewxf | head -c {cut} | clipplane left"),

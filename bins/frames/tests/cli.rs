@@ -62,8 +62,10 @@ fn binary_ranges_join_to_the_binary_movie_byte_for_byte() {
     };
     let (first, rest) = (cut("0", "1"), cut("1", "3"));
     // header + frame 0 + END, header + frame 1 + NEXT.FRAME + frame 2 + END
-    let header_len = 8 + 8; // magic, version u32, space tag u32 (world has no fields)
-                            // Stream version 2's fixed-layout records: NEXT.FRAME and END are one 8-byte head each.
+    // Magic, version u32, space tag u32 (world has no fields), attributes (one byte: no
+    // depth form).
+    let header_len = 8 + 8 + 1;
+    // Stream version 2's fixed-layout records: NEXT.FRAME and END are one 8-byte head each.
     let end_len = 8;
     let next_frame_len = 8;
     let f0 = &first[header_len..first.len() - end_len];

@@ -26,7 +26,7 @@ END
 /// On a 400×200 screen: X = (x_e/(2w) + 1)·200, Y = (1 − y_e/w)·100. The triangle's
 /// depth plane is depth = 0.05·X − 0.11·Y + 1 (through (0, 0, 1), (200, 100, 0) and
 /// (325, 150, 0.75)), to within rounding of its eye-space plane's transform.
-const SCREEN: &str = "polypipe 1 screen 400 200
+const SCREEN: &str = "polypipe 1 screen 400 200 depth projective 2 4
 colour 10 20 30
 plane 0.05000000000000011 -0.11000000000000025 -1 1.0000000000000013
 0 0 1
@@ -61,6 +61,7 @@ fn eye_z_depth_passes_z_e() {
         .stdout(
             // No depth plane: z_e is not affine on the screen.
             SCREEN
+                .replace("depth projective 2 4", "depth eye-z")
                 .replace(
                     "plane 0.05000000000000011 -0.11000000000000025 -1 1.0000000000000013\n",
                     "",
@@ -84,7 +85,7 @@ fn thesis_scene_at_500x500() {
         .success()
         // (1 − 1/16)·30/29 and (1 − 1/24)·30/29.
         .stdout(
-            "polypipe 1 screen 500 500\ncolour 60 60 255\n24.999999999999993 125 0.9698275862068966\n\
+            "polypipe 1 screen 500 500 depth projective 1 30\ncolour 60 60 255\n24.999999999999993 125 0.9698275862068966\n\
              366.6666666666667 366.6666666666667 0.9913793103448277\nEND\n",
         );
     // The default, reciprocal depth: −K1/z_e, −1/16 and −1/24.
@@ -96,7 +97,7 @@ fn thesis_scene_at_500x500() {
         .assert()
         .success()
         .stdout(
-            "polypipe 1 screen 500 500\ncolour 60 60 255\n24.999999999999993 125 -0.0625\n\
+            "polypipe 1 screen 500 500 depth reciprocal 1\ncolour 60 60 255\n24.999999999999993 125 -0.0625\n\
              366.6666666666667 366.6666666666667 -0.041666666666666664\nEND\n",
         );
 }
@@ -152,9 +153,9 @@ fn behind_the_eye_names_frame_and_polygon() {
         .stdout
         .clone();
     // The frame finished before the fault is written whole.
-    assert!(String::from_utf8(out)
-        .unwrap()
-        .starts_with("polypipe 1 screen 400 200\ncolour 1 1 1\n200 100 0\nNEXT.FRAME\n"));
+    assert!(String::from_utf8(out).unwrap().starts_with(
+        "polypipe 1 screen 400 200 depth projective 2 4\ncolour 1 1 1\n200 100 0\nNEXT.FRAME\n"
+    ));
     // w = 0 exactly is refused too.
     persp()
         .args(["--size", "4x4"])

@@ -372,7 +372,8 @@ mod tests {
                 polygons_in: 2,
                 polygons_drawn: 1,
                 spans: 2,
-                pixels: 4
+                pixels: 4,
+                rounding_decided: 0
             }
         );
         assert_eq!(sc.region_stats(), None);
@@ -390,7 +391,8 @@ mod tests {
                 polygons_in: 2,
                 polygons_drawn: 2,
                 spans: 0,
-                pixels: 6
+                pixels: 6,
+                rounding_decided: 0
             }
         );
         assert_eq!(
