@@ -36,6 +36,12 @@ pub trait HiddenSurface {
     fn shades(&self) -> bool {
         false
     }
+
+    /// Whether the method draws polygons of opacity below 255 as transparent; a stage whose
+    /// method does not refuses such a polygon rather than draw it opaque.
+    fn transparency(&self) -> bool {
+        false
+    }
 }
 
 /// The z-buffer (thesis chapter 2.3) as a [`HiddenSurface`]: the reference the other

@@ -5,6 +5,20 @@ use crate::{next, read_stdin, write_stdout, Error, Result};
 use proto::{Form, Fragment, Header, Polygon, Space, SpaceKind, Token};
 use scan::frame::HiddenSurface;
 
+/// Refuses a polygon that is not opaque (opacity below 255, a stream whose header says
+/// `opacity`), for a stage that draws opaque polygons only: status 2 and a line naming the
+/// a-buffer, rather than drawing it opaque. `at` says where it is (`frame F, polygon P`).
+pub fn refuse_transparent(stage: &str, polygon: &Polygon, at: &str) -> Result<()> {
+    if polygon.opacity == proto::OPAQUE {
+        return Ok(());
+    }
+    Err(Error::usage(format!(
+        "{at}: a polygon of opacity {} (below 255): {stage} draws opaque polygons only; \
+         transparency is the a-buffer's (render.sh --aa abuf)",
+        polygon.opacity
+    )))
+}
+
 /// Counts every frame-resolving stage prints under `--stats`, before its method's own.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct FrameCounts {
@@ -55,6 +69,9 @@ pub fn resolve_frames(
             Token::Polygon(p) => {
                 scan::check_on_screen(&p, width, height)
                     .map_err(|m| Error::data(format!("{}: {m}", input.position())))?;
+                if !method.transparency() {
+                    refuse_transparent(stage, &p, &input.position())?;
+                }
                 counts.polygons_in += 1;
                 polygons.push(p);
                 continue;

@@ -169,3 +169,39 @@ fn flat_only_methods_refuse_a_shaded_stream_and_name_what_shades() {
         assert!(out.stdout.is_empty(), "{options}");
     }
 }
+
+/// A polygon of opacity below 255 is refused (status 2, naming the a-buffer) by every
+/// stage that would draw it opaque; a stream that says `opacity` but holds only opaque
+/// polygons renders as it would without the word.
+#[test]
+fn a_transparent_polygon_is_refused_where_it_would_be_drawn_opaque() {
+    for (options, stage, name) in [
+        ("--depth 0", "zbuf: leaf-0", "zbuf"),
+        ("--depth 1 --merge buffer", "scanconv (leaf 1)", "scanconv"),
+        ("--depth 1", "scanconv (leaf 1)", "scanconv"),
+        ("--hse scanline --depth 0", "scanline", "scanline"),
+        ("--aa ss2 --depth 0", "supersample", "supersample"),
+    ] {
+        let out = sh(
+            &format!("scripts/render.sh --size 64x64 {options} examples/transparent.txt"),
+            b"",
+        );
+        let stderr = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(2), "{options}: {stderr}");
+        assert!(
+            stderr.contains(&format!(
+                "{stage}: frame 0, polygon 1: a polygon of opacity 128 (below 255): {name} \
+                 draws opaque polygons only; transparency is the a-buffer's (render.sh --aa \
+                 abuf)"
+            )),
+            "{options}: {stderr}"
+        );
+    }
+    let out = sh("zspec --size 64x64 < examples/transparent.txt", b"");
+    assert_eq!(out.status.code(), Some(2));
+    let opaque = "polypipe 1 world opacity\ncolour 0 0 255 255\n-6 -6 -2\n6 -6 -2\n6 6 -2\nEND\n";
+    let plain = "polypipe 1 world\ncolour 0 0 255\n-6 -6 -2\n6 -6 -2\n6 6 -2\nEND\n";
+    let a = sh("scripts/render.sh --size 32x32 -", opaque.as_bytes());
+    let b = sh("scripts/render.sh --size 32x32 -", plain.as_bytes());
+    assert!(a.status.success() && a.stdout == b.stdout);
+}
