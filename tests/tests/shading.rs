@@ -205,3 +205,46 @@ fn a_transparent_polygon_is_refused_where_it_would_be_drawn_opaque() {
     let b = sh("scripts/render.sh --size 32x32 -", plain.as_bytes());
     assert!(a.status.success() && a.stdout == b.stdout);
 }
+
+/// The sampling thesis's eq. 6.5 for a transparent fragment, front to back: the covered
+/// region is its colour times its opacity plus what lies behind times the rest.
+fn eq_6_5(front: [f64; 3], opacity: f64, behind: [f64; 3]) -> [f64; 3] {
+    let t = 1.0 - opacity / 255.0;
+    [0, 1, 2].map(|k| front[k] * (1.0 - t) + behind[k] * t)
+}
+
+/// A red square of opacity 128 over an opaque blue one through `--aa abuf`: the overlap is
+/// eq. 6.5's colour, the red over the black background its share of red, and a pixel
+/// half covered along the red square's edge half of each, at every tree depth.
+#[test]
+fn the_a_buffer_blends_a_transparent_square_by_eq_6_5() {
+    let reference =
+        run("scripts/render.sh --size 64x64 --aa abuf --depth 0 examples/transparent.txt");
+    for depth in 1..=3 {
+        let ppm = run(&format!(
+            "scripts/render.sh --size 64x64 --aa abuf --depth {depth} examples/transparent.txt"
+        ));
+        assert!(ppm == reference, "--depth {depth}");
+    }
+    let f = frame(&reference);
+    let (red, blue, black) = ([255.0, 0.0, 0.0], [0.0, 0.0, 255.0], [0.0; 3]);
+    let overlap = eq_6_5(red, 128.0, blue);
+    // The red square spans X 23.47..40.53 and Y 7.47..40.53 (z_e = 18, w = 11.25): its
+    // bottom edge covers half of row 40's samples, its left edge half of column 23's.
+    let half = |a: [f64; 3], b: [f64; 3]| [0, 1, 2].map(|k| (a[k] + b[k]) / 2.0);
+    for ((x, y), want) in [
+        ((30, 30), overlap),
+        ((50, 15), eq_6_5(red, 128.0, black)),
+        ((30, 40), half(overlap, blue)),
+        ((23, 30), half(overlap, blue)),
+        ((30, 41), blue),
+    ] {
+        let got = f.at(x, y);
+        for k in 0..3 {
+            assert!(
+                (got[k] as f64 - want[k]).abs() <= 1.0,
+                "pixel ({x}, {y}): {got:?} against eq. 6.5's {want:?}"
+            );
+        }
+    }
+}
