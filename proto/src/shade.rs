@@ -44,7 +44,7 @@ pub fn eye_colour_planes(vertices: &[Vertex], colours: &[VertexColour]) -> Optio
     if vertices.len() < 3 || colours.len() != vertices.len() {
         return None;
     }
-    if vertices.iter().any(|v| !(v.w > 0.0)) {
+    if !vertices.iter().all(|v| v.w > 0.0) {
         return None;
     }
     planes_over(vertices.iter().map(|v| (v.x / v.w, v.y / v.w)), colours)
