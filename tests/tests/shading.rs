@@ -248,3 +248,23 @@ fn the_a_buffer_blends_a_transparent_square_by_eq_6_5() {
         }
     }
 }
+
+/// `scene sphere --gouraud` writes a vertex-coloured sphere (its header says so), which
+/// renders to zspec's bytes through a tree.
+#[test]
+fn the_gouraud_sphere_renders_as_zspec_does() {
+    let scene = run("scene sphere --stacks 6 --slices 12 --gouraud --text");
+    let text = String::from_utf8(scene).unwrap();
+    assert!(
+        text.starts_with("polypipe 1 world vertex-colours\n"),
+        "{}",
+        &text[..60]
+    );
+    let reference = sh("zspec --size 80x60 -", text.as_bytes());
+    let tree = sh(
+        "scripts/render.sh --size 80x60 --depth 2 -",
+        text.as_bytes(),
+    );
+    assert!(reference.status.success() && tree.status.success());
+    assert!(reference.stdout == tree.stdout);
+}
