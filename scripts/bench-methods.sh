@@ -6,9 +6,13 @@
 #   scripts/bench-methods.sh painter [OPTIONS]    depth sort and hidden lines against the
 #                                                 z-buffer leaf
 #   scripts/bench-methods.sh scanline [OPTIONS]   Watkins's scan line as the crossings
-#                                                 and the depth complexity grow
+#                                                 and the depth complexity grow, and
+#                                                 what its line-to-line coherence buys
 #   scripts/bench-methods.sh warnock [OPTIONS]    where area subdivision slows down
 #   scripts/bench-methods.sh aa [N] [WxH] [REPS]  what anti-aliasing costs at a leaf
+#   scripts/bench-methods.sh bounds [REPS]        every method on the hostile scenes
+#                                                 against 256 MB and 30 s, and painter
+#                                                 --split on crossing planes
 #
 # Each mode's own notes are at its function below. They share scripts/lib/bench.sh.
 
@@ -254,6 +258,13 @@ mode_scanline() (
 #   5. Archuleta's figures 2 and 3 (Archuleta 1972): the building (scene building, 1000
 #      frames) at 256 and at 1024 scan lines, against his 7.2 s and 23.7 s on a
 #      DECsystem-10 (3.3 times for 4 times the lines)
+#   6. what the coherence from line to line buys: `scanline` (the segment list kept in
+#      X order by the minor sort, the line above's front and crossings tried first)
+#      against `scanline --sort-afresh` (sorted afresh, no prediction) on scenes with
+#      much coherence (Archuleta's spheres, 20,000 stacked quads) and little (10,000
+#      slivers; 1,000 strips whose order along the line reverses from top to bottom;
+#      400 planes all crossing, where the front changes ~118 times a line), 500x500: instructions by `valgrind --tool=callgrind` (steady on a loaded machine;
+#      skipped without valgrind), CPU seconds, and the counters per scan line
 #
 # Sections 1-3 are FRAMES frames (default 10) of one scene each, so that times are
 # measurable. Each cell is the smallest CPU time (user + system) of REPS runs (default 3; the
@@ -261,20 +272,20 @@ mode_scanline() (
 # `scanline --stats`: segments, sample spans, depth comparisons and crossings (splits of a
 # sample span where another segment comes in front), per scan line.
 #
-# Usage: scripts/bench-scanline.sh [SECTION...]   (sections 1-5; default all)
+# Usage: scripts/bench-methods.sh scanline [SECTION...]   (sections 1-6; default all)
 set -euo pipefail
 
 root=$(cd "$(dirname "$0")/.." && pwd)
 cd "$root"
 cargo build --release --quiet -p scanline -p scanconv -p scene -p viewxf -p clipplane \
-    -p persp -p frames
+    -p clipbatch -p persp -p frames
 B=$root/target/release
 REPS=${REPS:-3}
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
 
 sections=("$@")
-((${#sections[@]})) || sections=(1 2 3 4 5)
+((${#sections[@]})) || sections=(1 2 3 4 5 6)
 want() { [[ " ${sections[*]} " == *" $1 "* ]]; }
 
 # cpu CMD: the smallest user + system seconds of REPS runs.
@@ -296,7 +307,7 @@ row() {
     # Counters: "scanline: P polygons in, F frames, R runs out, L scan lines, S segments,
     # N sample spans, E segments examined, C depth comparisons, X crossings, ..."
     stats=$("$B/scanline" --stats < "$2" 2>&1 >/dev/null |
-        awk -F'[:,] *' '{
+        awk -F'[:;,] *' '{
             split($2, p, " "); split($3, fr, " "); split($5, l, " "); split($6, g, " "); split($7, n, " ");
             split($9, c, " "); split($10, x, " ");
             L = (l[1] > 0 ? l[1] : 1);
@@ -407,6 +418,58 @@ if want 5; then
         "$B/scene" building --frames 1000 | "$B/viewxf" --size ${n}x$n | bash -c "$clip" |
             "$B/persp" --size ${n}x$n > "$work/building$n"
         row "$n" "$work/building$n"
+    done
+    echo
+fi
+
+if want 6; then
+    echo "## 6. What the coherence from line to line buys, 500x500 (instructions: callgrind; CPU s, best of $REPS)"
+    echo
+    echo "| scene | segments/line | merged in/line | re-sorted/line | swaps/line | fronts predicted held / failed | crossings predicted held / failed | midpoint subdivisions/line | instructions, coherent | instructions, --sort-afresh | ratio | CPU s, coherent | CPU s, --sort-afresh |"
+    echo "|---|---|---|---|---|---|---|---|---|---|---|---|---|"
+    instructions() { # instructions FILE ARGS...: callgrind's instruction count, or "-"
+        local f=$1
+        shift
+        if command -v valgrind > /dev/null; then
+            valgrind --tool=callgrind --callgrind-out-file=/dev/null "$B/scanline" "$@" < "$f" 2>&1 > /dev/null |
+                sed -n 's/.*Collected : \([0-9]*\).*/\1/p'
+        else
+            echo -
+        fi
+    }
+    screen() { "$B/viewxf" | "$B/clipbatch" | "$B/persp" --size 500x500; }
+    "$B/scene" spheres | screen > "$work/spheres"
+    "$B/scene" stack 20000 | screen > "$work/stack20000"
+    "$B/scene" slivers 10000 | screen > "$work/slivers10000"
+    "$B/scene" planes 400 | screen > "$work/planes400"
+    # 1,000 strips a pixel wide whose order along the line reverses from the top of the
+    # screen to the bottom: every pair changes places once.
+    awk 'BEGIN {
+        print "polypipe 1 screen 500 500"
+        for (i = 0; i < 1000; i++) {
+            if (i) print "NEXT.POLYGON"
+            t = 0.5 * i + 0.1; b = 499.1 - 0.5 * i; z = 0.1 + 0.0008 * i
+            print "colour " (i % 256) " 100 200"
+            print t, 0, z; print t + 1, 0, z; print b + 1, 500, z; print b, 500, z
+        }
+        print "END"
+    }' | to_binary "$work/reversing1000"
+    for name in spheres stack20000 slivers10000 reversing1000 planes400; do
+        f=$work/$name
+        stats=$("$B/scanline" --stats < "$f" 2>&1 > /dev/null |
+            awk -F'[:;,] *' '{
+                split($5, l, " "); split($6, g, " "); split($12, m, " "); split($13, r, " ");
+                split($14, w, " "); split($16, fh, " "); split($17, ff, " "); split($18, ch, " ");
+                split($19, cf, " "); split($20, md, " ");
+                L = (l[1] > 0 ? l[1] : 1);
+                printf "%.1f | %.2f | %.2f | %.2f | %d / %d | %d / %d | %.2f", g[1] / L, m[1] / L, r[1] / L, w[1] / L, fh[1], ff[1], ch[1], cf[1], md[1] / L
+            }')
+        ic=$(instructions "$f")
+        ia=$(instructions "$f" --sort-afresh)
+        ir=$(awk -v a="$ic" -v b="$ia" 'BEGIN { if (b > 0) printf "%.3f", a / b; else print "-" }')
+        cc=$(cpu "$B/scanline < $f > /dev/null")
+        ca=$(cpu "$B/scanline --sort-afresh < $f > /dev/null")
+        echo "| $name | $stats | $ic | $ia | $ir | $cc | $ca |"
     done
     echo
 fi
@@ -621,12 +684,103 @@ measure ss8 "$B/supersample" --samples 8
 measure abuf "$B/abuf"
 )
 
+# --- bounds ---------------------------------------------------------------------
+mode_bounds() (
+# The bounds every method must keep on the scenes a user makes in a minute to break it:
+# on `scene stack 20000`, `scene slivers 10000` and `scene pinhead 100000` at 500x500,
+# each of scanline, warnock, painter, painter --split, hiddenline and abuf under 256 MB
+# of peak resident memory and 30 s; and painter --split on `scene planes N` (N = 5, 50,
+# 400) within 0.5% of the z-buffer's pixels, or saying on stderr that it could not.
+#
+# Each method runs as a leaf alone, the screen-space stream (scene | viewxf | clipbatch |
+# persp, made once) in and its output to /dev/null, under `timeout 120`, through
+# /usr/bin/time: wall seconds, CPU seconds (user + system) and peak RSS of the run with
+# the least CPU of REPS (default 1). The z-buffer leaf (`scanconv --resolve`) is the
+# yardstick. On a loaded machine wall time can be several times the CPU time; the
+# bound is checked on both, and a row says which it misses.
+#
+# Usage: scripts/bench-methods.sh bounds [REPS]
+set -euo pipefail
+root=$(cd "$(dirname "$0")/.." && pwd)
+cd "$root"
+nice -n 10 cargo build --release --quiet -p scene -p viewxf -p clipbatch -p persp -p scanconv \
+    -p zbuf -p zspec -p scanline -p warnock -p painter -p abuf -p hiddenline
+B=${CARGO_TARGET_DIR:-$root/target}/release
+REPS=${1:-1}
+[[ $REPS =~ ^[1-9][0-9]*$ ]] || { echo "bench-methods.sh bounds: REPS must be a positive integer" >&2; exit 2; }
+work=$(mktemp -d)
+trap 'rm -rf "$work"' EXIT
+screen() { "$B/scene" "$@" | "$B/viewxf" | "$B/clipbatch" | "$B/persp" --size 500x500; }
+
+# measure CMD...: "wall cpu rss_mb" of the run with the least CPU of REPS, from $in; or
+# "timeout" past 120 s.
+measure() {
+    local best='' i
+    for ((i = 0; i < REPS; i++)); do
+        if ! timeout 120 /usr/bin/time -o "$work/time" -f '%e %U %S %M' "$@" < "$in" > /dev/null 2> /dev/null; then
+            echo timeout
+            return
+        fi
+        local line
+        line=$(tail -n 1 "$work/time" | awk '{ printf "%.2f %.2f %.1f", $1, $2 + $3, $4 / 1024 }')
+        if [[ -z $best ]] || awk -v a="$line" -v b="$best" 'BEGIN { split(a, x, " "); split(b, y, " "); exit !(x[2] < y[2]) }'; then
+            best=$line
+        fi
+    done
+    echo "$best"
+}
+
+echo "| scene, 500x500 | method | wall s | CPU s | peak RSS MB | CPU / zbuf | within 256 MB and 30 s |"
+echo "|---|---|---|---|---|---|---|"
+for s in "stack 20000" "slivers 10000" "pinhead 100000"; do
+    in=$work/${s// /-}.scr
+    # shellcheck disable=SC2086
+    screen $s > "$in"
+    zcpu=
+    for method in "scanconv --resolve" scanline warnock painter "painter --split" hiddenline abuf; do
+        echo "bench-methods.sh bounds: $s, $method" >&2
+        # shellcheck disable=SC2086
+        read -r wall cpu rss <<< "$(measure "$B"/$method)"
+        if [[ $wall == timeout ]]; then
+            echo "| $s | $method | over 120 | — | — | — | no: over 120 s wall |"
+            continue
+        fi
+        [[ -n $zcpu ]] || zcpu=$cpu
+        ratio=$(awk -v a="$cpu" -v b="$zcpu" 'BEGIN { if (b > 0) printf "%.1f", a / b; else print "—" }')
+        ok=$(awk -v w="$wall" -v c="$cpu" -v m="$rss" 'BEGIN {
+            if (m >= 256) print "no: memory"; else if (c >= 30) print "no: CPU time";
+            else if (w >= 30) print "CPU yes, wall no"; else print "yes" }')
+        label=$method
+        [[ $method == "scanconv --resolve" ]] && label="zbuf (scanconv --resolve)"
+        echo "| $s | $label | $wall | $cpu | $rss | $ratio | $ok |"
+    done
+done
+
+echo
+echo "| scene planes N, 500x500 | pixels unlike the z-buffer | share | painter --split said it could not order | within 0.5% or said |"
+echo "|---|---|---|---|---|"
+for n in 5 50 400; do
+    in=$work/planes-$n.scr
+    screen planes "$n" > "$in"
+    "$B/scanconv" --resolve < "$in" | "$B/zbuf" > "$work/z.ppm"
+    "$B/painter" --split < "$in" 2> "$work/err" | "$B/zbuf" > "$work/p.ppm"
+    differ=$("$B/zspec" compare "$work/z.ppm" "$work/p.ppm" 2> /dev/null | sed -n 's/.* pixels, \([0-9]*\) differ.*/\1/p' || true)
+    [[ -n $differ ]] || differ=0
+    said=no
+    grep -q "could not order" "$work/err" && said=yes
+    share=$(awk -v d="$differ" 'BEGIN { printf "%.2f%%", 100 * d / 250000 }')
+    ok=$(awk -v d="$differ" -v s="$said" 'BEGIN { print (d < 1250 || s == "yes") ? "yes" : "no" }')
+    echo "| $n | $differ | $share | $said | $ok |"
+done
+)
+
 case ${1-} in
     methods) shift; mode_methods "$@" ;;
     painter) shift; mode_painter "$@" ;;
     scanline) shift; mode_scanline "$@" ;;
     warnock) shift; mode_warnock "$@" ;;
     aa) shift; mode_aa "$@" ;;
+    bounds) shift; mode_bounds "$@" ;;
     -h | --help | "") sed -n '2,/^$/{s/^# \{0,1\}//;p}' "${BASH_SOURCE[0]}"; [[ -n ${1-} ]] ;;
-    *) echo "bench-methods.sh: no mode '$1' (modes: methods painter scanline warnock aa)" >&2; exit 2 ;;
+    *) echo "bench-methods.sh: no mode '$1' (modes: methods painter scanline warnock aa bounds)" >&2; exit 2 ;;
 esac

@@ -69,7 +69,10 @@ pub fn sh(script: &str, stdin: &[u8]) -> Output {
     cmd.args(["-o", "pipefail", "-c", script])
         .current_dir(repo_root())
         .env("PATH", path)
-        .env("POLYPIPE_BIN", bin_dir());
+        .env("POLYPIPE_BIN", bin_dir())
+        // The depth auto chooses weighs the load average; the tests' own load must not
+        // change it (docs/model.md).
+        .env("POLYPIPE_LOAD", "0");
     output_with_stdin(cmd, stdin)
 }
 

@@ -282,7 +282,17 @@ fn overheads(
 /// average too), never below 0; 0 where there is no /proc/loadavg. On a machine shared
 /// with others, a render gets only its fair share of the cores
 /// ([`crate::model::Target::shares`]); on an idle one this is 0 and changes nothing.
+/// `POLYPIPE_LOAD=L` in the environment sets it instead (what `--load L` does for `plan
+/// depth`, for a render.sh whose choice must not depend on what else the machine runs:
+/// the test suite's).
 pub fn background_load() -> f64 {
+    if let Some(l) = std::env::var("POLYPIPE_LOAD")
+        .ok()
+        .and_then(|v| v.trim().parse::<f64>().ok())
+        .filter(|l| l.is_finite())
+    {
+        return l.max(0.0);
+    }
     std::fs::read_to_string("/proc/loadavg")
         .ok()
         .and_then(|s| s.split_whitespace().next()?.parse::<f64>().ok())

@@ -27,8 +27,8 @@ pub struct DepthArgs {
     #[arg(long, value_name = "C", value_parser = clap::value_parser!(u32).range(1..=4096))]
     pub host_cores: Option<u32>,
     /// Other programs' runnable threads on this machine's cores, which the render shares
-    /// them with (default: the 1-minute load average, less one for the render's own
-    /// stages seen in it; 0 plans for an idle machine).
+    /// them with (default: $POLYPIPE_LOAD, or else the 1-minute load average, less one
+    /// for the render's own stages seen in it; 0 plans for an idle machine).
     #[arg(long, value_name = "L")]
     pub load: Option<f64>,
     /// The links to the hosts, gigabits a second (default 1).

@@ -11,32 +11,57 @@
 //!    polygon keeps its own [`scan::SpanWalker`] (its Edge Table and Active Edge Table),
 //!    stepped one line at a time and never rebuilt: Archuleta's "after a scan line has
 //!    been completed, all segments are updated to the next scan line".
-//! 2. **Segments.** On each line, an active polygon's crossings, paired by the even-odd
-//!    rule, give its *segments* (14.4: "the intersection of the scan-line window and a
-//!    planar polygon"): the columns whose pixel centres it covers, exactly the spans the
-//!    z-buffer draws (docs/DESIGN.md, "Leaves resolve visibility"), each with the
-//!    polygon's depth plane on the line (`z_row`, `dz`) and its stream index.
+//! 2. **Segments, kept in X order.** On each line, an active polygon's crossings, paired
+//!    by the even-odd rule, give its *segments* (14.4: "the intersection of the
+//!    scan-line window and a planar polygon"): the columns whose pixel centres it covers,
+//!    exactly the spans the z-buffer draws (docs/DESIGN.md, "Leaves resolve
+//!    visibility"), each with the polygon's depth plane on the line (`z_row`, `dz`) and
+//!    its stream index. The segment list is kept from one line to the next in X order
+//!    (Archuleta: "all segments are updated to the next scan line. Some minor sorting is
+//!    performed at this time, due to exiting edges and new entering edges"): the polygons
+//!    are stepped in the X order of their first segments on the line above, so that their
+//!    new segments come out in that order, those gone are dropped, an insertion sort puts
+//!    back the few that moved past one another (none where nothing did), and the segments
+//!    new on the line are sorted among themselves and merged in.
 //! 3. **Sample spans.** The line is cut at every segment end into *sample spans*, inside
 //!    which the set of segments does not change. A sample span with one segment is that
 //!    segment's (14.4.1, simple case 1); a span with none is background.
 //! 4. **Depth only where segments overlap.** In a sample span with several segments the
-//!    front one at its left end is found by folding their depths there in stream order
-//!    with the tie rule (docs/DESIGN.md, "The Z specification": a later polygon takes the
-//!    pixel only when nearer by more than 2⁻³⁰ of the holder's depth). Then, instead of
-//!    subdividing at midpoints, the first column where another segment comes in front is
-//!    found on the two depth lines ([`first_in_front`]; Archuleta's XINTER, "the X point
-//!    of intersection"): the rule between two planar depths changes its answer once at
-//!    most along a line, so a binary search over the columns, each decided by the
-//!    z-buffer's own arithmetic, finds exactly the column where the z-buffer's answer
-//!    changes. The span is split there (14.4.1 case 3, "simple intersection", and Figure
-//!    14-33's non-recursive subdivision: process the left part, then go on with the
-//!    remainder), and the search goes on from that column. A spanner in front of all the
-//!    others (case 2) needs no split at all. The front segment and the column up to
-//!    which it holds are carried from one sample span to the next: while it stays, a
-//!    segment coming in is compared with it alone, and the whole span is looked at again
-//!    only where the front leaves or may be overtaken. The active polygons' segments are
-//!    sorted afresh on each line (see the note in [`Scanline`]'s resolve on Watkins's
-//!    "minor sorting").
+//!    front one at its left end is, in this order: the front carried from the span before
+//!    (while it stays, a segment coming in is compared with it alone); the front the line
+//!    above had at that column, verified against every other segment by the tie rule (a
+//!    segment in front of each of the others is what the z-buffer's fold leaves); or the
+//!    fold itself, their depths in stream order with the tie rule (docs/DESIGN.md, "The Z
+//!    specification": a later polygon takes the pixel only when nearer by more than 2⁻³⁰
+//!    of the holder's depth). Every other segment is then tested against the front at the
+//!    next column and at the end of their overlap: the rule between two planar depths
+//!    changes its answer once at most along a line, so two tests say whether it comes in
+//!    front at all. Then Watkins's cases (14.4.1): no segment comes in front inside the
+//!    span — the front is a spanner, visible across it (case 2); one does — a simple
+//!    intersection (case 3), whose column is found on the two depth lines
+//!    ([`first_in_front`]; Archuleta's XINTER, "the X point of intersection") by a binary
+//!    search each step of which is the z-buffer's own test, so that it is exactly the
+//!    column where the z-buffer's answer changes; several do — a complicated case (case
+//!    4): the span is subdivided at its midpoint (14.4.1 divides "at the left-most
+//!    segment endpoint in the span", and "if there is no segment endpoint in the span ...
+//!    at its midpoint by default"; a sample span here holds no endpoint), or where the
+//!    line above changed (below), keeping the half where the first of them comes in
+//!    front, until one is left. The span is split at that column (Figure 14-33's
+//!    non-recursive subdivision: process the left part, then go on with the remainder),
+//!    and the front is found afresh there.
+//!    Segments that come in front only past the span's end are solved at once, so the
+//!    bound carried to the next span is exact.
+//! 5. **Coherence from line to line** (14.4.2: "use the record of subdivisions on scan
+//!    line k to predict fruitful subdivisions for scan line k+1"). Each line keeps its
+//!    *pieces*, the stretches where one polygon was found in front. On the next line the
+//!    piece at a column predicts the front there (verified as above, the fold only if it
+//!    fails), the column where that piece ended predicts where a segment subdivision
+//!    should cut, and, when the next piece is the same polygon that now comes in front,
+//!    the crossing column itself, verified by two tests (in front there, not one column
+//!    before) before any binary search. `--stats` counts what held and what failed.
+//!
+//! Without the coherence (`sort_afresh`, `scanline --sort-afresh`), the line's segments
+//! are sorted afresh and nothing is predicted; the picture is the same.
 //!
 //! Depths are [`scan::depth_at`]'s, the z-buffer's, so the result is the z-buffer's
 //! picture to the pixel ([`scan::frame::zbuffer_image`]). (Where three or more polygons
@@ -69,6 +94,24 @@ pub struct ScanlineStats {
     /// Splits of a sample span where another segment comes in front (intersections and
     /// segments emerging from behind).
     pub crossings: u64,
+    /// The minor sorting of the kept segment list (Archuleta (1972), HIDDEN): segments new
+    /// on their line (and a concave polygon's second and later segments), merged in;
+    /// segments found out of order and moved back by the insertion sort; and the places
+    /// they moved past.
+    pub merged: u64,
+    pub resorted: u64,
+    pub swaps: u64,
+    /// The line above's front at a column tried first, and verified, when the front is
+    /// looked for afresh: held, or failed (and the fold run).
+    pub fronts_predicted: u64,
+    pub fronts_mispredicted: u64,
+    /// The column where the line above changed from one polygon to another tried first
+    /// for the crossing of the same two: held (two tests), or failed (a binary search).
+    pub crossings_predicted: u64,
+    pub crossings_mispredicted: u64,
+    /// Cuts of a span that is none of the simple cases (more than one segment coming in
+    /// front of the front inside it), at the line above's split or at the midpoint.
+    pub midpoint_subdivisions: u64,
 }
 
 /// One polygon's segment on the current scan line (Archuleta (1972), "pairs of edges
@@ -84,6 +127,10 @@ pub struct Segment {
     pub dz: Depth,
     /// The polygon's place in the frame's stream: the tie rule favours the earlier.
     pub polygon: usize,
+    /// Which of the polygon's segments on the line this is, counting from the left (a
+    /// concave polygon has several): the 0th's place in the list orders the polygon for
+    /// the next line, the others are merged in anew.
+    pub k: u32,
     pub colour: Colour,
 }
 
@@ -140,6 +187,48 @@ struct ActivePolygon {
     rows: Range<i64>,
     depth: DepthPlane,
     walker: SpanWalker,
+    /// The last line its edges were stepped to.
+    stepped: i64,
+}
+
+impl ActivePolygon {
+    /// Steps the polygon's edges to line y and appends its segments there, left to right:
+    /// the first to `first`, the others to `rest` (or to `first` too).
+    #[inline]
+    fn segments(
+        &mut self,
+        y: u32,
+        width: u32,
+        first: &mut Vec<Segment>,
+        mut rest: Option<&mut Vec<Segment>>,
+    ) {
+        let line = y as i64;
+        self.stepped = line;
+        if line < self.rows.start {
+            return;
+        }
+        let (z_row, dz) = self.depth.row(y);
+        let mut k = 0;
+        for pair in self.walker.crossings(line).chunks_exact(2) {
+            let cols = centres_in_clamped(pair[0], pair[1], width);
+            if !cols.is_empty() {
+                let s = Segment {
+                    x0: cols.start,
+                    x1: cols.end,
+                    z_row,
+                    dz,
+                    polygon: self.polygon,
+                    k,
+                    colour: self.colour,
+                };
+                match &mut rest {
+                    Some(rest) if k > 0 => rest.push(s),
+                    _ => first.push(s),
+                }
+                k += 1;
+            }
+        }
+    }
 }
 
 /// Watkins's scan-line method as a [`HiddenSurface`]. Its tables (walkers, lists) are
@@ -151,12 +240,32 @@ pub struct Scanline {
     active: Vec<ActivePolygon>,
     /// Walkers of polygons that have left, for the next to enter.
     pool: Vec<SpanWalker>,
-    /// The current line's segments, sorted by left end.
+    /// The segment list, kept in X order (by left end, then stream index) from one line
+    /// to the next.
     segments: Vec<Segment>,
+    /// The active polygons with a segment on the line above, in the X order of their
+    /// first segment there (stream indices), and each polygon's slot in `active`
+    /// (`GONE` when it is not active), indexed by stream index.
+    order: Vec<usize>,
+    slot_of: Vec<u32>,
+    /// Segments new on the line, and the list they are merged into.
+    incoming: Vec<Segment>,
+    merged: Vec<Segment>,
     /// Indices into `segments` of those in the current sample span.
     present: Vec<usize>,
+    /// The line above's pieces and this line's (the record of subdivisions).
+    above: Vec<Piece>,
+    pieces: Vec<Piece>,
+    /// The segments that may come in front inside a span.
+    candidates: Vec<usize>,
     pub stats: ScanlineStats,
+    /// Without the coherence from line to line, to measure what it buys: the segments
+    /// sorted afresh on every line, and no prediction from the line above (`--sort-afresh`).
+    pub sort_afresh: bool,
 }
+
+/// The slot of a polygon that is not in the active list.
+const GONE: u32 = u32::MAX;
 
 impl Scanline {
     pub fn new() -> Self {
@@ -230,40 +339,308 @@ struct Front {
     until: u32,
 }
 
-/// The first column from `from` on where a segment of `present` comes in front of
-/// `front` (`u32::MAX` if none): one crossing solve for each.
-fn overtaken_at(
-    segments: &[Segment],
-    present: &[usize],
-    front: usize,
-    from: u32,
-    stats: &mut ScanlineStats,
-) -> u32 {
-    let f = &segments[front];
-    let mut until = u32::MAX;
-    for &i in present {
-        if i != front {
-            stats.depth_comparisons += 1;
-            if let Some(c) = first_in_front(&segments[i], f, from) {
-                until = until.min(c);
+/// One stretch of a line's picture: the columns `x0..x1` where the segment of `polygon`
+/// was found in front. The pieces of line k are Watkins's "record of subdivisions on scan
+/// line k", which predicts the front and the crossings on line k + 1 (Newman and Sproull
+/// 1973, 14.4.2).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+struct Piece {
+    x0: u32,
+    x1: u32,
+    polygon: usize,
+}
+
+/// What the sweep along one line works with: the line's segments, the line above's
+/// pieces (the prediction), and where the decisions go.
+struct Sweep<'a, 'r> {
+    segments: &'a [Segment],
+    /// The line above's pieces, left to right.
+    above: &'a [Piece],
+    /// This line's pieces, as they are decided.
+    pieces: &'a mut Vec<Piece>,
+    /// The segments that may come in front of the front inside the span being decided.
+    candidates: &'a mut Vec<usize>,
+    stats: &'a mut ScanlineStats,
+    out: RowRuns<'r>,
+}
+
+impl Sweep<'_, '_> {
+    /// Paints `x0..x1` with `segment`'s colour and records the piece.
+    #[inline]
+    fn paint(&mut self, x0: u32, x1: u32, segment: usize) {
+        let s = &self.segments[segment];
+        self.out.paint(x0, x1, s.colour);
+        match self.pieces.last_mut() {
+            Some(p) if p.x1 == x0 && p.polygon == s.polygon => p.x1 = x1,
+            _ => self.pieces.push(Piece {
+                x0,
+                x1,
+                polygon: s.polygon,
+            }),
+        }
+    }
+
+    /// The line above's piece holding column x.
+    #[inline]
+    fn above_at(&self, x: u32) -> Option<usize> {
+        let i = self.above.partition_point(|p| p.x1 <= x);
+        (i < self.above.len() && self.above[i].x0 <= x).then_some(i)
+    }
+
+    /// The column where, on the line above, `front`'s polygon stopped being in front after
+    /// column `lo` (the end of its piece there), when `lo < c < hi`, and the polygon that
+    /// came in front there: the subdivision that line made, predicted for this one.
+    #[inline]
+    fn predicted_split(&self, front: usize, lo: u32, hi: u32) -> Option<(u32, Option<usize>)> {
+        let i = self.above_at(lo)?;
+        let p = &self.above[i];
+        if p.polygon != self.segments[front].polygon || p.x1 <= lo || p.x1 >= hi {
+            return None;
+        }
+        let next = self
+            .above
+            .get(i + 1)
+            .filter(|q| q.x0 == p.x1)
+            .map(|q| q.polygon);
+        Some((p.x1, next))
+    }
+
+    /// The first column in `lo + 1..=hi` where `s` is in front of `front`, given that it is
+    /// not at `lo` and is at `hi` (Archuleta's XINTER on the z-buffer's own test). The
+    /// column where the line above changed from `front` to `s`, if it did near here, is
+    /// tried first (two tests verify it); otherwise, or if it fails, a binary search.
+    fn crossing(&mut self, s: usize, front: usize, mut lo: u32, mut hi: u32) -> u32 {
+        let segments = self.segments;
+        let (a, f) = (&segments[s], &segments[front]);
+        if let Some((g, Some(next))) = self.predicted_split(front, lo, hi + 1) {
+            if next == a.polygon {
+                self.stats.depth_comparisons += 1;
+                if a.in_front_of(f, g) {
+                    self.stats.depth_comparisons += 1;
+                    if g - 1 == lo || !a.in_front_of(f, g - 1) {
+                        self.stats.crossings_predicted += 1;
+                        return g;
+                    }
+                    hi = g - 1;
+                } else {
+                    lo = g;
+                }
+                self.stats.crossings_mispredicted += 1;
+            }
+        }
+        while hi - lo > 1 {
+            let mid = lo + (hi - lo) / 2;
+            self.stats.depth_comparisons += 1;
+            if a.in_front_of(f, mid) {
+                hi = mid;
+            } else {
+                lo = mid;
+            }
+        }
+        hi
+    }
+
+    /// The first column where one of `self.candidates` comes in front of `front`, given
+    /// that none is at `lo` and all are at `hi`: Watkins's subdivision of a span that is
+    /// not one of the simple cases. While more than one candidate is left, the span is cut
+    /// at the column where the line above changed (if it did inside it) or else at its
+    /// midpoint, and the half holding the first crossing kept, with the candidates that
+    /// cross in it; one candidate left is a simple intersection, solved by [`Self::crossing`].
+    fn subdivide(&mut self, front: usize, mut lo: u32, mut hi: u32) -> u32 {
+        let f = self.segments[front];
+        loop {
+            if let [only] = self.candidates[..] {
+                return self.crossing(only, front, lo, hi);
+            }
+            if hi - lo <= 1 {
+                return hi;
+            }
+            let m = match self.predicted_split(front, lo, hi) {
+                Some((c, _)) => c,
+                None => lo + (hi - lo) / 2,
+            };
+            self.stats.midpoint_subdivisions += 1;
+            // The candidates in front at m, moved to the head of the list.
+            let mut k = 0;
+            for j in 0..self.candidates.len() {
+                let c = self.candidates[j];
+                self.stats.depth_comparisons += 1;
+                if self.segments[c].in_front_of(&f, m) {
+                    self.candidates.swap(j, k);
+                    k += 1;
+                }
+            }
+            if k > 0 {
+                self.candidates.truncate(k);
+                hi = m;
+            } else {
+                lo = m;
             }
         }
     }
-    until
-}
 
-/// Finds the front segment at column x afresh and the first column where another comes
-/// in front of it: Archuleta's "depth processing" of every segment in the span.
-fn front_afresh(
-    segments: &[Segment],
-    present: &[usize],
-    x: u32,
-    stats: &mut ScanlineStats,
-) -> Front {
-    let segment = front_at(segments, present, x, &mut stats.depth_comparisons);
-    Front {
-        segment,
-        until: overtaken_at(segments, present, segment, x + 1, stats),
+    /// The first column from `x + 1` on where a segment of `others` comes in front of
+    /// `front` (`u32::MAX` if none), the span being `x..b`. Each segment is tested at
+    /// `x + 1` and at the end of its overlap with the front (the two depths are planar, so
+    /// the answer changes once at most between them); those that cross inside the span
+    /// are the candidates for [`Self::subdivide`], those that cross beyond it are solved
+    /// at once (the bound carried along the line).
+    fn overtaken_at(&mut self, others: &[usize], front: usize, x: u32, b: u32) -> u32 {
+        let segments = self.segments;
+        let f = segments[front];
+        let from = x + 1;
+        let span_last = b - 1;
+        let mut until = u32::MAX;
+        self.candidates.clear();
+        for &i in others {
+            if i == front {
+                continue;
+            }
+            let s = &segments[i];
+            let last = match s.x1.min(f.x1).checked_sub(1) {
+                Some(last) if last >= from => last,
+                _ => continue,
+            };
+            self.stats.depth_comparisons += 1;
+            if s.in_front_of(&f, from) {
+                // Nothing can come in front earlier.
+                self.candidates.clear();
+                return from;
+            }
+            self.stats.depth_comparisons += 1;
+            if !s.in_front_of(&f, last) {
+                continue;
+            }
+            let inside = from <= span_last
+                && (last <= span_last || {
+                    self.stats.depth_comparisons += 1;
+                    s.in_front_of(&f, span_last)
+                });
+            if inside {
+                self.candidates.push(i);
+            } else {
+                // Not in front at `from` nor (if the span goes on past it) at its end.
+                let c = self.crossing(i, front, span_last.max(from), last);
+                until = until.min(c);
+            }
+        }
+        if !self.candidates.is_empty() {
+            until = until.min(self.subdivide(front, from, span_last));
+        }
+        until
+    }
+
+    /// The segment in front at column x, found afresh, and the first column where another
+    /// comes in front of it. The line above's front at x is tried first: it is verified
+    /// against every other segment by the tie rule (a segment in front of each of the
+    /// others is what the z-buffer's fold leaves), and only if that fails is the fold run.
+    fn front_afresh(&mut self, present: &[usize], x: u32, b: u32) -> Front {
+        let predicted = self.above_at(x).and_then(|i| {
+            let polygon = self.above[i].polygon;
+            present
+                .iter()
+                .copied()
+                .find(|&j| self.segments[j].polygon == polygon)
+        });
+        let mut segment = None;
+        if let Some(p) = predicted {
+            let segments = self.segments;
+            let s = &segments[p];
+            let mut held = true;
+            for &j in present {
+                if j != p {
+                    self.stats.depth_comparisons += 1;
+                    if !s.in_front_of(&segments[j], x) {
+                        held = false;
+                        break;
+                    }
+                }
+            }
+            if held {
+                self.stats.fronts_predicted += 1;
+                segment = Some(p);
+            } else {
+                self.stats.fronts_mispredicted += 1;
+            }
+        }
+        let segment = segment.unwrap_or_else(|| {
+            front_at(self.segments, present, x, &mut self.stats.depth_comparisons)
+        });
+        Front {
+            segment,
+            until: self.overtaken_at(present, segment, x, b),
+        }
+    }
+
+    /// Decides a sample span (14.4.1), carrying `front` along the line.
+    ///
+    /// Depth is compared only where segments overlap, and only as much as the last span
+    /// left undecided: while the front segment stays, a segment coming in is compared with
+    /// it alone, and everything is looked at again only where the front leaves or is
+    /// overtaken (Watkins's coherence along a scan line).
+    fn sample_span(&mut self, span: SampleSpan, front: &mut Option<Front>) {
+        let SampleSpan {
+            present,
+            entering,
+            a,
+            b,
+        } = span;
+        let segments = self.segments;
+        self.stats.sample_spans += 1;
+        self.stats.segments_examined += present.len() as u64;
+        if let [only] = present {
+            // Case 1: one segment, visible across the span.
+            self.paint(a, b, *only);
+            *front = Some(Front {
+                segment: *only,
+                until: u32::MAX,
+            });
+            return;
+        }
+        // Cases 2 and 3 and the rest: the front segment holds until the first column where
+        // another comes in front of it; split there and go on from that column.
+        let mut f = match *front {
+            // The front is still here and nothing overtakes it at `a`: it is in front of
+            // every segment that was here before, so only those coming in need looking at.
+            Some(f) if segments[f.segment].x1 > a && f.until > a => {
+                let mut best = f.segment;
+                for &e in &present[entering..] {
+                    self.stats.depth_comparisons += 1;
+                    if segments[e].in_front_of(&segments[best], a) {
+                        best = e;
+                    }
+                }
+                if best == f.segment {
+                    let until = self.overtaken_at(&present[entering..], best, a, b);
+                    Front {
+                        segment: best,
+                        until: f.until.min(until),
+                    }
+                } else {
+                    // A segment comes in in front: every other is solved against it.
+                    Front {
+                        segment: best,
+                        until: self.overtaken_at(present, best, a, b),
+                    }
+                }
+            }
+            _ => self.front_afresh(present, a, b),
+        };
+        let mut x = a;
+        loop {
+            let split = f.until.min(b);
+            self.paint(x, split, f.segment);
+            if split >= b {
+                break;
+            }
+            x = split;
+            let next = self.front_afresh(present, x, b);
+            if next.segment != f.segment {
+                self.stats.crossings += 1;
+            }
+            f = next;
+        }
+        *front = Some(f);
     }
 }
 
@@ -276,80 +653,111 @@ struct SampleSpan<'a> {
     b: u32,
 }
 
-/// Decides a sample span (14.4.1), carrying `front` along the line.
-///
-/// Depth is compared only where segments overlap, and only as much as the last span left
-/// undecided: while the front segment stays, a segment coming in is compared with it
-/// alone (at `a`, and by one crossing solve); everything is looked at again only where
-/// the front leaves or may be overtaken (Watkins's coherence along a scan line).
-fn sample_span(
-    segments: &[Segment],
-    span: SampleSpan,
-    front: &mut Option<Front>,
-    stats: &mut ScanlineStats,
-    out: &mut RowRuns,
-) {
-    let SampleSpan {
-        present,
-        entering,
-        a,
-        b,
-    } = span;
-    stats.sample_spans += 1;
-    stats.segments_examined += present.len() as u64;
-    if let [only] = present {
-        // Case 1: one segment, visible across the span.
-        out.paint(a, b, segments[*only].colour);
-        *front = Some(Front {
-            segment: *only,
-            until: u32::MAX,
-        });
-        return;
-    }
-    // Cases 2 and 3: the front segment holds until the first column where another comes
-    // in front of it; split there (Archuleta's XINTER) and go on from that column.
-    let mut f = match *front {
-        // The front is still here and nothing overtakes it at `a`: it is in front of every
-        // segment that was here before, so only those coming in need looking at.
-        Some(f) if segments[f.segment].x1 > a && f.until > a => {
-            let mut best = f.segment;
-            for &e in &present[entering..] {
-                stats.depth_comparisons += 1;
-                if segments[e].in_front_of(&segments[best], a) {
-                    best = e;
+/// The order of the segment list: by left end, then stream index.
+#[inline]
+fn key(s: &Segment) -> (u32, usize) {
+    (s.x0, s.polygon)
+}
+
+impl Scanline {
+    /// The line's segments built afresh and sorted, the line above forgotten: the method
+    /// without its coherence from line to line.
+    fn segments_afresh(&mut self, y: u32, width: u32) {
+        let line = y as i64;
+        self.segments.clear();
+        for a in &mut self.active {
+            if line < a.rows.start {
+                continue;
+            }
+            let (z_row, dz) = a.depth.row(y);
+            for (k, pair) in a.walker.crossings(line).chunks_exact(2).enumerate() {
+                let cols = centres_in_clamped(pair[0], pair[1], width);
+                if !cols.is_empty() {
+                    self.segments.push(Segment {
+                        x0: cols.start,
+                        x1: cols.end,
+                        z_row,
+                        dz,
+                        polygon: a.polygon,
+                        k: k as u32,
+                        colour: a.colour,
+                    });
                 }
             }
-            if best == f.segment {
-                let until = overtaken_at(segments, &present[entering..], best, a + 1, stats);
-                Front {
-                    segment: best,
-                    until: f.until.min(until),
+        }
+        self.segments.sort_unstable_by_key(key);
+    }
+
+    /// Steps the segment list to the next line, keeping it in X order (Archuleta (1972):
+    /// "all segments are updated to the next scan line. Some minor sorting is performed at
+    /// this time"): the polygons are stepped in the X order of their first segments on
+    /// the line above, so that the new segments come out in that order, those gone
+    /// dropped; an insertion sort puts back the few that moved past one another (none
+    /// where nothing moved); and the segments new on this line (of polygons that had none
+    /// above, and a concave polygon's second and later ones), sorted among themselves,
+    /// are merged in.
+    fn step_segments(&mut self, y: u32, width: u32) {
+        let line = y as i64;
+        self.segments.clear();
+        self.incoming.clear();
+        // The polygons in the order of the line above: their first segments come out in
+        // that order, which the minor sort then repairs where they moved past one another.
+        for &p in &self.order {
+            let slot = self.slot_of[p];
+            if slot != GONE {
+                let a = &mut self.active[slot as usize];
+                a.segments(y, width, &mut self.segments, Some(&mut self.incoming));
+            }
+        }
+        // The polygons that had no segment on the line above: all theirs are new.
+        for a in &mut self.active {
+            if a.stepped != line {
+                a.segments(y, width, &mut self.incoming, None);
+            }
+        }
+        // The minor sorting: an insertion sort, linear on a list still in order.
+        let list = &mut self.segments;
+        for i in 1..list.len() {
+            if key(&list[i]) < key(&list[i - 1]) {
+                self.stats.resorted += 1;
+                let s = list[i];
+                let mut j = i;
+                while j > 0 && key(&s) < key(&list[j - 1]) {
+                    list[j] = list[j - 1];
+                    j -= 1;
                 }
+                self.stats.swaps += (i - j) as u64;
+                list[j] = s;
+            }
+        }
+        // The segments new on this line, merged in.
+        if !self.incoming.is_empty() {
+            self.stats.merged += self.incoming.len() as u64;
+            self.incoming.sort_unstable_by_key(key);
+            if self.segments.is_empty() {
+                std::mem::swap(&mut self.segments, &mut self.incoming);
             } else {
-                // A segment comes in in front: every other is solved against it.
-                Front {
-                    segment: best,
-                    until: overtaken_at(segments, present, best, a + 1, stats),
+                self.merged.clear();
+                let (mut i, mut j) = (0, 0);
+                let (old, new) = (&self.segments, &self.incoming);
+                while i < old.len() && j < new.len() {
+                    if key(&new[j]) < key(&old[i]) {
+                        self.merged.push(new[j]);
+                        j += 1;
+                    } else {
+                        self.merged.push(old[i]);
+                        i += 1;
+                    }
                 }
+                self.merged.extend_from_slice(&old[i..]);
+                self.merged.extend_from_slice(&new[j..]);
+                std::mem::swap(&mut self.segments, &mut self.merged);
             }
         }
-        _ => front_afresh(segments, present, a, stats),
-    };
-    let mut x = a;
-    loop {
-        let split = f.until.min(b);
-        out.paint(x, split, segments[f.segment].colour);
-        if split >= b {
-            break;
-        }
-        x = split;
-        let next = front_afresh(segments, present, x, stats);
-        if next.segment != f.segment {
-            stats.crossings += 1;
-        }
-        f = next;
+        self.order.clear();
+        self.order
+            .extend(self.segments.iter().filter(|s| s.k == 0).map(|s| s.polygon));
     }
-    *front = Some(f);
 }
 
 impl HiddenSurface for Scanline {
@@ -374,6 +782,11 @@ impl HiddenSurface for Scanline {
         for a in self.active.drain(..) {
             self.pool.push(a.walker);
         }
+        self.segments.clear();
+        self.above.clear();
+        self.order.clear();
+        self.slot_of.clear();
+        self.slot_of.resize(polygons.len(), GONE);
 
         let mut next = 0;
         for y in 0..height {
@@ -394,25 +807,34 @@ impl HiddenSurface for Scanline {
                 for skipped in rows.start..line {
                     walker.crossings(skipped);
                 }
+                self.slot_of[i] = self.active.len() as u32;
                 self.active.push(ActivePolygon {
                     polygon: i,
                     colour: p.colour,
                     rows,
                     depth: DepthPlane::of(p),
                     walker,
+                    stepped: -1,
                 });
             }
-            // Polygons past their last line leave.
+            // Polygons past their last line leave (their segments with them).
             let mut k = 0;
             while k < self.active.len() {
                 if self.active[k].rows.end <= line {
                     let gone = self.active.swap_remove(k);
+                    self.slot_of[gone.polygon] = GONE;
+                    if let Some(moved) = self.active.get(k) {
+                        self.slot_of[moved.polygon] = k as u32;
+                    }
                     self.pool.push(gone.walker);
                 } else {
                     k += 1;
                 }
             }
             if self.active.is_empty() {
+                self.segments.clear();
+                self.order.clear();
+                self.above.clear();
                 if next == self.entering.len() {
                     break;
                 }
@@ -420,45 +842,33 @@ impl HiddenSurface for Scanline {
             }
             self.stats.scan_lines += 1;
 
-            // The active polygons' segments on this line, stepping each one's edges.
-            self.segments.clear();
-            for a in &mut self.active {
-                if line < a.rows.start {
-                    continue;
-                }
-                let (z_row, dz) = a.depth.row(y);
-                for pair in a.walker.crossings(line).chunks_exact(2) {
-                    let cols = centres_in_clamped(pair[0], pair[1], width);
-                    if cols.is_empty() {
-                        continue;
-                    }
-                    self.segments.push(Segment {
-                        x0: cols.start,
-                        x1: cols.end,
-                        z_row,
-                        dz,
-                        polygon: a.polygon,
-                        colour: a.colour,
-                    });
-                }
+            // The active polygons' segments on this line, in X order.
+            if self.sort_afresh {
+                self.segments_afresh(y, width);
+            } else {
+                self.step_segments(y, width);
             }
+            self.pieces.clear();
             if self.segments.is_empty() {
+                std::mem::swap(&mut self.above, &mut self.pieces);
                 continue;
             }
             self.stats.segments += self.segments.len() as u64;
-            // Watkins's list is kept in X order from line to line with "some minor sorting"
-            // (Archuleta (1972), HIDDEN); here the line's segments are sorted afresh. Keeping the
-            // active list in the last line's X order so that they came out nearly sorted
-            // measured slower (moving the active polygons costs more than the sort saves).
-            self.segments.sort_unstable_by_key(|s| (s.x0, s.polygon));
 
             // The sample spans, left to right: cut at every segment end.
-            let mut out = RowRuns {
-                y,
-                open: None,
-                runs,
-            };
             let segments = &self.segments;
+            let mut sweep = Sweep {
+                segments,
+                above: &self.above,
+                pieces: &mut self.pieces,
+                candidates: &mut self.candidates,
+                stats: &mut self.stats,
+                out: RowRuns {
+                    y,
+                    open: None,
+                    runs,
+                },
+            };
             let present = &mut self.present;
             present.clear();
             let mut entered = 0;
@@ -491,7 +901,7 @@ impl HiddenSurface for Scanline {
                     a: x,
                     b: end,
                 };
-                sample_span(segments, span, &mut front, &mut self.stats, &mut out);
+                sweep.sample_span(span, &mut front);
                 x = end;
                 if first_end <= x {
                     // Some segment ends here: drop those that do, finding the next end.
@@ -507,7 +917,11 @@ impl HiddenSurface for Scanline {
                     });
                 }
             }
-            out.finish();
+            sweep.out.finish();
+            // This line's record of subdivisions predicts the next.
+            if !self.sort_afresh {
+                std::mem::swap(&mut self.above, &mut self.pieces);
+            }
         }
     }
 
@@ -515,13 +929,23 @@ impl HiddenSurface for Scanline {
         let s = &self.stats;
         format!(
             "{} scan lines, {} segments, {} sample spans, {} segments examined, \
-             {} depth comparisons, {} crossings",
+             {} depth comparisons, {} crossings; minor sort: {} segments merged in, \
+             {} re-sorted, {} swaps; predicted from the line above: {} fronts held, \
+             {} failed, {} crossings held, {} failed; {} midpoint subdivisions",
             s.scan_lines,
             s.segments,
             s.sample_spans,
             s.segments_examined,
             s.depth_comparisons,
-            s.crossings
+            s.crossings,
+            s.merged,
+            s.resorted,
+            s.swaps,
+            s.fronts_predicted,
+            s.fronts_mispredicted,
+            s.crossings_predicted,
+            s.crossings_mispredicted,
+            s.midpoint_subdivisions,
         )
     }
 }
@@ -538,6 +962,7 @@ mod tests {
             z_row,
             dz,
             polygon,
+            k: 0,
             colour: [0, 0, 0],
         }
     }
@@ -683,11 +1108,121 @@ mod tests {
                 segments: 2,
                 sample_spans: 3,
                 segments_examined: 4,
-                // front at 2, solve, front at 5, solve
-                depth_comparisons: 4,
+                // At 2 green (coming in) against red (carried); red tested at 3 and at
+                // 5 (in front there: a simple intersection), one bisection step at 4;
+                // the fold at 5, where green has no column left to come back in.
+                depth_comparisons: 5,
                 crossings: 1,
+                merged: 2,
+                ..ScanlineStats::default()
             }
         );
+    }
+
+    /// Where Watkins's simple cases miss a crossing: A is in front at the span's left end,
+    /// B at its right end, and the two cross at column 32; a span decided by its two ends
+    /// alone (14.4.1's "simple intersection") would paint A then B and miss C, which is in
+    /// front of both in the middle. Two segments come in front of A inside the span, so
+    /// it is subdivided (at the midpoint on the first line, at the line above's split on
+    /// the next ones, which predict C's crossing exactly), and C shows where the z-buffer
+    /// shows it.
+    #[test]
+    fn a_crossing_the_simple_cases_miss_is_found_by_subdivision() {
+        const CYAN: Colour = [0, 255, 255];
+        let a = quad(
+            RED,
+            [[0., 0., 0.2], [64., 0., 0.8], [64., 4., 0.8], [0., 4., 0.2]],
+        );
+        let b = quad(
+            GREEN,
+            [[0., 0., 0.8], [64., 0., 0.2], [64., 4., 0.2], [0., 4., 0.8]],
+        );
+        let c = quad(
+            CYAN,
+            [
+                [0., 0., 0.45],
+                [64., 0., 0.45],
+                [64., 4., 0.45],
+                [0., 4., 0.45],
+            ],
+        );
+        let polygons = [a, b, c];
+        // The crossing of A and B alone: the simple intersection.
+        let seg = |p: &Polygon, i| {
+            let (z_row, dz) = DepthPlane::of(p).row(0);
+            Segment {
+                x0: 0,
+                x1: 64,
+                z_row,
+                dz,
+                polygon: i,
+                k: 0,
+                colour: p.colour,
+            }
+        };
+        let (sa, sb) = (seg(&polygons[0], 0), seg(&polygons[1], 1));
+        assert_eq!(first_in_front(&sb, &sa, 0), Some(32));
+        let (runs, stats) = resolve(&polygons, 64, 4);
+        assert_eq!(image_of(&runs, 64, 4), zbuffer_image(&polygons, 64, 4));
+        for y in 0..4 {
+            assert_eq!(
+                runs[3 * y as usize..3 * y as usize + 3],
+                [
+                    run(y, 0, 27, RED),
+                    run(y, 27, 37, CYAN),
+                    run(y, 37, 64, GREEN)
+                ]
+            );
+        }
+        // Line 0: cut at 32 (B and C in front there), 16 and 24 (neither), 28 (C alone:
+        // a simple intersection, bisected to 27). Lines 1-3: one cut each, at 27, where
+        // line 0 changed from A to C, and C's crossing there verified.
+        assert_eq!(stats.midpoint_subdivisions, 4 + 3);
+        assert_eq!(stats.crossings_predicted, 3 + 3);
+        assert_eq!(stats.crossings_mispredicted, 0);
+        assert_eq!(stats.crossings, 2 * 4);
+    }
+
+    /// Where the coherence does not pay: 64 thin quads whose order along the line reverses
+    /// from the top of the screen to the bottom, so that every pair changes places once.
+    /// The minor sort does at least one exchange per pair (64·63/2 = 2,016), spread over
+    /// the lines where they pass, and a few more where two passing segments' left ends,
+    /// rounded to columns, meet and part again; the same quads side by side, not
+    /// crossing, cost none. (A sort afresh costs the same whatever the order; Watkins's
+    /// list costs what moved.)
+    #[test]
+    fn segments_that_all_change_places_cost_one_swap_a_pair() {
+        let strips = |cross: bool| -> Vec<Polygon> {
+            (0..64)
+                .map(|i| {
+                    let top = 4.0 * i as f64 + 0.25;
+                    let bottom = if cross { 252.25 - 4.0 * i as f64 } else { top };
+                    let z = 0.1 + 0.01 * i as f64;
+                    quad(
+                        [i as u8, 100, 200],
+                        [
+                            [top, 0., z],
+                            [top + 1.5, 0., z],
+                            [bottom + 1.5, 64., z],
+                            [bottom, 64., z],
+                        ],
+                    )
+                })
+                .collect()
+        };
+        for (cross, swaps) in [(true, 2208), (false, 0)] {
+            let polygons = strips(cross);
+            let (runs, stats) = resolve(&polygons, 256, 64);
+            assert_eq!(
+                differing_pixels(
+                    &image_of(&runs, 256, 64),
+                    &zbuffer_image(&polygons, 256, 64)
+                ),
+                0
+            );
+            assert_eq!(stats.swaps, swaps, "cross {cross}: {stats:?}");
+            assert_eq!(stats.merged, 64);
+        }
     }
 
     #[test]
@@ -1035,6 +1570,14 @@ mod properties {
         let mut runs = vec![];
         method.resolve(polygons, w, h, &mut runs);
         let want = zbuffer_image(polygons, w, h);
+        // Without the coherence: the same runs.
+        let mut afresh = Scanline {
+            sort_afresh: true,
+            ..Scanline::new()
+        };
+        let mut runs_afresh = vec![];
+        afresh.resolve(polygons, w, h, &mut runs_afresh);
+        prop_assert_eq!(&runs_afresh, &runs);
         prop_assert_eq!(differing_pixels(&image_of(&runs, w, h), &want), 0);
         // Runs are in row order, left to right, and as long as they can be.
         for pair in runs.windows(2) {

@@ -9,18 +9,22 @@ use std::process::ExitCode;
 ///
 /// Reads a screen-space polygon stream (from persp) on stdin and resolves each frame
 /// one scan line at a time, with no depth buffer: the active polygons' segments on the
-/// line, cut into sample spans at the segment ends; in a span where segments overlap,
-/// depth is compared at its left end and the first column where another segment comes
-/// in front is solved for exactly, and the span split there. Writes the visible pixels
+/// line, kept in X order from line to line by a minor sort, cut into sample spans at
+/// the segment ends; in a span where segments overlap, depth is compared at its left
+/// end, the first column where another segment comes in front is solved for exactly (by
+/// midpoint subdivision where several may), and the span split there; the line above's
+/// front and crossing columns are tried first and verified. Writes the visible pixels
 /// of each frame as runs of one colour (`run Y X0 X1 R G B`), which zbuf places without
 /// a depth test. The picture is the z-buffer's (`scanconv --resolve`) to the pixel.
 ///
 /// It fails on no scene; what it pays for is segments and sample spans, not pixels
 /// (docs/methods.md, scripts/bench-methods.sh scanline): much faster than the z-buffer
-/// on piles of big polygons (25 times on 64 stacked full-screen planes), slower with
-/// hundreds of crossings a line on polygons a few pixels wide (1.2 to 1.3 times) and on
-/// many small polygons piled deep (2.2 times on the test environment at depth
-/// complexity 16).
+/// on piles of big polygons (about 30 times on 64 stacked full-screen planes), slower
+/// with hundreds of crossings a line on polygons a few pixels wide (up to 1.9 times) and
+/// on many small polygons piled deep (1.7 times on the test environment at depth
+/// complexity 16). The coherence from line to line saves 6% of the instructions on
+/// Archuleta's spheres and costs 2 to 7% where everything moves (slivers) or nothing
+/// does (20,000 stacked quads): --sort-afresh measures it.
 ///
 /// Example:
 ///   persp --size 500x500 < leaf.pp | scanline > leaf.frag
@@ -32,14 +36,23 @@ struct Args {
     text: TextFlag,
     /// Print counts on stderr at the end: polygons in, frames, runs out, then Watkins's
     /// quantities: scan lines, segments, sample spans, segments examined, depth
-    /// comparisons and crossings (splits where another segment comes in front).
+    /// comparisons (tests of the tie rule at a column) and crossings (splits where another
+    /// segment comes in front); the minor sort's segments merged in, re-sorted and swaps;
+    /// the predictions from the line above (fronts and crossing columns) that held and
+    /// that failed; and the midpoint subdivisions.
     #[arg(long)]
     stats: bool,
+    /// Sort the segments afresh on every line and predict nothing from the line above:
+    /// the method without Watkins's scan-line coherence, for measuring what it buys
+    /// (scripts/bench-methods.sh scanline). The picture is the same.
+    #[arg(long)]
+    sort_afresh: bool,
 }
 
 fn main() -> ExitCode {
     stagecli::main("scanline", |args: Args| {
         let mut method = Scanline::new();
+        method.sort_afresh = args.sort_afresh;
         stagecli::resolve_frames("scanline", args.text.form(), args.stats, &mut method)?;
         Ok(())
     })
