@@ -31,6 +31,10 @@ fn a_shaded_scene_is_zspecs_at_every_depth_in_both_merge_modes() {
             assert!(ppm == reference, "--depth {depth} --merge {merge}");
         }
     }
+    let pixels = run(
+        "scripts/render.sh --size 96x80 --depth 2 --merge buffer --pixels examples/gouraud.txt",
+    );
+    assert!(pixels == reference, "--merge buffer --pixels");
     let chain = run("scripts/render.sh --size 96x80 --depth 2 --clip chain examples/gouraud.txt");
     assert!(chain == reference, "--clip chain");
 }
