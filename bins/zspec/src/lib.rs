@@ -121,7 +121,7 @@ fn cut_coloured_at_hither(
             p.z = k1;
             p.w = k1 * w_per_z;
             out.push(p);
-            out_colours.push(ca + (cb - ca) * t);
+            out_colours.push((ca + (cb - ca) * t).clamp(ca.min(cb), ca.max(cb)));
         }
     }
     (out, out_colours)
