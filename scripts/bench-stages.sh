@@ -8,6 +8,9 @@
 #   scripts/bench-stages.sh codec [POLYGONS] [REPS]  the stream codec, binary and text
 #   scripts/bench-stages.sh fused [REPS]          render.sh's pipes against the same
 #                                                 libraries in one process (`fused`)
+#   scripts/bench-stages.sh fill [REPS]           zbuf's depth tests per CPU second on
+#                                                 the fill-heavy scene, and the span
+#                                                 z-test alone (scan's example ztest)
 #
 # Each mode's own notes are at its function below. They share scripts/lib/bench.sh.
 
@@ -364,11 +367,59 @@ echo
 echo "pipes: render.sh's processes as one shell pipe line (no script, no named pipes)."
 )
 
+# --- fill ------------------------------------------------------------------------
+mode_fill() (
+# The fill rate: `zbuf --stats` on the screen stream of the fill-heavy scene (bench.sh's
+# (c): 10,000 quads, Dc≈10, 1920×1080), made once to a file, so that zbuf's scan
+# conversion and depth tests are all that is timed. CPU time is user + system of the
+# process (bash's `time`), the median of REPS runs (default 9); the rate is the pixels
+# zbuf says it tested over it. BASE=path/to/another/zbuf measures that one too,
+# interleaved run for run, and gives this zbuf's CPU over its. Then the span z-test alone:
+# `cargo run --release -p scan --example ztest` (each kernel on spans of 8-256 pixels in
+# the L2 cache).
+set -euo pipefail
+REPS=${1:-9}
+ROOT=$(cd "$(dirname "$0")/.." && pwd)
+B=$ROOT/target/release
+TMP=$(mktemp -d "${TMPDIR:-/tmp}/bench-fill.XXXXXX")
+trap 'rm -rf "$TMP"' EXIT
+cargo build --release --quiet --manifest-path "$ROOT/Cargo.toml" -p scene -p viewxf -p clipbatch -p persp -p zbuf
+"$B/scene" environment --text --seed 2 --polygons 10000 --depth-complexity 10 --size 1920x1080 |
+    "$B/viewxf" --size 1920x1080 | "$B/clipbatch" | "$B/persp" --size 1920x1080 > "$TMP/fill.screen"
+tested=$("$B/zbuf" --stats "$TMP/fill.screen" 2>&1 >/dev/null | sed -n 's/.* \([0-9]*\) pixels tested.*/\1/p')
+[[ -n $tested ]] || { echo "bench-stages.sh fill: zbuf --stats gave no pixel count" >&2; exit 1; }
+zbufs=("$B/zbuf")
+[[ -z ${BASE-} ]] || zbufs+=("$BASE")
+if ((${#zbufs[@]} == 2)); then
+    "$BASE" "$TMP/fill.screen" | cmp -s - <("$B/zbuf" "$TMP/fill.screen") ||
+        { echo "bench-stages.sh fill: $BASE draws another frame" >&2; exit 1; }
+fi
+declare -A cpu
+for ((r = 0; r < REPS; r++)); do
+    for z in "${zbufs[@]}"; do cpu[$z]+="$(cpu_seconds "$z" "$TMP/fill.screen") "; done
+done
+echo "| zbuf | pixels tested | CPU s (median of $REPS) | M tests per CPU s |"
+echo "|---|---|---|---|"
+for z in "${zbufs[@]}"; do
+    c=$(tr ' ' '\n' <<< "${cpu[$z]}" | grep . | median)
+    echo "| $z | $tested | $c | $(awk -v n="$tested" -v c="$c" 'BEGIN { printf "%.0f", n / c / 1e6 }') |"
+done
+if ((${#zbufs[@]} == 2)); then
+    a=$(tr ' ' '\n' <<< "${cpu[$B/zbuf]}" | grep . | median)
+    b=$(tr ' ' '\n' <<< "${cpu[$BASE]}" | grep . | median)
+    echo
+    echo "CPU of this zbuf over BASE's: $(ratio "$a" "$b")"
+fi
+echo
+cargo run --release --quiet --manifest-path "$ROOT/Cargo.toml" -p scan --example ztest
+)
+
 case ${1-} in
     geometry) shift; mode_geometry "$@" ;;
+    fill) shift; mode_fill "$@" ;;
     clip) shift; mode_clip "$@" ;;
     codec) shift; mode_codec "$@" ;;
     fused) shift; mode_fused "$@" ;;
     -h | --help | "") sed -n '2,/^$/{s/^# \{0,1\}//;p}' "${BASH_SOURCE[0]}"; [[ -n ${1-} ]] ;;
-    *) echo "bench-stages.sh: no mode '$1' (modes: geometry clip codec fused)" >&2; exit 2 ;;
+    *) echo "bench-stages.sh: no mode '$1' (modes: geometry clip codec fused fill)" >&2; exit 2 ;;
 esac

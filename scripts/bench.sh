@@ -16,6 +16,7 @@
 #   (a) 1,024 quads at 500x500            (b) 100,000 quads, depth complexity 2, 500x500
 #   (c) 10,000 quads, depth complexity 10, 1920x1080 (the fill-heavy scene)
 #   (d) a 100-frame movie of 1,024 quads at 500x500
+#   (e) two polygons at 64x64 (examples/triangle-square.txt: start-up, nothing else)
 #
 # The rows: render.sh with its default options against the llvmpipe harness
 # (bench/llvmpipe/render.c through OSMesa, the same scene, camera and pyramid) and
@@ -23,16 +24,25 @@
 # stage libraries; run as `fused --size WxH SCENE`), then render.sh --depth 0..4 on the
 # fill-heavy scene with each merge mode (--merge tiles and --merge buffer, if render.sh
 # has them), each against depth 0 in the same mode. A/B below 1 means A is faster.
+# A second table gives render.sh against llvmpipe by CPU seconds (user + system of the
+# whole process tree) from the same runs, and a third the work the tree adds: the CPU
+# seconds of render.sh --depth 0..4 on the fill-heavy scene, all on one core
+# (`taskset -c 0`), each against depth 0's.
+#
+# --scaling instead runs render.sh --depth 0..6 on the fill-heavy scene on every core
+# count from 1 to nproc (`taskset -c 0-(N-1)`), interleaved likewise, and prints the
+# wall seconds and the speed-up of each against depth 0 on one core.
 #
 # Environment: RENDER (default scripts/render.sh) and FUSED (default target/release/fused,
 # or target/release/examples/fused) name other commands to measure in their place.
 #
-# Usage: scripts/bench.sh [--quick] [--reps N]
-#   --quick   3 repetitions and smaller scenes (b: 20,000 quads; c: 2,000 quads at
-#             960x540; d: 20 frames), to try the script out
-#   --reps N  repetitions per command (median of N; default 5, or 3 with --quick)
+# Usage: scripts/bench.sh [--quick] [--reps N] [--scaling]
+#   --quick    3 repetitions and smaller scenes (b: 20,000 quads; c: 2,000 quads at
+#              960x540; d: 20 frames), to try the script out
+#   --reps N   repetitions per command (median of N; default 5, or 3 with --quick)
+#   --scaling  only the table of depths 0-6 against core counts 1..nproc
 #
-# Needs: cargo, gcc and OSMesa (bench/llvmpipe/build.sh installs libosmesa6-dev when run
+# Needs: cargo, taskset (util-linux), gcc and OSMesa (bench/llvmpipe/build.sh installs libosmesa6-dev when run
 # as root; otherwise llvmpipe's rows are n/a and it says what to install), python3 or
 # awk for the medians.
 set -euo pipefail
@@ -41,10 +51,12 @@ export LC_ALL=C
 usage() { sed -n '/^# Usage:/,/^# Needs:/p' "$0" | sed '$d; s/^# \{0,1\}//'; }
 
 quick=0
+scaling=0
 reps=
 while (($#)); do
     case $1 in
         --quick) quick=1; shift ;;
+        --scaling) scaling=1; shift ;;
         --reps) (($# >= 2)) || { echo "bench.sh: --reps needs N" >&2; exit 2; }; reps=$2; shift 2 ;;
         --reps=*) reps=${1#*=}; shift ;;
         -h | --help) usage; exit 0 ;;
@@ -84,17 +96,19 @@ else
     geo_n=100000 fill_n=10000 fill_size=1920x1080 movie_frames=100
 fi
 commas() { sed ':a; s/\B[0-9]\{3\}\>/,&/; ta' <<< "$1"; }
-scenes=(env geo fill movie)
+scenes=(env geo fill movie two)
 declare -A size label
 size[env]=500x500 label[env]="(a) $(commas 1024) quads, 500×500"
 size[geo]=500x500 label[geo]="(b) $(commas "$geo_n") quads, Dc≈2, 500×500"
 size[fill]=$fill_size label[fill]="(c) $(commas "$fill_n") quads, Dc≈10, ${fill_size/x/×}"
 size[movie]=500x500 label[movie]="(d) $(commas 1024) quads × $movie_frames frames, 500×500"
+size[two]=64x64 label[two]="(e) two polygons, 64×64"
 echo "bench.sh: generating the scenes" >&2
 "$B/scene" environment --text --seed 1 --polygons 1024 --size 500x500 > "$work/env.txt"
 "$B/scene" environment --text --seed 3 --polygons "$geo_n" --depth-complexity 2 --size 500x500 > "$work/geo.txt"
 "$B/scene" environment --text --seed 2 --polygons "$fill_n" --depth-complexity 10 --size "$fill_size" > "$work/fill.txt"
 "$B/scene" environment --text --seed 4 --polygons 1024 --frames "$movie_frames" --size 500x500 > "$work/movie.txt"
+cp "$root/examples/triangle-square.txt" "$work/two.txt"
 
 # --- The commands, by name. -----------------------------------------------------------
 jobs=()
@@ -106,24 +120,39 @@ job() { # NAME COMMAND...: a command to time, its words quoted once here
     jobs+=("$name")
     cmd[$name]=$q
 }
-for s in "${scenes[@]}"; do
-    job "pipe.$s" "$render" --size "${size[$s]}" "$work/$s.txt"
-    [[ -n $gl ]] && job "gl.$s" "$gl" --size "${size[$s]}" "$work/$s.txt"
-    [[ -n $fused ]] && job "fused.$s" "$fused" --size "${size[$s]}" "$work/$s.txt"
-done
-# Without --merge (a render.sh older than the leaves that resolve), the depths are measured as they are.
-modes=(tiles buffer)
-((merge)) || modes=(default tiles buffer)
-for m in "${modes[@]}"; do
-    merge_opt=(--merge "$m")
-    case $m in
-        default) merge_opt=() ;;
-        *) ((merge)) || continue ;;
-    esac
-    for d in 0 1 2 3 4; do
-        job "depth.$m.$d" "$render" --size "$fill_size" --depth "$d" "${merge_opt[@]}" "$work/fill.txt"
+cores=$(nproc)
+if ((scaling)); then
+    scenes=()
+    for ((c = 1; c <= cores; c++)); do
+        for d in 0 1 2 3 4 5 6; do
+            job "scale.$c.$d" taskset -c "0-$((c - 1))" "$render" --size "$fill_size" --depth "$d" "$work/fill.txt"
+        done
     done
-done
+    modes=()
+else
+    for s in "${scenes[@]}"; do
+        job "pipe.$s" "$render" --size "${size[$s]}" "$work/$s.txt"
+        [[ -n $gl ]] && job "gl.$s" "$gl" --size "${size[$s]}" "$work/$s.txt"
+        [[ -n $fused ]] && job "fused.$s" "$fused" --size "${size[$s]}" "$work/$s.txt"
+    done
+    # Without --merge (a render.sh older than the leaves that resolve), the depths are measured as they are.
+    modes=(tiles buffer)
+    ((merge)) || modes=(default tiles buffer)
+    for m in "${modes[@]}"; do
+        merge_opt=(--merge "$m")
+        case $m in
+            default) merge_opt=() ;;
+            *) ((merge)) || continue ;;
+        esac
+        for d in 0 1 2 3 4; do
+            job "depth.$m.$d" "$render" --size "$fill_size" --depth "$d" "${merge_opt[@]}" "$work/fill.txt"
+        done
+    done
+    # The work on one core: CPU seconds, not wall.
+    for d in 0 1 2 3 4; do
+        job "one.$d" taskset -c 0 "$render" --size "$fill_size" --depth "$d" "$work/fill.txt"
+    done
+fi
 
 # --- Warm-up: every command once, its pictures kept; a failure is reported, and the
 # command's rows read n/a (render.sh failing stops the run: nothing to compare).
@@ -139,22 +168,32 @@ for j in "${jobs[@]}"; do
 done
 
 # --- The timed rounds. ----------------------------------------------------------------
-declare -A times
+# Each run's wall seconds (bash's microsecond clock) and CPU seconds (user + system of the
+# whole process tree: bash's `time` counts the children it waited for, to the
+# millisecond; written to a file, so that no subshell is timed).
+declare -A times cpus
+TIMEFORMAT='%3U %3S'
 for ((r = 1; r <= reps; r++)); do
     echo "bench.sh: round $r of $reps" >&2
     for j in "${jobs[@]}"; do
         [[ -n ${ok[$j]:-} ]] || continue
         t0=$EPOCHREALTIME
-        eval "${cmd[$j]}" > /dev/null 2> "$work/err.$j" ||
+        { time eval "${cmd[$j]}" > /dev/null 2> "$work/err.$j"; } 2> "$work/time.$j" ||
             { echo "bench.sh: $j failed in round $r" >&2; cat "$work/err.$j" >&2; exit 1; }
         t1=$EPOCHREALTIME
         times[$j]+="$(awk -v a="$t0" -v b="$t1" 'BEGIN { printf "%.6f", b - a }') "
+        cpus[$j]+="$(awk '{ printf "%.3f", $1 + $2 }' "$work/time.$j") "
     done
 done
 
-job_median() { # JOB: the median of its times, or nothing
+job_median() { # JOB: the median of its wall times, or nothing
     [[ -n ${times[$1]:-} ]] || return 0
     tr ' ' '\n' <<< "${times[$1]}" | grep . | median
+}
+
+cpu_median() { # JOB: the median of its CPU times, or nothing
+    [[ -n ${cpus[$1]:-} ]] || return 0
+    tr ' ' '\n' <<< "${cpus[$1]}" | grep . | median
 }
 
 # differ A B: how two runs' pictures compare ("identical", or differing pixels of all).
@@ -184,6 +223,29 @@ cpu=$(awk -F': ' '/^model name/ { print $2; exit }' /proc/cpuinfo 2>/dev/null ||
 mesa=n/a
 [[ -n $gl ]] && mesa=$("$gl" --renderer 2>/dev/null || echo n/a)
 commit=$(git -C "$root" rev-parse --short HEAD 2>/dev/null || echo unknown)
+if ((scaling)); then
+    echo
+    echo "Measured by \`scripts/bench.sh$( ((quick)) && echo ' --quick') --scaling\` at commit $commit on" \
+        "${cpu:-an unknown CPU}, $cores cores, $(date -u +%Y-%m-%d): render.sh --depth D on" \
+        "${label[fill]} under \`taskset -c 0-(N-1)\`, whole-process wall seconds, median of" \
+        "$reps, from one run; speed-up against depth 0 on one core."
+    echo
+    head="| cores |" rule="|---|"
+    for d in 0 1 2 3 4 5 6; do head+=" depth $d s (speed-up) |" rule+="---|"; done
+    echo "$head"
+    echo "$rule"
+    base=$(job_median scale.1.0)
+    for ((c = 1; c <= cores; c++)); do
+        line="| $c |"
+        for d in 0 1 2 3 4 5 6; do
+            t=$(job_median "scale.$c.$d")
+            if [[ -n $t ]]; then line+=" $t ($(ratio "$base" "$t")) |"; else line+=" n/a |"; fi
+        done
+        echo "$line"
+    done
+    exit 0
+fi
+
 echo
 echo "Measured by \`scripts/bench.sh$( ((quick)) && echo ' --quick')\` at commit $commit on ${cpu:-an unknown CPU}," \
     "$(nproc) cores, $(date -u +%Y-%m-%d): whole-process wall seconds, median of $reps," \
@@ -211,4 +273,27 @@ for m in "${modes[@]}"; do
         fi
         row "$what" "${label[fill]}" "depth.$m.$d" "depth.$m.0" "$check"
     done
+done
+
+echo
+echo "The same runs by CPU: user + system seconds of the whole process tree (llvmpipe's" \
+    "threads counted), median of $reps."
+echo
+echo "| A against B | scene | A CPU s | B CPU s | A/B |"
+echo "|---|---|---|---|---|"
+for s in "${scenes[@]}"; do
+    a=$(cpu_median "pipe.$s") b=$(cpu_median "gl.$s")
+    echo "| render.sh against llvmpipe | ${label[$s]} | ${a:-n/a} | ${b:-n/a} | **$(ratio "${a:-0}" "${b:-0}")** |"
+done
+
+echo
+echo "The work the tree adds: render.sh --depth D on ${label[fill]}, all on one core" \
+    "(\`taskset -c 0\`), CPU seconds (user + system of the whole process tree), median of $reps."
+echo
+echo "| depth | CPU s | against depth 0 |"
+echo "|---|---|---|"
+base=$(cpu_median one.0)
+for d in 0 1 2 3 4; do
+    t=$(cpu_median "one.$d")
+    echo "| $d | ${t:-n/a} | **$(ratio "${t:-0}" "${base:-0}")** |"
 done

@@ -582,6 +582,25 @@ start_merger() {
 # more than the sample is kept. A scene the look cannot read is left to the stages, at
 # depth 0, which report it as they do at any depth. With --hosts, the plan is for the
 # hosts (every host a subtree). On a terminal, an uncalibrated machine is said once.
+# tiny_scene: whether the scene file is too small for the tree to pay on any number of
+# cores, so that the model need not be asked (starting `plan` and its look cost a small
+# render about a third of its time). A polygon takes at least 16 bytes of a scene file
+# (three vertices and NEXT.POLYGON take 31 in text) and fills at most the screen, so a
+# file of B bytes asks at most B/16·W·H depth tests of the leaves, which test 300 million
+# a CPU second (docs/performance.md, "The fill rate"): under 9,600,000/(W·H) bytes that
+# is under 2 ms, less than the tree's extra processes cost to start. The bytes are
+# counted by bash's `read`, without a process, up to that bound. A scene not in the text
+# form (a binary stream: its first byte is 0x89) is left to the model.
+# Sets tiny_bound, the bound in bytes.
+tiny_scene() {
+    local data
+    [[ $size =~ ^0*([1-9][0-9]*)[xX]0*([1-9][0-9]*)$ ]] || return 1
+    tiny_bound=$((9600000 / (BASH_REMATCH[1] * BASH_REMATCH[2])))
+    ((tiny_bound >= 64)) || return 1
+    LC_ALL=C IFS= read -r -d '' -N "$((tiny_bound + 1))" data < "$scene" 2>/dev/null
+    ((${#data} <= tiny_bound)) && [[ ${data:0:1} != $'\x89' ]]
+}
+
 choose_depth() {
     local line look=$scene ended
     local -a extra=()
@@ -799,6 +818,11 @@ main() {
     if [[ $depth == auto && $scene != - && ! -f $scene && -z $subtree ]]; then
         exec 3<"$scene" || fail 3 "cannot read scene $scene"
         scene=-
+    fi
+    if [[ $depth == auto && -f $scene && -z $subtree ]] && ((${#hosts[@]} == 0)) && tiny_scene; then
+        depth=0
+        ((${#stats[@]} == 0)) ||
+            echo "render.sh: depth auto chose 0 (a scene file of at most $tiny_bound bytes on a $size screen: under 2 ms of depth tests; the model not asked)" >&2
     fi
     if [[ $depth == auto && -f $scene && -z $subtree ]]; then
         # The clipper chain is the same at every depth: it starts, and reads the scene,

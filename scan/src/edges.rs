@@ -78,14 +78,6 @@ impl EdgeTable {
         self.sorted.extend(self.edges.iter().map(|(_, e)| *e));
         first..last
     }
-
-    /// The bucket of edges that start on screen row `row` (one of the rows `build`
-    /// returned).
-    pub(crate) fn bucket(&self, row: i64) -> &[ActiveEdge] {
-        let from = self.starts.partition_point(|&s| s < row);
-        let to = from + self.starts[from..].partition_point(|&s| s <= row);
-        &self.sorted[from..to]
-    }
 }
 
 /// Edge i of a polygon (vertex i → vertex i+1): rows from its own ends, crossings from
@@ -104,6 +96,8 @@ pub fn polygon_edge(points: &[DVec2], supports: &[Option<[DVec2; 2]>], i: usize)
 #[derive(Debug, Default)]
 pub struct ActiveEdgeTable {
     edges: Vec<ActiveEdge>,
+    /// The Edge Table's edges (in order of their first row) moved in so far.
+    moved: usize,
     /// Scratch: this scanline's crossings, sorted.
     crossings: Vec<f64>,
 }
@@ -112,20 +106,39 @@ impl ActiveEdgeTable {
     /// Empties the table for a new polygon.
     pub fn clear(&mut self) {
         self.edges.clear();
+        self.moved = 0;
     }
 
     /// UPDATE.AET's removal half, then MOVE.ET.BUCKET.TO.AET for `row`, then the crossings
     /// at the scanline centre `row + ½`, sorted (the thesis's BUBBLESORT; the list is
     /// nearly sorted from row to row, which an insertion-style sort handles in one pass).
-    /// Rows are walked in order, each once.
+    /// Rows are walked in order, each once, from the table's first.
+    ///
+    /// The Edge Table's edges are sorted by first row, so the buckets are taken in turn
+    /// from where the last one ended, not looked up; and a row crossed by two edges, most
+    /// rows of most polygons, has its pair put in order with one comparison.
     pub fn advance(&mut self, row: i64, et: &EdgeTable) -> &[f64] {
-        self.edges.retain(|e| e.end_row > row);
-        self.edges.extend_from_slice(et.bucket(row));
+        if self.edges.iter().any(|e| e.end_row <= row) {
+            self.edges.retain(|e| e.end_row > row);
+        }
+        let waiting = &et.starts[self.moved..];
+        let n = waiting.partition_point(|&s| s <= row);
+        if n > 0 {
+            self.edges
+                .extend_from_slice(&et.sorted[self.moved..self.moved + n]);
+            self.moved += n;
+        }
         let yc = row as f64 + 0.5;
         self.crossings.clear();
         self.crossings
             .extend(self.edges.iter().map(|e| e.edge.x_at(yc)));
-        self.crossings.sort_unstable_by(f64::total_cmp);
+        if let [a, b] = self.crossings[..] {
+            if b.total_cmp(&a).is_lt() {
+                self.crossings.swap(0, 1);
+            }
+        } else {
+            self.crossings.sort_unstable_by(f64::total_cmp);
+        }
         &self.crossings
     }
 }

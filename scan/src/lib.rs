@@ -41,9 +41,11 @@ pub mod frame;
 pub mod precision;
 pub mod region;
 mod walk;
+mod ztest;
 
 pub use depth::{depth_at, takes, Depth, DepthPlane};
 pub use edges::{polygon_edge, ActiveEdgeTable, EdgeTable};
 pub use frame::{HiddenSurface, ZBuffer};
 pub use region::{advise_huge_pages, RegionBuffer, RegionStats, Run};
 pub use walk::{check_on_screen, covered_on_row, Span, SpanWalker, GUARD_BAND};
+pub use ztest::ZTest;

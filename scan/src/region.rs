@@ -24,8 +24,9 @@
 
 mod shaded;
 
-use crate::depth::{depth_at, Depth};
+use crate::depth::Depth;
 use crate::walk::Span;
+use crate::ztest::{self, ZTest};
 use proto::Colour;
 use std::ops::Range;
 
@@ -35,6 +36,8 @@ const SHIFT: u32 = TILE.trailing_zeros();
 const AREA: usize = (TILE * TILE) as usize;
 /// The slot of a tile position no span has touched this frame.
 const UNTOUCHED: u32 = u32::MAX;
+/// How many rows below a span the cells under it are prefetched.
+const AHEAD: u32 = 2;
 
 /// A pixel's colour as stored: R, G, B in the low three bytes and a non-zero top byte,
 /// so that 0 means "no polygon covers this pixel yet".
@@ -59,37 +62,101 @@ fn unpack(p: u32) -> Colour {
 /// 25 MB, and faulting it in 4 KiB pages cost the fill-heavy scene's leaf a quarter of
 /// its time in the kernel. Where the reservation cannot be had (a screen of billions of
 /// pixels) the slabs grow as tiles are made, in ordinary pages.
+///
+/// A slab's tiles start on a 64-byte boundary (a cache line): a tile row is then whole
+/// cache lines, and the z-test's four-pixel blocks of bars (32 bytes) never straddle two.
 struct Slab<T> {
     cells: Vec<T>,
+    /// The cells before the first tile, there to align it.
+    start: usize,
+    /// Whether the vector's spare capacity is zeroed memory no one has written (its
+    /// first allocation, asked of the allocator zeroed): a new tile is then there already.
+    zeroed: bool,
 }
 
-impl<T: Copy + Default> Slab<T> {
+/// The alignment of a slab's first tile, in bytes.
+const LINE: usize = 64;
+
+/// Cell types whose all-zero bytes are their `Default` value (0.0, 0), so that a tile
+/// in zeroed memory needs no writing.
+trait ZeroIsDefault: Copy + Default {}
+impl ZeroIsDefault for f64 {}
+impl ZeroIsDefault for u32 {}
+
+/// An empty vector with room for `n` cells in zeroed memory, or `None` where the
+/// allocator cannot give it. For a large `n` the allocator maps fresh pages, which the
+/// kernel zeroes only when they are first touched, and writes nothing itself.
+fn zeroed_vec<T: ZeroIsDefault>(n: usize) -> Option<Vec<T>> {
+    let layout = std::alloc::Layout::array::<T>(n).ok()?;
+    if layout.size() == 0 {
+        return None;
+    }
+    // SAFETY: the layout has a non-zero size.
+    let p = unsafe { std::alloc::alloc_zeroed(layout) } as *mut T;
+    if p.is_null() {
+        return None;
+    }
+    // SAFETY: `p` was allocated by the global allocator with the layout of `n` cells of
+    // T (so capacity `n`, T's alignment), and no cell is claimed initialised (length 0).
+    Some(unsafe { Vec::from_raw_parts(p, 0, n) })
+}
+
+impl<T: ZeroIsDefault> Slab<T> {
     fn new(tiles: usize) -> Self {
-        let mut cells = Vec::new();
-        if cells.try_reserve_exact(tiles.saturating_mul(AREA)).is_ok() {
+        let pad = LINE / std::mem::size_of::<T>();
+        let (mut cells, zeroed) = match zeroed_vec(tiles.saturating_mul(AREA).saturating_add(pad)) {
+            Some(v) => (v, true),
+            None => (Vec::new(), false),
+        };
+        if zeroed {
             advise_huge_pages(&cells);
         }
-        Slab { cells }
+        // Cells up to the next line boundary (the reserved vector does not move; one that
+        // grows later may, and its tiles are then merely unaligned).
+        let start = (cells.as_ptr() as usize).wrapping_neg() % LINE / std::mem::size_of::<T>();
+        cells.resize(start, T::default());
+        Slab {
+            cells,
+            start,
+            zeroed,
+        }
     }
 
     /// Tiles made so far.
     fn tiles(&self) -> usize {
-        self.cells.len() / AREA
+        (self.cells.len() - self.start) / AREA
     }
 
     /// A new tile, every cell `T::default()`.
     fn push_tile(&mut self) {
-        self.cells.resize(self.cells.len() + AREA, T::default());
+        let len = self.cells.len() + AREA;
+        if self.zeroed && len <= self.cells.capacity() {
+            // SAFETY: the cells up to `len` are within the capacity, in memory the
+            // allocator zeroed and nothing has written since (`zeroed`), and all-zero
+            // bytes are a valid T, its default (`ZeroIsDefault`).
+            unsafe { self.cells.set_len(len) };
+        } else {
+            // Beyond the first allocation the vector may move, into memory not zeroed.
+            self.zeroed = false;
+            self.cells.resize(len, T::default());
+        }
+    }
+
+    /// The index of tile k's first cell.
+    #[inline]
+    fn base(&self, k: u32) -> usize {
+        self.start + k as usize * AREA
     }
 
     #[inline]
     fn tile(&self, k: u32) -> &[T] {
-        &self.cells[k as usize * AREA..][..AREA]
+        &self.cells[self.base(k)..][..AREA]
     }
 
     #[inline]
     fn tile_mut(&mut self, k: u32) -> &mut [T] {
-        &mut self.cells[k as usize * AREA..][..AREA]
+        let at = self.base(k);
+        &mut self.cells[at..][..AREA]
     }
 }
 
@@ -159,6 +226,8 @@ pub struct RegionBuffer {
     depth: Slab<Depth>,
     colour: Slab<u32>,
     in_use: usize,
+    /// The z-test's kernel, the fastest this processor has.
+    kernel: ZTest,
     pub stats: RegionStats,
 }
 
@@ -176,8 +245,25 @@ impl RegionBuffer {
             depth: Slab::new(tiles_x as usize * tiles_y as usize),
             colour: Slab::new(tiles_x as usize * tiles_y as usize),
             in_use: 0,
+            kernel: ZTest::detect(),
             stats: RegionStats::default(),
         }
+    }
+
+    /// The z-test kernel in use ([`ZTest::detect`]'s choice unless set).
+    pub fn kernel(&self) -> ZTest {
+        self.kernel
+    }
+
+    /// Runs the z-test with `kernel` from now on (the tests and benchmarks compare the
+    /// kernels; the result is the same with each).
+    ///
+    /// # Panics
+    ///
+    /// When this processor cannot run it ([`ZTest::available`]).
+    pub fn set_kernel(&mut self, kernel: ZTest) {
+        assert!(kernel.available(), "this processor cannot run {kernel:?}");
+        self.kernel = kernel;
     }
 
     /// The screen's width and height.
@@ -186,20 +272,28 @@ impl RegionBuffer {
     }
 
     /// The tile at tile position (tx, ty), made (or taken from the pool) on first touch.
-    #[inline]
+    #[inline(always)]
     fn tile(&mut self, tx: u32, ty: u32) -> u32 {
         let at = (ty * self.tiles_x + tx) as usize;
-        let mut s = self.slot[at];
-        if s == UNTOUCHED {
-            if self.in_use == self.depth.tiles() {
-                self.depth.push_tile();
-                self.colour.push_tile();
-                self.stats.tiles += 1;
-            }
-            s = self.in_use as u32;
-            self.in_use += 1;
-            self.slot[at] = s;
+        let s = self.slot[at];
+        if s != UNTOUCHED {
+            return s;
         }
+        self.first_touch(at)
+    }
+
+    /// The tile for tile position `at`, touched for the first time this frame.
+    #[cold]
+    #[inline(never)]
+    fn first_touch(&mut self, at: usize) -> u32 {
+        if self.in_use == self.depth.tiles() {
+            self.depth.push_tile();
+            self.colour.push_tile();
+            self.stats.tiles += 1;
+        }
+        let s = self.in_use as u32;
+        self.in_use += 1;
+        self.slot[at] = s;
         s
     }
 
@@ -214,6 +308,54 @@ impl RegionBuffer {
     /// empty or the tie rule gives it to this polygon. Spans must come polygon by polygon
     /// in stream order (see the module notes). A span off the screen is clipped.
     pub fn span(&mut self, y: u32, columns: Range<u32>, z_row: Depth, dz: Depth, colour: Colour) {
+        match self.kernel {
+            ZTest::Scalar => self.span_in(y, columns, z_row, dz, colour, ztest::scalar),
+            #[cfg(target_arch = "x86_64")]
+            // SAFETY: `kernel` is Avx2 only where the processor has AVX2 and POPCNT
+            // (`ZTest::detect`, `set_kernel`).
+            ZTest::Avx2 => unsafe { self.span_avx2(y, columns, z_row, dz, colour) },
+            #[cfg(not(target_arch = "x86_64"))]
+            ZTest::Avx2 => unreachable!("AVX2 is never detected off x86-64"),
+        }
+    }
+
+    /// [`RegionBuffer::span`] compiled for AVX2, so that the kernel is inlined into the
+    /// loop over the span's tiles.
+    ///
+    /// # Safety
+    ///
+    /// The processor must have AVX2 and POPCNT.
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx2,popcnt")]
+    unsafe fn span_avx2(
+        &mut self,
+        y: u32,
+        columns: Range<u32>,
+        z_row: Depth,
+        dz: Depth,
+        colour: Colour,
+    ) {
+        self.span_in(y, columns, z_row, dz, colour, |b, c, lo, hi, l, z, d, p| {
+            // SAFETY: the caller promises AVX2 and POPCNT; `span_in` passes one tile
+            // row's cells (TILE of each, a multiple of 4) and lo <= hi <= TILE.
+            unsafe { ztest::avx2(b, c, lo, hi, l, z, d, p) }
+        })
+    }
+
+    /// The loop over the tiles a span crosses, each tile row's piece z-tested by
+    /// `kernel` (bars, colours, first and end cell, the row's first column, z_row, dz,
+    /// colour; it returns the pixels taken).
+    #[allow(clippy::too_many_arguments)]
+    #[inline(always)]
+    fn span_in(
+        &mut self,
+        y: u32,
+        columns: Range<u32>,
+        z_row: Depth,
+        dz: Depth,
+        colour: Colour,
+        kernel: impl Fn(&mut [Depth], &mut [u32], usize, usize, u32, Depth, Depth, u32) -> u64,
+    ) {
         if y >= self.height {
             return;
         }
@@ -224,22 +366,67 @@ impl RegionBuffer {
         let mut written = 0u64;
         while x < x1 {
             let tx = x >> SHIFT;
-            let end = x1.min((tx + 1) << SHIFT);
-            let n = (end - x) as usize;
+            let left = tx << SHIFT;
+            let end = x1.min(left + TILE);
             let tile = self.tile(tx, ty);
-            let at = offset + (x & (TILE - 1)) as usize;
-            written += z_test(
-                &mut self.depth.tile_mut(tile)[at..at + n],
-                &mut self.colour.tile_mut(tile)[at..at + n],
-                x,
+            // The tile's row y: cell i is column left + i.
+            let row = offset..offset + TILE as usize;
+            written += kernel(
+                &mut self.depth.tile_mut(tile)[row.clone()],
+                &mut self.colour.tile_mut(tile)[row],
+                (x - left) as usize,
+                (end - left) as usize,
+                left,
                 z_row,
                 dz,
                 colour,
             );
-            self.stats.pixels_tested += n as u64;
+            self.stats.pixels_tested += (end - x) as u64;
+            if (y & (TILE - 1)) + AHEAD < TILE {
+                self.prefetch(
+                    tile,
+                    offset + (AHEAD << SHIFT) as usize,
+                    x - left,
+                    end - left,
+                );
+            }
             x = end;
         }
         self.stats.pixels_written += written;
+    }
+
+    /// Asks for the cells `lo..hi` of the tile row starting at cell `row` to be brought
+    /// into the cache: where the polygon's next spans will most likely fall.
+    #[inline(always)]
+    fn prefetch(&self, tile: u32, row: usize, lo: u32, hi: u32) {
+        #[cfg(target_arch = "x86_64")]
+        {
+            use std::arch::x86_64::{_mm_prefetch, _MM_HINT_T0};
+            let (lo, hi) = (lo as usize, hi as usize);
+            let bars = self
+                .depth
+                .cells
+                .as_ptr()
+                .wrapping_add(self.depth.base(tile) + row);
+            let colours = self
+                .colour
+                .cells
+                .as_ptr()
+                .wrapping_add(self.colour.base(tile) + row);
+            let (bars, colours) = (bars as *const i8, colours as *const i8);
+            let mut b = (lo * 8) & !63;
+            while b < hi * 8 {
+                // SAFETY: a prefetch is a hint; it does not fault, whatever the address.
+                unsafe { _mm_prefetch::<_MM_HINT_T0>(bars.wrapping_add(b)) };
+                b += 64;
+            }
+            let mut c = (lo * 4) & !63;
+            while c < hi * 4 {
+                // SAFETY: as above.
+                unsafe { _mm_prefetch::<_MM_HINT_T0>(colours.wrapping_add(c)) };
+                c += 64;
+            }
+        }
     }
 
     /// The colour of pixel (x, y) so far this frame, if a polygon covers it.
@@ -367,26 +554,6 @@ impl RegionBuffer {
         }
         self.in_use = 0;
     }
-}
-
-/// The z-test over one tile row's piece of a span (BUFFER's inner loop): the pieces's
-/// first column is `x`, and column x has depth `z_row + x·dz` ([`crate::depth_at`]). Returns
-/// the pixels written. A pixel is taken when empty (colour 0) or when its depth is under
-/// the bar kept there; a taken pixel keeps this polygon's bar.
-#[inline]
-fn z_test(bars: &mut [Depth], colour: &mut [u32], x: u32, z_row: Depth, dz: Depth, c: u32) -> u64 {
-    let colour = &mut colour[..bars.len()];
-    let mut written = 0u64;
-    for (i, (bar, f)) in bars.iter_mut().zip(colour.iter_mut()).enumerate() {
-        let z = depth_at(z_row, dz, x + i as u32);
-        let win = (*f == 0 && !z.is_nan()) || z < *bar;
-        if win {
-            *bar = proto::depth::bar(z);
-            *f = c;
-        }
-        written += win as u64;
-    }
-    written
 }
 
 #[cfg(test)]
@@ -540,6 +707,30 @@ mod tests {
         assert_eq!(got, want);
         // Cleared for the next frame.
         assert_eq!(rb.colour_at(10, 3), None);
+    }
+
+    proptest::proptest! {
+        /// The vector z-test gives the scalar one's runs and counts, span for span, on
+        /// spans crossing tiles and the screen's edges.
+        #[test]
+        fn every_kernel_draws_the_same_frame(
+            spans in proptest::collection::vec(
+                (0u32..140, 0u32..300, 0u32..80, -2.0f64..2.0, -0.1f64..0.1, 0usize..3),
+                1..60,
+            )
+        ) {
+            proptest::prop_assume!(ZTest::Avx2.available());
+            let draw = |kernel: ZTest| {
+                let mut rb = RegionBuffer::new(200, 130);
+                rb.set_kernel(kernel);
+                for &(y, x0, n, z, dz, c) in &spans {
+                    rb.span(y, x0..x0 + n, z, dz, [R, G, B][c]);
+                }
+                let out = runs(&mut rb);
+                (out, rb.stats)
+            };
+            proptest::prop_assert_eq!(draw(ZTest::Avx2), draw(ZTest::Scalar));
+        }
     }
 
     #[test]
