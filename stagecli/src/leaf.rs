@@ -7,14 +7,21 @@ use scan::frame::HiddenSurface;
 
 /// Refuses a polygon that is not opaque (opacity below 255, a stream whose header says
 /// `opacity`), for a stage that draws opaque polygons only: status 2 and a line naming the
-/// a-buffer, rather than drawing it opaque. `at` says where it is (`frame F, polygon P`).
-pub fn refuse_transparent(stage: &str, polygon: &Polygon, at: &str) -> Result<()> {
+/// a-buffer, rather than drawing it opaque. `at` says where it is (`frame F, polygon P`),
+/// asked only for a polygon refused: an opaque one costs one comparison.
+#[inline]
+pub fn refuse_transparent(
+    stage: &str,
+    polygon: &Polygon,
+    at: impl FnOnce() -> String,
+) -> Result<()> {
     if polygon.opacity == proto::OPAQUE {
         return Ok(());
     }
     Err(Error::usage(format!(
-        "{at}: a polygon of opacity {} (below 255): {stage} draws opaque polygons only; \
+        "{}: a polygon of opacity {} (below 255): {stage} draws opaque polygons only; \
          transparency is the a-buffer's (render.sh --aa abuf)",
+        at(),
         polygon.opacity
     )))
 }
@@ -70,7 +77,7 @@ pub fn resolve_frames(
                 scan::check_on_screen(&p, width, height)
                     .map_err(|m| Error::data(format!("{}: {m}", input.position())))?;
                 if !method.transparency() {
-                    refuse_transparent(stage, &p, &input.position())?;
+                    refuse_transparent(stage, &p, || input.position())?;
                 }
                 counts.polygons_in += 1;
                 polygons.push(p);

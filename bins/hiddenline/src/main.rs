@@ -84,7 +84,7 @@ fn main() -> ExitCode {
                 Token::Polygon(p) => {
                     scan::check_on_screen(&p, width, height)
                         .map_err(|m| Error::data(format!("{}: {m}", input.position())))?;
-                    stagecli::refuse_transparent("hiddenline", &p, &input.position())?;
+                    stagecli::refuse_transparent("hiddenline", &p, || input.position())?;
                     polygons.push(p);
                     continue;
                 }

@@ -77,7 +77,7 @@ fn main() -> ExitCode {
                 Token::Polygon(p) => {
                     scanconv::check_on_screen(&p, width, height)
                         .map_err(|m| Error::data(format!("{}: {m}", input.position())))?;
-                    stagecli::refuse_transparent("scanconv", &p, &input.position())?;
+                    stagecli::refuse_transparent("scanconv", &p, || input.position())?;
                     sc.convert(&p, &mut |f| out.write(&f))?
                 }
                 Token::Skip(n) => sc.skip(n, &mut |f| out.write(&f))?,

@@ -471,7 +471,7 @@ fn resolve_polygon<R: Read>(
     let (width, height) = region.size();
     check_on_screen(polygon, width, height)
         .map_err(|m| Error::data(format!("{}: {m}", reader.position())))?;
-    stagecli::refuse_transparent("zbuf", polygon, &reader.position())?;
+    stagecli::refuse_transparent("zbuf", polygon, || reader.position())?;
     if let Some(shading) = Shading::of(polygon) {
         walker.for_each_span(polygon, width, height, |span| {
             region.draw_shaded(&span, &shading);

@@ -211,7 +211,7 @@ fn render(
     while let Some(token) = scene.next()? {
         match token {
             Token::Polygon(p) => {
-                stagecli::refuse_transparent("zspec", &p, &scene.reader.position())?;
+                stagecli::refuse_transparent("zspec", &p, || scene.reader.position())?;
                 frame
                     .draw(&setup, &p)
                     .map_err(|m| Error::data(format!("{}: {m}", scene.reader.position())))?
@@ -256,7 +256,7 @@ fn render_supersampled(
     while let Some(token) = scene.next()? {
         match token {
             Token::Polygon(p) => {
-                stagecli::refuse_transparent("zspec", &p, &scene.reader.position())?;
+                stagecli::refuse_transparent("zspec", &p, || scene.reader.position())?;
                 frame
                     .draw(&p)
                     .map_err(|m| Error::data(format!("{}: {m}", scene.reader.position())))?
