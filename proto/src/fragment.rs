@@ -69,15 +69,16 @@ pub enum Fragment {
         x1: u32,
         colour: Colour,
     },
-    /// `shade K A B C D`: one channel (K = 0 red, 1 green, 2 blue) of the current
-    /// polygon's colour plane over device coordinates, `A·X + B·Y + C·c + D = 0`, after its
-    /// colour record and before its spans: the polygon is Gouraud-shaded, and each of its
-    /// pixels takes the colour the planes give at its centre, as the scan converter
-    /// computes it ([`crate::shade::Shading`]), instead of the colour record's. Three
-    /// records, one a channel, so that a fragment stays as small as a span.
+    /// `shade K A B D`: one channel (K = 0 red, 1 green, 2 blue) of the current
+    /// polygon's colour plane over device coordinates, divided by its colour coefficient,
+    /// `c = −(A·X + B·Y + D)`, after its colour record and before its spans: the polygon is
+    /// Gouraud-shaded, and each of its pixels takes the colour the planes give at its
+    /// centre, as the scan converter computes it ([`crate::shade::Shading`]), instead of
+    /// the colour record's. Three records, one a channel, so that a fragment stays as
+    /// small as a span (32 bytes).
     Shade {
         channel: u8,
-        plane: [f64; 4],
+        plane: [f64; 3],
     },
 }
 
@@ -161,14 +162,9 @@ impl Record for Fragment {
             Fragment::Shade { channel, .. } if channel > 2 => Err(format!(
                 "shade of channel {channel}: the channels are 0 (red), 1 (green) and 2 (blue)"
             )),
-            Fragment::Shade { plane, .. }
-                if !(plane.iter().all(|c| c.is_finite()) && plane[2] != 0.0) =>
-            {
-                Err(format!(
-                    "colour plane {plane:?}: its numbers must be finite and its colour \
-                     coefficient (the third) not zero"
-                ))
-            }
+            Fragment::Shade { plane, .. } if !plane.iter().all(|c| c.is_finite()) => Err(format!(
+                "colour plane {plane:?}: its numbers must be finite"
+            )),
             Fragment::Skip(0) => Err("`skip 0`: a skip stands for at least one polygon".into()),
             _ => Ok(()),
         }
@@ -258,10 +254,10 @@ impl Record for Fragment {
                             .into(),
                     ));
                 }
-                let b: [u8; 32] = input.array()?;
+                let b: [u8; 24] = input.array()?;
                 Fragment::Shade {
                     channel: head[1],
-                    plane: [f64_at(&b, 0), f64_at(&b, 8), f64_at(&b, 16), f64_at(&b, 24)],
+                    plane: [f64_at(&b, 0), f64_at(&b, 8), f64_at(&b, 16)],
                 }
             }
             other => {
@@ -304,7 +300,7 @@ impl Record for Fragment {
                 out.write_all(&b)
             }
             Fragment::Shade { channel, plane } => {
-                let mut b = [0u8; 40];
+                let mut b = [0u8; 32];
                 b[..8].copy_from_slice(&head(tag::SHADE, [channel, 0, 0], 0));
                 for (k, c) in plane.iter().enumerate() {
                     b[8 + 8 * k..16 + 8 * k].copy_from_slice(&c.to_le_bytes());
@@ -344,8 +340,8 @@ impl Record for Fragment {
             Some("shade") => {
                 lex.skip_word();
                 let channel = lex.integer("the shade's channel (0, 1 or 2)", 2)? as u8;
-                let mut plane = [0.0; 4];
-                for (c, name) in plane.iter_mut().zip(["A", "B", "C", "D"]) {
+                let mut plane = [0.0; 3];
+                for (c, name) in plane.iter_mut().zip(["A", "B", "D"]) {
                     *c = lex.number(format_args!("{name} of the colour plane"))?;
                 }
                 Fragment::Shade { channel, plane }
@@ -397,8 +393,8 @@ impl Record for Fragment {
             }
             Fragment::Shade {
                 channel,
-                plane: [a, b, c, d],
-            } => writeln!(out, "shade {channel} {a} {b} {c} {d}"),
+                plane: [a, b, d],
+            } => writeln!(out, "shade {channel} {a} {b} {d}"),
             Fragment::NextFrame => writeln!(out, "{NEXT_FRAME}"),
             Fragment::End => writeln!(out, "{END}"),
         }

@@ -110,19 +110,19 @@ pub fn colour_planes_to_screen(
 /// centre of column 0 of a row, and the step from a column to the next.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Shading {
+    /// The device-space planes divided by their colour coefficient C: `(a, b, 1, d)` =
+    /// `(A/C, B/C, 1, D/C)`, so that `c = −(a·X + b·Y + d)`.
     planes: ColourPlanes,
-    /// −A/C per channel: the step along a row.
+    /// −a per channel: the step along a row.
     step: DVec3,
 }
 
 impl Shading {
-    /// The shading of device-space colour planes.
+    /// The shading of device-space colour planes (C ≠ 0): each is divided by its C once,
+    /// here (a plane already so divided is unchanged: x/1 = x).
     pub fn new(planes: ColourPlanes) -> Self {
-        let step = DVec3::new(
-            -planes[0].x / planes[0].z + 0.0,
-            -planes[1].x / planes[1].z + 0.0,
-            -planes[2].x / planes[2].z + 0.0,
-        );
+        let planes = planes.map(|n| DVec4::new(n.x / n.z, n.y / n.z, 1.0, n.w / n.z));
+        let step = DVec3::new(-planes[0].x + 0.0, -planes[1].x + 0.0, -planes[2].x + 0.0);
         Shading { planes, step }
     }
 
@@ -146,7 +146,7 @@ impl Shading {
         Some(Shading::new(planes))
     }
 
-    /// The colour planes.
+    /// The colour planes, divided by their colour coefficient (C = 1).
     pub fn planes(&self) -> &ColourPlanes {
         &self.planes
     }
@@ -156,7 +156,7 @@ impl Shading {
     #[inline]
     pub fn row(&self, row: u32) -> (DVec3, DVec3) {
         let y = row as f64 + 0.5;
-        let at = |n: DVec4| -(n.x * 0.5 + n.y * y + n.w) / n.z + 0.0;
+        let at = |n: DVec4| -(n.x * 0.5 + n.y * y + n.w) + 0.0;
         (
             DVec3::new(at(self.planes[0]), at(self.planes[1]), at(self.planes[2])),
             self.step,

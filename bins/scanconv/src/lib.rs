@@ -207,7 +207,7 @@ fn emit_shade<E>(
         for (channel, plane) in shading.planes().iter().enumerate() {
             emit(Fragment::Shade {
                 channel: channel as u8,
-                plane: plane.to_array(),
+                plane: [plane.x, plane.y, plane.w],
             })?;
         }
     }

@@ -311,7 +311,8 @@ fn apply(
                     Some(shading) => *shading.planes(),
                     None => s.colour.map(|c| DVec4::new(0.0, 0.0, 1.0, -f64::from(c))),
                 };
-                planes[usize::from(channel.min(2))] = DVec4::from_array(plane);
+                let [a, b, d] = plane;
+                planes[usize::from(channel.min(2))] = DVec4::new(a, b, 1.0, d);
                 s.shading = Some(Shading::new(planes));
             }
             Fragment::Skip(n) => {
