@@ -209,13 +209,30 @@ impl Face {
         depth_at(z_row, dz, x)
     }
 
-    /// Its depth at the centre of pixel (x, y) where that depth follows its plane: not
-    /// where the fixed point clamps the depth, its row's origin or its step, and the
-    /// z-buffer's depth is then no longer affine across a window.
+    /// Its depth at the centre of pixel (x, y) where that depth follows its plane, so
+    /// that comparisons at a window's corners hold at every centre between: not where
+    /// the depth, its row's origin or its step is clamped, nor where the rounding of
+    /// `z_row + x·dz` may be more than 2⁻¹⁰ of the tie rule's width (a plane so steep
+    /// that its terms cancel: a vertex at depth 1e135 two pixels from others at 0.25
+    /// leaves the z-buffer's depths there rounding noise, which only a pixel can decide).
     fn planar_depth(&self, x: u32, y: u32) -> Option<Depth> {
         let (z_row, dz) = self.depth.row(y);
         let d = depth_at(z_row, dz, x);
-        (!clamped(z_row) && !clamped(dz) && !clamped(d)).then_some(d)
+        if clamped(z_row) || clamped(dz) || clamped(d) {
+            return None;
+        }
+        if let DepthPlane::Plane { a, b, c, d: e, .. } = self.depth {
+            // A bound on the rounding: a few ulps of each term's magnitude.
+            let terms = (a.abs() * 0.5 + b.abs() * (y as f64 + 0.5) + e.abs()) / c.abs()
+                + x as f64 * dz.abs()
+                + d.abs();
+            // Written so that a NaN bound refuses too.
+            let affine = 4.0 * f64::EPSILON * terms <= proto::depth::TIE / 1024.0 * d.abs();
+            if !affine {
+                return None;
+            }
+        }
+        Some(d)
     }
 
     /// Its largest depth at the corners of `w`'s sample rectangle (the listing's
@@ -577,7 +594,11 @@ impl Warnock {
         for i in start..self.lists.len() {
             let e = self.lists[i];
             let f = self.faces[e.face as usize];
-            if best.is_some_and(|(_, _, z)| z.is_some_and(|z| f.zmin > z)) {
+            // Behind the winner by the tie rule, as the Looker's ZMIN exit: the winner's
+            // depth must take the pixel from this polygon's nearest, so that one earlier
+            // in the stream within the tie width (which keeps its pixel) is not passed
+            // over; the polygons after it in ZMIN order are farther still.
+            if best.is_some_and(|(_, _, z)| z.is_some_and(|z| takes(z, f.zmin))) {
                 break;
             }
             if !e.surrounds && !self.covers(polygons, &f, x, y) {
@@ -1129,6 +1150,88 @@ mod tests {
             .find(|f| f.poly == 0)
             .expect("the quadrilateral");
         assert!(quad.zmin.abs() < 1e-12, "{}", quad.zmin);
+    }
+
+    #[test]
+    fn a_pixel_on_an_edge_two_polygons_share_at_one_depth_goes_to_the_earlier() {
+        // Found by the methods fuzz target: two triangles with an edge on the diagonal
+        // x = y at depth 0.25, both on its x > y side, the yellow one later in the
+        // stream and nearer off the diagonal. On the diagonal's centres they tie and the
+        // earlier (cream) one shows. The pixel window's search stopped at the cream one
+        // because its ZMIN, its plane at its vertices, came out a rounding above yellow's
+        // depth there: it stops now only where the tie rule puts a polygon behind.
+        const CREAM: Colour = [217, 217, 173];
+        const YELLOW: Colour = [173, 173, 0];
+        let polygons = [
+            Polygon::from_xyz(
+                CREAM,
+                &[
+                    [23.75, 3.25, 0.75],
+                    [3.25, 23.75, 0.25],
+                    [14.25, 14.25, 0.75],
+                ],
+            ),
+            Polygon::from_xyz(
+                CREAM,
+                &[
+                    [23.75, 23.75, 0.25],
+                    [25.75, 14.25, 0.75],
+                    [14.25, 14.25, 0.25],
+                ],
+            ),
+            Polygon::from_xyz(
+                YELLOW,
+                &[
+                    [23.75, 23.75, 0.25],
+                    [41.0, -8.939734142804938e-7, 0.75],
+                    [3.25, 3.25, 0.25],
+                ],
+            ),
+        ];
+        let (runs, _) = resolved(&polygons, 36, 45);
+        let image = image_of(&runs, 36, 45);
+        assert_eq!(image, zbuffer_image(&polygons, 36, 45));
+        for k in 14..24 {
+            assert_eq!(image[k * 36 + k], Some(CREAM), "pixel ({k}, {k})");
+        }
+    }
+
+    #[test]
+    fn a_plane_too_steep_to_be_affine_is_decided_at_its_pixels() {
+        // Found by the methods fuzz target: a triangle with two vertices at depth 0.25 on
+        // the diagonal x = y and a third at depth 1.45e135 a few pixels off it. Its plane's
+        // terms cancel along the diagonal, where the z-buffer's depths are rounding noise
+        // of about 1e118: comparisons at a window's corners say nothing of the centres
+        // between, and three diagonal pixels came out unlike the z-buffer. Such depths
+        // are now decided pixel by pixel, as the z-buffer decides them.
+        const WHITE: Colour = [255, 255, 255];
+        const CYAN: Colour = [18, 217, 217];
+        let polygons = [
+            Polygon::from_xyz(
+                WHITE,
+                &[
+                    [23.75, 23.75, 0.75],
+                    [3.25, 24.0, 0.75],
+                    [34.25, 3.25, 0.25],
+                    [29.25, 24.0, 0.25],
+                    [27.25, 24.0, 0.25],
+                ],
+            ),
+            Polygon::from_xyz(
+                WHITE,
+                &[
+                    [3.25, 3.25, 0.25],
+                    [36.25, 35.0, 1.4536201648020902e135],
+                    [23.75, 23.75, 0.25],
+                ],
+            ),
+            Polygon::from_xyz(
+                CYAN,
+                &[[37.5, 3.25, 0.0], [3.25, 3.25, 0.25], [14.25, 24.0, 0.25]],
+            ),
+        ];
+        let (runs, _) = resolved(&polygons, 36, 45);
+        assert_eq!(image_of(&runs, 36, 45), zbuffer_image(&polygons, 36, 45));
     }
 
     #[test]
