@@ -273,3 +273,21 @@ fn the_gouraud_sphere_renders_as_zspec_does() {
     assert!(reference.status.success() && tree.status.success());
     assert!(reference.stdout == tree.stdout);
 }
+
+/// The clippers cut a vertex colour where they cut the edge, with the position's
+/// parameter: the square of examples/gouraud.txt crosses the left plane on its edge from
+/// (−26, −8.2, −10.44), black, to (9.5, −7.9, 0.27), yellow, about 24 % of the way in
+/// from the outside, and both clippers give that point the same interpolated colour.
+#[test]
+fn the_clippers_interpolate_colours_at_the_cut() {
+    let chain = run(
+        "viewxf --size 500x500 < examples/gouraud.txt | clipplane left | clipplane right \
+         | clipplane top | clipplane bottom | clipplane hither | clipplane yon --text",
+    );
+    let batch = run("viewxf --size 500x500 < examples/gouraud.txt | clipbatch --text");
+    assert_eq!(String::from_utf8_lossy(&chain), String::from_utf8_lossy(&batch));
+    let text = String::from_utf8(chain).unwrap();
+    let cut = "\n-17.40420915599913 -8.127359513994358 27.84673464959861 17.40420915599913 \
+               61.74441310479497 60.65480581471036 0.0605337383380343\n";
+    assert!(text.contains(cut), "{text}");
+}
