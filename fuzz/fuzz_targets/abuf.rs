@@ -78,6 +78,7 @@ fn lists(b: &mut Bytes) {
                 zmin,
                 zmax,
                 order,
+                opacity: proto::OPAQUE,
             });
         }
     }

@@ -1,10 +1,11 @@
 //! The binary stream decoder (stream version 4's fixed-layout records: polygons plain and
-//! annotated, skips, fragment spans, pixels and runs) on arbitrary bytes, after the magic
+//! annotated, with vertex colours, colour planes and opacity, skips, fragment spans,
+//! pixels, runs and shade records) on arbitrary bytes, after the magic
 //! alone and after a valid header of each space: no panic, every error a message, and
 //! what was read writes back and reads again the same (polypipe_fuzz::drain).
 #![no_main]
 use libfuzzer_sys::fuzz_target;
-use polypipe_fuzz::{binary_header, drain, spaces};
+use polypipe_fuzz::{binary_header, binary_header_with, drain, spaces};
 use proto::header::BINARY_MAGIC;
 use proto::{Fragment, Token};
 
@@ -14,9 +15,22 @@ fuzz_target!(|data: &[u8]| {
     drain::<Token>(&stream);
     drain::<Fragment>(&stream);
     // The first byte picks a space, so the records are reached at once.
+    // Its bit 2 declares vertex colours and opacity (polygon streams), so that annotated
+    // records with colours, colour planes and opacities are read as valid.
     if let Some((&pick, rest)) = data.split_first() {
         let space = spaces()[(pick % 4) as usize];
-        let mut stream = binary_header(space);
+        let mut stream = if pick & 4 != 0 && space.vertex_arity() > 0 {
+            binary_header_with(
+                space,
+                proto::Attributes {
+                    vertex_colours: true,
+                    opacity: true,
+                    ..proto::Attributes::default()
+                },
+            )
+        } else {
+            binary_header(space)
+        };
         stream.extend_from_slice(rest);
         drain::<Token>(&stream);
         drain::<Fragment>(&stream);

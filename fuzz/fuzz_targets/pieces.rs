@@ -53,7 +53,10 @@ fuzz_target!(|data: &[u8]| {
     want.flush().unwrap();
 
     let mut got = Writer::new(Vec::new(), header, Form::Binary).unwrap();
-    let Ok(rest) = Reader::<Token, _>::new(Chunks(&text, chunk)).unwrap().into_text_rest() else {
+    let Ok(rest) = Reader::<Token, _>::new(Chunks(&text, chunk))
+        .unwrap()
+        .into_text_rest()
+    else {
         panic!("a world header line ends where the header does");
     };
     let looks = std::cell::Cell::new(0u32);
@@ -76,5 +79,8 @@ fuzz_target!(|data: &[u8]| {
     got.flush().unwrap();
 
     assert_eq!(got_err, want_err);
-    assert!(got.into_inner().unwrap() == want.into_inner().unwrap(), "outputs differ");
+    assert!(
+        got.into_inner().unwrap() == want.into_inner().unwrap(),
+        "outputs differ"
+    );
 });

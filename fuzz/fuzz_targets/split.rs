@@ -1,6 +1,7 @@
 //! The splitter node (thesis 6.2) on arbitrary eye-space polygons, about a column or row
 //! plane x_s = K / y_s = K: no panic, out1 never outside the plane, out2 never inside,
-//! every vertex finite, both outputs keep the colour.
+//! every vertex finite, both outputs keep the colour; vertex colours cut with the edges
+//! stay one a vertex and within 0–255.
 #![no_main]
 use libfuzzer_sys::fuzz_target;
 use polypipe_fuzz::{eye_vertex, polygon, Bytes};
@@ -16,11 +17,38 @@ fuzz_target!(|data: &[u8]| {
     } else {
         Plane::row(k)
     };
-    let poly = polygon(&mut b, eye_vertex);
+    let mut poly = polygon(&mut b, eye_vertex);
+    // Vertex colours for some polygons (Gouraud shading): whole numbers and fractions.
+    if b.u8() & 1 == 1 {
+        poly.colours = (0..poly.vertices.len())
+            .map(|_| {
+                proto::DVec3::new(
+                    b.u8() as f64,
+                    b.u8() as f64 / 1.7,
+                    255.0 - b.u8() as f64 / 3.0,
+                )
+            })
+            .collect();
+    }
     let (mut out1, mut out2) = (Polygon::default(), Polygon::default());
     splitter::split(&poly, &plane, &mut out1, &mut out2);
     assert_eq!(out1.colour, poly.colour);
     assert_eq!(out2.colour, poly.colour);
+    for out in [&out1, &out2] {
+        // A piece has a colour for each vertex, each channel within 0-255, and the
+        // reader's checks accept it.
+        if poly.is_shaded() {
+            assert_eq!(out.colours.len(), out.vertices.len(), "from {poly:?}");
+        } else {
+            assert!(out.colours.is_empty());
+        }
+        for c in &out.colours {
+            assert!(
+                c.cmpge(proto::DVec3::ZERO).all() && c.cmple(proto::DVec3::splat(255.0)).all(),
+                "colour {c:?} out of 0-255, from {poly:?}"
+            );
+        }
+    }
     for v in &out1.vertices {
         assert!(v.is_finite(), "non-finite {v:?} from {poly:?}");
         assert!(

@@ -120,9 +120,14 @@ pub fn drain<T: proto::Record + PartialEq + std::fmt::Debug>(bytes: &[u8]) {
 
 /// A binary stream's start: the magic and a header of the current version for `space`.
 pub fn binary_header(space: proto::Space) -> Vec<u8> {
+    binary_header_with(space, proto::Attributes::default())
+}
+
+/// [`binary_header`] with `attributes` (vertex colours, opacity).
+pub fn binary_header_with(space: proto::Space, attributes: proto::Attributes) -> Vec<u8> {
     let w = proto::Writer::<proto::Token, _>::new(
         Vec::new(),
-        proto::Header::new(space),
+        proto::Header::new(space).with(attributes),
         proto::Form::Binary,
     )
     .expect("a header writes");

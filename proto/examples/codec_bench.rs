@@ -110,7 +110,7 @@ fn bincode_decode(bytes: &[u8]) -> usize {
             WireIn::NextFrame => Token::NextFrame,
             WireIn::End => Token::End,
         };
-        token.validate(&space).unwrap();
+        token.validate(&Header::new(space)).unwrap();
         if token == Token::End {
             break;
         }
@@ -141,7 +141,7 @@ fn bincode_fragments_decode(bytes: &[u8]) -> usize {
     let mut count = 0;
     loop {
         let f: Fragment = bincode_options().deserialize_from(&mut input).unwrap();
-        f.validate(&space).unwrap();
+        f.validate(&Header::new(space)).unwrap();
         count += 1;
         if f == Fragment::End {
             return count;

@@ -30,7 +30,7 @@ use crate::header::{text_version, Header, Space, BINARY_MAGIC, TEXT_MAGIC, VERSI
 use crate::text::{Lexer, Number, Shown};
 use crate::StreamError;
 use bincode::Options;
-use glam::DVec4;
+use glam::{DVec3, DVec4};
 use std::io::{self, BufRead, BufReader, BufWriter, Read, Write};
 
 /// The largest binary record a reader accepts: 64 MiB, two million eye-space vertices.
@@ -121,9 +121,9 @@ pub trait Record: Sized + Default {
     /// the reader names in a message about a record it could not finish reading.
     fn binary_control(head: &[u8; 8]) -> Option<Control>;
 
-    /// Checks a decoded binary record (finite numbers, sizes); the message names what is
-    /// wrong and the reader adds where.
-    fn validate(&self, space: &Space) -> Result<(), String>;
+    /// Checks a decoded binary record (finite numbers, sizes, what the header declares);
+    /// the message names what is wrong and the reader adds where.
+    fn validate(&self, header: &Header) -> Result<(), String>;
 
     /// Decodes the rest of the binary record that starts with `head` into `self`.
     fn read_binary<R: Read>(
@@ -143,7 +143,7 @@ pub trait Record: Sized + Default {
         &mut self,
         spare: &mut Self,
         lex: &mut Lexer<R>,
-        space: &Space,
+        header: &Header,
         first_in_frame: bool,
     ) -> Result<(), StreamError>;
 
@@ -151,7 +151,7 @@ pub trait Record: Sized + Default {
     fn write_text<W: Write>(
         &self,
         out: &mut W,
-        space: &Space,
+        header: &Header,
         first_in_frame: bool,
     ) -> io::Result<()>;
 }
@@ -238,6 +238,24 @@ impl<R: Read> BinaryInput<R> {
     }
 
     /// Whether the input is at its end (no byte left).
+    /// Reads `n` vertex colours (three little-endian `f64`s each) into `colours`, in
+    /// blocks as they arrive, as [`BinaryInput::vertices`] reads vertices.
+    #[inline]
+    pub fn colours(&mut self, colours: &mut Vec<DVec3>, n: usize) -> Result<(), BinaryError> {
+        colours.clear();
+        while colours.len() < n {
+            let from = colours.len();
+            let to = from + (n - from).min(VERTEX_BLOCK);
+            colours.resize(to, DVec3::ZERO);
+            self.read_exact(bytemuck::cast_slice_mut(&mut colours[from..to]))?;
+        }
+        #[cfg(target_endian = "big")]
+        for x in bytemuck::cast_slice_mut::<DVec3, f64>(colours) {
+            *x = f64::from_bits(u64::from_le(x.to_bits()));
+        }
+        Ok(())
+    }
+
     fn at_end(&mut self) -> io::Result<bool> {
         loop {
             match self.inner.fill_buf() {
@@ -273,6 +291,22 @@ pub fn write_vertices<W: Write>(out: &mut W, vertices: &[DVec4]) -> io::Result<(
 }
 
 /// A record's 8-byte head: tag, three bytes (a colour, or zero) and a count or number.
+/// Writes vertex colours as one block of little-endian `f64`s, three a colour.
+#[inline]
+pub fn write_colours<W: Write>(out: &mut W, colours: &[DVec3]) -> io::Result<()> {
+    #[cfg(target_endian = "little")]
+    {
+        out.write_all(bytemuck::cast_slice(colours))
+    }
+    #[cfg(target_endian = "big")]
+    {
+        for x in bytemuck::cast_slice::<DVec3, f64>(colours) {
+            out.write_all(&x.to_le_bytes())?;
+        }
+        Ok(())
+    }
+}
+
 #[inline]
 pub fn head(tag: u8, bytes: [u8; 3], n: u32) -> [u8; 8] {
     let n = n.to_le_bytes();
@@ -539,7 +573,7 @@ impl<T: Record, R: Read> Reader<T, R> {
                         "pixels before the frame's first colour record".into(),
                     ));
                 }
-                if let Err(msg) = record.validate(&self.header.space) {
+                if let Err(msg) = record.validate(&self.header) {
                     return Err(fail(start, Some(control), msg));
                 }
             }
@@ -550,7 +584,7 @@ impl<T: Record, R: Read> Reader<T, R> {
                     }
                     return Err(lex.error_at_end("the stream ends without END (cut short?)"));
                 }
-                record.read_text(&mut self.spare, lex, &self.header.space, first_in_frame)?;
+                record.read_text(&mut self.spare, lex, &self.header, first_in_frame)?;
             }
         }
         match record.control() {
@@ -705,19 +739,43 @@ fn read_text_header<R: BufRead>(lex: &mut Lexer<R>) -> Result<Header, StreamErro
     })
 }
 
-/// The header's attribute words after the space's ([`crate::header::Attributes`]):
-/// `depth reciprocal K1`, `depth projective K1 K2` or `depth eye-z`, for screen and
-/// fragment streams, on the header's own line (so that the header is read without
-/// reading into the records: `stagecli::pieces` cuts the rest of a text stream).
+/// The header's attribute words after the space's ([`crate::header::Attributes`]), in any
+/// order: `depth reciprocal K1`, `depth projective K1 K2` or `depth eye-z`, for screen and
+/// fragment streams; `vertex-colours` and `opacity` for polygon streams. All on the
+/// header's own line (so that the header is read without reading into the records:
+/// `stagecli::pieces` cuts the rest of a text stream).
 fn read_text_attributes<R: BufRead>(
     lex: &mut Lexer<R>,
     space: &Space,
 ) -> Result<crate::header::Attributes, StreamError> {
     use crate::header::DepthForm;
     let mut attributes = crate::header::Attributes::default();
-    while lex.more_on_line() && lex.peek()? == Some("depth") {
-        lex.next_word()?;
+    while lex.more_on_line() {
+        let flag = match lex.peek()? {
+            Some("depth") => None,
+            Some("vertex-colours") => Some(&mut attributes.vertex_colours),
+            Some("opacity") => Some(&mut attributes.opacity),
+            _ => break,
+        };
+        let word = lex.next_word()?.unwrap_or_default();
         let at = lex.mark();
+        if let Some(flag) = flag {
+            if space.vertex_arity() == 0 {
+                return Err(lex.error_at(
+                    at,
+                    format!(
+                        "`{word}` in the header is for polygon streams (world, eye, screen), \
+                         not {}-space",
+                        space.name()
+                    ),
+                ));
+            }
+            if *flag {
+                return Err(lex.error_at(at, format!("the header says `{word}` twice")));
+            }
+            *flag = true;
+            continue;
+        }
         if space.screen_size().is_none() {
             return Err(lex.error_at(
                 at,
@@ -808,6 +866,13 @@ fn check_space(space: &Space) -> Result<(), String> {
 /// A binary header's attributes must be what a text header could say.
 fn check_attributes(header: &Header) -> Result<(), String> {
     use crate::header::DepthForm;
+    let a = &header.attributes;
+    if (a.vertex_colours || a.opacity) && header.space.vertex_arity() == 0 {
+        return Err(format!(
+            "vertex colours and opacity in the header are for polygon streams, not {}-space",
+            header.space.name()
+        ));
+    }
     let Some(form) = header.attributes.depth else {
         return Ok(());
     };
@@ -835,7 +900,7 @@ fn check_attributes(header: &Header) -> Result<(), String> {
 pub struct Writer<T, W: Write> {
     out: BufWriter<W>,
     form: Form,
-    space: Space,
+    header: Header,
     polygons_in_frame: u64,
     _kind: std::marker::PhantomData<T>,
 }
@@ -868,7 +933,7 @@ impl<T: Record, W: Write> Writer<T, W> {
         Ok(Writer {
             out,
             form,
-            space: header.space,
+            header,
             polygons_in_frame: 0,
             _kind: std::marker::PhantomData,
         })
@@ -881,7 +946,7 @@ impl<T: Record, W: Write> Writer<T, W> {
         Writer {
             out: BufWriter::with_capacity(IO_BUFFER, out),
             form: Form::Binary,
-            space: header.space,
+            header,
             polygons_in_frame: 0,
             _kind: std::marker::PhantomData,
         }
@@ -905,7 +970,7 @@ impl<T: Record, W: Write> Writer<T, W> {
         match self.form {
             Form::Binary => record.write_binary(&mut self.out)?,
             Form::Text => {
-                record.write_text(&mut self.out, &self.space, self.polygons_in_frame == 0)?
+                record.write_text(&mut self.out, &self.header, self.polygons_in_frame == 0)?
             }
         }
         self.count(record.control())
@@ -956,7 +1021,7 @@ impl<W: Write> Writer<crate::Token, W> {
             Form::Text => crate::polygon::write_polygon_text(
                 p,
                 &mut self.out,
-                &self.space,
+                &self.header,
                 self.polygons_in_frame == 0,
             )?,
         }

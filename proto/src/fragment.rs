@@ -16,7 +16,7 @@
 //! plane (which is what keeps a split polygon identical to the whole).
 
 use crate::codec::{expect_zero, head, head_n, BinaryError, BinaryInput, Control, Record};
-use crate::header::Space;
+use crate::header::Header;
 use crate::polygon::{
     read_polygon_start, write_polygon_start, write_skip, Colour, Start, END, NEXT_FRAME,
 };
@@ -69,6 +69,17 @@ pub enum Fragment {
         x1: u32,
         colour: Colour,
     },
+    /// `shade K A B D`: one channel (K = 0 red, 1 green, 2 blue) of the current
+    /// polygon's colour plane over device coordinates, divided by its colour coefficient,
+    /// `c = −(A·X + B·Y + D)`, after its colour record and before its spans: the polygon is
+    /// Gouraud-shaded, and each of its pixels takes the colour the planes give at its
+    /// centre, as the scan converter computes it ([`crate::shade::Shading`]), instead of
+    /// the colour record's. Three records, one a channel, so that a fragment stays as
+    /// small as a span (32 bytes).
+    Shade {
+        channel: u8,
+        plane: [f64; 3],
+    },
 }
 
 impl Default for Fragment {
@@ -98,6 +109,7 @@ mod tag {
     pub const END: u8 = 4;
     pub const SKIP: u8 = 5;
     pub const RUN: u8 = 6;
+    pub const SHADE: u8 = 7;
 }
 
 #[inline]
@@ -115,7 +127,9 @@ impl Record for Fragment {
     fn control(&self) -> Control {
         match self {
             Fragment::Polygon(_) => Control::Polygon,
-            Fragment::Span { .. } | Fragment::Pixel { .. } => Control::Data,
+            Fragment::Span { .. } | Fragment::Pixel { .. } | Fragment::Shade { .. } => {
+                Control::Data
+            }
             Fragment::Skip(n) => Control::Skip(*n),
             Fragment::Run { .. } => Control::Finished,
             Fragment::NextFrame => Control::NextFrame,
@@ -123,8 +137,8 @@ impl Record for Fragment {
         }
     }
 
-    fn validate(&self, space: &Space) -> Result<(), String> {
-        let (width, height) = space.screen_size().unwrap_or((0, 0));
+    fn validate(&self, header: &Header) -> Result<(), String> {
+        let (width, height) = header.space.screen_size().unwrap_or((0, 0));
         match *self {
             Fragment::Span { y, x0, x1, .. } if y >= height || x0 > x1 || x1 > width => {
                 Err(format!(
@@ -145,6 +159,12 @@ impl Record for Fragment {
             Fragment::Pixel { z, .. } if !z.is_finite() => {
                 Err(format!("pixel depth {z}: depths must be finite"))
             }
+            Fragment::Shade { channel, .. } if channel > 2 => Err(format!(
+                "shade of channel {channel}: the channels are 0 (red), 1 (green) and 2 (blue)"
+            )),
+            Fragment::Shade { plane, .. } if !plane.iter().all(|c| c.is_finite()) => Err(format!(
+                "colour plane {plane:?}: its numbers must be finite"
+            )),
             Fragment::Skip(0) => Err("`skip 0`: a skip stands for at least one polygon".into()),
             _ => Ok(()),
         }
@@ -153,7 +173,7 @@ impl Record for Fragment {
     fn binary_control(head: &[u8; 8]) -> Option<Control> {
         match head[0] {
             tag::POLYGON => Some(Control::Polygon),
-            tag::SPAN | tag::PIXEL => Some(Control::Data),
+            tag::SPAN | tag::PIXEL | tag::SHADE => Some(Control::Data),
             tag::NEXT_FRAME => Some(Control::NextFrame),
             tag::END => Some(Control::End),
             tag::SKIP => Some(Control::Skip(head_n(head))),
@@ -226,6 +246,20 @@ impl Record for Fragment {
                     colour: [head[1], head[2], head[3]],
                 }
             }
+            tag::SHADE => {
+                if head[2..].iter().any(|&b| b != 0) {
+                    return Err(BinaryError::Invalid(
+                        "not a valid shade record (unused bytes are not zero); is the stream \
+                         corrupt?"
+                            .into(),
+                    ));
+                }
+                let b: [u8; 24] = input.array()?;
+                Fragment::Shade {
+                    channel: head[1],
+                    plane: [f64_at(&b, 0), f64_at(&b, 8), f64_at(&b, 16)],
+                }
+            }
             other => {
                 return Err(BinaryError::Invalid(format!(
                 "not a valid record (unknown fragment-stream tag {other}); is the stream corrupt?"
@@ -265,6 +299,14 @@ impl Record for Fragment {
                 b[12..16].copy_from_slice(&x1.to_le_bytes());
                 out.write_all(&b)
             }
+            Fragment::Shade { channel, plane } => {
+                let mut b = [0u8; 32];
+                b[..8].copy_from_slice(&head(tag::SHADE, [channel, 0, 0], 0));
+                for (k, c) in plane.iter().enumerate() {
+                    b[8 + 8 * k..16 + 8 * k].copy_from_slice(&c.to_le_bytes());
+                }
+                out.write_all(&b)
+            }
         }
     }
 
@@ -272,11 +314,11 @@ impl Record for Fragment {
         &mut self,
         _spare: &mut Self,
         lex: &mut Lexer<R>,
-        space: &Space,
+        header: &Header,
         first_in_frame: bool,
     ) -> Result<(), StreamError> {
         let record = match lex.peek()? {
-            Some("span") | Some("pixel") if first_in_frame => {
+            Some("span") | Some("pixel") | Some("shade") if first_in_frame => {
                 return Err(lex.error("pixels before the frame's first `colour`"));
             }
             Some("span") => {
@@ -294,6 +336,15 @@ impl Record for Fragment {
                 let y = lex.integer("the pixel's row", u32::MAX as u64)? as u32;
                 let z = lex.number("the pixel's depth")?;
                 Fragment::Pixel { x, y, z }
+            }
+            Some("shade") => {
+                lex.skip_word();
+                let channel = lex.integer("the shade's channel (0, 1 or 2)", 2)? as u8;
+                let mut plane = [0.0; 3];
+                for (c, name) in plane.iter_mut().zip(["A", "B", "D"]) {
+                    *c = lex.number(format_args!("{name} of the colour plane"))?;
+                }
+                Fragment::Shade { channel, plane }
             }
             Some("run") => {
                 lex.skip_word();
@@ -316,7 +367,7 @@ impl Record for Fragment {
                 Start::End => Fragment::End,
             },
         };
-        record.validate(space).map_err(|m| lex.error(m))?;
+        record.validate(header).map_err(|m| lex.error(m))?;
         *self = record;
         Ok(())
     }
@@ -324,7 +375,7 @@ impl Record for Fragment {
     fn write_text<W: Write>(
         &self,
         out: &mut W,
-        _space: &Space,
+        _header: &Header,
         first_in_frame: bool,
     ) -> io::Result<()> {
         match *self {
@@ -340,6 +391,10 @@ impl Record for Fragment {
             } => {
                 writeln!(out, "run {y} {x0} {x1} {r} {g} {b}")
             }
+            Fragment::Shade {
+                channel,
+                plane: [a, b, d],
+            } => writeln!(out, "shade {channel} {a} {b} {d}"),
             Fragment::NextFrame => writeln!(out, "{NEXT_FRAME}"),
             Fragment::End => writeln!(out, "{END}"),
         }

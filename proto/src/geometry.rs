@@ -176,13 +176,22 @@ impl Plane {
     /// planes and on the splitter's planes, and within rounding of any other.
     #[inline]
     pub fn intersect(&self, a: DVec4, da: f64, b: DVec4, db: f64) -> DVec4 {
-        let (p, dp, q, dq) = if da >= db {
+        self.crossing(a, da, b, db).point
+    }
+
+    /// [`Plane::intersect`], with the parameter of the crossing along the edge, so that
+    /// what else the vertices carry (their colours, for Gouraud shading) is interpolated at
+    /// the same point: [`Crossing::mix`].
+    #[inline]
+    pub fn crossing(&self, a: DVec4, da: f64, b: DVec4, db: f64) -> Crossing {
+        let from_b = da < db;
+        let (p, dp, q, dq) = if !from_b {
             (a, da, b, db)
         } else {
             (b, db, a, da)
         };
         // dp > 0 > dq, so the divisor is positive and at least dp: α lies in [0, 1].
-        let alpha = dp / (dp - dq);
+        let mut alpha = dp / (dp - dq);
         let mut v = p + (q - p) * alpha;
         let mut along = q - p;
         if !(alpha.is_finite() && v.is_finite()) {
@@ -193,7 +202,7 @@ impl Plane {
             let down = self.scaled_down();
             let (ps, qs) = (p * DOWN, q * DOWN);
             let (dps, dqs) = (down.distance(ps), down.distance(qs));
-            let alpha = (dps / (dps - dqs)).clamp(0.0, 1.0);
+            alpha = (dps / (dps - dqs)).clamp(0.0, 1.0);
             along = qs - ps;
             v = (ps + (qs - ps) * alpha) * UP;
             if !v.is_finite() {
@@ -204,7 +213,11 @@ impl Plane {
         if let Some(solved) = self.snap(&mut v, along) {
             self.keep_w_proportional_to_z(&mut v, p, q, solved);
         }
-        v
+        Crossing {
+            point: v,
+            alpha,
+            from_b,
+        }
     }
 
     /// Eye space has w = z_e·s/d at every point (docs/DESIGN.md, "Coordinates and camera"),
@@ -346,6 +359,71 @@ impl Plane {
     /// The same plane with its inside and outside exchanged.
     pub fn flipped(&self) -> Plane {
         Plane::new(-self.n, -self.k)
+    }
+}
+
+/// Where an edge (a, b) crosses a plane ([`Plane::crossing`]): the point, and α, the
+/// fraction of the way from the edge's inside end to its outside end at which the
+/// position was interpolated (before it was put exactly on the plane).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Crossing {
+    pub point: DVec4,
+    alpha: f64,
+    /// Whether the inside end, interpolated from, is b.
+    from_b: bool,
+}
+
+impl Crossing {
+    /// The value at the crossing of something linear along the edge, `at_a` at a and
+    /// `at_b` at b (a vertex colour): interpolated from the same end with the same α as
+    /// the position, so either direction of travel gives the same bits, as it does for
+    /// the point. The result is kept between the two ends (rounding could otherwise take
+    /// it an ulp past one, out of a colour's 0–255).
+    #[inline]
+    pub fn mix(&self, at_a: DVec3, at_b: DVec3) -> DVec3 {
+        let (p, q) = if self.from_b {
+            (at_b, at_a)
+        } else {
+            (at_a, at_b)
+        };
+        (p + (q - p) * self.alpha).clamp(p.min(q), p.max(q))
+    }
+}
+
+/// [`clip_against`] for a polygon with per-vertex colours: the same vertices, bit for bit,
+/// and beside them in `out_colours` the colours, a crossing's interpolated with the
+/// position's parameter ([`Crossing::mix`]). `colours` has one per vertex.
+pub fn clip_coloured(
+    vertices: &[Vertex],
+    colours: &[DVec3],
+    plane: &Plane,
+    out: &mut Vec<Vertex>,
+    out_colours: &mut Vec<DVec3>,
+) {
+    out.clear();
+    out_colours.clear();
+    let (Some(&last), Some(&last_colour)) = (vertices.last(), colours.last()) else {
+        return;
+    };
+    out.reserve(vertices.len() + 1);
+    out_colours.reserve(vertices.len() + 1);
+    let (mut s, mut s_colour) = (last, last_colour);
+    let (mut s_side, mut s_dist) = plane.classify(s);
+    for (&p, &p_colour) in vertices.iter().zip(colours) {
+        let (p_side, p_dist) = plane.classify(p);
+        if matches!(
+            (s_side, p_side),
+            (Side::Inside, Side::Outside) | (Side::Outside, Side::Inside)
+        ) {
+            let crossing = plane.crossing(s, s_dist, p, p_dist);
+            out.push(crossing.point);
+            out_colours.push(crossing.mix(s_colour, p_colour));
+        }
+        if p_side != Side::Outside {
+            out.push(p);
+            out_colours.push(p_colour);
+        }
+        (s, s_colour, s_side, s_dist) = (p, p_colour, p_side, p_dist);
     }
 }
 
@@ -501,9 +579,68 @@ pub fn newell_plane(points: &[DVec3]) -> DVec4 {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use proptest::prelude::*;
 
     fn view() -> View {
         View::default()
+    }
+
+    #[test]
+    fn colours_are_interpolated_where_the_edge_is_cut() {
+        // Left plane x_e ≥ −w = −10: the edge from x = 2 to x = −22 crosses at half way
+        // (α = 12/24), the edge back from −22 at x = 2, the same point from its inside end.
+        let left = PyramidPlane::Left.plane(&view());
+        let e = |x: f64, y: f64| DVec4::new(x, y, 16.0, 10.0);
+        let tri = [e(2.0, 0.0), e(-22.0, 8.0), e(2.0, 8.0)];
+        let colours = [
+            DVec3::new(200.0, 0.0, 10.0),
+            DVec3::new(0.0, 100.0, 30.0),
+            DVec3::new(50.0, 50.0, 50.0),
+        ];
+        let (mut out, mut out_colours) = (vec![], vec![]);
+        clip_coloured(&tri, &colours, &left, &mut out, &mut out_colours);
+        let mut flat = vec![];
+        clip_against(&tri, &left, &mut flat);
+        assert_eq!(out, flat);
+        assert_eq!(
+            out,
+            [e(2.0, 0.0), e(-10.0, 4.0), e(-10.0, 8.0), e(2.0, 8.0)]
+        );
+        assert_eq!(
+            out_colours,
+            [
+                DVec3::new(200.0, 0.0, 10.0),
+                DVec3::new(100.0, 50.0, 20.0),
+                DVec3::new(25.0, 75.0, 40.0),
+                DVec3::new(50.0, 50.0, 50.0),
+            ]
+        );
+    }
+
+    proptest! {
+        /// The crossing's colour is the same bits whichever way the edge is walked, as
+        /// its position is, and lies between the ends' colours.
+        #[test]
+        fn a_crossings_colour_does_not_depend_on_the_direction(
+            a in prop::array::uniform4(-50.0f64..50.0),
+            b in prop::array::uniform4(-50.0f64..50.0),
+            ca in prop::array::uniform3(0.0f64..=255.0),
+            cb in prop::array::uniform3(0.0f64..=255.0),
+        ) {
+            let plane = PyramidPlane::Left.plane(&view());
+            let (a, b) = (DVec4::from_array(a), DVec4::from_array(b));
+            let (ca, cb) = (DVec3::from_array(ca), DVec3::from_array(cb));
+            let (sa, da) = plane.classify(a);
+            let (sb, db) = plane.classify(b);
+            prop_assume!(matches!((sa, sb), (Side::Inside, Side::Outside) | (Side::Outside, Side::Inside)));
+            let forth = plane.crossing(a, da, b, db);
+            let back = plane.crossing(b, db, a, da);
+            prop_assert_eq!(forth.point, back.point);
+            prop_assert_eq!(forth.point, plane.intersect(a, da, b, db));
+            let (c1, c2) = (forth.mix(ca, cb), back.mix(cb, ca));
+            prop_assert_eq!(c1, c2);
+            prop_assert!(c1.cmpge(ca.min(cb)).all() && c1.cmple(ca.max(cb)).all());
+        }
     }
 
     /// Fuzz target `clip`'s first crash (fuzz/regressions/clip-subnormal): an edge of

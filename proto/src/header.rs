@@ -216,6 +216,24 @@ pub struct Attributes {
     /// The form of the depths (screen and fragment streams): `depth FORM …`. `None` where
     /// the writer did not say (a hand-written stream, a stage that has no depths).
     pub depth: Option<DepthForm>,
+    /// `vertex-colours` (polygon streams): every vertex carries a colour, `r g b` after its
+    /// coordinates, numbers from 0 to 255 ([`crate::shade`]: Gouraud shading).
+    pub vertex_colours: bool,
+    /// `opacity` (polygon streams): every colour record is `colour R G B A`, A the opacity
+    /// from 0 (clear) to 255 (opaque).
+    pub opacity: bool,
+}
+
+impl Attributes {
+    /// What a fragment stream scan-converted from a stream with these attributes says:
+    /// the depth form. Vertex colours and opacity belong to polygon records (a shaded
+    /// polygon's fragments carry its colour planes in `shade` records instead).
+    pub fn for_fragments(&self) -> Attributes {
+        Attributes {
+            depth: self.depth,
+            ..Attributes::default()
+        }
+    }
 }
 
 impl fmt::Display for Attributes {
@@ -223,6 +241,12 @@ impl fmt::Display for Attributes {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         if let Some(form) = &self.depth {
             write!(f, " depth {}", form.words())?;
+        }
+        if self.vertex_colours {
+            write!(f, " vertex-colours")?;
+        }
+        if self.opacity {
+            write!(f, " opacity")?;
         }
         Ok(())
     }

@@ -17,6 +17,7 @@ pub mod header;
 pub mod polygon;
 pub mod ppm;
 pub mod raster;
+pub mod shade;
 pub mod text;
 
 pub use codec::{Form, Reader, Record, Writer};
@@ -24,4 +25,5 @@ pub use error::StreamError;
 pub use fragment::Fragment;
 pub use glam::{DVec2, DVec3, DVec4};
 pub use header::{Attributes, DepthForm, Header, Space, SpaceKind, View};
-pub use polygon::{Colour, Polygon, Token, Vertex};
+pub use polygon::{Colour, Polygon, Token, Vertex, OPAQUE};
+pub use shade::{ColourPlanes, VertexColour};

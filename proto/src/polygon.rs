@@ -36,11 +36,12 @@
 //! annotated one is a record kind of its own (see `tag` below).
 
 use crate::codec::{
-    expect_zero, head, head_n, write_vertices, BinaryError, BinaryInput, Control, Record,
-    MAX_VERTICES,
+    expect_zero, head, head_n, write_colours, write_vertices, BinaryError, BinaryInput, Control,
+    Record, MAX_VERTICES,
 };
 use crate::geometry::newell_plane;
-use crate::header::Space;
+use crate::header::{Header, Space};
+use crate::shade::{ColourPlanes, VertexColour};
 use crate::text::{Lexer, Shown};
 use crate::StreamError;
 use glam::{DVec3, DVec4};
@@ -56,7 +57,7 @@ pub type Colour = [u8; 3];
 pub type Vertex = DVec4;
 
 /// A polygon: a colour and its vertices in order (either winding).
-#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct Polygon {
     pub colour: Colour,
     pub vertices: Vec<Vertex>,
@@ -64,7 +65,35 @@ pub struct Polygon {
     pub plane: Option<DVec4>,
     /// Per edge i, the original edge it lies on, if it is a piece of one; empty = none.
     pub supports: Vec<Option<[Vertex; 2]>>,
+    /// Per vertex, its colour (Gouraud shading, [`crate::shade`]); empty = the polygon is
+    /// one flat `colour`. A stream declares them in its header (`vertex-colours`).
+    pub colours: Vec<VertexColour>,
+    /// The colour planes of the whole polygon ([`crate::shade`]), if a stage recorded
+    /// them: over the screen position in eye space, over device coordinates in screen
+    /// space. Text: a line `shade` and twelve numbers after `plane`. Boxed, so that a flat
+    /// polygon stays as small as it was (the codec's encode loop measured it).
+    pub shade: Option<Box<ColourPlanes>>,
+    /// The colour's opacity, 0–255 (255 opaque, the default). A stream declares it in its
+    /// header (`opacity`), and every colour record is then `colour R G B A`.
+    pub opacity: u8,
 }
+
+impl Default for Polygon {
+    fn default() -> Self {
+        Polygon {
+            colour: [0; 3],
+            vertices: Vec::new(),
+            plane: None,
+            supports: Vec::new(),
+            colours: Vec::new(),
+            shade: None,
+            opacity: OPAQUE,
+        }
+    }
+}
+
+/// The opacity of an opaque colour.
+pub const OPAQUE: u8 = 255;
 
 impl Polygon {
     pub fn new(colour: Colour, vertices: Vec<Vertex>) -> Self {
@@ -73,6 +102,12 @@ impl Polygon {
             vertices,
             ..Default::default()
         }
+    }
+
+    /// Whether the polygon carries per-vertex colours (is Gouraud-shaded).
+    #[inline]
+    pub fn is_shaded(&self) -> bool {
+        !self.colours.is_empty()
     }
 
     /// The support of edge i (vertex i → vertex i+1), if it has one.
@@ -100,9 +135,9 @@ impl Polygon {
         (n.is_finite() && n.truncate() != DVec3::ZERO).then_some(n)
     }
 
-    /// Whether the polygon carries either annotation.
+    /// Whether the polygon carries an annotation (`plane`, `on` or `shade`).
     pub fn is_annotated(&self) -> bool {
-        self.plane.is_some() || self.supports.iter().any(Option::is_some)
+        self.plane.is_some() || self.shade.is_some() || self.supports.iter().any(Option::is_some)
     }
 
     /// A polygon with its vertices given as `[x, y, z]` triples (w = 1).
@@ -179,11 +214,12 @@ impl Token {
 /// | 0 | polygon | colour, n = vertex count | n vertices |
 /// | 1 | NEXT.FRAME | zeros | – |
 /// | 2 | END | zeros | – |
-/// | 3 | annotated polygon | colour, n | `flags: u32` (1 = plane, 2 = supports) and a zero `u32`; the plane (one vertex's 32 bytes) if flagged; n vertices; if flagged, the supports in groups of eight edges: eight bytes 0/1 (edge has one), then the two ends of each that has one |
+/// | 3 | annotated polygon | colour, n | `flags: u32` (1 = plane, 2 = supports, 4 = shade, 8 = vertex colours) and a `u32` whose low byte is 255 − opacity (zero: opaque), the rest zero; the plane (one vertex's 32 bytes) if flagged; the three colour planes (96 bytes) if flagged; n vertices; if flagged, n vertex colours (three `f64`s, 24 bytes each); if flagged, the supports in groups of eight edges: eight bytes 0/1 (edge has one), then the two ends of each that has one |
 /// | 4 | `skip N` | zero colour, n = N | – |
 ///
-/// A polygon without annotations is tag 0, so the common record is its head and its
-/// vertices, which are read and written as one block.
+/// A polygon without annotations, vertex colours or opacity is tag 0, so the common record
+/// is its head and its vertices, which are read and written as one block; a flat stream's
+/// records are those of stream version 3.
 mod tag {
     pub const POLYGON: u8 = 0;
     pub const NEXT_FRAME: u8 = 1;
@@ -192,8 +228,14 @@ mod tag {
     pub const SKIP: u8 = 4;
 }
 
-const FLAG_PLANE: u32 = 1;
-const FLAG_SUPPORTS: u32 = 2;
+const FLAG_PLANE: u64 = 1;
+const FLAG_SUPPORTS: u64 = 2;
+const FLAG_SHADE: u64 = 4;
+const FLAG_COLOURS: u64 = 8;
+/// The flag word's bits 32–39 hold 255 − opacity, so an opaque polygon's are zero.
+const TRANSPARENCY_SHIFT: u32 = 32;
+const KNOWN_FLAGS: u64 =
+    FLAG_PLANE | FLAG_SUPPORTS | FLAG_SHADE | FLAG_COLOURS | (0xff << TRANSPARENCY_SHIFT);
 
 /// Writes a polygon's binary record (tag 0, or tag 3 when it carries annotations).
 #[inline]
@@ -205,8 +247,26 @@ pub(crate) fn write_polygon_binary<W: Write>(p: &Polygon, out: &mut W) -> io::Re
             format!("polygon of {n} vertices (at most {MAX_VERTICES})"),
         ));
     }
+    if p.plane.is_none()
+        && p.supports.is_empty()
+        && p.colours.is_empty()
+        && p.shade.is_none()
+        && p.opacity == OPAQUE
+    {
+        // The common record: a flat polygon with nothing else (tag 0).
+        out.write_all(&head(tag::POLYGON, p.colour, n as u32))?;
+        return write_vertices(out, &p.vertices);
+    }
+    write_annotated(p, out)
+}
+
+/// The rest of [`write_polygon_binary`]: tag 3, or tag 0 for a list of no support.
+#[inline(never)]
+fn write_annotated<W: Write>(p: &Polygon, out: &mut W) -> io::Result<()> {
+    let n = p.vertices.len();
     let supports = p.supports.iter().any(Option::is_some);
-    if p.plane.is_none() && !supports {
+    let shaded = !p.colours.is_empty();
+    if p.plane.is_none() && !supports && !shaded && p.shade.is_none() && p.opacity == OPAQUE {
         out.write_all(&head(tag::POLYGON, p.colour, n as u32))?;
         return write_vertices(out, &p.vertices);
     }
@@ -216,14 +276,30 @@ pub(crate) fn write_polygon_binary<W: Write>(p: &Polygon, out: &mut W) -> io::Re
             format!("{} edge supports for {n} vertices", p.supports.len()),
         ));
     }
+    if shaded && p.colours.len() != n {
+        return Err(io::Error::new(
+            io::ErrorKind::InvalidInput,
+            format!("{} vertex colours for {n} vertices", p.colours.len()),
+        ));
+    }
     out.write_all(&head(tag::ANNOTATED, p.colour, n as u32))?;
-    let flags =
-        if p.plane.is_some() { FLAG_PLANE } else { 0 } | if supports { FLAG_SUPPORTS } else { 0 };
-    out.write_all(&(flags as u64).to_le_bytes())?;
+    let flag = |set: bool, f: u64| if set { f } else { 0 };
+    let flags = flag(p.plane.is_some(), FLAG_PLANE)
+        | flag(supports, FLAG_SUPPORTS)
+        | flag(p.shade.is_some(), FLAG_SHADE)
+        | flag(shaded, FLAG_COLOURS)
+        | u64::from(OPAQUE - p.opacity) << TRANSPARENCY_SHIFT;
+    out.write_all(&flags.to_le_bytes())?;
     if let Some(plane) = p.plane {
         write_vertices(out, &[plane])?;
     }
+    if let Some(shade) = &p.shade {
+        write_vertices(out, &shade[..])?;
+    }
     write_vertices(out, &p.vertices)?;
+    if shaded {
+        write_colours(out, &p.colours)?;
+    }
     if supports {
         for group in (0..n).step_by(8) {
             let edges = group..(group + 8).min(n);
@@ -252,6 +328,11 @@ fn read_polygon_binary<R: Read>(
     p.colour = [head[1], head[2], head[3]];
     p.plane = None;
     p.supports.clear();
+    p.shade = None;
+    p.opacity = OPAQUE;
+    if !p.colours.is_empty() {
+        p.colours.clear();
+    }
     let n = head_n(head) as usize;
     if n > MAX_VERTICES {
         return Err(BinaryError::TooLarge);
@@ -260,16 +341,27 @@ fn read_polygon_binary<R: Read>(
         return input.vertices(&mut p.vertices, n);
     }
     let flags = u64::from_le_bytes(input.array()?);
-    if flags & !u64::from(FLAG_PLANE | FLAG_SUPPORTS) != 0 {
+    if flags & !KNOWN_FLAGS != 0 {
         return Err(BinaryError::Invalid(format!(
             "not a valid annotated polygon (flags {flags:#x}); is the stream corrupt?"
         )));
     }
-    if flags & u64::from(FLAG_PLANE) != 0 {
+    p.opacity = OPAQUE - (flags >> TRANSPARENCY_SHIFT) as u8;
+    if flags & FLAG_PLANE != 0 {
         p.plane = Some(input.vertex()?);
     }
+    if flags & FLAG_SHADE != 0 {
+        p.shade = Some(Box::new([
+            input.vertex()?,
+            input.vertex()?,
+            input.vertex()?,
+        ]));
+    }
     input.vertices(&mut p.vertices, n)?;
-    if flags & u64::from(FLAG_SUPPORTS) != 0 {
+    if flags & FLAG_COLOURS != 0 {
+        input.colours(&mut p.colours, n)?;
+    }
+    if flags & FLAG_SUPPORTS != 0 {
         for group in (0..n).step_by(8) {
             let present: [u8; 8] = input.array()?;
             let edges = (n - group).min(8);
@@ -303,6 +395,8 @@ pub const END: &str = "END";
 pub const COLOUR: &str = "colour";
 /// The optional plane line after `colour`.
 pub const PLANE: &str = "plane";
+/// The optional colour planes line (three planes, four numbers each) after `plane`.
+pub const SHADE: &str = "shade";
 /// Starts a vertex's support (the original edge from it to the next vertex lies on).
 pub const ON: &str = "on";
 /// `skip N`, standing for N polygons of which the stream carries nothing.
@@ -454,20 +548,26 @@ fn annotations_allowed(space: &Space) -> bool {
 }
 
 const NO_WORLD_ANNOTATIONS: &str =
-    "annotations (`plane`, `on`) are defined for eye and screen space only";
+    "annotations (`plane`, `shade`, `on`) are defined for eye and screen space only";
 
-/// Reads a polygon's text after its `colour R G B` into `p`, reusing its buffers.
+/// Reads a polygon's text after its `colour R G B` into `p`, reusing its buffers: the
+/// opacity `A` where the header declares `opacity`, and each vertex's colour `r g b` after
+/// its coordinates where it declares `vertex-colours`.
 #[inline]
 fn read_polygon_text<R: BufRead>(
     p: &mut Polygon,
     colour: Colour,
     lex: &mut Lexer<R>,
-    space: &Space,
+    header: &Header,
 ) -> Result<(), StreamError> {
+    let space = &header.space;
     p.colour = colour;
     p.plane = None;
+    p.shade = None;
+    p.opacity = OPAQUE;
     p.vertices.clear();
     p.supports.clear();
+    p.colours.clear();
     let arity = space.vertex_arity();
     if arity == 0 {
         // A fragments stream has no vertices: a polygon's vertices there would have no
@@ -478,6 +578,12 @@ fn read_polygon_text<R: BufRead>(
             "a polygon in a {}-space stream, which holds no vertices",
             space.name()
         )));
+    }
+    if header.attributes.opacity {
+        p.opacity = lex.integer(
+            "the opacity of the colour (colour R G B A: the header says `opacity`)",
+            255,
+        )? as u8;
     }
     if lex.peek()? == Some(PLANE) {
         if !annotations_allowed(space) {
@@ -495,28 +601,75 @@ fn read_polygon_text<R: BufRead>(
         }
         p.plane = Some(DVec4::from_array(n));
     }
+    if lex.peek()? == Some(SHADE) {
+        if !annotations_allowed(space) {
+            return Err(lex.error(format!(
+                "a `shade` line in a {}-space stream: {NO_WORLD_ANNOTATIONS}",
+                space.name()
+            )));
+        }
+        lex.skip_word();
+        let mut planes = [DVec4::ZERO; 3];
+        for (plane, channel) in planes.iter_mut().zip(["red", "green", "blue"]) {
+            let mut n = [0.0; 4];
+            for (c, name) in n.iter_mut().zip(["a", "b", "c", "d"]) {
+                *c = lex.number(format_args!(
+                    "{name} of the {channel} colour plane (shade, four numbers a channel)"
+                ))?;
+            }
+            *plane = DVec4::from_array(n);
+        }
+        p.shade = Some(Box::new(planes));
+    }
     let space_name = space.name();
+    let coloured = header.attributes.vertex_colours;
+    // The numbers of a vertex line: its coordinates, then its colour if declared.
+    let numbers = arity + if coloured { 3 } else { 0 };
     while lex.next_is_number()? {
         if p.vertices.len() == MAX_VERTICES {
             lex.peek()?;
             return Err(lex.error(format!("polygon has more than {MAX_VERTICES} vertices")));
         }
-        let mut v = [0.0, 0.0, 0.0, 1.0];
+        let mut v = [0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0];
         let i = p.vertices.len();
         // A line of just the vertex's numbers (nearly every line of a scene) is read
         // whole; anything else, word by word, with its messages.
-        let whole_line = lex.numbers_to_line_end(&mut v[..arity]);
-        for (k, c) in v
-            .iter_mut()
-            .take(if whole_line { 0 } else { arity })
-            .enumerate()
-        {
-            *c = lex.number(format_args!(
-                "{} of vertex {i} ({arity} numbers a vertex in {space_name} space)",
-                coordinate_name(space, k)
-            ))?;
+        let whole_line = lex.numbers_to_line_end(&mut v[..numbers]);
+        if !whole_line {
+            for (k, c) in v.iter_mut().take(arity).enumerate() {
+                *c = lex.number(format_args!(
+                    "{} of vertex {i} ({numbers} numbers a vertex in {space_name} space{})",
+                    coordinate_name(space, k),
+                    if coloured { " with vertex colours" } else { "" }
+                ))?;
+            }
+            for (k, name) in ["red", "green", "blue"]
+                .into_iter()
+                .enumerate()
+                .take(if coloured { 3 } else { 0 })
+            {
+                v[arity + k] = lex.number(format_args!(
+                    "the {name} of vertex {i}'s colour (the header says `vertex-colours`: \
+                     r g b after the coordinates)"
+                ))?;
+            }
         }
-        p.vertices.push(DVec4::from_array(v));
+        if coloured {
+            let c = DVec3::new(v[arity], v[arity + 1], v[arity + 2]);
+            if !(c.cmpge(DVec3::ZERO).all() && c.cmple(DVec3::splat(255.0)).all()) {
+                return Err(lex.error(format!(
+                    "vertex {i}'s colour {} {} {}: a vertex colour's channels are numbers from \
+                     0 to 255",
+                    c.x, c.y, c.z
+                )));
+            }
+            p.colours.push(c);
+            v[arity..].fill(0.0);
+            if arity == 3 {
+                v[3] = 1.0;
+            }
+        }
+        p.vertices.push(DVec4::new(v[0], v[1], v[2], v[3]));
         if lex.peek()? == Some(ON) {
             if !annotations_allowed(space) {
                 return Err(lex.error(format!(
@@ -544,23 +697,47 @@ fn read_polygon_text<R: BufRead>(
     Ok(())
 }
 
-/// Writes a polygon's text form (colour, plane, vertices and supports).
+/// Writes a polygon's text form (colour, plane, vertices and supports), with the opacity
+/// and the vertex colours where the header declares them.
 pub(crate) fn write_polygon_text<W: Write>(
     p: &Polygon,
     out: &mut W,
-    space: &Space,
+    header: &Header,
     first_in_frame: bool,
 ) -> io::Result<()> {
-    write_polygon_start(out, p.colour, first_in_frame)?;
+    let space = &header.space;
+    if header.attributes.opacity {
+        if !first_in_frame {
+            writeln!(out, "{NEXT_POLYGON}")?;
+        }
+        let [r, g, b] = p.colour;
+        writeln!(out, "{COLOUR} {r} {g} {b} {}", p.opacity)?;
+    } else {
+        write_polygon_start(out, p.colour, first_in_frame)?;
+    }
     if let Some(n) = p.plane {
         writeln!(out, "{PLANE} {} {} {} {}", n.x, n.y, n.z, n.w)?;
+    }
+    if let Some(&[r, g, b]) = p.shade.as_deref() {
+        writeln!(
+            out,
+            "{SHADE} {} {} {} {}  {} {} {} {}  {} {} {} {}",
+            r.x, r.y, r.z, r.w, g.x, g.y, g.z, g.w, b.x, b.y, b.z, b.w
+        )?;
     }
     let point = |out: &mut W, v: &Vertex| match space.vertex_arity() {
         4 => write!(out, "{} {} {} {}", v.x, v.y, v.z, v.w),
         _ => write!(out, "{} {} {}", v.x, v.y, v.z),
     };
+    let coloured = header.attributes.vertex_colours;
     for (i, v) in p.vertices.iter().enumerate() {
         point(out, v)?;
+        if coloured {
+            // A polygon of a declared stream has one colour a vertex (the writer's
+            // caller validated it); a missing one is written black rather than dropped.
+            let c = p.colours.get(i).copied().unwrap_or_default();
+            write!(out, " {} {} {}", c.x, c.y, c.z)?;
+        }
         if let Some([a, b]) = p.support(i) {
             write!(out, " {ON} ")?;
             point(out, &a)?;
@@ -570,6 +747,29 @@ pub(crate) fn write_polygon_text<W: Write>(
         writeln!(out)?;
     }
     Ok(())
+}
+
+/// Checks a polygon's vertex colours: one a vertex, each channel a number from 0 to 255.
+fn check_colours(p: &Polygon) -> Result<(), String> {
+    if p.colours.len() != p.vertices.len() {
+        return Err(format!(
+            "{} vertex colours for {} vertices (one per vertex)",
+            p.colours.len(),
+            p.vertices.len()
+        ));
+    }
+    match p
+        .colours
+        .iter()
+        .position(|c| !(c.cmpge(DVec3::ZERO).all() && c.cmple(DVec3::splat(255.0)).all()))
+    {
+        Some(i) => Err(format!(
+            "the colour of vertex {i} is {:?}; a vertex colour's channels are numbers from 0 \
+             to 255",
+            p.colours[i].to_array()
+        )),
+        None => Ok(()),
+    }
 }
 
 impl Record for Token {
@@ -594,7 +794,8 @@ impl Record for Token {
     }
 
     #[inline]
-    fn validate(&self, space: &Space) -> Result<(), String> {
+    fn validate(&self, header: &Header) -> Result<(), String> {
+        let space = &header.space;
         if let Token::Skip(0) = self {
             return Err("`skip 0`: a skip stands for at least one polygon".into());
         }
@@ -611,7 +812,25 @@ impl Record for Token {
                     p.vertices[i].to_array()
                 ));
             }
-            if p.supports.is_empty() && p.plane.is_none() {
+            if !p.colours.is_empty() || (header.attributes.vertex_colours && !p.vertices.is_empty())
+            {
+                if !header.attributes.vertex_colours {
+                    return Err(
+                        "a polygon with vertex colours in a stream whose header does not \
+                         declare them (`vertex-colours`)"
+                            .into(),
+                    );
+                }
+                check_colours(p)?;
+            }
+            if p.opacity != OPAQUE && !header.attributes.opacity {
+                return Err(format!(
+                    "a polygon of opacity {} in a stream whose header does not declare \
+                     `opacity`",
+                    p.opacity
+                ));
+            }
+            if p.supports.is_empty() && p.plane.is_none() && p.shade.is_none() {
                 return Ok(());
             }
             if !annotations_allowed(space) && p.is_annotated() {
@@ -638,6 +857,12 @@ impl Record for Token {
             }
             if p.plane.is_some_and(|n| !n.is_finite()) {
                 return Err("the polygon's plane is not finite".into());
+            }
+            if p.shade
+                .as_ref()
+                .is_some_and(|s| s.iter().any(|n| !n.is_finite()))
+            {
+                return Err("the polygon's colour planes (`shade`) are not finite".into());
             }
         }
         Ok(())
@@ -690,11 +915,11 @@ impl Record for Token {
         &mut self,
         spare: &mut Self,
         lex: &mut Lexer<R>,
-        space: &Space,
+        header: &Header,
         first_in_frame: bool,
     ) -> Result<(), StreamError> {
         match read_polygon_start(lex, first_in_frame)? {
-            Start::Colour(c) => read_polygon_text(self.polygon_mut(spare), c, lex, space)?,
+            Start::Colour(c) => read_polygon_text(self.polygon_mut(spare), c, lex, header)?,
             Start::Skip(n) => self.set(spare, Token::Skip(n)),
             Start::NextFrame => self.set(spare, Token::NextFrame),
             Start::End => self.set(spare, Token::End),
@@ -705,11 +930,11 @@ impl Record for Token {
     fn write_text<W: Write>(
         &self,
         out: &mut W,
-        space: &Space,
+        header: &Header,
         first_in_frame: bool,
     ) -> io::Result<()> {
         match self {
-            Token::Polygon(p) => write_polygon_text(p, out, space, first_in_frame),
+            Token::Polygon(p) => write_polygon_text(p, out, header, first_in_frame),
             Token::Skip(n) => write_skip(out, *n, first_in_frame),
             Token::NextFrame => writeln!(out, "{NEXT_FRAME}"),
             Token::End => writeln!(out, "{END}"),

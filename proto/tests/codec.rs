@@ -489,13 +489,13 @@ fn annotation_errors_are_located() {
 fn annotations_in_world_space_are_refused() {
     assert_eq!(
         decode_err::<Token>(b"polypipe 1 world\ncolour 1 2 3\nplane 0 0 1 -16\n0 0 0\nEND\n"),
-        "line 3, column 1: a `plane` line in a world-space stream: annotations (`plane`, `on`) \
+        "line 3, column 1: a `plane` line in a world-space stream: annotations (`plane`, `shade`, `on`) \
          are defined for eye and screen space only"
     );
     assert_eq!(
         decode_err::<Token>(b"polypipe 1 world\ncolour 1 2 3\n0 0 0\n1 0 0 on 1 0 0 0 1 0\nEND\n"),
         "line 4, column 7: an edge support (`on`) in a world-space stream: annotations \
-         (`plane`, `on`) are defined for eye and screen space only"
+         (`plane`, `shade`, `on`) are defined for eye and screen space only"
     );
     let mut p = Polygon::from_xyz([1, 1, 1], &[[0.0, 0.0, 0.0]]);
     p.plane = Some(proto::DVec4::new(0.0, 0.0, 1.0, 0.0));
@@ -506,8 +506,8 @@ fn annotations_in_world_space_are_refused() {
     );
     assert_eq!(
         decode_err::<Token>(&bin),
-        "byte 17 (frame 0, polygon 0): an annotated polygon in a world-space stream: \
-         annotations (`plane`, `on`) are defined for eye and screen space only"
+        "byte 19 (frame 0, polygon 0): an annotated polygon in a world-space stream: \
+         annotations (`plane`, `shade`, `on`) are defined for eye and screen space only"
     );
 }
 
@@ -589,6 +589,173 @@ fn skips_and_runs_round_trip_and_keep_numbering() {
     );
 }
 
+/// A Gouraud-shaded polygon's record: vertex colours, colour planes and opacity come back
+/// from the binary form bit for bit, and a flat polygon's record is unchanged by them.
+#[test]
+fn vertex_colours_shade_and_opacity_round_trip_in_binary() {
+    use proto::{Attributes, DVec3, DVec4};
+    let plain = Header::new(Space::Eye(View::default()));
+    let header = plain.with(Attributes {
+        vertex_colours: true,
+        opacity: true,
+        ..Attributes::default()
+    });
+    let mut p = Polygon::new(
+        [1, 2, 3],
+        vec![
+            DVec4::new(-8.0, -4.0, 20.0, 12.5),
+            DVec4::new(0.0, 7.0, 20.0, 12.5),
+            DVec4::new(8.0, -4.0, 20.0, 12.5),
+        ],
+    );
+    // A flat polygon is a head and its vertices (the record of stream version 3).
+    let flat = encode(plain, &[Token::Polygon(p.clone())], Form::Binary);
+    let start = encode::<Token>(plain, &[], Form::Binary).len();
+    assert_eq!(flat.len() - start, 8 + 96);
+    assert_eq!(&flat[start..start + 8], &[0, 1, 2, 3, 3, 0, 0, 0]);
+    p.colours = vec![
+        DVec3::new(255.0, 0.0, 0.0),
+        DVec3::new(0.1, 254.9, 1.0 / 3.0),
+        DVec3::new(0.0, 0.0, 255.0),
+    ];
+    p.shade = Some(Box::new([
+        DVec4::new(1.0, 2.0, 3.0, 4.0),
+        DVec4::new(-1.0, 0.5, 1.0, -7.25),
+        DVec4::new(0.0, 0.0, 1.0, -255.0),
+    ]));
+    p.opacity = 128;
+    let tokens = vec![Token::Polygon(p.clone()), Token::End];
+    let bin = encode(header, &tokens, Form::Binary);
+    assert_eq!(decode::<Token>(&bin).unwrap().1, tokens);
+    // The head, flags (4 shade | 8 colours, transparency 127 in byte 4), 96 bytes of
+    // planes, 96 of vertices, 72 of colours, and END.
+    let start = encode::<Token>(header, &[], Form::Binary).len();
+    assert_eq!(bin.len() - start, 8 + 8 + 96 + 96 + 72 + 8);
+    assert_eq!(
+        &bin[start..start + 16],
+        &[3, 1, 2, 3, 3, 0, 0, 0, 12, 0, 0, 0, 127, 0, 0, 0]
+    );
+    // The text form: the opacity after the colour, the colour planes' line, each vertex's
+    // colour after its coordinates; and it reads back.
+    let text = encode(header, &tokens, Form::Text);
+    assert_eq!(
+        String::from_utf8(text.clone()).unwrap(),
+        "polypipe 1 eye aspect 1 hither 1 yon 30 vertex-colours opacity\n\
+         colour 1 2 3 128\n\
+         shade 1 2 3 4  -1 0.5 1 -7.25  0 0 1 -255\n\
+         -8 -4 20 12.5 255 0 0\n\
+         0 7 20 12.5 0.1 254.9 0.3333333333333333\n\
+         8 -4 20 12.5 0 0 255\n\
+         END\n"
+    );
+    assert_eq!(decode::<Token>(&text).unwrap(), (header, tokens.clone()));
+    // A stream that does not declare them refuses them, and one that does refuses a
+    // polygon without them.
+    let undeclared = encode(plain, &tokens, Form::Binary);
+    assert!(decode_err::<Token>(&undeclared).contains("does not declare them (`vertex-colours`)"));
+    let bare = encode(
+        header,
+        &[
+            Token::Polygon(Polygon::new([1, 2, 3], vec![DVec4::W; 3])),
+            Token::End,
+        ],
+        Form::Binary,
+    );
+    assert!(decode_err::<Token>(&bare).contains("0 vertex colours for 3 vertices"));
+}
+
+#[test]
+fn vertex_colour_text_is_checked_where_it_stands() {
+    let header = "polypipe 1 world vertex-colours\ncolour 1 2 3\n0 0 0 1 2 3\n1 0 0 4 5\n";
+    assert_eq!(
+        decode_err::<Token>(format!("{header}END\n").as_bytes()),
+        "line 5, column 1: expected the blue of vertex 1's colour (the header says \
+         `vertex-colours`: r g b after the coordinates), found `END`"
+    );
+    let over = "polypipe 1 world vertex-colours\ncolour 1 2 3\n0 0 0 1 2 256\nEND\n";
+    assert!(decode_err::<Token>(over.as_bytes()).contains(
+        "vertex 0's colour 1 2 256: a vertex colour's channels are numbers from 0 to 255"
+    ));
+    let twice = "polypipe 1 world vertex-colours opacity vertex-colours\nEND\n";
+    assert!(
+        decode_err::<Token>(twice.as_bytes()).contains("the header says `vertex-colours` twice")
+    );
+    let fragments = "polypipe 2 fragments 4 4 opacity\nEND\n";
+    assert!(decode_err::<Fragment>(fragments.as_bytes()).contains(
+        "`opacity` in the header is for polygon streams (world, eye, screen), not fragments-space"
+    ));
+    let alpha = "polypipe 1 world opacity\ncolour 1 2 3\nEND\n";
+    assert!(decode_err::<Token>(alpha.as_bytes()).contains("expected the opacity of the colour"));
+}
+
+#[test]
+fn colour_plane_text_reads_back_and_is_refused_in_world_space() {
+    let eye = "polypipe 1 eye\ncolour 1 2 3\nshade 1 2 3 4 5 6 7 8 9 10 11 12\n0 0 1 1\n1 0 1 1\n0 1 1 1\nEND\n";
+    let (_, tokens) = decode::<Token>(eye.as_bytes()).unwrap();
+    let Token::Polygon(p) = &tokens[0] else {
+        panic!("{tokens:?}")
+    };
+    assert_eq!(
+        p.shade.as_ref().unwrap()[2],
+        proto::DVec4::new(9.0, 10.0, 11.0, 12.0)
+    );
+    let world = "polypipe 1 world\ncolour 1 2 3\nshade 1 2 3 4 5 6 7 8 9 10 11 12\nEND\n";
+    assert_eq!(
+        decode_err::<Token>(world.as_bytes()),
+        "line 3, column 1: a `shade` line in a world-space stream: annotations (`plane`, \
+         `shade`, `on`) are defined for eye and screen space only"
+    );
+    let short = "polypipe 1 eye\ncolour 1 2 3\nshade 1 2 3 4 5\nEND\n";
+    assert!(decode_err::<Token>(short.as_bytes())
+        .contains("b of the green colour plane (shade, four numbers a channel)"));
+}
+
+#[test]
+fn shade_fragments_round_trip_and_are_checked() {
+    // A shade record is no larger in memory than a span: zbuf's batches do not grow.
+    assert_eq!(std::mem::size_of::<Fragment>(), 32);
+    let header = Header::new(Space::Fragments {
+        width: 8,
+        height: 4,
+    });
+    let records = vec![
+        Fragment::Polygon([9, 8, 7]),
+        Fragment::Shade {
+            channel: 0,
+            plane: [0.25, -1.5, -100.0],
+        },
+        Fragment::Shade {
+            channel: 2,
+            plane: [0.0, 0.0, 3.0],
+        },
+        Fragment::Span {
+            y: 3,
+            x0: 1,
+            x1: 8,
+            z: -0.05,
+            dz: 0.0,
+        },
+        Fragment::End,
+    ];
+    for form in [Form::Text, Form::Binary] {
+        let bytes = encode(header, &records, form);
+        assert_eq!(
+            decode::<Fragment>(&bytes).unwrap(),
+            (header, records.clone())
+        );
+    }
+    let text = String::from_utf8(encode(header, &records, Form::Text)).unwrap();
+    assert!(
+        text.contains("\nshade 0 0.25 -1.5 -100\nshade 2 0 0 3\n"),
+        "{text}"
+    );
+    let bad = "polypipe 2 fragments 8 4\ncolour 1 1 1\nshade 3 1 2 4\nEND\n";
+    assert!(decode_err::<Fragment>(bad.as_bytes()).contains("the shade's channel (0, 1 or 2)"));
+    let early = "polypipe 2 fragments 8 4\nshade 1 1 2 4\nEND\n";
+    assert!(decode_err::<Fragment>(early.as_bytes())
+        .contains("pixels before the frame's first `colour`"));
+}
+
 /// The depth form persp names in the header: written after the space's words, read back
 /// from either form, and refused where it means nothing or its numbers cannot be.
 #[test]
@@ -608,7 +775,10 @@ fn the_depth_form_in_the_header_round_trips_and_is_checked() {
         ),
         (DepthForm::EyeZ, "depth eye-z"),
     ] {
-        let header = Header::new(screen).with(Attributes { depth: Some(form) });
+        let header = Header::new(screen).with(Attributes {
+            depth: Some(form),
+            ..Attributes::default()
+        });
         let text = encode(header, &[Token::End], Form::Text);
         assert_eq!(
             String::from_utf8(text.clone()).unwrap(),
@@ -622,7 +792,10 @@ fn the_depth_form_in_the_header_round_trips_and_is_checked() {
             width: 8,
             height: 4,
         })
-        .with(Attributes { depth: Some(form) });
+        .with(Attributes {
+            depth: Some(form),
+            ..Attributes::default()
+        });
         let text = encode(fragments, &[Fragment::End], Form::Text);
         assert!(String::from_utf8_lossy(&text)
             .starts_with(&format!("polypipe 2 fragments 8 4 {words}\n")));
@@ -661,6 +834,7 @@ fn the_depth_form_in_the_header_round_trips_and_is_checked() {
             hither: 5.0,
             yon: 1.0,
         }),
+        ..Attributes::default()
     });
     assert_eq!(
         decode_err::<Token>(&encode(bad, &[Token::End], Form::Binary)),

@@ -25,7 +25,8 @@ pub fn valid_samples(k: u32) -> bool {
 }
 
 /// `polygon` on the screen `k` times finer: X and Y of its vertices and supports times
-/// `k`, its depth plane `a·X + b·Y + c·Z + d = 0` as `(a/k)·X' + (b/k)·Y' + c·Z + d = 0`.
+/// `k`, its depth plane `a·X + b·Y + c·Z + d = 0` as `(a/k)·X' + (b/k)·Y' + c·Z + d = 0`
+/// (and its colour planes alike).
 /// For `k` a power of two every product is exact (short of overflow), so the fine
 /// polygon's edges cross the fine rows exactly K times where the polygon's own edges
 /// cross the corresponding sub-pixel lines, and its depth is the same plane.
@@ -43,6 +44,12 @@ pub fn scaled(polygon: &Polygon, k: u32) -> Polygon {
             .iter()
             .map(|o| o.map(|[a, b]| [s(a), s(b)]))
             .collect(),
+        colours: polygon.colours.clone(),
+        shade: polygon
+            .shade
+            .as_ref()
+            .map(|planes| Box::new(planes.map(|p| DVec4::new(p.x / k, p.y / k, p.z, p.w)))),
+        opacity: polygon.opacity,
     }
 }
 

@@ -29,6 +29,19 @@ pub trait HiddenSurface {
     /// The method's counters over all frames so far, for `--stats`: one line, without the
     /// stage's name (`12 windows at depth 0, …`).
     fn stats(&self) -> String;
+
+    /// Whether the method draws Gouraud-shaded polygons (vertex colours, docs/DESIGN.md,
+    /// "Shading"); a stage whose method does not refuses a stream that declares them,
+    /// rather than drawing it flat.
+    fn shades(&self) -> bool {
+        false
+    }
+
+    /// Whether the method draws polygons of opacity below 255 as transparent; a stage whose
+    /// method does not refuses such a polygon rather than draw it opaque.
+    fn transparency(&self) -> bool {
+        false
+    }
 }
 
 /// The z-buffer (thesis chapter 2.3) as a [`HiddenSurface`]: the reference the other
@@ -52,6 +65,11 @@ impl HiddenSurface for ZBuffer {
             slot => slot.insert(RegionBuffer::new(width, height)),
         };
         for p in polygons {
+            if let Some(shading) = proto::shade::Shading::of(p) {
+                self.walker
+                    .for_each_span(p, width, height, |s| region.draw_shaded(&s, &shading));
+                continue;
+            }
             let colour = p.colour;
             self.walker
                 .for_each_span(p, width, height, |s| region.draw(&s, colour));
@@ -60,6 +78,10 @@ impl HiddenSurface for ZBuffer {
             runs.push(run);
             Ok::<(), std::convert::Infallible>(())
         });
+    }
+
+    fn shades(&self) -> bool {
+        true
     }
 
     fn stats(&self) -> String {

@@ -22,6 +22,8 @@
 //! by the order here, and a `skip N` (polygons of which the leaf gets nothing) needs no
 //! record at all.
 
+mod shaded;
+
 use crate::depth::Depth;
 use crate::walk::Span;
 use crate::ztest::{self, ZTest};

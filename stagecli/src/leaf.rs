@@ -5,6 +5,27 @@ use crate::{next, read_stdin, write_stdout, Error, Result};
 use proto::{Form, Fragment, Header, Polygon, Space, SpaceKind, Token};
 use scan::frame::HiddenSurface;
 
+/// Refuses a polygon that is not opaque (opacity below 255, a stream whose header says
+/// `opacity`), for a stage that draws opaque polygons only: status 2 and a line naming the
+/// a-buffer, rather than drawing it opaque. `at` says where it is (`frame F, polygon P`),
+/// asked only for a polygon refused: an opaque one costs one comparison.
+#[inline]
+pub fn refuse_transparent(
+    stage: &str,
+    polygon: &Polygon,
+    at: impl FnOnce() -> String,
+) -> Result<()> {
+    if polygon.opacity == proto::OPAQUE {
+        return Ok(());
+    }
+    Err(Error::usage(format!(
+        "{}: a polygon of opacity {} (below 255): {stage} draws opaque polygons only; \
+         transparency is the a-buffer's (render.sh --aa abuf)",
+        at(),
+        polygon.opacity
+    )))
+}
+
 /// Counts every frame-resolving stage prints under `--stats`, before its method's own.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct FrameCounts {
@@ -27,6 +48,13 @@ pub fn resolve_frames(
     method: &mut impl HiddenSurface,
 ) -> Result<FrameCounts> {
     let mut input = read_stdin::<Token>(SpaceKind::Screen)?;
+    if input.header().attributes.vertex_colours && !method.shades() {
+        return Err(Error::usage(format!(
+            "{stage} draws each polygon in one colour, and this stream is Gouraud-shaded \
+             (its header says `vertex-colours`); shading is drawn by the z-buffer (render.sh \
+             --hse zbuf, the default) and by supersampling (--aa ssK)"
+        )));
+    }
     let (width, height) = input
         .header()
         .space
@@ -34,7 +62,8 @@ pub fn resolve_frames(
         .ok_or_else(|| Error::data("screen-space header without a size"))?;
     // At least a resolved colour for every pixel a frame's polygons may cover.
     crate::memory::check_screen(width, height, 3, "at least a resolved colour")?;
-    let header = Header::new(Space::Fragments { width, height }).with(input.header().attributes);
+    let header = Header::new(Space::Fragments { width, height })
+        .with(input.header().attributes.for_fragments());
     let mut out = write_stdout::<Fragment>(header, form)?;
     // The header goes on at once, so that the merger can refuse a screen too large for
     // it now, not after this leaf's first frame (a minute, at 65536x65536).
@@ -47,6 +76,9 @@ pub fn resolve_frames(
             Token::Polygon(p) => {
                 scan::check_on_screen(&p, width, height)
                     .map_err(|m| Error::data(format!("{}: {m}", input.position())))?;
+                if !method.transparency() {
+                    refuse_transparent(stage, &p, || input.position())?;
+                }
                 counts.polygons_in += 1;
                 polygons.push(p);
                 continue;

@@ -37,7 +37,7 @@ pub mod stream;
 
 pub use args::{parse, parse_colour, PpmTextFlag, TextFlag, ViewArgs};
 pub use error::{Context, Error, Kind, Result};
-pub use leaf::{resolve_frames, FrameCounts};
+pub use leaf::{refuse_transparent, resolve_frames, FrameCounts};
 pub use names::FrameNames;
 pub use stream::{
     check_finite, filter_polygons, filter_records, input_error, input_name, next, open_input,

@@ -989,8 +989,8 @@ fn stats_name_each_subtrees_host_and_its_links_bytes() {
     assert_eq!(
         links(&out),
         [
-            "render.sh: subtree 2 on host node1: 577 bytes there, 7745 bytes back",
-            "render.sh: subtree 3 on host node2: 577 bytes there, 4657 bytes back",
+            "render.sh: subtree 2 on host node1: 579 bytes there, 7747 bytes back",
+            "render.sh: subtree 3 on host node2: 579 bytes there, 4659 bytes back",
         ]
     );
     // Four hosts (each named twice) at depth 2: a leaf each, round-robin. A leaf's runs
@@ -1010,10 +1010,10 @@ fn stats_name_each_subtrees_host_and_its_links_bytes() {
     assert_eq!(
         links(&out),
         [
-            "render.sh: leaf 0 on host node1: 641 bytes there, 2605 bytes back",
-            "render.sh: leaf 1 on host node2: 641 bytes there, 5197 bytes back",
-            "render.sh: leaf 2 on host node1: 737 bytes there, 2445 bytes back",
-            "render.sh: leaf 3 on host node2: 337 bytes there, 2269 bytes back",
+            "render.sh: leaf 0 on host node1: 643 bytes there, 2607 bytes back",
+            "render.sh: leaf 1 on host node2: 643 bytes there, 5199 bytes back",
+            "render.sh: leaf 2 on host node1: 739 bytes there, 2447 bytes back",
+            "render.sh: leaf 3 on host node2: 339 bytes there, 2271 bytes back",
         ]
     );
     assert_eq!((hosts.sessions(0), hosts.sessions(1)), (3, 3));

@@ -77,9 +77,9 @@ fn a_cut_binary_stream_names_frame_and_polygon() {
                  1 0 0\n0 1 0\nNEXT.FRAME\ncolour 4 4 4\n0 0 0\n1 0 0\n0 1 0\nNEXT.POLYGON\n\
                  colour 5 5 5\n0 0 0\n1 0 0\n0 1 0\nEND\n";
     // The eye-space header is the magic's 8 bytes, the version and space tag (4 + 4), the
-    // view volume (3 · 8) and the attributes (1: no depth form); a triangle is
-    // 8 + 3 · 32 = 104 bytes; NEXT.FRAME 8.
-    let polygon_4 = 41 + 3 * 104 + 8 + 104;
+    // view volume (3 · 8) and the attributes (1: no depth form; 1 each for vertex colours
+    // and opacity); a triangle is 8 + 3 · 32 = 104 bytes; NEXT.FRAME 8.
+    let polygon_4 = 43 + 3 * 104 + 8 + 104;
     let cut = polygon_4 + 50;
     let (status, err) = run(
         &format!("viewxf | head -c {cut} | clipplane left"),
@@ -117,7 +117,7 @@ fn annotations_in_a_world_space_stream_are_refused() {
     assert_eq!(
         err,
         "viewxf: line 3, column 1: a `plane` line in a world-space stream: annotations \
-         (`plane`, `on`) are defined for eye and screen space only\n"
+         (`plane`, `shade`, `on`) are defined for eye and screen space only\n"
     );
     let (status, err) = run("zspec --size 8x8", world.as_bytes());
     assert_eq!(status, Some(1));
@@ -131,7 +131,7 @@ fn annotations_in_a_world_space_stream_are_refused() {
     assert_eq!(
         err,
         "viewxf: line 3, column 9: an edge support (`on`) in a world-space stream: annotations \
-         (`plane`, `on`) are defined for eye and screen space only\n"
+         (`plane`, `shade`, `on`) are defined for eye and screen space only\n"
     );
     // In eye space, where the splitter writes them, they are read.
     let eye =

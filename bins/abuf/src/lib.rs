@@ -301,6 +301,7 @@ impl ABuffer {
             row_stale |= self.cull && !self.touched.is_empty();
             // 6.3.3 (d): a fragment for each pixel, into the a-buffer.
             let colour = self.fine[i as usize].colour;
+            let opacity = self.fine[i as usize].opacity;
             for &c in &self.touched {
                 let e = std::mem::take(&mut self.masks[c as usize]);
                 self.pixels[c as usize].insert(
@@ -310,6 +311,7 @@ impl ABuffer {
                         zmin: e.zmin,
                         zmax: e.zmax,
                         order: i,
+                        opacity,
                     },
                     &mut self.pool,
                     &mut self.stats,
@@ -357,6 +359,12 @@ impl HiddenSurface for ABuffer {
             from = r + 1;
         }
         self.fine.clear();
+    }
+
+    /// Polygons of opacity below 255 are blended front to back by eq. 6.5 of the
+    /// sampling thesis ([`list::Packer`]).
+    fn transparency(&self) -> bool {
+        true
     }
 
     fn stats(&self) -> String {

@@ -14,10 +14,12 @@ pub const FULL: Mask = u64::MAX;
 /// Samples in a mask.
 pub const SAMPLES: u32 = 64;
 
-/// A pixel fragment (the sampling thesis, figure 6.6), opaque: the colour, the bit mask of the
+/// A pixel fragment (the sampling thesis, figure 6.6): the colour, the bit mask of the
 /// samples the polygon covers, the least and greatest depth of the polygon at those
-/// samples (fixed point, smaller is nearer), and the polygon's place in the frame's
-/// stream, which breaks ties of depth as the z-buffer does (the earlier is in front).
+/// samples (smaller is nearer), the polygon's place in the frame's stream, which breaks
+/// ties of depth as the z-buffer does (the earlier is in front), and its opacity (255
+/// opaque; below, the fragment is transparent and what lies behind it shows through, 6.3.6
+/// eq. 6.5).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Fragment {
     pub colour: Colour,
@@ -25,6 +27,7 @@ pub struct Fragment {
     pub zmin: scan::Depth,
     pub zmax: scan::Depth,
     pub order: u32,
+    pub opacity: u8,
 }
 
 impl Fragment {
@@ -32,6 +35,15 @@ impl Fragment {
     #[inline]
     pub fn full(&self) -> bool {
         self.mask == FULL
+    }
+
+    /// Whether the fragment covers the whole pixel and hides what is behind it: full and
+    /// opaque. Only such a fragment makes a simple pixelstruct or throws away the
+    /// fragments behind it (6.3.4: "if a polygon is transparent, a list of fragments must
+    /// be maintained").
+    #[inline]
+    pub fn solid(&self) -> bool {
+        self.mask == FULL && self.opacity == proto::OPAQUE
     }
 
     /// The order of the sorted list: by zmin, then stream order.
@@ -49,7 +61,7 @@ impl Fragment {
     /// covered, opaque fragments"). At equal depth the earlier polygon is in front.
     #[inline]
     fn behind(&self, front: &Fragment) -> bool {
-        front.full()
+        front.solid()
             && (self.zmin > front.zmax || (self.zmin == front.zmax && self.order > front.order))
     }
 
@@ -63,7 +75,10 @@ impl Fragment {
     #[inline]
     fn combines_with(&self, next: &Fragment) -> bool {
         let slack = (self.zmax - self.zmin).max(next.zmax - next.zmin);
-        self.colour == next.colour && self.mask & next.mask == 0 && next.zmin <= self.zmax + slack
+        self.colour == next.colour
+            && self.opacity == next.opacity
+            && self.mask & next.mask == 0
+            && next.zmin <= self.zmax + slack
     }
 
     /// The fragment that stands for `self` and `behind`, the next farther one, when a list
@@ -89,6 +104,9 @@ impl Fragment {
             zmin: self.zmin.min(behind.zmin),
             zmax: self.zmax.max(behind.zmax),
             order: self.order,
+            // A transparent pair cut short keeps the nearer one's opacity: what showed
+            // through it is lost with the list's tail.
+            opacity: self.opacity,
         }
     }
 
@@ -104,6 +122,7 @@ impl Fragment {
             zmin: front.zmin,
             zmax: self.zmax.max(other.zmax),
             order: front.order,
+            opacity: self.opacity,
         }
     }
 }
@@ -161,7 +180,7 @@ impl PixelStruct {
             // Completely covered into empty: a simple pixelstruct. Partially covered into
             // empty: a list of one.
             PixelStruct::Empty => {
-                if f.full() {
+                if f.solid() {
                     stats.simple += 1;
                     *self = PixelStruct::Simple(f);
                 } else {
@@ -179,7 +198,7 @@ impl PixelStruct {
                 let s = *s;
                 if f.behind(&s) {
                     stats.hidden += 1;
-                } else if f.full() && s.behind(&f) {
+                } else if f.solid() && s.behind(&f) {
                     stats.hidden += 1;
                     stats.simple += 1;
                     *self = PixelStruct::Simple(f);
@@ -239,7 +258,7 @@ impl PixelStruct {
             at -= 1;
         }
         let g = list[at];
-        if g.full() {
+        if g.solid() {
             let before = list.len();
             let mut k = 0;
             list.retain(|x| {
@@ -255,7 +274,7 @@ impl PixelStruct {
             }
         }
         stats.max_list = stats.max_list.max(list.len() as u64);
-        if list.len() == 1 && list[0].full() {
+        if list.len() == 1 && list[0].solid() {
             let only = list[0];
             let mut list = std::mem::take(list);
             list.clear();
@@ -274,7 +293,7 @@ impl PixelStruct {
             PixelStruct::Simple(f) => f.zmax,
             PixelStruct::List(list) => list
                 .iter()
-                .filter(|f| f.full())
+                .filter(|f| f.solid())
                 .map(|f| f.zmax)
                 .fold(f64::INFINITY, f64::min),
         }
@@ -360,6 +379,10 @@ impl Packer {
                     0.5
                 }
             });
+            // Eq. 6.5: a transparent fragment's covered region is its colour times its
+            // opacity, plus what lies behind it times the rest; so its samples are painted
+            // with weight α and go on to the fragments behind with weight 1 − α.
+            let alpha = f.opacity as f64 / proto::OPAQUE as f64;
             self.next.clear();
             for &(q, w) in &self.regions {
                 let (a, out) = (q & f.mask, q & !f.mask);
@@ -374,13 +397,23 @@ impl Packer {
                         paint(
                             &mut sum,
                             f.colour,
-                            w * (only.count_ones() as f64 + share * both.count_ones() as f64),
+                            alpha
+                                * w
+                                * (only.count_ones() as f64 + share * both.count_ones() as f64),
                         );
-                        if share < 1.0 {
-                            self.next.push((both, w * (1.0 - share)));
+                        if share * alpha < 1.0 {
+                            self.next.push((both, w * (1.0 - share * alpha)));
+                        }
+                        if alpha < 1.0 && only != 0 {
+                            self.next.push((only, w * (1.0 - alpha)));
                         }
                     }
-                    _ => paint(&mut sum, f.colour, w * a.count_ones() as f64),
+                    _ => {
+                        paint(&mut sum, f.colour, alpha * w * a.count_ones() as f64);
+                        if alpha < 1.0 && a != 0 {
+                            self.next.push((a, w * (1.0 - alpha)));
+                        }
+                    }
                 }
             }
             std::mem::swap(&mut self.regions, &mut self.next);

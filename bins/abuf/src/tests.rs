@@ -175,6 +175,7 @@ fn insertion_cases_keep_the_list_sorted_and_hide_what_is_behind() {
         zmin: z as f64,
         zmax: z as f64 + 10.0,
         order,
+        opacity: proto::OPAQUE,
     };
     let (mut pool, mut stats) = (Vec::new(), ListStats::default());
     let mut p = PixelStruct::Empty;
@@ -206,6 +207,7 @@ fn a_combined_fragment_keeps_its_place() {
         zmin: zmin as f64,
         zmax: zmax as f64,
         order,
+        opacity: proto::OPAQUE,
     };
     let (mut pool, mut stats) = (Vec::new(), ListStats::default());
     let mut p = PixelStruct::Empty;
@@ -233,6 +235,7 @@ fn a_huge_depth_extent_still_combines() {
         zmin,
         zmax,
         order,
+        opacity: proto::OPAQUE,
     };
     let (mut pool, mut stats) = (Vec::new(), ListStats::default());
     let mut p = PixelStruct::Empty;
@@ -317,6 +320,7 @@ fn merge_behind_keeps_the_nearer_colour_where_both_cover() {
         zmin: 10.0,
         zmax: 20.0,
         order: 3,
+        opacity: proto::OPAQUE,
     };
     let far = Fragment {
         colour: [0, 0, 100],
@@ -324,11 +328,91 @@ fn merge_behind_keeps_the_nearer_colour_where_both_cover() {
         zmin: 15.0,
         zmax: 40.0,
         order: 1,
+        opacity: proto::OPAQUE,
     };
     let m = near.merge_behind(&far);
     // 32 samples red, 32 blue: the mean.
     assert_eq!(m.colour, [100, 0, 50]);
     assert_eq!((m.mask, m.zmin, m.zmax, m.order), (u64::MAX, 10.0, 40.0, 3));
+}
+
+/// A polygon of `quad`'s with an opacity.
+fn see_through(colour: Colour, opacity: u8, pts: [[f64; 3]; 4]) -> Polygon {
+    let mut p = quad(colour, pts);
+    p.opacity = opacity;
+    p
+}
+
+/// The sampling thesis's eq. 6.5, front to back: two transparent layers over an opaque
+/// one, each covering the whole pixel. Red (opacity 128) shows 128/255 of itself and
+/// passes the rest to green (opacity 64), which passes the rest to blue.
+#[test]
+fn eq_6_5_two_transparent_layers_over_an_opaque_one() {
+    let square = |z: f64| [[0.0, 0.0, z], [1.0, 0.0, z], [1.0, 1.0, z], [0.0, 1.0, z]];
+    let polys = [
+        see_through([255, 0, 0], 128, square(0.2)),
+        see_through([0, 255, 0], 64, square(0.5)),
+        quad([0, 0, 255], square(0.7)),
+    ];
+    let (a, b) = (128.0 / 255.0, 64.0 / 255.0);
+    let want = [
+        255.0 * a,
+        255.0 * (1.0 - a) * b,
+        255.0 * (1.0 - a) * (1.0 - b),
+    ];
+    let (image, stats) = render_with(&polys, 1, 1, [0; 3]);
+    let got = image[0].expect("covered");
+    for k in 0..3 {
+        assert!(
+            (got[k] as f64 - want[k]).abs() <= 0.5,
+            "{got:?} against {want:?}"
+        );
+    }
+    // Nothing is thrown away behind a transparent full fragment: a list of three.
+    assert_eq!(stats.max_list, 3);
+    // In any order of the stream, the same colour (the list is sorted by depth).
+    let reversed: Vec<Polygon> = polys.iter().rev().cloned().collect();
+    assert_eq!(render_with(&reversed, 1, 1, [0; 3]).0, image);
+}
+
+/// A transparent polygon crossing an opaque one inside a pixel: where the transparent one
+/// is in front its samples blend, where it is behind the opaque one hides it. Half the
+/// pixel each way, so the colour is the mean of the blend and the opaque colour.
+#[test]
+fn a_transparent_polygon_crossing_an_opaque_one_inside_a_pixel() {
+    // Blue at depth 0.5 everywhere; red (opacity 128) from depth 0.3 on the left to 0.7
+    // on the right: in front on the left half of the pixel, behind on the right.
+    let polys = [
+        quad(
+            [0, 0, 255],
+            [
+                [0.0, 0.0, 0.5],
+                [1.0, 0.0, 0.5],
+                [1.0, 1.0, 0.5],
+                [0.0, 1.0, 0.5],
+            ],
+        ),
+        see_through(
+            [255, 0, 0],
+            128,
+            [
+                [0.0, 0.0, 0.3],
+                [1.0, 0.0, 0.7],
+                [1.0, 1.0, 0.7],
+                [0.0, 1.0, 0.3],
+            ],
+        ),
+    ];
+    let a = 128.0 / 255.0;
+    let blend = [255.0 * a, 0.0, 255.0 * (1.0 - a)];
+    let want = [blend[0] / 2.0, 0.0, (blend[2] + 255.0) / 2.0];
+    let got = render(&polys, 1, 1, [0; 3])[0].expect("covered");
+    for k in 0..3 {
+        assert!(
+            (got[k] as f64 - want[k]).abs() <= 1.0,
+            "{got:?} against {want:?}"
+        );
+    }
 }
 
 mod cull {

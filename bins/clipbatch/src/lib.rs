@@ -66,7 +66,7 @@
 //! edge supports (and keeps its plane), and a polygon clipped away is passed on empty, so
 //! polygon numbering is kept.
 
-use proto::geometry::{Plane, PyramidPlane, Side};
+use proto::geometry::{clip_coloured, Plane, PyramidPlane, Side};
 use proto::{Polygon, Vertex, View};
 
 /// Polygons clipped together by default: a 32×32 DAP's processing elements (Theoharis and
@@ -121,6 +121,20 @@ impl VertexArrays {
             &self.z[..slots],
             &self.w[..slots],
         ]
+    }
+}
+
+/// Clips a polygon with vertex colours against `planes` in turn, with
+/// [`proto::geometry::clip_coloured`]; clears its supports where a plane changed it.
+fn clip_shaded(planes: &[Plane; 6], poly: &mut Polygon, scratch: &mut Vec<Vertex>) {
+    let mut colours = Vec::with_capacity(poly.colours.len() + 6);
+    for plane in planes {
+        clip_coloured(&poly.vertices, &poly.colours, plane, scratch, &mut colours);
+        if *scratch != poly.vertices {
+            poly.supports.clear();
+        }
+        std::mem::swap(&mut poly.vertices, scratch);
+        std::mem::swap(&mut poly.colours, &mut colours);
     }
 }
 
@@ -257,6 +271,13 @@ impl ClipBatch {
     fn store(&mut self) {
         let lanes = self.polygons.len();
         for (p, poly) in self.polygons.iter_mut().enumerate() {
+            if poly.is_shaded() {
+                // A Gouraud-shaded polygon's colours are interpolated at each crossing
+                // with the position's parameter: it is clipped as clipplane's chain clips
+                // it (the same arithmetic, so the same vertices as its lane holds).
+                clip_shaded(&self.planes, poly, &mut self.column);
+                continue;
+            }
             poly.vertices.clear();
             poly.vertices
                 .extend((0..self.len[p] as usize).map(|j| self.vertices.get(j * lanes + p)));
@@ -511,6 +532,7 @@ mod tests {
                     .into_iter()
                     .map(|s| s.map(|(a, b)| [a, b]))
                     .collect(),
+                ..Polygon::default()
             })
         })
     }
@@ -601,6 +623,7 @@ mod tests {
             vertices: vec![e(1.0, 1.0), e(2.0, 1.0), e(2.0, 2.0)],
             plane: Some(DVec4::new(0.0, 0.0, 1.0, -16.0)),
             supports: vec![support, None, None],
+            ..Polygon::default()
         };
         let cut = Polygon {
             vertices: vec![e(1.0, 1.0), e(12.0, 1.0), e(2.0, 2.0)],

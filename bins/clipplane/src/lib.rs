@@ -26,7 +26,7 @@ use proto::View;
 /// f_plane itself, Sutherland–Hodgman against one plane, lives in [`proto::geometry`]
 /// beside the classification and intersection it is built from, so that everything that
 /// clips (this stage, the fused run, chart's look at a scene) clips the same way.
-pub use proto::geometry::clip_against;
+pub use proto::geometry::{clip_against, clip_coloured};
 
 /// Which plane a clipping stage clips against.
 #[derive(Clone, Copy, Debug, PartialEq)]

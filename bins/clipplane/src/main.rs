@@ -1,7 +1,7 @@
 //! clipplane: eye-space polygon stream → the same stream clipped against one plane.
 
 use clap::Parser;
-use clipplane::{clip_against, ClipPlane};
+use clipplane::{clip_against, clip_coloured, ClipPlane};
 use proto::geometry::{Plane, PyramidPlane};
 use proto::{Polygon, Space, SpaceKind};
 use stagecli::{Error, TextFlag};
@@ -52,9 +52,23 @@ fn main() -> ExitCode {
             // The clipped vertices go to `scratch`, which then swaps places with the
             // input's vertex list: no allocation of our own per polygon.
             let mut scratch = Vec::new();
+            // A Gouraud-shaded polygon's colours are cut with its edges, at the position's
+            // parameter (proto::geometry::Crossing::mix); they too go to a scratch list.
+            let mut colours = Vec::new();
             // The view volume is passed on unchanged: persp's depth mapping uses its K1, K2.
             Ok((*header, move |poly: &mut Polygon| {
-                clip_against(&poly.vertices, &plane, &mut scratch);
+                if poly.is_shaded() {
+                    clip_coloured(
+                        &poly.vertices,
+                        &poly.colours,
+                        &plane,
+                        &mut scratch,
+                        &mut colours,
+                    );
+                    std::mem::swap(&mut poly.colours, &mut colours);
+                } else {
+                    clip_against(&poly.vertices, &plane, &mut scratch);
+                }
                 if scratch != poly.vertices {
                     // New vertices and edges: the splitter's edge supports (which clipping
                     // before the tree never meets) no longer match; the plane still does.

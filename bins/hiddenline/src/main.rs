@@ -64,6 +64,13 @@ fn main() -> ExitCode {
             .transpose()
             .map_err(Error::usage)?;
         let mut input = stagecli::read_stdin::<Token>(SpaceKind::Screen)?;
+        if input.header().attributes.vertex_colours {
+            return Err(Error::usage(
+                "hiddenline strokes each polygon's edges in its one colour, and this stream \
+                 is Gouraud-shaded (its header says `vertex-colours`); shading is drawn by the \
+                 z-buffer (render.sh --hse zbuf, the default) and by supersampling (--aa ssK)",
+            ));
+        }
         let (width, height) = input
             .header()
             .space
@@ -77,6 +84,7 @@ fn main() -> ExitCode {
                 Token::Polygon(p) => {
                     scan::check_on_screen(&p, width, height)
                         .map_err(|m| Error::data(format!("{}: {m}", input.position())))?;
+                    stagecli::refuse_transparent("hiddenline", &p, || input.position())?;
                     polygons.push(p);
                     continue;
                 }

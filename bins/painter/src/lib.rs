@@ -460,6 +460,7 @@ fn cut(x: &Item, by: &Item) -> Option<(Item, Item)> {
             vertices: verts,
             plane: Some(x.plane),
             supports,
+            ..Polygon::default()
         };
         out.push(Item::new(x.index, polygon, x.plane));
     }

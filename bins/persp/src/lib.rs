@@ -216,6 +216,13 @@ impl Perspective {
             }
             DepthMode::EyeZ => None,
         };
+        let eye_shade = match poly.shade.as_deref() {
+            Some(planes) => Some(*planes),
+            None if poly.is_shaded() => {
+                proto::shade::eye_colour_planes(&poly.vertices, &poly.colours)
+            }
+            None => None,
+        };
         for v in poly.vertices.iter_mut() {
             *v = self.project_vertex(*v);
         }
@@ -223,6 +230,22 @@ impl Perspective {
             *end = self.project_vertex(*end);
         }
         poly.plane = eye_plane.and_then(|n| self.screen_plane(n));
+        if poly.is_shaded() {
+            // The colours stay as they are (Gouraud shading is linear on the screen); the
+            // colour planes recorded in eye space, or the polygon's own, go to the screen.
+            let Device {
+                width,
+                height,
+                view,
+            } = self.device;
+            poly.shade = eye_shade
+                .and_then(|planes| {
+                    proto::shade::colour_planes_to_screen(&planes, view.aspect, width, height)
+                })
+                .map(Box::new);
+        } else {
+            poly.shade = None;
+        }
         Ok(())
     }
 }

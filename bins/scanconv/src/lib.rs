@@ -14,6 +14,7 @@
 //!   as runs of finished pixels (`Fragment::Run`), which `zbuf` places without a depth
 //!   test. The leaves share the per-pixel work; the merger only assembles.
 
+use proto::shade::Shading;
 use proto::Fragment;
 use scan::precision::QuantumWatch;
 pub use scan::{check_on_screen, depth_at, DepthPlane, GUARD_BAND};
@@ -112,18 +113,27 @@ impl ScanConverter {
         let covered = match (self.output, &mut self.region) {
             (Output::Resolve, Some(region)) => {
                 let colour = polygon.colour;
-                match &mut self.watch {
-                    None => self
+                match (&mut self.watch, Shading::of(polygon)) {
+                    (None, None) => self
                         .walker
                         .for_each_span(polygon, width, height, |s| region.draw(&s, colour)),
-                    Some(watch) => self.walker.for_each_span(polygon, width, height, |s| {
+                    (Some(watch), None) => self.walker.for_each_span(polygon, width, height, |s| {
                         region.draw(&s, colour);
                         watch.span(&s);
                     }),
+                    (watch, Some(shading)) => {
+                        self.walker.for_each_span(polygon, width, height, |s| {
+                            region.draw_shaded(&s, &shading);
+                            if let Some(watch) = watch {
+                                watch.span(&s);
+                            }
+                        })
+                    }
                 }
             }
             (Output::Pixels, _) => {
                 emit(Fragment::Polygon(polygon.colour))?;
+                emit_shade(polygon, emit)?;
                 self.walker.spans(polygon, width, height, |s| {
                     for x in s.columns() {
                         emit(Fragment::Pixel {
@@ -137,6 +147,7 @@ impl ScanConverter {
             }
             _ => {
                 emit(Fragment::Polygon(polygon.colour))?;
+                emit_shade(polygon, emit)?;
                 let spans = &mut self.stats.spans;
                 self.walker.spans(polygon, width, height, |s| {
                     *spans += 1;
@@ -183,6 +194,24 @@ impl ScanConverter {
             None => Ok(()),
         }
     }
+}
+
+/// A Gouraud-shaded polygon's colour planes, as three `shade` records after its colour
+/// record (docs/DESIGN.md, "Fragment records"): one record a channel a polygon, where
+/// per-span gradients would be six numbers a span. Nothing for a flat polygon.
+fn emit_shade<E>(
+    polygon: &proto::Polygon,
+    emit: &mut impl FnMut(Fragment) -> Result<(), E>,
+) -> Result<(), E> {
+    if let Some(shading) = Shading::of(polygon) {
+        for (channel, plane) in shading.planes().iter().enumerate() {
+            emit(Fragment::Shade {
+                channel: channel as u8,
+                plane: [plane.x, plane.y, plane.w],
+            })?;
+        }
+    }
+    Ok(())
 }
 
 #[cfg(test)]

@@ -49,7 +49,7 @@ fn main() -> ExitCode {
             let bytes = std::mem::size_of::<scan::Depth>() as u64 + 4;
             stagecli::memory::check_screen(width, height, bytes, "depth and colour")?;
         }
-        let attributes = input.header().attributes;
+        let attributes = input.header().attributes.for_fragments();
         let mut out = stagecli::write_stdout::<Fragment>(
             Header::new(Space::Fragments { width, height }).with(attributes),
             args.text.form(),
@@ -77,6 +77,7 @@ fn main() -> ExitCode {
                 Token::Polygon(p) => {
                     scanconv::check_on_screen(&p, width, height)
                         .map_err(|m| Error::data(format!("{}: {m}", input.position())))?;
+                    stagecli::refuse_transparent("scanconv", &p, || input.position())?;
                     sc.convert(&p, &mut |f| out.write(&f))?
                 }
                 Token::Skip(n) => sc.skip(n, &mut |f| out.write(&f))?,

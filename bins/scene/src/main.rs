@@ -78,6 +78,10 @@ enum Command {
         /// The radius (the visible square at the origin is ±12.5).
         #[arg(long, default_value_t = 8.0, value_parser = positive, allow_negative_numbers = true)]
         radius: f64,
+        /// Light each vertex instead of each face, as vertex colours (the header says
+        /// `vertex-colours`): the sphere is Gouraud-shaded.
+        #[arg(long)]
+        gouraud: bool,
     },
     /// Two intersecting spheres (Archuleta's figure 1).
     #[command(after_help = "Example:\n  scene spheres --stacks 16 --slices 32 --text")]
@@ -218,8 +222,14 @@ fn fraction(s: &str) -> Result<f64, String> {
 fn write_movie<F: IntoIterator<Item = Polygon>>(
     frames: impl IntoIterator<Item = F>,
     form: Form,
+    shaded: bool,
 ) -> stagecli::Result<()> {
-    let mut writer = stagecli::write_stdout(Header::new(Space::World), form)?;
+    // A movie of Gouraud-shaded polygons (`scene sphere --gouraud`) says so in its header.
+    let attributes = proto::Attributes {
+        vertex_colours: shaded,
+        ..proto::Attributes::default()
+    };
+    let mut writer = stagecli::write_stdout(Header::new(Space::World).with(attributes), form)?;
     for (i, frame) in frames.into_iter().enumerate() {
         if i > 0 {
             writer.write(&Token::NextFrame)?;
@@ -260,7 +270,7 @@ fn main() -> ExitCode {
                     aspect: size.map_or(1.0, |(w, h)| w as f64 / h as f64),
                     frames,
                 };
-                return write_movie(scene::environment::frames(&env), form);
+                return write_movie(scene::environment::frames(&env), form, false);
             }
             Command::Penetrating => {
                 spin(&shapes::penetrating(), frames, DVec3::ZERO, Shading::Flat)
@@ -269,6 +279,7 @@ fn main() -> ExitCode {
                 stacks,
                 slices,
                 radius,
+                gouraud,
             } => spin(
                 &shapes::sphere(
                     DVec3::ZERO,
@@ -279,7 +290,11 @@ fn main() -> ExitCode {
                 ),
                 frames,
                 DVec3::ZERO,
-                Shading::Lambert,
+                if gouraud {
+                    Shading::Gouraud
+                } else {
+                    Shading::Lambert
+                },
             ),
             Command::Spheres { stacks, slices } => spin(
                 &shapes::spheres(stacks as usize, slices as usize),
@@ -360,6 +375,7 @@ fn main() -> ExitCode {
                 spin(&model.faces, frames, DVec3::ZERO, shading)
             }
         };
-        write_movie(movie, form)
+        let shaded = movie.iter().flatten().any(Polygon::is_shaded);
+        write_movie(movie, form, shaded)
     })
 }

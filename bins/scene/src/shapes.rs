@@ -36,6 +36,17 @@ pub enum Shading {
     /// and towards the viewer): a constant-shaded polygon, as the thesis's pipeline draws
     /// them, but one that shows the object's shape.
     Lambert,
+    /// [`Shading::Lambert`]'s light at each vertex instead, with the normal of a sphere
+    /// about the spin's centre there, as vertex colours: the polygons are Gouraud-shaded
+    /// (docs/DESIGN.md, "Shading"). For a sphere centred on the spin's centre.
+    Gouraud,
+}
+
+/// The base colour lit by [`light`] for the unit normal `n`: × (0.3 + 0.7·|n·l|), kept
+/// unrounded as a vertex colour.
+fn lit(colour: Colour, n: DVec3) -> DVec3 {
+    let k = 0.3 + 0.7 * n.dot(light()).abs();
+    DVec3::new(colour[0] as f64, colour[1] as f64, colour[2] as f64) * k
 }
 
 /// The light of [`Shading::Lambert`].
@@ -45,7 +56,7 @@ fn light() -> DVec3 {
 
 fn shade(face: &Face, points: &[DVec3], shading: Shading) -> Colour {
     match shading {
-        Shading::Flat => face.colour,
+        Shading::Flat | Shading::Gouraud => face.colour,
         Shading::Lambert => {
             let n = proto::geometry::newell_normal(points);
             let k = if n.length_squared() > 0.0 {
@@ -78,7 +89,18 @@ pub fn spin(faces: &[Face], frames: usize, centre: DVec3, shading: Shading) -> V
                             .collect()
                     };
                     let colour = shade(face, &points, shading);
-                    Polygon::new(colour, points.iter().map(|p| p.extend(1.0)).collect())
+                    let mut polygon =
+                        Polygon::new(colour, points.iter().map(|p| p.extend(1.0)).collect());
+                    if shading == Shading::Gouraud {
+                        polygon.colours = points
+                            .iter()
+                            .map(|p| {
+                                let n = (*p - centre).normalize_or_zero();
+                                lit(face.colour, n).clamp(DVec3::ZERO, DVec3::splat(255.0))
+                            })
+                            .collect();
+                    }
+                    polygon
                 })
                 .collect()
         })

@@ -40,7 +40,7 @@
 //! both outputs' counts.
 
 use proto::geometry::{Plane, Side};
-use proto::{Polygon, Token, Vertex, View, Writer};
+use proto::{DVec3, Polygon, Token, Vertex, View, Writer};
 use std::fmt;
 use std::io::{self, Write};
 use std::str::FromStr;
@@ -249,21 +249,65 @@ fn midpoint(a: u32, b: u32) -> u32 {
 pub fn split(poly: &Polygon, plane: &Plane, out1: &mut Polygon, out2: &mut Polygon) {
     for out in [&mut *out1, &mut *out2] {
         out.colour = poly.colour;
+        out.opacity = poly.opacity;
         out.vertices.clear();
         out.supports.clear();
+        out.colours.clear();
         out.plane = poly.plane;
+        out.shade.clone_from(&poly.shade);
     }
-    let n = poly.vertices.len();
-    if n == 0 {
+    if poly.vertices.is_empty() {
         return;
     }
+    // A flat polygon walks without colours: the walk is compiled twice.
+    if poly.is_shaded() && poly.colours.len() == poly.vertices.len() {
+        walk::<true>(poly, plane, out1, out2);
+    } else {
+        walk::<false>(poly, plane, out1, out2);
+    }
+    for out in [&mut *out1, &mut *out2] {
+        if out.supports.iter().any(Option::is_some) {
+            out.supports.rotate_left(1);
+        } else {
+            out.supports.clear();
+        }
+    }
+    if out1.vertices.len() >= 3 && out2.vertices.len() >= 3 {
+        if poly.plane.is_none() {
+            let whole = poly.eye_plane();
+            out1.plane = whole;
+            out2.plane = whole;
+        }
+        if poly.shade.is_none() && poly.is_shaded() {
+            // The whole polygon's colour planes, as its depth plane (viewxf records them
+            // first, unless a vertex was behind the eye).
+            let whole = proto::shade::eye_colour_planes(&poly.vertices, &poly.colours);
+            out1.shade = whole.map(Box::new);
+            out2.shade = whole.map(Box::new);
+        }
+    }
+}
+
+/// The split's walk round the polygon's edges; `SHADED`: with its vertex colours.
+#[inline]
+fn walk<const SHADED: bool>(poly: &Polygon, plane: &Plane, out1: &mut Polygon, out2: &mut Polygon) {
+    let n = poly.vertices.len();
     // While walking, `supports` holds for each vertex pushed the support of the edge
     // that arrives at it; rotated by one at the end, it is per outgoing edge.
-    let mut pieces = Pieces {
+    let mut pieces = Pieces::<SHADED> {
         out1: &mut out1.vertices,
         in1: &mut out1.supports,
+        colours1: &mut out1.colours,
         out2: &mut out2.vertices,
         in2: &mut out2.supports,
+        colours2: &mut out2.colours,
+    };
+    let colour = |i: usize| {
+        if SHADED {
+            poly.colours[i]
+        } else {
+            proto::DVec3::ZERO
+        }
     };
     // s is the start of the current edge; the first edge is (v_{n−1}, v_0).
     let mut s_index = n - 1;
@@ -273,46 +317,42 @@ pub fn split(poly: &Polygon, plane: &Plane, out1: &mut Polygon, out2: &mut Polyg
         let (p_side, dp) = plane.classify(p);
         pieces.emit_edge(
             plane,
-            (s, s_side, ds),
-            (p, p_side, dp),
+            (s, s_side, ds, colour(s_index)),
+            (p, p_side, dp, colour(p_index)),
             poly.support(s_index),
         );
         (s, s_side, ds, s_index) = (p, p_side, dp, p_index);
-    }
-    for out in [&mut *out1, &mut *out2] {
-        if out.supports.iter().any(Option::is_some) {
-            out.supports.rotate_left(1);
-        } else {
-            out.supports.clear();
-        }
-    }
-    if out1.vertices.len() >= 3 && out2.vertices.len() >= 3 && poly.plane.is_none() {
-        let whole = poly.eye_plane();
-        out1.plane = whole;
-        out2.plane = whole;
     }
 }
 
 /// The two pieces being built: their vertices and, per vertex, the support of the edge
 /// arriving at it.
-struct Pieces<'a> {
+struct Pieces<'a, const SHADED: bool> {
     out1: &'a mut Vec<Vertex>,
     in1: &'a mut Vec<Option<[Vertex; 2]>>,
+    colours1: &'a mut Vec<DVec3>,
     out2: &'a mut Vec<Vertex>,
     in2: &'a mut Vec<Option<[Vertex; 2]>>,
+    colours2: &'a mut Vec<DVec3>,
 }
 
-impl Pieces<'_> {
+impl<const SHADED: bool> Pieces<'_, SHADED> {
     #[inline]
-    fn push1(&mut self, v: Vertex, support: Option<[Vertex; 2]>) {
+    fn push1(&mut self, v: Vertex, c: DVec3, support: Option<[Vertex; 2]>) {
         self.out1.push(v);
         self.in1.push(support);
+        if SHADED {
+            self.colours1.push(c);
+        }
     }
 
     #[inline]
-    fn push2(&mut self, v: Vertex, support: Option<[Vertex; 2]>) {
+    fn push2(&mut self, v: Vertex, c: DVec3, support: Option<[Vertex; 2]>) {
         self.out2.push(v);
         self.in2.push(support);
+        if SHADED {
+            self.colours2.push(c);
+        }
     }
 
     /// The contribution of the edge (s, p), whose own support is `kept`, to both outputs:
@@ -323,36 +363,42 @@ impl Pieces<'_> {
     fn emit_edge(
         &mut self,
         plane: &Plane,
-        (s, s_side, ds): (Vertex, Side, f64),
-        (p, p_side, dp): (Vertex, Side, f64),
+        (s, s_side, ds, sc): (Vertex, Side, f64, DVec3),
+        (p, p_side, dp, pc): (Vertex, Side, f64, DVec3),
         kept: Option<[Vertex; 2]>,
     ) {
         let cut = || Some(kept.unwrap_or([s, p]));
+        // The crossing, and its colour interpolated with the position's parameter.
+        let crossing = || {
+            let x = plane.crossing(s, ds, p, dp);
+            let c = if SHADED { x.mix(sc, pc) } else { DVec3::ZERO };
+            (x.point, c)
+        };
         match (s_side, p_side) {
             // Case 5: p on the plane belongs to both pieces. The edge reaches a piece whole
             // if s is in it; otherwise the piece arrives at p along the plane.
             (_, Side::On) => {
-                self.push1(p, if s_side != Side::Outside { kept } else { None });
-                self.push2(p, if s_side != Side::Inside { kept } else { None });
+                self.push1(p, pc, if s_side != Side::Outside { kept } else { None });
+                self.push2(p, pc, if s_side != Side::Inside { kept } else { None });
             }
             // Cases 1 and 6: p inside, and the edge does not come from the outside.
-            (Side::Inside | Side::On, Side::Inside) => self.push1(p, kept),
+            (Side::Inside | Side::On, Side::Inside) => self.push1(p, pc, kept),
             // Cases 2 and 6: p outside, and the edge does not come from the inside.
-            (Side::Outside | Side::On, Side::Outside) => self.push2(p, kept),
+            (Side::Outside | Side::On, Side::Outside) => self.push2(p, pc, kept),
             // Case 3: leaving the inside. The crossing point closes out1's piece and opens
             // out2's, which continues with p.
             (Side::Inside, Side::Outside) => {
-                let i = plane.intersect(s, ds, p, dp);
-                self.push1(i, cut());
-                self.push2(i, None);
-                self.push2(p, cut());
+                let (i, ic) = crossing();
+                self.push1(i, ic, cut());
+                self.push2(i, ic, None);
+                self.push2(p, pc, cut());
             }
             // Case 4: entering the inside.
             (Side::Outside, Side::Inside) => {
-                let i = plane.intersect(s, ds, p, dp);
-                self.push1(i, None);
-                self.push1(p, cut());
-                self.push2(i, cut());
+                let (i, ic) = crossing();
+                self.push1(i, ic, None);
+                self.push1(p, pc, cut());
+                self.push2(i, ic, cut());
             }
         }
     }
@@ -509,6 +555,44 @@ mod tests {
 
     fn x0() -> Plane {
         Plane::column(0.0, 1.0)
+    }
+
+    #[test]
+    fn vertex_colours_are_cut_with_the_edges_and_the_whole_shade_is_kept() {
+        // The square −2 ≤ x_e ≤ 2, red on the left, blue on the right: cut at x_e = 0,
+        // both new vertices are half way, purple; both pieces get the whole square's
+        // colour planes, and the opacity.
+        let mut square = poly(&[(-2.0, -2.0), (2.0, -2.0), (2.0, 2.0), (-2.0, 2.0)]);
+        let (red, blue) = (DVec3::new(255.0, 0.0, 0.0), DVec3::new(0.0, 0.0, 255.0));
+        square.colours = vec![red, blue, blue, red];
+        square.opacity = 99;
+        let whole = proto::shade::eye_colour_planes(&square.vertices, &square.colours);
+        assert!(whole.is_some());
+        let (mut a, mut b) = (Polygon::default(), Polygon::default());
+        split(&square, &x0(), &mut a, &mut b);
+        let purple = DVec3::new(127.5, 0.0, 127.5);
+        assert_eq!(
+            a.vertices,
+            [v(-2.0, -2.0), v(0.0, -2.0), v(0.0, 2.0), v(-2.0, 2.0)]
+        );
+        assert_eq!(a.colours, [red, purple, purple, red]);
+        assert_eq!(
+            b.vertices,
+            [v(0.0, -2.0), v(2.0, -2.0), v(2.0, 2.0), v(0.0, 2.0)]
+        );
+        assert_eq!(b.colours, [purple, blue, blue, purple]);
+        assert_eq!(
+            (a.shade.clone(), b.shade.clone()),
+            (whole.map(Box::new), whole.map(Box::new))
+        );
+        assert_eq!((a.opacity, b.opacity), (99, 99));
+        // A recorded shade is kept, not refitted; a flat polygon's pieces stay flat.
+        square.shade = Some(Box::new([DVec4::new(0.0, 0.0, 1.0, -7.0); 3]));
+        split(&square, &x0(), &mut a, &mut b);
+        assert_eq!(a.shade, square.shade);
+        let flat = poly(&[(-2.0, -2.0), (2.0, -2.0), (2.0, 2.0)]);
+        split(&flat, &x0(), &mut a, &mut b);
+        assert!(a.colours.is_empty() && b.colours.is_empty() && a.shade.is_none());
     }
 
     #[test]

@@ -18,6 +18,7 @@
 //! drawn one pixel row (K fine rows) at a time, over the columns the row's polygons may
 //! reach: one band of K × K·W samples, never the K·W × K·H screen.
 
+use proto::shade::Shading;
 use proto::{Colour, Polygon};
 use scan::fine::{scaled, ActiveRows};
 use scan::frame::{push_row_runs_at, HiddenSurface};
@@ -46,6 +47,9 @@ pub struct Supersample {
     rows: ActiveRows,
     /// The frame's polygons on the fine screen, in stream order.
     fine: Vec<Polygon>,
+    /// Per fine polygon, its Gouraud shading on the finer screen, if it has vertex
+    /// colours (docs/DESIGN.md, "Shading"): each sample takes its colour at the sample.
+    shading: Vec<Option<Shading>>,
     /// The band: K fine rows of the columns in use, depth and polygon of each sample.
     depth: Vec<scan::Depth>,
     owner: Vec<u32>,
@@ -70,6 +74,7 @@ impl Supersample {
             walker: SpanWalker::new(),
             rows: ActiveRows::new(),
             fine: Vec::new(),
+            shading: Vec::new(),
             depth: Vec::new(),
             owner: Vec::new(),
             row: Vec::new(),
@@ -121,6 +126,8 @@ impl Supersample {
         let count = k * k;
         let pixels = (cols.end - cols.start) as usize;
         self.row.clear();
+        // Whether any polygon of the frame is shaded: the flat loop asks nothing more.
+        let shaded = self.shading.iter().any(Option::is_some);
         for c in 0..pixels {
             let mut sum = [0u32; 3];
             let mut covered = 0u32;
@@ -128,13 +135,19 @@ impl Supersample {
             let mut mixed = false;
             for j in 0..k as usize {
                 let at = j * n + c * k as usize;
-                for &o in &owner[at..at + k as usize] {
+                for (i, &o) in owner[at..at + k as usize].iter().enumerate() {
                     mixed |= o != first;
                     let colour = if o == NONE {
                         self.background
                     } else {
                         covered += 1;
-                        self.fine[o as usize].colour
+                        match &self.shading[o as usize] {
+                            // Sample (i, j) of pixel c is fine pixel (fx0 + cK + i, band + j).
+                            Some(sh) if shaded => {
+                                sh.at(fx0 + (c * k as usize + i) as u32, band.start + j as u32)
+                            }
+                            _ => self.fine[o as usize].colour,
+                        }
                     };
                     for (s, v) in sum.iter_mut().zip(colour) {
                         *s += v as u32;
@@ -160,6 +173,8 @@ impl HiddenSurface for Supersample {
         let fine_w = width * k;
         self.fine.clear();
         self.fine.extend(polygons.iter().map(|p| scaled(p, k)));
+        self.shading.clear();
+        self.shading.extend(self.fine.iter().map(Shading::of));
         self.rows.start(polygons, width, height);
         let mut from = self.rows.first_row().unwrap_or(height);
         let mut active = Vec::new();
@@ -170,6 +185,10 @@ impl HiddenSurface for Supersample {
             from = r + 1;
         }
         self.fine.clear();
+    }
+
+    fn shades(&self) -> bool {
+        true
     }
 
     fn stats(&self) -> String {

@@ -16,10 +16,18 @@ pub fn view_vertex(frame: &EyeFrame, v: Vertex) -> Vertex {
 
 /// Transforms every vertex of a polygon in place. The colour is unchanged, and an empty
 /// polygon stays empty (it keeps the polygon numbering, docs/DESIGN.md, "Grammar").
+///
+/// A polygon with vertex colours also gets its colour planes recorded (`shade`,
+/// [`proto::shade::eye_colour_planes`]) here, before any clipper or splitter changes its
+/// vertices, so that every piece of it is shaded as the whole is (docs/DESIGN.md,
+/// "Shading"); the colours themselves are left as they are.
 #[inline]
 pub fn view_polygon(frame: &EyeFrame, poly: &mut Polygon) {
     for v in &mut poly.vertices {
         *v = view_vertex(frame, *v);
+    }
+    if poly.is_shaded() {
+        poly.shade = proto::shade::eye_colour_planes(&poly.vertices, &poly.colours).map(Box::new);
     }
 }
 

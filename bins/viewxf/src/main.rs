@@ -31,11 +31,14 @@ fn main() -> ExitCode {
             SpaceKind::World,
             cli.text.form(),
             "the viewing transformation",
-            |_| {
-                Ok((Header::new(Space::Eye(view)), |poly: &mut Polygon| {
-                    viewxf::view_polygon(&frame, poly);
-                    Ok(())
-                }))
+            |header| {
+                Ok((
+                    Header::new(Space::Eye(view)).with(header.attributes),
+                    |poly: &mut Polygon| {
+                        viewxf::view_polygon(&frame, poly);
+                        Ok(())
+                    },
+                ))
             },
         )
     })

@@ -229,6 +229,36 @@ impl FrameBuffer {
         }
     }
 
+    /// [`FrameBuffer::span`] for a Gouraud-shaded polygon (docs/DESIGN.md, "Shading"):
+    /// where pixel x is written it takes [`proto::shade::shade_at`]`(c_row, dc, x)`, its
+    /// colour planes' value at its centre, rounded. Beside the flat span, not in it, so
+    /// that the flat loop is unchanged.
+    pub fn shaded_span(
+        &mut self,
+        y: u32,
+        columns: std::ops::Range<u32>,
+        (z_row, dz): (f64, f64),
+        polygon: u32,
+        (c_row, dc): (proto::DVec3, proto::DVec3),
+    ) {
+        if y >= self.height {
+            return;
+        }
+        self.depth_tested();
+        let x1 = columns.end.min(self.width);
+        let x0 = columns.start.min(x1);
+        let row = y as usize * self.width as usize;
+        for x in x0..x1 {
+            let at = self.tiled(x, y);
+            let z = proto::fragment::span_depth(z_row, dz, x);
+            if wins(z, polygon, self.depth[at], self.polygon[at]) {
+                self.depth[at] = z;
+                self.polygon[at] = polygon;
+                self.colour[row + x as usize] = proto::shade::shade_at(c_row, dc, x);
+            }
+        }
+    }
+
     /// Finished pixels `columns` of row `y`, visibility already resolved by a leaf of the
     /// splitter tree: placed without a depth test, and marked so that no depth-tested
     /// fragment can replace them (the leaves' regions are disjoint, so none arrives in a

@@ -13,7 +13,8 @@
 //! inputs, nothing deadlocks, and memory stays one frame buffer and a few batches.
 
 use crate::FrameBuffer;
-use proto::{Colour, DepthForm, Fragment, Reader, SpaceKind, Token};
+use proto::shade::Shading;
+use proto::{Colour, DVec4, DepthForm, Fragment, Reader, SpaceKind, Token};
 use scan::precision::QuantumWatch;
 use scan::{check_on_screen, RegionBuffer, SpanWalker};
 use stagecli::{Context, Counted, Error, Result};
@@ -102,6 +103,9 @@ struct InputState {
     /// Polygon records seen in this frame: the current polygon is `polygons − 1`.
     polygons: u32,
     colour: Colour,
+    /// The current polygon's colour planes, when its `shade` records have come (a
+    /// Gouraud-shaded polygon, docs/DESIGN.md, "Shading").
+    shading: Option<Shading>,
     stats: InputStats,
     /// Bytes its reader thread has read.
     bytes: Arc<AtomicU64>,
@@ -137,6 +141,7 @@ pub fn par_buff(
             at: At::Reading,
             polygons: 0,
             colour: [0; 3],
+            shading: None,
             stats: InputStats::default(),
             bytes,
         });
@@ -275,21 +280,40 @@ fn apply(
                     .filter(|p| *p != u32::MAX)
                     .ok_or_else(|| Error::data("more than 4294967294 polygons in one frame"))?;
                 s.colour = colour;
+                s.shading = None;
             }
             Fragment::Span { y, x0, x1, z, dz } => {
                 s.stats.spans += 1;
                 s.stats.pixels += (x1 - x0) as u64;
-                fb.span(y, x0..x1, z, dz, polygon, s.colour);
+                match &s.shading {
+                    None => fb.span(y, x0..x1, z, dz, polygon, s.colour),
+                    Some(shading) => fb.shaded_span(y, x0..x1, (z, dz), polygon, shading.row(y)),
+                }
                 if let Some(w) = watch.as_deref_mut() {
                     w.row(y, x0, x1, z, dz);
                 }
             }
             Fragment::Pixel { x, y, z } => {
                 s.stats.pixels += 1;
-                fb.pixel(x, y, z, polygon, s.colour);
+                let colour = match &s.shading {
+                    None => s.colour,
+                    Some(shading) => shading.at(x, y),
+                };
+                fb.pixel(x, y, z, polygon, colour);
                 if let Some(w) = watch.as_deref_mut() {
                     w.pixel(x, y, z);
                 }
+            }
+            Fragment::Shade { channel, plane } => {
+                // The channels come red, green, blue; one not sent keeps the colour
+                // record's value.
+                let mut planes = match &s.shading {
+                    Some(shading) => *shading.planes(),
+                    None => s.colour.map(|c| DVec4::new(0.0, 0.0, 1.0, -f64::from(c))),
+                };
+                let [a, b, d] = plane;
+                planes[usize::from(channel.min(2))] = DVec4::new(a, b, 1.0, d);
+                s.shading = Some(Shading::new(planes));
             }
             Fragment::Skip(n) => {
                 s.polygons = s
@@ -360,7 +384,7 @@ fn read_input(
                     batch.push(record);
                 }
                 Fragment::Run { .. } => batch.push(record),
-                Fragment::Span { .. } | Fragment::Pixel { .. } => {
+                Fragment::Span { .. } | Fragment::Pixel { .. } | Fragment::Shade { .. } => {
                     if !in_polygon {
                         return Err(Error::data(format!(
                             "frame {frame}, {}: pixels outside a polygon (before the frame's \
@@ -448,6 +472,16 @@ fn resolve_polygon<R: Read>(
     let (width, height) = region.size();
     check_on_screen(polygon, width, height)
         .map_err(|m| Error::data(format!("{}: {m}", reader.position())))?;
+    stagecli::refuse_transparent("zbuf", polygon, || reader.position())?;
+    if let Some(shading) = Shading::of(polygon) {
+        walker.for_each_span(polygon, width, height, |span| {
+            region.draw_shaded(&span, &shading);
+            if let Some(watch) = watch {
+                watch.span(&span);
+            }
+        });
+        return Ok(());
+    }
     let colour = polygon.colour;
     match watch {
         None => walker.for_each_span(polygon, width, height, |span| region.draw(&span, colour)),

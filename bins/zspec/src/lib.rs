@@ -43,6 +43,7 @@ pub use supersample::{render_supersampled, Supersampled, SupersampledFrame};
 use proto::camera::{Device, EyeFrame};
 use proto::geometry::newell_plane;
 use proto::raster::{centres_in_clamped, Edge};
+use proto::shade::{self, Shading};
 use proto::{Colour, DVec2, DVec3, DVec4, Polygon, View};
 use std::ops::Range;
 
@@ -71,16 +72,59 @@ fn plane_of(points: &[DVec3]) -> DVec4 {
     plane.truncate().extend(plane.w * scale)
 }
 
+impl Prepared {
+    /// The polygon's colour at the centre of pixel (c, r) of the screen it was prepared
+    /// for: its flat colour, or its shading there.
+    #[inline]
+    fn colour_at(&self, c: u32, r: u32) -> Colour {
+        match &self.shading {
+            None => self.colour,
+            Some(shading) => shading.at(c, r),
+        }
+    }
+}
+
 /// A polygon made ready for the per-pixel tests: its colour, its eye-space plane and its
 /// non-horizontal screen edges.
 struct Prepared {
     colour: Colour,
+    /// A Gouraud-shaded polygon's colours on this screen (docs/DESIGN.md, "Shading").
+    shading: Option<Shading>,
     /// Newell's plane a·x_e + b·y_e + c·z_e + d = 0 of the eye-space vertices.
     plane: DVec4,
     edges: Vec<Edge>,
     /// Screen bounding box, (min, max).
     min: DVec2,
     max: DVec2,
+}
+
+/// [`cut_at_hither`] for a polygon with vertex colours: a crossing's colour is
+/// interpolated with the position's parameter.
+fn cut_coloured_at_hither(
+    vertices: &[DVec4],
+    colours: &[DVec3],
+    k1: f64,
+    w_per_z: f64,
+) -> (Vec<DVec4>, Vec<DVec3>) {
+    let n = vertices.len();
+    let (mut out, mut out_colours) = (Vec::with_capacity(n + 2), Vec::with_capacity(n + 2));
+    for i in 0..n {
+        let (a, b) = (vertices[i], vertices[(i + 1) % n]);
+        let (ca, cb) = (colours[i], colours[(i + 1) % n]);
+        if a.z >= k1 {
+            out.push(a);
+            out_colours.push(ca);
+        }
+        if (a.z >= k1) != (b.z >= k1) {
+            let t = (k1 - a.z) / (b.z - a.z);
+            let mut p = a + (b - a) * t;
+            p.z = k1;
+            p.w = k1 * w_per_z;
+            out.push(p);
+            out_colours.push((ca + (cb - ca) * t).clamp(ca.min(cb), ca.max(cb)));
+        }
+    }
+    (out, out_colours)
 }
 
 /// Cuts an eye-space polygon to the half-space z_e ≥ K1 (one plane, inline: each edge
@@ -231,6 +275,7 @@ impl Setup {
             .collect();
         Ok(Some(Prepared {
             colour: poly.colour,
+            shading: self.shading(poly, &eye),
             plane,
             edges,
             min,
@@ -241,6 +286,34 @@ impl Setup {
     /// The direction of the ray from the eye through device point (X, Y), scaled to
     /// z_e = 1: x_s = 2X/W − 1, y_s = 1 − 2Y/H, and a point of the ray at depth z_e has
     /// x_e = x_s·a·w, y_e = y_s·w with w = z_e·s/d.
+    /// The shading of a polygon with vertex colours, by the rule of docs/DESIGN.md,
+    /// "Shading": each channel's plane over the vertices' screen positions, taken (as viewxf
+    /// records it) from the eye-space polygon before any cut, and carried to this screen
+    /// as persp carries it. A polygon with a vertex at or behind the eye has its planes
+    /// from its part in front of the hither plane instead, the colours at the cut
+    /// interpolated as the positions are (the pipeline clips it at every side first and
+    /// fits its planes to what is left, so there the two may differ).
+    fn shading(&self, poly: &Polygon, eye: &[DVec4]) -> Option<Shading> {
+        if !poly.is_shaded() {
+            return None;
+        }
+        let planes = shade::eye_colour_planes(eye, &poly.colours).or_else(|| {
+            let (front, colours) =
+                cut_coloured_at_hither(eye, &poly.colours, self.view.hither, self.frame.w_per_z);
+            shade::eye_colour_planes(&front, &colours)
+        });
+        let screen = planes.and_then(|p| {
+            shade::colour_planes_to_screen(&p, self.view.aspect, self.width, self.height)
+        });
+        Some(match screen {
+            Some(planes) => Shading::new(planes),
+            None => {
+                let c = poly.colours[0];
+                Shading::new([0, 1, 2].map(|k| DVec4::new(0.0, 0.0, 1.0, -c[k])))
+            }
+        })
+    }
+
     #[inline]
     fn ray(&self, x: f64, y: f64) -> DVec3 {
         let xs = 2.0 * x / self.width as f64 - 1.0;
@@ -353,7 +426,7 @@ impl ReferenceFrame {
             // pixel is held at +inf).
             if proto::depth::takes(z, depth[i]) {
                 depth[i] = z;
-                colour[i] = p.colour;
+                colour[i] = p.colour_at(c, r);
             }
         });
         Ok(())

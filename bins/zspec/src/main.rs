@@ -210,9 +210,12 @@ fn render(
     let mut frame = zspec::ReferenceFrame::new(&setup, background).map_err(Error::data)?;
     while let Some(token) = scene.next()? {
         match token {
-            Token::Polygon(p) => frame
-                .draw(&setup, &p)
-                .map_err(|m| Error::data(format!("{}: {m}", scene.reader.position())))?,
+            Token::Polygon(p) => {
+                stagecli::refuse_transparent("zspec", &p, || scene.reader.position())?;
+                frame
+                    .draw(&setup, &p)
+                    .map_err(|m| Error::data(format!("{}: {m}", scene.reader.position())))?
+            }
             // Polygons this stream carries nothing of: nothing to draw.
             Token::Skip(_) => {}
             Token::NextFrame | Token::End => {
@@ -252,9 +255,12 @@ fn render_supersampled(
         .map_err(|e| Error::data(format!("{e:#}")))?;
     while let Some(token) = scene.next()? {
         match token {
-            Token::Polygon(p) => frame
-                .draw(&p)
-                .map_err(|m| Error::data(format!("{}: {m}", scene.reader.position())))?,
+            Token::Polygon(p) => {
+                stagecli::refuse_transparent("zspec", &p, || scene.reader.position())?;
+                frame
+                    .draw(&p)
+                    .map_err(|m| Error::data(format!("{}: {m}", scene.reader.position())))?
+            }
             Token::Skip(_) => {}
             Token::NextFrame | Token::End => {
                 let done = frame.finish();

@@ -142,7 +142,7 @@ impl SupersampledFrame {
                     let i = (r - r0) as usize * fine_w + c as usize;
                     if z < depth[i] {
                         depth[i] = z;
-                        colour[i] = p.colour;
+                        colour[i] = p.colour_at(c, r);
                     }
                 });
             }

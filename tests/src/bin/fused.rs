@@ -213,6 +213,9 @@ impl ZBuffer {
                     .context("more than 4294967294 polygons in one frame")?;
             }
             Fragment::Run { y, x0, x1, colour } => self.fb.paint(y, x0..x1, colour),
+            Fragment::Shade { .. } => {
+                bail!("a Gouraud-shaded polygon: the fused benchmark draws flat scenes only")
+            }
             Fragment::NextFrame | Fragment::End => bail!("a frame boundary inside a polygon"),
         }
         Ok(())

@@ -1,0 +1,293 @@
+//! Gouraud shading through the pipeline (docs/DESIGN.md, "Shading"): a stream that
+//! declares `vertex-colours` is shaded by every stage alike. Through `scripts/render.sh`
+//! at tree depths 0 to 3, in both merge modes and with either clipper, its frames are
+//! `zspec`'s byte for byte; and a triangle's pixels are, to within one level a channel, a
+//! held-out computation of Gouraud's rule written here from scratch: the vertex colours
+//! interpolated linearly across the screen (barycentric weights at each pixel centre).
+
+use pipeline_tests::{parse_ppm_stream, run, sh, Frame};
+
+/// The one frame of a PPM stream.
+fn frame(ppm: &[u8]) -> Frame {
+    let mut frames = parse_ppm_stream(ppm).expect("a PPM stream");
+    assert_eq!(frames.len(), 1);
+    frames.remove(0)
+}
+
+#[test]
+fn a_shaded_scene_is_zspecs_at_every_depth_in_both_merge_modes() {
+    let reference = run("zspec --size 96x80 < examples/gouraud.txt");
+    let f = frame(&reference);
+    // The triangle's red corner, the square's yellow corner and the flat grey one.
+    let colours: std::collections::HashSet<[u8; 3]> = f.pixels.iter().copied().collect();
+    assert!(colours.len() > 1000, "{} colours", colours.len());
+    assert!(colours.contains(&[90, 90, 90]));
+    for depth in 0..=3 {
+        for merge in ["tiles", "buffer"] {
+            let ppm = run(&format!(
+                "scripts/render.sh --size 96x80 --depth {depth} --merge {merge} \
+                 examples/gouraud.txt"
+            ));
+            assert!(ppm == reference, "--depth {depth} --merge {merge}");
+        }
+    }
+    let pixels = run(
+        "scripts/render.sh --size 96x80 --depth 2 --merge buffer --pixels examples/gouraud.txt",
+    );
+    assert!(pixels == reference, "--merge buffer --pixels");
+    let chain = run("scripts/render.sh --size 96x80 --depth 2 --clip chain examples/gouraud.txt");
+    assert!(chain == reference, "--clip chain");
+}
+
+/// A triangle's screen-space Gouraud colour at every pixel centre it covers, computed
+/// here without the pipeline's code: project the vertices with the thesis's camera
+/// (eye at z = 20, s = 10, d = 16, so w = 0.625·z_e), take barycentric weights of the
+/// centre, and mix the vertex colours. `None` for a centre outside it (a weight below
+/// `margin`).
+fn held_out(
+    vertices: [[f64; 3]; 3],
+    colours: [[f64; 3]; 3],
+    (width, height): (usize, usize),
+    x: usize,
+    y: usize,
+    margin: f64,
+) -> Option<[f64; 3]> {
+    let aspect = width as f64 / height as f64;
+    let screen = vertices.map(|[x, y, z]| {
+        let w = 0.625 * (20.0 - z);
+        (
+            (x / (aspect * w) + 1.0) * width as f64 / 2.0,
+            (1.0 - y / w) * height as f64 / 2.0,
+        )
+    });
+    let (px, py) = (x as f64 + 0.5, y as f64 + 0.5);
+    let area = |a: (f64, f64), b: (f64, f64), c: (f64, f64)| {
+        (b.0 - a.0) * (c.1 - a.1) - (c.0 - a.0) * (b.1 - a.1)
+    };
+    let whole = area(screen[0], screen[1], screen[2]);
+    let p = (px, py);
+    let l = [
+        area(p, screen[1], screen[2]) / whole,
+        area(screen[0], p, screen[2]) / whole,
+        area(screen[0], screen[1], p) / whole,
+    ];
+    if l.iter().any(|&w| w < margin) {
+        return None;
+    }
+    Some([0, 1, 2].map(|k| l[0] * colours[0][k] + l[1] * colours[1][k] + l[2] * colours[2][k]))
+}
+
+#[test]
+fn a_triangles_pixels_are_the_screen_space_interpolation_of_its_vertex_colours() {
+    let vertices = [[-7.3, -5.1, 0.3], [1.2, 7.7, -1.1], [8.1, -3.9, 2.2]];
+    let colours = [
+        [250.3, 10.2, 20.7],
+        [15.1, 240.6, 30.4],
+        [40.9, 35.2, 230.1],
+    ];
+    let mut scene = String::from("polypipe 1 world vertex-colours\ncolour 0 0 0\n");
+    for (v, c) in vertices.iter().zip(&colours) {
+        scene += &format!("{} {} {} {} {} {}\n", v[0], v[1], v[2], c[0], c[1], c[2]);
+    }
+    scene += "END\n";
+    let size = (120, 90);
+    for depth in [0, 3] {
+        let out = sh(
+            &format!("scripts/render.sh --size 120x90 --depth {depth} -"),
+            scene.as_bytes(),
+        );
+        assert!(
+            out.status.success(),
+            "{}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        let f = frame(&out.stdout);
+        let mut covered = 0;
+        for y in 0..size.1 {
+            for x in 0..size.0 {
+                let got = f.at(x, y);
+                if got == [0, 0, 0] {
+                    // The background: no centre well inside the triangle is left out.
+                    assert!(
+                        held_out(vertices, colours, size, x, y, 1e-6).is_none(),
+                        "pixel ({x}, {y}) is inside the triangle and not drawn"
+                    );
+                    continue;
+                }
+                covered += 1;
+                let want = held_out(vertices, colours, size, x, y, -1e-9)
+                    .unwrap_or_else(|| panic!("pixel ({x}, {y}) is drawn outside the triangle"));
+                for k in 0..3 {
+                    assert!(
+                        (got[k] as f64 - want[k]).abs() <= 1.0,
+                        "pixel ({x}, {y}): {got:?} against {want:?}"
+                    );
+                }
+            }
+        }
+        assert!(covered > 1200, "{covered} pixels covered");
+    }
+}
+
+#[test]
+fn supersampling_shades_each_sample_as_zspec_does() {
+    for k in [2, 4] {
+        let reference = run(&format!(
+            "zspec --size 96x80 --samples {k} < examples/gouraud.txt"
+        ));
+        for depth in [0, 2] {
+            let ppm = run(&format!(
+                "scripts/render.sh --size 96x80 --aa ss{k} --depth {depth} examples/gouraud.txt"
+            ));
+            assert!(ppm == reference, "--aa ss{k} --depth {depth}");
+        }
+    }
+}
+
+/// The methods that draw a polygon in one colour refuse a shaded stream (status 2, and
+/// a line naming what does shade) rather than draw it flat.
+#[test]
+fn flat_only_methods_refuse_a_shaded_stream_and_name_what_shades() {
+    let svg = format!(
+        "--hidden-line -o {}/shaded.svg",
+        env!("CARGO_TARGET_TMPDIR")
+    );
+    for (options, stage) in [
+        ("--hse scanline --depth 1", "scanline (leaf 0)"),
+        ("--hse warnock", "warnock"),
+        ("--hse painter --depth 2", "painter (leaf 0)"),
+        ("--aa abuf", "abuf"),
+        (svg.as_str(), "hiddenline"),
+    ] {
+        let out = sh(
+            &format!("scripts/render.sh --size 96x80 {options} examples/gouraud.txt"),
+            b"",
+        );
+        let stderr = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(2), "{options}: {stderr}");
+        assert!(
+            stderr.contains(&format!("{stage}: "))
+                && stderr.contains("this stream is Gouraud-shaded (its header says `vertex-colours`); shading is drawn by the z-buffer (render.sh --hse zbuf, the default) and by supersampling (--aa ssK)"),
+            "{options}: {stderr}"
+        );
+        assert!(out.stdout.is_empty(), "{options}");
+    }
+}
+
+/// A polygon of opacity below 255 is refused (status 2, naming the a-buffer) by every
+/// stage that would draw it opaque; a stream that says `opacity` but holds only opaque
+/// polygons renders as it would without the word.
+#[test]
+fn a_transparent_polygon_is_refused_where_it_would_be_drawn_opaque() {
+    // At depth 1 either leaf may be the first to meet the polygon (both get a piece).
+    for (options, stage, name) in [
+        ("--depth 0", "zbuf: leaf-0: ", "zbuf"),
+        ("--depth 1 --merge buffer", "scanconv (leaf ", "scanconv"),
+        ("--depth 1", "scanconv (leaf ", "scanconv"),
+        ("--hse scanline --depth 0", "scanline: ", "scanline"),
+        ("--aa ss2 --depth 0", "supersample: ", "supersample"),
+    ] {
+        let out = sh(
+            &format!("scripts/render.sh --size 64x64 {options} examples/transparent.txt"),
+            b"",
+        );
+        let stderr = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(2), "{options}: {stderr}");
+        assert!(
+            stderr.starts_with(stage)
+                && stderr.contains(&format!(
+                    "frame 0, polygon 1: a polygon of opacity 128 (below 255): {name} draws \
+                     opaque polygons only; transparency is the a-buffer's (render.sh --aa abuf)"
+                )),
+            "{options}: {stderr}"
+        );
+    }
+    let out = sh("zspec --size 64x64 < examples/transparent.txt", b"");
+    assert_eq!(out.status.code(), Some(2));
+    let opaque = "polypipe 1 world opacity\ncolour 0 0 255 255\n-6 -6 -2\n6 -6 -2\n6 6 -2\nEND\n";
+    let plain = "polypipe 1 world\ncolour 0 0 255\n-6 -6 -2\n6 -6 -2\n6 6 -2\nEND\n";
+    let a = sh("scripts/render.sh --size 32x32 -", opaque.as_bytes());
+    let b = sh("scripts/render.sh --size 32x32 -", plain.as_bytes());
+    assert!(a.status.success() && a.stdout == b.stdout);
+}
+
+/// The sampling thesis's eq. 6.5 for a transparent fragment, front to back: the covered
+/// region is its colour times its opacity plus what lies behind times the rest.
+fn eq_6_5(front: [f64; 3], opacity: f64, behind: [f64; 3]) -> [f64; 3] {
+    let t = 1.0 - opacity / 255.0;
+    [0, 1, 2].map(|k| front[k] * (1.0 - t) + behind[k] * t)
+}
+
+/// A red square of opacity 128 over an opaque blue one through `--aa abuf`: the overlap is
+/// eq. 6.5's colour, the red over the black background its share of red, and a pixel
+/// half covered along the red square's edge half of each, at every tree depth.
+#[test]
+fn the_a_buffer_blends_a_transparent_square_by_eq_6_5() {
+    let reference =
+        run("scripts/render.sh --size 64x64 --aa abuf --depth 0 examples/transparent.txt");
+    for depth in 1..=3 {
+        let ppm = run(&format!(
+            "scripts/render.sh --size 64x64 --aa abuf --depth {depth} examples/transparent.txt"
+        ));
+        assert!(ppm == reference, "--depth {depth}");
+    }
+    let f = frame(&reference);
+    let (red, blue, black) = ([255.0, 0.0, 0.0], [0.0, 0.0, 255.0], [0.0; 3]);
+    let overlap = eq_6_5(red, 128.0, blue);
+    // The red square spans X 23.47..40.53 and Y 7.47..40.53 (z_e = 18, w = 11.25): its
+    // bottom edge covers half of row 40's samples, its left edge half of column 23's.
+    let half = |a: [f64; 3], b: [f64; 3]| [0, 1, 2].map(|k| (a[k] + b[k]) / 2.0);
+    for ((x, y), want) in [
+        ((30, 30), overlap),
+        ((50, 15), eq_6_5(red, 128.0, black)),
+        ((30, 40), half(overlap, blue)),
+        ((23, 30), half(overlap, blue)),
+        ((30, 41), blue),
+    ] {
+        let got = f.at(x, y);
+        for k in 0..3 {
+            assert!(
+                (got[k] as f64 - want[k]).abs() <= 1.0,
+                "pixel ({x}, {y}): {got:?} against eq. 6.5's {want:?}"
+            );
+        }
+    }
+}
+
+/// `scene sphere --gouraud` writes a vertex-coloured sphere (its header says so), which
+/// renders to zspec's bytes through a tree.
+#[test]
+fn the_gouraud_sphere_renders_as_zspec_does() {
+    let scene = run("scene sphere --stacks 6 --slices 12 --gouraud --text");
+    let text = String::from_utf8(scene).unwrap();
+    assert!(
+        text.starts_with("polypipe 1 world vertex-colours\n"),
+        "{}",
+        &text[..60]
+    );
+    let reference = sh("zspec --size 80x60 -", text.as_bytes());
+    let tree = sh(
+        "scripts/render.sh --size 80x60 --depth 2 -",
+        text.as_bytes(),
+    );
+    assert!(reference.status.success() && tree.status.success());
+    assert!(reference.stdout == tree.stdout);
+}
+
+/// The clippers cut a vertex colour where they cut the edge, with the position's
+/// parameter: the square of examples/gouraud.txt crosses the left plane on its edge from
+/// (−26, −8.2, −10.44), black, to (9.5, −7.9, 0.27), yellow, about 24 % of the way in
+/// from the outside, and both clippers give that point the same interpolated colour.
+#[test]
+fn the_clippers_interpolate_colours_at_the_cut() {
+    let chain = run(
+        "viewxf --size 500x500 < examples/gouraud.txt | clipplane left | clipplane right \
+         | clipplane top | clipplane bottom | clipplane hither | clipplane yon --text",
+    );
+    let batch = run("viewxf --size 500x500 < examples/gouraud.txt | clipbatch --text");
+    assert_eq!(String::from_utf8_lossy(&chain), String::from_utf8_lossy(&batch));
+    let text = String::from_utf8(chain).unwrap();
+    let cut = "\n-17.40420915599913 -8.127359513994358 27.84673464959861 17.40420915599913 \
+               61.74441310479497 60.65480581471036 0.0605337383380343\n";
+    assert!(text.contains(cut), "{text}");
+}
