@@ -285,7 +285,10 @@ fn the_clippers_interpolate_colours_at_the_cut() {
          | clipplane top | clipplane bottom | clipplane hither | clipplane yon --text",
     );
     let batch = run("viewxf --size 500x500 < examples/gouraud.txt | clipbatch --text");
-    assert_eq!(String::from_utf8_lossy(&chain), String::from_utf8_lossy(&batch));
+    assert_eq!(
+        String::from_utf8_lossy(&chain),
+        String::from_utf8_lossy(&batch)
+    );
     let text = String::from_utf8(chain).unwrap();
     let cut = "\n-17.40420915599913 -8.127359513994358 27.84673464959861 17.40420915599913 \
                61.74441310479497 60.65480581471036 0.0605337383380343\n";
