@@ -139,24 +139,9 @@ fn cut_at_hither(vertices: &[DVec4], k1: f64, w_per_z: f64) -> Vec<DVec4> {
     if vertices.iter().all(|v| v.z >= k1) {
         return vertices.to_vec();
     }
-    let n = vertices.len();
-    let mut out = Vec::with_capacity(n + 2);
-    for i in 0..n {
-        let a = vertices[i];
-        let b = vertices[(i + 1) % n];
-        if a.z >= k1 {
-            out.push(a);
-        }
-        if (a.z >= k1) != (b.z >= k1) {
-            // The parameter where z_e = K1 along a→b.
-            let t = (k1 - a.z) / (b.z - a.z);
-            let mut p = a + (b - a) * t;
-            p.z = k1;
-            p.w = k1 * w_per_z;
-            out.push(p);
-        }
-    }
-    out
+    // The coloured cut with no colours: one routine for both.
+    let none = vec![DVec3::ZERO; vertices.len()];
+    cut_coloured_at_hither(vertices, &none, k1, w_per_z).0
 }
 
 /// `a·b` for three-vectors, as accurately as if computed in twice the working precision
