@@ -369,10 +369,19 @@ impl Warnock {
                 [min.y, max.y]
                     .map(|y| y.floor().clamp(0.0, height.saturating_sub(1) as f64) as u32),
             );
-            if rows
+            // So is one whose depth changes sign over its box: the relative rounding bound
+            // of `planar_depth` fails where a depth passes through 0, and a plane so steep
+            // that it does (the fuzzer's vertex at 3.6e88) gives pixels depths far from
+            // its vertices' (-4.5e89 to 7.5e89 inside a polygon whose vertices say 1.4e73
+            // and up). Real depths never do: reciprocal depth is negative everywhere.
+            let corner_depths: Vec<Option<Depth>> = rows
                 .iter()
-                .any(|&y| cols.iter().any(|&x| face.planar_depth(x, y).is_none()))
-            {
+                .flat_map(|&y| cols.iter().map(move |&x| (x, y)))
+                .map(|(x, y)| face.planar_depth(x, y))
+                .collect();
+            let one_sign = corner_depths.iter().all(|d| d.is_some_and(|d| d < 0.0))
+                || corner_depths.iter().all(|d| d.is_some_and(|d| d > 0.0));
+            if !one_sign {
                 face.zmin = f64::NEG_INFINITY;
             }
             self.faces.push(face);
@@ -1157,7 +1166,10 @@ mod tests {
             .iter()
             .find(|f| f.poly == 0)
             .expect("the quadrilateral");
-        assert!(quad.zmin.abs() < 1e-12, "{}", quad.zmin);
+        // The plane's 0 at (6.5, 9.25), not the vertices' 0.25; in fact −∞: its depth is
+        // 0 at a corner of its box, where no rounding bound holds relative to the
+        // depth, so it is never passed over.
+        assert!(quad.zmin < 1e-12, "{}", quad.zmin);
     }
 
     #[test]
@@ -1292,6 +1304,45 @@ mod tests {
             (-2.0102879725023188e305, -2.0102879725023188e305)
         );
         assert_eq!(black.plane, None);
+    }
+
+    #[test]
+    fn a_plane_whose_depth_changes_sign_is_never_passed_over() {
+        // Found by the methods fuzz target: a triangle with a vertex at depth 3.6e88. Its
+        // plane's depths at its vertices come out 1.4e73 and up, but its pixels' depths run
+        // from -4.5e89 to 7.5e89, through 0 at (10, 35), where it is in front of the
+        // surrounding polygon at 14.5; the ZMIN exit passed over it. A polygon whose
+        // depth changes sign over its box now sorts first.
+        let polygons = [
+            Polygon::from_xyz(
+                [6, 82, 82],
+                &[
+                    [-3.25, -3.25, 0.75],
+                    [55.75, 55.75, 0.75],
+                    [44.5, 3.25, 0.75],
+                    [3.0, 44.5, 0.5],
+                    [-3.25, -3.25, 0.75],
+                    [35.0, 3.25, 0.75],
+                    [3.25, 14.25, 0.75],
+                    [14.25, 14.25, 0.75],
+                    [54.5, 14.25, 0.75],
+                    [20.25, 15.25, 0.5],
+                    [44.5, 24.25, 0.25],
+                ],
+            ),
+            Polygon::from_xyz(
+                [127, 127, 127],
+                &[
+                    [-5.0, -5.0, 0.25],
+                    [-3.25, -3.25, 3.644696722363238e88],
+                    [18.25, 55.75, 0.75],
+                ],
+            ),
+        ];
+        let (runs, m) = resolved(&polygons, 37, 45);
+        assert_eq!(image_of(&runs, 37, 45), zbuffer_image(&polygons, 37, 45));
+        let steep = m.faces.iter().find(|f| f.poly == 1).expect("the triangle");
+        assert_eq!(steep.zmin, f64::NEG_INFINITY, "it sorts first");
     }
 
     #[test]
