@@ -247,11 +247,12 @@ impl Face {
             .fold(f64::NEG_INFINITY, f64::max)
     }
 
-    /// Its depth at the centre of pixel (x, y) in `f64` (the ZMIN test at a pixel).
+    /// Its depth at the centre of pixel (x, y) in `f64` (the ZMIN test at a pixel): its
+    /// plane's, or without one the z-buffer's (not its ZMIN, which may be −∞).
     fn depth_at_centre(&self, x: u32, y: u32) -> f64 {
         match self.plane {
             Some([a, b, c, d]) => -(a * (x as f64 + 0.5) + b * (y as f64 + 0.5) + d) / c,
-            None => self.zmin,
+            None => self.pixel_depth(x, y),
         }
     }
 }
@@ -1343,6 +1344,71 @@ mod tests {
         assert_eq!(image_of(&runs, 37, 45), zbuffer_image(&polygons, 37, 45));
         let steep = m.faces.iter().find(|f| f.poly == 1).expect("the triangle");
         assert_eq!(steep.zmin, f64::NEG_INFINITY, "it sorts first");
+    }
+
+    #[test]
+    fn a_flat_winner_bounds_the_pixel_search_by_its_depth_not_its_zmin() {
+        // Found by the methods fuzz target after the sign rule above: at a pixel whose
+        // winner so far had no plane (a flat depth, 0) and a ZMIN of −∞, the search's stop
+        // took that −∞ as the winner's depth and passed over a flat polygon at -1.04e307
+        // in front of it: 19 pixels.
+        let polygons = [
+            Polygon::from_xyz(
+                [147, 147, 147],
+                &[
+                    [23.75, 3.25, 0.75],
+                    [3.25, 3.25, 0.25],
+                    [-5.0, 37.25, 0.75],
+                    [44.5, 44.5, 0.25],
+                    [3.25, 3.25, 0.25],
+                    [14.25, -5.0, 0.25],
+                    [3.25, 44.5, 6.0],
+                    [44.5, 44.5, 0.5],
+                ],
+            ),
+            Polygon::from_xyz(
+                [173, 126, 173],
+                &[
+                    [3.25, 3.25, 0.25],
+                    [14.75, 3.25, 0.25],
+                    [44.5, 44.5, 0.25],
+                    [-3.25, -3.25, 0.5],
+                    [-3.25, 35.0, 0.75],
+                    [23.75, 3.25, 0.25],
+                    [23.75, 55.5, -1.0419962179003233e307],
+                    [14.75, -5.0, 0.25],
+                    [44.5, 44.5, -10.375],
+                    [44.5, -3.25, 0.5],
+                    [23.75, 23.75, 0.75],
+                ],
+            ),
+            Polygon::from_xyz(
+                [147, 147, 147],
+                &[[41.0, 5.75, 0.25], [44.5, 44.5, 0.0], [-3.25, -3.25, 0.75]],
+            ),
+            Polygon::from_xyz(
+                [0, 0, 0],
+                &[
+                    [3.25, 14.25, 7.212803097935351e307],
+                    [14.25, 14.25, 0.75],
+                    [33.75, 20.25, 0.25],
+                    [24.5, 14.25, 0.25],
+                    [55.75, 3.25, 0.25],
+                    [23.75, 14.25, 0.25],
+                    [14.25, 33.75, 0.25],
+                    [14.25, 24.5, 0.25],
+                    [14.25, 44.5, 0.25],
+                    [44.5, 44.5, 0.5],
+                    [44.5, -128.0, 0.5],
+                    [-128.0, -128.0, 0.0],
+                    [-128.0, -128.0, 0.0],
+                ],
+            ),
+        ];
+        let (runs, _) = resolved(&polygons, 36, 45);
+        let image = image_of(&runs, 36, 45);
+        assert_eq!(image, zbuffer_image(&polygons, 36, 45));
+        assert_eq!(image[2 * 36 + 18], Some([173, 126, 173]));
     }
 
     #[test]
