@@ -183,7 +183,26 @@ enum Command {
         /// towards the eye) so that a one-colour model shows its shape.
         #[arg(long)]
         shade: bool,
+        /// Light each vertex instead, by its normal (the file's `vn`, or the normals of
+        /// the faces that meet there averaged within --crease), as vertex colours: the
+        /// model is Gouraud-shaded (render.sh draws it with --hse zbuf or --aa ssK).
+        #[arg(long)]
+        gouraud: bool,
+        /// With --gouraud: faces that meet at a sharper angle than this, in degrees, are
+        /// not smoothed across their edge.
+        #[arg(long, value_name = "DEGREES", default_value_t = 60.0, value_parser = crease)]
+        crease: f64,
     },
+}
+
+/// A crease angle: 0 to 180 degrees.
+fn crease(s: &str) -> Result<f64, String> {
+    let v: f64 = s.parse().map_err(|_| format!("`{s}` is not a number"))?;
+    if (0.0..=180.0).contains(&v) {
+        Ok(v)
+    } else {
+        Err(format!("{v} must be an angle from 0 to 180 degrees"))
+    }
 }
 
 fn positive(s: &str) -> Result<f64, String> {
@@ -345,6 +364,8 @@ fn main() -> ExitCode {
                 file,
                 no_fit,
                 shade,
+                gouraud,
+                crease,
                 ..
             } => {
                 let input = stagecli::open_input(&file)?;
@@ -367,7 +388,10 @@ fn main() -> ExitCode {
                 if !no_fit {
                     obj::fit(&mut model.faces);
                 }
-                let shading = if shade {
+                let shading = if gouraud {
+                    obj::smooth_normals(&mut model.faces, crease);
+                    Shading::Gouraud
+                } else if shade {
                     Shading::Lambert
                 } else {
                     Shading::Flat

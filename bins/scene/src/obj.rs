@@ -104,10 +104,23 @@ pub fn load<R: BufRead>(input: &mut R, dir: &Path, name: &str) -> stagecli::Resu
                     model.name
                 )));
             };
-            faces.push(Face::new(
-                colour,
-                indices.iter().map(|&i| position(i)).collect(),
-            ));
+            let mut face = Face::new(colour, indices.iter().map(|&i| position(i)).collect());
+            // Its `vn` normals, where the file gives each of its vertices a usable one
+            // (tobj's single index puts them beside the positions).
+            if mesh.normals.len() == mesh.positions.len() {
+                let normals: Vec<DVec3> = indices
+                    .iter()
+                    .map(|&i| {
+                        let i = i as usize * 3;
+                        DVec3::new(mesh.normals[i], mesh.normals[i + 1], mesh.normals[i + 2])
+                            .normalize_or_zero()
+                    })
+                    .collect();
+                if normals.iter().all(|n| *n != DVec3::ZERO) {
+                    face.normals = normals;
+                }
+            }
+            faces.push(face);
             start += arity;
         }
     }
@@ -295,6 +308,57 @@ fn check_face_word(word: &str, seen: usize, vertices: usize) -> Result<(), Strin
     Ok(())
 }
 
+/// Vertex normals for the faces that have none from the file: at each corner, the
+/// normals of the faces that meet at that point (the same coordinates) averaged, each
+/// weighted by its area (its Newell normal's length), over those within `crease_degrees`
+/// of this face's own; a face across a sharper edge keeps its side of the crease. The
+/// normals are taken as lines, not arrows (the lighting is two-sided, and an OBJ's faces
+/// need not all wind one way): a neighbour facing the other way counts turned round. A
+/// face of no area keeps no normals (it is lit by its sphere normal, and covers nothing).
+pub fn smooth_normals(faces: &mut [Face], crease_degrees: f64) {
+    let key = |p: DVec3| (p.x.to_bits(), p.y.to_bits(), p.z.to_bits());
+    let area_normals: Vec<DVec3> = faces
+        .iter()
+        .map(|f| proto::geometry::newell_normal(&f.points))
+        .collect();
+    let mut at: std::collections::HashMap<(u64, u64, u64), Vec<usize>> =
+        std::collections::HashMap::new();
+    for (i, f) in faces.iter().enumerate() {
+        for p in &f.points {
+            let list = at.entry(key(*p)).or_default();
+            if list.last() != Some(&i) {
+                list.push(i);
+            }
+        }
+    }
+    let cos_crease = crease_degrees.to_radians().cos();
+    for i in 0..faces.len() {
+        if !faces[i].normals.is_empty() {
+            continue;
+        }
+        let own = area_normals[i].normalize_or_zero();
+        if own == DVec3::ZERO {
+            continue;
+        }
+        let normals = faces[i]
+            .points
+            .iter()
+            .map(|p| {
+                let mut sum = DVec3::ZERO;
+                for &j in &at[&key(*p)] {
+                    let n = area_normals[j];
+                    let along = n.normalize_or_zero().dot(own);
+                    if along.abs() >= cos_crease {
+                        sum += n * along.signum();
+                    }
+                }
+                sum.try_normalize().unwrap_or(own)
+            })
+            .collect();
+        faces[i].normals = normals;
+    }
+}
+
 /// Moves and scales the faces so that the model's bounding box is centred on the
 /// origin and its bounding sphere has radius [`FIT_RADIUS`]: the whole model is then in
 /// view of the default camera.
@@ -341,6 +405,43 @@ pub fn fit(faces: &mut [Face]) {
 mod tests {
     use super::*;
     use std::io::Cursor;
+
+    /// Two triangles folded 20° along their shared edge (x from 0 to 1 at y = z = 0):
+    /// within a crease of 60° the shared corners take the mean of the two normals, the
+    /// others their own face's; below 20°, every corner its own face's.
+    #[test]
+    fn faces_meeting_within_the_crease_share_their_corners_normals() {
+        let fold = 20f64.to_radians();
+        let text = format!(
+            "v 0 0 0\nv 1 0 0\nv 0.5 1 0\nv 0.5 {} {}\nf 1 2 3\nf 2 1 4\n",
+            -fold.cos(),
+            fold.sin()
+        );
+        let mut model = load_str(&text);
+        let (a, b) = (DVec3::Z, DVec3::new(0.0, fold.sin(), fold.cos()));
+        smooth_normals(&mut model.faces, 60.0);
+        let mean = (a + b).normalize();
+        let close = |u: DVec3, v: DVec3| (u - v).length() < 1e-12;
+        let first = &model.faces[0].normals;
+        assert!(close(first[0], mean) && close(first[1], mean), "{first:?}");
+        assert!(close(first[2], a), "{first:?}");
+        let second = &model.faces[1].normals;
+        assert!(close(second[0], mean) && close(second[2], b), "{second:?}");
+        let mut model = load_str(&text);
+        smooth_normals(&mut model.faces, 10.0);
+        assert!(model.faces[0].normals.iter().all(|n| close(*n, a)));
+        assert!(model.faces[1].normals.iter().all(|n| close(*n, b)));
+    }
+
+    /// A file's own `vn` normals are kept (unit length), and no averaging replaces them.
+    #[test]
+    fn vn_normals_are_the_vertices_normals() {
+        let mut model =
+            load_str("v 0 0 0\nv 1 0 0\nv 0 1 0\nvn 0 0 2\nvn 0 1 0\nvn 1 0 0\nf 1//1 2//2 3//3\n");
+        assert_eq!(model.faces[0].normals, vec![DVec3::Z, DVec3::Y, DVec3::X]);
+        smooth_normals(&mut model.faces, 60.0);
+        assert_eq!(model.faces[0].normals, vec![DVec3::Z, DVec3::Y, DVec3::X]);
+    }
 
     fn load_str(text: &str) -> Model {
         load(

@@ -19,11 +19,19 @@ use std::f64::consts::{PI, TAU};
 pub struct Face {
     pub colour: Colour,
     pub points: Vec<DVec3>,
+    /// A unit normal at each point, for [`Shading::Gouraud`] (an OBJ model's `vn`, or its
+    /// faces' normals averaged, [`crate::obj::smooth_normals`]); empty: the normal of a
+    /// sphere about the spin's centre.
+    pub normals: Vec<DVec3>,
 }
 
 impl Face {
     pub fn new(colour: Colour, points: Vec<DVec3>) -> Self {
-        Face { colour, points }
+        Face {
+            colour,
+            points,
+            normals: Vec::new(),
+        }
     }
 }
 
@@ -36,9 +44,10 @@ pub enum Shading {
     /// and towards the viewer): a constant-shaded polygon, as the thesis's pipeline draws
     /// them, but one that shows the object's shape.
     Lambert,
-    /// [`Shading::Lambert`]'s light at each vertex instead, with the normal of a sphere
-    /// about the spin's centre there, as vertex colours: the polygons are Gouraud-shaded
-    /// (docs/DESIGN.md, "Shading"). For a sphere centred on the spin's centre.
+    /// [`Shading::Lambert`]'s light at each vertex instead, with the face's vertex normal
+    /// there ([`Face::normals`]; without them the normal of a sphere about the spin's
+    /// centre), as vertex colours: the polygons are Gouraud-shaded (docs/DESIGN.md,
+    /// "Shading").
     Gouraud,
 }
 
@@ -94,8 +103,12 @@ pub fn spin(faces: &[Face], frames: usize, centre: DVec3, shading: Shading) -> V
                     if shading == Shading::Gouraud {
                         polygon.colours = points
                             .iter()
-                            .map(|p| {
-                                let n = (*p - centre).normalize_or_zero();
+                            .enumerate()
+                            .map(|(k, p)| {
+                                let n = match face.normals.get(k) {
+                                    Some(n) => turn * *n,
+                                    None => (*p - centre).normalize_or_zero(),
+                                };
                                 lit(face.colour, n).clamp(DVec3::ZERO, DVec3::splat(255.0))
                             })
                             .collect();

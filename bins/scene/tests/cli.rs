@@ -384,6 +384,41 @@ fn obj_shade_lights_faces_by_their_normal() {
     assert_eq!(c, 164);
 }
 
+/// `--gouraud`: the stream says `vertex-colours`, and each vertex is lit by its normal:
+/// a flat triangle's three corners all get the face's Lambert colour, and a crease angle
+/// outside 0–180 is refused.
+#[test]
+fn obj_gouraud_lights_each_vertex_by_its_normal() {
+    let dir = tempfile::tempdir().unwrap();
+    let obj = dir.path().join("facing.obj");
+    fs::write(&obj, "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n").unwrap();
+    let out = scene()
+        .args(["obj", "--gouraud", "--no-fit"])
+        .arg(&obj)
+        .output()
+        .unwrap();
+    assert!(out.status.success());
+    let reader = Reader::<Token, _>::new(&out.stdout[..]).unwrap();
+    assert!(reader.header().attributes.vertex_colours);
+    let k = 0.3 + 0.7 * 2.0 / 7.25f64.sqrt();
+    let polygon = &frames_of(&out.stdout)[0][0];
+    assert_eq!(polygon.colours.len(), 3);
+    for c in &polygon.colours {
+        assert!(
+            (c.x - 200.0 * k).abs() < 1e-9 && c.x == c.y && c.y == c.z,
+            "{c:?}"
+        );
+    }
+    scene()
+        .args(["obj", "--gouraud", "--crease", "200"])
+        .arg(&obj)
+        .assert()
+        .code(2)
+        .stderr(predicate::str::contains(
+            "200 must be an angle from 0 to 180 degrees",
+        ));
+}
+
 #[test]
 fn obj_errors() {
     scene()
