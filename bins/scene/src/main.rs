@@ -192,7 +192,46 @@ enum Command {
         /// not smoothed across their edge.
         #[arg(long, value_name = "DEGREES", default_value_t = 60.0, value_parser = crease)]
         crease: f64,
+        /// With --shade or --gouraud: a directional light towards X,Y,Z (world
+        /// coordinates) of intensity I (default 1); repeatable, for several lights. Without
+        /// it, one light towards 1,1.5,2 of intensity 0.7. A surface is lit by ambient +
+        /// Σ I·|n·l|, the colour multiplied by that and clamped.
+        #[arg(long, value_name = "X,Y,Z[,I]", value_parser = light, allow_hyphen_values = true)]
+        light: Vec<(DVec3, f64)>,
+        /// With --shade or --gouraud: the ambient term, lit everywhere.
+        #[arg(long, value_name = "A", default_value_t = 0.3, value_parser = ambient)]
+        ambient: f64,
     },
+}
+
+/// A light: a direction X,Y,Z (not zero) and an intensity I ≥ 0 (default 1).
+fn light(s: &str) -> Result<(DVec3, f64), String> {
+    let (direction, intensity) = match proto::camera::parse_numbers::<4>(s, "X,Y,Z,I") {
+        Ok([x, y, z, i]) => (DVec3::new(x, y, z), i),
+        Err(_) => {
+            let [x, y, z] = proto::camera::parse_numbers::<3>(s, "X,Y,Z[,I]")?;
+            (DVec3::new(x, y, z), 1.0)
+        }
+    };
+    let Some(direction) = direction.try_normalize() else {
+        return Err(format!("`{s}`: a light needs a direction, not 0,0,0"));
+    };
+    if intensity < 0.0 {
+        return Err(format!(
+            "`{s}`: the intensity {intensity} must be 0 or more"
+        ));
+    }
+    Ok((direction, intensity))
+}
+
+/// An ambient term: a finite number ≥ 0.
+fn ambient(s: &str) -> Result<f64, String> {
+    let v: f64 = s.parse().map_err(|_| format!("`{s}` is not a number"))?;
+    if v.is_finite() && v >= 0.0 {
+        Ok(v)
+    } else {
+        Err(format!("{v} must be a finite number, 0 or more"))
+    }
 }
 
 /// A crease angle: 0 to 180 degrees.
@@ -366,6 +405,8 @@ fn main() -> ExitCode {
                 shade,
                 gouraud,
                 crease,
+                light,
+                ambient,
                 ..
             } => {
                 let input = stagecli::open_input(&file)?;
@@ -396,7 +437,14 @@ fn main() -> ExitCode {
                 } else {
                     Shading::Flat
                 };
-                spin(&model.faces, frames, DVec3::ZERO, shading)
+                let mut lighting = shapes::Lighting {
+                    ambient,
+                    ..Default::default()
+                };
+                if !light.is_empty() {
+                    lighting.lights = light;
+                }
+                shapes::spin_lit(&model.faces, frames, DVec3::ZERO, shading, &lighting)
             }
         };
         let shaded = movie.iter().flatten().any(Polygon::is_shaded);

@@ -51,28 +51,50 @@ pub enum Shading {
     Gouraud,
 }
 
-/// The base colour lit by [`light`] for the unit normal `n`: × (0.3 + 0.7·|n·l|), kept
-/// unrounded as a vertex colour.
-fn lit(colour: Colour, n: DVec3) -> DVec3 {
-    let k = 0.3 + 0.7 * n.dot(light()).abs();
-    DVec3::new(colour[0] as f64, colour[1] as f64, colour[2] as f64) * k
+/// The lights of [`Shading::Lambert`] and [`Shading::Gouraud`]: an ambient term and
+/// directional lights, each a unit direction towards the light and an intensity. A
+/// surface of unit normal n is lit by ambient + Σ intensity·|n·l| (two-sided: a face is
+/// lit from either side), the colour multiplied by that and clamped to 0–255.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Lighting {
+    pub ambient: f64,
+    pub lights: Vec<(DVec3, f64)>,
 }
 
-/// The light of [`Shading::Lambert`].
-fn light() -> DVec3 {
-    DVec3::new(1.0, 1.5, 2.0).normalize()
+impl Default for Lighting {
+    /// One light up, right and towards the viewer, (1, 1.5, 2), of intensity 0.7, and
+    /// ambient 0.3: colour × (0.3 + 0.7·|n·l|).
+    fn default() -> Self {
+        Lighting {
+            ambient: 0.3,
+            lights: vec![(DVec3::new(1.0, 1.5, 2.0).normalize(), 0.7)],
+        }
+    }
 }
 
-fn shade(face: &Face, points: &[DVec3], shading: Shading) -> Colour {
+impl Lighting {
+    /// The factor the colour is multiplied by for the unit normal `n` (the ambient term
+    /// alone for a zero normal).
+    pub fn factor(&self, n: DVec3) -> f64 {
+        self.ambient
+            + self
+                .lights
+                .iter()
+                .map(|(l, intensity)| intensity * n.dot(*l).abs())
+                .sum::<f64>()
+    }
+}
+
+/// The base colour lit for the unit normal `n`, kept unrounded as a vertex colour.
+fn lit(colour: Colour, n: DVec3, lighting: &Lighting) -> DVec3 {
+    DVec3::new(colour[0] as f64, colour[1] as f64, colour[2] as f64) * lighting.factor(n)
+}
+
+fn shade(face: &Face, points: &[DVec3], shading: Shading, lighting: &Lighting) -> Colour {
     match shading {
         Shading::Flat | Shading::Gouraud => face.colour,
         Shading::Lambert => {
-            let n = proto::geometry::newell_normal(points);
-            let k = if n.length_squared() > 0.0 {
-                0.3 + 0.7 * n.normalize().dot(light()).abs()
-            } else {
-                0.3
-            };
+            let k = lighting.factor(proto::geometry::newell_normal(points).normalize_or_zero());
             face.colour
                 .map(|c| (c as f64 * k).round().clamp(0.0, 255.0) as u8)
         }
@@ -82,6 +104,17 @@ fn shade(face: &Face, points: &[DVec3], shading: Shading) -> Colour {
 /// The frames of a movie of `faces` turning about the vertical axis through `centre`:
 /// frame f is turned by 2π·f/`frames` (frame 0 is the object as given).
 pub fn spin(faces: &[Face], frames: usize, centre: DVec3, shading: Shading) -> Vec<Vec<Polygon>> {
+    spin_lit(faces, frames, centre, shading, &Lighting::default())
+}
+
+/// [`spin`] under `lighting` instead of the default light.
+pub fn spin_lit(
+    faces: &[Face],
+    frames: usize,
+    centre: DVec3,
+    shading: Shading,
+    lighting: &Lighting,
+) -> Vec<Vec<Polygon>> {
     let frames = frames.max(1);
     (0..frames)
         .map(|f| {
@@ -97,7 +130,7 @@ pub fn spin(faces: &[Face], frames: usize, centre: DVec3, shading: Shading) -> V
                             .map(|p| centre + turn * (*p - centre))
                             .collect()
                     };
-                    let colour = shade(face, &points, shading);
+                    let colour = shade(face, &points, shading, lighting);
                     let mut polygon =
                         Polygon::new(colour, points.iter().map(|p| p.extend(1.0)).collect());
                     if shading == Shading::Gouraud {
@@ -109,7 +142,8 @@ pub fn spin(faces: &[Face], frames: usize, centre: DVec3, shading: Shading) -> V
                                     Some(n) => turn * *n,
                                     None => (*p - centre).normalize_or_zero(),
                                 };
-                                lit(face.colour, n).clamp(DVec3::ZERO, DVec3::splat(255.0))
+                                lit(face.colour, n, lighting)
+                                    .clamp(DVec3::ZERO, DVec3::splat(255.0))
                             })
                             .collect();
                     }

@@ -419,6 +419,56 @@ fn obj_gouraud_lights_each_vertex_by_its_normal() {
         ));
 }
 
+/// `--light` (repeatable) and `--ambient` replace the default light: a face of normal
+/// +z under a light towards +z of intensity 0.5 and one towards -z of 0.25 (lighting is
+/// two-sided), ambient 0.1, is lit by 0.1 + 0.5 + 0.25 = 0.85, flat and per vertex.
+#[test]
+fn obj_lights_and_ambient_are_the_users() {
+    let dir = tempfile::tempdir().unwrap();
+    let obj = dir.path().join("facing.obj");
+    fs::write(&obj, "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n").unwrap();
+    let lights = [
+        "--light",
+        "0,0,1,0.5",
+        "--light",
+        "0,0,-2,0.25",
+        "--ambient",
+        "0.1",
+    ];
+    let out = scene()
+        .args(["obj", "--shade", "--no-fit"])
+        .args(lights)
+        .arg(&obj)
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    assert_eq!(frames_of(&out.stdout)[0][0].colour, [170, 170, 170]);
+    let out = scene()
+        .args(["obj", "--gouraud", "--no-fit"])
+        .args(lights)
+        .arg(&obj)
+        .output()
+        .unwrap();
+    for c in &frames_of(&out.stdout)[0][0].colours {
+        assert!((c.x - 170.0).abs() < 1e-9, "{c:?}");
+    }
+    for (light, message) in [
+        ("0,0,0", "a light needs a direction, not 0,0,0"),
+        ("0,0,1,-1", "the intensity -1 must be 0 or more"),
+    ] {
+        scene()
+            .args(["obj", "--shade", "--light", light])
+            .arg(&obj)
+            .assert()
+            .code(2)
+            .stderr(predicate::str::contains(message));
+    }
+}
+
 #[test]
 fn obj_errors() {
     scene()
