@@ -431,7 +431,7 @@ fn obj_lights_and_ambient_are_the_users() {
         "--light",
         "0,0,1,0.5",
         "--light",
-        "0,0,-2,0.25",
+        "-0,0,-2,0.25", // a value may start with a minus
         "--ambient",
         "0.1",
     ];
