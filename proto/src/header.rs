@@ -197,12 +197,21 @@ impl DepthForm {
         }
     }
 
+    /// The form's name, as `persp --depth` and the header spell it.
+    pub fn name(&self) -> &'static str {
+        match self {
+            DepthForm::Reciprocal { .. } => "reciprocal",
+            DepthForm::Projective { .. } => "projective",
+            DepthForm::EyeZ => "eye-z",
+        }
+    }
+
     /// The header's words for it, after `depth`: `reciprocal K1`, `projective K1 K2`, `eye-z`.
     fn words(&self) -> String {
         match *self {
             DepthForm::Reciprocal { hither } => format!("reciprocal {hither}"),
             DepthForm::Projective { hither, yon } => format!("projective {hither} {yon}"),
-            DepthForm::EyeZ => "eye-z".to_string(),
+            DepthForm::EyeZ => self.name().to_string(),
         }
     }
 }

@@ -101,18 +101,21 @@ impl QuantumWatch {
     }
 
     /// This frame's count, and a clear buffer for the next frame.
-    pub fn end_frame(&mut self) -> u64 {
+    fn end_frame(&mut self) -> u64 {
         self.held.fill(Depth::INFINITY);
         std::mem::take(&mut self.lost)
     }
 
+    /// At the end of frame `frame` (from 0): its count, with the warning a stage prints
+    /// after its name when there is any; the buffer is cleared for the next frame.
+    pub fn finish_frame(&mut self, frame: u64) -> (u64, Option<String>) {
+        let lost = self.end_frame();
+        (lost, (lost > 0).then(|| self.message(frame, lost)))
+    }
+
     /// The warning a stage prints (after its name) for a frame with `lost` such tests.
     pub fn message(&self, frame: u64, lost: u64) -> String {
-        let form = match self.form {
-            DepthForm::Reciprocal { .. } => "reciprocal",
-            DepthForm::Projective { .. } => "projective",
-            DepthForm::EyeZ => "eye-z",
-        };
+        let form = self.form.name();
         format!(
             "frame {frame}: {lost} depth tests where a polygon nearer than the tie rule's \
              2^-30 lost to one within the {form} depth's quantum (up to {:.1e} of the \
@@ -120,6 +123,15 @@ impl QuantumWatch {
              (persp --depth reciprocal keeps the rule at any hither/yon)",
             self.form.widest(ULPS),
         )
+    }
+}
+
+/// What `--stats` adds to a resolving stage's line for `lost` such tests (nothing for 0).
+pub fn stats_suffix(lost: u64) -> String {
+    if lost > 0 {
+        format!(", {lost} depth tests lost to the depth form's quantum")
+    } else {
+        String::new()
     }
 }
 

@@ -87,10 +87,9 @@ impl ScanConverter {
     /// of its depth tests ([`ScanConverter::watch_depth`]), counted in
     /// [`Stats::rounding_decided`].
     pub fn quantum_warning(&mut self, frame: u64) -> Option<String> {
-        let watch = self.watch.as_mut()?;
-        let lost = watch.end_frame();
+        let (lost, warning) = self.watch.as_mut()?.finish_frame(frame);
         self.stats.rounding_decided += lost;
-        (lost > 0).then(|| watch.message(frame, lost))
+        warning
     }
 
     /// The region buffer's counts (pixels tested and written, runs, tiles), in

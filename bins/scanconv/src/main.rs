@@ -100,7 +100,7 @@ fn main() -> ExitCode {
                 Some(r) => eprintln!(
                     "scanconv: {} polygons in, {} drawn, {} pixels tested, {} written, {} runs out, {} tiles{}",
                     s.polygons_in, s.polygons_drawn, r.pixels_tested, r.pixels_written, r.runs, r.tiles,
-                    rounding(s.rounding_decided)
+                    scan::precision::stats_suffix(s.rounding_decided)
                 ),
                 None => eprintln!(
                     "scanconv: {} polygons in, {} drawn, {} spans, {} pixels",
@@ -110,13 +110,4 @@ fn main() -> ExitCode {
         }
         Ok(())
     })
-}
-
-/// The --stats line's count of depth tests decided by rounding, where there were any.
-fn rounding(n: u64) -> String {
-    if n > 0 {
-        format!(", {n} depth tests lost to the depth form's quantum")
-    } else {
-        String::new()
-    }
 }

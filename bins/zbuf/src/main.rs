@@ -182,14 +182,7 @@ fn main() -> ExitCode {
                     } else {
                         String::new()
                     };
-                    let rounding = if r.rounding_decided > 0 {
-                        format!(
-                            ", {} depth tests lost to the depth form's quantum",
-                            r.rounding_decided
-                        )
-                    } else {
-                        String::new()
-                    };
+                    let rounding = scan::precision::stats_suffix(r.rounding_decided);
                     eprintln!(
                         "zbuf: {name}: {} polygons in, {} pixels tested, {} written{runs}{rounding}",
                         r.polygons, r.pixels_tested, r.pixels_written

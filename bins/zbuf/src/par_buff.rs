@@ -214,12 +214,7 @@ pub fn par_buff(
                 let fb = fb
                     .as_mut()
                     .ok_or_else(|| Error::data("a frame before a header"))?;
-                if let Some(w) = watch.as_mut() {
-                    let lost = w.end_frame();
-                    if lost > 0 {
-                        eprintln!("zbuf: {}", w.message(frame, lost));
-                    }
-                }
+                warn_rounding(&mut watch, frame);
                 on_frame(frame, fb)?;
                 let ended = states.iter().filter(|s| s.at == At::End).count();
                 if ended == n {
@@ -497,9 +492,9 @@ fn resolve_polygon<R: Read>(
 /// stream's depth form decided some of the frame's depth tests; their count.
 fn warn_rounding(watch: &mut Option<QuantumWatch>, frame: u64) -> u64 {
     let Some(watch) = watch else { return 0 };
-    let lost = watch.end_frame();
-    if lost > 0 {
-        eprintln!("zbuf: {}", watch.message(frame, lost));
+    let (lost, warning) = watch.finish_frame(frame);
+    if let Some(warning) = warning {
+        eprintln!("zbuf: {warning}");
     }
     lost
 }
