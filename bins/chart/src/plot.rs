@@ -737,39 +737,26 @@ mod tests {
     #[test]
     fn a_log_axis_from_decades_gets_its_ticks_at_1_2_and_5_of_every_decade() {
         use plotters::coord::ranged1d::{KeyPointHint, Ranged};
-        let (lo, hi) = decades(0.135, 0.28);
-        let axis: plotters::coord::combinators::LogCoord<f64> = (lo..hi).log_scale().into();
-        let labels: Vec<String> = axis
-            .key_points(log_ticks(lo, hi))
-            .iter()
-            .map(|v| log_tick(*v))
-            .filter(|l| !l.is_empty())
-            .fold(Vec::new(), |mut v: Vec<String>, l| {
-                // The last light tick of a decade is the next decade's first: drawn twice
-                // in one place.
-                if v.last() != Some(&l) {
-                    v.push(l);
-                }
-                v
-            });
-        assert_eq!(labels, ["0.1", "0.2", "0.5", "1"]);
-        let (lo, hi) = decades(0.004, 0.9);
-        let axis: plotters::coord::combinators::LogCoord<f64> = (lo..hi).log_scale().into();
-        let labels: Vec<String> = axis
-            .key_points(log_ticks(lo, hi))
-            .iter()
-            .map(|v| log_tick(*v))
-            .filter(|l| !l.is_empty())
-            .fold(Vec::new(), |mut v: Vec<String>, l| {
-                // The last light tick of a decade is the next decade's first: drawn twice
-                // in one place.
-                if v.last() != Some(&l) {
-                    v.push(l);
-                }
-                v
-            });
+        // The labels drawn on the log axis that spans the decades around lo..hi.
+        let labels = |lo: f64, hi: f64| -> Vec<String> {
+            let (lo, hi) = decades(lo, hi);
+            let axis: plotters::coord::combinators::LogCoord<f64> = (lo..hi).log_scale().into();
+            axis.key_points(log_ticks(lo, hi))
+                .iter()
+                .map(|v| log_tick(*v))
+                .filter(|l| !l.is_empty())
+                .fold(Vec::new(), |mut v: Vec<String>, l| {
+                    // The last light tick of a decade is the next decade's first: drawn
+                    // twice in one place.
+                    if v.last() != Some(&l) {
+                        v.push(l);
+                    }
+                    v
+                })
+        };
+        assert_eq!(labels(0.135, 0.28), ["0.1", "0.2", "0.5", "1"]);
         assert_eq!(
-            labels,
+            labels(0.004, 0.9),
             ["0.001", "0.002", "0.005", "0.01", "0.02", "0.05", "0.1", "0.2", "0.5"]
         );
         let _ = KeyPointHint::max_num_points(&3usize);
