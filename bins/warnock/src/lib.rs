@@ -375,11 +375,8 @@ impl Warnock {
             // that it does (the fuzzer's vertex at 3.6e88) gives pixels depths far from
             // its vertices' (-4.5e89 to 7.5e89 inside a polygon whose vertices say 1.4e73
             // and up). Real depths never do: reciprocal depth is negative everywhere.
-            let corner_depths: Vec<Option<Depth>> = rows
-                .iter()
-                .flat_map(|&y| cols.iter().map(move |&x| (x, y)))
-                .map(|(x, y)| face.planar_depth(x, y))
-                .collect();
+            let corner_depths =
+                [(0, 0), (1, 0), (0, 1), (1, 1)].map(|(i, j)| face.planar_depth(cols[i], rows[j]));
             let one_sign = corner_depths.iter().all(|d| d.is_some_and(|d| d < 0.0))
                 || corner_depths.iter().all(|d| d.is_some_and(|d| d > 0.0));
             if !one_sign {
