@@ -15,7 +15,9 @@
 
 use crate::region::{RegionBuffer, Run};
 use crate::walk::SpanWalker;
+use proto::shade::Lighting;
 use proto::{Colour, Polygon};
+use std::sync::Arc;
 
 /// A hidden-surface method that resolves a whole frame at once.
 pub trait HiddenSurface {
@@ -37,6 +39,11 @@ pub trait HiddenSurface {
         false
     }
 
+    /// The lighting of a Phong-shaded stream (its header says `vertex-normals`), given
+    /// before the first frame: a method that shades lights each pixel of a shaded polygon
+    /// by it ([`proto::shade::Shading::of`]); `None` for a Gouraud or flat stream.
+    fn set_lighting(&mut self, _lighting: Option<Arc<Lighting>>) {}
+
     /// Whether the method draws polygons of opacity below 255 as transparent; a stage whose
     /// method does not refuses such a polygon rather than draw it opaque.
     fn transparency(&self) -> bool {
@@ -50,6 +57,7 @@ pub trait HiddenSurface {
 pub struct ZBuffer {
     walker: SpanWalker,
     region: Option<RegionBuffer>,
+    lighting: Option<Arc<Lighting>>,
 }
 
 impl ZBuffer {
@@ -65,7 +73,7 @@ impl HiddenSurface for ZBuffer {
             slot => slot.insert(RegionBuffer::new(width, height)),
         };
         for p in polygons {
-            if let Some(shading) = proto::shade::Shading::of(p) {
+            if let Some(shading) = proto::shade::Shading::of(p, self.lighting.as_ref()) {
                 self.walker
                     .for_each_span(p, width, height, |s| region.draw_shaded(&s, &shading));
                 continue;
@@ -82,6 +90,10 @@ impl HiddenSurface for ZBuffer {
 
     fn shades(&self) -> bool {
         true
+    }
+
+    fn set_lighting(&mut self, lighting: Option<Arc<Lighting>>) {
+        self.lighting = lighting;
     }
 
     fn stats(&self) -> String {

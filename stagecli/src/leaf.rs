@@ -48,13 +48,16 @@ pub fn resolve_frames(
     method: &mut impl HiddenSurface,
 ) -> Result<FrameCounts> {
     let mut input = read_stdin::<Token>(SpaceKind::Screen)?;
-    if input.header().attributes.vertex_colours && !method.shades() {
-        return Err(Error::usage(format!(
-            "{stage} draws each polygon in one colour, and this stream is Gouraud-shaded \
-             (its header says `vertex-colours`); shading is drawn by the z-buffer (render.sh \
-             --hse zbuf, the default) and by supersampling (--aa ssK)"
-        )));
+    if let Some((name, word)) = input.header().attributes.smooth_shading() {
+        if !method.shades() {
+            return Err(Error::usage(format!(
+                "{stage} draws each polygon in one colour, and this stream is {name}-shaded \
+                 (its header says `{word}`); shading is drawn by the z-buffer (render.sh \
+                 --hse zbuf, the default) and by supersampling (--aa ssK)"
+            )));
+        }
     }
+    method.set_lighting(input.header().attributes.phong());
     let (width, height) = input
         .header()
         .space
