@@ -989,8 +989,8 @@ fn stats_name_each_subtrees_host_and_its_links_bytes() {
     assert_eq!(
         links(&out),
         [
-            "render.sh: subtree 2 on host node1: 579 bytes there, 7747 bytes back",
-            "render.sh: subtree 3 on host node2: 579 bytes there, 4659 bytes back",
+            "render.sh: subtree 2 on host node1: 581 bytes there, 7749 bytes back",
+            "render.sh: subtree 3 on host node2: 581 bytes there, 4661 bytes back",
         ]
     );
     // Four hosts (each named twice) at depth 2: a leaf each, round-robin. A leaf's runs
@@ -1010,10 +1010,10 @@ fn stats_name_each_subtrees_host_and_its_links_bytes() {
     assert_eq!(
         links(&out),
         [
-            "render.sh: leaf 0 on host node1: 643 bytes there, 2607 bytes back",
-            "render.sh: leaf 1 on host node2: 643 bytes there, 5199 bytes back",
-            "render.sh: leaf 2 on host node1: 739 bytes there, 2447 bytes back",
-            "render.sh: leaf 3 on host node2: 339 bytes there, 2271 bytes back",
+            "render.sh: leaf 0 on host node1: 645 bytes there, 2609 bytes back",
+            "render.sh: leaf 1 on host node2: 645 bytes there, 5201 bytes back",
+            "render.sh: leaf 2 on host node1: 741 bytes there, 2449 bytes back",
+            "render.sh: leaf 3 on host node2: 341 bytes there, 2273 bytes back",
         ]
     );
     assert_eq!((hosts.sessions(0), hosts.sessions(1)), (3, 3));

@@ -77,9 +77,10 @@ fn a_cut_binary_stream_names_frame_and_polygon() {
                  1 0 0\n0 1 0\nNEXT.FRAME\ncolour 4 4 4\n0 0 0\n1 0 0\n0 1 0\nNEXT.POLYGON\n\
                  colour 5 5 5\n0 0 0\n1 0 0\n0 1 0\nEND\n";
     // The eye-space header is the magic's 8 bytes, the version and space tag (4 + 4), the
-    // view volume (3 · 8) and the attributes (1: no depth form; 1 each for vertex colours
-    // and opacity); a triangle is 8 + 3 · 32 = 104 bytes; NEXT.FRAME 8.
-    let polygon_4 = 43 + 3 * 104 + 8 + 104;
+    // view volume (3 · 8) and the attributes (1: no depth form; 1 each for vertex colours,
+    // vertex normals and opacity; 1: no lighting); a triangle is 8 + 3 · 32 = 104 bytes;
+    // NEXT.FRAME 8.
+    let polygon_4 = 45 + 3 * 104 + 8 + 104;
     let cut = polygon_4 + 50;
     let (status, err) = run(
         &format!("viewxf | head -c {cut} | clipplane left"),

@@ -63,8 +63,9 @@ fn binary_ranges_join_to_the_binary_movie_byte_for_byte() {
     let (first, rest) = (cut("0", "1"), cut("1", "3"));
     // header + frame 0 + END, header + frame 1 + NEXT.FRAME + frame 2 + END
     // Magic, version u32, space tag u32 (world has no fields), attributes (one byte: no
-    // depth form; one each for vertex colours and opacity).
-    let header_len = 8 + 8 + 3;
+    // depth form; one each for vertex colours, vertex normals and opacity; one: no
+    // lighting).
+    let header_len = 8 + 8 + 5;
     // Stream version 2's fixed-layout records: NEXT.FRAME and END are one 8-byte head each.
     let end_len = 8;
     let next_frame_len = 8;

@@ -376,13 +376,13 @@ fn stats_name_each_node_and_leaf_and_add_up_to_the_linear_pipeline() {
         assert!(out.status.success(), "{out:?}");
         String::from_utf8(out.stderr).unwrap()
     };
-    const SPLITTERS: &str = "splitter x=0 (node 1): 2 polygons in; out1 2 polygons, 7 vertices; out2 2 polygons, 7 vertices; 579 and 579 bytes out\n\
-         splitter y=0 (node 2): 2 polygons in; out1 2 polygons, 7 vertices; out2 2 polygons, 7 vertices; 643 and 643 bytes out\n\
-         splitter y=0 (node 3): 2 polygons in; out1 2 polygons, 8 vertices; out2 1 polygons, 3 vertices; 739 and 339 bytes out\n";
+    const SPLITTERS: &str = "splitter x=0 (node 1): 2 polygons in; out1 2 polygons, 7 vertices; out2 2 polygons, 7 vertices; 581 and 581 bytes out\n\
+         splitter y=0 (node 2): 2 polygons in; out1 2 polygons, 7 vertices; out2 2 polygons, 7 vertices; 645 and 645 bytes out\n\
+         splitter y=0 (node 3): 2 polygons in; out1 2 polygons, 8 vertices; out2 1 polygons, 3 vertices; 741 and 341 bytes out\n";
     assert_eq!(
         stats("buffer", "0"),
         "scanconv: 2 polygons in, 2 drawn, 543 spans, 59356 pixels\n\
-         zbuf: leaf-0: 543 spans, 59356 pixels, 17439 bytes in\n"
+         zbuf: leaf-0: 543 spans, 59356 pixels, 17441 bytes in\n"
     );
     // Node 3's second output gets a one-vertex piece of one polygon, which draws
     // nothing: the lean stream sends leaf 3 a `skip 1` for it.
@@ -393,10 +393,10 @@ fn stats_name_each_node_and_leaf_and_add_up_to_the_linear_pipeline() {
          scanconv (leaf 1): 2 polygons in, 2 drawn, 313 spans, 21082 pixels\n\
          scanconv (leaf 2): 2 polygons in, 2 drawn, 229 spans, 17463 pixels\n\
          scanconv (leaf 3): 1 polygons in, 1 drawn, 139 spans, 7127 pixels\n\
-         zbuf: leaf-0: 155 spans, 13684 pixels, 5023 bytes in\n\
-         zbuf: leaf-1: 313 spans, 21082 pixels, 10079 bytes in\n\
-         zbuf: leaf-2: 229 spans, 17463 pixels, 7391 bytes in\n\
-         zbuf: leaf-3: 139 spans, 7127 pixels, 4511 bytes in\n"
+         zbuf: leaf-0: 155 spans, 13684 pixels, 5025 bytes in\n\
+         zbuf: leaf-1: 313 spans, 21082 pixels, 10081 bytes in\n\
+         zbuf: leaf-2: 229 spans, 17463 pixels, 7393 bytes in\n\
+         zbuf: leaf-3: 139 spans, 7127 pixels, 4513 bytes in\n"
     );
     assert_eq!(13684 + 21082 + 17463 + 7127, 59356);
     // Leaves that resolve test the same pixels; each sends only its visible ones, as
@@ -413,10 +413,10 @@ fn stats_name_each_node_and_leaf_and_add_up_to_the_linear_pipeline() {
          scanconv (leaf 1): 2 polygons in, 2 drawn, 21082 pixels tested, 21082 written, 322 runs out, 10 tiles\n\
          scanconv (leaf 2): 2 polygons in, 2 drawn, 17463 pixels tested, 14313 written, 150 runs out, 13 tiles\n\
          scanconv (leaf 3): 1 polygons in, 1 drawn, 7127 pixels tested, 7127 written, 139 runs out, 7 tiles\n\
-         zbuf: leaf-0: 0 spans, 160 runs, 10473 pixels, 2607 bytes in\n\
-         zbuf: leaf-1: 0 spans, 322 runs, 18189 pixels, 5199 bytes in\n\
-         zbuf: leaf-2: 0 spans, 150 runs, 14313 pixels, 2447 bytes in\n\
-         zbuf: leaf-3: 0 spans, 139 runs, 7127 pixels, 2271 bytes in\n"
+         zbuf: leaf-0: 0 spans, 160 runs, 10473 pixels, 2609 bytes in\n\
+         zbuf: leaf-1: 0 spans, 322 runs, 18189 pixels, 5201 bytes in\n\
+         zbuf: leaf-2: 0 spans, 150 runs, 14313 pixels, 2449 bytes in\n\
+         zbuf: leaf-3: 0 spans, 139 runs, 7127 pixels, 2273 bytes in\n"
     );
     assert_eq!(10473 + 18189 + 14313 + 7127, 50102);
 }
