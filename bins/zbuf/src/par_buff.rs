@@ -466,8 +466,44 @@ fn send_batch(tx: &SyncSender<Message>, input: usize, batch: &mut Vec<Fragment>)
     tx.send(Message::Batch { input, fragments }).is_ok()
 }
 
-/// A leaf's z-buffer at work (a screen-space input resolved here): one polygon checked
-/// against the screen's guard band, as scanconv checks it, and its spans depth-tested.
+/// What a screen-space input resolved here needs beside its region buffer (which goes
+/// round between threads on its own): the span walker, the depth form's watch and the
+/// lighting of a Phong-shaded stream.
+struct LeafScan {
+    walker: SpanWalker,
+    watch: Option<QuantumWatch>,
+    lighting: Option<Arc<Lighting>>,
+}
+
+impl LeafScan {
+    /// For a screen-space input whose header has `attributes`, on a `width`×`height` screen.
+    fn new(attributes: &Attributes, width: u32, height: u32) -> Self {
+        LeafScan {
+            walker: SpanWalker::new(),
+            watch: QuantumWatch::for_form(attributes.depth, width, height),
+            lighting: attributes.phong(),
+        }
+    }
+
+    /// A leaf's z-buffer at work: one polygon checked against the screen's guard band, as
+    /// scanconv checks it, and its spans depth-tested into `region`.
+    fn resolve<R: Read>(
+        &mut self,
+        region: &mut RegionBuffer,
+        polygon: &proto::Polygon,
+        reader: &Reader<Token, R>,
+    ) -> Result<()> {
+        let LeafScan {
+            walker,
+            watch,
+            lighting,
+        } = self;
+        resolve_polygon(walker, region, watch, lighting.as_ref(), polygon, reader)
+    }
+}
+
+/// [`LeafScan::resolve`] on its parts (borrowed apart, so that the span closure can hold
+/// the region and the watch at once).
 fn resolve_polygon<R: Read>(
     walker: &mut SpanWalker,
     region: &mut RegionBuffer,
@@ -557,8 +593,7 @@ pub fn one_input(
     let mut reader =
         Reader::<Token, _>::new(buffered).map_err(|e| Error::from(e).context(&name))?;
     let (width, height) = screen_of(&reader, "screen-space").map_err(|e| e.context(&name))?;
-    let depth = reader.header().attributes.depth;
-    let lighting = reader.header().attributes.phong();
+    let attributes = reader.header().attributes;
     // The frame buffer is made as the header is read, as par_buff makes it at the first
     // header: a screen too large to hold is refused at once, with what it needs, rather
     // than after its first frame has been scan-converted (tens of seconds and gigabytes
@@ -574,29 +609,21 @@ pub fn one_input(
     let (to_reuse, reusable) = sync_channel::<RegionBuffer>(2);
     let resolved = std::thread::scope(|scope| -> Result<Resolved> {
         let reader_thread = scope.spawn(move || -> Result<Resolved> {
-            let mut walker = SpanWalker::new();
+            let mut scan = LeafScan::new(&attributes, width, height);
             let mut region = RegionBuffer::new(width, height);
             let mut spare = Some(RegionBuffer::new(width, height));
             let mut counts = Resolved::default();
             let mut record = Token::default();
-            let mut watch = QuantumWatch::for_form(depth, width, height);
             let mut frame = 0u64;
             while reader.next_into(&mut record)? {
                 match &record {
                     Token::Polygon(p) => {
-                        resolve_polygon(
-                            &mut walker,
-                            &mut region,
-                            &mut watch,
-                            lighting.as_ref(),
-                            p,
-                            &reader,
-                        )?;
+                        scan.resolve(&mut region, p, &reader)?;
                         counts.polygons += 1;
                     }
                     Token::Skip(_) => {}
                     Token::NextFrame | Token::End => {
-                        counts.rounding_decided += warn_rounding(&mut watch, frame);
+                        counts.rounding_decided += warn_rounding(&mut scan.watch, frame);
                         frame += 1;
                         let stats = std::mem::take(&mut region.stats);
                         counts.pixels_tested += stats.pixels_tested;
@@ -668,30 +695,21 @@ fn resolve_input<R: Read>(
 ) -> Result<()> {
     let (width, height) = screen_of(&reader, "screen-space")?;
     let attributes = reader.header().attributes;
-    let (depth, lighting) = (attributes.depth, attributes.phong());
     if !send_header(tx, input, (width, height), &attributes) {
         return Ok(());
     }
     let send = |m| tx.send(m).is_ok();
-    let mut walker = SpanWalker::new();
+    let mut scan = LeafScan::new(&attributes, width, height);
     let mut region = RegionBuffer::new(width, height);
     let mut polygons = 0u64;
     let mut record = Token::default();
     let mut batch = Vec::with_capacity(BATCH);
     let mut waiting = false; // for the go-ahead after the last frame sent
-    let mut watch = QuantumWatch::for_form(depth, width, height);
     let (mut frame, mut rounding_decided) = (0u64, 0u64);
     while reader.next_into(&mut record)? {
         let end = match &record {
             Token::Polygon(p) => {
-                resolve_polygon(
-                    &mut walker,
-                    &mut region,
-                    &mut watch,
-                    lighting.as_ref(),
-                    p,
-                    &reader,
-                )?;
+                scan.resolve(&mut region, p, &reader)?;
                 polygons += 1;
                 continue;
             }
@@ -701,7 +719,7 @@ fn resolve_input<R: Read>(
             Token::NextFrame => false,
             Token::End => true,
         };
-        rounding_decided += warn_rounding(&mut watch, frame);
+        rounding_decided += warn_rounding(&mut scan.watch, frame);
         frame += 1;
         // Nothing of a frame is sent before the buffer thread has shown the frame
         // before it (its go-ahead); the polygons of this frame were resolved meanwhile.
