@@ -69,12 +69,18 @@
 //! carried along the line is compared pairwise, which can differ from the fold; the
 //! front is found afresh by the fold at every split, so only such a pixel can differ.)
 //!
+//! A Gouraud-shaded polygon (docs/DESIGN.md, "Shading") is decided as a flat one; each
+//! piece of a line where its segment is in front is painted pixel by pixel in its colour
+//! planes' value at the centre (`proto::shade`, as the z-buffer's shaded span), and sent as
+//! runs of one colour ([`scan::frame::shaded_runs`]).
+//!
 //! The counters Watkins's timings are about (14.4.3: the computation "grows roughly as the
 //! *visible* complexity") are kept in [`ScanlineStats`].
 
 use proto::raster::centres_in_clamped;
+use proto::shade::Shading;
 use proto::{Colour, Polygon};
-use scan::frame::HiddenSurface;
+use scan::frame::{shaded_runs, HiddenSurface};
 use scan::{depth_at, Depth, DepthPlane, Run, SpanWalker};
 use std::ops::Range;
 
@@ -258,6 +264,9 @@ pub struct Scanline {
     pieces: Vec<Piece>,
     /// The segments that may come in front inside a span.
     candidates: Vec<usize>,
+    /// The frame's polygons' Gouraud shading, by stream index, when any is shaded (empty
+    /// for a flat frame).
+    shadings: Vec<Option<Shading>>,
     pub stats: ScanlineStats,
     /// Without the coherence from line to line, to measure what it buys: the segments
     /// sorted afresh on every line, and no prediction from the line above (`--sort-afresh`).
@@ -354,6 +363,8 @@ struct Piece {
 /// pieces (the prediction), and where the decisions go.
 struct Sweep<'a, 'r> {
     segments: &'a [Segment],
+    /// The polygons' shading by stream index (empty when none is shaded).
+    shadings: &'a [Option<Shading>],
     /// The line above's pieces, left to right.
     above: &'a [Piece],
     /// This line's pieces, as they are decided.
@@ -365,11 +376,18 @@ struct Sweep<'a, 'r> {
 }
 
 impl Sweep<'_, '_> {
-    /// Paints `x0..x1` with `segment`'s colour and records the piece.
+    /// Paints `x0..x1` with `segment`'s colour, or a shaded polygon's colour at each
+    /// pixel centre, and records the piece.
     #[inline]
     fn paint(&mut self, x0: u32, x1: u32, segment: usize) {
         let s = &self.segments[segment];
-        self.out.paint(x0, x1, s.colour);
+        match self.shadings.get(s.polygon) {
+            Some(Some(shading)) => {
+                let out = &mut self.out;
+                shaded_runs(shading, out.y, x0..x1, |a, b, c| out.paint(a, b, c));
+            }
+            _ => self.out.paint(x0, x1, s.colour),
+        }
         match self.pieces.last_mut() {
             Some(p) if p.x1 == x0 && p.polygon == s.polygon => p.x1 = x1,
             _ => self.pieces.push(Piece {
@@ -787,6 +805,12 @@ impl HiddenSurface for Scanline {
         self.order.clear();
         self.slot_of.clear();
         self.slot_of.resize(polygons.len(), GONE);
+        // A shaded polygon's visible pieces take its colour planes' value at each pixel
+        // centre (docs/DESIGN.md, "Shading"); a flat frame keeps no table.
+        self.shadings.clear();
+        if polygons.iter().any(Polygon::is_shaded) {
+            self.shadings.extend(polygons.iter().map(Shading::of));
+        }
 
         let mut next = 0;
         for y in 0..height {
@@ -859,6 +883,7 @@ impl HiddenSurface for Scanline {
             let segments = &self.segments;
             let mut sweep = Sweep {
                 segments,
+                shadings: &self.shadings,
                 above: &self.above,
                 pieces: &mut self.pieces,
                 candidates: &mut self.candidates,
@@ -923,6 +948,12 @@ impl HiddenSurface for Scanline {
                 std::mem::swap(&mut self.above, &mut self.pieces);
             }
         }
+    }
+
+    /// A Gouraud-shaded polygon's visible spans take its colour at each pixel centre,
+    /// as the z-buffer's do.
+    fn shades(&self) -> bool {
+        true
     }
 
     fn stats(&self) -> String {
@@ -1367,6 +1398,49 @@ mod tests {
             0
         );
         assert!(stats.crossings > 100, "{stats:?}");
+    }
+    /// Gouraud-shaded polygons among flat ones: every visible pixel of a shaded polygon is
+    /// its colour planes' value at the centre, the z-buffer's byte for byte, and a row's
+    /// runs of one colour are joined.
+    #[test]
+    fn shaded_polygons_are_drawn_as_the_zbuffer_shades_them() {
+        let mut state = 0x9e37_79b9_7f4a_7c15u64;
+        let mut next = move || {
+            state ^= state << 13;
+            state ^= state >> 7;
+            state ^= state << 17;
+            (state >> 11) as f64 / (1u64 << 53) as f64
+        };
+        let (w, h) = (150u32, 100u32);
+        let polygons: Vec<Polygon> = (0..120)
+            .map(|i| {
+                let (cx, cy) = (next() * 170.0 - 10.0, next() * 120.0 - 10.0);
+                let n = 3 + (i % 2);
+                let pts: Vec<[f64; 3]> = (0..n)
+                    .map(|_| [cx + next() * 50.0 - 25.0, cy + next() * 50.0 - 25.0, next()])
+                    .collect();
+                let mut p = Polygon::from_xyz([i as u8, 7, 9], &pts);
+                if i % 3 != 0 {
+                    p.colours = (0..n)
+                        .map(|_| proto::DVec3::new(next(), next(), next()) * 255.0)
+                        .collect();
+                }
+                p
+            })
+            .collect();
+        let (runs, _) = resolve(&polygons, w, h);
+        let image = image_of(&runs, w, h);
+        assert_eq!(differing_pixels(&image, &zbuffer_image(&polygons, w, h)), 0);
+        // Far more colours than polygons: the shaded ones are smooth.
+        let colours: std::collections::HashSet<_> = image.iter().flatten().collect();
+        assert!(colours.len() > 2000, "{} colours", colours.len());
+        for pair in runs.windows(2) {
+            let (a, b) = (&pair[0], &pair[1]);
+            assert!(
+                a.y != b.y || a.x1 != b.x0 || a.colour != b.colour,
+                "{a:?} {b:?}"
+            );
+        }
     }
 }
 
