@@ -51,8 +51,9 @@ pub fn resolve_frames(
     if input.header().attributes.vertex_colours && !method.shades() {
         return Err(Error::usage(format!(
             "{stage} draws each polygon in one colour, and this stream is Gouraud-shaded \
-             (its header says `vertex-colours`); shading is drawn by the z-buffer (render.sh \
-             --hse zbuf, the default) and by supersampling (--aa ssK)"
+             (its header says `vertex-colours`); shading is drawn by every hidden-surface \
+             method (render.sh --hse zbuf, scanline, warnock, painter) and by anti-aliasing \
+             (--aa ssK, abuf)"
         )));
     }
     let (width, height) = input

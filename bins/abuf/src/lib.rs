@@ -19,6 +19,12 @@
 //! the polygon's fixed-point depth plane at the fragment's covered samples (at the ends
 //! of each sub-scanline's run, the plane being linear).
 //!
+//! A Gouraud-shaded polygon (docs/DESIGN.md, "Shading") gives each of its fragments its
+//! colour planes' value at the pixel centre (`proto::shade`, the z-buffer's calls): the
+//! sampling thesis's fragment holds one colour (figure 6.6), so a shaded fragment is the
+//! polygon sampled at the centre for colour and at the 64 samples for coverage. Opacity
+//! and the packer are unchanged.
+//!
 //! Memory stays bounded (6.3.2's *mask buffer*): the frame's polygons are gathered and
 //! sorted by their top row ([`scan::fine::ActiveRows`]), and the a-buffer is kept for one
 //! pixel row at a time. For each row, each polygon that reaches it is walked over the
@@ -47,6 +53,7 @@
 pub mod list;
 
 use list::{Fragment, ListStats, Mask, Packer, PixelStruct};
+use proto::shade::{shade_at, Shading};
 use proto::{Colour, Polygon};
 use scan::fine::{scaled, ActiveRows, Extent};
 use scan::frame::{push_row_runs_at, HiddenSurface};
@@ -80,6 +87,9 @@ pub struct ABuffer {
     fine: Vec<Polygon>,
     planes: Vec<DepthPlane>,
     columns: Vec<(u32, u32)>,
+    /// The frame's polygons' Gouraud shading on the screen of pixels, in stream order,
+    /// when any is shaded (empty for a flat frame).
+    shadings: Vec<Option<Shading>>,
     /// Per cull block of the current row (from its first column): the occluding depth,
     /// whether it must be worked out again, whether the current polygon is left out.
     occluding: Vec<Depth>,
@@ -118,6 +128,7 @@ impl ABuffer {
             fine: Vec::new(),
             planes: Vec::new(),
             columns: Vec::new(),
+            shadings: Vec::new(),
             occluding: Vec::new(),
             stale: Vec::new(),
             culled: Vec::new(),
@@ -299,11 +310,21 @@ impl ABuffer {
                 self.stale[(c / BLOCK) as usize] = true;
             }
             row_stale |= self.cull && !self.touched.is_empty();
-            // 6.3.3 (d): a fragment for each pixel, into the a-buffer.
+            // 6.3.3 (d): a fragment for each pixel, into the a-buffer. A Gouraud-shaded
+            // polygon's fragment takes its colour at the pixel centre: the a-buffer keeps
+            // one colour a fragment.
             let colour = self.fine[i as usize].colour;
             let opacity = self.fine[i as usize].opacity;
+            let shaded = match self.shadings.get(i as usize) {
+                Some(Some(shading)) => Some(shading.row(r)),
+                _ => None,
+            };
             for &c in &self.touched {
                 let e = std::mem::take(&mut self.masks[c as usize]);
+                let colour = match shaded {
+                    Some((c_row, dc)) => shade_at(c_row, dc, cols.start + c),
+                    None => colour,
+                };
                 self.pixels[c as usize].insert(
                     Fragment {
                         colour,
@@ -349,6 +370,10 @@ impl HiddenSurface for ABuffer {
                 .iter()
                 .map(|p| Extent::of(p, width, height).map_or((0, 0), |e| (e.left, e.right))),
         );
+        self.shadings.clear();
+        if polygons.iter().any(Polygon::is_shaded) {
+            self.shadings.extend(polygons.iter().map(Shading::of));
+        }
         self.rows.start(polygons, width, height);
         let mut from = self.rows.first_row().unwrap_or(height);
         let mut active = Vec::new();
@@ -364,6 +389,11 @@ impl HiddenSurface for ABuffer {
     /// Polygons of opacity below 255 are blended front to back by eq. 6.5 of the
     /// sampling thesis ([`list::Packer`]).
     fn transparency(&self) -> bool {
+        true
+    }
+
+    /// A Gouraud-shaded polygon's fragment has its colour at the pixel centre.
+    fn shades(&self) -> bool {
         true
     }
 

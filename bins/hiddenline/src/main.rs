@@ -67,8 +67,9 @@ fn main() -> ExitCode {
         if input.header().attributes.vertex_colours {
             return Err(Error::usage(
                 "hiddenline strokes each polygon's edges in its one colour, and this stream \
-                 is Gouraud-shaded (its header says `vertex-colours`); shading is drawn by the \
-                 z-buffer (render.sh --hse zbuf, the default) and by supersampling (--aa ssK)",
+                 is Gouraud-shaded (its header says `vertex-colours`); shading is drawn by \
+                 every hidden-surface method (render.sh --hse zbuf, scanline, warnock, \
+                 painter) and by anti-aliasing (--aa ssK, abuf)",
             ));
         }
         let (width, height) = input
