@@ -314,32 +314,16 @@ impl ABuffer {
             // polygon's fragment takes its colour at the pixel centre: the a-buffer keeps
             // one colour a fragment.
             let colour = self.fine[i as usize].colour;
-            let opacity = self.fine[i as usize].opacity;
             let shaded = match self.shadings.get(i as usize) {
                 Some(Some(shading)) => Some(shading.row(r)),
                 _ => None,
             };
-            for &c in &self.touched {
-                let e = std::mem::take(&mut self.masks[c as usize]);
-                let colour = match shaded {
-                    Some((c_row, dc)) => shade_at(c_row, dc, cols.start + c),
-                    None => colour,
-                };
-                self.pixels[c as usize].insert(
-                    Fragment {
-                        colour,
-                        mask: e.mask,
-                        zmin: e.zmin,
-                        zmax: e.zmax,
-                        order: i,
-                        opacity,
-                    },
-                    &mut self.pool,
-                    &mut self.stats,
-                );
-                if self.cull {
-                    self.occluding_px[c as usize] = self.pixels[c as usize].occluding_depth();
+            match shaded {
+                Some((c_row, dc)) => {
+                    let x0 = cols.start;
+                    self.insert_fragments(i, |c| shade_at(c_row, dc, x0 + c));
                 }
+                None => self.insert_fragments(i, |_| colour),
             }
             self.touched.clear();
         }
@@ -352,6 +336,34 @@ impl ABuffer {
             p.clear(&mut self.pool);
         }
         push_row_runs_at(r, cols.start, &self.row, runs);
+    }
+}
+
+impl ABuffer {
+    /// 6.3.3 (d): a fragment for each element of the mask buffer polygon `i` touched, into
+    /// the row's a-buffer, in the colour `colour_at` gives its column (from the row's first
+    /// column in use): the polygon's, or a Gouraud-shaded polygon's at the pixel centre.
+    #[inline(always)]
+    fn insert_fragments(&mut self, i: u32, colour_at: impl Fn(u32) -> Colour) {
+        let opacity = self.fine[i as usize].opacity;
+        for &c in &self.touched {
+            let e = std::mem::take(&mut self.masks[c as usize]);
+            self.pixels[c as usize].insert(
+                Fragment {
+                    colour: colour_at(c),
+                    mask: e.mask,
+                    zmin: e.zmin,
+                    zmax: e.zmax,
+                    order: i,
+                    opacity,
+                },
+                &mut self.pool,
+                &mut self.stats,
+            );
+            if self.cull {
+                self.occluding_px[c as usize] = self.pixels[c as usize].occluding_depth();
+            }
+        }
     }
 }
 

@@ -307,6 +307,13 @@ impl RowRuns<'_> {
         }
     }
 
+    /// [`RowRuns::paint`] for a Gouraud-shaded polygon: each pixel its colour at the
+    /// centre. Apart, so that the flat paint stays small enough to inline in the sweep.
+    #[inline(never)]
+    fn paint_shaded(&mut self, x0: u32, x1: u32, shading: &Shading) {
+        shaded_runs(shading, self.y, x0..x1, |a, b, c| self.paint(a, b, c));
+    }
+
     fn finish(self) {
         if let Some(run) = self.open {
             self.runs.push(run);
@@ -382,10 +389,7 @@ impl Sweep<'_, '_> {
     fn paint(&mut self, x0: u32, x1: u32, segment: usize) {
         let s = &self.segments[segment];
         match self.shadings.get(s.polygon) {
-            Some(Some(shading)) => {
-                let out = &mut self.out;
-                shaded_runs(shading, out.y, x0..x1, |a, b, c| out.paint(a, b, c));
-            }
+            Some(Some(shading)) => self.out.paint_shaded(x0, x1, shading),
             _ => self.out.paint(x0, x1, s.colour),
         }
         match self.pieces.last_mut() {

@@ -607,10 +607,11 @@ impl Warnock {
         if penetrates {
             return Resolution::Subdivided;
         }
-        let hider_face = self.faces[hider as usize];
+        let h = &self.faces[hider as usize];
+        let hider_paint = (h.poly, h.colour);
         match kept - start {
             1 => {
-                self.fill(w, &hider_face);
+                self.fill(w, hider_paint);
                 Resolution::Surrounded
             }
             2 => {
@@ -619,7 +620,7 @@ impl Warnock {
                     .find(|e| e.face != hider)
                     .expect("two entries, one the hider")
                     .face;
-                self.draw(polygons, other, w, Some(&hider_face));
+                self.draw(polygons, other, w, Some(hider_paint));
                 Resolution::InFront
             }
             _ => Resolution::Subdivided,
@@ -654,28 +655,41 @@ impl Warnock {
             }
         }
         if let Some((f, _, _)) = best {
-            self.fill(w, &f);
+            self.fill(w, (f.poly, f.colour));
         }
     }
 
-    /// Fills window `w` with face `f`: in its colour, or a shaded polygon's colour at each
-    /// pixel centre.
-    fn fill(&mut self, w: Window, f: &Face) {
+    /// Fills window `w` with polygon `poly` (its stream index) in `colour`, or, if it is
+    /// Gouraud-shaded, in its colour at each pixel centre.
+    #[inline]
+    fn fill(&mut self, w: Window, (poly, colour): (u32, Colour)) {
+        if let Some(Some(_)) = self.shadings.get(poly as usize) {
+            return self.fill_shaded(w, poly);
+        }
         let y0 = self.bbox.y0;
-        let shading = self.shadings.get(f.poly as usize).and_then(Option::as_ref);
         for y in w.y0..w.y1 {
-            push_piece(
-                &mut self.pieces[(y - y0) as usize],
-                shading,
-                (y, w.x0, w.x1),
-                f.colour,
-            );
+            self.pieces[(y - y0) as usize].push((w.x0, w.x1, colour));
+        }
+    }
+
+    /// [`Warnock::fill`] for a Gouraud-shaded polygon. Apart, so that the flat fill stays
+    /// small enough to inline.
+    #[inline(never)]
+    fn fill_shaded(&mut self, w: Window, poly: u32) {
+        let y0 = self.bbox.y0;
+        let Some(shading) = &self.shadings[poly as usize] else {
+            return;
+        };
+        for y in w.y0..w.y1 {
+            let row = &mut self.pieces[(y - y0) as usize];
+            shaded_runs(shading, y, w.x0..w.x1, |a, b, c| row.push((a, b, c)));
         }
     }
 
     /// Clips face `face` to window `w` and draws the pixels it covers (its spans, the
-    /// z-buffer's coverage), and, with `under`, the rest of the window in that colour.
-    fn draw(&mut self, polygons: &[Polygon], face: u32, w: Window, under: Option<&Face>) {
+    /// z-buffer's coverage), and, with `under` (a polygon's stream index and colour), the
+    /// rest of the window in that polygon's colours.
+    fn draw(&mut self, polygons: &[Polygon], face: u32, w: Window, under: Option<(u32, Colour)>) {
         let f = self.faces[face as usize];
         let mut spans = std::mem::take(&mut self.spans);
         spans.clear();
@@ -688,9 +702,9 @@ impl Warnock {
             });
         let by = self.bbox.y0;
         let shading = self.shadings.get(f.poly as usize).and_then(Option::as_ref);
-        let under = under.map(|u| {
-            let s = self.shadings.get(u.poly as usize).and_then(Option::as_ref);
-            (s, u.colour)
+        let under = under.map(|(poly, colour)| {
+            let s = self.shadings.get(poly as usize).and_then(Option::as_ref);
+            (s, colour)
         });
         let mut k = 0;
         for y in w.y0..w.y1 {
