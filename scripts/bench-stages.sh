@@ -11,6 +11,8 @@
 #   scripts/bench-stages.sh fill [REPS]           zbuf's depth tests per CPU second on
 #                                                 the fill-heavy scene, and the span
 #                                                 z-test alone (scan's example ztest)
+#   scripts/bench-stages.sh shading [REPS]        flat, Gouraud and Phong shading of one
+#                                                 sphere: zbuf's CPU and render.sh's
 #
 # Each mode's own notes are at its function below. They share scripts/lib/bench.sh.
 
@@ -414,12 +416,72 @@ echo
 cargo run --release --quiet --manifest-path "$ROOT/Cargo.toml" -p scan --example ztest
 )
 
+mode_shading() (
+# What shading costs and what it buys: one sphere lit by the same light with a highlight
+# (`--specular 0.5,30`), per face (flat), per vertex (`--gouraud`) and per pixel
+# (`--phong`), at 1000×1000. Cost, on the sphere of 18,432 polygons (`--stacks 96 --slices
+# 192`): zbuf alone on the sphere's screen stream (made once to a file: scan conversion,
+# depth tests and shading), and the whole of `render.sh --depth 0` (every process's CPU);
+# user + system (bash's `time`), the median of REPS interleaved runs (default 9), ratios
+# against flat. Error: each frame against Phong's (`zspec compare --metrics`: RMSE and
+# the largest difference in levels), on that sphere and on one of 288 polygons
+# (`--stacks 12 --slices 24`), where the vertices sample the highlight too coarsely. Every
+# frame is checked against zspec's first.
+set -euo pipefail
+REPS=${1:-9}
+ROOT=$(cd "$(dirname "$0")/.." && pwd)
+B=$ROOT/target/release
+TMP=$(mktemp -d "${TMPDIR:-/tmp}/bench-shading.XXXXXX")
+trap 'rm -rf "$TMP"' EXIT
+cargo build --release --quiet --manifest-path "$ROOT/Cargo.toml" -p scene -p viewxf -p clipbatch -p persp -p zbuf -p zspec
+export POLYPIPE_LOAD=0
+kinds=(flat gouraud phong)
+declare -A option=([flat]="" [gouraud]=--gouraud [phong]=--phong)
+for fine in 96 12; do
+    for k in "${kinds[@]}"; do
+        # shellcheck disable=SC2086
+        "$B/scene" sphere --stacks "$fine" --slices $((2 * fine)) ${option[$k]} --specular 0.5,30 \
+            > "$TMP/$k-$fine.world"
+        "$B/viewxf" --size 1000x1000 < "$TMP/$k-$fine.world" | "$B/clipbatch" |
+            "$B/persp" --size 1000x1000 > "$TMP/$k-$fine.screen"
+        "$B/zspec" --size 1000x1000 < "$TMP/$k-$fine.world" > "$TMP/$k-$fine.ppm"
+        "$B/zbuf" "$TMP/$k-$fine.screen" | cmp -s - "$TMP/$k-$fine.ppm" ||
+            { echo "bench-stages.sh shading: $k: zbuf's frame is not zspec's" >&2; exit 1; }
+    done
+done
+# "RMSE / max" of a frame against Phong's.
+error() {
+    "$B/zspec" compare --metrics "$TMP/$1.ppm" "$TMP/phong-${1#*-}.ppm" |
+        awk '/^overall/ { for (i = 1; i < NF; i++) { if ($i == "rmse") r = $(i + 1); if ($i == "max") m = $(i + 1) } printf "%.2f / %d", r, m }'
+}
+declare -A zbuf render
+for ((r = 0; r < REPS; r++)); do
+    for k in "${kinds[@]}"; do
+        zbuf[$k]+="$(cpu_seconds "$B/zbuf" "$TMP/$k-96.screen") "
+        render[$k]+="$(cpu_seconds "$ROOT/scripts/render.sh" --size 1000x1000 --depth 0 "$TMP/$k-96.world") "
+    done
+done
+echo "| shading | zbuf CPU ms | ratio | render.sh --depth 0 CPU ms | ratio | error against Phong, 18,432 polygons | the same, 288 polygons |"
+echo "|---|---:|---:|---:|---:|---:|---:|"
+z0=$(tr ' ' '\n' <<< "${zbuf[flat]}" | grep . | median)
+w0=$(tr ' ' '\n' <<< "${render[flat]}" | grep . | median)
+for k in "${kinds[@]}"; do
+    z=$(tr ' ' '\n' <<< "${zbuf[$k]}" | grep . | median)
+    w=$(tr ' ' '\n' <<< "${render[$k]}" | grep . | median)
+    printf '| %s | %.1f | %s | %.1f | %s | %s | %s |\n' "$k" \
+        "$(awk -v s="$z" 'BEGIN { print s * 1000 }')" "$(ratio "$z" "$z0")" \
+        "$(awk -v s="$w" 'BEGIN { print s * 1000 }')" "$(ratio "$w" "$w0")" \
+        "$(error "$k-96")" "$(error "$k-12")"
+done
+)
+
 case ${1-} in
     geometry) shift; mode_geometry "$@" ;;
     fill) shift; mode_fill "$@" ;;
     clip) shift; mode_clip "$@" ;;
     codec) shift; mode_codec "$@" ;;
     fused) shift; mode_fused "$@" ;;
+    shading) shift; mode_shading "$@" ;;
     -h | --help | "") sed -n '2,/^$/{s/^# \{0,1\}//;p}' "${BASH_SOURCE[0]}"; [[ -n ${1-} ]] ;;
-    *) echo "bench-stages.sh: no mode '$1' (modes: geometry clip codec fused fill)" >&2; exit 2 ;;
+    *) echo "bench-stages.sh: no mode '$1' (modes: geometry clip codec fused fill shading)" >&2; exit 2 ;;
 esac

@@ -750,17 +750,30 @@ fn read_text_attributes<R: BufRead>(
 ) -> Result<crate::header::Attributes, StreamError> {
     use crate::header::DepthForm;
     let mut attributes = crate::header::Attributes::default();
+    // The lighting words, and where the first of them was (they need `vertex-normals`).
+    let mut lights = Vec::new();
+    let mut lighting_at = None;
     while lex.more_on_line() {
         let flag = match lex.peek()? {
             Some("depth") => None,
             Some("vertex-colours") => Some(&mut attributes.vertex_colours),
+            Some("vertex-normals") => Some(&mut attributes.vertex_normals),
             Some("opacity") => Some(&mut attributes.opacity),
+            Some("ambient" | "light" | "specular" | "viewer") => {
+                let word = lex.next_word()?.unwrap_or_default();
+                lighting_at.get_or_insert(lex.mark());
+                read_lighting_word(lex, &word, &mut attributes.lighting, &mut lights)?;
+                continue;
+            }
             _ => break,
         };
         let word = lex.next_word()?.unwrap_or_default();
         let at = lex.mark();
         if let Some(flag) = flag {
-            if space.vertex_arity() == 0 {
+            // Vertex normals are also said by a fragment stream (its `shade` records
+            // are then a normal's planes); the other flags only by polygon streams.
+            let fragments_too = word == "vertex-normals" && space.screen_size().is_some();
+            if space.vertex_arity() == 0 && !fragments_too {
                 return Err(lex.error_at(
                     at,
                     format!(
@@ -830,7 +843,81 @@ fn read_text_attributes<R: BufRead>(
         };
         attributes.depth = Some(depth);
     }
+    if let Some(at) = lighting_at {
+        if !attributes.vertex_normals {
+            return Err(lex.error_at(
+                at,
+                "lighting words (ambient, light, specular, viewer) in a header without \
+                 `vertex-normals`: they light the normals of a Phong-shaded stream"
+                    .to_string(),
+            ));
+        }
+    }
+    if attributes.vertex_normals && attributes.vertex_colours {
+        return Err(lex.error(
+            "the header says both `vertex-colours` and `vertex-normals`: a vertex carries \
+             a colour (Gouraud) or a normal (Phong), not both"
+                .to_string(),
+        ));
+    }
+    if !lights.is_empty() {
+        attributes
+            .lighting
+            .set_lights(&lights)
+            .map_err(|m| lex.error(format!("the header's lights: {m}")))?;
+    }
     Ok(attributes)
+}
+
+/// One lighting word of the header and its numbers ([`crate::shade::Lighting`]):
+/// `ambient A`, `light X Y Z I` (repeatable, collected in `lights`), `specular KS N`,
+/// `viewer X Y Z`.
+fn read_lighting_word<R: BufRead>(
+    lex: &mut Lexer<R>,
+    word: &str,
+    lighting: &mut crate::shade::Lighting,
+    lights: &mut Vec<(glam::DVec3, f64)>,
+) -> Result<(), StreamError> {
+    let mut numbers = |names: &[&str]| -> Result<Vec<f64>, StreamError> {
+        names
+            .iter()
+            .map(|name| lex.number_with(|| format!("the {word} word's {name}")))
+            .collect()
+    };
+    let at_least = |v: f64, min: f64, what: &str| -> Result<f64, String> {
+        if v.is_finite() && v >= min {
+            Ok(v)
+        } else {
+            Err(format!("the {what} {} must be {min} or more", Number(v)))
+        }
+    };
+    let checked = match word {
+        "ambient" => {
+            let n = numbers(&["A"])?;
+            at_least(n[0], 0.0, "ambient term").map(|a| lighting.ambient = a)
+        }
+        "light" => {
+            let n = numbers(&["X", "Y", "Z", "intensity I"])?;
+            if lights.len() == crate::shade::MAX_LIGHTS {
+                Err(format!("more than {} lights", crate::shade::MAX_LIGHTS))
+            } else {
+                lights.push((glam::DVec3::new(n[0], n[1], n[2]), n[3]));
+                Ok(())
+            }
+        }
+        "specular" => {
+            let n = numbers(&["coefficient KS", "exponent N"])?;
+            at_least(n[0], 0.0, "specular coefficient").and_then(|ks| {
+                lighting.specular = ks;
+                at_least(n[1], 1.0, "specular exponent").map(|e| lighting.exponent = e)
+            })
+        }
+        _ => {
+            let n = numbers(&["X", "Y", "Z"])?;
+            lighting.set_viewer(glam::DVec3::new(n[0], n[1], n[2]))
+        }
+    };
+    checked.map_err(|m| lex.error(format!("the header's `{word}`: {m}")))
 }
 
 /// The header's numbers must make sense before any stage computes with them.
@@ -872,6 +959,16 @@ fn check_attributes(header: &Header) -> Result<(), String> {
             "vertex colours and opacity in the header are for polygon streams, not {}-space",
             header.space.name()
         ));
+    }
+    if a.vertex_normals && a.vertex_colours {
+        return Err("the header has both vertex colours and vertex normals".to_string());
+    }
+    if a.vertex_normals {
+        a.lighting
+            .check()
+            .map_err(|m| format!("the header's lighting: {m}"))?;
+    } else if a.lighting != crate::shade::Lighting::default() {
+        return Err("lighting in a header without vertex normals".to_string());
     }
     let Some(form) = header.attributes.depth else {
         return Ok(());

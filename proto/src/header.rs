@@ -4,6 +4,7 @@
 //! bytes whose first is not ASCII, so a reader tells the two forms apart from the first
 //! byte alone; the text form starts with the word `polypipe`.
 
+use crate::shade::Lighting;
 use serde::{Deserialize, Serialize};
 use std::fmt;
 
@@ -21,9 +22,10 @@ pub const TEXT_MAGIC: &str = "polypipe";
 /// still bincode. Version 3 made a fragment's depth an f64 (it was 64-bit fixed point), a
 /// span's depth its row's depth at column 0, and screen depth reciprocal by default
 /// ([`crate::depth`]). Version 4 added the header's [`Attributes`] (what a screen or
-/// fragment stream's depths are: [`DepthForm`]). A binary reader accepts version 4 only:
+/// fragment stream's depths are: [`DepthForm`]), version 5 the vertex normals and lighting
+/// of Phong shading ([`Attributes::lighting`]). A binary reader accepts version 5 only:
 /// every stage of one build writes it.
-pub const VERSION: u32 = 4;
+pub const VERSION: u32 = 5;
 
 /// The version the text form's header spells, `polypipe N SPACE`. The polygon streams'
 /// text (world, eye, screen) has not changed since version 1, and people's scene files
@@ -228,9 +230,38 @@ pub struct Attributes {
     /// `vertex-colours` (polygon streams): every vertex carries a colour, `r g b` after its
     /// coordinates, numbers from 0 to 255 ([`crate::shade`]: Gouraud shading).
     pub vertex_colours: bool,
+    /// `vertex-normals` (polygon and fragment streams): every vertex carries a normal,
+    /// `nx ny nz` after its coordinates, in world coordinates, and the stream is
+    /// Phong-shaded: the normals are interpolated across the screen as vertex colours are,
+    /// and each pixel is lit by [`Attributes::lighting`] from the polygon's colour
+    /// ([`crate::shade`]). A fragment stream says it when its `shade` records are a
+    /// normal's planes.
+    pub vertex_normals: bool,
+    /// The lighting of a `vertex-normals` stream: the header's `ambient A`,
+    /// `light X Y Z I` (repeatable), `specular KS N` and `viewer X Y Z` words. Written and
+    /// read only with `vertex-normals`; the default otherwise. In the binary header, one
+    /// byte where it is the default ([`default_is_absent`]).
+    #[serde(with = "default_is_absent")]
+    pub lighting: Lighting,
     /// `opacity` (polygon streams): every colour record is `colour R G B A`, A the opacity
     /// from 0 (clear) to 255 (opaque).
     pub opacity: bool,
+}
+
+/// Serializes a [`Lighting`] as an `Option`: `None` (one byte in bincode) for the
+/// default, which every stream but a Phong-shaded one has, so that the lighting's few
+/// hundred bytes are in no other header.
+mod default_is_absent {
+    use super::Lighting;
+    use serde::{Deserialize, Deserializer, Serialize, Serializer};
+
+    pub fn serialize<S: Serializer>(l: &Lighting, s: S) -> Result<S::Ok, S::Error> {
+        (*l != Lighting::default()).then_some(l).serialize(s)
+    }
+
+    pub fn deserialize<'de, D: Deserializer<'de>>(d: D) -> Result<Lighting, D::Error> {
+        Ok(Option::<Lighting>::deserialize(d)?.unwrap_or_default())
+    }
 }
 
 impl Attributes {
@@ -240,8 +271,36 @@ impl Attributes {
     pub fn for_fragments(&self) -> Attributes {
         Attributes {
             depth: self.depth,
+            vertex_normals: self.vertex_normals,
+            lighting: self.lighting,
             ..Attributes::default()
         }
+    }
+
+    /// Whether polygons carry per-vertex values (colours or normals): the stream is
+    /// smooth-shaded, Gouraud or Phong.
+    pub fn shaded(&self) -> bool {
+        self.vertex_colours || self.vertex_normals
+    }
+
+    /// The stream's smooth shading, by name and by the header word that declares it:
+    /// `("Gouraud", "vertex-colours")` or `("Phong", "vertex-normals")`; `None` for a
+    /// flat stream. For the messages of stages that refuse to draw it.
+    pub fn smooth_shading(&self) -> Option<(&'static str, &'static str)> {
+        if self.vertex_normals {
+            Some(("Phong", "vertex-normals"))
+        } else if self.vertex_colours {
+            Some(("Gouraud", "vertex-colours"))
+        } else {
+            None
+        }
+    }
+
+    /// The lighting that a renderer lights pixels by: `Some` where the stream is
+    /// Phong-shaded (`vertex-normals`).
+    pub fn phong(&self) -> Option<std::sync::Arc<Lighting>> {
+        self.vertex_normals
+            .then(|| std::sync::Arc::new(self.lighting))
     }
 }
 
@@ -253,6 +312,19 @@ impl fmt::Display for Attributes {
         }
         if self.vertex_colours {
             write!(f, " vertex-colours")?;
+        }
+        if self.vertex_normals {
+            let l = &self.lighting;
+            write!(f, " vertex-normals ambient {}", l.ambient)?;
+            for (d, i) in l.lights() {
+                write!(f, " light {} {} {} {i}", d.x, d.y, d.z)?;
+            }
+            let v = l.viewer();
+            write!(
+                f,
+                " specular {} {} viewer {} {} {}",
+                l.specular, l.exponent, v.x, v.y, v.z
+            )?;
         }
         if self.opacity {
             write!(f, " opacity")?;

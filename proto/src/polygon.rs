@@ -65,8 +65,12 @@ pub struct Polygon {
     pub plane: Option<DVec4>,
     /// Per edge i, the original edge it lies on, if it is a piece of one; empty = none.
     pub supports: Vec<Option<[Vertex; 2]>>,
-    /// Per vertex, its colour (Gouraud shading, [`crate::shade`]); empty = the polygon is
-    /// one flat `colour`. A stream declares them in its header (`vertex-colours`).
+    /// Per vertex, its colour (Gouraud shading, [`crate::shade`]), or in a stream whose
+    /// header says `vertex-normals` its normal (Phong shading: the polygon's `colour` is
+    /// then the surface's, lit per pixel); empty = the polygon is one flat `colour`. A
+    /// stream declares them in its header (`vertex-colours`, `vertex-normals`). Both are
+    /// three numbers interpolated the same way at every cut and across the screen, so every
+    /// stage but the one that lights pixels treats them alike.
     pub colours: Vec<VertexColour>,
     /// The colour planes of the whole polygon ([`crate::shade`]), if a stage recorded
     /// them: over the screen position in eye space, over device coordinates in screen
@@ -104,7 +108,8 @@ impl Polygon {
         }
     }
 
-    /// Whether the polygon carries per-vertex colours (is Gouraud-shaded).
+    /// Whether the polygon carries per-vertex colours or normals (is Gouraud- or
+    /// Phong-shaded).
     #[inline]
     pub fn is_shaded(&self) -> bool {
         !self.colours.is_empty()
@@ -622,9 +627,16 @@ fn read_polygon_text<R: BufRead>(
         p.shade = Some(Box::new(planes));
     }
     let space_name = space.name();
-    let coloured = header.attributes.vertex_colours;
-    // The numbers of a vertex line: its coordinates, then its colour if declared.
+    let coloured = header.attributes.shaded();
+    let normals = header.attributes.vertex_normals;
+    // The numbers of a vertex line: its coordinates, then its colour or normal if
+    // declared.
     let numbers = arity + if coloured { 3 } else { 0 };
+    let (values, declared) = if normals {
+        ("normal", "vertex-normals")
+    } else {
+        ("colour", "vertex-colours")
+    };
     while lex.next_is_number()? {
         if p.vertices.len() == MAX_VERTICES {
             lex.peek()?;
@@ -640,23 +652,34 @@ fn read_polygon_text<R: BufRead>(
                 *c = lex.number(format_args!(
                     "{} of vertex {i} ({numbers} numbers a vertex in {space_name} space{})",
                     coordinate_name(space, k),
-                    if coloured { " with vertex colours" } else { "" }
+                    match (coloured, normals) {
+                        (false, _) => "",
+                        (true, false) => " with vertex colours",
+                        (true, true) => " with vertex normals",
+                    }
                 ))?;
             }
-            for (k, name) in ["red", "green", "blue"]
+            let names = if normals {
+                ["x", "y", "z"]
+            } else {
+                ["red", "green", "blue"]
+            };
+            let order = if normals { "nx ny nz" } else { "r g b" };
+            for (k, name) in names
                 .into_iter()
                 .enumerate()
                 .take(if coloured { 3 } else { 0 })
             {
                 v[arity + k] = lex.number(format_args!(
-                    "the {name} of vertex {i}'s colour (the header says `vertex-colours`: \
-                     r g b after the coordinates)"
+                    "the {name} of vertex {i}'s {values} (the header says `{declared}`: \
+                     {order} after the coordinates)"
                 ))?;
             }
         }
         if coloured {
             let c = DVec3::new(v[arity], v[arity + 1], v[arity + 2]);
-            if !(c.cmpge(DVec3::ZERO).all() && c.cmple(DVec3::splat(255.0)).all()) {
+            let in_range = c.cmpge(DVec3::ZERO).all() && c.cmple(DVec3::splat(255.0)).all();
+            if !normals && !in_range {
                 return Err(lex.error(format!(
                     "vertex {i}'s colour {} {} {}: a vertex colour's channels are numbers from \
                      0 to 255",
@@ -729,7 +752,7 @@ pub(crate) fn write_polygon_text<W: Write>(
         4 => write!(out, "{} {} {} {}", v.x, v.y, v.z, v.w),
         _ => write!(out, "{} {} {}", v.x, v.y, v.z),
     };
-    let coloured = header.attributes.vertex_colours;
+    let coloured = header.attributes.shaded();
     for (i, v) in p.vertices.iter().enumerate() {
         point(out, v)?;
         if coloured {
@@ -749,14 +772,25 @@ pub(crate) fn write_polygon_text<W: Write>(
     Ok(())
 }
 
-/// Checks a polygon's vertex colours: one a vertex, each channel a number from 0 to 255.
-fn check_colours(p: &Polygon) -> Result<(), String> {
+/// Checks a polygon's vertex colours: one a vertex, each channel a number from 0 to 255;
+/// or its normals (`normals`): one a vertex, finite.
+fn check_colours(p: &Polygon, normals: bool) -> Result<(), String> {
+    let what = if normals { "normals" } else { "colours" };
     if p.colours.len() != p.vertices.len() {
         return Err(format!(
-            "{} vertex colours for {} vertices (one per vertex)",
+            "{} vertex {what} for {} vertices (one per vertex)",
             p.colours.len(),
             p.vertices.len()
         ));
+    }
+    if normals {
+        return match p.colours.iter().position(|n| !n.is_finite()) {
+            Some(i) => Err(format!(
+                "the normal of vertex {i} is {:?}; a normal's numbers must be finite",
+                p.colours[i].to_array()
+            )),
+            None => Ok(()),
+        };
     }
     match p
         .colours
@@ -812,16 +846,16 @@ impl Record for Token {
                     p.vertices[i].to_array()
                 ));
             }
-            if !p.colours.is_empty() || (header.attributes.vertex_colours && !p.vertices.is_empty())
-            {
-                if !header.attributes.vertex_colours {
+            let shaded = header.attributes.shaded();
+            if !p.colours.is_empty() || (shaded && !p.vertices.is_empty()) {
+                if !shaded {
                     return Err(
-                        "a polygon with vertex colours in a stream whose header does not \
-                         declare them (`vertex-colours`)"
+                        "a polygon with vertex colours or normals in a stream whose header \
+                         declares neither (`vertex-colours`, `vertex-normals`)"
                             .into(),
                     );
                 }
-                check_colours(p)?;
+                check_colours(p, header.attributes.vertex_normals)?;
             }
             if p.opacity != OPAQUE && !header.attributes.opacity {
                 return Err(format!(

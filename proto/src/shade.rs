@@ -24,6 +24,8 @@
 use crate::geometry::newell_plane;
 use crate::polygon::Vertex;
 use glam::{DVec3, DVec4};
+use serde::{Deserialize, Serialize};
+use std::sync::Arc;
 
 /// A vertex's colour: red, green and blue, each a number from 0 to 255, kept as f64
 /// through the pipeline so that an interpolated colour is rounded once, at the pixel.
@@ -108,13 +110,27 @@ pub fn colour_planes_to_screen(
 
 /// A polygon's colours across the screen, evaluated as its depth is: the value at the
 /// centre of column 0 of a row, and the step from a column to the next.
-#[derive(Clone, Copy, Debug, PartialEq)]
+///
+/// Gouraud shading interpolates colours; Phong shading interpolates normals the same
+/// way (the planes are then the normal's x, y and z over the screen) and lights each
+/// pixel by [`Lighting`] (the sampling thesis, "A Comparison of Phong and Gouraud
+/// Shading": the illumination "put off until the very end").
+#[derive(Clone, Debug, PartialEq)]
 pub struct Shading {
     /// The device-space planes divided by their colour coefficient C: `(a, b, 1, d)` =
     /// `(A/C, B/C, 1, D/C)`, so that `c = −(a·X + b·Y + d)`.
     planes: ColourPlanes,
     /// −a per channel: the step along a row.
     step: DVec3,
+    /// For Phong shading, the polygon's own colour and the stream's lighting.
+    phong: Option<Phong>,
+}
+
+/// What Phong shading needs beyond the interpolated normal.
+#[derive(Clone, Debug, PartialEq)]
+struct Phong {
+    base: DVec3,
+    lighting: Arc<Lighting>,
 }
 
 impl Shading {
@@ -123,14 +139,32 @@ impl Shading {
     pub fn new(planes: ColourPlanes) -> Self {
         let planes = planes.map(|n| DVec4::new(n.x / n.z, n.y / n.z, 1.0, n.w / n.z));
         let step = DVec3::new(-planes[0].x + 0.0, -planes[1].x + 0.0, -planes[2].x + 0.0);
-        Shading { planes, step }
+        Shading {
+            planes,
+            step,
+            phong: None,
+        }
     }
 
-    /// A polygon's shading on the screen, if it has vertex colours: its recorded colour
+    /// The same planes read as a normal's, each pixel lit by `lighting` from the base
+    /// colour `base` (Phong shading); unchanged when `lighting` is `None` (Gouraud).
+    pub fn lit(self, lighting: Option<&Arc<Lighting>>, base: [u8; 3]) -> Self {
+        Shading {
+            phong: lighting.map(|l| Phong {
+                base: colour(base),
+                lighting: Arc::clone(l),
+            }),
+            ..self
+        }
+    }
+
+    /// A polygon's shading on the screen, if it has per-vertex values: its recorded
     /// planes (`shade`, persp's), or else planes fitted to its own screen vertices
-    /// ([`screen_colour_planes`]). A polygon whose colours give no plane (it has no area,
-    /// and covers nothing) is shaded in its first vertex's colour.
-    pub fn of(polygon: &crate::Polygon) -> Option<Shading> {
+    /// ([`screen_colour_planes`]). A polygon whose values give no plane (it has no area,
+    /// and covers nothing) is shaded by its first vertex's. With `lighting` (the stream
+    /// says `vertex-normals`) the values are normals, lit per pixel from the polygon's
+    /// colour; without, colours.
+    pub fn of(polygon: &crate::Polygon, lighting: Option<&Arc<Lighting>>) -> Option<Shading> {
         if !polygon.is_shaded() {
             return None;
         }
@@ -143,7 +177,7 @@ impl Shading {
                 let c = polygon.colours[0];
                 [0, 1, 2].map(|k| DVec4::new(0.0, 0.0, 1.0, -c[k]))
             });
-        Some(Shading::new(planes))
+        Some(Shading::new(planes).lit(lighting, polygon.colour))
     }
 
     /// The colour planes, divided by their colour coefficient (C = 1).
@@ -151,43 +185,281 @@ impl Shading {
         &self.planes
     }
 
-    /// The colour (unrounded) at the centre of column 0 of `row`, and the step per column:
-    /// column x has `c_row + x·dc` ([`shade_at`]).
+    /// The values (unrounded) at the centre of column 0 of `row`, and the step per column:
+    /// column x has `c_row + x·dc` ([`ShadeRow::at`]).
     #[inline]
-    pub fn row(&self, row: u32) -> (DVec3, DVec3) {
+    pub fn row(&self, row: u32) -> ShadeRow<'_> {
         let y = row as f64 + 0.5;
         let at = |n: DVec4| -(n.x * 0.5 + n.y * y + n.w) + 0.0;
-        (
-            DVec3::new(at(self.planes[0]), at(self.planes[1]), at(self.planes[2])),
-            self.step,
-        )
+        ShadeRow {
+            c_row: DVec3::new(at(self.planes[0]), at(self.planes[1]), at(self.planes[2])),
+            dc: self.step,
+            phong: self.phong.as_ref(),
+        }
     }
 
     /// The finished colour of pixel (x, y).
     #[inline]
     pub fn at(&self, x: u32, y: u32) -> [u8; 3] {
-        let (c_row, dc) = self.row(y);
-        shade_at(c_row, dc, x)
+        self.row(y).at(x)
     }
+}
+
+/// A row of a polygon's shading: the values at column 0 and their step per column.
+#[derive(Clone, Copy, Debug)]
+pub struct ShadeRow<'a> {
+    pub c_row: DVec3,
+    pub dc: DVec3,
+    phong: Option<&'a Phong>,
+}
+
+impl ShadeRow<'_> {
+    /// A row of Gouraud shading: colour `c_row` at column 0, stepping `dc` a column.
+    pub fn gouraud(c_row: DVec3, dc: DVec3) -> Self {
+        ShadeRow {
+            c_row,
+            dc,
+            phong: None,
+        }
+    }
+
+    /// The finished colour of column `x`: Gouraud's interpolated colour
+    /// ([`shade_at`]), or Phong's: the interpolated normal `c_row + x·dc` (the same
+    /// arithmetic), normalized and lit ([`Lighting::colour`]), rounded and clamped as
+    /// Gouraud's is. Every renderer that shades calls this.
+    #[inline]
+    pub fn at(&self, x: u32) -> [u8; 3] {
+        match self.phong {
+            None => shade_at(self.c_row, self.dc, x),
+            Some(p) => {
+                let n = interpolate(self.c_row, self.dc, x).normalize_or_zero();
+                let c = p.lighting.colour(p.base, n);
+                [round(c.x), round(c.y), round(c.z)]
+            }
+        }
+    }
+}
+
+/// `c_row + x·dc` per channel: a multiplication and an addition, each rounded, no fused
+/// multiply-add, as a span's depth.
+#[inline]
+fn interpolate(c_row: DVec3, dc: DVec3, x: u32) -> DVec3 {
+    let x = x as f64;
+    DVec3::new(c_row.x + x * dc.x, c_row.y + x * dc.y, c_row.z + x * dc.z)
+}
+
+/// A channel rounded to the nearest integer (halves away from zero) and clamped to 0–255
+/// (`as u8` saturates, and takes NaN to 0).
+#[inline]
+fn round(v: f64) -> u8 {
+    v.round() as u8
 }
 
 /// The finished colour of column `x` of a row whose colour at column 0 is `c_row`, stepping
 /// `dc` per column: `c_row + x·dc` per channel (a multiplication and an addition, each
 /// rounded, no fused multiply-add, as a span's depth), rounded to the nearest integer
-/// (halves away from zero) and clamped to 0–255. Every renderer that shades calls this.
+/// (halves away from zero) and clamped to 0–255 (Gouraud shading).
 #[inline]
 pub fn shade_at(c_row: DVec3, dc: DVec3, x: u32) -> [u8; 3] {
-    let x = x as f64;
-    let channel = |c: f64, d: f64| -> u8 {
-        let v = c + x * d;
-        // `as u8` saturates, and takes NaN to 0.
-        v.round() as u8
-    };
-    [
-        channel(c_row.x, dc.x),
-        channel(c_row.y, dc.y),
-        channel(c_row.z, dc.z),
-    ]
+    let c = interpolate(c_row, dc, x);
+    [round(c.x), round(c.y), round(c.z)]
+}
+
+/// At most this many lights in a stream's lighting (OpenGL's minimum, `GL_MAX_LIGHTS`):
+/// the header keeps them in a fixed array, so that it stays a plain value.
+pub const MAX_LIGHTS: usize = 8;
+
+/// The illumination of a scene: an ambient term, directional lights and a specular term,
+/// by Phong's model as the sampling thesis describes it ("a linear combination of the
+/// diffuse and specular components", its section on Gouraud and Phong shading). Every
+/// direction is a unit vector in world coordinates, *towards* the light or the viewer, and
+/// both are at infinity (as OpenGL's default, non-local viewer): so the light a surface
+/// gets depends on its normal alone, and normals need not follow the camera into eye space
+/// (a rotation changes no dot product).
+///
+/// A surface of unit normal n and base colour C is lit to
+/// `C·(ambient + Σ I·|n·l|) + 255·specular·Σ I·max(0, r·v)^exponent`,
+/// with `r = 2(n'·l)n' − l` the light reflected about n' (n turned to face the viewer,
+/// and no highlight where n'·l ≤ 0). The diffuse term is two-sided, |n·l|, so a face is
+/// lit from either side (a model's faces may be wound either way); the highlight is white.
+/// `scene` lights vertices with it (Gouraud shading) and the z-buffer lights pixels with it
+/// (Phong shading), so the two differ only in where the light is sampled.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Lighting {
+    /// The ambient term, lit everywhere.
+    pub ambient: f64,
+    /// The specular coefficient (0: none).
+    pub specular: f64,
+    /// Phong's exponent: the larger, the smaller and sharper the highlight.
+    pub exponent: f64,
+    viewer: [f64; 3],
+    count: u8,
+    directions: [[f64; 3]; MAX_LIGHTS],
+    intensities: [f64; MAX_LIGHTS],
+}
+
+impl Default for Lighting {
+    /// One light up, right and towards the viewer, (1, 1.5, 2), of intensity 0.7; ambient
+    /// 0.3; no highlight; the viewer on +z (the default camera's side).
+    fn default() -> Self {
+        let mut lighting = Lighting {
+            ambient: 0.3,
+            specular: 0.0,
+            exponent: 20.0,
+            viewer: [0.0, 0.0, 1.0],
+            count: 0,
+            directions: [[0.0; 3]; MAX_LIGHTS],
+            intensities: [0.0; MAX_LIGHTS],
+        };
+        lighting
+            .set_lights(&[(DVec3::new(1.0, 1.5, 2.0).normalize(), 0.7)])
+            .expect("one light");
+        lighting
+    }
+}
+
+impl Lighting {
+    /// The lights: each a unit direction towards it and an intensity.
+    pub fn lights(&self) -> impl Iterator<Item = (DVec3, f64)> + '_ {
+        self.directions[..self.count as usize]
+            .iter()
+            .zip(&self.intensities)
+            .map(|(d, &i)| (DVec3::from_array(*d), i))
+    }
+
+    /// The unit direction towards the viewer.
+    pub fn viewer(&self) -> DVec3 {
+        DVec3::from_array(self.viewer)
+    }
+
+    /// Replaces the lights: 1 to [`MAX_LIGHTS`] of them, each a direction (normalized
+    /// here) and a finite intensity ≥ 0.
+    pub fn set_lights(&mut self, lights: &[(DVec3, f64)]) -> Result<(), String> {
+        if lights.is_empty() || lights.len() > MAX_LIGHTS {
+            return Err(format!(
+                "{} lights: a lighting has 1 to {MAX_LIGHTS}",
+                lights.len()
+            ));
+        }
+        for (k, &(d, i)) in lights.iter().enumerate() {
+            let Some(d) = unit(d) else {
+                return Err(format!("light {k} has no direction (0 0 0, or not finite)"));
+            };
+            if !(i.is_finite() && i >= 0.0) {
+                return Err(format!("light {k}'s intensity {i} must be 0 or more"));
+            }
+            self.directions[k] = d.to_array();
+            self.intensities[k] = i;
+        }
+        self.directions[lights.len()..].fill([0.0; 3]);
+        self.intensities[lights.len()..].fill(0.0);
+        self.count = lights.len() as u8;
+        Ok(())
+    }
+
+    /// Sets the direction towards the viewer (normalized here).
+    pub fn set_viewer(&mut self, v: DVec3) -> Result<(), String> {
+        let v = unit(v)
+            .ok_or_else(|| "the viewer has no direction (0 0 0, or not finite)".to_string())?;
+        self.viewer = v.to_array();
+        Ok(())
+    }
+
+    /// Whether every number is in range: what a reader checks before trusting a header.
+    pub fn check(&self) -> Result<(), String> {
+        let count = self.count as usize;
+        if count > MAX_LIGHTS {
+            return Err(format!("{count} lights: a lighting has 1 to {MAX_LIGHTS}"));
+        }
+        let mut copy = *self;
+        let lights: Vec<_> = self.lights().collect();
+        copy.set_lights(&lights)?;
+        copy.set_viewer(self.viewer())?;
+        if copy != *self {
+            return Err(
+                "a light's or the viewer's direction is not a unit vector, or an \
+                        unused light is not zero"
+                    .to_string(),
+            );
+        }
+        if !(self.ambient.is_finite() && self.ambient >= 0.0) {
+            return Err(format!(
+                "the ambient term {} must be 0 or more",
+                self.ambient
+            ));
+        }
+        if !(self.specular.is_finite() && self.specular >= 0.0) {
+            return Err(format!(
+                "the specular term {} must be 0 or more",
+                self.specular
+            ));
+        }
+        if !(self.exponent.is_finite() && self.exponent >= 1.0) {
+            return Err(format!(
+                "the specular exponent {} must be 1 or more",
+                self.exponent
+            ));
+        }
+        Ok(())
+    }
+
+    /// The diffuse factor for the unit normal `n`: ambient + Σ I·|n·l| (the ambient term
+    /// alone for a zero normal).
+    pub fn diffuse(&self, n: DVec3) -> f64 {
+        self.ambient
+            + self
+                .lights()
+                .map(|(l, intensity)| intensity * n.dot(l).abs())
+                .sum::<f64>()
+    }
+
+    /// The specular term for the unit normal `n`: specular·Σ I·max(0, r·v)^exponent.
+    pub fn highlight(&self, n: DVec3) -> f64 {
+        if self.specular == 0.0 {
+            return 0.0;
+        }
+        let v = self.viewer();
+        let n = if n.dot(v) < 0.0 { -n } else { n };
+        let sum: f64 = self
+            .lights()
+            .map(|(l, intensity)| {
+                let nl = n.dot(l);
+                if nl <= 0.0 {
+                    return 0.0;
+                }
+                let rv = (2.0 * nl * n - l).dot(v);
+                if rv <= 0.0 {
+                    0.0
+                } else {
+                    intensity * rv.powf(self.exponent)
+                }
+            })
+            .sum();
+        self.specular * sum
+    }
+
+    /// The colour `base` (0–255 per channel) lit for the unit normal `n`, unrounded and
+    /// unclamped: `base·diffuse(n) + 255·highlight(n)`.
+    pub fn colour(&self, base: DVec3, n: DVec3) -> DVec3 {
+        let lit = base * self.diffuse(n);
+        let h = self.highlight(n);
+        if h == 0.0 {
+            lit
+        } else {
+            lit + DVec3::splat(255.0 * h)
+        }
+    }
+}
+
+/// `d` as a unit vector: as it is where its length is 1 to within rounding (so that a
+/// direction normalized once, written and read back, keeps its bits), else normalized;
+/// `None` for a zero or non-finite vector.
+fn unit(d: DVec3) -> Option<DVec3> {
+    if d.is_finite() && (d.length_squared() - 1.0).abs() <= 8.0 * f64::EPSILON {
+        Some(d)
+    } else {
+        d.try_normalize()
+    }
 }
 
 /// A vertex colour from whole numbers (tests and scene generators).
@@ -272,8 +544,8 @@ mod tests {
         let fitted = screen_colour_planes(&projected, &colours).unwrap();
         let (a, b) = (Shading::new(screen), Shading::new(fitted));
         for (x, y) in [(0, 0), (100, 50), (150, 20), (199, 99)] {
-            let (ca, _) = a.row(y);
-            let (cb, _) = b.row(y);
+            let ca = a.row(y).c_row;
+            let cb = b.row(y).c_row;
             let step = a.step * x as f64 - b.step * x as f64;
             assert!((ca - cb + step).abs().max_element() < 1e-9, "({x}, {y})");
         }
@@ -290,5 +562,67 @@ mod tests {
         assert_eq!(eye_colour_planes(&behind, &c), None);
         let line = [v(0.0, 0.0, 0.0), v(1.0, 1.0, 0.0), v(2.0, 2.0, 0.0)];
         assert_eq!(screen_colour_planes(&line, &c), None);
+    }
+
+    #[test]
+    fn lighting_by_phongs_model() {
+        let mut l = Lighting::default();
+        l.set_lights(&[(DVec3::Z, 0.5)]).unwrap();
+        l.ambient = 0.2;
+        let base = DVec3::new(200.0, 100.0, 0.0);
+        // Facing the light: 0.2 + 0.5; turned away it is lit the same (two-sided).
+        assert_eq!(l.colour(base, DVec3::Z), base * 0.7);
+        assert_eq!(l.colour(base, -DVec3::Z), base * 0.7);
+        // Edge-on: the ambient term alone.
+        assert_eq!(l.colour(base, DVec3::X), base * 0.2);
+        // A highlight of 0.5·0.5·(r·v)^N: r = v where n halves l and v.
+        l.specular = 0.5;
+        l.exponent = 10.0;
+        l.set_lights(&[(DVec3::new(1.0, 0.0, 1.0), 1.0)]).unwrap();
+        let half = DVec3::new(1.0, 0.0, 2f64.sqrt() + 1.0).normalize();
+        assert!((l.highlight(half) - 0.5).abs() < 1e-12);
+        // Seen from behind, the normal is turned to the viewer first.
+        assert!((l.highlight(-half) - 0.5).abs() < 1e-12);
+        // A light behind the surface makes no highlight.
+        assert_eq!(l.highlight(DVec3::new(-1.0, 0.0, 0.0)), 0.0);
+        assert!(l.check().is_ok());
+    }
+
+    #[test]
+    fn directions_normalized_once_keep_their_bits() {
+        let mut l = Lighting::default();
+        let d = DVec3::new(1.0, 1.5, 2.0).normalize();
+        l.set_lights(&[(d, 1.0)]).unwrap();
+        assert_eq!(l.lights().next().unwrap().0, d);
+        l.set_lights(&[(DVec3::new(0.0, 3.0, 0.0), 1.0)]).unwrap();
+        assert_eq!(l.lights().next().unwrap().0, DVec3::Y);
+        assert!(l.set_lights(&[]).is_err());
+        assert!(l.set_lights(&[(DVec3::X, 1.0); MAX_LIGHTS + 1]).is_err());
+        assert!(l.set_lights(&[(DVec3::X, -1.0)]).is_err());
+        assert!(l.set_viewer(DVec3::ZERO).is_err());
+    }
+
+    #[test]
+    fn phong_rows_light_the_interpolated_normal() {
+        let mut l = Lighting::default();
+        l.set_lights(&[(DVec3::Z, 1.0)]).unwrap();
+        l.ambient = 0.0;
+        // Normal planes over the screen: n = (X − 1.5, 0, 1) at X (planes
+        // c = −(a·X + b·Y + d) with a = −1 for x, constant 1 for z).
+        let planes = [
+            DVec4::new(-1.0, 0.0, 1.0, 1.5),
+            DVec4::new(0.0, 0.0, 1.0, 0.0),
+            DVec4::new(0.0, 0.0, 1.0, -1.0),
+        ];
+        let shading = Shading::new(planes).lit(Some(&Arc::new(l)), [100, 200, 255]);
+        let row = shading.row(0);
+        // Column 2's centre X = 2.5: n = (1, 0, 1), so |n̂·z| = 1/√2.
+        let k = 0.5f64.sqrt();
+        let want = [100.0 * k, 200.0 * k, 255.0 * k].map(|c: f64| c.round() as u8);
+        assert_eq!(row.at(2), want);
+        assert_eq!(shading.at(2, 0), want);
+        // Without the lighting, the same planes are colours.
+        let gouraud = Shading::new(planes);
+        assert_eq!(gouraud.at(2, 0), [1, 0, 1]);
     }
 }

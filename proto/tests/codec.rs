@@ -277,12 +277,12 @@ fn binary_version_1_is_refused() {
     v1.extend_from_slice(&[1, 0, 0, 0, 0, 0, 0, 0, 2, 0, 0, 0]);
     assert_eq!(
         decode_err::<Token>(&v1),
-        "byte 8: stream version 1 is not supported (this is version 4)"
+        "byte 8: stream version 1 is not supported (this is version 5)"
     );
     // The text form is still version 1, and says so.
     let text = encode(Header::new(Space::World), &[Token::End], Form::Text);
     assert_eq!(text, b"polypipe 1 world\nEND\n");
-    assert_eq!(Header::new(Space::World).version, 4);
+    assert_eq!(Header::new(Space::World).version, 5);
 }
 
 #[test]
@@ -506,7 +506,7 @@ fn annotations_in_world_space_are_refused() {
     );
     assert_eq!(
         decode_err::<Token>(&bin),
-        "byte 19 (frame 0, polygon 0): an annotated polygon in a world-space stream: \
+        "byte 21 (frame 0, polygon 0): an annotated polygon in a world-space stream: \
          annotations (`plane`, `shade`, `on`) are defined for eye and screen space only"
     );
 }
@@ -652,7 +652,8 @@ fn vertex_colours_shade_and_opacity_round_trip_in_binary() {
     // A stream that does not declare them refuses them, and one that does refuses a
     // polygon without them.
     let undeclared = encode(plain, &tokens, Form::Binary);
-    assert!(decode_err::<Token>(&undeclared).contains("does not declare them (`vertex-colours`)"));
+    assert!(decode_err::<Token>(&undeclared)
+        .contains("declares neither (`vertex-colours`, `vertex-normals`)"));
     let bare = encode(
         header,
         &[
@@ -839,5 +840,98 @@ fn the_depth_form_in_the_header_round_trips_and_is_checked() {
     assert_eq!(
         decode_err::<Token>(&encode(bad, &[Token::End], Form::Binary)),
         "byte 8: the depth form's hither and yon must satisfy 0 < hither < yon"
+    );
+}
+
+/// A Phong-shaded stream (`vertex-normals`): the lighting in the header and each vertex's
+/// normal come back bit for bit from both forms; the text header spells every word; a
+/// header without them is as small as before.
+#[test]
+fn vertex_normals_and_lighting_round_trip() {
+    use proto::shade::Lighting;
+    use proto::{Attributes, DVec3, DVec4};
+    let mut lighting = Lighting::default();
+    lighting.ambient = 0.25;
+    lighting.specular = 0.5;
+    lighting.exponent = 30.0;
+    lighting
+        .set_lights(&[
+            (DVec3::new(1.0, 1.0, 1.0), 0.6),
+            (DVec3::new(-1.0, 0.0, 0.0), 0.3),
+        ])
+        .unwrap();
+    lighting.set_viewer(DVec3::new(0.0, 0.0, 2.0)).unwrap();
+    let header = Header::new(Space::World).with(Attributes {
+        vertex_normals: true,
+        lighting,
+        ..Attributes::default()
+    });
+    let mut p = Polygon::from_xyz(
+        [200, 100, 50],
+        &[[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]],
+    );
+    p.colours = vec![
+        DVec3::new(0.0, 0.0, 1.0),
+        DVec3::new(0.6, 0.0, 0.8),
+        DVec3::new(-0.1, 1e-300, 0.99),
+    ];
+    let tokens = vec![Token::Polygon(p), Token::End];
+    for form in [Form::Binary, Form::Text] {
+        let bytes = encode(header, &tokens, form);
+        assert_eq!(decode::<Token>(&bytes).unwrap(), (header, tokens.clone()));
+    }
+    let text = String::from_utf8(encode(header, &tokens, Form::Text)).unwrap();
+    let first = text.lines().next().unwrap();
+    let s = 1.0 / 3f64.sqrt();
+    assert_eq!(
+        first,
+        format!(
+            "polypipe 1 world vertex-normals ambient 0.25 light {s} {s} {s} 0.6 light -1 0 0 0.3 \
+             specular 0.5 30 viewer 0 0 1"
+        )
+    );
+    assert!(text.contains("\n0 0 0 0 0 1\n1 0 0 0.6 0 0.8\n"), "{text}");
+    // The binary header of a stream without them: two bytes more than version 4's (the
+    // flag, and the absent lighting).
+    let flat = encode::<Token>(Header::new(Space::World), &[], Form::Binary).len();
+    assert_eq!(flat, 8 + 4 + 4 + 1 + 1 + 1 + 1 + 1);
+    // A lighting word read alone; a light replaces the default one.
+    let (h, _) =
+        decode::<Token>(b"polypipe 1 world vertex-normals light 0 2 0 1 specular 1 5\nEND\n")
+            .unwrap();
+    let lights: Vec<_> = h.attributes.lighting.lights().collect();
+    assert_eq!(lights, vec![(DVec3::Y, 1.0)]);
+    assert_eq!(h.attributes.lighting.ambient, 0.3);
+    let _ = DVec4::ZERO;
+}
+
+/// What a Phong-shaded header may not say, each refused at the word.
+#[test]
+fn lighting_words_are_checked() {
+    let err = |s: &str| decode_err::<Token>(format!("{s}\nEND\n").as_bytes());
+    assert_eq!(
+        err("polypipe 1 world ambient 0.5"),
+        "line 1, column 18: lighting words (ambient, light, specular, viewer) in a header \
+         without `vertex-normals`: they light the normals of a Phong-shaded stream"
+    );
+    assert_eq!(
+        err("polypipe 1 world vertex-normals vertex-colours"),
+        "line 1, column 33: the header says both `vertex-colours` and `vertex-normals`: a \
+         vertex carries a colour (Gouraud) or a normal (Phong), not both"
+    );
+    assert!(err("polypipe 1 world vertex-normals light 0 0 0 1")
+        .ends_with("the header's lights: light 0 has no direction (0 0 0, or not finite)"));
+    assert!(err("polypipe 1 world vertex-normals specular 1 0.5")
+        .ends_with("the header's `specular`: the specular exponent 0.5 must be 1 or more"));
+    assert!(err("polypipe 1 world vertex-normals ambient -1")
+        .ends_with("the header's `ambient`: the ambient term -1 must be 0 or more"));
+    let nine = " light 1 0 0 1".repeat(9);
+    assert!(err(&format!("polypipe 1 world vertex-normals{nine}"))
+        .ends_with("the header's `light`: more than 8 lights"));
+    // A vertex of a vertex-normals stream has six numbers: a line of five runs into the
+    // next, and the last vertex comes up short.
+    assert!(
+        err("polypipe 1 world vertex-normals\ncolour 1 2 3\n0 0 0 0 0\n1 0 0 0 0 1\n0 1 0 0 0 1")
+            .contains("expected the z of vertex 2's normal (the header says `vertex-normals`: nx ny nz after the coordinates), found `END`"),
     );
 }

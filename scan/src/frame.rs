@@ -15,9 +15,10 @@
 
 use crate::region::{RegionBuffer, Run};
 use crate::walk::SpanWalker;
-use proto::shade::{shade_at, Shading};
+use proto::shade::{Lighting, Shading};
 use proto::{Colour, Polygon};
 use std::ops::Range;
+use std::sync::Arc;
 
 /// A hidden-surface method that resolves a whole frame at once.
 pub trait HiddenSurface {
@@ -39,6 +40,11 @@ pub trait HiddenSurface {
         false
     }
 
+    /// The lighting of a Phong-shaded stream (its header says `vertex-normals`), given
+    /// before the first frame: a method that shades lights each pixel of a shaded polygon
+    /// by it ([`proto::shade::Shading::of`]); `None` for a Gouraud or flat stream.
+    fn set_lighting(&mut self, _lighting: Option<Arc<Lighting>>) {}
+
     /// Whether the method draws polygons of opacity below 255 as transparent; a stage whose
     /// method does not refuses such a polygon rather than draw it opaque.
     fn transparency(&self) -> bool {
@@ -52,6 +58,7 @@ pub trait HiddenSurface {
 pub struct ZBuffer {
     walker: SpanWalker,
     region: Option<RegionBuffer>,
+    lighting: Option<Arc<Lighting>>,
 }
 
 impl ZBuffer {
@@ -67,7 +74,7 @@ impl HiddenSurface for ZBuffer {
             slot => slot.insert(RegionBuffer::new(width, height)),
         };
         for p in polygons {
-            if let Some(shading) = proto::shade::Shading::of(p) {
+            if let Some(shading) = proto::shade::Shading::of(p, self.lighting.as_ref()) {
                 self.walker
                     .for_each_span(p, width, height, |s| region.draw_shaded(&s, &shading));
                 continue;
@@ -84,6 +91,10 @@ impl HiddenSurface for ZBuffer {
 
     fn shades(&self) -> bool {
         true
+    }
+
+    fn set_lighting(&mut self, lighting: Option<Arc<Lighting>>) {
+        self.lighting = lighting;
     }
 
     fn stats(&self) -> String {
@@ -155,10 +166,11 @@ pub fn push_row_runs_at(y: u32, x0: u32, row: &[Option<Colour>], runs: &mut Vec<
     }
 }
 
-/// Columns `columns` of row `y` of a Gouraud-shaded polygon (docs/DESIGN.md, "Shading"),
-/// each pixel in its colour planes' value at its centre, as [`proto::shade`] computes it
-/// (the row's colour once, then [`shade_at`] per pixel, exactly as the z-buffer's shaded
-/// span): handed to `paint(x0, x1, colour)` as maximal runs of one colour, left to right.
+/// Columns `columns` of row `y` of a Gouraud- or Phong-shaded polygon (docs/DESIGN.md,
+/// "Shading"), each pixel in its colour at its centre, as [`proto::shade`] computes it
+/// (the row once, then [`proto::shade::ShadeRow::at`] per pixel, exactly as the z-buffer's
+/// shaded span): handed to `paint(x0, x1, colour)` as maximal runs of one colour, left to
+/// right.
 /// How the methods that decide a span's visible polygon and send runs (scan line, area
 /// subdivision, depth sort) draw a shaded one: a run of equal colours is one record, so a
 /// shallow gradient costs less than a pixel each.
@@ -172,11 +184,11 @@ pub fn shaded_runs(
     if columns.is_empty() {
         return;
     }
-    let (c_row, dc) = shading.row(y);
+    let row = shading.row(y);
     let mut x0 = columns.start;
-    let mut colour = shade_at(c_row, dc, x0);
+    let mut colour = row.at(x0);
     for x in columns.start + 1..columns.end {
-        let c = shade_at(c_row, dc, x);
+        let c = row.at(x);
         if c != colour {
             paint(x0, x, colour);
             (x0, colour) = (x, c);

@@ -48,14 +48,17 @@ pub fn resolve_frames(
     method: &mut impl HiddenSurface,
 ) -> Result<FrameCounts> {
     let mut input = read_stdin::<Token>(SpaceKind::Screen)?;
-    if input.header().attributes.vertex_colours && !method.shades() {
-        return Err(Error::usage(format!(
-            "{stage} draws each polygon in one colour, and this stream is Gouraud-shaded \
-             (its header says `vertex-colours`); shading is drawn by every hidden-surface \
-             method (render.sh --hse zbuf, scanline, warnock, painter) and by anti-aliasing \
-             (--aa ssK, abuf)"
-        )));
+    if let Some((name, word)) = input.header().attributes.smooth_shading() {
+        if !method.shades() {
+            return Err(Error::usage(format!(
+                "{stage} draws each polygon in one colour, and this stream is {name}-shaded \
+                 (its header says `{word}`); shading is drawn by every hidden-surface method \
+                 (render.sh --hse zbuf, scanline, warnock, painter) and by anti-aliasing \
+                 (--aa ssK, abuf)"
+            )));
+        }
     }
+    method.set_lighting(input.header().attributes.phong());
     let (width, height) = input
         .header()
         .space

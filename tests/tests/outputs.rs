@@ -183,38 +183,47 @@ fn gallery_pictures_are_what_their_commands_make() {
     let out = format!("{}/", dir.path().display());
     let mut checked = Vec::new();
     for block in readme_blocks("## Gallery") {
-        let Some(at) = block.find("-o docs/images/") else {
+        // Every picture the block writes (a block may write several, e.g. a row of
+        // shadings).
+        let names: Vec<String> = block
+            .match_indices("-o docs/images/")
+            .map(|(at, m)| {
+                block[at + m.len()..]
+                    .split_whitespace()
+                    .next()
+                    .unwrap()
+                    .to_string()
+            })
+            .collect();
+        if names.is_empty() {
             continue;
-        };
-        let name = block[at + "-o docs/images/".len()..]
-            .split_whitespace()
-            .next()
-            .unwrap()
-            .to_string();
-        assert!(name.ends_with(".png"), "{name}");
-        let committed = repo_root().join("docs/images").join(&name);
-        let size = std::fs::metadata(&committed)
-            .unwrap_or_else(|e| panic!("{}: {e}", committed.display()))
-            .len();
-        assert!(size < 64 * 1024, "{name} is {size} bytes");
-        assert!(
-            readme.contains(&format!("(docs/images/{name})"))
-                || readme.contains(&format!("src=\"docs/images/{name}\"")),
-            "{name} is rendered but not shown"
-        );
+        }
         run(&format!(
             "B=target/release\n{}",
             block.replace("docs/images/", &out)
         ));
-        let made = read_png(&dir.path().join(&name));
-        assert!(
-            made == read_png(&committed),
-            "docs/images/{name} is not what its README command makes now; run the command \
-             in README.md's Gallery to update it (and look at it)"
-        );
-        checked.push(name);
+        for name in names {
+            assert!(name.ends_with(".png"), "{name}");
+            let committed = repo_root().join("docs/images").join(&name);
+            let size = std::fs::metadata(&committed)
+                .unwrap_or_else(|e| panic!("{}: {e}", committed.display()))
+                .len();
+            assert!(size < 64 * 1024, "{name} is {size} bytes");
+            assert!(
+                readme.contains(&format!("(docs/images/{name})"))
+                    || readme.contains(&format!("src=\"docs/images/{name}\"")),
+                "{name} is rendered but not shown"
+            );
+            let made = read_png(&dir.path().join(&name));
+            assert!(
+                made == read_png(&committed),
+                "docs/images/{name} is not what its README command makes now; run the \
+                 command in README.md's Gallery to update it (and look at it)"
+            );
+            checked.push(name);
+        }
     }
-    assert!(checked.len() >= 8, "only {checked:?}");
+    assert!(checked.len() >= 13, "only {checked:?}");
 
     // The movie with --progress: stderr is a pipe here, so --progress prints nothing.
     let movie = readme_blocks("## Gallery")

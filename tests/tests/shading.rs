@@ -1,4 +1,5 @@
-//! Gouraud shading through the pipeline (docs/DESIGN.md, "Shading"): a stream that
+//! Gouraud shading through the pipeline (docs/DESIGN.md, "Shading"; Phong's in phong.rs,
+//! and here through the methods other than the z-buffer): a stream that
 //! declares `vertex-colours` is shaded by every stage alike. Through `scripts/render.sh`
 //! at tree depths 0 to 3, in both merge modes and with either clipper, its frames are
 //! `zspec`'s byte for byte; and a triangle's pixels are, to within one level a channel, a
@@ -75,6 +76,43 @@ fn every_exact_method_shades_as_zspec_does() {
             }
         }
     }
+}
+
+/// Phong shading (a `vertex-normals` stream, its lighting in the header) goes through the
+/// same calls: scanline, warnock and the painter light each visible pixel as the z-buffer
+/// does, so examples/phong.txt is `zspec`'s at every depth; the a-buffer lights each
+/// fragment at its pixel centre, the same frame at every depth, and zspec's colour
+/// wherever one polygon covers the pixel (all but 166 edge pixels of 7,680).
+#[test]
+fn the_other_methods_light_a_phong_stream_as_zspec_does() {
+    let reference = run("zspec --size 96x80 < examples/phong.txt");
+    for method in ["scanline", "warnock", "painter", "painter --split"] {
+        for depth in 0..=3 {
+            let ppm = run(&format!(
+                "scripts/render.sh --size 96x80 --hse {method} --depth {depth} examples/phong.txt"
+            ));
+            assert!(ppm == reference, "--hse {method} --depth {depth}");
+        }
+    }
+    let abuf = |depth: u32| {
+        run(&format!(
+            "scripts/render.sh --size 96x80 --aa abuf --depth {depth} examples/phong.txt"
+        ))
+    };
+    let at_0 = abuf(0);
+    for depth in 1..=3 {
+        assert!(abuf(depth) == at_0, "--aa abuf --depth {depth}");
+    }
+    let (a, z) = (frame(&at_0), frame(&reference));
+    let differ = a
+        .pixels
+        .iter()
+        .zip(&z.pixels)
+        .filter(|(p, q)| p != q)
+        .count();
+    let lit = z.pixels.iter().filter(|p| **p != [0, 0, 0]).count();
+    assert!(lit > 4000, "{lit} pixels lit");
+    assert!(differ <= 200, "{differ} pixels differ from zspec's");
 }
 
 /// A triangle's screen-space Gouraud colour at every pixel centre it covers, computed

@@ -53,11 +53,12 @@
 pub mod list;
 
 use list::{Fragment, ListStats, Mask, Packer, PixelStruct};
-use proto::shade::{shade_at, Shading};
+use proto::shade::{Lighting, Shading};
 use proto::{Colour, Polygon};
 use scan::fine::{scaled, ActiveRows, Extent};
 use scan::frame::{push_row_runs_at, HiddenSurface};
 use scan::{depth_at, Depth, DepthPlane, Run, SpanWalker};
+use std::sync::Arc;
 
 /// Sub-pixel samples a side.
 pub const K: u32 = 8;
@@ -90,6 +91,8 @@ pub struct ABuffer {
     /// The frame's polygons' Gouraud shading on the screen of pixels, in stream order,
     /// when any is shaded (empty for a flat frame).
     shadings: Vec<Option<Shading>>,
+    /// The stream's lighting, for Phong shading.
+    lighting: Option<Arc<Lighting>>,
     /// Per cull block of the current row (from its first column): the occluding depth,
     /// whether it must be worked out again, whether the current polygon is left out.
     occluding: Vec<Depth>,
@@ -129,6 +132,7 @@ impl ABuffer {
             planes: Vec::new(),
             columns: Vec::new(),
             shadings: Vec::new(),
+            lighting: None,
             occluding: Vec::new(),
             stale: Vec::new(),
             culled: Vec::new(),
@@ -159,6 +163,7 @@ impl ABuffer {
 
     /// Scan converts the `active` polygons (stream order) over pixel row `r`'s eight
     /// sub-scanlines, columns `cols`, into the row's a-buffer; packs it; pushes its runs.
+    /// `shadings` are the frame's polygons' shadings (empty for a flat frame).
     fn draw_row(
         &mut self,
         r: u32,
@@ -166,6 +171,7 @@ impl ABuffer {
         cols: std::ops::Range<u32>,
         fine_w: u32,
         runs: &mut Vec<Run>,
+        shadings: &[Option<Shading>],
     ) {
         let n = (cols.end - cols.start) as usize;
         if self.masks.len() < n {
@@ -314,16 +320,12 @@ impl ABuffer {
             // polygon's fragment takes its colour at the pixel centre: the a-buffer keeps
             // one colour a fragment.
             let colour = self.fine[i as usize].colour;
-            let shaded = match self.shadings.get(i as usize) {
-                Some(Some(shading)) => Some(shading.row(r)),
-                _ => None,
-            };
-            match shaded {
-                Some((c_row, dc)) => {
-                    let x0 = cols.start;
-                    self.insert_fragments(i, |c| shade_at(c_row, dc, x0 + c));
+            match shadings.get(i as usize) {
+                Some(Some(shading)) => {
+                    let (row, x0) = (shading.row(r), cols.start);
+                    self.insert_fragments(i, |c| row.at(x0 + c));
                 }
-                None => self.insert_fragments(i, |_| colour),
+                _ => self.insert_fragments(i, |_| colour),
             }
             self.touched.clear();
         }
@@ -384,17 +386,22 @@ impl HiddenSurface for ABuffer {
         );
         self.shadings.clear();
         if polygons.iter().any(Polygon::is_shaded) {
-            self.shadings.extend(polygons.iter().map(Shading::of));
+            let lighting = self.lighting.as_ref();
+            self.shadings
+                .extend(polygons.iter().map(|p| Shading::of(p, lighting)));
         }
         self.rows.start(polygons, width, height);
         let mut from = self.rows.first_row().unwrap_or(height);
         let mut active = Vec::new();
+        // Lent to the rows, which borrow the a-buffer mutably.
+        let shadings = std::mem::take(&mut self.shadings);
         while let Some((r, cols)) = self.rows.next_row(from, height) {
             active.clear();
             active.extend_from_slice(self.rows.indices());
-            self.draw_row(r, &active, cols, width * K, runs);
+            self.draw_row(r, &active, cols, width * K, runs, &shadings);
             from = r + 1;
         }
+        self.shadings = shadings;
         self.fine.clear();
     }
 
@@ -404,9 +411,15 @@ impl HiddenSurface for ABuffer {
         true
     }
 
-    /// A Gouraud-shaded polygon's fragment has its colour at the pixel centre.
+    /// A Gouraud- or Phong-shaded polygon's fragment has its colour at the pixel centre.
     fn shades(&self) -> bool {
         true
+    }
+
+    /// The lighting of a Phong-shaded stream: each fragment of a shaded polygon is lit
+    /// by it at the pixel centre.
+    fn set_lighting(&mut self, lighting: Option<Arc<Lighting>>) {
+        self.lighting = lighting;
     }
 
     fn stats(&self) -> String {

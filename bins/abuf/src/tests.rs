@@ -513,7 +513,7 @@ fn a_shaded_fragment_has_its_colour_at_the_pixel_centre() {
         [7.6, 5.5, 0.6],
         [0.3, 5.5, 0.5],
     ]);
-    let shading = proto::shade::Shading::of(&p).expect("shaded");
+    let shading = proto::shade::Shading::of(&p, None).expect("shaded");
     let image = render(std::slice::from_ref(&p), 8, 6, [0; 3]);
     let mut distinct = std::collections::HashSet::new();
     for y in 1..5 {
@@ -555,7 +555,7 @@ fn a_transparent_shaded_polygon_blends_its_colour_at_the_centre_by_eq_6_5() {
             [0.0, 4.0, 0.7],
         ],
     );
-    let shading = proto::shade::Shading::of(&front).expect("shaded");
+    let shading = proto::shade::Shading::of(&front, None).expect("shaded");
     // Either order in the stream: the list is sorted by depth.
     for polys in [[front.clone(), back.clone()], [back, front]] {
         let image = render(&polys, 6, 4, [0; 3]);

@@ -64,13 +64,13 @@ fn main() -> ExitCode {
             .transpose()
             .map_err(Error::usage)?;
         let mut input = stagecli::read_stdin::<Token>(SpaceKind::Screen)?;
-        if input.header().attributes.vertex_colours {
-            return Err(Error::usage(
+        if let Some((name, word)) = input.header().attributes.smooth_shading() {
+            return Err(Error::usage(format!(
                 "hiddenline strokes each polygon's edges in its one colour, and this stream \
-                 is Gouraud-shaded (its header says `vertex-colours`); shading is drawn by \
-                 every hidden-surface method (render.sh --hse zbuf, scanline, warnock, \
-                 painter) and by anti-aliasing (--aa ssK, abuf)",
-            ));
+                 is {name}-shaded (its header says `{word}`); shading is drawn by every \
+                 hidden-surface method (render.sh --hse zbuf, scanline, warnock, painter) and \
+                 by anti-aliasing (--aa ssK, abuf)"
+            )));
         }
         let (width, height) = input
             .header()

@@ -62,11 +62,12 @@
 //! wholly nearer than P reaches: every one after it is nearer still.
 
 use proto::geometry::{newell_plane, Plane, Side};
-use proto::shade::Shading;
+use proto::shade::{Lighting, Shading};
 use proto::{Colour, DVec2, DVec3, DVec4, Polygon, Vertex};
 use scan::frame::{push_row_runs, shaded_runs, HiddenSurface};
 use scan::{Run, SpanWalker};
 use std::collections::VecDeque;
+use std::sync::Arc;
 
 /// The five tests of Newell, Newell and Sancha, in the order they are tried.
 pub const TESTS: [&str; 5] = [
@@ -520,6 +521,8 @@ pub struct Painter {
     walker: SpanWalker,
     /// The colour-only frame, row-major (no depth buffer).
     frame: Vec<Option<Colour>>,
+    /// The stream's lighting, for Phong shading.
+    lighting: Option<Arc<Lighting>>,
     pub stats: PainterStats,
 }
 
@@ -752,7 +755,7 @@ impl HiddenSurface for Painter {
             // Paint P over what is there.
             list.pop_front();
             // A piece is shaded by the whole polygon it was cut from.
-            let shading = Shading::of(&polygons[items[p].index]);
+            let shading = Shading::of(&polygons[items[p].index], self.lighting.as_ref());
             self.paint(&items[p].polygon, shading.as_ref(), width, height);
             generation += 1;
             moves = 0;
@@ -763,10 +766,15 @@ impl HiddenSurface for Painter {
         }
     }
 
-    /// A Gouraud-shaded polygon is painted in its colour at each pixel centre (its
-    /// pieces in the whole's), as the z-buffer draws it.
+    /// A Gouraud- or Phong-shaded polygon is painted in its colour at each pixel centre
+    /// (its pieces in the whole's), as the z-buffer draws it.
     fn shades(&self) -> bool {
         true
+    }
+
+    /// The lighting of a Phong-shaded stream: each pixel of a shaded polygon is lit by it.
+    fn set_lighting(&mut self, lighting: Option<Arc<Lighting>>) {
+        self.lighting = lighting;
     }
 
     fn stats(&self) -> String {

@@ -243,7 +243,7 @@ fn shaded_squares_and_their_pieces_are_shaded_as_the_whole() {
     assert!(s.stats.splits > 0, "{:?}", s.stats);
     let picture = paint(&mut Painter::with_split(), &polygons, 20, 20);
     // Pixel (0, 0), centre (0.5, 0.5), is red's alone, its colour the plane's there.
-    let red_shading = Shading::of(&polygons[0]).expect("shaded");
+    let red_shading = Shading::of(&polygons[0], None).expect("shaded");
     assert_eq!(picture[0], Some(red_shading.at(0, 0)));
     let colours: std::collections::HashSet<_> = picture.iter().flatten().collect();
     assert!(colours.len() > 200, "{} colours", colours.len());

@@ -58,6 +58,9 @@ pub struct ScanConverter {
     /// Where rounding in a coarse depth form decides ties, in [`Output::Resolve`] only
     /// ([`scan::precision`]).
     watch: Option<QuantumWatch>,
+    /// The lighting of a Phong-shaded stream, in [`Output::Resolve`]
+    /// ([`ScanConverter::light`]).
+    lighting: Option<std::sync::Arc<proto::shade::Lighting>>,
     pub stats: Stats,
 }
 
@@ -70,6 +73,7 @@ impl ScanConverter {
             walker: SpanWalker::new(),
             region: (output == Output::Resolve).then(|| RegionBuffer::new(width, height)),
             watch: None,
+            lighting: None,
             stats: Stats::default(),
         }
     }
@@ -81,6 +85,13 @@ impl ScanConverter {
         if self.output == Output::Resolve {
             self.watch = QuantumWatch::for_form(form, self.width, self.height);
         }
+    }
+
+    /// When resolving a Phong-shaded stream (its header says `vertex-normals`), light its
+    /// pixels by the header's lighting (`attributes.phong()`); sending fragments, the
+    /// merger lights them.
+    pub fn light(&mut self, lighting: Option<std::sync::Arc<proto::shade::Lighting>>) {
+        self.lighting = lighting;
     }
 
     /// At a frame's end (`frame` from 0): the warning for it, when rounding decided some
@@ -112,7 +123,10 @@ impl ScanConverter {
         let covered = match (self.output, &mut self.region) {
             (Output::Resolve, Some(region)) => {
                 let colour = polygon.colour;
-                match (&mut self.watch, Shading::of(polygon)) {
+                match (
+                    &mut self.watch,
+                    Shading::of(polygon, self.lighting.as_ref()),
+                ) {
                     (None, None) => self
                         .walker
                         .for_each_span(polygon, width, height, |s| region.draw(&s, colour)),
@@ -195,14 +209,15 @@ impl ScanConverter {
     }
 }
 
-/// A Gouraud-shaded polygon's colour planes, as three `shade` records after its colour
-/// record (docs/DESIGN.md, "Fragment records"): one record a channel a polygon, where
-/// per-span gradients would be six numbers a span. Nothing for a flat polygon.
+/// A Gouraud-shaded polygon's colour planes (a Phong-shaded one's normal planes), as three
+/// `shade` records after its colour record (docs/DESIGN.md, "Fragment records"): one
+/// record a channel a polygon, where per-span gradients would be six numbers a span.
+/// Nothing for a flat polygon.
 fn emit_shade<E>(
     polygon: &proto::Polygon,
     emit: &mut impl FnMut(Fragment) -> Result<(), E>,
 ) -> Result<(), E> {
-    if let Some(shading) = Shading::of(polygon) {
+    if let Some(shading) = Shading::of(polygon, None) {
         for (channel, plane) in shading.planes().iter().enumerate() {
             emit(Fragment::Shade {
                 channel: channel as u8,

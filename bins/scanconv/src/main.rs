@@ -65,6 +65,7 @@ fn main() -> ExitCode {
         };
         let mut sc = ScanConverter::new(width, height, output);
         sc.watch_depth(attributes.depth);
+        sc.light(attributes.phong());
         let mut frame = 0u64;
         let warn = |sc: &mut ScanConverter, frame: &mut u64| {
             if let Some(message) = sc.quantum_warning(*frame) {

@@ -78,11 +78,12 @@
 //! *visible* complexity") are kept in [`ScanlineStats`].
 
 use proto::raster::centres_in_clamped;
-use proto::shade::Shading;
+use proto::shade::{Lighting, Shading};
 use proto::{Colour, Polygon};
 use scan::frame::{shaded_runs, HiddenSurface};
 use scan::{depth_at, Depth, DepthPlane, Run, SpanWalker};
 use std::ops::Range;
+use std::sync::Arc;
 
 /// Counters over all frames, for `--stats`.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -267,6 +268,8 @@ pub struct Scanline {
     /// The frame's polygons' Gouraud shading, by stream index, when any is shaded (empty
     /// for a flat frame).
     shadings: Vec<Option<Shading>>,
+    /// The stream's lighting, for Phong shading.
+    lighting: Option<Arc<Lighting>>,
     pub stats: ScanlineStats,
     /// Without the coherence from line to line, to measure what it buys: the segments
     /// sorted afresh on every line, and no prediction from the line above (`--sort-afresh`).
@@ -813,7 +816,9 @@ impl HiddenSurface for Scanline {
         // centre (docs/DESIGN.md, "Shading"); a flat frame keeps no table.
         self.shadings.clear();
         if polygons.iter().any(Polygon::is_shaded) {
-            self.shadings.extend(polygons.iter().map(Shading::of));
+            let lighting = self.lighting.as_ref();
+            self.shadings
+                .extend(polygons.iter().map(|p| Shading::of(p, lighting)));
         }
 
         let mut next = 0;
@@ -954,10 +959,15 @@ impl HiddenSurface for Scanline {
         }
     }
 
-    /// A Gouraud-shaded polygon's visible spans take its colour at each pixel centre,
-    /// as the z-buffer's do.
+    /// A Gouraud- or Phong-shaded polygon's visible spans take its colour at each pixel
+    /// centre, as the z-buffer's do.
     fn shades(&self) -> bool {
         true
+    }
+
+    /// The lighting of a Phong-shaded stream: each pixel of a shaded polygon is lit by it.
+    fn set_lighting(&mut self, lighting: Option<Arc<Lighting>>) {
+        self.lighting = lighting;
     }
 
     fn stats(&self) -> String {

@@ -80,8 +80,14 @@ enum Command {
         radius: f64,
         /// Light each vertex instead of each face, as vertex colours (the header says
         /// `vertex-colours`): the sphere is Gouraud-shaded.
-        #[arg(long)]
+        #[arg(long, conflicts_with = "phong")]
         gouraud: bool,
+        /// Send each vertex's normal instead, with the lighting in the header
+        /// (`vertex-normals`): the z-buffer lights each pixel, Phong shading.
+        #[arg(long)]
+        phong: bool,
+        #[command(flatten)]
+        lights: LightArgs,
     },
     /// Two intersecting spheres (Archuleta's figure 1).
     #[command(after_help = "Example:\n  scene spheres --stacks 16 --slices 32 --text")]
@@ -186,22 +192,82 @@ enum Command {
         /// Light each vertex instead, by its normal (the file's `vn`, or the normals of
         /// the faces that meet there averaged within --crease), as vertex colours: the
         /// model is Gouraud-shaded (render.sh draws it with --hse zbuf or --aa ssK).
-        #[arg(long)]
+        #[arg(long, conflicts_with = "phong")]
         gouraud: bool,
-        /// With --gouraud: faces that meet at a sharper angle than this, in degrees, are
-        /// not smoothed across their edge.
+        /// Send the same vertex normals instead, with the lighting in the header
+        /// (`vertex-normals`): the z-buffer lights each pixel, Phong shading.
+        #[arg(long, conflicts_with = "shade")]
+        phong: bool,
+        /// With --gouraud or --phong: faces that meet at a sharper angle than this, in
+        /// degrees, are not smoothed across their edge.
         #[arg(long, value_name = "DEGREES", default_value_t = 60.0, value_parser = crease)]
         crease: f64,
-        /// With --shade or --gouraud: a directional light towards X,Y,Z (world
-        /// coordinates) of intensity I (default 1); repeatable, for several lights. Without
-        /// it, one light towards 1,1.5,2 of intensity 0.7. A surface is lit by ambient +
-        /// Σ I·|n·l|, the colour multiplied by that and clamped.
-        #[arg(long, value_name = "X,Y,Z[,I]", value_parser = light, allow_hyphen_values = true)]
-        light: Vec<(DVec3, f64)>,
-        /// With --shade or --gouraud: the ambient term, lit everywhere.
-        #[arg(long, value_name = "A", default_value_t = 0.3, value_parser = ambient)]
-        ambient: f64,
+        #[command(flatten)]
+        lights: LightArgs,
     },
+}
+
+/// The lighting of `--shade`, `--gouraud` and `--phong` (proto's `Lighting`: Phong's
+/// model, lights and viewer at infinity, two-sided diffuse).
+#[derive(clap::Args, Debug)]
+struct LightArgs {
+    /// A directional light towards X,Y,Z (world coordinates) of intensity I (default 1);
+    /// repeatable, up to 8. Without it, one light towards 1,1.5,2 of intensity 0.7. A
+    /// surface of colour C and unit normal n is lit to C·(ambient + Σ I·|n·l|) +
+    /// 255·KS·Σ I·max(0, r·v)^N, clamped.
+    #[arg(long, value_name = "X,Y,Z[,I]", value_parser = light, allow_hyphen_values = true)]
+    light: Vec<(DVec3, f64)>,
+    /// The ambient term, lit everywhere.
+    #[arg(long, value_name = "A", default_value_t = 0.3, value_parser = ambient)]
+    ambient: f64,
+    /// A white highlight: coefficient KS and Phong's exponent N (N ≥ 1: the larger, the
+    /// sharper). Without it, none.
+    #[arg(long, value_name = "KS,N", value_parser = specular)]
+    specular: Option<(f64, f64)>,
+    /// The direction towards the viewer, for the highlight (default 0,0,1: the default
+    /// camera's side). Give the camera's direction when --eye moves it.
+    #[arg(long, value_name = "X,Y,Z", value_parser = viewer, allow_hyphen_values = true)]
+    viewer: Option<DVec3>,
+}
+
+impl LightArgs {
+    fn lighting(&self) -> stagecli::Result<proto::shade::Lighting> {
+        let mut lighting = proto::shade::Lighting::default();
+        lighting.ambient = self.ambient;
+        if !self.light.is_empty() {
+            lighting.set_lights(&self.light).map_err(Error::usage)?;
+        }
+        if let Some((ks, n)) = self.specular {
+            lighting.specular = ks;
+            lighting.exponent = n;
+        }
+        if let Some(v) = self.viewer {
+            lighting.set_viewer(v).map_err(Error::usage)?;
+        }
+        Ok(lighting)
+    }
+}
+
+/// A highlight: KS ≥ 0 and N ≥ 1.
+fn specular(s: &str) -> Result<(f64, f64), String> {
+    let [ks, n] = proto::camera::parse_numbers::<2>(s, "KS,N")?;
+    if !(ks.is_finite() && ks >= 0.0) {
+        return Err(format!("`{s}`: the coefficient {ks} must be 0 or more"));
+    }
+    if !(n.is_finite() && n >= 1.0) {
+        return Err(format!("`{s}`: the exponent {n} must be 1 or more"));
+    }
+    Ok((ks, n))
+}
+
+/// The viewer's direction X,Y,Z (not zero).
+fn viewer(s: &str) -> Result<DVec3, String> {
+    let [x, y, z] = proto::camera::parse_numbers::<3>(s, "X,Y,Z")?;
+    let v = DVec3::new(x, y, z);
+    if v.try_normalize().is_none() {
+        return Err(format!("`{s}`: the viewer needs a direction, not 0,0,0"));
+    }
+    Ok(v)
 }
 
 /// A light: a direction X,Y,Z (not zero) and an intensity I ≥ 0 (default 1).
@@ -280,13 +346,8 @@ fn fraction(s: &str) -> Result<f64, String> {
 fn write_movie<F: IntoIterator<Item = Polygon>>(
     frames: impl IntoIterator<Item = F>,
     form: Form,
-    shaded: bool,
+    attributes: proto::Attributes,
 ) -> stagecli::Result<()> {
-    // A movie of Gouraud-shaded polygons (`scene sphere --gouraud`) says so in its header.
-    let attributes = proto::Attributes {
-        vertex_colours: shaded,
-        ..proto::Attributes::default()
-    };
     let mut writer = stagecli::write_stdout(Header::new(Space::World).with(attributes), form)?;
     for (i, frame) in frames.into_iter().enumerate() {
         if i > 0 {
@@ -311,6 +372,9 @@ fn main() -> ExitCode {
     stagecli::main("scene", |cli: Cli| {
         let form = cli.text.form();
         let frames = cli.frames as usize;
+        // The sphere's and the model's shading and lighting (the other scenes' are fixed).
+        let mut shading = Shading::Flat;
+        let mut lighting = proto::shade::Lighting::default();
         let movie = match cli.command {
             Command::Environment {
                 polygons,
@@ -328,7 +392,11 @@ fn main() -> ExitCode {
                     aspect: size.map_or(1.0, |(w, h)| w as f64 / h as f64),
                     frames,
                 };
-                return write_movie(scene::environment::frames(&env), form, false);
+                return write_movie(
+                    scene::environment::frames(&env),
+                    form,
+                    proto::Attributes::default(),
+                );
             }
             Command::Penetrating => {
                 spin(&shapes::penetrating(), frames, DVec3::ZERO, Shading::Flat)
@@ -338,22 +406,26 @@ fn main() -> ExitCode {
                 slices,
                 radius,
                 gouraud,
-            } => spin(
-                &shapes::sphere(
+                phong,
+                lights,
+            } => {
+                lighting = lights.lighting()?;
+                shading = if phong {
+                    Shading::Phong
+                } else if gouraud {
+                    Shading::Gouraud
+                } else {
+                    Shading::Lambert
+                };
+                let sphere = shapes::sphere(
                     DVec3::ZERO,
                     radius,
                     stacks as usize,
                     slices as usize,
                     [220, 120, 60],
-                ),
-                frames,
-                DVec3::ZERO,
-                if gouraud {
-                    Shading::Gouraud
-                } else {
-                    Shading::Lambert
-                },
-            ),
+                );
+                shapes::spin_lit(&sphere, frames, DVec3::ZERO, shading, &lighting)
+            }
             Command::Spheres { stacks, slices } => spin(
                 &shapes::spheres(stacks as usize, slices as usize),
                 frames,
@@ -404,9 +476,9 @@ fn main() -> ExitCode {
                 no_fit,
                 shade,
                 gouraud,
+                phong,
                 crease,
-                light,
-                ambient,
+                lights,
                 ..
             } => {
                 let input = stagecli::open_input(&file)?;
@@ -429,25 +501,34 @@ fn main() -> ExitCode {
                 if !no_fit {
                     obj::fit(&mut model.faces);
                 }
-                let shading = if gouraud {
+                shading = if gouraud || phong {
                     obj::smooth_normals(&mut model.faces, crease);
-                    Shading::Gouraud
+                    if phong {
+                        Shading::Phong
+                    } else {
+                        Shading::Gouraud
+                    }
                 } else if shade {
                     Shading::Lambert
                 } else {
                     Shading::Flat
                 };
-                let mut lighting = shapes::Lighting {
-                    ambient,
-                    ..Default::default()
-                };
-                if !light.is_empty() {
-                    lighting.lights = light;
-                }
+                lighting = lights.lighting()?;
                 shapes::spin_lit(&model.faces, frames, DVec3::ZERO, shading, &lighting)
             }
         };
-        let shaded = movie.iter().flatten().any(Polygon::is_shaded);
-        write_movie(movie, form, shaded)
+        // A movie of Gouraud-shaded polygons (`scene sphere --gouraud`) says so in its
+        // header, and one of Phong-shaded polygons carries its lighting there.
+        let attributes = proto::Attributes {
+            vertex_colours: shading == Shading::Gouraud,
+            vertex_normals: shading == Shading::Phong,
+            lighting: if shading == Shading::Phong {
+                lighting
+            } else {
+                proto::shade::Lighting::default()
+            },
+            ..proto::Attributes::default()
+        };
+        write_movie(movie, form, attributes)
     })
 }

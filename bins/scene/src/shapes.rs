@@ -11,6 +11,7 @@
 //! objects are lit after turning, so the light stays put while the object turns.
 
 use glam::{DMat3, DVec3};
+use proto::shade::Lighting;
 use proto::{Colour, Polygon};
 use std::f64::consts::{PI, TAU};
 
@@ -49,54 +50,26 @@ pub enum Shading {
     /// centre), as vertex colours: the polygons are Gouraud-shaded (docs/DESIGN.md,
     /// "Shading").
     Gouraud,
+    /// The same vertex normals as [`Shading::Gouraud`]'s, sent as they are (the stream's
+    /// header says `vertex-normals` and carries the lighting): the z-buffer interpolates
+    /// them and lights each pixel, Phong shading. The face keeps its base colour.
+    Phong,
 }
 
-/// The lights of [`Shading::Lambert`] and [`Shading::Gouraud`]: an ambient term and
-/// directional lights, each a unit direction towards the light and an intensity. A
-/// surface of unit normal n is lit by ambient + Σ intensity·|n·l| (two-sided: a face is
-/// lit from either side), the colour multiplied by that and clamped to 0–255.
-#[derive(Clone, Debug, PartialEq)]
-pub struct Lighting {
-    pub ambient: f64,
-    pub lights: Vec<(DVec3, f64)>,
-}
-
-impl Default for Lighting {
-    /// One light up, right and towards the viewer, (1, 1.5, 2), of intensity 0.7, and
-    /// ambient 0.3: colour × (0.3 + 0.7·|n·l|).
-    fn default() -> Self {
-        Lighting {
-            ambient: 0.3,
-            lights: vec![(DVec3::new(1.0, 1.5, 2.0).normalize(), 0.7)],
-        }
-    }
-}
-
-impl Lighting {
-    /// The factor the colour is multiplied by for the unit normal `n` (the ambient term
-    /// alone for a zero normal).
-    pub fn factor(&self, n: DVec3) -> f64 {
-        self.ambient
-            + self
-                .lights
-                .iter()
-                .map(|(l, intensity)| intensity * n.dot(*l).abs())
-                .sum::<f64>()
-    }
-}
-
-/// The base colour lit for the unit normal `n`, kept unrounded as a vertex colour.
+/// The base colour lit for the unit normal `n` ([`Lighting::colour`]), kept unrounded
+/// as a vertex colour.
 fn lit(colour: Colour, n: DVec3, lighting: &Lighting) -> DVec3 {
-    DVec3::new(colour[0] as f64, colour[1] as f64, colour[2] as f64) * lighting.factor(n)
+    lighting.colour(proto::shade::colour(colour), n)
 }
 
 fn shade(face: &Face, points: &[DVec3], shading: Shading, lighting: &Lighting) -> Colour {
     match shading {
-        Shading::Flat | Shading::Gouraud => face.colour,
+        Shading::Flat | Shading::Gouraud | Shading::Phong => face.colour,
         Shading::Lambert => {
-            let k = lighting.factor(proto::geometry::newell_normal(points).normalize_or_zero());
-            face.colour
-                .map(|c| (c as f64 * k).round().clamp(0.0, 255.0) as u8)
+            let n = proto::geometry::newell_normal(points).normalize_or_zero();
+            lit(face.colour, n, lighting)
+                .to_array()
+                .map(|c| c.round().clamp(0.0, 255.0) as u8)
         }
     }
 }
@@ -133,19 +106,29 @@ pub fn spin_lit(
                     let colour = shade(face, &points, shading, lighting);
                     let mut polygon =
                         Polygon::new(colour, points.iter().map(|p| p.extend(1.0)).collect());
-                    if shading == Shading::Gouraud {
-                        polygon.colours = points
-                            .iter()
-                            .enumerate()
-                            .map(|(k, p)| {
-                                let n = match face.normals.get(k) {
-                                    Some(n) => turn * *n,
-                                    None => (*p - centre).normalize_or_zero(),
-                                };
-                                lit(face.colour, n, lighting)
-                                    .clamp(DVec3::ZERO, DVec3::splat(255.0))
-                            })
-                            .collect();
+                    let normal = |k: usize, p: &DVec3| match face.normals.get(k) {
+                        Some(n) => turn * *n,
+                        None => (*p - centre).normalize_or_zero(),
+                    };
+                    match shading {
+                        Shading::Gouraud => {
+                            polygon.colours = points
+                                .iter()
+                                .enumerate()
+                                .map(|(k, p)| {
+                                    lit(face.colour, normal(k, p), lighting)
+                                        .clamp(DVec3::ZERO, DVec3::splat(255.0))
+                                })
+                                .collect();
+                        }
+                        Shading::Phong => {
+                            polygon.colours = points
+                                .iter()
+                                .enumerate()
+                                .map(|(k, p)| normal(k, p))
+                                .collect();
+                        }
+                        Shading::Flat | Shading::Lambert => {}
                     }
                     polygon
                 })

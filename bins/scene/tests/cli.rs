@@ -511,3 +511,105 @@ fn example_scenes_are_valid_world_streams() {
     }
     assert!(n >= 5);
 }
+
+/// `--phong`: the stream says `vertex-normals` and carries the lighting in its header
+/// (the user's lights, ambient, highlight and viewer); each vertex carries its normal
+/// (the file's `vn` here) and the polygon its base colour, unlit.
+#[test]
+fn obj_phong_sends_normals_and_the_lighting() {
+    let dir = tempfile::tempdir().unwrap();
+    let obj = dir.path().join("normals.obj");
+    fs::write(
+        &obj,
+        "v 0 0 0\nv 1 0 0\nv 0 1 0\nvn 0 0 1\nvn 0 0.6 0.8\nf 1//1 2//2 3//1\n",
+    )
+    .unwrap();
+    let out = scene()
+        .args([
+            "obj",
+            "--phong",
+            "--no-fit",
+            "--text",
+            "--light",
+            "0,0,2,0.5",
+        ])
+        .args([
+            "--ambient",
+            "0.1",
+            "--specular",
+            "0.4,12",
+            "--viewer",
+            "0,1,0",
+        ])
+        .arg(&obj)
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    assert_eq!(
+        String::from_utf8(out.stdout.clone()).unwrap(),
+        "polypipe 1 world vertex-normals ambient 0.1 light 0 0 1 0.5 specular 0.4 12 \
+         viewer 0 1 0\n\
+         colour 200 200 200\n\
+         0 0 0 0 0 1\n\
+         1 0 0 0 0.6 0.8\n\
+         0 1 0 0 0 1\n\
+         END\n"
+    );
+    for (args, message) in [
+        (&["--phong", "--gouraud"][..], "cannot be used with"),
+        (&["--phong", "--shade"][..], "cannot be used with"),
+        (
+            &["--phong", "--specular", "1,0.5"][..],
+            "the exponent 0.5 must be 1 or more",
+        ),
+        (
+            &["--phong", "--viewer", "0,0,0"][..],
+            "the viewer needs a direction",
+        ),
+    ] {
+        scene()
+            .arg("obj")
+            .args(args)
+            .arg(&obj)
+            .assert()
+            .code(2)
+            .stderr(predicate::str::contains(message));
+    }
+    // Nine lights are one too many for the header.
+    let mut nine = scene();
+    nine.args(["obj", "--phong"]);
+    for _ in 0..9 {
+        nine.args(["--light", "1,0,0"]);
+    }
+    nine.arg(&obj)
+        .assert()
+        .code(2)
+        .stderr(predicate::str::contains("9 lights: a lighting has 1 to 8"));
+}
+
+/// `scene sphere --phong`: the sphere's own normals (from its centre), one a vertex, of
+/// unit length; `--gouraud` and `--phong` with a highlight agree where a vertex is lit.
+#[test]
+fn sphere_phong_normals_are_the_spheres() {
+    let out = scene()
+        .args([
+            "sphere", "--stacks", "4", "--slices", "6", "--phong", "--radius", "5",
+        ])
+        .output()
+        .unwrap();
+    assert!(out.status.success());
+    let reader = Reader::<Token, _>::new(&out.stdout[..]).unwrap();
+    assert!(reader.header().attributes.vertex_normals);
+    for polygon in &frames_of(&out.stdout)[0] {
+        assert_eq!(polygon.colour, [220, 120, 60]);
+        assert_eq!(polygon.colours.len(), polygon.vertices.len());
+        for (n, v) in polygon.colours.iter().zip(&polygon.vertices) {
+            assert!((n.length() - 1.0).abs() < 1e-12);
+            assert!((v.truncate() / 5.0 - *n).length() < 1e-12, "{n:?} at {v:?}");
+        }
+    }
+}

@@ -18,11 +18,12 @@
 //! drawn one pixel row (K fine rows) at a time, over the columns the row's polygons may
 //! reach: one band of K × K·W samples, never the K·W × K·H screen.
 
-use proto::shade::Shading;
+use proto::shade::{Lighting, Shading};
 use proto::{Colour, Polygon};
 use scan::fine::{scaled, ActiveRows};
 use scan::frame::{push_row_runs_at, HiddenSurface};
 use scan::{Run, SpanWalker};
+use std::sync::Arc;
 
 /// No polygon has covered the sample yet.
 const NONE: u32 = u32::MAX;
@@ -50,6 +51,8 @@ pub struct Supersample {
     /// Per fine polygon, its Gouraud shading on the finer screen, if it has vertex
     /// colours (docs/DESIGN.md, "Shading"): each sample takes its colour at the sample.
     shading: Vec<Option<Shading>>,
+    /// The lighting of a Phong-shaded stream: each sample is lit by it.
+    lighting: Option<Arc<Lighting>>,
     /// The band: K fine rows of the columns in use, depth and polygon of each sample.
     depth: Vec<scan::Depth>,
     owner: Vec<u32>,
@@ -75,6 +78,7 @@ impl Supersample {
             rows: ActiveRows::new(),
             fine: Vec::new(),
             shading: Vec::new(),
+            lighting: None,
             depth: Vec::new(),
             owner: Vec::new(),
             row: Vec::new(),
@@ -174,7 +178,9 @@ impl HiddenSurface for Supersample {
         self.fine.clear();
         self.fine.extend(polygons.iter().map(|p| scaled(p, k)));
         self.shading.clear();
-        self.shading.extend(self.fine.iter().map(Shading::of));
+        let lighting = self.lighting.as_ref();
+        self.shading
+            .extend(self.fine.iter().map(|p| Shading::of(p, lighting)));
         self.rows.start(polygons, width, height);
         let mut from = self.rows.first_row().unwrap_or(height);
         let mut active = Vec::new();
@@ -189,6 +195,10 @@ impl HiddenSurface for Supersample {
 
     fn shades(&self) -> bool {
         true
+    }
+
+    fn set_lighting(&mut self, lighting: Option<Arc<Lighting>>) {
+        self.lighting = lighting;
     }
 
     fn stats(&self) -> String {

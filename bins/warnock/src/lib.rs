@@ -98,10 +98,11 @@
 //! sent at the frame's end row by row as maximal runs of one colour, the runs
 //! `scanconv --resolve` sends.
 
-use proto::shade::Shading;
+use proto::shade::{Lighting, Shading};
 use proto::{Colour, DVec2, Polygon};
 use scan::frame::{shaded_runs, HiddenSurface};
 use scan::{depth_at, takes, Depth, DepthPlane, Run, SpanWalker};
+use std::sync::Arc;
 
 /// How a window was resolved (for `--stats`).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -317,6 +318,8 @@ pub struct Warnock {
     /// The frame's polygons' Gouraud shading, by stream index, when any is shaded (empty
     /// for a flat frame).
     shadings: Vec<Option<Shading>>,
+    /// The stream's lighting, for Phong shading.
+    lighting: Option<Arc<Lighting>>,
     bbox: Window,
     width: u32,
     pub stats: Stats,
@@ -339,7 +342,9 @@ impl Warnock {
         self.width = width;
         self.shadings.clear();
         if polygons.iter().any(Polygon::is_shaded) {
-            self.shadings.extend(polygons.iter().map(Shading::of));
+            let lighting = self.lighting.as_ref();
+            self.shadings
+                .extend(polygons.iter().map(|p| Shading::of(p, lighting)));
         }
         for (i, p) in polygons.iter().enumerate() {
             let start = self.points.len();
@@ -830,10 +835,15 @@ impl HiddenSurface for Warnock {
         self.emit(runs);
     }
 
-    /// A Gouraud-shaded polygon's visible pixels take its colour at each centre, as the
-    /// z-buffer's do.
+    /// A Gouraud- or Phong-shaded polygon's visible pixels take its colour at each
+    /// centre, as the z-buffer's do.
     fn shades(&self) -> bool {
         true
+    }
+
+    /// The lighting of a Phong-shaded stream: each pixel of a shaded polygon is lit by it.
+    fn set_lighting(&mut self, lighting: Option<Arc<Lighting>>) {
+        self.lighting = lighting;
     }
 
     fn stats(&self) -> String {

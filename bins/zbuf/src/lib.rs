@@ -230,8 +230,8 @@ impl FrameBuffer {
     }
 
     /// [`FrameBuffer::span`] for a Gouraud-shaded polygon (docs/DESIGN.md, "Shading"):
-    /// where pixel x is written it takes [`proto::shade::shade_at`]`(c_row, dc, x)`, its
-    /// colour planes' value at its centre, rounded. Beside the flat span, not in it, so
+    /// where pixel x is written it takes `row.at(x)` ([`proto::shade::ShadeRow::at`]), its
+    /// shading at its centre, rounded. Beside the flat span, not in it, so
     /// that the flat loop is unchanged.
     pub fn shaded_span(
         &mut self,
@@ -239,7 +239,7 @@ impl FrameBuffer {
         columns: std::ops::Range<u32>,
         (z_row, dz): (f64, f64),
         polygon: u32,
-        (c_row, dc): (proto::DVec3, proto::DVec3),
+        row: proto::shade::ShadeRow<'_>,
     ) {
         if y >= self.height {
             return;
@@ -247,14 +247,14 @@ impl FrameBuffer {
         self.depth_tested();
         let x1 = columns.end.min(self.width);
         let x0 = columns.start.min(x1);
-        let row = y as usize * self.width as usize;
+        let first = y as usize * self.width as usize;
         for x in x0..x1 {
             let at = self.tiled(x, y);
             let z = proto::fragment::span_depth(z_row, dz, x);
             if wins(z, polygon, self.depth[at], self.polygon[at]) {
                 self.depth[at] = z;
                 self.polygon[at] = polygon;
-                self.colour[row + x as usize] = proto::shade::shade_at(c_row, dc, x);
+                self.colour[first + x as usize] = row.at(x);
             }
         }
     }

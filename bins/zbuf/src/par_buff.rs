@@ -13,8 +13,8 @@
 //! inputs, nothing deadlocks, and memory stays one frame buffer and a few batches.
 
 use crate::FrameBuffer;
-use proto::shade::Shading;
-use proto::{Colour, DVec4, DepthForm, Fragment, Reader, SpaceKind, Token};
+use proto::shade::{Lighting, Shading};
+use proto::{Attributes, Colour, DVec4, DepthForm, Fragment, Reader, SpaceKind, Token};
 use scan::precision::QuantumWatch;
 use scan::{check_on_screen, RegionBuffer, SpanWalker};
 use stagecli::{Context, Counted, Error, Result};
@@ -70,6 +70,8 @@ enum Message {
         width: u32,
         height: u32,
         depth: Option<DepthForm>,
+        /// The lighting of a Phong-shaded input (its header says `vertex-normals`).
+        lighting: Option<Arc<Lighting>>,
     },
     /// Fragments in stream order (polygon records, spans, pixels; no control records).
     Batch {
@@ -106,6 +108,9 @@ struct InputState {
     /// The current polygon's colour planes, when its `shade` records have come (a
     /// Gouraud-shaded polygon, docs/DESIGN.md, "Shading").
     shading: Option<Shading>,
+    /// The input's lighting, when it is Phong-shaded: its `shade` records are then a
+    /// normal's planes, lit per pixel.
+    lighting: Option<Arc<Lighting>>,
     stats: InputStats,
     /// Bytes its reader thread has read.
     bytes: Arc<AtomicU64>,
@@ -142,6 +147,7 @@ pub fn par_buff(
             polygons: 0,
             colour: [0; 3],
             shading: None,
+            lighting: None,
             stats: InputStats::default(),
             bytes,
         });
@@ -165,29 +171,33 @@ pub fn par_buff(
                 width,
                 height,
                 depth,
-            } => match (&fb, first_header) {
-                (Some(b), Some(first)) if (b.width(), b.height()) != (width, height) => {
-                    return Err(Error::data(format!(
+                lighting,
+            } => {
+                states[input].lighting = lighting;
+                match (&fb, first_header) {
+                    (Some(b), Some(first)) if (b.width(), b.height()) != (width, height) => {
+                        return Err(Error::data(format!(
                         "{}: header: screen {width}x{height}, but {} is {}x{} (all inputs must have the same screen size)",
                         states[input].name,
                         states[first].name,
                         b.width(),
                         b.height()
                     )));
+                    }
+                    (Some(_), _) => {}
+                    (None, _) => {
+                        // The first header decides the screen; one too large for this
+                        // machine is refused (status 3; the message says how much it needs).
+                        let name = &states[input].name;
+                        crate::check_memory(width, height).map_err(|e| e.context(name))?;
+                        let buffer = FrameBuffer::new(width, height, background)
+                            .map_err(|m| Error::io(format!("{name}: {m}")))?;
+                        fb = Some(buffer);
+                        first_header = Some(input);
+                        watch = QuantumWatch::for_form(depth, width, height);
+                    }
                 }
-                (Some(_), _) => {}
-                (None, _) => {
-                    // The first header decides the screen; one too large for this
-                    // machine is refused (status 3; the message says how much it needs).
-                    let name = &states[input].name;
-                    crate::check_memory(width, height).map_err(|e| e.context(name))?;
-                    let buffer = FrameBuffer::new(width, height, background)
-                        .map_err(|m| Error::io(format!("{name}: {m}")))?;
-                    fb = Some(buffer);
-                    first_header = Some(input);
-                    watch = QuantumWatch::for_form(depth, width, height);
-                }
-            },
+            }
             Message::Batch { input, fragments } => {
                 let fb = fb
                     .as_mut()
@@ -308,7 +318,7 @@ fn apply(
                 };
                 let [a, b, d] = plane;
                 planes[usize::from(channel.min(2))] = DVec4::new(a, b, 1.0, d);
-                s.shading = Some(Shading::new(planes));
+                s.shading = Some(Shading::new(planes).lit(s.lighting.as_ref(), s.colour));
             }
             Fragment::Skip(n) => {
                 s.polygons = s
@@ -360,8 +370,8 @@ fn read_input(
                 )));
             }
         }
-        let depth = reader.header().attributes.depth;
-        if !send_header(&tx, input, screen_of(&reader, "fragment")?, depth) {
+        let attributes = reader.header().attributes;
+        if !send_header(&tx, input, screen_of(&reader, "fragment")?, &attributes) {
             return Ok(());
         }
         let send = |m| tx.send(m).is_ok();
@@ -437,13 +447,14 @@ fn send_header(
     tx: &SyncSender<Message>,
     input: usize,
     (width, height): (u32, u32),
-    depth: Option<DepthForm>,
+    attributes: &Attributes,
 ) -> bool {
     tx.send(Message::Header {
         input,
         width,
         height,
-        depth,
+        depth: attributes.depth,
+        lighting: attributes.phong(),
     })
     .is_ok()
 }
@@ -461,6 +472,7 @@ fn resolve_polygon<R: Read>(
     walker: &mut SpanWalker,
     region: &mut RegionBuffer,
     watch: &mut Option<QuantumWatch>,
+    lighting: Option<&Arc<Lighting>>,
     polygon: &proto::Polygon,
     reader: &Reader<Token, R>,
 ) -> Result<()> {
@@ -468,7 +480,7 @@ fn resolve_polygon<R: Read>(
     check_on_screen(polygon, width, height)
         .map_err(|m| Error::data(format!("{}: {m}", reader.position())))?;
     stagecli::refuse_transparent("zbuf", polygon, || reader.position())?;
-    if let Some(shading) = Shading::of(polygon) {
+    if let Some(shading) = Shading::of(polygon, lighting) {
         walker.for_each_span(polygon, width, height, |span| {
             region.draw_shaded(&span, &shading);
             if let Some(watch) = watch {
@@ -546,6 +558,7 @@ pub fn one_input(
         Reader::<Token, _>::new(buffered).map_err(|e| Error::from(e).context(&name))?;
     let (width, height) = screen_of(&reader, "screen-space").map_err(|e| e.context(&name))?;
     let depth = reader.header().attributes.depth;
+    let lighting = reader.header().attributes.phong();
     // The frame buffer is made as the header is read, as par_buff makes it at the first
     // header: a screen too large to hold is refused at once, with what it needs, rather
     // than after its first frame has been scan-converted (tens of seconds and gigabytes
@@ -571,7 +584,14 @@ pub fn one_input(
             while reader.next_into(&mut record)? {
                 match &record {
                     Token::Polygon(p) => {
-                        resolve_polygon(&mut walker, &mut region, &mut watch, p, &reader)?;
+                        resolve_polygon(
+                            &mut walker,
+                            &mut region,
+                            &mut watch,
+                            lighting.as_ref(),
+                            p,
+                            &reader,
+                        )?;
                         counts.polygons += 1;
                     }
                     Token::Skip(_) => {}
@@ -647,8 +667,9 @@ fn resolve_input<R: Read>(
     wait: &Receiver<()>,
 ) -> Result<()> {
     let (width, height) = screen_of(&reader, "screen-space")?;
-    let depth = reader.header().attributes.depth;
-    if !send_header(tx, input, (width, height), depth) {
+    let attributes = reader.header().attributes;
+    let (depth, lighting) = (attributes.depth, attributes.phong());
+    if !send_header(tx, input, (width, height), &attributes) {
         return Ok(());
     }
     let send = |m| tx.send(m).is_ok();
@@ -663,7 +684,14 @@ fn resolve_input<R: Read>(
     while reader.next_into(&mut record)? {
         let end = match &record {
             Token::Polygon(p) => {
-                resolve_polygon(&mut walker, &mut region, &mut watch, p, &reader)?;
+                resolve_polygon(
+                    &mut walker,
+                    &mut region,
+                    &mut watch,
+                    lighting.as_ref(),
+                    p,
+                    &reader,
+                )?;
                 polygons += 1;
                 continue;
             }

@@ -43,9 +43,10 @@ pub use supersample::{render_supersampled, Supersampled, SupersampledFrame};
 use proto::camera::{Device, EyeFrame};
 use proto::geometry::newell_plane;
 use proto::raster::{centres_in_clamped, Edge};
-use proto::shade::{self, Shading};
+use proto::shade::{self, Lighting, Shading};
 use proto::{Colour, DVec2, DVec3, DVec4, Polygon, View};
 use std::ops::Range;
+use std::sync::Arc;
 
 pub use proto::ppm::Image;
 
@@ -177,6 +178,9 @@ pub struct Setup {
     pub view: View,
     pub width: u32,
     pub height: u32,
+    /// The lighting of a Phong-shaded scene (its header says `vertex-normals`): a shaded
+    /// polygon's values are then normals, and each pixel is lit by it.
+    pub lighting: Option<Lighting>,
 }
 
 impl Setup {
@@ -186,6 +190,16 @@ impl Setup {
             view,
             width,
             height,
+            lighting: None,
+        }
+    }
+
+    /// The same setup for a scene whose header has `attributes` (its lighting, if it is
+    /// Phong-shaded).
+    pub fn for_scene(self, attributes: &proto::Attributes) -> Self {
+        Setup {
+            lighting: attributes.vertex_normals.then_some(attributes.lighting),
+            ..self
         }
     }
 
@@ -271,8 +285,8 @@ impl Setup {
     /// The direction of the ray from the eye through device point (X, Y), scaled to
     /// z_e = 1: x_s = 2X/W − 1, y_s = 1 − 2Y/H, and a point of the ray at depth z_e has
     /// x_e = x_s·a·w, y_e = y_s·w with w = z_e·s/d.
-    /// The shading of a polygon with vertex colours, by the rule of docs/DESIGN.md,
-    /// "Shading": each channel's plane over the vertices' screen positions, taken (as viewxf
+    /// The shading of a polygon with vertex colours (or normals), by the rule of
+    /// docs/DESIGN.md, "Shading": each channel's plane over the vertices' screen positions, taken (as viewxf
     /// records it) from the eye-space polygon before any cut, and carried to this screen
     /// as persp carries it. A polygon with a vertex at or behind the eye has its planes
     /// from its part in front of the hither plane instead, the colours at the cut
@@ -290,13 +304,17 @@ impl Setup {
         let screen = planes.and_then(|p| {
             shade::colour_planes_to_screen(&p, self.view.aspect, self.width, self.height)
         });
-        Some(match screen {
+        let shading = match screen {
             Some(planes) => Shading::new(planes),
             None => {
                 let c = poly.colours[0];
                 Shading::new([0, 1, 2].map(|k| DVec4::new(0.0, 0.0, 1.0, -c[k])))
             }
-        })
+        };
+        // Phong shading: the planes are a normal's, lit per pixel from the polygon's
+        // colour (the reference makes its lighting once a polygon; it is not timed).
+        let lighting = self.lighting.map(Arc::new);
+        Some(shading.lit(lighting.as_ref(), poly.colour))
     }
 
     #[inline]

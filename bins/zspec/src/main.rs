@@ -181,6 +181,7 @@ impl Scene {
         let reader = Reader::<Token, _>::new(stagecli::open_input(&scene)?)
             .map_err(|e| stagecli::input_error(&name, e))?;
         reader.header().expect(SpaceKind::World)?;
+        let setup = setup.for_scene(&reader.header().attributes);
         Ok(Scene {
             setup,
             reader,

@@ -5,8 +5,7 @@
 use super::{pack, RegionBuffer, SHIFT, TILE};
 use crate::depth::{depth_at, Depth};
 use crate::walk::Span;
-use proto::shade::{shade_at, Shading};
-use proto::DVec3;
+use proto::shade::{ShadeRow, Shading};
 use std::ops::Range;
 
 impl RegionBuffer {
@@ -25,14 +24,14 @@ impl RegionBuffer {
 
     /// [`RegionBuffer::span`] for a Gouraud-shaded polygon: pixel x of row `y` has depth
     /// `z_row + x·dz` and, where it is written, the colour
-    /// [`proto::shade::shade_at`]`(c_row, dc, x)`: the polygon's colour planes at the
-    /// pixel's centre, rounded per channel.
+    /// `row.at(x)` ([`ShadeRow::at`]): the polygon's shading at the pixel's centre,
+    /// rounded per channel.
     pub fn shaded_span(
         &mut self,
         y: u32,
         columns: Range<u32>,
         (z_row, dz): (Depth, Depth),
-        (c_row, dc): (DVec3, DVec3),
+        row: ShadeRow<'_>,
     ) {
         if y >= self.height {
             return;
@@ -56,7 +55,7 @@ impl RegionBuffer {
                 let win = (*f == 0 && !z.is_nan()) || z < *bar;
                 if win {
                     *bar = proto::depth::bar(z);
-                    *f = pack(shade_at(c_row, dc, column));
+                    *f = pack(row.at(column));
                     written += 1;
                 }
             }
@@ -70,6 +69,7 @@ impl RegionBuffer {
 #[cfg(test)]
 mod tests {
     use crate::RegionBuffer;
+    use proto::shade::ShadeRow;
     use proto::DVec3;
 
     #[test]
@@ -82,14 +82,14 @@ mod tests {
             0,
             0..4,
             (10.0, 0.0),
-            (DVec3::new(10.4, 200.0, 0.0), DVec3::new(30.0, -50.5, 0.0)),
+            ShadeRow::gouraud(DVec3::new(10.4, 200.0, 0.0), DVec3::new(30.0, -50.5, 0.0)),
         );
         assert_eq!(rb.colour_at(0, 0), Some([9, 9, 9]));
         rb.shaded_span(
             0,
             1..4,
             (8.0, 0.5),
-            (DVec3::new(10.4, 200.0, 0.0), DVec3::new(30.0, -50.5, 0.0)),
+            ShadeRow::gouraud(DVec3::new(10.4, 200.0, 0.0), DVec3::new(30.0, -50.5, 0.0)),
         );
         // Depths 8.5, 9, 9.5 at columns 1..3 are nearer than 10.
         assert_eq!(rb.colour_at(1, 0), Some([40, 150, 0]));
