@@ -389,10 +389,12 @@ impl Sweep<'_, '_> {
     /// Paints `x0..x1` with `segment`'s colour, or a shaded polygon's colour at each
     /// pixel centre, and records the piece.
     #[inline]
-    fn paint(&mut self, x0: u32, x1: u32, segment: usize) {
+    /// `SHADED`: whether the frame has a shaded polygon (a flat frame's sweep is compiled
+    /// without the look-up).
+    fn paint<const SHADED: bool>(&mut self, x0: u32, x1: u32, segment: usize) {
         let s = &self.segments[segment];
         match self.shadings.get(s.polygon) {
-            Some(Some(shading)) => self.out.paint_shaded(x0, x1, shading),
+            Some(Some(shading)) if SHADED => self.out.paint_shaded(x0, x1, shading),
             _ => self.out.paint(x0, x1, s.colour),
         }
         match self.pieces.last_mut() {
@@ -597,13 +599,68 @@ impl Sweep<'_, '_> {
         }
     }
 
+    /// Sweeps the line: cuts it at every segment end into sample spans, left to right, and
+    /// decides each ([`Sweep::sample_span`]); `present` is scratch for the segments of a
+    /// span. `SHADED`: whether the frame has a shaded polygon.
+    fn line<const SHADED: bool>(mut self, present: &mut Vec<usize>) {
+        present.clear();
+        let mut entered = 0;
+        let segments = self.segments;
+        let mut x = segments[0].x0;
+        let mut front = None;
+        // The nearest right end among the segments present: kept as segments come and
+        // go rather than looked for each span.
+        let mut first_end = u32::MAX;
+        loop {
+            if present.is_empty() {
+                match segments.get(entered) {
+                    Some(s) => x = x.max(s.x0),
+                    None => break,
+                }
+            }
+            let entering = present.len();
+            while entered < segments.len() && segments[entered].x0 <= x {
+                let s = &segments[entered];
+                first_end = first_end.min(s.x1);
+                present.push(entered);
+                entered += 1;
+            }
+            let mut end = first_end;
+            if let Some(s) = segments.get(entered) {
+                end = end.min(s.x0);
+            }
+            let span = SampleSpan {
+                present,
+                entering,
+                a: x,
+                b: end,
+            };
+            self.sample_span::<SHADED>(span, &mut front);
+            x = end;
+            if first_end <= x {
+                // Some segment ends here: drop those that do, finding the next end.
+                first_end = u32::MAX;
+                present.retain(|&i| {
+                    let s = &segments[i];
+                    if s.x1 > x {
+                        first_end = first_end.min(s.x1);
+                        true
+                    } else {
+                        false
+                    }
+                });
+            }
+        }
+        self.out.finish();
+    }
+
     /// Decides a sample span (14.4.1), carrying `front` along the line.
     ///
     /// Depth is compared only where segments overlap, and only as much as the last span
     /// left undecided: while the front segment stays, a segment coming in is compared with
     /// it alone, and everything is looked at again only where the front leaves or is
     /// overtaken (Watkins's coherence along a scan line).
-    fn sample_span(&mut self, span: SampleSpan, front: &mut Option<Front>) {
+    fn sample_span<const SHADED: bool>(&mut self, span: SampleSpan, front: &mut Option<Front>) {
         let SampleSpan {
             present,
             entering,
@@ -615,7 +672,7 @@ impl Sweep<'_, '_> {
         self.stats.segments_examined += present.len() as u64;
         if let [only] = present {
             // Case 1: one segment, visible across the span.
-            self.paint(a, b, *only);
+            self.paint::<SHADED>(a, b, *only);
             *front = Some(Front {
                 segment: *only,
                 until: u32::MAX,
@@ -654,7 +711,7 @@ impl Sweep<'_, '_> {
         let mut x = a;
         loop {
             let split = f.until.min(b);
-            self.paint(x, split, f.segment);
+            self.paint::<SHADED>(x, split, f.segment);
             if split >= b {
                 break;
             }
@@ -890,7 +947,7 @@ impl HiddenSurface for Scanline {
 
             // The sample spans, left to right: cut at every segment end.
             let segments = &self.segments;
-            let mut sweep = Sweep {
+            let sweep = Sweep {
                 segments,
                 shadings: &self.shadings,
                 above: &self.above,
@@ -903,55 +960,11 @@ impl HiddenSurface for Scanline {
                     runs,
                 },
             };
-            let present = &mut self.present;
-            present.clear();
-            let mut entered = 0;
-            let mut x = segments[0].x0;
-            let mut front = None;
-            // The nearest right end among the segments present: kept as segments come and
-            // go rather than looked for each span.
-            let mut first_end = u32::MAX;
-            loop {
-                if present.is_empty() {
-                    match segments.get(entered) {
-                        Some(s) => x = x.max(s.x0),
-                        None => break,
-                    }
-                }
-                let entering = present.len();
-                while entered < segments.len() && segments[entered].x0 <= x {
-                    let s = &segments[entered];
-                    first_end = first_end.min(s.x1);
-                    present.push(entered);
-                    entered += 1;
-                }
-                let mut end = first_end;
-                if let Some(s) = segments.get(entered) {
-                    end = end.min(s.x0);
-                }
-                let span = SampleSpan {
-                    present,
-                    entering,
-                    a: x,
-                    b: end,
-                };
-                sweep.sample_span(span, &mut front);
-                x = end;
-                if first_end <= x {
-                    // Some segment ends here: drop those that do, finding the next end.
-                    first_end = u32::MAX;
-                    present.retain(|&i| {
-                        let s = &segments[i];
-                        if s.x1 > x {
-                            first_end = first_end.min(s.x1);
-                            true
-                        } else {
-                            false
-                        }
-                    });
-                }
+            if self.shadings.is_empty() {
+                sweep.line::<false>(&mut self.present);
+            } else {
+                sweep.line::<true>(&mut self.present);
             }
-            sweep.out.finish();
             // This line's record of subdivisions predicts the next.
             if !self.sort_afresh {
                 std::mem::swap(&mut self.above, &mut self.pieces);
