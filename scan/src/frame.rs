@@ -170,8 +170,7 @@ pub fn push_row_runs_at(y: u32, x0: u32, row: &[Option<Colour>], runs: &mut Vec<
 /// "Shading"), each pixel in its colour at its centre, as [`proto::shade`] computes it
 /// (the row once, then [`proto::shade::ShadeRow::at`] per pixel, exactly as the z-buffer's
 /// shaded span): handed to `paint(x0, x1, colour)` as maximal runs of one colour, left to
-/// right.
-/// How the methods that decide a span's visible polygon and send runs (scan line, area
+/// right. How the methods that decide a span's visible polygon and send runs (scan line, area
 /// subdivision, depth sort) draw a shaded one: a run of equal colours is one record, so a
 /// shallow gradient costs less than a pixel each.
 #[inline]
