@@ -1,6 +1,7 @@
 //! The whole-frame hidden-surface methods (docs/methods.md) on arbitrary frames of screen
-//! polygons: Watkins's scan line and Warnock's subdivision give the z-buffer's picture
-//! pixel for pixel, the painter (with and without its cuts, and with a cut budget of
+//! polygons, some of them Gouraud-shaded (a colour a vertex, docs/DESIGN.md, "Shading"):
+//! Watkins's scan line and Warnock's subdivision give the z-buffer's picture pixel for
+//! pixel, shaded colours included, the painter (with and without its cuts, and with a cut budget of
 //! one) covers exactly the z-buffer's pixels, the hidden-line solver does not panic and
 //! keeps every piece (edges and lines of intersection) finite and within the polygons'
 //! extent, and every
@@ -21,7 +22,7 @@ fuzz_target!(|data: &[u8]| {
     for _ in 0..count {
         // Screen vertices: X and Y mostly on a grid near the screen (shared edges, ties),
         // depth mostly from a few planes (equal depths), else anything finite.
-        let poly = polygon(&mut b, |b| {
+        let mut poly = polygon(&mut b, |b| {
             let c = |b: &mut Bytes| {
                 if b.u8() % 8 == 0 {
                     b.f64()
@@ -36,6 +37,12 @@ fuzz_target!(|data: &[u8]| {
             };
             Vertex::new(c(b), c(b), z, 1.0)
         });
+        // Half the polygons Gouraud-shaded: any colour at each vertex.
+        if b.u8() % 2 == 0 {
+            poly.colours = (0..poly.vertices.len())
+                .map(|_| proto::DVec3::new(b.u8() as f64, b.u8() as f64, b.u8() as f64))
+                .collect();
+        }
         // The stages refuse a polygon far off the screen before any method sees it.
         if scan::check_on_screen(&poly, width, height).is_ok() {
             polygons.push(poly);

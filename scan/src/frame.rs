@@ -15,8 +15,9 @@
 
 use crate::region::{RegionBuffer, Run};
 use crate::walk::SpanWalker;
-use proto::shade::Lighting;
+use proto::shade::{Lighting, Shading};
 use proto::{Colour, Polygon};
+use std::ops::Range;
 use std::sync::Arc;
 
 /// A hidden-surface method that resolves a whole frame at once.
@@ -165,6 +166,36 @@ pub fn push_row_runs_at(y: u32, x0: u32, row: &[Option<Colour>], runs: &mut Vec<
     }
 }
 
+/// Columns `columns` of row `y` of a Gouraud- or Phong-shaded polygon (docs/DESIGN.md,
+/// "Shading"), each pixel in its colour at its centre, as [`proto::shade`] computes it
+/// (the row once, then [`proto::shade::ShadeRow::at`] per pixel, exactly as the z-buffer's
+/// shaded span): handed to `paint(x0, x1, colour)` as maximal runs of one colour, left to
+/// right. How the methods that decide a span's visible polygon and send runs (scan line, area
+/// subdivision, depth sort) draw a shaded one: a run of equal colours is one record, so a
+/// shallow gradient costs less than a pixel each.
+#[inline]
+pub fn shaded_runs(
+    shading: &Shading,
+    y: u32,
+    columns: Range<u32>,
+    mut paint: impl FnMut(u32, u32, Colour),
+) {
+    if columns.is_empty() {
+        return;
+    }
+    let row = shading.row(y);
+    let mut x0 = columns.start;
+    let mut colour = row.at(x0);
+    for x in columns.start + 1..columns.end {
+        let c = row.at(x);
+        if c != colour {
+            paint(x0, x, colour);
+            (x0, colour) = (x, c);
+        }
+    }
+    paint(x0, columns.end, colour);
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -186,6 +217,33 @@ mod tests {
         let image = zbuffer_image(&polygons, 3, 2);
         let r = |v| Some([v, 0, 0]);
         assert_eq!(image, vec![r(1), r(2), r(2), r(1), r(1), None]);
+    }
+
+    #[test]
+    fn a_shaded_span_becomes_runs_of_its_pixel_centre_colours() {
+        // Red 10.2 + 0.4·X at the centre X = x + ½: 10.4, 10.8, 11.2, 11.6, 12.0, 12.4
+        // for columns 0..6, so 10, 11, 11, 12, 12, 12; green and blue constant.
+        let planes = [
+            proto::DVec4::new(-0.4, 0.0, 1.0, -10.2),
+            proto::DVec4::new(0.0, 0.0, 1.0, -7.0),
+            proto::DVec4::new(0.0, 0.0, 1.0, -200.0),
+        ];
+        let shading = Shading::new(planes);
+        let mut got = Vec::new();
+        shaded_runs(&shading, 3, 0..6, |a, b, c| got.push((a, b, c)));
+        assert_eq!(
+            got,
+            vec![
+                (0, 1, [10, 7, 200]),
+                (1, 3, [11, 7, 200]),
+                (3, 6, [12, 7, 200])
+            ]
+        );
+        // Every pixel is the one `Shading::at` gives it; an empty span paints nothing.
+        for &(a, b, c) in &got {
+            assert!((a..b).all(|x| shading.at(x, 3) == c));
+        }
+        shaded_runs(&shading, 3, 4..4, |_, _, _| panic!("painted an empty span"));
     }
 
     #[test]

@@ -52,8 +52,9 @@ pub fn resolve_frames(
         if !method.shades() {
             return Err(Error::usage(format!(
                 "{stage} draws each polygon in one colour, and this stream is {name}-shaded \
-                 (its header says `{word}`); shading is drawn by the z-buffer (render.sh \
-                 --hse zbuf, the default) and by supersampling (--aa ssK)"
+                 (its header says `{word}`); shading is drawn by every hidden-surface method \
+                 (render.sh --hse zbuf, scanline, warnock, painter) and by anti-aliasing \
+                 (--aa ssK, abuf)"
             )));
         }
     }

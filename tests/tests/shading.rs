@@ -1,4 +1,5 @@
-//! Gouraud shading through the pipeline (docs/DESIGN.md, "Shading"): a stream that
+//! Gouraud shading through the pipeline (docs/DESIGN.md, "Shading"; Phong's in phong.rs,
+//! and here through the methods other than the z-buffer): a stream that
 //! declares `vertex-colours` is shaded by every stage alike. Through `scripts/render.sh`
 //! at tree depths 0 to 3, in both merge modes and with either clipper, its frames are
 //! `zspec`'s byte for byte; and a triangle's pixels are, to within one level a channel, a
@@ -39,6 +40,81 @@ fn a_shaded_scene_is_zspecs_at_every_depth_in_both_merge_modes() {
     assert!(chain == reference, "--clip chain");
 }
 
+/// The exact hidden-surface methods other than the z-buffer shade as it does: each visible
+/// span of a shaded polygon takes its colour planes' value at every pixel centre, so the
+/// frames of examples/gouraud.txt (a shaded triangle through a shaded square, a flat
+/// quadrilateral behind) and of the Gouraud sphere are `zspec`'s at every tree depth. The
+/// painter needs its splitting step where the triangle passes through the square (without
+/// it the painter is wrong there, flat or shaded); the sphere it paints without.
+#[test]
+fn every_exact_method_shades_as_zspec_does() {
+    let sphere = run("scene sphere --stacks 6 --slices 12 --gouraud --text");
+    let exact = ["scanline", "warnock", "painter --split"];
+    let sphere_methods = ["scanline", "warnock", "painter --split", "painter"];
+    let scenes: [(&str, &[u8], &[&str]); 2] = [
+        ("examples/gouraud.txt", &[], &exact),
+        ("-", &sphere, &sphere_methods),
+    ];
+    for (scene, input, methods) in scenes {
+        let out = sh(&format!("zspec --size 96x80 {scene}"), input);
+        assert!(out.status.success());
+        let reference = out.stdout;
+        for method in methods {
+            for depth in 0..=3 {
+                let out = sh(
+                    &format!(
+                        "scripts/render.sh --size 96x80 --hse {method} --depth {depth} {scene}"
+                    ),
+                    input,
+                );
+                let stderr = String::from_utf8_lossy(&out.stderr);
+                assert!(out.status.success(), "{method} {depth} {scene}: {stderr}");
+                assert!(
+                    out.stdout == reference,
+                    "--hse {method} --depth {depth} {scene}"
+                );
+            }
+        }
+    }
+}
+
+/// Phong shading (a `vertex-normals` stream, its lighting in the header) goes through the
+/// same calls: scanline, warnock and the painter light each visible pixel as the z-buffer
+/// does, so examples/phong.txt is `zspec`'s at every depth; the a-buffer lights each
+/// fragment at its pixel centre, the same frame at every depth, and zspec's colour
+/// wherever one polygon covers the pixel (all but 166 edge pixels of 7,680).
+#[test]
+fn the_other_methods_light_a_phong_stream_as_zspec_does() {
+    let reference = run("zspec --size 96x80 < examples/phong.txt");
+    for method in ["scanline", "warnock", "painter", "painter --split"] {
+        for depth in 0..=3 {
+            let ppm = run(&format!(
+                "scripts/render.sh --size 96x80 --hse {method} --depth {depth} examples/phong.txt"
+            ));
+            assert!(ppm == reference, "--hse {method} --depth {depth}");
+        }
+    }
+    let abuf = |depth: u32| {
+        run(&format!(
+            "scripts/render.sh --size 96x80 --aa abuf --depth {depth} examples/phong.txt"
+        ))
+    };
+    let at_0 = abuf(0);
+    for depth in 1..=3 {
+        assert!(abuf(depth) == at_0, "--aa abuf --depth {depth}");
+    }
+    let (a, z) = (frame(&at_0), frame(&reference));
+    let differ = a
+        .pixels
+        .iter()
+        .zip(&z.pixels)
+        .filter(|(p, q)| p != q)
+        .count();
+    let lit = z.pixels.iter().filter(|p| **p != [0, 0, 0]).count();
+    assert!(lit > 4000, "{lit} pixels lit");
+    assert!(differ <= 200, "{differ} pixels differ from zspec's");
+}
+
 /// A triangle's screen-space Gouraud colour at every pixel centre it covers, computed
 /// here without the pipeline's code: project the vertices with the thesis's camera
 /// (eye at z = 20, s = 10, d = 16, so w = 0.625·z_e), take barycentric weights of the
@@ -47,9 +123,26 @@ fn a_shaded_scene_is_zspecs_at_every_depth_in_both_merge_modes() {
 fn held_out(
     vertices: [[f64; 3]; 3],
     colours: [[f64; 3]; 3],
-    (width, height): (usize, usize),
+    size: (usize, usize),
     x: usize,
     y: usize,
+    margin: f64,
+) -> Option<[f64; 3]> {
+    held_out_at(
+        vertices,
+        colours,
+        size,
+        (x as f64 + 0.5, y as f64 + 0.5),
+        margin,
+    )
+}
+
+/// [`held_out`] at any point `p` of the screen.
+fn held_out_at(
+    vertices: [[f64; 3]; 3],
+    colours: [[f64; 3]; 3],
+    (width, height): (usize, usize),
+    p: (f64, f64),
     margin: f64,
 ) -> Option<[f64; 3]> {
     let aspect = width as f64 / height as f64;
@@ -60,12 +153,10 @@ fn held_out(
             (1.0 - y / w) * height as f64 / 2.0,
         )
     });
-    let (px, py) = (x as f64 + 0.5, y as f64 + 0.5);
     let area = |a: (f64, f64), b: (f64, f64), c: (f64, f64)| {
         (b.0 - a.0) * (c.1 - a.1) - (c.0 - a.0) * (b.1 - a.1)
     };
     let whole = area(screen[0], screen[1], screen[2]);
-    let p = (px, py);
     let l = [
         area(p, screen[1], screen[2]) / whole,
         area(screen[0], p, screen[2]) / whole,
@@ -77,23 +168,32 @@ fn held_out(
     Some([0, 1, 2].map(|k| l[0] * colours[0][k] + l[1] * colours[1][k] + l[2] * colours[2][k]))
 }
 
-#[test]
-fn a_triangles_pixels_are_the_screen_space_interpolation_of_its_vertex_colours() {
-    let vertices = [[-7.3, -5.1, 0.3], [1.2, 7.7, -1.1], [8.1, -3.9, 2.2]];
-    let colours = [
-        [250.3, 10.2, 20.7],
-        [15.1, 240.6, 30.4],
-        [40.9, 35.2, 230.1],
-    ];
+/// The triangle of the held-out tests: its world vertices and their colours.
+const TRIANGLE: [[f64; 3]; 3] = [[-7.3, -5.1, 0.3], [1.2, 7.7, -1.1], [8.1, -3.9, 2.2]];
+const TRIANGLE_COLOURS: [[f64; 3]; 3] = [
+    [250.3, 10.2, 20.7],
+    [15.1, 240.6, 30.4],
+    [40.9, 35.2, 230.1],
+];
+
+/// [`TRIANGLE`] as a `vertex-colours` scene.
+fn triangle_scene() -> String {
     let mut scene = String::from("polypipe 1 world vertex-colours\ncolour 0 0 0\n");
-    for (v, c) in vertices.iter().zip(&colours) {
+    for (v, c) in TRIANGLE.iter().zip(&TRIANGLE_COLOURS) {
         scene += &format!("{} {} {} {} {} {}\n", v[0], v[1], v[2], c[0], c[1], c[2]);
     }
-    scene += "END\n";
+    scene + "END\n"
+}
+
+#[test]
+fn a_triangles_pixels_are_the_screen_space_interpolation_of_its_vertex_colours() {
+    let (vertices, colours) = (TRIANGLE, TRIANGLE_COLOURS);
+    let scene = triangle_scene();
     let size = (120, 90);
-    for depth in [0, 3] {
+    let methods = ["zbuf", "scanline", "warnock", "painter"];
+    for (method, depth) in methods.iter().flat_map(|m| [(m, 0), (m, 3)]) {
         let out = sh(
-            &format!("scripts/render.sh --size 120x90 --depth {depth} -"),
+            &format!("scripts/render.sh --size 120x90 --hse {method} --depth {depth} -"),
             scene.as_bytes(),
         );
         assert!(
@@ -129,6 +229,67 @@ fn a_triangles_pixels_are_the_screen_space_interpolation_of_its_vertex_colours()
     }
 }
 
+/// The a-buffer keeps one colour a fragment, the polygon's at the pixel centre: a pixel
+/// the triangle covers wholly (its four corners inside) is, to within one level a
+/// channel, the held-out interpolation at its centre, at every tree depth alike; the
+/// Gouraud sphere's frames are the same at every depth too.
+#[test]
+fn the_a_buffer_shades_a_fully_covered_pixel_at_its_centre() {
+    let scene = triangle_scene();
+    let size = (120, 90);
+    let render = |depth: u32| {
+        let out = sh(
+            &format!("scripts/render.sh --size 120x90 --aa abuf --depth {depth} -"),
+            scene.as_bytes(),
+        );
+        let stderr = String::from_utf8_lossy(&out.stderr);
+        assert!(out.status.success(), "--depth {depth}: {stderr}");
+        out.stdout
+    };
+    let reference = render(0);
+    for depth in 1..=3 {
+        assert!(render(depth) == reference, "--aa abuf --depth {depth}");
+    }
+    let f = frame(&reference);
+    let mut full = 0;
+    for y in 0..size.1 {
+        for x in 0..size.0 {
+            let corners = [(0.0, 0.0), (1.0, 0.0), (0.0, 1.0), (1.0, 1.0)]
+                .map(|(i, j)| (x as f64 + i, y as f64 + j));
+            if corners
+                .iter()
+                .any(|&c| held_out_at(TRIANGLE, TRIANGLE_COLOURS, size, c, 1e-9).is_none())
+            {
+                continue;
+            }
+            full += 1;
+            let want = held_out(TRIANGLE, TRIANGLE_COLOURS, size, x, y, -1.0).unwrap();
+            let got = f.at(x, y);
+            for k in 0..3 {
+                assert!(
+                    (got[k] as f64 - want[k]).abs() <= 1.0,
+                    "pixel ({x}, {y}): {got:?} against {want:?}"
+                );
+            }
+        }
+    }
+    assert!(full > 1100, "{full} pixels wholly covered");
+    let sphere = run("scene sphere --stacks 6 --slices 12 --gouraud --text");
+    let abuf = |depth: u32| {
+        let out = sh(
+            &format!("scripts/render.sh --size 96x80 --aa abuf --depth {depth} -"),
+            &sphere,
+        );
+        assert!(out.status.success());
+        out.stdout
+    };
+    let at_0 = abuf(0);
+    assert!(
+        abuf(2) == at_0 && abuf(3) == at_0,
+        "the sphere through --aa abuf"
+    );
+}
+
 #[test]
 fn supersampling_shades_each_sample_as_zspec_does() {
     for k in [2, 4] {
@@ -144,34 +305,25 @@ fn supersampling_shades_each_sample_as_zspec_does() {
     }
 }
 
-/// The methods that draw a polygon in one colour refuse a shaded stream (status 2, and
-/// a line naming what does shade) rather than draw it flat.
+/// Hidden lines, stroked in one colour a polygon, refuse a shaded stream (status 2, and a
+/// line naming what does shade) rather than draw it flat; every other method shades.
 #[test]
-fn flat_only_methods_refuse_a_shaded_stream_and_name_what_shades() {
-    let svg = format!(
-        "--hidden-line -o {}/shaded.svg",
-        env!("CARGO_TARGET_TMPDIR")
+fn hidden_lines_refuse_a_shaded_stream_and_name_what_shades() {
+    let out = sh(
+        &format!(
+            "scripts/render.sh --size 96x80 --hidden-line -o {}/shaded.svg examples/gouraud.txt",
+            env!("CARGO_TARGET_TMPDIR")
+        ),
+        b"",
     );
-    for (options, stage) in [
-        ("--hse scanline --depth 1", "scanline (leaf 0)"),
-        ("--hse warnock", "warnock"),
-        ("--hse painter --depth 2", "painter (leaf 0)"),
-        ("--aa abuf", "abuf"),
-        (svg.as_str(), "hiddenline"),
-    ] {
-        let out = sh(
-            &format!("scripts/render.sh --size 96x80 {options} examples/gouraud.txt"),
-            b"",
-        );
-        let stderr = String::from_utf8_lossy(&out.stderr);
-        assert_eq!(out.status.code(), Some(2), "{options}: {stderr}");
-        assert!(
-            stderr.contains(&format!("{stage}: "))
-                && stderr.contains("this stream is Gouraud-shaded (its header says `vertex-colours`); shading is drawn by the z-buffer (render.sh --hse zbuf, the default) and by supersampling (--aa ssK)"),
-            "{options}: {stderr}"
-        );
-        assert!(out.stdout.is_empty(), "{options}");
-    }
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(2), "{stderr}");
+    assert!(
+        stderr.contains("hiddenline: ")
+            && stderr.contains("this stream is Gouraud-shaded (its header says `vertex-colours`); shading is drawn by every hidden-surface method (render.sh --hse zbuf, scanline, warnock, painter) and by anti-aliasing (--aa ssK, abuf)"),
+        "{stderr}"
+    );
+    assert!(out.stdout.is_empty());
 }
 
 /// A polygon of opacity below 255 is refused (status 2, naming the a-buffer) by every

@@ -19,6 +19,12 @@
 //! the polygon's fixed-point depth plane at the fragment's covered samples (at the ends
 //! of each sub-scanline's run, the plane being linear).
 //!
+//! A Gouraud-shaded polygon (docs/DESIGN.md, "Shading") gives each of its fragments its
+//! colour planes' value at the pixel centre (`proto::shade`, the z-buffer's calls): the
+//! sampling thesis's fragment holds one colour (figure 6.6), so a shaded fragment is the
+//! polygon sampled at the centre for colour and at the 64 samples for coverage. Opacity
+//! and the packer are unchanged.
+//!
 //! Memory stays bounded (6.3.2's *mask buffer*): the frame's polygons are gathered and
 //! sorted by their top row ([`scan::fine::ActiveRows`]), and the a-buffer is kept for one
 //! pixel row at a time. For each row, each polygon that reaches it is walked over the
@@ -47,10 +53,12 @@
 pub mod list;
 
 use list::{Fragment, ListStats, Mask, Packer, PixelStruct};
+use proto::shade::{Lighting, Shading};
 use proto::{Colour, Polygon};
 use scan::fine::{scaled, ActiveRows, Extent};
 use scan::frame::{push_row_runs_at, HiddenSurface};
 use scan::{depth_at, Depth, DepthPlane, Run, SpanWalker};
+use std::sync::Arc;
 
 /// Sub-pixel samples a side.
 pub const K: u32 = 8;
@@ -80,6 +88,11 @@ pub struct ABuffer {
     fine: Vec<Polygon>,
     planes: Vec<DepthPlane>,
     columns: Vec<(u32, u32)>,
+    /// The frame's polygons' Gouraud shading on the screen of pixels, in stream order,
+    /// when any is shaded (empty for a flat frame).
+    shadings: Vec<Option<Shading>>,
+    /// The stream's lighting, for Phong shading.
+    lighting: Option<Arc<Lighting>>,
     /// Per cull block of the current row (from its first column): the occluding depth,
     /// whether it must be worked out again, whether the current polygon is left out.
     occluding: Vec<Depth>,
@@ -118,6 +131,8 @@ impl ABuffer {
             fine: Vec::new(),
             planes: Vec::new(),
             columns: Vec::new(),
+            shadings: Vec::new(),
+            lighting: None,
             occluding: Vec::new(),
             stale: Vec::new(),
             culled: Vec::new(),
@@ -148,6 +163,7 @@ impl ABuffer {
 
     /// Scan converts the `active` polygons (stream order) over pixel row `r`'s eight
     /// sub-scanlines, columns `cols`, into the row's a-buffer; packs it; pushes its runs.
+    /// `shadings` are the frame's polygons' shadings (empty for a flat frame).
     fn draw_row(
         &mut self,
         r: u32,
@@ -155,6 +171,7 @@ impl ABuffer {
         cols: std::ops::Range<u32>,
         fine_w: u32,
         runs: &mut Vec<Run>,
+        shadings: &[Option<Shading>],
     ) {
         let n = (cols.end - cols.start) as usize;
         if self.masks.len() < n {
@@ -299,26 +316,16 @@ impl ABuffer {
                 self.stale[(c / BLOCK) as usize] = true;
             }
             row_stale |= self.cull && !self.touched.is_empty();
-            // 6.3.3 (d): a fragment for each pixel, into the a-buffer.
+            // 6.3.3 (d): a fragment for each pixel, into the a-buffer. A Gouraud-shaded
+            // polygon's fragment takes its colour at the pixel centre: the a-buffer keeps
+            // one colour a fragment.
             let colour = self.fine[i as usize].colour;
-            let opacity = self.fine[i as usize].opacity;
-            for &c in &self.touched {
-                let e = std::mem::take(&mut self.masks[c as usize]);
-                self.pixels[c as usize].insert(
-                    Fragment {
-                        colour,
-                        mask: e.mask,
-                        zmin: e.zmin,
-                        zmax: e.zmax,
-                        order: i,
-                        opacity,
-                    },
-                    &mut self.pool,
-                    &mut self.stats,
-                );
-                if self.cull {
-                    self.occluding_px[c as usize] = self.pixels[c as usize].occluding_depth();
+            match shadings.get(i as usize) {
+                Some(Some(shading)) => {
+                    let (row, x0) = (shading.row(r), cols.start);
+                    self.insert_fragments(i, |c| row.at(x0 + c));
                 }
+                _ => self.insert_fragments(i, |_| colour),
             }
             self.touched.clear();
         }
@@ -331,6 +338,34 @@ impl ABuffer {
             p.clear(&mut self.pool);
         }
         push_row_runs_at(r, cols.start, &self.row, runs);
+    }
+}
+
+impl ABuffer {
+    /// 6.3.3 (d): a fragment for each element of the mask buffer polygon `i` touched, into
+    /// the row's a-buffer, in the colour `colour_at` gives its column (from the row's first
+    /// column in use): the polygon's, or a Gouraud-shaded polygon's at the pixel centre.
+    #[inline(always)]
+    fn insert_fragments(&mut self, i: u32, colour_at: impl Fn(u32) -> Colour) {
+        let opacity = self.fine[i as usize].opacity;
+        for &c in &self.touched {
+            let e = std::mem::take(&mut self.masks[c as usize]);
+            self.pixels[c as usize].insert(
+                Fragment {
+                    colour: colour_at(c),
+                    mask: e.mask,
+                    zmin: e.zmin,
+                    zmax: e.zmax,
+                    order: i,
+                    opacity,
+                },
+                &mut self.pool,
+                &mut self.stats,
+            );
+            if self.cull {
+                self.occluding_px[c as usize] = self.pixels[c as usize].occluding_depth();
+            }
+        }
     }
 }
 
@@ -349,15 +384,24 @@ impl HiddenSurface for ABuffer {
                 .iter()
                 .map(|p| Extent::of(p, width, height).map_or((0, 0), |e| (e.left, e.right))),
         );
+        self.shadings.clear();
+        if polygons.iter().any(Polygon::is_shaded) {
+            let lighting = self.lighting.as_ref();
+            self.shadings
+                .extend(polygons.iter().map(|p| Shading::of(p, lighting)));
+        }
         self.rows.start(polygons, width, height);
         let mut from = self.rows.first_row().unwrap_or(height);
         let mut active = Vec::new();
+        // Lent to the rows, which borrow the a-buffer mutably.
+        let shadings = std::mem::take(&mut self.shadings);
         while let Some((r, cols)) = self.rows.next_row(from, height) {
             active.clear();
             active.extend_from_slice(self.rows.indices());
-            self.draw_row(r, &active, cols, width * K, runs);
+            self.draw_row(r, &active, cols, width * K, runs, &shadings);
             from = r + 1;
         }
+        self.shadings = shadings;
         self.fine.clear();
     }
 
@@ -365,6 +409,17 @@ impl HiddenSurface for ABuffer {
     /// sampling thesis ([`list::Packer`]).
     fn transparency(&self) -> bool {
         true
+    }
+
+    /// A Gouraud- or Phong-shaded polygon's fragment has its colour at the pixel centre.
+    fn shades(&self) -> bool {
+        true
+    }
+
+    /// The lighting of a Phong-shaded stream: each fragment of a shaded polygon is lit
+    /// by it at the pixel centre.
+    fn set_lighting(&mut self, lighting: Option<Arc<Lighting>>) {
+        self.lighting = lighting;
     }
 
     fn stats(&self) -> String {

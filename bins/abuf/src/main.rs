@@ -18,7 +18,10 @@ use std::process::ExitCode;
 /// time, so its memory does not grow with the screen. A list longer than 64 fragments
 /// has its two farthest merged into one (counted as `merged`), and a polygon wholly
 /// behind the fully covering fragments of a block of 8 pixels is left out there unmade
-/// (`culled`): time stays bounded in fragments per pixel and in depth complexity. The output is runs of finished
+/// (`culled`): time stays bounded in fragments per pixel and in depth complexity. A
+/// Gouraud-shaded polygon (a `vertex-colours` stream) gives each fragment its colour at the
+/// pixel centre; a polygon of opacity below 255 (an `opacity` stream) is blended by the
+/// sampling thesis's eq. 6.5. The output is runs of finished
 /// pixels (`run Y X0 X1 R G B`) for zbuf, which must be given the same --background.
 ///
 /// Example:

@@ -487,3 +487,91 @@ fn the_depth_extent_artefact_along_a_column() {
     }
     assert_eq!(stats.intersections, 16);
 }
+
+/// A Gouraud-shaded quadrilateral: its corners red, green, blue and grey.
+fn shaded_quad(pts: [[f64; 3]; 4]) -> Polygon {
+    let mut p = quad(WHITE, pts);
+    p.colours = [
+        [250.0, 10.0, 0.0],
+        [0.0, 240.0, 20.0],
+        [30.0, 0.0, 255.0],
+        [128.0, 128.0, 128.0],
+    ]
+    .map(proto::DVec3::from)
+    .to_vec();
+    p
+}
+
+/// A shaded polygon's fragment has its colour at the pixel centre (one colour a
+/// fragment): a pixel it covers wholly is exactly that colour, the z-buffer's; an edge
+/// pixel is that colour over its covered samples and the background over the rest.
+#[test]
+fn a_shaded_fragment_has_its_colour_at_the_pixel_centre() {
+    let p = shaded_quad([
+        [0.3, 0.2, 0.5],
+        [7.6, 0.2, 0.4],
+        [7.6, 5.5, 0.6],
+        [0.3, 5.5, 0.5],
+    ]);
+    let shading = proto::shade::Shading::of(&p, None).expect("shaded");
+    let image = render(std::slice::from_ref(&p), 8, 6, [0; 3]);
+    let mut distinct = std::collections::HashSet::new();
+    for y in 1..5 {
+        for x in 1..7 {
+            let got = image[y * 8 + x].expect("covered");
+            assert_eq!(got, shading.at(x as u32, y as u32), "pixel ({x}, {y})");
+            distinct.insert(got);
+        }
+    }
+    assert!(distinct.len() > 20, "{distinct:?}");
+    // Pixel (0, 2): the samples at X = (i + ½)/8 ≥ 0.3 are covered, 6 of every 8.
+    let got = image[2 * 8].expect("covered");
+    let want = shading.at(0, 2).map(|c| c as f64 * 0.75);
+    for k in 0..3 {
+        assert!(
+            (got[k] as f64 - want[k]).abs() <= 1.0,
+            "{got:?} against {want:?}"
+        );
+    }
+}
+
+/// Transparency keeps working with shading: a shaded square of opacity 128 over an
+/// opaque blue one blends its colour at each pixel centre with the blue by eq. 6.5.
+#[test]
+fn a_transparent_shaded_polygon_blends_its_colour_at_the_centre_by_eq_6_5() {
+    let mut front = shaded_quad([
+        [0.0, 0.0, 0.2],
+        [6.0, 0.0, 0.2],
+        [6.0, 4.0, 0.2],
+        [0.0, 4.0, 0.2],
+    ]);
+    front.opacity = 128;
+    let back = quad(
+        BLUE,
+        [
+            [0.0, 0.0, 0.7],
+            [6.0, 0.0, 0.7],
+            [6.0, 4.0, 0.7],
+            [0.0, 4.0, 0.7],
+        ],
+    );
+    let shading = proto::shade::Shading::of(&front, None).expect("shaded");
+    // Either order in the stream: the list is sorted by depth.
+    for polys in [[front.clone(), back.clone()], [back, front]] {
+        let image = render(&polys, 6, 4, [0; 3]);
+        for y in 0..4 {
+            for x in 0..6 {
+                let c = shading.at(x, y);
+                let got = image[(y * 6 + x) as usize].expect("covered");
+                let a = 128.0 / 255.0;
+                for k in 0..3 {
+                    let want = c[k] as f64 * a + BLUE[k] as f64 * (1.0 - a);
+                    assert!(
+                        (got[k] as f64 - want).abs() <= 1.0,
+                        "pixel ({x}, {y}): {got:?}, {c:?} over blue"
+                    );
+                }
+            }
+        }
+    }
+}

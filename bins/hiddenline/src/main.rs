@@ -67,8 +67,9 @@ fn main() -> ExitCode {
         if let Some((name, word)) = input.header().attributes.smooth_shading() {
             return Err(Error::usage(format!(
                 "hiddenline strokes each polygon's edges in its one colour, and this stream \
-                 is {name}-shaded (its header says `{word}`); shading is drawn by the \
-                 z-buffer (render.sh --hse zbuf, the default) and by supersampling (--aa ssK)"
+                 is {name}-shaded (its header says `{word}`); shading is drawn by every \
+                 hidden-surface method (render.sh --hse zbuf, scanline, warnock, painter) and \
+                 by anti-aliasing (--aa ssK, abuf)"
             )));
         }
         let (width, height) = input

@@ -48,6 +48,10 @@
 //!   a crossing within 10⁻⁶ pixel of a vertex is that vertex; a polygon whose vertices
 //!   all lie on one line covers no pixel centre and is not sorted (each found by the
 //!   `methods` fuzz target: pieces that lost pixels).
+//! * Gouraud shading (docs/DESIGN.md, "Shading"): a shaded polygon is painted in its
+//!   colour planes' value at each pixel centre (`proto::shade`, the z-buffer's calls), and
+//!   a piece in the whole polygon's, found by the piece's index in the frame: the pieces
+//!   are shaded as the whole would be.
 //! * The cut budget ([`Painter::cut_budget`]): at most `n + 2048` cuts in a frame of n
 //!   polygons. Every pair of N planes that all pass through each other must be cut (N² /
 //!   2 pieces and more), and every cut adds a polygon the sort must test: unbounded, the
@@ -58,10 +62,12 @@
 //! wholly nearer than P reaches: every one after it is nearer still.
 
 use proto::geometry::{newell_plane, Plane, Side};
+use proto::shade::{Lighting, Shading};
 use proto::{Colour, DVec2, DVec3, DVec4, Polygon, Vertex};
-use scan::frame::{push_row_runs, HiddenSurface};
+use scan::frame::{push_row_runs, shaded_runs, HiddenSurface};
 use scan::{Run, SpanWalker};
 use std::collections::VecDeque;
+use std::sync::Arc;
 
 /// The five tests of Newell, Newell and Sancha, in the order they are tried.
 pub const TESTS: [&str; 5] = [
@@ -515,6 +521,8 @@ pub struct Painter {
     walker: SpanWalker,
     /// The colour-only frame, row-major (no depth buffer).
     frame: Vec<Option<Colour>>,
+    /// The stream's lighting, for Phong shading.
+    lighting: Option<Arc<Lighting>>,
     pub stats: PainterStats,
 }
 
@@ -638,13 +646,29 @@ impl Painter {
         false
     }
 
-    fn paint(&mut self, polygon: &Polygon, width: u32, height: u32) {
+    /// Paints `polygon` (a polygon of the frame, or a piece cut from one) over what is
+    /// there: in its colour, or, where `shading` is the whole polygon's Gouraud shading,
+    /// each pixel in the whole's colour at its centre, so that a piece is shaded as the
+    /// whole would be.
+    fn paint(&mut self, polygon: &Polygon, shading: Option<&Shading>, width: u32, height: u32) {
         let frame = &mut self.frame;
-        let colour = Some(polygon.colour);
-        self.walker.for_each_span(polygon, width, height, |s| {
-            let row = s.y as usize * width as usize;
-            frame[row + s.x0 as usize..row + s.x1 as usize].fill(colour);
-        });
+        match shading {
+            None => {
+                let colour = Some(polygon.colour);
+                self.walker.for_each_span(polygon, width, height, |s| {
+                    let row = s.y as usize * width as usize;
+                    frame[row + s.x0 as usize..row + s.x1 as usize].fill(colour);
+                });
+            }
+            Some(shading) => {
+                self.walker.for_each_span(polygon, width, height, |s| {
+                    let row = s.y as usize * width as usize;
+                    shaded_runs(shading, s.y, s.x0..s.x1, |x0, x1, c| {
+                        frame[row + x0 as usize..row + x1 as usize].fill(Some(c));
+                    });
+                });
+            }
+        }
         self.stats.painted += 1;
     }
 }
@@ -730,7 +754,9 @@ impl HiddenSurface for Painter {
             }
             // Paint P over what is there.
             list.pop_front();
-            self.paint(&items[p].polygon, width, height);
+            // A piece is shaded by the whole polygon it was cut from.
+            let shading = Shading::of(&polygons[items[p].index], self.lighting.as_ref());
+            self.paint(&items[p].polygon, shading.as_ref(), width, height);
             generation += 1;
             moves = 0;
         }
@@ -738,6 +764,17 @@ impl HiddenSurface for Painter {
         for (y, row) in self.frame.chunks_exact(width.max(1) as usize).enumerate() {
             push_row_runs(y as u32, row, runs);
         }
+    }
+
+    /// A Gouraud- or Phong-shaded polygon is painted in its colour at each pixel centre
+    /// (its pieces in the whole's), as the z-buffer draws it.
+    fn shades(&self) -> bool {
+        true
+    }
+
+    /// The lighting of a Phong-shaded stream: each pixel of a shaded polygon is lit by it.
+    fn set_lighting(&mut self, lighting: Option<Arc<Lighting>>) {
+        self.lighting = lighting;
     }
 
     fn stats(&self) -> String {

@@ -206,6 +206,49 @@ fn interpenetrating_squares_fail_and_split_mends_them() {
     assert_eq!(split, 0);
 }
 
+/// Gouraud-shaded polygons are painted in their colour at each pixel centre; the pieces
+/// the splitting step cuts from a shaded square keep the whole's colours, so the picture
+/// of two interpenetrating shaded squares is the z-buffer's.
+#[test]
+fn shaded_squares_and_their_pieces_are_shaded_as_the_whole() {
+    let shaded = |mut p: Polygon, colours: [[f64; 3]; 4]| {
+        p.colours = colours.iter().map(|&c| DVec3::from(c)).collect();
+        p
+    };
+    let red = shaded(
+        quad(
+            [255, 0, 0],
+            [[0.0, 0.0], [20.0, 0.0], [20.0, 16.0], [0.0, 16.0]],
+            |x, _| 0.3 + x * 0.02,
+        ),
+        [
+            [250.0, 0.0, 0.0],
+            [10.0, 200.0, 0.0],
+            [10.0, 0.0, 240.0],
+            [120.0, 120.0, 120.0],
+        ],
+    );
+    let blue = shaded(
+        square([0, 0, 255], 4.0, 4.0, 20.0, 20.0, 0.5),
+        [
+            [0.0, 0.0, 255.0],
+            [0.0, 255.0, 255.0],
+            [255.0, 255.0, 0.0],
+            [30.0, 60.0, 90.0],
+        ],
+    );
+    let polygons = [red, blue];
+    let (plain, split, _, s) = against_zbuffer(&polygons, 20, 20);
+    assert_eq!((plain, split), (6 * 12, 0));
+    assert!(s.stats.splits > 0, "{:?}", s.stats);
+    let picture = paint(&mut Painter::with_split(), &polygons, 20, 20);
+    // Pixel (0, 0), centre (0.5, 0.5), is red's alone, its colour the plane's there.
+    let red_shading = Shading::of(&polygons[0], None).expect("shaded");
+    assert_eq!(picture[0], Some(red_shading.at(0, 0)));
+    let colours: std::collections::HashSet<_> = picture.iter().flatten().collect();
+    assert!(colours.len() > 200, "{} colours", colours.len());
+}
+
 #[test]
 fn coincident_polygons_go_to_the_earlier() {
     let a = square([1, 0, 0], 0.0, 0.0, 8.0, 8.0, 0.5);

@@ -69,14 +69,21 @@
 //! carried along the line is compared pairwise, which can differ from the fold; the
 //! front is found afresh by the fold at every split, so only such a pixel can differ.)
 //!
+//! A Gouraud-shaded polygon (docs/DESIGN.md, "Shading") is decided as a flat one; each
+//! piece of a line where its segment is in front is painted pixel by pixel in its colour
+//! planes' value at the centre (`proto::shade`, as the z-buffer's shaded span), and sent as
+//! runs of one colour ([`scan::frame::shaded_runs`]).
+//!
 //! The counters Watkins's timings are about (14.4.3: the computation "grows roughly as the
 //! *visible* complexity") are kept in [`ScanlineStats`].
 
 use proto::raster::centres_in_clamped;
+use proto::shade::{Lighting, Shading};
 use proto::{Colour, Polygon};
-use scan::frame::HiddenSurface;
+use scan::frame::{shaded_runs, HiddenSurface};
 use scan::{depth_at, Depth, DepthPlane, Run, SpanWalker};
 use std::ops::Range;
+use std::sync::Arc;
 
 /// Counters over all frames, for `--stats`.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -258,6 +265,11 @@ pub struct Scanline {
     pieces: Vec<Piece>,
     /// The segments that may come in front inside a span.
     candidates: Vec<usize>,
+    /// The frame's polygons' Gouraud shading, by stream index, when any is shaded (empty
+    /// for a flat frame).
+    shadings: Vec<Option<Shading>>,
+    /// The stream's lighting, for Phong shading.
+    lighting: Option<Arc<Lighting>>,
     pub stats: ScanlineStats,
     /// Without the coherence from line to line, to measure what it buys: the segments
     /// sorted afresh on every line, and no prediction from the line above (`--sort-afresh`).
@@ -296,6 +308,13 @@ impl RowRuns<'_> {
                 }
             }
         }
+    }
+
+    /// [`RowRuns::paint`] for a Gouraud-shaded polygon: each pixel its colour at the
+    /// centre. Apart, so that the flat paint stays small enough to inline in the sweep.
+    #[inline(never)]
+    fn paint_shaded(&mut self, x0: u32, x1: u32, shading: &Shading) {
+        shaded_runs(shading, self.y, x0..x1, |a, b, c| self.paint(a, b, c));
     }
 
     fn finish(self) {
@@ -354,6 +373,8 @@ struct Piece {
 /// pieces (the prediction), and where the decisions go.
 struct Sweep<'a, 'r> {
     segments: &'a [Segment],
+    /// The polygons' shading by stream index (empty when none is shaded).
+    shadings: &'a [Option<Shading>],
     /// The line above's pieces, left to right.
     above: &'a [Piece],
     /// This line's pieces, as they are decided.
@@ -365,11 +386,17 @@ struct Sweep<'a, 'r> {
 }
 
 impl Sweep<'_, '_> {
-    /// Paints `x0..x1` with `segment`'s colour and records the piece.
+    /// Paints `x0..x1` with `segment`'s colour, or a shaded polygon's colour at each
+    /// pixel centre, and records the piece.
     #[inline]
-    fn paint(&mut self, x0: u32, x1: u32, segment: usize) {
+    /// `SHADED`: whether the frame has a shaded polygon (a flat frame's sweep is compiled
+    /// without the look-up).
+    fn paint<const SHADED: bool>(&mut self, x0: u32, x1: u32, segment: usize) {
         let s = &self.segments[segment];
-        self.out.paint(x0, x1, s.colour);
+        match self.shadings.get(s.polygon) {
+            Some(Some(shading)) if SHADED => self.out.paint_shaded(x0, x1, shading),
+            _ => self.out.paint(x0, x1, s.colour),
+        }
         match self.pieces.last_mut() {
             Some(p) if p.x1 == x0 && p.polygon == s.polygon => p.x1 = x1,
             _ => self.pieces.push(Piece {
@@ -572,13 +599,68 @@ impl Sweep<'_, '_> {
         }
     }
 
+    /// Sweeps the line: cuts it at every segment end into sample spans, left to right, and
+    /// decides each ([`Sweep::sample_span`]); `present` is scratch for the segments of a
+    /// span. `SHADED`: whether the frame has a shaded polygon.
+    fn line<const SHADED: bool>(mut self, present: &mut Vec<usize>) {
+        present.clear();
+        let mut entered = 0;
+        let segments = self.segments;
+        let mut x = segments[0].x0;
+        let mut front = None;
+        // The nearest right end among the segments present: kept as segments come and
+        // go rather than looked for each span.
+        let mut first_end = u32::MAX;
+        loop {
+            if present.is_empty() {
+                match segments.get(entered) {
+                    Some(s) => x = x.max(s.x0),
+                    None => break,
+                }
+            }
+            let entering = present.len();
+            while entered < segments.len() && segments[entered].x0 <= x {
+                let s = &segments[entered];
+                first_end = first_end.min(s.x1);
+                present.push(entered);
+                entered += 1;
+            }
+            let mut end = first_end;
+            if let Some(s) = segments.get(entered) {
+                end = end.min(s.x0);
+            }
+            let span = SampleSpan {
+                present,
+                entering,
+                a: x,
+                b: end,
+            };
+            self.sample_span::<SHADED>(span, &mut front);
+            x = end;
+            if first_end <= x {
+                // Some segment ends here: drop those that do, finding the next end.
+                first_end = u32::MAX;
+                present.retain(|&i| {
+                    let s = &segments[i];
+                    if s.x1 > x {
+                        first_end = first_end.min(s.x1);
+                        true
+                    } else {
+                        false
+                    }
+                });
+            }
+        }
+        self.out.finish();
+    }
+
     /// Decides a sample span (14.4.1), carrying `front` along the line.
     ///
     /// Depth is compared only where segments overlap, and only as much as the last span
     /// left undecided: while the front segment stays, a segment coming in is compared with
     /// it alone, and everything is looked at again only where the front leaves or is
     /// overtaken (Watkins's coherence along a scan line).
-    fn sample_span(&mut self, span: SampleSpan, front: &mut Option<Front>) {
+    fn sample_span<const SHADED: bool>(&mut self, span: SampleSpan, front: &mut Option<Front>) {
         let SampleSpan {
             present,
             entering,
@@ -590,7 +672,7 @@ impl Sweep<'_, '_> {
         self.stats.segments_examined += present.len() as u64;
         if let [only] = present {
             // Case 1: one segment, visible across the span.
-            self.paint(a, b, *only);
+            self.paint::<SHADED>(a, b, *only);
             *front = Some(Front {
                 segment: *only,
                 until: u32::MAX,
@@ -629,7 +711,7 @@ impl Sweep<'_, '_> {
         let mut x = a;
         loop {
             let split = f.until.min(b);
-            self.paint(x, split, f.segment);
+            self.paint::<SHADED>(x, split, f.segment);
             if split >= b {
                 break;
             }
@@ -787,6 +869,14 @@ impl HiddenSurface for Scanline {
         self.order.clear();
         self.slot_of.clear();
         self.slot_of.resize(polygons.len(), GONE);
+        // A shaded polygon's visible pieces take its colour planes' value at each pixel
+        // centre (docs/DESIGN.md, "Shading"); a flat frame keeps no table.
+        self.shadings.clear();
+        if polygons.iter().any(Polygon::is_shaded) {
+            let lighting = self.lighting.as_ref();
+            self.shadings
+                .extend(polygons.iter().map(|p| Shading::of(p, lighting)));
+        }
 
         let mut next = 0;
         for y in 0..height {
@@ -857,8 +947,9 @@ impl HiddenSurface for Scanline {
 
             // The sample spans, left to right: cut at every segment end.
             let segments = &self.segments;
-            let mut sweep = Sweep {
+            let sweep = Sweep {
                 segments,
+                shadings: &self.shadings,
                 above: &self.above,
                 pieces: &mut self.pieces,
                 candidates: &mut self.candidates,
@@ -869,60 +960,27 @@ impl HiddenSurface for Scanline {
                     runs,
                 },
             };
-            let present = &mut self.present;
-            present.clear();
-            let mut entered = 0;
-            let mut x = segments[0].x0;
-            let mut front = None;
-            // The nearest right end among the segments present: kept as segments come and
-            // go rather than looked for each span.
-            let mut first_end = u32::MAX;
-            loop {
-                if present.is_empty() {
-                    match segments.get(entered) {
-                        Some(s) => x = x.max(s.x0),
-                        None => break,
-                    }
-                }
-                let entering = present.len();
-                while entered < segments.len() && segments[entered].x0 <= x {
-                    let s = &segments[entered];
-                    first_end = first_end.min(s.x1);
-                    present.push(entered);
-                    entered += 1;
-                }
-                let mut end = first_end;
-                if let Some(s) = segments.get(entered) {
-                    end = end.min(s.x0);
-                }
-                let span = SampleSpan {
-                    present,
-                    entering,
-                    a: x,
-                    b: end,
-                };
-                sweep.sample_span(span, &mut front);
-                x = end;
-                if first_end <= x {
-                    // Some segment ends here: drop those that do, finding the next end.
-                    first_end = u32::MAX;
-                    present.retain(|&i| {
-                        let s = &segments[i];
-                        if s.x1 > x {
-                            first_end = first_end.min(s.x1);
-                            true
-                        } else {
-                            false
-                        }
-                    });
-                }
+            if self.shadings.is_empty() {
+                sweep.line::<false>(&mut self.present);
+            } else {
+                sweep.line::<true>(&mut self.present);
             }
-            sweep.out.finish();
             // This line's record of subdivisions predicts the next.
             if !self.sort_afresh {
                 std::mem::swap(&mut self.above, &mut self.pieces);
             }
         }
+    }
+
+    /// A Gouraud- or Phong-shaded polygon's visible spans take its colour at each pixel
+    /// centre, as the z-buffer's do.
+    fn shades(&self) -> bool {
+        true
+    }
+
+    /// The lighting of a Phong-shaded stream: each pixel of a shaded polygon is lit by it.
+    fn set_lighting(&mut self, lighting: Option<Arc<Lighting>>) {
+        self.lighting = lighting;
     }
 
     fn stats(&self) -> String {
@@ -1367,6 +1425,49 @@ mod tests {
             0
         );
         assert!(stats.crossings > 100, "{stats:?}");
+    }
+    /// Gouraud-shaded polygons among flat ones: every visible pixel of a shaded polygon is
+    /// its colour planes' value at the centre, the z-buffer's byte for byte, and a row's
+    /// runs of one colour are joined.
+    #[test]
+    fn shaded_polygons_are_drawn_as_the_zbuffer_shades_them() {
+        let mut state = 0x9e37_79b9_7f4a_7c15u64;
+        let mut next = move || {
+            state ^= state << 13;
+            state ^= state >> 7;
+            state ^= state << 17;
+            (state >> 11) as f64 / (1u64 << 53) as f64
+        };
+        let (w, h) = (150u32, 100u32);
+        let polygons: Vec<Polygon> = (0..120)
+            .map(|i| {
+                let (cx, cy) = (next() * 170.0 - 10.0, next() * 120.0 - 10.0);
+                let n = 3 + (i % 2);
+                let pts: Vec<[f64; 3]> = (0..n)
+                    .map(|_| [cx + next() * 50.0 - 25.0, cy + next() * 50.0 - 25.0, next()])
+                    .collect();
+                let mut p = Polygon::from_xyz([i as u8, 7, 9], &pts);
+                if i % 3 != 0 {
+                    p.colours = (0..n)
+                        .map(|_| proto::DVec3::new(next(), next(), next()) * 255.0)
+                        .collect();
+                }
+                p
+            })
+            .collect();
+        let (runs, _) = resolve(&polygons, w, h);
+        let image = image_of(&runs, w, h);
+        assert_eq!(differing_pixels(&image, &zbuffer_image(&polygons, w, h)), 0);
+        // Far more colours than polygons: the shaded ones are smooth.
+        let colours: std::collections::HashSet<_> = image.iter().flatten().collect();
+        assert!(colours.len() > 2000, "{} colours", colours.len());
+        for pair in runs.windows(2) {
+            let (a, b) = (&pair[0], &pair[1]);
+            assert!(
+                a.y != b.y || a.x1 != b.x0 || a.colour != b.colour,
+                "{a:?} {b:?}"
+            );
+        }
     }
 }
 

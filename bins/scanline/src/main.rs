@@ -15,7 +15,9 @@ use std::process::ExitCode;
 /// midpoint subdivision where several may), and the span split there; the line above's
 /// front and crossing columns are tried first and verified. Writes the visible pixels
 /// of each frame as runs of one colour (`run Y X0 X1 R G B`), which zbuf places without
-/// a depth test. The picture is the z-buffer's (`scanconv --resolve`) to the pixel.
+/// a depth test; a Gouraud-shaded polygon's pixels (a `vertex-colours` stream) each in
+/// its colour at the pixel centre. The picture is the z-buffer's (`scanconv --resolve`)
+/// to the pixel.
 ///
 /// It fails on no scene; what it pays for is segments and sample spans, not pixels
 /// (docs/methods.md, scripts/bench-methods.sh scanline): much faster than the z-buffer

@@ -89,13 +89,20 @@
 //! early exit compares the vertices' depths with the surrounder's plane in `f64`, with
 //! the same margin. docs/methods.md counts the pixels this changes on the test scenes.
 //!
+//! Gouraud shading (docs/DESIGN.md, "Shading") changes nothing of the above: a shaded
+//! polygon that fills a window, or is drawn as its one intersector, puts its pieces of rows
+//! on the lists pixel by pixel in its colour planes' value at each centre (`proto::shade`,
+//! the z-buffer's calls), as runs of one colour.
+//!
 //! Output: each resolved window puts its pieces of rows on its rows' lists, which are
 //! sent at the frame's end row by row as maximal runs of one colour, the runs
 //! `scanconv --resolve` sends.
 
+use proto::shade::{Lighting, Shading};
 use proto::{Colour, DVec2, Polygon};
-use scan::frame::HiddenSurface;
+use scan::frame::{shaded_runs, HiddenSurface};
 use scan::{depth_at, takes, Depth, DepthPlane, Run, SpanWalker};
+use std::sync::Arc;
 
 /// How a window was resolved (for `--stats`).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -257,6 +264,21 @@ impl Face {
     }
 }
 
+/// Puts columns `x0..x1` of row `y` on the row's list of pieces: in `colour`, or, for a
+/// Gouraud-shaded polygon, each pixel in its colour at the centre (runs of one colour).
+#[inline]
+fn push_piece(
+    row: &mut Vec<(u32, u32, Colour)>,
+    shading: Option<&Shading>,
+    (y, x0, x1): (u32, u32, u32),
+    colour: Colour,
+) {
+    match shading {
+        None => row.push((x0, x1, colour)),
+        Some(s) => shaded_runs(s, y, x0..x1, |a, b, c| row.push((a, b, c))),
+    }
+}
+
 /// Does polygon `a`, at depth `da` at a pixel, beat polygon `b` at depth `db` there (the
 /// tie rule: the later one must [`takes`] the pixel from the earlier)?
 fn beats(a: &Face, da: Depth, b: &Face, db: Depth) -> bool {
@@ -293,6 +315,11 @@ pub struct Warnock {
     pieces: Vec<Vec<(u32, u32, Colour)>>,
     /// Scratch for one intersector's spans.
     spans: Vec<(u32, u32, u32)>,
+    /// The frame's polygons' Gouraud shading, by stream index, when any is shaded (empty
+    /// for a flat frame).
+    shadings: Vec<Option<Shading>>,
+    /// The stream's lighting, for Phong shading.
+    lighting: Option<Arc<Lighting>>,
     bbox: Window,
     width: u32,
     pub stats: Stats,
@@ -313,6 +340,12 @@ impl Warnock {
         self.faces.clear();
         self.points.clear();
         self.width = width;
+        self.shadings.clear();
+        if polygons.iter().any(Polygon::is_shaded) {
+            let lighting = self.lighting.as_ref();
+            self.shadings
+                .extend(polygons.iter().map(|p| Shading::of(p, lighting)));
+        }
         for (i, p) in polygons.iter().enumerate() {
             let start = self.points.len();
             self.points
@@ -579,10 +612,11 @@ impl Warnock {
         if penetrates {
             return Resolution::Subdivided;
         }
-        let colour = self.faces[hider as usize].colour;
+        let h = &self.faces[hider as usize];
+        let hider_paint = (h.poly, h.colour);
         match kept - start {
             1 => {
-                self.fill(w, colour);
+                self.fill(w, hider_paint);
                 Resolution::Surrounded
             }
             2 => {
@@ -591,7 +625,7 @@ impl Warnock {
                     .find(|e| e.face != hider)
                     .expect("two entries, one the hider")
                     .face;
-                self.draw(polygons, other, w, Some(colour));
+                self.draw(polygons, other, w, Some(hider_paint));
                 Resolution::InFront
             }
             _ => Resolution::Subdivided,
@@ -626,20 +660,41 @@ impl Warnock {
             }
         }
         if let Some((f, _, _)) = best {
-            self.fill(w, f.colour);
+            self.fill(w, (f.poly, f.colour));
         }
     }
 
-    fn fill(&mut self, w: Window, colour: Colour) {
+    /// Fills window `w` with polygon `poly` (its stream index) in `colour`, or, if it is
+    /// Gouraud-shaded, in its colour at each pixel centre.
+    #[inline]
+    fn fill(&mut self, w: Window, (poly, colour): (u32, Colour)) {
+        if let Some(Some(_)) = self.shadings.get(poly as usize) {
+            return self.fill_shaded(w, poly);
+        }
         let y0 = self.bbox.y0;
         for y in w.y0..w.y1 {
             self.pieces[(y - y0) as usize].push((w.x0, w.x1, colour));
         }
     }
 
+    /// [`Warnock::fill`] for a Gouraud-shaded polygon. Apart, so that the flat fill stays
+    /// small enough to inline.
+    #[inline(never)]
+    fn fill_shaded(&mut self, w: Window, poly: u32) {
+        let y0 = self.bbox.y0;
+        let Some(shading) = &self.shadings[poly as usize] else {
+            return;
+        };
+        for y in w.y0..w.y1 {
+            let row = &mut self.pieces[(y - y0) as usize];
+            shaded_runs(shading, y, w.x0..w.x1, |a, b, c| row.push((a, b, c)));
+        }
+    }
+
     /// Clips face `face` to window `w` and draws the pixels it covers (its spans, the
-    /// z-buffer's coverage), and, with `under`, the rest of the window in that colour.
-    fn draw(&mut self, polygons: &[Polygon], face: u32, w: Window, under: Option<Colour>) {
+    /// z-buffer's coverage), and, with `under` (a polygon's stream index and colour), the
+    /// rest of the window in that polygon's colours.
+    fn draw(&mut self, polygons: &[Polygon], face: u32, w: Window, under: Option<(u32, Colour)>) {
         let f = self.faces[face as usize];
         let mut spans = std::mem::take(&mut self.spans);
         spans.clear();
@@ -651,21 +706,26 @@ impl Warnock {
                 }
             });
         let by = self.bbox.y0;
+        let shading = self.shadings.get(f.poly as usize).and_then(Option::as_ref);
+        let under = under.map(|(poly, colour)| {
+            let s = self.shadings.get(poly as usize).and_then(Option::as_ref);
+            (s, colour)
+        });
         let mut k = 0;
         for y in w.y0..w.y1 {
             let row = &mut self.pieces[(y - by) as usize];
             let mut x = w.x0;
             while k < spans.len() && spans[k].0 == y {
                 let (_, s0, s1) = spans[k];
-                if let Some(u) = under.filter(|_| x < s0) {
-                    row.push((x, s0, u));
+                if let Some((us, u)) = under.filter(|_| x < s0) {
+                    push_piece(row, us, (y, x, s0), u);
                 }
-                row.push((s0, s1, f.colour));
+                push_piece(row, shading, (y, s0, s1), f.colour);
                 x = s1;
                 k += 1;
             }
-            if let Some(u) = under.filter(|_| x < w.x1) {
-                row.push((x, w.x1, u));
+            if let Some((us, u)) = under.filter(|_| x < w.x1) {
+                push_piece(row, us, (y, x, w.x1), u);
             }
         }
         self.spans = spans;
@@ -773,6 +833,17 @@ impl HiddenSurface for Warnock {
         self.visit(polygons, (sx, sy, size), 0, n);
         self.lists.clear();
         self.emit(runs);
+    }
+
+    /// A Gouraud- or Phong-shaded polygon's visible pixels take its colour at each
+    /// centre, as the z-buffer's do.
+    fn shades(&self) -> bool {
+        true
+    }
+
+    /// The lighting of a Phong-shaded stream: each pixel of a shaded polygon is lit by it.
+    fn set_lighting(&mut self, lighting: Option<Arc<Lighting>>) {
+        self.lighting = lighting;
     }
 
     fn stats(&self) -> String {
@@ -1406,6 +1477,68 @@ mod tests {
         let image = image_of(&runs, 36, 45);
         assert_eq!(image, zbuffer_image(&polygons, 36, 45));
         assert_eq!(image[2 * 36 + 18], Some([173, 126, 173]));
+    }
+
+    /// Gouraud-shaded polygons among flat ones, on a screen wide enough for windows of
+    /// every kind (surrounders filled, one intersector over a hider, pixels): every visible
+    /// pixel of a shaded polygon is its colour at the centre, the z-buffer's byte for
+    /// byte, and a row's runs of one colour are joined.
+    #[test]
+    fn shaded_polygons_are_drawn_as_the_zbuffer_shades_them() {
+        let mut state = 0x9e37_79b9_7f4a_7c15u64;
+        let mut next = move || {
+            state ^= state << 13;
+            state ^= state >> 7;
+            state ^= state << 17;
+            (state >> 11) as f64 / (1u64 << 53) as f64
+        };
+        let (w, h) = (150u32, 100u32);
+        let mut polygons = vec![square([1, 2, 3], -5.0, -5.0, 160.0, 110.0, 0.9)];
+        polygons[0].colours = [
+            [200.0, 0.0, 0.0],
+            [0.0, 200.0, 0.0],
+            [0.0, 0.0, 200.0],
+            [90.0; 3],
+        ]
+        .map(proto::DVec3::from)
+        .to_vec();
+        for i in 0..60 {
+            let (cx, cy) = (next() * 170.0 - 10.0, next() * 120.0 - 10.0);
+            let n = 3 + (i % 2);
+            let pts: Vec<[f64; 3]> = (0..n)
+                .map(|_| {
+                    [
+                        cx + next() * 50.0 - 25.0,
+                        cy + next() * 50.0 - 25.0,
+                        next() * 0.8,
+                    ]
+                })
+                .collect();
+            let mut p = Polygon::from_xyz([i as u8, 7, 9], &pts);
+            if i % 3 != 0 {
+                p.colours = (0..n)
+                    .map(|_| proto::DVec3::new(next(), next(), next()) * 255.0)
+                    .collect();
+            }
+            polygons.push(p);
+        }
+        let (runs, m) = resolved(&polygons, w, h);
+        let image = image_of(&runs, w, h);
+        assert_eq!(differing_pixels(&image, &zbuffer_image(&polygons, w, h)), 0);
+        assert!(
+            m.stats.surrounded > 0 && m.stats.in_front > 0,
+            "{:?}",
+            m.stats
+        );
+        let colours: std::collections::HashSet<_> = image.iter().flatten().collect();
+        assert!(colours.len() > 2000, "{} colours", colours.len());
+        for pair in runs.windows(2) {
+            let (a, b) = (&pair[0], &pair[1]);
+            assert!(
+                a.y != b.y || a.x1 != b.x0 || a.colour != b.colour,
+                "{a:?} {b:?}"
+            );
+        }
     }
 
     #[test]
