@@ -177,3 +177,39 @@ pub fn parse_ppm_stream(bytes: &[u8]) -> Result<Vec<Frame>, String> {
         })
         .collect())
 }
+
+/// Three per-vertex values of a world-space triangle (colours or normals) mixed at the
+/// screen point `p` by its barycentric weights on the screen, computed here without the
+/// pipeline's code: the vertices projected with the thesis's camera (eye at z = 20,
+/// s = 10, d = 16, so w = 0.625·z_e) onto a `width`×`height` screen. `None` for a point
+/// outside (a weight below `margin`). The held-out reference of the shading tests:
+/// Gouraud's and Phong's interpolation is linear on the screen.
+pub fn screen_mix(
+    vertices: [[f64; 3]; 3],
+    values: [[f64; 3]; 3],
+    (width, height): (usize, usize),
+    p: (f64, f64),
+    margin: f64,
+) -> Option<[f64; 3]> {
+    let aspect = width as f64 / height as f64;
+    let screen = vertices.map(|[x, y, z]| {
+        let w = 0.625 * (20.0 - z);
+        (
+            (x / (aspect * w) + 1.0) * width as f64 / 2.0,
+            (1.0 - y / w) * height as f64 / 2.0,
+        )
+    });
+    let area = |a: (f64, f64), b: (f64, f64), c: (f64, f64)| {
+        (b.0 - a.0) * (c.1 - a.1) - (c.0 - a.0) * (b.1 - a.1)
+    };
+    let whole = area(screen[0], screen[1], screen[2]);
+    let l = [
+        area(p, screen[1], screen[2]) / whole,
+        area(screen[0], p, screen[2]) / whole,
+        area(screen[0], screen[1], p) / whole,
+    ];
+    if l.iter().any(|&w| w < margin) {
+        return None;
+    }
+    Some([0, 1, 2].map(|k| l[0] * values[0][k] + l[1] * values[1][k] + l[2] * values[2][k]))
+}

@@ -7,7 +7,7 @@
 //! normals mixed by barycentric weights on the screen, normalized, and lit by Phong's
 //! model (ambient, two-sided diffuse, a white highlight (r·v)^N).
 
-use pipeline_tests::{parse_ppm_stream, run, sh, Frame};
+use pipeline_tests::{parse_ppm_stream, run, screen_mix, sh, Frame};
 
 /// The one frame of a PPM stream.
 fn frame(ppm: &[u8]) -> Frame {
@@ -60,33 +60,17 @@ fn a_phong_scene_is_zspecs_at_every_depth_in_both_merge_modes() {
 fn held_out(
     vertices: [[f64; 3]; 3],
     normals: [[f64; 3]; 3],
-    (width, height): (usize, usize),
+    size: (usize, usize),
     (x, y): (usize, usize),
     margin: f64,
 ) -> Option<[f64; 3]> {
-    let aspect = width as f64 / height as f64;
-    let screen = vertices.map(|[x, y, z]| {
-        let w = 0.625 * (20.0 - z);
-        (
-            (x / (aspect * w) + 1.0) * width as f64 / 2.0,
-            (1.0 - y / w) * height as f64 / 2.0,
-        )
-    });
-    let p = (x as f64 + 0.5, y as f64 + 0.5);
-    let area = |a: (f64, f64), b: (f64, f64), c: (f64, f64)| {
-        (b.0 - a.0) * (c.1 - a.1) - (c.0 - a.0) * (b.1 - a.1)
-    };
-    let whole = area(screen[0], screen[1], screen[2]);
-    let l = [
-        area(p, screen[1], screen[2]) / whole,
-        area(screen[0], p, screen[2]) / whole,
-        area(screen[0], screen[1], p) / whole,
-    ];
-    if l.iter().any(|&w| w < margin) {
-        return None;
-    }
-    let mut n =
-        [0, 1, 2].map(|k| l[0] * normals[0][k] + l[1] * normals[1][k] + l[2] * normals[2][k]);
+    let mut n = screen_mix(
+        vertices,
+        normals,
+        size,
+        (x as f64 + 0.5, y as f64 + 0.5),
+        margin,
+    )?;
     let len = (n[0] * n[0] + n[1] * n[1] + n[2] * n[2]).sqrt();
     n = n.map(|c| c / len);
     // The header's lighting: ambient 0.3, light (0, 0.6, 0.8) of 0.9, specular 0.7 with

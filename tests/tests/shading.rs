@@ -6,7 +6,7 @@
 //! held-out computation of Gouraud's rule written here from scratch: the vertex colours
 //! interpolated linearly across the screen (barycentric weights at each pixel centre).
 
-use pipeline_tests::{parse_ppm_stream, run, sh, Frame};
+use pipeline_tests::{parse_ppm_stream, run, screen_mix, sh, Frame};
 
 /// The one frame of a PPM stream.
 fn frame(ppm: &[u8]) -> Frame {
@@ -115,11 +115,9 @@ fn the_other_methods_light_a_phong_stream_as_zspec_does() {
     assert!(differ <= 200, "{differ} pixels differ from zspec's");
 }
 
-/// A triangle's screen-space Gouraud colour at every pixel centre it covers, computed
-/// here without the pipeline's code: project the vertices with the thesis's camera
-/// (eye at z = 20, s = 10, d = 16, so w = 0.625·z_e), take barycentric weights of the
-/// centre, and mix the vertex colours. `None` for a centre outside it (a weight below
-/// `margin`).
+/// A triangle's screen-space Gouraud colour at the centre of pixel (x, y), computed
+/// without the pipeline's code ([`screen_mix`]). `None` for a centre outside it (a
+/// weight below `margin`).
 fn held_out(
     vertices: [[f64; 3]; 3],
     colours: [[f64; 3]; 3],
@@ -128,44 +126,13 @@ fn held_out(
     y: usize,
     margin: f64,
 ) -> Option<[f64; 3]> {
-    held_out_at(
+    screen_mix(
         vertices,
         colours,
         size,
         (x as f64 + 0.5, y as f64 + 0.5),
         margin,
     )
-}
-
-/// [`held_out`] at any point `p` of the screen.
-fn held_out_at(
-    vertices: [[f64; 3]; 3],
-    colours: [[f64; 3]; 3],
-    (width, height): (usize, usize),
-    p: (f64, f64),
-    margin: f64,
-) -> Option<[f64; 3]> {
-    let aspect = width as f64 / height as f64;
-    let screen = vertices.map(|[x, y, z]| {
-        let w = 0.625 * (20.0 - z);
-        (
-            (x / (aspect * w) + 1.0) * width as f64 / 2.0,
-            (1.0 - y / w) * height as f64 / 2.0,
-        )
-    });
-    let area = |a: (f64, f64), b: (f64, f64), c: (f64, f64)| {
-        (b.0 - a.0) * (c.1 - a.1) - (c.0 - a.0) * (b.1 - a.1)
-    };
-    let whole = area(screen[0], screen[1], screen[2]);
-    let l = [
-        area(p, screen[1], screen[2]) / whole,
-        area(screen[0], p, screen[2]) / whole,
-        area(screen[0], screen[1], p) / whole,
-    ];
-    if l.iter().any(|&w| w < margin) {
-        return None;
-    }
-    Some([0, 1, 2].map(|k| l[0] * colours[0][k] + l[1] * colours[1][k] + l[2] * colours[2][k]))
 }
 
 /// The triangle of the held-out tests: its world vertices and their colours.
@@ -258,7 +225,7 @@ fn the_a_buffer_shades_a_fully_covered_pixel_at_its_centre() {
                 .map(|(i, j)| (x as f64 + i, y as f64 + j));
             if corners
                 .iter()
-                .any(|&c| held_out_at(TRIANGLE, TRIANGLE_COLOURS, size, c, 1e-9).is_none())
+                .any(|&c| screen_mix(TRIANGLE, TRIANGLE_COLOURS, size, c, 1e-9).is_none())
             {
                 continue;
             }
