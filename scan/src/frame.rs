@@ -106,6 +106,18 @@ impl HiddenSurface for ZBuffer {
     }
 }
 
+/// A small xorshift generator of numbers in [0, 1), for the methods' tests of random
+/// scenes: the same scene from the same `seed` on every platform, no crate needed.
+pub fn pseudo_random(seed: u64) -> impl FnMut() -> f64 {
+    let mut state = seed;
+    move || {
+        state ^= state << 13;
+        state ^= state >> 7;
+        state ^= state << 17;
+        (state >> 11) as f64 / (1u64 << 53) as f64
+    }
+}
+
 /// The picture `runs` paint on a `width`×`height` screen, row-major: `None` where no run
 /// reaches. A pixel painted twice is an error of the method that made the runs, and
 /// panics here, in its tests.

@@ -1401,13 +1401,7 @@ mod tests {
     /// interpenetrating triangles and quads on a screen wider than a region tile.
     #[test]
     fn a_larger_random_scene_is_the_zbuffers() {
-        let mut state = 0x2545_f491_4f6c_dd1du64;
-        let mut next = move || {
-            state ^= state << 13;
-            state ^= state >> 7;
-            state ^= state << 17;
-            (state >> 11) as f64 / (1u64 << 53) as f64
-        };
+        let mut next = scan::frame::pseudo_random(0x2545_f491_4f6c_dd1du64);
         let (w, h) = (200u32, 150u32);
         let polygons: Vec<Polygon> = (0..600)
             .map(|i| {
@@ -1431,13 +1425,7 @@ mod tests {
     /// runs of one colour are joined.
     #[test]
     fn shaded_polygons_are_drawn_as_the_zbuffer_shades_them() {
-        let mut state = 0x9e37_79b9_7f4a_7c15u64;
-        let mut next = move || {
-            state ^= state << 13;
-            state ^= state >> 7;
-            state ^= state << 17;
-            (state >> 11) as f64 / (1u64 << 53) as f64
-        };
+        let mut next = scan::frame::pseudo_random(0x9e37_79b9_7f4a_7c15u64);
         let (w, h) = (150u32, 100u32);
         let polygons: Vec<Polygon> = (0..120)
             .map(|i| {

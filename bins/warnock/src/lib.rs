@@ -1485,13 +1485,7 @@ mod tests {
     /// byte, and a row's runs of one colour are joined.
     #[test]
     fn shaded_polygons_are_drawn_as_the_zbuffer_shades_them() {
-        let mut state = 0x9e37_79b9_7f4a_7c15u64;
-        let mut next = move || {
-            state ^= state << 13;
-            state ^= state >> 7;
-            state ^= state << 17;
-            (state >> 11) as f64 / (1u64 << 53) as f64
-        };
+        let mut next = scan::frame::pseudo_random(0x9e37_79b9_7f4a_7c15u64);
         let (w, h) = (150u32, 100u32);
         let mut polygons = vec![square([1, 2, 3], -5.0, -5.0, 160.0, 110.0, 0.9)];
         polygons[0].colours = [
