@@ -1,5 +1,6 @@
 //! The text stream decoder (lexer and grammar, `skip` and `run` included; vertex colours,
-//! opacity, `shade` lines and fragment `shade` records too) on arbitrary
+//! vertex normals and the lighting words, opacity, `shade` lines and fragment `shade`
+//! records too) on arbitrary
 //! bytes: no panic, every error located (`line L, column C: …`) or about the input as a
 //! whole, and what was read writes back and reads again the same in both forms
 //! (polypipe_fuzz::drain). Run with `-dict=dict/text.dict` for the keywords.
@@ -21,6 +22,8 @@ fuzz_target!(|data: &[u8]| {
         "polypipe 1 world vertex-colours opacity\n",
         "polypipe 1 eye vertex-colours\n",
         "polypipe 1 screen 8 8 depth reciprocal 1 vertex-colours\n",
+        "polypipe 1 world vertex-normals ambient 0.2 light 0 0 1 0.8 specular 0.6 20\n",
+        "polypipe 2 fragments 8 8 depth reciprocal 1 vertex-normals light 1 0 0 1\n",
     ] {
         let mut s = header.as_bytes().to_vec();
         s.extend_from_slice(data);

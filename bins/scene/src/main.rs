@@ -96,6 +96,14 @@ enum Command {
         stacks: u32,
         #[arg(long, default_value_t = 32, value_parser = clap::value_parser!(u32).range(3..=4096))]
         slices: u32,
+        /// Light each vertex instead of each face (`vertex-colours`): Gouraud shading.
+        #[arg(long, conflicts_with = "phong")]
+        gouraud: bool,
+        /// Send each vertex's normal and the lighting (`vertex-normals`): Phong shading.
+        #[arg(long)]
+        phong: bool,
+        #[command(flatten)]
+        lights: LightArgs,
     },
     /// A building of a few hundred edges: walls, windows as separate quadrilaterals, a
     /// door and a gable roof (Archuleta's figures 2 and 3).
@@ -426,12 +434,24 @@ fn main() -> ExitCode {
                 );
                 shapes::spin_lit(&sphere, frames, DVec3::ZERO, shading, &lighting)
             }
-            Command::Spheres { stacks, slices } => spin(
-                &shapes::spheres(stacks as usize, slices as usize),
-                frames,
-                DVec3::ZERO,
-                Shading::Lambert,
-            ),
+            Command::Spheres {
+                stacks,
+                slices,
+                gouraud,
+                phong,
+                lights,
+            } => {
+                lighting = lights.lighting()?;
+                shading = if phong {
+                    Shading::Phong
+                } else if gouraud {
+                    Shading::Gouraud
+                } else {
+                    Shading::Lambert
+                };
+                let spheres = shapes::spheres(stacks as usize, slices as usize);
+                shapes::spin_lit(&spheres, frames, DVec3::ZERO, shading, &lighting)
+            }
             Command::Building { floors, bays } => spin(
                 &shapes::building(floors as usize, bays as usize),
                 frames,

@@ -215,20 +215,26 @@ pub fn sphere(
 /// Two intersecting spheres, as in Archuleta's figure 1 (seed 003): a red one on the left
 /// and a slightly nearer blue one on the right, overlapping by about a third of a radius.
 pub fn spheres(stacks: usize, slices: usize) -> Vec<Face> {
-    let mut faces = sphere(
-        DVec3::new(-3.5, 0.0, -1.0),
-        6.0,
-        stacks,
-        slices,
-        [230, 70, 60],
-    );
-    faces.extend(sphere(
-        DVec3::new(3.5, 0.5, 1.0),
-        5.0,
-        stacks,
-        slices,
-        [70, 110, 235],
-    ));
+    let mut faces = Vec::new();
+    for (centre, radius, colour) in [
+        (DVec3::new(-3.5, 0.0, -1.0), 6.0, [230, 70, 60]),
+        (DVec3::new(3.5, 0.5, 1.0), 5.0, [70, 110, 235]),
+    ] {
+        // Each sphere's normals from its own centre (the spin's centre is the origin,
+        // which neither is about), for --gouraud and --phong.
+        faces.extend(
+            sphere(centre, radius, stacks, slices, colour)
+                .into_iter()
+                .map(|mut f| {
+                    f.normals = f
+                        .points
+                        .iter()
+                        .map(|p| (*p - centre).normalize_or_zero())
+                        .collect();
+                    f
+                }),
+        );
+    }
     faces
 }
 

@@ -613,3 +613,35 @@ fn sphere_phong_normals_are_the_spheres() {
         }
     }
 }
+
+/// `scene spheres --phong` and `--gouraud`: each sphere's normals point from its own
+/// centre, not from the origin the movie turns about.
+#[test]
+fn spheres_normals_point_from_each_spheres_centre() {
+    let out = scene()
+        .args(["spheres", "--stacks", "4", "--slices", "6", "--phong"])
+        .output()
+        .unwrap();
+    assert!(out.status.success());
+    let centres = [
+        (proto::DVec3::new(-3.5, 0.0, -1.0), 6.0),
+        (proto::DVec3::new(3.5, 0.5, 1.0), 5.0),
+    ];
+    let polygons = &frames_of(&out.stdout)[0];
+    assert_eq!(polygons.len(), 2 * 4 * 6);
+    for (k, polygon) in polygons.iter().enumerate() {
+        let (centre, radius) = centres[k / 24];
+        for (n, v) in polygon.colours.iter().zip(&polygon.vertices) {
+            assert!(
+                ((v.truncate() - centre) / radius - *n).length() < 1e-12,
+                "{k}"
+            );
+        }
+    }
+    let gouraud = scene()
+        .args(["spheres", "--stacks", "4", "--slices", "6", "--gouraud"])
+        .output()
+        .unwrap();
+    let reader = Reader::<Token, _>::new(&gouraud.stdout[..]).unwrap();
+    assert!(reader.header().attributes.vertex_colours);
+}
