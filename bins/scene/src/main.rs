@@ -256,6 +256,17 @@ impl LightArgs {
     }
 }
 
+/// The shading `--phong` or `--gouraud` asks for, else `otherwise` (the faces lit, or flat).
+fn chosen_shading(gouraud: bool, phong: bool, otherwise: Shading) -> Shading {
+    if phong {
+        Shading::Phong
+    } else if gouraud {
+        Shading::Gouraud
+    } else {
+        otherwise
+    }
+}
+
 /// A highlight: KS ≥ 0 and N ≥ 1.
 fn specular(s: &str) -> Result<(f64, f64), String> {
     let [ks, n] = proto::camera::parse_numbers::<2>(s, "KS,N")?;
@@ -418,13 +429,7 @@ fn main() -> ExitCode {
                 lights,
             } => {
                 lighting = lights.lighting()?;
-                shading = if phong {
-                    Shading::Phong
-                } else if gouraud {
-                    Shading::Gouraud
-                } else {
-                    Shading::Lambert
-                };
+                shading = chosen_shading(gouraud, phong, Shading::Lambert);
                 let sphere = shapes::sphere(
                     DVec3::ZERO,
                     radius,
@@ -442,13 +447,7 @@ fn main() -> ExitCode {
                 lights,
             } => {
                 lighting = lights.lighting()?;
-                shading = if phong {
-                    Shading::Phong
-                } else if gouraud {
-                    Shading::Gouraud
-                } else {
-                    Shading::Lambert
-                };
+                shading = chosen_shading(gouraud, phong, Shading::Lambert);
                 let spheres = shapes::spheres(stacks as usize, slices as usize);
                 shapes::spin_lit(&spheres, frames, DVec3::ZERO, shading, &lighting)
             }
@@ -521,18 +520,15 @@ fn main() -> ExitCode {
                 if !no_fit {
                     obj::fit(&mut model.faces);
                 }
-                shading = if gouraud || phong {
-                    obj::smooth_normals(&mut model.faces, crease);
-                    if phong {
-                        Shading::Phong
-                    } else {
-                        Shading::Gouraud
-                    }
-                } else if shade {
+                let faces_only = if shade {
                     Shading::Lambert
                 } else {
                     Shading::Flat
                 };
+                shading = chosen_shading(gouraud, phong, faces_only);
+                if gouraud || phong {
+                    obj::smooth_normals(&mut model.faces, crease);
+                }
                 lighting = lights.lighting()?;
                 shapes::spin_lit(&model.faces, frames, DVec3::ZERO, shading, &lighting)
             }
