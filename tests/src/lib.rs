@@ -213,3 +213,37 @@ pub fn screen_mix(
     }
     Some([0, 1, 2].map(|k| l[0] * values[0][k] + l[1] * values[1][k] + l[2] * values[2][k]))
 }
+
+/// Checks a frame of one triangle on a black background against a held-out colour,
+/// `want(x, y, margin)` (`None` for a pixel centre outside the triangle by `margin`):
+/// no centre well inside it (margin 1e-6) is left black, none drawn lies outside it
+/// (margin −1e-9), and every drawn pixel is within one level a channel of `want`.
+/// Returns how many pixels are drawn.
+pub fn check_triangle_frame(
+    f: &Frame,
+    want: impl Fn(usize, usize, f64) -> Option<[f64; 3]>,
+) -> usize {
+    let mut covered = 0;
+    for y in 0..f.height {
+        for x in 0..f.width {
+            let got = f.at(x, y);
+            if got == [0, 0, 0] {
+                assert!(
+                    want(x, y, 1e-6).is_none(),
+                    "pixel ({x}, {y}) is inside the triangle and not drawn"
+                );
+                continue;
+            }
+            covered += 1;
+            let want = want(x, y, -1e-9)
+                .unwrap_or_else(|| panic!("pixel ({x}, {y}) is drawn outside the triangle"));
+            for k in 0..3 {
+                assert!(
+                    (got[k] as f64 - want[k]).abs() <= 1.0,
+                    "pixel ({x}, {y}): {got:?} against {want:?}"
+                );
+            }
+        }
+    }
+    covered
+}

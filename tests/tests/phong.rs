@@ -7,7 +7,7 @@
 //! normals mixed by barycentric weights on the screen, normalized, and lit by Phong's
 //! model (ambient, two-sided diffuse, a white highlight (r·v)^N).
 
-use pipeline_tests::{parse_ppm_stream, run, screen_mix, sh, Frame};
+use pipeline_tests::{check_triangle_frame, parse_ppm_stream, run, screen_mix, sh, Frame};
 
 /// The one frame of a PPM stream.
 fn frame(ppm: &[u8]) -> Frame {
@@ -114,30 +114,12 @@ fn a_triangles_pixels_are_its_normals_interpolated_on_the_screen_and_lit() {
             String::from_utf8_lossy(&out.stderr)
         );
         let f = frame(&out.stdout);
-        let mut covered = 0;
-        for y in 0..size.1 {
-            for x in 0..size.0 {
-                let got = f.at(x, y);
-                if got == [0, 0, 0] {
-                    assert!(
-                        held_out(vertices, normals, size, (x, y), 1e-6).is_none(),
-                        "pixel ({x}, {y}) is inside the triangle and not drawn"
-                    );
-                    continue;
-                }
-                covered += 1;
-                let want = held_out(vertices, normals, size, (x, y), -1e-9)
-                    .unwrap_or_else(|| panic!("pixel ({x}, {y}) is drawn outside the triangle"));
-                for k in 0..3 {
-                    assert!(
-                        (got[k] as f64 - want[k]).abs() <= 1.0,
-                        "pixel ({x}, {y}): {got:?} against {want:?}"
-                    );
-                }
-                highlight += (got[1] > 150) as usize;
-            }
-        }
+        assert_eq!((f.width, f.height), size);
+        let covered = check_triangle_frame(&f, |x, y, margin| {
+            held_out(vertices, normals, size, (x, y), margin)
+        });
         assert!(covered > 1200, "{covered} pixels covered");
+        highlight += f.pixels.iter().filter(|p| p[1] > 150).count();
     }
     // The highlight is there (green is 60·diffuse ≤ 72 without it).
     assert!(highlight > 20, "{highlight} highlight pixels");

@@ -6,7 +6,7 @@
 //! held-out computation of Gouraud's rule written here from scratch: the vertex colours
 //! interpolated linearly across the screen (barycentric weights at each pixel centre).
 
-use pipeline_tests::{parse_ppm_stream, run, screen_mix, sh, Frame};
+use pipeline_tests::{check_triangle_frame, parse_ppm_stream, run, screen_mix, sh, Frame};
 
 /// The one frame of a PPM stream.
 fn frame(ppm: &[u8]) -> Frame {
@@ -169,29 +169,10 @@ fn a_triangles_pixels_are_the_screen_space_interpolation_of_its_vertex_colours()
             String::from_utf8_lossy(&out.stderr)
         );
         let f = frame(&out.stdout);
-        let mut covered = 0;
-        for y in 0..size.1 {
-            for x in 0..size.0 {
-                let got = f.at(x, y);
-                if got == [0, 0, 0] {
-                    // The background: no centre well inside the triangle is left out.
-                    assert!(
-                        held_out(vertices, colours, size, x, y, 1e-6).is_none(),
-                        "pixel ({x}, {y}) is inside the triangle and not drawn"
-                    );
-                    continue;
-                }
-                covered += 1;
-                let want = held_out(vertices, colours, size, x, y, -1e-9)
-                    .unwrap_or_else(|| panic!("pixel ({x}, {y}) is drawn outside the triangle"));
-                for k in 0..3 {
-                    assert!(
-                        (got[k] as f64 - want[k]).abs() <= 1.0,
-                        "pixel ({x}, {y}): {got:?} against {want:?}"
-                    );
-                }
-            }
-        }
+        assert_eq!((f.width, f.height), size);
+        let covered = check_triangle_frame(&f, |x, y, margin| {
+            held_out(vertices, colours, size, x, y, margin)
+        });
         assert!(covered > 1200, "{covered} pixels covered");
     }
 }
