@@ -106,6 +106,15 @@ impl HiddenSurface for ZBuffer {
     }
 }
 
+/// The first two runs in a row of `runs` that should have been one: on the same row,
+/// the second starting where the first ends, in the same colour. `None` where every run
+/// is as long as it can be (what the methods promise, shaded pixels included).
+pub fn unjoined_runs(runs: &[Run]) -> Option<(Run, Run)> {
+    runs.windows(2)
+        .map(|pair| (pair[0], pair[1]))
+        .find(|(a, b)| a.y == b.y && a.x1 == b.x0 && a.colour == b.colour)
+}
+
 /// A small xorshift generator of numbers in [0, 1), for the methods' tests of random
 /// scenes: the same scene from the same `seed` on every platform, no crate needed.
 pub fn pseudo_random(seed: u64) -> impl FnMut() -> f64 {
