@@ -172,7 +172,7 @@ pub fn dot3(a: DVec3, b: DVec3) -> f64 {
 }
 
 /// The reference's view of one frame: camera, view volume and screen.
-#[derive(Clone, Copy, Debug)]
+#[derive(Clone, Debug)]
 pub struct Setup {
     pub frame: EyeFrame,
     pub view: View,
@@ -180,7 +180,7 @@ pub struct Setup {
     pub height: u32,
     /// The lighting of a Phong-shaded scene (its header says `vertex-normals`): a shaded
     /// polygon's values are then normals, and each pixel is lit by it.
-    pub lighting: Option<Lighting>,
+    pub lighting: Option<Arc<Lighting>>,
 }
 
 impl Setup {
@@ -198,7 +198,7 @@ impl Setup {
     /// Phong-shaded).
     pub fn for_scene(self, attributes: &proto::Attributes) -> Self {
         Setup {
-            lighting: attributes.vertex_normals.then_some(attributes.lighting),
+            lighting: attributes.phong(),
             ..self
         }
     }
@@ -312,9 +312,8 @@ impl Setup {
             }
         };
         // Phong shading: the planes are a normal's, lit per pixel from the polygon's
-        // colour (the reference makes its lighting once a polygon; it is not timed).
-        let lighting = self.lighting.map(Arc::new);
-        Some(shading.lit(lighting.as_ref(), poly.colour))
+        // colour.
+        Some(shading.lit(self.lighting.as_ref(), poly.colour))
     }
 
     #[inline]

@@ -206,7 +206,7 @@ fn render(
     scene: Option<String>,
 ) -> stagecli::Result<()> {
     let mut scene = Scene::open(view, scene)?;
-    let setup = scene.setup;
+    let setup = scene.setup.clone();
     let mut out = BufWriter::new(stagecli::stdout());
     let mut frame = zspec::ReferenceFrame::new(&setup, background).map_err(Error::data)?;
     while let Some(token) = scene.next()? {
@@ -242,7 +242,7 @@ fn render_supersampled(
     edge_mask: Option<&str>,
 ) -> stagecli::Result<()> {
     let mut scene = Scene::open(view, scene)?;
-    let setup = scene.setup;
+    let setup = scene.setup.clone();
     let mut out = BufWriter::new(stagecli::stdout());
     let mut mask = match edge_mask {
         Some(path) => {

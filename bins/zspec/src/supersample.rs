@@ -88,11 +88,11 @@ impl SupersampledFrame {
             );
         };
         Ok(SupersampledFrame {
-            setup: *setup,
+            setup: setup.clone(),
             fine: Setup {
                 width,
                 height,
-                ..*setup
+                ..setup.clone()
             },
             k,
             background,
