@@ -74,14 +74,7 @@ impl HiddenSurface for ZBuffer {
             slot => slot.insert(RegionBuffer::new(width, height)),
         };
         for p in polygons {
-            if let Some(shading) = proto::shade::Shading::of(p, self.lighting.as_ref()) {
-                self.walker
-                    .for_each_span(p, width, height, |s| region.draw_shaded(&s, &shading));
-                continue;
-            }
-            let colour = p.colour;
-            self.walker
-                .for_each_span(p, width, height, |s| region.draw(&s, colour));
+            region.draw_polygon(&mut self.walker, p, self.lighting.as_ref(), None);
         }
         let Ok(()) = region.finish_frame(|run| {
             runs.push(run);

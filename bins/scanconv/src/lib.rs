@@ -121,29 +121,12 @@ impl ScanConverter {
         self.stats.polygons_in += 1;
         let (width, height) = (self.width, self.height);
         let covered = match (self.output, &mut self.region) {
-            (Output::Resolve, Some(region)) => {
-                let colour = polygon.colour;
-                match (
-                    &mut self.watch,
-                    Shading::of(polygon, self.lighting.as_ref()),
-                ) {
-                    (None, None) => self
-                        .walker
-                        .for_each_span(polygon, width, height, |s| region.draw(&s, colour)),
-                    (Some(watch), None) => self.walker.for_each_span(polygon, width, height, |s| {
-                        region.draw(&s, colour);
-                        watch.span(&s);
-                    }),
-                    (watch, Some(shading)) => {
-                        self.walker.for_each_span(polygon, width, height, |s| {
-                            region.draw_shaded(&s, &shading);
-                            if let Some(watch) = watch {
-                                watch.span(&s);
-                            }
-                        })
-                    }
-                }
-            }
+            (Output::Resolve, Some(region)) => region.draw_polygon(
+                &mut self.walker,
+                polygon,
+                self.lighting.as_ref(),
+                self.watch.as_mut(),
+            ),
             (Output::Pixels, _) => {
                 emit(Fragment::Polygon(polygon.colour))?;
                 emit_shade(polygon, emit)?;

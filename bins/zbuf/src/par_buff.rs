@@ -493,47 +493,18 @@ impl LeafScan {
         polygon: &proto::Polygon,
         reader: &Reader<Token, R>,
     ) -> Result<()> {
-        let LeafScan {
-            walker,
-            watch,
-            lighting,
-        } = self;
-        resolve_polygon(walker, region, watch, lighting.as_ref(), polygon, reader)
+        let (width, height) = region.size();
+        check_on_screen(polygon, width, height)
+            .map_err(|m| Error::data(format!("{}: {m}", reader.position())))?;
+        stagecli::refuse_transparent("zbuf", polygon, || reader.position())?;
+        region.draw_polygon(
+            &mut self.walker,
+            polygon,
+            self.lighting.as_ref(),
+            self.watch.as_mut(),
+        );
+        Ok(())
     }
-}
-
-/// [`LeafScan::resolve`] on its parts (borrowed apart, so that the span closure can hold
-/// the region and the watch at once).
-fn resolve_polygon<R: Read>(
-    walker: &mut SpanWalker,
-    region: &mut RegionBuffer,
-    watch: &mut Option<QuantumWatch>,
-    lighting: Option<&Arc<Lighting>>,
-    polygon: &proto::Polygon,
-    reader: &Reader<Token, R>,
-) -> Result<()> {
-    let (width, height) = region.size();
-    check_on_screen(polygon, width, height)
-        .map_err(|m| Error::data(format!("{}: {m}", reader.position())))?;
-    stagecli::refuse_transparent("zbuf", polygon, || reader.position())?;
-    if let Some(shading) = Shading::of(polygon, lighting) {
-        walker.for_each_span(polygon, width, height, |span| {
-            region.draw_shaded(&span, &shading);
-            if let Some(watch) = watch {
-                watch.span(&span);
-            }
-        });
-        return Ok(());
-    }
-    let colour = polygon.colour;
-    match watch {
-        None => walker.for_each_span(polygon, width, height, |span| region.draw(&span, colour)),
-        Some(watch) => walker.for_each_span(polygon, width, height, |span| {
-            region.draw(&span, colour);
-            watch.span(&span);
-        }),
-    };
-    Ok(())
 }
 
 /// At a frame's end, the warning of [`scan::precision`] on stderr when rounding in the

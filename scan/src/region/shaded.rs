@@ -1,14 +1,54 @@
-//! The region z-buffer's shaded span: Gouraud shading (docs/DESIGN.md, "Shading"), beside
-//! the flat span's z-test and apart from it, so that a flat polygon's inner loop is
-//! untouched by shading.
+//! The region z-buffer's shaded span: Gouraud and Phong shading (docs/DESIGN.md,
+//! "Shading"), beside the flat span's z-test and apart from it, so that a flat polygon's
+//! inner loop is untouched by shading; and the one function that sends a whole polygon,
+//! flat or shaded, down the one path or the other.
 
 use super::{pack, RegionBuffer, SHIFT, TILE};
 use crate::depth::{depth_at, Depth};
+use crate::precision::QuantumWatch;
 use crate::walk::Span;
-use proto::shade::{ShadeRow, Shading};
+use crate::walk::SpanWalker;
+use proto::shade::{Lighting, ShadeRow, Shading};
+use proto::Polygon;
 use std::ops::Range;
+use std::sync::Arc;
 
 impl RegionBuffer {
+    /// A whole polygon scan-converted by `walker` into this buffer: flat in its colour,
+    /// or shaded where it has per-vertex values ([`Shading::of`], lit by `lighting` in a
+    /// Phong-shaded stream); every span also handed to `watch`, where the stream's depth
+    /// form is watched ([`crate::precision::QuantumWatch`]). Returns the pixels covered.
+    /// The one way a region z-buffer takes a polygon: zbuf reading persp's stream, the
+    /// `scanconv --resolve` leaf and [`crate::ZBuffer`].
+    pub fn draw_polygon(
+        &mut self,
+        walker: &mut SpanWalker,
+        polygon: &Polygon,
+        lighting: Option<&Arc<Lighting>>,
+        watch: Option<&mut QuantumWatch>,
+    ) -> u64 {
+        let (width, height) = self.size();
+        match (Shading::of(polygon, lighting), watch) {
+            (None, None) => {
+                let colour = polygon.colour;
+                walker.for_each_span(polygon, width, height, |s| self.draw(&s, colour))
+            }
+            (None, Some(watch)) => {
+                let colour = polygon.colour;
+                walker.for_each_span(polygon, width, height, |s| {
+                    self.draw(&s, colour);
+                    watch.span(&s);
+                })
+            }
+            (Some(shading), mut watch) => walker.for_each_span(polygon, width, height, |s| {
+                self.draw_shaded(&s, &shading);
+                if let Some(watch) = watch.as_deref_mut() {
+                    watch.span(&s);
+                }
+            }),
+        }
+    }
+
     /// One span of a Gouraud-shaded polygon ([`crate::SpanWalker`]), its colours given by
     /// `shading` (`Shading::of(polygon)`): [`RegionBuffer::shaded_span`] with the row's
     /// colours.
