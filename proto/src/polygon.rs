@@ -629,14 +629,10 @@ fn read_polygon_text<R: BufRead>(
     let space_name = space.name();
     let coloured = header.attributes.shaded();
     let normals = header.attributes.vertex_normals;
+    let values = if normals { &NORMALS } else { &COLOURS };
     // The numbers of a vertex line: its coordinates, then its colour or normal if
     // declared.
     let numbers = arity + if coloured { 3 } else { 0 };
-    let (values, declared) = if normals {
-        ("normal", "vertex-normals")
-    } else {
-        ("colour", "vertex-colours")
-    };
     while lex.next_is_number()? {
         if p.vertices.len() == MAX_VERTICES {
             lex.peek()?;
@@ -652,34 +648,25 @@ fn read_polygon_text<R: BufRead>(
                 *c = lex.number(format_args!(
                     "{} of vertex {i} ({numbers} numbers a vertex in {space_name} space{})",
                     coordinate_name(space, k),
-                    match (coloured, normals) {
-                        (false, _) => "",
-                        (true, false) => " with vertex colours",
-                        (true, true) => " with vertex normals",
-                    }
+                    if coloured { values.with } else { "" }
                 ))?;
             }
-            let names = if normals {
-                ["x", "y", "z"]
-            } else {
-                ["red", "green", "blue"]
-            };
-            let order = if normals { "nx ny nz" } else { "r g b" };
-            for (k, name) in names
+            for (k, name) in values
+                .names
                 .into_iter()
                 .enumerate()
                 .take(if coloured { 3 } else { 0 })
             {
                 v[arity + k] = lex.number(format_args!(
-                    "the {name} of vertex {i}'s {values} (the header says `{declared}`: \
-                     {order} after the coordinates)"
+                    "the {name} of vertex {i}'s {} (the header says `{}`: {} after the \
+                     coordinates)",
+                    values.what, values.word, values.order
                 ))?;
             }
         }
         if coloured {
             let c = DVec3::new(v[arity], v[arity + 1], v[arity + 2]);
-            let in_range = c.cmpge(DVec3::ZERO).all() && c.cmple(DVec3::splat(255.0)).all();
-            if !normals && !in_range {
+            if !normals && !is_colour(c) {
                 return Err(lex.error(format!(
                     "vertex {i}'s colour {} {} {}: a vertex colour's channels are numbers from \
                      0 to 255",
@@ -772,6 +759,38 @@ pub(crate) fn write_polygon_text<W: Write>(
     Ok(())
 }
 
+/// Whether every channel of a vertex colour is a number from 0 to 255.
+fn is_colour(c: DVec3) -> bool {
+    c.cmpge(DVec3::ZERO).all() && c.cmple(DVec3::splat(255.0)).all()
+}
+
+/// What a vertex's three numbers after its coordinates are, for the text reader's
+/// messages: colours (`vertex-colours`) or normals (`vertex-normals`).
+struct VertexValues {
+    what: &'static str,
+    word: &'static str,
+    names: [&'static str; 3],
+    order: &'static str,
+    /// After "N numbers a vertex in SPACE space".
+    with: &'static str,
+}
+
+const COLOURS: VertexValues = VertexValues {
+    what: "colour",
+    word: "vertex-colours",
+    names: ["red", "green", "blue"],
+    order: "r g b",
+    with: " with vertex colours",
+};
+
+const NORMALS: VertexValues = VertexValues {
+    what: "normal",
+    word: "vertex-normals",
+    names: ["x", "y", "z"],
+    order: "nx ny nz",
+    with: " with vertex normals",
+};
+
 /// Checks a polygon's vertex colours: one a vertex, each channel a number from 0 to 255;
 /// or its normals (`normals`): one a vertex, finite.
 fn check_colours(p: &Polygon, normals: bool) -> Result<(), String> {
@@ -792,11 +811,7 @@ fn check_colours(p: &Polygon, normals: bool) -> Result<(), String> {
             None => Ok(()),
         };
     }
-    match p
-        .colours
-        .iter()
-        .position(|c| !(c.cmpge(DVec3::ZERO).all() && c.cmple(DVec3::splat(255.0)).all()))
-    {
+    match p.colours.iter().position(|&c| !is_colour(c)) {
         Some(i) => Err(format!(
             "the colour of vertex {i} is {:?}; a vertex colour's channels are numbers from 0 \
              to 255",
