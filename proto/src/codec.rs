@@ -884,17 +884,10 @@ fn read_lighting_word<R: BufRead>(
             .map(|name| lex.number_with(|| format!("the {word} word's {name}")))
             .collect()
     };
-    let at_least = |v: f64, min: f64, what: &str| -> Result<f64, String> {
-        if v.is_finite() && v >= min {
-            Ok(v)
-        } else {
-            Err(format!("the {what} {} must be {min} or more", Number(v)))
-        }
-    };
     let checked = match word {
         "ambient" => {
             let n = numbers(&["A"])?;
-            at_least(n[0], 0.0, "ambient term").map(|a| lighting.ambient = a)
+            lighting.set_ambient(n[0])
         }
         "light" => {
             let n = numbers(&["X", "Y", "Z", "intensity I"])?;
@@ -907,10 +900,7 @@ fn read_lighting_word<R: BufRead>(
         }
         "specular" => {
             let n = numbers(&["coefficient KS", "exponent N"])?;
-            at_least(n[0], 0.0, "specular coefficient").and_then(|ks| {
-                lighting.specular = ks;
-                at_least(n[1], 1.0, "specular exponent").map(|e| lighting.exponent = e)
-            })
+            lighting.set_specular(n[0], n[1])
         }
         _ => {
             let n = numbers(&["X", "Y", "Z"])?;

@@ -365,6 +365,20 @@ impl Lighting {
         Ok(())
     }
 
+    /// Sets the ambient term: a finite number, 0 or more.
+    pub fn set_ambient(&mut self, ambient: f64) -> Result<(), String> {
+        self.ambient = at_least(ambient, 0.0, "ambient term")?;
+        Ok(())
+    }
+
+    /// Sets the highlight: its coefficient (finite, 0 or more) and Phong's exponent
+    /// (finite, 1 or more).
+    pub fn set_specular(&mut self, specular: f64, exponent: f64) -> Result<(), String> {
+        self.specular = at_least(specular, 0.0, "specular coefficient")?;
+        self.exponent = at_least(exponent, 1.0, "specular exponent")?;
+        Ok(())
+    }
+
     /// Whether every number is in range: what a reader checks before trusting a header.
     pub fn check(&self) -> Result<(), String> {
         let count = self.count as usize;
@@ -382,24 +396,8 @@ impl Lighting {
                     .to_string(),
             );
         }
-        if !(self.ambient.is_finite() && self.ambient >= 0.0) {
-            return Err(format!(
-                "the ambient term {} must be 0 or more",
-                self.ambient
-            ));
-        }
-        if !(self.specular.is_finite() && self.specular >= 0.0) {
-            return Err(format!(
-                "the specular term {} must be 0 or more",
-                self.specular
-            ));
-        }
-        if !(self.exponent.is_finite() && self.exponent >= 1.0) {
-            return Err(format!(
-                "the specular exponent {} must be 1 or more",
-                self.exponent
-            ));
-        }
+        copy.set_ambient(self.ambient)?;
+        copy.set_specular(self.specular, self.exponent)?;
         Ok(())
     }
 
@@ -448,6 +446,15 @@ impl Lighting {
         } else {
             lit + DVec3::splat(255.0 * h)
         }
+    }
+}
+
+/// `v` where it is finite and at least `min`, else why not.
+fn at_least(v: f64, min: f64, what: &str) -> Result<f64, String> {
+    if v.is_finite() && v >= min {
+        Ok(v)
+    } else {
+        Err(format!("the {what} {v} must be {min} or more"))
     }
 }
 

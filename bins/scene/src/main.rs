@@ -241,13 +241,12 @@ struct LightArgs {
 impl LightArgs {
     fn lighting(&self) -> stagecli::Result<proto::shade::Lighting> {
         let mut lighting = proto::shade::Lighting::default();
-        lighting.ambient = self.ambient;
+        lighting.set_ambient(self.ambient).map_err(Error::usage)?;
         if !self.light.is_empty() {
             lighting.set_lights(&self.light).map_err(Error::usage)?;
         }
         if let Some((ks, n)) = self.specular {
-            lighting.specular = ks;
-            lighting.exponent = n;
+            lighting.set_specular(ks, n).map_err(Error::usage)?;
         }
         if let Some(v) = self.viewer {
             lighting.set_viewer(v).map_err(Error::usage)?;
