@@ -626,6 +626,48 @@ fn read_polygon_text<R: BufRead>(
         }
         p.shade = Some(Box::new(planes));
     }
+    let coloured = header.attributes.shaded();
+    loop {
+        // Lines of just a vertex's coordinates (nearly every line of a scene), taken
+        // straight from the input; any other line, and a vertex past the most a polygon
+        // may have, is read below, word by word, with its messages.
+        let taken = if coloured {
+            0
+        } else {
+            lex.number_lines(arity, |c| {
+                let room = p.vertices.len() < MAX_VERTICES;
+                if room {
+                    let w = if arity == 4 { c[3] } else { 1.0 };
+                    p.vertices.push(DVec4::new(c[0], c[1], c[2], w));
+                }
+                room
+            })
+        };
+        if taken == 0 {
+            if !lex.next_is_number()? {
+                break;
+            }
+            read_vertex_words(p, lex, header)?;
+        }
+        if lex.peek()? == Some(ON) {
+            read_support(p, lex, space)?;
+        }
+    }
+    if !p.supports.is_empty() {
+        p.supports.resize(p.vertices.len(), None);
+    }
+    Ok(())
+}
+
+/// Reads one vertex line word by word (the first word peeked, and a number), and pushes
+/// the vertex and its colour or normal.
+fn read_vertex_words<R: BufRead>(
+    p: &mut Polygon,
+    lex: &mut Lexer<R>,
+    header: &Header,
+) -> Result<(), StreamError> {
+    let space = &header.space;
+    let arity = space.vertex_arity();
     let space_name = space.name();
     let coloured = header.attributes.shaded();
     let normals = header.attributes.vertex_normals;
@@ -633,77 +675,82 @@ fn read_polygon_text<R: BufRead>(
     // The numbers of a vertex line: its coordinates, then its colour or normal if
     // declared.
     let numbers = arity + if coloured { 3 } else { 0 };
-    while lex.next_is_number()? {
-        if p.vertices.len() == MAX_VERTICES {
-            lex.peek()?;
-            return Err(lex.error(format!("polygon has more than {MAX_VERTICES} vertices")));
+    if p.vertices.len() == MAX_VERTICES {
+        lex.peek()?;
+        return Err(lex.error(format!("polygon has more than {MAX_VERTICES} vertices")));
+    }
+    let mut v = [0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0];
+    let i = p.vertices.len();
+    // A line of just the vertex's numbers is read whole; anything else, word by word,
+    // with its messages.
+    let whole_line = lex.numbers_to_line_end(&mut v[..numbers]);
+    if !whole_line {
+        for (k, c) in v.iter_mut().take(arity).enumerate() {
+            *c = lex.number(format_args!(
+                "{} of vertex {i} ({numbers} numbers a vertex in {space_name} space{})",
+                coordinate_name(space, k),
+                if coloured { values.with } else { "" }
+            ))?;
         }
-        let mut v = [0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0];
-        let i = p.vertices.len();
-        // A line of just the vertex's numbers (nearly every line of a scene) is read
-        // whole; anything else, word by word, with its messages.
-        let whole_line = lex.numbers_to_line_end(&mut v[..numbers]);
-        if !whole_line {
-            for (k, c) in v.iter_mut().take(arity).enumerate() {
-                *c = lex.number(format_args!(
-                    "{} of vertex {i} ({numbers} numbers a vertex in {space_name} space{})",
-                    coordinate_name(space, k),
-                    if coloured { values.with } else { "" }
-                ))?;
-            }
-            for (k, name) in values
-                .names
-                .into_iter()
-                .enumerate()
-                .take(if coloured { 3 } else { 0 })
-            {
-                v[arity + k] = lex.number(format_args!(
-                    "the {name} of vertex {i}'s {} (the header says `{}`: {} after the \
-                     coordinates)",
-                    values.what, values.word, values.order
-                ))?;
-            }
-        }
-        if coloured {
-            let c = DVec3::new(v[arity], v[arity + 1], v[arity + 2]);
-            if !normals && !is_colour(c) {
-                return Err(lex.error(format!(
-                    "vertex {i}'s colour {} {} {}: a vertex colour's channels are numbers from \
-                     0 to 255",
-                    c.x, c.y, c.z
-                )));
-            }
-            p.colours.push(c);
-            v[arity..].fill(0.0);
-            if arity == 3 {
-                v[3] = 1.0;
-            }
-        }
-        p.vertices.push(DVec4::new(v[0], v[1], v[2], v[3]));
-        if lex.peek()? == Some(ON) {
-            if !annotations_allowed(space) {
-                return Err(lex.error(format!(
-                    "an edge support (`on`) in a {space_name}-space stream: {NO_WORLD_ANNOTATIONS}"
-                )));
-            }
-            lex.skip_word();
-            let mut ends = [DVec4::new(0.0, 0.0, 0.0, 1.0); 2];
-            for (end, name) in ends.iter_mut().zip(["A", "B"]) {
-                let mut c = [0.0, 0.0, 0.0, 1.0];
-                for (k, slot) in c.iter_mut().take(arity).enumerate() {
-                    *slot = lex.number(format_args!(
-                        "coordinate {k} of support end {name} of edge {i} ({arity} numbers a point)"
-                    ))?;
-                }
-                *end = DVec4::from_array(c);
-            }
-            p.supports.resize(i, None);
-            p.supports.push(Some(ends));
+        for (k, name) in values
+            .names
+            .into_iter()
+            .enumerate()
+            .take(if coloured { 3 } else { 0 })
+        {
+            v[arity + k] = lex.number(format_args!(
+                "the {name} of vertex {i}'s {} (the header says `{}`: {} after the \
+                 coordinates)",
+                values.what, values.word, values.order
+            ))?;
         }
     }
-    if !p.supports.is_empty() {
-        p.supports.resize(p.vertices.len(), None);
+    if coloured {
+        let c = DVec3::new(v[arity], v[arity + 1], v[arity + 2]);
+        if !normals && !is_colour(c) {
+            return Err(lex.error(format!(
+                "vertex {i}'s colour {} {} {}: a vertex colour's channels are numbers from \
+                 0 to 255",
+                c.x, c.y, c.z
+            )));
+        }
+        p.colours.push(c);
+        v[arity..].fill(0.0);
+        if arity == 3 {
+            v[3] = 1.0;
+        }
     }
+    p.vertices.push(DVec4::new(v[0], v[1], v[2], v[3]));
+    Ok(())
+}
+
+/// Reads the edge support (`on A B`, peeked) of the polygon's last vertex.
+fn read_support<R: BufRead>(
+    p: &mut Polygon,
+    lex: &mut Lexer<R>,
+    space: &Space,
+) -> Result<(), StreamError> {
+    let arity = space.vertex_arity();
+    if !annotations_allowed(space) {
+        return Err(lex.error(format!(
+            "an edge support (`on`) in a {}-space stream: {NO_WORLD_ANNOTATIONS}",
+            space.name()
+        )));
+    }
+    lex.skip_word();
+    let i = p.vertices.len() - 1;
+    let mut ends = [DVec4::new(0.0, 0.0, 0.0, 1.0); 2];
+    for (end, name) in ends.iter_mut().zip(["A", "B"]) {
+        let mut c = [0.0, 0.0, 0.0, 1.0];
+        for (k, slot) in c.iter_mut().take(arity).enumerate() {
+            *slot = lex.number(format_args!(
+                "coordinate {k} of support end {name} of edge {i} ({arity} numbers a point)"
+            ))?;
+        }
+        *end = DVec4::from_array(c);
+    }
+    p.supports.resize(i, None);
+    p.supports.push(Some(ends));
     Ok(())
 }
 

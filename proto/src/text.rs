@@ -386,6 +386,76 @@ impl<R: Read> Lexer<R> {
         true
     }
 
+    /// Takes whole lines of exactly `n` finite numbers (at most 8) straight from the
+    /// input buffer, for as long as the next line is one and `take`, handed its numbers,
+    /// accepts it; answers how many lines it took. Only where the lexer stands between
+    /// lines, or has peeked the first word of its current line; it stops, taking nothing more, at any line it is not
+    /// sure of (another word, a comment, a carriage return or other whitespace than
+    /// spaces and tabs, a number that does not parse, a line not yet read whole), which
+    /// the word-by-word path then reads, with its messages. Afterwards the lexer stands
+    /// where that path would: the last line taken is its current line, every line
+    /// counted.
+    ///
+    /// A vertex line is nearly every line of a scene, and this is its reading without the
+    /// copy of each line into the lexer's and the peek and take of each word (viewxf on
+    /// the 100,000-quad text scene, one core, interleaved: 77 → 71 ms of CPU, 996 → 945
+    /// million instructions). The numbers are [`parse_f64`]'s, as everywhere.
+    pub fn number_lines(&mut self, n: usize, mut take: impl FnMut(&[f64]) -> bool) -> usize {
+        if n == 0 || n > 8 {
+            return 0;
+        }
+        let mut numbers = [0.0; 8];
+        let mut taken = 0;
+        let line = self.line.as_bytes();
+        if let Some(first) = self.peeked.clone() {
+            // The current line, if its first word is the one peeked and it is a line of
+            // numbers (the reader peeks past each vertex for an edge support).
+            if !line[..first.start].iter().all(|&b| is_space(b)) {
+                return 0;
+            }
+            match number_line(line, &mut numbers[..n]) {
+                Some(last_word) if take(&numbers[..n]) => {
+                    self.peeked = None;
+                    self.cursor = line.len();
+                    self.at = (self.line_no, last_word + 1);
+                    taken = 1;
+                }
+                _ => return 0,
+            }
+        } else if !line[self.cursor.min(line.len())..]
+            .iter()
+            .all(|&b| is_space(b))
+        {
+            return 0;
+        }
+        let lines_before = taken;
+        let mut last = (0, 0, 0); // the last line taken: start, stop, its last word's start
+        while let Some(length) = memchr::memchr(b'\n', &self.buf[self.next..self.end]) {
+            let (start, stop) = (self.next, self.next + length);
+            let Some(last_word) = number_line(&self.buf[start..stop], &mut numbers[..n]) else {
+                break;
+            };
+            if !take(&numbers[..n]) {
+                break;
+            }
+            self.next = stop + 1;
+            taken += 1;
+            last = (start, stop, last_word);
+        }
+        if taken > lines_before {
+            let (start, stop, last_word) = last;
+            self.line_no += (taken - lines_before) as u64;
+            self.line.clear();
+            // SAFETY: number_line takes only ASCII lines.
+            self.line
+                .push_str(unsafe { std::str::from_utf8_unchecked(&self.buf[start..stop]) });
+            self.ascii = true;
+            self.cursor = self.line.len();
+            self.at = (self.line_no, last_word + 1);
+        }
+        taken
+    }
+
     /// Takes an unsigned integer no larger than `max`.
     #[inline]
     pub fn integer(&mut self, what: impl fmt::Display, max: u64) -> Result<u64, StreamError> {
@@ -429,6 +499,37 @@ impl<R: Read> Lexer<R> {
             None => false,
         })
     }
+}
+
+/// Reads `line` (without its newline) as exactly `out.len()` finite numbers separated by
+/// spaces and tabs, and answers where its last number starts; `None` for anything else
+/// (a word that is not a number, a comment, a byte that is not ASCII, other whitespace),
+/// which [`Lexer::number_lines`] leaves to the word-by-word path.
+#[inline]
+fn number_line(line: &[u8], out: &mut [f64]) -> Option<usize> {
+    if !line.is_ascii() {
+        return None;
+    }
+    let blank = |b: u8| b == b' ' || b == b'\t';
+    let (mut i, mut last) = (0, 0);
+    for slot in out.iter_mut() {
+        while i < line.len() && blank(line[i]) {
+            i += 1;
+        }
+        if i == line.len() {
+            return None;
+        }
+        let start = i;
+        i = word_end(line, start);
+        if i < line.len() && !blank(line[i]) {
+            return None;
+        }
+        // SAFETY: the line is ASCII.
+        let word = unsafe { std::str::from_utf8_unchecked(&line[start..i]) };
+        *slot = parse_f64(word).filter(|v| v.is_finite())?;
+        last = start;
+    }
+    line[i..].iter().all(|&b| blank(b)).then_some(last)
 }
 
 /// A line of the input (without its newline) as the lexer keeps it, and whether it is
