@@ -445,6 +445,13 @@ pub(crate) fn read_polygon_start<R: BufRead>(
     lex: &mut Lexer<R>,
     first_in_frame: bool,
 ) -> Result<Start, StreamError> {
+    // Between two polygons (nearly every time): NEXT.POLYGON, peeked past the last
+    // vertex, and a plain `colour R G B` line, taken whole.
+    if !first_in_frame {
+        if let Some(colour) = lex.line_after(NEXT_POLYGON, colour_line) {
+            return Ok(Start::Colour(colour));
+        }
+    }
     let Some(word) = lex.peek()? else {
         return Err(
             lex.error_at_end("expected a polygon, NEXT.FRAME or END, found the end of the input")
@@ -514,6 +521,37 @@ pub(crate) fn read_polygon_start<R: BufRead>(
         *c = lex.integer(format_args!("the {name} component of the colour"), 255)? as u8;
     }
     Ok(Start::Colour(colour))
+}
+
+/// A line that is exactly `colour R G B` (single spaces or tabs between, blanks after;
+/// each channel one to three digits, at most 255): the colour, and where B starts.
+/// Anything else is `None`, read again word by word.
+fn colour_line(line: &[u8]) -> Option<(Colour, usize)> {
+    let mut rest = line.strip_prefix(COLOUR.as_bytes())?;
+    let mut colour = [0u8; 3];
+    let mut at = 0;
+    for c in &mut colour {
+        let blank = rest
+            .iter()
+            .take_while(|&&b| b == b' ' || b == b'\t')
+            .count();
+        let digits = rest[blank..]
+            .iter()
+            .take_while(|b| b.is_ascii_digit())
+            .count();
+        if blank == 0 || !(1..=3).contains(&digits) {
+            return None;
+        }
+        at = line.len() - rest.len() + blank;
+        let value = rest[blank..blank + digits]
+            .iter()
+            .fold(0u32, |v, &d| v * 10 + u32::from(d - b'0'));
+        *c = u8::try_from(value).ok()?;
+        rest = &rest[blank + digits..];
+    }
+    rest.iter()
+        .all(|&b| b == b' ' || b == b'\t')
+        .then_some((colour, at))
 }
 
 /// Writes `skip N`, after NEXT.POLYGON unless it starts the frame.

@@ -456,6 +456,43 @@ impl<R: Read> Lexer<R> {
         taken
     }
 
+    /// Takes the current line, when it is the peeked `word` alone, and the next line
+    /// straight from the input buffer, when `read` reads it (answering its value and
+    /// where its last word starts); answers `read`'s value. Anything else (another word
+    /// peeked or more on the line, the next line not read whole, `read` refusing it)
+    /// takes nothing, and the word-by-word path reads on with its messages. Afterwards
+    /// the lexer stands where that path would, at the end of the line `read` read.
+    ///
+    /// For the two lines between polygons, `NEXT.POLYGON` and `colour R G B`, peeked and
+    /// copied and taken word by word a tenth of viewxf's time on a scene of quads.
+    pub fn line_after<T>(
+        &mut self,
+        word: &str,
+        read: impl FnOnce(&[u8]) -> Option<(T, usize)>,
+    ) -> Option<T> {
+        let peeked = self.peeked.clone()?;
+        let line = self.line.as_bytes();
+        if &line[peeked.clone()] != word.as_bytes()
+            || !line[..peeked.start].iter().all(|&b| is_space(b))
+            || !line[peeked.end..].iter().all(|&b| is_space(b))
+        {
+            return None;
+        }
+        let length = memchr::memchr(b'\n', &self.buf[self.next..self.end])?;
+        let (start, stop) = (self.next, self.next + length);
+        let (value, last_word) = read(&self.buf[start..stop])?;
+        let text = std::str::from_utf8(&self.buf[start..stop]).ok()?;
+        self.line.clear();
+        self.line.push_str(text);
+        self.ascii = text.is_ascii();
+        self.next = stop + 1;
+        self.line_no += 1;
+        self.cursor = self.line.len();
+        self.peeked = None;
+        self.at = (self.line_no, last_word + 1);
+        Some(value)
+    }
+
     /// Takes an unsigned integer no larger than `max`.
     #[inline]
     pub fn integer(&mut self, what: impl fmt::Display, max: u64) -> Result<u64, StreamError> {

@@ -388,12 +388,13 @@ proptest! {
         prop_assert_eq!(&decode::<Token>(&text).unwrap().1, &tokens);
     }
 
-    /// The lexer's whole-line reading of vertex lines (straight from its input buffer)
-    /// reads what its word-by-word path reads, and fails with the same message at the same
-    /// place, on valid streams and on streams with a byte changed: the same stream read
-    /// through one-byte reads, where the buffer never holds a line ahead, goes word by word.
+    /// The lexer's whole-line reading of vertex lines and of the `NEXT.POLYGON` and
+    /// `colour R G B` between polygons (straight from its input buffer) reads what its
+    /// word-by-word path reads, and fails with the same message at the same place, on
+    /// valid streams and on streams with a byte changed: the same stream read through
+    /// one-byte reads, where the buffer never holds a line ahead, goes word by word.
     #[test]
-    fn whole_vertex_lines_read_as_words_do(
+    fn lines_taken_whole_read_as_words_do(
         tokens in arb_tokens(),
         world in any::<bool>(),
         edits in prop::collection::vec((any::<prop::sample::Index>(), prop::sample::select(
