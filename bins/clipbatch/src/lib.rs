@@ -171,6 +171,8 @@ pub struct ClipBatch {
     changed: Vec<usize>,
     /// One polygon's clipped vertices, while its column is rebuilt.
     column: Vec<Vertex>,
+    /// Polygons handed back after [`ClipBatch::clip_each`], kept for their vertex lists.
+    spare: Vec<Polygon>,
 }
 
 impl ClipBatch {
@@ -196,6 +198,7 @@ impl ClipBatch {
             reshaped: Vec::new(),
             changed: Vec::new(),
             column: Vec::new(),
+            spare: Vec::new(),
         }
     }
 
@@ -229,6 +232,32 @@ impl ClipBatch {
     /// Clips every polygon of the batch against the six planes and hands them back in
     /// the order they were pushed, leaving the batch empty.
     pub fn clip(&mut self) -> std::vec::Drain<'_, Polygon> {
+        self.clip_in_place();
+        self.polygons.drain(..)
+    }
+
+    /// [`ClipBatch::clip`], handing each clipped polygon to `each` in turn (to be
+    /// written, say) and keeping it afterwards for [`ClipBatch::recycled`]: a stream
+    /// clipped this way allocates nothing per polygon. Stops at the first error.
+    pub fn clip_each<E>(
+        &mut self,
+        mut each: impl FnMut(&Polygon) -> Result<(), E>,
+    ) -> Result<(), E> {
+        self.clip_in_place();
+        for polygon in &self.polygons {
+            each(polygon)?;
+        }
+        self.spare.append(&mut self.polygons);
+        Ok(())
+    }
+
+    /// A polygon to read the next one into: one handed back by
+    /// [`ClipBatch::clip_each`], its vertex list's memory kept, or a new one.
+    pub fn recycled(&mut self) -> Polygon {
+        self.spare.pop().unwrap_or_default()
+    }
+
+    fn clip_in_place(&mut self) {
         if !self.polygons.is_empty() {
             self.load();
             for i in 0..self.planes.len() {
@@ -239,7 +268,6 @@ impl ClipBatch {
         }
         self.widest = 0;
         self.rows = 0;
-        self.polygons.drain(..)
     }
 
     /// Distributes the polygons' vertices over the arrays, one polygon per lane (§4.1),
@@ -448,6 +476,49 @@ mod tests {
             batch.push(p);
         }
         batch.clip().collect()
+    }
+
+    #[test]
+    fn clip_each_hands_on_what_clip_gives_and_keeps_the_polygons() {
+        let view = View::default();
+        let polys = vec![
+            Polygon::new([1, 2, 3], vec![e(-1.0, -1.0), e(1.0, -1.0), e(0.0, 1.0)]),
+            // Across the left plane (x = -w at w = 10): cut there.
+            Polygon::new([4, 5, 6], vec![e(-30.0, 0.0), e(0.0, 0.0), e(0.0, 5.0)]),
+            // Wholly outside: no vertices left.
+            Polygon::new([7, 8, 9], vec![e(50.0, 0.0), e(60.0, 0.0), e(55.0, 5.0)]),
+        ];
+        let want = clip_all(&mut ClipBatch::new(&view, 8), polys.clone());
+        let mut batch = ClipBatch::new(&view, 8);
+        for p in polys {
+            batch.push(p);
+        }
+        let mut got = vec![];
+        batch
+            .clip_each(|p| {
+                got.push(p.clone());
+                Ok::<_, ()>(())
+            })
+            .unwrap();
+        assert_eq!(got, want);
+        assert!(batch.is_empty());
+        // The three come back for reuse, their vertex lists' memory kept.
+        let mut recycled: Vec<Polygon> = (0..3).map(|_| batch.recycled()).collect();
+        assert!(recycled.iter().all(|p| p.vertices.capacity() >= 3));
+        recycled.push(batch.recycled());
+        assert_eq!(recycled[3].vertices.capacity(), 0, "then new ones");
+        // An error stops the hand-on at the polygon that gave it.
+        batch.push(want[0].clone());
+        batch.push(want[1].clone());
+        let mut seen = 0;
+        assert_eq!(
+            batch.clip_each(|_| {
+                seen += 1;
+                Err("full")
+            }),
+            Err("full")
+        );
+        assert_eq!(seen, 1);
     }
 
     /// Sutherland–Hodgman against the six planes one polygon at a time, as the chain of

@@ -43,26 +43,29 @@ fn main() -> ExitCode {
         let mut batch = ClipBatch::new(&view, cli.batch as usize);
         // Polygons wait in the batch. Anything else (NEXT.FRAME, END, a skip, or bad
         // input) first sends the waiting polygons on, clipped: the output up to any point
-        // is the chain's, the polygons before a bad record included.
+        // is the chain's, the polygons before a bad record included. Each polygon is read
+        // into one the batch has handed back, and nothing is allocated per polygon.
+        let mut token = Token::default();
         loop {
-            let token = match stagecli::next(&mut reader) {
-                Ok(Some(token)) => token,
-                Ok(None) => break,
+            match reader.next_into(&mut token) {
+                Ok(true) => {}
+                Ok(false) => break,
                 Err(e) => {
                     write_clipped(&mut batch, &mut writer)?;
-                    return Err(e);
+                    return Err(stagecli::input_error("stdin", e));
                 }
-            };
-            match token {
+            }
+            match &mut token {
                 Token::Polygon(poly) => {
-                    if !batch.fits(&poly) {
+                    if !batch.fits(poly) {
                         write_clipped(&mut batch, &mut writer)?;
                     }
-                    batch.push(poly);
+                    let next = batch.recycled();
+                    batch.push(std::mem::replace(poly, next));
                 }
                 control => {
                     write_clipped(&mut batch, &mut writer)?;
-                    writer.write(&control)?;
+                    writer.write(control)?;
                 }
             }
         }
@@ -73,8 +76,5 @@ fn main() -> ExitCode {
 
 /// Clips the waiting polygons and writes them.
 fn write_clipped<W: Write>(batch: &mut ClipBatch, writer: &mut Writer<Token, W>) -> io::Result<()> {
-    for poly in batch.clip() {
-        writer.write(&Token::Polygon(poly))?;
-    }
-    Ok(())
+    batch.clip_each(|poly| writer.write_polygon(poly))
 }
