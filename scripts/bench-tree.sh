@@ -9,6 +9,10 @@
 #   scripts/bench-tree.sh depth-auto [--reps N]   --depth auto against every fixed depth
 #   scripts/bench-tree.sh plan [--reps N]         the cost model against this machine
 #                                                 (docs/model.md)
+#   scripts/bench-tree.sh work [MAX-DEPTH]        the instructions each process of the
+#                                                 depth-0..N graphs runs (cachegrind):
+#                                                 the tree's own work, free of the
+#                                                 machine's noise
 #
 # Each mode's own notes are at its function below. They share scripts/lib/bench.sh.
 
@@ -552,11 +556,92 @@ echo "live source: the first frame came out $(awk -v a="$t0" -v b="$(cat "$work/
 echo "load average after: $(cut -d' ' -f1-3 /proc/loadavg)"
 )
 
+# --- work ------------------------------------------------------------------------
+mode_work() (
+# The work the tree adds, counted rather than timed: render.sh --depth D on the
+# fill-heavy scene (10,000 quads, depth complexity 10, 1920x1080) run under valgrind's
+# cachegrind with its children traced, and the user-space instructions of every process
+# summed by program (bash counts the script and its forks before they exec a stage).
+# A count is the same from run to run on any load, where CPU seconds on a shared machine
+# move by a fifth; what it leaves out is the kernel's part (starting and ending
+# processes, faulting memory in, moving bytes through pipes) and the caches', which the
+# CPU seconds of scripts/bench.sh's one-core table hold. The two together say how much of
+# the tree's cost is its stages' work and how much is processes. Takes a few minutes.
+#
+#   scripts/bench-tree.sh work [MAX-DEPTH]        depths 0..MAX-DEPTH (default 2)
+#
+# Needs valgrind.
+set -euo pipefail
+max=${1:-2}
+[[ $max =~ ^[0-6]$ ]] || { echo "bench-tree.sh work: MAX-DEPTH must be 0 to 6, not '$max'" >&2; exit 2; }
+command -v valgrind >/dev/null || { echo "bench-tree.sh work: needs valgrind (apt install valgrind)" >&2; exit 3; }
+bench_build
+cd "$bench_root"
+work=$(mktemp -d "${TMPDIR:-/tmp}/bench-work.XXXXXX")
+trap 'rm -rf "$work"' EXIT
+"$bindir/scene" environment --text --seed 2 --polygons 10000 --depth-complexity 10 \
+    --size 1920x1080 > "$work/fill.txt"
+# Once outside valgrind: the binaries' freshness stamp written, the pictures to compare.
+scripts/render.sh --size 1920x1080 --depth 0 "$work/fill.txt" > "$work/depth0.ppm"
+declare -A count
+programs=()
+for ((d = 0; d <= max; d++)); do
+    mkdir "$work/d$d"
+    valgrind --trace-children=yes --tool=cachegrind --cache-sim=no \
+        --cachegrind-out-file="$work/d$d/%p" \
+        scripts/render.sh --size 1920x1080 --depth "$d" "$work/fill.txt" \
+        > "$work/out$d.ppm" 2> "$work/log$d" ||
+        { echo "bench-tree.sh work: depth $d failed under valgrind:" >&2; tail -5 "$work/log$d" >&2; exit 1; }
+    cmp -s "$work/out$d.ppm" "$work/depth0.ppm" ||
+        { echo "bench-tree.sh work: depth $d's frame differs from depth 0's" >&2; exit 1; }
+    for f in "$work/d$d"/*; do
+        program=$(sed -n 's/^cmd: *\([^ ]*\).*/\1/p' "$f")
+        program=${program##*/}
+        n=$(sed -n 's/^summary: *//p' "$f")
+        [[ -n ${count[$program]+set} ]] || programs+=("$program")
+        count[$program]=1
+        count[$program.$d]=$(( ${count[$program.$d]:-0} + n ))
+        count[processes.$program.$d]=$(( ${count[processes.$program.$d]:-0} + 1 ))
+        count[total.$d]=$(( ${count[total.$d]:-0} + n ))
+    done
+done
+millions() { awk -v n="$1" 'BEGIN { printf "%.1f", n / 1e6 }'; }
+echo
+echo "Measured by \`scripts/bench-tree.sh work $max\` at commit $(git rev-parse --short HEAD 2>/dev/null || echo unknown)," \
+    "$(date -u +%Y-%m-%d): render.sh --depth D on the fill-heavy scene (10,000 quads, Dc≈10," \
+    "1920×1080), millions of user-space instructions by program (cachegrind, children" \
+    "traced; processes in brackets), every depth's frame identical to depth 0's."
+echo
+head="| program |" rule="|---|"
+for ((d = 0; d <= max; d++)); do head+=" depth $d |"; rule+="---|"; done
+echo "$head"
+echo "$rule"
+for program in "${programs[@]}"; do
+    line="| $program |"
+    for ((d = 0; d <= max; d++)); do
+        if [[ -n ${count[$program.$d]:-} ]]; then
+            line+=" $(millions "${count[$program.$d]}") (${count[processes.$program.$d]}) |"
+        else
+            line+=" – |"
+        fi
+    done
+    echo "$line"
+done
+line="| **all** |" ratios="| **against depth 0** |"
+for ((d = 0; d <= max; d++)); do
+    line+=" **$(millions "${count[total.$d]}")** |"
+    ratios+=" **$(ratio "${count[total.$d]}" "${count[total.0]}")** |"
+done
+echo "$line"
+echo "$ratios"
+)
+
 case ${1-} in
     pipeline) shift; mode_pipeline "$@" ;;
     plan) shift; mode_plan "$@" ;;
     merge) shift; mode_merge "$@" ;;
     depth-auto) shift; mode_depth_auto "$@" ;;
+    work) shift; mode_work "$@" ;;
     -h | --help | "") sed -n '2,/^$/{s/^# \{0,1\}//;p}' "${BASH_SOURCE[0]}"; [[ -n ${1-} ]] ;;
-    *) echo "bench-tree.sh: no mode '$1' (modes: pipeline merge depth-auto plan)" >&2; exit 2 ;;
+    *) echo "bench-tree.sh: no mode '$1' (modes: pipeline merge depth-auto plan work)" >&2; exit 2 ;;
 esac
