@@ -24,7 +24,7 @@
 
 mod shaded;
 
-use crate::depth::Depth;
+use crate::depth::{depth_at, Depth};
 use crate::walk::Span;
 use crate::ztest::{self, ZTest};
 use proto::Colour;
@@ -206,6 +206,9 @@ pub struct RegionStats {
     pub pixels_tested: u64,
     /// Pixels that passed the test (written to the buffer).
     pub pixels_written: u64,
+    /// Of the pixels tested, those turned away whole: the span's piece of a tile row lay
+    /// behind the row's farthest bar ([`RegionBuffer::span`]), so no pixel was looked at.
+    pub pixels_behind_row: u64,
     /// Runs sent on.
     pub runs: u64,
     /// Tiles allocated (the most any frame needed: the pool is reused frame to frame).
@@ -225,6 +228,12 @@ pub struct RegionBuffer {
     /// Per pixel, the bar a later polygon's depth must be under to take it.
     depth: Slab<Depth>,
     colour: Slab<u32>,
+    /// Per tile row (tile k's row r at `k·TILE + r`), the farthest bar of its cells when
+    /// every cell is covered, else NaN: a span's piece that is nowhere nearer than it
+    /// takes no cell, and is turned away without a test. (Not +∞ for a row with an
+    /// empty cell: an empty cell takes a depth of +∞ too, and no depth compares as at or
+    /// behind NaN.)
+    row_bar: Vec<Depth>,
     in_use: usize,
     /// The z-test's kernel, the fastest this processor has.
     kernel: ZTest,
@@ -244,6 +253,7 @@ impl RegionBuffer {
             slot: vec![UNTOUCHED; tiles_x as usize * tiles_y as usize],
             depth: Slab::new(tiles_x as usize * tiles_y as usize),
             colour: Slab::new(tiles_x as usize * tiles_y as usize),
+            row_bar: Vec::new(),
             in_use: 0,
             kernel: ZTest::detect(),
             stats: RegionStats::default(),
@@ -289,6 +299,7 @@ impl RegionBuffer {
         if self.in_use == self.depth.tiles() {
             self.depth.push_tile();
             self.colour.push_tile();
+            self.row_bar.extend([Depth::NAN; TILE as usize]);
             self.stats.tiles += 1;
         }
         let s = self.in_use as u32;
@@ -369,9 +380,19 @@ impl RegionBuffer {
             let left = tx << SHIFT;
             let end = x1.min(left + TILE);
             let tile = self.tile(tx, ty);
+            self.stats.pixels_tested += (end - x) as u64;
+            // The piece's depth is monotonic along the row (a rounded product and sum of
+            // monotonic terms), so its nearest is at one of its ends: where both are at
+            // or behind every bar of a covered row, no cell passes the test.
+            let row_bar = self.row_bar[tile as usize * TILE as usize + (y & (TILE - 1)) as usize];
+            if depth_at(z_row, dz, x) >= row_bar && depth_at(z_row, dz, end - 1) >= row_bar {
+                self.stats.pixels_behind_row += (end - x) as u64;
+                x = end;
+                continue;
+            }
             // The tile's row y: cell i is column left + i.
             let row = offset..offset + TILE as usize;
-            written += kernel(
+            let taken = kernel(
                 &mut self.depth.tile_mut(tile)[row.clone()],
                 &mut self.colour.tile_mut(tile)[row],
                 (x - left) as usize,
@@ -381,7 +402,10 @@ impl RegionBuffer {
                 dz,
                 colour,
             );
-            self.stats.pixels_tested += (end - x) as u64;
+            if taken > 0 {
+                self.refresh_row_bar(tile, y);
+            }
+            written += taken;
             if (y & (TILE - 1)) + AHEAD < TILE {
                 self.prefetch(
                     tile,
@@ -393,6 +417,23 @@ impl RegionBuffer {
             x = end;
         }
         self.stats.pixels_written += written;
+    }
+
+    /// Sets row `y`'s entry of [`RegionBuffer::row_bar`] in `tile` from its cells, after
+    /// a span took some of them: the farthest bar if every cell is covered, else NaN.
+    #[inline]
+    fn refresh_row_bar(&mut self, tile: u32, y: u32) {
+        let r = (y & (TILE - 1)) as usize;
+        let cells = r << SHIFT..(r + 1) << SHIFT;
+        let colours = &self.colour.tile(tile)[cells.clone()];
+        let bars = &self.depth.tile(tile)[cells];
+        let covered = colours.iter().fold(true, |all, &c| all & (c != 0));
+        self.row_bar[tile as usize * TILE as usize + r] = if covered {
+            bars.iter()
+                .fold(Depth::NEG_INFINITY, |m, &b| if b > m { b } else { m })
+        } else {
+            Depth::NAN
+        };
     }
 
     /// Asks for the cells `lo..hi` of the tile row starting at cell `row` to be brought
@@ -549,6 +590,8 @@ impl RegionBuffer {
         for s in &mut self.slot {
             if *s != UNTOUCHED {
                 self.colour.tile_mut(*s).fill(0);
+                let rows = *s as usize * TILE as usize;
+                self.row_bar[rows..rows + TILE as usize].fill(Depth::NAN);
                 *s = UNTOUCHED;
             }
         }
@@ -598,6 +641,7 @@ mod tests {
             RegionStats {
                 pixels_tested: 9,
                 pixels_written: 5,
+                pixels_behind_row: 0,
                 runs: 3,
                 tiles: 1
             }
@@ -730,6 +774,97 @@ mod tests {
                 (out, rb.stats)
             };
             proptest::prop_assert_eq!(draw(ZTest::Avx2), draw(ZTest::Scalar));
+        }
+    }
+
+    #[test]
+    fn a_piece_behind_a_covered_row_is_turned_away_whole() {
+        let mut rb = RegionBuffer::new(100, 2);
+        // Row 0 of the first tile covered at depth 1..1.63 (rising to the right); row 1
+        // left with empty cells.
+        rb.span(0, 0..64, 1.0, 0.01, R);
+        rb.span(1, 0..63, 1.0, 0.0, R);
+        let tested = rb.stats.pixels_tested;
+        // Behind every bar: turned away without a test, nothing changes.
+        rb.span(0, 10..40, 2.0, 0.0, G);
+        assert_eq!(rb.stats.pixels_behind_row, 30);
+        assert_eq!(rb.stats.pixels_tested, tested + 30);
+        // A row with an empty cell is always tested (the empty cell takes any depth).
+        rb.span(1, 0..64, 2.0, 0.0, G);
+        assert_eq!(rb.stats.pixels_behind_row, 30);
+        // Nearer than the farthest bar at one end only (the piece slopes): tested, and
+        // taken where nearer.
+        rb.span(0, 50..64, 1.499 - 50.0 * 0.02, 0.02, B);
+        assert_eq!(rb.stats.pixels_behind_row, 30);
+        assert_eq!(
+            runs(&mut rb),
+            [
+                run(0, 0, 50, R),
+                run(0, 50, 51, B),
+                run(0, 51, 64, R),
+                run(1, 0, 63, R),
+                run(1, 63, 64, G)
+            ]
+        );
+        // The next frame starts with no row covered.
+        rb.span(0, 0..10, 5.0, 0.0, G);
+        assert_eq!(rb.stats.pixels_behind_row, 30);
+        assert_eq!(runs(&mut rb), [run(0, 0, 10, G)]);
+    }
+
+    proptest::proptest! {
+        /// Turning pieces away by their tile row's farthest bar gives what testing every
+        /// pixel gives: the runs of a plain per-pixel z-buffer (the tie rule's bar, an
+        /// empty pixel taking any depth but NaN), over spans that cover whole rows and
+        /// fall behind them, and spans whose depth runs out to ±∞.
+        #[test]
+        fn turning_pieces_away_changes_no_pixel(
+            spans in proptest::collection::vec(
+                (
+                    0u32..3,
+                    0u32..140,
+                    1u32..140,
+                    0.0f64..4.0,
+                    // Slopes that overflow to ±∞ along the row, as well as gentle ones.
+                    proptest::prop_oneof![
+                        8 => -0.02f64..0.02,
+                        1 => proptest::strategy::Just(3e306),
+                        1 => proptest::strategy::Just(-3e306),
+                    ],
+                    0usize..3,
+                ),
+                1..80,
+            )
+        ) {
+            let (w, h) = (140u32, 3u32);
+            let mut rb = RegionBuffer::new(w, h);
+            let mut bars = vec![0.0; (w * h) as usize];
+            let mut cells = vec![None; (w * h) as usize];
+            for &(y, x0, n, z, dz, c) in &spans {
+                let colour = [R, G, B][c];
+                rb.span(y, x0..x0 + n, z, dz, colour);
+                for x in x0..(x0 + n).min(w) {
+                    let i = (y * w + x) as usize;
+                    let d = depth_at(z, dz, x);
+                    if (cells[i].is_none() && !d.is_nan()) || d < bars[i] {
+                        bars[i] = proto::depth::bar(d);
+                        cells[i] = Some(colour);
+                    }
+                }
+            }
+            let mut want = vec![];
+            for y in 0..h {
+                let mut x = 0;
+                while x < w {
+                    let Some(c) = cells[(y * w + x) as usize] else { x += 1; continue };
+                    let start = x;
+                    while x < w && cells[(y * w + x) as usize] == Some(c) {
+                        x += 1;
+                    }
+                    want.push(run(y, start, x, c));
+                }
+            }
+            proptest::prop_assert_eq!(runs(&mut rb), want);
         }
     }
 

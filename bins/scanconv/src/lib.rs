@@ -397,6 +397,7 @@ mod tests {
             Some(scan::RegionStats {
                 pixels_tested: 6,
                 pixels_written: 6,
+                pixels_behind_row: 0,
                 runs: 4,
                 tiles: 1
             })

@@ -88,6 +88,7 @@ impl RegionBuffer {
             let at = offset + (x & (TILE - 1)) as usize;
             let bars = &mut self.depth.tile_mut(tile)[at..at + n];
             let colours = &mut self.colour.tile_mut(tile)[at..at + n];
+            let mut taken = 0;
             for (i, (bar, f)) in bars.iter_mut().zip(colours.iter_mut()).enumerate() {
                 let column = x + i as u32;
                 let z = depth_at(z_row, dz, column);
@@ -96,9 +97,13 @@ impl RegionBuffer {
                 if win {
                     *bar = proto::depth::bar(z);
                     *f = pack(row.at(column));
-                    written += 1;
+                    taken += 1;
                 }
             }
+            if taken > 0 {
+                self.refresh_row_bar(tile, y);
+            }
+            written += taken;
             self.stats.pixels_tested += n as u64;
             x = end;
         }
