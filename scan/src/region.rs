@@ -421,7 +421,8 @@ impl RegionBuffer {
 
     /// Sets row `y`'s entry of [`RegionBuffer::row_bar`] in `tile` from its cells, after
     /// a span took some of them: the farthest bar if every cell is covered, else NaN.
-    #[inline]
+    /// Inlined, so that in [`RegionBuffer::span_avx2`] it is compiled for AVX2 too.
+    #[inline(always)]
     fn refresh_row_bar(&mut self, tile: u32, y: u32) {
         let r = (y & (TILE - 1)) as usize;
         let cells = r << SHIFT..(r + 1) << SHIFT;
