@@ -42,7 +42,7 @@ use crate::codec::{
 use crate::geometry::newell_plane;
 use crate::header::{Header, Space};
 use crate::shade::{ColourPlanes, VertexColour};
-use crate::text::{Lexer, Shown};
+use crate::text::{is_blank, Lexer, Shown};
 use crate::StreamError;
 use glam::{DVec3, DVec4};
 use serde::{Deserialize, Serialize};
@@ -531,10 +531,7 @@ fn colour_line(line: &[u8]) -> Option<(Colour, usize)> {
     let mut colour = [0u8; 3];
     let mut at = 0;
     for c in &mut colour {
-        let blank = rest
-            .iter()
-            .take_while(|&&b| b == b' ' || b == b'\t')
-            .count();
+        let blank = rest.iter().take_while(|&&b| is_blank(b)).count();
         let digits = rest[blank..]
             .iter()
             .take_while(|b| b.is_ascii_digit())
@@ -549,9 +546,7 @@ fn colour_line(line: &[u8]) -> Option<(Colour, usize)> {
         *c = u8::try_from(value).ok()?;
         rest = &rest[blank + digits..];
     }
-    rest.iter()
-        .all(|&b| b == b' ' || b == b'\t')
-        .then_some((colour, at))
+    rest.iter().all(|&b| is_blank(b)).then_some((colour, at))
 }
 
 /// Writes `skip N`, after NEXT.POLYGON unless it starts the frame.

@@ -389,10 +389,10 @@ impl<R: Read> Lexer<R> {
     /// Takes whole lines of exactly `n` finite numbers (at most 8) straight from the
     /// input buffer, for as long as the next line is one and `take`, handed its numbers,
     /// accepts it; answers how many lines it took. Only where the lexer stands between
-    /// lines, or has peeked the first word of its current line; it stops, taking nothing more, at any line it is not
-    /// sure of (another word, a comment, a carriage return or other whitespace than
-    /// spaces and tabs, a number that does not parse, a line not yet read whole), which
-    /// the word-by-word path then reads, with its messages. Afterwards the lexer stands
+    /// lines, or has peeked the first word of its current line; it stops, taking nothing
+    /// more, at any line it is not sure of (another word, a comment, a carriage return or
+    /// other whitespace than spaces and tabs, a number that does not parse, a line not yet
+    /// read whole), which the word-by-word path then reads, with its messages. Afterwards the lexer stands
     /// where that path would: the last line taken is its current line, every line
     /// counted.
     ///
@@ -538,6 +538,14 @@ impl<R: Read> Lexer<R> {
     }
 }
 
+/// What separates the words of a line that [`Lexer::number_lines`] or
+/// [`Lexer::line_after`]'s readers take whole: a space or a tab (any other whitespace,
+/// and a line holding it, is left to the word-by-word path).
+#[inline]
+pub(crate) fn is_blank(b: u8) -> bool {
+    b == b' ' || b == b'\t'
+}
+
 /// Reads `line` (without its newline) as exactly `out.len()` finite numbers separated by
 /// spaces and tabs, and answers where its last number starts; `None` for anything else
 /// (a word that is not a number, a comment, a byte that is not ASCII, other whitespace),
@@ -547,10 +555,9 @@ fn number_line(line: &[u8], out: &mut [f64]) -> Option<usize> {
     if !line.is_ascii() {
         return None;
     }
-    let blank = |b: u8| b == b' ' || b == b'\t';
     let (mut i, mut last) = (0, 0);
     for slot in out.iter_mut() {
-        while i < line.len() && blank(line[i]) {
+        while i < line.len() && is_blank(line[i]) {
             i += 1;
         }
         if i == line.len() {
@@ -558,7 +565,7 @@ fn number_line(line: &[u8], out: &mut [f64]) -> Option<usize> {
         }
         let start = i;
         i = word_end(line, start);
-        if i < line.len() && !blank(line[i]) {
+        if i < line.len() && !is_blank(line[i]) {
             return None;
         }
         // SAFETY: the line is ASCII.
@@ -566,7 +573,7 @@ fn number_line(line: &[u8], out: &mut [f64]) -> Option<usize> {
         *slot = parse_f64(word).filter(|v| v.is_finite())?;
         last = start;
     }
-    line[i..].iter().all(|&b| blank(b)).then_some(last)
+    line[i..].iter().all(|&b| is_blank(b)).then_some(last)
 }
 
 /// A line of the input (without its newline) as the lexer keeps it, and whether it is

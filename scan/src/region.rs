@@ -38,6 +38,13 @@ const PROBE: u64 = 16;
 /// The side of a tile, in pixels.
 pub const TILE: u32 = 64;
 const SHIFT: u32 = TILE.trailing_zeros();
+
+/// Where the row of screen row `y` in tile `tile` is kept among the tiles' rows (tile k's
+/// row r at `k·TILE + r`).
+#[inline]
+fn row_at(tile: u32, y: u32) -> usize {
+    tile as usize * TILE as usize + (y & (TILE - 1)) as usize
+}
 const AREA: usize = (TILE * TILE) as usize;
 /// The slot of a tile position no span has touched this frame.
 const UNTOUCHED: u32 = u32::MAX;
@@ -233,11 +240,11 @@ pub struct RegionBuffer {
     /// Per pixel, the bar a later polygon's depth must be under to take it.
     depth: Slab<Depth>,
     colour: Slab<u32>,
-    /// Per tile row (tile k's row r at `k·TILE + r`), the farthest bar of its cells when
-    /// every cell is covered, else NaN: a span's piece that is nowhere nearer than it
-    /// takes no cell, and is turned away without a test. (Not +∞ for a row with an
-    /// empty cell: an empty cell takes a depth of +∞ too, and no depth compares as at or
-    /// behind NaN.)
+    /// Per tile row ([`RegionBuffer::row_at`]), the farthest bar of its cells when every
+    /// cell is covered, else NaN (and NaN throughout a frame that does not keep them): a
+    /// span's piece that is nowhere nearer than it takes no cell, and is turned away
+    /// without a test. (Not +∞ for a row with an empty cell: an empty cell takes a depth
+    /// of +∞ too, and no depth compares as at or behind NaN.)
     row_bar: Vec<Depth>,
     /// Whether this frame keeps [`RegionBuffer::row_bar`] (see [`RegionBuffer::clear`]).
     rows_kept: bool,
@@ -405,8 +412,7 @@ impl RegionBuffer {
             // or behind every bar of a covered row, no cell passes the test.
             if self.rows_kept {
                 self.frame_tested += (end - x) as u64;
-                let row_bar =
-                    self.row_bar[tile as usize * TILE as usize + (y & (TILE - 1)) as usize];
+                let row_bar = self.row_bar[row_at(tile, y)];
                 if depth_at(z_row, dz, x) >= row_bar && depth_at(z_row, dz, end - 1) >= row_bar {
                     self.stats.pixels_behind_row += (end - x) as u64;
                     self.frame_behind += (end - x) as u64;
@@ -426,7 +432,7 @@ impl RegionBuffer {
                 dz,
                 colour,
             );
-            if taken > 0 && self.rows_kept {
+            if taken > 0 {
                 self.refresh_row_bar(tile, y);
             }
             written += taken;
@@ -444,16 +450,20 @@ impl RegionBuffer {
     }
 
     /// Sets row `y`'s entry of [`RegionBuffer::row_bar`] in `tile` from its cells, after
-    /// a span took some of them: the farthest bar if every cell is covered, else NaN.
-    /// Inlined, so that in [`RegionBuffer::span_avx2`] it is compiled for AVX2 too.
+    /// a span took some of them, in a frame that keeps the row bars: the farthest bar if
+    /// every cell is covered, else NaN. Inlined, so that in [`RegionBuffer::span_avx2`]
+    /// it is compiled for AVX2 too.
     #[inline(always)]
     fn refresh_row_bar(&mut self, tile: u32, y: u32) {
+        if !self.rows_kept {
+            return;
+        }
         let r = (y & (TILE - 1)) as usize;
         let cells = r << SHIFT..(r + 1) << SHIFT;
         let colours = &self.colour.tile(tile)[cells.clone()];
         let bars = &self.depth.tile(tile)[cells];
         let covered = colours.iter().fold(true, |all, &c| all & (c != 0));
-        self.row_bar[tile as usize * TILE as usize + r] = if covered {
+        self.row_bar[row_at(tile, y)] = if covered {
             bars.iter()
                 .fold(Depth::NEG_INFINITY, |m, &b| if b > m { b } else { m })
         } else {
@@ -623,7 +633,7 @@ impl RegionBuffer {
         for s in &mut self.slot {
             if *s != UNTOUCHED {
                 self.colour.tile_mut(*s).fill(0);
-                let rows = *s as usize * TILE as usize;
+                let rows = row_at(*s, 0);
                 self.row_bar[rows..rows + TILE as usize].fill(Depth::NAN);
                 *s = UNTOUCHED;
             }

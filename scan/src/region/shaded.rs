@@ -100,7 +100,7 @@ impl RegionBuffer {
                     taken += 1;
                 }
             }
-            if taken > 0 && self.rows_kept {
+            if taken > 0 {
                 self.refresh_row_bar(tile, y);
             }
             written += taken;
