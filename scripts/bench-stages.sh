@@ -386,7 +386,7 @@ B=$ROOT/target/release
 TMP=$(mktemp -d "${TMPDIR:-/tmp}/bench-fill.XXXXXX")
 trap 'rm -rf "$TMP"' EXIT
 cargo build --release --quiet --manifest-path "$ROOT/Cargo.toml" -p scene -p viewxf -p clipbatch -p persp -p zbuf
-"$B/scene" environment --text --seed 2 --polygons 10000 --depth-complexity 10 --size 1920x1080 |
+fill_scene "$B" |
     "$B/viewxf" --size 1920x1080 | "$B/clipbatch" | "$B/persp" --size 1920x1080 > "$TMP/fill.screen"
 tested=$("$B/zbuf" --stats "$TMP/fill.screen" 2>&1 >/dev/null | sed -n 's/.* \([0-9]*\) pixels tested.*/\1/p')
 [[ -n $tested ]] || { echo "bench-stages.sh fill: zbuf --stats gave no pixel count" >&2; exit 1; }

@@ -390,7 +390,7 @@ B=${CARGO_TARGET_DIR:-$root/target}/release
 cargo build --release --quiet --bins
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
-"$B/scene" environment --text --seed 2 --polygons 10000 --depth-complexity 10 --size 1920x1080 > "$work/fill.txt"
+fill_scene "$B" > "$work/fill.txt"
 
 
 table() { # SCENE SIZE LABEL
@@ -455,7 +455,7 @@ work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
 size=1920x1080
 scene=$work/fill.txt
-"$B/scene" environment --text --seed 2 --polygons 10000 --depth-complexity 10 --size $size > "$scene"
+fill_scene "$B" 10000 "$size" > "$scene"
 scripts/render.sh --depth 0 --size $size "$scene" > /dev/null # binaries current
 
 seconds() {
@@ -579,8 +579,7 @@ bench_build
 cd "$bench_root"
 work=$(mktemp -d "${TMPDIR:-/tmp}/bench-work.XXXXXX")
 trap 'rm -rf "$work"' EXIT
-"$bindir/scene" environment --text --seed 2 --polygons 10000 --depth-complexity 10 \
-    --size 1920x1080 > "$work/fill.txt"
+fill_scene "$bindir" > "$work/fill.txt"
 # Once outside valgrind: the binaries' freshness stamp written, the pictures to compare.
 scripts/render.sh --size 1920x1080 --depth 0 "$work/fill.txt" > "$work/depth0.ppm"
 declare -A count

@@ -106,7 +106,7 @@ size[two]=64x64 label[two]="(e) two polygons, 64×64"
 echo "bench.sh: generating the scenes" >&2
 "$B/scene" environment --text --seed 1 --polygons 1024 --size 500x500 > "$work/env.txt"
 "$B/scene" environment --text --seed 3 --polygons "$geo_n" --depth-complexity 2 --size 500x500 > "$work/geo.txt"
-"$B/scene" environment --text --seed 2 --polygons "$fill_n" --depth-complexity 10 --size "$fill_size" > "$work/fill.txt"
+fill_scene "$B" "$fill_n" "$fill_size" > "$work/fill.txt"
 "$B/scene" environment --text --seed 4 --polygons 1024 --frames "$movie_frames" --size 500x500 > "$work/movie.txt"
 cp "$root/examples/triangle-square.txt" "$work/two.txt"
 

@@ -10,6 +10,9 @@
 #   timed REPS CMD…            the median wall seconds of REPS runs: hyperfine where it is
 #                              installed (one warm-up, its own statistics), else `seconds`
 #   ratio A B                  A / B to two places, `-` where either is not positive
+#   fill_scene BIN [N [WxH]]   the fill-heavy scene as text on stdout, made by BIN/scene:
+#                              environment, seed 2, depth complexity 10, N polygons
+#                              (default 10,000) at WxH (default 1920x1080)
 #
 # Wall times come from the clock, not from /usr/bin/time's %e (10 ms steps, too coarse
 # for runs of 30-100 ms). A script compares commands measured in one run, on one machine,
@@ -70,3 +73,8 @@ timed() {
 }
 
 ratio() { awk -v a="$1" -v b="$2" 'BEGIN { if (a > 0 && b > 0) printf "%.2f", a / b; else printf "-" }'; }
+
+fill_scene() {
+    "$1/scene" environment --text --seed 2 --polygons "${2:-10000}" --depth-complexity 10 \
+        --size "${3:-1920x1080}"
+}
