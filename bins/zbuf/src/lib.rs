@@ -54,8 +54,9 @@ pub struct FrameBuffer {
     depth: Vec<f64>,
     /// Index in the frame of the polygon that drew each pixel, tiled; `u32::MAX` for none.
     polygon: Vec<u32>,
-    /// The F-buffer: RGB per pixel, row-major, row 0 at the top (a P6 PPM's raster).
-    colour: Vec<Colour>,
+    /// The F-buffer: RGB per pixel, row-major, row 0 at the top (a P6 PPM's raster), in
+    /// memory laid out for huge pages.
+    colour: scan::ZeroedBuffer<Colour>,
     /// Whether `depth` and `polygon` hold this frame's state. When not, they are empty or
     /// clear, and the runs painted so far this frame are listed in `painted`.
     depth_live: bool,
@@ -356,24 +357,11 @@ pub fn wins(z: f64, polygon: u32, held: f64, held_polygon: u32) -> bool {
 pub const BYTES_PER_PIXEL: u64 = 8 + 4 + 3;
 
 /// `n` copies of `value`, or `None` when the memory cannot be had; in huge pages where
-/// the kernel gives them.
-fn filled(n: usize, value: Colour) -> Option<Vec<Colour>> {
-    if n == 0 {
-        return Some(Vec::new());
-    }
-    // Zeroed memory from the allocator: for a frame of any size, fresh pages that the
-    // kernel zeroes as they are first touched, so that a black background costs no
-    // writing here (a full-HD frame is 6 MB).
-    let layout = std::alloc::Layout::array::<Colour>(n).ok()?;
-    // SAFETY: the layout has a non-zero size (n > 0, a Colour is 3 bytes).
-    let p = unsafe { std::alloc::alloc_zeroed(layout) } as *mut Colour;
-    if p.is_null() {
-        return None;
-    }
-    // SAFETY: `p` holds n Colours' worth of zeroed bytes from the global allocator with
-    // Colour's layout, and all-zero bytes are a valid Colour ([0, 0, 0]).
-    let mut v = unsafe { Vec::from_raw_parts(p, n, n) };
-    scan::advise_huge_pages(&v);
+/// the kernel gives them. The memory is zeroed fresh pages, which the kernel zeroes as
+/// they are first touched, so that a black background costs no writing here (a full-HD
+/// frame is 6 MB).
+fn filled(n: usize, value: Colour) -> Option<scan::ZeroedBuffer<Colour>> {
+    let mut v = scan::ZeroedBuffer::new(n)?;
     if value != [0; 3] {
         fill_colour(&mut v, value);
     }
