@@ -290,7 +290,7 @@ ensure_binaries() {
         bindir=$POLYPIPE_BIN
         local method
         leaf_method
-        for b in "${stages[@]}" "${method[0]}"; do
+        for b in "${stages[@]}" "${method[0]}" plan; do
             [[ -x $bindir/$b ]] || fail 3 "no $b in $bindir (POLYPIPE_BIN)"
         done
         return 0
@@ -304,11 +304,19 @@ ensure_binaries() {
 pids=()             # every stage, upstream first
 declare -A stage_of # pid → stage name, for the messages
 
+#
+#
+# One process keeps the folder (`plan folder`, bins/plan/src/folder.rs): it makes it,
+# makes the named pipes asked of it (`make_fifos`), and removes it all when the clean-up
+# asks (TERM), or by itself when this script is gone however it ended. Before, mkdir,
+# mkfifo and `rm -r` were three processes on every render's critical path, 4 ms of a
+# small render's 19. The keeper leaves its parent (a process substitution) at once, so
+# that it is not this script's child: `wait -n` and `jobs` see only the stages.
 make_private_dir() {
     # The folder's name is chosen, and the traps that remove it set, before it is made:
     # a signal while `mktemp` ran (a process of its own) ended the script before it knew
-    # the name, and left the folder. mkdir refuses a name that exists (a link included);
-    # the random part makes one hard to guess.
+    # the name, and left the folder. The keeper refuses a name that exists (a link
+    # included); the random part makes one hard to guess.
     tmp=${TMPDIR:-/tmp}/render.$$.$SRANDOM
     trap cleanup EXIT
     # The first signal ends the run; any after it, until the clean-up is done, is ignored
@@ -317,7 +325,21 @@ make_private_dir() {
     trap 'trap "" INT TERM; exit 130' INT
     trap 'trap "" INT TERM; exit 143' TERM
     # Not ours if it could not be made: nothing for the clean-up to remove.
-    mkdir -m 700 -- "$tmp" 2>/dev/null || { tmp=''; fail 3 "cannot make a private folder in ${TMPDIR:-/tmp}"; }
+    exec {keeper_says}< <(exec "$bindir/plan" folder -- "$tmp" </dev/null 2>/dev/null)
+    local said pid
+    read -r -u "$keeper_says" said pid && [[ $said == ready && $pid =~ ^[0-9]+$ ]] ||
+        { tmp=''; fail 3 "cannot make a private folder in ${TMPDIR:-/tmp}"; }
+    keeper=$pid
+}
+
+# make_fifos PATH…: the named pipes (in the private folder), made by its keeper.
+# The request is one line, written with the pipe opened for reading and writing, which
+# does not wait for a reader: were the keeper gone, the answer's end of file says so.
+make_fifos() {
+    local said names=("${@##*/}")
+    { printf '%s\n' "${names[*]}" 1<>"$tmp/requests"; } 2>/dev/null &&
+        read -r -u "$keeper_says" said && [[ $said == made ]] ||
+        fail 3 "cannot make the named pipes in $tmp${said:+ (${said#error: })}"
 }
 
 # Stops every stage still running (TERM, then KILL after a second), reaps them all.
@@ -342,7 +364,8 @@ stop_all() {
         sleep 0.05
     done
     for pid in "${all[@]}"; do kill -KILL "$pid" 2>/dev/null; done
-    wait 2>/dev/null
+    # These, by name: a bare `wait` would wait for the folder's keeper too.
+    ((${#all[@]} == 0)) || wait -- "${all[@]}" 2>/dev/null
 }
 
 # On every way out. A Ctrl-C or TERM while it works is ignored, not obeyed (see the traps
@@ -352,13 +375,20 @@ cleanup() {
     trap - EXIT
     trap '' INT TERM
     stop_all
-    rm -rf "$tmp"
+    if [[ -n ${keeper-} ]]; then
+        # The keeper's stdout ends when it has removed the folder and exited.
+        kill -TERM "$keeper" 2>/dev/null
+        while read -r -t 5 -u "$keeper_says" _; do :; done
+    fi
+    # A folder its keeper did not remove (a signal before the keeper's id was known).
+    [[ -z ${tmp-} || ! -e $tmp ]] || rm -rf -- "$tmp"
     exit "$status"
 }
 
 # The process graph is built twice (see `graph`): first only to name its fifos, which
-# one mkfifo then makes, then to start the stages. A process for each fifo would cost a
-# millisecond apiece, most of a small render's start-up at depth 1 and beyond.
+# the folder's keeper then makes in one request, then to start the stages. A process for
+# each fifo would cost a millisecond apiece, most of a small render's start-up at depth
+# 1 and beyond.
 planning=0
 fifos=()
 fifo() { ((!planning)) || fifos+=("$tmp/$1"); }
@@ -377,13 +407,13 @@ start() {
     # a socket. Everything else is opened by the stage's own process, so that a fifo's
     # open, which waits for the other end, holds up only that stage.
     if [[ $in == /dev/fd/3 && $out == - ]]; then
-        "$@" <&3 2>"$err" 3<&- &
+        "$@" <&3 2>"$err" 3<&- {keeper_says}<&- &
     elif [[ $in == /dev/fd/3 ]]; then
-        "$@" <&3 >"$out" 2>"$err" 3<&- &
+        "$@" <&3 >"$out" 2>"$err" 3<&- {keeper_says}<&- &
     elif [[ $out == - ]]; then
-        "$@" <"$in" 2>"$err" 3<&- &
+        "$@" <"$in" 2>"$err" 3<&- {keeper_says}<&- &
     else
-        "$@" <"$in" >"$out" 2>"$err" 3<&- &
+        "$@" <"$in" >"$out" 2>"$err" 3<&- {keeper_says}<&- &
     fi
     pids+=($!)
     stage_of[$!]=$name
@@ -838,14 +868,14 @@ main() {
     watch
 }
 
-# in_pieces PART: names the stages of PART (front, back or graph) and their fifos, makes
-# the fifos in one mkfifo, and starts the stages.
+# in_pieces PART: names the stages of PART (front, back or graph) and their fifos, has
+# the folder's keeper make the fifos in one request, and starts the stages.
 in_pieces() {
     fifos=()
     planning=1
     "$1"
     planning=0
-    ((${#fifos[@]} == 0)) || mkfifo -m 600 -- "${fifos[@]}" || exit 3
+    ((${#fifos[@]} == 0)) || make_fifos "${fifos[@]}"
     "$1"
 }
 

@@ -483,3 +483,102 @@ fn depth_auto_with_hosts_gives_every_host_a_subtree() {
     );
     assert!(out.stdout == at0.stdout);
 }
+
+/// `plan folder DIR`, render.sh's private folder kept by one process: `ready PID` once
+/// DIR is there (mode 700), PID the keeper's own (it leaves its parent, which exits at
+/// once); `made` for each request, a line of names of named pipes written to
+/// DIR/requests; SIGINT (a terminal's Ctrl-C, sent to the whole group) ignored; the
+/// folder removed, and the keeper's stdout ended, on SIGTERM; a name that exists refused,
+/// with nothing left behind.
+#[test]
+fn plan_folder_makes_pipes_on_request_and_removes_all_when_told() {
+    use std::io::BufRead;
+    use std::os::unix::fs::{FileTypeExt, PermissionsExt};
+    let base = tempfile::tempdir().unwrap();
+    let dir = base.path().join("render.1");
+    let mut parent = Command::new(bin("plan"))
+        .arg("folder")
+        .arg(&dir)
+        .stdin(Stdio::null())
+        .stdout(Stdio::piped())
+        .spawn()
+        .unwrap();
+    let mut says = std::io::BufReader::new(parent.stdout.take().unwrap());
+    assert!(parent.wait().unwrap().success(), "the parent exits at once");
+    let mut line = String::new();
+    says.read_line(&mut line).unwrap();
+    let keeper = line
+        .strip_prefix("ready ")
+        .and_then(|pid| pid.trim_end().parse::<u32>().ok())
+        .unwrap_or_else(|| panic!("{line:?}"));
+    assert_ne!(keeper, parent.id());
+    assert_eq!(
+        std::fs::metadata(&dir).unwrap().permissions().mode() & 0o777,
+        0o700
+    );
+    for request in ["view clipped\n", "leaf-0\n"] {
+        std::fs::write(dir.join("requests"), request).unwrap();
+        line.clear();
+        says.read_line(&mut line).unwrap();
+        assert_eq!(line, "made\n", "{request:?}");
+    }
+    for name in ["view", "clipped", "leaf-0"] {
+        let meta = std::fs::metadata(dir.join(name)).unwrap();
+        assert!(meta.file_type().is_fifo(), "{name}");
+        assert_eq!(meta.permissions().mode() & 0o777, 0o600, "{name}");
+    }
+    std::fs::write(dir.join("stderr.0"), "a stage's words").unwrap();
+    let signal = |name: &str| {
+        let sent = Command::new("kill")
+            .args([format!("-{name}"), keeper.to_string()])
+            .status()
+            .unwrap();
+        assert!(sent.success());
+    };
+    signal("INT");
+    std::thread::sleep(Duration::from_millis(100));
+    assert!(dir.exists(), "SIGINT removed the folder");
+    signal("TERM");
+    line.clear();
+    assert_eq!(says.read_line(&mut line).unwrap(), 0, "{line:?}");
+    assert!(!dir.exists(), "SIGTERM left the folder");
+    assert_eq!(std::fs::read_dir(base.path()).unwrap().count(), 0);
+
+    // A name that exists: refused, status 3, and the thing there left alone.
+    std::fs::create_dir(&dir).unwrap();
+    let out = Command::new(bin("plan"))
+        .arg("folder")
+        .arg(&dir)
+        .stdin(Stdio::null())
+        .output()
+        .unwrap();
+    assert_eq!(out.status.code(), Some(3));
+    assert_eq!(out.stdout, b"");
+    let said = text(&out.stderr);
+    assert!(said.starts_with("plan: cannot make "), "{said}");
+    assert!(dir.is_dir());
+}
+
+/// The folder goes with the process that asked for it, however that ends: a script
+/// killed with SIGKILL (no clean-up of its own runs) leaves no folder behind, once no one
+/// is left to read what the keeper says.
+#[test]
+fn plan_folder_removes_all_when_its_script_is_killed() {
+    let base = tempfile::tempdir().unwrap();
+    let dir = base.path().join("render.2");
+    let script = format!(
+        "exec {{k}}< <(exec '{}' folder '{}' </dev/null); read -r -u $k said pid; \
+         echo \"$said\"; printf 'view\\n' > '{}/requests'; read -r -u $k said; \
+         echo \"$said\"; kill -KILL $$",
+        bin("plan").display(),
+        dir.display(),
+        dir.display()
+    );
+    let out = Command::new("bash").args(["-c", &script]).output().unwrap();
+    assert_eq!(text(&out.stdout), "ready\nmade\n");
+    let gone = Instant::now();
+    while dir.exists() && gone.elapsed() < Duration::from_secs(5) {
+        std::thread::sleep(Duration::from_millis(10));
+    }
+    assert!(!dir.exists(), "the folder outlived its script");
+}

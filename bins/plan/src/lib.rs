@@ -7,13 +7,15 @@
 //! look at a scene that gives the model its environment ([`look`]), the fit of the
 //! model's constants on the machine it runs on ([`calibrate`], kept by [`cache`] in
 //! `${XDG_CACHE_HOME:-$HOME/.cache}/polypipe/model.toml`), the thesis's own T424-20
-//! constants and environment ([`thesis`]), and the sampling of a scene on stdin
-//! ([`sample`]). The `plan` binary is what `render.sh --depth auto` runs; `chart` (the
+//! constants and environment ([`thesis`]), the sampling of a scene on stdin
+//! ([`sample`]), and render.sh's private folder (`folder`). The `plan` binary is what `render.sh --depth auto` runs; `chart` (the
 //! measuring and plotting binary) uses the same library.
 
 pub mod cache;
 pub mod calibrate;
 pub mod cli;
+#[cfg(unix)]
+pub mod folder;
 pub mod look;
 pub mod measure;
 pub mod model;

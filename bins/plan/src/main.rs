@@ -66,6 +66,10 @@ enum Sub {
     },
     /// Writes FILE, then the rest of stdin, to stdout: the sample and what followed it.
     Relay { file: PathBuf },
+    /// Keeps render.sh's private folder: makes DIR (mode 700) and says `ready`; makes
+    /// the named pipes whose names are written to DIR/requests, one a line, and says
+    /// `made`; removes DIR on SIGTERM or SIGHUP, or when its parent is gone.
+    Folder { dir: PathBuf },
 }
 
 fn calibrate(quick: bool, background_only: bool, root: Option<PathBuf>) -> Result<()> {
@@ -129,6 +133,18 @@ fn relay(file: &Path) -> Result<()> {
     Ok(())
 }
 
+/// `plan folder DIR` ([`plan::folder::keep`]): returns only when DIR cannot be made.
+#[cfg(unix)]
+fn folder(dir: &Path) -> Result<()> {
+    plan::folder::keep(dir).map_err(|e| stagecli::Error::io(e.to_string()))?;
+    Ok(())
+}
+
+#[cfg(not(unix))]
+fn folder(_dir: &Path) -> Result<()> {
+    Err(stagecli::Error::io("plan folder needs a Unix system (named pipes)").into())
+}
+
 fn main() -> ExitCode {
     stagecli::main::<Cli>("plan", |cli| {
         let done = match cli.command {
@@ -143,6 +159,7 @@ fn main() -> ExitCode {
             Sub::Thesis => say(&plan::thesis::report()),
             Sub::Sample { out } => sample(&out),
             Sub::Relay { file } => relay(&file),
+            Sub::Folder { dir } => folder(&dir),
         };
         done.map_err(|e| plan_error(&e))
     })
