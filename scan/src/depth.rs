@@ -28,14 +28,18 @@ impl DepthPlane {
     /// (Appendix 3.4; the occam code used three vertices and failed when they were
     /// collinear).
     pub fn of(polygon: &Polygon) -> Self {
-        let points: Vec<DVec3> = polygon.vertices.iter().map(|v| v.truncate()).collect();
         let recorded = polygon.plane.filter(|n| n.z != 0.0 && n.is_finite());
+        // The vertices gathered only for Newell's plane: persp records the plane, and a
+        // vector for every polygon was a malloc and a free in each.
         let DVec4 {
             x: a,
             y: b,
             z: c,
             w: d,
-        } = recorded.unwrap_or_else(|| proto::geometry::newell_plane(&points));
+        } = recorded.unwrap_or_else(|| {
+            let points: Vec<DVec3> = polygon.vertices.iter().map(|v| v.truncate()).collect();
+            proto::geometry::newell_plane(&points)
+        });
         // `+ 0.0` turns −0 into +0 (and changes nothing else), so that text shows `0`.
         let dz = -a / c + 0.0;
         // A plane so steep that a row of the largest screen would step past f64's range
@@ -50,7 +54,11 @@ impl DepthPlane {
         {
             DepthPlane::Plane { a, b, c, d, dz }
         } else {
-            let nearest = points.iter().map(|p| p.z).fold(f64::INFINITY, f64::min);
+            let nearest = polygon
+                .vertices
+                .iter()
+                .map(|v| v.z)
+                .fold(f64::INFINITY, f64::min);
             DepthPlane::Flat(if nearest.is_finite() { nearest } else { 0.0 })
         }
     }
