@@ -578,7 +578,9 @@ impl<T: Record, R: Read> Reader<T, R> {
                 }
             }
             Source::Text(lex) => {
-                if lex.peek()?.is_none() {
+                // (A word that the buffer shows is ahead needs no peek, which would copy
+                // its line: between two polygons, the NEXT.POLYGON line.)
+                if !lex.word_ahead() && lex.peek()?.is_none() {
                     if self.piece {
                         return Ok(false);
                     }

@@ -630,7 +630,16 @@ fn read_polygon_text<R: BufRead>(
             255,
         )? as u8;
     }
-    if lex.peek()? == Some(PLANE) {
+    let coloured = header.attributes.shaded();
+    // Vertex lines right after the colour line, taken straight from the input: then there
+    // is no `plane` or `shade` line (they come before the vertices), and the look for
+    // them, a peek, would have copied the first vertex line and read it word by word.
+    let mut first_taken = if coloured {
+        0
+    } else {
+        take_vertex_lines(p, lex, arity)
+    };
+    if first_taken == 0 && lex.peek()? == Some(PLANE) {
         if !annotations_allowed(space) {
             return Err(lex.error(format!(
                 "a `plane` line in a {}-space stream: {NO_WORLD_ANNOTATIONS}",
@@ -646,7 +655,7 @@ fn read_polygon_text<R: BufRead>(
         }
         p.plane = Some(DVec4::from_array(n));
     }
-    if lex.peek()? == Some(SHADE) {
+    if first_taken == 0 && lex.peek()? == Some(SHADE) {
         if !annotations_allowed(space) {
             return Err(lex.error(format!(
                 "a `shade` line in a {}-space stream: {NO_WORLD_ANNOTATIONS}",
@@ -666,28 +675,26 @@ fn read_polygon_text<R: BufRead>(
         }
         p.shade = Some(Box::new(planes));
     }
-    let coloured = header.attributes.shaded();
     loop {
         // Lines of just a vertex's coordinates (nearly every line of a scene), taken
         // straight from the input; any other line, and a vertex past the most a polygon
         // may have, is read below, word by word, with its messages.
         let taken = if coloured {
             0
+        } else if first_taken > 0 {
+            std::mem::take(&mut first_taken)
         } else {
-            lex.number_lines(arity, |c| {
-                let room = p.vertices.len() < MAX_VERTICES;
-                if room {
-                    let w = if arity == 4 { c[3] } else { 1.0 };
-                    p.vertices.push(DVec4::new(c[0], c[1], c[2], w));
-                }
-                room
-            })
+            take_vertex_lines(p, lex, arity)
         };
         if taken == 0 {
             if !lex.next_is_number()? {
                 break;
             }
             read_vertex_words(p, lex, header)?;
+        } else if lex.next_line_is(NEXT_POLYGON) {
+            // The polygon ends, and the next starts: no `on` line to look for, and the
+            // NEXT.POLYGON line is taken with the next `colour` line (`Lexer::line_after`).
+            break;
         }
         if lex.peek()? == Some(ON) {
             read_support(p, lex, space)?;
@@ -697,6 +704,21 @@ fn read_polygon_text<R: BufRead>(
         p.supports.resize(p.vertices.len(), None);
     }
     Ok(())
+}
+
+/// Takes the lines of just a vertex's `arity` coordinates that come next, straight from
+/// the input ([`Lexer::number_lines`]), as vertices of `p`, up to the most a polygon may
+/// have; the lines taken.
+#[inline]
+fn take_vertex_lines<R: BufRead>(p: &mut Polygon, lex: &mut Lexer<R>, arity: usize) -> usize {
+    lex.number_lines(arity, |c| {
+        let room = p.vertices.len() < MAX_VERTICES;
+        if room {
+            let w = if arity == 4 { c[3] } else { 1.0 };
+            p.vertices.push(DVec4::new(c[0], c[1], c[2], w));
+        }
+        room
+    })
 }
 
 /// Reads one vertex line word by word (the first word peeked, and a number), and pushes

@@ -470,27 +470,81 @@ impl<R: Read> Lexer<R> {
         word: &str,
         read: impl FnOnce(&[u8]) -> Option<(T, usize)>,
     ) -> Option<T> {
-        let peeked = self.peeked.clone()?;
-        let line = self.line.as_bytes();
-        if &line[peeked.clone()] != word.as_bytes()
-            || !line[..peeked.start].iter().all(|&b| is_space(b))
-            || !line[peeked.end..].iter().all(|&b| is_space(b))
-        {
-            return None;
-        }
-        let length = memchr::memchr(b'\n', &self.buf[self.next..self.end])?;
-        let (start, stop) = (self.next, self.next + length);
+        // `word` peeked alone on the current line; or, with the current line read to its
+        // end, alone on the next line, which is then taken too (`next_line_is`).
+        let from = match self.peeked.clone() {
+            Some(peeked) => {
+                let line = self.line.as_bytes();
+                if &line[peeked.clone()] != word.as_bytes()
+                    || !line[..peeked.start].iter().all(|&b| is_space(b))
+                    || !line[peeked.end..].iter().all(|&b| is_space(b))
+                {
+                    return None;
+                }
+                self.next
+            }
+            None => {
+                let (start, stop) = self.buffered_next_line()?;
+                if !alone(&self.buf[start..stop], word) {
+                    return None;
+                }
+                stop + 1
+            }
+        };
+        let skipped = u64::from(from != self.next);
+        let length = memchr::memchr(b'\n', &self.buf[from..self.end])?;
+        let (start, stop) = (from, from + length);
         let (value, last_word) = read(&self.buf[start..stop])?;
         let text = std::str::from_utf8(&self.buf[start..stop]).ok()?;
         self.line.clear();
         self.line.push_str(text);
         self.ascii = text.is_ascii();
         self.next = stop + 1;
-        self.line_no += 1;
+        self.line_no += 1 + skipped;
         self.cursor = self.line.len();
         self.peeked = None;
         self.at = (self.line_no, last_word + 1);
         Some(value)
+    }
+
+    /// The next line of the input (its start and end in the buffer, without its
+    /// newline), when the current line has been read to its end (no word peeked, only
+    /// whitespace left) and the next one is in the buffer whole; `None` otherwise.
+    #[inline]
+    fn buffered_next_line(&self) -> Option<(usize, usize)> {
+        if self.peeked.is_some() {
+            return None;
+        }
+        let line = self.line.as_bytes();
+        if !line[self.cursor.min(line.len())..]
+            .iter()
+            .all(|&b| is_space(b))
+        {
+            return None;
+        }
+        let length = memchr::memchr(b'\n', &self.buf[self.next..self.end])?;
+        Some((self.next, self.next + length))
+    }
+
+    /// Whether the next line is `word` alone (spaces or tabs around it), as far as the
+    /// input buffer tells without reading on: `false` where it cannot tell. A reader that
+    /// knows what comes next so need not peek, which copies the line and finds its words.
+    #[inline]
+    pub fn next_line_is(&self, word: &str) -> bool {
+        self.buffered_next_line()
+            .is_some_and(|(start, stop)| alone(&self.buf[start..stop], word))
+    }
+
+    /// Whether a word is ahead for certain: the next line, in the buffer whole, starts
+    /// (after spaces or tabs) with a byte that begins a word, not a comment.
+    #[inline]
+    pub fn word_ahead(&self) -> bool {
+        self.buffered_next_line().is_some_and(|(start, stop)| {
+            self.buf[start..stop]
+                .iter()
+                .find(|&&b| !is_blank(b))
+                .is_some_and(|&b| b > b' ' && b != b'#' && b.is_ascii())
+        })
     }
 
     /// Takes an unsigned integer no larger than `max`.
@@ -536,6 +590,20 @@ impl<R: Read> Lexer<R> {
             None => false,
         })
     }
+}
+
+/// Whether `line` is `word` with only spaces and tabs around it.
+#[inline]
+fn alone(line: &[u8], word: &str) -> bool {
+    let start = line
+        .iter()
+        .position(|&b| !is_blank(b))
+        .unwrap_or(line.len());
+    let stop = line
+        .iter()
+        .rposition(|&b| !is_blank(b))
+        .map_or(start, |i| i + 1);
+    &line[start..stop] == word.as_bytes()
 }
 
 /// What separates the words of a line that [`Lexer::number_lines`] or

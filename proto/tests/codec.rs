@@ -464,6 +464,84 @@ proptest! {
 
 /// The annotations' text form, and a plain polygon's binary record is the version-1 one:
 /// streams written before annotations existed still read, and are still written the same.
+/// Every record and message is the same whether the reader sees the stream whole (its
+/// lines taken straight from the buffer: vertex lines, `NEXT.POLYGON` with the next
+/// `colour` line) or a byte at a time (every line read word by word): streams where the
+/// lines between polygons are written in all the ways the shortcut must refuse.
+#[test]
+fn the_lines_between_polygons_read_alike_whole_and_word_by_word() {
+    for (header, quad) in [
+        ("polypipe 1 world", "0 0 -5\n1 0 -5\n1 1 -5\n0 1 -5\n"),
+        ("polypipe 1 eye", "0 0 -5 5\n1 0 -5 5\n1 1 -5 5\n0 1 -5 5\n"),
+    ] {
+        lines_between_read_alike(header, quad);
+    }
+}
+
+fn lines_between_read_alike(header: &str, quad: &str) {
+    struct OneByte<'a>(&'a [u8]);
+    impl std::io::Read for OneByte<'_> {
+        fn read(&mut self, buf: &mut [u8]) -> std::io::Result<usize> {
+            let Some((&b, rest)) = self.0.split_first() else {
+                return Ok(0);
+            };
+            if buf.is_empty() {
+                return Ok(0);
+            }
+            buf[0] = b;
+            self.0 = rest;
+            Ok(1)
+        }
+    }
+    fn read(input: Box<dyn std::io::Read + '_>) -> (Vec<Token>, Option<String>) {
+        let mut out = Vec::new();
+        let mut r = match Reader::<Token, _>::new(input) {
+            Ok(r) => r,
+            Err(e) => return (out, Some(e.to_string())),
+        };
+        loop {
+            match r.next_record() {
+                Ok(Some(t)) => out.push(t),
+                Ok(None) => return (out, None),
+                Err(e) => return (out, Some(e.to_string())),
+            }
+        }
+    }
+    for between in [
+        "NEXT.POLYGON\ncolour 1 2 3\n",
+        "  NEXT.POLYGON\t \ncolour 1 2 3\n",
+        "NEXT.POLYGON # a comment\ncolour 1 2 3\n",
+        "NEXT.POLYGON\r\ncolour 1 2 3\n",
+        "NEXT.POLYGONX\ncolour 1 2 3\n",
+        "NEXT.POLYGON\n\ncolour 1 2 3\n",
+        "NEXT.POLYGON\ncolour 1 2 3 # c\n",
+        "NEXT.POLYGON\ncolour 1 2 300\n",
+        "NEXT.POLYGON\nplane 0 0 1 5\n",
+        "NEXT.POLYGON\nNEXT.POLYGON\ncolour 1 2 3\n",
+        "NEXT.POLYGON\n",
+        "colour 1 2 3\n",
+        "on 0 0 -5 5 1 0 -5 5\nNEXT.POLYGON\ncolour 1 2 3\n",
+        "# between\nNEXT.POLYGON\ncolour 1 2 3\n",
+        "NEXT.FRAME\ncolour 1 2 3\n",
+    ] {
+        for end in ["END\n", "END", "NEXT.POLYGON\n", ""] {
+            let text = format!("{header}\ncolour 9 9 9\n{quad}{between}{quad}{end}");
+            let whole = read(Box::new(text.as_bytes()));
+            let words = read(Box::new(OneByte(text.as_bytes())));
+            assert_eq!(whole, words, "{text:?}");
+        }
+    }
+    // The plain case reads both polygons.
+    let text = format!("{header}\ncolour 9 9 9\n{quad}NEXT.POLYGON\ncolour 1 2 3\n{quad}END\n");
+    let (tokens, error) = read(Box::new(text.as_bytes()));
+    assert_eq!(error, None);
+    assert_eq!(tokens.len(), 3, "{tokens:?}");
+    assert!(
+        matches!(&tokens[1], Token::Polygon(p) if p.colour == [1, 2, 3] && p.vertices.len() == 4),
+        "{tokens:?}"
+    );
+}
+
 #[test]
 fn annotations_text_form_and_binary_compatibility() {
     let text = "polypipe 1 eye aspect 1 hither 1 yon 30
