@@ -534,26 +534,35 @@ pub(crate) fn read_polygon_start<R: BufRead>(
 /// each channel one to three digits, at most 255): the colour, and where B starts.
 /// Anything else is `None`, read again word by word.
 fn colour_line(line: &[u8]) -> Option<(Colour, usize)> {
-    let mut rest = line.strip_prefix(COLOUR.as_bytes())?;
+    if !line.starts_with(COLOUR.as_bytes()) {
+        return None;
+    }
+    let mut i = COLOUR.len();
     let mut colour = [0u8; 3];
     let mut at = 0;
     for c in &mut colour {
-        let blank = rest.iter().take_while(|&&b| is_blank(b)).count();
-        let digits = rest[blank..]
-            .iter()
-            .take_while(|b| b.is_ascii_digit())
-            .count();
-        if blank == 0 || !(1..=3).contains(&digits) {
+        let blanks = i;
+        while i < line.len() && is_blank(line[i]) {
+            i += 1;
+        }
+        if i == blanks {
             return None;
         }
-        at = line.len() - rest.len() + blank;
-        let value = rest[blank..blank + digits]
-            .iter()
-            .fold(0u32, |v, &d| v * 10 + u32::from(d - b'0'));
+        at = i;
+        let mut value = 0u32;
+        while i < line.len() && line[i].is_ascii_digit() && i - at < 3 {
+            value = value * 10 + u32::from(line[i] - b'0');
+            i += 1;
+        }
+        if i == at || line.get(i).is_some_and(u8::is_ascii_digit) {
+            return None; // no digit, or more than three
+        }
         *c = u8::try_from(value).ok()?;
-        rest = &rest[blank + digits..];
     }
-    rest.iter().all(|&b| is_blank(b)).then_some((colour, at))
+    line[i..]
+        .iter()
+        .all(|&b| is_blank(b))
+        .then_some((colour, at))
 }
 
 /// Writes `skip N`, after NEXT.POLYGON unless it starts the frame.
@@ -1096,6 +1105,44 @@ impl Record for Token {
             Token::Skip(n) => write_skip(out, *n, first_in_frame),
             Token::NextFrame => writeln!(out, "{NEXT_FRAME}"),
             Token::End => writeln!(out, "{END}"),
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::colour_line;
+
+    #[test]
+    fn a_colour_line_is_taken_whole_only_when_plain() {
+        // The colour, and where its last channel starts (for a message's column).
+        for (line, want) in [
+            ("colour 1 2 3", Some(([1, 2, 3], 11))),
+            ("colour 255 0 9  ", Some(([255, 0, 9], 13))),
+            ("colour\t1\t2\t3\t", Some(([1, 2, 3], 11))),
+            ("colour  12  34  056", Some(([12, 34, 56], 16))),
+        ] {
+            assert_eq!(colour_line(line.as_bytes()), want, "{line:?}");
+        }
+        // Everything else goes word by word, with its messages (or, for `color` and a
+        // channel of four digits that reads as at most 255, its value).
+        for line in [
+            "colour 256 0 0",
+            "colour 0001 2 3",
+            "colour 1 2",
+            "colour 1 2 3 4",
+            "colour1 2 3",
+            "colour 1 2 3#",
+            "colour 1 2 3 # c",
+            "color 1 2 3",
+            "colour 1a 2 3",
+            "colour -1 2 3",
+            "colour 1 2 3\r",
+            " colour 1 2 3",
+            "colour",
+            "",
+        ] {
+            assert_eq!(colour_line(line.as_bytes()), None, "{line:?}");
         }
     }
 }
