@@ -436,9 +436,11 @@ mod tests {
                 let from_plane: f64 = terms.iter().sum();
                 let expected = p.device.projective_depth(v.z);
                 // The sum's rounding scales with its terms (a pixel ~800 across gives terms of
-                // hundreds for a depth below 1: 1.4e-12 off was seen there).
+                // hundreds for a depth below 1: 1.4e-12 off was seen there), and the plane is
+                // Newell's fit through five or more vertices that rounding left a little off
+                // one plane (3.9e-12 off at a depth of 0.79 was seen, both saved below).
                 let scale = 1.0 + terms.iter().map(|t| t.abs()).sum::<f64>();
-                prop_assert!((from_plane - expected).abs() <= 1e-12 * scale,
+                prop_assert!((from_plane - expected).abs() <= 1e-11 * scale,
                     "plane gives {} at {:?}, vertex depth {}", from_plane, s, expected);
             }
         }
