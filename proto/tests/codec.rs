@@ -29,6 +29,40 @@ fn decode_err<T: proto::Record>(bytes: &[u8]) -> String {
     }
 }
 
+/// A reader that gives one byte a read: the text reader then never holds a line whole
+/// before it reads it, and takes every line word by word.
+struct OneByte<'a>(&'a [u8]);
+
+impl std::io::Read for OneByte<'_> {
+    fn read(&mut self, buf: &mut [u8]) -> std::io::Result<usize> {
+        let Some((&b, rest)) = self.0.split_first() else {
+            return Ok(0);
+        };
+        if buf.is_empty() {
+            return Ok(0);
+        }
+        buf[0] = b;
+        self.0 = rest;
+        Ok(1)
+    }
+}
+
+/// Every record of a token stream up to the first error, and that error's message.
+fn read_all(input: Box<dyn std::io::Read + '_>) -> (Vec<Token>, Option<String>) {
+    let mut out = Vec::new();
+    let mut r = match Reader::<Token, _>::new(input) {
+        Ok(r) => r,
+        Err(e) => return (out, Some(e.to_string())),
+    };
+    loop {
+        match r.next_record() {
+            Ok(Some(t)) => out.push(t),
+            Ok(None) => return (out, None),
+            Err(e) => return (out, Some(e.to_string())),
+        }
+    }
+}
+
 const EXAMPLE: &str = "polypipe 1 world
 colour 255 60 60
 -8 -4 0
@@ -420,34 +454,8 @@ proptest! {
             let i = at.index(text.len());
             text[i] = byte;
         }
-        struct OneByte<'a>(&'a [u8]);
-        impl std::io::Read for OneByte<'_> {
-            fn read(&mut self, buf: &mut [u8]) -> std::io::Result<usize> {
-                let Some((&b, rest)) = self.0.split_first() else { return Ok(0) };
-                if buf.is_empty() {
-                    return Ok(0);
-                }
-                buf[0] = b;
-                self.0 = rest;
-                Ok(1)
-            }
-        }
-        let read = |input: Box<dyn std::io::Read + '_>| -> (Vec<Token>, Option<String>) {
-            let mut out = Vec::new();
-            let mut r = match Reader::<Token, _>::new(input) {
-                Ok(r) => r,
-                Err(e) => return (out, Some(e.to_string())),
-            };
-            loop {
-                match r.next_record() {
-                    Ok(Some(t)) => out.push(t),
-                    Ok(None) => return (out, None),
-                    Err(e) => return (out, Some(e.to_string())),
-                }
-            }
-        };
-        let whole = read(Box::new(&text[..]));
-        let words = read(Box::new(OneByte(&text)));
+        let whole = read_all(Box::new(&text[..]));
+        let words = read_all(Box::new(OneByte(&text)));
         prop_assert_eq!(whole, words);
     }
 
@@ -479,34 +487,6 @@ fn the_lines_between_polygons_read_alike_whole_and_word_by_word() {
 }
 
 fn lines_between_read_alike(header: &str, quad: &str) {
-    struct OneByte<'a>(&'a [u8]);
-    impl std::io::Read for OneByte<'_> {
-        fn read(&mut self, buf: &mut [u8]) -> std::io::Result<usize> {
-            let Some((&b, rest)) = self.0.split_first() else {
-                return Ok(0);
-            };
-            if buf.is_empty() {
-                return Ok(0);
-            }
-            buf[0] = b;
-            self.0 = rest;
-            Ok(1)
-        }
-    }
-    fn read(input: Box<dyn std::io::Read + '_>) -> (Vec<Token>, Option<String>) {
-        let mut out = Vec::new();
-        let mut r = match Reader::<Token, _>::new(input) {
-            Ok(r) => r,
-            Err(e) => return (out, Some(e.to_string())),
-        };
-        loop {
-            match r.next_record() {
-                Ok(Some(t)) => out.push(t),
-                Ok(None) => return (out, None),
-                Err(e) => return (out, Some(e.to_string())),
-            }
-        }
-    }
     for between in [
         "NEXT.POLYGON\ncolour 1 2 3\n",
         "  NEXT.POLYGON\t \ncolour 1 2 3\n",
@@ -526,14 +506,14 @@ fn lines_between_read_alike(header: &str, quad: &str) {
     ] {
         for end in ["END\n", "END", "NEXT.POLYGON\n", ""] {
             let text = format!("{header}\ncolour 9 9 9\n{quad}{between}{quad}{end}");
-            let whole = read(Box::new(text.as_bytes()));
-            let words = read(Box::new(OneByte(text.as_bytes())));
+            let whole = read_all(Box::new(text.as_bytes()));
+            let words = read_all(Box::new(OneByte(text.as_bytes())));
             assert_eq!(whole, words, "{text:?}");
         }
     }
     // The plain case reads both polygons.
     let text = format!("{header}\ncolour 9 9 9\n{quad}NEXT.POLYGON\ncolour 1 2 3\n{quad}END\n");
-    let (tokens, error) = read(Box::new(text.as_bytes()));
+    let (tokens, error) = read_all(Box::new(text.as_bytes()));
     assert_eq!(error, None);
     assert_eq!(tokens.len(), 3, "{tokens:?}");
     assert!(
