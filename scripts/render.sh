@@ -304,8 +304,6 @@ ensure_binaries() {
 pids=()             # every stage, upstream first
 declare -A stage_of # pid → stage name, for the messages
 
-#
-#
 # One process keeps the folder (`plan folder`, bins/plan/src/folder.rs): it makes it,
 # makes the named pipes asked of it (`make_fifos`), and removes it all when the clean-up
 # asks (TERM), or by itself when this script is gone however it ended. Before, mkdir,

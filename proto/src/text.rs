@@ -392,14 +392,14 @@ impl<R: Read> Lexer<R> {
     /// lines, or has peeked the first word of its current line; it stops, taking nothing
     /// more, at any line it is not sure of (another word, a comment, a carriage return or
     /// other whitespace than spaces and tabs, a number that does not parse, a line not yet
-    /// read whole), which the word-by-word path then reads, with its messages. Afterwards the lexer stands
-    /// where that path would: the last line taken is its current line, every line
-    /// counted.
+    /// read whole), which the word-by-word path then reads, with its messages. Afterwards
+    /// the lexer stands where that path would: the last line taken is its current line,
+    /// every line counted.
     ///
     /// A vertex line is nearly every line of a scene, and this is its reading without the
     /// copy of each line into the lexer's and the peek and take of each word (viewxf on
     /// the 100,000-quad text scene, one core, interleaved: 77 → 71 ms of CPU, 996 → 945
-    /// million instructions). The numbers are [`parse_f64`]'s, as everywhere.
+    /// million instructions). The numbers have [`parse_f64`]'s values (`number_line`).
     pub fn number_lines(&mut self, n: usize, mut take: impl FnMut(&[f64]) -> bool) -> usize {
         if n == 0 || n > 8 {
             return 0;

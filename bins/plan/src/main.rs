@@ -66,9 +66,10 @@ enum Sub {
     },
     /// Writes FILE, then the rest of stdin, to stdout: the sample and what followed it.
     Relay { file: PathBuf },
-    /// Keeps render.sh's private folder: makes DIR (mode 700) and says `ready`; makes
-    /// the named pipes whose names are written to DIR/requests, one a line, and says
-    /// `made`; removes DIR on SIGTERM or SIGHUP, or when its parent is gone.
+    /// Keeps render.sh's private folder: makes DIR (mode 700), leaves its parent and
+    /// says `ready PID`; for each line written to DIR/requests, makes the named pipes it
+    /// names (separated by spaces) and says `made`; removes DIR on SIGTERM or SIGHUP, or
+    /// when nothing is left to read its stdout.
     Folder { dir: PathBuf },
 }
 
