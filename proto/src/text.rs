@@ -422,10 +422,7 @@ impl<R: Read> Lexer<R> {
                 }
                 _ => return 0,
             }
-        } else if !line[self.cursor.min(line.len())..]
-            .iter()
-            .all(|&b| is_space(b))
-        {
+        } else if !self.line_read_to_end() {
             return 0;
         }
         let lines_before = taken;
@@ -507,19 +504,21 @@ impl<R: Read> Lexer<R> {
         Some(value)
     }
 
+    /// Whether only whitespace is left of the current line, past the words taken.
+    #[inline]
+    fn line_read_to_end(&self) -> bool {
+        let line = self.line.as_bytes();
+        line[self.cursor.min(line.len())..]
+            .iter()
+            .all(|&b| is_space(b))
+    }
+
     /// The next line of the input (its start and end in the buffer, without its
     /// newline), when the current line has been read to its end (no word peeked, only
     /// whitespace left) and the next one is in the buffer whole; `None` otherwise.
     #[inline]
     fn buffered_next_line(&self) -> Option<(usize, usize)> {
-        if self.peeked.is_some() {
-            return None;
-        }
-        let line = self.line.as_bytes();
-        if !line[self.cursor.min(line.len())..]
-            .iter()
-            .all(|&b| is_space(b))
-        {
+        if self.peeked.is_some() || !self.line_read_to_end() {
             return None;
         }
         let length = memchr::memchr(b'\n', &self.buf[self.next..self.end])?;
