@@ -306,7 +306,8 @@ declare -A stage_of # pid → stage name, for the messages
 
 # One process keeps the folder (`plan folder`, bins/plan/src/folder.rs): it makes it,
 # makes the named pipes asked of it (`make_fifos`), and removes it all when the clean-up
-# asks (TERM), or by itself when this script is gone however it ended. Before, mkdir,
+# asks (USR1; it ignores the INT, TERM and HUP sent to the whole group, since stop_all
+# needs the folder), or by itself when this script is gone however it ended. Before, mkdir,
 # mkfifo and `rm -r` were three processes on every render's critical path, 4 ms of a
 # small render's 19. The keeper leaves its parent (a process substitution) at once, so
 # that it is not this script's child: `wait -n` and `jobs` see only the stages.
@@ -323,12 +324,18 @@ make_private_dir() {
     trap 'trap "" INT TERM; exit 130' INT
     trap 'trap "" INT TERM; exit 143' TERM
     # Not ours if it could not be made: nothing for the clean-up to remove.
-    exec {keeper_says}< <(exec "$bindir/plan" folder -- "$tmp" </dev/null 2>/dev/null)
+    keep_answers <(exec "$bindir/plan" folder -- "$tmp" </dev/null 2>/dev/null)
     local said pid
     read -r -u "$keeper_says" said pid && [[ $said == ready && $pid =~ ^[0-9]+$ ]] ||
         { tmp=''; fail 3 "cannot make a private folder in ${TMPDIR:-/tmp}"; }
     keeper=$pid
 }
+
+# keep_answers /dev/fd/N: keeps the keeper's stdout as `keeper_says`, a copy of the
+# process substitution's own descriptor. Opened by name (`exec {fd}< <(…)`), the pipe
+# waits for a writer, and a keeper that failed at once (a TMPDIR gone) left none: the
+# script waited for ever.
+keep_answers() { exec {keeper_says}<&"${1##*/}"; }
 
 # make_fifos PATH…: the named pipes (in the private folder), made by its keeper.
 # The request is one line, written with the pipe opened for reading and writing, which
@@ -375,7 +382,7 @@ cleanup() {
     stop_all
     if [[ -n ${keeper-} ]]; then
         # The keeper's stdout ends when it has removed the folder and exited.
-        kill -TERM "$keeper" 2>/dev/null
+        kill -USR1 "$keeper" 2>/dev/null
         while read -r -t 5 -u "$keeper_says" _; do :; done
     fi
     # A folder its keeper did not remove (a signal before the keeper's id was known).
@@ -404,14 +411,17 @@ start() {
     # fifo whose writer has finished cannot be opened again (--subtree's input), nor can
     # a socket. Everything else is opened by the stage's own process, so that a fifo's
     # open, which waits for the other end, holds up only that stage.
+    # The keeper's answers are closed first: a stage left waiting in the open of a fifo
+    # (a run stopped as it started) must not keep the keeper's pipe, by which the keeper
+    # sees that the script is gone.
     if [[ $in == /dev/fd/3 && $out == - ]]; then
-        "$@" <&3 2>"$err" 3<&- {keeper_says}<&- &
+        "$@" {keeper_says}<&- <&3 2>"$err" 3<&- &
     elif [[ $in == /dev/fd/3 ]]; then
-        "$@" <&3 >"$out" 2>"$err" 3<&- {keeper_says}<&- &
+        "$@" {keeper_says}<&- <&3 >"$out" 2>"$err" 3<&- &
     elif [[ $out == - ]]; then
-        "$@" <"$in" 2>"$err" 3<&- {keeper_says}<&- &
+        "$@" {keeper_says}<&- <"$in" 2>"$err" 3<&- &
     else
-        "$@" <"$in" >"$out" 2>"$err" 3<&- {keeper_says}<&- &
+        "$@" {keeper_says}<&- <"$in" >"$out" 2>"$err" 3<&- &
     fi
     pids+=($!)
     stage_of[$!]=$name

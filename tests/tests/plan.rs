@@ -487,9 +487,10 @@ fn depth_auto_with_hosts_gives_every_host_a_subtree() {
 /// `plan folder DIR`, render.sh's private folder kept by one process: `ready PID` once
 /// DIR is there (mode 700), PID the keeper's own (it leaves its parent, which exits at
 /// once); `made` for each request, a line of names of named pipes written to
-/// DIR/requests; SIGINT (a terminal's Ctrl-C, sent to the whole group) ignored; the
-/// folder removed, and the keeper's stdout ended, on SIGTERM; a name that exists refused,
-/// with nothing left behind.
+/// DIR/requests; SIGINT, SIGTERM and SIGHUP (sent to the whole group by a terminal,
+/// `timeout` or ssh, while the script still needs the folder) ignored; the folder
+/// removed, and the keeper's stdout ended, on SIGUSR1; a name that exists refused, with
+/// nothing left behind.
 #[test]
 fn plan_folder_makes_pipes_on_request_and_removes_all_when_told() {
     use std::io::BufRead;
@@ -535,13 +536,15 @@ fn plan_folder_makes_pipes_on_request_and_removes_all_when_told() {
             .unwrap();
         assert!(sent.success());
     };
-    signal("INT");
-    std::thread::sleep(Duration::from_millis(100));
-    assert!(dir.exists(), "SIGINT removed the folder");
-    signal("TERM");
+    for ignored in ["INT", "TERM", "HUP"] {
+        signal(ignored);
+        std::thread::sleep(Duration::from_millis(100));
+        assert!(dir.exists(), "SIG{ignored} removed the folder");
+    }
+    signal("USR1");
     line.clear();
     assert_eq!(says.read_line(&mut line).unwrap(), 0, "{line:?}");
-    assert!(!dir.exists(), "SIGTERM left the folder");
+    assert!(!dir.exists(), "SIGUSR1 left the folder");
     assert_eq!(std::fs::read_dir(base.path()).unwrap().count(), 0);
 
     // A name that exists: refused, status 3, and the thing there left alone.

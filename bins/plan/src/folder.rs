@@ -13,11 +13,12 @@
 //! 2. each line written to `requests` is a request: names (one path component each,
 //!    separated by spaces) of named pipes to make in DIR, mode 600; it makes them and
 //!    says `made` (or `error: …`, and stops);
-//! 3. it removes DIR and everything in it, and exits, when it is told to (SIGTERM or
-//!    SIGHUP), or when no one is left to read what it says (the script is gone, however
-//!    that ended: SIGKILL too). SIGINT, which a terminal's Ctrl-C sends the whole process
-//!    group, it ignores, so that the script's clean-up stops the stages first and then
-//!    asks.
+//! 3. it removes DIR and everything in it, and exits, when it is told to (SIGUSR1), or
+//!    when no one is left to read what it says (the script is gone, however that ended:
+//!    SIGKILL too). SIGINT, SIGTERM and SIGHUP, which a terminal, `timeout` or a hung-up
+//!    ssh send the whole process group, it ignores: the script's clean-up needs the
+//!    folder until it has stopped every stage (it lists its jobs into a file there, and
+//!    a stage it missed would wait for ever in the open of a named pipe), and then asks.
 //!
 //! It is not the script's child: a child that outlives the stages would hold up bash's
 //! `wait -n`, which waits for any child once it has no job left to report, and render.sh
@@ -99,7 +100,9 @@ pub fn keep(dir: &Path) -> Result<(), FolderError> {
     // SAFETY: umask and signal only change this process's mask and dispositions.
     unsafe {
         libc::umask(0o077);
-        libc::signal(libc::SIGINT, libc::SIG_IGN);
+        for ignored in [libc::SIGINT, libc::SIGTERM, libc::SIGHUP] {
+            libc::signal(ignored, libc::SIG_IGN);
+        }
     }
     make_folder(dir)?;
     // Away from the parent: it exits now, and this process goes on as its own.
@@ -117,16 +120,14 @@ pub fn keep(dir: &Path) -> Result<(), FolderError> {
         _ => std::process::exit(0),
     }
     let lock = Arc::new(Mutex::new(()));
-    // TERM and HUP are taken by a thread of their own with sigwait: blocked here, before
-    // the thread starts, so that every thread inherits the mask and they stay pending
-    // until it takes them.
+    // USR1 is taken by a thread of its own with sigwait: blocked here, before the thread
+    // starts, so that every thread inherits the mask and it stays pending until taken.
     // SAFETY: the set is initialised by sigemptyset before use; pthread_sigmask changes
     // only this thread's mask.
     let set = unsafe {
         let mut set: libc::sigset_t = std::mem::zeroed();
         libc::sigemptyset(&mut set);
-        libc::sigaddset(&mut set, libc::SIGTERM);
-        libc::sigaddset(&mut set, libc::SIGHUP);
+        libc::sigaddset(&mut set, libc::SIGUSR1);
         libc::pthread_sigmask(libc::SIG_BLOCK, &set, std::ptr::null_mut());
         set
     };

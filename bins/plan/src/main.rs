@@ -68,8 +68,8 @@ enum Sub {
     Relay { file: PathBuf },
     /// Keeps render.sh's private folder: makes DIR (mode 700), leaves its parent and
     /// says `ready PID`; for each line written to DIR/requests, makes the named pipes it
-    /// names (separated by spaces) and says `made`; removes DIR on SIGTERM or SIGHUP, or
-    /// when nothing is left to read its stdout.
+    /// names (separated by spaces) and says `made`; removes DIR on SIGUSR1 (INT, TERM and
+    /// HUP ignored), or when nothing is left to read its stdout.
     Folder { dir: PathBuf },
 }
 
