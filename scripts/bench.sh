@@ -34,17 +34,21 @@
 # wall seconds and the speed-up of each against depth 0 on one core.
 #
 # Environment: RENDER (default scripts/render.sh) and FUSED (default target/release/fused,
-# or target/release/examples/fused) name other commands to measure in their place.
+# or target/release/examples/fused) name other commands to measure in their place;
+# POLYPIPE_BIN a folder of built binaries to measure as they are, with no cargo build.
 #
-# Usage: scripts/bench.sh [--quick] [--reps N] [--scaling]
+# Usage: scripts/bench.sh [--quick] [--reps N] [--scaling] [--fill N WxH]
 #   --quick    3 repetitions and smaller scenes (b: 20,000 quads; c: 2,000 quads at
 #              960x540; d: 20 frames), to try the script out
 #   --reps N   repetitions per command (median of N; default 5, or 3 with --quick)
 #   --scaling  only the table of depths 0-6 against core counts 1..nproc
+#   --fill N WxH  the fill-heavy scene (c) with N quads at WxH instead (a heavier one
+#              shows what the tree does when the work outweighs starting the processes)
 #
-# Needs: cargo, taskset (util-linux), gcc and OSMesa (bench/llvmpipe/build.sh installs libosmesa6-dev when run
-# as root; otherwise llvmpipe's rows are n/a and it says what to install), python3 or
-# awk for the medians.
+# Needs: cargo (unless POLYPIPE_BIN), taskset (util-linux), gcc and OSMesa
+# (bench/llvmpipe/build.sh installs libosmesa6-dev when run as root; otherwise llvmpipe's
+# rows are n/a and it says what to install; --scaling needs neither), python3 or awk for
+# the medians.
 set -euo pipefail
 export LC_ALL=C
 
@@ -53,12 +57,20 @@ usage() { sed -n '/^# Usage:/,/^# Needs:/p' "$0" | sed '$d; s/^# \{0,1\}//'; }
 quick=0
 scaling=0
 reps=
+fill_opt=()
 while (($#)); do
     case $1 in
         --quick) quick=1; shift ;;
         --scaling) scaling=1; shift ;;
         --reps) (($# >= 2)) || { echo "bench.sh: --reps needs N" >&2; exit 2; }; reps=$2; shift 2 ;;
         --reps=*) reps=${1#*=}; shift ;;
+        --fill)
+            (($# >= 3)) || { echo "bench.sh: --fill needs N and WxH" >&2; exit 2; }
+            [[ $2 =~ ^[1-9][0-9]*$ && $3 =~ ^[1-9][0-9]*x[1-9][0-9]*$ ]] ||
+                { echo "bench.sh: --fill needs a count and WxH, not '$2 $3'" >&2; exit 2; }
+            fill_opt=("$2" "$3")
+            shift 3
+            ;;
         -h | --help) usage; exit 0 ;;
         *) echo "bench.sh: unknown argument $1" >&2; usage >&2; exit 2 ;;
     esac
@@ -75,10 +87,21 @@ render=${RENDER:-$root/scripts/render.sh}
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
 
-echo "bench.sh: building polypipe and the llvmpipe harness" >&2
-cargo build --release --quiet --bins
+# POLYPIPE_BIN names a folder of built binaries to measure as they are, never built (as
+# render.sh takes it): a machine with no cargo, such as a many-core one lent for --scaling.
+if [[ -n ${POLYPIPE_BIN-} ]]; then
+    B=$POLYPIPE_BIN
+    for b in scene plan; do
+        [[ -x $B/$b ]] || { echo "bench.sh: no $b in $B (POLYPIPE_BIN)" >&2; exit 3; }
+    done
+    export POLYPIPE_BIN
+    echo "bench.sh: measuring the binaries in $B as they are (POLYPIPE_BIN)" >&2
+else
+    echo "bench.sh: building polypipe" >&2
+    cargo build --release --quiet --bins
+fi
 gl=
-if gl=$("$root/bench/llvmpipe/build.sh"); then :; else
+if ((scaling)); then :; elif gl=$("$root/bench/llvmpipe/build.sh"); then :; else
     gl=
     echo "bench.sh: no llvmpipe harness; its rows will read n/a" >&2
 fi
@@ -95,6 +118,7 @@ if ((quick)); then
 else
     geo_n=100000 fill_n=10000 fill_size=1920x1080 movie_frames=100
 fi
+((${#fill_opt[@]})) && fill_n=${fill_opt[0]} fill_size=${fill_opt[1]}
 commas() { sed ':a; s/\B[0-9]\{3\}\>/,&/; ta' <<< "$1"; }
 scenes=(env geo fill movie two)
 declare -A size label
