@@ -2,7 +2,7 @@
 //! or every projected vertex finite (nothing inside makes NaN or infinity).
 #![no_main]
 use libfuzzer_sys::fuzz_target;
-use persp::{DepthMode, Perspective};
+use proto::perspective::{DepthMode, Perspective};
 use polypipe_fuzz::{eye_vertex, polygon, Bytes};
 use proto::View;
 

@@ -14,6 +14,7 @@ pub mod error;
 pub mod fragment;
 pub mod geometry;
 pub mod header;
+pub mod perspective;
 pub mod polygon;
 pub mod ppm;
 pub mod raster;

@@ -5,10 +5,37 @@ use crate::Error;
 use clap::error::ErrorKind;
 use clap::{ArgMatches, Command};
 use proto::camera::{parse_size, parse_triple, Camera, EyeFrame};
+use proto::perspective::DepthMode;
 use proto::{DVec3, Form, View};
 use std::ffi::OsString;
 use std::io::Write;
 use std::process::ExitCode;
+
+/// The depth a screen-space stream carries, as `persp --depth`, `splitter --persp` and
+/// fused's `--zmode` take it: [`proto::perspective::DepthMode`] on the command line.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
+pub enum DepthArg {
+    /// D = −K1/z_e: −1 at hither, −K1/K2 at yon, linear on the screen, and held by an f64
+    /// to 2⁻⁵³ of itself at every depth (the tie rule's form, docs/DESIGN.md).
+    Reciprocal,
+    /// z_s = (1 − K1/z_e)·K2/(K2 − K1): 0 at hither, 1 at yon, linear on the screen, but
+    /// crowded against 1 far from the eye (the classic z-buffer's precision failure).
+    Projective,
+    /// z_e itself, as the thesis's occam code does. An approximation (z_e is not linear on
+    /// the screen): each polygon's depth plane is fitted to its own screen vertices, so a
+    /// splitter tree need not render it exactly as depth 0 does.
+    EyeZ,
+}
+
+impl From<DepthArg> for DepthMode {
+    fn from(arg: DepthArg) -> DepthMode {
+        match arg {
+            DepthArg::Reciprocal => DepthMode::Reciprocal,
+            DepthArg::Projective => DepthMode::Projective,
+            DepthArg::EyeZ => DepthMode::EyeZ,
+        }
+    }
+}
 
 /// Parses `R,G,B` (each 0–255), for `--background`; the messages are zbuf's.
 pub fn parse_colour(s: &str) -> Result<proto::Colour, String> {

@@ -35,7 +35,7 @@ pub mod names;
 pub mod pieces;
 pub mod stream;
 
-pub use args::{parse, parse_colour, PpmTextFlag, TextFlag, ViewArgs};
+pub use args::{parse, parse_colour, DepthArg, PpmTextFlag, TextFlag, ViewArgs};
 pub use error::{Context, Error, Kind, Result};
 pub use leaf::{refuse_transparent, resolve_frames, FrameCounts};
 pub use names::FrameNames;

@@ -12,7 +12,7 @@
 //!
 //!     cargo run --release -p pipeline-tests --example depth_precision
 
-use persp::{DepthMode, Perspective};
+use proto::perspective::{DepthMode, Perspective};
 use proto::{DVec4, View};
 
 /// The gaps of the table's columns.

@@ -13,7 +13,7 @@
 
 use clap::Parser;
 use clipbatch::ClipBatch;
-use persp::{DepthMode, Perspective};
+use proto::perspective::{DepthMode, Perspective};
 use proto::{Polygon, Reader, SpaceKind, Token};
 use scanconv::{Output, ScanConverter};
 use splitter::{split, Tree};

@@ -3,8 +3,8 @@
 //! pixel once, with the same fixed-point depth. The pieces' edge supports give their
 //! crossings to the bit, and the plane recorded before the cut gives their depths.
 
-use persp::{DepthMode, Perspective};
 use proto::geometry::Plane;
+use proto::perspective::{DepthMode, Perspective};
 use proto::{DVec4, Fragment, Polygon, View};
 use scanconv::{Output, ScanConverter};
 use std::collections::BTreeMap;

@@ -1,10 +1,10 @@
 //! persp: eye-space polygon stream → screen-space (device coordinates and depth).
 
 use clap::Parser;
-use persp::{DepthMode, Perspective};
 use proto::camera::parse_size;
-use proto::{Header, Polygon, Space, SpaceKind};
-use stagecli::{Error, TextFlag};
+use proto::perspective::Perspective;
+use proto::{Polygon, Space, SpaceKind};
+use stagecli::{DepthArg, Error, TextFlag};
 use std::process::ExitCode;
 
 /// Perspective division and device mapping for a W×H screen.
@@ -25,8 +25,8 @@ struct Cli {
     #[arg(long, value_parser = parse_size, value_name = "WxH")]
     size: (u32, u32),
     /// The depth written for each vertex.
-    #[arg(long, value_enum, default_value_t = DepthMode::Reciprocal)]
-    depth: DepthMode,
+    #[arg(long, value_enum, default_value_t = DepthArg::Reciprocal)]
+    depth: DepthArg,
     #[command(flatten)]
     text: TextFlag,
 }
@@ -44,16 +44,9 @@ fn main() -> ExitCode {
                 };
                 // A view volume persp cannot map (from the stream's header) is bad input.
                 let perspective =
-                    Perspective::new(width, height, view, cli.depth).map_err(Error::data)?;
-                // The header says which depth it is, and from which planes, so that a
-                // z-buffer can tell how finely it orders eye-space depth.
-                let form = perspective.depth_form();
-                let attributes = proto::Attributes {
-                    depth: Some(form),
-                    ..header.attributes
-                };
+                    Perspective::new(width, height, view, cli.depth.into()).map_err(Error::data)?;
                 Ok((
-                    Header::new(Space::Screen { width, height }).with(attributes),
+                    perspective.screen_header(header),
                     move |poly: &mut Polygon| {
                         perspective.project_polygon(poly).map_err(|e| e.reason)
                     },

@@ -13,12 +13,12 @@
 use anyhow::{anyhow, bail, Context};
 use clap::{Parser, ValueEnum};
 use clipbatch::ClipBatch;
-use persp::{DepthMode, Perspective};
 use proto::camera::EyeFrame;
 use proto::geometry::{Plane, PyramidPlane};
+use proto::perspective::Perspective;
 use proto::{Colour, Fragment, Polygon, Reader, SpaceKind, StreamError, Token, Vertex};
 use scanconv::{Output, ScanConverter};
-use stagecli::ViewArgs;
+use stagecli::{DepthArg, ViewArgs};
 use std::io::{self, Write};
 use std::process::ExitCode;
 use zbuf::FrameBuffer;
@@ -40,8 +40,8 @@ struct Cli {
     #[command(flatten)]
     view: ViewArgs,
     /// The depth persp writes (render.sh --zmode).
-    #[arg(long, value_enum, default_value_t = DepthMode::Reciprocal)]
-    zmode: DepthMode,
+    #[arg(long, value_enum, default_value_t = DepthArg::Reciprocal)]
+    zmode: DepthArg,
     /// The clipper: the six clipplane stages one polygon at a time, or clipbatch's batch
     /// clipper (the same output).
     #[arg(long, value_enum, default_value_t = Clipper::Planes)]
@@ -77,7 +77,7 @@ fn render(cli: &Cli) -> anyhow::Result<()> {
         Reader::<Token, _>::new(stagecli::open_input(&cli.scene).map_err(|e| anyhow!("{e}"))?)?;
     reader.header().expect(SpaceKind::World)?;
     let perspective =
-        Perspective::new(width, height, view, cli.zmode).map_err(StreamError::Invalid)?;
+        Perspective::new(width, height, view, cli.zmode.into()).map_err(StreamError::Invalid)?;
     let planes = PyramidPlane::ALL.map(|p| p.plane(&view));
     let mut batch = ClipBatch::new(&view, clipbatch::DEFAULT_BATCH);
     let mut scratch = Vec::new();

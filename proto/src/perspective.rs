@@ -1,10 +1,12 @@
-//! # persp: the perspective division and device mapping, eye → screen
+//! # The perspective division and device mapping, eye → screen (the `persp` stage's)
 //!
 //! After clipping every vertex is in front of the eye (w > 0) and inside the pyramid.
 //! Dividing by w puts it on the screen (x_s = x_e/(a·w), y_s = y_e/w, both in [−1, 1]),
 //! and the device mapping turns that into pixel units of a W×H screen, row 0 at the top
-//! (docs/DESIGN.md, "Screen and device"). Both are [`proto::camera::Device`]'s; this crate chooses
-//! the depth and checks that the screen is the one the stream was viewed for.
+//! (docs/DESIGN.md, "Screen and device"). Both are [`crate::camera::Device`]'s; this module chooses
+//! the depth and checks that the screen is the one the stream was viewed for. The `persp`
+//! stage runs it, and so does a splitter of the tree's last level (`splitter --persp`),
+//! which projects the leaves' streams itself, a process a leaf fewer.
 //!
 //! Depth: the occam code (thesis Appendix 4) passes z_e on, which is exact at the
 //! vertices but not linear across the screen, so interpolating it in the scan converter
@@ -24,25 +26,22 @@
 //! not affine on the screen): the plane is dropped and the scan converter fits one to
 //! (X, Y, z_e) per polygon, the occam approximation, which is not split-invariant.
 //!
-//! Supports (edges that are pieces of a cut edge, see [`proto::polygon`]) are projected
+//! Supports (edges that are pieces of a cut edge, see [`crate::polygon`]) are projected
 //! with the vertices' own arithmetic, so a piece's support lands on the screen exactly
 //! where the unsplit edge does.
 
-use proto::camera::Device;
-use proto::{DVec4, Polygon, Vertex, View};
+use crate::camera::Device;
+use crate::{DVec4, Polygon, Vertex, View};
 
-/// What `persp` writes as a vertex's depth.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
+/// What `persp` writes as a vertex's depth (the module notes above; on the command line,
+/// stagecli's `DepthArg`, since proto has no argument parser).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum DepthMode {
-    /// D = −K1/z_e: −1 at hither, −K1/K2 at yon, linear on the screen, and held by an f64
-    /// to 2⁻⁵³ of itself at every depth (the tie rule's form, docs/DESIGN.md).
+    /// D = −K1/z_e, the default: linear on the screen, exact to 2⁻⁵³ of itself.
     Reciprocal,
-    /// z_s = (1 − K1/z_e)·K2/(K2 − K1): 0 at hither, 1 at yon, linear on the screen, but
-    /// crowded against 1 far from the eye (the classic z-buffer's precision failure).
+    /// z_s = (1 − K1/z_e)·K2/(K2 − K1): linear on the screen, crowded against 1 near yon.
     Projective,
-    /// z_e itself, as the thesis's occam code does. An approximation (z_e is not linear on
-    /// the screen): each polygon's depth plane is fitted to its own screen vertices, so a
-    /// splitter tree need not render it exactly as depth 0 does.
+    /// z_e, the occam code's: not linear on the screen, an approximation.
     EyeZ,
 }
 
@@ -67,18 +66,30 @@ pub struct Unprojectable {
 
 impl Perspective {
     /// The form of the depths it writes, for the screen stream's header.
-    pub fn depth_form(&self) -> proto::DepthForm {
+    pub fn depth_form(&self) -> crate::DepthForm {
         let view = self.device.view;
         match self.depth {
-            DepthMode::Reciprocal => proto::DepthForm::Reciprocal {
+            DepthMode::Reciprocal => crate::DepthForm::Reciprocal {
                 hither: view.hither,
             },
-            DepthMode::Projective => proto::DepthForm::Projective {
+            DepthMode::Projective => crate::DepthForm::Projective {
                 hither: view.hither,
                 yon: view.yon,
             },
-            DepthMode::EyeZ => proto::DepthForm::EyeZ,
+            DepthMode::EyeZ => crate::DepthForm::EyeZ,
         }
+    }
+
+    /// The header of the screen-space stream it writes for an eye-space stream with
+    /// `header`: the screen's size, and the depth's form with the planes it was computed
+    /// from, so that a z-buffer can tell how finely it orders eye-space depth.
+    pub fn screen_header(&self, header: &crate::Header) -> crate::Header {
+        let Device { width, height, .. } = self.device;
+        let attributes = crate::Attributes {
+            depth: Some(self.depth_form()),
+            ..header.attributes
+        };
+        crate::Header::new(crate::Space::Screen { width, height }).with(attributes)
     }
 
     /// The mapping for a `width`×`height` screen and the view volume of the eye-space
@@ -219,7 +230,7 @@ impl Perspective {
         let eye_shade = match poly.shade.as_deref() {
             Some(planes) => Some(*planes),
             None if poly.is_shaded() => {
-                proto::shade::eye_colour_planes(&poly.vertices, &poly.colours)
+                crate::shade::eye_colour_planes(&poly.vertices, &poly.colours)
             }
             None => None,
         };
@@ -240,7 +251,7 @@ impl Perspective {
             } = self.device;
             poly.shade = eye_shade
                 .and_then(|planes| {
-                    proto::shade::colour_planes_to_screen(&planes, view.aspect, width, height)
+                    crate::shade::colour_planes_to_screen(&planes, view.aspect, width, height)
                 })
                 .map(Box::new);
         } else {
@@ -253,8 +264,8 @@ impl Perspective {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::DVec4;
     use proptest::prelude::*;
-    use proto::DVec4;
 
     #[test]
     fn a_refused_polygon_is_left_as_it_was() {
@@ -413,12 +424,12 @@ mod tests {
             let g = 0.625; // w = z_e·s/d
             // Points of the plane n·(x', y', z_e) = n·(0, 0, z0) seen through the pyramid.
             let z0 = (k1 + k2) / 2.0;
-            let normal = proto::DVec3::new(n.0, n.1, n.2);
+            let normal = crate::DVec3::new(n.0, n.1, n.2);
             let vertices: Vec<Vertex> = pts
                 .iter()
                 .filter_map(|&(xs, ys)| {
                     // The ray z_e·(a·xs, ys, 1) meets the plane at z_e = n.z·z0 / (n·ray).
-                    let ray = proto::DVec3::new(aspect * xs, ys, 1.0);
+                    let ray = crate::DVec3::new(aspect * xs, ys, 1.0);
                     let z = normal.z * z0 / normal.dot(ray);
                     (z > k1 && z < k2).then(|| {
                         let wv = z * g;
