@@ -461,19 +461,28 @@ start_clipper_chain() {
 # and writes input_of[2K] and input_of[2K+1]; nodes 2^depth .. 2^(depth+1) − 1 are the
 # leaves' inputs. Each node works out its own plane and --stats label from K.
 #
-# start_tree ROOT BELOW: the splitters of ROOT's subtree numbered below BELOW (2^depth for
-# the whole tree; less when subtrees go to other hosts), reading input_of[ROOT]. Sets
-# `frontier` to the nodes their outputs feed: the leaves' inputs, or the subtrees'.
+# start_tree ROOT BELOW [leaves]: the splitters of ROOT's subtree numbered below BELOW
+# (2^depth for the whole tree; less when subtrees go to other hosts), reading
+# input_of[ROOT]. Sets `frontier` to the nodes their outputs feed: the leaves' inputs, or
+# the subtrees'. With `leaves` (leaves started here follow), the last level projects its
+# outputs to the screen (`splitter --persp`), as a persp at each leaf would: a process a
+# leaf fewer (docs/performance.md, "The tree's depth"); `projected` says so.
 start_tree() {
     local root=$1 below=$2 first n node a b
+    local -a to_screen=()
+    projected=0
     for ((first = root, n = 1; first < below; first *= 2, n *= 2)); do
+        if [[ ${3-} == leaves ]] && ((2 * first >= below)); then
+            to_screen=(--persp "$zmode")
+            projected=1
+        fi
         for ((node = first; node < first + n; node++)); do
             a=$((2 * node)) b=$((2 * node + 1))
             fifo "node-$a"
             fifo "node-$b"
             input_of[a]=$tmp/node-$a input_of[b]=$tmp/node-$b
             start "splitter (node $node)" "${input_of[node]}" /dev/null "$bindir/splitter" \
-                "${stats[@]}" --node "$node" --depth "$depth" --size "$size" \
+                "${stats[@]}" --node "$node" --depth "$depth" --size "$size" "${to_screen[@]}" \
                 "${input_of[a]}" "${input_of[b]}"
         done
     done
@@ -505,18 +514,21 @@ leaf_method() {
 }
 
 # start_leaf LEAF INPUT OUT: leaf LEAF (0 .. 2^depth − 1) of the tree, persp | METHOD, from
-# INPUT to OUT.
+# INPUT to OUT; only METHOD where the splitter above projected (`projected`).
 start_leaf() {
     local leaf=$1 in=$2 out=$3 label=
     ((depth == 0)) || label=" (leaf $leaf)"
-    fifo "screen-$leaf"
     if [[ ${method[0]} == zbuf ]]; then # the merger resolves the leaf's polygons
         start "persp$label" "$in" "$out" "$bindir/persp" --size "$size" --depth "$zmode"
         return
     fi
-    start "persp$label" "$in" "$tmp/screen-$leaf" \
-        "$bindir/persp" --size "$size" --depth "$zmode"
-    start "${method[0]}$label" "$tmp/screen-$leaf" "$out" \
+    if ((!projected)); then
+        fifo "screen-$leaf"
+        start "persp$label" "$in" "$tmp/screen-$leaf" \
+            "$bindir/persp" --size "$size" --depth "$zmode"
+        in=$tmp/screen-$leaf
+    fi
+    start "${method[0]}$label" "$in" "$out" \
         "$bindir/${method[0]}" "${method[@]:1}" "${stats[@]}"
 }
 
@@ -586,7 +598,7 @@ start_graph() {
         start_tree 1 $((1 << $(host_level)))
         start_subtrees
     else
-        start_tree "$top" $((1 << depth))
+        start_tree "$top" $((1 << depth)) leaves
         if ((${#frontier[@]} == 1)) && [[ -n $subtree ]]; then
             start_leaves - # one leaf: its runs are the subtree's
             return

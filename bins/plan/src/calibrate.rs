@@ -194,6 +194,7 @@ pub fn calibrate(
         measured_on: machine(),
         machine: crate::cache::this_machine(bin),
         drops_emptied: false,
+        persp_at_leaves: false,
         viewxf_text: vt.fit(geometry),
         viewxf_binary: vb.fit(geometry),
         clip: clip.fit(geometry),

@@ -96,6 +96,8 @@ pub fn constants() -> Constants {
         },
         // The occam clipper sends on only what is left in view: P_r after it.
         drops_emptied: true,
+        // A persp transputer at each leaf (6.3).
+        persp_at_leaves: true,
         overheads: Default::default(),
         viewxf_text: viewxf,
         viewxf_binary: viewxf,

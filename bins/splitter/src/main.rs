@@ -1,10 +1,11 @@
 //! splitter: one node of the splitter tree (thesis chapter 6.2), eye space in, two
-//! eye-space streams out.
+//! eye-space streams out (or, with --persp, two screen-space ones).
 
 use clap::Parser;
+use proto::perspective::Perspective;
 use proto::{Polygon, Space, SpaceKind, Token};
 use splitter::{split, Lean, SplitPlane, Stats, Tree};
-use stagecli::{Branch, Error, TextFlag};
+use stagecli::{Branch, DepthArg, Error, TextFlag};
 use std::process::ExitCode;
 
 /// A splitter node (thesis chapter 6.2): splits every polygon of an eye-space stream
@@ -16,6 +17,10 @@ use std::process::ExitCode;
 /// polygon on both branches) and every NEXT.FRAME and END. OUT1 and OUT2 are files or
 /// named pipes; `-` is stdout, for at most one of them, and they must be two files. When
 /// one output's reader goes away, the other still gets the whole stream.
+///
+/// With `--persp MODE` the two outputs are projected to the screen, as `persp --size WxH
+/// --depth MODE` after each would project them: what render.sh asks of the tree's last
+/// level, whose outputs are the leaves', so that a leaf needs no persp process of its own.
 #[derive(Parser, Debug)]
 #[command(
     name = "splitter",
@@ -28,7 +33,8 @@ use std::process::ExitCode;
         viewxf < scene.txt | clipplane left | ... | clipplane yon | splitter x=0 left right\n  \
         splitter y=0.5 low - < eye.txt --text      # the upper part to stdout\n  \
         splitter --node 2 --depth 2 --size 500x500 a b  # node 2 of render.sh --depth 2\n  \
-        splitter --plane 1,0,0,-0.5,0 a b < eye.txt  # x_e - 0.5 w >= 0 to a"
+        splitter --plane 1,0,0,-0.5,0 a b < eye.txt  # x_e - 0.5 w >= 0 to a\n  \
+        splitter --node 2 --depth 2 --size 500x500 --persp reciprocal a b  # to the leaves"
 )]
 struct Cli {
     /// `x=K` or `y=K` (K in [-1, 1]), then OUT1 and OUT2; with --plane or --node, only
@@ -47,9 +53,12 @@ struct Cli {
     /// The tree's depth, for --node: nodes 1 to 2^N − 1 split.
     #[arg(long, value_name = "N", requires = "node")]
     depth: Option<u32>,
-    /// The screen's size in pixels, for --node.
-    #[arg(long, value_name = "WxH", requires = "node")]
+    /// The screen's size in pixels, for --node and --persp.
+    #[arg(long, value_name = "WxH")]
     size: Option<String>,
+    /// Project both outputs to a --size screen with this depth, as persp's --depth.
+    #[arg(long, value_enum, value_name = "MODE", requires = "size")]
+    persp: Option<DepthArg>,
     #[command(flatten)]
     text: TextFlag,
     /// At END, print on stderr the polygons in and the non-empty polygons and vertices
@@ -58,17 +67,31 @@ struct Cli {
     stats: bool,
 }
 
-/// The plane and the two outputs the arguments name, checked before any input is read.
-fn plan(cli: &Cli) -> Result<(SplitPlane, [String; 2]), Error> {
-    let tree_plane = match cli.node {
-        Some(node) => {
-            let size = cli.size.as_deref().unwrap_or_default();
-            let (width, height) = proto::camera::parse_size(size)
-                .map_err(|m| Error::usage(format!("--size {size}: {m}")))?;
+/// What the arguments ask, checked before any input is read.
+struct Plan {
+    split_plane: SplitPlane,
+    outputs: [String; 2],
+    /// The screen's size (--size), in pixels.
+    size: Option<(u32, u32)>,
+}
+
+fn plan(cli: &Cli) -> Result<Plan, Error> {
+    let size = match cli.size.as_deref() {
+        Some(size) => Some(
+            proto::camera::parse_size(size)
+                .map_err(|m| Error::usage(format!("--size {size}: {m}")))?,
+        ),
+        None => None,
+    };
+    if size.is_some() && cli.node.is_none() && cli.persp.is_none() {
+        return Err(Error::usage("--size is for --node or --persp"));
+    }
+    let tree_plane = match (cli.node, size) {
+        (Some(node), Some((width, height))) => {
             Tree::check_node(node, cli.depth.unwrap_or_default()).map_err(Error::usage)?;
             Some(Tree { width, height }.plane(node))
         }
-        None => None,
+        _ => None,
     };
     let (plane, outputs) = match (&cli.plane, cli.args.as_slice()) {
         (None, [out1, out2]) if tree_plane.is_some() => (
@@ -102,12 +125,20 @@ fn plan(cli: &Cli) -> Result<(SplitPlane, [String; 2]), Error> {
             outputs[0], outputs[1]
         )));
     }
-    Ok((plane, outputs))
+    Ok(Plan {
+        split_plane: plane,
+        outputs,
+        size,
+    })
 }
 
 fn main() -> ExitCode {
     stagecli::main("splitter", |cli: Cli| {
-        let (split_plane, outputs) = plan(&cli)?;
+        let Plan {
+            split_plane,
+            outputs,
+            size,
+        } = plan(&cli)?;
         // What --stats calls this node: its plane, and its place in the tree.
         let label = match cli.node {
             Some(node) => format!("splitter {split_plane} (node {node})"),
@@ -119,9 +150,18 @@ fn main() -> ExitCode {
             unreachable!("the reader checked the space")
         };
         let plane = split_plane.plane(&view);
+        // persp's mapping, when the outputs go to the screen; a view volume it cannot
+        // map (from the stream's header) is bad input, as it is to persp.
+        let perspective = match (cli.persp, size) {
+            (Some(depth), Some((width, height))) => {
+                Some(Perspective::new(width, height, view, depth.into()).map_err(Error::data)?)
+            }
+            _ => None,
+        };
+        let out_header = perspective.map_or(header, |p| p.screen_header(&header));
         let form = cli.text.form();
-        let mut out1 = Branch::open(&outputs[0], header, form)?;
-        let mut out2 = Branch::open(&outputs[1], header, form)?;
+        let mut out1 = Branch::open(&outputs[0], out_header, form)?;
+        let mut out2 = Branch::open(&outputs[1], out_header, form)?;
         let mut stats = Stats::default();
         // The two pieces' buffers, reused from polygon to polygon; each output's pending
         // `skip N` (the lean stream: polygons it gets nothing of).
@@ -148,6 +188,16 @@ fn main() -> ExitCode {
                                 reader.position()
                             ))
                         })?;
+                    }
+                    if let Some(perspective) = &perspective {
+                        // A piece too small to be sent (`Lean`) is not projected.
+                        for piece in [&mut piece1, &mut piece2] {
+                            if piece.vertices.len() < Lean::MIN_VERTICES {
+                                continue;
+                            }
+                            project(perspective, piece)
+                                .map_err(|m| Error::data(format!("{}: {m}", reader.position())))?;
+                        }
                     }
                     stats.record(&piece1, &piece2);
                     lean[0].polygon(&mut out1, &piece1)?;
@@ -177,5 +227,17 @@ fn main() -> ExitCode {
         lean[1].flush(&mut out2)?;
         out1.flush()?;
         out2.flush()
+    })
+}
+
+/// A piece to the screen, refused as persp refuses it: a vertex at or behind the eye, or
+/// a projection that is not a finite number.
+fn project(perspective: &Perspective, piece: &mut Polygon) -> Result<(), String> {
+    perspective.project_polygon(piece).map_err(|e| e.reason)?;
+    stagecli::check_finite(piece).map_err(|m| {
+        format!(
+            "{m} after the perspective division: not a finite number (coordinates this \
+             large overflow)"
+        )
     })
 }

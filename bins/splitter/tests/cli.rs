@@ -377,3 +377,124 @@ fn skips_coalesce_and_keep_numbering() {
         )
     );
 }
+
+/// `--persp`: both outputs in screen space, byte for byte what `persp` makes of the
+/// plain outputs (the square's cut at x_e = 0 lands on X = 4 of an 8×8 screen; every
+/// vertex is at z_e = 16, so at the reciprocal depth −1/16).
+#[test]
+fn persp_projects_both_outputs_as_persp_would() {
+    let (out1, out2) = split("persp", &["--size", "8x8", "--persp", "reciprocal", "x=0"]);
+    assert_eq!(
+        out1,
+        "polypipe 1 screen 8 8 depth reciprocal 1
+colour 255 0 0
+plane -0 0 -1 -0.0625
+4 4.8 -0.0625 on 4.8 4.8 -0.0625 3.2 4.8 -0.0625
+3.2 4.8 -0.0625
+3.2 3.2 -0.0625 on 3.2 3.2 -0.0625 4.8 3.2 -0.0625
+4 3.2 -0.0625
+NEXT.POLYGON
+colour 0 255 0
+plane -0 0 -1 -0.0625
+4 5.2 -0.0625
+2.8 4 -0.0625
+4 2.8 -0.0625
+NEXT.POLYGON
+colour 0 0 255
+plane -0 0 -1 -0.0625
+2.8 4 -0.0625
+3.6 2.4 -0.0625
+3.2 4.8 -0.0625
+NEXT.FRAME
+colour 7 7 7
+plane -0 0 -1 -0.0625
+4 4 -0.0625
+4 0.7999999999999998 -0.0625 on 5.6 0.7999999999999998 -0.0625 2.4 0.7999999999999998 -0.0625
+2.4 0.7999999999999998 -0.0625
+END
+"
+    );
+    assert_eq!(
+        out2,
+        "polypipe 1 screen 8 8 depth reciprocal 1
+colour 255 0 0
+plane -0 0 -1 -0.0625
+4 4.8 -0.0625
+4 3.2 -0.0625 on 3.2 3.2 -0.0625 4.8 3.2 -0.0625
+4.8 3.2 -0.0625
+4.8 4.8 -0.0625 on 4.8 4.8 -0.0625 3.2 4.8 -0.0625
+NEXT.POLYGON
+colour 0 255 0
+plane -0 0 -1 -0.0625
+4 5.2 -0.0625
+4 2.8 -0.0625
+5.2 4 -0.0625
+NEXT.POLYGON
+skip 1
+NEXT.FRAME
+colour 7 7 7
+plane -0 0 -1 -0.0625
+4 4 -0.0625
+5.6 0.7999999999999998 -0.0625 on 5.6 0.7999999999999998 -0.0625 2.4 0.7999999999999998 -0.0625
+4 0.7999999999999998 -0.0625
+END
+"
+    );
+    // Each output is what persp makes of the plain split's (binary, through the
+    // workspace's persp binary).
+    let (plain1, plain2) = split("persp-plain", &["x=0"]);
+    let persp = pipeline_tests::bin_dir().join("persp");
+    for (plain, projected) in [(plain1, out1), (plain2, out2)] {
+        let out = std::process::Command::new(&persp)
+            .args(["--size", "8x8", "--text"])
+            .stdin(std::process::Stdio::piped())
+            .stdout(std::process::Stdio::piped())
+            .spawn()
+            .and_then(|mut child| {
+                use std::io::Write;
+                child.stdin.take().unwrap().write_all(plain.as_bytes())?;
+                child.wait_with_output()
+            })
+            .unwrap();
+        assert!(out.status.success(), "{out:?}");
+        assert_eq!(String::from_utf8(out.stdout).unwrap(), projected);
+    }
+}
+
+/// `--persp` refuses what persp refuses, with persp's words: a screen of another shape
+/// than the stream was viewed for, a vertex behind the eye; and it needs `--size`.
+#[test]
+fn persp_refuses_as_persp_does() {
+    let dir = scratch("persp-bad");
+    let (a, b) = (dir.join("a"), dir.join("b"));
+    let run = |args: &[&str], input: &str| {
+        Command::cargo_bin("splitter")
+            .unwrap()
+            .args(args)
+            .arg(&a)
+            .arg(&b)
+            .write_stdin(input.to_string())
+            .assert()
+    };
+    run(&["--size", "8x6", "--persp", "reciprocal", "x=0"], EYE)
+        .code(1)
+        .stderr(
+            "splitter: --size 8x6 has aspect 1.333 but the stream was viewed with aspect 1; \
+             give viewxf --size 8x6\n",
+        );
+    let behind = "polypipe 1 eye aspect 1 hither 1 yon 30\ncolour 1 2 3\n\
+                  -1 -1 -1 -1\n1 -1 -1 -1\n0 1 -1 -1\nEND\n";
+    run(&["--size", "8x8", "--persp", "reciprocal", "x=0"], behind)
+        .code(1)
+        .stderr(
+            "splitter: frame 0, polygon 0: vertex 0 (-1 -1 -1 -1) has w = -1 ≤ 0, at or \
+             behind the eye, and cannot be projected; clip against hither first (clipplane \
+             hither)\n",
+        );
+    run(&["--persp", "eye-z", "x=0"], EYE)
+        .code(2)
+        .stderr(predicates::str::contains("--size"));
+    run(&["--size", "8x8", "x=0"], EYE)
+        .code(2)
+        .stderr("splitter: --size is for --node or --persp\n");
+}
