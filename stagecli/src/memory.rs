@@ -1,4 +1,5 @@
-//! Whether a screen fits in this machine, decided at the stream's header.
+//! Memory: whether a screen fits in this machine, decided at the stream's header; and
+//! buffers kept for reuse between threads ([`Spare`]).
 //!
 //! A stage that keeps something for every pixel of the screen (the merger's frame
 //! buffer, a leaf's region buffer) refuses a screen too large for this machine as soon
@@ -101,5 +102,55 @@ mod tests {
     #[test]
     fn this_machine_has_some_memory() {
         assert!(available().is_some_and(|b| b > 0));
+    }
+}
+
+/// Buffers not in use, kept for the next user. A buffer that goes from one thread to
+/// another (a piece's bytes, a reader thread's batch of records) comes back here when it
+/// is done with rather than to the allocator: glibc hands a freed block of a few hundred
+/// kilobytes back to the kernel, and the next one is fresh pages, each a fault and a page
+/// zeroed (the merger's reader threads spent a third of its time so).
+pub struct Spare<T>(std::sync::Mutex<Vec<Vec<T>>>);
+
+impl<T> Default for Spare<T> {
+    fn default() -> Self {
+        Spare(std::sync::Mutex::new(Vec::new()))
+    }
+}
+
+impl<T> Spare<T> {
+    /// An empty buffer: one used before, with its capacity, if there is one.
+    pub fn take(&self) -> Vec<T> {
+        self.0
+            .lock()
+            .ok()
+            .and_then(|mut v| v.pop())
+            .unwrap_or_default()
+    }
+
+    /// Keeps `buffer`, emptied, for the next [`Spare::take`].
+    pub fn give(&self, mut buffer: Vec<T>) {
+        buffer.clear();
+        if let Ok(mut v) = self.0.lock() {
+            v.push(buffer);
+        }
+    }
+}
+
+#[cfg(test)]
+mod spare_tests {
+    use super::Spare;
+
+    #[test]
+    fn a_buffer_given_back_is_taken_again_empty_with_its_capacity() {
+        let spare = Spare::<u32>::default();
+        assert_eq!(spare.take().capacity(), 0);
+        let mut v = Vec::with_capacity(4096);
+        v.extend([1, 2, 3]);
+        let at = v.as_ptr();
+        spare.give(v);
+        let again = spare.take();
+        assert!(again.is_empty() && again.capacity() == 4096 && again.as_ptr() == at);
+        assert_eq!(spare.take().capacity(), 0);
     }
 }

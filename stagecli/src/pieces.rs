@@ -16,6 +16,7 @@
 //! would have written and stops with the message it would have given. The output, and
 //! every message, are the same as the one-reader loop's, byte for byte.
 
+use crate::memory::Spare;
 use crate::stream::{filter_records, input_error, Counts};
 use crate::Result;
 use proto::codec::{TextRest, Writer};
@@ -193,7 +194,7 @@ where
     let queue = Mutex::new(queue);
     // Buffers go round (pieces' bytes, and their encoded records): a new one for each
     // piece would be fresh memory from the kernel each time, a fifth of the stage's time.
-    let spare = Spare::default();
+    let spare = Spare::<u8>::default();
     std::thread::scope(|scope| -> Result<()> {
         for _ in 0..workers {
             let (queue, spare, mut transform) = (&queue, &spare, transform.clone());
@@ -333,28 +334,6 @@ fn keep_freed_memory() {
         libc::mallopt(libc::M_ARENA_MAX, 1);
         libc::mallopt(libc::M_TRIM_THRESHOLD, 256 << 20);
         libc::mallopt(libc::M_MMAP_THRESHOLD, 32 << 20);
-    }
-}
-
-/// Buffers not in use, kept for the next piece.
-#[derive(Default)]
-struct Spare(Mutex<Vec<Vec<u8>>>);
-
-impl Spare {
-    /// An empty buffer, one used before if there is one.
-    fn take(&self) -> Vec<u8> {
-        self.0
-            .lock()
-            .ok()
-            .and_then(|mut v| v.pop())
-            .unwrap_or_default()
-    }
-
-    fn give(&self, mut buffer: Vec<u8>) {
-        buffer.clear();
-        if let Ok(mut v) = self.0.lock() {
-            v.push(buffer);
-        }
     }
 }
 
