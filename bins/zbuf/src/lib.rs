@@ -369,21 +369,22 @@ fn filled(n: usize, value: Colour) -> Option<scan::ZeroedBuffer<Colour>> {
 }
 
 /// Sets every pixel of `pixels` to `colour`: as `fill`, but 16 pixels (48 bytes) a
-/// store where `fill` of a 3-byte element stores it pixel by pixel, and one `memset`
-/// for a grey.
+/// copy of one pattern where `fill` of a 3-byte element stores it pixel by pixel, and
+/// one `memset` for a grey. (Assigning `[colour; 16]` to each block compiled to 48
+/// one-byte stores; a copy of a pattern made once is three 16-byte ones. The merger
+/// paints every run of the leaves so: on the fill-heavy scene, 83,000 runs a frame.)
 #[inline]
 pub fn fill_colour(pixels: &mut [Colour], colour: Colour) {
     if colour[0] == colour[1] && colour[1] == colour[2] {
         pixels.as_flattened_mut().fill(colour[0]);
         return;
     }
-    let (blocks, rest) = pixels.as_chunks_mut::<16>();
+    let pattern: [u8; 48] = std::array::from_fn(|i| colour[i % 3]);
+    let (blocks, rest) = pixels.as_flattened_mut().as_chunks_mut::<48>();
     for block in blocks {
-        *block = [colour; 16];
+        *block = pattern;
     }
-    for pixel in rest {
-        *pixel = colour;
-    }
+    rest.copy_from_slice(&pattern[..rest.len()]);
 }
 
 pub use stagecli::parse_colour;
