@@ -2,8 +2,8 @@
 //! or every projected vertex finite (nothing inside makes NaN or infinity).
 #![no_main]
 use libfuzzer_sys::fuzz_target;
-use proto::perspective::{DepthMode, Perspective};
 use polypipe_fuzz::{eye_vertex, polygon, Bytes};
+use proto::perspective::{DepthMode, Perspective};
 use proto::View;
 
 fuzz_target!(|data: &[u8]| {

@@ -1,17 +1,26 @@
 //! The splitter node (thesis 6.2) on arbitrary eye-space polygons, about a column or row
 //! plane x_s = K / y_s = K: no panic, out1 never outside the plane, out2 never inside,
 //! every vertex finite, both outputs keep the colour; vertex colours cut with the edges
-//! stay one a vertex and within 0–255.
+//! stay one a vertex and within 0–255. Then each piece projected, as the tree's last
+//! level does (`splitter --persp`): refused naming a vertex and left as it was, or every
+//! projected vertex finite.
 #![no_main]
 use libfuzzer_sys::fuzz_target;
 use polypipe_fuzz::{eye_vertex, polygon, Bytes};
 use proto::geometry::{Plane, Side};
-use proto::Polygon;
+use proto::perspective::{DepthMode, Perspective};
+use proto::{Polygon, View};
 
 fuzz_target!(|data: &[u8]| {
     let mut b = Bytes(data);
     let k = (b.u8() as i8) as f64 / 128.0;
-    let aspect = [1.0, 16.0 / 9.0, 0.75][(b.u8() % 3) as usize];
+    let (aspect, width, height) =
+        [(1.0, 64, 64), (16.0 / 9.0, 64, 36), (0.75, 48, 64)][(b.u8() % 3) as usize];
+    let depth = [
+        DepthMode::Reciprocal,
+        DepthMode::Projective,
+        DepthMode::EyeZ,
+    ][(b.u8() % 3) as usize];
     let plane = if b.u8() & 1 == 0 {
         Plane::column(k, aspect)
     } else {
@@ -62,5 +71,24 @@ fuzz_target!(|data: &[u8]| {
             plane.classify(*v).0 != Side::Inside,
             "out2 {v:?} inside, from {poly:?}"
         );
+    }
+    let view = View {
+        aspect,
+        ..View::default()
+    };
+    let perspective = Perspective::new(width, height, view, depth).unwrap();
+    for mut piece in [out1, out2] {
+        let before = piece.clone();
+        match perspective.project_polygon(&mut piece) {
+            Ok(()) => {
+                for v in &piece.vertices {
+                    assert!(v.is_finite(), "{v:?} projected from {before:?}");
+                }
+            }
+            Err(e) => {
+                assert!(e.vertex < before.vertices.len().max(before.supports.len()));
+                assert_eq!(piece, before, "a refused piece was changed");
+            }
+        }
     }
 });
