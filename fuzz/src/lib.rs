@@ -69,6 +69,23 @@ pub fn polygon(b: &mut Bytes, mut vertex: impl FnMut(&mut Bytes) -> Vertex) -> P
     Polygon::new([b.u8(), b.u8(), b.u8()], vertices)
 }
 
+/// Projects `poly` with `perspective` and checks the outcome: every projected vertex
+/// finite, or the polygon refused with a vertex of it named and left as it was.
+pub fn project_and_check(perspective: &proto::perspective::Perspective, poly: &mut Polygon) {
+    let before = poly.clone();
+    match perspective.project_polygon(poly) {
+        Ok(()) => {
+            for v in &poly.vertices {
+                assert!(v.is_finite(), "{v:?} projected from {before:?}");
+            }
+        }
+        Err(e) => {
+            assert!(e.vertex < before.vertices.len().max(before.supports.len()));
+            assert_eq!(*poly, before, "a refused polygon was changed");
+        }
+    }
+}
+
 /// An eye-space vertex (x, y, z, w) with any finite coordinates.
 pub fn eye_vertex(b: &mut Bytes) -> Vertex {
     Vertex::new(b.coord(), b.coord(), b.coord(), b.coord())
