@@ -247,6 +247,8 @@ cpu=$(awk -F': ' '/^model name/ { print $2; exit }' /proc/cpuinfo 2>/dev/null ||
 mesa=n/a
 [[ -n $gl ]] && mesa=$("$gl" --renderer 2>/dev/null || echo n/a)
 commit=$(git -C "$root" rev-parse --short HEAD 2>/dev/null || echo unknown)
+# Binaries from elsewhere need not be this commit's: the table says whose they are.
+[[ -z ${POLYPIPE_BIN-} ]] || commit+=" (the scripts; the binaries: POLYPIPE_BIN=$POLYPIPE_BIN)"
 if ((scaling)); then
     echo
     echo "Measured by \`scripts/bench.sh$( ((quick)) && echo ' --quick') --scaling\` at commit $commit on" \
