@@ -576,6 +576,22 @@ pub fn newell_plane(points: &[DVec3]) -> DVec4 {
     normal.extend(-normal.dot(centroid))
 }
 
+/// [`newell_plane`] of the points `point` makes of `vertices`, gathered on the stack for
+/// up to eight vertices (a quad clipped by a few planes): persp and the scan converters
+/// ask for a plane per polygon, and a vector for each was a malloc and a free.
+pub fn newell_plane_of(vertices: &[DVec4], point: impl Fn(&DVec4) -> DVec3) -> DVec4 {
+    const ON_STACK: usize = 8;
+    if vertices.len() <= ON_STACK {
+        let mut points = [DVec3::ZERO; ON_STACK];
+        for (p, v) in points.iter_mut().zip(vertices) {
+            *p = point(v);
+        }
+        newell_plane(&points[..vertices.len()])
+    } else {
+        newell_plane(&vertices.iter().map(point).collect::<Vec<_>>())
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -39,7 +39,7 @@ use crate::codec::{
     expect_zero, head, head_n, write_colours, write_vertices, BinaryError, BinaryInput, Control,
     Record, MAX_VERTICES,
 };
-use crate::geometry::newell_plane;
+use crate::geometry::newell_plane_of;
 use crate::header::{Header, Space};
 use crate::shade::{ColourPlanes, VertexColour};
 use crate::text::{is_blank, Lexer, Shown};
@@ -128,22 +128,10 @@ impl Polygon {
     /// (persp does so). `None` when it is not a plane (fewer than three distinct
     /// points, w = 0).
     pub fn eye_plane(&self) -> Option<DVec4> {
-        let eye = |v: &DVec4| {
+        let n = newell_plane_of(&self.vertices, |v| {
             let r = v.z / v.w;
             DVec3::new(v.x * r, v.y * r, v.z)
-        };
-        // Up to eight vertices (a quad clipped by a few planes) on the stack: persp asks
-        // for every polygon's plane, and a vector for each was a malloc and a free.
-        const ON_STACK: usize = 8;
-        let n = if self.vertices.len() <= ON_STACK {
-            let mut points = [DVec3::ZERO; ON_STACK];
-            for (p, v) in points.iter_mut().zip(&self.vertices) {
-                *p = eye(v);
-            }
-            newell_plane(&points[..self.vertices.len()])
-        } else {
-            newell_plane(&self.vertices.iter().map(eye).collect::<Vec<_>>())
-        };
+        });
         (n.is_finite() && n.truncate() != DVec3::ZERO).then_some(n)
     }
 

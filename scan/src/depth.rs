@@ -1,7 +1,7 @@
 //! A polygon's depth across the screen: its plane, evaluated along each row (thesis
 //! Appendix 3.3 ii).
 
-use proto::{DVec3, DVec4, Polygon};
+use proto::{DVec4, Polygon};
 
 /// The depth of a polygon across the screen, in the form persp wrote (an f64; the
 /// reciprocal depth −K1/z_e by default, [`proto::depth`]).
@@ -29,16 +29,13 @@ impl DepthPlane {
     /// collinear).
     pub fn of(polygon: &Polygon) -> Self {
         let recorded = polygon.plane.filter(|n| n.z != 0.0 && n.is_finite());
-        // The vertices gathered only for Newell's plane: persp records the plane, and a
-        // vector for every polygon was a malloc and a free in each.
         let DVec4 {
             x: a,
             y: b,
             z: c,
             w: d,
         } = recorded.unwrap_or_else(|| {
-            let points: Vec<DVec3> = polygon.vertices.iter().map(|v| v.truncate()).collect();
-            proto::geometry::newell_plane(&points)
+            proto::geometry::newell_plane_of(&polygon.vertices, |v| v.truncate())
         });
         // `+ 0.0` turns −0 into +0 (and changes nothing else), so that text shows `0`.
         let dz = -a / c + 0.0;
