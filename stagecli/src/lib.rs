@@ -40,9 +40,9 @@ pub use error::{Context, Error, Kind, Result};
 pub use leaf::{refuse_transparent, resolve_frames, FrameCounts};
 pub use names::FrameNames;
 pub use stream::{
-    check_finite, filter_polygons, filter_records, input_error, input_name, next, open_input,
-    open_output, read_stdin, same_file, stdout, write_stdout, Branch, Counted, Counts, Named,
-    RawStdout,
+    check_finite, check_finite_after, filter_polygons, filter_records, input_error, input_name,
+    next, open_input, open_output, read_stdin, same_file, stdout, write_stdout, Branch, Counted,
+    Counts, Named, RawStdout,
 };
 
 use std::io::Write;

@@ -275,6 +275,15 @@ impl Branch<proto::Token> {
     }
 }
 
+/// [`check_finite`] on a polygon `doing` (the split, the perspective division, …) made:
+/// the message says which work made a number too large.
+#[inline]
+pub fn check_finite_after(poly: &Polygon, doing: &str) -> std::result::Result<(), String> {
+    check_finite(poly).map_err(|m| {
+        format!("{m} after {doing}: not a finite number (coordinates this large overflow)")
+    })
+}
+
 /// Checks that a polygon about to be written has only finite numbers (vertices, plane,
 /// edge supports): a stage never passes on an infinity or a NaN of its own making, so
 /// that the stage at fault, not the next one, refuses. The message names the vertex.
@@ -394,14 +403,7 @@ where
         match &mut token {
             Token::Polygon(poly) => {
                 transform(poly)
-                    .and_then(|()| {
-                        check_finite(poly).map_err(|m| {
-                            format!(
-                                "{m} after {doing}: not a finite number (coordinates this \
-                                 large overflow)"
-                            )
-                        })
-                    })
+                    .and_then(|()| check_finite_after(poly, doing))
                     .map_err(|m| Error::data(format!("{}: {m}", reader.position())))?;
                 writer.write_polygon(poly)?;
                 counts.polygons += 1;

@@ -823,8 +823,9 @@ mod tests {
         let e = env(10_000, 1920, 1080, 10.0);
         let p0 = predict(&k, &e, 0, 2);
         let p2 = predict(&k, &e, 2, 2);
-        assert_eq!(p0.processes, 4); // viewxf, clipbatch, persp, zbuf (resolving the leaf)
-                                     // viewxf, clipbatch, 3 splitters (the last level projecting), 4 leaves, zbuf.
+        // viewxf, clipbatch, persp, zbuf (resolving the leaf).
+        assert_eq!(p0.processes, 4);
+        // viewxf, clipbatch, 3 splitters (the last level projecting), 4 leaves, zbuf.
         assert_eq!(p2.processes, 2 + 3 + 4 + 1);
         assert!(p2.stages.iter().all(|s| s.stage != "persp"));
         // The two splitters of the last level project their leaves' streams.

@@ -181,13 +181,8 @@ fn main() -> ExitCode {
                 Token::Polygon(poly) => {
                     split(poly, &plane, &mut piece1, &mut piece2);
                     for piece in [&piece1, &piece2] {
-                        stagecli::check_finite(piece).map_err(|m| {
-                            Error::data(format!(
-                                "{}: {m} after the split: not a finite number (coordinates \
-                                 this large overflow)",
-                                reader.position()
-                            ))
-                        })?;
+                        stagecli::check_finite_after(piece, "the split")
+                            .map_err(|m| Error::data(format!("{}: {m}", reader.position())))?;
                     }
                     if let Some(perspective) = &perspective {
                         // A piece too small to be sent (`Lean`) is not projected.
@@ -234,10 +229,5 @@ fn main() -> ExitCode {
 /// a projection that is not a finite number.
 fn project(perspective: &Perspective, piece: &mut Polygon) -> Result<(), String> {
     perspective.project_polygon(piece).map_err(|e| e.reason)?;
-    stagecli::check_finite(piece).map_err(|m| {
-        format!(
-            "{m} after the perspective division: not a finite number (coordinates this \
-             large overflow)"
-        )
-    })
+    stagecli::check_finite_after(piece, "the perspective division")
 }

@@ -440,7 +440,7 @@ plane -0 0 -1 -0.0625
 END
 "
     );
-    // Each output is what persp makes of the plain split's (binary, through the
+    // Each output is what persp makes of the plain split's (as text, through the
     // workspace's persp binary).
     let (plain1, plain2) = split("persp-plain", &["x=0"]);
     let persp = pipeline_tests::bin_dir().join("persp");

@@ -458,8 +458,6 @@ fn send_header(
     .is_ok()
 }
 
-/// Sends the fragments gathered so far and starts a new batch; `false` as
-/// [`send_header`].
 /// A reader thread's way to the buffer thread: the channel, and the batches the buffer
 /// thread has applied and given back.
 struct ToBuffer {
@@ -468,8 +466,8 @@ struct ToBuffer {
 }
 
 impl ToBuffer {
-    /// Sends `batch` on, leaving an empty one in its place: one given back if there is
-    /// one. A batch is a few hundred kilobytes, which the allocator handed back to the
+    /// Sends the fragments gathered so far (`batch`) and starts a new batch in its place,
+    /// one given back if there is one; `false` as [`send_header`]. A batch is a few hundred kilobytes, which the allocator handed back to the
     /// kernel and took again as fresh pages each time: on the fill-heavy scene's runs
     /// from two leaves, a third of the merger's time was its reader threads zeroing
     /// pages.
