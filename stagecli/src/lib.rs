@@ -33,6 +33,7 @@ pub mod leaf;
 pub mod memory;
 pub mod names;
 pub mod pieces;
+pub mod remote;
 pub mod stream;
 
 pub use args::{parse, parse_colour, DepthArg, PpmTextFlag, TextFlag, ViewArgs};

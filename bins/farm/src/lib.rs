@@ -203,82 +203,13 @@ impl InOrder {
 
 // --- How a host's session ended. ------------------------------------------------------
 
-/// A host's session that did not end well: the message after `host H: ` and the status
-/// the run ends with.
-#[derive(Clone, Debug, PartialEq, Eq)]
-pub struct Failure {
-    pub message: String,
-    pub status: u8,
-}
-
-/// The last non-blank line a session wrote on stderr, without render.sh's own prefix.
-pub fn last_line(stderr: &str) -> &str {
-    let line = stderr
-        .lines()
-        .rev()
-        .find(|l| !l.trim().is_empty())
-        .unwrap_or("");
-    line.strip_prefix("render.sh: ").unwrap_or(line)
-}
+pub use stagecli::remote::{last_line, Failure};
 
 /// What a session that ended with `status` (the ssh's: the far command's, 255 for ssh's
-/// own failure, `None` when killed by a signal `signal`) and `stderr` means.
+/// own failure, `None` when killed by a signal `signal`) and `stderr` means
+/// ([`stagecli::remote::classify`], the command there being render.sh's).
 pub fn classify(status: Option<i32>, signal: Option<i32>, stderr: &str) -> Option<Failure> {
-    let said = last_line(stderr);
-    let (message, status) = match (status, signal) {
-        (Some(0), _) => return None,
-        (Some(255), _) => {
-            let said = if said.is_empty() {
-                "failed (status 255)"
-            } else {
-                said
-            };
-            let message = if said.starts_with("ssh:") {
-                said.to_string()
-            } else {
-                format!("ssh: {said}")
-            };
-            (message, 3)
-        }
-        (Some(st @ (126 | 127)), _) => {
-            let what = if said.is_empty() {
-                format!("status {st}")
-            } else {
-                said.to_string()
-            };
-            (format!("cannot run the command there: {what}"), 3)
-        }
-        (Some(st), _) if !said.is_empty() => (said.to_string(), if st <= 3 { st as u8 } else { 1 }),
-        (Some(st), _) => (
-            format!(
-                "the command exited with status {st} and no message (does the host allow \
-                 only another command?)"
-            ),
-            3,
-        ),
-        (None, sig) => {
-            let name = sig.map_or_else(|| "a signal".to_string(), signal_name);
-            let tail = if said.is_empty() {
-                String::new()
-            } else {
-                format!(": {said}")
-            };
-            (format!("ssh was killed by {name}{tail}"), 3)
-        }
-    };
-    Some(Failure { message, status })
-}
-
-fn signal_name(sig: i32) -> String {
-    match sig {
-        libc::SIGHUP => "SIGHUP".into(),
-        libc::SIGINT => "SIGINT".into(),
-        libc::SIGKILL => "SIGKILL".into(),
-        libc::SIGPIPE => "SIGPIPE".into(),
-        libc::SIGTERM => "SIGTERM".into(),
-        libc::SIGSEGV => "SIGSEGV".into(),
-        other => format!("signal {other}"),
-    }
+    stagecli::remote::classify(status, signal, stderr, "the command")
 }
 
 /// The frames of a chunk, for messages: `frames 8 to 11`, `frame 3`.
