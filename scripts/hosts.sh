@@ -1,5 +1,5 @@
 # shellcheck shell=bash
-# shellcheck disable=SC2034 # ssh_cmd, message, exit_status: for the script that sources this
+# shellcheck disable=SC2034 # ssh_cmd: for the script that sources this
 # hosts.sh: how render.sh reaches other hosts over ssh for --by leaves (docs/DESIGN.md,
 # "Stages on other hosts"; --by frames is the farm binary's, which does the same in
 # Rust). Sourced, not run.
@@ -26,37 +26,4 @@ check_hosts() {
         [[ -n $h && $h != -* && $h != *[[:space:]]* ]] ||
             die_usage "--hosts must be host names separated by commas, not '$1'"
     done
-}
-
-# last_line FILE: its last non-blank line, with render.sh's own prefix taken off.
-last_line() {
-    local line
-    line=$(grep -v '^[[:space:]]*$' "$1" 2>/dev/null | tail -n 1)
-    line=${line#render.sh: }
-    printf '%s' "$line"
-}
-
-# what_failed ERRFILE STATUS WHAT: sets `message` and `exit_status` for a host whose ssh
-# ended with STATUS, having written ERRFILE on stderr; WHAT is what ran there.
-what_failed() {
-    local st=$2 said
-    said=$(last_line "$1")
-    if ((st == 255)); then
-        # ssh's own failure: the host could not be reached, refused us, or dropped.
-        message=${said:-"failed (status 255)"}
-        [[ $message == ssh:* ]] || message="ssh: $message"
-        exit_status=3
-    elif ((st == 126 || st == 127)); then
-        message="cannot run $3 there: ${said:-status $st}"
-        exit_status=3
-    elif ((st > 128)); then
-        message="ssh was killed by SIG$(kill -l $((st - 128)) 2>/dev/null || echo $((st - 128)))${said:+: $said}"
-        exit_status=3
-    elif [[ -n $said ]]; then
-        message=$said
-        exit_status=$((st <= 3 ? st : 1))
-    else
-        message="the command exited with status $st and no message (does the host allow only another command?)"
-        exit_status=3
-    fi
 }

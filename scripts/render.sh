@@ -10,14 +10,15 @@
 #               leaves' finished regions (--merge buffer: persp | scanconv on each leaf,
 #               every fragment depth-tested in the one zbuf, the thesis's PAR.BUFF).
 #
-# Every stage is a process of its own, joined to the next by a named pipe in a private
-# temporary directory. The script watches them all: when one fails (or is killed), it
-# names it, stops the others and exits with that stage's class of failure (1 bad data,
-# 2 usage, 3 I/O). The directory and every child are removed on every way out (success,
-# failure, Ctrl-C, SIGTERM). The script only wires: the stages check their own options,
-# compute their own planes and label their own --stats lines.
+# Every stage is a process of its own, joined to the next by an anonymous pipe: the
+# script works out the graph and becomes `plan launch`, which starts and watches the
+# stages. When one fails (or is killed), it names it, stops the others and exits with that
+# stage's class of failure (1 bad data, 2 usage, 3 I/O). Nothing is left on disk or
+# running on any way out (success, failure, Ctrl-C, SIGTERM). The script only wires: the
+# stages check their own options, compute their own planes and label their own --stats
+# lines.
 
-# It needs bash 5.1 (`wait -n -p`) and /proc. This check is plain sh, so that `sh
+# It needs bash 5.1 and /proc. This check is plain sh, so that `sh
 # render.sh` or an older bash stops here with a message rather than a syntax error.
 case ${BASH_VERSION-} in
     5.[1-9]* | [6-9].* | [1-9][0-9]*.*) ;;
@@ -299,160 +300,55 @@ ensure_binaries() {
 }
 
 
-# --- Processes and their clean-up. ------------------------------------------------------
+# --- The stages, described for the launcher. -------------------------------------------
 
-pids=()             # every stage, upstream first
-declare -A stage_of # pid → stage name, for the messages
+# render.sh works out the process graph and then becomes `plan launch` (exec), which
+# makes each channel an anonymous pipe, starts the stages, watches them, and ends the
+# run as this script says in its usage: the stages' own words in order on success, the
+# failing one's and one line naming it on failure, 130 or 143 when stopped
+# (bins/plan/src/launch.rs). Nothing goes to disk, so nothing is left behind however
+# the run ends. Before, the script did it itself, with a private folder of named pipes
+# kept by a process of its own and `wait -n`: about half of a small render's start-up
+# (docs/performance.md, "Start-up").
+spec=() # the stages: `LABEL IN OUT HOST NODE PIPES N` and the N words of each command
 
-# One process keeps the folder (`plan folder`, bins/plan/src/folder.rs): it makes it,
-# makes the named pipes asked of it (`make_fifos`), and removes it all when the clean-up
-# asks (USR1; it ignores the INT, TERM and HUP sent to the whole group, since stop_all
-# needs the folder), or by itself when this script is gone however it ended. Before, mkdir,
-# mkfifo and `rm -r` were three processes on every render's critical path, 4 ms of a
-# small render's 19. The keeper leaves its parent (a process substitution) at once, so
-# that it is not this script's child: `wait -n` and `jobs` see only the stages.
-make_private_dir() {
-    # The folder's name is chosen, and the traps that remove it set, before it is made:
-    # a signal while `mktemp` ran (a process of its own) ended the script before it knew
-    # the name, and left the folder. The keeper refuses a name that exists (a link
-    # included); the random part makes one hard to guess.
-    tmp=${TMPDIR:-/tmp}/render.$$.$SRANDOM
-    trap cleanup EXIT
-    # The first signal ends the run; any after it, until the clean-up is done, is ignored
-    # (`timeout` and a terminal's Ctrl-C signal the script and then its whole group, and a
-    # second `exit` in the middle of the clean-up would leave the private folder).
-    trap 'trap "" INT TERM; exit 130' INT
-    trap 'trap "" INT TERM; exit 143' TERM
-    # Not ours if it could not be made: nothing for the clean-up to remove.
-    keep_answers <(exec "$bindir/plan" folder -- "$tmp" </dev/null 2>/dev/null)
-    local said pid
-    read -r -u "$keeper_says" said pid && [[ $said == ready && $pid =~ ^[0-9]+$ ]] ||
-        { tmp=''; fail 3 "cannot make a private folder in ${TMPDIR:-/tmp}"; }
-    keeper=$pid
-}
-
-# keep_answers /dev/fd/N: keeps the keeper's stdout as `keeper_says`, a copy of the
-# process substitution's own descriptor. Opened by name (`exec {fd}< <(…)`), the pipe
-# waits for a writer, and a keeper that failed at once (a TMPDIR gone) left none: the
-# script waited for ever.
-keep_answers() { exec {keeper_says}<&"${1##*/}"; }
-
-# make_fifos PATH…: the named pipes (in the private folder), made by its keeper.
-# The request is one line, written with the pipe opened for reading and writing, which
-# does not wait for a reader: were the keeper gone, the answer's end of file says so.
-make_fifos() {
-    local said names=("${@##*/}")
-    { printf '%s\n' "${names[*]}" 1<>"$tmp/requests"; } 2>/dev/null &&
-        read -r -u "$keeper_says" said && [[ $said == made ]] ||
-        fail 3 "cannot make the named pipes in $tmp${said:+ (${said#error: })}"
-}
-
-# Stops every stage still running (TERM, then KILL after a second), reaps them all.
-stop_all() {
-    local pid alive i
-    # Every background job bash knows, not only the recorded stages: a signal can come
-    # between a stage's fork and `pids+=($!)`, and that child, left alive, waits for ever
-    # in the open of a named pipe whose other end is gone, and the `wait` below with it.
-    # (`jobs -p` into a file: the builtin, without a subshell to fork.)
-    local -a all=("${pids[@]}") jobs_now=()
-    if [[ -n ${tmp-} && -d $tmp ]] && jobs -p > "$tmp/jobs" 2>/dev/null; then
-        mapfile -t jobs_now < "$tmp/jobs"
-        all+=("${jobs_now[@]}")
-    fi
-    for pid in "${all[@]}"; do kill -TERM "$pid" 2>/dev/null; done
-    for ((i = 0; i < 20; i++)); do
-        alive=0
-        for pid in "${all[@]}"; do
-            if kill -0 "$pid" 2>/dev/null; then alive=1; break; fi
-        done
-        ((alive)) || break
-        sleep 0.05
-    done
-    for pid in "${all[@]}"; do kill -KILL "$pid" 2>/dev/null; done
-    # These, by name: a bare `wait` would wait for the folder's keeper too.
-    ((${#all[@]} == 0)) || wait -- "${all[@]}" 2>/dev/null
-}
-
-# On every way out. A Ctrl-C or TERM while it works is ignored, not obeyed (see the traps
-# in make_private_dir): obeyed, it ended the script before the private folder was removed.
-cleanup() {
-    local status=$?
-    trap - EXIT
-    trap '' INT TERM
-    stop_all
-    if [[ -n ${keeper-} ]]; then
-        # The keeper's stdout ends when it has removed the folder and exited.
-        kill -USR1 "$keeper" 2>/dev/null
-        while read -r -t 5 -u "$keeper_says" _; do :; done
-    fi
-    # A folder its keeper did not remove (a signal before the keeper's id was known).
-    [[ -z ${tmp-} || ! -e $tmp ]] || rm -rf -- "$tmp"
-    exit "$status"
-}
-
-# The process graph is built twice (see `graph`): first only to name its fifos, which
-# the folder's keeper then makes in one request, then to start the stages. A process for
-# each fifo would cost a millisecond apiece, most of a small render's start-up at depth
-# 1 and beyond.
-planning=0
-fifos=()
-fifo() { ((!planning)) || fifos+=("$tmp/$1"); }
-
-# start NAME IN OUT CMD...: runs one stage in the background, reading IN and writing OUT
-# (`-`: the script's stdout), and records it. Each stage's stderr goes to a file of its
-# own, shown when the run ends: on success all of them in pipeline order (--stats), on
-# failure only the causing stage's, since the stages downstream of it then fail too
-# ("stream ends without END"), which is noise.
+# start NAME IN OUT CMD...: one stage of the graph, reading IN and writing OUT: `-` (the
+# script's stdin or stdout), `pipe:NAME` (a channel to another stage) or a file. The last
+# `npipes` words of CMD (0 unless set for the call) are channels too, `pipe:NAME`, which
+# the stage gets as /dev/fd/N (a splitter's two outputs, the merger's inputs). A stage
+# on another host gives `host_here` and `node_here` for the messages about it.
 start() {
-    ((!planning)) || return 0
-    local name=$1 in=$2 out=$3 err=$tmp/stderr.${#pids[@]}
+    local name=$1 in=$2 out=$3 n=${npipes:-0}
     shift 3
-    # The script's stdin (kept on fd 3) and stdout are handed on, not opened again: a
-    # fifo whose writer has finished cannot be opened again (--subtree's input), nor can
-    # a socket. Everything else is opened by the stage's own process, so that a fifo's
-    # open, which waits for the other end, holds up only that stage.
-    # The keeper's answers are closed first: a stage left waiting in the open of a fifo
-    # (a run stopped as it started) must not keep the keeper's pipe, by which the keeper
-    # sees that the script is gone.
-    if [[ $in == /dev/fd/3 && $out == - ]]; then
-        "$@" {keeper_says}<&- <&3 2>"$err" 3<&- &
-    elif [[ $in == /dev/fd/3 ]]; then
-        "$@" {keeper_says}<&- <&3 >"$out" 2>"$err" 3<&- &
-    elif [[ $out == - ]]; then
-        "$@" {keeper_says}<&- <"$in" 2>"$err" 3<&- &
-    else
-        "$@" {keeper_says}<&- <"$in" >"$out" 2>"$err" 3<&- &
-    fi
-    pids+=($!)
-    stage_of[$!]=$name
+    [[ $in == - || $in == pipe:* ]] || in=file:$in
+    [[ $out == - || $out == pipe:* ]] || out=file:$out
+    local -a cmd=("$@")
+    local i
+    for ((i = $# - n; i < $#; i++)); do cmd[i]=${cmd[i]#pipe:}; done
+    spec+=("$name" "$in" "$out" "${host_here-}" "${node_here-}" "$n" "$#" "${cmd[@]}")
 }
 
 # --- The process graph. -----------------------------------------------------------------
 
 # The clipper chain: viewxf and the six planes of the pyramid (chapter 3). The scene on
-# stdin is read through fd 3 (a background job's stdin is /dev/null); after --depth
-# auto's sample of it, through `plan relay`. Sets `clipped`.
+# stdin (`-`) is read after --depth auto's sample of it through `plan relay`. Sets
+# `clipped`.
 start_clipper_chain() {
     local in=$scene plane
-    [[ $scene != - ]] || in=/dev/fd/3
     if [[ -n $feed ]]; then
-        fifo feed
-        start "plan relay" /dev/fd/3 "$tmp/feed" "$bindir/plan" relay "$feed"
-        in=$tmp/feed
+        start "plan relay" - pipe:feed "$bindir/plan" relay "$feed"
+        in=pipe:feed
     fi
-    fifo view
-    start viewxf "$in" "$tmp/view" "$bindir/viewxf" --size "$size" "${camera[@]}"
-    in=$tmp/view
+    start viewxf "$in" pipe:view "$bindir/viewxf" --size "$size" "${camera[@]}"
+    in=pipe:view
     if [[ $clip == batch ]]; then
-        fifo clipped
-        start clipbatch "$in" "$tmp/clipped" "$bindir/clipbatch"
-        clipped=$tmp/clipped
+        start clipbatch "$in" pipe:clipped "$bindir/clipbatch"
+        clipped=pipe:clipped
         return
     fi
     for plane in left right top bottom hither yon; do
-        fifo "clip-$plane"
-        start "clipplane $plane" "$in" "$tmp/clip-$plane" "$bindir/clipplane" "$plane"
-        in=$tmp/clip-$plane
+        start "clipplane $plane" "$in" "pipe:clip-$plane" "$bindir/clipplane" "$plane"
+        in=pipe:clip-$plane
     done
     clipped=$in
 }
@@ -478,10 +374,8 @@ start_tree() {
         fi
         for ((node = first; node < first + n; node++)); do
             a=$((2 * node)) b=$((2 * node + 1))
-            fifo "node-$a"
-            fifo "node-$b"
-            input_of[a]=$tmp/node-$a input_of[b]=$tmp/node-$b
-            start "splitter (node $node)" "${input_of[node]}" /dev/null "$bindir/splitter" \
+            input_of[a]=pipe:node-$a input_of[b]=pipe:node-$b
+            npipes=2 start "splitter (node $node)" "${input_of[node]}" /dev/null "$bindir/splitter" \
                 "${stats[@]}" --node "$node" --depth "$depth" --size "$size" "${to_screen[@]}" \
                 "${input_of[a]}" "${input_of[b]}"
         done
@@ -523,10 +417,9 @@ start_leaf() {
         return
     fi
     if ((!projected)); then
-        fifo "screen-$leaf"
-        start "persp$label" "$in" "$tmp/screen-$leaf" \
+        start "persp$label" "$in" "pipe:screen-$leaf" \
             "$bindir/persp" --size "$size" --depth "$zmode"
-        in=$tmp/screen-$leaf
+        in=pipe:screen-$leaf
     fi
     start "${method[0]}$label" "$in" "$out" \
         "$bindir/${method[0]}" "${method[@]:1}" "${stats[@]}"
@@ -548,7 +441,7 @@ what_node() {
 # start_subtrees: each node of `frontier` and all below it on a host, round-robin, through
 # ssh (docs/DESIGN.md, "Stages on other hosts"): the binary stream into the node goes down
 # the ssh channel to `render.sh --subtree K` there, which runs the node's splitters and
-# leaves and merges their runs (zbuf --runs); the runs come back up it into a fifo the
+# leaves and merges their runs (zbuf --runs); the runs come back up it into a pipe the
 # merger here reads. render.sh is run from the same path there as here, its binaries from
 # --remote-bin (default: this one's). When ssh goes (the host drops, or the run is
 # stopped), the far side's input ends short and its output has no reader: it stops.
@@ -562,16 +455,14 @@ start_subtrees() {
             --hse "$hse" "${split[@]}" --aa "$aa" "${stats[@]}"; do
             remote+=" $(quote "$word")"
         done
-        fifo "from-$node"
-        fragments+=("$tmp/from-$node")
-        start "$(what_node "$node") (host $host)" "${input_of[node]}" "$tmp/from-$node" \
-            "${ssh_cmd[@]}" "$host" "$remote"
-        ((planning)) || host_of[$!]=$host node_of[$!]=$node
+        fragments+=("pipe:from-$node")
+        host_here=$host node_here=$node start "$(what_node "$node") (host $host)" \
+            "${input_of[node]}" "pipe:from-$node" "${ssh_cmd[@]}" "$host" "$remote"
     done
 }
 
 # start_leaves [OUT]: a leaf for each node of `frontier` (all leaves' inputs), each into a
-# fifo the merger reads; or, given OUT, the one leaf into OUT.
+# pipe the merger reads; or, given OUT, the one leaf into OUT.
 start_leaves() {
     local node leaf method
     leaf_method
@@ -580,9 +471,8 @@ start_leaves() {
         if [[ -n ${1-} ]]; then
             start_leaf "$leaf" "${input_of[node]}" "$1"
         else
-            fifo "leaf-$leaf"
-            fragments+=("$tmp/leaf-$leaf")
-            start_leaf "$leaf" "${input_of[node]}" "$tmp/leaf-$leaf"
+            fragments+=("pipe:leaf-$leaf")
+            start_leaf "$leaf" "${input_of[node]}" "pipe:leaf-$leaf"
         fi
     done
 }
@@ -591,7 +481,6 @@ start_leaves() {
 # --subtree K, from stdin into node K) to stdout.
 start_graph() {
     local top=${subtree:-1}
-    declare -gA host_of=() node_of=() # an ssh's pid → its host, and the node it runs
     input_of=([top]=$clipped)
     fragments=()
     if ((${#hosts[@]})); then
@@ -610,26 +499,25 @@ start_graph() {
 
 # --hidden-line: persp | hiddenline, writing the SVG (Archuleta's output) where -o says.
 start_hidden_line() {
-    fifo screen
-    start persp "$clipped" "$tmp/screen" "$bindir/persp" --size "$size" --depth "$zmode"
-    start hiddenline "$tmp/screen" - "$bindir/hiddenline" "${stats[@]}" "${output[@]}"
+    start persp "$clipped" pipe:screen "$bindir/persp" --size "$size" --depth "$zmode"
+    start hiddenline pipe:screen - "$bindir/hiddenline" "${stats[@]}" "${output[@]}"
 }
 
 # The merger (chapter 6.3.3): one zbuf reading every leaf, writing the frames.
 start_merger() {
     local relay=()
     [[ -z $subtree ]] || relay=(--runs) # a subtree's runs go on to the merger above
-    start zbuf /dev/null - "$bindir/zbuf" "${relay[@]}" "${stats[@]}" "${output[@]}" \
-        "${fragments[@]}"
+    npipes=${#fragments[@]} start zbuf /dev/null - "$bindir/zbuf" "${relay[@]}" "${stats[@]}" \
+        "${output[@]}" "${fragments[@]}"
 }
 
 # --depth auto: the depth the cost model predicts fastest (thesis 5.2 and 6.4, with this
 # machine's calibration: docs/model.md), from `plan depth`'s look at the scene's first
-# 512 KiB. A file is looked at while the clipper chain starts reading it. A stream (stdin,
-# or a pipe given as the scene) is sampled first: `plan sample` keeps its first 512 KiB,
-# or less when the stream ends, or pauses (a live source is not held up), and `plan
-# relay` then feeds viewxf that sample and the rest of the stream behind it, so that no
-# more than the sample is kept. A scene the look cannot read is left to the stages, at
+# 512 KiB. A stream (stdin, or a pipe given as the scene) is sampled first: `plan sample`
+# keeps its first 512 KiB in a file of TMPDIR, or less when the stream ends, or pauses (a
+# live source is not held up), and `plan relay` then feeds viewxf that sample and the
+# rest of the stream behind it, so that no more than the sample is kept; the launcher
+# removes the file when the run ends (the script itself, if it ends before). A scene the look cannot read is left to the stages, at
 # depth 0, which report it as they do at any depth. With --hosts, the plan is for the
 # hosts (every host a subtree). On a terminal, an uncalibrated machine is said once.
 # tiny_scene: whether the scene file is too small for the tree to pay on any number of
@@ -661,168 +549,32 @@ choose_depth() {
         return
     fi
     if [[ $scene == - ]]; then
-        ended=$("$bindir/plan" sample -o "$tmp/sample" <&3) ||
-            fail 3 "cannot keep the sample of the scene in $tmp"
-        look=$tmp/sample
+        # The name chosen, and its removal set, before the file is made (`plan sample`
+        # refuses a name that exists, a link included).
+        sample=${TMPDIR:-/tmp}/render.$$.$SRANDOM.sample
+        trap '[[ -z ${sample-} ]] || rm -f -- "$sample"' EXIT
+        trap 'exit 130' INT
+        trap 'exit 143' TERM
+        ended=$("$bindir/plan" sample -o "$sample") ||
+            fail 3 "cannot keep the sample of the scene in ${TMPDIR:-/tmp}"
+        look=$sample
         extra=(--stream "$ended")
-        if [[ $ended == whole ]]; then scene=$tmp/sample; else feed=$tmp/sample; fi
+        if [[ $ended == whole ]]; then scene=$sample; else feed=$sample; fi
     fi
     ((${#hosts[@]} == 0)) || extra+=(--hosts "${#hosts[@]}")
     [[ ! -t 2 ]] || extra+=(--tell-once)
+    # The answer is the first line; a once-said note follows it (stderr), shown only
+    # when the model answered: a scene it cannot read is the stages' to report.
     if ! line=$("$bindir/plan" depth --root "$root" --size "$size" "${extra[@]}" \
-        "${camera[@]}" "$look" 2>"$tmp/plan.err"); then
+        "${camera[@]}" "$look" 2>&1); then
         depth=0
         return
     fi
-    [[ ! -s $tmp/plan.err ]] || cat "$tmp/plan.err" >&2 # the once-said note
+    [[ $line != *$'\n'* ]] || printf '%s\n' "${line#*$'\n'}" >&2
+    line=${line%%$'\n'*}
     depth=${line%% *}
     [[ $depth =~ ^[0-6]$ ]] || fail 3 "plan depth answered '$line'"
     ((${#stats[@]} == 0)) || echo "render.sh: depth auto chose $line" >&2
-}
-
-# --- Watching the stages. ---------------------------------------------------------------
-
-describe() { # describe STATUS
-    if (($1 > 128)); then
-        local sig
-        sig=$(kill -l "$(($1 - 128))" 2>/dev/null) || sig=$(($1 - 128))
-        printf 'killed by SIG%s' "$sig"
-    else
-        printf 'status %s' "$1"
-    fi
-}
-
-# labelled_stderr INDEX: what stage INDEX wrote on stderr, each line that starts with the
-# bare program name given the stage's full name instead ("scanconv: …" from leaf 2
-# becomes "scanconv (leaf 2): …"; lines a stage labelled itself, as "splitter y=0 (node
-# 2): …", are left alone), and the private directory left out of the fifo names zbuf
-# reports ("zbuf: leaf-2: …").
-labelled_stderr() {
-    local pid=${pids[$1]} line
-    local label=${stage_of[$pid]} host=${host_of[$pid]-}
-    local program=${label%% *}
-    while IFS= read -r line || [[ -n $line ]]; do
-        line=${line//"$tmp/"/}
-        if [[ -n $host ]]; then # a host's render.sh, which labelled its own lines
-            line="host $host: ${line#render.sh: }"
-        elif [[ $line == "$program: "* ]]; then
-            line="$label: ${line#"$program: "}"
-        fi
-        printf '%s\n' "$line"
-    done <"$tmp/stderr.$1"
-}
-
-# With --stats and --hosts: each subtree's host and the bytes its link carried each way
-# (thesis 6.5 estimates them for the transputer links: 50 bytes a polygon into the
-# clipper, 7 bytes a pixel out of a scan converter), from the splitters' and zbuf's
-# counts. A subtree at the root carries the clipper's whole output, which nothing counts.
-links() {
-    local pid node there back line
-    for pid in "${pids[@]}"; do
-        [[ -n ${node_of[$pid]-} ]] || continue
-        node=${node_of[$pid]} there="not counted (the clipper's output)" back="?"
-        if ((node > 1)); then
-            line=$(grep -h "(node $((node >> 1))): " "$tmp"/stderr.* 2>/dev/null)
-            [[ ! $line =~ \;\ ([0-9]+)\ and\ ([0-9]+)\ bytes\ out ]] ||
-                there="${BASH_REMATCH[(node & 1) + 1]} bytes there"
-        fi
-        line=$(grep -h "^zbuf: .*from-$node: " "$tmp"/stderr.* 2>/dev/null)
-        [[ ! $line =~ \ ([0-9]+)\ bytes\ in$ ]] || back="${BASH_REMATCH[1]} bytes back"
-        echo "render.sh: $(what_node "$node") on host ${host_of[$pid]}: $there, $back"
-    done
-}
-
-finished() { # finished PID: whether it has exited (reaped or a zombie)
-    local stat
-    kill -0 "$1" 2>/dev/null || return 0
-    read -r stat 2>/dev/null <"/proc/$1/stat" || return 0
-    stat=${stat##*) } # "pid (name) STATE …"
-    [[ $stat == Z* ]]
-}
-
-# Waits for the stages; the first to fail stops the rest (by the EXIT trap).
-#
-# `wait -n` reports each stage as it ends. bash does not promise that it reports every
-# one: a stage that ends while the script is busy elsewhere (a command substitution, on
-# a loaded machine) can be reaped then, and its status kept only for `wait PID`. So when
-# `wait -n` has no child left, the statuses it did not report are collected with `wait
-# PID`, and success means every stage was seen to exit 0.
-watch() {
-    local -A status_of=() # pid → exit status, as learnt
-    local failed='' done_pid status pid st cause='' i
-    while :; do
-        done_pid=
-        wait -n -p done_pid
-        status=$?
-        if [[ -z ${done_pid-} ]]; then # no child left to wait for
-            for pid in "${pids[@]}"; do
-                [[ -n ${status_of[$pid]-} ]] && continue
-                wait "$pid" 2>/dev/null
-                status_of[$pid]=$?
-                # 127: bash has no status for it at all; the stages downstream tell.
-                ((status_of[$pid] == 0 || status_of[$pid] == 127)) || failed=1
-            done
-            break
-        fi
-        status_of[$done_pid]=$status
-        if ((status != 0)); then
-            failed=1
-            break
-        fi
-    done
-
-    if [[ -z $failed ]]; then
-        for i in "${!pids[@]}"; do labelled_stderr "$i" >&2; done
-        ((${#stats[@]} == 0 || ${#hosts[@]} == 0)) || links >&2
-        exit 0
-    fi
-    # A stage failed. Those downstream of it fail in turn when their input ends short,
-    # so among the stages that have finished by now, name one killed by a signal, or
-    # else the most upstream, as the cause.
-    sleep 0.1
-    for pid in "${pids[@]}"; do
-        [[ -n ${status_of[$pid]-} ]] && continue
-        if finished "$pid"; then
-            wait "$pid" 2>/dev/null
-            status_of[$pid]=$?
-        fi
-    done
-    for pid in "${pids[@]}"; do
-        st=${status_of[$pid]-0}
-        # 127: bash knew no such child, so no status to blame it on (but for an ssh:
-        # the far side could not run the command).
-        if ((st == 0)) || { ((st == 127)) && [[ -z ${host_of[$pid]-} ]]; }; then continue; fi
-        if ((st > 128)); then cause=$pid; break; fi
-        [[ -n $cause ]] || cause=$pid
-    done
-    if [[ -z $cause ]]; then
-        # Only status 127 was seen (a stage that could not be run at all).
-        fail 1 "a stage could not be run (status 127)"
-    fi
-    for i in "${!pids[@]}"; do
-        [[ ${pids[$i]} == "$cause" ]] || continue
-        # The merger found a host's runs empty: that host answered with nothing (a
-        # command that is not render.sh, say), which is the host's fault, not the data's.
-        if [[ -z ${host_of[$cause]-} ]] &&
-            [[ $(<"$tmp/stderr.$i") =~ from-([0-9]+):\ empty\ input ]]; then
-            local node=${BASH_REMATCH[1]} p
-            for p in "${pids[@]}"; do
-                [[ ${node_of[$p]-} == "$node" ]] || continue
-                fail 3 "host ${host_of[$p]} ($(what_node "$node")): sent back nothing ($(describe "${status_of[$p]-0}") from its command)"
-            done
-        fi
-        if [[ -n ${host_of[$cause]-} ]]; then
-            # A leaf on a host: what ssh or the far side said last is the message.
-            labelled_stderr "$i" | head -n -1 >&2
-            what_failed "$tmp/stderr.$i" "${status_of[$cause]}" render.sh
-            fail "$exit_status" "host ${host_of[$cause]} ($(what_node "${node_of[$cause]}")): $message"
-        fi
-        labelled_stderr "$i" >&2
-    done
-    # The stage's own class of failure (1 bad data, 2 usage, 3 I/O); otherwise 1.
-    st=${status_of[$cause]}
-    ((st >= 1 && st <= 3)) || st=1
-    fail "$st" "${stage_of[$cause]} failed ($(describe "${status_of[$cause]}"))"
 }
 
 # --by frames: the `farm` binary cuts the movie into chunks and runs each on a host,
@@ -858,15 +610,13 @@ main() {
     fi
     ((${#chunk[@]} == 0)) || die_usage "--chunk is for --by frames"
     validate_options
-    [[ -r /proc/self/stat ]] || fail 3 "needs /proc (Linux), to watch its stages"
+    [[ -r /proc/self/stat ]] || fail 3 "needs /proc (Linux), to run its stages"
     ensure_binaries
-    make_private_dir
     if [[ $depth == auto ]] && ((hidden_line)); then depth=0; fi
-    exec 3<&0
     # A scene that can be read only once (a pipe, `<(…)`), looked at by --depth auto, is
     # sampled as stdin is.
     if [[ $depth == auto && $scene != - && ! -f $scene && -z $subtree ]]; then
-        exec 3<"$scene" || fail 3 "cannot read scene $scene"
+        exec <"$scene" || fail 3 "cannot read scene $scene"
         scene=-
     fi
     if [[ $depth == auto && -f $scene && -z $subtree ]] && ((${#hosts[@]} == 0)) && tiny_scene; then
@@ -874,34 +624,17 @@ main() {
         ((${#stats[@]} == 0)) ||
             echo "render.sh: depth auto chose 0 (a scene file of at most $tiny_bound bytes on a $size screen: under 2 ms of depth tests; the model not asked)" >&2
     fi
-    if [[ $depth == auto && -f $scene && -z $subtree ]]; then
-        # The clipper chain is the same at every depth: it starts, and reads the scene,
-        # while chart looks at the scene file (a scene on stdin or a pipe is kept first).
-        in_pieces front
-        choose_depth
-        in_pieces back
-    else
-        [[ $depth != auto ]] || choose_depth
-        in_pieces graph
-    fi
-    exec 3<&-
-    watch
-}
-
-# in_pieces PART: names the stages of PART (front, back or graph) and their fifos, has
-# the folder's keeper make the fifos in one request, and starts the stages.
-in_pieces() {
-    fifos=()
-    planning=1
-    "$1"
-    planning=0
-    ((${#fifos[@]} == 0)) || make_fifos "${fifos[@]}"
-    "$1"
+    [[ $depth != auto ]] || choose_depth
+    graph
+    local -a launch=(--depth "$depth")
+    ((${#stats[@]} == 0 || ${#hosts[@]} == 0)) || launch+=(--links)
+    [[ -z ${sample-} ]] || launch+=(--remove "$sample")
+    exec "$bindir/plan" launch "${launch[@]}" -- "${spec[@]}"
 }
 
 # The stages, from the scene (or, for --subtree K, the stream into node K on stdin) to
-# the frames on stdout: named only while `planning`, started after. `front` is the
-# clipper chain, which sets `clipped`; `back` all after it.
+# the frames on stdout. `front` is the clipper chain, which sets `clipped`; `back` all
+# after it.
 graph() {
     front
     back
@@ -909,7 +642,7 @@ graph() {
 
 front() {
     if [[ -n $subtree ]]; then
-        clipped=/dev/fd/3 # the stream into node K
+        clipped=- # the stream into node K
     else
         start_clipper_chain
     fi

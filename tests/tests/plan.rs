@@ -381,11 +381,16 @@ fn the_sample_is_all_that_is_kept_of_a_stream() {
     assert_eq!(std::fs::metadata(&sample).unwrap().len(), 512 * 1024);
     assert!(std::fs::read(dir.path().join("relayed")).unwrap() == stream);
     // A short stream is whole.
+    let short = dir.path().join("short");
     let out = sh(
-        &format!("plan sample -o {}", sample.display()),
+        &format!("plan sample -o {}", short.display()),
         b"polypipe 1 world\nEND\n",
     );
     assert_eq!(text(&out.stdout), "whole\n");
+    // A name that exists (render.sh's is in TMPDIR, where a link could wait) is refused.
+    let out = sh(&format!("plan sample -o {}", short.display()), b"x");
+    assert_eq!(out.status.code(), Some(3));
+    assert_eq!(std::fs::read(&short).unwrap(), b"polypipe 1 world\nEND\n");
 }
 
 #[test]
@@ -484,104 +489,209 @@ fn depth_auto_with_hosts_gives_every_host_a_subtree() {
     assert!(out.stdout == at0.stdout);
 }
 
-/// `plan folder DIR`, render.sh's private folder kept by one process: `ready PID` once
-/// DIR is there (mode 700), PID the keeper's own (it leaves its parent, which exits at
-/// once); `made` for each request, a line of names of named pipes written to
-/// DIR/requests; SIGINT, SIGTERM and SIGHUP (sent to the whole group by a terminal,
-/// `timeout` or ssh, while the script still needs the folder) ignored; the folder
-/// removed, and the keeper's stdout ended, on SIGUSR1; a name that exists refused, with
-/// nothing left behind.
+/// `plan launch`, the process graph render.sh becomes: each channel an anonymous pipe
+/// (a stdin, a stdout, or `/dev/fd/N` on a command line), what every stage said written
+/// in the graph's order with its label, nothing left on disk; a failure named once, with
+/// the failing stage's class of status; a description that is not a graph refused (2).
 #[test]
-fn plan_folder_makes_pipes_on_request_and_removes_all_when_told() {
-    use std::io::BufRead;
-    use std::os::unix::fs::{FileTypeExt, PermissionsExt};
-    let base = tempfile::tempdir().unwrap();
-    let dir = base.path().join("render.1");
-    let mut parent = Command::new(bin("plan"))
-        .arg("folder")
-        .arg(&dir)
-        .stdin(Stdio::null())
-        .stdout(Stdio::piped())
-        .spawn()
-        .unwrap();
-    let mut says = std::io::BufReader::new(parent.stdout.take().unwrap());
-    assert!(parent.wait().unwrap().success(), "the parent exits at once");
-    let mut line = String::new();
-    says.read_line(&mut line).unwrap();
-    let keeper = line
-        .strip_prefix("ready ")
-        .and_then(|pid| pid.trim_end().parse::<u32>().ok())
-        .unwrap_or_else(|| panic!("{line:?}"));
-    assert_ne!(keeper, parent.id());
-    assert_eq!(
-        std::fs::metadata(&dir).unwrap().permissions().mode() & 0o777,
-        0o700
-    );
-    for request in ["view clipped\n", "leaf-0\n"] {
-        std::fs::write(dir.join("requests"), request).unwrap();
-        line.clear();
-        says.read_line(&mut line).unwrap();
-        assert_eq!(line, "made\n", "{request:?}");
-    }
-    for name in ["view", "clipped", "leaf-0"] {
-        let meta = std::fs::metadata(dir.join(name)).unwrap();
-        assert!(meta.file_type().is_fifo(), "{name}");
-        assert_eq!(meta.permissions().mode() & 0o777, 0o600, "{name}");
-    }
-    std::fs::write(dir.join("stderr.0"), "a stage's words").unwrap();
-    let signal = |name: &str| {
-        let sent = Command::new("kill")
-            .args([format!("-{name}"), keeper.to_string()])
-            .status()
-            .unwrap();
-        assert!(sent.success());
+fn plan_launch_runs_a_graph_of_anonymous_pipes_and_names_its_failure() {
+    let dir = tempfile::tempdir().unwrap();
+    let scene = dir.path().join("in.txt");
+    std::fs::write(&scene, "one\ntwo\n").unwrap();
+    let launch = |stages: &[&str]| {
+        Command::new(bin("plan"))
+            .args(["launch", "--"])
+            .args(stages)
+            .env("TMPDIR", dir.path())
+            .output()
+            .unwrap()
     };
-    for ignored in ["INT", "TERM", "HUP"] {
-        signal(ignored);
-        std::thread::sleep(Duration::from_millis(100));
-        assert!(dir.exists(), "SIG{ignored} removed the folder");
-    }
-    signal("USR1");
-    line.clear();
-    assert_eq!(says.read_line(&mut line).unwrap(), 0, "{line:?}");
-    assert!(!dir.exists(), "SIGUSR1 left the folder");
-    assert_eq!(std::fs::read_dir(base.path()).unwrap().count(), 0);
+    let file = format!("file:{}", scene.display());
+    // A "splitter" writing its two outputs by name, two "leaves", a "merger" reading
+    // theirs by name.
+    let out = launch(&[
+        "split (node 1)",
+        &file,
+        "file:/dev/null",
+        "",
+        "",
+        "2",
+        "6",
+        "sh",
+        "-c",
+        "sed s/^/a/ > \"$1\"; echo b > \"$2\"; echo split: done >&2",
+        "sh",
+        "node-2",
+        "node-3",
+        "leaf 0",
+        "pipe:node-2",
+        "pipe:leaf-0",
+        "",
+        "",
+        "0",
+        "3",
+        "tr",
+        "a-z",
+        "A-Z",
+        "leaf 1",
+        "pipe:node-3",
+        "pipe:leaf-1",
+        "",
+        "",
+        "0",
+        "3",
+        "tr",
+        "a-z",
+        "A-Z",
+        "merge",
+        "file:/dev/null",
+        "-",
+        "",
+        "",
+        "2",
+        "6",
+        "sh",
+        "-c",
+        "cat \"$1\" \"$2\"; echo \"merge: $1 and $2 read\" >&2",
+        "sh",
+        "leaf-0",
+        "leaf-1",
+    ]);
+    assert_eq!(out.status.code(), Some(0), "{}", text(&out.stderr));
+    assert_eq!(text(&out.stdout), "AONE\nATWO\nB\n");
+    assert_eq!(
+        text(&out.stderr),
+        "split (node 1): done\nmerge: leaf-0 and leaf-1 read\n"
+    );
+    assert_eq!(
+        std::fs::read_dir(dir.path()).unwrap().count(),
+        1,
+        "only the scene"
+    );
 
-    // A name that exists: refused, status 3, and the thing there left alone.
-    std::fs::create_dir(&dir).unwrap();
-    let out = Command::new(bin("plan"))
-        .arg("folder")
-        .arg(&dir)
-        .stdin(Stdio::null())
-        .output()
-        .unwrap();
+    // The first stage fails with a usage error: the downstream one's "input ends short"
+    // is not shown, and the run exits 2 naming the cause.
+    let out = launch(&[
+        "viewxf",
+        &file,
+        "pipe:view",
+        "",
+        "",
+        "0",
+        "3",
+        "sh",
+        "-c",
+        "echo 'viewxf: bad option' >&2; exit 2",
+        "zbuf",
+        "pipe:view",
+        "-",
+        "",
+        "",
+        "0",
+        "3",
+        "sh",
+        "-c",
+        "cat; echo 'zbuf: input ends short' >&2; exit 1",
+    ]);
+    assert_eq!(out.status.code(), Some(2));
+    assert_eq!(
+        text(&out.stderr),
+        "viewxf: bad option\nrender.sh: viewxf failed (status 2)\n"
+    );
+    // A stage killed by a signal is the cause, wherever it is.
+    let out = launch(&[
+        "a",
+        &file,
+        "pipe:p",
+        "",
+        "",
+        "0",
+        "3",
+        "sh",
+        "-c",
+        "cat; exit 1",
+        "b",
+        "pipe:p",
+        "-",
+        "",
+        "",
+        "0",
+        "3",
+        "sh",
+        "-c",
+        "kill -KILL $$",
+    ]);
+    assert_eq!(out.status.code(), Some(1));
+    assert!(
+        text(&out.stderr).ends_with("render.sh: b failed (killed by SIGKILL)\n"),
+        "{}",
+        text(&out.stderr)
+    );
+    // A program that is not there.
+    let out = launch(&["a", &file, "-", "", "", "0", "1", "/nonexistent/stage"]);
     assert_eq!(out.status.code(), Some(3));
-    assert_eq!(out.stdout, b"");
-    let said = text(&out.stderr);
-    assert!(said.starts_with("plan: cannot make "), "{said}");
-    assert!(dir.is_dir());
+    assert!(
+        text(&out.stderr).starts_with("render.sh: a: cannot run /nonexistent/stage: "),
+        "{}",
+        text(&out.stderr)
+    );
+    // Not a graph: a channel with no writer.
+    let out = launch(&["a", "pipe:p", "-", "", "", "0", "1", "cat"]);
+    assert_eq!(out.status.code(), Some(2));
+    assert_eq!(text(&out.stderr), "plan: channel p: has no writer\n");
 }
 
-/// The folder goes with the process that asked for it, however that ends: a script
-/// killed with SIGKILL (no clean-up of its own runs) leaves no folder behind, once no one
-/// is left to read what the keeper says.
+/// A launcher killed outright (SIGKILL: nothing of its own runs) takes its stages with
+/// it, so that a render stopped however it is leaves no process behind.
 #[test]
-fn plan_folder_removes_all_when_its_script_is_killed() {
-    let base = tempfile::tempdir().unwrap();
-    let dir = base.path().join("render.2");
-    let script = format!(
-        "exec {{k}}< <(exec '{}' folder '{}' </dev/null); read -r -u $k said pid; \
-         echo \"$said\"; printf 'view\\n' > '{}/requests'; read -r -u $k said; \
-         echo \"$said\"; kill -KILL $$",
-        bin("plan").display(),
-        dir.display(),
-        dir.display()
-    );
-    let out = Command::new("bash").args(["-c", &script]).output().unwrap();
-    assert_eq!(text(&out.stdout), "ready\nmade\n");
+fn plan_launch_killed_takes_its_stages_with_it() {
+    let mut launcher = Command::new(bin("plan"))
+        .args(["launch", "--"])
+        .args([
+            "a",
+            "file:/dev/null",
+            "pipe:p",
+            "",
+            "",
+            "0",
+            "2",
+            "sleep",
+            "30",
+        ])
+        .args(["b", "pipe:p", "-", "", "", "0", "2", "sleep", "31"])
+        .stdout(Stdio::null())
+        .spawn()
+        .unwrap();
+    let children = |pid: u32| -> Vec<u32> {
+        let out = Command::new("pgrep")
+            .args(["-P", &pid.to_string()])
+            .output()
+            .unwrap();
+        text(&out.stdout)
+            .split_whitespace()
+            .map(|p| p.parse().unwrap())
+            .collect()
+    };
+    let started = Instant::now();
+    let stages = loop {
+        let c = children(launcher.id());
+        if c.len() == 2 {
+            break c;
+        }
+        assert!(started.elapsed() < Duration::from_secs(10), "{c:?}");
+        std::thread::sleep(Duration::from_millis(10));
+    };
+    launcher.kill().unwrap();
+    launcher.wait().unwrap();
     let gone = Instant::now();
-    while dir.exists() && gone.elapsed() < Duration::from_secs(5) {
+    while stages.iter().any(|p| {
+        std::path::Path::new(&format!("/proc/{p}/cmdline")).exists()
+            && std::fs::read(format!("/proc/{p}/cmdline")).is_ok_and(|c| c.starts_with(b"sleep"))
+    }) {
+        assert!(
+            gone.elapsed() < Duration::from_secs(5),
+            "a stage outlived its launcher"
+        );
         std::thread::sleep(Duration::from_millis(10));
     }
-    assert!(!dir.exists(), "the folder outlived its script");
 }

@@ -15,8 +15,7 @@
 pub mod cache;
 pub mod calibrate;
 pub mod cli;
-#[cfg(unix)]
-pub mod folder;
+pub mod launch;
 pub mod look;
 pub mod measure;
 pub mod model;

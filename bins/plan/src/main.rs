@@ -66,11 +66,27 @@ enum Sub {
     },
     /// Writes FILE, then the rest of stdin, to stdout: the sample and what followed it.
     Relay { file: PathBuf },
-    /// Keeps render.sh's private folder: makes DIR (mode 700), leaves its parent and
-    /// says `ready PID`; for each line written to DIR/requests, makes the named pipes it
-    /// names (separated by spaces) and says `made`; removes DIR on SIGUSR1 (INT, TERM and
-    /// HUP ignored), or when nothing is left to read its stdout.
-    Folder { dir: PathBuf },
+    /// Runs render.sh's process graph: for each stage `LABEL IN OUT HOST NODE PIPES N`
+    /// and its command's N words (IN and OUT `-`, `file:PATH` or `pipe:NAME`; the last
+    /// PIPES words channel names, given as /dev/fd/N); every channel an anonymous pipe.
+    /// Exits as render.sh does: 0, the failing stage's class with one line naming it, or
+    /// 128 + the signal that stopped the run.
+    Launch {
+        /// The tree's depth, for naming the hosts' nodes in messages.
+        #[arg(long, default_value_t = 0)]
+        depth: u32,
+        /// Print the bytes each host's link carried, after the stages' counts.
+        #[arg(long)]
+        links: bool,
+        /// The name the messages start with.
+        #[arg(long = "as", value_name = "NAME", default_value = "render.sh")]
+        name: String,
+        /// A file to remove when the run ends (render.sh's sample of a stream).
+        #[arg(long, value_name = "FILE")]
+        remove: Vec<PathBuf>,
+        #[arg(last = true, value_name = "STAGE")]
+        stages: Vec<std::ffi::OsString>,
+    },
 }
 
 fn calibrate(quick: bool, background_only: bool, root: Option<PathBuf>) -> Result<()> {
@@ -103,8 +119,12 @@ fn status() -> Result<()> {
 
 fn sample(out: &Path) -> Result<()> {
     use std::os::fd::FromRawFd;
-    let mut file =
-        std::fs::File::create(out).with_context(|| format!("cannot write {}", out.display()))?;
+    // A new file: a name that exists (a link someone put there included) is refused.
+    let mut file = std::fs::OpenOptions::new()
+        .write(true)
+        .create_new(true)
+        .open(out)
+        .with_context(|| format!("cannot write {}", out.display()))?;
     // stdin read unbuffered, as a File on fd 0 (not closed when done: ManuallyDrop), so
     // that `poll` sees what is left in the pipe.
     // SAFETY: fd 0 is open for the life of the process, and nothing else reads it here.
@@ -134,18 +154,22 @@ fn relay(file: &Path) -> Result<()> {
     Ok(())
 }
 
-/// `plan folder DIR` ([`plan::folder::keep`]): returns only when DIR cannot be made.
-#[cfg(unix)]
-fn folder(dir: &Path) -> Result<()> {
-    plan::folder::keep(dir).map_err(|e| stagecli::Error::io(e.to_string()))?;
-    Ok(())
+/// `plan launch` ([`plan::launch::run`]): exits with the run's status.
+fn launch(
+    options: &plan::launch::Options,
+    name: &str,
+    remove: &[PathBuf],
+    words: &[std::ffi::OsString],
+) -> Result<()> {
+    let outcome = plan::launch::parse_stages(words)
+        .and_then(|stages| plan::launch::run(stages, options, name));
+    for file in remove {
+        let _ = std::fs::remove_file(file);
+    }
+    let outcome = outcome.map_err(|e| stagecli::Error::usage(e.to_string()))?;
+    plan::launch::tell(&outcome);
+    std::process::exit(outcome.status.into())
 }
-
-#[cfg(not(unix))]
-fn folder(_dir: &Path) -> Result<()> {
-    Err(stagecli::Error::io("plan folder needs a Unix system (named pipes)").into())
-}
-
 fn main() -> ExitCode {
     stagecli::main::<Cli>("plan", |cli| {
         let done = match cli.command {
@@ -160,7 +184,18 @@ fn main() -> ExitCode {
             Sub::Thesis => say(&plan::thesis::report()),
             Sub::Sample { out } => sample(&out),
             Sub::Relay { file } => relay(&file),
-            Sub::Folder { dir } => folder(&dir),
+            Sub::Launch {
+                depth,
+                links,
+                name,
+                remove,
+                stages,
+            } => launch(
+                &plan::launch::Options { depth, links },
+                &name,
+                &remove,
+                &stages,
+            ),
         };
         done.map_err(|e| plan_error(&e))
     })
