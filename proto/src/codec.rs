@@ -381,6 +381,21 @@ fn binary_context(frame: u64, polygons_in_frame: u64, control: Option<Control>) 
 }
 
 impl<T: Record, R: Read> Reader<T, R> {
+    /// Hands a decoder of the binary input's bytes already buffered (with the header)
+    /// to `take`, which returns how many of them it decoded: whole records that change
+    /// no count of the reader's (only [`Control::Finished`] ones, a leaf's runs), checked
+    /// as [`Reader::next_into`] checks them. A text stream, or one ended, gives nothing.
+    pub(crate) fn decode_buffered(&mut self, take: impl FnOnce(&[u8], &Header) -> usize) {
+        if self.ended {
+            return;
+        }
+        if let Source::Binary(input) = &mut self.source {
+            let used = take(input.inner.buffer(), &self.header);
+            input.inner.consume(used);
+            input.offset += used as u64;
+        }
+    }
+
     /// Reads the header, recognising the form from the first bytes.
     pub fn new(input: R) -> Result<Self, StreamError> {
         let mut buffered = BufReader::with_capacity(IO_BUFFER, input);

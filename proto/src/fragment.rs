@@ -122,6 +122,33 @@ fn f64_at(b: &[u8], i: usize) -> f64 {
     f64::from_le_bytes(b[i..i + 8].try_into().expect("8 bytes"))
 }
 
+impl<R: Read> crate::codec::Reader<Fragment, R> {
+    /// Appends to `out` the run records that come next (at most `max`), as many as the
+    /// input has buffered whole: the merger's hot path, a leaf's finished pixels decoded
+    /// without a call per record. It stops before any other record, and before a run
+    /// outside the screen, for [`crate::codec::Reader::next_into`] to read or refuse.
+    pub fn runs_into(&mut self, out: &mut Vec<Fragment>, max: usize) {
+        self.decode_buffered(|bytes, header| {
+            let (width, height) = header.space.screen_size().unwrap_or((0, 0));
+            let mut used = 0;
+            for r in bytes.chunks_exact(16).take(max) {
+                let (y, x0, x1) = (u32_at(r, 4), u32_at(r, 8), u32_at(r, 12));
+                if r[0] != tag::RUN || y >= height || x0 > x1 || x1 > width {
+                    break;
+                }
+                out.push(Fragment::Run {
+                    y,
+                    x0,
+                    x1,
+                    colour: [r[1], r[2], r[3]],
+                });
+                used += 16;
+            }
+            used
+        });
+    }
+}
+
 impl Record for Fragment {
     #[inline]
     fn control(&self) -> Control {

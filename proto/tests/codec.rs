@@ -710,6 +710,62 @@ fn skips_and_runs_round_trip_and_keep_numbering() {
     );
 }
 
+/// `runs_into`, the merger's batch decoder of a leaf's runs, reads what `next_record`
+/// reads: the runs next in the buffer, at most as many as asked, and stops before any
+/// other record and before a run off the screen, which `next_record` then refuses with
+/// its place in the stream.
+#[test]
+fn runs_decoded_in_a_batch_are_the_records_and_a_bad_one_is_left_to_refuse() {
+    let run = |y, x0, x1, c| Fragment::Run {
+        y,
+        x0,
+        x1,
+        colour: [c, 2, 3],
+    };
+    let header = Header::new(Space::Fragments {
+        width: 8,
+        height: 4,
+    });
+    let frags = vec![
+        run(0, 0, 8, 1),
+        run(1, 2, 5, 7),
+        run(3, 0, 0, 9),
+        Fragment::NextFrame,
+        run(2, 1, 2, 4),
+        Fragment::End,
+    ];
+    let bytes = encode(header, &frags, Form::Binary);
+    let mut reader = Reader::<Fragment, _>::new(&bytes[..]).unwrap();
+    let mut got = Vec::new();
+    reader.runs_into(&mut got, 2);
+    assert_eq!(got, frags[..2]);
+    reader.runs_into(&mut got, 10);
+    assert_eq!(got, frags[..3], "stops before NEXT.FRAME");
+    reader.runs_into(&mut got, 10);
+    assert_eq!(got.len(), 3);
+    assert_eq!(reader.next_record().unwrap(), Some(Fragment::NextFrame));
+    reader.runs_into(&mut got, 10);
+    assert_eq!(got, [&frags[..3], &frags[4..5]].concat());
+    assert_eq!(reader.next_record().unwrap(), Some(Fragment::End));
+    assert_eq!(reader.next_record().unwrap(), None);
+
+    // A run below the screen: left in the stream, and refused where it is.
+    let mut bad = encode(header, &frags, Form::Binary);
+    // The second run's record: END (8 bytes), a run (16), NEXT.FRAME (8) and two runs
+    // from the end.
+    let second = bad.len() - 8 - 16 - 8 - 16 - 16;
+    bad[second + 4] = 9; // its row
+    let mut reader = Reader::<Fragment, _>::new(&bad[..]).unwrap();
+    let mut got = Vec::new();
+    reader.runs_into(&mut got, 10);
+    assert_eq!(got, frags[..1]);
+    let e = reader.next_record().unwrap_err().to_string();
+    assert!(
+        e.contains("run of row 9, columns 2..5, is outside the 8x4 screen"),
+        "{e}"
+    );
+}
+
 /// A Gouraud-shaded polygon's record: vertex colours, colour planes and opacity come back
 /// from the binary form bit for bit, and a flat polygon's record is unchanged by them.
 #[test]

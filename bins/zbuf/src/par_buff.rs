@@ -377,7 +377,19 @@ fn read_input(input: usize, open: Opener, bytes: Arc<AtomicU64>, to: ToBuffer, w
         let mut batch = Vec::with_capacity(BATCH);
         let mut frame = 0u64;
         let mut in_polygon = false;
-        while let Some(record) = reader.next_record()? {
+        loop {
+            // A leaf's runs, as many as are buffered, without a call per record.
+            let room = BATCH - batch.len();
+            reader.runs_into(&mut batch, room);
+            if batch.len() == BATCH {
+                if !to.send_batch(input, &mut batch) {
+                    return Ok(());
+                }
+                continue;
+            }
+            let Some(record) = reader.next_record()? else {
+                break;
+            };
             match record {
                 Fragment::Polygon(_) => {
                     in_polygon = true;
