@@ -375,9 +375,16 @@ start_tree() {
         for ((node = first; node < first + n; node++)); do
             a=$((2 * node)) b=$((2 * node + 1))
             input_of[a]=pipe:node-$a input_of[b]=pipe:node-$b
-            npipes=2 start "splitter (node $node)" "${input_of[node]}" /dev/null "$bindir/splitter" \
-                "${stats[@]}" --node "$node" --depth "$depth" --size "$size" "${to_screen[@]}" \
-                "${input_of[a]}" "${input_of[b]}"
+            local -a outputs=("${input_of[a]}" "${input_of[b]}")
+            local into=/dev/null named=2
+            if ((projected && a == 1 << depth)) && merger_is_leaf; then
+                # Leaf 0's polygons go to the merger, which resolves them itself: the
+                # first output is the splitter's stdout.
+                input_of[a]=pipe:leaf-0 outputs=(- "${input_of[b]}") into=pipe:leaf-0 named=1
+            fi
+            npipes=$named start "splitter (node $node)" \
+                "${input_of[node]}" "$into" "$bindir/splitter" "${stats[@]}" --node "$node" \
+                --depth "$depth" --size "$size" "${to_screen[@]}" "${outputs[@]}"
         done
     done
     frontier=()
@@ -397,14 +404,23 @@ leaf_method() {
         method=(abuf)
     elif [[ $hse == zbuf ]]; then
         method=(scanconv --resolve)
-        # One leaf, here: its region is the screen, so the merger is the leaf. zbuf reads
-        # persp's polygons and resolves them itself, with no runs encoded for a pipe.
-        if [[ $depth == 0 && -z $subtree ]] && ((${#hosts[@]} == 0)); then method=(zbuf); fi
+        # One leaf, here: its region is the screen, so the merger is the leaf.
+        if [[ $depth == 0 ]] && merger_is_leaf; then method=(zbuf); fi
     elif [[ $hse == painter ]]; then
         method=(painter "${split[@]}")
     else
         method=("$hse")
     fi
+}
+
+# merger_is_leaf: whether the merger resolves leaf 0 itself: zbuf reads screen-space
+# polygons and resolves them as `scanconv --resolve` does (the same code, scan's), into
+# its frame with no runs encoded, piped and decoded, and a process fewer. At depth 0 that
+# leaf is the whole screen; in a tree, the last level's first splitter writes leaf 0's
+# polygons, projected, straight to zbuf. Only for the leaves' point-sampled z-buffer with
+# --merge tiles, the leaves here (docs/performance.md, "The tree's depth").
+merger_is_leaf() {
+    [[ $hse == zbuf && $aa == none && $merge == tiles && -z $subtree ]] && ((${#hosts[@]} == 0))
 }
 
 # start_leaf LEAF INPUT OUT: leaf LEAF (0 .. 2^depth − 1) of the tree, persp | METHOD, from
@@ -470,6 +486,8 @@ start_leaves() {
         leaf=$((node - (1 << depth)))
         if [[ -n ${1-} ]]; then
             start_leaf "$leaf" "${input_of[node]}" "$1"
+        elif [[ ${input_of[node]} == pipe:leaf-0 ]]; then
+            fragments+=(pipe:leaf-0) # the merger's own (merger_is_leaf)
         else
             fragments+=("pipe:leaf-$leaf")
             start_leaf "$leaf" "${input_of[node]}" "pipe:leaf-$leaf"

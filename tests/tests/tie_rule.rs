@@ -182,9 +182,11 @@ fn zbuf_says_when_projective_depth_ties_what_the_rule_orders() {
             vec![format!("zbuf: frame 0: 2916 {warning}")],
         ),
         (
+            // Leaf 0 is the merger's own: zbuf resolves it and says so for it.
             "--depth 2",
-            (0..4)
+            (1..4)
                 .map(|leaf| format!("scanconv (leaf {leaf}): frame 0: 729 {warning}"))
+                .chain([format!("zbuf: frame 0: 729 {warning}")])
                 .collect(),
         ),
     ] {
