@@ -498,7 +498,7 @@ fn plan_launch_runs_a_graph_of_anonymous_pipes_and_names_its_failure() {
     let dir = tempfile::tempdir().unwrap();
     let scene = dir.path().join("in.txt");
     std::fs::write(&scene, "one\ntwo\n").unwrap();
-    let launch = |stages: &[&str]| {
+    let launch = |stages: &[String]| {
         Command::new(bin("plan"))
             .args(["launch", "--"])
             .args(stages)
@@ -507,56 +507,47 @@ fn plan_launch_runs_a_graph_of_anonymous_pipes_and_names_its_failure() {
             .unwrap()
     };
     let file = format!("file:{}", scene.display());
+    // One stage's description: LABEL IN OUT, no host, PIPES, and its command (a shell
+    // script, its arguments after it as $1, $2).
+    fn stage(
+        label: &str,
+        input: &str,
+        output: &str,
+        pipes: usize,
+        script: &str,
+        args: &[&str],
+    ) -> Vec<String> {
+        let mut words: Vec<String> = [label, input, output, "", "", &pipes.to_string()]
+            .map(String::from)
+            .into();
+        words.push((4 + args.len()).to_string());
+        words.extend(["sh", "-c", script, "sh"].map(String::from));
+        words.extend(args.iter().map(|a| a.to_string()));
+        words
+    }
+    let graph = |stages: Vec<Vec<String>>| -> Vec<String> { stages.concat() };
     // A "splitter" writing its two outputs by name, two "leaves", a "merger" reading
     // theirs by name.
-    let out = launch(&[
-        "split (node 1)",
-        &file,
-        "file:/dev/null",
-        "",
-        "",
-        "2",
-        "6",
-        "sh",
-        "-c",
-        "sed s/^/a/ > \"$1\"; echo b > \"$2\"; echo split: done >&2",
-        "sh",
-        "node-2",
-        "node-3",
-        "leaf 0",
-        "pipe:node-2",
-        "pipe:leaf-0",
-        "",
-        "",
-        "0",
-        "3",
-        "tr",
-        "a-z",
-        "A-Z",
-        "leaf 1",
-        "pipe:node-3",
-        "pipe:leaf-1",
-        "",
-        "",
-        "0",
-        "3",
-        "tr",
-        "a-z",
-        "A-Z",
-        "merge",
-        "file:/dev/null",
-        "-",
-        "",
-        "",
-        "2",
-        "6",
-        "sh",
-        "-c",
-        "cat \"$1\" \"$2\"; echo \"merge: $1 and $2 read\" >&2",
-        "sh",
-        "leaf-0",
-        "leaf-1",
-    ]);
+    let out = launch(&graph(vec![
+        stage(
+            "split (node 1)",
+            &file,
+            "file:/dev/null",
+            2,
+            r#"sed s/^/a/ > "$1"; echo b > "$2"; echo split: done >&2"#,
+            &["node-2", "node-3"],
+        ),
+        stage("leaf 0", "pipe:node-2", "pipe:leaf-0", 0, "tr a-z A-Z", &[]),
+        stage("leaf 1", "pipe:node-3", "pipe:leaf-1", 0, "tr a-z A-Z", &[]),
+        stage(
+            "merge",
+            "file:/dev/null",
+            "-",
+            2,
+            r#"cat "$1" "$2"; echo "merge: $1 and $2 read" >&2"#,
+            &["leaf-0", "leaf-1"],
+        ),
+    ]));
     assert_eq!(out.status.code(), Some(0), "{}", text(&out.stderr));
     assert_eq!(text(&out.stdout), "AONE\nATWO\nB\n");
     assert_eq!(
@@ -571,56 +562,34 @@ fn plan_launch_runs_a_graph_of_anonymous_pipes_and_names_its_failure() {
 
     // The first stage fails with a usage error: the downstream one's "input ends short"
     // is not shown, and the run exits 2 naming the cause.
-    let out = launch(&[
-        "viewxf",
-        &file,
-        "pipe:view",
-        "",
-        "",
-        "0",
-        "3",
-        "sh",
-        "-c",
-        "echo 'viewxf: bad option' >&2; exit 2",
-        "zbuf",
-        "pipe:view",
-        "-",
-        "",
-        "",
-        "0",
-        "3",
-        "sh",
-        "-c",
-        "cat; echo 'zbuf: input ends short' >&2; exit 1",
-    ]);
+    let out = launch(&graph(vec![
+        stage(
+            "viewxf",
+            &file,
+            "pipe:view",
+            0,
+            "echo 'viewxf: bad option' >&2; exit 2",
+            &[],
+        ),
+        stage(
+            "zbuf",
+            "pipe:view",
+            "-",
+            0,
+            "cat; echo 'zbuf: input ends short' >&2; exit 1",
+            &[],
+        ),
+    ]));
     assert_eq!(out.status.code(), Some(2));
     assert_eq!(
         text(&out.stderr),
         "viewxf: bad option\nrender.sh: viewxf failed (status 2)\n"
     );
     // A stage killed by a signal is the cause, wherever it is.
-    let out = launch(&[
-        "a",
-        &file,
-        "pipe:p",
-        "",
-        "",
-        "0",
-        "3",
-        "sh",
-        "-c",
-        "cat; exit 1",
-        "b",
-        "pipe:p",
-        "-",
-        "",
-        "",
-        "0",
-        "3",
-        "sh",
-        "-c",
-        "kill -KILL $$",
-    ]);
+    let out = launch(&graph(vec![
+        stage("a", &file, "pipe:p", 0, "cat; exit 1", &[]),
+        stage("b", "pipe:p", "-", 0, "kill -KILL $$", &[]),
+    ]));
     assert_eq!(out.status.code(), Some(1));
     assert!(
         text(&out.stderr).ends_with("render.sh: b failed (killed by SIGKILL)\n"),
@@ -628,7 +597,7 @@ fn plan_launch_runs_a_graph_of_anonymous_pipes_and_names_its_failure() {
         text(&out.stderr)
     );
     // A program that is not there.
-    let out = launch(&["a", &file, "-", "", "", "0", "1", "/nonexistent/stage"]);
+    let out = launch(&["a", &file, "-", "", "", "0", "1", "/nonexistent/stage"].map(String::from));
     assert_eq!(out.status.code(), Some(3));
     assert!(
         text(&out.stderr).starts_with("render.sh: a: cannot run /nonexistent/stage: "),
@@ -636,7 +605,7 @@ fn plan_launch_runs_a_graph_of_anonymous_pipes_and_names_its_failure() {
         text(&out.stderr)
     );
     // Not a graph: a channel with no writer.
-    let out = launch(&["a", "pipe:p", "-", "", "", "0", "1", "cat"]);
+    let out = launch(&["a", "pipe:p", "-", "", "", "0", "1", "cat"].map(String::from));
     assert_eq!(out.status.code(), Some(2));
     assert_eq!(text(&out.stderr), "plan: channel p: has no writer\n");
 }

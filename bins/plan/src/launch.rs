@@ -1007,61 +1007,36 @@ mod tests {
 
     #[test]
     fn a_graph_runs_and_its_failure_is_named() {
-        let sh = |label: &str, input: End, output: End, script: &str| Stage {
-            label: label.into(),
-            input,
-            output,
-            host: None,
-            argv: words(&["sh", "-c", script]),
-            pipes: 0,
+        // Stage a writes into a pipe that stage b reads; each a shell script.
+        let two = |a: &str, b: &str| {
+            let sh = |label: &str, input: End, output: End, script: &str| Stage {
+                label: label.into(),
+                input,
+                output,
+                host: None,
+                argv: words(&["sh", "-c", script]),
+                pipes: 0,
+            };
+            let null = || End::Path("/dev/null".into());
+            let pipe = || End::Pipe("p".into());
+            let stages = vec![sh("a", null(), pipe(), a), sh("b", pipe(), null(), b)];
+            run(stages, &Options::default(), "render.sh").unwrap()
         };
-        let ok = run(
-            vec![
-                sh(
-                    "a",
-                    End::Path("/dev/null".into()),
-                    End::Pipe("p".into()),
-                    "echo hi; echo a: said >&2",
-                ),
-                sh(
-                    "b",
-                    End::Pipe("p".into()),
-                    End::Path("/dev/null".into()),
-                    "cat >/dev/null; echo b: done >&2",
-                ),
-            ],
-            &Options::default(),
-            "render.sh",
-        )
-        .unwrap();
         assert_eq!(
-            ok,
+            two(
+                "echo hi; echo a: said >&2",
+                "cat >/dev/null; echo b: done >&2"
+            ),
             Outcome {
                 status: 0,
                 message: "a: said\nb: done\n".into()
             }
         );
-        let bad = run(
-            vec![
-                sh(
-                    "a",
-                    End::Path("/dev/null".into()),
-                    End::Pipe("p".into()),
-                    "echo a: bad >&2; exit 2",
-                ),
-                sh(
-                    "b",
-                    End::Pipe("p".into()),
-                    End::Path("/dev/null".into()),
-                    "cat >/dev/null; echo b: short >&2; exit 1",
-                ),
-            ],
-            &Options::default(),
-            "render.sh",
-        )
-        .unwrap();
         assert_eq!(
-            bad,
+            two(
+                "echo a: bad >&2; exit 2",
+                "cat >/dev/null; echo b: short >&2; exit 1"
+            ),
             Outcome {
                 status: 2,
                 message: "a: bad\nrender.sh: a failed (status 2)\n".into()
