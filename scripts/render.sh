@@ -70,6 +70,8 @@ Options:
                     batch of polygons (Theoharis & Page's DAP clipper); chain: the
                     thesis's six clipplane processes
   --stats           splitter nodes, scan converters and zbuf print counts on stderr
+  --times           after the run, each stage's CPU (user, system), its peak
+                    memory and when it ended, and their sums, on stderr
   -o PATTERN        zbuf writes one file per frame (e.g. frame%04d.png) instead
   --hosts H1,H2,…   run the tree on other hosts over ssh ($POLYPIPE_SSH HOST …,
                     default ssh), round-robin: each host a leaf, or a whole subtree
@@ -164,12 +166,13 @@ forward=()  # the options a host's render.sh gets with --by frames
 subtree=    # --subtree K: this is a host rendering node K's subtree for --hosts
 camera=() # viewxf's options, as given
 stats=()  # --stats, for the stages that count
+times=()  # --times, for the launcher
 feed=     # --depth auto's sample of a stream, fed to viewxf before the rest
 output=() # zbuf's -o PATTERN
 
 # The options that take a value (each also as --option=value), and those that do not.
 valued=" --size --depth --zmode --hse --aa --merge --clip -o --eye --at --up --s --d --hither --yon --hosts --by --remote-bin --subtree --chunk "
-flags=" -h --help --version --stats --pixels --hidden-line --split "
+flags=" -h --help --version --stats --times --pixels --hidden-line --split "
 
 parse_options() {
     local opt value
@@ -187,7 +190,7 @@ parse_options() {
         fi
         # With --by frames, the hosts' render.sh gets every option about the picture.
         case $opt in
-            --hosts | --by | --remote-bin | --chunk | -o | -h | --help | --version | [!-]* | -) ;;
+            --hosts | --by | --remote-bin | --chunk | -o | -h | --help | --version | --times | [!-]* | -) ;;
             *) forward+=("$opt"); [[ $valued != *" $opt "* ]] || forward+=("$value") ;;
         esac
         case $opt in
@@ -206,6 +209,7 @@ parse_options() {
             -o) output=(-o "$value") ;;
             --eye | --at | --up | --s | --d | --hither | --yon) camera+=("$opt" "$value") ;;
             --stats) stats=(--stats) ;;
+            --times) times=(--times) ;;
             --hosts) hosts_list=$value ;;
             --by) by=$value ;;
             --remote-bin) remote_bin=$value ;;
@@ -603,6 +607,7 @@ frames_on_hosts() {
     ((${#output[@]} == 0)) ||
         die_usage "-o is not available with --by frames: the frames come back on stdout"
     [[ -z $subtree ]] || die_usage "--subtree is a host's part of --by leaves: not with --by frames"
+    ((${#times[@]} == 0)) || die_usage "--times is the stages' here: not with --by frames"
     local list=$hosts_list
     hosts=()
     validate_options
@@ -644,7 +649,7 @@ main() {
     fi
     [[ $depth != auto ]] || choose_depth
     graph
-    local -a launch=(--depth "$depth")
+    local -a launch=(--depth "$depth" "${times[@]}")
     ((${#stats[@]} == 0 || ${#hosts[@]} == 0)) || launch+=(--links)
     [[ -z ${sample-} ]] || launch+=(--remove "$sample")
     exec "$bindir/plan" launch "${launch[@]}" -- "${spec[@]}"

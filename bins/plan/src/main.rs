@@ -78,6 +78,9 @@ enum Sub {
         /// Print the bytes each host's link carried, after the stages' counts.
         #[arg(long)]
         links: bool,
+        /// Print each stage's CPU, peak memory and end, and their sums, after them.
+        #[arg(long)]
+        times: bool,
         /// The name the messages start with.
         #[arg(long = "as", value_name = "NAME", default_value = "render.sh")]
         name: String,
@@ -187,11 +190,16 @@ fn main() -> ExitCode {
             Sub::Launch {
                 depth,
                 links,
+                times,
                 name,
                 remove,
                 stages,
             } => launch(
-                &plan::launch::Options { depth, links },
+                &plan::launch::Options {
+                    depth,
+                    links,
+                    times,
+                },
                 &name,
                 &remove,
                 &stages,

@@ -424,6 +424,75 @@ fn stats_name_each_node_and_leaf_and_add_up_to_the_linear_pipeline() {
     assert_eq!(18189 + 14313 + 7127, 50102 - 10473);
 }
 
+/// `--times`: after the stages' own words, a line a stage in the graph's order with its
+/// CPU (user and system), peak memory and end, then their sums; the frames the same.
+#[test]
+fn times_give_each_stage_its_cpu_and_memory_in_order() {
+    let scene = repo_root().join("examples/penetrating.txt");
+    let scene = scene.to_str().unwrap();
+    let out = render(&["--depth", "1", "--times", scene], b"");
+    assert!(out.status.success(), "{out:?}");
+    assert_eq!(out.stdout, render_ok(&["--depth", "1", scene], b""));
+    let err = String::from_utf8(out.stderr).unwrap();
+    let lines: Vec<&str> = err.lines().collect();
+    let labels: Vec<&str> = lines
+        .iter()
+        .map(|l| {
+            let l = l
+                .strip_prefix("render.sh: ")
+                .unwrap_or_else(|| panic!("{err}"));
+            l.split(": ").next().unwrap()
+        })
+        .collect();
+    assert_eq!(
+        labels,
+        [
+            "viewxf",
+            "clipbatch",
+            "splitter (node 1)",
+            "scanconv (leaf 1)",
+            "zbuf",
+            "5 stages"
+        ],
+        "{err}"
+    );
+    let number = |l: &str, before: &str| -> f64 {
+        let head = &l[..l.find(before).unwrap_or_else(|| panic!("{l}"))];
+        head.rsplit([' ', '(']).next().unwrap().parse().unwrap()
+    };
+    let ended = |l: &str| -> f64 {
+        let at = l.rsplit("ended at ").next().unwrap();
+        at.strip_suffix(" ms")
+            .unwrap_or_else(|| panic!("{l}"))
+            .parse()
+            .unwrap()
+    };
+    for l in &lines[..5] {
+        let (cpu, user, system) = (
+            number(l, " ms CPU"),
+            number(l, " user"),
+            number(l, " system"),
+        );
+        assert!((cpu - user - system).abs() < 0.11, "{l}");
+        assert!(number(l, " MB peak") > 0.5, "{l}");
+        assert!(ended(l) > 0.0 && ended(l) <= ended(lines[5]), "{err}");
+    }
+    let sum: f64 = lines[..5].iter().map(|l| number(l, " ms CPU")).sum();
+    assert!((number(lines[5], " ms CPU") - sum).abs() < 0.3, "{err}");
+    let peaks: f64 = lines[..5].iter().map(|l| number(l, " MB peak")).sum();
+    assert!(
+        (number(lines[5], " MB of peaks") - peaks).abs() < 0.3,
+        "{err}"
+    );
+    // Not with --by frames: the stages are the hosts'.
+    let out = render(&["--hosts", "a", "--by", "frames", "--times", scene], b"");
+    assert_eq!(out.status.code(), Some(2));
+    assert_eq!(
+        String::from_utf8_lossy(&out.stderr),
+        "render.sh: --times is the stages' here: not with --by frames\n"
+    );
+}
+
 #[test]
 fn a_failing_stage_is_named() {
     let out = render(
