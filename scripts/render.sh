@@ -3,7 +3,7 @@
 # wires channels (docs/DESIGN.md, "The splitter tree"; thesis chapter 6.3, CLIPPER/SPLITTER):
 #
 #   viewxf | clipbatch (the six planes; --clip chain: clipplane left | right | … | yon)
-#     depth 0:  | persp | zbuf (which scan-converts and resolves the one leaf itself)
+#     depth 0:  | zbuf --persp (which projects, scan-converts and resolves the one leaf)
 #     depth N:  | a binary tree of splitter nodes, N levels, each node computing its own
 #               plane from its number (`splitter --node K`); persp | scanconv --resolve
 #               (or --hse's method) on each of the 2^N leaves; one zbuf placing the
@@ -336,9 +336,10 @@ start() {
 
 # The clipper chain: viewxf and the six planes of the pyramid (chapter 3). The scene on
 # stdin (`-`) is read after --depth auto's sample of it through `plan relay`. Sets
-# `clipped`.
+# `clipped`: at depth 0 with the merger the leaf, the merger's input, `leaf-0`.
 start_clipper_chain() {
-    local in=$scene plane
+    local in=$scene plane out=clipped
+    if [[ $depth == 0 ]] && merger_is_leaf; then out='leaf-0'; fi
     if [[ -n $feed ]]; then
         start "plan relay" - pipe:feed "$bindir/plan" relay "$feed"
         in=pipe:feed
@@ -346,15 +347,16 @@ start_clipper_chain() {
     start viewxf "$in" pipe:view "$bindir/viewxf" --size "$size" "${camera[@]}"
     in=pipe:view
     if [[ $clip == batch ]]; then
-        start clipbatch "$in" pipe:clipped "$bindir/clipbatch"
-        clipped=pipe:clipped
+        start clipbatch "$in" "pipe:$out" "$bindir/clipbatch"
+        clipped=pipe:$out
         return
     fi
-    for plane in left right top bottom hither yon; do
+    for plane in left right top bottom hither; do
         start "clipplane $plane" "$in" "pipe:clip-$plane" "$bindir/clipplane" "$plane"
         in=pipe:clip-$plane
     done
-    clipped=$in
+    start "clipplane yon" "$in" "pipe:$out" "$bindir/clipplane" yon
+    clipped=pipe:$out
 }
 
 # The splitter tree (chapter 6.3): node K, numbered as a heap (root 1), reads input_of[K]
@@ -408,8 +410,6 @@ leaf_method() {
         method=(abuf)
     elif [[ $hse == zbuf ]]; then
         method=(scanconv --resolve)
-        # One leaf, here: its region is the screen, so the merger is the leaf.
-        if [[ $depth == 0 ]] && merger_is_leaf; then method=(zbuf); fi
     elif [[ $hse == painter ]]; then
         method=(painter "${split[@]}")
     else
@@ -420,9 +420,11 @@ leaf_method() {
 # merger_is_leaf: whether the merger resolves leaf 0 itself: zbuf reads screen-space
 # polygons and resolves them as `scanconv --resolve` does (the same code, scan's), into
 # its frame with no runs encoded, piped and decoded, and a process fewer. At depth 0 that
-# leaf is the whole screen; in a tree, the last level's first splitter writes leaf 0's
-# polygons, projected, straight to zbuf. Only for the leaves' point-sampled z-buffer with
-# --merge tiles, the leaves here (docs/performance.md, "The tree's depth").
+# leaf is the whole screen: zbuf reads the clipper's stream and projects it too (`zbuf
+# --persp`, persp's code), so that depth 0 is viewxf | clipbatch | zbuf. In a tree, the
+# last level's first splitter writes leaf 0's polygons, projected, straight to zbuf. Only
+# for the leaves' point-sampled z-buffer with --merge tiles, the leaves here
+# (docs/performance.md, "Start-up" and "The tree's depth").
 merger_is_leaf() {
     [[ $hse == zbuf && $aa == none && $merge == tiles && -z $subtree ]] && ((${#hosts[@]} == 0))
 }
@@ -432,10 +434,6 @@ merger_is_leaf() {
 start_leaf() {
     local leaf=$1 in=$2 out=$3 label=
     ((depth == 0)) || label=" (leaf $leaf)"
-    if [[ ${method[0]} == zbuf ]]; then # the merger resolves the leaf's polygons
-        start "persp$label" "$in" "$out" "$bindir/persp" --size "$size" --depth "$zmode"
-        return
-    fi
     if ((!projected)); then
         start "persp$label" "$in" "pipe:screen-$leaf" \
             "$bindir/persp" --size "$size" --depth "$zmode"
@@ -492,6 +490,8 @@ start_leaves() {
             start_leaf "$leaf" "${input_of[node]}" "$1"
         elif [[ ${input_of[node]} == pipe:leaf-0 ]]; then
             fragments+=(pipe:leaf-0) # the merger's own (merger_is_leaf)
+            # At depth 0 the clipper's eye-space stream: the merger projects it too.
+            ((depth > 0)) || to_screen=(--persp "$zmode" --size "$size")
         else
             fragments+=("pipe:leaf-$leaf")
             start_leaf "$leaf" "${input_of[node]}" "pipe:leaf-$leaf"
@@ -504,7 +504,7 @@ start_leaves() {
 start_graph() {
     local top=${subtree:-1}
     input_of=([top]=$clipped)
-    fragments=()
+    fragments=() to_screen=()
     if ((${#hosts[@]})); then
         start_tree 1 $((1 << $(host_level)))
         start_subtrees
@@ -530,7 +530,7 @@ start_merger() {
     local relay=()
     [[ -z $subtree ]] || relay=(--runs) # a subtree's runs go on to the merger above
     npipes=${#fragments[@]} start zbuf /dev/null - "$bindir/zbuf" "${relay[@]}" "${stats[@]}" \
-        "${output[@]}" "${fragments[@]}"
+        "${to_screen[@]}" "${output[@]}" "${fragments[@]}"
 }
 
 # --depth auto: the depth the cost model predicts fastest (thesis 5.2 and 6.4, with this

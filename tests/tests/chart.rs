@@ -156,10 +156,10 @@ fn quick_chart_of_a_small_scene_makes_its_files_with_real_values() {
         );
         assert_eq!(r["polygons_in_view"], "2");
     }
-    // Each level adds processes: 4 at depth 0 (viewxf, clipbatch, persp, zbuf resolving
-    // the one leaf), 2 + 15 + 15 + 1 at depth 4 (the last level of splitters projecting,
-    // the leaves one process each, zbuf resolving leaf 0 itself).
-    assert_eq!(rows[0]["processes"], "4");
+    // Each level adds processes: 3 at depth 0 (viewxf, clipbatch, zbuf projecting and
+    // resolving the one leaf), 2 + 15 + 15 + 1 at depth 4 (the last level of splitters
+    // projecting, the leaves one process each, zbuf resolving leaf 0 itself).
+    assert_eq!(rows[0]["processes"], "3");
     assert_eq!(rows[4]["processes"], "33");
 
     // The machine had no calibration: the chart made one first, and kept it.

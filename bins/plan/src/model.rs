@@ -172,8 +172,9 @@ pub struct Constants {
     pub hse: Cost,
     /// The merger, zbuf, placing the leaves' runs and writing the frames.
     pub merge: Cost,
-    /// zbuf resolving the one leaf itself at depth 0 (`persp | zbuf`): the leaf's
-    /// z-buffer and the frames, in one process, with no runs between them.
+    /// zbuf resolving the one leaf itself at depth 0 (`zbuf --persp`, its projection
+    /// counted at persp's cost): the leaf's z-buffer and the frames, in one process,
+    /// with no runs between them.
     pub resolve: Cost,
 }
 
@@ -471,10 +472,15 @@ pub fn predict_on(k: &Constants, env: &Environment, depth: u8, target: &Target) 
     // each.
     let mut leaf_stages = Vec::new();
     if depth == 0 && host_level.is_none() {
-        // One leaf, whose region is the screen: render.sh runs `persp | zbuf`, zbuf
-        // resolving the leaf and writing the frames in one process.
-        stages.push(one("persp", k.persp.time(&leaf)));
-        stages.push(one("hse", k.resolve.time(&leaf)));
+        // One leaf, whose region is the screen: render.sh runs `zbuf --persp`, zbuf
+        // projecting the clipper's stream (at persp's cost), resolving the leaf and
+        // writing the frames in one process; the thesis's figures keep persp's process.
+        if k.persp_at_leaves {
+            stages.push(one("persp", k.persp.time(&leaf)));
+            stages.push(one("hse", k.resolve.time(&leaf)));
+        } else {
+            stages.push(one("hse", k.persp.time(&leaf) + k.resolve.time(&leaf)));
+        }
     } else {
         let leaf_costs: &[(&'static str, &Cost)] = if projected {
             &[("hse", &k.hse)]
@@ -835,8 +841,8 @@ mod tests {
         let e = env(10_000, 1920, 1080, 10.0);
         let p0 = predict(&k, &e, 0, 2);
         let p2 = predict(&k, &e, 2, 2);
-        // viewxf, clipbatch, persp, zbuf (resolving the leaf).
-        assert_eq!(p0.processes, 4);
+        // viewxf, clipbatch, zbuf (projecting and resolving the leaf).
+        assert_eq!(p0.processes, 3);
         // viewxf, clipbatch, 3 splitters (the last level projecting), 3 leaves, zbuf
         // (resolving leaf 0 itself).
         assert_eq!(p2.processes, 2 + 3 + 3 + 1);
@@ -860,8 +866,13 @@ mod tests {
         // emptied here); a leaf of depth 2 a quarter of those in view and of the screen.
         let w = stage_work(&e, false);
         assert_eq!(w.flowing.polygons, 20_000.0);
-        // At depth 0 zbuf resolves the one leaf itself, at its own cost.
-        assert_eq!(hse(&p0).each_s, k.resolve.time(&w.flowing));
+        // At depth 0 zbuf projects and resolves the one leaf itself, at persp's cost and
+        // its own.
+        assert_eq!(
+            hse(&p0).each_s,
+            k.persp.time(&w.flowing) + k.resolve.time(&w.flowing)
+        );
+        assert!(p0.stages.iter().all(|s| s.stage != "persp"));
         assert!(p0.stages.iter().all(|s| s.stage != "merge"));
         let quarter = w.relevant.share(4.0);
         assert_eq!(

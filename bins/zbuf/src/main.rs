@@ -15,12 +15,14 @@ use zbuf::{parse_colour, FramePattern, ImageFormat};
 /// plain P3 with --text) when every input has finished it: frames concatenated on
 /// stdout, or one file per frame. An input may also be a screen-space polygon stream
 /// (persp's output): zbuf then scan-converts and depth-tests it itself, as
-/// `scanconv --resolve` would, and places the result (render.sh --depth 0 runs
-/// `persp | zbuf`).
+/// `scanconv --resolve` would, and places the result; with --persp, an eye-space one
+/// (the clipper's output), projected here as persp would (render.sh --depth 0 runs
+/// `clipbatch | zbuf --persp reciprocal --size WxH`).
 ///
 /// Examples:
 ///   persp --size 500x500 < eye.pp | scanconv | zbuf > frame.ppm
 ///   persp --size 500x500 < eye.pp | zbuf > frame.ppm
+///   zbuf --persp reciprocal --size 500x500 < eye.pp > frame.ppm
 ///   zbuf --background 20,20,40 -o frame%04d.png left.frag right.frag
 ///   scene spheres --frames 100 | viewxf | clipplane left | ... | clipplane yon \
 ///     | persp --size 500x500 | scanconv | zbuf --progress -o frame%03d.png
@@ -49,6 +51,13 @@ struct Args {
     /// polygons read and the pixels tested), on stderr at the end.
     #[arg(long)]
     stats: bool,
+    /// Project eye-space inputs to a --size screen with this depth (persp's --depth) and
+    /// resolve them here: persp's work, without its process.
+    #[arg(long, value_enum, value_name = "MODE", requires = "size")]
+    persp: Option<stagecli::DepthArg>,
+    /// The screen's size in pixels, `WxH`, for --persp.
+    #[arg(long, value_parser = proto::camera::parse_size, value_name = "WxH", requires = "persp")]
+    size: Option<(u32, u32)>,
     /// Show frames done and frames per second on stderr while rendering; does nothing
     /// when stderr is not a terminal (redirected to a file or a pipe).
     #[arg(long)]
@@ -91,11 +100,20 @@ fn main() -> ExitCode {
     stagecli::main("zbuf", |args: Args| {
         let (pattern, names) = plan(&args)?;
         let form = args.text.form();
+        let to_screen = match (args.persp, args.size) {
+            (Some(depth), Some((width, height))) => Some(zbuf::par_buff::ToScreen {
+                width,
+                height,
+                depth: depth.into(),
+            }),
+            _ => None,
+        };
         let mut inputs: Vec<Input> = names
             .iter()
             .map(|name| {
                 let path = name.clone();
                 Input {
+                    to_screen,
                     name: stagecli::input_name(name).to_string(),
                     // par_buff names the input in every message about it.
                     open: Box::new(move || Ok(stagecli::stream::open(&path)?)),

@@ -35,6 +35,73 @@ pub type Opener = Box<dyn FnOnce() -> Result<Box<dyn Read + Send>> + Send>;
 pub struct Input {
     pub name: String,
     pub open: Opener,
+    /// With `zbuf --persp`: an eye-space input is projected to this screen, as persp
+    /// would, and resolved here ([`ToScreen`]).
+    pub to_screen: Option<ToScreen>,
+}
+
+/// persp's work done in zbuf's reader (`zbuf --persp MODE --size WxH`): an eye-space input
+/// (the clipper's output) is projected polygon by polygon with the same code and to the
+/// same numbers as persp ([`proto::perspective::Perspective`]), and then resolved as a
+/// screen-space input is. render.sh's depth 0 runs `clipbatch | zbuf --persp …` so: a
+/// process and a pipe's copy of the stream fewer (docs/performance.md, "Start-up").
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct ToScreen {
+    pub width: u32,
+    pub height: u32,
+    pub depth: proto::perspective::DepthMode,
+}
+
+/// A polygon stream zbuf resolves itself: its screen, its attributes (a projected stream's
+/// as persp would write them), and the projection, for an eye-space one.
+struct Resolvable {
+    width: u32,
+    height: u32,
+    attributes: Attributes,
+    perspective: Option<proto::perspective::Perspective>,
+}
+
+impl Resolvable {
+    /// A screen-space stream as it is, or an eye-space one projected to `to_screen`.
+    fn of<R: Read>(reader: &Reader<Token, R>, to_screen: Option<ToScreen>) -> Result<Resolvable> {
+        let header = reader.header();
+        match (header.space, to_screen) {
+            (proto::Space::Eye(view), Some(t)) => {
+                // A view volume persp cannot map (from the stream's header) is bad input.
+                let perspective =
+                    proto::perspective::Perspective::new(t.width, t.height, view, t.depth)
+                        .map_err(Error::data)?;
+                Ok(Resolvable {
+                    width: t.width,
+                    height: t.height,
+                    attributes: perspective.screen_header(header).attributes,
+                    perspective: Some(perspective),
+                })
+            }
+            _ => {
+                let (width, height) = screen_of(reader, "screen-space")?;
+                Ok(Resolvable {
+                    width,
+                    height,
+                    attributes: header.attributes,
+                    perspective: None,
+                })
+            }
+        }
+    }
+
+    /// The polygon to the screen, as persp refuses or projects it (a no-op for a
+    /// screen-space stream).
+    fn project<R: Read>(&self, poly: &mut proto::Polygon, reader: &Reader<Token, R>) -> Result<()> {
+        let Some(perspective) = &self.perspective else {
+            return Ok(());
+        };
+        perspective
+            .project_polygon(poly)
+            .map_err(|e| e.reason)
+            .and_then(|()| stagecli::check_finite_after(poly, "the perspective division"))
+            .map_err(|m| Error::data(format!("{}: {m}", reader.position())))
+    }
 }
 
 /// What an input delivered, for `--stats`.
@@ -142,7 +209,10 @@ pub fn par_buff(
         let spare = Arc::clone(&spare);
         std::thread::Builder::new()
             .name(format!("zbuf-in-{id}"))
-            .spawn(move || read_input(id, input.open, counter, ToBuffer { tx, spare }, wait))
+            .spawn(move || {
+                let to = ToBuffer { tx, spare };
+                read_input(id, input.open, input.to_screen, counter, to, wait)
+            })
             .map_err(|e| Error::io(format!("cannot start a reader thread: {e}")))?;
         states.push(InputState {
             name: input.name,
@@ -346,7 +416,14 @@ fn apply(
 
 /// A reader thread: decodes one input and sends it on in batches, waiting at each
 /// NEXT.FRAME for the frame to be shown. Ends quietly if the buffer thread has gone.
-fn read_input(input: usize, open: Opener, bytes: Arc<AtomicU64>, to: ToBuffer, wait: Receiver<()>) {
+fn read_input(
+    input: usize,
+    open: Opener,
+    to_screen: Option<ToScreen>,
+    bytes: Arc<AtomicU64>,
+    to: ToBuffer,
+    wait: Receiver<()>,
+) {
     let result = (|| -> Result<()> {
         let counted = Counted {
             inner: open()?,
@@ -355,7 +432,10 @@ fn read_input(input: usize, open: Opener, bytes: Arc<AtomicU64>, to: ToBuffer, w
         let mut reader = Reader::<Fragment, _>::new(counted)?;
         match SpaceKind::of(&reader.header().space) {
             SpaceKind::Fragments => {}
-            SpaceKind::Screen => return resolve_input(input, reader.into_kind(), &to, &wait),
+            SpaceKind::Screen => return resolve_input(input, reader.into_kind(), None, &to, &wait),
+            SpaceKind::Eye if to_screen.is_some() => {
+                return resolve_input(input, reader.into_kind(), to_screen, &to, &wait)
+            }
             other => {
                 let first = if other == SpaceKind::Eye {
                     "persp"
@@ -544,7 +624,8 @@ fn warn_rounding(watch: &mut Option<QuantumWatch>, frame: u64) -> u64 {
 }
 
 /// [`par_buff`] for one input. When the input is a screen-space polygon stream (the
-/// whole screen's one leaf, as render.sh runs `persp | zbuf` at depth 0) its polygons are
+/// whole screen's one leaf, as render.sh runs `zbuf --persp` at depth 0; an eye-space
+/// one with [`Input::to_screen`], projected first) its polygons are
 /// resolved in this thread and each frame painted straight into the frame buffer
 /// ([`RegionBuffer::finish_into`]): no runs, no reader thread, no batches. Any other
 /// input goes to [`par_buff`]. The header is recognised from the input's first bytes,
@@ -563,9 +644,14 @@ pub fn one_input(
     // The first bytes, read until they hold a whole header (a pipe may deliver it in
     // pieces), or 64 KiB, or the end; then handed on ahead of the rest.
     let mut head = Vec::new();
+    let to_screen = input.to_screen;
     let screen = loop {
         if let Ok(r) = Reader::<Token, _>::new(&head[..]) {
-            break SpaceKind::of(&r.header().space) == SpaceKind::Screen;
+            break match SpaceKind::of(&r.header().space) {
+                SpaceKind::Screen => true,
+                SpaceKind::Eye => to_screen.is_some(),
+                _ => false,
+            };
         }
         if head.len() >= 1 << 16 {
             break false;
@@ -583,13 +669,14 @@ pub fn one_input(
         let rest = Input {
             name: input.name,
             open: Box::new(move || Ok(Box::new(buffered) as Box<dyn Read + Send>)),
+            to_screen,
         };
         return par_buff(vec![rest], background, on_frame);
     }
     let mut reader =
         Reader::<Token, _>::new(buffered).map_err(|e| Error::from(e).context(&name))?;
-    let (width, height) = screen_of(&reader, "screen-space").map_err(|e| e.context(&name))?;
-    let attributes = reader.header().attributes;
+    let stream = Resolvable::of(&reader, to_screen).map_err(|e| e.context(&name))?;
+    let (width, height, attributes) = (stream.width, stream.height, stream.attributes);
     // The frame buffer is made as the header is read, as par_buff makes it at the first
     // header: a screen too large to hold is refused at once, with what it needs, rather
     // than after its first frame has been scan-converted (tens of seconds and gigabytes
@@ -612,6 +699,9 @@ pub fn one_input(
             let mut record = Token::default();
             let mut frame = 0u64;
             while reader.next_into(&mut record)? {
+                if let Token::Polygon(p) = &mut record {
+                    stream.project(p, &reader)?;
+                }
                 match &record {
                     Token::Polygon(p) => {
                         scan.resolve(&mut region, p, &reader)?;
@@ -678,7 +768,7 @@ pub fn one_input(
 /// reader thread scan-converts its polygons into a [`RegionBuffer`], the leaf's z-buffer
 /// (docs/DESIGN.md, "Leaves resolve visibility"), and at each frame's end sends the finished
 /// pixels on as runs, as `scanconv --resolve` would have written them, without encoding
-/// them for a pipe and decoding them again. `render.sh --depth 0` runs `persp | zbuf` so.
+/// them for a pipe and decoding them again. A tree's merger resolves leaf 0 so.
 ///
 /// Such an input sends nothing until a frame is resolved, so it need not wait for the
 /// go-ahead before it reads the next frame's polygons, only before it sends that frame:
@@ -686,11 +776,12 @@ pub fn one_input(
 fn resolve_input<R: Read>(
     input: usize,
     mut reader: Reader<Token, R>,
+    to_screen: Option<ToScreen>,
     to: &ToBuffer,
     wait: &Receiver<()>,
 ) -> Result<()> {
-    let (width, height) = screen_of(&reader, "screen-space")?;
-    let attributes = reader.header().attributes;
+    let stream = Resolvable::of(&reader, to_screen)?;
+    let (width, height, attributes) = (stream.width, stream.height, stream.attributes);
     if !send_header(&to.tx, input, (width, height), &attributes) {
         return Ok(());
     }
@@ -703,6 +794,9 @@ fn resolve_input<R: Read>(
     let mut waiting = false; // for the go-ahead after the last frame sent
     let (mut frame, mut rounding_decided) = (0u64, 0u64);
     while reader.next_into(&mut record)? {
+        if let Token::Polygon(p) = &mut record {
+            stream.project(p, &reader)?;
+        }
         let end = match &record {
             Token::Polygon(p) => {
                 scan.resolve(&mut region, p, &reader)?;
@@ -759,6 +853,7 @@ mod tests {
     /// An input that reads a string.
     fn text_input(name: &str, text: String) -> Input {
         Input {
+            to_screen: None,
             name: name.into(),
             open: Box::new(
                 move || Ok(Box::new(std::io::Cursor::new(text)) as Box<dyn Read + Send>),

@@ -401,6 +401,89 @@ fn a_screen_space_input_is_resolved_here() {
         .stderr("zbuf: stdin: 2 polygons in, 10 pixels tested, 10 written\n");
 }
 
+/// `--persp MODE --size WxH`: an eye-space input (the clipper's output) is projected here
+/// as persp projects it (proto's `Perspective`, the same code) and resolved: the frame
+/// zbuf makes of the projected stream, alone or beside another input; a polygon persp
+/// would refuse is refused, named by its place; --persp and --size go together.
+#[test]
+fn an_eye_space_input_is_projected_with_persp() {
+    use proto::perspective::{DepthMode, Perspective};
+    let eye = "polypipe 1 eye aspect 1 hither 1 yon 30\n\
+               colour 255 0 0\n-2 -2 10 10\n2 -2 10 10\n0 2 10 10\nNEXT.POLYGON\n\
+               colour 0 0 255\n-3 -1 12 12\n3 -1 14 14\n3 1 14 14\n-3 1 12 12\n\
+               NEXT.FRAME\ncolour 0 255 0\n-1 -1 5 5\n1 -1 5 5\n0 1 5 5\nEND\n";
+    // What persp writes for it, made with the code persp uses.
+    let mut input = Reader::<Token, _>::new(eye.as_bytes()).unwrap();
+    let Space::Eye(view) = input.header().space else {
+        panic!("eye")
+    };
+    let perspective = Perspective::new(8, 8, view, DepthMode::Reciprocal).unwrap();
+    let mut screen = Writer::<Token, _>::new(
+        Vec::new(),
+        perspective.screen_header(input.header()),
+        Form::Binary,
+    )
+    .unwrap();
+    while let Some(mut t) = input.next_record().unwrap() {
+        if let Token::Polygon(p) = &mut t {
+            perspective.project_polygon(p).unwrap();
+        }
+        screen.write(&t).unwrap();
+    }
+    let screen = screen.into_inner().unwrap();
+    let want = zbuf()
+        .write_stdin(screen.clone())
+        .assert()
+        .success()
+        .get_output()
+        .stdout
+        .clone();
+    assert_eq!(want.len(), 2 * (11 + 8 * 8 * 3), "two 8x8 frames");
+    zbuf()
+        .args(["--persp", "reciprocal", "--size", "8x8"])
+        .write_stdin(eye)
+        .assert()
+        .success()
+        .stdout(want.clone());
+    // Beside another input (threads and the merger's buffer): the projected stream twice.
+    let dir = tempfile::tempdir().unwrap();
+    let screen_file = write(dir.path(), "screen", &screen);
+    zbuf()
+        .args(["--persp", "reciprocal", "--size", "8x8", "-"])
+        .arg(&screen_file)
+        .write_stdin(eye)
+        .assert()
+        .success()
+        .stdout(want);
+    // A vertex persp cannot project (w lost: in front by z_e, yet w = 0).
+    let bad =
+        "polypipe 1 eye aspect 1 hither 1 yon 30\ncolour 1 2 3\n0 0 5 5\n1 0 5 5\n0 1 5 0\nEND\n";
+    let out = zbuf()
+        .args(["--persp", "reciprocal", "--size", "8x8"])
+        .write_stdin(bad)
+        .assert()
+        .code(1)
+        .get_output()
+        .stderr
+        .clone();
+    let err = String::from_utf8(out).unwrap();
+    assert!(
+        err.starts_with("zbuf: stdin: frame 0, polygon 0: vertex 2 (0 1 5 0) has w = 0")
+            && err.lines().count() == 1,
+        "{err}"
+    );
+    zbuf()
+        .args(["--persp", "reciprocal"])
+        .write_stdin(eye)
+        .assert()
+        .code(2);
+    zbuf()
+        .args(["--size", "8x8"])
+        .write_stdin(eye)
+        .assert()
+        .code(2);
+}
+
 /// Two screen-space inputs, a frame each of two, over disjoint halves of the screen (two
 /// leaves of a splitter tree): each is resolved on its own and the frames assembled.
 #[test]
