@@ -18,8 +18,8 @@
 //!    every stage, and it exits 130, 143 or 129.
 //!
 //! Nothing goes to disk: no private folder, no named pipes, no stderr files, so nothing
-//! is left behind however the run ends; a launcher killed outright leaves its stages
-//! with pipes whose other ends are gone, and they end. Before it, the script did all
+//! is left behind however the run ends; a launcher killed outright takes its stages with
+//! it (each is started with `PR_SET_PDEATHSIG`). Before it, the script did all
 //! this itself with a folder of named pipes and `wait -n`: about 8 ms of a small
 //! render's 17 on the 2-core machine this was measured on (docs/performance.md,
 //! "Start-up").
@@ -452,9 +452,9 @@ fn pipe() -> std::io::Result<(OwnedFd, OwnedFd)> {
     Ok(unsafe { (OwnedFd::from_raw_fd(fds[0]), OwnedFd::from_raw_fd(fds[1])) })
 }
 
-/// Every descriptor this process inherited above stderr (render.sh's copies of its
-/// stdin, a folder keeper's pipe) closed on exec: a stage must hold only its own ends,
-/// or a pipe would never see its end.
+/// Every descriptor this process inherited above stderr (bash's own, a copy of the
+/// script's stdin) closed on exec: a stage must hold only its own ends, or a pipe would
+/// never see its end.
 fn cloexec_inherited() {
     let Ok(dir) = std::fs::read_dir("/proc/self/fd") else {
         return;
@@ -483,9 +483,7 @@ fn signal_set() -> libc::sigset_t {
 struct Running {
     stages: Vec<Stage>,
     pids: Vec<Option<libc::pid_t>>,
-    /// How each stage exited, as the shell numbers it ([`shell_status`]).
-    status: Vec<Option<i32>>,
-    /// And as it was: a host's ssh exiting 255 is not a signal.
+    /// How each stage exited, once it has.
     exits: Vec<Option<ExitStatus>>,
     /// What each cost, as it exited.
     costs: Vec<Cost>,
@@ -500,8 +498,14 @@ impl Running {
     fn all_exited(&self) -> bool {
         self.pids
             .iter()
-            .zip(&self.status)
-            .all(|(p, s)| p.is_none() || s.is_some())
+            .zip(&self.exits)
+            .all(|(p, e)| p.is_none() || e.is_some())
+    }
+
+    /// How each stage exited, as the shell numbers it ([`shell_status`]); `None` for one
+    /// still running.
+    fn statuses(&self) -> Vec<Option<i32>> {
+        self.exits.iter().map(|e| e.map(shell_status)).collect()
     }
 
     /// Waits up to `timeout` (or for ever) for a stderr to speak or a signal; reads what
@@ -595,7 +599,7 @@ impl Running {
             if now >= until {
                 self.signal_running(libc::SIGKILL);
                 for i in 0..self.pids.len() {
-                    if let (Some(pid), None) = (self.pids[i], self.status[i]) {
+                    if let (Some(pid), None) = (self.pids[i], self.exits[i]) {
                         let mut st = 0;
                         // SAFETY: waits for our own child, writing its status.
                         if unsafe { libc::waitpid(pid, &mut st, 0) } == pid {
@@ -631,13 +635,11 @@ impl Running {
     }
 
     fn exited(&mut self, i: usize, wait_status: i32) {
-        let e = ExitStatus::from_raw(wait_status);
-        self.status[i] = Some(shell_status(e));
-        self.exits[i] = Some(e);
+        self.exits[i] = Some(ExitStatus::from_raw(wait_status));
     }
 
     fn signal_running(&self, sig: i32) {
-        for (pid, st) in self.pids.iter().zip(&self.status) {
+        for (pid, st) in self.pids.iter().zip(&self.exits) {
             if let (Some(pid), None) = (pid, st) {
                 // SAFETY: kill sends a signal to our own child; nothing else is touched.
                 unsafe { libc::kill(*pid, sig) };
@@ -720,7 +722,6 @@ pub fn run(stages: Vec<Stage>, options: &Options, me: &str) -> Result<Outcome, S
     }
     let mut run = Running {
         pids: vec![None; n],
-        status: vec![None; n],
         exits: vec![None; n],
         costs: vec![Cost::default(); n],
         started: Instant::now(),
@@ -803,7 +804,7 @@ pub fn run(stages: Vec<Stage>, options: &Options, me: &str) -> Result<Outcome, S
     let mut failed_at: Option<Instant> = None;
     const SETTLE: Duration = Duration::from_millis(100);
     loop {
-        if failed_at.is_none() && run.status.iter().any(|s| matches!(s, Some(st) if *st != 0)) {
+        if failed_at.is_none() && run.exits.iter().flatten().any(|e| !e.success()) {
             failed_at = Some(Instant::now());
         }
         let timeout = match failed_at {
@@ -828,10 +829,11 @@ pub fn run(stages: Vec<Stage>, options: &Options, me: &str) -> Result<Outcome, S
         }
     }
 
-    let Some(c) = failed_at.and_then(|_| cause(&run.status)) else {
-        let mut message: String = (0..n).map(|i| run.labelled(i)).collect();
+    let statuses = run.statuses();
+    let Some(c) = failed_at.and_then(|_| cause(&statuses)) else {
+        let said: Vec<String> = (0..n).map(|i| run.labelled(i)).collect();
+        let mut message = said.concat();
         if options.links {
-            let said: Vec<String> = (0..n).map(|i| run.labelled(i)).collect();
             message.push_str(&links(&run.stages, &said, options.depth));
         }
         if options.times {
@@ -840,7 +842,8 @@ pub fn run(stages: Vec<Stage>, options: &Options, me: &str) -> Result<Outcome, S
         return Ok(Outcome { status: 0, message });
     };
     run.stop_all();
-    let st = run.status[c].unwrap_or(0);
+    let statuses = run.statuses();
+    let st = statuses[c].unwrap_or(0);
     let said = run.labelled(c);
     let stage = &run.stages[c];
     if stage.host.is_none() {
@@ -856,7 +859,7 @@ pub fn run(stages: Vec<Stage>, options: &Options, me: &str) -> Result<Outcome, S
                 return Ok(fail(format!(
                     "{me}: host {host} ({}): sent back nothing ({} from its command)\n",
                     what_node(node, options.depth),
-                    describe(run.status[h].unwrap_or(0))
+                    describe(statuses[h].unwrap_or(0))
                 )));
             }
         }
