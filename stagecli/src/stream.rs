@@ -284,6 +284,17 @@ pub fn check_finite_after(poly: &Polygon, doing: &str) -> std::result::Result<()
     })
 }
 
+/// persp's work on one polygon, for a stage that does it without persp's process (the
+/// tree's last splitters, `zbuf --persp`): projected to the screen, or refused as persp
+/// refuses it, a vertex at or behind the eye or a number the division made too large.
+pub fn project_to_screen(
+    perspective: &proto::perspective::Perspective,
+    poly: &mut Polygon,
+) -> std::result::Result<(), String> {
+    perspective.project_polygon(poly).map_err(|e| e.reason)?;
+    check_finite_after(poly, "the perspective division")
+}
+
 /// Checks that a polygon about to be written has only finite numbers (vertices, plane,
 /// edge supports): a stage never passes on an infinity or a NaN of its own making, so
 /// that the stage at fault, not the next one, refuses. The message names the vertex.

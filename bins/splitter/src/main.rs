@@ -190,7 +190,7 @@ fn main() -> ExitCode {
                             if piece.vertices.len() < Lean::MIN_VERTICES {
                                 continue;
                             }
-                            project(perspective, piece)
+                            stagecli::stream::project_to_screen(perspective, piece)
                                 .map_err(|m| Error::data(format!("{}: {m}", reader.position())))?;
                         }
                     }
@@ -223,11 +223,4 @@ fn main() -> ExitCode {
         out1.flush()?;
         out2.flush()
     })
-}
-
-/// A piece to the screen, refused as persp refuses it: a vertex at or behind the eye, or
-/// a projection that is not a finite number.
-fn project(perspective: &Perspective, piece: &mut Polygon) -> Result<(), String> {
-    perspective.project_polygon(piece).map_err(|e| e.reason)?;
-    stagecli::check_finite_after(piece, "the perspective division")
 }

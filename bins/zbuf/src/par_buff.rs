@@ -96,10 +96,7 @@ impl Resolvable {
         let Some(perspective) = &self.perspective else {
             return Ok(());
         };
-        perspective
-            .project_polygon(poly)
-            .map_err(|e| e.reason)
-            .and_then(|()| stagecli::check_finite_after(poly, "the perspective division"))
+        stagecli::stream::project_to_screen(perspective, poly)
             .map_err(|m| Error::data(format!("{}: {m}", reader.position())))
     }
 }
