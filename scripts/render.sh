@@ -656,22 +656,13 @@ main() {
 }
 
 # The stages, from the scene (or, for --subtree K, the stream into node K on stdin) to
-# the frames on stdout. `front` is the clipper chain, which sets `clipped`; `back` all
-# after it.
+# the frames on stdout: the clipper chain, which sets `clipped`, then all after it.
 graph() {
-    front
-    back
-}
-
-front() {
     if [[ -n $subtree ]]; then
         clipped=- # the stream into node K
     else
         start_clipper_chain
     fi
-}
-
-back() {
     if ((hidden_line)); then
         start_hidden_line
     else

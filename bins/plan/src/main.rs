@@ -1,6 +1,7 @@
 //! plan: the command line of the cost model — `render.sh --depth auto`'s planner
 //! (`plan depth`), the calibration (`plan calibrate`), the thesis's figures (`plan
-//! thesis`), and the sample of a scene on stdin (`plan sample`, `plan relay`).
+//! thesis`), the sample of a scene on stdin (`plan sample`, `plan relay`), and the
+//! launcher that runs render.sh's stages (`plan launch`).
 
 use anyhow::{Context, Result};
 use clap::{Parser, Subcommand};
