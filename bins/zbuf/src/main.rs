@@ -177,7 +177,7 @@ fn main() -> ExitCode {
         let stats = if inputs.len() == 1 && !args.runs {
             zbuf::par_buff::one_input(inputs.remove(0), args.background, on_frame)
         } else {
-            par_buff(inputs, args.background, on_frame)
+            par_buff(inputs, args.background, args.runs, on_frame)
         };
         // Leave the last count on the terminal, its line ended (also after an error, so
         // that the message starts a line of its own).

@@ -144,11 +144,13 @@ enum Message {
         fragments: Vec<Fragment>,
     },
     /// The input reached NEXT.FRAME (`end == false`, and now waits) or END; a
-    /// screen-space input resolved here says what it has done so far.
+    /// screen-space input resolved here says what it has done so far, and hands over the
+    /// frame's finished region, to be placed once every input has finished the frame.
     Boundary {
         input: usize,
         end: bool,
         resolved: Option<Resolved>,
+        region: Option<Box<RegionBuffer>>,
     },
     /// The input failed; the error says where.
     Failed { input: usize, error: Error },
@@ -179,15 +181,21 @@ struct InputState {
     stats: InputStats,
     /// Bytes its reader thread has read.
     bytes: Arc<AtomicU64>,
+    /// A screen-space input resolved here: its frame's finished region, until the frame
+    /// is complete, and the way back to its reader thread, for the frame after next.
+    region: Option<Box<RegionBuffer>>,
+    regions_back: Sender<Box<RegionBuffer>>,
 }
 
 /// Runs PAR.BUFF over `inputs`: `on_frame(k, buffer)` is called as soon as frame k is
 /// complete on every input. Returns each input's counts once every input has reached END.
 /// An error names the input it came from; frames completed before it have been handed to
-/// `on_frame`.
+/// `on_frame`. `list_runs`: the frames are passed on as their runs (`zbuf --runs`,
+/// [`FrameBuffer::runs`]), so the region of an input resolved here is placed run by run.
 pub fn par_buff(
     inputs: Vec<Input>,
     background: Colour,
+    list_runs: bool,
     mut on_frame: impl FnMut(u64, &FrameBuffer) -> Result<()>,
 ) -> Result<Vec<InputStats>> {
     if inputs.is_empty() {
@@ -200,6 +208,7 @@ pub fn par_buff(
     let mut states = Vec::with_capacity(n);
     for (id, input) in inputs.into_iter().enumerate() {
         let (go_ahead, wait) = channel();
+        let (regions_back, regions) = channel();
         let tx = to_buffer.clone();
         let bytes = Arc::new(AtomicU64::new(0));
         let counter = Arc::clone(&bytes);
@@ -208,7 +217,7 @@ pub fn par_buff(
             .name(format!("zbuf-in-{id}"))
             .spawn(move || {
                 let to = ToBuffer { tx, spare };
-                read_input(id, input.open, input.to_screen, counter, to, wait)
+                read_input(id, input.open, input.to_screen, counter, to, wait, regions)
             })
             .map_err(|e| Error::io(format!("cannot start a reader thread: {e}")))?;
         states.push(InputState {
@@ -221,6 +230,8 @@ pub fn par_buff(
             lighting: None,
             stats: InputStats::default(),
             bytes,
+            region: None,
+            regions_back,
         });
     }
     drop(to_buffer);
@@ -282,11 +293,13 @@ pub fn par_buff(
                 input,
                 end,
                 resolved,
+                region,
             } => {
                 states[input].at = if end { At::End } else { At::NextFrame };
                 if resolved.is_some() {
                     states[input].stats.resolved = resolved;
                 }
+                states[input].region = region;
                 at_boundary += 1;
                 if at_boundary < n {
                     continue;
@@ -296,6 +309,15 @@ pub fn par_buff(
                 let fb = fb
                     .as_mut()
                     .ok_or_else(|| Error::data("a frame before a header"))?;
+                // The regions resolved here, placed as their runs would have been: they
+                // are final, whatever else came for their pixels.
+                for s in &mut states {
+                    if let Some(mut region) = s.region.take() {
+                        fb.place(&mut region, list_runs);
+                        // A reader gone (its input failed) reports that through the channel.
+                        let _ = s.regions_back.send(region);
+                    }
+                }
                 warn_rounding(&mut watch, frame);
                 on_frame(frame, fb)?;
                 let ended = states.iter().filter(|s| s.at == At::End).count();
@@ -420,6 +442,7 @@ fn read_input(
     bytes: Arc<AtomicU64>,
     to: ToBuffer,
     wait: Receiver<()>,
+    regions: Receiver<Box<RegionBuffer>>,
 ) {
     let result = (|| -> Result<()> {
         let counted = Counted {
@@ -429,9 +452,11 @@ fn read_input(
         let mut reader = Reader::<Fragment, _>::new(counted)?;
         match SpaceKind::of(&reader.header().space) {
             SpaceKind::Fragments => {}
-            SpaceKind::Screen => return resolve_input(input, reader.into_kind(), None, &to, &wait),
+            SpaceKind::Screen => {
+                return resolve_input(input, reader.into_kind(), None, &to, &wait, &regions)
+            }
             SpaceKind::Eye if to_screen.is_some() => {
-                return resolve_input(input, reader.into_kind(), to_screen, &to, &wait)
+                return resolve_input(input, reader.into_kind(), to_screen, &to, &wait, &regions)
             }
             other => {
                 let first = if other == SpaceKind::Eye {
@@ -496,6 +521,7 @@ fn read_input(
                         input,
                         end,
                         resolved: None,
+                        region: None,
                     }) || end
                     {
                         return Ok(());
@@ -668,7 +694,7 @@ pub fn one_input(
             open: Box::new(move || Ok(Box::new(buffered) as Box<dyn Read + Send>)),
             to_screen,
         };
-        return par_buff(vec![rest], background, on_frame);
+        return par_buff(vec![rest], background, false, on_frame);
     }
     let mut reader =
         Reader::<Token, _>::new(buffered).map_err(|e| Error::from(e).context(&name))?;
@@ -763,41 +789,50 @@ pub fn one_input(
 
 /// A screen-space input (persp's output) is a leaf's and its merger's work at once: the
 /// reader thread scan-converts its polygons into a [`RegionBuffer`], the leaf's z-buffer
-/// (docs/DESIGN.md, "Leaves resolve visibility"), and at each frame's end sends the finished
-/// pixels on as runs, as `scanconv --resolve` would have written them, without encoding
-/// them for a pipe and decoding them again. A tree's merger resolves leaf 0 so.
+/// (docs/DESIGN.md, "Leaves resolve visibility"), and at each frame's end hands the region
+/// itself to the buffer thread, which places its finished pixels once the frame is complete
+/// ([`FrameBuffer::place`]): what `scanconv --resolve` would have sent as runs, neither made
+/// into runs nor taken apart again. A tree's merger resolves leaf 0 so.
 ///
-/// Such an input sends nothing until a frame is resolved, so it need not wait for the
-/// go-ahead before it reads the next frame's polygons, only before it sends that frame:
-/// the next frame is scan-converted while the buffer thread shows this one.
+/// Two regions go round: the buffer thread gives each back once placed, and the reader
+/// resolves the next frame in the other (made when a second frame comes). Such an input
+/// sends nothing until a frame is resolved, so it need not wait for the go-ahead before it
+/// reads the next frame's polygons, only before it sends that frame: the next frame is
+/// scan-converted while the buffer thread shows this one.
 fn resolve_input<R: Read>(
     input: usize,
     mut reader: Reader<Token, R>,
     to_screen: Option<ToScreen>,
     to: &ToBuffer,
     wait: &Receiver<()>,
+    regions: &Receiver<Box<RegionBuffer>>,
 ) -> Result<()> {
     let stream = Resolvable::of(&reader, to_screen)?;
     let (width, height, attributes) = (stream.width, stream.height, stream.attributes);
     if !send_header(&to.tx, input, (width, height), &attributes) {
         return Ok(());
     }
-    let send = |m| to.tx.send(m).is_ok();
     let mut scan = LeafScan::new(&attributes, width, height);
-    let mut region = RegionBuffer::new(width, height);
-    let mut polygons = 0u64;
+    // This frame's region: the first made now, the next taken when the frame's first
+    // polygon comes (one given back, or a new one).
+    let mut region = Some(Box::new(RegionBuffer::new(width, height)));
+    let mut counts = Resolved::default();
     let mut record = Token::default();
-    let mut batch = Vec::with_capacity(BATCH);
     let mut waiting = false; // for the go-ahead after the last frame sent
-    let (mut frame, mut rounding_decided) = (0u64, 0u64);
+    let mut frame = 0u64;
     while reader.next_into(&mut record)? {
         if let Token::Polygon(p) = &mut record {
             stream.project(p, &reader)?;
         }
         let end = match &record {
             Token::Polygon(p) => {
-                scan.resolve(&mut region, p, &reader)?;
-                polygons += 1;
+                let r = region.get_or_insert_with(|| {
+                    regions
+                        .try_recv()
+                        .unwrap_or_else(|_| Box::new(RegionBuffer::new(width, height)))
+                });
+                scan.resolve(r, p, &reader)?;
+                counts.polygons += 1;
                 continue;
             }
             // A skip carries nothing a leaf needs: the order of the polygons it gets
@@ -806,7 +841,7 @@ fn resolve_input<R: Read>(
             Token::NextFrame => false,
             Token::End => true,
         };
-        rounding_decided += warn_rounding(&mut scan.watch, frame);
+        counts.rounding_decided += warn_rounding(&mut scan.watch, frame);
         frame += 1;
         // Nothing of a frame is sent before the buffer thread has shown the frame
         // before it (its go-ahead); the polygons of this frame were resolved meanwhile.
@@ -814,28 +849,18 @@ fn resolve_input<R: Read>(
             return Ok(());
         }
         waiting = true;
-        let sent = region.finish_frame(|run| {
-            batch.push(run.into());
-            if batch.len() == BATCH && !to.send_batch(input, &mut batch) {
-                return Err(());
-            }
-            Ok(())
-        });
-        if sent.is_err() || (!batch.is_empty() && !to.send_batch(input, &mut batch)) {
-            return Ok(());
+        if let Some(r) = &mut region {
+            let stats = std::mem::take(&mut r.stats);
+            counts.pixels_tested += stats.pixels_tested;
+            counts.pixels_written += stats.pixels_written;
         }
-        let resolved = Some(Resolved {
-            polygons,
-            pixels_tested: region.stats.pixels_tested,
-            pixels_written: region.stats.pixels_written,
-            rounding_decided,
-        });
-        if !send(Message::Boundary {
+        let sent = to.tx.send(Message::Boundary {
             input,
             end,
-            resolved,
-        }) || end
-        {
+            resolved: Some(counts),
+            region: region.take(),
+        });
+        if sent.is_err() || end {
             return Ok(());
         }
     }
@@ -861,7 +886,7 @@ mod tests {
     /// Runs PAR.BUFF and returns every frame's RGB bytes.
     fn frames(inputs: Vec<Input>) -> Result<Vec<Vec<u8>>> {
         let mut out = vec![];
-        par_buff(inputs, [0, 0, 0], |_, fb| {
+        par_buff(inputs, [0, 0, 0], false, |_, fb| {
             out.push(fb.rgb().to_vec());
             Ok(())
         })?;
