@@ -145,6 +145,17 @@ impl<T: ZeroIsDefault> Slab<T> {
     }
 }
 
+/// Where the runs of a tile row start: bit i is set where cell i differs from cell i − 1,
+/// and bit 0 always.
+#[inline]
+fn run_starts(line: &[u32; TILE as usize]) -> u64 {
+    let mut starts = 1u64;
+    for i in 1..TILE as usize {
+        starts |= u64::from(line[i] != line[i - 1]) << i;
+    }
+    starts
+}
+
 /// Finished pixels `x0..x1` (end exclusive) of row `y`, all of one colour.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct Run {
@@ -502,20 +513,28 @@ impl RegionBuffer {
                 let mut open: Option<Run> = None;
                 for &(tx, s) in &row_tiles {
                     let base = (r << SHIFT) as usize;
-                    let line = &self.colour.tile(s)[base..base + TILE as usize];
+                    let Some(line) = self.colour.tile(s)[base..].first_chunk::<{ TILE as usize }>()
+                    else {
+                        unreachable!("a tile holds TILE rows of TILE cells")
+                    };
                     let left = tx * TILE;
-                    let mut i = 0usize;
-                    while i < line.len() {
-                        let p = line[i];
+                    // The row's runs by where they start: bit i set where cell i differs
+                    // from cell i − 1 (and at cell 0). Made a whole tile row at a time, as
+                    // vector compares, rather than cell by cell along each run.
+                    let mut starts = run_starts(line);
+                    while starts != 0 {
+                        let start = starts.trailing_zeros() as usize;
+                        starts &= starts - 1;
+                        let end = if starts == 0 {
+                            TILE as usize
+                        } else {
+                            starts.trailing_zeros() as usize
+                        };
+                        let p = line[start];
                         if p == 0 {
-                            i += 1;
                             continue;
                         }
-                        let start = i;
-                        while i < line.len() && line[i] == p {
-                            i += 1;
-                        }
-                        let (x0, x1, colour) = (left + start as u32, left + i as u32, unpack(p));
+                        let (x0, x1, colour) = (left + start as u32, left + end as u32, unpack(p));
                         match &mut open {
                             Some(run) if run.x1 == x0 && run.colour == colour => run.x1 = x1,
                             _ => {
