@@ -363,6 +363,12 @@ start_clipper_chain() {
 # and writes input_of[2K] and input_of[2K+1]; nodes 2^depth .. 2^(depth+1) − 1 are the
 # leaves' inputs. Each node works out its own plane and --stats label from K.
 #
+# The nodes run two levels to a process (`splitter --node K --levels 2`, node K and its
+# two children, writing its four grandchildren's streams), the levels paired from the
+# bottom, so that an odd count leaves the top level's nodes alone: the same streams out,
+# with a process and a stream's encoding and decoding fewer a pair (docs/performance.md,
+# "The tree's depth"). Depth 2 is one splitter; depth 3 the root and two pairs.
+#
 # start_tree ROOT BELOW [leaves]: the splitters of ROOT's subtree numbered below BELOW
 # (2^depth for the whole tree; less when subtrees go to other hosts), reading
 # input_of[ROOT]. Sets `frontier` to the nodes their outputs feed: the leaves' inputs, or
@@ -370,27 +376,35 @@ start_clipper_chain() {
 # outputs to the screen (`splitter --persp`), as a persp at each leaf would: a process a
 # leaf fewer (docs/performance.md, "The tree's depth"); `projected` says so.
 start_tree() {
-    local root=$1 below=$2 first n node a b
-    local -a to_screen=()
+    local root=$1 below=$2 first n node levels=0 group span k out label
+    local -a to_screen=() outputs=()
     projected=0
-    for ((first = root, n = 1; first < below; first *= 2, n *= 2)); do
-        if [[ ${3-} == leaves ]] && ((2 * first >= below)); then
+    for ((first = root; first < below; first *= 2)); do levels=$((levels + 1)); done
+    for ((first = root, n = 1; first < below; first *= group, n *= group)); do
+        # This group of levels: one level if an odd number are left, else two.
+        span=$((levels % 2 ? 1 : 2)) levels=$((levels - span)) group=$((1 << span))
+        if [[ ${3-} == leaves ]] && ((first * group >= below)); then
             to_screen=(--persp "$zmode")
             projected=1
         fi
         for ((node = first; node < first + n; node++)); do
-            a=$((2 * node)) b=$((2 * node + 1))
-            input_of[a]=pipe:node-$a input_of[b]=pipe:node-$b
-            local -a outputs=("${input_of[a]}" "${input_of[b]}")
-            local into=/dev/null named=2
-            if ((projected && a == 1 << depth)) && merger_is_leaf; then
-                # Leaf 0's polygons go to the merger, which resolves them itself: the
-                # first output is the splitter's stdout.
-                input_of[a]=pipe:leaf-0 outputs=(- "${input_of[b]}") into=pipe:leaf-0 named=1
-            fi
-            npipes=$named start "splitter (node $node)" \
+            outputs=()
+            local into=/dev/null named=$group
+            for ((k = node * group; k < (node + 1) * group; k++)); do
+                input_of[k]=pipe:node-$k
+                out=${input_of[k]}
+                if ((projected && k == 1 << depth)) && merger_is_leaf; then
+                    # Leaf 0's polygons go to the merger, which resolves them itself:
+                    # that output is the splitter's stdout.
+                    input_of[k]=pipe:leaf-0 out=- into=pipe:leaf-0 named=$((group - 1))
+                fi
+                outputs+=("$out")
+            done
+            label="node $node"
+            ((span == 1)) || label+=", $span levels"
+            npipes=$named start "splitter ($label)" \
                 "${input_of[node]}" "$into" "$bindir/splitter" "${stats[@]}" --node "$node" \
-                --depth "$depth" --size "$size" "${to_screen[@]}" "${outputs[@]}"
+                --depth "$depth" --levels "$span" --size "$size" "${to_screen[@]}" "${outputs[@]}"
         done
     done
     frontier=()

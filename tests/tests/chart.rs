@@ -157,10 +157,11 @@ fn quick_chart_of_a_small_scene_makes_its_files_with_real_values() {
         assert_eq!(r["polygons_in_view"], "2");
     }
     // Each level adds processes: 3 at depth 0 (viewxf, clipbatch, zbuf projecting and
-    // resolving the one leaf), 2 + 15 + 15 + 1 at depth 4 (the last level of splitters
-    // projecting, the leaves one process each, zbuf resolving leaf 0 itself).
+    // resolving the one leaf), 2 + 5 + 15 + 1 at depth 4 (the 15 splitter nodes two
+    // levels to a process, the last projecting, the leaves one process each, zbuf
+    // resolving leaf 0 itself).
     assert_eq!(rows[0]["processes"], "3");
-    assert_eq!(rows[4]["processes"], "33");
+    assert_eq!(rows[4]["processes"], "23");
 
     // The machine had no calibration: the chart made one first, and kept it.
     let kept = std::fs::read_to_string(d.join("cache/polypipe/model.toml")).unwrap();

@@ -25,9 +25,10 @@
 //! X·Y/2^N pixels. The pipeline's time is that of its slowest stage, as the thesis
 //! reasons ("the rate of flow through a pipeline is only as large as the smallest rate of
 //! flow over all its stages") — when each stage has a processor of its own. With C cores
-//! for its 2 + (2^N − 1) + (2^N − 1) + 1 processes (the clipper chain, the splitters, the
-//! leaves but the one the merger resolves, the merger), it can be no faster than all their work
-//! shared among the cores either (starting each process is part of that work); so the
+//! for its processes (the clipper chain; the splitters, the 2^N − 1 nodes two levels to a
+//! process, [`splitter_groups`]; the 2^N leaves but the one the merger resolves; the
+//! merger), it can be no faster than all their work shared among the cores either
+//! (starting each process is part of that work); so the
 //! time is the larger of the two, plus what the script costs before the first stage
 //! starts ([`Overheads`]). On a machine already loaded by other programs, each process
 //! runs at its fair share of a core and the render's processes get their share of the
@@ -456,16 +457,8 @@ pub fn predict_on(k: &Constants, env: &Environment, depth: u8, target: &Target) 
             0.0
         };
         let node_s = |l: u8| k.splitter.time(&node(l)) + if l + 1 == depth { project } else { 0.0 };
-        let total: f64 = (0..here_levels)
-            .map(|l| (1u64 << l) as f64 * node_s(l))
-            .sum();
         if here_levels > 0 {
-            stages.push(StageTime {
-                stage: "splitter",
-                each_s: node_s(0).max(node_s(here_levels - 1)),
-                processes: (1usize << here_levels) - 1,
-                total_s: total,
-            });
+            stages.push(splitter_stage(k, 0, here_levels, node_s));
         }
     }
     // The leaves' part: persp (unless projected above) and the hidden-surface stage on
@@ -519,16 +512,16 @@ pub fn predict_on(k: &Constants, env: &Environment, depth: u8, target: &Target) 
             // reads and sends back crosses its link while it works.
             let subtrees = 1usize << level;
             let per_host = subtrees.div_ceil(h.count.max(1)) as f64;
-            let lower: f64 = (level..depth)
-                .map(|l| (1u64 << l) as f64 * k.splitter.time(&node(l)))
-                .sum();
+            let below = (level < depth)
+                .then(|| splitter_stage(k, level, depth, |l| k.splitter.time(&node(l))));
+            let lower = below.as_ref().map_or(0.0, |s| s.total_s);
             let leaves_work: f64 = leaf_stages.iter().map(|s| s.total_s).sum();
             let relay = k.merge.time(&merge_work.share(subtrees as f64));
             let share = (lower + leaves_work) / subtrees as f64 + relay;
             let slowest_there = leaf_stages
                 .iter()
                 .map(|s| s.each_s)
-                .chain((level..depth).map(|l| k.splitter.time(&node(l))))
+                .chain(below.as_ref().map(|s| s.each_s))
                 .fold(relay, f64::max);
             let compute = (share * per_host / h.cores.max(1) as f64).max(slowest_there);
             let into = relevant.share(subtrees as f64);
@@ -566,6 +559,43 @@ pub fn predict_on(k: &Constants, env: &Environment, depth: u8, target: &Target) 
         overhead_s,
         processes,
         link_s,
+    }
+}
+
+/// How render.sh runs `levels` levels of a tree, top to bottom: the levels of each group
+/// one process a node of its top level (`splitter --levels`), two levels to a group,
+/// paired from the bottom, so that an odd count leaves the top level alone.
+pub fn splitter_groups(levels: u8) -> Vec<u8> {
+    let mut groups = vec![2; usize::from(levels / 2)];
+    if levels % 2 == 1 {
+        groups.insert(0, 1);
+    }
+    groups
+}
+
+/// The splitter processes of levels `top..bottom` of a tree, grouped as render.sh runs them
+/// ([`splitter_groups`]), where a node of level l costs `node_s(l)` as a process of its
+/// own: a process for a group's top node does the work of the nodes below it in the
+/// group too, but starts once (one [`Cost::process`] for all of them).
+fn splitter_stage(k: &Constants, top: u8, bottom: u8, node_s: impl Fn(u8) -> f64) -> StageTime {
+    let (mut each_s, mut processes, mut total_s) = (0.0f64, 0usize, 0.0);
+    let mut level = top;
+    for span in splitter_groups(bottom - top) {
+        let process_s = (0..span)
+            .map(|j| (1u64 << j) as f64 * node_s(level + j))
+            .sum::<f64>()
+            - ((1u64 << span) - 2) as f64 * k.splitter.process;
+        let nodes = 1usize << level;
+        each_s = each_s.max(process_s);
+        processes += nodes;
+        total_s += nodes as f64 * process_s;
+        level += span;
+    }
+    StageTime {
+        stage: "splitter",
+        each_s,
+        processes,
+        total_s,
     }
 }
 
@@ -843,11 +873,12 @@ mod tests {
         let p2 = predict(&k, &e, 2, 2);
         // viewxf, clipbatch, zbuf (projecting and resolving the leaf).
         assert_eq!(p0.processes, 3);
-        // viewxf, clipbatch, 3 splitters (the last level projecting), 3 leaves, zbuf
-        // (resolving leaf 0 itself).
-        assert_eq!(p2.processes, 2 + 3 + 3 + 1);
+        // viewxf, clipbatch, one splitter for the 3 nodes (the last level projecting), 3
+        // leaves, zbuf (resolving leaf 0 itself).
+        assert_eq!(p2.processes, 2 + 1 + 3 + 1);
         assert!(p2.stages.iter().all(|s| s.stage != "persp"));
-        // The two splitters of the last level project their leaves' streams.
+        // The two nodes of the last level project their leaves' streams; the three nodes
+        // are one process, started once.
         let splitter = p2.stages.iter().find(|s| s.stage == "splitter").unwrap();
         let leaf_work = |l: u8| {
             let mut w = stage_work(&e, false).relevant.share((1u64 << l) as f64);
@@ -856,11 +887,13 @@ mod tests {
             w
         };
         let expected = k.splitter.time(&stage_work(&e, false).flowing)
-            + 2.0 * (k.splitter.time(&leaf_work(1)) + 2.0 * k.persp.time(&leaf_work(2)));
+            + 2.0 * (k.splitter.time(&leaf_work(1)) + 2.0 * k.persp.time(&leaf_work(2)))
+            - 2.0 * k.splitter.process;
         assert!(
             (splitter.total_s - expected).abs() < 1e-12 * expected,
             "{splitter:?}"
         );
+        assert_eq!((splitter.processes, splitter.each_s), (1, splitter.total_s));
         let hse = |p: &Prediction| p.stages.iter().find(|s| s.stage == "hse").unwrap().clone();
         // At depth 0 the leaf reads every polygon the clipper passes on (half of them
         // emptied here); a leaf of depth 2 a quarter of those in view and of the screen.
@@ -948,19 +981,40 @@ mod tests {
     }
 
     #[test]
+    fn splitter_levels_are_paired_from_the_bottom_as_render_sh_runs_them() {
+        assert_eq!(splitter_groups(0), Vec::<u8>::new());
+        assert_eq!(splitter_groups(1), [1]);
+        assert_eq!(splitter_groups(2), [2]);
+        assert_eq!(splitter_groups(3), [1, 2]);
+        assert_eq!(splitter_groups(6), [2, 2, 2]);
+        // Depth 3: the root alone, then nodes 2 and 3 with their children; depth 5: 1 + 2
+        // + 8 processes for the 31 nodes.
+        let k = constants();
+        let node_s = |l: u8| 1.0 + f64::from(l);
+        let d3 = splitter_stage(&k, 0, 3, node_s);
+        assert_eq!(d3.processes, 3);
+        assert_eq!(splitter_stage(&k, 0, 5, node_s).processes, 11);
+        // Each of nodes 2 and 3's processes: its own node (2 s) and its two children (3 s
+        // each), one start fewer than three processes.
+        let pair = 2.0 + 2.0 * 3.0 - 2.0 * k.splitter.process;
+        assert_eq!(d3.each_s, pair.max(1.0));
+        assert!((d3.total_s - (1.0 + 2.0 * pair)).abs() < 1e-12, "{d3:?}");
+    }
+
+    #[test]
     fn starting_processes_is_work_shared_by_the_cores() {
         let mut k = constants();
         k.overheads.process = 0.01;
         let e = env(1, 500, 500, 0.01);
         let p1 = predict(&k, &e, 4, 1);
         let p2 = predict(&k, &e, 4, 2);
-        // 33 processes' starts (viewxf, clipbatch, 15 splitters, 15 leaves, zbuf resolving
-        // the sixteenth): 0.33 s on one core, 0.165 s on two, after the script's (and the
-        // stages' own 0.05 s of work, halved too).
-        assert_eq!(p1.processes, 33);
+        // 23 processes' starts (viewxf, clipbatch, 5 splitters for the 15 nodes, levels
+        // paired, 15 leaves, zbuf resolving the sixteenth): 0.23 s on one core, 0.115 s on
+        // two, after the script's (and the stages' own 0.05 s of work, halved too).
+        assert_eq!(p1.processes, 23);
         let gain = p1.total_s - p2.total_s;
-        assert!(gain > 0.165 && gain < 0.215, "{p1:?} {p2:?}");
-        assert!(p2.total_s > k.overheads.script + 0.165);
+        assert!(gain > 0.115 && gain < 0.165, "{p1:?} {p2:?}");
+        assert!(p2.total_s > k.overheads.script + 0.115);
     }
 
     #[test]

@@ -288,6 +288,102 @@ pub fn split(poly: &Polygon, plane: &Plane, out1: &mut Polygon, out2: &mut Polyg
     }
 }
 
+/// Node K of a splitter tree and the nodes below it, `levels` levels deep, split in one
+/// process (`splitter --node K --levels L`): what that many levels of nodes, each a
+/// process, would send their leaves, byte for byte, without encoding the streams between
+/// them, decoding them again or starting a process per node.
+///
+/// Each level splits the pieces of the level above with [`split`], as a node of its own
+/// would; a piece of fewer than [`Lean::MIN_VERTICES`] vertices is emptied before it goes
+/// on, as the lean stream between two processes would have skipped it, so that the level
+/// below sees what a node process would have read.
+#[derive(Debug, Default)]
+pub struct Subtree {
+    /// The nodes' planes, level by level: level j's 2^j nodes, left to right.
+    planes: Vec<Vec<Plane>>,
+    /// The pieces of each level, reused from polygon to polygon: level j's nodes' outputs,
+    /// 2^(j+1) of them, node i's two at 2i and 2i + 1.
+    pieces: Vec<Vec<Polygon>>,
+    /// Each node's counts, level by level as `planes`.
+    pub stats: Vec<Vec<Stats>>,
+}
+
+impl Subtree {
+    /// The subtree whose nodes split about `planes`, level by level (level j has 2^j).
+    ///
+    /// # Panics
+    ///
+    /// When a level does not have twice the nodes of the one above.
+    pub fn new(planes: Vec<Vec<Plane>>) -> Self {
+        for (j, level) in planes.iter().enumerate() {
+            assert_eq!(
+                level.len(),
+                1 << j,
+                "level {j} of a subtree has 2^{j} nodes"
+            );
+        }
+        Subtree {
+            pieces: (0..planes.len())
+                .map(|j| vec![Polygon::default(); 2 << j])
+                .collect(),
+            stats: planes
+                .iter()
+                .map(|l| vec![Stats::default(); l.len()])
+                .collect(),
+            planes,
+        }
+    }
+
+    /// The number of levels.
+    pub fn levels(&self) -> usize {
+        self.planes.len()
+    }
+
+    /// Splits `poly` down every level; the last level's pieces are the outputs, 2^levels
+    /// of them, left to right ([`Subtree::outputs`]).
+    pub fn split(&mut self, poly: &Polygon) {
+        for j in 0..self.planes.len() {
+            let (above, below) = self.pieces.split_at_mut(j);
+            let out = &mut below[0];
+            for (i, plane) in self.planes[j].iter().enumerate() {
+                let input = match above.last() {
+                    Some(level) => &level[i],
+                    None => poly,
+                };
+                let [out1, out2] = &mut out[2 * i..2 * i + 2] else {
+                    unreachable!("level j has two pieces a node")
+                };
+                split(input, plane, out1, out2);
+                self.stats[j][i].record(out1, out2);
+            }
+            if j + 1 < self.planes.len() {
+                for piece in out.iter_mut() {
+                    if piece.vertices.len() < Lean::MIN_VERTICES {
+                        piece.vertices.clear();
+                    }
+                }
+            }
+        }
+    }
+
+    /// Every piece the last [`Subtree::split`] made, level by level (for checks on them).
+    pub fn pieces(&self) -> impl Iterator<Item = &Polygon> {
+        self.pieces.iter().flatten()
+    }
+
+    /// The last level's pieces: the subtree's outputs, left to right.
+    pub fn outputs(&mut self) -> &mut [Polygon] {
+        self.pieces.last_mut().map_or(&mut [], |l| l.as_mut_slice())
+    }
+
+    /// Counts `n` polygons that arrived as a `skip n` at every node.
+    pub fn skipped(&mut self, n: u32) {
+        for s in self.stats.iter_mut().flatten() {
+            s.skipped(n);
+        }
+    }
+}
+
 /// The split's walk round the polygon's edges; `SHADED`: with its vertex colours.
 #[inline]
 fn walk<const SHADED: bool>(poly: &Polygon, plane: &Plane, out1: &mut Polygon, out2: &mut Polygon) {

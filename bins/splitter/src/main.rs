@@ -3,8 +3,8 @@
 
 use clap::Parser;
 use proto::perspective::Perspective;
-use proto::{Polygon, Space, SpaceKind, Token};
-use splitter::{split, Lean, SplitPlane, Stats, Tree};
+use proto::{Space, SpaceKind, Token};
+use splitter::{Lean, SplitPlane, Subtree, Tree};
 use stagecli::{Branch, DepthArg, Error, TextFlag};
 use std::process::ExitCode;
 
@@ -21,12 +21,18 @@ use std::process::ExitCode;
 /// With `--persp MODE` the two outputs are projected to the screen, as `persp --size WxH
 /// --depth MODE` after each would project them: what render.sh asks of the tree's last
 /// level, whose outputs are the leaves', so that a leaf needs no persp process of its own.
+///
+/// With `--levels L` the process is node K and the nodes below it, L levels deep: the
+/// outputs are the streams of the 2^L nodes L levels below K, left to right, the bytes
+/// that many levels of node processes would send them, without the processes or the
+/// streams between them. render.sh runs its trees two levels to a process.
 #[derive(Parser, Debug)]
 #[command(
     name = "splitter",
     version,
     override_usage = "splitter [OPTIONS] PLANE OUT1 OUT2\n       \
         splitter [OPTIONS] --node K --depth N --size WxH OUT1 OUT2\n       \
+        splitter [OPTIONS] --node K --depth N --levels L --size WxH OUT1 … OUT(2^L)\n       \
         splitter [OPTIONS] --plane a,b,c,d,k OUT1 OUT2",
     after_help = "Examples:\n  \
         mkfifo left right\n  \
@@ -34,12 +40,13 @@ use std::process::ExitCode;
         splitter y=0.5 low - < eye.txt --text      # the upper part to stdout\n  \
         splitter --node 2 --depth 2 --size 500x500 a b  # node 2 of render.sh --depth 2\n  \
         splitter --plane 1,0,0,-0.5,0 a b < eye.txt  # x_e - 0.5 w >= 0 to a\n  \
-        splitter --node 2 --depth 2 --size 500x500 --persp reciprocal a b  # to the leaves"
+        splitter --node 2 --depth 2 --size 500x500 --persp reciprocal a b  # to the leaves\n  \
+        splitter --node 1 --depth 2 --levels 2 --size 500x500 a b c d  # nodes 1, 2 and 3"
 )]
 struct Cli {
     /// `x=K` or `y=K` (K in [-1, 1]), then OUT1 and OUT2; with --plane or --node, only
-    /// OUT1 OUT2.
-    #[arg(value_name = "ARGS", num_args = 2..=3, required = true)]
+    /// OUT1 OUT2; with --levels L, the 2^L outputs.
+    #[arg(value_name = "ARGS", num_args = 2.., required = true)]
     args: Vec<String>,
     /// A general plane a·x_e + b·y_e + c·z_e + d·w + k = 0, as `a,b,c,d,k`; OUT1 gets
     /// the side where it is ≥ 0.
@@ -53,6 +60,10 @@ struct Cli {
     /// The tree's depth, for --node: nodes 1 to 2^N − 1 split.
     #[arg(long, value_name = "N", requires = "node")]
     depth: Option<u32>,
+    /// For --node: node K and the nodes below it, L levels deep, in this one process
+    /// (default 1: node K alone); the outputs are those of the level L below K's.
+    #[arg(long, value_name = "L", requires = "node", default_value_t = 1)]
+    levels: u32,
     /// The screen's size in pixels, for --node and --persp.
     #[arg(long, value_name = "WxH")]
     size: Option<String>,
@@ -67,10 +78,15 @@ struct Cli {
     stats: bool,
 }
 
+/// The nodes a process is, level by level (level j has 2^j), each with its number in
+/// the tree (with --node) for its --stats label.
+type Nodes = Vec<Vec<(SplitPlane, Option<u32>)>>;
+
 /// What the arguments ask, checked before any input is read.
 struct Plan {
-    split_plane: SplitPlane,
-    outputs: [String; 2],
+    nodes: Nodes,
+    /// The outputs, left to right: two per node of the last level.
+    outputs: Vec<String>,
     /// The screen's size (--size), in pixels.
     size: Option<(u32, u32)>,
 }
@@ -86,70 +102,118 @@ fn plan(cli: &Cli) -> Result<Plan, Error> {
     if size.is_some() && cli.node.is_none() && cli.persp.is_none() {
         return Err(Error::usage("--size is for --node or --persp"));
     }
-    let tree_plane = match (cli.node, size) {
-        (Some(node), Some((width, height))) => {
-            Tree::check_node(node, cli.depth.unwrap_or_default()).map_err(Error::usage)?;
-            Some(Tree { width, height }.plane(node))
-        }
+    let tree_nodes = match (cli.node, size) {
+        (Some(node), Some((width, height))) => Some(subtree(
+            Tree { width, height },
+            node,
+            cli.depth.unwrap_or_default(),
+            cli.levels,
+        )?),
         _ => None,
     };
-    let (plane, outputs) = match (&cli.plane, cli.args.as_slice()) {
-        (None, [out1, out2]) if tree_plane.is_some() => (
-            tree_plane.ok_or_else(String::new),
-            [out1.clone(), out2.clone()],
-        ),
-        (None, _) if tree_plane.is_some() => {
-            return Err(Error::usage("with --node, give only OUT1 and OUT2"))
+    let one = |plane: Result<SplitPlane, String>| -> Result<_, Error> {
+        Ok(vec![vec![(plane.map_err(Error::usage)?, None)]])
+    };
+    let (nodes, outputs) = match (&cli.plane, cli.args.as_slice(), tree_nodes) {
+        (None, args, Some(nodes)) if args.len() == 2 << (nodes.len() - 1) => (nodes, args.to_vec()),
+        (None, args, Some(nodes)) => {
+            return Err(Error::usage(if nodes.len() == 1 {
+                "with --node, give only OUT1 and OUT2".to_string()
+            } else {
+                format!(
+                    "with --node and --levels {}, give the {} outputs, left to right ({} given)",
+                    nodes.len(),
+                    2 << (nodes.len() - 1),
+                    args.len()
+                )
+            }))
         }
-        (Some(general), [out1, out2]) => (
-            SplitPlane::parse_general(general).map_err(|m| format!("--plane {general}: {m}")),
-            [out1.clone(), out2.clone()],
+        (Some(general), [out1, out2], None) => (
+            one(SplitPlane::parse_general(general).map_err(|m| format!("--plane {general}: {m}")))?,
+            vec![out1.clone(), out2.clone()],
         ),
-        (None, [plane, out1, out2]) => (plane.parse::<SplitPlane>(), [out1.clone(), out2.clone()]),
-        (Some(_), _) => return Err(Error::usage("with --plane, give only OUT1 and OUT2")),
-        (None, _) => {
+        (None, [plane, out1, out2], None) => (
+            one(plane.parse::<SplitPlane>())?,
+            vec![out1.clone(), out2.clone()],
+        ),
+        (Some(_), _, _) => return Err(Error::usage("with --plane, give only OUT1 and OUT2")),
+        (None, _, None) => {
             return Err(Error::usage(
                 "expected PLANE OUT1 OUT2, e.g. `splitter x=0 left right`",
             ))
         }
     };
-    let plane = plane.map_err(Error::usage)?;
-    if outputs[0] == "-" && outputs[1] == "-" {
-        return Err(Error::usage(
-            "at most one of OUT1 and OUT2 may be `-` (stdout)",
-        ));
+    if outputs.iter().filter(|o| *o == "-").count() > 1 {
+        return Err(Error::usage(if outputs.len() == 2 {
+            "at most one of OUT1 and OUT2 may be `-` (stdout)"
+        } else {
+            "at most one output may be `-` (stdout)"
+        }));
     }
-    if stagecli::same_file(&outputs[0], &outputs[1]) {
-        return Err(Error::usage(format!(
-            "OUT1 {} and OUT2 {} are one file: the two streams would be mixed in it",
-            outputs[0], outputs[1]
-        )));
+    for (i, a) in outputs.iter().enumerate() {
+        for (j, b) in outputs.iter().enumerate().skip(i + 1) {
+            if stagecli::same_file(a, b) {
+                let (na, nb) = (format!("OUT{}", i + 1), format!("OUT{}", j + 1));
+                return Err(Error::usage(format!(
+                    "{na} {a} and {nb} {b} are one file: the two streams would be mixed in it"
+                )));
+            }
+        }
     }
     Ok(Plan {
-        split_plane: plane,
+        nodes,
         outputs,
         size,
     })
 }
 
+/// The planes of node `node` of a depth-`depth` tree and of the nodes below it, `levels`
+/// levels deep (node K's level j: nodes K·2^j to K·2^j + 2^j − 1), each with its number.
+fn subtree(tree: Tree, node: u32, depth: u32, levels: u32) -> Result<Nodes, Error> {
+    Tree::check_node(node, depth).map_err(Error::usage)?;
+    if !(1..=splitter::MAX_TREE_DEPTH).contains(&levels) {
+        return Err(Error::usage(format!(
+            "--levels {levels}: a process is 1 to {} levels of nodes",
+            splitter::MAX_TREE_DEPTH
+        )));
+    }
+    // The last level's last node, (K + 1)·2^(L−1) − 1, must be a splitter node too:
+    // under 2^depth.
+    if (u64::from(node) + 1) << (levels - 1) > 1u64 << depth {
+        return Err(Error::usage(format!(
+            "--levels {levels}: node {node} and the nodes below it, {levels} levels deep, \
+             are not all splitter nodes of a depth-{depth} tree (nodes 1 to {})",
+            (1u64 << depth) - 1
+        )));
+    }
+    Ok((0..levels)
+        .map(|j| {
+            let first = node << j;
+            (first..first + (1 << j))
+                .map(|n| (tree.plane(n), Some(n)))
+                .collect()
+        })
+        .collect())
+}
+
 fn main() -> ExitCode {
     stagecli::main("splitter", |cli: Cli| {
         let Plan {
-            split_plane,
+            nodes,
             outputs,
             size,
         } = plan(&cli)?;
-        // What --stats calls this node: its plane, and its place in the tree.
-        let label = match cli.node {
-            Some(node) => format!("splitter {split_plane} (node {node})"),
-            None => format!("splitter {split_plane}"),
-        };
         let mut reader = stagecli::read_stdin::<Token>(SpaceKind::Eye)?;
         let header = *reader.header();
         let Space::Eye(view) = header.space else {
             unreachable!("the reader checked the space")
         };
-        let plane = split_plane.plane(&view);
+        let mut tree = Subtree::new(
+            nodes
+                .iter()
+                .map(|level| level.iter().map(|(p, _)| p.plane(&view)).collect())
+                .collect(),
+        );
         // persp's mapping, when the outputs go to the screen; a view volume it cannot
         // map (from the stream's header) is bad input, as it is to persp.
         let perspective = match (cli.persp, size) {
@@ -160,33 +224,32 @@ fn main() -> ExitCode {
         };
         let out_header = perspective.map_or(header, |p| p.screen_header(&header));
         let form = cli.text.form();
-        let mut out1 = Branch::open(&outputs[0], out_header, form)?;
-        let mut out2 = Branch::open(&outputs[1], out_header, form)?;
-        let mut stats = Stats::default();
-        // The two pieces' buffers, reused from polygon to polygon; each output's pending
-        // `skip N` (the lean stream: polygons it gets nothing of).
-        let mut piece1 = Polygon::default();
-        let mut piece2 = Polygon::default();
-        let mut lean = [Lean::default(), Lean::default()];
+        let mut outs = outputs
+            .iter()
+            .map(|o| Branch::open(o, out_header, form))
+            .collect::<Result<Vec<_>, _>>()?;
+        // Each output's pending `skip N` (the lean stream: polygons it gets nothing of).
+        let mut lean = vec![Lean::default(); outs.len()];
         let mut token = Token::default();
         while reader
             .next_into(&mut token)
             .map_err(|e| stagecli::input_error("stdin", e))?
         {
-            if !(out1.is_open() || out2.is_open()) {
-                // Both readers have gone: nobody is left to write for.
+            if !outs.iter().any(Branch::is_open) {
+                // Every reader has gone: nobody is left to write for.
                 return Ok(());
             }
             match &token {
                 Token::Polygon(poly) => {
-                    split(poly, &plane, &mut piece1, &mut piece2);
-                    for piece in [&piece1, &piece2] {
+                    tree.split(poly);
+                    for piece in tree.pieces() {
                         stagecli::check_finite_after(piece, "the split")
                             .map_err(|m| Error::data(format!("{}: {m}", reader.position())))?;
                     }
+                    let pieces = tree.outputs();
                     if let Some(perspective) = &perspective {
                         // A piece too small to be sent (`Lean`) is not projected.
-                        for piece in [&mut piece1, &mut piece2] {
+                        for piece in pieces.iter_mut() {
                             if piece.vertices.len() < Lean::MIN_VERTICES {
                                 continue;
                             }
@@ -194,33 +257,56 @@ fn main() -> ExitCode {
                                 .map_err(|m| Error::data(format!("{}: {m}", reader.position())))?;
                         }
                     }
-                    stats.record(&piece1, &piece2);
-                    lean[0].polygon(&mut out1, &piece1)?;
-                    lean[1].polygon(&mut out2, &piece2)?;
+                    for ((lean, out), piece) in lean.iter_mut().zip(&mut outs).zip(pieces.iter()) {
+                        lean.polygon(out, piece)?;
+                    }
                 }
                 Token::Skip(n) => {
-                    stats.skipped(*n);
-                    lean[0].skip(&mut out1, *n)?;
-                    lean[1].skip(&mut out2, *n)?;
+                    tree.skipped(*n);
+                    for (lean, out) in lean.iter_mut().zip(&mut outs) {
+                        lean.skip(out, *n)?;
+                    }
                 }
                 control => {
-                    lean[0].control(&mut out1, control)?;
-                    lean[1].control(&mut out2, control)?;
+                    for (lean, out) in lean.iter_mut().zip(&mut outs) {
+                        lean.control(out, control)?;
+                    }
                     if *control == Token::End && cli.stats {
-                        // The bytes each output carried: a link's load, when the
-                        // branch runs on another host (thesis 6.5).
-                        eprintln!(
-                            "{label}: {stats}; {} and {} bytes out",
-                            out1.bytes(),
-                            out2.bytes()
-                        );
+                        print_stats(&nodes, &tree, &outs);
                     }
                 }
             }
         }
-        lean[0].flush(&mut out1)?;
-        lean[1].flush(&mut out2)?;
-        out1.flush()?;
-        out2.flush()
+        for (lean, out) in lean.iter_mut().zip(&mut outs) {
+            lean.flush(out)?;
+        }
+        for out in &mut outs {
+            out.flush()?;
+        }
+        Ok(())
     })
+}
+
+/// `--stats`, a line a node, level by level: what it split, and for the nodes whose
+/// outputs this process writes, the bytes each carried, a link's load when the branch
+/// runs on another host (thesis 6.5).
+fn print_stats(nodes: &Nodes, tree: &Subtree, outs: &[Branch<Token>]) {
+    for (j, level) in nodes.iter().enumerate() {
+        for (i, (plane, number)) in level.iter().enumerate() {
+            let label = match number {
+                Some(node) => format!("splitter {plane} (node {node})"),
+                None => format!("splitter {plane}"),
+            };
+            let stats = tree.stats[j][i];
+            if j + 1 == nodes.len() {
+                eprintln!(
+                    "{label}: {stats}; {} and {} bytes out",
+                    outs[2 * i].bytes(),
+                    outs[2 * i + 1].bytes()
+                );
+            } else {
+                eprintln!("{label}: {stats}");
+            }
+        }
+    }
 }

@@ -498,3 +498,152 @@ fn persp_refuses_as_persp_does() {
         .code(2)
         .stderr("splitter: --size is for --node or --persp\n");
 }
+
+/// `--levels L` is node K and the nodes below it in one process: its outputs are the
+/// bytes that a process per node, chained through files, gives the same nodes' outputs,
+/// on a scene of many polygons cut at every level (depth 3: node 1 with 3 levels; node 2
+/// with 2, its last level projecting; and node 1 with 2 over an odd screen, whose rows
+/// split off a pixel's middle no row centre lies on), with --stats counting each node as
+/// its own process would.
+#[test]
+fn levels_in_one_process_write_what_a_process_per_node_writes() {
+    let dir = scratch("levels");
+    let bin = pipeline_tests::bin_dir();
+    let eye = dir.join("eye");
+    let scene = std::process::Command::new(bin.join("scene"))
+        .args([
+            "environment",
+            "--polygons",
+            "400",
+            "--depth-complexity",
+            "3",
+            "--frames",
+            "2",
+        ])
+        .output()
+        .unwrap();
+    assert!(scene.status.success());
+    let viewed = Command::new(bin.join("viewxf"))
+        .args(["--size", "97x61"])
+        .write_stdin(scene.stdout)
+        .output()
+        .unwrap();
+    assert!(viewed.status.success());
+    let clipped = Command::new(bin.join("clipbatch"))
+        .write_stdin(viewed.stdout)
+        .output()
+        .unwrap();
+    assert!(clipped.status.success());
+    std::fs::write(&eye, &clipped.stdout).unwrap();
+    let node = |k: u32, depth: u32, extra: &[&str], input: &PathBuf, outs: &[PathBuf]| {
+        let out = Command::cargo_bin("splitter")
+            .unwrap()
+            .args([
+                "--stats",
+                "--node",
+                &k.to_string(),
+                "--depth",
+                &depth.to_string(),
+            ])
+            .args(["--size", "97x61"])
+            .args(extra)
+            .args(outs)
+            .pipe_stdin(input)
+            .unwrap()
+            .output()
+            .unwrap();
+        assert!(out.status.success(), "{out:?}");
+        String::from_utf8(out.stderr).unwrap()
+    };
+    let file = |name: String| dir.join(name);
+    for (root, levels, depth, persp) in [(1, 3, 3, false), (2, 2, 3, true), (1, 2, 2, false)] {
+        let extra: &[&str] = if persp {
+            &["--persp", "reciprocal"]
+        } else {
+            &[]
+        };
+        // A process per node, level by level, the last level projecting if asked.
+        let mut chained = String::new();
+        let mut first = root;
+        for level in 0..levels {
+            for k in first..first + (1 << level) {
+                let input = if k == root {
+                    eye.clone()
+                } else {
+                    file(format!("c{k}"))
+                };
+                let outs = [file(format!("c{}", 2 * k)), file(format!("c{}", 2 * k + 1))];
+                let last = level + 1 == levels;
+                chained += &node(k, depth, if last { extra } else { &[] }, &input, &outs);
+            }
+            first *= 2;
+        }
+        // One process.
+        let last = first + (1 << levels);
+        let outs: Vec<PathBuf> = (first..last).map(|k| file(format!("f{k}"))).collect();
+        let mut args = vec!["--levels".to_string(), levels.to_string()];
+        args.extend(extra.iter().map(|s| s.to_string()));
+        let args: Vec<&str> = args.iter().map(String::as_str).collect();
+        let fused = node(root, depth, &args, &eye, &outs);
+        for k in first..last {
+            let (a, b) = (file(format!("c{k}")), file(format!("f{k}")));
+            assert_eq!(
+                std::fs::read(&a).unwrap(),
+                std::fs::read(&b).unwrap(),
+                "node {root}, {levels} levels: output for node {k}"
+            );
+        }
+        // The same counts, node by node; the bytes only where this process writes them.
+        let lines = |s: &str| s.lines().map(str::to_string).collect::<Vec<_>>();
+        let (c, f) = (lines(&chained), lines(&fused));
+        assert_eq!(c.len(), f.len(), "{fused}");
+        for (c, f) in c.iter().zip(&f) {
+            if f.ends_with("bytes out") {
+                assert_eq!(c, f);
+            } else {
+                assert!(
+                    c.starts_with(f.as_str()) && c.ends_with("bytes out"),
+                    "{c} / {f}"
+                );
+            }
+        }
+        let written = f.iter().filter(|l| l.ends_with("bytes out")).count();
+        assert_eq!(written, 1 << (levels - 1));
+    }
+}
+
+#[test]
+fn levels_refuses_a_subtree_outside_the_tree_or_the_wrong_outputs() {
+    let run = |args: &[&str]| {
+        Command::cargo_bin("splitter")
+            .unwrap()
+            .args(args)
+            .write_stdin(EYE)
+            .assert()
+            .code(2)
+    };
+    run(&[
+        "--node", "2", "--depth", "2", "--levels", "2", "--size", "8x8", "a", "b", "c", "d",
+    ])
+    .stderr(
+        "splitter: --levels 2: node 2 and the nodes below it, 2 levels deep, are not all \
+             splitter nodes of a depth-2 tree (nodes 1 to 3)\n",
+    );
+    run(&[
+        "--node", "1", "--depth", "3", "--levels", "2", "--size", "8x8", "a", "b",
+    ])
+    .stderr("splitter: with --node and --levels 2, give the 4 outputs, left to right (2 given)\n");
+    run(&[
+        "--node", "1", "--depth", "3", "--levels", "0", "--size", "8x8", "a", "b",
+    ])
+    .stderr(predicates::str::contains("--levels 0"));
+    run(&["--levels", "2", "x=0", "a", "b"]).stderr(predicates::str::contains("--node"));
+    run(&[
+        "--node", "1", "--depth", "2", "--levels", "2", "--size", "8x8", "-", "b", "-", "d",
+    ])
+    .stderr("splitter: at most one output may be `-` (stdout)\n");
+    run(&[
+        "--node", "1", "--depth", "2", "--levels", "2", "--size", "8x8", "a", "b", "c", "a",
+    ])
+    .stderr(predicates::str::contains("OUT1 a and OUT4 a are one file"));
+}
