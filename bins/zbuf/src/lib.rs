@@ -286,9 +286,9 @@ impl FrameBuffer {
         );
     }
 
-    /// A leaf's region resolved in this process (a tree's leaf 0, resolved by its merger)
-    /// placed at the frame's end, as [`FrameBuffer::paint`] places the runs of the leaves
-    /// that sent theirs: its finished pixels are final. They go straight into the
+    /// A leaf's region resolved in this process (a tree's leaf 0, resolved by its merger;
+    /// its last frame's) placed at the frame's end, as [`FrameBuffer::paint`] places the
+    /// runs of the leaves that sent theirs: its finished pixels are final. They go straight into the
     /// F-buffer ([`scan::RegionBuffer::finish_into`]), or, where the frame is passed on
     /// as its runs (`list_runs`, [`FrameBuffer::runs`]), run by run. Clears the region
     /// for another frame. The fill-heavy scene's merger at depth 1 (leaf 0's polygons and leaf 1's

@@ -144,8 +144,8 @@ enum Message {
         fragments: Vec<Fragment>,
     },
     /// The input reached NEXT.FRAME (`end == false`, and now waits) or END; a
-    /// screen-space input resolved here says what it has done so far, and hands over the
-    /// frame's finished region, to be placed once every input has finished the frame.
+    /// screen-space input resolved here says what it has done so far, and at END hands
+    /// over its last frame's region, to be placed once every input has finished it.
     Boundary {
         input: usize,
         end: bool,
@@ -181,10 +181,9 @@ struct InputState {
     stats: InputStats,
     /// Bytes its reader thread has read.
     bytes: Arc<AtomicU64>,
-    /// A screen-space input resolved here: its frame's finished region, until the frame
-    /// is complete, and the way back to its reader thread, for the frame after next.
+    /// A screen-space input resolved here: its last frame's region, until the frame is
+    /// complete.
     region: Option<Box<RegionBuffer>>,
-    regions_back: Sender<Box<RegionBuffer>>,
 }
 
 /// Runs PAR.BUFF over `inputs`: `on_frame(k, buffer)` is called as soon as frame k is
@@ -208,7 +207,6 @@ pub fn par_buff(
     let mut states = Vec::with_capacity(n);
     for (id, input) in inputs.into_iter().enumerate() {
         let (go_ahead, wait) = channel();
-        let (regions_back, regions) = channel();
         let tx = to_buffer.clone();
         let bytes = Arc::new(AtomicU64::new(0));
         let counter = Arc::clone(&bytes);
@@ -217,7 +215,7 @@ pub fn par_buff(
             .name(format!("zbuf-in-{id}"))
             .spawn(move || {
                 let to = ToBuffer { tx, spare };
-                read_input(id, input.open, input.to_screen, counter, to, wait, regions)
+                read_input(id, input.open, input.to_screen, counter, to, wait)
             })
             .map_err(|e| Error::io(format!("cannot start a reader thread: {e}")))?;
         states.push(InputState {
@@ -231,7 +229,6 @@ pub fn par_buff(
             stats: InputStats::default(),
             bytes,
             region: None,
-            regions_back,
         });
     }
     drop(to_buffer);
@@ -314,8 +311,6 @@ pub fn par_buff(
                 for s in &mut states {
                     if let Some(mut region) = s.region.take() {
                         fb.place(&mut region, list_runs);
-                        // A reader gone (its input failed) reports that through the channel.
-                        let _ = s.regions_back.send(region);
                     }
                 }
                 warn_rounding(&mut watch, frame);
@@ -442,7 +437,6 @@ fn read_input(
     bytes: Arc<AtomicU64>,
     to: ToBuffer,
     wait: Receiver<()>,
-    regions: Receiver<Box<RegionBuffer>>,
 ) {
     let result = (|| -> Result<()> {
         let counted = Counted {
@@ -452,11 +446,9 @@ fn read_input(
         let mut reader = Reader::<Fragment, _>::new(counted)?;
         match SpaceKind::of(&reader.header().space) {
             SpaceKind::Fragments => {}
-            SpaceKind::Screen => {
-                return resolve_input(input, reader.into_kind(), None, &to, &wait, &regions)
-            }
+            SpaceKind::Screen => return resolve_input(input, reader.into_kind(), None, &to, &wait),
             SpaceKind::Eye if to_screen.is_some() => {
-                return resolve_input(input, reader.into_kind(), to_screen, &to, &wait, &regions)
+                return resolve_input(input, reader.into_kind(), to_screen, &to, &wait)
             }
             other => {
                 let first = if other == SpaceKind::Eye {
@@ -789,50 +781,46 @@ pub fn one_input(
 
 /// A screen-space input (persp's output) is a leaf's and its merger's work at once: the
 /// reader thread scan-converts its polygons into a [`RegionBuffer`], the leaf's z-buffer
-/// (docs/DESIGN.md, "Leaves resolve visibility"), and at each frame's end hands the region
-/// itself to the buffer thread, which places its finished pixels once the frame is complete
-/// ([`FrameBuffer::place`]): what `scanconv --resolve` would have sent as runs, neither made
-/// into runs nor taken apart again. A tree's merger resolves leaf 0 so.
+/// (docs/DESIGN.md, "Leaves resolve visibility"). A tree's merger resolves leaf 0 so.
 ///
-/// Two regions go round: the buffer thread gives each back once placed, and the reader
-/// resolves the next frame in the other (made when a second frame comes). Such an input
-/// sends nothing until a frame is resolved, so it need not wait for the go-ahead before it
-/// reads the next frame's polygons, only before it sends that frame: the next frame is
-/// scan-converted while the buffer thread shows this one.
+/// The last frame's region is handed to the buffer thread whole with the frame's END,
+/// and placed once every input has finished the frame ([`FrameBuffer::place`]): what
+/// `scanconv --resolve` would have sent as runs, neither made into runs nor taken apart
+/// again. A frame before it is sent on as runs, as scanconv sends them, which frees the
+/// region for the next frame at once: handing it over too would have wanted a second
+/// region, and a movie's merger that much more memory.
+///
+/// Such an input sends nothing until a frame is resolved, so it need not wait for the
+/// go-ahead before it reads the next frame's polygons, only before it sends that frame:
+/// the next frame is scan-converted while the buffer thread shows this one.
 fn resolve_input<R: Read>(
     input: usize,
     mut reader: Reader<Token, R>,
     to_screen: Option<ToScreen>,
     to: &ToBuffer,
     wait: &Receiver<()>,
-    regions: &Receiver<Box<RegionBuffer>>,
 ) -> Result<()> {
     let stream = Resolvable::of(&reader, to_screen)?;
     let (width, height, attributes) = (stream.width, stream.height, stream.attributes);
     if !send_header(&to.tx, input, (width, height), &attributes) {
         return Ok(());
     }
+    let send = |m| to.tx.send(m).is_ok();
     let mut scan = LeafScan::new(&attributes, width, height);
-    // This frame's region: the first made now, the next taken when the frame's first
-    // polygon comes (one given back, or a new one).
-    let mut region = Some(Box::new(RegionBuffer::new(width, height)));
-    let mut counts = Resolved::default();
+    let mut region = RegionBuffer::new(width, height);
+    let mut polygons = 0u64;
     let mut record = Token::default();
+    let mut batch = Vec::with_capacity(BATCH);
     let mut waiting = false; // for the go-ahead after the last frame sent
-    let mut frame = 0u64;
+    let (mut frame, mut rounding_decided) = (0u64, 0u64);
     while reader.next_into(&mut record)? {
         if let Token::Polygon(p) = &mut record {
             stream.project(p, &reader)?;
         }
         let end = match &record {
             Token::Polygon(p) => {
-                let r = region.get_or_insert_with(|| {
-                    regions
-                        .try_recv()
-                        .unwrap_or_else(|_| Box::new(RegionBuffer::new(width, height)))
-                });
-                scan.resolve(r, p, &reader)?;
-                counts.polygons += 1;
+                scan.resolve(&mut region, p, &reader)?;
+                polygons += 1;
                 continue;
             }
             // A skip carries nothing a leaf needs: the order of the polygons it gets
@@ -841,7 +829,7 @@ fn resolve_input<R: Read>(
             Token::NextFrame => false,
             Token::End => true,
         };
-        counts.rounding_decided += warn_rounding(&mut scan.watch, frame);
+        rounding_decided += warn_rounding(&mut scan.watch, frame);
         frame += 1;
         // Nothing of a frame is sent before the buffer thread has shown the frame
         // before it (its go-ahead); the polygons of this frame were resolved meanwhile.
@@ -849,18 +837,37 @@ fn resolve_input<R: Read>(
             return Ok(());
         }
         waiting = true;
-        if let Some(r) = &mut region {
-            let stats = std::mem::take(&mut r.stats);
-            counts.pixels_tested += stats.pixels_tested;
-            counts.pixels_written += stats.pixels_written;
+        let resolved = Some(Resolved {
+            polygons,
+            pixels_tested: region.stats.pixels_tested,
+            pixels_written: region.stats.pixels_written,
+            rounding_decided,
+        });
+        if end {
+            let _ = send(Message::Boundary {
+                input,
+                end,
+                resolved,
+                region: Some(Box::new(region)),
+            });
+            return Ok(());
         }
-        let sent = to.tx.send(Message::Boundary {
+        let sent = region.finish_frame(|run| {
+            batch.push(run.into());
+            if batch.len() == BATCH && !to.send_batch(input, &mut batch) {
+                return Err(());
+            }
+            Ok(())
+        });
+        if sent.is_err() || (!batch.is_empty() && !to.send_batch(input, &mut batch)) {
+            return Ok(());
+        }
+        if !send(Message::Boundary {
             input,
             end,
-            resolved: Some(counts),
-            region: region.take(),
-        });
-        if sent.is_err() || end {
+            resolved,
+            region: None,
+        }) {
             return Ok(());
         }
     }
