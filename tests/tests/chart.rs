@@ -117,12 +117,13 @@ fn quick_chart_of_a_small_scene_makes_its_files_with_real_values() {
         let e = num(r, "edge_rmse");
         assert!(e > 1.0 && e < 255.0, "{r:?}");
     }
-    // max_rss_kib is the whole tree's: the stages' peaks summed, so that depth 4's 50
-    // processes hold several times depth 0's 4 and their launcher (ru_maxrss, the
-    // largest one process's, was bash's 4 MB on every row).
+    // max_rss_kib is the whole tree's: the stages' peaks summed, so that depth 4's 23
+    // stages hold more than depth 0's 3 (ru_maxrss, the largest one process's, was
+    // bash's 4 MB on every row, less than depth 0's three stages together). The tree's
+    // short-lived stages are not all seen at their peak, so the bound is loose.
     let rss = |d: usize| num(zbuf[d], "max_rss_kib");
     assert!(
-        rss(4) > 2.0 * rss(0),
+        rss(4) > 1.2 * rss(0),
         "depth 0 {} KiB, depth 4 {} KiB",
         rss(0),
         rss(4)
