@@ -653,6 +653,33 @@ mod tests {
         Plane::column(0.0, 1.0)
     }
 
+    /// A square right of x=0 with its left edge on it: node 1's OUT1 piece is that edge,
+    /// two vertices, which a process per node would skip (the lean stream). Split again
+    /// across y=0 it would make two three-vertex slivers, (I, v, I); the subtree empties
+    /// it first, so the level below gets nothing, as node 2's process would have.
+    #[test]
+    fn a_subtree_empties_a_piece_too_small_to_send_before_the_level_below() {
+        let mut tree = Subtree::new(vec![vec![x0()], vec![Plane::row(0.0), Plane::row(0.0)]]);
+        let square = poly(&[(0.0, -2.0), (0.0, 2.0), (2.0, 2.0), (2.0, -2.0)]);
+        let mut a = Polygon::default();
+        let mut b = Polygon::default();
+        split(&square, &x0(), &mut a, &mut b);
+        assert_eq!(a.vertices, [v(0.0, -2.0), v(0.0, 2.0)]);
+        // What node 2 would make of the edge, were it sent: slivers of three vertices.
+        let (mut c, mut d) = (Polygon::default(), Polygon::default());
+        split(&a, &Plane::row(0.0), &mut c, &mut d);
+        assert_eq!((c.vertices.len(), d.vertices.len()), (3, 3));
+        tree.split(&square);
+        let out = tree.outputs();
+        assert_eq!(
+            out.iter().map(|p| p.vertices.len()).collect::<Vec<_>>(),
+            [0, 0, 4, 4]
+        );
+        // Node 2 counts a polygon in and nothing out, as its process would have.
+        assert_eq!(tree.stats[1][0].polygons_in, 1);
+        assert_eq!(tree.stats[1][0].polygons_out, [0, 0]);
+    }
+
     #[test]
     fn vertex_colours_are_cut_with_the_edges_and_the_whole_shade_is_kept() {
         // The square −2 ≤ x_e ≤ 2, red on the left, blue on the right: cut at x_e = 0,

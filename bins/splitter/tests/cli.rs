@@ -501,25 +501,16 @@ fn persp_refuses_as_persp_does() {
 
 /// `--levels L` is node K and the nodes below it in one process: its outputs are the
 /// bytes that a process per node, chained through files, gives the same nodes' outputs,
-/// on a scene of many polygons cut at every level (depth 3: node 1 with 3 levels; node 2
-/// with 2, its last level projecting; and node 1 with 2 over an odd screen, whose rows
-/// split off a pixel's middle no row centre lies on), with --stats counting each node as
-/// its own process would.
+/// on a two-frame movie of 400 polygons on a 97x61 screen (depth 3: node 1 with 3 levels;
+/// node 2 with 2, its last level projecting; depth 2: node 1 with 2), with --stats
+/// counting each node as its own process would.
 #[test]
 fn levels_in_one_process_write_what_a_process_per_node_writes() {
     let dir = scratch("levels");
     let bin = pipeline_tests::bin_dir();
     let eye = dir.join("eye");
     let scene = std::process::Command::new(bin.join("scene"))
-        .args([
-            "environment",
-            "--polygons",
-            "400",
-            "--depth-complexity",
-            "3",
-            "--frames",
-            "2",
-        ])
+        .args("environment --polygons 400 --depth-complexity 3 --frames 2".split(' '))
         .output()
         .unwrap();
     assert!(scene.status.success());
