@@ -531,6 +531,9 @@ impl Running {
         // SAFETY: `polls` is a valid array of its length; poll writes only revents.
         let n = unsafe { libc::poll(polls.as_mut_ptr(), polls.len() as libc::nfds_t, ms) };
         if n <= 0 {
+            // A stage may have ended with its SIGCHLD taken by another thread (a test
+            // harness's): look, or the wait would have no end.
+            self.reap();
             return None;
         }
         let mut buf = [0u8; 65536];
@@ -572,14 +575,17 @@ impl Running {
         stop
     }
 
-    /// Collects every stage that has exited, without waiting.
+    /// Collects every stage that has exited, without waiting: the children this thread
+    /// started (`__WNOTHREAD`), so that a process another thread started (a test
+    /// harness's other tests) is left to whoever waits for it.
     fn reap(&mut self) {
         loop {
             let mut st = 0;
             // SAFETY: an all-zero rusage is a valid value of the plain C struct.
             let mut usage: libc::rusage = unsafe { std::mem::zeroed() };
+            let flags = libc::WNOHANG | libc::__WNOTHREAD;
             // SAFETY: wait4 writes the status and usage it is given.
-            let pid = unsafe { libc::wait4(-1, &mut st, libc::WNOHANG, &mut usage) };
+            let pid = unsafe { libc::wait4(-1, &mut st, flags, &mut usage) };
             if pid <= 0 {
                 return;
             }
