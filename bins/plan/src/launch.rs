@@ -530,14 +530,27 @@ impl Running {
         let ms = timeout.map_or(-1, |t| t.as_millis().min(i32::MAX as u128) as i32);
         // SAFETY: `polls` is a valid array of its length; poll writes only revents.
         let n = unsafe { libc::poll(polls.as_mut_ptr(), polls.len() as libc::nfds_t, ms) };
-        if n <= 0 {
-            // A stage may have ended with its SIGCHLD taken by another thread (a test
-            // harness's): look, or the wait would have no end.
-            self.reap();
-            return None;
-        }
+        let stop = if n > 0 {
+            self.read_ready(&polls[1..], &which);
+            if polls[0].revents != 0 {
+                self.stop_signal()
+            } else {
+                None
+            }
+        } else {
+            None
+        };
+        // Also after a quiet poll: a stage may have ended with its SIGCHLD taken by
+        // another thread (a test harness's), and the wait would have no end.
+        self.reap();
+        stop
+    }
+
+    /// Reads what the stderr pipes `polls` found ready hold (`which`: their stages); a
+    /// pipe that has ended is dropped.
+    fn read_ready(&mut self, polls: &[libc::pollfd], which: &[usize]) {
         let mut buf = [0u8; 65536];
-        for (p, &i) in polls[1..].iter().zip(&which) {
+        for (p, &i) in polls.iter().zip(which) {
             if p.revents == 0 {
                 continue;
             }
@@ -552,27 +565,23 @@ impl Running {
                 self.errs[i] = None;
             }
         }
-        let mut stop = None;
-        if polls[0].revents != 0 {
-            // SAFETY: a signalfd is read in whole signalfd_siginfo records.
-            let mut info = [unsafe { std::mem::zeroed::<libc::signalfd_siginfo>() }; 16];
-            let size = std::mem::size_of_val(&info);
-            let got =
-                unsafe { libc::read(self.signals.as_raw_fd(), info.as_mut_ptr().cast(), size) };
-            let records = if got > 0 {
-                got as usize / std::mem::size_of::<libc::signalfd_siginfo>()
-            } else {
-                0
-            };
-            for r in &info[..records] {
-                let s = r.ssi_signo as i32;
-                if s != libc::SIGCHLD && stop.is_none() {
-                    stop = Some(s);
-                }
-            }
-        }
-        self.reap();
-        stop
+    }
+
+    /// Reads the signalfd: the first signal other than SIGCHLD (the user's stop), if any.
+    fn stop_signal(&mut self) -> Option<i32> {
+        // SAFETY: a signalfd is read in whole signalfd_siginfo records.
+        let mut info = [unsafe { std::mem::zeroed::<libc::signalfd_siginfo>() }; 16];
+        let size = std::mem::size_of_val(&info);
+        let got = unsafe { libc::read(self.signals.as_raw_fd(), info.as_mut_ptr().cast(), size) };
+        let records = if got > 0 {
+            got as usize / std::mem::size_of::<libc::signalfd_siginfo>()
+        } else {
+            0
+        };
+        info[..records]
+            .iter()
+            .map(|r| r.ssi_signo as i32)
+            .find(|&s| s != libc::SIGCHLD)
     }
 
     /// Collects every stage that has exited, without waiting: the children this thread

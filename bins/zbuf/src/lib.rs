@@ -288,12 +288,13 @@ impl FrameBuffer {
 
     /// A leaf's region resolved in this process (a tree's leaf 0, resolved by its merger;
     /// its last frame's) placed at the frame's end, as [`FrameBuffer::paint`] places the
-    /// runs of the leaves that sent theirs: its finished pixels are final. They go straight into the
-    /// F-buffer ([`scan::RegionBuffer::finish_into`]), or, where the frame is passed on
-    /// as its runs (`list_runs`, [`FrameBuffer::runs`]), run by run. Clears the region
-    /// for another frame. The fill-heavy scene's merger at depth 1 (leaf 0's polygons and leaf 1's
-    /// runs) took 24.0 ms of CPU making leaf 0's half of the screen into runs and
-    /// painting them again, 22.2 placing it so (one core, the least of 21 runs).
+    /// runs of the leaves that sent theirs: its finished pixels are final. They go
+    /// straight into the F-buffer ([`scan::RegionBuffer::finish_into`]), or, where the
+    /// frame is passed on as its runs (`list_runs`, [`FrameBuffer::runs`]), run by run.
+    /// Clears the region for another frame. The fill-heavy scene's merger at depth 1
+    /// (leaf 0's polygons and leaf 1's runs) took 24.0 ms of CPU making leaf 0's half of
+    /// the screen into runs and painting them again, 22.2 placing it so (one core, the
+    /// least of 21 runs).
     pub fn place(&mut self, region: &mut scan::RegionBuffer, list_runs: bool) {
         if list_runs {
             let Ok(()) = region.finish_frame(|r| {

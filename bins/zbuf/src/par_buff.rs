@@ -574,10 +574,10 @@ struct ToBuffer {
 
 impl ToBuffer {
     /// Sends the fragments gathered so far (`batch`) and starts a new batch in its place,
-    /// one given back if there is one; `false` as [`send_header`]. A batch is a few hundred kilobytes, which the allocator handed back to the
-    /// kernel and took again as fresh pages each time: on the fill-heavy scene's runs
-    /// from two leaves, a third of the merger's time was its reader threads zeroing
-    /// pages.
+    /// one given back if there is one; `false` as [`send_header`]. A batch is a few
+    /// hundred kilobytes, which the allocator handed back to the kernel and took again as
+    /// fresh pages each time: on the fill-heavy scene's runs from two leaves, a third of
+    /// the merger's time was its reader threads zeroing pages.
     fn send_batch(&self, input: usize, batch: &mut Vec<Fragment>) -> bool {
         let mut next = self.spare.take();
         next.reserve(BATCH);
