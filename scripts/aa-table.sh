@@ -15,13 +15,15 @@ SIZE=${1:-64x48}
 DEPTH=${2:-0}
 PICS=${3:-}
 ROOT=$(cd "$(dirname "$0")/.." && pwd)
-B=$ROOT/target/release
 TMP=$(mktemp -d "${TMPDIR:-/tmp}/aa-table.XXXXXX")
 trap 'rm -rf "$TMP"' EXIT
-export PATH=$B:$PATH
 
 cargo build --release --quiet --manifest-path "$ROOT/Cargo.toml" -p scene -p viewxf \
   -p clipbatch -p splitter -p persp -p scanconv -p supersample -p abuf -p zbuf -p zspec
+# shellcheck source=lib/binaries.sh
+source "$ROOT/scripts/lib/binaries.sh"
+B=$(release_bin "$ROOT")
+export PATH=$B:$PATH
 
 scene environment --polygons 200 --seed 7 >"$TMP/environment.pp"
 scene sphere --stacks 8 --slices 12 >"$TMP/sphere.pp"

@@ -48,10 +48,10 @@ done
 
 root=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
 cd "$root"
-B=${CARGO_TARGET_DIR:-$root/target}/release
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
 cargo build --release --quiet --bins
+B=$(release_bin "$root")
 
 if ((quick)); then
     geo_n=20000 fill_n=2000 fill_size=960x540 movie_frames=20
@@ -136,7 +136,7 @@ if [[ ${1:-} == --hostile ]]; then
     root=$(cd "$(dirname "$0")/.." && pwd)
     cd "$root"
     cargo build --release --quiet -p scene -p viewxf -p clipbatch -p persp -p scanconv -p zbuf -p zspec -p painter -p abuf
-    B=$root/target/release
+    B=$(release_bin "$root")
     REPS=${REPS:-3}
     work=$(mktemp -d)
     trap 'rm -rf "$work"' EXIT
@@ -189,7 +189,7 @@ fi
 root=$(cd "$(dirname "$0")/.." && pwd)
 cd "$root"
 cargo build --release --quiet -p scene -p viewxf -p clipbatch -p persp -p scanconv -p zbuf -p zspec -p painter -p hiddenline
-B=$root/target/release
+B=$(release_bin "$root")
 REPS=${REPS:-5}
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
@@ -279,7 +279,7 @@ root=$(cd "$(dirname "$0")/.." && pwd)
 cd "$root"
 cargo build --release --quiet -p scanline -p scanconv -p scene -p viewxf -p clipplane \
     -p clipbatch -p persp -p frames
-B=$root/target/release
+B=$(release_bin "$root")
 REPS=${REPS:-3}
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
@@ -508,7 +508,7 @@ set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
 cd "$root"
 nice -n 10 cargo build --release --quiet -p warnock -p hiddenline -p scanconv -p zbuf -p zspec
-B=${CARGO_TARGET_DIR:-$root/target}/release
+B=$(release_bin "$root")
 REPS=${REPS:-3}
 size=${1:-500x500}
 W=${size%x*} H=${size#*x}
@@ -643,12 +643,12 @@ N=${1:-100000}
 SIZE=${2:-1920x1080}
 REPS=${3:-3}
 ROOT=$(cd "$(dirname "$0")/.." && pwd)
-B=$ROOT/target/release
 TMP=$(mktemp -d "${TMPDIR:-/tmp}/bench-aa.XXXXXX")
 trap 'rm -rf "$TMP"' EXIT
 
 cargo build --release --quiet --manifest-path "$ROOT/Cargo.toml" \
   -p scene -p viewxf -p clipbatch -p persp -p scanconv -p supersample -p abuf
+B=$(release_bin "$ROOT")
 
 "$B/scene" environment --polygons "$N" --size "$SIZE" --seed 1 \
   | "$B/viewxf" --size "$SIZE" | "$B/clipbatch" | "$B/persp" --size "$SIZE" >"$TMP/screen.bin"
@@ -705,7 +705,7 @@ root=$(cd "$(dirname "$0")/.." && pwd)
 cd "$root"
 nice -n 10 cargo build --release --quiet -p scene -p viewxf -p clipbatch -p persp -p scanconv \
     -p zbuf -p zspec -p scanline -p warnock -p painter -p abuf -p hiddenline
-B=${CARGO_TARGET_DIR:-$root/target}/release
+B=$(release_bin "$root")
 REPS=${1:-1}
 [[ $REPS =~ ^[1-9][0-9]*$ ]] || { echo "bench-methods.sh bounds: REPS must be a positive integer" >&2; exit 2; }
 work=$(mktemp -d)

@@ -40,11 +40,11 @@ set -euo pipefail
 N=${1:-1000000}
 REPS=${2:-3}
 ROOT=$(cd "$(dirname "$0")/.." && pwd)
-BIN=$ROOT/target/release
 TMP=$(mktemp -d "${TMPDIR:-/tmp}/bench-geometry.XXXXXX")
 trap 'rm -rf "$TMP"' EXIT
 
 cargo build --release --quiet --manifest-path "$ROOT/Cargo.toml" -p viewxf -p clipplane -p splitter -p persp
+BIN=$(release_bin "$ROOT")
 
 # The binary stream (proto/src/codec.rs, version 2): magic, bincode header {version u32,
 # space tag u32}, then fixed-layout little-endian records: a polygon is the head
@@ -146,12 +146,12 @@ set -euo pipefail
 N=${1:-1000000}
 REPS=${2:-5}
 ROOT=$(cd "$(dirname "$0")/.." && pwd)
-BIN=$ROOT/target/release
 TMP=$(mktemp -d "${TMPDIR:-/tmp}/bench-clip.XXXXXX")
 trap 'rm -rf "$TMP"' EXIT
 
 cargo build --release --quiet --manifest-path "$ROOT/Cargo.toml" \
   -p scene -p viewxf -p clipplane -p clipbatch
+BIN=$(release_bin "$ROOT")
 
 "$BIN/scene" environment --polygons "$N" --clipped 0.5 --depth-complexity 1 --seed 1985 \
   | "$BIN/viewxf" >"$TMP/environment.eye"
@@ -235,7 +235,7 @@ root=$(cd "$(dirname "$0")/.." && pwd)
 cd "$root"
 cargo build --release --quiet -p proto --example codec_bench
 cargo build --release --quiet -p scene -p viewxf
-B=$root/target/release
+B=$(release_bin "$root")
 work=$(mktemp -d "${TMPDIR:-/tmp}/bench-codec.XXXXXX")
 trap 'rm -rf "$work"' EXIT
 
@@ -295,13 +295,13 @@ set -euo pipefail
 
 REPS=${1:-5}
 ROOT=$(cd "$(dirname "$0")/.." && pwd)
-B=$ROOT/target/release
 TMP=$(mktemp -d "${TMPDIR:-/tmp}/bench-fused.XXXXXX")
 trap 'rm -rf "$TMP"' EXIT
 
 cargo build --release --quiet --manifest-path "$ROOT/Cargo.toml" \
   -p scene -p viewxf -p clipplane -p clipbatch -p splitter -p persp -p scanconv -p zbuf \
   -p pipeline-tests --bins
+B=$(release_bin "$ROOT")
 
 # render.sh rebuilds when a source, Cargo.toml or Cargo.lock is newer than a stage
 # binary; cargo, having nothing to do, leaves the binaries' times alone, and render.sh
@@ -382,10 +382,10 @@ mode_fill() (
 set -euo pipefail
 REPS=${1:-9}
 ROOT=$(cd "$(dirname "$0")/.." && pwd)
-B=$ROOT/target/release
 TMP=$(mktemp -d "${TMPDIR:-/tmp}/bench-fill.XXXXXX")
 trap 'rm -rf "$TMP"' EXIT
 cargo build --release --quiet --manifest-path "$ROOT/Cargo.toml" -p scene -p viewxf -p clipbatch -p persp -p zbuf
+B=$(release_bin "$ROOT")
 fill_scene "$B" |
     "$B/viewxf" --size 1920x1080 | "$B/clipbatch" | "$B/persp" --size 1920x1080 > "$TMP/fill.screen"
 tested=$("$B/zbuf" --stats "$TMP/fill.screen" 2>&1 >/dev/null | sed -n 's/.* \([0-9]*\) pixels tested.*/\1/p')
@@ -430,10 +430,10 @@ mode_shading() (
 set -euo pipefail
 REPS=${1:-9}
 ROOT=$(cd "$(dirname "$0")/.." && pwd)
-B=$ROOT/target/release
 TMP=$(mktemp -d "${TMPDIR:-/tmp}/bench-shading.XXXXXX")
 trap 'rm -rf "$TMP"' EXIT
 cargo build --release --quiet --manifest-path "$ROOT/Cargo.toml" -p scene -p viewxf -p clipbatch -p persp -p zbuf -p zspec
+B=$(release_bin "$ROOT")
 export POLYPIPE_LOAD=0
 kinds=(flat gouraud phong)
 declare -A option=([flat]="" [gouraud]=--gouraud [phong]=--phong)

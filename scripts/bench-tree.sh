@@ -47,7 +47,7 @@ set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
 cd "$root"
 cargo build --release --quiet --bins
-B=$root/target/release
+B=$(release_bin "$root")
 REPS=${REPS:-3}
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
@@ -272,7 +272,7 @@ set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
 cd "$root"
 cargo build --release --quiet --bins
-B=$root/target/release
+B=$(release_bin "$root")
 # render.sh rebuilds when any source under a stage's crate (tests included) is newer than
 # its binary, and cargo does not relink a binary for a change to its tests: mark the
 # binaries just built as current, or every run below would time a cargo build too.
@@ -386,8 +386,8 @@ case ${1-} in
 esac
 root=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
 cd "$root"
-B=${CARGO_TARGET_DIR:-$root/target}/release
 cargo build --release --quiet --bins
+B=$(release_bin "$root")
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
 fill_scene "$B" > "$work/fill.txt"
@@ -449,8 +449,8 @@ case ${1-} in
 esac
 root=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
 cd "$root"
-B=${CARGO_TARGET_DIR:-$root/target}/release
-[[ $B == /* ]] || B=$root/$B
+bench_build
+B=$bindir
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
 size=1920x1080

@@ -20,7 +20,7 @@
 #
 # The rows: render.sh with its default options against the llvmpipe harness
 # (bench/llvmpipe/render.c through OSMesa, the same scene, camera and pyramid) and
-# against the fused run (target/release/fused, if built: one process chaining the same
+# against the fused run (target/bin/fused, if built: one process chaining the same
 # stage libraries; run as `fused --size WxH SCENE`), then render.sh --depth 0..4 on the
 # fill-heavy scene with each merge mode (--merge tiles and --merge buffer, if render.sh
 # has them), each against depth 0 in the same mode. A/B below 1 means A is faster.
@@ -33,8 +33,8 @@
 # count from 1 to nproc (`taskset -c 0-(N-1)`), interleaved likewise, and prints the
 # wall seconds and the speed-up of each against depth 0 on one core.
 #
-# Environment: RENDER (default scripts/render.sh) and FUSED (default target/release/fused,
-# or target/release/examples/fused) name other commands to measure in their place;
+# Environment: RENDER (default scripts/render.sh) and FUSED (default target/bin/fused,
+# or the release folder's examples/fused) name other commands to measure in their place;
 # POLYPIPE_BIN a folder of built binaries to measure as they are, with no cargo build.
 #
 # Usage: scripts/bench.sh [--quick] [--reps N] [--scaling] [--fill N WxH]
@@ -82,7 +82,6 @@ root=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
 # shellcheck source=lib/bench.sh
 source "$root/scripts/lib/bench.sh"
 cd "$root"
-B=${CARGO_TARGET_DIR:-$root/target}/release
 render=${RENDER:-$root/scripts/render.sh}
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
@@ -99,6 +98,7 @@ if [[ -n ${POLYPIPE_BIN-} ]]; then
 else
     echo "bench.sh: building polypipe" >&2
     cargo build --release --quiet --bins
+    B=$(release_bin "$root")
 fi
 gl=
 if ((scaling)); then :; elif gl=$("$root/bench/llvmpipe/build.sh"); then :; else

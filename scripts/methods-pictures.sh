@@ -6,7 +6,9 @@ set -euo pipefail
 root=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
 cd "$root"
 cargo build --release --quiet --bins
-B=${CARGO_TARGET_DIR:-$root/target}/release
+# shellcheck source=lib/binaries.sh
+source "$root/scripts/lib/binaries.sh"
+B=$(release_bin "$root")
 out=$root/docs/images
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT

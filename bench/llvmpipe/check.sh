@@ -14,7 +14,9 @@ root=$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)
 cd "$root"
 MIN_AGREEMENT=${MIN_AGREEMENT:-99.95}
 cargo build --release --quiet -p scene -p zspec
-B=$root/target/release
+# shellcheck source=../../scripts/lib/binaries.sh
+source "$root/scripts/lib/binaries.sh"
+B=$(release_bin "$root")
 gl=$("$root/bench/llvmpipe/build.sh")
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT

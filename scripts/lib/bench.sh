@@ -2,6 +2,8 @@
 # bench.sh (library): what the benchmark scripts share. Sourced, not run.
 #
 #   bench_build                the binaries, built when missing or stale; sets `bindir`
+#   release_bin ROOT           the folder of ROOT's release binaries, after a cargo build
+#                              (scripts/lib/binaries.sh)
 #   seconds CMD…               wall seconds of one run (bash's microsecond clock), output
 #                              to /dev/null
 #   cpu_seconds CMD…           user + system seconds of one run (bash's `time`, ms)
@@ -19,6 +21,8 @@
 # and says so: ratios, not seconds, are what carry over.
 
 bench_root=$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)
+# shellcheck source=binaries.sh
+source "$bench_root/scripts/lib/binaries.sh" # release_bin, and bench_build's build_binaries
 
 bench_build() {
     local root=$bench_root me=${0##*/}
@@ -26,8 +30,6 @@ bench_build() {
         echo "$me: $2" >&2
         exit "$1"
     }
-    # shellcheck source=binaries.sh
-    source "$bench_root/scripts/lib/binaries.sh"
     build_binaries
 }
 

@@ -11,6 +11,45 @@
 binaries=(viewxf clipplane clipbatch splitter persp scanconv zbuf scanline warnock painter
     hiddenline supersample abuf scene zspec frames farm chart plan)
 
+# release_dir TARGET: sets `bindir` to cargo's release folder in the target folder
+# TARGET: TARGET/<host tuple>/release, where .cargo/config.toml's `target = "host-tuple"`
+# has cargo build this machine's binaries (static ones, on Linux). The tuple is read from
+# the folder cargo made, not asked of rustc (a process on every run): the first whose name
+# starts with this machine's architecture (bash's HOSTTYPE: x86_64, aarch64), else the
+# first of any; TARGET/release where cargo has made none yet (nothing built) or where the
+# binaries were built without that setting.
+release_dir() {
+    local d
+    for d in "$1/$HOSTTYPE"-*/release "$1"/*-*/release; do
+        if [[ -d $d && ! -L $d ]]; then
+            bindir=$d
+            return 0
+        fi
+    done
+    bindir=$1/release
+}
+
+# release_bin ROOT: on stdout, the folder cargo builds the repository ROOT's release
+# binaries into (release_dir of its target folder, a relative CARGO_TARGET_DIR taken from
+# ROOT): for the scripts that run cargo build themselves, once it has built.
+release_bin() {
+    local target=${CARGO_TARGET_DIR:-target} bindir
+    [[ $target == /* ]] || target=$1/$target
+    release_dir "$target"
+    echo "$bindir"
+}
+
+# link_bin TARGET: TARGET/bin made a link to `bindir` (TARGET/<host>/release), the one
+# name for the binaries on every machine (the README's `target/bin/NAME`). Not
+# TARGET/release: with a target named, cargo keeps the build scripts and procedural macros
+# there, and a link in its place would have cargo wait for its own lock. Left alone where
+# it is already that link, or something else than a link.
+link_bin() {
+    local link=$1/bin
+    [[ ! $link -ef $bindir ]] || return 0
+    [[ -e $link && ! -L $link ]] || ln -sfn "${bindir#"$1"/}" "$link" 2>/dev/null || true
+}
+
 # build_binaries: sets `bindir`, and builds the binaries with cargo when one is missing
 # or stale. Without cargo, binaries already built are run as they are (with a warning
 # if stale).
@@ -18,10 +57,13 @@ build_binaries() {
     # cargo runs in the repository root and takes a relative CARGO_TARGET_DIR from there.
     local target=${CARGO_TARGET_DIR:-target} b
     [[ $target == /* ]] || target=$root/$target
-    bindir=$target/release
+    release_dir "$target"
     local stamp=$bindir/.render.sh-asked-cargo
     local -a missing=() stale=() packages=()
-    ! all_fresh "$stamp" || return 0
+    if all_fresh "$stamp"; then
+        link_bin "$target"
+        return 0
+    fi
     for b in "${binaries[@]}"; do
         packages+=(-p "$b")
         if [[ ! -x $bindir/$b ]]; then
@@ -35,6 +77,7 @@ build_binaries() {
         # next run's quick look passes instead of reading every dep-info again (after a
         # `cargo build` by hand that left some binary untouched, every run did).
         touch "$stamp" 2>/dev/null
+        link_bin "$target"
         return 0
     fi
     if ! command -v cargo >/dev/null; then
@@ -51,7 +94,10 @@ build_binaries() {
         echo "$me: rebuilding the polypipe binaries (their sources changed)…" >&2
     fi
     (cd "$root" && cargo build --release --quiet "${packages[@]}") >&2 || fail 3 "cargo build failed"
-    touch "$stamp" 2>/dev/null
+    # The first build makes the folder: where it is, and the stamp there.
+    release_dir "$target"
+    touch "$bindir/.render.sh-asked-cargo" 2>/dev/null
+    link_bin "$target"
 }
 
 # all_fresh STAMP: a quick look that finds nothing to do on most runs: every binary is

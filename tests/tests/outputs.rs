@@ -4,7 +4,7 @@
 //! ffmpeg and netpbm are not needed to build or test polypipe; when they are not on PATH
 //! their tests print "skipped: … not installed" and pass.
 
-use pipeline_tests::{parse_ppm_stream, repo_root, run, sh, Frame};
+use pipeline_tests::{bin_dir, parse_ppm_stream, repo_root, run, sh, Frame};
 use std::path::{Path, PathBuf};
 
 /// Whether an executable named `name` is on PATH.
@@ -198,8 +198,10 @@ fn gallery_pictures_are_what_their_commands_make() {
         if names.is_empty() {
             continue;
         }
+        // B: the binaries' folder (the README's target/release is a link render.sh makes).
         run(&format!(
-            "B=target/release\n{}",
+            "B={}\n{}",
+            quote(bin_dir()),
             block.replace("docs/images/", &out)
         ));
         for name in names {
@@ -231,7 +233,8 @@ fn gallery_pictures_are_what_their_commands_make() {
         .find(|b| b.contains("--progress"))
         .expect("a Gallery block using zbuf --progress");
     let script = format!(
-        "B=target/release\n{}",
+        "B={}\n{}",
+        quote(bin_dir()),
         movie.replace("-o ico%03d.png", &format!("-o {out}ico%03d.png"))
     );
     assert!(

@@ -109,7 +109,8 @@ fn bin_dir() -> Result<PathBuf> {
     Ok(exe.parent().context("chart's folder")?.to_path_buf())
 }
 
-/// The repository: --root, else two folders up from target/release, else here.
+/// The repository: --root, else the first folder above the binaries' (target/<host>/release)
+/// with scripts/render.sh, else here.
 fn root_dir(root: Option<PathBuf>) -> Result<PathBuf> {
     if let Some(r) = root {
         return Ok(r);

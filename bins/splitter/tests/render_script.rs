@@ -1044,16 +1044,17 @@ fn set_mtime(path: &Path, time: std::time::SystemTime) {
 /// A folder of the tools render.sh runs (found on PATH), linked, to be the whole PATH
 /// of a run: with `fake_cargo`, a `cargo` that logs each call (its folder and arguments)
 /// to DIR/cargo.log and "builds" each `-p NAME` by copying the test's own binary into
-/// the target folder cargo would use (CARGO_TARGET_DIR taken from its working folder,
-/// as cargo does), with a dep-info file listing the crate's and proto's sources.
+/// the release folder cargo would use (CARGO_TARGET_DIR taken from its working folder,
+/// as cargo does, then the host's folder, [`release_subdir`]), with a dep-info file
+/// listing the crate's and proto's sources.
 fn tools(dir: &Path, fake_cargo: bool) -> PathBuf {
     let bin = dir.join(if fake_cargo { "tools-cargo" } else { "tools" });
     let _ = std::fs::remove_dir_all(&bin);
     std::fs::create_dir_all(&bin).unwrap();
     let path = std::env::var_os("PATH").unwrap();
     for tool in [
-        "bash", "env", "cat", "cp", "mkdir", "mkfifo", "mktemp", "readlink", "rm", "sed", "sleep",
-        "touch",
+        "bash", "env", "cat", "cp", "ln", "mkdir", "mkfifo", "mktemp", "readlink", "rm", "sed",
+        "sleep", "touch",
     ] {
         let found = std::env::split_paths(&path)
             .map(|d| d.join(tool))
@@ -1071,18 +1072,20 @@ echo "$PWD $*" >> {log}
 [[ -n ${{FAKE_CARGO_NOOP-}} ]] && exit 0
 t=${{CARGO_TARGET_DIR:-target}}
 [[ $t == /* ]] || t=$PWD/$t
-mkdir -p "$t/release"
+r=$t/{sub}
+mkdir -p "$r"
 while (($# > 0)); do
     if [[ $1 == -p ]]; then
-        cp {real}/"$2" "$t/release/$2"
-        echo "$t/release/$2:" "$PWD/bins/$2"/src/*.rs "$PWD"/proto/src/*.rs > "$t/release/$2.d"
+        cp {real}/"$2" "$r/$2"
+        echo "$r/$2:" "$PWD/bins/$2"/src/*.rs "$PWD"/proto/src/*.rs > "$r/$2.d"
         shift
     fi
     shift
 done
 "#,
                 log = dir.join("cargo.log").display(),
-                real = bin_dir().display()
+                real = bin_dir().display(),
+                sub = release_subdir()
             ),
         )
         .unwrap();
@@ -1090,6 +1093,18 @@ done
         std::fs::set_permissions(&cargo, std::fs::Permissions::from_mode(0o755)).unwrap();
     }
     bin
+}
+
+/// Where cargo puts release binaries in its target folder: `<host tuple>/release`, as
+/// .cargo/config.toml's `target = "host-tuple"` has it (the tests' own folder says which
+/// tuple), or `release` for a build without that setting.
+fn release_subdir() -> String {
+    let tuple = bin_dir().parent().and_then(Path::file_name).unwrap();
+    if tuple.to_string_lossy().contains('-') {
+        format!("{}/release", tuple.to_string_lossy())
+    } else {
+        "release".into()
+    }
 }
 
 /// The calls the fake cargo has logged so far (and forgets them).
@@ -1111,11 +1126,11 @@ fn render_in(script: &Path, cwd: &Path, tools: &Path, args: &[&str]) -> Output {
     output_with_stdin(cmd, b"")
 }
 
-/// The binaries the README runs, as `$B/NAME` or `target/release/NAME`.
+/// The binaries the README runs, as `$B/NAME` or `target/bin/NAME`.
 fn binaries_the_readme_uses() -> std::collections::BTreeSet<String> {
     let readme = std::fs::read_to_string(repo_root().join("README.md")).unwrap();
     let mut names = std::collections::BTreeSet::new();
-    for prefix in ["$B/", "target/release/"] {
+    for prefix in ["$B/", "target/bin/"] {
         for (i, _) in readme.match_indices(prefix) {
             let name: String = readme[i + prefix.len()..]
                 .chars()
@@ -1162,12 +1177,15 @@ fn the_first_run_builds_every_binary_the_readme_uses() {
             calls[0].contains(&format!(" -p {name}")),
             "the first run does not build {name}: {calls:?}"
         );
-        let b = repo.join("target/release").join(name);
+        let b = repo.join("target/bin").join(name);
         let help = Command::new(&b).arg("--help").output().unwrap();
         assert!(help.status.success(), "{}", b.display());
     }
-    // The README's next block, with the binaries the first run built.
-    let b = repo.join("target/release");
+    // cargo built them in its folder for this host, and target/bin links to it.
+    let link = std::fs::read_link(repo.join("target/bin")).unwrap();
+    assert_eq!(link, Path::new(&release_subdir()));
+    // The README's next block (`B=target/bin`), with the binaries the first run built.
+    let b = repo.join("target/bin");
     let text = Command::new(b.join("scene"))
         .args(["penetrating", "--text"])
         .output()
@@ -1214,7 +1232,7 @@ fn only_the_binaries_sources_make_render_sh_call_cargo() {
     assert_eq!(cargo_calls(&dir).len(), 1);
     // The binaries a minute old, the sources an hour.
     let built = std::time::SystemTime::now() - Duration::from_secs(60);
-    let release = repo.join("target/release");
+    let release = repo.join("target").join(release_subdir());
     for e in std::fs::read_dir(&release).unwrap() {
         set_mtime(&e.unwrap().path(), built);
     }
@@ -1301,7 +1319,13 @@ fn a_relative_target_dir_and_a_symlinked_script_find_the_binaries() {
     );
     assert_eq!(frames(&out.stdout).len(), 1);
     assert_eq!(cargo_calls(&dir).len(), 1);
-    assert!(repo.join("build/here/release/viewxf").is_file());
+    assert!(repo
+        .join("build/here")
+        .join(release_subdir())
+        .join("viewxf")
+        .is_file());
+    // render.sh links the target folder's `bin` to them.
+    assert!(repo.join("build/here/bin/viewxf").is_file());
     assert!(!elsewhere.join("build").exists());
     // Found where it was built: no second build.
     assert!(run(&repo.join("scripts/render.sh")).status.success());
