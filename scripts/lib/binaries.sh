@@ -43,7 +43,7 @@ release_bin() {
 # name for the binaries on every machine (the README's `target/bin/NAME`). Not
 # TARGET/release: with a target named, cargo keeps the build scripts and procedural macros
 # there, and a link in its place would have cargo wait for its own lock. Left alone where
-# it is already that link, or something else than a link.
+# it is already that link, or is anything but a link.
 link_bin() {
     local link=$1/bin
     [[ ! $link -ef $bindir ]] || return 0

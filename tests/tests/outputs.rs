@@ -198,7 +198,7 @@ fn gallery_pictures_are_what_their_commands_make() {
         if names.is_empty() {
             continue;
         }
-        // B: the binaries' folder (the README's target/release is a link render.sh makes).
+        // B: the binaries' folder (the README's target/bin is a link render.sh makes).
         run(&format!(
             "B={}\n{}",
             quote(bin_dir()),
