@@ -9,7 +9,9 @@
 # commands are run interleaved, one round of all of them per repetition, so that a change
 # in the machine's load during the run falls on every command alike. Each command is run
 # once more first, not timed, to warm the page cache and to keep its pictures for the
-# table's last column.
+# table's last column. Beside each A/B (the ratio of the medians) is the median of the
+# rounds' own A/B ("by rounds"): A and B of one round ran moments apart, so a change in
+# load between rounds falls on both, and on a noisy machine it is the steadier figure.
 #
 # The scenes are the four classes below, made by `scene environment` as text (the
 # user's input and llvmpipe's is text):
@@ -220,6 +222,15 @@ cpu_median() { # JOB: the median of its CPU times, or nothing
     tr ' ' '\n' <<< "${cpus[$1]}" | grep . | median
 }
 
+# by_rounds A-TIMES B-TIMES: the median of the rounds' A/B (two lists of one figure a
+# round, in round order), to two places; `-` where a round has no positive pair.
+by_rounds() {
+    [[ -n $1 && -n $2 ]] || { echo -; return; }
+    paste -d ' ' <(tr ' ' '\n' <<< "$1" | grep .) <(tr ' ' '\n' <<< "$2" | grep .) |
+        awk '$1 > 0 && $2 > 0 { print $1 / $2; next } { bad = 1 } END { if (bad) print "bad" }' |
+        { mapfile -t r; if ((${#r[@]} == 0)) || [[ ${r[-1]} == bad ]]; then echo -; else printf '%s\n' "${r[@]}" | median | awk '{ printf "%.2f", $1 }'; fi; }
+}
+
 # differ A B: how two runs' pictures compare ("identical", or differing pixels of all).
 differ() {
     local a=$work/out.$1 b=$work/out.$2
@@ -232,14 +243,15 @@ differ() {
 
 # row WHAT SCENE-LABEL JOB-A JOB-B CHECK
 row() {
-    local ta tb ratio=n/a
+    local ta tb ratio=n/a rounds=n/a
     ta=$(job_median "$3") tb=$(job_median "$4")
     [[ -n $ta ]] || ta=n/a
     [[ -n $tb ]] || tb=n/a
     if [[ $ta != n/a && $tb != n/a ]]; then
         ratio=$(ratio "$ta" "$tb")
+        rounds=$(by_rounds "${times[$3]}" "${times[$4]}")
     fi
-    echo "| $1 | $2 | $ta | $tb | **$ratio** | $5 |"
+    echo "| $1 | $2 | $ta | $tb | **$ratio** | $rounds | $5 |"
 }
 
 # --- The table. ------------------------------------------------------------------------
@@ -278,8 +290,8 @@ echo "Measured by \`scripts/bench.sh$( ((quick)) && echo ' --quick')\` at commit
     "from one run. A/B below 1 means A is faster. llvmpipe: $mesa, through OSMesa," \
     "reading the same text scene (bench/llvmpipe/render.c)."
 echo
-echo "| A against B | scene | A s | B s | A/B | pictures |"
-echo "|---|---|---|---|---|---|"
+echo "| A against B | scene | A s | B s | A/B | by rounds | pictures |"
+echo "|---|---|---|---|---|---|---|"
 for s in "${scenes[@]}"; do
     row "render.sh against llvmpipe" "${label[$s]}" "pipe.$s" "gl.$s" "$(differ "pipe.$s" "gl.$s")"
 done
@@ -305,21 +317,21 @@ echo
 echo "The same runs by CPU: user + system seconds of the whole process tree (llvmpipe's" \
     "threads counted), median of $reps."
 echo
-echo "| A against B | scene | A CPU s | B CPU s | A/B |"
-echo "|---|---|---|---|---|"
+echo "| A against B | scene | A CPU s | B CPU s | A/B | by rounds |"
+echo "|---|---|---|---|---|---|"
 for s in "${scenes[@]}"; do
     a=$(cpu_median "pipe.$s") b=$(cpu_median "gl.$s")
-    echo "| render.sh against llvmpipe | ${label[$s]} | ${a:-n/a} | ${b:-n/a} | **$(ratio "${a:-0}" "${b:-0}")** |"
+    echo "| render.sh against llvmpipe | ${label[$s]} | ${a:-n/a} | ${b:-n/a} | **$(ratio "${a:-0}" "${b:-0}")** | $(by_rounds "${cpus[pipe.$s]:-}" "${cpus[gl.$s]:-}") |"
 done
 
 echo
 echo "The work the tree adds: render.sh --depth D on ${label[fill]}, all on one core" \
     "(\`taskset -c 0\`), CPU seconds (user + system of the whole process tree), median of $reps."
 echo
-echo "| depth | CPU s | against depth 0 |"
-echo "|---|---|---|"
+echo "| depth | CPU s | against depth 0 | by rounds |"
+echo "|---|---|---|---|"
 base=$(cpu_median one.0)
 for d in 0 1 2 3 4; do
     t=$(cpu_median "one.$d")
-    echo "| $d | ${t:-n/a} | **$(ratio "${t:-0}" "${base:-0}")** |"
+    echo "| $d | ${t:-n/a} | **$(ratio "${t:-0}" "${base:-0}")** | $(by_rounds "${cpus[one.$d]:-}" "${cpus[one.0]:-}") |"
 done
