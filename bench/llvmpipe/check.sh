@@ -53,6 +53,7 @@ check "environment 10,000, Dc 10" 1920x1080 "$work/fill.txt"
 "$B/scene" environment --polygons 1024 --frames 10 --seed 4 --text > "$work/movie.txt"
 check "environment movie, 10 frames" 500x500 "$work/movie.txt"
 # A camera of its own: eye, at, up, s, d, hither and yon all away from their defaults.
+# shellcheck disable=SC2054 # the commas are the options' own (X,Y,Z), not separators
 cam=(--eye 12,9,18 --at 1,-1,0 --up 0.2,1,0 --s 8 --d 14 --hither 3 --yon 40)
 "$B/zspec" "${cam[@]}" --size 640x360 "$work/env.txt" > "$work/ref.ppm"
 "$gl" "${cam[@]}" --size 640x360 "$work/env.txt" > "$work/gl.ppm"
