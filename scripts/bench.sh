@@ -212,23 +212,28 @@ for ((r = 1; r <= reps; r++)); do
     done
 done
 
+figures() { # LIST: a job's figures (one a round, space-separated), one a line
+    tr ' ' '\n' <<< "$1" | grep .
+}
+
 job_median() { # JOB: the median of its wall times, or nothing
     [[ -n ${times[$1]:-} ]] || return 0
-    tr ' ' '\n' <<< "${times[$1]}" | grep . | median
+    figures "${times[$1]}" | median
 }
 
 cpu_median() { # JOB: the median of its CPU times, or nothing
     [[ -n ${cpus[$1]:-} ]] || return 0
-    tr ' ' '\n' <<< "${cpus[$1]}" | grep . | median
+    figures "${cpus[$1]}" | median
 }
 
-# by_rounds A-TIMES B-TIMES: the median of the rounds' A/B (two lists of one figure a
-# round, in round order), to two places; `-` where a round has no positive pair.
+# by_rounds A-LIST B-LIST: the median of the rounds' A/B (two jobs' figures, in round
+# order), to two places; `-` where there are none, or a round has no positive pair.
 by_rounds() {
-    [[ -n $1 && -n $2 ]] || { echo -; return; }
-    paste -d ' ' <(tr ' ' '\n' <<< "$1" | grep .) <(tr ' ' '\n' <<< "$2" | grep .) |
-        awk '$1 > 0 && $2 > 0 { print $1 / $2; next } { bad = 1 } END { if (bad) print "bad" }' |
-        { mapfile -t r; if ((${#r[@]} == 0)) || [[ ${r[-1]} == bad ]]; then echo -; else printf '%s\n' "${r[@]}" | median | awk '{ printf "%.2f", $1 }'; fi; }
+    local ratios
+    ratios=$(paste -d ' ' <(figures "$1") <(figures "$2") |
+        awk '!($1 > 0 && $2 > 0) { exit 1 } { print $1 / $2 }') && [[ -n $ratios ]] ||
+        { echo -; return; }
+    median <<< "$ratios" | awk '{ printf "%.2f", $1 }'
 }
 
 # differ A B: how two runs' pictures compare ("identical", or differing pixels of all).

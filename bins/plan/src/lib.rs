@@ -8,9 +8,9 @@
 //! model's constants on the machine it runs on ([`calibrate`], kept by [`cache`] in
 //! `${XDG_CACHE_HOME:-$HOME/.cache}/polypipe/model.toml`), the thesis's own T424-20
 //! constants and environment ([`thesis`]), the sampling of a scene on stdin
-//! ([`sample`]), and the launcher render.sh becomes to run its stages ([`launch`]). The `plan` binary is what
-//! `render.sh --depth auto` runs; `chart` (the measuring and plotting binary) uses the
-//! same library.
+//! ([`sample`]), and the launcher render.sh becomes to run its stages ([`launch`]). The
+//! `plan` binary is what `render.sh --depth auto` runs; `chart` (the measuring and
+//! plotting binary) uses the same library.
 
 pub mod cache;
 pub mod calibrate;
