@@ -6,8 +6,10 @@
 
 # The command that reaches a host, in the array `ssh_cmd`. Plain ssh gets the options
 # that make a dead host known within seconds; a POLYPIPE_SSH of the user's is taken as
-# it is.
-if [[ -n ${POLYPIPE_SSH-} ]]; then
+# it is. One that is set but blank names no command, and is refused as stagecli::remote does.
+if [[ -v POLYPIPE_SSH ]]; then
+    [[ $POLYPIPE_SSH == *[![:space:]]* ]] ||
+        die_usage "POLYPIPE_SSH is set but blank: set it to the command that reaches a host (say 'ssh -p 2222'), or unset it for ssh"
     read -r -a ssh_cmd <<<"$POLYPIPE_SSH"
 else
     ssh_cmd=(ssh -o BatchMode=yes -o ConnectTimeout=5 -o ServerAliveInterval=2

@@ -1,7 +1,8 @@
 //! How a command on another host ended, told in one line: the ssh sessions of `farm`
 //! (`render.sh --by frames`) and of `plan launch`'s host stages (`render.sh --hosts`,
 //! `--by leaves`) end the run with the same words for the same failures
-//! (docs/DESIGN.md, "Stages on other hosts").
+//! (docs/DESIGN.md, "Stages on other hosts"). Also the one place where the command
+//! that reaches a host (`POLYPIPE_SSH`) is read and a far command line is quoted.
 
 /// A host's session that did not end well: the message after `host H: ` and the status
 /// the run ends with.
@@ -82,6 +83,70 @@ pub fn classify(
     Some(Failure { message, status })
 }
 
+/// The environment variable that names the command reaching a host (`ssh` by default).
+pub const SSH_VARIABLE: &str = "POLYPIPE_SSH";
+
+/// `WORD` for a POSIX shell, in single quotes.
+pub fn quote(word: &str) -> String {
+    format!("'{}'", word.replace('\'', r"'\''"))
+}
+
+/// The command a host's session runs: `exec WORD…`, each word quoted.
+pub fn remote_command(words: &[String]) -> String {
+    let mut line = String::from("exec");
+    for w in words {
+        line.push(' ');
+        line.push_str(&quote(w));
+    }
+    line
+}
+
+/// The command that reaches a host, from the value of `POLYPIPE_SSH`: that value split
+/// at whitespace, or, when it is unset, ssh with the options that make a host that is
+/// gone known within seconds. A value that is set but blank names no command (run as it
+/// is, the host's name would be taken for the command): an error that names the variable.
+pub fn ssh_command(polypipe_ssh: Option<&str>) -> std::result::Result<Vec<String>, String> {
+    match polypipe_ssh {
+        Some(s) if s.trim().is_empty() => Err(format!(
+            "{SSH_VARIABLE} is set but blank: set it to the command that reaches a host \
+             (say 'ssh -p 2222'), or unset it for ssh"
+        )),
+        Some(s) => Ok(s.split_whitespace().map(str::to_string).collect()),
+        None => Ok([
+            "ssh",
+            "-o",
+            "BatchMode=yes",
+            "-o",
+            "ConnectTimeout=5",
+            "-o",
+            "ServerAliveInterval=2",
+            "-o",
+            "ServerAliveCountMax=3",
+        ]
+        .map(str::to_string)
+        .to_vec()),
+    }
+}
+
+/// [`ssh_command`] of this process's `POLYPIPE_SSH`; its error is a usage error (status 2).
+pub fn ssh_command_from_env() -> crate::Result<Vec<String>> {
+    let value = std::env::var_os(SSH_VARIABLE).map(|v| v.to_string_lossy().into_owned());
+    ssh_command(value.as_deref()).map_err(crate::Error::usage)
+}
+
+/// Checks `--hosts H1,H2,…`: host names separated by commas, none empty, none starting
+/// with `-` (ssh would take it for an option), none with white space.
+pub fn parse_hosts(list: &str) -> std::result::Result<Vec<String>, String> {
+    let hosts: Vec<String> = list.split(',').map(str::to_string).collect();
+    let bad = |h: &String| h.is_empty() || h.starts_with('-') || h.chars().any(char::is_whitespace);
+    if list.is_empty() || hosts.iter().any(bad) {
+        return Err(format!(
+            "--hosts must be host names separated by commas, not '{list}'"
+        ));
+    }
+    Ok(hosts)
+}
+
 /// A signal's name as `kill -l` gives it, with `SIG`: `SIGKILL`; `signal 40` for one
 /// without a name here.
 pub fn signal_name(sig: i32) -> String {
@@ -123,5 +188,38 @@ mod tests {
         assert_eq!((far.message.as_str(), far.status), ("zbuf: full disk", 1));
         assert_eq!(signal_name(libc::SIGSEGV), "SIGSEGV");
         assert_eq!(signal_name(40), "signal 40");
+    }
+
+    #[test]
+    fn the_ssh_command_comes_from_polypipe_ssh_and_a_blank_one_is_refused() {
+        assert_eq!(
+            ssh_command(Some("ssh -p 2222")).unwrap(),
+            ["ssh", "-p", "2222"]
+        );
+        let default = ssh_command(None).unwrap();
+        assert_eq!(default[0], "ssh");
+        assert!(default.contains(&"BatchMode=yes".to_string()));
+        for blank in ["", " ", "\t \n"] {
+            assert_eq!(
+                ssh_command(Some(blank)).unwrap_err(),
+                "POLYPIPE_SSH is set but blank: set it to the command that reaches a host \
+                 (say 'ssh -p 2222'), or unset it for ssh"
+            );
+        }
+    }
+
+    #[test]
+    fn hosts_and_the_far_command_are_checked_and_quoted() {
+        assert_eq!(parse_hosts("a,b,a").unwrap(), ["a", "b", "a"]);
+        for bad in ["", "a,,b", "-oProxyCommand=x", "a b"] {
+            assert_eq!(
+                parse_hosts(bad).unwrap_err(),
+                format!("--hosts must be host names separated by commas, not '{bad}'")
+            );
+        }
+        assert_eq!(
+            remote_command(&["render".into(), "--eye".into(), "it's".into()]),
+            r"exec 'render' '--eye' 'it'\''s'"
+        );
     }
 }

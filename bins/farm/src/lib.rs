@@ -260,53 +260,7 @@ pub struct ChunkInfo {
     pub frames: u64,
 }
 
-/// `WORD` for a POSIX shell, in single quotes.
-pub fn quote(word: &str) -> String {
-    format!("'{}'", word.replace('\'', r"'\''"))
-}
-
-/// The command a host's session runs: `exec WORD…`, each word quoted.
-pub fn remote_command(words: &[String]) -> String {
-    let mut line = String::from("exec");
-    for w in words {
-        line.push(' ');
-        line.push_str(&quote(w));
-    }
-    line
-}
-
-/// The command that reaches a host: `$POLYPIPE_SSH` split at whitespace, or ssh with
-/// the options that make a host that is gone known within seconds.
-pub fn ssh_command(polypipe_ssh: Option<&str>) -> Vec<String> {
-    match polypipe_ssh {
-        Some(s) if !s.trim().is_empty() => s.split_whitespace().map(str::to_string).collect(),
-        _ => [
-            "ssh",
-            "-o",
-            "BatchMode=yes",
-            "-o",
-            "ConnectTimeout=5",
-            "-o",
-            "ServerAliveInterval=2",
-            "-o",
-            "ServerAliveCountMax=3",
-        ]
-        .map(str::to_string)
-        .to_vec(),
-    }
-}
-
-/// Checks `--hosts H1,H2,…`.
-pub fn parse_hosts(list: &str) -> std::result::Result<Vec<String>, String> {
-    let hosts: Vec<String> = list.split(',').map(str::to_string).collect();
-    let bad = |h: &String| h.is_empty() || h.starts_with('-') || h.chars().any(char::is_whitespace);
-    if list.is_empty() || hosts.iter().any(bad) {
-        return Err(format!(
-            "--hosts must be host names separated by commas, not '{list}'"
-        ));
-    }
-    Ok(hosts)
-}
+pub use stagecli::remote::{parse_hosts, remote_command};
 
 /// The signal that asked the run to stop (SIGINT or SIGTERM), 0 while none has.
 static STOP: AtomicI32 = AtomicI32::new(0);
@@ -954,22 +908,5 @@ mod tests {
             short_failure(2, &info).message,
             "sent back 2 of its frames 8 to 11"
         );
-    }
-
-    #[test]
-    fn hosts_and_the_remote_command_are_checked_and_quoted() {
-        assert_eq!(parse_hosts("a,b,a").unwrap(), ["a", "b", "a"]);
-        for bad in ["", "a,,b", "-o", "a b"] {
-            assert_eq!(
-                parse_hosts(bad).unwrap_err(),
-                format!("--hosts must be host names separated by commas, not '{bad}'")
-            );
-        }
-        assert_eq!(
-            remote_command(&["render.sh".into(), "--eye".into(), "it's".into()]),
-            r"exec 'render.sh' '--eye' 'it'\''s'"
-        );
-        assert_eq!(ssh_command(Some("ssh -p 2222")), ["ssh", "-p", "2222"]);
-        assert_eq!(ssh_command(None)[0], "ssh");
     }
 }

@@ -59,7 +59,7 @@ fn main() -> ExitCode {
         let name = stagecli::input_name(&cli.scene).to_string();
         let options = Options {
             hosts,
-            ssh: farm::ssh_command(std::env::var("POLYPIPE_SSH").ok().as_deref()),
+            ssh: stagecli::remote::ssh_command_from_env()?,
             command: farm::remote_command(&cli.command),
             chunk: cli.chunk,
             stats: cli.stats,
