@@ -184,7 +184,7 @@ pub fn extrapolate(
 pub struct Setup {
     /// The built binaries (zspec, frames, viewxf, …).
     pub bin: PathBuf,
-    /// `scripts/render.sh`.
+    /// The `render` binary.
     pub render: PathBuf,
     /// The output folder.
     pub out: PathBuf,

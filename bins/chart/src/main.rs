@@ -227,7 +227,7 @@ fn run(cli: Cli) -> Result<()> {
     }
     let root = root_dir(cli.root)?;
     let bin = bin_dir()?;
-    let render = root.join("scripts/render.sh");
+    let render = bin.join("render");
     if out.exists() && !out.is_dir() {
         return Err(stagecli::Error::usage(format!(
             "-o {0}: {0} is a file; -o names a folder for the CSV files and pictures (a new one, or one to write into)",

@@ -1,6 +1,6 @@
 //! The planner's command line, shared by `plan depth` and its alias `chart choose-depth`
 //! (so that users' scripts that call the old name keep working), and the background
-//! calibration that a first `render.sh --depth auto` starts.
+//! calibration that a first `render --depth auto` starts.
 
 use crate::cache::{self, State};
 use crate::look;
@@ -11,7 +11,7 @@ use std::path::{Path, PathBuf};
 
 #[derive(clap::Args, Debug)]
 pub struct DepthArgs {
-    /// The screen size, as render.sh's --size.
+    /// The screen size, as render's --size.
     #[arg(long, default_value = "500x500", value_parser = parse_size, value_name = "WxH")]
     pub size: (u32, u32),
     /// Cores to plan for (default: this machine's).
@@ -20,7 +20,7 @@ pub struct DepthArgs {
     /// The deepest tree to consider.
     #[arg(long, default_value_t = 6, value_parser = clap::value_parser!(u8).range(0..=6))]
     pub max_depth: u8,
-    /// Plan for the tree's subtrees on this many other hosts (render.sh --hosts).
+    /// Plan for the tree's subtrees on this many other hosts (render --hosts).
     #[arg(long, value_name = "N", value_parser = clap::value_parser!(u32).range(1..=64))]
     pub hosts: Option<u32>,
     /// Cores of each host (default: as many as this machine's).
@@ -41,16 +41,16 @@ pub struct DepthArgs {
     /// The repository, for bench/model.toml.
     #[arg(long, value_name = "DIR")]
     pub root: Option<PathBuf>,
-    /// SCENE is a sample of a stream (`plan sample`'s FILE): `whole` when the stream
-    /// ended within it, `more` when it did not.
+    /// SCENE is a sample of a stream (its first bytes, kept in a file): `whole` when the
+    /// stream ended within it, `more` when it did not.
     #[arg(long, value_name = "whole|more", value_parser = ["whole", "more"])]
     pub stream: Option<String>,
     /// On an uncalibrated machine, say so once (on stderr; the first time only) and
-    /// start the calibration in the background: what render.sh asks when a person is
+    /// start the calibration in the background: what render asks when a person is
     /// watching its stderr.
     #[arg(long)]
     pub tell_once: bool,
-    /// viewxf's camera options, as render.sh was given them, e.g. `--eye 10,10,20`.
+    /// viewxf's camera options, as render was given them, e.g. `--eye 10,10,20`.
     #[arg(long = "eye", value_name = "X,Y,Z", allow_hyphen_values = true)]
     pub eye: Option<String>,
     #[arg(long = "at", value_name = "X,Y,Z", allow_hyphen_values = true)]
@@ -152,10 +152,24 @@ fn setup(a: &DepthArgs) -> Result<(Constants, Option<String>, State, look::Envir
         Some(ended) => look::look_stream(&a.scene, w, h, &camera, ended == "whole")?,
         None => look::look(&a.scene, w, h, &camera, Some(look::SAMPLE_BYTES))?,
     };
-    let cores = a.cores.map_or_else(crate::calibrate::cores, |c| c as usize);
-    let target = Target {
+    let target = target(a.cores, a.load, a.hosts, a.host_cores, a.link_gbps);
+    Ok((k, note, state, env, target))
+}
+
+/// The machine to plan for: `cores` (default: this machine's), sharing them with `load`
+/// other runnable threads (default: this machine's, as [`DepthArgs::load`] says), and
+/// `hosts` other hosts of `host_cores` cores each over links of `link_gbps`.
+pub fn target(
+    cores: Option<u32>,
+    load: Option<f64>,
+    hosts: Option<u32>,
+    host_cores: Option<u32>,
+    link_gbps: f64,
+) -> Target {
+    let cores = cores.map_or_else(crate::calibrate::cores, |c| c as usize);
+    Target {
         cores,
-        load: a.load.unwrap_or_else(|| {
+        load: load.unwrap_or_else(|| {
             // The load is spread over the machine's cores: a plan for fewer of them
             // (taskset) meets its part; one for more cores than this machine has is a
             // plan for another, idle, machine.
@@ -166,14 +180,13 @@ fn setup(a: &DepthArgs) -> Result<(Constants, Option<String>, State, look::Envir
                 0.0
             }
         }),
-        hosts: a.hosts.map(|n| Hosts {
+        hosts: hosts.map(|n| Hosts {
             count: n as usize,
-            cores: a.host_cores.map_or(cores, |c| c as usize),
-            link_bytes_per_s: a.link_gbps * 1e9 / 8.0,
+            cores: host_cores.map_or(cores, |c| c as usize),
+            link_bytes_per_s: link_gbps * 1e9 / 8.0,
             start_s: 0.1,
         }),
-    };
-    Ok((k, note, state, env, target))
+    }
 }
 
 pub fn depth(a: DepthArgs) -> Result<()> {
@@ -186,7 +199,7 @@ pub fn depth(a: DepthArgs) -> Result<()> {
     };
     crate::say(&format!("{depth} ({reason})\n"))?;
     if a.tell_once && a.model.is_none() && state.needs_fitting() {
-        tell_once(&state, &root);
+        tell_once(&state, &root, "plan");
     }
     Ok(())
 }
@@ -237,8 +250,8 @@ pub fn predict(a: DepthArgs) -> Result<()> {
 }
 
 /// Says once (a marker in the cache folder remembers) that this machine is not
-/// calibrated, and starts the calibration in the background.
-fn tell_once(state: &State, root: &Path) {
+/// calibrated, and starts the calibration in the background; `me` starts the line.
+pub fn tell_once(state: &State, root: &Path, me: &str) {
     let Some(dir) = cache::dir() else { return };
     let marker = dir.join("uncalibrated-said");
     if std::fs::create_dir_all(&dir).is_err() || marker.exists() {
@@ -247,7 +260,7 @@ fn tell_once(state: &State, root: &Path) {
     let _ = std::fs::write(&marker, b"");
     let started = background(root).is_ok();
     crate::say_err(&format!(
-        "render.sh: the cost model is {}: --depth auto uses bench/model.toml's constants (another machine's) until {}",
+        "{me}: the cost model is {}: --depth auto uses bench/model.toml's constants (another machine's) until {}",
         state.describe(),
         if started {
             "this machine's are fitted, now, in the background (at most 20 s; `chart calibrate` to do it yourself)"
@@ -257,8 +270,9 @@ fn tell_once(state: &State, root: &Path) {
     ));
 }
 
-/// Starts `plan calibrate` in a process of its own session, at low priority, unless a
-/// calibration is already under way (a lock file younger than a minute).
+/// Starts `plan calibrate` (the `plan` binary beside this one's) in a process of its own
+/// session, at low priority, unless a calibration is already under way (a lock file
+/// younger than a minute).
 pub fn background(root: &Path) -> Result<()> {
     use std::os::unix::process::CommandExt;
     let dir = cache::dir().context("no cache folder")?;
@@ -275,7 +289,7 @@ pub fn background(root: &Path) -> Result<()> {
         }
     }
     std::fs::write(&lock, std::process::id().to_string())?;
-    let mut cmd = std::process::Command::new(std::env::current_exe()?);
+    let mut cmd = std::process::Command::new(bin_dir()?.join("plan"));
     cmd.args(["calibrate", "--root"])
         .arg(root)
         .stdin(std::process::Stdio::null())

@@ -1,4 +1,4 @@
-//! # plan: the cost model, its calibration, and `render.sh --depth auto`'s planner
+//! # plan: the cost model, its calibration, and `render --depth auto`'s planner
 //!
 //! Thesis chapter 5.2 models each stage's time for an environment (polygons, screen,
 //! depth complexity) as a sum of per-polygon, per-vertex, per-scan-line and per-pixel
@@ -7,19 +7,17 @@
 //! look at a scene that gives the model its environment ([`look`]), the fit of the
 //! model's constants on the machine it runs on ([`calibrate`], kept by [`cache`] in
 //! `${XDG_CACHE_HOME:-$HOME/.cache}/polypipe/model.toml`), the thesis's own T424-20
-//! constants and environment ([`thesis`]), the sampling of a scene on stdin
-//! ([`sample`]), and the launcher render.sh becomes to run its stages ([`launch`]). The
-//! `plan` binary is what `render.sh --depth auto` runs; `chart` (the measuring and
-//! plotting binary) uses the same library.
+//! constants and environment ([`thesis`]). `render --depth auto` (the `render` crate,
+//! which also starts and watches the stages) and `chart` (the measuring and plotting
+//! binary) use this library in their own processes; the `plan` binary is its command
+//! line.
 
 pub mod cache;
 pub mod calibrate;
 pub mod cli;
-pub mod launch;
 pub mod look;
 pub mod measure;
 pub mod model;
-pub mod sample;
 pub mod thesis;
 
 use std::io::Write;

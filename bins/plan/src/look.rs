@@ -184,7 +184,37 @@ pub fn look_stream(
     if whole {
         return look(sample, width, height, camera, None);
     }
-    let mut e = look_with(sample, width, height, camera, None, true)?;
+    let e = look_with(sample, width, height, camera, None, true)?;
+    Ok(scale_stream(e))
+}
+
+/// [`look_stream`] of a sample kept in memory (`render --depth auto`'s, of a scene on
+/// stdin or in a pipe): the same counts, from the bytes rather than a file.
+pub fn look_sample(
+    sample: &[u8],
+    width: u32,
+    height: u32,
+    camera: &[String],
+    whole: bool,
+) -> Result<Environment> {
+    let text = !sample.is_empty()
+        && sample[..sample.len().min(8)] != proto::header::BINARY_MAGIC[..sample.len().min(8)];
+    let e = look_reader(
+        sample,
+        sample.len() as u64,
+        text,
+        "the scene's sample",
+        (width, height),
+        camera,
+        None,
+        !whole,
+    )?;
+    Ok(if whole { e } else { scale_stream(e) })
+}
+
+/// The counts of a sample cut from a stream, scaled to a stream [`STREAM_SCALE`] times as
+/// long, its frames the sample's polygons a frame (when a NEXT.FRAME was seen).
+fn scale_stream(mut e: Environment) -> Environment {
     let frames_seen = e.frames;
     let up = |n: u64| (n as f64 * STREAM_SCALE).round() as u64;
     e.polygons = up(e.polygons);
@@ -195,13 +225,41 @@ pub fn look_stream(
     if frames_seen > 1 {
         e.frames = up(frames_seen);
     }
-    Ok(e)
+    e
 }
 
 fn look_with(
     scene: &Path,
     width: u32,
     height: u32,
+    camera: &[String],
+    sample: Option<u64>,
+    cut: bool,
+) -> Result<Environment> {
+    let text = is_text(scene)?;
+    let file = open(scene)?;
+    let total = file.metadata().map(|m| m.len()).unwrap_or(0);
+    let name = scene.display().to_string();
+    look_reader(
+        file,
+        total,
+        text,
+        &name,
+        (width, height),
+        camera,
+        sample,
+        cut,
+    )
+}
+
+/// The look itself, of `input` (`total` bytes, `text` or binary; `name` for messages).
+#[allow(clippy::too_many_arguments)]
+fn look_reader<R: Read>(
+    input: R,
+    total: u64,
+    text: bool,
+    name: &str,
+    (width, height): (u32, u32),
     camera: &[String],
     sample: Option<u64>,
     cut: bool,
@@ -231,18 +289,15 @@ fn look_with(
     };
     let (mut eye, mut clipped) = (Vec::new(), Vec::new());
 
-    let text = is_text(scene)?;
-    let file = open(scene)?;
-    let total = file.metadata().map(|m| m.len()).unwrap_or(0);
     let bytes = Arc::new(AtomicU64::new(0));
     let mut reader = Reader::<Token, _>::new(std::io::BufReader::with_capacity(
         1 << 16,
         Counted {
-            inner: file,
+            inner: input,
             bytes: Arc::clone(&bytes),
         },
     ))
-    .with_context(|| format!("reading {}", scene.display()))?;
+    .with_context(|| format!("reading {name}"))?;
     let mut e = Environment {
         frames: 1,
         width,
@@ -261,8 +316,7 @@ fn look_with(
             // A sample cut from a stream ends where it was cut: in a record, perhaps.
             Err(_) if cut && e.polygons > 0 => break,
             Err(err) => {
-                return Err(anyhow::Error::from(err))
-                    .with_context(|| format!("reading {}", scene.display()))
+                return Err(anyhow::Error::from(err)).with_context(|| format!("reading {name}"))
             }
         }
         match &mut record {

@@ -1,8 +1,8 @@
-//! `plan launch`: render.sh's process graph started, watched and ended by one process.
+//! The launcher: render's process graph started, watched and ended by one process.
 //!
-//! render.sh works out the graph (the clipper chain, the splitter tree, the leaves and
-//! the merger: thesis chapter 6.3, occam's `PAR` over channels) and then becomes this
-//! program (`exec`), which
+//! render works out the graph ([`crate::graph`]: the clipper chain, the splitter tree,
+//! the leaves and the merger: thesis chapter 6.3, occam's `PAR` over channels) and then
+//! runs it here, which
 //!
 //! 1. makes each channel an anonymous pipe: a stage's stdin or stdout, or, for a stage
 //!    that names its channels on its command line (a splitter's two outputs, the
@@ -13,18 +13,21 @@
 //!    downstream of it fail in turn (their input ends short), so it waits a moment,
 //!    names the cause (one killed by a signal, else the most upstream to fail), stops
 //!    the rest (TERM, KILL a second later), writes only the cause's words and
-//!    `render.sh: STAGE failed (status N)`, and exits with the stage's class of
+//!    `render: STAGE failed (status N)`, and exits with the stage's class of
 //!    failure (1 bad data, 2 usage, 3 I/O; otherwise 1). SIGINT, SIGTERM and SIGHUP stop
 //!    every stage, and it exits 130, 143 or 129.
 //!
 //! Nothing goes to disk: no private folder, no named pipes, no stderr files, so nothing
 //! is left behind however the run ends; a launcher killed outright takes its stages with
-//! it (each is started with `PR_SET_PDEATHSIG`). Before it, the script did all
+//! it (each is started with `PR_SET_PDEATHSIG`). Before it, a bash script did all
 //! this itself with a folder of named pipes and `wait -n`: about 8 ms of a small
 //! render's 17 on the 2-core machine this was measured on (docs/performance.md,
 //! "Start-up").
 //!
-//! A stage on another host (`render.sh --hosts`, an ssh) carries its host and its node
+//! A scene on stdin that `--depth auto` has looked at is fed to its stage by a thread of
+//! this process ([`Feed`]): the sample kept in memory, then the rest of the stream.
+//!
+//! A stage on another host (`render --hosts`, an ssh) carries its host and its node
 //! of the tree, so that its failure is told as farm tells one ([`stagecli::remote`]),
 //! and with `--links` the bytes each host's link carried are counted from the stages'
 //! `--stats` lines.
@@ -64,7 +67,7 @@ pub struct Stage {
     pub pipes: usize,
 }
 
-/// A graph render.sh could not have meant: a bug in the script, status 2.
+/// A graph that cannot be run (two readers of a channel, say): a bug in its builder.
 #[derive(Debug, thiserror::Error, PartialEq, Eq)]
 pub enum SpecError {
     #[error("stage {0}: the description ends early")]
@@ -91,7 +94,8 @@ fn end_of(word: &OsStr, stage: usize, what: &str) -> Result<End, SpecError> {
     }
 }
 
-/// The stages from render.sh's description: for each, `LABEL IN OUT HOST NODE PIPES N`
+/// The stages from a description in words (the form the bash composer gave its
+/// launcher, kept for tests and tools): for each, `LABEL IN OUT HOST NODE PIPES N`
 /// and then the N words of its command. IN and OUT are `-`, `file:PATH` or `pipe:NAME`;
 /// HOST and NODE are empty but for a stage on another host; the last PIPES words of the
 /// command are channel names.
@@ -236,7 +240,7 @@ pub fn what_node(node: u64, depth: u32) -> String {
 /// a channel named by the channel (`zbuf: /dev/fd/9: …` becomes `zbuf: leaf-2: …`); a
 /// line that starts with the bare program name given the stage's full label instead
 /// (`scanconv: …` from leaf 2 becomes `scanconv (leaf 2): …`; lines a stage labelled
-/// itself, as `splitter y=0 (node 2): …`, are left alone); a host's render.sh's lines
+/// itself, as `splitter y=0 (node 2): …`, are left alone); a host's render's lines
 /// (labelled by it) given the host.
 pub fn labelled(said: &str, stage: &Stage, fds: &[(RawFd, String)]) -> String {
     let program = stage.label.split(' ').next().unwrap_or("");
@@ -244,7 +248,7 @@ pub fn labelled(said: &str, stage: &Stage, fds: &[(RawFd, String)]) -> String {
     for line in said.lines() {
         let line = name_channels(line, fds);
         if let Some((host, _)) = &stage.host {
-            let line = line.strip_prefix("render.sh: ").unwrap_or(&line);
+            let line = strip_render(&line);
             out.push_str(&format!("host {host}: {line}\n"));
         } else if let Some(rest) = line
             .strip_prefix(program)
@@ -257,6 +261,14 @@ pub fn labelled(said: &str, stage: &Stage, fds: &[(RawFd, String)]) -> String {
         }
     }
     out
+}
+
+/// `line` without a host's render's own prefix (`render: `, or an older host's
+/// `render.sh: `).
+fn strip_render(line: &str) -> &str {
+    line.strip_prefix("render: ")
+        .or_else(|| line.strip_prefix("render.sh: "))
+        .unwrap_or(line)
 }
 
 /// `line` with each `/dev/fd/N` in `fds` replaced by its channel's name.
@@ -314,7 +326,7 @@ fn empty_from(said: &str) -> Option<u64> {
 /// carried each way (thesis 6.5 estimates them for the transputer links), from the
 /// splitters' `…; A and B bytes out` and the merger's `zbuf: from-K: … N bytes in`. A
 /// subtree at the root carries the clipper's whole output, which nothing counts.
-pub fn links(stages: &[Stage], said: &[String], depth: u32) -> String {
+pub fn links(stages: &[Stage], said: &[String], depth: u32, me: &str) -> String {
     let mut out = String::new();
     for s in stages {
         let Some((host, node)) = &s.host else {
@@ -349,7 +361,7 @@ pub fn links(stages: &[Stage], said: &[String], depth: u32) -> String {
             }
         }
         out.push_str(&format!(
-            "render.sh: {} on host {host}: {there}, {back}\n",
+            "{me}: {} on host {host}: {there}, {back}\n",
             what_node(*node, depth)
         ));
     }
@@ -372,15 +384,26 @@ pub struct Outcome {
     pub message: String,
 }
 
-/// The options of `plan launch` beside the stages.
-#[derive(Clone, Debug, Default)]
+/// What a stage reading the launcher's stdin is fed instead: `sample` (the bytes
+/// `--depth auto` looked at, kept in memory), then what is left of `rest` (the stream
+/// they came from; `None` when the stream ended within the sample).
+#[derive(Debug, Default)]
+pub struct Feed {
+    pub sample: Vec<u8>,
+    pub rest: Option<OwnedFd>,
+}
+
+/// How the launcher runs the stages.
+#[derive(Debug, Default)]
 pub struct Options {
     /// The tree's depth, for naming the hosts' nodes.
     pub depth: u32,
     /// Print the hosts' links' bytes on success (`--stats --hosts`).
     pub links: bool,
-    /// Print what each stage cost on success ([`Cost`], `render.sh --times`).
+    /// Print what each stage cost on success ([`Cost`], `render --times`).
     pub times: bool,
+    /// The stage that reads the launcher's stdin reads this instead.
+    pub feed: Option<Feed>,
 }
 
 /// What one stage cost, from `wait4`: its CPU (user and system) and its own peak
@@ -405,7 +428,7 @@ impl Cost {
     }
 }
 
-/// `--times`: a line a stage, `render.sh: LABEL: 6.6 ms CPU (6.1 user, 0.5 system), 3.1
+/// `--times`: a line a stage, `render: LABEL: 6.6 ms CPU (6.1 user, 0.5 system), 3.1
 /// MB peak, ended at 31.0 ms`, and a last line of their sums: the CPU of all of them, and
 /// the sum of their peaks, a bound on what the stages, running side by side, held at any
 /// one moment.
@@ -699,8 +722,8 @@ fn open_end(path: &std::path::Path, write: bool) -> std::io::Result<std::fs::Fil
 }
 
 /// Runs the graph to its end and says how it ended ([`Outcome`]); `me` is the name the
-/// messages start with (`render.sh`).
-pub fn run(stages: Vec<Stage>, options: &Options, me: &str) -> Result<Outcome, SpecError> {
+/// messages start with (`render`).
+pub fn run(stages: Vec<Stage>, options: Options, me: &str) -> Result<Outcome, SpecError> {
     let chans = channels(&stages)?;
     cloexec_inherited();
     let set = signal_set();
@@ -733,6 +756,18 @@ pub fn run(stages: Vec<Stage>, options: &Options, me: &str) -> Result<Outcome, S
         match ch.reader {
             (i, None) => stdin_of[i] = Some(r),
             (i, Some(k)) => named_of[i].push((k, r, name.clone())),
+        }
+    }
+    // The feed: a pipe into the stage that would read stdin, written by a thread, which
+    // holds the signals blocked as this one does (they are blocked before it starts).
+    if let Some(feed) = options.feed {
+        if let Some(i) = stages.iter().position(|s| s.input == End::Inherit) {
+            let (r, w) = match pipe() {
+                Ok(p) => p,
+                Err(e) => return Ok(fail(format!("{me}: {e}\n"))),
+            };
+            stdin_of[i] = Some(r);
+            std::thread::spawn(move || feed_stage(feed, w));
         }
     }
     let mut run = Running {
@@ -849,7 +884,7 @@ pub fn run(stages: Vec<Stage>, options: &Options, me: &str) -> Result<Outcome, S
         let said: Vec<String> = (0..n).map(|i| run.labelled(i)).collect();
         let mut message = said.concat();
         if options.links {
-            message.push_str(&links(&run.stages, &said, options.depth));
+            message.push_str(&links(&run.stages, &said, options.depth, me));
         }
         if options.times {
             message.push_str(&times(&run.stages, &run.costs, me));
@@ -863,7 +898,7 @@ pub fn run(stages: Vec<Stage>, options: &Options, me: &str) -> Result<Outcome, S
     let stage = &run.stages[c];
     if stage.host.is_none() {
         // The merger found a host's runs empty: that host answered with nothing (a
-        // command that is not render.sh, say), the host's fault, not the data's.
+        // command that is not render, say), the host's fault, not the data's.
         if let Some(node) = empty_from(&said) {
             if let Some(h) = run
                 .stages
@@ -908,6 +943,18 @@ pub fn run(stages: Vec<Stage>, options: &Options, me: &str) -> Result<Outcome, S
         status: if (1..=3).contains(&st) { st as u8 } else { 1 },
         message: format!("{said}{me}: {} failed ({})\n", stage.label, describe(st)),
     })
+}
+
+/// Writes `feed` into `to`: the sample, then the rest of its stream. A reader that has
+/// gone (the stage failed, and says so itself) ends it, as does the stream's end.
+fn feed_stage(feed: Feed, to: OwnedFd) {
+    let mut to = std::fs::File::from(to);
+    if to.write_all(&feed.sample).is_err() {
+        return;
+    }
+    if let Some(rest) = feed.rest {
+        let _ = std::io::copy(&mut std::fs::File::from(rest), &mut to);
+    }
 }
 
 /// Writes the outcome's message on stderr, in one write.
@@ -1051,8 +1098,8 @@ mod tests {
             "scanconv (leaf 2): bad\nsplitter y=0 (node 2): 5\n"
         );
         assert_eq!(
-            labelled("render.sh: zbuf failed\n", &s[2], &[]),
-            "host a: zbuf failed\n"
+            labelled("render: zbuf failed\nrender.sh: old\n", &s[2], &[]),
+            "host a: zbuf failed\nhost a: old\n"
         );
         assert_eq!(
             name_channels("/dev/fd/123 /dev/fd/12 /dev/fd/", &[(12, "x".into())]),
@@ -1087,10 +1134,10 @@ mod tests {
             cost(0.002, 0.0, 1024, 0.04),
         ];
         assert_eq!(
-            times(&s[..2], &costs, "render.sh"),
-            "render.sh: viewxf: 6.6 ms CPU (6.1 user, 0.5 system), 3.1 MB peak, ended at 31.0 ms\n\
-             render.sh: splitter (node 1): 2.0 ms CPU (2.0 user, 0.0 system), 1.0 MB peak, ended at 40.0 ms\n\
-             render.sh: 2 stages: 8.6 ms CPU, 4.1 MB of peaks, the last ended at 40.0 ms\n"
+            times(&s[..2], &costs, "render"),
+            "render: viewxf: 6.6 ms CPU (6.1 user, 0.5 system), 3.1 MB peak, ended at 31.0 ms\n\
+             render: splitter (node 1): 2.0 ms CPU (2.0 user, 0.0 system), 1.0 MB peak, ended at 40.0 ms\n\
+             render: 2 stages: 8.6 ms CPU, 4.1 MB of peaks, the last ended at 40.0 ms\n"
         );
     }
 
@@ -1105,9 +1152,9 @@ mod tests {
             "zbuf: from-2: 3 runs, 40 bytes in\nzbuf: from-3: 1 runs, 9 bytes in\n".into(),
         ];
         assert_eq!(
-            links(&s, &said, 1),
-            "render.sh: leaf 0 on host a: 700 bytes there, 40 bytes back\n\
-             render.sh: leaf 1 on host b: 300 bytes there, 9 bytes back\n"
+            links(&s, &said, 1, "render"),
+            "render: leaf 0 on host a: 700 bytes there, 40 bytes back\n\
+             render: leaf 1 on host b: 300 bytes there, 9 bytes back\n"
         );
     }
 
@@ -1126,7 +1173,7 @@ mod tests {
             let null = || End::Path("/dev/null".into());
             let pipe = || End::Pipe("p".into());
             let stages = vec![sh("a", null(), pipe(), a), sh("b", pipe(), null(), b)];
-            run(stages, &Options::default(), "render.sh").unwrap()
+            run(stages, Options::default(), "render").unwrap()
         };
         assert_eq!(
             two(
@@ -1145,7 +1192,7 @@ mod tests {
             ),
             Outcome {
                 status: 2,
-                message: "a: bad\nrender.sh: a failed (status 2)\n".into()
+                message: "a: bad\nrender: a failed (status 2)\n".into()
             }
         );
     }

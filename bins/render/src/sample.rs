@@ -1,14 +1,16 @@
-//! The sample of a scene on stdin that `render.sh --depth auto` plans from: the stream's
-//! first [`SAMPLE_BYTES`] (512 KiB), or less when the stream ends, or when it pauses. The
-//! render then reads the sample and the rest of stdin, so nothing more than the sample is
-//! kept, and a live source (`scene … | render.sh - | ffmpeg`) is not held up: a source
-//! that writes a frame and waits is sampled for at most [`PATIENCE`] after its first byte.
+//! The sample of a scene on stdin (or in a pipe) that `render --depth auto` plans from:
+//! the stream's first [`SAMPLE_BYTES`] (512 KiB), or less when the stream ends, or when
+//! it pauses. It is kept in memory, and the launcher feeds the render the sample and
+//! then the rest of the stream ([`crate::launch::Feed`]), so nothing more than the
+//! sample is kept, and a live source (`scene … | render | ffmpeg`) is not held up: a
+//! source that writes a frame and waits is sampled for at most [`PATIENCE`] after its
+//! first byte.
 
 use std::io::{self, Read, Write};
 use std::os::fd::AsRawFd;
 use std::time::{Duration, Instant};
 
-pub use crate::look::SAMPLE_BYTES;
+pub use plan::look::SAMPLE_BYTES;
 
 /// How long after the stream's first byte the sample may wait for the rest of its bytes.
 pub const PATIENCE: Duration = Duration::from_millis(150);

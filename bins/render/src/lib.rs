@@ -1,0 +1,307 @@
+//! # render: the polypipe stages composed into the thesis's pipeline
+//!
+//! One program plans, starts and watches a render's process graph (thesis chapter 6.3;
+//! docs/DESIGN.md, "The splitter tree"): its options ([`options`]), the graph they ask
+//! for ([`graph`]), the depth the cost model chooses for `--depth auto`, from a look at
+//! the scene in this process ([`auto`], with the `plan` crate's model), and the launcher
+//! that runs the stages, each a process of its own joined to the next by an anonymous
+//! pipe, and ends the run as one ([`launch`]). `scripts/render.sh` builds the binaries
+//! and becomes it ([`fresh`]); `chart` runs it.
+//!
+//! Exit status: 0 success, 1 bad input data, 2 bad arguments, 3 I/O or environment; a
+//! failing stage's own class, the stage named; 130 or 143 when stopped by SIGINT or
+//! SIGTERM. Nothing is left running or on disk on any way out.
+
+pub mod auto;
+pub mod fresh;
+pub mod graph;
+pub mod launch;
+pub mod options;
+pub mod sample;
+
+use options::{Options, Parsed, Scene};
+use stagecli::Error;
+use std::ffi::OsString;
+use std::io::{IsTerminal, Write};
+use std::path::{Path, PathBuf};
+
+/// The name render's messages start with.
+pub const ME: &str = "render";
+
+/// The repository: `POLYPIPE_SOURCES` (scripts/render.sh names it), else the folder
+/// above this binary's with scripts/render.sh, else the current one.
+pub fn repository() -> PathBuf {
+    if let Some(root) = std::env::var_os("POLYPIPE_SOURCES").filter(|r| !r.is_empty()) {
+        return root.into();
+    }
+    plan::cli::root_dir(None).unwrap_or_else(|_| PathBuf::from("."))
+}
+
+/// The scene rendered when none is given and stdin is a terminal.
+pub fn repository_example() -> PathBuf {
+    repository().join("examples/penetrating.txt")
+}
+
+/// The stage binaries' folder: `POLYPIPE_BIN` (a host's folder of built binaries, given
+/// by `--remote-bin`, run as they are), else this binary's own.
+fn bin_dir() -> Result<(PathBuf, bool), Error> {
+    if let Some(dir) = std::env::var_os("POLYPIPE_BIN").filter(|d| !d.is_empty()) {
+        return Ok((dir.into(), true));
+    }
+    let exe = std::env::current_exe().map_err(|e| Error::from(e).context("where render is"))?;
+    Ok((exe.parent().unwrap_or(Path::new(".")).to_path_buf(), false))
+}
+
+/// Every binary `o`'s graph runs is in `bin`: `no X in DIR`, status 3, before anything
+/// starts.
+fn check_binaries(o: &Options, bin: &Path, from_env: bool) -> Result<(), Error> {
+    let method = graph::method(o);
+    let stages = [
+        "viewxf",
+        "clipplane",
+        "clipbatch",
+        "splitter",
+        "persp",
+        "scanconv",
+        "zbuf",
+    ];
+    for b in stages.iter().copied().chain([method[0].as_str()]) {
+        if !bin.join(b).is_file() {
+            let whose = if from_env { " (POLYPIPE_BIN)" } else { "" };
+            return Err(Error::io(format!("no {b} in {}{whose}", bin.display())));
+        }
+    }
+    Ok(())
+}
+
+/// The options about the picture, for the hosts' renders of `--by frames`.
+fn picture_options(cli: &options::Cli) -> Vec<String> {
+    let mut w: Vec<String> = vec!["--size".into(), cli.size.clone()];
+    if let Some(d) = &cli.depth {
+        w.extend(["--depth".into(), d.clone()]);
+    }
+    w.extend(cli.camera());
+    for (opt, v) in [
+        ("--zmode", &cli.zmode),
+        ("--merge", &cli.merge),
+        ("--hse", &cli.hse),
+        ("--aa", &cli.aa),
+        ("--clip", &cli.clip),
+    ] {
+        w.extend([opt.to_string(), v.clone()]);
+    }
+    for (opt, on) in [
+        ("--split", cli.split),
+        ("--pixels", cli.pixels),
+        ("--hidden-line", cli.hidden_line),
+        ("--stats", cli.stats),
+    ] {
+        if on {
+            w.push(opt.into());
+        }
+    }
+    w
+}
+
+/// `--by frames`: the `farm` binary cuts the movie into chunks and runs each on a host,
+/// `render.sh OPTIONS -` there (at the same path, with the binaries of --remote-bin), and
+/// writes the frames back in order; farm's own options pass through as given. The
+/// options are checked here first, as a local render would check them. Returns only on
+/// an error: farm takes this process's place.
+fn frames_on_hosts(cli: &options::Cli, list: &str) -> Error {
+    use std::os::unix::process::CommandExt;
+    if cli.subtree.is_some() {
+        return Error::usage("--subtree is a host's part of --by leaves: not with --by frames");
+    }
+    if cli.times {
+        return Error::usage("--times is the stages' here: not with --by frames");
+    }
+    let o = match cli
+        .validate(Vec::new(), std::io::stdin().is_terminal())
+        .and_then(|o| options::check_scene(&o.scene).map(|_| o))
+    {
+        Ok(o) => o,
+        Err(e) => return e,
+    };
+    let (bin, from_env) = match bin_dir() {
+        Ok(b) => b,
+        Err(e) => return e,
+    };
+    if let Err(e) = check_binaries(&o, &bin, from_env) {
+        return e;
+    }
+    tell_example(&o);
+    let root = repository();
+    let mut farm = std::process::Command::new(bin.join("farm"));
+    farm.args(["--hosts", list]);
+    let valued = [
+        ("--chunk", &cli.chunk),
+        ("--sshloginfile", &cli.sshloginfile),
+        ("--retries", &cli.retries),
+        ("--joblog", &cli.joblog),
+        ("--slurm-array", &cli.slurm_array),
+        ("-o", &cli.output),
+        ("--first-frame", &cli.first_frame),
+    ];
+    for (opt, v) in valued {
+        if let Some(v) = v {
+            farm.args([opt, v]);
+        }
+    }
+    if cli.resume {
+        farm.arg("--resume");
+    }
+    if cli.stats {
+        farm.arg("--stats");
+    }
+    match &o.scene {
+        Scene::Stdin => farm.arg("-"),
+        Scene::Path(p) => farm.arg(p),
+    };
+    let remote_bin = cli
+        .remote_bin
+        .clone()
+        .unwrap_or_else(|| bin.display().to_string());
+    farm.arg("--")
+        .arg("env")
+        .arg(format!("POLYPIPE_BIN={remote_bin}"))
+        .arg(root.join("scripts/render.sh"))
+        .args(picture_options(cli))
+        .arg("-");
+    let e = farm.exec();
+    Error::from(e).context(format!("cannot run {}", bin.join("farm").display()))
+}
+
+/// On a terminal with no SCENE: says which scene is rendered.
+fn tell_example(o: &Options) {
+    if o.example {
+        let _ = writeln!(
+            std::io::stderr(),
+            "{ME}: no SCENE given and stdin is a terminal: rendering {} (give a SCENE, `-`, or pipe one in)",
+            repository_example().display()
+        );
+    }
+}
+
+/// Options only farm takes: refused without `--by frames`.
+fn farm_only(cli: &options::Cli) -> Result<(), Error> {
+    let given = [
+        ("--chunk", cli.chunk.is_some()),
+        ("--sshloginfile", cli.sshloginfile.is_some()),
+        ("--retries", cli.retries.is_some()),
+        ("--joblog", cli.joblog.is_some()),
+        ("--resume", cli.resume),
+        ("--slurm-array", cli.slurm_array.is_some()),
+    ];
+    match given.iter().find(|(_, on)| *on) {
+        Some((opt, _)) => Err(Error::usage(format!("{opt} is for --by frames"))),
+        None => Ok(()),
+    }
+}
+
+/// Renders as the command line `args` (the program's name first) asks, and returns the
+/// exit status. Messages go to stderr as `render: …`.
+pub fn run<I: IntoIterator<Item = OsString>>(args: I) -> u8 {
+    match run_inner(args) {
+        Ok(status) => status,
+        Err(e) => {
+            if e.kind() != stagecli::Kind::ReaderGone {
+                let _ = writeln!(std::io::stderr(), "{ME}: {e}");
+            }
+            e.kind().status()
+        }
+    }
+}
+
+fn run_inner<I: IntoIterator<Item = OsString>>(args: I) -> Result<u8, Error> {
+    let args: Vec<OsString> = args.into_iter().collect();
+    let cli = match options::parse(args.iter().cloned())? {
+        Parsed::Print(text) => {
+            let _ = std::io::stdout().write_all(text.as_bytes());
+            return Ok(0);
+        }
+        Parsed::Run(cli) => cli,
+    };
+    // Started by scripts/render.sh: the binaries made current first, and a render binary
+    // cargo rebuilt run in this one's place.
+    if let (Some(root), None) = (
+        std::env::var_os("POLYPIPE_SOURCES").filter(|r| !r.is_empty()),
+        std::env::var_os("POLYPIPE_BIN").filter(|d| !d.is_empty()),
+    ) {
+        let (bin, _) = bin_dir()?;
+        if fresh::ensure(Path::new(&root), &bin, ME)? {
+            use std::os::unix::process::CommandExt;
+            let e = std::process::Command::new(bin.join("render"))
+                .args(&args[1..])
+                .exec();
+            return Err(Error::from(e).context("cannot run the rebuilt render"));
+        }
+    }
+    let mut hosts = Vec::new();
+    let mut ssh = Vec::new();
+    if cli.hosts.is_some() || cli.by.is_some() {
+        let Some(list) = cli.hosts.clone() else {
+            return Err(Error::usage(format!(
+                "--by {} needs --hosts H1,H2,…",
+                cli.by.as_deref().unwrap_or("")
+            )));
+        };
+        let by = cli.by.as_deref().unwrap_or("leaves");
+        if by != "leaves" && by != "frames" {
+            return Err(Error::usage(format!(
+                "--by must be leaves or frames, not '{by}'"
+            )));
+        }
+        ssh = stagecli::remote::ssh_command_from_env()?;
+        hosts = stagecli::remote::parse_hosts(&list).map_err(Error::usage)?;
+        if by == "frames" {
+            return Err(frames_on_hosts(&cli, &list));
+        }
+    }
+    farm_only(&cli)?;
+    if cli.output.is_none() && cli.first_frame.is_some() {
+        return Err(Error::usage(
+            "--first-frame numbers -o's files: it needs -o PATTERN",
+        ));
+    }
+    let o = cli.validate(hosts, std::io::stdin().is_terminal())?;
+    options::check_scene(&o.scene)?;
+    if !Path::new("/proc/self/stat").exists() {
+        return Err(Error::io("needs /proc (Linux), to run its stages"));
+    }
+    let (bin, from_env) = bin_dir()?;
+    check_binaries(&o, &bin, from_env)?;
+    tell_example(&o);
+    let root = repository();
+    let mut feed = None;
+    let depth = match o.depth {
+        Some(d) => d,
+        None if o.hidden_line || o.subtree.is_some() => 0,
+        None => {
+            let choice = auto::choose(&o, &root, &bin, std::io::stderr().is_terminal(), ME)?;
+            if let (true, Some(said)) = (o.stats, &choice.said) {
+                let _ = writeln!(std::io::stderr(), "{ME}: {said}");
+            }
+            feed = choice.feed;
+            choice.depth
+        }
+    };
+    let context = graph::Context {
+        bin: &bin,
+        depth,
+        ssh: &ssh,
+        root: &root,
+        fed: feed.is_some(),
+    };
+    let stages = graph::build(&o, &context);
+    let options = launch::Options {
+        depth,
+        links: o.stats && !o.hosts.is_empty(),
+        times: o.times,
+        feed,
+    };
+    let outcome =
+        launch::run(stages, options, ME).map_err(|e| Error::usage(format!("the graph: {e}")))?;
+    launch::tell(&outcome);
+    Ok(outcome.status)
+}
