@@ -125,9 +125,8 @@ pub fn ensure(root: &Path, bin: &Path, me: &str) -> stagecli::Result<bool> {
     if look == Look::Fresh {
         return Ok(false);
     }
-    let cargo = std::env::var_os("CARGO").unwrap_or_else(|| "cargo".into());
     let before = mtime(&bin.join("render"));
-    let mut cmd = std::process::Command::new(&cargo);
+    let mut cmd = std::process::Command::new("cargo");
     cmd.current_dir(root)
         .args(["build", "--release", "--quiet"])
         .args(BINARIES.iter().flat_map(|b| ["-p", b]))

@@ -440,14 +440,19 @@ impl Cli {
 }
 
 /// The scene can be read (a folder is refused as the stages refuse one: `PATH: Is a
-/// directory`), status 3.
+/// directory`), status 3. Asked of the file system (access(2)), not by opening it: a
+/// named pipe opened and closed here would end its writer's stream.
 pub fn check_scene(scene: &Scene) -> Result<(), Error> {
+    use std::os::unix::ffi::OsStrExt;
     let Scene::Path(p) = scene else {
         return Ok(());
     };
+    let readable = std::ffi::CString::new(p.as_os_str().as_bytes())
+        // SAFETY: access reads the NUL-terminated path it is given, and nothing else.
+        .is_ok_and(|c| unsafe { libc::access(c.as_ptr(), libc::R_OK) } == 0);
     match std::fs::metadata(p) {
         Ok(m) if m.is_dir() => Err(Error::io(format!("{}: Is a directory", p.display()))),
-        Ok(_) if std::fs::File::open(p).is_ok() => Ok(()),
+        Ok(_) if readable => Ok(()),
         _ => Err(Error::io(format!("cannot read scene {}", p.display()))),
     }
 }

@@ -1,0 +1,174 @@
+//! How a render ends when a stage fails or is killed: the stage named, its class of
+//! failure passed through, every other stage stopped, nothing left on disk.
+
+use pipeline_tests::render::{example, render, render_cmd};
+use pipeline_tests::bin_dir;
+use std::path::{Path, PathBuf};
+use std::process::{Command, Stdio};
+use std::time::{Duration, Instant};
+
+#[test]
+fn a_failing_stage_is_named() {
+    let out = render(
+        &["--depth", "2", "-"],
+        b"polypipe 1 world\ncolour 1 2 3\n0 0\n",
+    );
+    assert_eq!(out.status.code(), Some(1));
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        err.contains("viewxf: line 3, column 4: expected z of vertex 0"),
+        "{err}"
+    );
+    assert!(
+        err.contains("render: viewxf failed (status 1)\n"),
+        "{err}"
+    );
+    let out = render(&["--depth", "7", &example()], b"");
+    assert_eq!(out.status.code(), Some(2));
+    let out = render(&["--merge", "zbuf", &example()], b"");
+    assert_eq!(out.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&out.stderr)
+        .contains("render: --merge must be tiles or buffer, not 'zbuf'\n"));
+    // viewxf's usage error stays a usage error.
+    let out = render(&["--hither", "0", &example()], b"");
+    assert_eq!(out.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&out.stderr).contains("render: viewxf failed (status 2)\n"));
+}
+
+fn children_of(pid: u32, pattern: Option<&str>) -> Vec<u32> {
+    let mut cmd = Command::new("pgrep");
+    cmd.args(["-P", &pid.to_string()]);
+    if let Some(p) = pattern {
+        cmd.args(["-f", p]);
+    }
+    let out = cmd.output().unwrap();
+    String::from_utf8_lossy(&out.stdout)
+        .split_whitespace()
+        .map(|s| s.parse().unwrap())
+        .collect()
+}
+
+#[test]
+fn a_stage_killed_by_sigkill_stops_the_whole_tree() {
+    bin_dir();
+    // A private TMPDIR, to see that the run puts nothing there.
+    let tmp = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("render-kill");
+    let _ = std::fs::remove_dir_all(&tmp);
+    std::fs::create_dir_all(&tmp).unwrap();
+    // A movie long enough to be still running when a stage is killed.
+    let mut scene = Command::new(bin_dir().join("scene"))
+        .args([
+            "environment",
+            "--polygons",
+            "20000",
+            "--depth-complexity",
+            "3",
+        ])
+        .args(["--frames", "20"])
+        .stdout(Stdio::piped())
+        .spawn()
+        .unwrap();
+    let mut render = render_cmd(&["--depth", "3", "--clip", "chain", "-"])
+        .env("TMPDIR", &tmp)
+        .stdin(scene.stdout.take().unwrap())
+        .stdout(Stdio::null())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    // Depth 3: viewxf, 6 clippers, 3 splitters (the root, then nodes 2 and 3 each with
+    // its children, the last level projecting), 7 scanconv and zbuf (which resolves leaf
+    // 0 itself).
+    let started = Instant::now();
+    let stages = loop {
+        let stages = children_of(render.id(), None);
+        if stages.len() == 18 {
+            break stages;
+        }
+        assert!(
+            started.elapsed() < Duration::from_secs(60),
+            "the tree did not start: {stages:?}"
+        );
+        std::thread::sleep(Duration::from_millis(20));
+    };
+    // The stages are joined by anonymous pipes: nothing on disk.
+    assert_eq!(
+        std::fs::read_dir(&tmp).unwrap().count(),
+        0,
+        "a file in TMPDIR"
+    );
+    let victim = children_of(render.id(), Some("clipplane hither"));
+    assert_eq!(victim.len(), 1);
+    let killed = Command::new("kill")
+        .args(["-KILL", &victim[0].to_string()])
+        .status()
+        .unwrap();
+    assert!(killed.success());
+    let killed_at = Instant::now();
+    let status = loop {
+        if let Some(status) = render.try_wait().unwrap() {
+            break status;
+        }
+        assert!(
+            killed_at.elapsed() < Duration::from_secs(2),
+            "render still running 2 s after a stage was killed"
+        );
+        std::thread::sleep(Duration::from_millis(10));
+    };
+    let mut err = String::new();
+    std::io::Read::read_to_string(render.stderr.as_mut().unwrap(), &mut err).unwrap();
+    let _ = scene.wait();
+    assert_eq!(status.code(), Some(1), "{err}");
+    assert!(
+        err.contains("render: clipplane hither failed (killed by SIGKILL)"),
+        "{err}"
+    );
+    assert_eq!(
+        std::fs::read_dir(&tmp).unwrap().count(),
+        0,
+        "nothing left in TMPDIR"
+    );
+    for pid in stages {
+        assert!(
+            !Path::new(&format!("/proc/{pid}")).exists(),
+            "stage {pid} outlived render"
+        );
+    }
+}
+
+
+/// render exits with the failing stage's class (1 bad data, 2 usage, 3 I/O),
+/// not always 1. Bad data (viewxf, 1) and a stage's usage error (viewxf --hither 0, 2)
+/// are in `a_failing_stage_is_named`.
+#[test]
+fn a_failing_stages_status_class_passes_through() {
+    // --size 0x0 is the user's error, reported by the script as its own option: 2.
+    let out = render(&["--size", "0x0", &example()], b"");
+    assert_eq!(out.status.code(), Some(2));
+    assert_eq!(
+        String::from_utf8_lossy(&out.stderr),
+        "render: --size must be WxH with W and H from 1 to 65536, not '0x0'\n"
+    );
+    // An output zbuf cannot write: I/O, 3. (The tests may run as root, whom a read-only
+    // folder does not stop, so the folder does not exist.)
+    let nowhere = PathBuf::from(env!("CARGO_TARGET_TMPDIR"))
+        .join("no-such-folder")
+        .join("frame%02d.png");
+    let out = render(
+        &["--size", "21x21", "-o", nowhere.to_str().unwrap(), &example()],
+        b"",
+    );
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(3), "{err}");
+    assert!(
+        err.ends_with("render: zbuf failed (status 3)\n"),
+        "{err}"
+    );
+    // A scene that cannot be read: 3.
+    let out = render(&["/nonexistent/scene.txt"], b"");
+    assert_eq!(out.status.code(), Some(3));
+    assert_eq!(
+        String::from_utf8_lossy(&out.stderr),
+        "render: cannot read scene /nonexistent/scene.txt\n"
+    );
+}
+
