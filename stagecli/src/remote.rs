@@ -1,6 +1,6 @@
 //! How a command on another host ended, told in one line: the ssh sessions of `farm`
-//! (`render.sh --by frames`) and of `plan launch`'s host stages (`render.sh --hosts`,
-//! `--by leaves`) end the run with the same words for the same failures
+//! (`render --by frames`) and of render's host stages (`render --hosts`, `--by
+//! leaves`) end the run with the same words for the same failures
 //! (docs/DESIGN.md, "Stages on other hosts"). Also the one place where the command
 //! that reaches a host (`POLYPIPE_SSH`) is read and a far command line is quoted.
 
@@ -12,14 +12,22 @@ pub struct Failure {
     pub status: u8,
 }
 
-/// The last non-blank line a session wrote on stderr, without render.sh's own prefix.
+/// The last non-blank line a session wrote on stderr, without render's own prefix.
 pub fn last_line(stderr: &str) -> &str {
     let line = stderr
         .lines()
         .rev()
         .find(|l| !l.trim().is_empty())
         .unwrap_or("");
-    line.strip_prefix("render.sh: ").unwrap_or(line)
+    without_render_prefix(line)
+}
+
+/// A line a host's render wrote, without its prefix: `render: ` (or an older host's
+/// `render.sh: `).
+pub fn without_render_prefix(line: &str) -> &str {
+    line.strip_prefix("render: ")
+        .or_else(|| line.strip_prefix("render.sh: "))
+        .unwrap_or(line)
 }
 
 /// What a session that ended with `status` (the ssh's: the far command's, 255 for ssh's

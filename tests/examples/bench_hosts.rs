@@ -177,11 +177,11 @@ fn main() {
                 bytes.0, local_bytes.0,
                 "{n} hosts: not the local run's bytes"
             );
-            // render.sh: subtree 2 on host node1: 576 bytes there, 7744 bytes back
+            // render: subtree 2 on host node1: 576 bytes there, 7744 bytes back
             let links: Vec<String> = bytes
                 .1
                 .lines()
-                .filter_map(|l| l.strip_prefix("render.sh: "))
+                .filter_map(|l| l.strip_prefix("render: "))
                 .filter(|l| l.contains(" on host "))
                 .map(|l| l.replace(" bytes there,", " →").replace(" bytes back", ""))
                 .collect();

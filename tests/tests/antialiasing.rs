@@ -282,15 +282,15 @@ fn render_sh_refuses_aa_with_another_method_or_the_one_zbuffer() {
     for (options, message) in [
         (
             "--aa ss3",
-            "render.sh: --aa must be none, ss2, ss4, ss8, ss16 or abuf, not 'ss3'",
+            "render: --aa must be none, ss2, ss4, ss8, ss16 or abuf, not 'ss3'",
         ),
         (
             "--aa abuf --hse warnock",
-            "render.sh: --aa abuf is a z-buffer's anti-aliasing: not with --hse warnock",
+            "render: --aa abuf is a z-buffer's anti-aliasing: not with --hse warnock",
         ),
         (
             "--aa ss4 --merge buffer",
-            "render.sh: --merge buffer is the z-buffer's, point-sampled: not with --hse zbuf --aa ss4",
+            "render: --merge buffer is the z-buffer's, point-sampled: not with --hse zbuf --aa ss4",
         ),
     ] {
         let out = sh(&format!("scripts/render.sh {options}"), b"");

@@ -482,7 +482,7 @@ fn render_depth_auto_says_its_choice_and_renders_at_it() {
         let err = String::from_utf8(out.stderr).unwrap();
         let line = err.lines().next().unwrap_or("");
         assert!(
-            line.starts_with("render.sh: depth auto chose 0 (2 polygons in view, "),
+            line.starts_with("render: depth auto chose 0 (2 polygons in view, "),
             "{command}: {err}"
         );
         assert!(!err.contains("splitter"), "no splitter at depth 0: {err}");
@@ -504,7 +504,7 @@ fn auto_is_the_default_depth_and_a_scene_it_cannot_look_at_goes_to_the_stages() 
     assert!(out.status.success(), "{out:?}");
     let err = String::from_utf8(out.stderr).unwrap();
     assert!(
-        err.starts_with("render.sh: depth auto chose 0 (2 polygons in view, "),
+        err.starts_with("render: depth auto chose 0 (2 polygons in view, "),
         "{err}"
     );
     let at0 = sh(
@@ -528,7 +528,7 @@ fn auto_is_the_default_depth_and_a_scene_it_cannot_look_at_goes_to_the_stages() 
     let err = String::from_utf8_lossy(&out.stderr);
     assert!(
         err.contains("viewxf: line 3, column 4: expected z of vertex 0")
-            && err.ends_with("render.sh: viewxf failed (status 1)\n"),
+            && err.ends_with("render: viewxf failed (status 1)\n"),
         "{err}"
     );
 }

@@ -855,31 +855,31 @@ fn under_ci_a_missing_sshd_fails_the_tests() {
 #[test]
 fn usage_errors_need_no_hosts() {
     // --by frames without --hosts, with -o or --subtree, a bad --by, --hosts or --size:
-    // status 2 before any ssh, in render.sh's words and no other.
+    // status 2 before any ssh, in render's words and no other.
     for (args, message) in [
         (
             vec!["--by", "frames", "examples/penetrating.txt"],
-            "render.sh: --by frames needs --hosts H1,H2,…",
+            "render: --by frames needs --hosts H1,H2,…",
         ),
         (
-            vec!["--hosts", "a,b", "--by", "frames", "-o", "f%d.png"],
-            "render.sh: -o is not available with --by frames: the frames come back on stdout",
+            vec!["--hosts", "a,b", "--by", "frames", "--subtree", "1"],
+            "render: --subtree is a host's part of --by leaves: not with --by frames",
         ),
         (
             vec!["--hosts", "a", "--by", "tiles"],
-            "render.sh: --by must be leaves or frames, not 'tiles'",
+            "render: --by must be leaves or frames, not 'tiles'",
         ),
         (
             vec!["--hosts", "a,,b", "--by", "frames"],
-            "render.sh: --hosts must be host names separated by commas, not 'a,,b'",
+            "render: --hosts must be host names separated by commas, not 'a,,b'",
         ),
         (
             vec!["--hosts", "a", "--by", "frames", "--size", "0x3"],
-            "render.sh: --size must be WxH with W and H from 1 to 65536, not '0x3'",
+            "render: --size must be WxH with W and H from 1 to 65536, not '0x3'",
         ),
         (
             vec!["--chunk", "3", "examples/penetrating.txt"],
-            "render.sh: --chunk is for --by frames",
+            "render: --chunk is for --by frames",
         ),
     ] {
         let out = Command::new("bash")
@@ -967,7 +967,7 @@ fn stats_name_each_subtrees_host_and_its_links_bytes() {
     let links = |out: &Output| -> Vec<String> {
         stderr(out)
             .lines()
-            .filter(|l| l.starts_with("render.sh: "))
+            .filter(|l| l.starts_with("render: "))
             .map(str::to_string)
             .collect()
     };
@@ -977,7 +977,14 @@ fn stats_name_each_subtrees_host_and_its_links_bytes() {
     let (out, _) = render_leaves(
         &hosts,
         &tmp,
-        &["--hosts", "node1,node2", "--depth", "2", "--stats"],
+        &[
+            "--hosts",
+            "node1,node2",
+            "--depth",
+            "2",
+            "--stats",
+            &repo_root().join("examples/penetrating.txt").display().to_string(),
+        ],
     );
     assert!(out.status.success(), "{}", stderr(&out));
     let err = stderr(&out);
@@ -989,8 +996,8 @@ fn stats_name_each_subtrees_host_and_its_links_bytes() {
     assert_eq!(
         links(&out),
         [
-            "render.sh: subtree 2 on host node1: 581 bytes there, 7749 bytes back",
-            "render.sh: subtree 3 on host node2: 581 bytes there, 4661 bytes back",
+            "render: subtree 2 on host node1: 581 bytes there, 7749 bytes back",
+            "render: subtree 3 on host node2: 581 bytes there, 4661 bytes back",
         ]
     );
     // Four hosts (each named twice) at depth 2: a leaf each, round-robin. A leaf's runs
@@ -1010,10 +1017,10 @@ fn stats_name_each_subtrees_host_and_its_links_bytes() {
     assert_eq!(
         links(&out),
         [
-            "render.sh: leaf 0 on host node1: 645 bytes there, 2609 bytes back",
-            "render.sh: leaf 1 on host node2: 645 bytes there, 5201 bytes back",
-            "render.sh: leaf 2 on host node1: 741 bytes there, 2449 bytes back",
-            "render.sh: leaf 3 on host node2: 341 bytes there, 2273 bytes back",
+            "render: leaf 0 on host node1: 645 bytes there, 2609 bytes back",
+            "render: leaf 1 on host node2: 645 bytes there, 5201 bytes back",
+            "render: leaf 2 on host node1: 741 bytes there, 2449 bytes back",
+            "render: leaf 3 on host node2: 341 bytes there, 2273 bytes back",
         ]
     );
     assert_eq!((hosts.sessions(0), hosts.sessions(1)), (3, 3));
@@ -1038,7 +1045,7 @@ fn each_way_a_leaf_host_fails_is_named_within_seconds_leaving_nothing() {
             message: |h| {
                 let (address, port) = h.address(1);
                 format!(
-                    "render.sh: host node2 (leaf 1): ssh: connect to host {address} port {port}: \
+                    "render: host node2 (leaf 1): ssh: connect to host {address} port {port}: \
                      Connection refused"
                 )
             },
@@ -1048,7 +1055,7 @@ fn each_way_a_leaf_host_fails_is_named_within_seconds_leaving_nothing() {
             kinds: vec![Host::Serving, Host::ForcedCommand("false".into())],
             args: &["--hosts", "node1,node2", "--depth", "1"],
             message: |_| {
-                "render.sh: host node2 (leaf 1): the command exited with status 1 and no \
+                "render: host node2 (leaf 1): the command exited with status 1 and no \
                  message (does the host allow only another command?)"
                     .into()
             },
@@ -1058,7 +1065,7 @@ fn each_way_a_leaf_host_fails_is_named_within_seconds_leaving_nothing() {
             kinds: vec![Host::ForcedCommand("cat >/dev/null".into())],
             args: &["--hosts", "node1", "--depth", "0"],
             message: |_| {
-                "render.sh: host node1 (leaf 0): sent back nothing (status 0 from its command)"
+                "render: host node1 (leaf 0): sent back nothing (status 0 from its command)"
                     .into()
             },
         },
@@ -1075,7 +1082,7 @@ fn each_way_a_leaf_host_fails_is_named_within_seconds_leaving_nothing() {
                 "0",
             ],
             message: |_| {
-                "render.sh: host node1 (leaf 0): no viewxf in /nonexistent (POLYPIPE_BIN)".into()
+                "render: host node1 (leaf 0): no viewxf in /nonexistent (POLYPIPE_BIN)".into()
             },
         },
     ];
@@ -1140,7 +1147,7 @@ fn a_leaf_host_that_drops_mid_movie_ends_the_run_within_seconds() {
         &tmp,
         child,
         &stdout_path,
-        "render.sh: host node2 (leaf 1): ssh",
+        "render: host node2 (leaf 1): ssh",
         "--depth 1",
     );
 }

@@ -145,32 +145,32 @@ fn options_that_cannot_combine_are_refused() {
     for (options, message) in [
         (
             "--hse zsort",
-            "render.sh: --hse must be zbuf, scanline, warnock or painter, not 'zsort'",
+            "render: --hse must be zbuf, scanline, warnock or painter, not 'zsort'",
         ),
         (
             "--merge buffer --hse scanline",
-            "render.sh: --merge buffer is the z-buffer's, point-sampled: not with --hse scanline --aa none",
+            "render: --merge buffer is the z-buffer's, point-sampled: not with --hse scanline --aa none",
         ),
         (
             "--pixels",
-            "render.sh: --pixels sends fragments to the one z-buffer: it needs --merge buffer",
+            "render: --pixels sends fragments to the one z-buffer: it needs --merge buffer",
         ),
-        ("--hidden-line", "render.sh: --hidden-line needs -o FILE.svg"),
+        ("--hidden-line", "render: --hidden-line needs -o FILE.svg"),
         (
             "--hidden-line --depth 2 -o x.svg",
-            "render.sh: --hidden-line draws at depth 0 (the tree's cuts are not edges), not --depth 2",
+            "render: --hidden-line draws at depth 0 (the tree's cuts are not edges), not --depth 2",
         ),
         (
             "--hidden-line --aa ss4 -o x.svg",
-            "render.sh: --hidden-line draws the visible edges: not with --hse, --aa, --merge buffer or --pixels",
+            "render: --hidden-line draws the visible edges: not with --hse, --aa, --merge buffer or --pixels",
         ),
         (
             "--hidden-line --hse painter -o x.svg",
-            "render.sh: --hidden-line draws the visible edges: not with --hse, --aa, --merge buffer or --pixels",
+            "render: --hidden-line draws the visible edges: not with --hse, --aa, --merge buffer or --pixels",
         ),
         (
             "--hidden-line --merge buffer -o x.svg",
-            "render.sh: --hidden-line draws the visible edges: not with --hse, --aa, --merge buffer or --pixels",
+            "render: --hidden-line draws the visible edges: not with --hse, --aa, --merge buffer or --pixels",
         ),
     ] {
         let out = sh(&format!("scripts/render.sh {options}"), b"");

@@ -324,7 +324,7 @@ fn render_sh_says_a_folder_is_not_a_scene() {
         assert_eq!(out.status.code(), Some(3), "--depth {depth}");
         assert_eq!(
             stderr(&out),
-            "render.sh: /tmp: Is a directory\n",
+            "render: /tmp: Is a directory\n",
             "--depth {depth}"
         );
         assert!(out.stdout.is_empty());
@@ -345,7 +345,7 @@ fn subtree_without_a_depth_is_a_usage_error() {
     assert_eq!(out.status.code(), Some(2));
     assert_eq!(
         stderr(&out),
-        "render.sh: --subtree needs --depth N, the depth of the tree it is part of\n"
+        "render: --subtree needs --depth N, the depth of the tree it is part of\n"
     );
 }
 
@@ -362,7 +362,7 @@ fn a_screen_too_large_for_this_machine_is_refused_at_the_header() {
     );
     assert_eq!(out.status.code(), Some(3), "{}", stderr(&out));
     assert!(
-        stderr(&out).ends_with("render.sh: zbuf failed (status 3)\n"),
+        stderr(&out).ends_with("render: zbuf failed (status 3)\n"),
         "{}",
         stderr(&out)
     );

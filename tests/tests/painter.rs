@@ -286,6 +286,6 @@ fn render_sh_passes_split_to_the_painter_leaves() {
     assert_eq!(out.status.code(), Some(2));
     assert_eq!(
         String::from_utf8_lossy(&out.stderr),
-        "render.sh: --split is the painter's splitting step: it needs --hse painter\n"
+        "render: --split is the painter's splitting step: it needs --hse painter\n"
     );
 }

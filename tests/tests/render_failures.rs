@@ -172,3 +172,45 @@ fn a_failing_stages_status_class_passes_through() {
     );
 }
 
+
+/// render killed outright (SIGKILL: nothing of its own runs) takes its stages with it,
+/// so that a render stopped however it is leaves no process behind.
+#[test]
+fn render_killed_takes_its_stages_with_it() {
+    // A scene on a stdin that stays open: the stages wait for the rest of it.
+    let mut render = render_cmd(&["--depth", "2", "--size", "32x32", "-"])
+        .stdin(Stdio::piped())
+        .stdout(Stdio::null())
+        .stderr(Stdio::null())
+        .spawn()
+        .unwrap();
+    let mut input = render.stdin.take().unwrap();
+    std::io::Write::write_all(&mut input, b"polypipe 1 world\n").unwrap();
+    // viewxf, clipbatch, one splitter (two levels) and zbuf with three scanconv leaves.
+    let started = Instant::now();
+    let stages = loop {
+        let stages = children_of(render.id(), None);
+        if stages.len() == 7 {
+            break stages;
+        }
+        assert!(
+            started.elapsed() < Duration::from_secs(60),
+            "the tree did not start: {stages:?}"
+        );
+        std::thread::sleep(Duration::from_millis(20));
+    };
+    render.kill().unwrap();
+    render.wait().unwrap();
+    let gone = Instant::now();
+    while stages
+        .iter()
+        .any(|p| Path::new(&format!("/proc/{p}/cmdline")).exists())
+    {
+        assert!(
+            gone.elapsed() < Duration::from_secs(5),
+            "a stage outlived render"
+        );
+        std::thread::sleep(Duration::from_millis(10));
+    }
+    drop(input);
+}

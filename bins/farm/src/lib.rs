@@ -645,7 +645,7 @@ impl State<'_> {
                 .filter(|l| !l.trim().is_empty())
                 .collect();
             for l in &lines[..lines.len().saturating_sub(1)] {
-                let l = l.strip_prefix("render.sh: ").unwrap_or(l);
+                let l = stagecli::remote::without_render_prefix(l);
                 self.notes.push(format!("host {host}: {l}"));
             }
             return Err(Error::new(
@@ -688,7 +688,7 @@ impl State<'_> {
         for (chunk, text) in &self.stderr {
             let host = &self.options.hosts[self.slot_of[*chunk]];
             for line in text.lines() {
-                let line = line.strip_prefix("render.sh: ").unwrap_or(line);
+                let line = stagecli::remote::without_render_prefix(line);
                 let _ = writeln!(log, "host {host}: {line}");
             }
         }

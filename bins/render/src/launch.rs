@@ -248,7 +248,7 @@ pub fn labelled(said: &str, stage: &Stage, fds: &[(RawFd, String)]) -> String {
     for line in said.lines() {
         let line = name_channels(line, fds);
         if let Some((host, _)) = &stage.host {
-            let line = strip_render(&line);
+            let line = stagecli::remote::without_render_prefix(&line);
             out.push_str(&format!("host {host}: {line}\n"));
         } else if let Some(rest) = line
             .strip_prefix(program)
@@ -261,14 +261,6 @@ pub fn labelled(said: &str, stage: &Stage, fds: &[(RawFd, String)]) -> String {
         }
     }
     out
-}
-
-/// `line` without a host's render's own prefix (`render: `, or an older host's
-/// `render.sh: `).
-fn strip_render(line: &str) -> &str {
-    line.strip_prefix("render: ")
-        .or_else(|| line.strip_prefix("render.sh: "))
-        .unwrap_or(line)
 }
 
 /// `line` with each `/dev/fd/N` in `fds` replaced by its channel's name.
