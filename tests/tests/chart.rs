@@ -467,10 +467,13 @@ fn the_model_table_ends_quietly_when_its_reader_goes_away() {
 #[test]
 fn render_depth_auto_says_its_choice_and_renders_at_it() {
     // Two polygons: depth 0, said under --stats, the frame depth 0's; from stdin too.
-    let at0 = sh("scripts/render.sh --depth 0", b"");
+    let at0 = sh("scripts/render.sh --depth 0 examples/penetrating.txt", b"");
     assert!(at0.status.success());
     for (command, stdin) in [
-        ("scripts/render.sh --depth auto --stats", &b""[..]),
+        (
+            "scripts/render.sh --depth auto --stats examples/penetrating.txt",
+            &b""[..],
+        ),
         (
             "scripts/render.sh --depth auto --stats -",
             &std::fs::read(pipeline_tests::repo_root().join("examples/penetrating.txt")).unwrap()[..],
@@ -488,7 +491,10 @@ fn render_depth_auto_says_its_choice_and_renders_at_it() {
         assert!(!err.contains("splitter"), "no splitter at depth 0: {err}");
     }
     // Without --stats it says nothing.
-    let quiet = sh("scripts/render.sh --depth auto", b"");
+    let quiet = sh(
+        "scripts/render.sh --depth auto examples/penetrating.txt",
+        b"",
+    );
     assert!(quiet.status.success() && quiet.stderr.is_empty());
 }
 

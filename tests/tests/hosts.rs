@@ -983,7 +983,10 @@ fn stats_name_each_subtrees_host_and_its_links_bytes() {
             "--depth",
             "2",
             "--stats",
-            &repo_root().join("examples/penetrating.txt").display().to_string(),
+            &repo_root()
+                .join("examples/penetrating.txt")
+                .display()
+                .to_string(),
         ],
     );
     assert!(out.status.success(), "{}", stderr(&out));
@@ -1065,8 +1068,7 @@ fn each_way_a_leaf_host_fails_is_named_within_seconds_leaving_nothing() {
             kinds: vec![Host::ForcedCommand("cat >/dev/null".into())],
             args: &["--hosts", "node1", "--depth", "0"],
             message: |_| {
-                "render: host node1 (leaf 0): sent back nothing (status 0 from its command)"
-                    .into()
+                "render: host node1 (leaf 0): sent back nothing (status 0 from its command)".into()
             },
         },
         // Lacks the binaries. Depth 0: one leaf (at depth 1 both would fail, and either

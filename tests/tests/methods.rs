@@ -125,7 +125,7 @@ fn stats_give_each_leafs_method_counters() {
         ("painter", "swaps"),
     ] {
         let out = sh(
-            &format!("scripts/render.sh --hse {method} --depth 2 --stats >/dev/null"),
+            &format!("scripts/render.sh --hse {method} --depth 2 --stats examples/penetrating.txt >/dev/null"),
             b"",
         );
         assert!(out.status.success());
@@ -182,9 +182,9 @@ fn options_that_cannot_combine_are_refused() {
 
 #[test]
 fn pixels_through_the_one_zbuffer_are_the_same_frames() {
-    let spans = render("--merge buffer --depth 2");
-    assert!(render("--merge buffer --pixels --depth 2") == spans);
-    assert!(render("--depth 2") == spans);
+    let spans = render("--merge buffer --depth 2 examples/penetrating.txt");
+    assert!(render("--merge buffer --pixels --depth 2 examples/penetrating.txt") == spans);
+    assert!(render("--depth 2 examples/penetrating.txt") == spans);
 }
 
 #[test]

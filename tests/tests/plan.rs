@@ -120,10 +120,7 @@ fn calibration_is_kept_with_its_machine_and_judged_by_it() {
         b"",
     );
     let line = text(&auto.stderr).lines().next().unwrap_or("").to_string();
-    assert!(
-        line.starts_with("render: depth auto chose 0 ("),
-        "{line}"
-    );
+    assert!(line.starts_with("render: depth auto chose 0 ("), "{line}");
     assert!(!line.contains("calibrat"), "{line}");
 
     // Rebuilt binaries: stale (still this machine's, planned with, and said so).
@@ -200,7 +197,10 @@ fn uncalibrated_depth_auto_uses_the_fallback_and_says_so_under_stats_only() {
     );
     // Not a terminal: nothing said without --stats, nothing started, nothing kept.
     let out = sh(
-        &format!("{} scripts/render.sh examples/penetrating.txt", cached(&cache)),
+        &format!(
+            "{} scripts/render.sh examples/penetrating.txt",
+            cached(&cache)
+        ),
         b"",
     );
     assert!(

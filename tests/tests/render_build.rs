@@ -2,9 +2,9 @@
 //! binary the README uses; later runs call cargo only when a source of a binary is newer
 //! than the binaries (render's look, bins/render/src/fresh.rs).
 
+use pipeline_tests::output_with_stdin;
 use pipeline_tests::render::{example, frames, render};
 use pipeline_tests::{bin_dir, repo_root};
-use pipeline_tests::output_with_stdin;
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 use std::time::Duration;
@@ -408,4 +408,3 @@ fn binaries_cargo_just_built_are_current() {
     assert!(out.status.success());
     assert_eq!(String::from_utf8_lossy(&out.stderr), "");
 }
-

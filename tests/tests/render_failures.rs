@@ -1,8 +1,8 @@
 //! How a render ends when a stage fails or is killed: the stage named, its class of
 //! failure passed through, every other stage stopped, nothing left on disk.
 
-use pipeline_tests::render::{example, render, render_cmd};
 use pipeline_tests::bin_dir;
+use pipeline_tests::render::{example, render, render_cmd};
 use std::path::{Path, PathBuf};
 use std::process::{Command, Stdio};
 use std::time::{Duration, Instant};
@@ -19,10 +19,7 @@ fn a_failing_stage_is_named() {
         err.contains("viewxf: line 3, column 4: expected z of vertex 0"),
         "{err}"
     );
-    assert!(
-        err.contains("render: viewxf failed (status 1)\n"),
-        "{err}"
-    );
+    assert!(err.contains("render: viewxf failed (status 1)\n"), "{err}");
     let out = render(&["--depth", "7", &example()], b"");
     assert_eq!(out.status.code(), Some(2));
     let out = render(&["--merge", "zbuf", &example()], b"");
@@ -135,7 +132,6 @@ fn a_stage_killed_by_sigkill_stops_the_whole_tree() {
     }
 }
 
-
 /// render exits with the failing stage's class (1 bad data, 2 usage, 3 I/O),
 /// not always 1. Bad data (viewxf, 1) and a stage's usage error (viewxf --hither 0, 2)
 /// are in `a_failing_stage_is_named`.
@@ -154,15 +150,18 @@ fn a_failing_stages_status_class_passes_through() {
         .join("no-such-folder")
         .join("frame%02d.png");
     let out = render(
-        &["--size", "21x21", "-o", nowhere.to_str().unwrap(), &example()],
+        &[
+            "--size",
+            "21x21",
+            "-o",
+            nowhere.to_str().unwrap(),
+            &example(),
+        ],
         b"",
     );
     let err = String::from_utf8_lossy(&out.stderr);
     assert_eq!(out.status.code(), Some(3), "{err}");
-    assert!(
-        err.ends_with("render: zbuf failed (status 3)\n"),
-        "{err}"
-    );
+    assert!(err.ends_with("render: zbuf failed (status 3)\n"), "{err}");
     // A scene that cannot be read: 3.
     let out = render(&["/nonexistent/scene.txt"], b"");
     assert_eq!(out.status.code(), Some(3));
@@ -171,7 +170,6 @@ fn a_failing_stages_status_class_passes_through() {
         "render: cannot read scene /nonexistent/scene.txt\n"
     );
 }
-
 
 /// render killed outright (SIGKILL: nothing of its own runs) takes its stages with it,
 /// so that a render stopped however it is leaves no process behind.

@@ -407,7 +407,6 @@ fn times_give_each_stage_its_cpu_and_memory_in_order() {
     );
 }
 
-
 mod random_scenes {
     use super::*;
     use proptest::prelude::*;
@@ -467,4 +466,3 @@ mod random_scenes {
         }
     }
 }
-

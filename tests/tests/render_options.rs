@@ -21,7 +21,6 @@ fn the_example_renders_the_penetrating_polygons_at_500x500() {
     assert_eq!(f[0].at(5, 5), [0, 0, 0]);
 }
 
-
 /// an option error is one line, starting with `render:`, naming the option
 /// the user typed (`--zmode foo` used to come back as persp's `--depth <DEPTH>`).
 #[test]
@@ -80,10 +79,7 @@ fn version_and_the_eye_z_caveat() {
         help.contains("The frames are byte-identical for every --depth with reciprocal or projective depth, but not\nwith --zmode eye-z"),
         "{help}"
     );
-    assert!(
-        help.contains("Needs Linux (/proc)."),
-        "{help}"
-    );
+    assert!(help.contains("Needs Linux (/proc)."), "{help}");
     // The caveat is real: with eye-z depth, a tree changes pixels where the polygons
     // interpenetrate (2,282 of 250,000 at depth 4), and the README says how many. The
     // linear render names depth 0: the default, auto, weighs the machine's load.
@@ -129,7 +125,6 @@ fn plain_sh_is_told_that_render_sh_needs_bash() {
     );
 }
 
-
 /// With no SCENE and stdin a terminal, render draws the example and says so on stderr.
 /// The terminal is a pseudo-terminal of `script` (util-linux), which runs render with
 /// its stdin, stdout and stderr on it; the frame goes to a file.
@@ -161,10 +156,19 @@ fn on_a_terminal_with_no_scene_the_example_is_drawn_and_said() {
     );
     let expected = dir.join("expected.png");
     render_ok(
-        &["--size", "32x32", "-o", expected.to_str().unwrap(), &example()],
+        &[
+            "--size",
+            "32x32",
+            "-o",
+            expected.to_str().unwrap(),
+            &example(),
+        ],
         b"",
     );
-    assert_eq!(std::fs::read(&png).unwrap(), std::fs::read(&expected).unwrap());
+    assert_eq!(
+        std::fs::read(&png).unwrap(),
+        std::fs::read(&expected).unwrap()
+    );
 }
 
 /// A POLYPIPE_SSH that is set but blank names no command: refused before any host is
@@ -190,7 +194,10 @@ fn a_blank_polypipe_ssh_is_refused_naming_it() {
 #[test]
 fn farm_options_need_by_frames_and_first_frame_needs_o() {
     for (args, said) in [
-        (&["--joblog", "j.txt"][..], "render: --joblog is for --by frames\n"),
+        (
+            &["--joblog", "j.txt"][..],
+            "render: --joblog is for --by frames\n",
+        ),
         (&["--resume"], "render: --resume is for --by frames\n"),
         (&["--chunk", "2"], "render: --chunk is for --by frames\n"),
         (

@@ -32,7 +32,6 @@ fn scene_from_stdin_size_and_output_pattern() {
     assert_eq!(std::fs::read(dir.join("frame00.ppm")).unwrap(), small);
 }
 
-
 /// `scene … | render` reads the scene from stdin, as a filter does when given no file:
 /// the same bytes as `scene … | render -`, at a fixed depth and at auto.
 #[test]
@@ -60,7 +59,13 @@ fn stdin_without_a_scene_is_read_as_with_dash() {
 /// A world-space text scene of `polygons` quadrilaterals (about 260 bytes each).
 fn environment(polygons: u32) -> Vec<u8> {
     let out = Command::new(bin_dir().join("scene"))
-        .args(["environment", "--polygons", &polygons.to_string(), "--seed", "3"])
+        .args([
+            "environment",
+            "--polygons",
+            &polygons.to_string(),
+            "--seed",
+            "3",
+        ])
         .args(["--depth-complexity", "2", "--text"])
         .output()
         .unwrap();
@@ -99,10 +104,20 @@ fn depth_auto_reads_a_pipe_once() {
         },
         &text,
     );
-    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
     let depth = chosen(&out.stderr);
     let expected = render_ok(
-        &["--size", "160x120", "--depth", &depth, file.to_str().unwrap()],
+        &[
+            "--size",
+            "160x120",
+            "--depth",
+            &depth,
+            file.to_str().unwrap(),
+        ],
         b"",
     );
     assert!(out.stdout == expected, "stdin at auto (depth {depth})");
@@ -119,7 +134,11 @@ fn depth_auto_reads_a_pipe_once() {
         b"",
     );
     writer.join().unwrap();
-    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
     assert_eq!(chosen(&out.stderr), depth);
     assert!(out.stdout == expected, "a named pipe at auto");
     assert_eq!(std::fs::read_dir(dir.join("tmp")).unwrap().count(), 0);

@@ -587,6 +587,8 @@ impl Running {
         // SAFETY: a signalfd is read in whole signalfd_siginfo records.
         let mut info = [unsafe { std::mem::zeroed::<libc::signalfd_siginfo>() }; 16];
         let size = std::mem::size_of_val(&info);
+        // SAFETY: reads at most `size` bytes into `info`, which is that long, from the
+        // signalfd this struct owns.
         let got = unsafe { libc::read(self.signals.as_raw_fd(), info.as_mut_ptr().cast(), size) };
         let records = if got > 0 {
             got as usize / std::mem::size_of::<libc::signalfd_siginfo>()

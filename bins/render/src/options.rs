@@ -120,7 +120,7 @@ pub struct Cli {
     #[arg(short = 'o', value_name = "PATTERN", allow_hyphen_values = true)]
     pub output: Option<String>,
     /// The number -o's pattern gives the first frame.
-    #[arg(long, value_name = "N")]
+    #[arg(long, value_name = "N", allow_hyphen_values = true)]
     pub first_frame: Option<String>,
     /// Run the tree on other hosts over ssh ($POLYPIPE_SSH HOST …, default ssh),
     /// round-robin: each host a leaf, or a whole subtree when the tree has more leaves

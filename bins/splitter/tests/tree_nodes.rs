@@ -154,4 +154,3 @@ fn splitter_node_refuses_a_node_outside_its_tree() {
     let out = splitter(&["--node", "1", "--depth", "1", "--size", "9x9", "x=0"]);
     assert_eq!(out.status.code(), Some(2));
 }
-
