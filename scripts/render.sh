@@ -3,7 +3,7 @@
 # wires channels (docs/DESIGN.md, "The splitter tree"; thesis chapter 6.3, CLIPPER/SPLITTER):
 #
 #   viewxf | clipbatch (the six planes; --clip chain: clipplane left | right | … | yon)
-#     depth 0:  | zbuf --persp (which projects, scan-converts and resolves the one leaf)
+#     depth 0:  | zbuf --project (which projects, scan-converts and resolves the one leaf)
 #     depth N:  | a binary tree of splitter nodes, N levels, each node computing its own
 #               plane from its number (`splitter --node K`); persp | scanconv --resolve
 #               (or --hse's method) on each of the 2^N leaves; one zbuf placing the
@@ -373,7 +373,7 @@ start_clipper_chain() {
 # (2^depth for the whole tree; less when subtrees go to other hosts), reading
 # input_of[ROOT]. Sets `frontier` to the nodes their outputs feed: the leaves' inputs, or
 # the subtrees'. With `leaves` (leaves started here follow), the last level projects its
-# outputs to the screen (`splitter --persp`), as a persp at each leaf would: a process a
+# outputs to the screen (`splitter --project`), as a persp at each leaf would: a process a
 # leaf fewer (docs/performance.md, "The tree's depth"); `projected` says so.
 start_tree() {
     local root=$1 below=$2 first n node levels=0 group span k out label
@@ -384,7 +384,7 @@ start_tree() {
         # This group of levels: one level if an odd number are left, else two.
         span=$((levels % 2 ? 1 : 2)) levels=$((levels - span)) group=$((1 << span))
         if [[ ${3-} == leaves ]] && ((first * group >= below)); then
-            to_screen=(--persp "$zmode")
+            to_screen=(--project --zmode "$zmode")
             projected=1
         fi
         for ((node = first; node < first + n; node++)); do
@@ -435,7 +435,7 @@ leaf_method() {
 # polygons and resolves them as `scanconv --resolve` does (the same code, scan's), into
 # its frame with no runs encoded, piped and decoded, and a process fewer. At depth 0 that
 # leaf is the whole screen: zbuf reads the clipper's stream and projects it too (`zbuf
-# --persp`, persp's code), so that depth 0 is viewxf | clipbatch | zbuf. In a tree, the
+# --project`, persp's code), so that depth 0 is viewxf | clipbatch | zbuf. In a tree, the
 # last level's first splitter writes leaf 0's polygons, projected, straight to zbuf. Only
 # for the leaves' point-sampled z-buffer with --merge tiles, the leaves here
 # (docs/performance.md, "Start-up" and "The tree's depth").
@@ -450,7 +450,7 @@ start_leaf() {
     ((depth == 0)) || label=" (leaf $leaf)"
     if ((!projected)); then
         start "persp$label" "$in" "pipe:screen-$leaf" \
-            "$bindir/persp" --size "$size" --depth "$zmode"
+            "$bindir/persp" --size "$size" --zmode "$zmode"
         in=pipe:screen-$leaf
     fi
     start "${method[0]}$label" "$in" "$out" \
@@ -505,7 +505,7 @@ start_leaves() {
         elif [[ ${input_of[node]} == pipe:leaf-0 ]]; then
             fragments+=(pipe:leaf-0) # the merger's own (merger_is_leaf)
             # At depth 0 the clipper's eye-space stream: the merger projects it too.
-            ((depth > 0)) || to_screen=(--persp "$zmode" --size "$size")
+            ((depth > 0)) || to_screen=(--project --zmode "$zmode" --size "$size")
         else
             fragments+=("pipe:leaf-$leaf")
             start_leaf "$leaf" "${input_of[node]}" "pipe:leaf-$leaf"
@@ -535,7 +535,7 @@ start_graph() {
 
 # --hidden-line: persp | hiddenline, writing the SVG (Archuleta's output) where -o says.
 start_hidden_line() {
-    start persp "$clipped" pipe:screen "$bindir/persp" --size "$size" --depth "$zmode"
+    start persp "$clipped" pipe:screen "$bindir/persp" --size "$size" --zmode "$zmode"
     start hiddenline pipe:screen - "$bindir/hiddenline" "${stats[@]}" "${output[@]}"
 }
 
