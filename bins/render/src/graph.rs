@@ -36,8 +36,8 @@ pub enum ZStage {
 /// written.
 pub fn zmode_words(stage: ZStage, mode: &str) -> Vec<String> {
     match stage {
-        ZStage::Persp => vec!["--depth".into(), mode.into()],
-        ZStage::Projecting => vec!["--persp".into(), mode.into()],
+        ZStage::Persp => vec!["--zmode".into(), mode.into()],
+        ZStage::Projecting => vec!["--project".into(), "--zmode".into(), mode.into()],
     }
 }
 
@@ -200,7 +200,7 @@ impl Builder<'_> {
     /// tree; less when subtrees go to other hosts), reading input_of[root]. Returns the
     /// nodes their outputs feed: the leaves' inputs, or the subtrees'. With `leaves`
     /// (leaves started here follow), the last level projects its outputs to the screen
-    /// (`splitter --persp`), as a persp at each leaf would: a process a leaf fewer
+    /// (`splitter --project`), as a persp at each leaf would: a process a leaf fewer
     /// (docs/performance.md, "The tree's depth").
     ///
     /// The nodes run two levels to a process (`splitter --node K --levels 2`, node K and
@@ -540,7 +540,7 @@ mod tests {
             [
                 "viewxf: s.txt > |view: viewxf --size 64x64 [0]",
                 "clipbatch: |view > |leaf-0: clipbatch [0]",
-                "zbuf: /dev/null > -: zbuf --persp reciprocal --size 64x64 leaf-0 [1]",
+                "zbuf: /dev/null > -: zbuf --project --zmode reciprocal --size 64x64 leaf-0 [1]",
             ]
         );
     }
@@ -554,8 +554,8 @@ mod tests {
                 "viewxf: - > |view: viewxf --size 500x500 [0]",
                 "clipbatch: |view > |clipped: clipbatch [0]",
                 "splitter (node 1): |clipped > /dev/null: splitter --stats --node 1 --depth 3 --levels 1 --size 500x500 node-2 node-3 [2]",
-                "splitter (node 2, 2 levels): |node-2 > |leaf-0: splitter --stats --node 2 --depth 3 --levels 2 --size 500x500 --persp reciprocal - node-9 node-10 node-11 [3]",
-                "splitter (node 3, 2 levels): |node-3 > /dev/null: splitter --stats --node 3 --depth 3 --levels 2 --size 500x500 --persp reciprocal node-12 node-13 node-14 node-15 [4]",
+                "splitter (node 2, 2 levels): |node-2 > |leaf-0: splitter --stats --node 2 --depth 3 --levels 2 --size 500x500 --project --zmode reciprocal - node-9 node-10 node-11 [3]",
+                "splitter (node 3, 2 levels): |node-3 > /dev/null: splitter --stats --node 3 --depth 3 --levels 2 --size 500x500 --project --zmode reciprocal node-12 node-13 node-14 node-15 [4]",
             ]
         );
         assert_eq!(
@@ -591,7 +591,7 @@ mod tests {
         assert_eq!(
             g[2..],
             [
-                "persp: |clipped > |screen-0: persp --size 500x500 --depth eye-z [0]",
+                "persp: |clipped > |screen-0: persp --size 500x500 --zmode eye-z [0]",
                 "painter: |screen-0 > |leaf-0: painter --split [0]",
                 "zbuf: /dev/null > -: zbuf leaf-0 [1]",
             ]
@@ -616,7 +616,7 @@ mod tests {
         assert_eq!(
             g,
             [
-                "splitter (node 3): - > /dev/null: splitter --node 3 --depth 2 --levels 1 --size 500x500 --persp reciprocal node-6 node-7 [2]",
+                "splitter (node 3): - > /dev/null: splitter --node 3 --depth 2 --levels 1 --size 500x500 --project --zmode reciprocal node-6 node-7 [2]",
                 "scanconv (leaf 2): |node-6 > |leaf-2: scanconv --resolve [0]",
                 "scanconv (leaf 3): |node-7 > |leaf-3: scanconv --resolve [0]",
                 "zbuf: /dev/null > -: zbuf --runs leaf-2 leaf-3 [2]",
