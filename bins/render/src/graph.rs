@@ -62,7 +62,7 @@ struct Builder<'a> {
     stages: Vec<Stage>,
     /// Each tree node's input: node K (numbered as a heap, root 1) reads input_of[K].
     input_of: std::collections::HashMap<u64, End>,
-    /// Whether the tree's last level projects to the screen (`splitter --persp`).
+    /// Whether the tree's last level projects to the screen (`splitter --project`).
     projected: bool,
     /// The merger's own projection, at depth 0 (zbuf reads the clipper's stream).
     to_screen: Vec<String>,
