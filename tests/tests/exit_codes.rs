@@ -429,7 +429,7 @@ fn an_unwritable_output_exits_3() {
         (
             "scripts/render.sh --size 4x4 -o /nonexistent/dir/a.png T",
             "zbuf: cannot write /nonexistent/dir/a.png: No such file or directory\n\
-             render.sh: zbuf failed (status 3)\n",
+             render: zbuf failed (status 3)\n",
         ),
     ];
     for &(cmd, message) in cases {

@@ -896,11 +896,13 @@ fn usage_errors_need_no_hosts() {
 
 // --- The tree's leaves on hosts (`--by leaves`, the default with --hosts). ---------------
 
-/// `scripts/render.sh --by leaves ARGS` reaching `hosts`, with TMPDIR `tmp`.
+/// `scripts/render.sh --by leaves ARGS` reaching `hosts`, with TMPDIR `tmp`, the
+/// example scene on stdin (read when ARGS name no scene).
 fn render_leaves(hosts: &Hosts, tmp: &Path, args: &[&str]) -> (Output, Duration) {
     let mut all = vec!["--by", "leaves"];
     all.extend_from_slice(args);
-    render_frames(hosts, tmp, &all, b"")
+    let example = std::fs::read(repo_root().join("examples/penetrating.txt")).unwrap();
+    render_frames(hosts, tmp, &all, &example)
 }
 
 #[test]

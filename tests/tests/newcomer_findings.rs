@@ -357,7 +357,7 @@ fn subtree_without_a_depth_is_a_usage_error() {
 fn a_screen_too_large_for_this_machine_is_refused_at_the_header() {
     let started = std::time::Instant::now();
     let out = sh(
-        "scripts/render.sh --size 65536x65536 --depth 1 --aa abuf > /dev/null",
+        "scripts/render.sh --size 65536x65536 --depth 1 --aa abuf examples/penetrating.txt > /dev/null",
         b"",
     );
     assert_eq!(out.status.code(), Some(3), "{}", stderr(&out));

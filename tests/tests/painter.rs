@@ -257,7 +257,10 @@ fn render_sh_passes_split_to_the_painter_leaves() {
     // the cut budget runs out; --split needs --hse painter.
     for depth in [0, 2] {
         let out = sh(
-            &format!("scripts/render.sh --size 64x64 --depth {depth} --hse painter --split"),
+            &format!(
+                "scripts/render.sh --size 64x64 --depth {depth} --hse painter --split \
+                 examples/penetrating.txt"
+            ),
             b"",
         );
         assert!(

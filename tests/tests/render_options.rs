@@ -90,7 +90,7 @@ fn version_and_the_eye_z_caveat() {
     let readme = std::fs::read_to_string(repo_root().join("README.md")).unwrap();
     assert!(
         readme.contains(&format!(
-            "{},{:03} of its 250,000 pixels",
+            "{},{:03} of the penetrating polygons' 250,000 pixels",
             differ / 1000,
             differ % 1000
         )),

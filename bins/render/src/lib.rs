@@ -222,20 +222,25 @@ fn run_inner<I: IntoIterator<Item = OsString>>(args: I) -> Result<u8, Error> {
         }
         Parsed::Run(cli) => cli,
     };
-    // Started by scripts/render.sh: the binaries made current first, and a render binary
-    // cargo rebuilt run in this one's place.
-    if let (Some(root), None) = (
-        std::env::var_os("POLYPIPE_SOURCES").filter(|r| !r.is_empty()),
-        std::env::var_os("POLYPIPE_BIN").filter(|d| !d.is_empty()),
-    ) {
+    // Started by scripts/render.sh (or asked --build-only): the binaries made current
+    // first, and a render binary cargo rebuilt run in this one's place.
+    let sources = std::env::var_os("POLYPIPE_SOURCES")
+        .filter(|r| !r.is_empty())
+        .map(PathBuf::from)
+        .or_else(|| cli.build_only.then(repository));
+    let from_env = std::env::var_os("POLYPIPE_BIN").is_some_and(|d| !d.is_empty());
+    if let (Some(root), false) = (sources, from_env) {
         let (bin, _) = bin_dir()?;
-        if fresh::ensure(Path::new(&root), &bin, ME)? {
+        if fresh::ensure(&root, &bin, ME)? && !cli.build_only {
             use std::os::unix::process::CommandExt;
             let e = std::process::Command::new(bin.join("render"))
                 .args(&args[1..])
                 .exec();
             return Err(Error::from(e).context("cannot run the rebuilt render"));
         }
+    }
+    if cli.build_only {
+        return Ok(0);
     }
     let mut hosts = Vec::new();
     let mut ssh = Vec::new();

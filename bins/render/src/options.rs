@@ -156,6 +156,10 @@ pub struct Cli {
     /// a zbuf --runs), from the stream into node K on stdin to its runs on stdout.
     #[arg(long, value_name = "K")]
     pub subtree: Option<String>,
+    /// Only make the binaries current with their sources (in $POLYPIPE_SOURCES, else
+    /// the repository above this binary) and exit: scripts/lib/binaries.sh's check.
+    #[arg(long, hide = true)]
+    pub build_only: bool,
     /// The scene (`-` for stdin; without one, stdin, or the example on a terminal).
     #[arg(value_name = "SCENE", allow_hyphen_values = false)]
     pub scene: Vec<OsString>,
