@@ -112,7 +112,9 @@ fn the_painter_is_the_zbuffer_where_there_is_a_depth_order_and_fails_by_counted_
     // overlap in depth, so only the leaves the penetration line crosses go wrong.
     for (depth, wrong) in [(0, 4571), (1, 4571), (2, 1678), (3, 1678), (4, 1678)] {
         let zbuf = render(&format!("--depth {depth} examples/penetrating.txt"));
-        let painter = render(&format!("--depth {depth} --hse painter examples/penetrating.txt"));
+        let painter = render(&format!(
+            "--depth {depth} --hse painter examples/penetrating.txt"
+        ));
         assert_eq!(differing(&painter, &zbuf), wrong, "depth {depth}");
     }
 }

@@ -76,7 +76,10 @@ fn structure(picture: &str) -> Vec<String> {
 
 #[test]
 fn penetrating_polygons_match_the_thesis_sample() {
-    let out = sh("scripts/render.sh --size 21x21 examples/penetrating.txt", b"");
+    let out = sh(
+        "scripts/render.sh --size 21x21 examples/penetrating.txt",
+        b"",
+    );
     assert!(
         out.status.success(),
         "render.sh failed: {}",

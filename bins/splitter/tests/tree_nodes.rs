@@ -1,7 +1,7 @@
 //! The splitter tree's nodes (`splitter --node K`): their planes against the old
 //! script's awk, to the bit, their --stats labels and the nodes a tree has.
 
-use pipeline_tests::bin_dir;
+use pipeline_tests::{bin_dir, output_with_stdin};
 use std::process::Command;
 
 /// The old scripts/tree-planes.sh, which render.sh sourced until the nodes computed their
