@@ -113,9 +113,13 @@ pub struct ScanlineStats {
     pub fronts_predicted: u64,
     pub fronts_mispredicted: u64,
     /// The column where the line above changed from one polygon to another tried first
-    /// for the crossing of the same two: held (two tests), or failed (a binary search).
+    /// for the crossing of the same two: held (two tests), or failed (and computed).
     pub crossings_predicted: u64,
     pub crossings_mispredicted: u64,
+    /// Crossing columns computed from the two depth lines (XINTER, [`settle`]), and of
+    /// those the ones whose X the z-buffer's test put more than a column off, bisected.
+    pub crossings_computed: u64,
+    pub crossings_searched: u64,
     /// Cuts of a span that is none of the simple cases (more than one segment coming in
     /// front of the front inside it), at the line above's split or at the midpoint.
     pub midpoint_subdivisions: u64,
@@ -157,11 +161,78 @@ impl Segment {
     }
 }
 
+/// Archuleta's XINTER ("the X point of intersection"; Sutherland, Sproull and
+/// Schumacker, 14.4.1: "compute the X_s coordinate of the point of intersection"): the X
+/// at which `s` comes in front of `front` on their two depth lines, by the tie rule. A
+/// later `s` must take the pixel, `z_s(x) < (1 − 2⁻³⁰·σ)·z_f(x)`; an earlier one must not
+/// lose it, `z_f(x) ≥ (1 − 2⁻³⁰·σ)·z_s(x)` (σ the sign of the holder's depth, taken at
+/// `at`). Both sides are linear in x, so the boundary is where two lines meet: `None`
+/// when they are parallel (or the depths not finite).
+pub fn xinter(s: &Segment, front: &Segment, at: u32) -> Option<f64> {
+    let later = s.polygon > front.polygon;
+    // The holder (whose depth the tie width is relative to) and the newcomer.
+    let (held, new) = if later { (front, s) } else { (s, front) };
+    let k = 1.0 - proto::depth::TIE.copysign(held.depth(at));
+    // new(x) = k·held(x): (z_new − k·z_held) + x·(dz_new − k·dz_held) = 0.
+    let x = (k * held.z_row - new.z_row) / (new.dz - k * held.dz);
+    x.is_finite().then_some(x)
+}
+
+/// The first column in `lo + 1..=hi` where `s` is in front of `front`, given that it is
+/// not at `lo` and is at `hi`, and how many depth comparisons it took: the column at or
+/// after [`xinter`]'s X, settled by the z-buffer's own test at the pixel centres around
+/// it (at most four comparisons: the X rounds to the right column or one beside it). Only
+/// if the test disagrees with the X by more than a column (a holder's depth changing sign
+/// inside the span, or X lost to rounding on nearly parallel lines) is the rest bisected;
+/// the third value says so.
+pub fn settle(s: &Segment, front: &Segment, lo: u32, hi: u32) -> (u32, u64, bool) {
+    debug_assert!(lo < hi);
+    if hi - lo == 1 {
+        return (hi, 0, false);
+    }
+    let mut tests = 0u64;
+    let mut at = |x: u32| {
+        tests += 1;
+        s.in_front_of(front, x)
+    };
+    if hi - lo == 2 {
+        // One column between: one test decides.
+        return (if at(lo + 1) { lo + 1 } else { hi }, tests, false);
+    }
+    let (mut lo, mut hi) = (lo, hi);
+    if let Some(x) = xinter(s, front, hi) {
+        // The first column whose centre is at or past X, inside lo + 1..=hi.
+        let c = x.ceil().clamp((lo + 1) as f64, hi as f64) as u32;
+        if at(c) {
+            if c - 1 == lo || !at(c - 1) {
+                return (c, tests, false);
+            }
+            if c - 2 == lo || !at(c - 2) {
+                return (c - 1, tests, false);
+            }
+            hi = c - 2;
+        } else {
+            if c + 1 == hi || at(c + 1) {
+                return (c + 1, tests, false);
+            }
+            lo = c + 1;
+        }
+    }
+    while hi - lo > 1 {
+        let mid = lo + (hi - lo) / 2;
+        if at(mid) {
+            hi = mid;
+        } else {
+            lo = mid;
+        }
+    }
+    (hi, tests, true)
+}
+
 /// The first column `c ≥ from` at which `s` is in front of `front` ([`Segment::in_front_of`])
-/// while both are on the line, or `None` — Archuleta's XINTER, "the X point of
-/// intersection", rounded to the pixel centres the z-buffer samples. Both depths are
-/// linear in x, so the answer changes at most once along their overlap: a binary search
-/// on the z-buffer's own test finds the column where it does.
+/// while both are on the line, or `None`: [`xinter`]'s X rounded to the pixel centres the
+/// z-buffer samples ([`settle`]). Both depths are linear in x, so the answer changes at
+/// most once along their overlap: two tests at its ends say whether it does.
 pub fn first_in_front(s: &Segment, front: &Segment, from: u32) -> Option<u32> {
     let last = s.x1.min(front.x1).checked_sub(1)?;
     if from > last {
@@ -173,17 +244,7 @@ pub fn first_in_front(s: &Segment, front: &Segment, from: u32) -> Option<u32> {
     if !s.in_front_of(front, last) {
         return None;
     }
-    // Not in front at `lo`, in front at `hi`.
-    let (mut lo, mut hi) = (from, last);
-    while hi - lo > 1 {
-        let mid = lo + (hi - lo) / 2;
-        if s.in_front_of(front, mid) {
-            hi = mid;
-        } else {
-            lo = mid;
-        }
-    }
-    Some(hi)
+    Some(settle(s, front, from, last).0)
 }
 
 /// An active polygon: the walker holding its edge tables, stepped line by line.
@@ -435,7 +496,8 @@ impl Sweep<'_, '_> {
     /// The first column in `lo + 1..=hi` where `s` is in front of `front`, given that it is
     /// not at `lo` and is at `hi` (Archuleta's XINTER on the z-buffer's own test). The
     /// column where the line above changed from `front` to `s`, if it did near here, is
-    /// tried first (two tests verify it); otherwise, or if it fails, a binary search.
+    /// tried first (two tests verify it); otherwise, or if it fails, the column is
+    /// computed from the two depth lines ([`settle`]).
     fn crossing(&mut self, s: usize, front: usize, mut lo: u32, mut hi: u32) -> u32 {
         let segments = self.segments;
         let (a, f) = (&segments[s], &segments[front]);
@@ -455,16 +517,11 @@ impl Sweep<'_, '_> {
                 self.stats.crossings_mispredicted += 1;
             }
         }
-        while hi - lo > 1 {
-            let mid = lo + (hi - lo) / 2;
-            self.stats.depth_comparisons += 1;
-            if a.in_front_of(f, mid) {
-                hi = mid;
-            } else {
-                lo = mid;
-            }
-        }
-        hi
+        let (c, tests, searched) = settle(a, f, lo, hi);
+        self.stats.depth_comparisons += tests;
+        self.stats.crossings_computed += 1;
+        self.stats.crossings_searched += searched as u64;
+        c
     }
 
     /// The first column where one of `self.candidates` comes in front of `front`, given
@@ -989,7 +1046,8 @@ impl HiddenSurface for Scanline {
             "{} scan lines, {} segments, {} sample spans, {} segments examined, \
              {} depth comparisons, {} crossings; minor sort: {} segments merged in, \
              {} re-sorted, {} swaps; predicted from the line above: {} fronts held, \
-             {} failed, {} crossings held, {} failed; {} midpoint subdivisions",
+             {} failed, {} crossings held, {} failed; {} midpoint subdivisions; \
+             {} crossings computed (XINTER), {} of them searched",
             s.scan_lines,
             s.segments,
             s.sample_spans,
@@ -1004,6 +1062,8 @@ impl HiddenSurface for Scanline {
             s.crossings_predicted,
             s.crossings_mispredicted,
             s.midpoint_subdivisions,
+            s.crossings_computed,
+            s.crossings_searched,
         )
     }
 }
@@ -1094,6 +1154,30 @@ mod tests {
         assert!(s.in_front_of(&f, c) && !s.in_front_of(&f, c - 1));
     }
 
+    /// XINTER's X settles the column in at most four tests, without a search, on lines
+    /// of every slope and depth (far beyond the pixel's width of columns, where a search
+    /// would take log₂ of it), and agrees with testing every column.
+    #[test]
+    fn the_crossing_is_computed_in_four_tests_at_most() {
+        for (z_s, dz_s, z_f, dz_f) in [
+            (0.9, -0.001, 0.5, 0.0),
+            (-0.2, 0.0, -0.9, 0.0007),
+            (0.5 + 3e-6, -1e-9, 0.5, 1e-9),
+            (1e6, -3.0, 2e5, 1.0),
+        ] {
+            for (p_s, p_f) in [(0, 1), (1, 0)] {
+                let (mut s, mut f) = (seg(z_s, dz_s, p_s), seg(z_f, dz_f, p_f));
+                s.x1 = 1 << 20;
+                f.x1 = 1 << 20;
+                let want = brute(&s, &f, 0, 1 << 20).expect("crosses");
+                assert!(want > 1, "{s:?} {f:?}");
+                let (c, tests, searched) = settle(&s, &f, 0, (1 << 20) - 1);
+                assert_eq!((c, searched), (want, false), "{s:?} {f:?}");
+                assert!(tests <= 4, "{tests}");
+            }
+        }
+    }
+
     /// The search agrees with testing every column, for small lines of every kind.
     #[test]
     fn the_solve_agrees_with_every_column() {
@@ -1167,11 +1251,13 @@ mod tests {
                 sample_spans: 3,
                 segments_examined: 4,
                 // At 2 green (coming in) against red (carried); red tested at 3 and at
-                // 5 (in front there: a simple intersection), one bisection step at 4;
+                // 5 (in front there: a simple intersection), one test at 4, the only
+                // column between;
                 // the fold at 5, where green has no column left to come back in.
                 depth_comparisons: 5,
                 crossings: 1,
                 merged: 2,
+                crossings_computed: 1,
                 ..ScanlineStats::default()
             }
         );
@@ -1233,7 +1319,7 @@ mod tests {
             );
         }
         // Line 0: cut at 32 (B and C in front there), 16 and 24 (neither), 28 (C alone:
-        // a simple intersection, bisected to 27). Lines 1-3: one cut each, at 27, where
+        // a simple intersection, computed at 27). Lines 1-3: one cut each, at 27, where
         // line 0 changed from A to C, and C's crossing there verified.
         assert_eq!(stats.midpoint_subdivisions, 4 + 3);
         assert_eq!(stats.crossings_predicted, 3 + 3);
