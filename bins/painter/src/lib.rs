@@ -65,7 +65,7 @@ use proto::geometry::{newell_plane, Plane, Side};
 use proto::shade::{Lighting, Shading};
 use proto::{Colour, DVec2, DVec3, DVec4, Polygon, Vertex};
 use scan::frame::{push_row_runs, shaded_runs, HiddenSurface};
-use scan::{takes, Run, Span, SpanWalker};
+use scan::{depth_at, takes, DepthPlane, Run, SpanWalker};
 use std::collections::VecDeque;
 use std::sync::Arc;
 
@@ -99,10 +99,10 @@ pub struct PainterStats {
     /// Cycles painted in the order at hand (no split possible, none asked for, or the
     /// cut budget spent) that left a pixel wrong: the method's failure.
     pub given_up: u64,
-    /// Cycles painted in the order at hand that left no pixel wrong: every pixel where P
-    /// was in front of a polygon painted after it is held at the end of the frame by a
-    /// polygon in front of P (mostly pieces that meet at a point the planes share, their
-    /// outlines a rounding apart, sharing no pixel centre). Not a failure.
+    /// Cycles painted in the order at hand that left no pixel wrong: every pixel P covers
+    /// is held at the end of the frame by P or by a polygon in front of P there (mostly
+    /// pieces that meet at a point the planes share, their outlines a rounding apart,
+    /// sharing no pixel centre). Not a failure.
     pub apart: u64,
     /// Frames whose cut budget was spent.
     pub budget_spent: u64,
@@ -519,9 +519,10 @@ pub struct Painter {
     walker: SpanWalker,
     /// The colour-only frame, row-major (no depth buffer).
     frame: Vec<Option<Colour>>,
-    /// The item painted last at each pixel, row-major: kept only to judge, at the end of
-    /// a frame, whether the pixels a cycle painted out of order are wrong (never to
-    /// decide what is painted).
+    /// The item painted last at each pixel, row-major, from the frame's first cycle
+    /// painted out of order on (empty until then): kept only to judge, at the end of the
+    /// frame, whether the pixels such a cycle painted are wrong (never to decide what is
+    /// painted).
     owner: Vec<u32>,
     /// The stream's lighting, for Phong shading.
     lighting: Option<Arc<Lighting>>,
@@ -530,10 +531,12 @@ pub struct Painter {
     frames: u64,
     /// The line the last frame resolved has to say on stderr, if any.
     note: Option<String>,
-    /// Scratch: one polygon's spans, for [`Painter::in_front_somewhere`].
-    spans: Vec<Span>,
     pub stats: PainterStats,
 }
+
+/// The pixel tests spent judging whether the cycles painted out of order in a frame left
+/// a pixel wrong, per pixel of the screen: past them, a cycle counts as wrong unjudged.
+const JUDGED_PER_PIXEL: u64 = 64;
 
 /// The default cut budget: `CUTS_PER_POLYGON·n + CUTS_BASE` cuts for a frame of n
 /// polygons.
@@ -612,61 +615,61 @@ impl Painter {
         })
     }
 
-    /// The polygons after the head of the list, P, that P may hide part of (no one of
-    /// the five tests passes): painted after P, each may cover pixels that should show P.
-    fn obstructors(items: &[Item], list: &VecDeque<usize>) -> Vec<usize> {
-        let p = &items[list[0]];
-        let mut found = Vec::new();
-        for &q in list.iter().skip(1) {
-            let qi = &items[q];
-            if qi.sorted && (qi.z_max < p.z_min || (qi.z_max == p.z_min && qi.index < p.index)) {
-                break;
-            }
-            if first_passing_test(p, qi).is_none() {
-                found.push(q);
-            }
-        }
-        found
-    }
-
-    /// Whether `stop` says so of some pixel centre that `a` and `b` both cover (by the
-    /// sampling rule, as they are painted) where `a` is in front on their depth planes,
-    /// as the z-buffer compares them (depth, and at a tie the earlier in the stream).
-    /// `stop` is given the pixel and `a`'s depth there.
-    fn in_front_where(
+    /// Whether the cycle painted out of order whose P is `items[p]` left a pixel wrong:
+    /// a pixel P covers (by the sampling rule, as it was painted) that is held at the end
+    /// of the frame by a polygon not in front of P there (on the polygons' depth planes
+    /// as the z-buffer takes them, [`scan::DepthPlane`], by the tie rule). Such a polygon
+    /// was painted after P where P should hide it: the frame shows it where the z-buffer
+    /// shows P or something nearer. Each pixel judged costs one from `budget`; when it
+    /// runs out the cycle counts as wrong (what was drawn may be wrong, unjudged).
+    #[allow(clippy::too_many_arguments)]
+    fn left_a_pixel_wrong(
         &mut self,
-        a: &Item,
-        b: &Item,
+        polygons: &[Polygon],
+        items: &[Item],
+        p: usize,
+        planes: &mut [Option<DepthPlane>],
         width: u32,
         height: u32,
-        mut stop: impl FnMut(u32, u32, f64) -> bool,
+        budget: &mut u64,
     ) -> bool {
-        let spans = &mut self.spans;
-        spans.clear();
-        self.walker
-            .for_each_span(&a.polygon, width, height, |s| spans.push(s));
-        spans.sort_unstable_by_key(|s| (s.y, s.x0));
-        let spans = &self.spans;
-        let a_earlier = a.index < b.index;
-        let mut stopped = false;
-        self.walker.for_each_span(&b.polygon, width, height, |t| {
-            let first = spans.partition_point(|s| s.y < t.y);
-            for s in spans[first..].iter().take_while(|s| s.y == t.y) {
-                for x in s.x0.max(t.x0)..s.x1.min(t.x1) {
-                    if stopped {
-                        return;
-                    }
-                    let (za, zb) = (s.depth(x), t.depth(x));
-                    let front = if a_earlier {
-                        !takes(zb, za)
-                    } else {
-                        takes(za, zb)
-                    };
-                    stopped = front && stop(x, t.y, za);
+        let pi = &items[p];
+        let owner = &self.owner;
+        let mut plane = |i: usize| *planes[i].get_or_insert_with(|| DepthPlane::of(&polygons[i]));
+        let p_plane = plane(pi.index);
+        let mut wrong = false;
+        self.walker.for_each_span(&pi.polygon, width, height, |s| {
+            if wrong {
+                return;
+            }
+            let (z_row, dz) = p_plane.row(s.y);
+            let row = s.y as usize * width as usize;
+            for x in s.x0..s.x1 {
+                if *budget == 0 {
+                    wrong = true;
+                    return;
+                }
+                *budget -= 1;
+                let o = owner[row + x as usize] as usize;
+                let oi = &items[o];
+                if o == p || oi.index == pi.index {
+                    continue;
+                }
+                let z_p = depth_at(z_row, dz, x);
+                let (o_row, o_dz) = plane(oi.index).row(s.y);
+                let z_o = depth_at(o_row, o_dz, x);
+                let o_in_front = if oi.index < pi.index {
+                    !takes(z_p, z_o)
+                } else {
+                    takes(z_o, z_p)
+                };
+                if !o_in_front {
+                    wrong = true;
+                    return;
                 }
             }
         });
-        stopped
+        wrong
     }
 
     /// The frame's items, sorted farthest first (at an equal farthest depth, the later
@@ -774,9 +777,9 @@ impl HiddenSurface for Painter {
     fn resolve(&mut self, polygons: &[Polygon], width: u32, height: u32, runs: &mut Vec<Run>) {
         self.frame.clear();
         self.frame.resize(width as usize * height as usize, None);
+        // Kept from the first cycle painted out of order on (the pixels judged are all
+        // painted from then on); a frame without one allocates nothing.
         self.owner.clear();
-        self.owner
-            .resize(width as usize * height as usize, u32::MAX);
         let mut items = Self::items(polygons);
         self.stats.polygons += items.len() as u64;
         let budget = self.cut_budget(items.len());
@@ -792,7 +795,7 @@ impl HiddenSurface for Painter {
         // Cycles painted out of order in this frame.
         // Each cycle painted out of order: the P painted, and the Q's painted after it
         // that it may hide part of.
-        let mut out_of_order: Vec<(usize, Vec<usize>)> = Vec::new();
+        let mut out_of_order: Vec<usize> = Vec::new();
         'list: while let Some(&p) = list.front() {
             // Find a Q that P might hide part of.
             let mut obstructing = None;
@@ -856,45 +859,47 @@ impl HiddenSurface for Painter {
                 }
                 // P is painted now, before Q and any other it may hide part of: the
                 // picture may be wrong only where P shares a pixel centre with one of them.
-                out_of_order.push((p, Self::obstructors(&items, &list)));
+                out_of_order.push(p);
+                if self.owner.is_empty() {
+                    self.owner
+                        .resize(width as usize * height as usize, u32::MAX);
+                }
             }
             // Paint P over what is there.
             list.pop_front();
             // A piece is shaded by the whole polygon it was cut from.
             let shading = Shading::of(&polygons[items[p].index], self.lighting.as_ref());
             self.paint(&items[p].polygon, shading.as_ref(), width, height);
-            self.claim(p, width, height, &items[p].polygon);
+            if !self.owner.is_empty() {
+                self.claim(p, width, height, &items[p].polygon);
+            }
             generation += 1;
             moves = 0;
         }
         self.stats.budget_spent += spent as u64;
-        // A cycle painted out of order is a failure where a pixel that P holds in front
-        // of one of its Q's is held at the end by a polygon not in front of P there:
-        // the frame shows Q (or another behind P) where the z-buffer shows P or nearer.
+        // A cycle painted out of order is a failure where it left a pixel wrong: judged
+        // on P's pixels against the polygon painted last there, up to JUDGED_PER_PIXEL
+        // pixel tests a pixel of the screen in the frame.
         let mut given_up = 0u64;
-        let owner = std::mem::take(&mut self.owner);
-        for (p, qs) in &out_of_order {
-            let pi = &items[*p];
-            let wrong = qs.iter().any(|&q| {
-                self.in_front_where(pi, &items[q], width, height, |x, y, z_p| {
-                    let o = &items[owner[y as usize * width as usize + x as usize] as usize];
-                    let (cx, cy) = (x as f64 + 0.5, y as f64 + 0.5);
-                    let z_o = -(o.plane.x * cx + o.plane.y * cy + o.plane.w);
-                    let o_in_front = if o.index < pi.index {
-                        !takes(z_p, z_o)
-                    } else {
-                        takes(z_o, z_p)
-                    };
-                    !o_in_front
-                })
-            });
-            if wrong {
-                given_up += 1;
-            } else {
-                self.stats.apart += 1;
+        if !out_of_order.is_empty() {
+            let mut planes: Vec<Option<DepthPlane>> = vec![None; polygons.len()];
+            let mut budget = JUDGED_PER_PIXEL * width as u64 * height as u64;
+            for &p in &out_of_order {
+                if self.left_a_pixel_wrong(
+                    polygons,
+                    &items,
+                    p,
+                    &mut planes,
+                    width,
+                    height,
+                    &mut budget,
+                ) {
+                    given_up += 1;
+                } else {
+                    self.stats.apart += 1;
+                }
             }
         }
-        self.owner = owner;
         self.stats.given_up += given_up;
         self.note = self.note_of(self.frames, given_up, spent, budget);
         self.frames += 1;
