@@ -66,6 +66,23 @@ fn cyclic_bars_at_depth_0_are_painted_wrong_and_said() {
 }
 
 #[test]
+fn the_cyclic_bars_example_at_depth_0_is_said() {
+    // examples/screen/cyclic-bars.txt (methods-pictures.sh's cyclic panel), 256×256:
+    // 4,352 pixels wrong, one line on stderr, exit 0.
+    let (z, _) = frames(
+        "cat examples/screen/cyclic-bars.txt",
+        "scanconv --resolve",
+        b"",
+    );
+    let (p, said) = frames("cat examples/screen/cyclic-bars.txt", "painter", b"");
+    assert_eq!(differing(&z[0], &p[0]), 4352);
+    assert_eq!(
+        said,
+        "painter: frame 0: 2 cycles painted out of order; --split cuts them\n"
+    );
+}
+
+#[test]
 fn the_line_names_the_frame_counted_from_0() {
     // A movie: frame 0 one bar (nothing to say), frame 1 the cycle, frame 2 one bar.
     let one_bar = &CYCLIC[..CYCLIC.find("NEXT.POLYGON").unwrap()];
