@@ -86,6 +86,9 @@ pub struct LineStats {
     /// Pieces of lines of intersection found (inside both polygons), and drawn.
     pub intersection_lines: u64,
     pub intersections: u64,
+    /// Pairs of polygons (counted in each cell that holds both) not tested for a line of
+    /// intersection because they share a vertex: neighbours in a mesh.
+    pub neighbours: u64,
     /// Placements of a polygon in a cell left out because a surrounder of the cell
     /// hides it there (the ZMIN test); a polygon hidden in every cell counts once.
     pub culled: u64,
@@ -919,6 +922,13 @@ fn intersections(
                 if a.recorded.is_some() && a.recorded == b.recorded && a.colour == b.colour {
                     continue; // pieces of one polygon
                 }
+                if shares_vertex(a, b) {
+                    // Neighbours in a mesh: their planes meet along the edge they share
+                    // (or through the vertex), which is an edge of the model, not a line
+                    // where one surface passes through another.
+                    stats.neighbours += 1;
+                    continue;
+                }
                 // depth_A − depth_B = α·X + β·Y + γ.
                 let k = |f: &Face| {
                     let [pa, pb, pc, pd] = f.plane;
@@ -981,6 +991,18 @@ fn intersections(
             }
         }
     }
+}
+
+/// Do two faces have a vertex in common: the same screen X, Y and depth, bit for bit? A
+/// mesh's faces that meet along an edge or at a corner carry the same numbers there (the
+/// stages transform a shared vertex alike), so this is exact, with no tolerance to choose.
+fn shares_vertex(a: &Face, b: &Face) -> bool {
+    a.points.iter().zip(&a.depths).any(|(p, z)| {
+        b.points
+            .iter()
+            .zip(&b.depths)
+            .any(|(q, w)| p.x == q.x && p.y == q.y && z == w)
+    })
 }
 
 /// The pieces of the line α·X + β·Y + γ = 0 inside both polygons (even-odd).

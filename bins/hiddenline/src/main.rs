@@ -135,9 +135,10 @@ fn main() -> ExitCode {
             let s = stats;
             eprintln!(
                 "hiddenline: {frame} frames, {} edges, {} shared, {} cuts, {} on the border, {} pairs tested, {} pieces drawn; \
-                 {} lines of intersection, {} pieces drawn; {} placements in cells hidden by a surrounder",
+                 {} lines of intersection, {} pieces drawn; {} placements in cells hidden by a surrounder; \
+                 {} pairs of neighbours passed over",
                 s.edges, s.shared, s.cuts, s.border, s.pairs_tested, s.segments,
-                s.intersection_lines, s.intersections, s.culled
+                s.intersection_lines, s.intersections, s.culled, s.neighbours
             );
         }
         Ok(())
