@@ -56,8 +56,37 @@
 //! the pieces are found ([`for_each_segment`]), so memory holds the frame's polygons and
 //! the grid, not the drawing.
 
+mod archuleta;
+
 use proto::{Colour, DVec2, Polygon};
 use std::collections::{HashMap, HashSet};
+
+/// How the visible pieces are found.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum Method {
+    /// Each edge against the polygons that may hide it, in continuous geometry (f64):
+    /// exact pieces at any size (the module notes).
+    #[default]
+    Continuous,
+    /// Archuleta's own: counters on Watkins's scan-line segments, vectors whose ends lie
+    /// between the screen's rows (the `archuleta` module's notes).
+    Archuleta,
+}
+
+/// The visible pieces of a frame by `method`, each handed to `emit` as it is found.
+pub fn for_each_segment_by(
+    method: Method,
+    polygons: &[Polygon],
+    width: u32,
+    height: u32,
+    stats: &mut LineStats,
+    emit: impl FnMut(Segment),
+) {
+    match method {
+        Method::Continuous => for_each_segment(polygons, width, height, stats, emit),
+        Method::Archuleta => archuleta::for_each_segment(polygons, width, height, stats, emit),
+    }
+}
 use std::fmt::Write as _;
 
 /// A visible piece of an edge, or of a line of intersection, in device coordinates.
