@@ -223,6 +223,188 @@ fn crossings(f: &Face, y: f64, xs: &mut Vec<f64>) {
     xs.sort_by(f64::total_cmp);
 }
 
+impl Row {
+    fn blank(width: usize) -> Row {
+        Row {
+            front: vec![NONE; width],
+            depth: vec![f64::INFINITY; width],
+        }
+    }
+}
+
+/// Watkins's scan: the polygons bucketed by the row they enter on, the active ones kept
+/// in ZMIN order, and each row resolved into its fronts.
+pub(crate) struct Scan<'a> {
+    faces: &'a [Face],
+    enter: Vec<Vec<u32>>,
+    leave: Vec<i64>,
+    active: Vec<u32>,
+    merged: Vec<u32>,
+    xs: Vec<f64>,
+}
+
+impl<'a> Scan<'a> {
+    /// `faces` in ZMIN order.
+    pub(crate) fn new(faces: &'a [Face], _width: u32, height: u32) -> Scan<'a> {
+        let hr = height as i64;
+        let row_of = |y: f64| (y - 0.5).ceil() as i64;
+        let mut enter: Vec<Vec<u32>> = vec![Vec::new(); hr as usize];
+        let mut leave: Vec<i64> = vec![-1; faces.len()];
+        for (k, f) in faces.iter().enumerate() {
+            let (r0, r1) = (row_of(f.min.y).max(0), (row_of(f.max.y) - 1).min(hr - 1));
+            if r0 <= r1 {
+                enter[r0 as usize].push(k as u32);
+                leave[k] = r1;
+            }
+        }
+        Scan {
+            faces,
+            enter,
+            leave,
+            active: Vec::new(),
+            merged: Vec::new(),
+            xs: Vec::new(),
+        }
+    }
+
+    /// Row `r`'s fronts into `row` (blank below the screen's last row).
+    fn resolve(&mut self, r: i64, row: &mut Row, stats: &mut LineStats) {
+        row.front.fill(NONE);
+        row.depth.fill(f64::INFINITY);
+        if r < 0 || r as usize >= self.enter.len() {
+            return;
+        }
+        let (faces, wc, y) = (self.faces, row.front.len(), r as f64 + 0.5);
+        // The active polygons, kept in ZMIN order: the entering merged in.
+        let entering = &self.enter[r as usize];
+        let leave = &self.leave;
+        self.active.retain(|&k| leave[k as usize] >= r);
+        self.merged.clear();
+        let (active, merged) = (&self.active, &mut self.merged);
+        let (mut i, mut j) = (0, 0);
+        while i < active.len() || j < entering.len() {
+            if j == entering.len() || (i < active.len() && active[i] < entering[j]) {
+                merged.push(active[i]);
+                i += 1;
+            } else {
+                merged.push(entering[j]);
+                j += 1;
+            }
+        }
+        std::mem::swap(&mut self.active, &mut self.merged);
+        // Visibility along the line, nearest ZMIN first.
+        let (mut filled, mut far, mut dirty) = (0usize, f64::INFINITY, false);
+        for (n, &k) in self.active.iter().enumerate() {
+            let f = &faces[k as usize];
+            if filled == wc {
+                if dirty {
+                    far = row.depth.iter().copied().fold(f64::NEG_INFINITY, f64::max);
+                    dirty = false;
+                }
+                if proto::depth::takes(far, f.zmin) {
+                    // Behind the farthest depth on the line (by the tie rule, so that an
+                    // earlier polygon within it is not passed over), and so is every
+                    // polygon after it.
+                    stats.culled += (self.active.len() - n) as u64;
+                    break;
+                }
+            }
+            crossings(f, y, &mut self.xs);
+            for pair in self.xs.chunks_exact(2) {
+                let c0 = ((pair[0] - 0.5).ceil().max(0.0) as usize).min(wc);
+                let c1 = ((pair[1] - 0.5).ceil().max(0.0) as usize).min(wc);
+                for c in c0..c1 {
+                    let z = f.depth_at(DVec2::new(c as f64 + 0.5, y));
+                    let held = row.front[c];
+                    let wins = held == NONE || {
+                        let h = &faces[held as usize];
+                        proto::depth::in_front(z, f.index > h.index, row.depth[c])
+                    };
+                    if wins {
+                        if held == NONE {
+                            filled += 1;
+                        }
+                        row.front[c] = k;
+                        row.depth[c] = z;
+                        dirty = true;
+                    }
+                }
+            }
+        }
+    }
+}
+
+/// Is the change of front from polygon `ka` at pixel centre `qa` to `kb` at the
+/// neighbouring centre `qb` a crossing of the two, not an edge: does each hold the
+/// other's centre strictly inside, and are they not neighbours in a mesh (a vertex in
+/// common) or pieces of one polygon?
+fn crossing_between(
+    faces: &[Face],
+    ka: u32,
+    kb: u32,
+    qa: DVec2,
+    qb: DVec2,
+    tol: f64,
+    stats: &mut LineStats,
+) -> bool {
+    if ka == kb || ka == NONE || kb == NONE {
+        return false;
+    }
+    let (a, b) = (&faces[ka as usize], &faces[kb as usize]);
+    if !(a.strictly_inside(qb, tol) && b.strictly_inside(qa, tol)) {
+        return false;
+    }
+    if (a.recorded.is_some() && a.recorded == b.recorded && a.colour == b.colour)
+        || shares_vertex(a, b)
+    {
+        stats.neighbours += 1;
+        return false;
+    }
+    true
+}
+
+/// The pairs of polygons (places in ZMIN order, the smaller first, sorted) whose front
+/// changes from one to the other between two neighbouring pixel centres, across a
+/// column or a row, where both cover both centres: the pairs that pass through each
+/// other where it can be seen, at the raster's resolution.
+pub(crate) fn front_crossings(
+    faces: &[Face],
+    width: u32,
+    height: u32,
+    stats: &mut LineStats,
+) -> Vec<(u32, u32)> {
+    let mut pairs = std::collections::HashSet::new();
+    if faces.is_empty() || width == 0 || height == 0 {
+        return Vec::new();
+    }
+    let tol = 1e-12 * (width as f64 + height as f64).max(1.0);
+    let wc = width as usize;
+    let mut scan = Scan::new(faces, width, height);
+    let (mut prev, mut cur) = (Row::blank(wc), Row::blank(wc));
+    for r in 0..height as i64 {
+        std::mem::swap(&mut prev, &mut cur);
+        scan.resolve(r, &mut cur, stats);
+        let y = r as f64 + 0.5;
+        for c in 0..wc {
+            let q = DVec2::new(c as f64 + 0.5, y);
+            let (k, right, above) = (
+                cur.front[c],
+                cur.front.get(c + 1).copied().unwrap_or(NONE),
+                prev.front[c],
+            );
+            if crossing_between(faces, k, right, q, q + DVec2::X, tol, stats) {
+                pairs.insert((k.min(right), k.max(right)));
+            }
+            if r > 0 && crossing_between(faces, k, above, q, q - DVec2::Y, tol, stats) {
+                pairs.insert((k.min(above), k.max(above)));
+            }
+        }
+    }
+    let mut pairs: Vec<(u32, u32)> = pairs.into_iter().collect();
+    pairs.sort_unstable();
+    pairs
+}
+
 /// Archuleta's hidden-line drawing of one frame (see the module notes): each visible
 /// piece handed to `emit` when its run of scan lines ends, edges and lines of
 /// intersection as they are found, from the top of the screen down.
@@ -251,18 +433,9 @@ pub(crate) fn for_each_segment(
             .is_ok()
     };
 
-    // Watkins's Y buckets: polygons and edges by the row they enter on; a horizontal
-    // edge by the row below the boundary it lies on (processed with the row above).
-    let row_of = |y: f64| (y - 0.5).ceil() as i64;
-    let mut enter: Vec<Vec<u32>> = vec![Vec::new(); hr as usize];
-    let mut leave: Vec<i64> = vec![-1; faces.len()];
-    for (k, f) in faces.iter().enumerate() {
-        let (r0, r1) = (row_of(f.min.y).max(0), (row_of(f.max.y) - 1).min(hr - 1));
-        if r0 <= r1 {
-            enter[r0 as usize].push(k as u32);
-            leave[k] = r1;
-        }
-    }
+    // Watkins's Y buckets: edges by the row they enter on; a horizontal edge by the row
+    // below the boundary it lies on (processed with the row above).
+    let mut scan = Scan::new(&faces, width, height);
     let mut edge_enter: Vec<Vec<u32>> = vec![Vec::new(); hr as usize + 1];
     for (j, e) in edges.iter().enumerate() {
         if e.first <= e.last {
@@ -274,79 +447,15 @@ pub(crate) fn for_each_segment(
         }
     }
 
-    let blank = || Row {
-        front: vec![NONE; wc],
-        depth: vec![f64::INFINITY; wc],
-    };
-    let (mut prev, mut cur) = (blank(), blank());
-    let mut active: Vec<u32> = Vec::new();
-    let mut merged: Vec<u32> = Vec::new();
+    let (mut prev, mut cur) = (Row::blank(wc), Row::blank(wc));
     let mut active_edges: Vec<u32> = Vec::new();
-    let mut xs: Vec<f64> = Vec::new();
     let mut blocks: HashMap<(u32, u32), Crossing> = HashMap::new();
     let (mut seen, mut seen_before): (Vec<(u32, u32)>, Vec<(u32, u32)>) = (Vec::new(), Vec::new());
 
     for r in 0..=hr {
         std::mem::swap(&mut prev, &mut cur);
-        cur.front.fill(NONE);
-        cur.depth.fill(f64::INFINITY);
+        scan.resolve(r, &mut cur, stats);
         let y = r as f64 + 0.5;
-        if r < hr {
-            // The active polygons, kept in ZMIN order: the entering merged in.
-            let entering = &enter[r as usize];
-            active.retain(|&k| leave[k as usize] >= r);
-            merged.clear();
-            let (mut i, mut j) = (0, 0);
-            while i < active.len() || j < entering.len() {
-                if j == entering.len() || (i < active.len() && active[i] < entering[j]) {
-                    merged.push(active[i]);
-                    i += 1;
-                } else {
-                    merged.push(entering[j]);
-                    j += 1;
-                }
-            }
-            std::mem::swap(&mut active, &mut merged);
-            // Visibility along the line, nearest ZMIN first.
-            let (mut filled, mut far, mut dirty) = (0usize, f64::INFINITY, false);
-            for (n, &k) in active.iter().enumerate() {
-                let f = &faces[k as usize];
-                if filled == wc {
-                    if dirty {
-                        far = cur.depth.iter().copied().fold(f64::NEG_INFINITY, f64::max);
-                        dirty = false;
-                    }
-                    if proto::depth::takes(far, f.zmin) {
-                        // Behind the farthest depth on the line (by the tie rule, so
-                        // that an earlier polygon within it is not passed over), and so
-                        // is every polygon after it.
-                        stats.culled += (active.len() - n) as u64;
-                        break;
-                    }
-                }
-                crossings(f, y, &mut xs);
-                for pair in xs.chunks_exact(2) {
-                    let c0 = ((pair[0] - 0.5).ceil().max(0.0) as usize).min(wc);
-                    let c1 = ((pair[1] - 0.5).ceil().max(0.0) as usize).min(wc);
-                    for c in c0..c1 {
-                        let z = f.depth_at(DVec2::new(c as f64 + 0.5, y));
-                        let held = cur.front[c];
-                        let wins = held == NONE || {
-                            let h = &faces[held as usize];
-                            proto::depth::in_front(z, f.index > h.index, cur.depth[c])
-                        };
-                        if wins {
-                            if held == NONE {
-                                filled += 1;
-                            }
-                            cur.front[c] = k;
-                            cur.depth[c] = z;
-                            dirty = true;
-                        }
-                    }
-                }
-            }
-        }
 
         // Does edge `e` show at `q` (depth `z`) on a row? It does where one of its own
         // polygons, or none, is in front at its column; else it is hidden if a polygon in
@@ -492,20 +601,11 @@ pub(crate) fn for_each_segment(
             seen.clear();
             for c in 0..wc.saturating_sub(1) {
                 let (ka, kb) = (cur.front[c], cur.front[c + 1]);
-                if ka == kb || ka == NONE || kb == NONE {
+                let qa = DVec2::new(c as f64 + 0.5, y);
+                if !crossing_between(&faces, ka, kb, qa, qa + DVec2::X, tol, stats) {
                     continue;
                 }
                 let (a, b) = (&faces[ka as usize], &faces[kb as usize]);
-                let (qa, qb) = (DVec2::new(c as f64 + 0.5, y), DVec2::new(c as f64 + 1.5, y));
-                if !(a.strictly_inside(qb, tol) && b.strictly_inside(qa, tol)) {
-                    continue;
-                }
-                if (a.recorded.is_some() && a.recorded == b.recorded && a.colour == b.colour)
-                    || shares_vertex(a, b)
-                {
-                    stats.neighbours += 1;
-                    continue;
-                }
                 // depth_A − depth_B = α·X + β·Y + γ; the line where it is 0.
                 let (al, be, ga) = (
                     a.gradient[0] - b.gradient[0],
