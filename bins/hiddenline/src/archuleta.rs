@@ -111,6 +111,30 @@ struct Crossing {
     end: DVec2,
     last: i64,
     colour: Colour,
+    /// The common part of the two polygons' boxes: its ends, which lie between scan
+    /// lines, are kept within it (and so on the screen).
+    lo: DVec2,
+    hi: DVec2,
+}
+
+/// The part of segment p→q inside the rectangle [lo, hi] (Liang and Barsky's parameters),
+/// if any.
+fn clip_to(p: DVec2, q: DVec2, lo: DVec2, hi: DVec2) -> Option<(DVec2, DVec2)> {
+    let d = q - p;
+    let (mut t0, mut t1) = (0.0f64, 1.0f64);
+    for (p, d, lo, hi) in [(p.x, d.x, lo.x, hi.x), (p.y, d.y, lo.y, hi.y)] {
+        if d == 0.0 {
+            if p < lo || p > hi {
+                return None;
+            }
+        } else {
+            let (u, v) = ((lo - p) / d, (hi - p) / d);
+            t0 = t0.max(u.min(v));
+            t1 = t1.min(u.max(v));
+        }
+    }
+    let at = |t: f64| (p + d * t).max(lo).min(hi); // rounding kept inside too
+    (t0 < t1).then(|| (at(t0), at(t1)))
 }
 
 /// The edges of the model: every polygon's edges less the screen's border and the
@@ -674,6 +698,8 @@ pub(crate) fn for_each_segment(
                         end: at(r as f64 + 1.0),
                         last: r,
                         colour,
+                        lo: a.min.max(b.min),
+                        hi: a.max.min(b.max),
                     },
                 );
                 seen.push(key);
@@ -683,10 +709,10 @@ pub(crate) fn for_each_segment(
         for key in seen_before.drain(..) {
             if blocks.get(&key).is_some_and(|b| b.last < r) {
                 if let Some(b) = blocks.remove(&key) {
-                    if b.start != b.end {
+                    if let Some((from, to)) = clip_to(b.start, b.end, b.lo, b.hi) {
                         emit(Segment {
-                            from: b.start,
-                            to: b.end,
+                            from,
+                            to,
                             colour: b.colour,
                             intersection: true,
                         });
