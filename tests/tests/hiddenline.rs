@@ -387,30 +387,44 @@ fn closed_models_have_no_line_of_intersection() {
         "obj examples/models/icosahedron.obj",
         "obj examples/models/torus.obj",
     ] {
-        let (n, stats) = intersections_of(scene, "");
-        assert_eq!(n, 0, "{scene}: {stats}");
-        assert!(
-            stats.contains("; 0 lines of intersection, 0 pieces drawn;"),
-            "{scene}: {stats}"
-        );
+        for method in ["--method continuous", "--method archuleta"] {
+            let (n, stats) = intersections_of(scene, method);
+            assert_eq!(n, 0, "{scene} {method}: {stats}");
+            assert!(
+                stats.contains("; 0 lines of intersection, 0 pieces drawn;"),
+                "{scene} {method}: {stats}"
+            );
+        }
     }
     // Two spheres that pass through each other do have one (Archuleta's figure 1).
-    let (n, _) = intersections_of("spheres", "");
-    assert!(n > 10, "{n}");
+    for method in ["", "--method archuleta"] {
+        let (n, _) = intersections_of("spheres", method);
+        assert!(n > 10, "{method}: {n}");
+    }
 }
 
 /// The thesis's penetrating scene at 500×500: the quadrilateral passes through the
 /// triangle along one line, drawn as one piece.
 #[test]
 fn the_penetrating_scene_has_its_one_line() {
-    let out = sh(
-        "viewxf --size 500x500 < examples/penetrating.txt | clipbatch | persp --size 500x500 | hiddenline --stats",
-        b"",
-    );
-    assert!(out.status.success());
-    let (_, lines) = parse(&String::from_utf8_lossy(&out.stdout));
-    assert_eq!(lines.iter().filter(|l| l.intersection).count(), 1);
-    assert!(
-        String::from_utf8_lossy(&out.stderr).contains("; 1 lines of intersection, 1 pieces drawn;")
-    );
+    for method in ["continuous", "archuleta"] {
+        let out = sh(
+            &format!("viewxf --size 500x500 < examples/penetrating.txt | clipbatch | persp --size 500x500 | hiddenline --stats --method {method}"),
+            b"",
+        );
+        assert!(out.status.success());
+        let (_, lines) = parse(&String::from_utf8_lossy(&out.stdout));
+        assert_eq!(
+            lines.iter().filter(|l| l.intersection).count(),
+            1,
+            "{method}"
+        );
+        assert!(
+            String::from_utf8_lossy(&out.stderr)
+                .contains("; 1 lines of intersection, 1 pieces drawn;"),
+            "{method}"
+        );
+    }
+    let out = sh("hiddenline --method warnock < /dev/null", b"");
+    assert_eq!(out.status.code(), Some(2));
 }
