@@ -428,3 +428,41 @@ fn the_penetrating_scene_has_its_one_line() {
     let out = sh("hiddenline --method warnock < /dev/null", b"");
     assert_eq!(out.status.code(), Some(2));
 }
+
+/// render.sh passes `--hidden-line-method` to hiddenline's `--method`, and only with
+/// `--hidden-line`.
+#[test]
+fn render_sh_draws_with_either_method() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    for method in ["continuous", "archuleta"] {
+        let svg = dir.path().join(format!("{method}.svg"));
+        let out = sh(
+            &format!(
+                "scripts/render.sh --size 320x240 --hidden-line --hidden-line-method {method} -o '{}' examples/penetrating.txt",
+                svg.display()
+            ),
+            b"",
+        );
+        assert!(
+            out.status.success(),
+            "{}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        let (_, lines) = parse(&std::fs::read_to_string(&svg).expect("the SVG"));
+        assert_eq!(
+            lines.iter().filter(|l| l.intersection).count(),
+            1,
+            "{method}"
+        );
+        assert_eq!(lines.len(), 11, "{method}: {lines:#?}");
+    }
+    let out = sh(
+        "scripts/render.sh --hidden-line-method archuleta -o x.png examples/penetrating.txt",
+        b"",
+    );
+    assert_eq!(out.status.code(), Some(2));
+    assert_eq!(
+        String::from_utf8_lossy(&out.stderr),
+        "render.sh: --hidden-line-method needs --hidden-line\n"
+    );
+}
