@@ -391,24 +391,25 @@ impl<'a> Scan<'a> {
     }
 }
 
-/// Is the change of front from polygon `ka` at pixel centre `qa` to `kb` at the
-/// neighbouring centre `qb` a crossing of the two, not an edge: does each hold the
-/// other's centre strictly inside, and are they not neighbours in a mesh (a vertex in
-/// common) or pieces of one polygon?
+/// May the change of front from polygon `ka` at pixel centre `qa` to `kb` at the
+/// neighbouring centre `qb` be a crossing of the two? Not where they are neighbours in a
+/// mesh (a vertex in common) or pieces of one polygon; and, when `both_cover`, only
+/// where each holds the other's centre strictly inside, so that no edge of either lies
+/// between the centres (Archuleta's test: then it is a crossing).
 fn crossing_between(
     faces: &[Face],
     ka: u32,
     kb: u32,
     qa: DVec2,
     qb: DVec2,
-    tol: f64,
+    (tol, both_cover): (f64, bool),
     stats: &mut LineStats,
 ) -> bool {
     if ka == kb || ka == NONE || kb == NONE {
         return false;
     }
     let (a, b) = (&faces[ka as usize], &faces[kb as usize]);
-    if !(a.strictly_inside(qb, tol) && b.strictly_inside(qa, tol)) {
+    if both_cover && !(a.strictly_inside(qb, tol) && b.strictly_inside(qa, tol)) {
         return false;
     }
     if (a.recorded.is_some() && a.recorded == b.recorded && a.colour == b.colour)
@@ -422,8 +423,9 @@ fn crossing_between(
 
 /// The pairs of polygons (places in ZMIN order, the smaller first, sorted) whose front
 /// changes from one to the other between two neighbouring pixel centres, across a
-/// column or a row, where both cover both centres: the pairs that pass through each
-/// other where it can be seen, at the raster's resolution.
+/// column or a row, less neighbours in a mesh: the pairs that may pass through each
+/// other where it can be seen, at the raster's resolution (the caller finds whether they
+/// do, exactly).
 pub(crate) fn front_crossings(
     faces: &[Face],
     width: u32,
@@ -449,10 +451,10 @@ pub(crate) fn front_crossings(
                 cur.front.get(c + 1).copied().unwrap_or(NONE),
                 prev.front[c],
             );
-            if crossing_between(faces, k, right, q, q + DVec2::X, tol, stats) {
+            if crossing_between(faces, k, right, q, q + DVec2::X, (tol, false), stats) {
                 pairs.insert((k.min(right), k.max(right)));
             }
-            if r > 0 && crossing_between(faces, k, above, q, q - DVec2::Y, tol, stats) {
+            if r > 0 && crossing_between(faces, k, above, q, q - DVec2::Y, (tol, false), stats) {
                 pairs.insert((k.min(above), k.max(above)));
             }
         }
@@ -659,7 +661,7 @@ pub(crate) fn for_each_segment(
             for c in 0..wc.saturating_sub(1) {
                 let (ka, kb) = (cur.front[c], cur.front[c + 1]);
                 let qa = DVec2::new(c as f64 + 0.5, y);
-                if !crossing_between(&faces, ka, kb, qa, qa + DVec2::X, tol, stats) {
+                if !crossing_between(&faces, ka, kb, qa, qa + DVec2::X, (tol, true), stats) {
                     continue;
                 }
                 let (a, b) = (&faces[ka as usize], &faces[kb as usize]);

@@ -27,8 +27,7 @@
 //! it: each row of the screen is resolved into the polygon in front at each pixel centre
 //! (the z-buffer's coverage and tie rule), and a pair is a candidate where the front
 //! changes from one to the other between two neighbouring centres, across a column or a
-//! row, that both cover (so that no edge of either lies between them). For each
-//! candidate, the line where their planes meet on the screen (depth_A(X, Y) =
+//! row (at an edge of either, or where they cross). For each candidate, the line where their planes meet on the screen (depth_A(X, Y) =
 //! depth_B(X, Y), a straight line since both depths are affine) is cut exactly to the
 //! part inside both polygons, and each piece is processed as an edge of depth depth_A,
 //! hidden by every other polygon as an edge is. Its visible pieces are drawn as
@@ -36,8 +35,9 @@
 //!
 //! Testing every pair whose depth extents overlap instead costs N² lines, each walked
 //! against up to N polygons: cubic on crossing planes (2,000 of them ran past 120 s),
-//! while the pairs that show number about the pieces of the front. What the candidates
-//! miss is a crossing seen over less than the distance between two pixel centres. Two
+//! while the pairs that meet on the front number about its pieces. What the candidates
+//! miss is a crossing whose two polygons are nowhere in front at neighbouring pixel
+//! centres (both smaller than a pixel there, or the crossing shorter). Two
 //! faces with a vertex in common (the same X, Y and depth, bit for bit: neighbours in a
 //! mesh, whose planes meet along their shared edge or through the shared corner) are
 //! never a candidate: their line is an edge of the model, drawn as one.
