@@ -188,7 +188,7 @@ fn model_edges(
         }
     }
     // One edge per key, its polygons in stream order; drawn with the first one's depths.
-    found.sort_unstable_by(|a, b| (a.0, a.1).cmp(&(b.0, b.1)));
+    found.sort_unstable_by_key(|a| (a.0, a.1));
     let mut edges = Vec::new();
     let mut owners = Vec::with_capacity(found.len());
     let mut g = 0;
@@ -367,23 +367,23 @@ impl<'a> Scan<'a> {
             for pair in self.xs.chunks_exact(2) {
                 let c0 = ((pair[0] - 0.5).ceil().max(0.0) as usize).min(wc);
                 let c1 = ((pair[1] - 0.5).ceil().max(0.0) as usize).min(wc);
-                for c in c0..c1 {
+                let cells = row.front[c0..c1].iter_mut().zip(&mut row.depth[c0..c1]);
+                for (c, (held, depth)) in (c0..).zip(cells) {
                     let z = f.depth_at(DVec2::new(c as f64 + 0.5, y));
-                    let held = row.front[c];
-                    let wins = held == NONE || {
-                        let h = &faces[held as usize];
-                        proto::depth::in_front(z, f.index > h.index, row.depth[c])
+                    let wins = *held == NONE || {
+                        let h = &faces[*held as usize];
+                        proto::depth::in_front(z, f.index > h.index, *depth)
                     };
                     if wins {
-                        if held == NONE {
+                        if *held == NONE {
                             filled += 1;
                             next[c] = c as u32 + 1;
                             far = far.max(z);
                         } else {
                             dirty = true;
                         }
-                        row.front[c] = k;
-                        row.depth[c] = z;
+                        *held = k;
+                        *depth = z;
                     }
                 }
             }
@@ -509,7 +509,8 @@ pub(crate) fn for_each_segment(
     let (mut prev, mut cur) = (Row::blank(wc), Row::blank(wc));
     let mut active_edges: Vec<u32> = Vec::new();
     let mut blocks: HashMap<(u32, u32), Crossing> = HashMap::new();
-    let (mut seen, mut seen_before): (Vec<(u32, u32)>, Vec<(u32, u32)>) = (Vec::new(), Vec::new());
+    let mut seen: Vec<(u32, u32)> = Vec::new();
+    let mut seen_before: Vec<(u32, u32)> = Vec::new();
 
     for r in 0..=hr {
         std::mem::swap(&mut prev, &mut cur);
