@@ -280,42 +280,58 @@ fn chromium_draws_the_visible_pieces() {
 
 #[test]
 fn the_degenerate_scenes_draw_without_error() {
-    // docs/degenerate.md's scenes: edge-on, zero-area and 0-2-vertex polygons draw and
-    // hide nothing; every frame is a well-formed SVG of pieces on the screen.
+    // docs/degenerate.md's scenes and the flat examples: edge-on, zero-area and 0-2-vertex
+    // polygons draw and hide nothing; every frame is a well-formed SVG of pieces on the
+    // screen, by either method.
     let dir = tempfile::tempdir().expect("temp dir");
-    for entry in std::fs::read_dir(pipeline_tests::repo_root().join("examples/degenerate"))
+    let root = pipeline_tests::repo_root();
+    let mut scenes: Vec<std::path::PathBuf> = std::fs::read_dir(root.join("examples/degenerate"))
         .expect("examples")
-    {
-        let path = entry.expect("entry").path();
-        let pattern = dir.path().join(format!(
-            "{}-%d.svg",
-            path.file_stem().expect("name").to_string_lossy()
-        ));
-        let out = sh(
-            &format!(
-                "viewxf --size 64x48 < '{}' | clipbatch | persp --size 64x48 | hiddenline -o '{}'",
+        .map(|e| e.expect("entry").path())
+        .collect();
+    scenes.extend(
+        [
+            "cube",
+            "concave",
+            "cyclic-bars",
+            "overlapping-squares",
+            "penetrating",
+            "triangle-square",
+        ]
+        .map(|n| root.join(format!("examples/{n}.txt"))),
+    );
+    for path in scenes {
+        for method in ["continuous", "archuleta"] {
+            let pattern = dir.path().join(format!(
+                "{}-{method}-%d.svg",
+                path.file_stem().expect("name").to_string_lossy()
+            ));
+            let out = sh(
+                &format!(
+                    "viewxf --size 64x48 < '{}' | clipbatch | persp --size 64x48 | hiddenline --method {method} -o '{}'",
+                    path.display(),
+                    pattern.display()
+                ),
+                b"",
+            );
+            assert!(
+                out.status.success(),
+                "{} {method}: {}",
                 path.display(),
-                pattern.display()
-            ),
-            b"",
-        );
-        assert!(
-            out.status.success(),
-            "{}: {}",
-            path.display(),
-            String::from_utf8_lossy(&out.stderr)
-        );
-        let first =
-            std::fs::read_to_string(pattern.to_string_lossy().replace("%d", "0")).expect("frame 0");
-        let (head, lines) = parse(&first);
-        assert!(head.contains(r#"viewBox="0 0 64 48""#));
-        for l in lines {
-            for (x, y) in [l.from, l.to] {
-                assert!(
-                    (0.0..=64.0).contains(&x) && (0.0..=48.0).contains(&y),
-                    "{}: {l:?}",
-                    path.display()
-                );
+                String::from_utf8_lossy(&out.stderr)
+            );
+            let first = std::fs::read_to_string(pattern.to_string_lossy().replace("%d", "0"))
+                .expect("frame 0");
+            let (head, lines) = parse(&first);
+            assert!(head.contains(r#"viewBox="0 0 64 48""#));
+            for l in lines {
+                for (x, y) in [l.from, l.to] {
+                    assert!(
+                        (0.0..=64.0).contains(&x) && (0.0..=48.0).contains(&y),
+                        "{} {method}: {l:?}",
+                        path.display()
+                    );
+                }
             }
         }
     }
