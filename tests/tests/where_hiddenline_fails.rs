@@ -16,8 +16,12 @@ thread_local! {
     static PEAK: Cell<usize> = const { Cell::new(0) };
 }
 
+// SAFETY: every call is passed to the system allocator unchanged, which upholds
+// GlobalAlloc's contract; the counting beside it allocates nothing (const thread-locals,
+// `try_with` so that a thread being torn down is simply not counted).
 unsafe impl GlobalAlloc for Counting {
     unsafe fn alloc(&self, layout: Layout) -> *mut u8 {
+        // SAFETY: the caller's layout, as GlobalAlloc::alloc requires of it.
         let p = unsafe { System.alloc(layout) };
         if !p.is_null() {
             let _ = LIVE.try_with(|l| {
@@ -28,6 +32,8 @@ unsafe impl GlobalAlloc for Counting {
         p
     }
     unsafe fn dealloc(&self, ptr: *mut u8, layout: Layout) {
+        // SAFETY: `ptr` came from System.alloc above with this layout (every allocation
+        // of this program goes through it).
         unsafe { System.dealloc(ptr, layout) };
         let _ = LIVE.try_with(|l| l.set(l.get().saturating_sub(layout.size())));
     }
