@@ -66,6 +66,9 @@ Options:
   --hidden-line     draw the visible parts of the polygons' edges as SVG, to the
                     file -o names (FILE.svg; frame%03d.svg for a movie), at depth 0
                     (not with --hse, --aa, --merge buffer or --pixels)
+  --hidden-line-method M
+                    with --hidden-line: continuous (default: exact pieces) or
+                    archuleta (Archuleta's counters on scan lines, raster resolution)
   --clip MODE       batch (default): clipbatch, the six planes in one process over a
                     batch of polygons (Theoharis & Page's DAP clipper); chain: the
                     thesis's six clipplane processes
@@ -153,6 +156,7 @@ split=()    # --split: painter's splitting step
 aa=none     # --aa: the leaves' anti-aliasing
 pixels=()   # --pixels: scanconv's one record per pixel (with --merge buffer)
 hidden_line=0 # --hidden-line: hiddenline's SVG instead of frames
+hl_method=()  # --hidden-line-method: hiddenline's --method
 merge=tiles # --merge: leaves resolve their regions (tiles), or one z-buffer (buffer)
 clip="batch" # --clip: clipbatch (batch), or the six clipplane processes (chain)
 scene=
@@ -171,7 +175,7 @@ feed=     # --depth auto's sample of a stream, fed to viewxf before the rest
 output=() # zbuf's -o PATTERN
 
 # The options that take a value (each also as --option=value), and those that do not.
-valued=" --size --depth --zmode --hse --aa --merge --clip -o --eye --at --up --s --d --hither --yon --hosts --by --remote-bin --subtree --chunk "
+valued=" --size --depth --zmode --hse --aa --merge --clip --hidden-line-method -o --eye --at --up --s --d --hither --yon --hosts --by --remote-bin --subtree --chunk "
 flags=" -h --help --version --stats --times --pixels --hidden-line --split "
 
 parse_options() {
@@ -205,6 +209,7 @@ parse_options() {
             --pixels) pixels=(--pixels) ;;
             --split) split=(--split) ;;
             --hidden-line) hidden_line=1 ;;
+            --hidden-line-method) hl_method=(--method "$value") ;;
             --clip) clip=$value ;;
             -o) output=(-o "$value") ;;
             --eye | --at | --up | --s | --d | --hither | --yon) camera+=("$opt" "$value") ;;
@@ -252,6 +257,7 @@ validate_options() {
         die_usage "--aa $aa is a z-buffer's anti-aliasing: not with --hse $hse"
     ((${#pixels[@]} == 0)) || [[ $merge == buffer ]] ||
         die_usage "--pixels sends fragments to the one z-buffer: it needs --merge buffer"
+    ((hidden_line || ${#hl_method[@]} == 0)) || die_usage "--hidden-line-method needs --hidden-line"
     if ((hidden_line)); then
         [[ $depth == [0a]* ]] ||
             die_usage "--hidden-line draws at depth 0 (the tree's cuts are not edges), not --depth $depth"
@@ -536,7 +542,7 @@ start_graph() {
 # --hidden-line: persp | hiddenline, writing the SVG (Archuleta's output) where -o says.
 start_hidden_line() {
     start persp "$clipped" pipe:screen "$bindir/persp" --size "$size" --zmode "$zmode"
-    start hiddenline pipe:screen - "$bindir/hiddenline" "${stats[@]}" "${output[@]}"
+    start hiddenline pipe:screen - "$bindir/hiddenline" "${hl_method[@]}" "${stats[@]}" "${output[@]}"
 }
 
 # The merger (chapter 6.3.3): one zbuf reading every leaf, writing the frames.
