@@ -1042,12 +1042,11 @@ where
     };
     drop(args);
     let _ = out.flush();
-    if let Ok(Outcome::Done) = result {
-        if head == handed.len() {
-            report(&handed, options, &joblog, log);
-        }
+    let all_written = input_done && head == handed.len();
+    if let (Ok(Outcome::Done), true) = (&result, all_written) {
+        report(&handed, options, &joblog, log);
     }
-    finish(child, spool, result)
+    finish(child, spool, all_written, result)
 }
 
 /// Writes frames to stdout: Ok(true) done, Ok(false) when the reader has gone away
@@ -1142,9 +1141,16 @@ fn kind_of(status: u8) -> stagecli::Kind {
     }
 }
 
-/// Stops parallel if it still runs (SIGINT: it stops its jobs and ends; then SIGTERM and
-/// SIGKILL if it lingers), waits for it, removes the spool, and returns `result`.
-fn finish(mut child: Child, spool: tempfile::TempDir, result: Result<Outcome>) -> Result<Outcome> {
+/// Waits for parallel, which ends by itself once every frame is written (`all_written`:
+/// its input has ended and every job has), else stops it (SIGINT: it stops its jobs and
+/// ends; then SIGTERM and SIGKILL if it lingers); removes the spool, and returns
+/// `result`.
+fn finish(
+    mut child: Child,
+    spool: tempfile::TempDir,
+    all_written: bool,
+    result: Result<Outcome>,
+) -> Result<Outcome> {
     let steps = [
         (libc::SIGINT, 3000),
         (libc::SIGTERM, 1000),
@@ -1155,11 +1161,7 @@ fn finish(mut child: Child, spool: tempfile::TempDir, result: Result<Outcome>) -
     let mut waited: u64 = 0;
     // Once everything is written, parallel ends by itself: its input has ended and
     // every job has.
-    let mut grace: u64 = if matches!(result, Ok(Outcome::Done)) {
-        5000
-    } else {
-        0
-    };
+    let mut grace: u64 = if all_written { 5000 } else { 0 };
     loop {
         match child.try_wait() {
             Ok(Some(_)) | Err(_) => break,
