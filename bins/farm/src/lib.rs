@@ -27,11 +27,13 @@
 //! a chunk that came back short is a failed try that parallel retries elsewhere, and a
 //! chunk the job log calls done is one whose frames were written.
 //!
-//! Memory and disk stay bounded: a chunk is handed to parallel only while it is fewer
-//! than [`WINDOW_PER_SLOT`] chunks per job slot ahead of the earliest chunk not yet
-//! written, so the spool holds at most that many chunks' streams and frames, and
-//! parallel keeps in its `--tmpdir` (the spool) only its buffers of the jobs' output,
-//! which are empty (the script sends a job's stdout and stderr to the spool).
+//! parallel is handed every chunk as soon as it is cut: it reads its arguments only as it
+//! starts jobs, and a chunk waiting to be retried on another host would otherwise wait
+//! behind an argument that is never written. So the spool holds the movie's stream (its
+//! polygons, cut) and the frames of chunks that finished before their turn, and memory
+//! one chunk's frames at a time; parallel's own files in its `--tmpdir` (the spool) are
+//! its buffers of the jobs' output, which stay empty (the script sends a job's stdout and
+//! stderr to the spool).
 //!
 //! When a chunk fails on every try, the chunks before it are written whole and the run
 //! ends with one line naming the host(s) and the chunk: status 3 for a host or the link,
@@ -50,11 +52,6 @@ use std::process::{Child, Command, Stdio};
 use std::sync::atomic::{AtomicI32, Ordering};
 use std::sync::mpsc;
 use std::time::Duration;
-
-/// How far ahead of the earliest chunk not yet written the chunks handed to parallel may
-/// run: this many per job slot, so that every slot has its next chunk while the earliest
-/// is still being rendered, and no more.
-pub const WINDOW_PER_SLOT: usize = 2;
 
 /// The frames of a chunk by default: few enough that the spool holds a few per host,
 /// and enough that an ssh session's start (a connection, a render.sh and its choice of
@@ -186,8 +183,8 @@ pub fn logins_from_hosts(list: &str) -> std::result::Result<Vec<(usize, String)>
 }
 
 /// The job slots an sshlogin file gives: `N/host` N, a bare host 1 (farm runs parallel
-/// with `-j1`), blank lines and `#` comments none. Only for the window's size: parallel
-/// reads the file itself.
+/// with `-j1`), blank lines and `#` comments none. A file with none is refused before
+/// parallel starts; parallel reads the file itself.
 pub fn slots_in_sshloginfile(text: &str) -> usize {
     text.lines()
         .map(str::trim)
@@ -870,13 +867,13 @@ where
         });
     }
 
-    let _ = slots;
+    debug_assert!(slots > 0);
     let mut handed: Vec<Handed> = Vec::new();
     let mut head = 0; // the earliest chunk not yet written
     let mut input_done = false;
     let mut ended: Option<std::process::ExitStatus> = None;
     let result: Result<Outcome> = loop {
-        // Hand parallel the chunks the window allows.
+        // Hand parallel every chunk cut so far.
         let mut cut_error = None;
         while !input_done {
             let chunk = match chunks_rx.try_recv() {
