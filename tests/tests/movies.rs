@@ -160,12 +160,12 @@ fn a_chunk_that_fails_on_flaky_is_retried_on_good_and_the_frames_are_a_local_run
             "8",
             "--joblog",
             &log_arg,
+            "--stats",
         ],
         &m,
     );
     assert!(out.status.success(), "{}", stderr(&out));
     assert!(out.stdout == want, "the frames differ from a local run's");
-    assert_eq!(stderr(&out), "", "a run without --stats says nothing");
 
     // The log: each chunk flaky tried has its failed try (255 on flaky) and then its
     // success on good; every chunk of the 8 succeeded once.
@@ -192,6 +192,26 @@ fn a_chunk_that_fails_on_flaky_is_retried_on_good_and_the_frames_are_a_local_run
             "chunk {k} retried on good: {lines:?}"
         );
     }
+    // --stats says so too, a line a failed try.
+    let err = stderr(&out);
+    let retried: BTreeSet<usize> = err
+        .lines()
+        .filter(|l| l.ends_with(": a try on host flaky failed (status 255), retried"))
+        .map(|l| {
+            let first: usize = l["farm: frames ".len()..]
+                .split(' ')
+                .next()
+                .unwrap()
+                .parse()
+                .unwrap();
+            first / 8 + 1
+        })
+        .collect();
+    assert_eq!(retried, failed_here, "{err}");
+    assert!(
+        err.lines().any(|l| l.starts_with("farm: host good: ")),
+        "{err}"
+    );
 }
 
 #[test]
