@@ -434,3 +434,43 @@ fn a_blank_polypipe_ssh_is_a_usage_error() {
     assert_eq!(out.status.code(), Some(2));
     assert!(stderr(&out).starts_with("farm: POLYPIPE_SSH is set but blank"));
 }
+
+#[test]
+fn hosts_from_an_sshloginfile_write_files_numbered_from_first_frame() {
+    // parallel's own file: a comment, 2 job slots on one host, 1 on another. -o with
+    // --first-frame 100: frame k of the movie in f(100 + k).ppm, a local run's bytes.
+    let dir = tempfile::tempdir().unwrap();
+    let ssh = fake_ssh(dir.path(), "ssh", "");
+    let m = movie(dir.path());
+    let want = local(&m, "");
+    let logins = dir.path().join("hosts");
+    std::fs::write(&logins, "# two hosts\n2/alpha\n1/beta\n").unwrap();
+    let out_dir = dir.path().join("out");
+    std::fs::create_dir_all(&out_dir).unwrap();
+    let pattern = format!("{}/f%05d.ppm", out_dir.display());
+    let logins_arg = logins.display().to_string();
+    let args = [
+        "--sshloginfile",
+        &logins_arg,
+        "--chunk",
+        "7",
+        "-o",
+        &pattern,
+        "--first-frame",
+        "100",
+    ];
+    let out = farm(&ssh, &args, &m);
+    assert!(out.status.success(), "{}", stderr(&out));
+    assert!(out.stdout.is_empty());
+    for k in 0..60 {
+        let file = out_dir.join(format!("f{:05}.ppm", 100 + k));
+        let bytes = std::fs::read(&file).unwrap_or_else(|e| panic!("{}: {e}", file.display()));
+        assert!(bytes == want[k * FRAME..(k + 1) * FRAME], "frame {k}");
+    }
+    // The job log beside the files: 9 chunks (8 of 7 frames and one of 4), all done.
+    let lines = joblog(&out_dir.join("farm.joblog"));
+    let mut done: Vec<usize> = lines.iter().filter(|l| l.2 == 0).map(|l| l.0).collect();
+    done.sort();
+    assert_eq!(done, (1..=9).collect::<Vec<_>>());
+    assert_eq!(std::fs::read_dir(&out_dir).unwrap().count(), 61);
+}
