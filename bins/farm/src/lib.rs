@@ -18,10 +18,10 @@
 //!    (`-o PATTERN`, numbered from `--first-frame`) as its chunk comes back.
 //!
 //! What parallel cannot do is what remains here. Parallel's `--pipe` gives a job its
-//! block of stdin, but cuts only at byte patterns and reads whole `--block`s before it
-//! starts a job, so it can neither give each chunk the movie's header nor be held back by
-//! how far the writing has come. So parallel's ssh (`--ssh`) is a small script of the
-//! spool ([`shim_script`]): it runs `$POLYPIPE_SSH` with the chunk of the job's number
+//! block of stdin, but cuts only at byte patterns, so a chunk could not start with the
+//! movie's header, and reads whole `--block`s before it starts a job, so a chunk smaller
+//! than a block would wait for the next to be cut. So parallel's ssh (`--ssh`) is a
+//! small script of the spool ([`shim_script`]): it runs `$POLYPIPE_SSH` with the chunk of the job's number
 //! (`$PARALLEL_SEQ`, the argument line's) on its stdin and its frames into the spool,
 //! then waits until this program has checked them (every frame, whole) and taken them:
 //! a chunk that came back short is a failed try that parallel retries elsewhere, and a
