@@ -21,11 +21,12 @@
 //! block of stdin, but cuts only at byte patterns, so a chunk could not start with the
 //! movie's header, and reads whole `--block`s before it starts a job, so a chunk smaller
 //! than a block would wait for the next to be cut. So parallel's ssh (`--ssh`) is a
-//! small script of the spool ([`shim_script`]): it runs `$POLYPIPE_SSH` with the chunk of the job's number
-//! (`$PARALLEL_SEQ`, the argument line's) on its stdin and its frames into the spool,
-//! then waits until this program has checked them (every frame, whole) and taken them:
-//! a chunk that came back short is a failed try that parallel retries elsewhere, and a
-//! chunk the job log calls done is one whose frames were written.
+//! small script of the spool ([`shim_script`]): it runs `$POLYPIPE_SSH` with the chunk
+//! of the job's number (`$PARALLEL_SEQ`, the argument line's) on its stdin and its
+//! frames into the spool, then waits until this program has checked them (every frame,
+//! whole) and taken them: a chunk that came back short is a failed try that parallel
+//! retries elsewhere, and a chunk the job log calls done is one whose frames were
+//! written.
 //!
 //! parallel is handed every chunk as soon as it is cut: it reads its arguments only as it
 //! starts jobs, and a chunk waiting to be retried on another host would otherwise wait
