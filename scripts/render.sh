@@ -83,10 +83,21 @@ Options:
                     come back, and the frames are a local run's
   --by MODE         with --hosts: leaves (default), or frames: cut a movie into
                     chunks of a few frames, each rendered whole by render.sh on
-                    the next host free, the frames written back in order as they
-                    come (the `farm` binary; not with -o)
+                    a host GNU parallel chooses, a failed chunk retried on
+                    another, the frames written back in order (the `farm`
+                    binary; stdout, or -o's files)
   --chunk N         with --by frames: frames a chunk, one ssh session each
                     (default 8)
+  --sshloginfile F  with --by frames: the hosts from GNU parallel's file (N/host)
+  --retries N       with --by frames: tries of a chunk, each on another host while
+                    there is one (default 3)
+  --joblog FILE     with --by frames: parallel's job log (default: farm.joblog
+                    beside -o's files)
+  --resume          with --by frames and -o: render only the chunks the job log
+                    does not call finished
+  --slurm-array DIR with --by frames and -o: write DIR/render.sbatch, a Slurm job
+                    array of the chunks, instead of rendering
+  --first-frame N   with -o: the number the pattern gives the first frame (default 0)
   --remote-bin DIR  with --hosts: the binaries' folder on the hosts (default: this one's)
   --subtree K       what --hosts runs on a host: node K's part of the tree (its
                     splitters, leaves and a zbuf --runs), from the stream into node K
@@ -166,6 +177,8 @@ hosts_list= # --hosts H1,H2,…
 by=       # --by leaves|frames
 remote_bin= # --remote-bin DIR
 chunk=()    # --chunk N, for farm (--by frames)
+farm_opts=() # --sshloginfile, --retries, --joblog, --resume, --slurm-array: farm's own
+first_frame=() # --first-frame N: the number -o gives the first frame (zbuf's, or farm's)
 forward=()  # the options a host's render.sh gets with --by frames
 subtree=    # --subtree K: this is a host rendering node K's subtree for --hosts
 camera=() # viewxf's options, as given
@@ -175,8 +188,8 @@ feed=     # --depth auto's sample of a stream, fed to viewxf before the rest
 output=() # zbuf's -o PATTERN
 
 # The options that take a value (each also as --option=value), and those that do not.
-valued=" --size --depth --zmode --hse --aa --merge --clip --hidden-line-method -o --eye --at --up --s --d --hither --yon --hosts --by --remote-bin --subtree --chunk "
-flags=" -h --help --version --stats --times --pixels --hidden-line --split "
+valued=" --size --depth --zmode --hse --aa --merge --clip --hidden-line-method -o --eye --at --up --s --d --hither --yon --hosts --by --remote-bin --subtree --chunk --sshloginfile --retries --joblog --slurm-array --first-frame "
+flags=" -h --help --version --stats --times --pixels --hidden-line --split --resume "
 
 parse_options() {
     local opt value
@@ -195,6 +208,7 @@ parse_options() {
         # With --by frames, the hosts' render.sh gets every option about the picture.
         case $opt in
             --hosts | --by | --remote-bin | --chunk | -o | -h | --help | --version | --times | [!-]* | -) ;;
+            --sshloginfile | --retries | --joblog | --resume | --slurm-array | --first-frame) ;;
             *) forward+=("$opt"); [[ $valued != *" $opt "* ]] || forward+=("$value") ;;
         esac
         case $opt in
@@ -219,6 +233,9 @@ parse_options() {
             --by) by=$value ;;
             --remote-bin) remote_bin=$value ;;
             --chunk) chunk=(--chunk "$value") ;;
+            --sshloginfile | --retries | --joblog | --slurm-array) farm_opts+=("$opt" "$value") ;;
+            --resume) farm_opts+=(--resume) ;;
+            --first-frame) first_frame=(--first-frame "$value") ;;
             --subtree) subtree=$value ;;
             -?*) die_usage "unknown option ${opt%%=*}" ;;
             *)
@@ -550,7 +567,7 @@ start_merger() {
     local relay=()
     [[ -z $subtree ]] || relay=(--runs) # a subtree's runs go on to the merger above
     npipes=${#fragments[@]} start zbuf /dev/null - "$bindir/zbuf" "${relay[@]}" "${stats[@]}" \
-        "${to_screen[@]}" "${output[@]}" "${fragments[@]}"
+        "${to_screen[@]}" "${output[@]}" "${first_frame[@]}" "${fragments[@]}"
 }
 
 # --depth auto: the depth the cost model predicts fastest (thesis 5.2 and 6.4, with this
@@ -619,20 +636,22 @@ choose_depth() {
     ((${#stats[@]} == 0)) || echo "render.sh: depth auto chose $line" >&2
 }
 
-# --by frames: the `farm` binary cuts the movie into chunks and runs each on a host,
-# `render.sh OPTIONS -` there (this script, at the same path, with the binaries of
-# --remote-bin), and writes the frames back in order. The options are checked here
-# first, as a local render would check them.
+# --by frames: the `farm` binary cuts the movie into chunks and hands them to GNU
+# parallel, which runs each on a host, `render.sh OPTIONS -` there (this script, at the
+# same path, with the binaries of --remote-bin), retrying a failed chunk on another; farm
+# writes the frames back in order (stdout, or -o's files). With --slurm-array DIR, farm
+# writes DIR/render.sbatch instead. The options are checked here first, as a local
+# render would check them.
 frames_on_hosts() {
-    ((${#output[@]} == 0)) ||
-        die_usage "-o is not available with --by frames: the frames come back on stdout"
     [[ -z $subtree ]] || die_usage "--subtree is a host's part of --by leaves: not with --by frames"
     ((${#times[@]} == 0)) || die_usage "--times is the stages' here: not with --by frames"
-    local list=$hosts_list
+    local -a where=()
+    [[ -z $hosts_list ]] || where=(--hosts "$hosts_list")
     hosts=()
     validate_options
     ensure_binaries
-    exec "$bindir/farm" --hosts "$list" "${chunk[@]}" "${stats[@]}" "$scene" -- \
+    exec "$bindir/farm" "${where[@]}" "${farm_opts[@]}" "${chunk[@]}" "${stats[@]}" \
+        "${output[@]}" "${first_frame[@]}" "$scene" -- \
         env POLYPIPE_BIN="${remote_bin:-$bindir}" "$root/scripts/render.sh" "${forward[@]}" -
 }
 
@@ -643,15 +662,18 @@ main() {
     source "$root/scripts/lib/binaries.sh"
     parse_options "$@"
     if [[ -n $hosts_list || -n $by ]]; then # rendering on other hosts
-        [[ -n $hosts_list ]] || die_usage "--by $by needs --hosts H1,H2,…"
+        [[ -n $hosts_list || ($by == frames && ${#farm_opts[@]} -gt 0) ]] ||
+            die_usage "--by $by needs --hosts H1,H2,…"
         [[ ${by:-leaves} == @(leaves|frames) ]] ||
             die_usage "--by must be leaves or frames, not '$by'"
         # shellcheck source=hosts.sh
         source "$root/scripts/hosts.sh"
-        check_hosts "$hosts_list"
+        [[ -z $hosts_list ]] || check_hosts "$hosts_list"
         [[ $by != frames ]] || frames_on_hosts
     fi
     ((${#chunk[@]} == 0)) || die_usage "--chunk is for --by frames"
+    ((${#farm_opts[@]} == 0)) || die_usage "${farm_opts[0]} is for --by frames"
+    ((${#first_frame[@]} == 0 || ${#output[@]} > 0)) || die_usage "--first-frame numbers -o's files: it needs -o"
     validate_options
     [[ -r /proc/self/stat ]] || fail 3 "needs /proc (Linux), to run its stages"
     ensure_binaries
