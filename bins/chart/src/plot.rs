@@ -622,9 +622,12 @@ pub const ENVIRONMENT_METHODS: [&str; 8] = [
     "ss16",
 ];
 
+/// A statistic of a run's scene, a frame.
+pub type Statistic = fn(&Row) -> f64;
+
 /// The environment statistics on the figure's x axes: a name, and the value of a run's
 /// scene, a frame.
-pub const STATISTICS: [(&str, fn(&Row) -> f64); 4] = [
+pub const STATISTICS: [(&str, Statistic); 4] = [
     ("polygons P_t, a frame", |r| {
         r.polygons as f64 / r.frames.max(1) as f64
     }),
@@ -646,7 +649,7 @@ pub const STATISTICS: [(&str, fn(&Row) -> f64); 4] = [
 /// frames divide it, so that what is left is the work the scene asks of the method.
 /// A run within 0.1 ms of the fixed cost has nothing left to show on a log axis and is
 /// left out; so is a scene without the statistics (a CSV from before them).
-pub fn environment_points(rows: &[Row], method: &str, stat: fn(&Row) -> f64) -> Vec<(f64, f64)> {
+pub fn environment_points(rows: &[Row], method: &str, stat: Statistic) -> Vec<(f64, f64)> {
     let runs: Vec<&Row> = rows
         .iter()
         .filter(|r| r.method == method && r.depth == 0)
