@@ -154,7 +154,15 @@ fn log_ticks(lo: f64, hi: f64) -> usize {
 /// Each method's mark on a scene's panel: its fastest depth.
 pub fn marks<'a>(rows: &'a [Row], scene: &str) -> Vec<&'a Row> {
     let mut best: Vec<&Row> = Vec::new();
-    for r in rows.iter().filter(|r| r.scene == scene) {
+    // A scene measured against the point-sampled reference alone has no measure of an
+    // anti-aliased method's error (it differs from point sampling on purpose, on every
+    // edge pixel): its panel draws the point-sampled methods only.
+    let point = rows
+        .iter()
+        .filter(|r| r.scene == scene)
+        .all(|r| r.rmse.is_nan());
+    let drawn = |r: &&Row| !(point && anti_aliased(&r.method));
+    for r in rows.iter().filter(|r| r.scene == scene).filter(drawn) {
         match best.iter_mut().find(|b| b.method == r.method) {
             Some(b) if r.wall_s < b.wall_s => *b = r,
             Some(_) => {}
@@ -162,6 +170,11 @@ pub fn marks<'a>(rows: &'a [Row], scene: &str) -> Vec<&'a Row> {
         }
     }
     best
+}
+
+/// Whether a method anti-aliases (`abuf`, `ssK`).
+pub fn anti_aliased(method: &str) -> bool {
+    method == "abuf" || method.starts_with("ss")
 }
 
 /// A method's run at depth 0 on a scene (the method alone, no splitter tree).
@@ -353,7 +366,7 @@ where
             .configure_mesh()
             .x_desc("wall time, seconds (log scale)")
             .y_desc(if point {
-                "pixels unlike point-sampled reference, %"
+                "% pixels wrong (no AA methods: point reference)"
             } else {
                 "RMS error vs 16×16 reference (0–255)"
             })
@@ -611,7 +624,7 @@ pub fn speed_accuracy(dir: &Path, rows: &[Row]) -> Result<()> {
 
 /// The methods of the cost-against-environment figure: the hidden-surface methods and
 /// the anti-aliasing ones, each alone (depth 0).
-pub const ENVIRONMENT_METHODS: [&str; 8] = [
+pub const ENVIRONMENT_METHODS: [&str; 7] = [
     "zbuf",
     "scanline",
     "warnock",
@@ -619,8 +632,25 @@ pub const ENVIRONMENT_METHODS: [&str; 8] = [
     "painter-split",
     "abuf",
     "ss4",
-    "ss16",
 ];
+
+/// The least-squares slope of log y on log x: the power of the statistic a method's
+/// cost grows with (1: in proportion; 0: not at all); `None` for fewer than three points
+/// or one x.
+pub fn log_slope(points: &[(f64, f64)]) -> Option<f64> {
+    if points.len() < 3 {
+        return None;
+    }
+    let n = points.len() as f64;
+    let (mx, my) = points.iter().fold((0.0, 0.0), |(a, b), &(x, y)| {
+        (a + x.ln() / n, b + y.ln() / n)
+    });
+    let (sxy, sxx) = points.iter().fold((0.0, 0.0), |(a, b), &(x, y)| {
+        let dx = x.ln() - mx;
+        (a + dx * (y.ln() - my), b + dx * dx)
+    });
+    (sxx > 1e-12).then(|| sxy / sxx)
+}
 
 /// A statistic of a run's scene, a frame.
 pub type Statistic = fn(&Row) -> f64;
@@ -745,6 +775,22 @@ where
             for &at in p {
                 draw_mark(chart.plotting_area(), at, style, 6)?;
             }
+        }
+        // Each method's fitted slope, in its colour, top left: the power of the
+        // statistic its cost grows with, over these scenes.
+        let mut line = 0;
+        for (method, p) in &points {
+            let Some(slope) = log_slope(p) else { continue };
+            let (c, _) = style_of(method);
+            chart.plotting_area().draw(
+                &(EmptyElement::at((xlo, yhi))
+                    + Text::new(
+                        format!("{method}: slope {slope:.2}"),
+                        (10, 8 + 18 * line),
+                        ("sans-serif", 15).into_font().color(&c),
+                    )),
+            )?;
+            line += 1;
         }
     }
     // The legend: the figure's methods in one row.
