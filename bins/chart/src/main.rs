@@ -235,14 +235,17 @@ type Hard = (&'static str, &'static [&'static str], (u32, u32), bool);
 /// - `cyclic-bars`: three bars overlapping in a cycle (examples/cyclic-bars.txt): no
 ///   order of whole polygons draws them right; the painter without `--split` fails;
 /// - `spheres`: two interpenetrating spheres (Archuleta's figure 1);
-/// - `strips`: 2,000 disjoint strips whose depth extents all overlap: the depth sort's
-///   N(N−1)/2 pair tests.
+/// - `strips`: 2,100 disjoint strips whose depth extents all overlap: the depth sort's
+///   N(N−1)/2 pair tests. Not 2,000: 500/2,000 puts a strip's edge through every other
+///   pixel centre, where the pipeline's rounding and the reference's exact f64 decide
+///   the tie differently (29,067 pixels at depth 0, 34,774 at depth 1, for every exact
+///   method alike); at 2,100 no edge meets a centre and the exact methods are exact.
 const HARD: [Hard; 5] = [
     ("stack", &["stack", "300"], (200, 200), false),
     ("slivers", &["slivers", "2000"], (500, 500), false),
     ("planes", &["planes", "100"], (250, 250), false),
     ("spheres", &["spheres"], (500, 500), true),
-    ("strips", &["strips", "2000"], (500, 500), true),
+    ("strips", &["strips", "2100"], (500, 500), true),
 ];
 
 /// The hard scenes ([`HARD`], and the cyclic bars), made with `scene` into `dir`.

@@ -1201,6 +1201,67 @@ mod tests {
     }
 
     #[test]
+    fn the_slope_is_the_power_the_cost_grows_with() {
+        let square: Vec<(f64, f64)> = [1.0, 10.0, 100.0].map(|x| (x, 3.0 * x * x)).to_vec();
+        assert!((log_slope(&square).unwrap() - 2.0).abs() < 1e-12);
+        let flat = [(1.0, 0.5), (10.0, 0.5), (1000.0, 0.5)];
+        assert!(log_slope(&flat).unwrap().abs() < 1e-12);
+        assert_eq!(log_slope(&square[..2]), None, "two points fit any line");
+        assert_eq!(log_slope(&[(5.0, 1.0), (5.0, 2.0), (5.0, 3.0)]), None);
+    }
+
+    #[test]
+    fn a_point_reference_panel_leaves_the_anti_aliased_methods_out() {
+        let mut rows = vec![
+            row("zbuf", 0, 0.2, f64::NAN),
+            row("ss4", 0, 0.3, f64::NAN),
+            row("painter", 0, 0.1, f64::NAN),
+            row("painter", 1, 0.05, f64::NAN),
+        ];
+        rows[2].error_fraction = 0.25;
+        let m = marks(&rows, "s");
+        let names: Vec<&str> = m.iter().map(|r| r.method.as_str()).collect();
+        assert_eq!(names, ["zbuf", "painter"]);
+        assert!(pointwise(&m));
+        // The painter's fastest depth is 1; its depth 0 is the one that is wrong.
+        let zero = at_depth_zero(&rows, "s", "painter").unwrap();
+        assert_eq!(error_of(zero, true), 25.0);
+        assert_eq!(m[1].depth, 1);
+        // With a 16×16 reference every method is drawn, on its RMS error.
+        rows.iter_mut().for_each(|r| r.rmse = 2.0);
+        assert_eq!(marks(&rows, "s").len(), 3);
+    }
+
+    #[test]
+    fn environment_points_take_off_the_fixed_cost() {
+        let mut rows = vec![
+            row("zbuf", 0, 0.0, 1.0),
+            row("zbuf", 0, 0.0, 1.0),
+            row("zbuf", 0, 0.0, 1.0),
+            row("zbuf", 1, 0.0, 1.0),
+        ];
+        for (r, (cpu, polygons)) in
+            rows.iter_mut()
+                .zip([(0.01, 2), (0.11, 1000), (0.51, 5000), (9.0, 9)])
+        {
+            r.cpu_s = cpu;
+            r.polygons = polygons;
+        }
+        let p = environment_points(&rows, "zbuf", STATISTICS[0].1);
+        // The fixed cost is the least (0.01 s); the scene at it has nothing left and is
+        // left out; depth 1 is not depth 0.
+        assert_eq!(p.len(), 2);
+        assert!(
+            (p[0].0 - 1000.0).abs() < 1e-9 && (p[0].1 - 0.1).abs() < 1e-9,
+            "{p:?}"
+        );
+        assert!(
+            (p[1].0 - 5000.0).abs() < 1e-9 && (p[1].1 - 0.5).abs() < 1e-9,
+            "{p:?}"
+        );
+    }
+
+    #[test]
     fn pictures_are_written() {
         let dir = tempfile::tempdir().unwrap();
         let rows = vec![row("zbuf", 0, 0.2, 30.0), row("zbuf-eye-z", 0, 0.3, 31.0)];
