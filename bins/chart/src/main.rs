@@ -53,7 +53,8 @@ struct Cli {
     hard: bool,
     /// The figures of docs/images, at this commit: --standard (its small scenes, every
     /// method at every depth) and --hard, written to the repository's docs/images (or
-    /// -o DIR), the scenes, references and frames kept in target/chart.
+    /// -o DIR), the scenes, references, frames and the cost model's files kept in
+    /// target/chart.
     #[arg(long)]
     figures: bool,
     /// Where the scenes, references and frames go (default: DIR).
@@ -313,6 +314,7 @@ fn run(mut cli: Cli) -> Result<()> {
     }
     let bin = bin_dir()?;
     let work = cli.work.clone().unwrap_or_else(|| out.clone());
+    let work_dir = work.clone();
     let render = root.join("scripts/render.sh");
     if out.exists() && !out.is_dir() {
         return Err(stagecli::Error::usage(format!(
@@ -387,15 +389,19 @@ fn run(mut cli: Cli) -> Result<()> {
     })?;
     progress.finish_and_clear();
     chart::chart::write_csv(&out.join("results.csv"), &rows)?;
-    chart::chart::write_csv(&out.join("model.csv"), &model_rows)?;
-    chart::chart::write_csv(&out.join("model-extrapolation.csv"), &extra)?;
+    // With --figures the cost model's files go beside the scenes, not into docs/images:
+    // its picture there is docs/model.md's, drawn from a calibration of its own.
+    let model_out = if cli.figures { &work_dir } else { &out };
+    chart::chart::write_csv(&model_out.join("model.csv"), &model_rows)?;
+    chart::chart::write_csv(&model_out.join("model-extrapolation.csv"), &extra)?;
     chart::plot::speed_accuracy(&out, &rows)?;
     chart::plot::environment(&out, &rows)?;
-    chart::plot::model(&out, &model_rows, &extra)?;
+    chart::plot::model(model_out, &model_rows, &extra)?;
     say(&model_table(&model_rows))?;
     say_err(&format!(
-        "chart: wrote {0}/results.csv, {0}/speed-accuracy.png and .svg, {0}/cost-environment.png and .svg, {0}/model.csv, {0}/model.png",
-        out.display()
+        "chart: wrote {0}/results.csv, {0}/speed-accuracy.png and .svg, {0}/cost-environment.png and .svg, {1}/model.csv, {1}/model.png",
+        out.display(),
+        model_out.display()
     ));
     Ok(())
 }
