@@ -610,14 +610,22 @@ fn hard_scenes_run_every_depth_and_count_their_statistics() {
     // The scenes without a 16×16 reference say so (NaN), and the figures are drawn.
     assert!(num(s, "rmse").is_nan());
     assert!(!num(c, "rmse").is_nan());
-    for f in ["speed-accuracy.svg", "cost-environment.svg"] {
-        let svg = std::fs::read_to_string(d.join(f)).unwrap();
-        assert!(svg.contains("stack"), "{f} draws the stack");
+    let cost = std::fs::read_to_string(d.join("cost-environment.svg")).unwrap();
+    for axis in [
+        "polygons P_t, a frame",
+        "depth complexity Dc",
+        "visible segments on the scan lines",
+    ] {
+        assert!(cost.contains(axis), "cost-environment.svg lacks {axis}");
     }
     let svg = std::fs::read_to_string(d.join("speed-accuracy.svg")).unwrap();
     assert!(
-        svg.contains("painter d0"),
-        "the painter's failure at depth 0 is named"
+        svg.contains("stack (300 polygons, 200×200)"),
+        "the stack's panel"
+    );
+    assert!(
+        svg.contains("% pixels wrong (no AA methods: point reference)"),
+        "the panels without a 16×16 reference say what they measure"
     );
 }
 
