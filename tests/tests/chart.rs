@@ -428,8 +428,8 @@ fn chart_exits_as_the_stages_do() {
             "chart -o OUT --methods foo examples/penetrating.txt",
             2,
             "chart: invalid value 'foo' for '--methods <NAME,…>': no method foo; the methods: \
-             scanline, warnock, painter, abuf, ss2, ss4, ss8, ss16, zbuf-pixels, zbuf, \
-             zbuf-eye-z, zbuf-buffer, zbuf-chain, zbuf-text, zbuf-binary\n",
+             scanline, warnock, painter, painter-split, abuf, ss2, ss4, ss8, ss16, zbuf-pixels, \
+             zbuf, zbuf-eye-z, zbuf-buffer, zbuf-chain, zbuf-text, zbuf-binary\n",
         ),
     ];
     // OUT: a folder that none of these makes, each failing before anything is written.
