@@ -202,7 +202,7 @@ fn farm_options_need_by_frames_and_first_frame_needs_o() {
         (&["--chunk", "2"], "render: --chunk is for --by frames\n"),
         (
             &["--first-frame", "3"],
-            "render: --first-frame numbers -o's files: it needs -o PATTERN\n",
+            "render: --first-frame numbers -o's files: it needs -o\n",
         ),
     ] {
         let out = render(&[args, &[example().as_str()]].concat(), b"");

@@ -447,6 +447,9 @@ impl Builder<'_> {
         argv.extend(os(zmode_words(ZStage::Persp, &self.o.zmode)));
         self.start("persp", clipped, pipe("screen"), argv);
         let mut argv = os([self.bin("hiddenline")]);
+        if let Some(m) = &self.o.hidden_line_method {
+            argv.extend(os(["--method", m]));
+        }
         argv.extend(self.stats());
         if let Some(pattern) = &self.o.output {
             argv.extend(os(["-o", pattern]));

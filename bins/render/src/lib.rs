@@ -90,6 +90,9 @@ fn picture_options(cli: &options::Cli) -> Vec<String> {
     ] {
         w.extend([opt.to_string(), v.clone()]);
     }
+    if let Some(m) = &cli.hidden_line_method {
+        w.extend(["--hidden-line-method".into(), m.clone()]);
+    }
     for (opt, on) in [
         ("--split", cli.split),
         ("--pixels", cli.pixels),
@@ -108,7 +111,7 @@ fn picture_options(cli: &options::Cli) -> Vec<String> {
 /// writes the frames back in order; farm's own options pass through as given. The
 /// options are checked here first, as a local render would check them. Returns only on
 /// an error: farm takes this process's place.
-fn frames_on_hosts(cli: &options::Cli, list: &str) -> Error {
+fn frames_on_hosts(cli: &options::Cli, list: Option<&str>) -> Error {
     use std::os::unix::process::CommandExt;
     if cli.subtree.is_some() {
         return Error::usage("--subtree is a host's part of --by leaves: not with --by frames");
@@ -133,7 +136,9 @@ fn frames_on_hosts(cli: &options::Cli, list: &str) -> Error {
     tell_example(&o);
     let root = repository();
     let mut farm = std::process::Command::new(bin.join("farm"));
-    farm.args(["--hosts", list]);
+    if let Some(list) = list {
+        farm.args(["--hosts", list]);
+    }
     let valued = [
         ("--chunk", &cli.chunk),
         ("--sshloginfile", &cli.sshloginfile),
@@ -183,18 +188,25 @@ fn tell_example(o: &Options) {
     }
 }
 
-/// Options only farm takes: refused without `--by frames`.
-fn farm_only(cli: &options::Cli) -> Result<(), Error> {
+/// The first of the options only farm takes (besides --chunk) that is given.
+fn farm_option(cli: &options::Cli) -> Option<&'static str> {
     let given = [
-        ("--chunk", cli.chunk.is_some()),
         ("--sshloginfile", cli.sshloginfile.is_some()),
         ("--retries", cli.retries.is_some()),
         ("--joblog", cli.joblog.is_some()),
         ("--resume", cli.resume),
         ("--slurm-array", cli.slurm_array.is_some()),
     ];
-    match given.iter().find(|(_, on)| *on) {
-        Some((opt, _)) => Err(Error::usage(format!("{opt} is for --by frames"))),
+    given.iter().find(|(_, on)| *on).map(|(opt, _)| *opt)
+}
+
+/// farm's options: refused without `--by frames`.
+fn farm_only(cli: &options::Cli) -> Result<(), Error> {
+    if cli.chunk.is_some() {
+        return Err(Error::usage("--chunk is for --by frames"));
+    }
+    match farm_option(cli) {
+        Some(opt) => Err(Error::usage(format!("{opt} is for --by frames"))),
         None => Ok(()),
     }
 }
@@ -245,28 +257,33 @@ fn run_inner<I: IntoIterator<Item = OsString>>(args: I) -> Result<u8, Error> {
     let mut hosts = Vec::new();
     let mut ssh = Vec::new();
     if cli.hosts.is_some() || cli.by.is_some() {
-        let Some(list) = cli.hosts.clone() else {
+        let by = cli.by.as_deref().unwrap_or("leaves");
+        // --by frames may take its hosts from farm's --sshloginfile, or need none
+        // (--slurm-array).
+        let farm_hosts = by == "frames" && farm_option(&cli).is_some();
+        if cli.hosts.is_none() && !farm_hosts {
             return Err(Error::usage(format!(
                 "--by {} needs --hosts H1,H2,…",
                 cli.by.as_deref().unwrap_or("")
             )));
-        };
-        let by = cli.by.as_deref().unwrap_or("leaves");
+        }
         if by != "leaves" && by != "frames" {
             return Err(Error::usage(format!(
                 "--by must be leaves or frames, not '{by}'"
             )));
         }
         ssh = stagecli::remote::ssh_command_from_env()?;
-        hosts = stagecli::remote::parse_hosts(&list).map_err(Error::usage)?;
+        if let Some(list) = &cli.hosts {
+            hosts = stagecli::remote::parse_hosts(list).map_err(Error::usage)?;
+        }
         if by == "frames" {
-            return Err(frames_on_hosts(&cli, &list));
+            return Err(frames_on_hosts(&cli, cli.hosts.as_deref()));
         }
     }
     farm_only(&cli)?;
     if cli.output.is_none() && cli.first_frame.is_some() {
         return Err(Error::usage(
-            "--first-frame numbers -o's files: it needs -o PATTERN",
+            "--first-frame numbers -o's files: it needs -o",
         ));
     }
     let o = cli.validate(hosts, std::io::stdin().is_terminal())?;

@@ -105,6 +105,10 @@ pub struct Cli {
     /// buffer or --pixels).
     #[arg(long)]
     pub hidden_line: bool,
+    /// With --hidden-line: continuous (default: exact pieces) or archuleta (Archuleta's
+    /// counters on scan lines, raster resolution), hiddenline's --method.
+    #[arg(long, value_name = "M")]
+    pub hidden_line_method: Option<String>,
     /// batch: clipbatch, the six planes in one process (Theoharis & Page's DAP
     /// clipper); chain: the thesis's six clipplane processes.
     #[arg(long, value_name = "MODE", default_value = "batch")]
@@ -228,6 +232,7 @@ pub struct Options {
     pub aa: String,
     pub pixels: bool,
     pub hidden_line: bool,
+    pub hidden_line_method: Option<String>,
     pub clip: String,
     pub stats: bool,
     pub times: bool,
@@ -348,6 +353,9 @@ impl Cli {
                 "--pixels sends fragments to the one z-buffer: it needs --merge buffer".into(),
             );
         }
+        if self.hidden_line_method.is_some() && !self.hidden_line {
+            return usage("--hidden-line-method needs --hidden-line".into());
+        }
         if self.hidden_line {
             if let Some(d) = depth.filter(|d| *d != 0) {
                 return usage(format!(
@@ -428,6 +436,7 @@ impl Cli {
             aa: self.aa.clone(),
             pixels: self.pixels,
             hidden_line: self.hidden_line,
+            hidden_line_method: self.hidden_line_method.clone(),
             clip: self.clip.clone(),
             stats: self.stats,
             times: self.times,

@@ -41,6 +41,11 @@ struct Args {
     /// the frame number from 0 (as ffmpeg's image2); .png or .ppm by the extension.
     #[arg(short = 'o', value_name = "PATTERN")]
     output: Option<String>,
+    /// The number -o's pattern gives the first frame (the rest follow it): a chunk of a
+    /// movie rendered on its own (`frames --from A --to B | … --first-frame A`) writes
+    /// the files the whole movie's run would.
+    #[arg(long, value_name = "N", default_value_t = 0, requires = "output")]
+    first_frame: u64,
     #[command(flatten)]
     text: PpmTextFlag,
     /// Pass the frames on as runs (a fragment stream, binary; text with --text) instead
@@ -191,7 +196,16 @@ fn main() -> ExitCode {
                          (as frame%03d.png); nothing was kept"
                     )));
                 }
-                Some(p) => p.save(frame, fb, form)?,
+                Some(p) => {
+                    let number = frame.checked_add(args.first_frame).ok_or_else(|| {
+                        Error::data(format!(
+                            "frame {frame}: --first-frame {} numbers it past {}",
+                            args.first_frame,
+                            u64::MAX
+                        ))
+                    })?;
+                    p.save(number, fb, form)?
+                }
                 None => {
                     fb.write_ppm(&mut out, form)?;
                     out.flush()?;

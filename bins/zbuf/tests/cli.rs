@@ -235,6 +235,36 @@ fn one_file_per_frame() {
 }
 
 #[test]
+fn first_frame_numbers_the_files_from_n() {
+    // A chunk of a movie rendered alone writes the files of the whole movie's run.
+    let dir = tempfile::tempdir().unwrap();
+    zbuf()
+        .arg("-o")
+        .arg(dir.path().join("f%03d.ppm"))
+        .args(["--first-frame", "40"])
+        .write_stdin(TWO_FRAMES)
+        .assert()
+        .success()
+        .stdout("");
+    let mut names: Vec<String> = std::fs::read_dir(dir.path())
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .collect();
+    names.sort();
+    assert_eq!(names, ["f040.ppm", "f041.ppm"]);
+    assert_eq!(
+        std::fs::read(dir.path().join("f041.ppm")).unwrap(),
+        ppm(2, 2, &[K, K, K, G])
+    );
+    // It numbers files: without -o there are none to number.
+    zbuf()
+        .args(["--first-frame", "3"])
+        .write_stdin(TWO_FRAMES)
+        .assert()
+        .code(2);
+}
+
+#[test]
 fn two_inputs_as_files() {
     // The overlap scene cut in two by the splitter's rule, by hand: the square goes to
     // input a, the triangle to input b, each keeping the other's polygon record.
