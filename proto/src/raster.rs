@@ -47,11 +47,11 @@ pub const SUBPIXEL: i64 = 256;
 /// Half a pixel, in sub-pixel units: pixel centres are at `SUBPIXEL·c + HALF`.
 pub const HALF: i64 = SUBPIXEL / 2;
 
-/// The largest snapped coordinate, 2^44 units (2^36 pixels): far beyond any screen and its
-/// guard band (16 screens of 65,536 pixels, times 16 for the finest supersampling is 2^24
-/// pixels), and small enough that every product of two coordinate differences fits an
-/// i128 with room, and every row-to-row step an i64.
-pub const LIMIT: i64 = 1 << 44;
+/// The largest snapped coordinate, 2^36 units (2^28 pixels): beyond any screen and its
+/// guard band (17 screens of 65,536 pixels, times 16 for the finest supersampling, is
+/// under 2^25 pixels), and small enough that a product of three coordinate differences
+/// (2^111 at most, [`vertex_rows`]) fits an i128, and every row-to-row step an i64.
+pub const LIMIT: i64 = 1 << 36;
 
 /// `v` in sub-pixel units, rounded to the nearest integer, ties to even, and clamped to
 /// ±[`LIMIT`] (NaN to 0): a vertex the stages let through lies well inside.
@@ -283,13 +283,17 @@ pub fn cross(a: Point, b: Point, c: Point) -> i128 {
 /// The first row at or below each vertex (`rows[i]` for `points[i]`), which the edges on
 /// either side of it share, so that the rows a polygon's edges count on pair up.
 ///
-/// For an ordinary vertex it is [`row_at`] of its Y. A vertex where a splitter cut an
-/// edge (edge i−1 → i or i → i+1 has a support that the vertex is not an end of) along a
-/// column line X = k (the snapped vertex and its neighbour across the cut edge both have
-/// X = k, an integer) takes instead the row of the point where the snapped support meets
-/// X = k: there the support's crossings pass from one side of the cut to the other, so
-/// each piece counts the support exactly on the rows where it crosses on its own side.
-/// Along a row line the snapped cut point is at the line's Y, and nothing moves.
+/// For an ordinary vertex it is [`row_at`] of its Y. A vertex where a cut (the splitter
+/// tree's, or the painter's along another polygon's plane) met an edge (edge i−1 → i or
+/// i → i+1 has a support that the vertex is not an end of) takes instead the row of the
+/// point where the snapped support meets the line of the cut edge on its other side (that
+/// edge's own support if it has one, else the line through the vertex and its
+/// neighbour): there, exactly, the support's crossings pass from one side of the cut to
+/// the other. Each piece then counts the support on exactly the rows where it crosses on
+/// the piece's side, and the cut edge on exactly the rows where it lies between the
+/// whole's edges, so the pieces' spans tile the whole's. For a cut along a row line
+/// Y = m the point is at Y = m, where the snapped cut point is too; along a column line
+/// X = k it may be well away from the snapped cut point's Y if the edge is steep.
 pub fn vertex_rows(points: &[Point], supports: &[Option<[Point; 2]>], rows: &mut Vec<i64>) {
     rows.clear();
     let n = points.len();
@@ -297,40 +301,41 @@ pub fn vertex_rows(points: &[Point], supports: &[Option<[Point; 2]>], rows: &mut
     if supports.iter().all(Option::is_none) || n < 3 {
         return;
     }
+    let support = |i: usize| supports.get(i).copied().flatten();
     for (i, row) in rows.iter_mut().enumerate() {
         let p = points[i];
-        if p.x.rem_euclid(SUBPIXEL) != 0 {
-            continue; // not on a column line
-        }
-        let before = (i + n - 1) % n;
-        let after = (i + 1) % n;
-        // The supported edge the vertex cuts, and the neighbour across the cut edge.
-        let cut = [
-            (supports.get(i).copied().flatten(), before),
-            (supports.get(before).copied().flatten(), after),
-        ]
-        .into_iter()
-        .find_map(|(s, other)| {
-            let [a, b] = s?;
-            (p != a && p != b).then_some(([a, b], points[other]))
-        });
-        let Some(([a, b], other)) = cut else {
+        let (before, after) = ((i + n - 1) % n, (i + 1) % n);
+        // The supported edge the vertex cuts, and the cut edge on its other side: its
+        // line's two points.
+        let cut = if let Some([a, b]) = support(i).filter(|&[a, b]| p != a && p != b) {
+            Some(([a, b], support(before).unwrap_or([points[before], p])))
+        } else if let Some([a, b]) = support(before).filter(|&[a, b]| p != a && p != b) {
+            Some(([a, b], support(i).unwrap_or([p, points[after]])))
+        } else {
+            None
+        };
+        let Some(([a, b], [c, d])) = cut else {
             continue;
         };
-        let vertical_cut = other.x == p.x && (other.y != p.y || p.y.rem_euclid(SUBPIXEL) != 0);
-        if !vertical_cut || a.x == b.x {
-            continue;
+        // a + t·(b − a) on the line c–d: t = (c − a)×(d − c) / (b − a)×(d − c), and
+        // y = a.y + t·(b.y − a.y) = num/den.
+        let cross2 = |u: (i128, i128), v: (i128, i128)| u.0 * v.1 - u.1 * v.0;
+        let dc = ((d.x - c.x) as i128, (d.y - c.y) as i128);
+        let ba = ((b.x - a.x) as i128, (b.y - a.y) as i128);
+        let mut den = cross2(ba, dc);
+        if den == 0 {
+            continue; // parallel, or a degenerate cut edge: the vertex's own Y stands
         }
-        // The support meets X = p.x at y* = a.y + (p.x − a.x)·(b.y − a.y)/(b.x − a.x);
-        // the first row with SUBPIXEL·r + HALF ≥ y*.
-        let (mut num, mut den) = (
-            a.y as i128 * (b.x - a.x) as i128 + (p.x - a.x) as i128 * (b.y - a.y) as i128,
-            (b.x - a.x) as i128,
-        );
+        let mut t = cross2(((c.x - a.x) as i128, (c.y - a.y) as i128), dc);
         if den < 0 {
-            (num, den) = (-num, -den);
+            (t, den) = (-t, -den);
         }
-        *row = ceil_div(num - HALF as i128 * den, SUBPIXEL as i128 * den) as i64;
+        let num = a.y as i128 * den + t * ba.1;
+        let exact = ceil_div(num - HALF as i128 * den, SUBPIXEL as i128 * den);
+        // Within the support's own rows (a cut meets the edge between its ends; this only
+        // bounds what a degenerate near-parallel cut could give).
+        let (lo, hi) = (row_at(a.y.min(b.y)), row_at(a.y.max(b.y)));
+        *row = exact.clamp(lo as i128, hi as i128) as i64;
     }
 }
 
@@ -389,6 +394,7 @@ mod tests {
         assert_eq!(snap(1.0 / 3.0), 85); // 85.33…
         assert_eq!(snap(f64::NAN), 0);
         assert_eq!(snap(1e300), LIMIT);
+        assert_eq!(snap(-1e10), -LIMIT);
         assert_eq!(snap(-f64::INFINITY), -LIMIT);
         let mut state = 0x2545f4914f6cdd1du64;
         for _ in 0..100_000 {
