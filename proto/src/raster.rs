@@ -355,13 +355,36 @@ pub fn polygon_edge(
     }
 }
 
-/// Whether every snapped point lies on one straight line (exactly). Such a polygon has no
-/// interior and covers no pixel centre.
+/// Whether every point lies on one straight line, to within the rounding of their
+/// coordinates (unsnapped: for the stages that draw edges rather than pixels, such as
+/// hiddenline, and as a quick test before a polygon is set up). Coverage itself asks
+/// [`snapped_on_one_line`].
 pub fn on_one_line(points: &[DVec2]) -> bool {
-    let snapped: Vec<Point> = points.iter().map(|&p| Point::snap(p)).collect();
-    snapped_on_one_line(&snapped)
+    let Some(&p0) = points.first() else {
+        return true;
+    };
+    let far = points
+        .iter()
+        .copied()
+        .max_by(|a, b| {
+            (*a - p0)
+                .length_squared()
+                .total_cmp(&(*b - p0).length_squared())
+        })
+        .unwrap_or(p0);
+    let d = far - p0;
+    let magnitude = points
+        .iter()
+        .fold(0.0f64, |m, p| m.max(p.x.abs()).max(p.y.abs()));
+    // A point off the line by less than a few ulps of the coordinates is on it.
+    let tolerance = 16.0 * f64::EPSILON * magnitude * d.abs().max_element();
+    points
+        .iter()
+        .all(|&p| d.perp_dot(p - p0).abs() <= tolerance)
 }
 
+/// Whether every snapped point lies on one straight line, exactly. Such a polygon has no
+/// interior and covers no pixel centre (every row's crossings come in equal pairs).
 /// [`on_one_line`] for points already snapped.
 pub fn snapped_on_one_line(points: &[Point]) -> bool {
     let Some(&p0) = points.first() else {
@@ -525,21 +548,29 @@ mod tests {
         assert!(on_one_line(&[]));
         assert!(on_one_line(&[p(3.0, 3.0), p(3.0, 3.0), p(3.0, 3.0)]));
         assert!(on_one_line(&[p(16.5, 47.5), p(32.0, 32.0), p(47.5, 16.5)]));
-        // Not on one line once snapped: (26, 77) and (77, 230) 256ths of a pixel.
-        assert!(!on_one_line(&[
+        assert!(on_one_line(&[
             p(0.0, 0.0),
             p(0.1, 0.3),
             p(0.3, 0.9000000000000001)
         ]));
-        // Off the line by less than the grid: snapped onto it.
-        assert!(on_one_line(&[p(0.0, 0.0), p(10.0, 0.0), p(10.0, 1e-9)]));
-        assert!(!on_one_line(&[p(0.0, 0.0), p(10.0, 0.0), p(10.0, 0.01)]));
+        assert!(!on_one_line(&[p(0.0, 0.0), p(10.0, 0.0), p(10.0, 1e-9)]));
         // A bowtie has no net area but is not a line.
-        assert!(!on_one_line(&[
+        let bowtie = [p(0.0, 0.0), p(4.0, 4.0), p(4.0, 0.0), p(0.0, 4.0)];
+        assert!(!on_one_line(&bowtie));
+        let snapped = |pts: &[DVec2]| {
+            let s: Vec<Point> = pts.iter().map(|&q| Point::snap(q)).collect();
+            snapped_on_one_line(&s)
+        };
+        assert!(snapped(&[]));
+        // Off the line by less than the grid: snapped onto it.
+        assert!(snapped(&[p(0.0, 0.0), p(10.0, 0.0), p(10.0, 1e-9)]));
+        assert!(!snapped(&[p(0.0, 0.0), p(10.0, 0.0), p(10.0, 0.01)]));
+        // Not on one line once snapped: (26, 77) and (77, 230) 256ths of a pixel.
+        assert!(!snapped(&[
             p(0.0, 0.0),
-            p(4.0, 4.0),
-            p(4.0, 0.0),
-            p(0.0, 4.0)
+            p(0.1, 0.3),
+            p(0.3, 0.9000000000000001)
         ]));
+        assert!(!snapped(&bowtie));
     }
 }
