@@ -16,7 +16,8 @@
 //! left of the sample (the crossing x_t + (y − y_t)·dx/dy ≤ x, multiplied out by dy > 0).
 //! A sample on an edge is counted when that crossing is at it, so it is inside exactly
 //! when the edge is one the polygon lies right of: a left edge. A horizontal edge spans no
-//! row. Products of two coordinate differences are formed in i128.
+//! row. Products of two coordinate differences are formed in i128. A polygon is first cut
+//! to the screen, as the pipeline's clippers cut it ([`Outline::new`]).
 //!
 //! For the K×K reference the fine screen is K times the pixel screen: a fine device
 //! coordinate is snapped as X/K on the pixel grid (the pipeline's samples lie on that
@@ -27,12 +28,6 @@ use proto::DVec2;
 /// Sub-pixel units to a pixel.
 const SUBPIXEL: i128 = 256;
 
-/// Polygons are cut to this box (in pixels, about the screen) before they are snapped, so
-/// that their coordinates stay integers of at most 2^39 units: the pipeline clips every
-/// polygon to the screen long before, and a vertex this far off changes no centre's
-/// decision but at the edge's sub-2^-30-pixel neighbourhood.
-const GUARD: f64 = (1u64 << 30) as f64;
-
 /// A polygon's edges, snapped, ready for the per-sample test.
 #[derive(Clone, Debug, Default)]
 pub(crate) struct Outline {
@@ -42,7 +37,8 @@ pub(crate) struct Outline {
     bounds: [i128; 4],
 }
 
-/// The nearest integer to `v`, ties to even (`v` is finite and within ±2^50).
+/// The nearest integer to `v`, ties to even (`v` is finite and within ±2^50: a point of
+/// the screen, or at most 16 times finer).
 fn round_ties_even(v: f64) -> i128 {
     let r = v.round();
     // `round` takes halves away from zero; a half whose rounding is odd goes back one.
@@ -53,8 +49,9 @@ fn round_ties_even(v: f64) -> i128 {
     }
 }
 
-/// Sutherland–Hodgman against one side of the guard box: keeps the points with
-/// `sign·coordinate ≤ limit`.
+/// Sutherland–Hodgman against one side of the screen: keeps the points with
+/// `sign·coordinate ≤ limit`. A crossing is interpolated from the edge's inside end, so
+/// two polygons that share the edge get the same new vertex, bit for bit.
 fn cut(points: &[DVec2], axis: usize, sign: f64, limit: f64) -> Vec<DVec2> {
     let inside = |p: DVec2| sign * p[axis] <= limit;
     let mut out = Vec::with_capacity(points.len() + 2);
@@ -64,8 +61,9 @@ fn cut(points: &[DVec2], axis: usize, sign: f64, limit: f64) -> Vec<DVec2> {
             out.push(a);
         }
         if inside(a) != inside(b) {
-            let t = (limit - sign * a[axis]) / (sign * (b[axis] - a[axis]));
-            let mut p = a + (b - a) * t;
+            let (from, to) = if inside(a) { (a, b) } else { (b, a) };
+            let t = (limit - sign * from[axis]) / (sign * (to[axis] - from[axis]));
+            let mut p = from + (to - from) * t;
             p[axis] = sign * limit;
             out.push(p);
         }
@@ -79,16 +77,18 @@ impl Outline {
     /// sample: fewer than three vertices, or all of them on one line once snapped.
     pub(crate) fn new(points: &[DVec2], width: u32, height: u32, k: u32) -> Option<Outline> {
         let mut pts = points.to_vec();
-        let far = points
-            .iter()
-            .any(|p| p.x.abs() > GUARD / 2.0 || p.y.abs() > GUARD / 2.0);
-        if far {
-            let (w, h) = (width as f64, height as f64);
-            pts = cut(&pts, 0, -1.0, GUARD);
-            pts = cut(&pts, 0, 1.0, GUARD + w);
-            pts = cut(&pts, 1, -1.0, GUARD);
-            pts = cut(&pts, 1, 1.0, GUARD + h);
-        }
+        // Cut to the screen before snapping, as the pipeline's clippers cut a polygon at
+        // the sides of the viewing pyramid (whose images are the screen's edges): the
+        // polygon whose vertices are snapped is its part on the screen. Cut in device
+        // space rather than eye space (the map between them keeps lines), the new
+        // vertices are the clippers' to a few ulps, and snapped they are the same but
+        // for a coordinate within those ulps of a 1/512-pixel tie. Every coordinate is
+        // then a small integer, whatever the input.
+        let (w, h) = (width as f64, height as f64);
+        pts = cut(&pts, 0, -1.0, 0.0);
+        pts = cut(&pts, 0, 1.0, w);
+        pts = cut(&pts, 1, -1.0, 0.0);
+        pts = cut(&pts, 1, 1.0, h);
         if pts.len() < 3 {
             return None;
         }
@@ -236,9 +236,14 @@ mod tests {
     }
 
     #[test]
-    fn far_vertices_are_cut_to_the_guard_box() {
+    fn polygons_are_cut_to_the_screen() {
         let o = outline(&[(-1e300, -1e300), (1e300, -1e300), (0.0, 1e300)]);
         assert!(o.covers(0, 0) && o.covers(99, 99));
-        assert!(o.bounds.iter().all(|b| b.abs() < 1 << 40));
+        assert_eq!(o.bounds, [0, 0, 100 * 256, 100 * 256]);
+        // An edge shared by two polygons, walked both ways, is cut at the same point.
+        let a = [DVec2::new(-7.3, 1.1), DVec2::new(50.2, 30.7)];
+        let one = cut(&[a[0], a[1], DVec2::new(40.0, 90.0)], 0, -1.0, 0.0);
+        let two = cut(&[a[1], a[0], DVec2::new(-3.0, -9.0)], 0, -1.0, 0.0);
+        assert!(one.iter().any(|p| p.x == 0.0 && two.contains(p)));
     }
 }

@@ -9,9 +9,12 @@
 //!   its vertices snapped to the nearest 1/256 pixel (ties to even), by the even-odd rule
 //!   with the top-left rule for centres on an edge, decided exactly in integers by an edge
 //!   function at every centre ([`exact`]: its own arithmetic, not the scan converter's);
-//! * its depth there is the z_e where the ray from the eye through the centre meets the
-//!   polygon's (Newell) plane, and it counts only when K1 ≤ z_e ≤ K2 (the hither/yon clip;
-//!   the side planes of the pyramid are the screen's edges);
+//! * the polygon is first cut to the view volume, as the pipeline's clippers cut it: at
+//!   z_e = K1 and z_e = K2 in eye space, and at the screen's edges (the images of the
+//!   pyramid's side planes) in device space, so that the outline whose vertices are
+//!   snapped is the pipeline's;
+//! * its depth at a covered centre is the z_e where the ray from the eye through the
+//!   centre meets the polygon's (Newell) plane;
 //! * folding the covering polygons in stream order, a later one takes the pixel only when
 //!   its z_e is smaller than the holder's by more than 2⁻³⁰ of it (the tie rule,
 //!   [`proto::depth`]), so coplanar polygons tie and the earlier one shows.
@@ -144,6 +147,35 @@ fn cut_at_hither(vertices: &[DVec4], k1: f64, w_per_z: f64) -> Vec<DVec4> {
     cut_coloured_at_hither(vertices, &none, k1, w_per_z).0
 }
 
+/// The part of an eye-space polygon at or before the yon plane z_e = K2, as the pipeline's
+/// clippers leave it: a crossing is interpolated from the edge's inside end and put on the
+/// plane (z_e = K2, w = K2·s/d). Coverage is decided on the clipped polygon's snapped
+/// outline (docs/DESIGN.md, "Coverage"), so the reference cuts where the pipeline cuts
+/// rather than testing each centre's depth against K2, which would decide the centres
+/// along the cut by the unsnapped line.
+fn cut_at_yon(vertices: &[DVec4], k2: f64, w_per_z: f64) -> Vec<DVec4> {
+    if vertices.iter().all(|v| v.z <= k2) {
+        return vertices.to_vec();
+    }
+    let n = vertices.len();
+    let mut out = Vec::with_capacity(n + 2);
+    for i in 0..n {
+        let (a, b) = (vertices[i], vertices[(i + 1) % n]);
+        if a.z <= k2 {
+            out.push(a);
+        }
+        if (a.z <= k2) != (b.z <= k2) {
+            let (from, to) = if a.z <= k2 { (a, b) } else { (b, a) };
+            let t = (k2 - from.z) / (to.z - from.z);
+            let mut p = from + (to - from) * t;
+            p.z = k2;
+            p.w = k2 * w_per_z;
+            out.push(p);
+        }
+    }
+    out
+}
+
 /// `a·b` for three-vectors, as accurately as if computed in twice the working precision
 /// and then rounded: Ogita, Rump and Oishi's Dot2 ("Accurate sum and dot product", SIAM
 /// J. Sci. Comput. 26, 2005), each product split exactly by a fused multiply-add and the
@@ -236,7 +268,11 @@ impl Setup {
         }
         let eye3: Vec<DVec3> = eye.iter().map(|v| v.truncate()).collect();
         let mut plane = plane_of(&eye3);
-        let front = cut_at_hither(&eye, self.view.hither, self.frame.w_per_z);
+        let front = cut_at_yon(
+            &cut_at_hither(&eye, self.view.hither, self.frame.w_per_z),
+            self.view.yon,
+            self.frame.w_per_z,
+        );
         if front.len() < 3 {
             return Ok(None);
         }
@@ -338,7 +374,6 @@ impl Setup {
     ) {
         let rows = self.rows_in(p, &band);
         let cols = p.outline.columns(self.width);
-        let (k1, k2) = (self.view.hither, self.view.yon);
         let n = p.plane.truncate();
         for r in rows {
             let yc = r as f64 + 0.5;
@@ -353,7 +388,10 @@ impl Setup {
                 // n·dir is where a plane seen at a grazing angle cancels: compensated.
                 let dir = self.ray(xc, yc);
                 let z = -p.plane.w / dot3(n, dir);
-                if z.is_finite() && k1 <= z && z <= k2 {
+                // The polygon was cut at hither and yon before it was snapped: its
+                // centres are in the view volume but for the snapping's 1/512 pixel,
+                // which the pipeline's clipped polygons share.
+                if z.is_finite() && z > 0.0 {
                     f(c, r, z);
                 }
             }

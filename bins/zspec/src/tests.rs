@@ -566,7 +566,10 @@ proptest! {
             let pts: Vec<(f64, f64)> = pts.iter().map(|&(x, y)| (x as f64 / 4.0, y as f64 / 4.0)).collect();
             poly_at(colours[*c], &pts, *z as f64, w, h)
         }).collect();
-        let fine = render_frame(&polys, &setup(k * w, k * h), K).unwrap();
+        // The finer frame with its vertices snapped on the pixel screen's grid, as the
+        // samples' are.
+        let fine_setup = Setup { samples: k, ..setup(k * w, k * h) };
+        let fine = render_frame(&polys, &fine_setup, K).unwrap();
         let mut frame = SupersampledFrame::new(&setup(w, h), k, K).unwrap();
         for p in &polys {
             frame.draw(p).unwrap();
