@@ -63,7 +63,14 @@ impl SpanWalker {
     /// [`SpanWalker::start`] for the rows of `band` only (a band of a frame drawn a few
     /// rows at a time): the rows of the band the polygon may cover.
     pub fn start_in(&mut self, polygon: &Polygon, band: Range<u32>) -> Range<i64> {
-        if polygon.vertices.len() < 3 {
+        // A vertex with no place on the screen (NaN, infinite) makes a polygon that covers
+        // nothing: the stages refuse one far off the screen before it gets here
+        // ([`check_on_screen`]), and no snapped stand-in for it would be the polygon.
+        let finite = |v: &proto::DVec4| v.x.is_finite() && v.y.is_finite();
+        if polygon.vertices.len() < 3
+            || !polygon.vertices.iter().all(finite)
+            || !polygon.supports.iter().flatten().flatten().all(finite)
+        {
             return 0..0;
         }
         self.points.clear();
