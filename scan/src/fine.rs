@@ -2,11 +2,12 @@
 //! times finer, and a frame's polygons walked a band of rows at a time.
 //!
 //! Sub-pixel sample (i, j) of pixel (c, r), at (c + (i+½)/K, r + (j+½)/K), is the pixel
-//! centre (K·c + i + ½, K·r + j + ½) of a screen K times finer. For K a power of two,
-//! multiplying a screen polygon's X and Y (and its supports', and dividing its recorded
-//! plane's a and b) by K is exact in f64, so [`crate::SpanWalker`] on the [`scaled`]
-//! polygon decides every sample by exactly the point rule of docs/DESIGN.md, "Coverage",
-//! with nothing new written for coverage.
+//! centre (K·c + i + ½, K·r + j + ½) of a screen K times finer. A screen polygon's X and
+//! Y (and its supports') are snapped to the pixel screen's 1/256 grid and then multiplied
+//! by K (its recorded plane's a and b divided by K), exact in f64 for K a power of two, so
+//! [`crate::SpanWalker`] on the [`scaled`] polygon decides every sample, a point of the
+//! same grid for K ≤ 16, by exactly the point rule of docs/DESIGN.md, "Coverage", with
+//! nothing new written for coverage.
 //!
 //! [`ActiveRows`] hands a method, pixel row by pixel row, the polygons that may cover
 //! the row (gathered once per frame and sorted by their top row, Watkins-style), so a
