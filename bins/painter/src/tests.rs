@@ -390,7 +390,7 @@ mod properties {
                 // "Coverage"), while the z-buffer compares the unsnapped planes' depths at
                 // each centre: a centre within the snapping's reach of such a line may go
                 // either way. Everywhere else the split painting is the z-buffer's.
-                let planes: Vec<[f64; 3]> = tris.iter().map(|t| depth_plane(t)).collect();
+                let planes: Vec<[f64; 3]> = tris.iter().map(depth_plane).collect();
                 for (i, (a, b)) in z.iter().zip(&split).enumerate() {
                     let (x, y) = ((i as u32 % w) as f64 + 0.5, (i as u32 / w) as f64 + 0.5);
                     prop_assert!(a == b || near_a_meeting(&planes, x, y), "pixel {}", i);
