@@ -109,7 +109,7 @@ done
 # The root node of a splitter tree, both outputs to /dev/null.
 bench "splitter x=0" "$TMP/clipped.bin" "$BIN/splitter" x=0 /dev/null /dev/null
 bench "persp" "$TMP/clipped.bin" "$BIN/persp" --size 500x500
-bench "persp eye-z" "$TMP/clipped.bin" "$BIN/persp" --size 500x500 --depth eye-z
+bench "persp eye-z" "$TMP/clipped.bin" "$BIN/persp" --size 500x500 --zmode eye-z
 # The whole chain as the thesis wires it: 8 processes on this machine's cores.
 chain() {
   "$BIN/viewxf" | "$BIN/clipplane" left | "$BIN/clipplane" right | "$BIN/clipplane" top \

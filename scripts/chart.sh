@@ -4,11 +4,14 @@
 # missing or stale, then runs bins/chart, which runs
 # scripts/render.sh as a user would for each scene, method and depth.
 #
-# Usage: scripts/chart.sh -o DIR [--quick] [--standard] [--size WxH] [--reps N] SCENE[@WxH]…
+# Usage: scripts/chart.sh -o DIR [--quick] [--standard] [--hard] [--size WxH] [--reps N] SCENE[@WxH]…
+#        scripts/chart.sh --figures [--reps N]    # docs/images: the standard and hard scenes
 #        scripts/chart.sh calibrate [--quick]     # fit the cost model to this machine now
 #        scripts/chart.sh thesis                  # thesis 5.2's timings and 6.4's depth
 #        scripts/chart.sh choose-depth [--size WxH] [--cores N] SCENE   # plan depth's alias
-# Writes DIR/results.csv, DIR/speed-accuracy.png and .svg, DIR/model.csv and DIR/model.png;
+# Writes DIR/results.csv, DIR/speed-accuracy.png and .svg, DIR/cost-environment.png and
+# .svg (each method's cost against the scenes' environment statistics), DIR/model.csv and
+# DIR/model.png;
 # the first run on a machine calibrates the model (at most 20 s). `chart.sh --help` tells
 # the rest.
 

@@ -3,7 +3,7 @@
 # wires channels (docs/DESIGN.md, "The splitter tree"; thesis chapter 6.3, CLIPPER/SPLITTER):
 #
 #   viewxf | clipbatch (the six planes; --clip chain: clipplane left | right | … | yon)
-#     depth 0:  | zbuf --persp (which projects, scan-converts and resolves the one leaf)
+#     depth 0:  | zbuf --project (which projects, scan-converts and resolves the one leaf)
 #     depth N:  | a binary tree of splitter nodes, N levels, each node computing its own
 #               plane from its number (`splitter --node K`); persp | scanconv --resolve
 #               (or --hse's method) on each of the 2^N leaves; one zbuf placing the
@@ -66,6 +66,9 @@ Options:
   --hidden-line     draw the visible parts of the polygons' edges as SVG, to the
                     file -o names (FILE.svg; frame%03d.svg for a movie), at depth 0
                     (not with --hse, --aa, --merge buffer or --pixels)
+  --hidden-line-method M
+                    with --hidden-line: continuous (default: exact pieces) or
+                    archuleta (Archuleta's counters on scan lines, raster resolution)
   --clip MODE       batch (default): clipbatch, the six planes in one process over a
                     batch of polygons (Theoharis & Page's DAP clipper); chain: the
                     thesis's six clipplane processes
@@ -80,10 +83,21 @@ Options:
                     come back, and the frames are a local run's
   --by MODE         with --hosts: leaves (default), or frames: cut a movie into
                     chunks of a few frames, each rendered whole by render.sh on
-                    the next host free, the frames written back in order as they
-                    come (the `farm` binary; not with -o)
+                    a host GNU parallel chooses, a failed chunk retried on
+                    another, the frames written back in order (the `farm`
+                    binary; stdout, or -o's files)
   --chunk N         with --by frames: frames a chunk, one ssh session each
                     (default 8)
+  --sshloginfile F  with --by frames: the hosts from GNU parallel's file (N/host)
+  --retries N       with --by frames: tries of a chunk, each on another host while
+                    there is one (default 3)
+  --joblog FILE     with --by frames: parallel's job log (default: farm.joblog
+                    beside -o's files)
+  --resume          with --by frames and -o: render only the chunks the job log
+                    does not call finished
+  --slurm-array DIR with --by frames and -o: write DIR/render.sbatch, a Slurm job
+                    array of the chunks, instead of rendering
+  --first-frame N   with -o: the number the pattern gives the first frame (default 0)
   --remote-bin DIR  with --hosts: the binaries' folder on the hosts (default: this one's)
   --subtree K       what --hosts runs on a host: node K's part of the tree (its
                     splitters, leaves and a zbuf --runs), from the stream into node K
@@ -153,6 +167,7 @@ split=()    # --split: painter's splitting step
 aa=none     # --aa: the leaves' anti-aliasing
 pixels=()   # --pixels: scanconv's one record per pixel (with --merge buffer)
 hidden_line=0 # --hidden-line: hiddenline's SVG instead of frames
+hl_method=()  # --hidden-line-method: hiddenline's --method
 merge=tiles # --merge: leaves resolve their regions (tiles), or one z-buffer (buffer)
 clip="batch" # --clip: clipbatch (batch), or the six clipplane processes (chain)
 scene=
@@ -162,6 +177,8 @@ hosts_list= # --hosts H1,H2,…
 by=       # --by leaves|frames
 remote_bin= # --remote-bin DIR
 chunk=()    # --chunk N, for farm (--by frames)
+farm_opts=() # --sshloginfile, --retries, --joblog, --resume, --slurm-array: farm's own
+first_frame=() # --first-frame N: the number -o gives the first frame (zbuf's, or farm's)
 forward=()  # the options a host's render.sh gets with --by frames
 subtree=    # --subtree K: this is a host rendering node K's subtree for --hosts
 camera=() # viewxf's options, as given
@@ -171,8 +188,8 @@ feed=     # --depth auto's sample of a stream, fed to viewxf before the rest
 output=() # zbuf's -o PATTERN
 
 # The options that take a value (each also as --option=value), and those that do not.
-valued=" --size --depth --zmode --hse --aa --merge --clip -o --eye --at --up --s --d --hither --yon --hosts --by --remote-bin --subtree --chunk "
-flags=" -h --help --version --stats --times --pixels --hidden-line --split "
+valued=" --size --depth --zmode --hse --aa --merge --clip --hidden-line-method -o --eye --at --up --s --d --hither --yon --hosts --by --remote-bin --subtree --chunk --sshloginfile --retries --joblog --slurm-array --first-frame "
+flags=" -h --help --version --stats --times --pixels --hidden-line --split --resume "
 
 parse_options() {
     local opt value
@@ -191,6 +208,7 @@ parse_options() {
         # With --by frames, the hosts' render.sh gets every option about the picture.
         case $opt in
             --hosts | --by | --remote-bin | --chunk | -o | -h | --help | --version | --times | [!-]* | -) ;;
+            --sshloginfile | --retries | --joblog | --resume | --slurm-array | --first-frame) ;;
             *) forward+=("$opt"); [[ $valued != *" $opt "* ]] || forward+=("$value") ;;
         esac
         case $opt in
@@ -205,6 +223,7 @@ parse_options() {
             --pixels) pixels=(--pixels) ;;
             --split) split=(--split) ;;
             --hidden-line) hidden_line=1 ;;
+            --hidden-line-method) hl_method=(--method "$value") ;;
             --clip) clip=$value ;;
             -o) output=(-o "$value") ;;
             --eye | --at | --up | --s | --d | --hither | --yon) camera+=("$opt" "$value") ;;
@@ -214,6 +233,9 @@ parse_options() {
             --by) by=$value ;;
             --remote-bin) remote_bin=$value ;;
             --chunk) chunk=(--chunk "$value") ;;
+            --sshloginfile | --retries | --joblog | --slurm-array) farm_opts+=("$opt" "$value") ;;
+            --resume) farm_opts+=(--resume) ;;
+            --first-frame) first_frame=(--first-frame "$value") ;;
             --subtree) subtree=$value ;;
             -?*) die_usage "unknown option ${opt%%=*}" ;;
             *)
@@ -252,6 +274,7 @@ validate_options() {
         die_usage "--aa $aa is a z-buffer's anti-aliasing: not with --hse $hse"
     ((${#pixels[@]} == 0)) || [[ $merge == buffer ]] ||
         die_usage "--pixels sends fragments to the one z-buffer: it needs --merge buffer"
+    ((hidden_line || ${#hl_method[@]} == 0)) || die_usage "--hidden-line-method needs --hidden-line"
     if ((hidden_line)); then
         [[ $depth == [0a]* ]] ||
             die_usage "--hidden-line draws at depth 0 (the tree's cuts are not edges), not --depth $depth"
@@ -373,7 +396,7 @@ start_clipper_chain() {
 # (2^depth for the whole tree; less when subtrees go to other hosts), reading
 # input_of[ROOT]. Sets `frontier` to the nodes their outputs feed: the leaves' inputs, or
 # the subtrees'. With `leaves` (leaves started here follow), the last level projects its
-# outputs to the screen (`splitter --persp`), as a persp at each leaf would: a process a
+# outputs to the screen (`splitter --project`), as a persp at each leaf would: a process a
 # leaf fewer (docs/performance.md, "The tree's depth"); `projected` says so.
 start_tree() {
     local root=$1 below=$2 first n node levels=0 group span k out label
@@ -384,7 +407,7 @@ start_tree() {
         # This group of levels: one level if an odd number are left, else two.
         span=$((levels % 2 ? 1 : 2)) levels=$((levels - span)) group=$((1 << span))
         if [[ ${3-} == leaves ]] && ((first * group >= below)); then
-            to_screen=(--persp "$zmode")
+            to_screen=(--project --zmode "$zmode")
             projected=1
         fi
         for ((node = first; node < first + n; node++)); do
@@ -435,7 +458,7 @@ leaf_method() {
 # polygons and resolves them as `scanconv --resolve` does (the same code, scan's), into
 # its frame with no runs encoded, piped and decoded, and a process fewer. At depth 0 that
 # leaf is the whole screen: zbuf reads the clipper's stream and projects it too (`zbuf
-# --persp`, persp's code), so that depth 0 is viewxf | clipbatch | zbuf. In a tree, the
+# --project`, persp's code), so that depth 0 is viewxf | clipbatch | zbuf. In a tree, the
 # last level's first splitter writes leaf 0's polygons, projected, straight to zbuf. Only
 # for the leaves' point-sampled z-buffer with --merge tiles, the leaves here
 # (docs/performance.md, "Start-up" and "The tree's depth").
@@ -450,7 +473,7 @@ start_leaf() {
     ((depth == 0)) || label=" (leaf $leaf)"
     if ((!projected)); then
         start "persp$label" "$in" "pipe:screen-$leaf" \
-            "$bindir/persp" --size "$size" --depth "$zmode"
+            "$bindir/persp" --size "$size" --zmode "$zmode"
         in=pipe:screen-$leaf
     fi
     start "${method[0]}$label" "$in" "$out" \
@@ -505,7 +528,7 @@ start_leaves() {
         elif [[ ${input_of[node]} == pipe:leaf-0 ]]; then
             fragments+=(pipe:leaf-0) # the merger's own (merger_is_leaf)
             # At depth 0 the clipper's eye-space stream: the merger projects it too.
-            ((depth > 0)) || to_screen=(--persp "$zmode" --size "$size")
+            ((depth > 0)) || to_screen=(--project --zmode "$zmode" --size "$size")
         else
             fragments+=("pipe:leaf-$leaf")
             start_leaf "$leaf" "${input_of[node]}" "pipe:leaf-$leaf"
@@ -535,8 +558,8 @@ start_graph() {
 
 # --hidden-line: persp | hiddenline, writing the SVG (Archuleta's output) where -o says.
 start_hidden_line() {
-    start persp "$clipped" pipe:screen "$bindir/persp" --size "$size" --depth "$zmode"
-    start hiddenline pipe:screen - "$bindir/hiddenline" "${stats[@]}" "${output[@]}"
+    start persp "$clipped" pipe:screen "$bindir/persp" --size "$size" --zmode "$zmode"
+    start hiddenline pipe:screen - "$bindir/hiddenline" "${hl_method[@]}" "${stats[@]}" "${output[@]}"
 }
 
 # The merger (chapter 6.3.3): one zbuf reading every leaf, writing the frames.
@@ -544,7 +567,7 @@ start_merger() {
     local relay=()
     [[ -z $subtree ]] || relay=(--runs) # a subtree's runs go on to the merger above
     npipes=${#fragments[@]} start zbuf /dev/null - "$bindir/zbuf" "${relay[@]}" "${stats[@]}" \
-        "${to_screen[@]}" "${output[@]}" "${fragments[@]}"
+        "${to_screen[@]}" "${output[@]}" "${first_frame[@]}" "${fragments[@]}"
 }
 
 # --depth auto: the depth the cost model predicts fastest (thesis 5.2 and 6.4, with this
@@ -613,20 +636,22 @@ choose_depth() {
     ((${#stats[@]} == 0)) || echo "render.sh: depth auto chose $line" >&2
 }
 
-# --by frames: the `farm` binary cuts the movie into chunks and runs each on a host,
-# `render.sh OPTIONS -` there (this script, at the same path, with the binaries of
-# --remote-bin), and writes the frames back in order. The options are checked here
-# first, as a local render would check them.
+# --by frames: the `farm` binary cuts the movie into chunks and hands them to GNU
+# parallel, which runs each on a host, `render.sh OPTIONS -` there (this script, at the
+# same path, with the binaries of --remote-bin), retrying a failed chunk on another; farm
+# writes the frames back in order (stdout, or -o's files). With --slurm-array DIR, farm
+# writes DIR/render.sbatch instead. The options are checked here first, as a local
+# render would check them.
 frames_on_hosts() {
-    ((${#output[@]} == 0)) ||
-        die_usage "-o is not available with --by frames: the frames come back on stdout"
     [[ -z $subtree ]] || die_usage "--subtree is a host's part of --by leaves: not with --by frames"
     ((${#times[@]} == 0)) || die_usage "--times is the stages' here: not with --by frames"
-    local list=$hosts_list
+    local -a where=()
+    [[ -z $hosts_list ]] || where=(--hosts "$hosts_list")
     hosts=()
     validate_options
     ensure_binaries
-    exec "$bindir/farm" --hosts "$list" "${chunk[@]}" "${stats[@]}" "$scene" -- \
+    exec "$bindir/farm" "${where[@]}" "${farm_opts[@]}" "${chunk[@]}" "${stats[@]}" \
+        "${output[@]}" "${first_frame[@]}" "$scene" -- \
         env POLYPIPE_BIN="${remote_bin:-$bindir}" "$root/scripts/render.sh" "${forward[@]}" -
 }
 
@@ -637,15 +662,18 @@ main() {
     source "$root/scripts/lib/binaries.sh"
     parse_options "$@"
     if [[ -n $hosts_list || -n $by ]]; then # rendering on other hosts
-        [[ -n $hosts_list ]] || die_usage "--by $by needs --hosts H1,H2,…"
+        [[ -n $hosts_list || ($by == frames && ${#farm_opts[@]} -gt 0) ]] ||
+            die_usage "--by $by needs --hosts H1,H2,…"
         [[ ${by:-leaves} == @(leaves|frames) ]] ||
             die_usage "--by must be leaves or frames, not '$by'"
         # shellcheck source=hosts.sh
         source "$root/scripts/hosts.sh"
-        check_hosts "$hosts_list"
+        [[ -z $hosts_list ]] || check_hosts "$hosts_list"
         [[ $by != frames ]] || frames_on_hosts
     fi
     ((${#chunk[@]} == 0)) || die_usage "--chunk is for --by frames"
+    ((${#farm_opts[@]} == 0)) || die_usage "${farm_opts[0]} is for --by frames"
+    ((${#first_frame[@]} == 0 || ${#output[@]} > 0)) || die_usage "--first-frame numbers -o's files: it needs -o"
     validate_options
     [[ -r /proc/self/stat ]] || fail 3 "needs /proc (Linux), to run its stages"
     ensure_binaries

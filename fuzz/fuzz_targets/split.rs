@@ -2,7 +2,7 @@
 //! plane x_s = K / y_s = K: no panic, out1 never outside the plane, out2 never inside,
 //! every vertex finite, both outputs keep the colour; vertex colours cut with the edges
 //! stay one a vertex and within 0–255. Then each piece projected, as the tree's last
-//! level does (`splitter --persp`): refused naming a vertex and left as it was, or every
+//! level does (`splitter --project`): refused naming a vertex and left as it was, or every
 //! projected vertex finite.
 #![no_main]
 use libfuzzer_sys::fuzz_target;

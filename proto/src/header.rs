@@ -128,7 +128,7 @@ impl fmt::Display for Space {
 }
 
 /// What the third number of a screen vertex, and a fragment's depth, is: the form persp
-/// wrote (`persp --depth`), with the view volume's planes it was computed from. Smaller is
+/// wrote (`persp --zmode`), with the view volume's planes it was computed from. Smaller is
 /// nearer in every form. A stage that knows the form can tell how finely its f64 depths
 /// order eye-space depth ([`DepthForm::quantum`]); one that does not (a hand-written
 /// screen stream says nothing) treats depths as numbers.
@@ -199,7 +199,7 @@ impl DepthForm {
         }
     }
 
-    /// The form's name, as `persp --depth` and the header spell it.
+    /// The form's name, as `persp --zmode` and the header spell it.
     pub fn name(&self) -> &'static str {
         match self {
             DepthForm::Reciprocal { .. } => "reciprocal",

@@ -5,7 +5,7 @@
 //! and the device mapping turns that into pixel units of a W×H screen, row 0 at the top
 //! (docs/DESIGN.md, "Screen and device"). Both are [`crate::camera::Device`]'s; this module chooses
 //! the depth and checks that the screen is the one the stream was viewed for. The `persp`
-//! stage runs it, and so does a splitter of the tree's last level (`splitter --persp`),
+//! stage runs it, and so does a splitter of the tree's last level (`splitter --project`),
 //! which projects the leaves' streams itself, a process a leaf fewer.
 //!
 //! Depth: the occam code (thesis Appendix 4) passes z_e on, which is exact at the

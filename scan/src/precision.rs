@@ -120,7 +120,7 @@ impl QuantumWatch {
             "frame {frame}: {lost} depth tests where a polygon nearer than the tie rule's \
              2^-30 lost to one within the {form} depth's quantum (up to {:.1e} of the \
              eye-space depth in this view volume): the earlier polygon shows there \
-             (persp --depth reciprocal keeps the rule at any hither/yon)",
+             (persp --zmode reciprocal keeps the rule at any hither/yon)",
             self.form.widest(ULPS),
         )
     }

@@ -11,12 +11,14 @@ use std::ffi::OsString;
 use std::io::Write;
 use std::process::ExitCode;
 
-/// The depth a screen-space stream carries, as `persp --depth`, `splitter --persp` and
-/// fused's `--zmode` take it: [`proto::perspective::DepthMode`] on the command line.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
+/// The depth a screen-space stream carries, `--zmode MODE` on every binary that projects
+/// (`persp`, `zbuf --project`, `splitter --project`, fused):
+/// [`proto::perspective::DepthMode`] on the command line.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, clap::ValueEnum)]
 pub enum DepthArg {
     /// D = −K1/z_e: −1 at hither, −K1/K2 at yon, linear on the screen, and held by an f64
     /// to 2⁻⁵³ of itself at every depth (the tie rule's form, docs/DESIGN.md).
+    #[default]
     Reciprocal,
     /// z_s = (1 − K1/z_e)·K2/(K2 − K1): 0 at hither, 1 at yon, linear on the screen, but
     /// crowded against 1 far from the eye (the classic z-buffer's precision failure).
@@ -27,6 +29,17 @@ pub enum DepthArg {
     EyeZ,
 }
 
+impl DepthArg {
+    /// The mode's name as the command line spells it.
+    pub fn name(self) -> &'static str {
+        match self {
+            DepthArg::Reciprocal => "reciprocal",
+            DepthArg::Projective => "projective",
+            DepthArg::EyeZ => "eye-z",
+        }
+    }
+}
+
 impl From<DepthArg> for DepthMode {
     fn from(arg: DepthArg) -> DepthMode {
         match arg {
@@ -34,6 +47,39 @@ impl From<DepthArg> for DepthMode {
             DepthArg::Projective => DepthMode::Projective,
             DepthArg::EyeZ => DepthMode::EyeZ,
         }
+    }
+}
+
+/// The note a stage prints on stderr when an option is given by its old name, which is
+/// still accepted for one release: `persp: --depth MODE is now --zmode MODE; the old
+/// spelling goes in the next release`.
+pub fn renamed(stage: &str, old: &str, new: &str) -> String {
+    format!("{stage}: {old} is now {new}; the old spelling goes in the next release")
+}
+
+/// The depth form of a stage that projects to the screen on request (`zbuf`,
+/// `splitter`): `--project` asks for the projection, `--zmode MODE` says its depth
+/// (default reciprocal), and `--persp MODE`, the old spelling of both, is still taken,
+/// with [`renamed`]'s note on stderr. `None`: no projection. `--zmode` without
+/// `--project` is a usage error (the caller's clap refuses `--persp` beside either).
+pub fn projection(
+    stage: &str,
+    project: bool,
+    zmode: Option<DepthArg>,
+    persp: Option<DepthArg>,
+) -> Result<Option<DepthArg>, Error> {
+    match (project, zmode, persp) {
+        (_, _, Some(mode)) => {
+            let note = renamed(stage, "--persp MODE", "--project --zmode MODE");
+            let _ = writeln!(std::io::stderr(), "{note}");
+            Ok(Some(mode))
+        }
+        (true, zmode, None) => Ok(Some(zmode.unwrap_or_default())),
+        (false, Some(mode), None) => Err(Error::usage(format!(
+            "--zmode {} is for --project (the depth its projection writes)",
+            mode.name()
+        ))),
+        (false, None, None) => Ok(None),
     }
 }
 
@@ -401,6 +447,38 @@ mod tests {
             let v = ViewArgs::try_parse_from_view(&args);
             assert_eq!(v.resolve().unwrap_err().to_string(), message);
         }
+    }
+
+    #[test]
+    fn depth_arg_names_are_the_command_line_s() {
+        use clap::ValueEnum;
+        for mode in DepthArg::value_variants() {
+            let value = mode.to_possible_value().unwrap();
+            assert_eq!(mode.name(), value.get_name());
+        }
+        assert_eq!(DepthArg::default(), DepthArg::Reciprocal);
+    }
+
+    /// `--project [--zmode MODE]` and the old `--persp MODE`: the depth form asked, none
+    /// without a projection, and `--zmode` alone refused naming what it is for.
+    #[test]
+    fn projection_reads_project_zmode_and_the_old_persp() {
+        use DepthArg::*;
+        let p = |project, zmode, persp| projection("demo", project, zmode, persp);
+        assert_eq!(p(false, None, None).unwrap(), None);
+        assert_eq!(p(true, None, None).unwrap(), Some(Reciprocal));
+        assert_eq!(p(true, Some(EyeZ), None).unwrap(), Some(EyeZ));
+        assert_eq!(p(false, None, Some(Projective)).unwrap(), Some(Projective));
+        let e = p(false, Some(Projective), None).unwrap_err();
+        assert_eq!(e.kind(), crate::Kind::Usage);
+        assert_eq!(
+            e.to_string(),
+            "--zmode projective is for --project (the depth its projection writes)"
+        );
+        assert_eq!(
+            renamed("persp", "--depth MODE", "--zmode MODE"),
+            "persp: --depth MODE is now --zmode MODE; the old spelling goes in the next release"
+        );
     }
 
     impl ViewArgs {

@@ -285,7 +285,7 @@ pub fn check_finite_after(poly: &Polygon, doing: &str) -> std::result::Result<()
 }
 
 /// persp's work on one polygon, for a stage that does it without persp's process (the
-/// tree's last splitters, `zbuf --persp`): projected to the screen, or refused as persp
+/// tree's last splitters, `zbuf --project`): projected to the screen, or refused as persp
 /// refuses it, a vertex at or behind the eye or a number the division made too large.
 pub fn project_to_screen(
     perspective: &proto::perspective::Perspective,

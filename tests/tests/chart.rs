@@ -239,6 +239,7 @@ fn the_full_method_table_runs_every_variant() {
         "scanline@4",
         "warnock@4",
         "painter@0",
+        "painter-split@4",
         "abuf@2",
         "ss2@0",
         "ss4@0",
@@ -258,8 +259,9 @@ fn the_full_method_table_runs_every_variant() {
     // pixel differs from zspec on this scene. The painter is wrong where the triangle
     // pierces the square; anti-aliasing changes the edge pixels on purpose, and brings
     // them nearer the 16×16 reference.
-    let exact =
-        |m: &str| !(m == "zbuf-eye-z" || m == "painter" || m == "abuf" || m.starts_with("ss"));
+    let exact = |m: &str| {
+        !(m == "zbuf-eye-z" || m.starts_with("painter") || m == "abuf" || m.starts_with("ss"))
+    };
     let painter = rows.iter().find(|r| r["method"] == "painter").unwrap();
     assert!(num(painter, "error_fraction") > 0.0);
     for r in rows.iter().filter(|r| exact(&r["method"])) {
@@ -426,8 +428,8 @@ fn chart_exits_as_the_stages_do() {
             "chart -o OUT --methods foo examples/penetrating.txt",
             2,
             "chart: invalid value 'foo' for '--methods <NAME,…>': no method foo; the methods: \
-             scanline, warnock, painter, abuf, ss2, ss4, ss8, ss16, zbuf-pixels, zbuf, \
-             zbuf-eye-z, zbuf-buffer, zbuf-chain, zbuf-text, zbuf-binary\n",
+             scanline, warnock, painter, painter-split, abuf, ss2, ss4, ss8, ss16, zbuf-pixels, \
+             zbuf, zbuf-eye-z, zbuf-buffer, zbuf-chain, zbuf-text, zbuf-binary\n",
         ),
     ];
     // OUT: a folder that none of these makes, each failing before anything is written.
@@ -531,4 +533,159 @@ fn auto_is_the_default_depth_and_a_scene_it_cannot_look_at_goes_to_the_stages() 
             && err.ends_with("render.sh: viewxf failed (status 1)\n"),
         "{err}"
     );
+}
+
+/// The hard scenes of `--hard`, in the order the chart draws them.
+const HARD: [&str; 6] = [
+    "stack",
+    "slivers",
+    "planes",
+    "cyclic-bars",
+    "spheres",
+    "strips",
+];
+
+/// Rows of one scene, method and depth.
+fn find<'a>(
+    rows: &'a [HashMap<String, String>],
+    scene: &str,
+    method: &str,
+    depth: u8,
+) -> Option<&'a HashMap<String, String>> {
+    rows.iter()
+        .find(|r| r["scene"] == scene && r["method"] == method && r["depth"] == depth.to_string())
+}
+
+#[test]
+fn hard_scenes_run_every_depth_and_count_their_statistics() {
+    let dir = chart("--hard --reps 1 --methods zbuf,painter");
+    let d = dir.path();
+    let (header, rows) = read_csv(&d.join("results.csv"));
+    for c in [
+        "edges",
+        "depth_complexity",
+        "visible_polygons",
+        "visible_segments",
+        "segments_per_line",
+    ] {
+        assert!(header.iter().any(|h| h == c), "results.csv lacks {c}");
+    }
+    for scene in HARD {
+        for method in ["zbuf", "painter"] {
+            for depth in 0..=4 {
+                assert!(
+                    find(&rows, scene, method, depth).is_some(),
+                    "{method} at depth {depth} on {scene}"
+                );
+            }
+        }
+        // The z-buffer is the reference's picture on every hard scene, at every depth.
+        for depth in 0..=4 {
+            let z = find(&rows, scene, "zbuf", depth).unwrap();
+            assert_eq!(num(z, "error_fraction"), 0.0, "{z:?}");
+        }
+    }
+    // The failure the chart must show: the painter alone on the cyclic bars.
+    let p = find(&rows, "cyclic-bars", "painter", 0).unwrap();
+    assert!(num(p, "error_fraction") > 0.005, "{p:?}");
+    // The stack, by hand: 300 screen-filling squares on 200×200, so every pixel is
+    // covered 300 times, one square owns them all, one segment on each of 200 rows.
+    let s = find(&rows, "stack", "zbuf", 0).unwrap();
+    assert_eq!(s["size"], "200x200");
+    assert_eq!(
+        [
+            "polygons",
+            "edges",
+            "depth_complexity",
+            "visible_polygons",
+            "visible_segments",
+            "segments_per_line"
+        ]
+        .map(|c| num(s, c)),
+        [300.0, 1200.0, 300.0, 1.0, 200.0, 1.0]
+    );
+    // The cyclic bars: three bars, each visible, none hidden.
+    let c = find(&rows, "cyclic-bars", "zbuf", 0).unwrap();
+    assert_eq!(num(c, "visible_polygons"), 3.0);
+    // The scenes without a 16×16 reference say so (NaN), and the figures are drawn.
+    assert!(num(s, "rmse").is_nan());
+    assert!(!num(c, "rmse").is_nan());
+    let cost = std::fs::read_to_string(d.join("cost-environment.svg")).unwrap();
+    for axis in [
+        "polygons P_t, a frame",
+        "depth complexity Dc",
+        "visible segments on the scan lines",
+    ] {
+        assert!(cost.contains(axis), "cost-environment.svg lacks {axis}");
+    }
+    let svg = std::fs::read_to_string(d.join("speed-accuracy.svg")).unwrap();
+    assert!(
+        svg.contains("stack (300 polygons, 200×200)"),
+        "the stack's panel"
+    );
+    assert!(
+        svg.contains("% pixels wrong (no AA methods: point reference)"),
+        "the panels without a 16×16 reference say what they measure"
+    );
+}
+
+/// The committed figures (`scripts/chart.sh --figures`): the CSV beside them has, for
+/// every method on every hard scene, its depth-0 run and the depths it was tried at,
+/// and the painter's depth-0 error on the cyclic bars is there, above 0.
+#[test]
+fn the_committed_figures_have_every_method_at_depth_0_and_its_best() {
+    let images = repo_root().join("docs/images");
+    let (_, rows) = read_csv(&images.join("results.csv"));
+    let methods: Vec<String> = {
+        let mut m: Vec<String> = Vec::new();
+        for r in &rows {
+            if !m.contains(&r["method"]) {
+                m.push(r["method"].clone());
+            }
+        }
+        m
+    };
+    for want in [
+        "zbuf",
+        "scanline",
+        "warnock",
+        "painter",
+        "painter-split",
+        "abuf",
+        "ss4",
+        "ss16",
+    ] {
+        assert!(methods.iter().any(|m| m == want), "{want} not charted");
+    }
+    for scene in HARD {
+        for m in &methods {
+            let runs: Vec<_> = rows
+                .iter()
+                .filter(|r| r["scene"] == scene && &r["method"] == m)
+                .collect();
+            assert!(
+                runs.iter().any(|r| r["depth"] == "0"),
+                "{m} at depth 0 on {scene}"
+            );
+            assert!(!runs.is_empty(), "{m} on {scene}");
+        }
+        for m in ["zbuf", "scanline", "warnock", "painter", "painter-split"] {
+            let depths: Vec<&str> = rows
+                .iter()
+                .filter(|r| r["scene"] == scene && r["method"] == m)
+                .map(|r| r["depth"].as_str())
+                .collect();
+            assert_eq!(depths, ["0", "1", "2", "3", "4"], "{m} on {scene}");
+        }
+    }
+    let p = find(&rows, "cyclic-bars", "painter", 0).expect("the painter on the cyclic bars");
+    assert!(num(p, "error_fraction") > 0.0, "{p:?}");
+    for f in [
+        "speed-accuracy.png",
+        "speed-accuracy.svg",
+        "cost-environment.png",
+        "cost-environment.svg",
+    ] {
+        assert!(images.join(f).metadata().unwrap().len() > 0, "{f}");
+    }
 }

@@ -53,8 +53,8 @@ const USAGE: &[(&str, &[&str], &str)] = &[
     ("persp", &["--size", "0x0"], "'--size <WxH>'"),
     (
         "persp",
-        &["--size", "8x8", "--depth", "foo"],
-        "'--depth <DEPTH>'",
+        &["--size", "8x8", "--zmode", "foo"],
+        "'--zmode <MODE>'",
     ),
     ("scanconv", &["--pixel"], "'--pixel'"),
     ("zbuf", &["-o", "x.jpg"], "-o x.jpg"),

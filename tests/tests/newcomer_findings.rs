@@ -334,8 +334,8 @@ fn render_sh_says_a_folder_is_not_a_scene() {
 // --- What a newcomer tripped on (the newcomer's list). The others
 // have their tests beside their code: `frames --from` past the end
 // (bins/frames/tests/cli.rs), `zbuf -o one.png` on a movie (bins/zbuf/tests/cli.rs and
-// exit_codes.rs), the OBJ reader's four (bins/scene/src/obj.rs), the `--by frames -o`
-// refusal (hosts.rs, `usage_errors_need_no_hosts`).
+// exit_codes.rs), the OBJ reader's four (bins/scene/src/obj.rs), `--by frames -o`,
+// once refused and now writing the files (movies.rs, `resume_after_sigint_…`).
 
 /// `render.sh --subtree 3` without `--depth` failed with `line 237: auto: unbound
 /// variable`, status 1: a subtree is cut by the tree's depth, which must be given.

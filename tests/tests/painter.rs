@@ -111,6 +111,14 @@ fn a_cyclic_overlap_is_painted_wrong_where_bars_overlap() {
         stats.contains("4 swaps, 2 cycles, 0 splits, 2 cycles painted out of order"),
         "{stats}"
     );
+    // Said without --stats, once for the frame, and the frames are written (exit 0).
+    let (_, said) = frames("cat", "painter", CYCLIC.as_bytes());
+    assert_eq!(
+        said,
+        "painter: frame 0: 2 cycles painted out of order; --split cuts them\n"
+    );
+    let (_, said) = frames("cat", "painter --split", CYCLIC.as_bytes());
+    assert_eq!(said, "");
     // Two cuts by plane (the pixel-wise form needed four).
     assert_eq!(differences(&z[0], &s[0]).len(), 0);
     assert!(
@@ -279,7 +287,7 @@ fn render_sh_passes_split_to_the_painter_leaves() {
     assert!(out.status.success());
     let err = String::from_utf8_lossy(&out.stderr);
     assert!(
-        err.starts_with("painter: could not order every polygon: "),
+        err.starts_with("painter: frame 0: could not order every polygon: "),
         "{err}"
     );
     let out = sh("scripts/render.sh --split >/dev/null", b"");

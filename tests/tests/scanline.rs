@@ -50,7 +50,8 @@ fn runs_and_counters_of_a_hand_written_stream() {
         .stdout(want)
         // Frame 0, per line: 2 segments; sample spans 0–2, 2–6, 6–8. In 2–6 on line 0:
         // green coming in against red (1 test), red tested at 3 and at 5 (2: a simple
-        // intersection), one bisection step at 4 (1), the fold at 5 (1). On lines 1–3 the
+        // intersection), one test at 4, the only column between (1: XINTER computed), the
+        // fold at 5 (1). On lines 1–3 the
         // line above predicts: the crossing at 5 (2 tests: red in front at 5, not at 4)
         // and red in front at 5 (1). Frame 1: lines 1 and 2, one segment each. Each
         // polygon's segment is merged into the list once; nothing moves.
@@ -59,7 +60,7 @@ fn runs_and_counters_of_a_hand_written_stream() {
              14 sample spans, 18 segments examined, 23 depth comparisons, 4 crossings; \
              minor sort: 3 segments merged in, 0 re-sorted, 0 swaps; predicted from the \
              line above: 3 fronts held, 0 failed, 3 crossings held, 0 failed; \
-             0 midpoint subdivisions\n",
+             0 midpoint subdivisions; 1 crossings computed (XINTER), 0 of them searched\n",
         );
 }
 
@@ -254,7 +255,7 @@ fn many_crossings_per_line() {
          1024 sample spans, 2048 segments examined, 3072 depth comparisons, 1024 crossings; \
          minor sort: 128 segments merged in, 0 re-sorted, 0 swaps; predicted from the line \
          above: 1920 fronts held, 0 failed, 0 crossings held, 0 failed; \
-         0 midpoint subdivisions\n"
+         0 midpoint subdivisions; 0 crossings computed (XINTER), 0 of them searched\n"
     );
 }
 

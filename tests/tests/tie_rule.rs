@@ -172,7 +172,7 @@ fn zbuf_says_when_projective_depth_ties_what_the_rule_orders() {
     let scene = near_yon_pair(3.4e-7);
     let warning = "depth tests where a polygon nearer than the tie rule's 2^-30 lost to one \
                    within the projective depth's quantum (up to 9.3e-4 of the eye-space depth \
-                   in this view volume): the earlier polygon shows there (persp --depth \
+                   in this view volume): the earlier polygon shows there (persp --zmode \
                    reciprocal keeps the rule at any hither/yon)";
     let camera = "--hither 0.001 --yon 1000 --size 200x200";
     for (options, lines) in [

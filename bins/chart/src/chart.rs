@@ -8,6 +8,7 @@ use crate::look::{self, Environment};
 use crate::measure::{self, Usage};
 use crate::methods::{self, Input, Method};
 use crate::model::{self, Constants};
+use crate::stats::{self, Stats};
 use anyhow::{anyhow, bail, Context, Result};
 use serde::{Deserialize, Serialize};
 use std::fs::File;
@@ -22,6 +23,12 @@ pub struct Scene {
     pub name: String,
     pub width: u32,
     pub height: u32,
+    /// Whether its frames are measured against the 16×16 reference too (`rmse`,
+    /// `edge_rmse`). zspec's supersampled reference tests 256 samples in every pixel of
+    /// every polygon's bounding box: minutes on the hard scenes (a stack, crossing
+    /// planes, slivers whose boxes span the screen), which are measured against the
+    /// point-sampled reference alone (`error_fraction`; `rmse` is then NaN).
+    pub supersampled: bool,
 }
 
 impl Scene {
@@ -52,6 +59,7 @@ impl Scene {
             name,
             width,
             height,
+            supersampled: true,
         })
     }
 
@@ -87,6 +95,19 @@ pub struct Row {
     pub edge_rmse: Option<f64>,
     /// RMS error over all pixels against `zspec --samples 16`: the chart's accuracy axis.
     pub rmse: f64,
+    /// The scene's environment statistics, a frame ([`crate::stats`]): edges E_t, depth
+    /// complexity Dc, and its visible complexity (polygons owning a pixel, segments on
+    /// the scan lines, and those a scan line).
+    #[serde(default)]
+    pub edges: f64,
+    #[serde(default)]
+    pub depth_complexity: f64,
+    #[serde(default)]
+    pub visible_polygons: f64,
+    #[serde(default)]
+    pub visible_segments: f64,
+    #[serde(default)]
+    pub segments_per_line: f64,
 }
 
 /// One row of `model.csv`.
@@ -188,6 +209,8 @@ pub struct Setup {
     pub render: PathBuf,
     /// The output folder.
     pub out: PathBuf,
+    /// Where the references, rewritten scenes and frames go (`DIR/refs`, or `--work`).
+    pub work: PathBuf,
     pub quick: bool,
     /// Only these methods (`--methods`), or all.
     pub only: Option<Vec<String>>,
@@ -201,8 +224,8 @@ pub struct Setup {
 /// newer).
 struct References {
     point: PathBuf,
-    sixteen: PathBuf,
-    mask: PathBuf,
+    /// The 16×16 reference and its edge mask, where the scene has them.
+    sixteen: Option<(PathBuf, PathBuf)>,
 }
 
 fn newer(a: &Path, b: &Path) -> bool {
@@ -235,7 +258,7 @@ fn quiet_with(cmd: &mut Command, err: &Path, watched: bool) -> Result<Usage> {
 
 impl Setup {
     fn refs_dir(&self) -> PathBuf {
-        self.out.join("refs")
+        self.work.join("refs")
     }
 
     fn references(&self, scene: &Scene) -> Result<References> {
@@ -244,8 +267,12 @@ impl Setup {
         let stem = format!("{}-{}", scene.name, scene.size());
         let r = References {
             point: dir.join(format!("{stem}.ref1.ppm")),
-            sixteen: dir.join(format!("{stem}.ref16.ppm")),
-            mask: dir.join(format!("{stem}.mask.ppm")),
+            sixteen: scene.supersampled.then(|| {
+                (
+                    dir.join(format!("{stem}.ref16.ppm")),
+                    dir.join(format!("{stem}.mask.ppm")),
+                )
+            }),
         };
         let err = dir.join("zspec.err");
         if newer(&scene.path, &r.point) {
@@ -257,16 +284,18 @@ impl Setup {
                 &err,
             )?;
         }
-        if newer(&scene.path, &r.sixteen) || newer(&scene.path, &r.mask) {
-            quiet(
-                Command::new(self.bin.join("zspec"))
-                    .args(["--samples", "16", "--edge-mask"])
-                    .arg(&r.mask)
-                    .args(["--size", &scene.size()])
-                    .arg(&scene.path)
-                    .stdout(File::create(&r.sixteen)?),
-                &err,
-            )?;
+        if let Some((sixteen, mask)) = &r.sixteen {
+            if newer(&scene.path, sixteen) || newer(&scene.path, mask) {
+                quiet(
+                    Command::new(self.bin.join("zspec"))
+                        .args(["--samples", "16", "--edge-mask"])
+                        .arg(mask)
+                        .args(["--size", &scene.size()])
+                        .arg(&scene.path)
+                        .stdout(File::create(sixteen)?),
+                    &err,
+                )?;
+            }
         }
         Ok(r)
     }
@@ -296,13 +325,14 @@ impl Setup {
         &self,
         scene: &Scene,
         env: &Environment,
+        stats: &Stats,
         refs: &References,
         method: &Method,
         depth: u8,
     ) -> Result<Row> {
         let input = self.input(scene, method.input)?;
-        let frames = self.out.join("frames.ppm");
-        let err = self.out.join("render.err");
+        let frames = self.work.join("frames.ppm");
+        let err = self.work.join("render.err");
         let mut runs = Vec::new();
         for rep in 0..self.reps.max(1) {
             let mut cmd = Command::new(&self.render);
@@ -325,7 +355,10 @@ impl Setup {
         let usage = measure::median(&runs);
         let max_rss_kib = runs[0].max_rss_kib;
         let point = self.compare(&refs.point, &frames, None)?;
-        let sixteen = self.compare(&refs.sixteen, &frames, Some(&refs.mask))?;
+        let sixteen = match &refs.sixteen {
+            Some((reference, mask)) => Some(self.compare(reference, &frames, Some(mask))?),
+            None => None,
+        };
         let _ = std::fs::remove_file(&frames);
         Ok(Row {
             scene: scene.name.clone(),
@@ -338,8 +371,13 @@ impl Setup {
             cpu_s: usage.cpu_s,
             max_rss_kib,
             error_fraction: point.differing as f64 / point.pixels.max(1) as f64,
-            edge_rmse: sixteen.edge_rmse,
-            rmse: sixteen.rmse,
+            edge_rmse: sixteen.and_then(|c| c.edge_rmse),
+            rmse: sixteen.map_or(f64::NAN, |c| c.rmse),
+            edges: stats.edges,
+            depth_complexity: stats.depth_complexity,
+            visible_polygons: stats.visible_polygons,
+            visible_segments: stats.visible_segments,
+            segments_per_line: stats.segments_per_line,
         })
     }
 
@@ -422,6 +460,8 @@ pub fn chart(
         tick(&format!("{}: references", scene.name));
         let refs = setup.references(scene)?;
         let env = look::look(&scene.path, scene.width, scene.height, &[], None)?;
+        let stats = stats::stats(&scene.path, scene.width, scene.height)
+            .with_context(|| format!("the statistics of {}", scene.name))?;
         if heaviest.as_ref().is_none_or(|(area, _)| env.area > *area) {
             heaviest = Some((
                 env.area,
@@ -430,7 +470,7 @@ pub fn chart(
         }
         for (method, depth) in &runs {
             tick(&format!("{}: {} depth {depth}", scene.name, method.name));
-            rows.push(setup.run(scene, &env, &refs, method, *depth)?);
+            rows.push(setup.run(scene, &env, &stats, &refs, method, *depth)?);
         }
         // The machine's load while this scene was measured.
         let load = crate::calibrate::background_load();

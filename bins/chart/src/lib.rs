@@ -13,5 +13,6 @@ pub mod chart;
 pub mod error;
 pub mod methods;
 pub mod plot;
+pub mod stats;
 
 pub use plan::{cache, calibrate, look, measure, model, thesis};

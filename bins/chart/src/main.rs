@@ -25,6 +25,7 @@ use std::process::{Command, ExitCode};
         scripts/chart.sh -o out examples/penetrating.txt\n  \
         scripts/chart.sh -o out --quick scene.txt fill.txt@1920x1080\n  \
         scripts/chart.sh -o out --standard            # the four scene classes and the failure scene\n  \
+        scripts/chart.sh --figures                    # docs/images: standard and hard scenes\n  \
         scripts/chart.sh -o out --calibrate           # measure the model's constants: bench/model.toml\n  \
         chart choose-depth --size 1920x1080 fill.txt  # the depth render.sh --depth auto takes"
 )]
@@ -45,6 +46,22 @@ struct Cli {
     /// `scene environment` into DIR/scenes, and examples/penetrating.txt.
     #[arg(long)]
     standard: bool,
+    /// Chart the seeds' hard cases as well, made with `scene` into the --work folder's
+    /// scenes/: a stack of 300 squares (200×200), 2,000 slivers, 100 crossing planes
+    /// (250×250), examples/cyclic-bars.txt, two interpenetrating spheres and 2,100
+    /// strips (500×500). The stack, slivers and planes are measured against the
+    /// point-sampled reference only (the 16×16 one would take minutes).
+    #[arg(long)]
+    hard: bool,
+    /// The figures of docs/images, at this commit: --standard (its small scenes, every
+    /// method at every depth) and --hard, written to the repository's docs/images (or
+    /// -o DIR), the scenes, references, frames and the cost model's files kept in
+    /// target/chart.
+    #[arg(long)]
+    figures: bool,
+    /// Where the scenes, references and frames go (default: DIR).
+    #[arg(long, value_name = "DIR")]
+    work: Option<PathBuf>,
     /// The screen for scenes without their own `@WxH`.
     #[arg(long, default_value = "500x500", value_parser = parse_size, value_name = "WxH")]
     size: (u32, u32),
@@ -194,6 +211,7 @@ fn standard_scenes(bin: &Path, root: &Path, dir: &Path, quick: bool) -> Result<V
             name: name.into(),
             width: w,
             height: h,
+            supersampled: true,
         });
     }
     scenes.push(Scene::parse(
@@ -203,7 +221,78 @@ fn standard_scenes(bin: &Path, root: &Path, dir: &Path, quick: bool) -> Result<V
     Ok(scenes)
 }
 
-fn run(cli: Cli) -> Result<()> {
+/// A hard case: name, `scene` arguments, screen, and whether the 16×16 reference is
+/// affordable on it.
+type Hard = (&'static str, &'static [&'static str], (u32, u32), bool);
+
+/// The seeds' hard cases, each scaled so that one render takes at most a few seconds
+/// here and the point-sampled reference and the statistics a few more:
+///
+/// - `stack`: 300 screen-filling squares in depth (Dc 300): one window for Warnock
+///   (Newman and Sproull 14.3.4: work follows visible, not scene, complexity), 300
+///   writes a pixel for the z-buffer;
+/// - `slivers`: 2,000 triangles 0.4 px wide across the screen: pixel-sized windows for
+///   Warnock, many short segments for Watkins;
+/// - `planes`: 100 tilted full-screen planes, every pair crossing: no depth order, the
+///   painter's splitting step and the a-buffer's fragment lists at their worst;
+/// - `cyclic-bars`: three bars overlapping in a cycle (examples/cyclic-bars.txt): no
+///   order of whole polygons draws them right; the painter without `--split` fails;
+/// - `spheres`: two interpenetrating spheres (Archuleta's figure 1);
+/// - `strips`: 2,100 disjoint strips whose depth extents all overlap: the depth sort's
+///   N(N−1)/2 pair tests. Not 2,000: 500/2,000 puts a strip's edge through every other
+///   pixel centre, where the pipeline's rounding and the reference's exact f64 decide
+///   the tie differently (29,067 pixels at depth 0, 34,774 at depth 1, for every exact
+///   method alike); at 2,100 no edge meets a centre and the exact methods are exact.
+const HARD: [Hard; 5] = [
+    ("stack", &["stack", "300"], (200, 200), false),
+    ("slivers", &["slivers", "2000"], (500, 500), false),
+    ("planes", &["planes", "100"], (250, 250), false),
+    ("spheres", &["spheres"], (500, 500), true),
+    ("strips", &["strips", "2100"], (500, 500), true),
+];
+
+/// The hard scenes ([`HARD`], and the cyclic bars), made with `scene` into `dir`.
+fn hard_scenes(bin: &Path, root: &Path, dir: &Path) -> Result<Vec<Scene>> {
+    std::fs::create_dir_all(dir)?;
+    let mut scenes = Vec::new();
+    for (name, args, (w, h), supersampled) in HARD {
+        let path = dir.join(format!("{name}.pp"));
+        if !path.exists() {
+            let status = Command::new(bin.join("scene"))
+                .args(args)
+                .stdout(std::fs::File::create(&path)?)
+                .status()?;
+            if !status.success() {
+                let _ = std::fs::remove_file(&path);
+                bail!("scene {} failed", args.join(" "));
+            }
+        }
+        scenes.push(Scene {
+            path,
+            name: name.into(),
+            width: w,
+            height: h,
+            supersampled,
+        });
+    }
+    scenes.insert(
+        3,
+        Scene::parse(
+            &root.join("examples/cyclic-bars.txt").to_string_lossy(),
+            (500, 500),
+        )?,
+    );
+    Ok(scenes)
+}
+
+fn run(mut cli: Cli) -> Result<()> {
+    let root = root_dir(cli.root.clone())?;
+    if cli.figures {
+        cli.standard = true;
+        cli.hard = true;
+        cli.out.get_or_insert_with(|| root.join("docs/images"));
+        cli.work.get_or_insert_with(|| root.join("target/chart"));
+    }
     let Some(out) = cli.out else {
         return Err(stagecli::Error::usage(
             "-o DIR is needed (where the CSV files and pictures go)",
@@ -217,7 +306,7 @@ fn run(cli: Cli) -> Result<()> {
         .iter()
         .map(|s| Scene::parse(s, cli.size))
         .collect::<Result<_>>()?;
-    if scenes.is_empty() && !(cli.standard || cli.calibrate || cli.replot) {
+    if scenes.is_empty() && !(cli.standard || cli.hard || cli.calibrate || cli.replot) {
         return Err(stagecli::Error::usage("no SCENE given (or --standard)").into());
     }
     // Each scene opened and its first bytes read before anything is made or run, so that
@@ -225,8 +314,9 @@ fn run(cli: Cli) -> Result<()> {
     for s in &scenes {
         chart::look::is_text(&s.path)?;
     }
-    let root = root_dir(cli.root)?;
     let bin = bin_dir()?;
+    let work = cli.work.clone().unwrap_or_else(|| out.clone());
+    let work_dir = work.clone();
     let render = root.join("scripts/render.sh");
     if out.exists() && !out.is_dir() {
         return Err(stagecli::Error::usage(format!(
@@ -235,14 +325,17 @@ fn run(cli: Cli) -> Result<()> {
         ))
         .into());
     }
-    std::fs::create_dir_all(&out)
-        .with_context(|| format!("cannot make the folder {}", out.display()))?;
+    for dir in [&out, &work] {
+        std::fs::create_dir_all(dir)
+            .with_context(|| format!("cannot make the folder {}", dir.display()))?;
+    }
     if cli.replot {
         let rows: Vec<chart::chart::Row> = chart::chart::read_csv(&out.join("results.csv"))?;
         let model_rows: Vec<chart::chart::ModelRow> =
             chart::chart::read_csv(&out.join("model.csv"))?;
         let extra = read_extrapolation(&out)?;
         chart::plot::speed_accuracy(&out, &rows)?;
+        chart::plot::environment(&out, &rows)?;
         return chart::plot::model(&out, &model_rows, &extra);
     }
     let cores = chart::calibrate::cores();
@@ -250,9 +343,12 @@ fn run(cli: Cli) -> Result<()> {
         scenes.extend(standard_scenes(
             &bin,
             &root,
-            &out.join("scenes"),
-            cli.quick,
+            &work.join("scenes"),
+            cli.quick || cli.figures,
         )?);
+    }
+    if cli.hard {
+        scenes.extend(hard_scenes(&bin, &root, &work.join("scenes"))?);
     }
     if cli.remodel {
         return remodel(&out, &scenes, cli.model.as_deref(), &root, &bin, cores);
@@ -273,6 +369,7 @@ fn run(cli: Cli) -> Result<()> {
         bin,
         render,
         out: out.clone(),
+        work,
         quick: cli.quick,
         only: cli.methods.clone(),
         reps: cli
@@ -294,14 +391,19 @@ fn run(cli: Cli) -> Result<()> {
     })?;
     progress.finish_and_clear();
     chart::chart::write_csv(&out.join("results.csv"), &rows)?;
-    chart::chart::write_csv(&out.join("model.csv"), &model_rows)?;
-    chart::chart::write_csv(&out.join("model-extrapolation.csv"), &extra)?;
+    // With --figures the cost model's files go beside the scenes, not into docs/images:
+    // its picture there is docs/model.md's, drawn from a calibration of its own.
+    let model_out = if cli.figures { &work_dir } else { &out };
+    chart::chart::write_csv(&model_out.join("model.csv"), &model_rows)?;
+    chart::chart::write_csv(&model_out.join("model-extrapolation.csv"), &extra)?;
     chart::plot::speed_accuracy(&out, &rows)?;
-    chart::plot::model(&out, &model_rows, &extra)?;
+    chart::plot::environment(&out, &rows)?;
+    chart::plot::model(model_out, &model_rows, &extra)?;
     say(&model_table(&model_rows))?;
     say_err(&format!(
-        "chart: wrote {0}/results.csv, {0}/speed-accuracy.png, {0}/speed-accuracy.svg, {0}/model.csv, {0}/model.png",
-        out.display()
+        "chart: wrote {0}/results.csv, {0}/speed-accuracy.png and .svg, {0}/cost-environment.png and .svg, {1}/model.csv, {1}/model.png",
+        out.display(),
+        model_out.display()
     ));
     Ok(())
 }

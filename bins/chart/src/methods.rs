@@ -61,6 +61,13 @@ pub const METHODS: &[Method] = &[
         quick: true,
     },
     Method {
+        name: "painter-split",
+        options: &["--hse", "painter", "--split"],
+        input: Input::AsGiven,
+        depths: TREE,
+        quick: false,
+    },
+    Method {
         name: "abuf",
         options: &["--aa", "abuf"],
         input: Input::AsGiven,

@@ -35,15 +35,16 @@ pub enum Shape {
     Cross,
 }
 
-/// Fifteen colours that tell apart on screen and in print (no two of one hue and
+/// Sixteen colours that tell apart on screen and in print (no two of one hue and
 /// lightness; none too light for white paper): the methods' marks, in the order of
 /// [`METHODS`], each with a shape as well, so that the hues that are nearest (the
 /// blues, say) differ in shape too. The model picture's scenes and lines take them in
 /// order.
-pub const STYLES: [(RGBColor, Shape); 15] = [
+pub const STYLES: [(RGBColor, Shape); 16] = [
     (RGBColor(31, 119, 180), Shape::Square),    // scanline: blue
     (RGBColor(214, 39, 40), Shape::Triangle),   // warnock: red
     (RGBColor(44, 160, 44), Shape::Diamond),    // painter: green
+    (RGBColor(0, 200, 100), Shape::Circle),     // painter-split: spring green
     (RGBColor(255, 127, 14), Shape::Circle),    // abuf: orange
     (RGBColor(148, 103, 189), Shape::Diamond),  // ss2: purple
     (RGBColor(140, 86, 75), Shape::Square),     // ss4: brown
@@ -59,10 +60,10 @@ pub const STYLES: [(RGBColor, Shape); 15] = [
 ];
 
 /// The colours alone, in order.
-const PALETTE: [RGBColor; 15] = {
-    let mut p = [RGBColor(0, 0, 0); 15];
+const PALETTE: [RGBColor; 16] = {
+    let mut p = [RGBColor(0, 0, 0); 16];
     let mut i = 0;
-    while i < 15 {
+    while i < 16 {
         p[i] = STYLES[i].0;
         i += 1;
     }
@@ -82,14 +83,34 @@ pub fn style_of(method: &str) -> (RGBColor, Shape) {
 fn draw_mark<DB: DrawingBackend, CT: plotters::coord::CoordTranslate>(
     area: &DrawingArea<DB, CT>,
     at: CT::From,
-    (colour, shape): (RGBColor, Shape),
+    style: (RGBColor, Shape),
     r: i32,
 ) -> Drawn
 where
     DB::ErrorType: 'static,
     CT::From: Clone,
 {
-    let fill = colour.filled();
+    draw_mark_as(area, at, style, r, true)
+}
+
+/// [`draw_mark`], filled or (`filled` false) its outline alone: a method at depth 0 on
+/// the speed-accuracy panels.
+fn draw_mark_as<DB: DrawingBackend, CT: plotters::coord::CoordTranslate>(
+    area: &DrawingArea<DB, CT>,
+    at: CT::From,
+    (colour, shape): (RGBColor, Shape),
+    r: i32,
+    filled: bool,
+) -> Drawn
+where
+    DB::ErrorType: 'static,
+    CT::From: Clone,
+{
+    let fill = if filled {
+        colour.filled()
+    } else {
+        colour.stroke_width(2)
+    };
     match shape {
         Shape::Circle => area.draw(&(EmptyElement::at(at) + Circle::new((0, 0), r, fill)))?,
         Shape::Square => area.draw(
@@ -133,7 +154,15 @@ fn log_ticks(lo: f64, hi: f64) -> usize {
 /// Each method's mark on a scene's panel: its fastest depth.
 pub fn marks<'a>(rows: &'a [Row], scene: &str) -> Vec<&'a Row> {
     let mut best: Vec<&Row> = Vec::new();
-    for r in rows.iter().filter(|r| r.scene == scene) {
+    // A scene measured against the point-sampled reference alone has no measure of an
+    // anti-aliased method's error (it differs from point sampling on purpose, on every
+    // edge pixel): its panel draws the point-sampled methods only.
+    let point = rows
+        .iter()
+        .filter(|r| r.scene == scene)
+        .all(|r| r.rmse.is_nan());
+    let drawn = |r: &&Row| !(point && anti_aliased(&r.method));
+    for r in rows.iter().filter(|r| r.scene == scene).filter(drawn) {
         match best.iter_mut().find(|b| b.method == r.method) {
             Some(b) if r.wall_s < b.wall_s => *b = r,
             Some(_) => {}
@@ -143,20 +172,52 @@ pub fn marks<'a>(rows: &'a [Row], scene: &str) -> Vec<&'a Row> {
     best
 }
 
+/// Whether a method anti-aliases (`abuf`, `ssK`).
+pub fn anti_aliased(method: &str) -> bool {
+    method == "abuf" || method.starts_with("ss")
+}
+
+/// A method's run at depth 0 on a scene (the method alone, no splitter tree).
+pub fn at_depth_zero<'a>(rows: &'a [Row], scene: &str, method: &str) -> Option<&'a Row> {
+    rows.iter()
+        .find(|r| r.scene == scene && r.method == method && r.depth == 0)
+}
+
+/// Whether a scene's panel measures error against the point-sampled reference (the
+/// hard scenes, which have no 16×16 reference: `rmse` NaN) rather than the 16×16 one.
+pub fn pointwise(marks: &[&Row]) -> bool {
+    marks.iter().all(|r| r.rmse.is_nan())
+}
+
+/// A run's error on its panel's axis: RMS error against the 16×16 reference, or on a
+/// pointwise panel the percentage of pixels that differ from the point-sampled one.
+pub fn error_of(r: &Row, pointwise: bool) -> f64 {
+    if pointwise {
+        100.0 * r.error_fraction
+    } else {
+        r.rmse
+    }
+}
+
 /// The Pareto front of (time, error) marks: those that no other mark beats on both, in
 /// order of time.
 pub fn pareto<'a>(marks: &[&'a Row]) -> Vec<&'a Row> {
+    pareto_by(marks, &|r: &Row| r.rmse)
+}
+
+/// [`pareto`] on the error `err` gives each mark.
+pub fn pareto_by<'a>(marks: &[&'a Row], err: &dyn Fn(&Row) -> f64) -> Vec<&'a Row> {
     let mut sorted: Vec<&Row> = marks.to_vec();
     sorted.sort_by(|a, b| {
         a.wall_s
             .total_cmp(&b.wall_s)
-            .then(a.rmse.total_cmp(&b.rmse))
+            .then(err(a).total_cmp(&err(b)))
     });
     let mut front = Vec::new();
     let mut best = f64::INFINITY;
     for r in sorted {
-        if r.rmse < best {
-            best = r.rmse;
+        if err(r) < best {
+            best = err(r);
             front.push(r);
         }
     }
@@ -181,8 +242,9 @@ fn layout(n: usize) -> (usize, usize) {
 
 const PANEL: (u32, u32) = (760, 560);
 
-const TITLE: &str =
-    "Speed against accuracy: each method at its fastest tree depth; the line is the Pareto front";
+const TITLE: &str = "Speed against accuracy: each method at depth 0 (hollow mark) and at its \
+fastest tree depth (filled, named dN), joined by a line in its colour; \
+the grey line is the Pareto front of the filled marks";
 
 /// The title's font size and line height, pixels.
 const TITLE_FONT: (u32, u32) = (24, 30);
@@ -191,6 +253,11 @@ const TITLE_FONT: (u32, u32) = (24, 30);
 /// side): one panel is narrower than the title, which a single line would clip on both
 /// sides.
 fn title_lines(width: u32) -> Vec<String> {
+    wrap_title(TITLE, width)
+}
+
+/// A title `text` in lines that fit a picture `width` pixels wide.
+fn wrap_title(text: &str, width: u32) -> Vec<String> {
     register_font();
     let font = ("sans-serif", TITLE_FONT.0).into_font();
     // Should the font not measure, about 14 px a character (its width at 24 px).
@@ -198,7 +265,7 @@ fn title_lines(width: u32) -> Vec<String> {
         font.box_size(s)
             .map_or(14 * s.chars().count() as u32, |(w, _)| w)
     };
-    wrap(TITLE, |s| wide(s) + 24 <= width)
+    wrap(text, |s| wide(s) + 24 <= width)
 }
 
 /// The height of a title of `lines` lines: 50 px for one, as the picture always had.
@@ -259,10 +326,24 @@ where
     for (scene, panel) in scenes.iter().zip(panels) {
         let marks = marks(rows, scene);
         let first = marks[0];
-        let (tmin, tmax) = marks.iter().fold((f64::INFINITY, 0.0f64), |(a, b), r| {
+        let point = pointwise(&marks);
+        let err = |r: &Row| error_of(r, point);
+        // Each method's depth-0 run beside its fastest, where they differ.
+        let zeros: Vec<(&Row, &Row)> = marks
+            .iter()
+            .filter(|b| b.depth != 0)
+            .filter_map(|b| at_depth_zero(rows, scene, &b.method).map(|z| (*b, z)))
+            .collect();
+        let all: Vec<&Row> = marks
+            .iter()
+            .copied()
+            .chain(zeros.iter().map(|(_, z)| *z))
+            .collect();
+        let (tmin, tmax) = all.iter().fold((f64::INFINITY, 0.0f64), |(a, b), r| {
             (a.min(r.wall_s), b.max(r.wall_s))
         });
-        let emax = marks.iter().map(|r| r.rmse).fold(0.0f64, f64::max).max(0.5) * 1.3;
+        let floor = if point { 0.05 } else { 0.5 };
+        let emax = all.iter().map(|r| err(r)).fold(0.0f64, f64::max).max(floor) * 1.3;
         let (xlo, xhi) = decades(tmin / 1.3, tmax * 1.6);
         let caption = format!(
             "{} ({} polygons{}, {})",
@@ -284,42 +365,89 @@ where
         chart
             .configure_mesh()
             .x_desc("wall time, seconds (log scale)")
-            .y_desc("RMS error vs 16×16 reference (0–255)")
+            .y_desc(if point {
+                "% pixels wrong (no AA methods: point reference)"
+            } else {
+                "RMS error vs 16×16 reference (0–255)"
+            })
             .axis_desc_style(("sans-serif", 18))
             .label_style(("sans-serif", 16))
             .x_labels(log_ticks(xlo, xhi))
             // The 1-9 of every decade are the grid; no lighter lines between them.
             .x_max_light_lines(0)
             .x_label_formatter(&|v| log_tick(*v))
-            .y_label_formatter(&|v| format!("{v:.1}"))
+            .y_label_formatter(&|v| {
+                if point && emax < 1.0 {
+                    format!("{v:.2}")
+                } else {
+                    format!("{v:.1}")
+                }
+            })
             .light_line_style(RGBColor(235, 235, 235))
             .draw()?;
-        let front: Vec<(f64, f64)> = pareto(&marks).iter().map(|r| (r.wall_s, r.rmse)).collect();
+        let front: Vec<(f64, f64)> = pareto_by(&marks, &err)
+            .iter()
+            .map(|r| (r.wall_s, err(r)))
+            .collect();
         chart.draw_series(LineSeries::new(front, RGBColor(90, 90, 90).stroke_width(2)))?;
+        // Depth 0 joined to the fastest depth, in the method's colour.
+        for (best, zero) in &zeros {
+            let (c, _) = style_of(&best.method);
+            chart.draw_series(LineSeries::new(
+                [(zero.wall_s, err(zero)), (best.wall_s, err(best))],
+                c.stroke_width(1),
+            ))?;
+        }
         // Marks in order of time, each drawn in its method's colour and shape, and
         // labelled where the label overlaps no label placed before it and no mark: the
         // first free slot beside it, above or below. A mark in a crowd whose label finds
-        // no free slot is named by the legend alone.
+        // no free slot is named by the legend alone. The fastest depths first, then the
+        // depth-0 runs.
         let mut by_time = marks.clone();
         by_time.sort_by(|a, b| a.wall_s.total_cmp(&b.wall_s));
-        let at: Vec<(i32, i32)> = by_time
-            .iter()
-            .map(|r| chart.backend_coord(&(r.wall_s, r.rmse)))
-            .collect();
+        let mut hollow: Vec<&Row> = zeros.iter().map(|(_, z)| *z).collect();
+        hollow.sort_by(|a, b| a.wall_s.total_cmp(&b.wall_s));
+        let px = |r: &Row| chart.backend_coord(&(r.wall_s, err(r)));
         let area = chart.plotting_area().get_pixel_range();
-        let mut placed: Vec<LabelBox> = at.iter().map(|&(x, y)| LabelBox::mark(x, y)).collect();
+        let mut placed: Vec<LabelBox> = by_time
+            .iter()
+            .chain(&hollow)
+            .map(|r| {
+                let (x, y) = px(r);
+                LabelBox::mark(x, y)
+            })
+            .collect();
+        for r in &hollow {
+            draw_mark_as(
+                chart.plotting_area(),
+                (r.wall_s, err(r)),
+                style_of(&r.method),
+                7,
+                false,
+            )?;
+        }
         for r in &by_time {
             draw_mark(
                 chart.plotting_area(),
-                (r.wall_s, r.rmse),
+                (r.wall_s, err(r)),
                 style_of(&r.method),
                 7,
             )?;
         }
-        for (r, &(x, y)) in by_time.iter().zip(&at) {
+        // A depth-0 run is named only where it is worse than the fastest depth (a
+        // failure the tree hides), so that the panel's labels stay few.
+        let named_zeros: Vec<&Row> = zeros
+            .iter()
+            .filter(|(b, z)| err(z) > err(b) + emax / 50.0)
+            .map(|(_, z)| *z)
+            .collect();
+        for r in by_time.iter().chain(&named_zeros) {
+            let (x, y) = px(r);
             let (c, _) = style_of(&r.method);
             let label = if r.depth > 0 {
                 format!("{} d{}", r.method, r.depth)
+            } else if named_zeros.iter().any(|z| std::ptr::eq(*z, *r)) {
+                format!("{} d0", r.method)
             } else {
                 r.method.clone()
             };
@@ -329,7 +457,7 @@ where
             let b = LabelBox::text(&label, x + dx, y + dy);
             placed.push(b);
             chart.plotting_area().draw(
-                &(EmptyElement::at((r.wall_s, r.rmse))
+                &(EmptyElement::at((r.wall_s, err(r)))
                     + Text::new(label, (dx, dy), ("sans-serif", 16).into_font().color(&c))),
             )?;
         }
@@ -420,7 +548,7 @@ fn place_label(
 }
 
 /// The legend's height for a picture `width` pixels wide: a row of entries of
-/// [`LEGEND_ENTRY`] px each, as many rows as the fifteen methods need.
+/// [`LEGEND_ENTRY`] px each, as many rows as the methods need.
 fn legend_height(width: u32) -> u32 {
     let per_row = (width.saturating_sub(40) / LEGEND_ENTRY).max(1) as usize;
     16 + 26 * METHODS.len().div_ceil(per_row) as u32
@@ -492,6 +620,211 @@ pub fn speed_accuracy(dir: &Path, rows: &[Row]) -> Result<()> {
     let svg = dir.join("speed-accuracy.svg");
     let root = SVGBackend::new(&svg, size).into_drawing_area();
     speed_accuracy_on(root, rows, &title).map_err(|e| anyhow!("drawing {}: {e}", svg.display()))
+}
+
+/// The methods of the cost-against-environment figure: the hidden-surface methods and
+/// the anti-aliasing ones, each alone (depth 0).
+pub const ENVIRONMENT_METHODS: [&str; 7] = [
+    "zbuf",
+    "scanline",
+    "warnock",
+    "painter",
+    "painter-split",
+    "abuf",
+    "ss4",
+];
+
+/// The least-squares slope of log y on log x: the power of the statistic a method's
+/// cost grows with (1: in proportion; 0: not at all); `None` for fewer than three points
+/// or one x.
+pub fn log_slope(points: &[(f64, f64)]) -> Option<f64> {
+    if points.len() < 3 {
+        return None;
+    }
+    let n = points.len() as f64;
+    let (mx, my) = points.iter().fold((0.0, 0.0), |(a, b), &(x, y)| {
+        (a + x.ln() / n, b + y.ln() / n)
+    });
+    let (sxy, sxx) = points.iter().fold((0.0, 0.0), |(a, b), &(x, y)| {
+        let dx = x.ln() - mx;
+        (a + dx * (y.ln() - my), b + dx * dx)
+    });
+    (sxx > 1e-12).then(|| sxy / sxx)
+}
+
+/// A statistic of a run's scene, a frame.
+pub type Statistic = fn(&Row) -> f64;
+
+/// The environment statistics on the figure's x axes: a name, and the value of a run's
+/// scene, a frame.
+pub const STATISTICS: [(&str, Statistic); 4] = [
+    ("polygons P_t, a frame", |r| {
+        r.polygons as f64 / r.frames.max(1) as f64
+    }),
+    ("edges E_t, a frame", |r| r.edges),
+    ("depth complexity Dc (covering polygons a pixel)", |r| {
+        r.depth_complexity
+    }),
+    ("visible segments on the scan lines, a frame", |r| {
+        r.visible_segments
+    }),
+];
+
+/// The points of one method on one statistic's panel: (statistic, CPU s a frame above
+/// the method's fixed cost) of its depth-0 runs, in order of the statistic.
+///
+/// Every run pays the pipeline's start (a dozen processes, about 0.01 s of CPU here)
+/// whatever the scene; that fixed cost is the method's least CPU time over the scenes
+/// (on the scenes of two or three polygons), and is taken off each run before its
+/// frames divide it, so that what is left is the work the scene asks of the method.
+/// A run within 0.1 ms of the fixed cost has nothing left to show on a log axis and is
+/// left out; so is a scene without the statistics (a CSV from before them).
+pub fn environment_points(rows: &[Row], method: &str, stat: Statistic) -> Vec<(f64, f64)> {
+    let runs: Vec<&Row> = rows
+        .iter()
+        .filter(|r| r.method == method && r.depth == 0)
+        .collect();
+    let fixed = runs.iter().map(|r| r.cpu_s).fold(f64::INFINITY, f64::min);
+    let mut p: Vec<(f64, f64)> = runs
+        .iter()
+        .map(|r| (stat(r), (r.cpu_s - fixed) / r.frames.max(1) as f64))
+        .filter(|&(x, y)| x > 0.0 && y >= 1e-4)
+        .collect();
+    p.sort_by(|a, b| a.0.total_cmp(&b.0));
+    p
+}
+
+const ENV_TITLE: &str = "Cost against the environment statistics: CPU seconds a frame of \
+each method alone (depth 0, the whole pipeline, its fixed start-up cost taken off) on every \
+scene, log-log; the dashed line is slope 1 (time proportional to the statistic)";
+
+fn environment_on<DB: DrawingBackend>(
+    root: DrawingArea<DB, Shift>,
+    rows: &[Row],
+    title_text: &[String],
+) -> Drawn
+where
+    DB::ErrorType: 'static,
+{
+    root.fill(&WHITE)?;
+    let (title, rest) = root.split_vertically(title_height(title_text.len()));
+    let centre = title.dim_in_pixel().0 as i32 / 2;
+    for (i, line) in title_text.iter().enumerate() {
+        title.draw(&Text::new(
+            line.as_str(),
+            (centre, 12 + (TITLE_FONT.1 * i as u32) as i32),
+            ("sans-serif", TITLE_FONT.0)
+                .into_font()
+                .color(&BLACK)
+                .pos(Pos::new(HPos::Center, VPos::Top)),
+        ))?;
+    }
+    let height = rest.dim_in_pixel().1;
+    let (body, foot) = rest.split_vertically(height - 50);
+    let panels = body.split_evenly((2, 2));
+    for ((name, stat), panel) in STATISTICS.iter().zip(panels) {
+        let points: Vec<(&str, Vec<(f64, f64)>)> = ENVIRONMENT_METHODS
+            .iter()
+            .map(|m| (*m, environment_points(rows, m, *stat)))
+            .collect();
+        let all: Vec<(f64, f64)> = points.iter().flat_map(|(_, p)| p.clone()).collect();
+        if all.is_empty() {
+            continue;
+        }
+        let (xmin, xmax, ymin, ymax) = all.iter().fold(
+            (f64::INFINITY, 0.0f64, f64::INFINITY, 0.0f64),
+            |(a, b, c, d), &(x, y)| (a.min(x), b.max(x), c.min(y), d.max(y)),
+        );
+        let (xlo, xhi) = decades(xmin / 1.5, xmax * 1.5);
+        let (ylo, yhi) = decades(ymin / 1.5, ymax * 1.5);
+        let mut chart = ChartBuilder::on(&panel)
+            .caption(*name, ("sans-serif", 22))
+            .margin(12)
+            .x_label_area_size(52)
+            .y_label_area_size(72)
+            .build_cartesian_2d((xlo..xhi).log_scale(), (ylo..yhi).log_scale())?;
+        chart
+            .configure_mesh()
+            .x_desc(format!("{name} (log scale)"))
+            .y_desc("CPU s a frame above fixed cost (log)")
+            .axis_desc_style(("sans-serif", 18))
+            .label_style(("sans-serif", 16))
+            .x_labels(log_ticks(xlo, xhi))
+            .y_labels(log_ticks(ylo, yhi))
+            .x_max_light_lines(0)
+            .y_max_light_lines(0)
+            .x_label_formatter(&|v| log_tick(*v))
+            .y_label_formatter(&|v| log_tick(*v))
+            .light_line_style(RGBColor(235, 235, 235))
+            .draw()?;
+        // Slope 1 through the points' geometric mean: a method whose marks climb with it
+        // costs in proportion to the statistic.
+        let n = all.len() as f64;
+        let (mx, my) = all.iter().fold((0.0, 0.0), |(a, b), &(x, y)| {
+            (a + x.ln() / n, b + y.ln() / n)
+        });
+        let k = (my - mx).exp();
+        chart.draw_series(DashedLineSeries::new(
+            [(xlo, k * xlo), (xhi, k * xhi)],
+            6,
+            4,
+            RGBColor(120, 120, 120).stroke_width(2),
+        ))?;
+        for (method, p) in &points {
+            let style = style_of(method);
+            for &at in p {
+                draw_mark(chart.plotting_area(), at, style, 6)?;
+            }
+        }
+        // Each method's fitted slope, in its colour, top left: the power of the
+        // statistic its cost grows with, over these scenes.
+        let mut line = 0;
+        for (method, p) in &points {
+            let Some(slope) = log_slope(p) else { continue };
+            let (c, _) = style_of(method);
+            chart.plotting_area().draw(
+                &(EmptyElement::at((xlo, yhi))
+                    + Text::new(
+                        format!("{method}: slope {slope:.2}"),
+                        (10, 8 + 18 * line),
+                        ("sans-serif", 15).into_font().color(&c),
+                    )),
+            )?;
+            line += 1;
+        }
+    }
+    // The legend: the figure's methods in one row.
+    let width = foot.dim_in_pixel().0 as i32;
+    let entry = 150;
+    let left = (width - entry * ENVIRONMENT_METHODS.len() as i32) / 2;
+    for (i, m) in ENVIRONMENT_METHODS.iter().enumerate() {
+        let x = left + i as i32 * entry;
+        draw_mark(&foot, (x + 8, 25), style_of(m), 7)?;
+        foot.draw(&Text::new(
+            *m,
+            (x + 22, 25),
+            ("sans-serif", 16)
+                .into_font()
+                .color(&BLACK)
+                .pos(Pos::new(HPos::Left, VPos::Center)),
+        ))?;
+    }
+    root.present()?;
+    Ok(())
+}
+
+/// `cost-environment.png` and `.svg` in `dir`: each method's cost against the scenes'
+/// environment statistics ([`crate::stats`]).
+pub fn environment(dir: &Path, rows: &[Row]) -> Result<()> {
+    let width = PANEL.0 * 2;
+    let title = wrap_title(ENV_TITLE, width);
+    let size = (width, PANEL.1 * 2 + title_height(title.len()) + 50);
+    png(&dir.join("cost-environment.png"), size, |root| {
+        environment_on(root, rows, &title)
+    })?;
+    let svg = dir.join("cost-environment.svg");
+    let root = SVGBackend::new(&svg, size).into_drawing_area();
+    environment_on(root, rows, &title).map_err(|e| anyhow!("drawing {}: {e}", svg.display()))
 }
 
 fn model_on<DB: DrawingBackend>(
@@ -716,6 +1049,11 @@ mod tests {
             error_fraction: 0.0,
             edge_rmse: None,
             rmse,
+            edges: 8.0,
+            depth_complexity: 1.0,
+            visible_polygons: 2.0,
+            visible_segments: 10.0,
+            segments_per_line: 1.0,
         }
     }
 
@@ -763,7 +1101,7 @@ mod tests {
     }
 
     #[test]
-    fn fifteen_methods_fifteen_colours_and_no_two_alike() {
+    fn sixteen_methods_sixteen_colours_and_no_two_alike() {
         assert_eq!(METHODS.len(), STYLES.len());
         for (i, a) in STYLES.iter().enumerate() {
             for b in &STYLES[i + 1..] {
@@ -837,7 +1175,7 @@ mod tests {
 
     #[test]
     fn the_title_is_wrapped_to_fit_one_panel_and_kept_whole_on_three() {
-        for (width, lines) in [(PANEL.0, 2), (3 * PANEL.0, 1)] {
+        for (width, lines) in [(PANEL.0, 3), (3 * PANEL.0, 1)] {
             let t = title_lines(width);
             assert_eq!(t.len(), lines, "{width}: {t:?}");
             assert_eq!(t.join(" "), TITLE);
@@ -863,16 +1201,77 @@ mod tests {
     }
 
     #[test]
+    fn the_slope_is_the_power_the_cost_grows_with() {
+        let square: Vec<(f64, f64)> = [1.0, 10.0, 100.0].map(|x| (x, 3.0 * x * x)).to_vec();
+        assert!((log_slope(&square).unwrap() - 2.0).abs() < 1e-12);
+        let flat = [(1.0, 0.5), (10.0, 0.5), (1000.0, 0.5)];
+        assert!(log_slope(&flat).unwrap().abs() < 1e-12);
+        assert_eq!(log_slope(&square[..2]), None, "two points fit any line");
+        assert_eq!(log_slope(&[(5.0, 1.0), (5.0, 2.0), (5.0, 3.0)]), None);
+    }
+
+    #[test]
+    fn a_point_reference_panel_leaves_the_anti_aliased_methods_out() {
+        let mut rows = vec![
+            row("zbuf", 0, 0.2, f64::NAN),
+            row("ss4", 0, 0.3, f64::NAN),
+            row("painter", 0, 0.1, f64::NAN),
+            row("painter", 1, 0.05, f64::NAN),
+        ];
+        rows[2].error_fraction = 0.25;
+        let m = marks(&rows, "s");
+        let names: Vec<&str> = m.iter().map(|r| r.method.as_str()).collect();
+        assert_eq!(names, ["zbuf", "painter"]);
+        assert!(pointwise(&m));
+        // The painter's fastest depth is 1; its depth 0 is the one that is wrong.
+        let zero = at_depth_zero(&rows, "s", "painter").unwrap();
+        assert_eq!(error_of(zero, true), 25.0);
+        assert_eq!(m[1].depth, 1);
+        // With a 16×16 reference every method is drawn, on its RMS error.
+        rows.iter_mut().for_each(|r| r.rmse = 2.0);
+        assert_eq!(marks(&rows, "s").len(), 3);
+    }
+
+    #[test]
+    fn environment_points_take_off_the_fixed_cost() {
+        let mut rows = vec![
+            row("zbuf", 0, 0.0, 1.0),
+            row("zbuf", 0, 0.0, 1.0),
+            row("zbuf", 0, 0.0, 1.0),
+            row("zbuf", 1, 0.0, 1.0),
+        ];
+        for (r, (cpu, polygons)) in
+            rows.iter_mut()
+                .zip([(0.01, 2), (0.11, 1000), (0.51, 5000), (9.0, 9)])
+        {
+            r.cpu_s = cpu;
+            r.polygons = polygons;
+        }
+        let p = environment_points(&rows, "zbuf", STATISTICS[0].1);
+        // The fixed cost is the least (0.01 s); the scene at it has nothing left and is
+        // left out; depth 1 is not depth 0.
+        assert_eq!(p.len(), 2);
+        assert!(
+            (p[0].0 - 1000.0).abs() < 1e-9 && (p[0].1 - 0.1).abs() < 1e-9,
+            "{p:?}"
+        );
+        assert!(
+            (p[1].0 - 5000.0).abs() < 1e-9 && (p[1].1 - 0.5).abs() < 1e-9,
+            "{p:?}"
+        );
+    }
+
+    #[test]
     fn pictures_are_written() {
         let dir = tempfile::tempdir().unwrap();
         let rows = vec![row("zbuf", 0, 0.2, 30.0), row("zbuf-eye-z", 0, 0.3, 31.0)];
         speed_accuracy(dir.path(), &rows).unwrap();
         let png = image::open(dir.path().join("speed-accuracy.png")).unwrap();
-        // One panel is narrower than the title: two lines, the picture taller by one;
-        // the legend below, its fifteen methods four to a row.
+        // One panel is narrower than the title: three lines, the picture taller by two;
+        // the legend below, its sixteen methods four to a row.
         assert_eq!(
             (png.width(), png.height()),
-            (PANEL.0, PANEL.1 + 80 + legend_height(PANEL.0))
+            (PANEL.0, PANEL.1 + title_height(3) + legend_height(PANEL.0))
         );
         assert_eq!(legend_height(PANEL.0), 16 + 26 * 4);
         let svg = std::fs::read_to_string(dir.path().join("speed-accuracy.svg")).unwrap();

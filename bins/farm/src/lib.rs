@@ -1,51 +1,71 @@
-//! # farm: a movie's frames rendered on other hosts, written back in order as they come
+//! # farm: a movie's frames rendered on other hosts by GNU parallel, written back in order
 //!
 //! A movie is `frame { NEXT.FRAME frame } END` (Theoharis 1985, Appendix 1; the stream's
 //! grammar in docs/DESIGN.md), and its frames are independent: a run of them is a movie
 //! of its own, and rendering the runs one after another gives the frames of the whole.
-//! `render.sh --hosts H1,H2,… --by frames` runs this program, which
+//! `render.sh --by frames` runs this program, which
 //!
-//! 1. cuts the movie, as it reads it, into *chunks* of a few frames (`--chunk N`), each
-//!    a movie of its own ([`Cutter`]);
-//! 2. sends each chunk to a host that has nothing to do, over `$POLYPIPE_SSH HOST
-//!    COMMAND` (ssh by default), to a render.sh there that renders it to PPM frames;
-//! 3. writes the frames on stdout in the movie's order: those of the earliest chunk not
-//!    yet written as they arrive, those of later chunks kept until their turn
-//!    ([`InOrder`]).
+//! 1. cuts the movie, as it reads it, into *chunks* of a few frames (`--chunk N`), each a
+//!    movie of its own with the movie's header ([`Cutter`]), kept in a private spool
+//!    folder of `$TMPDIR`;
+//! 2. hands the chunks to GNU parallel (Tange, `man parallel`), one argument line a
+//!    chunk: parallel chooses the host with a free job slot (`--sshlogin N/host`,
+//!    `--sshloginfile`), retries a chunk that failed on a host where it has not failed
+//!    (`--retries`), keeps the job log (`--joblog`, which `--resume-failed` reads to skip
+//!    what finished), and stops starting chunks after one failed on every try (`--halt
+//!    soon,fail=1`);
+//! 3. writes the frames in the movie's order on stdout, or each frame to its file
+//!    (`-o PATTERN`, numbered from `--first-frame`) as its chunk comes back.
 //!
-//! Nothing goes to disk here. What is held in memory is bounded by the frames of a few
-//! chunks per host: a chunk is sent only while it is less than [`WINDOW_PER_HOST`]
-//! chunks per host ahead of the earliest unwritten one, so a host that runs ahead waits
-//! rather than filling memory, and a slow host holds up the others by at most that
-//! much. A host named twice in `--hosts` renders two chunks at once.
+//! What parallel cannot do is what remains here. Parallel's `--pipe` gives a job its
+//! block of stdin, but cuts only at byte patterns, so a chunk could not start with the
+//! movie's header, and reads whole `--block`s before it starts a job, so a chunk smaller
+//! than a block would wait for the next to be cut. So parallel's ssh (`--ssh`) is a
+//! small script of the spool ([`shim_script`]): it runs `$POLYPIPE_SSH` with the chunk
+//! of the job's number (`$PARALLEL_SEQ`, the argument line's) on its stdin and its
+//! frames into the spool, then waits until this program has checked them (every frame,
+//! whole) and taken them: a chunk that came back short is a failed try that parallel
+//! retries elsewhere, and a chunk the job log calls done is one whose frames were
+//! written.
 //!
-//! The first host to fail (cannot be reached, refuses the command, lacks the programs,
-//! drops mid-run, or sends back fewer frames than it was given, nothing included) stops
-//! the others, and the run ends with one line naming the host and what failed
-//! ([`Failure`]), status 3 for the host or the link, the far render.sh's own status (1
-//! or 2) for a fault it found in the movie or the options. The frames written before
-//! are whole and the movie's first. SIGINT and SIGTERM stop the hosts' sessions too, and
-//! the run ends with 130 or 143, as render.sh does.
+//! parallel is handed every chunk as soon as it is cut: it reads its arguments only as it
+//! starts jobs, and a chunk waiting to be retried on another host would otherwise wait
+//! behind an argument that is never written. So the spool holds the movie's stream (its
+//! polygons, cut) and the frames of chunks that finished before their turn, and memory
+//! one chunk's frames at a time; parallel's own files in its `--tmpdir` (the spool) are
+//! its buffers of the jobs' output, which stay empty (the script sends a job's stdout and
+//! stderr to the spool).
+//!
+//! When a chunk fails on every try, the chunks before it are written whole and the run
+//! ends with one line naming the host(s) and the chunk: status 3 for a host or the link,
+//! the far render.sh's own status (1 or 2) for a fault it found in the movie or the
+//! options. SIGINT and SIGTERM stop parallel and its jobs, and the run ends with 130 or
+//! 143, as render.sh does; with `-o`, `--resume` renders only the chunks that did not
+//! finish.
 
 use proto::codec::{Control, Record};
 use proto::{Form, Reader, SpaceKind, Token, Writer};
-use stagecli::{Error, Result};
-use std::collections::VecDeque;
+use stagecli::{Error, FrameNames, Result};
+use std::collections::{BTreeMap, BTreeSet};
 use std::io::{BufRead, BufReader, Read, Write};
-use std::process::{Child, Command, ExitStatus, Stdio};
+use std::path::{Path, PathBuf};
+use std::process::{Child, Command, Stdio};
 use std::sync::atomic::{AtomicI32, Ordering};
-use std::sync::mpsc::{self, Receiver, RecvTimeoutError, Sender};
-use std::time::{Duration, Instant};
+use std::sync::mpsc;
+use std::time::Duration;
 
-/// How far ahead of the earliest unwritten chunk the chunks sent may run: this many per
-/// host (each `--hosts` entry), so that every host has its next chunk while the
-/// earliest is still being rendered, and no more.
-pub const WINDOW_PER_HOST: usize = 2;
-
-/// The frames of a chunk by default: few enough that memory holds a few per host, and
-/// enough that an ssh session's start (a connection, a render.sh and its choice of
+/// The frames of a chunk by default: few enough that the spool holds a few per host,
+/// and enough that an ssh session's start (a connection, a render.sh and its choice of
 /// depth there) is paid once for several frames.
 pub const DEFAULT_CHUNK: u64 = 8;
+
+/// Tries of a chunk by default, each on a host where it has not failed while there is
+/// one (parallel's `--retries`).
+pub const DEFAULT_RETRIES: u32 = 3;
+
+/// The first line of a job log, as GNU parallel writes it.
+pub const JOBLOG_HEADER: &str =
+    "Seq\tHost\tStarttime\tJobRuntime\tSend\tReceive\tExitval\tSignal\tCommand\n";
 
 // --- Cutting the movie. -----------------------------------------------------------------
 
@@ -139,77 +159,150 @@ impl<R: Read> Cutter<R> {
     }
 }
 
-// --- Putting the frames back in order. --------------------------------------------------
+// --- The hosts. -------------------------------------------------------------------------
 
-/// The frames of the chunks sent, written in the movie's order: the earliest chunk not
-/// yet written (the *head*) as its frames arrive, the others kept until their turn.
-#[derive(Debug, Default)]
-pub struct InOrder {
-    head: usize,
-    /// Per chunk from the head on: frames kept, and whether the chunk has ended well.
-    pending: VecDeque<(Vec<Vec<u8>>, bool)>,
+/// Where the chunks go: parallel's sshlogins.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub enum Logins {
+    /// `--hosts H1,H2,…`: each host with its job slots, a host named twice having two
+    /// (`2/H`), in the order first named.
+    List(Vec<(usize, String)>),
+    /// `--sshloginfile FILE`, parallel's own format (`N/host` a line), read by parallel.
+    File(PathBuf),
 }
 
-impl InOrder {
-    pub fn new() -> Self {
-        Self::default()
-    }
-
-    /// The earliest chunk not wholly written.
-    pub fn head(&self) -> usize {
-        self.head
-    }
-
-    fn slot(&mut self, chunk: usize) -> &mut (Vec<Vec<u8>>, bool) {
-        debug_assert!(chunk >= self.head, "chunk {chunk} was already written");
-        let i = chunk - self.head;
-        while self.pending.len() <= i {
-            self.pending.push_back((Vec::new(), false));
-        }
-        &mut self.pending[i]
-    }
-
-    /// A frame of `chunk` has arrived: written at once when `chunk` is the head, else
-    /// kept. Returns the frames to write now, in order.
-    pub fn frame(&mut self, chunk: usize, frame: Vec<u8>) -> Vec<Vec<u8>> {
-        if chunk == self.head {
-            vec![frame]
-        } else {
-            self.slot(chunk).0.push(frame);
-            Vec::new()
+/// `--hosts H1,H2,…` as sshlogins: `a,b,a` is `2/a` and `1/b`.
+pub fn logins_from_hosts(list: &str) -> std::result::Result<Vec<(usize, String)>, String> {
+    let mut logins: Vec<(usize, String)> = Vec::new();
+    for host in stagecli::remote::parse_hosts(list)? {
+        match logins.iter_mut().find(|(_, h)| *h == host) {
+            Some((n, _)) => *n += 1,
+            None => logins.push((1, host)),
         }
     }
+    Ok(logins)
+}
 
-    /// `chunk` has ended with all its frames sent back. Returns the frames that can be
-    /// written now, in order: those kept of the chunks after it that became the head.
-    pub fn ended(&mut self, chunk: usize) -> Vec<Vec<u8>> {
-        self.slot(chunk).1 = true;
-        let mut out = Vec::new();
-        while self.pending.front().is_some_and(|(_, done)| *done) {
-            self.pending.pop_front();
-            self.head += 1;
-            if let Some((frames, _)) = self.pending.front_mut() {
-                out.append(frames);
+/// The job slots an sshlogin file gives: `N/host` N, a bare host 1 (farm runs parallel
+/// with `-j1`), blank lines and `#` comments none. A file with none is refused before
+/// parallel starts; parallel reads the file itself.
+pub fn slots_in_sshloginfile(text: &str) -> usize {
+    text.lines()
+        .map(str::trim)
+        .filter(|l| !l.is_empty() && !l.starts_with('#'))
+        .map(|l| {
+            l.split_once('/')
+                .and_then(|(n, _)| n.trim().parse::<usize>().ok())
+                .unwrap_or(1)
+        })
+        .sum()
+}
+
+// --- The frames. ------------------------------------------------------------------------
+
+/// Reads one PPM frame (a header `P6 W H 255` and W·H RGB pixels, as zbuf writes it)
+/// into the bytes zbuf would have written; `None` at the end; a message when it is not
+/// one.
+pub fn next_frame<R: BufRead>(input: &mut R) -> std::result::Result<Option<Frame>, String> {
+    match proto::ppm::read(input) {
+        Ok(None) => Ok(None),
+        Ok(Some(image)) => {
+            let mut rgb = Vec::with_capacity(image.pixels.len() * 3);
+            for p in &image.pixels {
+                rgb.extend_from_slice(p);
             }
+            Ok(Some(Frame {
+                width: image.width,
+                height: image.height,
+                rgb,
+            }))
         }
-        out
-    }
-
-    /// The frames held in memory, not yet written.
-    pub fn held(&self) -> usize {
-        self.pending.iter().map(|(f, _)| f.len()).sum()
+        Err(e) => Err(e.to_string()),
     }
 }
 
-// --- How a host's session ended. ------------------------------------------------------
+/// A frame as it came back.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Frame {
+    pub width: u32,
+    pub height: u32,
+    pub rgb: Vec<u8>,
+}
 
-pub use stagecli::remote::{last_line, Failure};
+impl Frame {
+    /// The frame as zbuf writes it on stdout: binary PPM.
+    pub fn ppm(&self) -> Vec<u8> {
+        let mut bytes = format!("P6\n{} {}\n255\n", self.width, self.height).into_bytes();
+        bytes.extend_from_slice(&self.rgb);
+        bytes
+    }
+}
 
-/// What a session that ended with `status` (the ssh's: the far command's, 255 for ssh's
-/// own failure, `None` when killed by a signal `signal`) and `stderr` means
-/// ([`stagecli::remote::classify`], the command there being render.sh's).
-pub fn classify(status: Option<i32>, signal: Option<i32>, stderr: &str) -> Option<Failure> {
-    stagecli::remote::classify(status, signal, stderr, "the command")
+/// Where the frames go.
+#[derive(Clone, Debug)]
+pub enum Output {
+    /// Binary PPMs one after another on stdout, in the movie's order.
+    Stdout,
+    /// One file a frame, as zbuf's `-o PATTERN --first-frame N` writes them: the movie's
+    /// frame k to `names.name(first + k)`, PNG or PPM by the extension.
+    Files {
+        pattern: String,
+        names: FrameNames,
+        png: bool,
+        first: u64,
+    },
+}
+
+impl Output {
+    /// `-o PATTERN` (zbuf's: `%d`/`%0Nd` the frame's number, `.png` or `.ppm`) with
+    /// `--first-frame N`.
+    pub fn files(pattern: &str, first: u64) -> std::result::Result<Output, String> {
+        let (names, ext) = FrameNames::parse_ending(pattern, &["png", "ppm"])?;
+        if !names.numbered() {
+            return Err(format!(
+                "-o {pattern}: a movie needs a pattern with %d for the frame number (as \
+                 frame%05d.png)"
+            ));
+        }
+        Ok(Output::Files {
+            pattern: pattern.to_string(),
+            names,
+            png: ext == "png",
+            first,
+        })
+    }
+
+    /// The file of the movie's frame `k` (`None` for stdout).
+    pub fn path(&self, k: u64) -> Option<PathBuf> {
+        match self {
+            Output::Stdout => None,
+            Output::Files { names, first, .. } => Some(names.name(first + k).into()),
+        }
+    }
+
+    /// Writes the movie's frame `k` to its file, the bytes zbuf's `-o` would write.
+    pub fn save(&self, k: u64, frame: &Frame) -> Result<()> {
+        let (Some(path), Output::Files { png, .. }) = (self.path(k), self) else {
+            return Ok(());
+        };
+        let fail = |e: String| Error::io(format!("cannot write {}: {e}", path.display()));
+        if *png {
+            image::save_buffer_with_format(
+                &path,
+                &frame.rgb,
+                frame.width,
+                frame.height,
+                image::ExtendedColorType::Rgb8,
+                image::ImageFormat::Png,
+            )
+            .map_err(|e| match e {
+                image::ImageError::IoError(io) => fail(stagecli::error::io_message(&io)),
+                other => fail(other.to_string()),
+            })
+        } else {
+            std::fs::write(&path, frame.ppm()).map_err(|e| fail(stagecli::error::io_message(&e)))
+        }
+    }
 }
 
 /// The frames of a chunk, for messages: `frames 8 to 11`, `frame 3`.
@@ -221,16 +314,296 @@ pub fn frames_text(first: u64, frames: u64) -> String {
     }
 }
 
-/// What a session that ended well but sent back `got` frames of the `want` it was given
-/// means.
-pub fn short_failure(got: u64, chunk: &ChunkInfo) -> Failure {
+/// A chunk's place in the movie.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct ChunkInfo {
+    pub first: u64,
+    pub frames: u64,
+}
+
+/// Reads what a try of `chunk` sent back: its frames, or why they are not the chunk's
+/// (nothing, too few, too many, or what is not a frame) in the words of a host's failure.
+pub fn check_frames<R: BufRead>(
+    input: &mut R,
+    chunk: ChunkInfo,
+) -> std::result::Result<Vec<Frame>, String> {
     let what = frames_text(chunk.first, chunk.frames);
-    let message = if got == 0 {
-        format!("sent back nothing for its {what}")
+    let mut frames = Vec::new();
+    loop {
+        match next_frame(input) {
+            Ok(Some(f)) => frames.push(f),
+            Ok(None) => break,
+            Err(why) => {
+                return Err(format!(
+                    "sent back {} of its {what}, then what is not a frame: {why}",
+                    frames.len()
+                ))
+            }
+        }
+    }
+    let got = frames.len() as u64;
+    match got {
+        0 if chunk.frames > 0 => Err(format!("sent back nothing for its {what}")),
+        n if n < chunk.frames => Err(format!("sent back {n} of its {what}")),
+        n if n > chunk.frames => Err(format!("sent back {n} frames for its {what}")),
+        _ => Ok(frames),
+    }
+}
+
+// --- How a try ended. -------------------------------------------------------------------
+
+pub use stagecli::remote::{last_line, parse_hosts, remote_command, Failure};
+
+/// What a try that ended with the shell status `status` (ssh's: the far command's, 255
+/// for ssh's own failure, 128 + N when killed by signal N) and `stderr` means
+/// ([`stagecli::remote::classify`], the command there being render.sh's).
+pub fn classify(status: i32, stderr: &str) -> Option<Failure> {
+    if (129..=128 + 64).contains(&status) {
+        stagecli::remote::classify(None, Some(status - 128), stderr, "the command")
     } else {
-        format!("sent back {got} of its {what}")
+        stagecli::remote::classify(Some(status), None, stderr, "the command")
+    }
+}
+
+/// One try of a chunk that failed: the host and what it said.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Try {
+    pub host: String,
+    pub failure: Failure,
+}
+
+/// The one line for a chunk that failed on every try: the host(s), the chunk, the tries
+/// and the last try's own words; its status is the last try's.
+pub fn every_try_failed(chunk: ChunkInfo, tries: &[Try]) -> Failure {
+    let what = frames_text(chunk.first, chunk.frames);
+    let Some(last) = tries.last() else {
+        return Failure {
+            message: format!("{what}: not rendered (no try of it ended)"),
+            status: 3,
+        };
     };
-    Failure { message, status: 3 }
+    let mut hosts: Vec<&str> = Vec::new();
+    for t in tries {
+        if !hosts.contains(&t.host.as_str()) {
+            hosts.push(&t.host);
+        }
+    }
+    let n = tries.len();
+    let times = if n == 1 {
+        "1 try".to_string()
+    } else {
+        format!("{n} tries")
+    };
+    let message = if hosts.len() == 1 {
+        format!(
+            "host {}: {what}, {times}: {}",
+            hosts[0], last.failure.message
+        )
+    } else {
+        format!(
+            "hosts {}: {what}, {times}, the last on {}: {}",
+            hosts.join(", "),
+            last.host,
+            last.failure.message
+        )
+    };
+    Failure {
+        message,
+        status: last.failure.status,
+    }
+}
+
+// --- The job log. -----------------------------------------------------------------------
+
+/// A line of a job log: a try of the chunk on argument line `seq` (from 1).
+#[derive(Clone, Debug, PartialEq)]
+pub struct JobLine {
+    pub seq: usize,
+    pub host: String,
+    pub runtime: f64,
+    pub exit: i32,
+    pub signal: i32,
+    pub command: String,
+}
+
+/// The lines of a job log (its header and any line not in its form left out).
+pub fn parse_joblog(text: &str) -> Vec<JobLine> {
+    text.lines()
+        .filter_map(|line| {
+            let f: Vec<&str> = line.splitn(9, '\t').collect();
+            if f.len() < 9 {
+                return None;
+            }
+            Some(JobLine {
+                seq: f[0].trim().parse().ok()?,
+                host: f[1].to_string(),
+                runtime: f[3].trim().parse().ok()?,
+                exit: f[6].trim().parse().ok()?,
+                signal: f[7].trim().parse().ok()?,
+                command: f[8].to_string(),
+            })
+        })
+        .collect()
+}
+
+/// The chunks (from 0) a job log says finished: exit 0, no signal. These are what
+/// parallel's `--resume-failed` skips.
+pub fn finished_chunks(lines: &[JobLine]) -> BTreeSet<usize> {
+    lines
+        .iter()
+        .filter(|l| l.exit == 0 && l.signal == 0 && l.seq > 0)
+        .map(|l| l.seq - 1)
+        .collect()
+}
+
+// --- parallel's ssh. --------------------------------------------------------------------
+
+use stagecli::remote::quote;
+
+/// The script parallel runs as its ssh (`--ssh`): `SCRIPT [OPTIONS] HOST COMMAND…`. For a
+/// job (`$PARALLEL_SEQ` set: the chunk's argument line, from 1) it runs `SSH… "$@"` with
+/// the chunk's stream `SPOOL/K.in` on stdin, its stdout to `K.part` and stderr to
+/// `K.err`; on success it renames `K.part` to `K.out` (with the host in `K.host`) and
+/// waits for farm to take it: `K.ok` then says the frames were whole and written, and
+/// the job succeeds; `K.bad` says why not, and the try fails. A failed try is kept
+/// (`K.tries`: host and status a line; `K.err.N`: its stderr) and logged in the job log
+/// as a line of its own (parallel logs only a job's last try). Anything else parallel
+/// runs through its ssh goes straight to `SSH…`.
+pub fn shim_script(spool: &Path, ssh: &[String], joblog: &Path) -> String {
+    let ssh: Vec<String> = ssh.iter().map(|w| quote(w)).collect();
+    let ssh = ssh.join(" ");
+    let spool = quote(&spool.display().to_string());
+    let joblog = quote(&joblog.display().to_string());
+    format!(
+        r#"#!/bin/sh
+# farm's ssh for GNU parallel: chunk $PARALLEL_SEQ of the spool to the host and back.
+spool={spool}
+k=${{PARALLEL_SEQ-}}
+case $k in '' | *[!0-9]*) exec {ssh} "$@" ;; esac
+[ -e "$spool/$k.in" ] || exec {ssh} "$@"
+host=${{PARALLEL_SSHLOGIN:-?}}
+start=$(date +%s.%N)
+{ssh} "$@" <"$spool/$k.in" >"$spool/$k.part" 2>"$spool/$k.err"
+st=$?
+if [ "$st" -eq 0 ]; then
+    printf '%s\n' "$host" >"$spool/$k.host"
+    mv -f "$spool/$k.part" "$spool/$k.out"
+    while [ -e "$spool/$k.out" ]; do sleep 0.01; done
+    if [ -e "$spool/$k.ok" ]; then
+        rm -f "$spool/$k.ok"
+        exit 0
+    fi
+    # farm's reason: the try's last line.
+    cat "$spool/$k.bad" >>"$spool/$k.err" 2>/dev/null
+    rm -f "$spool/$k.bad"
+    st=3
+fi
+[ -d "$spool" ] || exit "$st"
+rm -f "$spool/$k.part"
+n=1
+[ ! -e "$spool/$k.tries" ] || n=$(($(wc -l <"$spool/$k.tries") + 1))
+mv -f "$spool/$k.err" "$spool/$k.err.$n"
+printf '%s\t%s\n' "$host" "$st" >>"$spool/$k.tries"
+end=$(date +%s.%N)
+printf '%s\t%s\t%.3f\t%10.3f\t0\t0\t%s\t0\tfarm: %s, a failed try (retried while tries are left)\n' \
+    "$k" "$host" "$start" "$(awk -v a="$start" -v b="$end" 'BEGIN {{ print b - a }}')" "$st" \
+    "$(cat "$spool/$k.what")" >>{joblog}
+exit "$st"
+"#
+    )
+}
+
+// --- Slurm. -----------------------------------------------------------------------------
+
+/// What the sbatch script needs.
+#[derive(Clone, Debug)]
+pub struct SlurmArray {
+    /// The movie, a file (absolute).
+    pub movie: PathBuf,
+    /// Its frames, and the frames of a chunk (an array task).
+    pub frames: u64,
+    pub chunk: u64,
+    /// `-o`'s pattern (absolute) and `--first-frame`.
+    pub pattern: String,
+    pub first_frame: u64,
+    /// The `frames` binary (absolute).
+    pub frames_bin: PathBuf,
+    /// The command that renders a movie on stdin (`env POLYPIPE_BIN=… …/render.sh OPTIONS
+    /// -`), to which each task adds `-o PATTERN --first-frame A`.
+    pub command: Vec<String>,
+    /// Where Slurm writes each task's output.
+    pub dir: PathBuf,
+}
+
+/// The array tasks needed: ⌈frames / chunk⌉.
+pub fn array_tasks(frames: u64, chunk: u64) -> u64 {
+    frames.div_ceil(chunk.max(1))
+}
+
+/// `DIR/render.sbatch`: array task k renders frames k·N to k·N + N − 1 of the whole movie
+/// (`frames --from A --to B MOVIE | render … -o PATTERN --first-frame A`); run with
+/// `--check` (a job that depends on the array, or by hand) it lists the frames missing
+/// and fails when any is.
+pub fn sbatch_script(s: &SlurmArray) -> String {
+    let tasks = array_tasks(s.frames, s.chunk);
+    let q = |p: &Path| quote(&p.display().to_string());
+    let mut render = String::new();
+    for w in &s.command {
+        render.push_str(&quote(w));
+        render.push(' ');
+    }
+    format!(
+        r#"#!/bin/bash
+# A movie's frames as a Slurm job array, written by farm (render.sh --by frames
+# --slurm-array): task k renders chunk k, frames k*{chunk} to k*{chunk}+{last}, the
+# frame numbers of the whole movie.
+#
+#   jid=$(sbatch --parsable {script})
+#   sbatch --dependency=afterok:$jid --wrap 'bash {script} --check'
+#
+# Locally, as Slurm would: for k in $(seq 0 {max}); do SLURM_ARRAY_TASK_ID=$k bash {script}; done
+#SBATCH --job-name=polypipe-frames
+#SBATCH --array=0-{max}
+#SBATCH --output={dir}/slurm-%A_%a.out
+set -euo pipefail
+movie={movie}
+pattern={pattern}
+frames={frames} chunk={chunk} first={first}
+if [[ ${{1-}} == --check ]]; then
+    missing=0
+    for ((i = 0; i < frames; i++)); do
+        # shellcheck disable=SC2059 # the pattern is the format: %d, %0Nd, %%
+        printf -v file "$pattern" $((first + i))
+        [[ -s $file ]] || {{ echo "render.sbatch: frame $i missing: $file" >&2; missing=$((missing + 1)); }}
+    done
+    ((missing == 0)) || {{ echo "render.sbatch: $missing of $frames frames missing" >&2; exit 1; }}
+    echo "render.sbatch: all $frames frames there"
+    exit 0
+fi
+k=${{SLURM_ARRAY_TASK_ID:?render.sbatch: run by sbatch --array, or with SLURM_ARRAY_TASK_ID=k, or --check}}
+a=$((k * chunk))
+b=$((a + chunk < frames ? a + chunk : frames))
+((a < frames)) || {{ echo "render.sbatch: task $k is past the movie's $frames frames" >&2; exit 2; }}
+{frames_bin} --from "$a" --to "$b" "$movie" | {render}-o "$pattern" --first-frame $((first + a))
+"#,
+        chunk = s.chunk,
+        last = s.chunk - 1,
+        max = tasks.saturating_sub(1),
+        script = q(&s.dir.join("render.sbatch")),
+        dir = q(&s.dir),
+        movie = q(&s.movie),
+        pattern = quote(&s.pattern),
+        frames = s.frames,
+        first = s.first_frame,
+        frames_bin = q(&s.frames_bin),
+    )
+}
+
+/// Counts the movie's frames (cutting it as [`Cutter`] does, holding a chunk at a time).
+pub fn count_frames<R: Read>(reader: Reader<Token, R>) -> Result<u64> {
+    let mut cutter = Cutter::new(reader, 64)?;
+    while cutter.next_chunk()?.is_some() {}
+    Ok(cutter.frames_so_far())
 }
 
 // --- Running it. ----------------------------------------------------------------------
@@ -238,165 +611,65 @@ pub fn short_failure(got: u64, chunk: &ChunkInfo) -> Failure {
 /// What the run needs besides the movie.
 #[derive(Clone, Debug)]
 pub struct Options {
-    /// The hosts, one entry a session at a time (a host named twice runs two).
-    pub hosts: Vec<String>,
-    /// The command that runs a command on a host: `SSH… HOST COMMAND`.
+    pub logins: Logins,
+    /// The command that reaches a host: `SSH… HOST COMMAND` (`POLYPIPE_SSH`).
     pub ssh: Vec<String>,
     /// The command line run on a host, for a POSIX shell there: renders the movie on its
     /// stdin to PPM frames on its stdout.
     pub command: String,
     /// Frames a chunk.
     pub chunk: u64,
-    /// Per host: the frames it rendered, the bytes each way, the time.
+    /// Tries of a chunk (parallel's `--retries`).
+    pub retries: u32,
+    /// The job log; `None`: beside -o's files, or (frames on stdout) a temporary one.
+    pub joblog: Option<PathBuf>,
+    /// Render only the chunks the job log does not call finished.
+    pub resume: bool,
+    pub output: Output,
+    /// Per host: the frames it rendered, the bytes each way, the time; each failed try.
     pub stats: bool,
     /// The movie's name in messages (`stdin` for `-`).
     pub scene: String,
+    /// The parallel to run (`parallel`, found on PATH).
+    pub parallel: PathBuf,
 }
 
-/// A chunk's place, kept after its bytes are sent.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub struct ChunkInfo {
-    pub first: u64,
-    pub frames: u64,
+/// `parallel` on PATH, or the one line saying to install it (status 3).
+pub fn find_parallel(path: Option<&std::ffi::OsStr>) -> Result<PathBuf> {
+    let found = path.and_then(|p| {
+        std::env::split_paths(p)
+            .map(|d| d.join("parallel"))
+            .find(|f| is_executable(f))
+    });
+    found.ok_or_else(|| {
+        Error::io(
+            "--by frames runs on GNU parallel, and there is no parallel on PATH: install it \
+             (Debian and Ubuntu: apt install parallel)",
+        )
+    })
 }
 
-pub use stagecli::remote::{parse_hosts, remote_command};
-
-/// The signal that asked the run to stop (SIGINT or SIGTERM), 0 while none has.
-static STOP: AtomicI32 = AtomicI32::new(0);
-
-extern "C" fn on_signal(sig: libc::c_int) {
-    STOP.store(sig, Ordering::SeqCst);
+fn is_executable(path: &Path) -> bool {
+    use std::os::unix::fs::PermissionsExt;
+    std::fs::metadata(path).is_ok_and(|m| m.is_file() && m.permissions().mode() & 0o111 != 0)
 }
 
-/// From now on SIGINT and SIGTERM ask the run to stop (the sessions are stopped and the
-/// run ends with 128 + the signal) instead of ending it at once. A program run from here
-/// gets the default actions back when it starts.
-pub fn catch_stop_signals() {
-    let handler = on_signal as extern "C" fn(libc::c_int) as libc::sighandler_t;
-    // SAFETY: the handler only stores into an atomic, which is async-signal-safe.
-    unsafe {
-        libc::signal(libc::SIGINT, handler);
-        libc::signal(libc::SIGTERM, handler);
+/// The job log's path: `--joblog`, else beside -o's files (`DIR/farm.joblog`, DIR the
+/// pattern's folder), else `None` (a temporary one in the spool).
+pub fn joblog_path(joblog: Option<&Path>, output: &Output) -> Option<PathBuf> {
+    if let Some(j) = joblog {
+        return Some(j.to_path_buf());
     }
-}
-
-enum Event {
-    /// The cutter's next chunk, or its end (`None`).
-    Chunk(Result<Option<Chunk>>),
-    /// A whole frame from a chunk's session.
-    Frame(usize, Vec<u8>),
-    /// A chunk's session has ended and been reaped.
-    Ended(usize, Ended),
-}
-
-/// How a session ended, as its watcher saw it.
-struct Ended {
-    status: ExitStatus,
-    stderr: String,
-    /// The whole frames it sent back, and their bytes.
-    frames: u64,
-    bytes: u64,
-    /// Why its output stopped being frames, if it did.
-    bad_output: Option<String>,
-}
-
-/// Runs a chunk's session: its stream goes in from one thread, its stderr is read by
-/// another, and its frames are read here, each sent on as it is whole; at the end of its
-/// output the child is reaped and its end sent.
-fn watch_session(mut child: Child, chunk: usize, input: Vec<u8>, events: Sender<Event>) {
-    let stdin = child.stdin.take();
-    let stdout = child.stdout.take();
-    let stderr = child.stderr.take();
-    std::thread::spawn(move || {
-        if let Some(mut stdin) = stdin {
-            // A session that stops reading (it failed, or was stopped) ends this early.
-            let _ = stdin.write_all(&input);
+    match output {
+        Output::Stdout => None,
+        Output::Files { pattern, .. } => {
+            let dir = Path::new(pattern)
+                .parent()
+                .filter(|d| !d.as_os_str().is_empty())
+                .unwrap_or(Path::new("."));
+            Some(dir.join("farm.joblog"))
         }
-    });
-    let err_reader = std::thread::spawn(move || {
-        let mut text = String::new();
-        if let Some(mut e) = stderr {
-            let mut bytes = Vec::new();
-            let _ = e.read_to_end(&mut bytes);
-            text = String::from_utf8_lossy(&bytes).into_owned();
-        }
-        text
-    });
-    std::thread::spawn(move || {
-        let mut frames = 0;
-        let mut bytes = 0;
-        let mut bad_output = None;
-        if let Some(stdout) = stdout {
-            let mut input = BufReader::with_capacity(1 << 16, stdout);
-            loop {
-                match next_frame(&mut input) {
-                    Ok(Some(frame)) => {
-                        frames += 1;
-                        bytes += frame.len() as u64;
-                        if events.send(Event::Frame(chunk, frame)).is_err() {
-                            break;
-                        }
-                    }
-                    Ok(None) => break,
-                    Err(why) => {
-                        bad_output = Some(why);
-                        // Read the rest, so that the session is not stopped by us.
-                        let _ = std::io::copy(&mut input, &mut std::io::sink());
-                        break;
-                    }
-                }
-            }
-        }
-        let stderr = err_reader.join().unwrap_or_default();
-        let status = match child.wait() {
-            Ok(s) => s,
-            Err(_) => std::os::unix::process::ExitStatusExt::from_raw(1 << 8),
-        };
-        let _ = events.send(Event::Ended(
-            chunk,
-            Ended {
-                status,
-                stderr,
-                frames,
-                bytes,
-                bad_output,
-            },
-        ));
-    });
-}
-
-/// The next PPM frame of a session's output, as its bytes (`P6\nW H\n255\n` and W·H RGB
-/// pixels, as zbuf writes them); `None` at the end; a message when it is not one.
-pub fn next_frame<R: BufRead>(input: &mut R) -> std::result::Result<Option<Vec<u8>>, String> {
-    match proto::ppm::read(input) {
-        Ok(None) => Ok(None),
-        Ok(Some(image)) => {
-            let mut bytes = format!("P6\n{} {}\n255\n", image.width, image.height).into_bytes();
-            bytes.reserve(image.pixels.len() * 3);
-            for p in &image.pixels {
-                bytes.extend_from_slice(p);
-            }
-            Ok(Some(bytes))
-        }
-        Err(e) => Err(e.to_string()),
     }
-}
-
-/// A session running a chunk.
-struct Running {
-    chunk: usize,
-    slot: usize,
-    pid: u32,
-    started: Instant,
-}
-
-#[derive(Default, Clone)]
-struct SlotStats {
-    chunks: Vec<ChunkInfo>,
-    sent: u64,
-    received: u64,
-    busy: Duration,
 }
 
 /// How the run ended, for main to report.
@@ -408,10 +681,51 @@ pub enum Outcome {
     Stopped(i32),
 }
 
-/// Renders the movie `reader` reads on the hosts, writing the frames to `out` in order.
-/// The hosts' own stderr lines, labelled with the host, and `--stats` go to `log`; a
-/// failure's message is the error returned (the lines its host wrote before it are on
-/// `log` first).
+/// The signal that asked the run to stop (SIGINT or SIGTERM), 0 while none has.
+static STOP: AtomicI32 = AtomicI32::new(0);
+
+extern "C" fn on_signal(sig: libc::c_int) {
+    STOP.store(sig, Ordering::SeqCst);
+}
+
+/// From now on SIGINT and SIGTERM ask the run to stop (parallel and its jobs are stopped
+/// and the run ends with 128 + the signal) instead of ending it at once. A program run
+/// from here gets the default actions back when it starts.
+pub fn catch_stop_signals() {
+    let handler = on_signal as extern "C" fn(libc::c_int) as libc::sighandler_t;
+    // SAFETY: the handler only stores into an atomic, which is async-signal-safe.
+    unsafe {
+        libc::signal(libc::SIGINT, handler);
+        libc::signal(libc::SIGTERM, handler);
+    }
+}
+
+/// A chunk handed to parallel.
+struct Handed {
+    info: ChunkInfo,
+    /// Its frames taken (checked, and written or held), or skipped as finished before.
+    taken: bool,
+    /// Its frames, held in the spool for stdout until its turn.
+    held: Option<PathBuf>,
+    /// The host of the try that rendered it, and that try's stderr.
+    host: Option<String>,
+    stderr: String,
+    sent: u64,
+    received: u64,
+}
+
+/// Per host, for --stats.
+#[derive(Default)]
+struct HostStats {
+    chunks: Vec<ChunkInfo>,
+    sent: u64,
+    received: u64,
+    busy: f64,
+}
+
+/// Renders the movie `reader` reads on the hosts through GNU parallel, writing the
+/// frames to `out` in order (or to -o's files). The hosts' own stderr lines, labelled
+/// with the host, and `--stats` go to `log`; a failure's message is the error returned.
 pub fn run<R, W>(
     reader: Reader<Token, R>,
     options: &Options,
@@ -422,119 +736,323 @@ where
     R: Read + Send + 'static,
     W: Write,
 {
-    if options.hosts.is_empty() {
-        return Err(Error::usage("--hosts must name at least one host"));
-    }
     if options.ssh.is_empty() {
         return Err(Error::usage("POLYPIPE_SSH names no command"));
     }
-    let mut cutter = Cutter::new(reader, options.chunk).map_err(|e| e.context(&options.scene))?;
-    let (events, inbox) = mpsc::channel::<Event>();
-    // The movie is read in a thread of its own, a chunk each time one is asked for, so
-    // that a slow input holds up only the sending of chunks.
-    let (ask, asked) = mpsc::channel::<()>();
-    {
-        let events = events.clone();
-        let scene = options.scene.clone();
-        std::thread::spawn(move || {
-            while asked.recv().is_ok() {
-                let next = cutter.next_chunk().map_err(|e| e.context(&scene));
-                let last = !matches!(next, Ok(Some(_)));
-                if events.send(Event::Chunk(next)).is_err() || last {
-                    break;
+    let slots = match &options.logins {
+        Logins::List(l) if l.is_empty() => {
+            return Err(Error::usage("--hosts must name at least one host"))
+        }
+        Logins::List(l) => l.iter().map(|(n, _)| n).sum(),
+        Logins::File(f) => {
+            let text = std::fs::read_to_string(f).map_err(|e| {
+                Error::io(format!(
+                    "cannot read --sshloginfile {}: {}",
+                    f.display(),
+                    stagecli::error::io_message(&e)
+                ))
+            })?;
+            match slots_in_sshloginfile(&text) {
+                0 => {
+                    return Err(Error::usage(format!(
+                        "--sshloginfile {} names no host",
+                        f.display()
+                    )))
                 }
+                n => n,
+            }
+        }
+    };
+    let joblog_given = joblog_path(options.joblog.as_deref(), &options.output);
+    let mut finished = BTreeSet::new();
+    if options.resume {
+        let Some(path) = &joblog_given else {
+            return Err(Error::usage(
+                "--resume needs -o: frames written to stdout by an earlier run are not kept",
+            ));
+        };
+        let text = std::fs::read_to_string(path).map_err(|e| {
+            Error::io(format!(
+                "--resume: cannot read the job log {}: {}",
+                path.display(),
+                stagecli::error::io_message(&e)
+            ))
+        })?;
+        finished = finished_chunks(&parse_joblog(&text));
+    }
+    let mut cutter = Cutter::new(reader, options.chunk).map_err(|e| e.context(&options.scene))?;
+
+    let spool = tempfile::Builder::new()
+        .prefix("farm.")
+        .tempdir()
+        .map_err(|e| Error::io(format!("cannot make a spool folder in $TMPDIR: {e}")))?;
+    let dir = spool.path().to_path_buf();
+    let joblog = joblog_given.clone().unwrap_or_else(|| dir.join("joblog"));
+    if !options.resume {
+        std::fs::write(&joblog, JOBLOG_HEADER).map_err(|e| {
+            Error::io(format!(
+                "cannot write the job log {}: {}",
+                joblog.display(),
+                stagecli::error::io_message(&e)
+            ))
+        })?;
+    }
+    let shim = dir.join("ssh");
+    let spool_io = |e: std::io::Error| {
+        Error::io(format!(
+            "cannot write to the spool {}: {}",
+            dir.display(),
+            stagecli::error::io_message(&e)
+        ))
+    };
+    std::fs::write(&shim, shim_script(&dir, &options.ssh, &joblog)).map_err(spool_io)?;
+    {
+        use std::os::unix::fs::PermissionsExt;
+        std::fs::set_permissions(&shim, std::fs::Permissions::from_mode(0o700))
+            .map_err(spool_io)?;
+    }
+
+    let mut parallel = Command::new(&options.parallel);
+    parallel
+        .arg("-j1")
+        .arg("--retries")
+        .arg(options.retries.max(1).to_string())
+        .arg("--halt")
+        .arg("soon,fail=1")
+        .arg("--joblog")
+        .arg(format!("+{}", joblog.display()))
+        .arg("--tmpdir")
+        .arg(&dir)
+        .arg("--ssh")
+        .arg(&shim);
+    if options.resume {
+        parallel.arg("--resume-failed");
+    }
+    match &options.logins {
+        Logins::List(l) => {
+            for (n, host) in l {
+                parallel.arg("--sshlogin").arg(format!("{n}/{host}"));
+            }
+        }
+        Logins::File(f) => {
+            parallel.arg("--sshloginfile").arg(f);
+        }
+    }
+    // The chunk's frames ride in the command as a comment, for the job log.
+    parallel.arg(format!("{} # {{}}", options.command));
+    let parallel_err = std::fs::File::create(dir.join("parallel.err")).map_err(spool_io)?;
+    let mut child = parallel
+        .stdin(Stdio::piped())
+        .stdout(Stdio::null())
+        .stderr(parallel_err)
+        .spawn()
+        .map_err(|e| {
+            Error::io(format!(
+                "cannot run {}: {}",
+                options.parallel.display(),
+                stagecli::error::io_message(&e)
+            ))
+        })?;
+    let mut args = child.stdin.take();
+
+    // The movie is read in a thread of its own, a chunk ahead at most.
+    let (chunks_tx, chunks_rx) = mpsc::sync_channel::<Result<Option<Chunk>>>(0);
+    {
+        let scene = options.scene.clone();
+        std::thread::spawn(move || loop {
+            let next = cutter.next_chunk().map_err(|e| e.context(&scene));
+            let last = !matches!(next, Ok(Some(_)));
+            if chunks_tx.send(next).is_err() || last {
+                break;
             }
         });
     }
 
-    let mut state = State {
-        options,
-        events,
-        busy: vec![false; options.hosts.len()],
-        running: Vec::new(),
-        chunks: Vec::new(),
-        slot_of: Vec::new(),
-        order: InOrder::new(),
-        stats: vec![SlotStats::default(); options.hosts.len()],
-        stderr: Vec::new(),
-        notes: Vec::new(),
-    };
-    let window = WINDOW_PER_HOST * options.hosts.len();
-    let mut asking = false;
+    debug_assert!(slots > 0);
+    let mut handed: Vec<Handed> = Vec::new();
+    let mut head = 0; // the earliest chunk not yet written
     let mut input_done = false;
-
+    let mut ended: Option<std::process::ExitStatus> = None;
     let result: Result<Outcome> = loop {
-        if !asking
-            && !input_done
-            && state.busy.contains(&false)
-            && state.chunks.len() < state.order.head() + window
-        {
-            if ask.send(()).is_err() {
-                break Err(Error::io("the movie's reader stopped"));
+        // Hand parallel every chunk cut so far.
+        let mut cut_error = None;
+        while !input_done {
+            let chunk = match chunks_rx.try_recv() {
+                Ok(Ok(Some(chunk))) => chunk,
+                Ok(Ok(None)) | Err(mpsc::TryRecvError::Disconnected) => {
+                    input_done = true;
+                    args = None; // no more chunks: parallel's input ends
+                    break;
+                }
+                Ok(Err(e)) => {
+                    cut_error = Some(e);
+                    break;
+                }
+                Err(mpsc::TryRecvError::Empty) => break,
+            };
+            let k = handed.len();
+            let info = ChunkInfo {
+                first: chunk.first,
+                frames: chunk.frames,
+            };
+            let done_before = finished.contains(&k);
+            let what = frames_text(info.first, info.frames);
+            if !done_before {
+                let wrote = std::fs::write(dir.join(format!("{}.in", k + 1)), &chunk.bytes)
+                    .and_then(|()| std::fs::write(dir.join(format!("{}.what", k + 1)), &what));
+                if let Err(e) = wrote {
+                    cut_error = Some(spool_io(e));
+                    break;
+                }
             }
-            asking = true;
+            handed.push(Handed {
+                info,
+                taken: done_before,
+                held: None,
+                host: None,
+                stderr: String::new(),
+                sent: chunk.bytes.len() as u64,
+                received: 0,
+            });
+            // The argument line: the chunk's frames, which the job log shows.
+            let line = what.replace(' ', "-");
+            if let Some(a) = &mut args {
+                if writeln!(a, "{line}").and_then(|()| a.flush()).is_err() {
+                    args = None; // parallel has gone: its end says why
+                }
+            }
         }
-        if input_done && state.order.head() == state.chunks.len() {
+        if let Some(e) = cut_error {
+            break Err(e);
+        }
+        // The chunks that came back: checked, then written (files) or held (stdout).
+        let mut fatal = None;
+        for (k, h) in handed.iter_mut().enumerate().skip(head) {
+            if h.taken {
+                continue;
+            }
+            let seq = k + 1;
+            let landed = dir.join(format!("{seq}.out"));
+            let Ok(file) = std::fs::File::open(&landed) else {
+                continue;
+            };
+            let received = file.metadata().map(|m| m.len()).unwrap_or(0);
+            let checked = check_frames(&mut BufReader::new(file), h.info);
+            let verdict = match checked {
+                Ok(frames) => {
+                    let mut written = Ok(());
+                    match &options.output {
+                        // Kept in the spool until its turn: the frames of one chunk are
+                        // in memory at a time.
+                        Output::Stdout => {
+                            let held = dir.join(format!("{seq}.held"));
+                            written = std::fs::hard_link(&landed, &held).map_err(spool_io);
+                            h.held = Some(held);
+                        }
+                        output => {
+                            for (i, f) in frames.iter().enumerate() {
+                                written = output.save(h.info.first + i as u64, f);
+                                if written.is_err() {
+                                    break;
+                                }
+                            }
+                        }
+                    }
+                    if let Err(e) = written {
+                        // A file that cannot be written is ours to report, not a host's.
+                        let _ = std::fs::write(dir.join(format!("{seq}.bad")), e.message());
+                        let _ = std::fs::remove_file(&landed);
+                        fatal = Some(e);
+                        break;
+                    }
+                    h.taken = true;
+                    h.received = received;
+                    h.host = std::fs::read_to_string(dir.join(format!("{seq}.host")))
+                        .ok()
+                        .map(|s| s.trim().to_string());
+                    h.stderr =
+                        std::fs::read_to_string(dir.join(format!("{seq}.err"))).unwrap_or_default();
+                    let _ = std::fs::remove_file(dir.join(format!("{seq}.in")));
+                    std::fs::write(dir.join(format!("{seq}.ok")), "")
+                }
+                Err(why) => std::fs::write(dir.join(format!("{seq}.bad")), format!("{why}\n")),
+            };
+            if let Err(e) = verdict {
+                fatal = Some(spool_io(e));
+                break;
+            }
+            let _ = std::fs::remove_file(&landed);
+        }
+        if let Some(e) = fatal {
+            break Err(e);
+        }
+        // The chunks whose turn has come.
+        let mut gone = false;
+        let mut written_error = None;
+        while head < handed.len() && handed[head].taken {
+            if let Some(held) = handed[head].held.take() {
+                let frames = std::fs::File::open(&held).map_err(spool_io).and_then(|f| {
+                    check_frames(&mut BufReader::new(f), handed[head].info).map_err(Error::io)
+                });
+                let _ = std::fs::remove_file(&held);
+                let frames = match frames {
+                    Ok(f) => f,
+                    Err(e) => {
+                        written_error = Some(e);
+                        break;
+                    }
+                };
+                match write_frames(out, &frames) {
+                    Ok(true) => {}
+                    Ok(false) => gone = true,
+                    Err(e) => {
+                        written_error = Some(e);
+                        break;
+                    }
+                }
+            }
+            head += 1;
+        }
+        if let Some(e) = written_error {
+            break Err(e);
+        }
+        if gone {
+            break Ok(Outcome::Done); // the reader went away: a quiet end
+        }
+        if input_done && head == handed.len() {
             break Ok(Outcome::Done);
         }
         let sig = STOP.load(Ordering::SeqCst);
         if sig != 0 {
             break Ok(Outcome::Stopped(sig));
         }
-        let event = match inbox.recv_timeout(Duration::from_millis(50)) {
-            Ok(e) => e,
-            Err(RecvTimeoutError::Timeout) => continue,
-            Err(RecvTimeoutError::Disconnected) => break Err(Error::io("lost every session")),
-        };
-        let now = match event {
-            Event::Chunk(Ok(Some(chunk))) => {
-                asking = false;
-                match state.start(chunk) {
-                    Ok(()) => continue,
-                    Err(e) => break Err(e),
-                }
-            }
-            Event::Chunk(Ok(None)) => {
-                asking = false;
-                input_done = true;
-                continue;
-            }
-            Event::Chunk(Err(e)) => break Err(e),
-            Event::Frame(chunk, frame) => state.order.frame(chunk, frame),
-            Event::Ended(chunk, ended) => match state.ended(chunk, ended) {
-                Ok(now) => now,
-                Err(e) => break Err(e),
-            },
-        };
-        match write_frames(out, now) {
-            Ok(true) => {}
-            Ok(false) => break Ok(Outcome::Done), // the reader went away: a quiet end
-            Err(e) => break Err(e),
+        if let Some(status) = ended {
+            // parallel has ended with chunks not rendered: the earliest is the failure.
+            let k = head;
+            let info = handed.get(k).map(|h| h.info);
+            break Err(failure_of(&dir, k, info, status, log));
+        }
+        match child.try_wait() {
+            Ok(Some(status)) => ended = Some(status), // one more look at what came back
+            Ok(None) => std::thread::sleep(Duration::from_millis(10)),
+            Err(e) => break Err(Error::io(format!("cannot wait for parallel: {e}"))),
         }
     };
-    // Whatever the way out, no session is left running.
-    state.stop_all(&inbox);
+    drop(args);
     let _ = out.flush();
-    for line in &state.notes {
-        let _ = writeln!(log, "{line}");
+    let all_written = input_done && head == handed.len();
+    if let (Ok(Outcome::Done), true) = (&result, all_written) {
+        report(&handed, options, &joblog, log);
     }
-    if let Ok(Outcome::Done) = result {
-        if state.order.head() == state.chunks.len() {
-            state.report(log);
-        }
-    }
-    result
+    finish(child, spool, all_written, result)
 }
 
-/// Writes frames: Ok(true) done, Ok(false) when the reader has gone away (`| head`),
-/// an error for any other failure to write.
-fn write_frames<W: Write>(out: &mut W, frames: Vec<Vec<u8>>) -> Result<bool> {
-    if frames.is_empty() {
-        return Ok(true);
-    }
+/// Writes frames to stdout: Ok(true) done, Ok(false) when the reader has gone away
+/// (`| head`), an error for any other failure to write.
+fn write_frames<W: Write>(out: &mut W, frames: &[Frame]) -> Result<bool> {
     let mut written = Ok(());
-    for f in &frames {
-        written = out.write_all(f);
+    for f in frames {
+        written = out.write_all(&f.ppm());
         if written.is_err() {
             break;
         }
@@ -549,177 +1067,67 @@ fn write_frames<W: Write>(out: &mut W, frames: Vec<Vec<u8>>) -> Result<bool> {
     }
 }
 
-struct State<'a> {
-    options: &'a Options,
-    events: Sender<Event>,
-    /// Per slot (`--hosts` entry): whether it has a session running.
-    busy: Vec<bool>,
-    running: Vec<Running>,
-    /// Per chunk sent: its frames, and the slot it went to.
-    chunks: Vec<ChunkInfo>,
-    slot_of: Vec<usize>,
-    order: InOrder,
-    stats: Vec<SlotStats>,
-    /// Per chunk ended well: its session's stderr.
-    stderr: Vec<(usize, String)>,
-    /// Lines for stderr before the run's own message.
-    notes: Vec<String>,
+/// The tries of chunk `k` that failed, from the spool.
+fn tries_of(dir: &Path, seq: usize) -> Vec<(Try, String)> {
+    let list = std::fs::read_to_string(dir.join(format!("{seq}.tries"))).unwrap_or_default();
+    list.lines()
+        .enumerate()
+        .filter_map(|(i, line)| {
+            let (host, status) = line.rsplit_once('\t')?;
+            let status: i32 = status.trim().parse().ok()?;
+            let stderr = std::fs::read_to_string(dir.join(format!("{seq}.err.{}", i + 1)))
+                .unwrap_or_default();
+            let failure = classify(status, &stderr).unwrap_or(Failure {
+                message: format!("failed (status {status})"),
+                status: 3,
+            });
+            Some((
+                Try {
+                    host: host.to_string(),
+                    failure,
+                },
+                stderr,
+            ))
+        })
+        .collect()
 }
 
-impl State<'_> {
-    /// Sends `chunk` to the first free host.
-    fn start(&mut self, chunk: Chunk) -> Result<()> {
-        let slot = self
-            .busy
-            .iter()
-            .position(|b| !b)
-            .ok_or_else(|| Error::io("a chunk came with no host free for it"))?;
-        let host = &self.options.hosts[slot];
-        let info = ChunkInfo {
-            first: chunk.first,
-            frames: chunk.frames,
-        };
-        self.chunks.push(info);
-        self.slot_of.push(slot);
-        self.busy[slot] = true;
-        self.stats[slot].chunks.push(info);
-        self.stats[slot].sent += chunk.bytes.len() as u64;
-        let (program, args) = self
-            .options
-            .ssh
-            .split_first()
-            .ok_or_else(|| Error::usage("POLYPIPE_SSH names no command"))?;
-        let child = Command::new(program)
-            .args(args)
-            .arg(host)
-            .arg(&self.options.command)
-            .stdin(Stdio::piped())
-            .stdout(Stdio::piped())
-            .stderr(Stdio::piped())
-            .spawn()
-            .map_err(|e| {
-                Error::io(format!(
-                    "host {host}: cannot run {program}: {}",
-                    stagecli::error::io_message(&e)
-                ))
-            })?;
-        self.running.push(Running {
-            chunk: chunk.index,
-            slot,
-            pid: child.id(),
-            started: Instant::now(),
-        });
-        watch_session(child, chunk.index, chunk.bytes, self.events.clone());
-        Ok(())
+/// The run's error when parallel ended with chunk `k` (the earliest not written) not
+/// rendered: its tries' one line, the lines its last host wrote before its last on `log`;
+/// or, with no try of it on record, parallel's own last line.
+fn failure_of(
+    dir: &Path,
+    k: usize,
+    info: Option<ChunkInfo>,
+    status: std::process::ExitStatus,
+    log: &mut dyn Write,
+) -> Error {
+    let tries = tries_of(dir, k + 1);
+    if let (Some(info), false) = (info, tries.is_empty()) {
+        let (last, stderr) = &tries[tries.len() - 1];
+        let lines: Vec<&str> = stderr.lines().filter(|l| !l.trim().is_empty()).collect();
+        for l in &lines[..lines.len().saturating_sub(1)] {
+            let l = l.strip_prefix("render.sh: ").unwrap_or(l);
+            let _ = writeln!(log, "host {}: {l}", last.host);
+        }
+        let just: Vec<Try> = tries.into_iter().map(|(t, _)| t).collect();
+        let f = every_try_failed(info, &just);
+        return Error::new(kind_of(f.status), f.message);
     }
-
-    /// A session has ended: the frames to write now, or the run's error.
-    fn ended(&mut self, chunk: usize, ended: Ended) -> Result<Vec<Vec<u8>>> {
-        let Some(i) = self.running.iter().position(|r| r.chunk == chunk) else {
-            return Ok(Vec::new());
-        };
-        let running = self.running.remove(i);
-        let slot = running.slot;
-        self.busy[slot] = false;
-        self.stats[slot].busy += running.started.elapsed();
-        let info = self.chunks[chunk];
-        let host = &self.options.hosts[slot];
-        let signal = std::os::unix::process::ExitStatusExt::signal(&ended.status);
-        let failure = classify(ended.status.code(), signal, &ended.stderr)
-            .or_else(|| {
-                ended.bad_output.as_ref().map(|why| Failure {
-                    message: format!(
-                        "sent back {} of its {}, then what is not a frame: {why}",
-                        ended.frames,
-                        frames_text(info.first, info.frames)
-                    ),
-                    status: 3,
-                })
-            })
-            .or_else(|| (ended.frames != info.frames).then(|| short_failure(ended.frames, &info)));
-        if let Some(f) = failure {
-            // What the host said before its last line (which the message gives).
-            let lines: Vec<&str> = ended
-                .stderr
-                .lines()
-                .filter(|l| !l.trim().is_empty())
-                .collect();
-            for l in &lines[..lines.len().saturating_sub(1)] {
-                let l = l.strip_prefix("render.sh: ").unwrap_or(l);
-                self.notes.push(format!("host {host}: {l}"));
-            }
-            return Err(Error::new(
-                kind_of(f.status),
-                format!("host {host}: {}", f.message),
-            ));
-        }
-        self.stats[slot].received += ended.bytes;
-        self.stderr.push((chunk, ended.stderr));
-        Ok(self.order.ended(chunk))
-    }
-
-    /// Stops every session still running (TERM, then KILL after a second) and waits
-    /// until each has been reaped.
-    fn stop_all(&mut self, inbox: &Receiver<Event>) {
-        for r in &self.running {
-            kill(r.pid, libc::SIGTERM);
-        }
-        let deadline = Instant::now() + Duration::from_secs(1);
-        let mut killed = false;
-        while !self.running.is_empty() {
-            if !killed && Instant::now() >= deadline {
-                for r in &self.running {
-                    kill(r.pid, libc::SIGKILL);
-                }
-                killed = true;
-            }
-            match inbox.recv_timeout(Duration::from_millis(20)) {
-                Ok(Event::Ended(chunk, _)) => self.running.retain(|r| r.chunk != chunk),
-                Ok(_) | Err(RecvTimeoutError::Timeout) => {}
-                Err(RecvTimeoutError::Disconnected) => break,
-            }
-        }
-    }
-
-    /// On success: the hosts' own stderr lines (their --stats), labelled with the host,
-    /// in the movie's order; with --stats, each host's part.
-    fn report(&mut self, log: &mut dyn Write) {
-        self.stderr.sort_by_key(|(c, _)| *c);
-        for (chunk, text) in &self.stderr {
-            let host = &self.options.hosts[self.slot_of[*chunk]];
-            for line in text.lines() {
-                let line = line.strip_prefix("render.sh: ").unwrap_or(line);
-                let _ = writeln!(log, "host {host}: {line}");
-            }
-        }
-        if !self.options.stats {
-            return;
-        }
-        let total: u64 = self.chunks.iter().map(|c| c.frames).sum();
-        for (s, host) in self.stats.iter().zip(&self.options.hosts) {
-            if s.chunks.is_empty() {
-                let _ = writeln!(log, "farm: host {host}: no frames (the movie has {total})");
-                continue;
-            }
-            let frames: u64 = s.chunks.iter().map(|c| c.frames).sum();
-            let ranges: Vec<String> = s
-                .chunks
-                .iter()
-                .map(|c| frames_text(c.first, c.frames))
-                .collect();
-            let _ = writeln!(
-                log,
-                "farm: host {host}: {frames} frame{} in {} chunk{} ({}), sent {} bytes, \
-                 received {} bytes, {:.2} s",
-                if frames == 1 { "" } else { "s" },
-                s.chunks.len(),
-                if s.chunks.len() == 1 { "" } else { "s" },
-                ranges.join(", "),
-                s.sent,
-                s.received,
-                s.busy.as_secs_f64()
-            );
-        }
+    let said = std::fs::read_to_string(dir.join("parallel.err")).unwrap_or_default();
+    let line = said
+        .lines()
+        .rev()
+        .find(|l| !l.trim().is_empty())
+        .unwrap_or("")
+        .trim();
+    let what = info.map_or_else(String::new, |i| {
+        format!(" with {} not rendered", frames_text(i.first, i.frames))
+    });
+    if line.is_empty() {
+        Error::io(format!("parallel ended ({status}){what}"))
+    } else {
+        Error::io(format!("parallel ended ({status}){what}: {line}"))
     }
 }
 
@@ -731,12 +1139,128 @@ fn kind_of(status: u8) -> stagecli::Kind {
     }
 }
 
-/// Sends `sig` to a session's ssh that its watcher has not yet reported reaped.
+/// Waits for parallel, which ends by itself once every frame is written (`all_written`:
+/// its input has ended and every job has), else stops it (SIGINT: it stops its jobs and
+/// ends; then SIGTERM and SIGKILL if it lingers); removes the spool, and returns
+/// `result`.
+fn finish(
+    mut child: Child,
+    spool: tempfile::TempDir,
+    all_written: bool,
+    result: Result<Outcome>,
+) -> Result<Outcome> {
+    let steps = [
+        (libc::SIGINT, 3000),
+        (libc::SIGTERM, 1000),
+        (libc::SIGTERM, 1000),
+        (libc::SIGKILL, 1000),
+    ];
+    let mut step = 0;
+    let mut waited: u64 = 0;
+    // Once everything is written, parallel ends by itself: its input has ended and
+    // every job has.
+    let mut grace: u64 = if all_written { 5000 } else { 0 };
+    loop {
+        match child.try_wait() {
+            Ok(Some(_)) | Err(_) => break,
+            Ok(None) => {}
+        }
+        if grace > 0 {
+            grace -= 10;
+        } else if waited == 0 && step < steps.len() {
+            kill(child.id(), steps[step].0);
+            waited = steps[step].1;
+            step += 1;
+        } else if waited == 0 {
+            break;
+        }
+        std::thread::sleep(Duration::from_millis(10));
+        waited = waited.saturating_sub(10);
+    }
+    drop(spool);
+    result
+}
+
+/// Sends `sig` to process `pid`.
 fn kill(pid: u32, sig: i32) {
     if let Ok(pid) = libc::pid_t::try_from(pid) {
         // SAFETY: kill(2) takes any pid and signal; it touches no memory of ours.
         unsafe {
             libc::kill(pid, sig);
+        }
+    }
+}
+
+/// On success: the hosts' own stderr lines (their --stats), labelled with the host, in
+/// the movie's order; with --stats, each host's part and each failed try.
+fn report(handed: &[Handed], options: &Options, joblog: &Path, log: &mut dyn Write) {
+    for h in handed {
+        let host = h.host.as_deref().unwrap_or("?");
+        for line in h.stderr.lines() {
+            let line = line.strip_prefix("render.sh: ").unwrap_or(line);
+            let _ = writeln!(log, "host {host}: {line}");
+        }
+    }
+    if !options.stats {
+        return;
+    }
+    let lines = parse_joblog(&std::fs::read_to_string(joblog).unwrap_or_default());
+    let mut hosts: BTreeMap<String, HostStats> = BTreeMap::new();
+    let mut order: Vec<String> = match &options.logins {
+        Logins::List(l) => l.iter().map(|(_, h)| h.clone()).collect(),
+        Logins::File(_) => Vec::new(),
+    };
+    for (k, h) in handed.iter().enumerate() {
+        let Some(host) = &h.host else { continue };
+        if !order.contains(host) {
+            order.push(host.clone());
+        }
+        let s = hosts.entry(host.clone()).or_default();
+        s.chunks.push(h.info);
+        s.sent += h.sent;
+        s.received += h.received;
+        if let Some(l) = lines
+            .iter()
+            .rev()
+            .find(|l| l.seq == k + 1 && l.exit == 0 && l.signal == 0)
+        {
+            s.busy += l.runtime;
+        }
+    }
+    let total: u64 = handed.iter().map(|h| h.info.frames).sum();
+    for host in &order {
+        let Some(s) = hosts.get(host) else {
+            let _ = writeln!(log, "farm: host {host}: no frames (the movie has {total})");
+            continue;
+        };
+        let frames: u64 = s.chunks.iter().map(|c| c.frames).sum();
+        let ranges: Vec<String> = s
+            .chunks
+            .iter()
+            .map(|c| frames_text(c.first, c.frames))
+            .collect();
+        let _ = writeln!(
+            log,
+            "farm: host {host}: {frames} frame{} in {} chunk{} ({}), sent {} bytes, \
+             received {} bytes, {:.2} s",
+            if frames == 1 { "" } else { "s" },
+            s.chunks.len(),
+            if s.chunks.len() == 1 { "" } else { "s" },
+            ranges.join(", "),
+            s.sent,
+            s.received,
+            s.busy
+        );
+    }
+    for l in lines.iter().filter(|l| l.exit != 0 || l.signal != 0) {
+        if let Some(h) = l.seq.checked_sub(1).and_then(|k| handed.get(k)) {
+            let _ = writeln!(
+                log,
+                "farm: {}: a try on host {} failed (status {}), retried",
+                frames_text(h.info.first, h.info.frames),
+                l.host,
+                l.exit
+            );
         }
     }
 }
@@ -807,106 +1331,167 @@ mod tests {
     }
 
     #[test]
-    fn frames_are_written_in_order_whatever_order_they_come_in() {
-        let mut order = InOrder::new();
-        let f = |k: u8| vec![k];
-        // Chunk 1 finishes first: kept; chunk 0's frames go out as they come.
-        assert!(order.frame(1, f(2)).is_empty());
-        assert!(order.frame(1, f(3)).is_empty());
-        assert!(order.ended(1).is_empty());
-        assert_eq!(order.held(), 2);
-        assert_eq!(order.frame(0, f(0)), [f(0)]);
-        assert_eq!(order.frame(0, f(1)), [f(1)]);
-        // Chunk 0 ends: chunk 1's kept frames follow, and chunk 2 is the head.
-        assert_eq!(order.ended(0), [f(2), f(3)]);
-        assert_eq!((order.head(), order.held()), (2, 0));
-        assert_eq!(order.frame(2, f(4)), [f(4)]);
+    fn hosts_named_twice_have_two_job_slots() {
+        assert_eq!(
+            logins_from_hosts("a,b,a").unwrap(),
+            [(2, "a".to_string()), (1, "b".to_string())]
+        );
+        assert!(logins_from_hosts("a,,b").is_err());
+        assert_eq!(
+            slots_in_sshloginfile("# farm\n4/alpha\nbeta\n\n2/ssh -p 2222 gamma\n"),
+            7
+        );
     }
 
     proptest! {
-        /// However the chunks' frames and ends interleave (each chunk's own in order),
-        /// the frames come out as the movie's, each once.
+        /// Cut at any chunk size, the chunks' frames are the movie's, each once, in
+        /// order, and every chunk but the last has the size asked for.
         #[test]
-        fn any_interleaving_gives_the_movie(sizes in prop::collection::vec(0usize..4, 1..6),
-                                            picks in prop::collection::vec(0usize..100, 0..60)) {
-            // Events per chunk: its frames, then its end.
-            let mut next_frame = 0u8;
-            let mut queues: Vec<VecDeque<Option<u8>>> = sizes.iter().map(|&n| {
-                let mut q: VecDeque<Option<u8>> = (0..n).map(|_| { next_frame += 1; Some(next_frame - 1) }).collect();
-                q.push_back(None);
-                q
-            }).collect();
-            let mut order = InOrder::new();
-            let mut out = Vec::new();
-            let mut picks = picks.into_iter();
-            while queues.iter().any(|q| !q.is_empty()) {
-                let live: Vec<usize> = (0..queues.len()).filter(|&i| !queues[i].is_empty()).collect();
-                let i = live[picks.next().unwrap_or(0) % live.len()];
-                match queues[i].pop_front().unwrap() {
-                    Some(frame) => out.extend(order.frame(i, vec![frame])),
-                    None => out.extend(order.ended(i)),
+        fn chunks_join_to_the_movie(n in 1u64..20, size in 1u64..8) {
+            let c = chunks(n, size);
+            let all: Vec<u8> = c.iter().flat_map(reds).collect();
+            prop_assert_eq!(all, (0..n as u8).collect::<Vec<_>>());
+            for (i, chunk) in c.iter().enumerate() {
+                prop_assert_eq!(chunk.first, i as u64 * size);
+                if i + 1 < c.len() {
+                    prop_assert_eq!(chunk.frames, size);
                 }
             }
-            let want: Vec<Vec<u8>> = (0..next_frame).map(|k| vec![k]).collect();
-            prop_assert_eq!(out, want);
-            prop_assert_eq!(order.head(), sizes.len());
         }
     }
 
     #[test]
-    fn how_a_session_ended_is_told_in_one_line() {
-        let f = |status, signal, err: &str| classify(status, signal, err);
-        assert_eq!(f(Some(0), None, "render.sh: zbuf: 3 frames\n"), None);
-        let ssh = f(
-            Some(255),
-            None,
-            "ssh: connect to host x port 22: Connection refused\n",
-        )
-        .unwrap();
+    fn a_job_log_gives_the_chunks_finished() {
+        let log = format!(
+            "{JOBLOG_HEADER}\
+             2\tflaky\t1.0\t 0.1\t0\t0\t255\t0\tfarm: frames 8 to 15, a failed try\n\
+             1\tgood\t1.0\t 0.5\t0\t0\t0\t0\texec render.sh - # frames-0-to-7\n\
+             3\tgood\t1.0\t 0.5\t0\t0\t-1\t2\texec render.sh - # frames-16-to-23\n\
+             2\tgood\t1.2\t 0.4\t0\t0\t0\t0\texec render.sh - # frames-8-to-15\n"
+        );
+        let lines = parse_joblog(&log);
+        assert_eq!(lines.len(), 4);
+        assert_eq!(
+            (lines[0].seq, lines[0].host.as_str(), lines[0].exit),
+            (2, "flaky", 255)
+        );
+        assert_eq!(
+            finished_chunks(&lines).into_iter().collect::<Vec<_>>(),
+            [0, 1]
+        );
+    }
+
+    #[test]
+    fn what_came_back_is_checked_frame_by_frame() {
+        let frame = |r: u8| [b"P6\n1 1\n255\n".as_slice(), &[r, 0, 0]].concat();
+        let chunk = ChunkInfo {
+            first: 8,
+            frames: 2,
+        };
+        let two = [frame(1), frame(2)].concat();
+        let got = check_frames(&mut &two[..], chunk).unwrap();
+        assert_eq!(got.iter().map(|f| f.rgb[0]).collect::<Vec<_>>(), [1, 2]);
+        assert_eq!(
+            check_frames(&mut &b""[..], chunk).unwrap_err(),
+            "sent back nothing for its frames 8 to 9"
+        );
+        assert_eq!(
+            check_frames(&mut &frame(1)[..], chunk).unwrap_err(),
+            "sent back 1 of its frames 8 to 9"
+        );
+        let three = [frame(1), frame(2), frame(3)].concat();
+        assert_eq!(
+            check_frames(&mut &three[..], chunk).unwrap_err(),
+            "sent back 3 frames for its frames 8 to 9"
+        );
+        let cut = [frame(1), b"P6\n1 1\n255\n\x01".to_vec()].concat();
+        assert!(check_frames(&mut &cut[..], chunk)
+            .unwrap_err()
+            .starts_with("sent back 1 of its frames 8 to 9, then what is not a frame: "));
+    }
+
+    #[test]
+    fn a_chunk_that_failed_every_try_is_one_line() {
+        let chunk = ChunkInfo {
+            first: 16,
+            frames: 8,
+        };
+        let t = |host: &str, message: &str, status| Try {
+            host: host.to_string(),
+            failure: Failure {
+                message: message.to_string(),
+                status,
+            },
+        };
+        let one = every_try_failed(chunk, &[t("bad", "ssh: x", 3), t("bad", "ssh: y", 3)]);
+        assert_eq!(
+            (one.message.as_str(), one.status),
+            ("host bad: frames 16 to 23, 2 tries: ssh: y", 3)
+        );
+        let two = every_try_failed(
+            chunk,
+            &[
+                t("a", "ssh: x", 3),
+                t("b", "viewxf: stdin: line 3: not a number", 1),
+            ],
+        );
+        assert_eq!(
+            (two.message.as_str(), two.status),
+            (
+                "hosts a, b: frames 16 to 23, 2 tries, the last on b: viewxf: stdin: line 3: \
+                 not a number",
+                1
+            )
+        );
+    }
+
+    #[test]
+    fn how_a_try_ended_is_told_in_one_line() {
+        assert_eq!(classify(0, "render.sh: zbuf: 3 frames\n"), None);
+        let ssh = classify(255, "ssh: connect to host x port 22: Connection refused\n").unwrap();
         assert_eq!(
             (ssh.message.as_str(), ssh.status),
             ("ssh: connect to host x port 22: Connection refused", 3)
         );
-        let far = f(
-            Some(1),
-            None,
-            "render.sh: viewxf: stdin: line 3: not a number\n",
-        )
-        .unwrap();
+        let far = classify(1, "render.sh: viewxf: stdin: line 3: not a number\n").unwrap();
         assert_eq!(
             (far.message.as_str(), far.status),
             ("viewxf: stdin: line 3: not a number", 1)
         );
-        let silent = f(Some(1), None, "").unwrap();
-        assert_eq!(
-            (silent.message.as_str(), silent.status),
-            (
-                "the command exited with status 1 and no message (does the host allow only \
-                 another command?)",
-                3
-            )
-        );
-        let missing = f(Some(127), None, "sh: 1: exec: render.sh: not found\n").unwrap();
-        assert_eq!(
-            missing.message,
-            "cannot run the command there: sh: 1: exec: render.sh: not found"
-        );
-        let killed = f(None, Some(libc::SIGKILL), "").unwrap();
+        let killed = classify(128 + libc::SIGKILL, "").unwrap();
         assert_eq!(
             (killed.message.as_str(), killed.status),
             ("ssh was killed by SIGKILL", 3)
         );
-        let info = ChunkInfo {
-            first: 8,
-            frames: 4,
-        };
-        assert_eq!(
-            short_failure(0, &info).message,
-            "sent back nothing for its frames 8 to 11"
+    }
+
+    #[test]
+    fn the_sbatch_script_renders_chunk_k_with_the_movies_numbers() {
+        let s = sbatch_script(&SlurmArray {
+            movie: "/m/movie.pp".into(),
+            frames: 60,
+            chunk: 16,
+            pattern: "/out/f%05d.png".into(),
+            first_frame: 0,
+            frames_bin: "/bin/frames".into(),
+            command: vec![
+                "/r/render.sh".into(),
+                "--size".into(),
+                "32x32".into(),
+                "-".into(),
+            ],
+            dir: "/out".into(),
+        });
+        assert!(s.contains("#SBATCH --array=0-3\n"), "{s}");
+        assert!(s.contains("frames=60 chunk=16 first=0\n"), "{s}");
+        assert!(
+            s.contains(
+                "'/bin/frames' --from \"$a\" --to \"$b\" \"$movie\" | '/r/render.sh' '--size' \
+             '32x32' '-' -o \"$pattern\" --first-frame $((first + a))\n"
+            ),
+            "{s}"
         );
-        assert_eq!(
-            short_failure(2, &info).message,
-            "sent back 2 of its frames 8 to 11"
-        );
+        assert_eq!(array_tasks(60, 16), 4);
+        assert_eq!(array_tasks(64, 16), 4);
     }
 }

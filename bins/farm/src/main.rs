@@ -1,25 +1,29 @@
-//! farm: a movie's frames rendered on other hosts, written back in order (the crate's
-//! documentation says how).
+//! farm: a movie's frames rendered on other hosts by GNU parallel, written back in order
+//! (the crate's documentation says how).
 
 use clap::Parser;
-use farm::{Options, Outcome};
+use farm::{Logins, Options, Outcome, Output};
 use proto::{Reader, Token};
 use stagecli::Error;
+use std::path::PathBuf;
 use std::process::ExitCode;
 
-/// Renders a movie on other hosts and writes its frames on stdout in order.
+/// Renders a movie on other hosts through GNU parallel and writes its frames in order.
 ///
 /// Reads a polygon stream (world, eye or screen; binary or text) from SCENE or stdin,
-/// cuts it into chunks of --chunk frames, and runs `$POLYPIPE_SSH HOST COMMAND…` for
-/// each chunk on the first host with nothing to do, the chunk on its stdin; COMMAND
-/// renders a movie to PPM frames (`render.sh --hosts … --by frames` runs
-/// `COMMAND = env POLYPIPE_BIN=DIR …/render.sh OPTIONS -`). The frames come back on
-/// stdout in the movie's order as soon as those before them are written, with nothing
-/// on disk and a few chunks per host at most in memory.
+/// cuts it into chunks of --chunk frames, and hands them to GNU parallel, which runs
+/// `$POLYPIPE_SSH HOST COMMAND…` for each on a host with a free job slot, the chunk on
+/// its stdin, and retries a chunk that failed on another host; COMMAND renders a movie
+/// to PPM frames (`render.sh --by frames` runs `COMMAND = env POLYPIPE_BIN=DIR
+/// …/render.sh OPTIONS -`). The frames come out on stdout in the movie's order, or one
+/// file each with -o, with a few chunks per job slot at most in $TMPDIR.
+///
+/// With --slurm-array DIR, nothing is rendered: DIR/render.sbatch is written, a Slurm
+/// job array whose task k renders chunk k to -o's files.
 ///
 /// Exit status: 0 success (also when the reader of the frames goes away); 1 bad input;
-/// 2 bad arguments; 3 a host could not be reached, could not run the command, dropped
-/// or sent back fewer frames than it was given (the message names it); a host's own
+/// 2 bad arguments; 3 a chunk failed on every try (the message names the host(s) and
+/// the chunk; the frames before it are written), or no GNU parallel; a host's own
 /// render.sh status 1 or 2 passes through; 130 and 143 after SIGINT and SIGTERM.
 #[derive(Parser, Debug)]
 #[command(
@@ -31,17 +35,42 @@ use std::process::ExitCode;
         ServerAliveInterval=2\n                 -o ServerAliveCountMax=3)\n\n\
         Examples:\n  \
         scene spheres --frames 300 | scripts/render.sh --hosts alpha,beta --by frames - > movie.ppm\n  \
-        farm --hosts alpha,beta movie.pp -- /opt/polypipe/scripts/render.sh --size 640x480 -"
+        farm --sshloginfile hosts -o out/f%05d.png movie.pp -- /opt/polypipe/scripts/render.sh -\n  \
+        farm --slurm-array out --chunk 10 -o 'out/f%05d.png' movie.pp -- /opt/polypipe/scripts/render.sh -"
 )]
 struct Cli {
     /// The hosts, as ssh names them (a host named twice renders two chunks at once).
-    #[arg(long, value_name = "H1,H2,…")]
-    hosts: String,
-    /// Frames a chunk: each chunk is one ssh session.
+    #[arg(long, value_name = "H1,H2,…", conflicts_with = "sshloginfile")]
+    hosts: Option<String>,
+    /// The hosts from a file of GNU parallel's: `N/host` a line, N chunks at once there.
+    #[arg(long, value_name = "FILE")]
+    sshloginfile: Option<PathBuf>,
+    /// Frames a chunk: each chunk is one job, one ssh session.
     #[arg(long, value_name = "N", default_value_t = farm::DEFAULT_CHUNK,
           value_parser = clap::value_parser!(u64).range(1..))]
     chunk: u64,
-    /// Also: per host, its frames, the bytes each way and the time.
+    /// Tries of a chunk, each on a host where it has not failed while there is one.
+    #[arg(long, value_name = "N", default_value_t = farm::DEFAULT_RETRIES,
+          value_parser = clap::value_parser!(u32).range(1..))]
+    retries: u32,
+    /// GNU parallel's job log (default: farm.joblog beside -o's files; with the frames
+    /// on stdout, none kept).
+    #[arg(long, value_name = "FILE")]
+    joblog: Option<PathBuf>,
+    /// Render only the chunks the job log does not call finished (needs -o).
+    #[arg(long)]
+    resume: bool,
+    /// Write DIR/render.sbatch, a Slurm job array of the chunks, instead of rendering.
+    #[arg(long, value_name = "DIR", conflicts_with_all = ["hosts", "sshloginfile", "resume", "joblog"])]
+    slurm_array: Option<PathBuf>,
+    /// One file a frame instead of PPMs on stdout: `%d` or `%0Nd` the frame's number;
+    /// .png or .ppm by the extension (zbuf's -o).
+    #[arg(short = 'o', value_name = "PATTERN")]
+    output: Option<String>,
+    /// The number -o gives the movie's first frame.
+    #[arg(long, value_name = "N", default_value_t = 0, requires = "output")]
+    first_frame: u64,
+    /// Also: per host, its frames, the bytes each way and the time; each failed try.
     #[arg(long)]
     stats: bool,
     /// The movie (`-` for stdin, the default).
@@ -55,15 +84,37 @@ struct Cli {
 fn main() -> ExitCode {
     let mut outcome = Outcome::Done;
     let code = stagecli::main("farm", |cli: Cli| {
-        let hosts = farm::parse_hosts(&cli.hosts).map_err(Error::usage)?;
+        let output = match &cli.output {
+            Some(p) => Output::files(p, cli.first_frame).map_err(Error::usage)?,
+            None => Output::Stdout,
+        };
+        if let Some(dir) = &cli.slurm_array {
+            return slurm(&cli, dir);
+        }
+        let logins = match (&cli.hosts, &cli.sshloginfile) {
+            (Some(h), _) => Logins::List(farm::logins_from_hosts(h).map_err(Error::usage)?),
+            (None, Some(f)) => Logins::File(f.clone()),
+            (None, None) => {
+                return Err(Error::usage(
+                    "the hosts: --hosts H1,H2,… or --sshloginfile FILE (or --slurm-array DIR)",
+                ))
+            }
+        };
+        let ssh = stagecli::remote::ssh_command_from_env()?;
+        let parallel = farm::find_parallel(std::env::var_os("PATH").as_deref())?;
         let name = stagecli::input_name(&cli.scene).to_string();
         let options = Options {
-            hosts,
-            ssh: stagecli::remote::ssh_command_from_env()?,
+            logins,
+            ssh,
             command: farm::remote_command(&cli.command),
             chunk: cli.chunk,
+            retries: cli.retries,
+            joblog: cli.joblog.clone(),
+            resume: cli.resume,
+            output,
             stats: cli.stats,
             scene: name.clone(),
+            parallel,
         };
         let input = stagecli::open_input(&cli.scene)?;
         let reader = Reader::<Token, _>::new(input).map_err(|e| stagecli::input_error(&name, e))?;
@@ -76,4 +127,58 @@ fn main() -> ExitCode {
         Outcome::Stopped(sig) => ExitCode::from(128 + sig as u8),
         Outcome::Done => code,
     }
+}
+
+/// --slurm-array DIR: counts the movie's frames and writes DIR/render.sbatch.
+fn slurm(cli: &Cli, dir: &std::path::Path) -> stagecli::Result<()> {
+    let pattern = cli
+        .output
+        .as_deref()
+        .ok_or_else(|| Error::usage("--slurm-array needs -o PATTERN: the tasks write files"))?;
+    if cli.scene == "-" {
+        return Err(Error::usage(
+            "--slurm-array needs the movie as a file: each task reads its frames from it",
+        ));
+    }
+    let absolute = |p: &std::path::Path| -> stagecli::Result<PathBuf> {
+        std::path::absolute(p)
+            .map_err(|e| Error::io(format!("cannot resolve {}: {e}", p.display())))
+    };
+    let movie = absolute(std::path::Path::new(&cli.scene))?;
+    let pattern = absolute(std::path::Path::new(pattern))?
+        .display()
+        .to_string();
+    let dir = absolute(dir)?;
+    let here = std::env::current_exe()
+        .map_err(|e| Error::io(format!("cannot find farm's own folder: {e}")))?;
+    let frames_bin = here.with_file_name("frames");
+    let input = stagecli::open_input(&cli.scene)?;
+    let reader =
+        Reader::<Token, _>::new(input).map_err(|e| stagecli::input_error(&cli.scene, e))?;
+    let frames = farm::count_frames(reader).map_err(|e| e.context(&cli.scene))?;
+    let script = farm::sbatch_script(&farm::SlurmArray {
+        movie,
+        frames,
+        chunk: cli.chunk,
+        pattern,
+        first_frame: cli.first_frame,
+        frames_bin,
+        command: cli.command.clone(),
+        dir: dir.clone(),
+    });
+    std::fs::create_dir_all(&dir)
+        .map_err(|e| Error::io(format!("cannot make {}: {e}", dir.display())))?;
+    let path = dir.join("render.sbatch");
+    std::fs::write(&path, script)
+        .map_err(|e| Error::io(format!("cannot write {}: {e}", path.display())))?;
+    if cli.stats {
+        eprintln!(
+            "farm: {}: {} frames in {} array tasks of {}",
+            path.display(),
+            frames,
+            farm::array_tasks(frames, cli.chunk),
+            cli.chunk
+        );
+    }
+    Ok(())
 }

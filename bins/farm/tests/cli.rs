@@ -4,13 +4,15 @@
 use assert_cmd::Command;
 use std::path::PathBuf;
 
-/// A POLYPIPE_SSH that ignores the host and runs the command with sh, logging the host.
+/// A POLYPIPE_SSH that takes the host (and the `--` GNU parallel puts after it), logs
+/// the host and runs the command with sh.
 fn fake_ssh(dir: &std::path::Path) -> PathBuf {
     let path = dir.join("ssh");
     std::fs::write(
         &path,
         format!(
-            "#!/bin/sh\necho \"$1\" >> '{}/hosts'\nshift\nexec sh -c \"$1\"\n",
+            "#!/bin/sh\necho \"$1\" >> '{}/hosts'\nshift\n[ \"$1\" = -- ] && shift\n\
+             exec sh -c \"$*\"\n",
             dir.display()
         ),
     )
@@ -95,6 +97,8 @@ fn a_host_that_sends_nothing_back_is_named_with_status_3() {
             "quiet",
             "--chunk",
             "4",
+            "--retries",
+            "2",
             "-",
             "--",
             "cat",
@@ -105,7 +109,9 @@ fn a_host_that_sends_nothing_back_is_named_with_status_3() {
         .assert()
         .code(3)
         .stdout("")
-        .stderr("farm: host quiet: sent back nothing for its frames 0 to 2\n");
+        .stderr(
+            "farm: host quiet: frames 0 to 2, 2 tries: sent back nothing for its frames 0 to 2\n",
+        );
 }
 
 #[test]
@@ -122,4 +128,32 @@ fn usage_errors_are_status_2() {
         .args(["--hosts", "a", "-"])
         .assert()
         .code(2);
+    // Files that frames are written to, and only those, can be resumed.
+    Command::cargo_bin("farm")
+        .unwrap()
+        .args(["--hosts", "a", "--resume", "-", "--", "true"])
+        .env("POLYPIPE_SSH", "ssh")
+        .write_stdin(movie(1))
+        .assert()
+        .code(2)
+        .stderr(
+            "farm: --resume needs -o: frames written to stdout by an earlier run are not kept\n",
+        );
+    Command::cargo_bin("farm")
+        .unwrap()
+        .args([
+            "--slurm-array",
+            "out",
+            "-o",
+            "out/f%03d.png",
+            "-",
+            "--",
+            "true",
+        ])
+        .write_stdin(movie(1))
+        .assert()
+        .code(2)
+        .stderr(
+            "farm: --slurm-array needs the movie as a file: each task reads its frames from it\n",
+        );
 }

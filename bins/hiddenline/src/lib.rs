@@ -22,12 +22,25 @@
 //! Where two polygons pass through each other there is no edge, but a line: Archuleta's
 //! program displays a dot wherever its shader meets an intersection, and he names the
 //! better solution, "a segment block which contains similar edge information, and then
-//! process the line" (his figures 1 and 3 show the dots). That is done here: for two
-//! polygons whose depth extents overlap, the line where their planes meet on the screen
-//! (depth_A(X, Y) = depth_B(X, Y), a straight line since both depths are affine) is cut
-//! to the part inside both polygons, and each piece is processed as an edge of depth
-//! depth_A, hidden by every other polygon as an edge is. Its visible pieces are drawn as
+//! process the line" (his figures 1 and 3 show the dots). That is done here. Which pairs
+//! pass through each other where it can be seen is found as Archuleta's scan lines find
+//! it: each row of the screen is resolved into the polygon in front at each pixel centre
+//! (the z-buffer's coverage and tie rule), and a pair is a candidate where the front
+//! changes from one to the other between two neighbouring centres, across a column or a
+//! row (at an edge of either, or where they cross). For each candidate, the line where their planes meet on the screen (depth_A(X, Y) =
+//! depth_B(X, Y), a straight line since both depths are affine) is cut exactly to the
+//! part inside both polygons, and each piece is processed as an edge of depth depth_A,
+//! hidden by every other polygon as an edge is. Its visible pieces are drawn as
 //! `<line class="intersection">`, in the colour of the earlier of the two polygons.
+//!
+//! Testing every pair whose depth extents overlap instead costs N² lines, each walked
+//! against up to N polygons: cubic on crossing planes (2,000 of them ran past 120 s),
+//! while the pairs that meet on the front number about its pieces. What the candidates
+//! miss is a crossing whose two polygons are nowhere in front at neighbouring pixel
+//! centres (both smaller than a pixel there, or the crossing shorter). Two
+//! faces with a vertex in common (the same X, Y and depth, bit for bit: neighbours in a
+//! mesh, whose planes meet along their shared edge or through the shared corner) are
+//! never a candidate: their line is an edge of the model, drawn as one.
 //!
 //! ## Buckets: cost by what is visible, not by what is stacked
 //!
@@ -39,11 +52,14 @@
 //! or surrounds it, and with the listing's ZMIN test: once a polygon surrounds a cell,
 //! any polygon whose ZMIN is farther than that surrounder's farthest corner in the cell
 //! is hidden there and is not put in it. A stack of polygons costs one polygon per cell.
+//! Each cell also keeps the three surrounders whose planes are nearest over it, and a
+//! polygon whose plane lies behind one of them at all four corners of the cell is left
+//! out of it (at the end, too, for those placed before that surrounder came): the ZMIN
+//! test cannot do this for planes whose depth extents overlap, as crossing planes' do.
 //! An edge is then walked cell by cell: where its polygon is not in the cell it is
 //! hidden there; elsewhere only the cell's polygons that may be nearer (in ZMIN order,
 //! up to the edge's own farthest depth) are tested, and the walk of a cell stops when
-//! the edge's piece there is all hidden. Two polygons are tested for a line of
-//! intersection only in a cell that holds both, when their depth extents overlap.
+//! the edge's piece there is all hidden.
 //!
 //! An edge two polygons share is drawn once, in the colour of the earlier. Edges that
 //! are not edges of the model are left out: where the splitter tree cut a polygon (two
@@ -53,11 +69,43 @@
 //!
 //! Screen coordinates are the device's (X right, Y down, pixels), so the SVG's viewBox
 //! is `0 0 W H` and its user units are pixels of the PPM frames. The SVG is written as
-//! the pieces are found ([`for_each_segment`]), so memory holds the frame's polygons and
-//! the grid, not the drawing.
+//! the pieces are found ([`for_each_segment`]), so memory holds the frame's polygons,
+//! the grid and two rows of the screen, not the drawing.
+//!
+//! [`Method::Archuleta`] is the other way, Archuleta's own, at the raster's resolution
+//! (the `archuleta` module).
+
+mod archuleta;
 
 use proto::{Colour, DVec2, Polygon};
 use std::collections::{HashMap, HashSet};
+
+/// How the visible pieces are found.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum Method {
+    /// Each edge against the polygons that may hide it, in continuous geometry (f64):
+    /// exact pieces at any size (the module notes).
+    #[default]
+    Continuous,
+    /// Archuleta's own: counters on Watkins's scan-line segments, vectors whose ends lie
+    /// between the screen's rows (the `archuleta` module's notes).
+    Archuleta,
+}
+
+/// The visible pieces of a frame by `method`, each handed to `emit` as it is found.
+pub fn for_each_segment_by(
+    method: Method,
+    polygons: &[Polygon],
+    width: u32,
+    height: u32,
+    stats: &mut LineStats,
+    emit: impl FnMut(Segment),
+) {
+    match method {
+        Method::Continuous => for_each_segment(polygons, width, height, stats, emit),
+        Method::Archuleta => archuleta::for_each_segment(polygons, width, height, stats, emit),
+    }
+}
 use std::fmt::Write as _;
 
 /// A visible piece of an edge, or of a line of intersection, in device coordinates.
@@ -86,6 +134,9 @@ pub struct LineStats {
     /// Pieces of lines of intersection found (inside both polygons), and drawn.
     pub intersection_lines: u64,
     pub intersections: u64,
+    /// Pairs of polygons (counted in each cell that holds both) not tested for a line of
+    /// intersection because they share a vertex: neighbours in a mesh.
+    pub neighbours: u64,
     /// Placements of a polygon in a cell left out because a surrounder of the cell
     /// hides it there (the ZMIN test); a polygon hidden in every cell counts once.
     pub culled: u64,
@@ -104,9 +155,8 @@ struct Face {
     recorded: Option<[u64; 4]>,
     min: DVec2,
     max: DVec2,
-    /// Its nearest and farthest depths (its plane's, at its vertices).
+    /// Its nearest depth (its plane's, at its vertices).
     zmin: f64,
-    zmax: f64,
     /// For a convex triangle or quadrilateral, each edge's start and unit inward normal:
     /// the inside test without divisions.
     convex: Option<Vec<(DVec2, DVec2)>>,
@@ -138,8 +188,7 @@ impl Face {
             convex,
             index,
             colour: p.colour,
-            zmin: on_plane.clone().fold(f64::INFINITY, f64::min),
-            zmax: on_plane.fold(f64::NEG_INFINITY, f64::max),
+            zmin: on_plane.fold(f64::INFINITY, f64::min),
             depths,
             points,
             plane: [n.x, n.y, n.z, n.w],
@@ -280,6 +329,50 @@ fn straddles(bmin: DVec2, bmax: DVec2, emin: DVec2, emax: DVec2) -> bool {
     axis(bmin.x, bmax.x, emin.x, emax.x) && axis(bmin.y, bmax.y, emin.y, emax.y)
 }
 
+/// A surrounder of a cell, kept to hide what lies behind its plane there: its place in
+/// ZMIN order and its plane's depths at the cell's corners.
+#[derive(Clone, Copy)]
+struct Cover {
+    k: u32,
+    corners: [f64; 4],
+}
+
+impl Cover {
+    /// The surrounders a cell keeps: those whose planes are nearest over it.
+    const KEPT: usize = 3;
+    const NONE: Cover = Cover {
+        k: u32::MAX,
+        corners: [f64::INFINITY; 4],
+    };
+
+    /// Does this surrounder hide, in its cell, a polygon whose plane has these depths at
+    /// the cell's corners? Both depths are affine over the cell, so a plane nearer at
+    /// the four corners (by the tie rule's width, whatever the stream order) is nearer
+    /// everywhere in it, and the surrounder covers all of it: with crossing planes this
+    /// leaves out what the ZMIN test cannot, a polygon whose depth extent overlaps the
+    /// surrounder's but lies behind it in this cell.
+    fn hides(&self, corners: &[f64; 4]) -> bool {
+        self.k != u32::MAX
+            && self
+                .corners
+                .iter()
+                .zip(corners)
+                .all(|(&s, &f)| proto::depth::takes(s, f))
+    }
+
+    /// Keeps surrounder `k` among a cell's nearest (by its depths' sum over the corners).
+    fn offer(kept: &mut [Cover; Cover::KEPT], k: u32, corners: [f64; 4]) {
+        let sum = |c: &Cover| c.corners.iter().sum::<f64>();
+        let new = Cover { k, corners };
+        let worst = (0..Cover::KEPT)
+            .max_by(|&a, &b| sum(&kept[a]).total_cmp(&sum(&kept[b])))
+            .unwrap_or(0);
+        if kept[worst].k == u32::MAX || sum(&new) < sum(&kept[worst]) {
+            kept[worst] = new;
+        }
+    }
+}
+
 /// The buckets: a grid of cells over the frame's polygons, each listing the polygons
 /// that touch it and are not hidden in it by a surrounder, by their place in ZMIN order
 /// (ascending).
@@ -305,6 +398,8 @@ impl Grid {
         };
         // A polygon farther than this in a cell is hidden there (the listing's ZMINMAX).
         let mut zminmax = vec![f64::INFINITY; n * n];
+        // Per cell, the surrounders whose planes are nearest over it.
+        let mut best: Vec<[Cover; Cover::KEPT]> = vec![[Cover::NONE; Cover::KEPT]; n * n];
         let margin = 1e-9 * (1.0 + min.abs().max(max.abs()).max_element());
         // An upper bound of the largest ZMINMAX of all cells (infinite while a cell has
         // no surrounder), recomputed when a polygon passes it after ZMINMAX changed: a
@@ -336,25 +431,52 @@ impl Grid {
                         continue;
                     }
                     let (lo, hi) = grid.finite_rect(i, j);
-                    let class = f.classify(lo - margin, hi + margin);
+                    let (lo, hi) = (lo - margin, hi + margin);
+                    let class = f.classify(lo, hi);
                     if class == Class::Disjoint {
+                        continue;
+                    }
+                    let corners = Grid::corners(f, lo, hi);
+                    if best[c].iter().any(|s| s.hides(&corners)) {
+                        stats.culled += 1;
                         continue;
                     }
                     grid.cells[c].push(k as u32);
                     if class == Class::Surrounder {
-                        let far = [lo, DVec2::new(hi.x, lo.y), hi, DVec2::new(lo.x, hi.y)]
-                            .iter()
-                            .map(|&q| f.depth_at(q))
-                            .fold(f64::NEG_INFINITY, f64::max);
+                        let far = corners.iter().copied().fold(f64::NEG_INFINITY, f64::max);
                         if far < zminmax[c] {
                             zminmax[c] = far;
                             changed = true;
                         }
+                        Cover::offer(&mut best[c], k as u32, corners);
                     }
                 }
             }
         }
+        // A polygon placed before the surrounder that hides it came: left out now.
+        let mut cells = std::mem::take(&mut grid.cells);
+        for (c, list) in cells.iter_mut().enumerate() {
+            let (lo, hi) = grid.finite_rect_of(c);
+            let (lo, hi) = (lo - margin, hi + margin);
+            let before = list.len();
+            list.retain(|&k| {
+                let corners = Grid::corners(&faces[k as usize], lo, hi);
+                !best[c].iter().any(|s| s.hides(&corners))
+            });
+            stats.culled += (before - list.len()) as u64;
+        }
+        grid.cells = cells;
         grid
+    }
+
+    /// A face's plane's depths at the corners of the rectangle [lo, hi].
+    fn corners(f: &Face, lo: DVec2, hi: DVec2) -> [f64; 4] {
+        [lo, DVec2::new(hi.x, lo.y), hi, DVec2::new(lo.x, hi.y)].map(|q| f.depth_at(q))
+    }
+
+    /// Cell `c`'s rectangle within the grid.
+    fn finite_rect_of(&self, c: usize) -> (DVec2, DVec2) {
+        self.finite_rect(c % self.n, c / self.n)
     }
 
     fn index(&self, v: f64, axis: usize) -> usize {
@@ -894,93 +1016,67 @@ pub fn for_each_segment(
             stats.segments += frame.emit_visible(&line, &hidden, colour, false, &mut emit);
         }
     }
-    intersections(&frame, &mut scratch, stats, &mut emit);
+    intersections(&frame, &mut scratch, (width, height), stats, &mut emit);
 }
 
-/// The lines where two polygons pass through each other (see the module notes), each
-/// found in the first cell along it that holds both polygons.
+/// The lines where two polygons pass through each other (see the module notes): the
+/// pairs whose front changes from one to the other between neighbouring pixel centres,
+/// each pair's line then cut exactly to the part inside both and hidden as an edge.
 fn intersections(
     frame: &Frame,
     scratch: &mut Scratch,
+    (width, height): (u32, u32),
     stats: &mut LineStats,
     emit: &mut impl FnMut(Segment),
 ) {
-    let (faces, grid) = (&frame.faces, &frame.grid);
-    for (c, list) in grid.cells.iter().enumerate() {
-        let (lo, hi) = grid.rect(c % grid.n, c / grid.n);
-        for (i, &ka) in list.iter().enumerate() {
-            let a = &faces[ka as usize];
-            for &kb in &list[i + 1..] {
-                let b = &faces[kb as usize];
-                let scale = 1e-12 * (1.0 + a.zmax.abs().max(b.zmin.abs()));
-                if b.zmin > a.zmax + scale {
-                    break; // depth extents apart, and so for every later polygon
-                }
-                if a.recorded.is_some() && a.recorded == b.recorded && a.colour == b.colour {
-                    continue; // pieces of one polygon
-                }
-                // depth_A − depth_B = α·X + β·Y + γ.
-                let k = |f: &Face| {
-                    let [pa, pb, pc, pd] = f.plane;
-                    [pa / pc, pb / pc, pd / pc]
-                };
-                let (ca, cb) = (k(a), k(b));
-                let (al, be, ga) = (cb[0] - ca[0], cb[1] - ca[1], cb[2] - ca[2]);
-                let size = ca[0].abs() + ca[1].abs() + cb[0].abs() + cb[1].abs();
-                if al.abs() + be.abs() <= 1e-12 * size || !(al.is_finite() && be.is_finite()) {
-                    continue; // parallel planes: no line
-                }
-                let side = |x: f64, y: f64| {
-                    let (x, y) = (x.clamp(-1e300, 1e300), y.clamp(-1e300, 1e300));
-                    al * x + be * y + ga
-                };
-                let (bl, bh) = (lo.max(a.min.max(b.min)), hi.min(a.max.min(b.max)));
-                if bl.x > bh.x || bl.y > bh.y {
-                    continue;
-                }
-                let s = [
-                    side(bl.x, bl.y),
-                    side(bh.x, bl.y),
-                    side(bh.x, bh.y),
-                    side(bl.x, bh.y),
-                ];
-                if s.iter().all(|&v| v > 0.0) || s.iter().all(|&v| v < 0.0) {
-                    continue; // the line misses this cell's part of both boxes
-                }
-                for (p0, p1) in line_in_both(a, b, (al, be, ga)) {
-                    // Handled in the first cell along it that holds both.
-                    let mut first = None;
-                    grid.walk(p0, p1, |cell, _, _| {
-                        let l = &grid.cells[cell];
-                        if l.binary_search(&ka).is_ok() && l.binary_search(&kb).is_ok() {
-                            first = Some(cell);
-                            return false;
-                        }
-                        true
-                    });
-                    if first != Some(c) {
-                        continue;
-                    }
-                    stats.intersection_lines += 1;
-                    let line = Line {
-                        p0,
-                        p1,
-                        z0: a.depth_at(p0),
-                        z1: a.depth_at(p1),
-                        owners: [ka, kb],
-                        tie: a.index.min(b.index),
-                    };
-                    let hidden = frame.hidden(scratch, &line, stats);
-                    let colour = if a.index < b.index {
-                        a.colour
-                    } else {
-                        b.colour
-                    };
-                    stats.intersections += frame.emit_visible(&line, &hidden, colour, true, emit);
-                }
-            }
+    let faces = &frame.faces;
+    let mut scan = LineStats::default();
+    let pairs = archuleta::front_crossings(faces, width, height, &mut scan);
+    stats.neighbours += scan.neighbours;
+    for (ka, kb) in pairs {
+        let (a, b) = (&faces[ka as usize], &faces[kb as usize]);
+        // depth_A − depth_B = α·X + β·Y + γ.
+        let k = |f: &Face| {
+            let [pa, pb, pc, pd] = f.plane;
+            [pa / pc, pb / pc, pd / pc]
+        };
+        let (ca, cb) = (k(a), k(b));
+        let (al, be, ga) = (cb[0] - ca[0], cb[1] - ca[1], cb[2] - ca[2]);
+        let size = ca[0].abs() + ca[1].abs() + cb[0].abs() + cb[1].abs();
+        if al.abs() + be.abs() <= 1e-12 * size || !(al.is_finite() && be.is_finite()) {
+            continue; // parallel planes: no line
+        }
+        for (p0, p1) in line_in_both(a, b, (al, be, ga)) {
+            stats.intersection_lines += 1;
+            let line = Line {
+                p0,
+                p1,
+                z0: a.depth_at(p0),
+                z1: a.depth_at(p1),
+                owners: [ka, kb],
+                tie: a.index.min(b.index),
+            };
+            let hidden = frame.hidden(scratch, &line, stats);
+            let colour = if a.index < b.index {
+                a.colour
+            } else {
+                b.colour
+            };
+            stats.intersections += frame.emit_visible(&line, &hidden, colour, true, emit);
         }
     }
+}
+
+/// Do two faces have a vertex in common: the same screen X, Y and depth, bit for bit? A
+/// mesh's faces that meet along an edge or at a corner carry the same numbers there (the
+/// stages transform a shared vertex alike), so this is exact, with no tolerance to choose.
+fn shares_vertex(a: &Face, b: &Face) -> bool {
+    a.points.iter().zip(&a.depths).any(|(p, z)| {
+        b.points
+            .iter()
+            .zip(&b.depths)
+            .any(|(q, w)| p.x == q.x && p.y == q.y && z == w)
+    })
 }
 
 /// The pieces of the line α·X + β·Y + γ = 0 inside both polygons (even-odd).

@@ -1,7 +1,7 @@
 //! hiddenline: screen-space polygons in, the visible parts of their edges out, as SVG.
 
 use clap::Parser;
-use hiddenline::{for_each_segment, svg_line, svg_start, LineStats, SVG_END};
+use hiddenline::{for_each_segment_by, svg_line, svg_start, LineStats, Method, SVG_END};
 use proto::{Colour, Polygon, SpaceKind, Token};
 use stagecli::Error;
 use stagecli::FrameNames;
@@ -46,6 +46,21 @@ struct Args {
     /// hid.
     #[arg(long)]
     stats: bool,
+    /// How the visible pieces are found: `continuous`, each edge against the polygons
+    /// that may hide it in exact geometry; or `archuleta`, Archuleta's own: counters on
+    /// Watkins's scan-line segments, a line drawn when its edge exits or stops being
+    /// visible, its ends between the screen's rows (raster resolution in Y). With
+    /// --stats under archuleta, "pairs tested" counts the edges' visibility tests, one
+    /// an edge a scan line, and the placements hidden count polygons passed over on a
+    /// line by its farthest depth.
+    #[arg(long, value_enum, default_value_t = MethodArg::Continuous)]
+    method: MethodArg,
+}
+
+#[derive(Clone, Copy, clap::ValueEnum)]
+enum MethodArg {
+    Continuous,
+    Archuleta,
 }
 
 fn parse_width(s: &str) -> Result<f64, String> {
@@ -115,7 +130,11 @@ fn main() -> ExitCode {
                 };
             let mut text = svg_start(width, height, args.background, args.stroke_width);
             let mut failed: Option<std::io::Error> = None;
-            for_each_segment(&polygons, width, height, &mut stats, |seg| {
+            let method = match args.method {
+                MethodArg::Continuous => Method::Continuous,
+                MethodArg::Archuleta => Method::Archuleta,
+            };
+            for_each_segment_by(method, &polygons, width, height, &mut stats, |seg| {
                 svg_line(&mut text, &seg);
                 if text.len() >= 1 << 16 && failed.is_none() {
                     failed = sink.write_all(text.as_bytes()).err();
@@ -135,9 +154,10 @@ fn main() -> ExitCode {
             let s = stats;
             eprintln!(
                 "hiddenline: {frame} frames, {} edges, {} shared, {} cuts, {} on the border, {} pairs tested, {} pieces drawn; \
-                 {} lines of intersection, {} pieces drawn; {} placements in cells hidden by a surrounder",
+                 {} lines of intersection, {} pieces drawn; {} placements in cells hidden by a surrounder; \
+                 {} pairs of neighbours passed over",
                 s.edges, s.shared, s.cuts, s.border, s.pairs_tested, s.segments,
-                s.intersection_lines, s.intersections, s.culled
+                s.intersection_lines, s.intersections, s.culled, s.neighbours
             );
         }
         Ok(())

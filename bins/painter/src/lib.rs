@@ -65,7 +65,7 @@ use proto::geometry::{newell_plane, Plane, Side};
 use proto::shade::{Lighting, Shading};
 use proto::{Colour, DVec2, DVec3, DVec4, Polygon, Vertex};
 use scan::frame::{push_row_runs, shaded_runs, HiddenSurface};
-use scan::{Run, SpanWalker};
+use scan::{depth_at, takes, DepthPlane, Run, SpanWalker};
 use std::collections::VecDeque;
 use std::sync::Arc;
 
@@ -97,8 +97,13 @@ pub struct PainterStats {
     /// Cuts made by the splitting step.
     pub splits: u64,
     /// Cycles painted in the order at hand (no split possible, none asked for, or the
-    /// cut budget spent): the method's failure.
+    /// cut budget spent) that left a pixel wrong: the method's failure.
     pub given_up: u64,
+    /// Cycles painted in the order at hand that left no pixel wrong: every pixel P covers
+    /// is held at the end of the frame by P or by a polygon in front of P there (mostly
+    /// pieces that meet at a point the planes share, their outlines a rounding apart,
+    /// sharing no pixel centre). Not a failure.
+    pub apart: u64,
     /// Frames whose cut budget was spent.
     pub budget_spent: u64,
 }
@@ -373,20 +378,13 @@ fn cut(x: &Item, by: &Item) -> Option<(Item, Item)> {
             .unwrap_or([vertices[i], vertices[(i + 1) % n]])
     };
     let mut pieces: [Outline; 2] = Default::default();
-    let classify = |v: Vertex| {
-        // Plane's inside (distance > 0) is behind: depth − depth_of_plane > 0.
-        let d = plane.distance(v.with_w(1.0));
-        let scale = (p.x * v.x).abs() + (p.y * v.y).abs() + v.z.abs() + w.abs();
-        let side = if d.abs() <= 1e-15 * scale {
-            Side::On
-        } else if d > 0.0 {
-            Side::Inside
-        } else {
-            Side::Outside
-        };
-        (side, d)
-    };
-    let sides: Vec<(Side, f64)> = vertices.iter().map(|&v| classify(v)).collect();
+    // The clipper's own side test (proto's `Plane::classify`: on the plane within 4
+    // machine epsilons of the sum of the distance's terms, |a·X| + |b·Y| + |depth| + |d|),
+    // the plane's inside (distance > 0) being behind it: depth − the plane's depth > 0.
+    let sides: Vec<(Side, f64)> = vertices
+        .iter()
+        .map(|&v| plane.classify(v.with_w(1.0)))
+        .collect();
     for i in 0..n {
         let (s, p) = (i, (i + 1) % n);
         let ((s_side, s_d), (p_side, p_d)) = (sides[s], sides[p]);
@@ -521,10 +519,24 @@ pub struct Painter {
     walker: SpanWalker,
     /// The colour-only frame, row-major (no depth buffer).
     frame: Vec<Option<Colour>>,
+    /// The item painted last at each pixel, row-major, from the frame's first cycle
+    /// painted out of order on (empty until then): kept only to judge, at the end of the
+    /// frame, whether the pixels such a cycle painted are wrong (never to decide what is
+    /// painted).
+    owner: Vec<u32>,
     /// The stream's lighting, for Phong shading.
     lighting: Option<Arc<Lighting>>,
+    /// Frames resolved so far: the number of the next one (from 0, as the stream's
+    /// positions and `zspec compare` count them).
+    frames: u64,
+    /// The line the last frame resolved has to say on stderr, if any.
+    note: Option<String>,
     pub stats: PainterStats,
 }
+
+/// The pixel tests spent judging whether the cycles painted out of order in a frame left
+/// a pixel wrong, per pixel of the screen: past them, a cycle counts as wrong unjudged.
+const JUDGED_PER_PIXEL: u64 = 64;
 
 /// The default cut budget: `CUTS_PER_POLYGON·n + CUTS_BASE` cuts for a frame of n
 /// polygons.
@@ -566,19 +578,98 @@ impl Painter {
             .saturating_add(self.cuts_base)
     }
 
-    /// With the splitting step, the line that says some cycle could not be cut (None when
-    /// every one was): how many were painted in the order at hand, and in how many frames
-    /// the cut budget was spent.
-    pub fn gave_up_message(&self) -> Option<String> {
-        let s = &self.stats;
-        (self.split && s.given_up > 0).then(|| {
+    /// The line the frame just resolved has for stderr (`painter: ` is the caller's), taken
+    /// once: None when every cycle of the frame was ordered, cut, or left no pixel wrong.
+    ///
+    /// * Without the splitting step: `frame N: K cycles painted out of order; --split cuts
+    ///   them`.
+    /// * With it, only where what was drawn may be wrong: `frame N: could not order every
+    ///   polygon: K cycles painted out of order, ` and why: the frame's cut budget was
+    ///   spent, or no cut by either plane has two pieces (a polygon not planar enough to
+    ///   cut, or a piece that would pass [`MAX_PIECE_VERTICES`]).
+    ///
+    /// N counts frames from 0, as the stream's positions and `zspec compare` do.
+    pub fn take_note(&mut self) -> Option<String> {
+        self.note.take()
+    }
+
+    /// The note of frame `frame`, which painted `given_up` cycles out of order and spent
+    /// its budget of `budget` cuts or not.
+    fn note_of(&self, frame: u64, given_up: u64, spent: bool, budget: usize) -> Option<String> {
+        if given_up == 0 {
+            return None;
+        }
+        Some(if !self.split {
+            format!("frame {frame}: {given_up} cycles painted out of order; --split cuts them")
+        } else if spent {
             format!(
-                "could not order every polygon: {} cycle(s) painted in the order at hand, the \
-                 picture may differ from the z-buffer's there ({} frame(s) spent the cut budget \
-                 of {} cuts a polygon + {})",
-                s.given_up, s.budget_spent, self.cuts_per_polygon, self.cuts_base
+                "frame {frame}: could not order every polygon: {given_up} cycles painted out \
+                 of order, the cut budget spent ({budget} cuts: {} a polygon + {})",
+                self.cuts_per_polygon, self.cuts_base
+            )
+        } else {
+            format!(
+                "frame {frame}: could not order every polygon: {given_up} cycles painted out \
+                 of order, no cut by either plane has two pieces"
             )
         })
+    }
+
+    /// Whether the cycle painted out of order whose P is `items[p]` left a pixel wrong:
+    /// a pixel P covers (by the sampling rule, as it was painted) that is held at the end
+    /// of the frame by a polygon not in front of P there (on the polygons' depth planes
+    /// as the z-buffer takes them, [`scan::DepthPlane`], by the tie rule). Such a polygon
+    /// was painted after P where P should hide it: the frame shows it where the z-buffer
+    /// shows P or something nearer. Each pixel judged costs one from `budget`; when it
+    /// runs out the cycle counts as wrong (what was drawn may be wrong, unjudged).
+    #[allow(clippy::too_many_arguments)]
+    fn left_a_pixel_wrong(
+        &mut self,
+        polygons: &[Polygon],
+        items: &[Item],
+        p: usize,
+        planes: &mut [Option<DepthPlane>],
+        width: u32,
+        height: u32,
+        budget: &mut u64,
+    ) -> bool {
+        let pi = &items[p];
+        let owner = &self.owner;
+        let mut plane = |i: usize| *planes[i].get_or_insert_with(|| DepthPlane::of(&polygons[i]));
+        let p_plane = plane(pi.index);
+        let mut wrong = false;
+        self.walker.for_each_span(&pi.polygon, width, height, |s| {
+            if wrong {
+                return;
+            }
+            let (z_row, dz) = p_plane.row(s.y);
+            let row = s.y as usize * width as usize;
+            for x in s.x0..s.x1 {
+                if *budget == 0 {
+                    wrong = true;
+                    return;
+                }
+                *budget -= 1;
+                let o = owner[row + x as usize] as usize;
+                let oi = &items[o];
+                if o == p || oi.index == pi.index {
+                    continue;
+                }
+                let z_p = depth_at(z_row, dz, x);
+                let (o_row, o_dz) = plane(oi.index).row(s.y);
+                let z_o = depth_at(o_row, o_dz, x);
+                let o_in_front = if oi.index < pi.index {
+                    !takes(z_p, z_o)
+                } else {
+                    takes(z_o, z_p)
+                };
+                if !o_in_front {
+                    wrong = true;
+                    return;
+                }
+            }
+        });
+        wrong
     }
 
     /// The frame's items, sorted farthest first (at an equal farthest depth, the later
@@ -646,6 +737,15 @@ impl Painter {
         false
     }
 
+    /// Records item `item` as the last painted on `polygon`'s pixels.
+    fn claim(&mut self, item: usize, width: u32, height: u32, polygon: &Polygon) {
+        let owner = &mut self.owner;
+        self.walker.for_each_span(polygon, width, height, |s| {
+            let row = s.y as usize * width as usize;
+            owner[row + s.x0 as usize..row + s.x1 as usize].fill(item as u32);
+        });
+    }
+
     /// Paints `polygon` (a polygon of the frame, or a piece cut from one) over what is
     /// there: in its colour, or, where `shading` is the whole polygon's Gouraud shading,
     /// each pixel in the whole's colour at its centre, so that a piece is shaded as the
@@ -677,6 +777,9 @@ impl HiddenSurface for Painter {
     fn resolve(&mut self, polygons: &[Polygon], width: u32, height: u32, runs: &mut Vec<Run>) {
         self.frame.clear();
         self.frame.resize(width as usize * height as usize, None);
+        // Kept from the first cycle painted out of order on (the pixels judged are all
+        // painted from then on); a frame without one allocates nothing.
+        self.owner.clear();
         let mut items = Self::items(polygons);
         self.stats.polygons += items.len() as u64;
         let budget = self.cut_budget(items.len());
@@ -689,7 +792,11 @@ impl HiddenSurface for Painter {
         // (each costs a search of the list: bounded as the cuts are).
         let mut moves = 0usize;
         let mut moves_left = budget.saturating_mul(8);
-        while let Some(&p) = list.front() {
+        // Cycles painted out of order in this frame.
+        // Each cycle painted out of order: the P painted, and the Q's painted after it
+        // that it may hide part of.
+        let mut out_of_order: Vec<usize> = Vec::new();
+        'list: while let Some(&p) = list.front() {
             // Find a Q that P might hide part of.
             let mut obstructing = None;
             for (k, &q) in list.iter().enumerate().skip(1) {
@@ -723,7 +830,7 @@ impl HiddenSurface for Painter {
                     list.remove(k);
                     list.push_front(q);
                     self.stats.swaps += 1;
-                    continue;
+                    continue 'list;
                 }
                 // Q has moved before (a cycle), or neither may go first: they pass
                 // through each other.
@@ -738,29 +845,64 @@ impl HiddenSurface for Painter {
                     moves += 1;
                     moves_left -= 1;
                     self.stats.swaps += 1;
-                    continue;
+                    continue 'list;
                 }
                 if self.split {
                     if cuts < budget {
                         if self.split_cycle(&mut items, &mut list, k, generation) {
                             cuts += 1;
-                            continue;
+                            continue 'list;
                         }
                     } else {
                         spent = true;
                     }
                 }
-                self.stats.given_up += 1;
+                // P is painted now, before Q and any other it may hide part of: the
+                // picture may be wrong only where P shares a pixel centre with one of them.
+                out_of_order.push(p);
+                if self.owner.is_empty() {
+                    self.owner
+                        .resize(width as usize * height as usize, u32::MAX);
+                }
             }
             // Paint P over what is there.
             list.pop_front();
             // A piece is shaded by the whole polygon it was cut from.
             let shading = Shading::of(&polygons[items[p].index], self.lighting.as_ref());
             self.paint(&items[p].polygon, shading.as_ref(), width, height);
+            if !self.owner.is_empty() {
+                self.claim(p, width, height, &items[p].polygon);
+            }
             generation += 1;
             moves = 0;
         }
         self.stats.budget_spent += spent as u64;
+        // A cycle painted out of order is a failure where it left a pixel wrong: judged
+        // on P's pixels against the polygon painted last there, up to JUDGED_PER_PIXEL
+        // pixel tests a pixel of the screen in the frame.
+        let mut given_up = 0u64;
+        if !out_of_order.is_empty() {
+            let mut planes: Vec<Option<DepthPlane>> = vec![None; polygons.len()];
+            let mut budget = JUDGED_PER_PIXEL * width as u64 * height as u64;
+            for &p in &out_of_order {
+                if self.left_a_pixel_wrong(
+                    polygons,
+                    &items,
+                    p,
+                    &mut planes,
+                    width,
+                    height,
+                    &mut budget,
+                ) {
+                    given_up += 1;
+                } else {
+                    self.stats.apart += 1;
+                }
+            }
+        }
+        self.stats.given_up += given_up;
+        self.note = self.note_of(self.frames, given_up, spent, budget);
+        self.frames += 1;
         for (y, row) in self.frame.chunks_exact(width.max(1) as usize).enumerate() {
             push_row_runs(y as u32, row, runs);
         }
@@ -786,7 +928,7 @@ impl HiddenSurface for Painter {
             .map(|(i, (name, n))| format!("test {} ({name}) {n}", i + 1))
             .collect();
         format!(
-            "{} polygons sorted, {} painted, pairs resolved by {}, {} unresolved, {} swaps, {} cycles, {} splits, {} cycles painted out of order",
+            "{} polygons sorted, {} painted, pairs resolved by {}, {} unresolved, {} swaps, {} cycles, {} splits, {} cycles painted out of order, {} out of order that left no pixel wrong",
             s.polygons,
             s.painted,
             tests.join(", "),
@@ -794,7 +936,8 @@ impl HiddenSurface for Painter {
             s.swaps,
             s.cycles,
             s.splits,
-            s.given_up
+            s.given_up,
+            s.apart
         )
     }
 }

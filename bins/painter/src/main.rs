@@ -2,8 +2,13 @@
 
 use clap::Parser;
 use painter::Painter;
+use proto::shade::Lighting;
+use proto::Polygon;
+use scan::frame::HiddenSurface;
+use scan::Run;
 use stagecli::TextFlag;
 use std::process::ExitCode;
+use std::sync::Arc;
 
 /// Depth sort, painted back to front (Newell, Newell and Sancha, in Sutherland, Sproull
 /// and Schumacker's survey of ten hidden-surface algorithms, [SuSp74]): a hidden-surface
@@ -16,14 +21,19 @@ use std::process::ExitCode;
 /// from the back to the front into a frame of colours (no depth buffer), and writes the
 /// finished pixels as runs (`run Y X0 X1 R G B`) for zbuf to place.
 ///
-/// Where it fails (counted by --stats):
+/// Where it fails (counted by --stats, and said on stderr, one line a frame):
 ///   - interpenetrating polygons (examples/penetrating.txt) and cyclic overlap
 ///     (A over B over C over A): there is no order to paint in; without --split one
-///     polygon of the cycle is painted whole over the others;
+///     polygon of the cycle is painted whole over the others, and a frame where that
+///     happened gets `painter: frame N: K cycles painted out of order; --split cuts
+///     them` (frames counted from 0);
 ///   - with --split the cycle is broken by cutting a polygon by the other's plane
 ///     (Sutherland-Hodgman) and the pieces sorted on, up to a cut budget a frame
-///     (--cuts-per-polygon x polygons + --cuts-base); when the budget is spent the rest
-///     is painted in the order at hand and painter says so on stderr, every time.
+///     (--cuts-per-polygon x polygons + --cuts-base); when the budget is spent (or no
+///     cut has two pieces) the rest is painted in the order at hand and painter says
+///     `painter: frame N: could not order every polygon: ...` on stderr.
+///   - a cycle painted in the order at hand that left no pixel wrong (pieces that
+///     meet at a point, sharing no pixel centre) is no failure and is not said.
 ///   - coincident polygons and equal depths in general: the earlier in the stream is in
 ///     front, as the z-buffer decides; a vertex within a rounding band of a plane
 ///     counts as on it.
@@ -55,19 +65,38 @@ struct Args {
     stats: bool,
 }
 
+/// The painter, saying each frame's note on stderr as soon as the frame is resolved.
+struct Loud(Painter);
+
+impl HiddenSurface for Loud {
+    fn resolve(&mut self, polygons: &[Polygon], width: u32, height: u32, runs: &mut Vec<Run>) {
+        self.0.resolve(polygons, width, height, runs);
+        if let Some(line) = self.0.take_note() {
+            eprintln!("painter: {line}");
+        }
+    }
+    fn stats(&self) -> String {
+        self.0.stats()
+    }
+    fn shades(&self) -> bool {
+        self.0.shades()
+    }
+    fn set_lighting(&mut self, lighting: Option<Arc<Lighting>>) {
+        self.0.set_lighting(lighting)
+    }
+    fn transparency(&self) -> bool {
+        self.0.transparency()
+    }
+}
+
 fn main() -> ExitCode {
     stagecli::main("painter", |args: Args| {
-        let mut method = if args.split {
+        let method = if args.split {
             Painter::with_split_budget(args.cuts_per_polygon, args.cuts_base)
         } else {
             Painter::new()
         };
-        let result = stagecli::resolve_frames("painter", args.text.form(), args.stats, &mut method);
-        // Said whether or not --stats was given, and whatever became of the output.
-        if let Some(line) = method.gave_up_message() {
-            eprintln!("painter: {line}");
-        }
-        result?;
+        stagecli::resolve_frames("painter", args.text.form(), args.stats, &mut Loud(method))?;
         Ok(())
     })
 }

@@ -506,20 +506,48 @@ fn a_spent_cut_budget_is_said() {
     paint(&mut s, &planes, 64, 64);
     assert_eq!(s.stats.splits, 2);
     assert_eq!(s.stats.budget_spent, 1);
-    let message = s.gave_up_message().unwrap();
-    assert!(
-        message.starts_with(&format!(
-            "could not order every polygon: {} cycle(s) painted in the order at hand",
+    assert_eq!(
+        s.take_note(),
+        Some(format!(
+            "frame 0: could not order every polygon: {} cycles painted out of order, the cut \
+             budget spent (2 cuts: 0 a polygon + 2)",
             s.stats.given_up
-        )),
-        "{message}"
+        ))
     );
-    assert!(message.ends_with("(1 frame(s) spent the cut budget of 0 cuts a polygon + 2)"));
-    // Without --split the failure is the method's own, counted but not said.
+    // Taken once; the next frame is frame 1.
+    assert_eq!(s.take_note(), None);
+    paint(&mut s, &planes, 64, 64);
+    assert!(s
+        .take_note()
+        .unwrap()
+        .starts_with("frame 1: could not order"));
+    // Without --split the failure is said with its remedy.
     let mut p = Painter::new();
     paint(&mut p, &planes, 64, 64);
     assert!(p.stats.given_up > 0);
-    assert_eq!(p.gave_up_message(), None);
+    assert_eq!(
+        p.take_note(),
+        Some(format!(
+            "frame 0: {} cycles painted out of order; --split cuts them",
+            p.stats.given_up
+        ))
+    );
+}
+
+#[test]
+fn a_frame_whose_cycles_were_all_cut_says_nothing() {
+    // Five planes through one point: the pieces meet at the point, their outlines a
+    // rounding apart, and the sort meets "cycles" among them that no cut resolves but
+    // that share no pixel centre: no failure, no note.
+    let planes = crossing_planes(5, 64.0);
+    let mut s = Painter::with_split();
+    paint(&mut s, &planes, 64, 64);
+    assert_eq!((s.stats.given_up, s.stats.budget_spent), (0, 0));
+    assert_eq!(s.take_note(), None);
+    // An ordered frame says nothing either way.
+    let mut p = Painter::new();
+    paint(&mut p, &planes[..1], 64, 64);
+    assert_eq!(p.take_note(), None);
 }
 
 #[test]
@@ -598,7 +626,8 @@ fn a_plane_whose_terms_cancel_is_not_cut() {
     // garbage at its other vertices, against a self-crossing polygon of no net area (a
     // flat plane at its nearest depth). Cut 2,050 times along misplaced lines, the
     // pieces lost three pixels of the triangle. Neither is cuttable now: the cycle is
-    // painted in the order at hand, and said.
+    // painted in the order at hand; the two share no pixel centre, so that is no
+    // failure and nothing is said.
     let a = Polygon::from_xyz(
         [142, 113, 113],
         &[
@@ -623,8 +652,35 @@ fn a_plane_whose_terms_cancel_is_not_cut() {
         .iter()
         .zip(&image)
         .all(|(a, b)| a.is_some() == b.is_some()));
-    assert_eq!((s.stats.splits, s.stats.given_up), (0, 1));
-    assert!(s.gave_up_message().is_some());
+    assert_eq!((s.stats.splits, s.stats.given_up, s.stats.apart), (0, 0, 1));
+    assert_eq!(s.take_note(), None);
+}
+
+#[test]
+fn a_cycle_no_cut_resolves_is_said_where_pixels_are_shared() {
+    // The interpenetrating squares, red bent out of its plane (0.08 at a corner, far
+    // past the 10⁻³ a polygon must lie on its plane to be cut): no cut is made, the
+    // pair shares 72 pixels that come out the wrong way round, and it is said.
+    let red = quad(
+        [255, 0, 0],
+        [[0.0, 0.0], [20.0, 0.0], [20.0, 16.0], [0.0, 16.0]],
+        |x, y| 0.3 + x * 0.02 + x * y * 0.001,
+    );
+    let blue = quad(
+        [0, 0, 255],
+        [[4.0, 4.0], [20.0, 4.0], [20.0, 20.0], [4.0, 20.0]],
+        |_, _| 0.5,
+    );
+    let (_, split, _, mut s) = against_zbuffer(&[red, blue], 20, 20);
+    assert!(split > 0, "{split}");
+    assert_eq!((s.stats.splits, s.stats.given_up, s.stats.apart), (0, 1, 0));
+    assert_eq!(
+        s.take_note().as_deref(),
+        Some(
+            "frame 0: could not order every polygon: 1 cycles painted out of order, no cut by \
+             either plane has two pieces"
+        )
+    );
 }
 
 #[test]

@@ -18,15 +18,24 @@ use std::process::ExitCode;
     version,
     after_help = "Example:\n  viewxf --size 640x480 < scene | clipplane left | ... | clipplane yon \\\n    \
                   | persp --size 640x480 --text\n  \
-                  persp --size 500x500 --depth eye-z   # the occam code's depth, to compare"
+                  persp --size 500x500 --zmode eye-z   # the occam code's depth, to compare"
 )]
 struct Cli {
     /// The screen size in pixels, `WxH`; recorded in the output header.
     #[arg(long, value_parser = parse_size, value_name = "WxH")]
     size: (u32, u32),
     /// The depth written for each vertex.
-    #[arg(long, value_enum, default_value_t = DepthArg::Reciprocal)]
-    depth: DepthArg,
+    #[arg(long, value_enum, value_name = "MODE", default_value_t = DepthArg::Reciprocal)]
+    zmode: DepthArg,
+    /// --zmode's old name, taken for one release with a note on stderr.
+    #[arg(
+        long,
+        value_enum,
+        value_name = "MODE",
+        hide = true,
+        conflicts_with = "zmode"
+    )]
+    depth: Option<DepthArg>,
     #[command(flatten)]
     text: TextFlag,
 }
@@ -34,6 +43,16 @@ struct Cli {
 fn main() -> ExitCode {
     stagecli::main("persp", |cli: Cli| {
         let (width, height) = cli.size;
+        let depth = match cli.depth {
+            Some(old) => {
+                eprintln!(
+                    "{}",
+                    stagecli::args::renamed("persp", "--depth MODE", "--zmode MODE")
+                );
+                old
+            }
+            None => cli.zmode,
+        };
         stagecli::filter_polygons(
             SpaceKind::Eye,
             cli.text.form(),
@@ -44,7 +63,7 @@ fn main() -> ExitCode {
                 };
                 // A view volume persp cannot map (from the stream's header) is bad input.
                 let perspective =
-                    Perspective::new(width, height, view, cli.depth.into()).map_err(Error::data)?;
+                    Perspective::new(width, height, view, depth.into()).map_err(Error::data)?;
                 Ok((
                     perspective.screen_header(header),
                     move |poly: &mut Polygon| {

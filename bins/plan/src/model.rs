@@ -157,7 +157,7 @@ pub struct Constants {
     pub drops_emptied: bool,
     /// Whether each leaf runs a persp of its own (the thesis's, a process and a
     /// transputer a stage); polypipe's tree has its last level project the leaves'
-    /// streams (`splitter --persp`), a process a leaf fewer.
+    /// streams (`splitter --project`), a process a leaf fewer.
     pub persp_at_leaves: bool,
     pub overheads: Overheads,
     /// viewxf reading a text scene.
@@ -173,7 +173,7 @@ pub struct Constants {
     pub hse: Cost,
     /// The merger, zbuf, placing the leaves' runs and writing the frames.
     pub merge: Cost,
-    /// zbuf resolving the one leaf itself at depth 0 (`zbuf --persp`, its projection
+    /// zbuf resolving the one leaf itself at depth 0 (`zbuf --project`, its projection
     /// counted at persp's cost): the leaf's z-buffer and the frames, in one process,
     /// with no runs between them.
     pub resolve: Cost,
@@ -443,7 +443,7 @@ pub fn predict_on(k: &Constants, env: &Environment, depth: u8, target: &Target) 
     let here_levels = host_level.unwrap_or(depth);
     let leaf = node(depth);
     // With the leaves here, the tree's last level projects the leaves' streams
-    // (`splitter --persp`), and a leaf has no persp process: each node of that level
+    // (`splitter --project`), and a leaf has no persp process: each node of that level
     // does its two leaves' persp work, counted at persp's own cost (an upper bound: on
     // the fill-heavy scene the projection inside the splitter costs about a sixth of
     // the two persp processes it replaces, docs/performance.md).
@@ -465,7 +465,7 @@ pub fn predict_on(k: &Constants, env: &Environment, depth: u8, target: &Target) 
     // each.
     let mut leaf_stages = Vec::new();
     if depth == 0 && host_level.is_none() {
-        // One leaf, whose region is the screen: render.sh runs `zbuf --persp`, zbuf
+        // One leaf, whose region is the screen: render.sh runs `zbuf --project`, zbuf
         // projecting the clipper's stream (at persp's cost), resolving the leaf and
         // writing the frames in one process; the thesis's figures keep persp's process.
         if k.persp_at_leaves {

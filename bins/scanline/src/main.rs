@@ -11,8 +11,10 @@ use std::process::ExitCode;
 /// one scan line at a time, with no depth buffer: the active polygons' segments on the
 /// line, kept in X order from line to line by a minor sort, cut into sample spans at
 /// the segment ends; in a span where segments overlap, depth is compared at its left
-/// end, the first column where another segment comes in front is solved for exactly (by
-/// midpoint subdivision where several may), and the span split there; the line above's
+/// end, the first column where another segment comes in front is computed where the
+/// two depth lines meet (XINTER) and settled by the z-buffer's test at the pixel
+/// centres beside it (by midpoint subdivision first where several may), and the span
+/// split there; the active polygons' edges are kept in one shared table; the line above's
 /// front and crossing columns are tried first and verified. Writes the visible pixels
 /// of each frame as runs of one colour (`run Y X0 X1 R G B`), which zbuf places without
 /// a depth test; a Gouraud-shaded polygon's pixels (a `vertex-colours` stream) each in
@@ -41,7 +43,8 @@ struct Args {
     /// comparisons (tests of the tie rule at a column) and crossings (splits where another
     /// segment comes in front); the minor sort's segments merged in, re-sorted and swaps;
     /// the predictions from the line above (fronts and crossing columns) that held and
-    /// that failed; and the midpoint subdivisions.
+    /// that failed; the midpoint subdivisions; and the crossings computed from the depth
+    /// lines (XINTER), with those whose X was more than a column off and were searched.
     #[arg(long)]
     stats: bool,
     /// Sort the segments afresh on every line and predict nothing from the line above:

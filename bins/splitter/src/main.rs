@@ -1,5 +1,5 @@
 //! splitter: one node of the splitter tree (thesis chapter 6.2), eye space in, two
-//! eye-space streams out (or, with --persp, two screen-space ones).
+//! eye-space streams out (or, with --project, two screen-space ones).
 
 use clap::Parser;
 use proto::perspective::Perspective;
@@ -18,9 +18,10 @@ use std::process::ExitCode;
 /// named pipes; `-` is stdout, for at most one of them, and they must be two files. When
 /// one output's reader goes away, the other still gets the whole stream.
 ///
-/// With `--persp MODE` the two outputs are projected to the screen, as `persp --size WxH
-/// --depth MODE` after each would project them: what render.sh asks of the tree's last
-/// level, whose outputs are the leaves', so that a leaf needs no persp process of its own.
+/// With `--project` the two outputs are projected to the screen, as `persp --size WxH
+/// --zmode MODE` after each would project them (`--zmode`, default reciprocal): what
+/// render.sh asks of the tree's last level, whose outputs are the leaves', so that a leaf
+/// needs no persp process of its own.
 ///
 /// With `--levels L` the process is node K and the nodes below it, L levels deep: the
 /// outputs are the streams of the 2^L nodes L levels below K, left to right, the bytes
@@ -40,7 +41,7 @@ use std::process::ExitCode;
         splitter y=0.5 low - < eye.txt --text      # the upper part to stdout\n  \
         splitter --node 2 --depth 2 --size 500x500 a b  # node 2 of render.sh --depth 2\n  \
         splitter --plane 1,0,0,-0.5,0 a b < eye.txt  # x_e - 0.5 w >= 0 to a\n  \
-        splitter --node 2 --depth 2 --size 500x500 --persp reciprocal a b  # to the leaves\n  \
+        splitter --node 2 --depth 2 --size 500x500 --project a b  # to the leaves\n  \
         splitter --node 1 --depth 2 --levels 2 --size 500x500 a b c d  # nodes 1, 2 and 3"
 )]
 struct Cli {
@@ -64,11 +65,19 @@ struct Cli {
     /// (default 1: node K alone); the outputs are those of the level L below K's.
     #[arg(long, value_name = "L", requires = "node", default_value_t = 1)]
     levels: u32,
-    /// The screen's size in pixels, for --node and --persp.
+    /// The screen's size in pixels, for --node and --project.
     #[arg(long, value_name = "WxH")]
     size: Option<String>,
-    /// Project both outputs to a --size screen with this depth, as persp's --depth.
-    #[arg(long, value_enum, value_name = "MODE", requires = "size")]
+    /// Project both outputs to a --size screen, as `persp --size WxH --zmode MODE` would.
+    #[arg(long, requires = "size")]
+    project: bool,
+    /// The depth --project writes, as persp's --zmode [default: reciprocal].
+    #[arg(long, value_enum, value_name = "MODE")]
+    zmode: Option<DepthArg>,
+    /// `--project --zmode MODE`'s old spelling, taken for one release with a note on
+    /// stderr.
+    #[arg(long, value_enum, value_name = "MODE", hide = true, requires = "size",
+          conflicts_with_all = ["project", "zmode"])]
     persp: Option<DepthArg>,
     #[command(flatten)]
     text: TextFlag,
@@ -89,9 +98,12 @@ struct Plan {
     outputs: Vec<String>,
     /// The screen's size (--size), in pixels.
     size: Option<(u32, u32)>,
+    /// With --project: the depth the outputs carry.
+    depth: Option<DepthArg>,
 }
 
 fn plan(cli: &Cli) -> Result<Plan, Error> {
+    let depth = stagecli::args::projection("splitter", cli.project, cli.zmode, cli.persp)?;
     let size = match cli.size.as_deref() {
         Some(size) => Some(
             proto::camera::parse_size(size)
@@ -99,8 +111,8 @@ fn plan(cli: &Cli) -> Result<Plan, Error> {
         ),
         None => None,
     };
-    if size.is_some() && cli.node.is_none() && cli.persp.is_none() {
-        return Err(Error::usage("--size is for --node or --persp"));
+    if size.is_some() && cli.node.is_none() && depth.is_none() {
+        return Err(Error::usage("--size is for --node or --project"));
     }
     let tree_nodes = match (cli.node, size) {
         (Some(node), Some((width, height))) => Some(subtree(
@@ -164,6 +176,7 @@ fn plan(cli: &Cli) -> Result<Plan, Error> {
         nodes,
         outputs,
         size,
+        depth,
     })
 }
 
@@ -202,6 +215,7 @@ fn main() -> ExitCode {
             nodes,
             outputs,
             size,
+            depth,
         } = plan(&cli)?;
         let mut reader = stagecli::read_stdin::<Token>(SpaceKind::Eye)?;
         let header = *reader.header();
@@ -216,7 +230,7 @@ fn main() -> ExitCode {
         );
         // persp's mapping, when the outputs go to the screen; a view volume it cannot
         // map (from the stream's header) is bad input, as it is to persp.
-        let perspective = match (cli.persp, size) {
+        let perspective = match (depth, size) {
             (Some(depth), Some((width, height))) => {
                 Some(Perspective::new(width, height, view, depth.into()).map_err(Error::data)?)
             }

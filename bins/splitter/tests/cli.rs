@@ -378,12 +378,12 @@ fn skips_coalesce_and_keep_numbering() {
     );
 }
 
-/// `--persp`: both outputs in screen space, byte for byte what `persp` makes of the
+/// `--project`: both outputs in screen space, byte for byte what `persp` makes of the
 /// plain outputs (the square's cut at x_e = 0 lands on X = 4 of an 8×8 screen; every
 /// vertex is at z_e = 16, so at the reciprocal depth −1/16).
 #[test]
 fn persp_projects_both_outputs_as_persp_would() {
-    let (out1, out2) = split("persp", &["--size", "8x8", "--persp", "reciprocal", "x=0"]);
+    let (out1, out2) = split("persp", &["--size", "8x8", "--project", "x=0"]);
     assert_eq!(
         out1,
         "polypipe 1 screen 8 8 depth reciprocal 1
@@ -441,12 +441,29 @@ END
 "
     );
     // Each output is what persp makes of the plain split's (as text, through the
-    // workspace's persp binary).
+    // workspace's persp binary), with each depth form (`--zmode`, reciprocal by default).
     let (plain1, plain2) = split("persp-plain", &["x=0"]);
     let persp = pipeline_tests::bin_dir().join("persp");
-    for (plain, projected) in [(plain1, out1), (plain2, out2)] {
+    let mut cases = vec![
+        ("reciprocal", plain1.clone(), out1),
+        ("reciprocal", plain2.clone(), out2),
+    ];
+    for mode in ["reciprocal", "projective", "eye-z"] {
+        let name = format!("persp-{mode}");
+        let (out1, out2) = split(
+            &name,
+            &["--size", "8x8", "--project", "--zmode", mode, "x=0"],
+        );
+        assert!(
+            out1.starts_with(&format!("polypipe 1 screen 8 8 depth {mode}")),
+            "{out1}"
+        );
+        cases.push((mode, plain1.clone(), out1));
+        cases.push((mode, plain2.clone(), out2));
+    }
+    for (mode, plain, projected) in cases {
         let out = std::process::Command::new(&persp)
-            .args(["--size", "8x8", "--text"])
+            .args(["--size", "8x8", "--zmode", mode, "--text"])
             .stdin(std::process::Stdio::piped())
             .stdout(std::process::Stdio::piped())
             .spawn()
@@ -461,8 +478,9 @@ END
     }
 }
 
-/// `--persp` refuses what persp refuses, with persp's words: a screen of another shape
-/// than the stream was viewed for, a vertex behind the eye; and it needs `--size`.
+/// `--project` refuses what persp refuses, with persp's words: a screen of another shape
+/// than the stream was viewed for, a vertex behind the eye; it needs `--size`, and
+/// `--zmode` is for it.
 #[test]
 fn persp_refuses_as_persp_does() {
     let dir = scratch("persp-bad");
@@ -476,7 +494,7 @@ fn persp_refuses_as_persp_does() {
             .write_stdin(input.to_string())
             .assert()
     };
-    run(&["--size", "8x6", "--persp", "reciprocal", "x=0"], EYE)
+    run(&["--size", "8x6", "--project", "x=0"], EYE)
         .code(1)
         .stderr(
             "splitter: --size 8x6 has aspect 1.333 but the stream was viewed with aspect 1; \
@@ -484,19 +502,74 @@ fn persp_refuses_as_persp_does() {
         );
     let behind = "polypipe 1 eye aspect 1 hither 1 yon 30\ncolour 1 2 3\n\
                   -1 -1 -1 -1\n1 -1 -1 -1\n0 1 -1 -1\nEND\n";
-    run(&["--size", "8x8", "--persp", "reciprocal", "x=0"], behind)
+    run(&["--size", "8x8", "--project", "x=0"], behind)
         .code(1)
         .stderr(
             "splitter: frame 0, polygon 0: vertex 0 (-1 -1 -1 -1) has w = -1 ≤ 0, at or \
              behind the eye, and cannot be projected; clip against hither first (clipplane \
              hither)\n",
         );
-    run(&["--persp", "eye-z", "x=0"], EYE)
+    run(&["--project", "--zmode", "eye-z", "x=0"], EYE)
         .code(2)
-        .stderr(predicates::str::contains("--size"));
+        .stderr("splitter: the following required arguments were not provided: --size <WxH>\n");
     run(&["--size", "8x8", "x=0"], EYE)
         .code(2)
-        .stderr("splitter: --size is for --node or --persp\n");
+        .stderr("splitter: --size is for --node or --project\n");
+    run(&["--size", "8x8", "--zmode", "projective", "x=0"], EYE)
+        .code(2)
+        .stderr(
+            "splitter: --zmode projective is for --project (the depth its projection writes)\n",
+        );
+}
+
+/// `--persp MODE`, the old spelling of `--project --zmode MODE`, is still taken for one
+/// release: the same outputs, and a note on stderr saying what it is now called; beside
+/// the new spelling it is refused; the help tells only of the new.
+#[test]
+fn old_persp_spelling_still_works_with_a_note() {
+    let dir = scratch("persp-old");
+    let (a, b) = (dir.join("a"), dir.join("b"));
+    let run = |args: &[&str]| {
+        Command::cargo_bin("splitter")
+            .unwrap()
+            .args(args)
+            .arg(&a)
+            .arg(&b)
+            .arg("--text")
+            .write_stdin(EYE)
+            .assert()
+    };
+    let (new1, new2) = split(
+        "persp-new",
+        &["--size", "8x8", "--project", "--zmode", "eye-z", "x=0"],
+    );
+    run(&["--size", "8x8", "--persp", "eye-z", "x=0"])
+        .success()
+        .stderr(
+            "splitter: --persp MODE is now --project --zmode MODE; the old spelling goes in \
+             the next release\n",
+        );
+    assert_eq!(std::fs::read_to_string(&a).unwrap(), new1);
+    assert_eq!(std::fs::read_to_string(&b).unwrap(), new2);
+    run(&[
+        "--size", "8x8", "--persp", "eye-z", "--zmode", "eye-z", "x=0",
+    ])
+    .code(2)
+    .stderr("splitter: the argument '--persp <MODE>' cannot be used with '--zmode <MODE>'\n");
+    let help = Command::cargo_bin("splitter")
+        .unwrap()
+        .arg("--help")
+        .assert()
+        .success()
+        .get_output()
+        .stdout
+        .clone();
+    let help = String::from_utf8(help).unwrap();
+    assert!(
+        help.contains("--project") && help.contains("--zmode <MODE>"),
+        "{help}"
+    );
+    assert!(!help.contains("--persp"), "{help}");
 }
 
 /// `--levels L` is node K and the nodes below it in one process: its outputs are the
@@ -548,11 +621,7 @@ fn levels_in_one_process_write_what_a_process_per_node_writes() {
     };
     let file = |name: String| dir.join(name);
     for (root, levels, depth, persp) in [(1, 3, 3, false), (2, 2, 3, true), (1, 2, 2, false)] {
-        let extra: &[&str] = if persp {
-            &["--persp", "reciprocal"]
-        } else {
-            &[]
-        };
+        let extra: &[&str] = if persp { &["--project"] } else { &[] };
         // A process per node, level by level, the last level projecting if asked.
         let mut chained = String::new();
         let mut first = root;

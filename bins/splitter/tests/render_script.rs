@@ -378,7 +378,7 @@ fn stats_name_each_node_and_leaf_and_add_up_to_the_linear_pipeline() {
     };
     // One process is nodes 1, 2 and 3 (`splitter --levels 2`): node 1's outputs stay in
     // it, so its line has no bytes; nodes 2 and 3, the last level, write the leaves'
-    // screen-space streams (`--persp`), whose header is 4 bytes shorter than an
+    // screen-space streams (`--project`), whose header is 4 bytes shorter than an
     // eye-space one.
     const SPLITTERS: &str = "splitter x=0 (node 1): 2 polygons in; out1 2 polygons, 7 vertices; out2 2 polygons, 7 vertices\n\
          splitter y=0 (node 2): 2 polygons in; out1 2 polygons, 7 vertices; out2 2 polygons, 7 vertices; 641 and 641 bytes out\n\

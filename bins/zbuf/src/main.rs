@@ -2,7 +2,7 @@
 
 use clap::Parser;
 use proto::Colour;
-use stagecli::{Error, PpmTextFlag};
+use stagecli::{DepthArg, Error, PpmTextFlag};
 use std::io::{self, Write};
 use std::process::ExitCode;
 use zbuf::par_buff::{par_buff, Input};
@@ -15,14 +15,15 @@ use zbuf::{parse_colour, FramePattern, ImageFormat};
 /// plain P3 with --text) when every input has finished it: frames concatenated on
 /// stdout, or one file per frame. An input may also be a screen-space polygon stream
 /// (persp's output): zbuf then scan-converts and depth-tests it itself, as
-/// `scanconv --resolve` would, and places the result; with --persp, an eye-space one
+/// `scanconv --resolve` would, and places the result; with --project, an eye-space one
 /// (the clipper's output), projected here as persp would (render.sh --depth 0 runs
-/// `clipbatch | zbuf --persp reciprocal --size WxH`).
+/// `clipbatch | zbuf --project --size WxH`).
 ///
 /// Examples:
 ///   persp --size 500x500 < eye.pp | scanconv | zbuf > frame.ppm
 ///   persp --size 500x500 < eye.pp | zbuf > frame.ppm
-///   zbuf --persp reciprocal --size 500x500 < eye.pp > frame.ppm
+///   zbuf --project --size 500x500 < eye.pp > frame.ppm
+///   zbuf --project --zmode eye-z --size 500x500 < eye.pp > frame.ppm
 ///   zbuf --background 20,20,40 -o frame%04d.png left.frag right.frag
 ///   scene spheres --frames 100 | viewxf | clipplane left | ... | clipplane yon \
 ///     | persp --size 500x500 | scanconv | zbuf --progress -o frame%03d.png
@@ -40,6 +41,11 @@ struct Args {
     /// the frame number from 0 (as ffmpeg's image2); .png or .ppm by the extension.
     #[arg(short = 'o', value_name = "PATTERN")]
     output: Option<String>,
+    /// The number -o's pattern gives the first frame (the rest follow it): a chunk of a
+    /// movie rendered on its own (`frames --from A --to B | … --first-frame A`) writes
+    /// the files the whole movie's run would.
+    #[arg(long, value_name = "N", default_value_t = 0, requires = "output")]
+    first_frame: u64,
     #[command(flatten)]
     text: PpmTextFlag,
     /// Pass the frames on as runs (a fragment stream, binary; text with --text) instead
@@ -51,12 +57,20 @@ struct Args {
     /// polygons read and the pixels tested), on stderr at the end.
     #[arg(long)]
     stats: bool,
-    /// Project eye-space inputs to a --size screen with this depth (persp's --depth) and
-    /// resolve them here: persp's work, without its process.
-    #[arg(long, value_enum, value_name = "MODE", requires = "size")]
-    persp: Option<stagecli::DepthArg>,
-    /// The screen's size in pixels, `WxH`, for --persp.
-    #[arg(long, value_parser = proto::camera::parse_size, value_name = "WxH", requires = "persp")]
+    /// Project eye-space inputs to a --size screen, as `persp --size WxH --zmode MODE`
+    /// would, and resolve them here: persp's work, without its process.
+    #[arg(long, requires = "size")]
+    project: bool,
+    /// The depth --project writes, as persp's --zmode [default: reciprocal].
+    #[arg(long, value_enum, value_name = "MODE")]
+    zmode: Option<DepthArg>,
+    /// `--project --zmode MODE`'s old spelling, taken for one release with a note on
+    /// stderr.
+    #[arg(long, value_enum, value_name = "MODE", hide = true, requires = "size",
+          conflicts_with_all = ["project", "zmode"])]
+    persp: Option<DepthArg>,
+    /// The screen's size in pixels, `WxH`, for --project.
+    #[arg(long, value_parser = proto::camera::parse_size, value_name = "WxH")]
     size: Option<(u32, u32)>,
     /// Show frames done and frames per second on stderr while rendering; does nothing
     /// when stderr is not a terminal (redirected to a file or a pipe).
@@ -64,9 +78,28 @@ struct Args {
     progress: bool,
 }
 
-/// The output pattern and the inputs the arguments name, checked before any input is
-/// read.
-fn plan(args: &Args) -> Result<(Option<FramePattern>, Vec<String>), Error> {
+/// What the arguments ask, checked before any input is read.
+struct Plan {
+    /// Where the frames go: files named by the pattern, or stdout.
+    pattern: Option<FramePattern>,
+    /// The inputs, `-` for stdin.
+    names: Vec<String>,
+    /// With --project: the screen and depth eye-space inputs are projected to.
+    to_screen: Option<zbuf::par_buff::ToScreen>,
+}
+
+fn plan(args: &Args) -> Result<Plan, Error> {
+    let depth = stagecli::args::projection("zbuf", args.project, args.zmode, args.persp)?;
+    let to_screen = match (depth, args.size) {
+        (Some(depth), Some((width, height))) => Some(zbuf::par_buff::ToScreen {
+            width,
+            height,
+            depth: depth.into(),
+        }),
+        (None, Some(_)) => return Err(Error::usage("--size is for --project")),
+        // clap has asked --size of --project and --persp.
+        _ => None,
+    };
     let pattern = args
         .output
         .as_deref()
@@ -93,21 +126,21 @@ fn plan(args: &Args) -> Result<(Option<FramePattern>, Vec<String>), Error> {
     } else {
         args.inputs.clone()
     };
-    Ok((pattern, names))
+    Ok(Plan {
+        pattern,
+        names,
+        to_screen,
+    })
 }
 
 fn main() -> ExitCode {
     stagecli::main("zbuf", |args: Args| {
-        let (pattern, names) = plan(&args)?;
+        let Plan {
+            pattern,
+            names,
+            to_screen,
+        } = plan(&args)?;
         let form = args.text.form();
-        let to_screen = match (args.persp, args.size) {
-            (Some(depth), Some((width, height))) => Some(zbuf::par_buff::ToScreen {
-                width,
-                height,
-                depth: depth.into(),
-            }),
-            _ => None,
-        };
         let mut inputs: Vec<Input> = names
             .iter()
             .map(|name| {
@@ -163,7 +196,16 @@ fn main() -> ExitCode {
                          (as frame%03d.png); nothing was kept"
                     )));
                 }
-                Some(p) => p.save(frame, fb, form)?,
+                Some(p) => {
+                    let number = frame.checked_add(args.first_frame).ok_or_else(|| {
+                        Error::data(format!(
+                            "frame {frame}: --first-frame {} numbers it past {}",
+                            args.first_frame,
+                            u64::MAX
+                        ))
+                    })?;
+                    p.save(number, fb, form)?
+                }
                 None => {
                     fb.write_ppm(&mut out, form)?;
                     out.flush()?;

@@ -35,15 +35,15 @@ pub type Opener = Box<dyn FnOnce() -> Result<Box<dyn Read + Send>> + Send>;
 pub struct Input {
     pub name: String,
     pub open: Opener,
-    /// With `zbuf --persp`: an eye-space input is projected to this screen, as persp
+    /// With `zbuf --project`: an eye-space input is projected to this screen, as persp
     /// would, and resolved here ([`ToScreen`]).
     pub to_screen: Option<ToScreen>,
 }
 
-/// persp's work done in zbuf's reader (`zbuf --persp MODE --size WxH`): an eye-space input
-/// (the clipper's output) is projected polygon by polygon with the same code and to the
-/// same numbers as persp ([`proto::perspective::Perspective`]), and then resolved as a
-/// screen-space input is. render.sh's depth 0 runs `clipbatch | zbuf --persp …` so: a
+/// persp's work done in zbuf's reader (`zbuf --project --zmode MODE --size WxH`): an
+/// eye-space input (the clipper's output) is projected polygon by polygon with the same
+/// code and to the same numbers as persp ([`proto::perspective::Perspective`]), and then resolved as a
+/// screen-space input is. render.sh's depth 0 runs `clipbatch | zbuf --project …` so: a
 /// process and a pipe's copy of the stream fewer (docs/performance.md, "Start-up").
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct ToScreen {
@@ -639,7 +639,7 @@ fn warn_rounding(watch: &mut Option<QuantumWatch>, frame: u64) -> u64 {
 }
 
 /// [`par_buff`] for one input. When the input is a screen-space polygon stream (the
-/// whole screen's one leaf, as render.sh runs `zbuf --persp` at depth 0; an eye-space
+/// whole screen's one leaf, as render.sh runs `zbuf --project` at depth 0; an eye-space
 /// one with [`Input::to_screen`], projected first) its polygons are
 /// resolved in this thread and each frame painted straight into the frame buffer
 /// ([`RegionBuffer::finish_into`]): no runs, no reader thread, no batches. Any other

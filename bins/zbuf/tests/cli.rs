@@ -235,6 +235,36 @@ fn one_file_per_frame() {
 }
 
 #[test]
+fn first_frame_numbers_the_files_from_n() {
+    // A chunk of a movie rendered alone writes the files of the whole movie's run.
+    let dir = tempfile::tempdir().unwrap();
+    zbuf()
+        .arg("-o")
+        .arg(dir.path().join("f%03d.ppm"))
+        .args(["--first-frame", "40"])
+        .write_stdin(TWO_FRAMES)
+        .assert()
+        .success()
+        .stdout("");
+    let mut names: Vec<String> = std::fs::read_dir(dir.path())
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .collect();
+    names.sort();
+    assert_eq!(names, ["f040.ppm", "f041.ppm"]);
+    assert_eq!(
+        std::fs::read(dir.path().join("f041.ppm")).unwrap(),
+        ppm(2, 2, &[K, K, K, G])
+    );
+    // It numbers files: without -o there are none to number.
+    zbuf()
+        .args(["--first-frame", "3"])
+        .write_stdin(TWO_FRAMES)
+        .assert()
+        .code(2);
+}
+
+#[test]
 fn two_inputs_as_files() {
     // The overlap scene cut in two by the splitter's rule, by hand: the square goes to
     // input a, the triangle to input b, each keeping the other's polygon record.
@@ -401,23 +431,23 @@ fn a_screen_space_input_is_resolved_here() {
         .stderr("zbuf: stdin: 2 polygons in, 10 pixels tested, 10 written\n");
 }
 
-/// `--persp MODE --size WxH`: an eye-space input (the clipper's output) is projected here
-/// as persp projects it (proto's `Perspective`, the same code) and resolved: the frame
-/// zbuf makes of the projected stream, alone or beside another input; a polygon persp
-/// would refuse is refused, named by its place; --persp and --size go together.
-#[test]
-fn an_eye_space_input_is_projected_with_persp() {
-    use proto::perspective::{DepthMode, Perspective};
-    let eye = "polypipe 1 eye aspect 1 hither 1 yon 30\n\
-               colour 255 0 0\n-2 -2 10 10\n2 -2 10 10\n0 2 10 10\nNEXT.POLYGON\n\
-               colour 0 0 255\n-3 -1 12 12\n3 -1 14 14\n3 1 14 14\n-3 1 12 12\n\
-               NEXT.FRAME\ncolour 0 255 0\n-1 -1 5 5\n1 -1 5 5\n0 1 5 5\nEND\n";
-    // What persp writes for it, made with the code persp uses.
+/// An eye-space stream of two frames: two overlapping polygons at different depths, then
+/// one.
+const EYE: &str = "polypipe 1 eye aspect 1 hither 1 yon 30\n\
+                   colour 255 0 0\n-2 -2 10 10\n2 -2 10 10\n0 2 10 10\nNEXT.POLYGON\n\
+                   colour 0 0 255\n-3 -1 12 12\n3 -1 14 14\n3 1 14 14\n-3 1 12 12\n\
+                   NEXT.FRAME\ncolour 0 255 0\n-1 -1 5 5\n1 -1 5 5\n0 1 5 5\nEND\n";
+
+/// The frames zbuf makes of what `persp --size 8x8 --zmode MODE` writes for `eye`, the
+/// projection made with the code persp uses (proto's `Perspective`); and that screen-space
+/// stream.
+fn projected(eye: &str, mode: proto::perspective::DepthMode) -> (Vec<u8>, Vec<u8>) {
+    use proto::perspective::Perspective;
     let mut input = Reader::<Token, _>::new(eye.as_bytes()).unwrap();
     let Space::Eye(view) = input.header().space else {
         panic!("eye")
     };
-    let perspective = Perspective::new(8, 8, view, DepthMode::Reciprocal).unwrap();
+    let perspective = Perspective::new(8, 8, view, mode).unwrap();
     let mut screen = Writer::<Token, _>::new(
         Vec::new(),
         perspective.screen_header(input.header()),
@@ -431,27 +461,53 @@ fn an_eye_space_input_is_projected_with_persp() {
         screen.write(&t).unwrap();
     }
     let screen = screen.into_inner().unwrap();
-    let want = zbuf()
+    let frames = zbuf()
         .write_stdin(screen.clone())
         .assert()
         .success()
         .get_output()
         .stdout
         .clone();
-    assert_eq!(want.len(), 2 * (11 + 8 * 8 * 3), "two 8x8 frames");
+    assert_eq!(frames.len(), 2 * (11 + 8 * 8 * 3), "two 8x8 frames");
+    (frames, screen)
+}
+
+/// `--project --size WxH [--zmode MODE]`: an eye-space input (the clipper's output) is
+/// projected here as persp projects it and resolved: the frame zbuf makes of the projected
+/// stream, for each depth form (reciprocal by default), alone or beside another input; a
+/// polygon persp would refuse is refused, named by its place; --project and --size go
+/// together, and --zmode is for --project.
+#[test]
+fn an_eye_space_input_is_projected_with_persp() {
+    use proto::perspective::DepthMode;
+    let (want, screen) = projected(EYE, DepthMode::Reciprocal);
     zbuf()
-        .args(["--persp", "reciprocal", "--size", "8x8"])
-        .write_stdin(eye)
+        .args(["--project", "--size", "8x8"])
+        .write_stdin(EYE)
         .assert()
         .success()
-        .stdout(want.clone());
+        .stdout(want.clone())
+        .stderr("");
+    for (mode, depth) in [
+        ("reciprocal", DepthMode::Reciprocal),
+        ("projective", DepthMode::Projective),
+        ("eye-z", DepthMode::EyeZ),
+    ] {
+        zbuf()
+            .args(["--project", "--zmode", mode, "--size", "8x8"])
+            .write_stdin(EYE)
+            .assert()
+            .success()
+            .stdout(projected(EYE, depth).0)
+            .stderr("");
+    }
     // Beside another input (threads and the merger's buffer): the projected stream twice.
     let dir = tempfile::tempdir().unwrap();
     let screen_file = write(dir.path(), "screen", &screen);
     zbuf()
-        .args(["--persp", "reciprocal", "--size", "8x8", "-"])
+        .args(["--project", "--size", "8x8", "-"])
         .arg(&screen_file)
-        .write_stdin(eye)
+        .write_stdin(EYE)
         .assert()
         .success()
         .stdout(want);
@@ -459,7 +515,7 @@ fn an_eye_space_input_is_projected_with_persp() {
     let bad =
         "polypipe 1 eye aspect 1 hither 1 yon 30\ncolour 1 2 3\n0 0 5 5\n1 0 5 5\n0 1 5 0\nEND\n";
     let out = zbuf()
-        .args(["--persp", "reciprocal", "--size", "8x8"])
+        .args(["--project", "--size", "8x8"])
         .write_stdin(bad)
         .assert()
         .code(1)
@@ -472,16 +528,71 @@ fn an_eye_space_input_is_projected_with_persp() {
             && err.lines().count() == 1,
         "{err}"
     );
+    for (args, message) in [
+        (
+            &["--project"][..],
+            "zbuf: the following required arguments were not provided: --size <WxH>\n",
+        ),
+        (&["--size", "8x8"], "zbuf: --size is for --project\n"),
+        (
+            &["--zmode", "eye-z", "--size", "8x8"],
+            "zbuf: --zmode eye-z is for --project (the depth its projection writes)\n",
+        ),
+    ] {
+        zbuf()
+            .args(args)
+            .write_stdin(EYE)
+            .assert()
+            .code(2)
+            .stdout("")
+            .stderr(message);
+    }
+}
+
+/// `--persp MODE`, the old spelling of `--project --zmode MODE`, is still taken for one
+/// release: the same frames, and a note on stderr saying what it is now called; beside
+/// the new spelling it is refused.
+#[test]
+fn old_persp_spelling_still_works_with_a_note() {
+    use proto::perspective::DepthMode;
+    zbuf()
+        .args(["--persp", "projective", "--size", "8x8"])
+        .write_stdin(EYE)
+        .assert()
+        .success()
+        .stdout(projected(EYE, DepthMode::Projective).0)
+        .stderr(
+            "zbuf: --persp MODE is now --project --zmode MODE; the old spelling goes in the \
+             next release\n",
+        );
+    zbuf()
+        .args(["--persp", "eye-z", "--project", "--size", "8x8"])
+        .write_stdin(EYE)
+        .assert()
+        .code(2)
+        .stdout("")
+        .stderr("zbuf: the argument '--persp <MODE>' cannot be used with '--project'\n");
     zbuf()
         .args(["--persp", "reciprocal"])
-        .write_stdin(eye)
+        .write_stdin(EYE)
         .assert()
-        .code(2);
-    zbuf()
-        .args(["--size", "8x8"])
-        .write_stdin(eye)
+        .code(2)
+        .stdout("")
+        .stderr("zbuf: the following required arguments were not provided: --size <WxH>\n");
+    // The help tells of --project and --zmode, not of the old spelling.
+    let help = zbuf()
+        .arg("--help")
         .assert()
-        .code(2);
+        .success()
+        .get_output()
+        .stdout
+        .clone();
+    let help = String::from_utf8(help).unwrap();
+    assert!(
+        help.contains("--project") && help.contains("--zmode <MODE>"),
+        "{help}"
+    );
+    assert!(!help.contains("--persp"), "{help}");
 }
 
 /// Two screen-space inputs, a frame each of two, over disjoint halves of the screen (two

@@ -221,15 +221,15 @@ fn eye_z_depth_is_measurably_less_exact() {
         let (_, _, a) = render_both(scene, "500x500", "", persp);
         a.iter().map(|f| f.differing).sum()
     };
-    let projective = total(&scene, "--depth projective");
-    let eye_z = total(&scene, "--depth eye-z");
+    let projective = total(&scene, "--zmode projective");
+    let eye_z = total(&scene, "--zmode eye-z");
     eprintln!("environment movie, 5 frames: projective depth {projective} differing pixels, eye-z {eye_z}");
     assert!(eye_z > projective, "eye-z {eye_z}, projective {projective}");
     // Polygons cut by the pyramid span a wide range of depths: linear z_e goes far wrong.
     let straddling = dir.path().join("straddling.txt");
     std::fs::write(&straddling, straddling_scene(1000, 5)).unwrap();
-    let projective = total(&straddling, "--depth projective");
-    let eye_z = total(&straddling, "--depth eye-z");
+    let projective = total(&straddling, "--zmode projective");
+    let eye_z = total(&straddling, "--zmode eye-z");
     eprintln!("straddling: projective depth {projective} differing pixels, eye-z {eye_z}");
     assert!(eye_z > projective, "eye-z {eye_z}, projective {projective}");
 }

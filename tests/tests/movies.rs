@@ -1,0 +1,476 @@
+//! Movies on engines people already run: `render.sh --by frames` on GNU parallel (farm),
+//! with a stand-in for ssh (`POLYPIPE_SSH`: a script that takes ssh's options and a host,
+//! then runs the command here), and as a Slurm job array run task by task here.
+//!
+//! A chunk that fails on a host is retried on another and the frames are a local run's
+//! bytes; a chunk that fails on every try ends the run with status 3, the host and the
+//! chunk named, the frames before it written whole and nothing else; `--resume` after a
+//! run stopped with SIGINT renders only the chunks the job log does not call finished;
+//! the sbatch script's tasks write a local run's files. The movies are small (32×32, 60
+//! frames of 20 polygons) so that the file runs in seconds.
+
+use pipeline_tests::{bin, bin_dir, repo_root, sh};
+use std::collections::BTreeSet;
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+use std::time::{Duration, Instant};
+
+/// The bytes of one 32×32 frame as zbuf writes it.
+const FRAME: usize = 13 + 32 * 32 * 3;
+
+/// A fake ssh in `dir`: skips ssh's options, takes the host, runs the command with sh.
+/// `rule` is shell run first, with `$host` and `$PARALLEL_SEQ` (the chunk's job number)
+/// set, that may fail the try (as ssh fails, status 255).
+fn fake_ssh(dir: &Path, name: &str, rule: &str) -> PathBuf {
+    let path = dir.join(name);
+    let script = format!(
+        "#!/bin/sh\n\
+         while [ $# -gt 0 ]; do case $1 in -[oplSOiF]) shift 2 ;; -*) shift ;; *) break ;; esac; done\n\
+         host=$1; shift\n\
+         [ \"${{1-}}\" = -- ] && shift\n\
+         {rule}\n\
+         exec sh -c \"$*\"\n"
+    );
+    std::fs::write(&path, script).unwrap();
+    let status = Command::new("chmod").arg("+x").arg(&path).status().unwrap();
+    assert!(status.success());
+    path
+}
+
+/// The movie: 60 frames of a 20-polygon environment, in `dir`.
+fn movie(dir: &Path) -> PathBuf {
+    let path = dir.join("movie.pp");
+    let out = Command::new(bin("scene"))
+        .args(["environment", "--frames", "60", "--polygons", "20"])
+        .args(["--size", "32x32"])
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    std::fs::write(&path, out.stdout).unwrap();
+    path
+}
+
+/// render.sh's options for every run here.
+const OPTIONS: &str = "--size 32x32 --depth 0";
+
+/// The movie rendered here by render.sh, with `extra` options.
+fn local(movie: &Path, extra: &str) -> Vec<u8> {
+    let out = sh(
+        &format!("scripts/render.sh {OPTIONS} {extra} '{}'", movie.display()),
+        b"",
+    );
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    out.stdout
+}
+
+/// `render.sh --by frames ARGS… OPTIONS MOVIE` with `ssh` as POLYPIPE_SSH.
+fn farm_cmd(ssh: &Path, args: &[&str], movie: &Path) -> Command {
+    bin_dir();
+    let mut cmd = Command::new("bash");
+    cmd.arg(repo_root().join("scripts/render.sh"))
+        .args(["--by", "frames"])
+        .args(args)
+        .args(OPTIONS.split(' '))
+        .arg(movie)
+        .current_dir(repo_root())
+        .env("POLYPIPE_SSH", ssh)
+        .env("POLYPIPE_LOAD", "0")
+        .env_remove("POLYPIPE_BIN");
+    cmd
+}
+
+fn farm(ssh: &Path, args: &[&str], movie: &Path) -> Output {
+    farm_cmd(ssh, args, movie).output().unwrap()
+}
+
+fn stderr(out: &Output) -> String {
+    String::from_utf8_lossy(&out.stderr).into_owned()
+}
+
+/// A job log's lines after its header: (job number, host, exit status).
+fn joblog(path: &Path) -> Vec<(usize, String, i32)> {
+    let text = std::fs::read_to_string(path).unwrap();
+    let mut lines = text.lines();
+    assert_eq!(
+        lines.next(),
+        Some("Seq\tHost\tStarttime\tJobRuntime\tSend\tReceive\tExitval\tSignal\tCommand")
+    );
+    lines
+        .map(|l| {
+            let f: Vec<&str> = l.split('\t').collect();
+            (
+                f[0].parse().unwrap(),
+                f[1].to_string(),
+                f[6].parse().unwrap(),
+            )
+        })
+        .collect()
+}
+
+/// The files of `dir` whose names end `.png`, by name, with their bytes.
+fn pngs(dir: &Path) -> Vec<(String, Vec<u8>)> {
+    let mut files: Vec<(String, Vec<u8>)> = std::fs::read_dir(dir)
+        .unwrap()
+        .flatten()
+        .filter(|e| e.file_name().to_string_lossy().ends_with(".png"))
+        .map(|e| {
+            (
+                e.file_name().to_string_lossy().into_owned(),
+                std::fs::read(e.path()).unwrap(),
+            )
+        })
+        .collect();
+    files.sort();
+    files
+}
+
+#[test]
+fn a_chunk_that_fails_on_flaky_is_retried_on_good_and_the_frames_are_a_local_runs() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path().display();
+    // flaky fails every chunk's first try (it leaves a mark for each it failed).
+    let ssh = fake_ssh(
+        dir.path(),
+        "ssh",
+        &format!(
+            "if [ \"$host\" = flaky ] && [ ! -e '{d}/failed.'$PARALLEL_SEQ ]; then \
+             : > '{d}/failed.'$PARALLEL_SEQ; \
+             echo 'ssh: connect to host flaky port 22: Connection refused' >&2; exit 255; fi"
+        ),
+    );
+    let m = movie(dir.path());
+    let want = local(&m, "");
+    assert_eq!(want.len(), 60 * FRAME);
+    let log = dir.path().join("jobs");
+    let log_arg = log.display().to_string();
+    let out = farm(
+        &ssh,
+        &[
+            "--hosts",
+            "good,flaky",
+            "--chunk",
+            "8",
+            "--joblog",
+            &log_arg,
+            "--stats",
+        ],
+        &m,
+    );
+    assert!(out.status.success(), "{}", stderr(&out));
+    assert!(out.stdout == want, "the frames differ from a local run's");
+
+    // The log: each chunk flaky tried has its failed try (255 on flaky) and then its
+    // success on good; every chunk of the 8 succeeded once.
+    let lines = joblog(&log);
+    let failed_here: BTreeSet<usize> = (1..=8)
+        .filter(|k| dir.path().join(format!("failed.{k}")).exists())
+        .collect();
+    assert!(!failed_here.is_empty(), "flaky was never tried: {lines:?}");
+    let failed_in_log: BTreeSet<usize> = lines
+        .iter()
+        .filter(|(_, h, st)| h == "flaky" && *st == 255)
+        .map(|(k, _, _)| *k)
+        .collect();
+    assert_eq!(failed_in_log, failed_here, "{lines:?}");
+    let ok: Vec<usize> = {
+        let mut v: Vec<usize> = lines.iter().filter(|l| l.2 == 0).map(|l| l.0).collect();
+        v.sort();
+        v
+    };
+    assert_eq!(ok, (1..=8).collect::<Vec<_>>(), "{lines:?}");
+    for k in &failed_here {
+        assert!(
+            lines.contains(&(*k, "good".to_string(), 0)),
+            "chunk {k} retried on good: {lines:?}"
+        );
+    }
+    // --stats says so too, a line a failed try.
+    let err = stderr(&out);
+    let retried: BTreeSet<usize> = err
+        .lines()
+        .filter(|l| l.ends_with(": a try on host flaky failed (status 255), retried"))
+        .map(|l| {
+            let first: usize = l["farm: frames ".len()..]
+                .split(' ')
+                .next()
+                .unwrap()
+                .parse()
+                .unwrap();
+            first / 8 + 1
+        })
+        .collect();
+    assert_eq!(retried, failed_here, "{err}");
+    assert!(
+        err.lines().any(|l| l.starts_with("farm: host good: ")),
+        "{err}"
+    );
+}
+
+#[test]
+fn a_chunk_that_fails_every_try_names_the_host_and_the_frames_before_it_are_whole() {
+    let dir = tempfile::tempdir().unwrap();
+    // broken renders the first two chunks, then refuses every connection.
+    let ssh = fake_ssh(
+        dir.path(),
+        "ssh",
+        "if [ \"$host\" = broken ] && [ \"${PARALLEL_SEQ:-0}\" -ge 3 ]; then \
+         echo 'ssh: connect to host broken port 22: Connection refused' >&2; exit 255; fi",
+    );
+    let m = movie(dir.path());
+    let want = local(&m, "");
+    let out = farm(&ssh, &["--hosts", "broken", "--chunk", "8"], &m);
+    assert_eq!(out.status.code(), Some(3), "{}", stderr(&out));
+    assert_eq!(
+        stderr(&out),
+        "farm: host broken: frames 16 to 23, 3 tries: ssh: connect to host broken port 22: \
+         Connection refused\n"
+    );
+    assert!(
+        out.stdout == want[..16 * FRAME],
+        "not the movie's first 16 frames, whole: {} bytes",
+        out.stdout.len()
+    );
+
+    // A host that fails from the start, and no other: nothing written.
+    let down = fake_ssh(
+        dir.path(),
+        "down",
+        "echo 'ssh: connect to host down port 22: No route to host' >&2; exit 255",
+    );
+    let out = farm(&down, &["--hosts", "down", "--retries", "2"], &m);
+    assert_eq!(out.status.code(), Some(3));
+    assert_eq!(
+        stderr(&out),
+        "farm: host down: frames 0 to 7, 2 tries: ssh: connect to host down port 22: No \
+         route to host\n"
+    );
+    assert!(out.stdout.is_empty());
+}
+
+#[test]
+fn resume_after_sigint_renders_only_the_missing_chunks() {
+    let dir = tempfile::tempdir().unwrap();
+    let ssh = fake_ssh(dir.path(), "ssh", "sleep 0.3");
+    let m = movie(dir.path());
+    let here = dir.path().join("here");
+    let there = dir.path().join("there");
+    std::fs::create_dir_all(&here).unwrap();
+    std::fs::create_dir_all(&there).unwrap();
+    local(&m, &format!("-o '{}/f%05d.png'", here.display()));
+    let want = pngs(&here);
+    assert_eq!(want.len(), 60);
+
+    let pattern = format!("{}/f%05d.png", there.display());
+    let args = ["--hosts", "a", "--chunk", "8", "-o", &pattern];
+    let log = there.join("farm.joblog"); // beside -o's files by default
+    let child = farm_cmd(&ssh, &args, &m)
+        .stdout(std::process::Stdio::null())
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .unwrap();
+    // Stopped once three chunks are done.
+    let start = Instant::now();
+    loop {
+        let done = std::fs::read_to_string(&log)
+            .map(|t| {
+                t.lines()
+                    .filter(|l| l.split('\t').nth(6) == Some("0"))
+                    .count()
+            })
+            .unwrap_or(0);
+        if done >= 3 {
+            break;
+        }
+        assert!(
+            start.elapsed() < Duration::from_secs(60),
+            "no three chunks in 60 s"
+        );
+        std::thread::sleep(Duration::from_millis(20));
+    }
+    let sent = Command::new("kill")
+        .args(["-INT", &child.id().to_string()])
+        .status()
+        .unwrap();
+    assert!(sent.success());
+    let out = child.wait_with_output().unwrap();
+    assert_eq!(out.status.code(), Some(130), "{}", stderr(&out));
+    let before: BTreeSet<usize> = joblog(&log)
+        .into_iter()
+        .filter(|l| l.2 == 0)
+        .map(|l| l.0)
+        .collect();
+    assert!(
+        before.len() >= 3 && before.len() < 8,
+        "stopped halfway: {before:?}"
+    );
+    let lines_before = joblog(&log).len();
+    // The files written are the finished chunks' frames, no others.
+    let names: BTreeSet<String> = pngs(&there).into_iter().map(|(n, _)| n).collect();
+    let finished: BTreeSet<String> = before
+        .iter()
+        .flat_map(|k| (8 * (k - 1)..(8 * k).min(60)).map(|f| format!("f{f:05}.png")))
+        .collect();
+    assert_eq!(names, finished);
+
+    let mut resume = args.to_vec();
+    resume.push("--resume");
+    let out = farm(&ssh, &resume, &m);
+    assert!(out.status.success(), "{}", stderr(&out));
+    // The log's new lines: the missing chunks, each once.
+    let new: Vec<usize> = joblog(&log)[lines_before..].iter().map(|l| l.0).collect();
+    let missing: Vec<usize> = (1..=8).filter(|k| !before.contains(k)).collect();
+    let mut sorted = new.clone();
+    sorted.sort();
+    assert_eq!(sorted, missing, "the resumed run's jobs: {new:?}");
+    assert!(pngs(&there) == want, "the frames differ from a local run's");
+}
+
+#[test]
+fn the_slurm_arrays_tasks_run_here_give_a_local_runs_frames() {
+    let dir = tempfile::tempdir().unwrap();
+    let m = movie(dir.path());
+    let here = dir.path().join("here");
+    std::fs::create_dir_all(&here).unwrap();
+    local(&m, &format!("-o '{}/f%05d.png'", here.display()));
+    let array = dir.path().join("array");
+    let pattern = format!("{}/f%05d.png", array.display());
+    let unused = dir.path().join("no-ssh-needed");
+    let out = farm(
+        &unused,
+        &[
+            "--slurm-array",
+            &array.display().to_string(),
+            "--chunk",
+            "16",
+            "-o",
+            &pattern,
+        ],
+        &m,
+    );
+    assert!(out.status.success(), "{}", stderr(&out));
+    let script = array.join("render.sbatch");
+    let text = std::fs::read_to_string(&script).unwrap();
+    assert!(text.contains("#SBATCH --array=0-3\n"), "{text}");
+    // Before any task: the check says what is missing.
+    let check = Command::new("bash")
+        .arg(&script)
+        .arg("--check")
+        .output()
+        .unwrap();
+    assert_eq!(check.status.code(), Some(1));
+    assert!(stderr(&check).ends_with("render.sbatch: 60 of 60 frames missing\n"));
+    for k in 0..4 {
+        let task = Command::new("bash")
+            .arg(&script)
+            .env("SLURM_ARRAY_TASK_ID", k.to_string())
+            .output()
+            .unwrap();
+        assert!(task.status.success(), "task {k}: {}", stderr(&task));
+    }
+    let check = Command::new("bash")
+        .arg(&script)
+        .arg("--check")
+        .output()
+        .unwrap();
+    assert!(check.status.success(), "{}", stderr(&check));
+    assert_eq!(
+        String::from_utf8_lossy(&check.stdout),
+        "render.sbatch: all 60 frames there\n"
+    );
+    assert!(
+        pngs(&array) == pngs(&here),
+        "the tasks' frames differ from a local run's"
+    );
+}
+
+#[test]
+fn without_parallel_the_run_says_to_install_it() {
+    let dir = tempfile::tempdir().unwrap();
+    let ssh = fake_ssh(dir.path(), "ssh", "");
+    let m = movie(dir.path());
+    let out = Command::new(bin("farm"))
+        .args(["--hosts", "a"])
+        .arg(&m)
+        .args(["--", "true"])
+        .env("PATH", dir.path()) // a PATH with no parallel on it
+        .env("POLYPIPE_SSH", &ssh)
+        .output()
+        .unwrap();
+    assert_eq!(out.status.code(), Some(3));
+    assert_eq!(
+        stderr(&out),
+        "farm: --by frames runs on GNU parallel, and there is no parallel on PATH: install \
+         it (Debian and Ubuntu: apt install parallel)\n"
+    );
+}
+
+#[test]
+fn a_blank_polypipe_ssh_is_a_usage_error() {
+    let dir = tempfile::tempdir().unwrap();
+    let m = movie(dir.path());
+    let out = farm(Path::new(" "), &["--hosts", "a"], &m);
+    assert_eq!(out.status.code(), Some(2));
+    assert_eq!(
+        stderr(&out),
+        "render.sh: POLYPIPE_SSH is set but blank: set it to the command that reaches a host \
+         (say 'ssh -p 2222'), or unset it for ssh\n"
+    );
+    // farm says the same of itself.
+    let out = Command::new(bin("farm"))
+        .args(["--hosts", "a"])
+        .arg(&m)
+        .args(["--", "true"])
+        .env("POLYPIPE_SSH", "")
+        .output()
+        .unwrap();
+    assert_eq!(out.status.code(), Some(2));
+    assert!(stderr(&out).starts_with("farm: POLYPIPE_SSH is set but blank"));
+}
+
+#[test]
+fn hosts_from_an_sshloginfile_write_files_numbered_from_first_frame() {
+    // parallel's own file: a comment, 2 job slots on one host, 1 on another. -o with
+    // --first-frame 100: frame k of the movie in f(100 + k).ppm, a local run's bytes.
+    let dir = tempfile::tempdir().unwrap();
+    let ssh = fake_ssh(dir.path(), "ssh", "");
+    let m = movie(dir.path());
+    let want = local(&m, "");
+    let logins = dir.path().join("hosts");
+    std::fs::write(&logins, "# two hosts\n2/alpha\n1/beta\n").unwrap();
+    let out_dir = dir.path().join("out");
+    std::fs::create_dir_all(&out_dir).unwrap();
+    let pattern = format!("{}/f%05d.ppm", out_dir.display());
+    let logins_arg = logins.display().to_string();
+    let args = [
+        "--sshloginfile",
+        &logins_arg,
+        "--chunk",
+        "7",
+        "-o",
+        &pattern,
+        "--first-frame",
+        "100",
+    ];
+    let out = farm(&ssh, &args, &m);
+    assert!(out.status.success(), "{}", stderr(&out));
+    assert!(out.stdout.is_empty());
+    for k in 0..60 {
+        let file = out_dir.join(format!("f{:05}.ppm", 100 + k));
+        let bytes = std::fs::read(&file).unwrap_or_else(|e| panic!("{}: {e}", file.display()));
+        assert!(bytes == want[k * FRAME..(k + 1) * FRAME], "frame {k}");
+    }
+    // The job log beside the files: 9 chunks (8 of 7 frames and one of 4), all done.
+    let lines = joblog(&out_dir.join("farm.joblog"));
+    let mut done: Vec<usize> = lines.iter().filter(|l| l.2 == 0).map(|l| l.0).collect();
+    done.sort();
+    assert_eq!(done, (1..=9).collect::<Vec<_>>());
+    assert_eq!(std::fs::read_dir(&out_dir).unwrap().count(), 61);
+}

@@ -1,0 +1,190 @@
+//! Where the painter (depth sort, Newell, Newell and Sancha) fails, each symptom measured
+//! and held to a bound: the pixels a cycle painted out of order gets wrong, and said on
+//! stderr; the pair tests that grow with the square of the polygons whose depth extents
+//! overlap; the cut budget that crossing planes spend.
+
+use pipeline_tests::{parse_ppm_stream, sh, Frame};
+
+/// The frames and the painter's stderr of `stream_cmd | LEAF | zbuf`, which must exit 0.
+fn frames(stream_cmd: &str, leaf: &str, stdin: &[u8]) -> (Vec<Frame>, String) {
+    let out = sh(
+        &format!(
+            "e=$(mktemp); trap 'rm -f \"$e\"' EXIT
+             {stream_cmd} | {leaf} 2>\"$e\" | zbuf; s=$?; cat \"$e\" >&2; exit $s"
+        ),
+        stdin,
+    );
+    let stderr = String::from_utf8_lossy(&out.stderr).into_owned();
+    assert!(out.status.success(), "{leaf}: {stderr}");
+    (parse_ppm_stream(&out.stdout).expect("PPM frames"), stderr)
+}
+
+fn differing(a: &Frame, b: &Frame) -> usize {
+    assert_eq!(a.pixels.len(), b.pixels.len());
+    a.pixels
+        .iter()
+        .zip(&b.pixels)
+        .filter(|(p, q)| p != q)
+        .count()
+}
+
+/// Three bars, each over the next (A over C, C over B, B over A): no order to paint in.
+/// Screen space, 32×32; the same scene as tests/painter.rs.
+const CYCLIC: &str = "colour 255 0 0
+2 4 0.2
+28 4 0.8
+28 10 0.8
+2 10 0.2
+NEXT.POLYGON
+colour 0 255 0
+20 2 0.5
+26 2 0.5
+26 28 0.8
+20 28 0.8
+NEXT.POLYGON
+colour 0 0 255
+2 8 0.6
+6 4 0.6
+28 26 0.3
+24 30 0.3
+";
+
+#[test]
+fn cyclic_bars_at_depth_0_are_painted_wrong_and_said() {
+    let stream = format!("polypipe 1 screen 32 32\n{CYCLIC}END\n");
+    let (z, _) = frames("cat", "scanconv --resolve", stream.as_bytes());
+    let (p, said) = frames("cat", "painter", stream.as_bytes());
+    // 68 of 1,024 pixels: two of the three overlaps the wrong way round.
+    assert_eq!(differing(&z[0], &p[0]), 68);
+    assert_eq!(
+        said,
+        "painter: frame 0: 2 cycles painted out of order; --split cuts them\n"
+    );
+    // Cut by the planes, the z-buffer's picture, and nothing to say.
+    let (s, said) = frames("cat", "painter --split", stream.as_bytes());
+    assert_eq!((differing(&z[0], &s[0]), said.as_str()), (0, ""));
+}
+
+#[test]
+fn the_cyclic_bars_example_at_depth_0_is_said() {
+    // examples/screen/cyclic-bars.txt (methods-pictures.sh's cyclic panel), 256×256:
+    // 4,352 pixels wrong, one line on stderr, exit 0.
+    let (z, _) = frames(
+        "cat examples/screen/cyclic-bars.txt",
+        "scanconv --resolve",
+        b"",
+    );
+    let (p, said) = frames("cat examples/screen/cyclic-bars.txt", "painter", b"");
+    assert_eq!(differing(&z[0], &p[0]), 4352);
+    assert_eq!(
+        said,
+        "painter: frame 0: 2 cycles painted out of order; --split cuts them\n"
+    );
+}
+
+#[test]
+fn the_line_names_the_frame_counted_from_0() {
+    // A movie: frame 0 one bar (nothing to say), frame 1 the cycle, frame 2 one bar.
+    let one_bar = &CYCLIC[..CYCLIC.find("NEXT.POLYGON").unwrap()];
+    let stream =
+        format!("polypipe 1 screen 32 32\n{one_bar}NEXT.FRAME\n{CYCLIC}NEXT.FRAME\n{one_bar}END\n");
+    let (p, said) = frames("cat", "painter", stream.as_bytes());
+    assert_eq!(p.len(), 3);
+    assert_eq!(
+        said,
+        "painter: frame 1: 2 cycles painted out of order; --split cuts them\n"
+    );
+}
+
+#[test]
+fn five_crossing_planes_are_cut_in_silence_fifty_spend_the_budget_and_say_so() {
+    let stream = |n: u32| format!("scene planes {n} | viewxf | clipbatch | persp --size 200x200");
+    // Five planes: 2,000-odd cuts are allowed, some forty made, and the sort meets
+    // cycles among pieces that meet at the planes' common point; none leaves a pixel
+    // wrong, so none is said.
+    let (z, _) = frames(&stream(5), "scanconv --resolve", b"");
+    let (s, said) = frames(&stream(5), "painter --split", b"");
+    assert_eq!((differing(&z[0], &s[0]), said.as_str()), (0, ""));
+    // Without --split the same five are painted wrong, and said.
+    let (p, said) = frames(&stream(5), "painter", b"");
+    assert!(
+        differing(&z[0], &p[0]) > 1000,
+        "{}",
+        differing(&z[0], &p[0])
+    );
+    assert!(
+        said.starts_with("painter: frame 0: ")
+            && said.ends_with(" cycles painted out of order; --split cuts them\n"),
+        "{said}"
+    );
+    // Fifty planes: the budget (a cut a polygon + 2,048) is spent, and said.
+    let (_, said) = frames(&stream(50), "painter --split", b"");
+    assert!(
+        said.starts_with("painter: frame 0: could not order every polygon: ")
+            && said.ends_with(" cycles painted out of order, the cut budget spent (2098 cuts: 1 a polygon + 2048)\n"),
+        "{said}"
+    );
+    // A budget of two cuts is spent on the five.
+    let (_, said) = frames(
+        &stream(5),
+        "painter --split --cuts-per-polygon 0 --cuts-base 2",
+        b"",
+    );
+    assert!(
+        said.ends_with(
+            " cycles painted out of order, the cut budget spent (2 cuts: 0 a polygon + 2)\n"
+        ),
+        "{said}"
+    );
+}
+
+#[test]
+fn strips_cost_exactly_n_n_minus_1_over_2_pair_tests() {
+    // N strips side by side across the screen, each overlapping every other in depth:
+    // every pair is tested, and tests 2 and 5 resolve each (the survey's N² case).
+    for n in [10u64, 100, 400] {
+        let out = sh(
+            &format!(
+                "scene strips {n} | viewxf | clipbatch | persp --size 200x200 | painter --stats >/dev/null"
+            ),
+            b"",
+        );
+        assert!(out.status.success());
+        let stats = String::from_utf8_lossy(&out.stderr);
+        let counts: Vec<u64> = stats
+            .split("pairs resolved by ")
+            .nth(1)
+            .expect("pairs resolved by")
+            .split(", ")
+            .take(6)
+            .map(|part| {
+                let n = if part.starts_with("test") {
+                    part.rsplit(' ').next()
+                } else {
+                    part.split(' ').next()
+                };
+                n.unwrap().parse().expect(part)
+            })
+            .collect();
+        assert_eq!(counts.iter().sum::<u64>(), n * (n - 1) / 2, "{stats}");
+        // None unresolved: strips are ordered, only compared.
+        assert_eq!(counts[5], 0, "{stats}");
+    }
+}
+
+#[test]
+fn a_cycle_that_leaves_no_pixel_wrong_is_not_said() {
+    // The 1,000-quad test environment at depth complexity 3: one cycle no cut resolves
+    // (pieces that only touch), painted in the order at hand; every pixel is the
+    // z-buffer's, so --split says nothing (it used to say "1 cycle(s) painted in the
+    // order at hand"), and --stats counts it apart.
+    let stream = "scene environment --polygons 1000 --depth-complexity 3 | viewxf | clipbatch | persp --size 500x500";
+    let (z, _) = frames(stream, "scanconv --resolve", b"");
+    let (s, said) = frames(stream, "painter --split --stats", b"");
+    assert_eq!(differing(&z[0], &s[0]), 0);
+    assert!(
+        said.contains(", 0 cycles painted out of order, 1 out of order that left no pixel wrong\n"),
+        "{said}"
+    );
+    assert_eq!(said.lines().count(), 1, "{said}");
+}
