@@ -1,13 +1,13 @@
 //! The Edge Table and the Active Edge Table (thesis Appendix 3.1).
 
-use proto::raster::Edge;
-use proto::DVec2;
+use proto::raster::{Edge, EdgeWalk, Point};
 use std::ops::Range;
 
-/// An Edge Table entry: the edge and the first scanline below its last one.
+/// An Edge Table entry: the edge's crossings from its first row on (an exact DDA, see
+/// [`proto::raster::EdgeWalk`]) and the first scanline below its last one.
 #[derive(Clone, Copy, Debug)]
 pub(crate) struct ActiveEdge {
-    edge: Edge,
+    walk: EdgeWalk,
     /// Rows `r` with `r < end_row` still cross the edge (the thesis's y_max).
     end_row: i64,
 }
@@ -31,38 +31,44 @@ pub struct EdgeTable {
 impl EdgeTable {
     /// CLEAR, then INSERT.ET.EDGE for each non-horizontal edge of the polygon that crosses
     /// a scanline centre on the screen. Returns the rows to walk (empty when none).
-    /// `supports` is empty or holds, per edge, the screen ends of the original edge it is
-    /// a piece of ([`polygon_edge`]).
+    /// `points` are the snapped screen vertices; `supports` is empty or holds, per edge,
+    /// the snapped screen ends of the original edge it is a piece of; `rows` the first row
+    /// at or below each vertex ([`proto::raster::vertex_rows`]).
     pub fn build(
         &mut self,
-        points: &[DVec2],
-        supports: &[Option<[DVec2; 2]>],
+        points: &[Point],
+        supports: &[Option<[Point; 2]>],
+        rows: &[i64],
         height: u32,
     ) -> Range<i64> {
-        self.build_in(points, supports, 0..height)
+        self.build_in(points, supports, rows, 0..height)
     }
 
     /// [`EdgeTable::build`] for the scanlines `band` only: each edge's rows are clamped
     /// to the band, so a band of a tall polygon costs its edges and the band's rows, not
-    /// the rows above it. Crossings are evaluated from each edge's top end, never
-    /// stepped, so a row walked in a band is crossed exactly as in the whole walk.
+    /// the rows above it. Crossings are exact (integer DDA started at the band's first
+    /// row), so a row walked in a band is crossed exactly as in the whole walk.
     pub fn build_in(
         &mut self,
-        points: &[DVec2],
-        supports: &[Option<[DVec2; 2]>],
+        points: &[Point],
+        supports: &[Option<[Point; 2]>],
+        rows: &[i64],
         band: Range<u32>,
     ) -> Range<i64> {
         self.edges.clear();
         self.starts.clear();
         self.sorted.clear();
         self.edges.extend((0..points.len()).filter_map(|i| {
-            let edge = polygon_edge(points, supports, i)?;
+            let edge = polygon_edge(points, supports, rows, i)?;
             // The edge's rows, clamped to the band (the screen, for a whole walk): rows
             // above it are never walked.
             let rows = edge.rows();
             let start = rows.start.max(band.start as i64);
             let end = rows.end.min(band.end as i64);
-            (start < end).then_some((start, ActiveEdge { edge, end_row: end }))
+            (start < end).then(|| {
+                let walk = edge.walk(start);
+                (start, ActiveEdge { walk, end_row: end })
+            })
         }));
         let Some(first) = self.edges.iter().map(|(s, _)| *s).min() else {
             return 0..0;
@@ -80,16 +86,17 @@ impl EdgeTable {
     }
 }
 
-/// Edge i of a polygon (vertex i → vertex i+1): rows from its own ends, crossings from
-/// its support if a splitter cut it out of a longer edge ([`Edge::with_support`]), so that
-/// the pieces of a split polygon cover exactly the pixels the whole covers.
+/// Edge i of a polygon (vertex i → vertex i+1): rows from the vertices' rows, crossings
+/// from its support if a splitter cut it out of a longer edge ([`Edge::with_support`]),
+/// so that the pieces of a split polygon cover exactly the pixels the whole covers.
 #[inline]
-pub fn polygon_edge(points: &[DVec2], supports: &[Option<[DVec2; 2]>], i: usize) -> Option<Edge> {
-    let (a, b) = (points[i], points[(i + 1) % points.len()]);
-    match supports.get(i).copied().flatten() {
-        Some([sa, sb]) => Edge::with_support(a, b, sa, sb),
-        None => Edge::new(a, b),
-    }
+pub fn polygon_edge(
+    points: &[Point],
+    supports: &[Option<[Point; 2]>],
+    rows: &[i64],
+    i: usize,
+) -> Option<Edge> {
+    proto::raster::polygon_edge(points, supports, rows, i)
 }
 
 /// The Active Edge Table (Appendix 3.1): the edges the current scanline crosses.
@@ -98,8 +105,9 @@ pub struct ActiveEdgeTable {
     edges: Vec<ActiveEdge>,
     /// The Edge Table's edges (in order of their first row) moved in so far.
     moved: usize,
-    /// Scratch: this scanline's crossings, sorted.
-    crossings: Vec<f64>,
+    /// Scratch: this scanline's crossings, sorted, each as the first column whose centre
+    /// is at or right of it (proto::raster's "crossings as columns").
+    crossings: Vec<i64>,
 }
 
 impl ActiveEdgeTable {
@@ -117,7 +125,7 @@ impl ActiveEdgeTable {
     /// The Edge Table's edges are sorted by first row, so the buckets are taken in turn
     /// from where the last one ended, not looked up; and a row crossed by two edges, most
     /// rows of most polygons, has its pair put in order with one comparison.
-    pub fn advance(&mut self, row: i64, et: &EdgeTable) -> &[f64] {
+    pub fn advance(&mut self, row: i64, et: &EdgeTable) -> &[i64] {
         if self.edges.iter().any(|e| e.end_row <= row) {
             self.edges.retain(|e| e.end_row > row);
         }
@@ -128,16 +136,20 @@ impl ActiveEdgeTable {
                 .extend_from_slice(&et.sorted[self.moved..self.moved + n]);
             self.moved += n;
         }
-        let yc = row as f64 + 0.5;
         self.crossings.clear();
-        self.crossings
-            .extend(self.edges.iter().map(|e| e.edge.x_at(yc)));
+        // This row's crossing of each edge, then the DDA's step to the next row (Appendix
+        // 3.3 i's x ← x + 1/m, here exact: an integer and its remainder).
+        self.crossings.extend(self.edges.iter_mut().map(|e| {
+            let c = e.walk.column;
+            e.walk.step();
+            c
+        }));
         if let [a, b] = self.crossings[..] {
-            if b.total_cmp(&a).is_lt() {
+            if b < a {
                 self.crossings.swap(0, 1);
             }
         } else {
-            self.crossings.sort_unstable_by(f64::total_cmp);
+            self.crossings.sort_unstable();
         }
         &self.crossings
     }

@@ -2,11 +2,12 @@
 //! times finer, and a frame's polygons walked a band of rows at a time.
 //!
 //! Sub-pixel sample (i, j) of pixel (c, r), at (c + (i+½)/K, r + (j+½)/K), is the pixel
-//! centre (K·c + i + ½, K·r + j + ½) of a screen K times finer. For K a power of two,
-//! multiplying a screen polygon's X and Y (and its supports', and dividing its recorded
-//! plane's a and b) by K is exact in f64, so [`crate::SpanWalker`] on the [`scaled`]
-//! polygon decides every sample by exactly the point rule of docs/DESIGN.md, "Coverage",
-//! with nothing new written for coverage.
+//! centre (K·c + i + ½, K·r + j + ½) of a screen K times finer. A screen polygon's X and
+//! Y (and its supports') are snapped to the pixel screen's 1/256 grid and then multiplied
+//! by K (its recorded plane's a and b divided by K), exact in f64 for K a power of two, so
+//! [`crate::SpanWalker`] on the [`scaled`] polygon decides every sample, a point of the
+//! same grid for K ≤ 16, by exactly the point rule of docs/DESIGN.md, "Coverage", with
+//! nothing new written for coverage.
 //!
 //! [`ActiveRows`] hands a method, pixel row by pixel row, the polygons that may cover
 //! the row (gathered once per frame and sorted by their top row, Watkins-style), so a
@@ -24,15 +25,20 @@ pub fn valid_samples(k: u32) -> bool {
     k.is_power_of_two() && k <= MAX_SAMPLES
 }
 
-/// `polygon` on the screen `k` times finer: X and Y of its vertices and supports times
-/// `k`, its depth plane `a·X + b·Y + c·Z + d = 0` as `(a/k)·X' + (b/k)·Y' + c·Z + d = 0`
-/// (and its colour planes alike).
-/// For `k` a power of two every product is exact (short of overflow), so the fine
-/// polygon's edges cross the fine rows exactly K times where the polygon's own edges
-/// cross the corresponding sub-pixel lines, and its depth is the same plane.
+/// `polygon` on the screen `k` times finer: X and Y of its vertices and supports snapped
+/// to the pixel screen's 1/256-pixel grid ([`proto::raster::snap`]) and then times `k`,
+/// its depth plane `a·X + b·Y + c·Z + d = 0` as `(a/k)·X' + (b/k)·Y' + c·Z + d = 0` (and
+/// its colour planes alike).
+/// Snapping first puts the fine polygon's vertices where the pixel screen's snapped ones
+/// are (a multiple of 1/256 pixel times K is a multiple of 1/256 fine pixel, which the
+/// walker's own snapping keeps), and for `k` a power of two every product is exact, so
+/// the fine polygon covers a fine pixel centre exactly when the snapped polygon covers
+/// the sub-pixel sample (c + (i+½)/K, r + (j+½)/K), a point of the same 1/256 grid; its
+/// depth is the same plane.
 pub fn scaled(polygon: &Polygon, k: u32) -> Polygon {
     let k = k as f64;
-    let s = |v: DVec4| DVec4::new(v.x * k, v.y * k, v.z, v.w);
+    let on_grid = |x: f64| proto::raster::snap(x) as f64 / proto::raster::SUBPIXEL as f64 * k;
+    let s = |v: DVec4| DVec4::new(on_grid(v.x), on_grid(v.y), v.z, v.w);
     Polygon {
         colour: polygon.colour,
         vertices: polygon.vertices.iter().map(|&v| s(v)).collect(),
@@ -230,11 +236,15 @@ mod tests {
         );
         p.plane = Some(DVec4::new(0.3, -0.7, 1.1, 0.2));
         let s = scaled(&p, 4);
-        assert_eq!(s.vertices[1], DVec4::new(14.8, 0.8, 0.25, 1.0));
+        // (3.7, 0.2) snaps to (947/256, 51/256), times 4.
+        assert_eq!(s.vertices[1], DVec4::new(14.796875, 0.796875, 0.25, 1.0));
         assert_eq!(s.plane, Some(DVec4::new(0.075, -0.175, 1.1, 0.2)));
         for (a, b) in p.vertices.iter().zip(&s.vertices) {
-            assert_eq!(a.x * 4.0, b.x);
-            assert_eq!(b.x / 4.0, a.x);
+            let snapped = proto::raster::snap(a.x) as f64 / 256.0;
+            assert_eq!(snapped * 4.0, b.x);
+            assert_eq!(b.x / 4.0, snapped);
+            // The fine vertex is on the fine grid already: the walker's snap keeps it.
+            assert_eq!(proto::raster::snap(b.x) as f64 / 256.0, b.x);
         }
     }
 

@@ -18,21 +18,25 @@
 //! 3. gives every covered pixel its depth on the plane, stepping by `−a/c` along the row
 //!    (Appendix 3.3), an f64 in the form persp wrote ([`DepthPlane`]).
 //!
-//! Coverage is the rule of docs/DESIGN.md, "Coverage", taken from [`proto::raster`]: pixel (c, r) is covered when
-//! its centre (c+½, r+½) is inside by the even-odd rule, a centre on an edge going to the
-//! polygon for which that edge is a left or top edge. On scanline r the crossings of the
-//! active edges with Y = r+½ are sorted, x₀ ≤ x₁ ≤ x₂ ≤ …, and the centres in
-//! [x₀, x₁), [x₂, x₃), … are covered. Pairing sorted crossings is the even-odd rule
-//! itself, so concave polygons, self-intersecting ones (a bowtie) and the zero-width
-//! connecting edges Sutherland–Hodgman leaves when it cuts a concave polygon all come out
-//! right.
+//! Coverage is the rule of docs/DESIGN.md, "Coverage", taken from [`proto::raster`]: the
+//! polygon's vertices (and its edges' supports) are snapped to 1/256 pixel, and pixel
+//! (c, r) is covered when its centre (c+½, r+½) is inside by the even-odd rule, a centre
+//! on an edge going to the polygon for which that edge is a left or top edge. On
+//! scanline r the crossings of the active edges with Y = r+½ are sorted,
+//! x₀ ≤ x₁ ≤ x₂ ≤ …, and the centres in [x₀, x₁), [x₂, x₃), … are covered. Pairing
+//! sorted crossings is the even-odd rule itself, so concave polygons, self-intersecting
+//! ones (a bowtie) and the zero-width connecting edges Sutherland–Hodgman leaves when it
+//! cuts a concave polygon all come out right.
 //!
-//! Instead of stepping each edge's crossing by 1/m from scanline to scanline (Appendix
-//! 3.3 i), each crossing is evaluated from the edge's top end ([`proto::raster::Edge::x_at`]),
-//! so two polygons that share an edge compute identical crossings: no pixel is covered
-//! twice or missed along a shared edge. An edge that is a piece of a longer one cut by a
-//! splitter carries that edge (its support) and is crossed where the whole edge is
-//! ([`polygon_edge`]), so a split polygon covers exactly the pixels of the whole.
+//! Each crossing is carried as the first column whose centre is at or right of it,
+//! ⌈x − ½⌉, computed exactly on the snapped integers: once for an edge's first row, then
+//! stepped from row to row by an integer DDA (Appendix 3.3 i's x ← x + 1/m, with its
+//! remainder kept, [`proto::raster::EdgeWalk`]). Two polygons that share an edge get
+//! identical crossings, so no pixel is covered twice or missed along it. An edge that is a
+//! piece of a longer one cut by a splitter carries that edge (its support) and is crossed
+//! where the whole edge is ([`polygon_edge`]), on the rows up to where the support meets
+//! the cut ([`proto::raster::vertex_rows`]), so a split polygon covers exactly the pixels
+//! of the whole.
 
 mod depth;
 mod edges;

@@ -2,8 +2,8 @@
 
 use crate::depth::{depth_at, Depth, DepthPlane};
 use crate::edges::{ActiveEdgeTable, EdgeTable};
-use proto::raster::{centres_in, centres_in_clamped, Edge};
-use proto::{DVec2, Polygon};
+use proto::raster::{centres_in_clamped, vertex_rows, Point};
+use proto::Polygon;
 use std::convert::Infallible;
 use std::ops::Range;
 
@@ -40,8 +40,11 @@ impl Span {
 pub struct SpanWalker {
     et: EdgeTable,
     aet: ActiveEdgeTable,
-    points: Vec<DVec2>,
-    supports: Vec<Option<[DVec2; 2]>>,
+    /// The loaded polygon's vertices and supports, snapped (docs/DESIGN.md, "Coverage"),
+    /// and the first row at or below each vertex.
+    points: Vec<Point>,
+    supports: Vec<Option<[Point; 2]>>,
+    rows: Vec<i64>,
 }
 
 impl SpanWalker {
@@ -60,30 +63,43 @@ impl SpanWalker {
     /// [`SpanWalker::start`] for the rows of `band` only (a band of a frame drawn a few
     /// rows at a time): the rows of the band the polygon may cover.
     pub fn start_in(&mut self, polygon: &Polygon, band: Range<u32>) -> Range<i64> {
-        if polygon.vertices.len() < 3 {
+        // A vertex with no place on the screen (NaN, infinite) makes a polygon that covers
+        // nothing: the stages refuse one far off the screen before it gets here
+        // ([`check_on_screen`]), and no snapped stand-in for it would be the polygon.
+        let finite = |v: &proto::DVec4| v.x.is_finite() && v.y.is_finite();
+        if polygon.vertices.len() < 3
+            || !polygon.vertices.iter().all(finite)
+            || !polygon.supports.iter().flatten().flatten().all(finite)
+        {
             return 0..0;
         }
         self.points.clear();
-        self.points
-            .extend(polygon.vertices.iter().map(|v| DVec2::new(v.x, v.y)));
+        let snap = |v: &proto::DVec4| Point {
+            x: proto::raster::snap(v.x),
+            y: proto::raster::snap(v.y),
+        };
+        self.points.extend(polygon.vertices.iter().map(snap));
         self.supports.clear();
         self.supports.extend(
             polygon
                 .supports
                 .iter()
-                .map(|s| s.map(|[a, b]| [DVec2::new(a.x, a.y), DVec2::new(b.x, b.y)])),
+                .map(|s| s.as_ref().map(|[a, b]| [snap(a), snap(b)])),
         );
-        if proto::raster::on_one_line(&self.points) {
+        if proto::raster::snapped_on_one_line(&self.points) {
             return 0..0;
         }
+        vertex_rows(&self.points, &self.supports, &mut self.rows);
         self.aet.clear();
-        self.et.build_in(&self.points, &self.supports, band)
+        self.et
+            .build_in(&self.points, &self.supports, &self.rows, band)
     }
 
-    /// The sorted crossings of the loaded polygon's edges with the centre line of `row`:
-    /// pairs of them bound the covered centres (even-odd). Rows must be those
+    /// The sorted crossings of the loaded polygon's edges with the centre line of `row`,
+    /// each as the first column whose centre is at or right of it: pairs `c0, c1` of them
+    /// bound the covered columns `c0..c1` (even-odd). Rows must be those
     /// [`SpanWalker::start`] returned, in order, each once.
-    pub fn crossings(&mut self, row: i64) -> &[f64] {
+    pub fn crossings(&mut self, row: i64) -> &[i64] {
         self.aet.advance(row, &self.et)
     }
 
@@ -188,18 +204,49 @@ pub fn check_on_screen(polygon: &Polygon, width: u32, height: u32) -> Result<(),
     Ok(())
 }
 
-/// The centres a polygon covers on one row by the coverage rule, computed directly (no
-/// tables): a reference for the tests.
-pub fn covered_on_row(points: &[DVec2], row: i64) -> Vec<i64> {
-    let yc = row as f64 + 0.5;
-    let mut xs: Vec<f64> = (0..points.len())
-        .filter_map(|i| Edge::new(points[i], points[(i + 1) % points.len()]))
-        .filter(|e| e.rows().contains(&row))
-        .map(|e| e.x_at(yc))
-        .collect();
-    xs.sort_by(f64::total_cmp);
-    xs.chunks_exact(2)
-        .flat_map(|p| centres_in(p[0], p[1]))
+/// The centres a polygon covers on one row by the coverage rule, computed directly, one
+/// centre at a time (no tables, no crossings: the parity of the edges spanning the row
+/// that pass at or left of the centre, from the sign of an exact edge function): a
+/// reference for the tests.
+pub fn covered_on_row(points: &[proto::DVec2], row: i64) -> Vec<i64> {
+    let points: Vec<Point> = points.iter().map(|&p| Point::snap(p)).collect();
+    if points.len() < 3 || proto::raster::snapped_on_one_line(&points) {
+        return Vec::new();
+    }
+    let (sub, half) = (proto::raster::SUBPIXEL, proto::raster::HALF);
+    let yc = sub * row + half;
+    let left = points
+        .iter()
+        .map(|p| p.x)
+        .min()
+        .unwrap_or(0)
+        .div_euclid(sub)
+        - 1;
+    let right = points
+        .iter()
+        .map(|p| p.x)
+        .max()
+        .unwrap_or(0)
+        .div_euclid(sub)
+        + 1;
+    (left..=right)
+        .filter(|&c| {
+            let xc = (sub * c + half) as i128;
+            let n = points.len();
+            let passed = (0..n)
+                .filter(|&i| {
+                    let (a, b) = (points[i], points[(i + 1) % n]);
+                    let (t, u) = if a.y < b.y { (a, b) } else { (b, a) };
+                    if !(t.y <= yc && yc < u.y) {
+                        return false;
+                    }
+                    // The crossing x_t + (yc − y_t)·dx/dy lies at or left of the centre.
+                    (xc - t.x as i128) * (u.y - t.y) as i128
+                        >= (yc - t.y) as i128 * (u.x - t.x) as i128
+                })
+                .count();
+            passed % 2 == 1
+        })
         .collect()
 }
 
@@ -400,7 +447,9 @@ mod tests {
         let mut walker = SpanWalker::new();
         assert_eq!(walker.start(&t, 3), 0..3);
         for row in 0..3 {
-            assert_eq!(walker.crossings(row), &[0.0, 3.5 - row as f64]);
+            // x = 4 − (r+½) is a centre's X: that centre is the first one at or right
+            // of it, column 3 − r.
+            assert_eq!(walker.crossings(row), &[0, 3 - row]);
         }
     }
 
@@ -512,7 +561,7 @@ mod tests {
                 pts in prop::collection::vec((-4.0f64..20.0, -4.0f64..20.0), 3..9),
             ) {
                 let (w, h) = (16u32, 16u32);
-                let points: Vec<DVec2> = pts.iter().map(|&(x, y)| DVec2::new(x, y)).collect();
+                let points: Vec<proto::DVec2> = pts.iter().map(|&(x, y)| proto::DVec2::new(x, y)).collect();
                 let p = Polygon::from_xyz([1, 1, 1], &pts.iter().map(|&(x, y)| [x, y, 0.0]).collect::<Vec<_>>());
                 let map = coverage(w, h, &[p]);
                 for r in 0..h as i64 {

@@ -101,10 +101,13 @@ fn five_crossing_planes_are_cut_in_silence_fifty_spend_the_budget_and_say_so() {
     let stream = |n: u32| format!("scene planes {n} | viewxf | clipbatch | persp --size 200x200");
     // Five planes: 2,000-odd cuts are allowed, some forty made, and the sort meets
     // cycles among pieces that meet at the planes' common point; none leaves a pixel
-    // wrong, so none is said.
+    // wrong, so none is said. One centre, (136, 69), lies 0.00003 pixel from the line
+    // where two of the planes have equal depth: the cut's ends are snapped to 1/256
+    // pixel while the z-buffer compares the depths at the centre (docs/DESIGN.md,
+    // "Coverage"), and it takes the other plane's colour.
     let (z, _) = frames(&stream(5), "scanconv --resolve", b"");
     let (s, said) = frames(&stream(5), "painter --split", b"");
-    assert_eq!((differing(&z[0], &s[0]), said.as_str()), (0, ""));
+    assert_eq!((differing(&z[0], &s[0]), said.as_str()), (1, ""));
     // Without --split the same five are painted wrong, and said.
     let (p, said) = frames(&stream(5), "painter", b"");
     assert!(

@@ -303,6 +303,30 @@ mod properties {
     use super::*;
     use proptest::prelude::*;
 
+    /// The depth plane z = a·x + b·y + c through a triangle's three points ([0; 3] for
+    /// one seen edge-on).
+    fn depth_plane(t: &[(f64, f64, f64); 3]) -> [f64; 3] {
+        let [(x0, y0, z0), (x1, y1, z1), (x2, y2, z2)] = *t;
+        let det = (x1 - x0) * (y2 - y0) - (x2 - x0) * (y1 - y0);
+        if det == 0.0 {
+            return [0.0; 3];
+        }
+        let a = ((z1 - z0) * (y2 - y0) - (z2 - z0) * (y1 - y0)) / det;
+        let b = ((x1 - x0) * (z2 - z0) - (x2 - x0) * (z1 - z0)) / det;
+        [a, b, z0 - a * x0 - b * y0]
+    }
+
+    /// Whether (x, y) lies within 1/64 pixel (beyond the 1/512·√2 a snapped cut point
+    /// moves) of the line where two of the planes have equal depth.
+    fn near_a_meeting(planes: &[[f64; 3]], x: f64, y: f64) -> bool {
+        planes.iter().enumerate().any(|(i, p)| {
+            planes[i + 1..].iter().any(|q| {
+                let (da, db, dc) = (p[0] - q[0], p[1] - q[1], p[2] - q[2]);
+                (da * x + db * y + dc).abs() <= da.hypot(db) / 64.0
+            })
+        })
+    }
+
     /// A quad anywhere (partly off the screen too): its level, rectangle, whether it
     /// is tilted, a colour.
     fn layered_quad() -> impl Strategy<Value = (u8, [f64; 4], bool, u8)> {
@@ -361,7 +385,16 @@ mod properties {
             let mut s = Painter::with_split();
             let split = paint(&mut s, &polygons, w, h);
             if s.stats.given_up == 0 {
-                prop_assert_eq!(differing_pixels(&z, &split), 0);
+                // The pieces' cut edges lie on the line where two planes meet, but their
+                // ends are snapped to 1/256 pixel with every vertex (docs/DESIGN.md,
+                // "Coverage"), while the z-buffer compares the unsnapped planes' depths at
+                // each centre: a centre within the snapping's reach of such a line may go
+                // either way. Everywhere else the split painting is the z-buffer's.
+                let planes: Vec<[f64; 3]> = tris.iter().map(depth_plane).collect();
+                for (i, (a, b)) in z.iter().zip(&split).enumerate() {
+                    let (x, y) = ((i as u32 % w) as f64 + 0.5, (i as u32 / w) as f64 + 0.5);
+                    prop_assert!(a == b || near_a_meeting(&planes, x, y), "pixel {}", i);
+                }
             }
             // Without cycles the plain method is exact too.
             if p.stats.cycles == 0 {

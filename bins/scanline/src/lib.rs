@@ -85,9 +85,7 @@
 //! *visible* complexity") are kept in [`ScanlineStats`].
 
 use proto::raster::centres_in_clamped;
-use proto::raster::on_one_line;
 use proto::shade::{Lighting, Shading};
-use proto::DVec2;
 use proto::{Colour, Polygon};
 use scan::frame::{shaded_runs, HiddenSurface};
 use scan::{depth_at, polygon_edge, Depth, DepthPlane, Run};
@@ -256,15 +254,14 @@ pub fn first_in_front(s: &Segment, front: &Segment, from: u32) -> Option<u32> {
     Some(settle(s, front, from, last).0)
 }
 
-/// One edge of an active polygon in the [`EdgeArena`]: where it crosses a line's centre
-/// (proto's `Edge::x_at`, term for term, so that the crossings are the z-buffer's walker's
-/// to the bit) and the lines `start..end` whose centres it crosses (the Edge Table's first
-/// line and the thesis's y_max). 32 bytes.
+/// One edge of an active polygon in the [`EdgeArena`]: the snapped line it crosses a
+/// line's centre on (proto's exact [`proto::raster::Edge`], so that the crossings are the
+/// z-buffer's walker's, as columns, docs/DESIGN.md, "Coverage") and the lines
+/// `start..end` whose centres it crosses (the Edge Table's first line and the thesis's
+/// y_max).
 #[derive(Clone, Copy, Debug)]
 struct ArenaEdge {
-    origin_x: f64,
-    origin_y: f64,
-    inverse_slope: f64,
+    edge: proto::raster::Edge,
     start: u32,
     end: u32,
 }
@@ -283,11 +280,12 @@ struct EdgeArena {
     edges: Vec<ArenaEdge>,
     /// Entries of blocks whose polygons have left.
     dead: usize,
-    /// Scratch: a polygon's vertices and supports, in X and Y, as it enters; a line's
-    /// crossings.
-    points: Vec<DVec2>,
-    supports: Vec<Option<[DVec2; 2]>>,
-    crossings: Vec<f64>,
+    /// Scratch: a polygon's vertices and supports, snapped, and its vertices' first
+    /// lines, as it enters; a line's crossings (each the first column at or right of it).
+    points: Vec<proto::raster::Point>,
+    supports: Vec<Option<[proto::raster::Point; 2]>>,
+    rows: Vec<i64>,
+    crossings: Vec<i64>,
 }
 
 impl EdgeArena {
@@ -302,34 +300,42 @@ impl EdgeArena {
     /// (fewer than three vertices, every vertex on one line, no edge across a centre).
     /// The edges are [`scan::polygon_edge`]'s: from the supports of a split polygon.
     fn enter(&mut self, polygon: &Polygon, height: u32) -> Option<(usize, u32, Range<i64>)> {
-        if polygon.vertices.len() < 3 {
+        // As scan::SpanWalker loads a polygon: a non-finite vertex covers nothing, the
+        // rest are snapped to 1/256 pixel.
+        let finite = |v: &proto::DVec4| v.x.is_finite() && v.y.is_finite();
+        if polygon.vertices.len() < 3
+            || !polygon.vertices.iter().all(finite)
+            || !polygon.supports.iter().flatten().flatten().all(finite)
+        {
             return None;
         }
+        let snap = |v: &proto::DVec4| proto::raster::Point {
+            x: proto::raster::snap(v.x),
+            y: proto::raster::snap(v.y),
+        };
         self.points.clear();
-        self.points
-            .extend(polygon.vertices.iter().map(|v| DVec2::new(v.x, v.y)));
+        self.points.extend(polygon.vertices.iter().map(snap));
         self.supports.clear();
         self.supports.extend(
             polygon
                 .supports
                 .iter()
-                .map(|s| s.map(|[a, b]| [DVec2::new(a.x, a.y), DVec2::new(b.x, b.y)])),
+                .map(|s| s.as_ref().map(|[a, b]| [snap(a), snap(b)])),
         );
-        if on_one_line(&self.points) {
+        if proto::raster::snapped_on_one_line(&self.points) {
             return None;
         }
+        proto::raster::vertex_rows(&self.points, &self.supports, &mut self.rows);
         let base = self.edges.len();
         for i in 0..self.points.len() {
-            let Some(edge) = polygon_edge(&self.points, &self.supports, i) else {
+            let Some(edge) = polygon_edge(&self.points, &self.supports, &self.rows, i) else {
                 continue;
             };
             let rows = edge.rows();
             let (start, end) = (rows.start.max(0), rows.end.min(height as i64));
             if start < end {
                 self.edges.push(ArenaEdge {
-                    origin_x: edge.origin.x,
-                    origin_y: edge.origin.y,
-                    inverse_slope: edge.inverse_slope,
+                    edge,
                     start: start as u32,
                     end: end as u32,
                 });
@@ -349,7 +355,7 @@ impl EdgeArena {
     /// whose first line has come move into its active run, those past their last move
     /// out; then the sorted crossings of the active ones with the line's centre (pairs
     /// bound the covered centres, even-odd).
-    fn crossings(&mut self, a: &mut ActivePolygon, row: i64) -> &[f64] {
+    fn crossings(&mut self, a: &mut ActivePolygon, row: i64) -> &[i64] {
         let block = &mut self.edges[a.base..a.base + a.len as usize];
         while (a.entered as usize) < block.len() && block[a.entered as usize].start as i64 <= row {
             block.swap(a.live as usize, a.entered as usize);
@@ -365,19 +371,16 @@ impl EdgeArena {
                 i += 1;
             }
         }
-        let yc = row as f64 + 0.5;
         self.crossings.clear();
-        self.crossings.extend(
-            block[..a.live as usize]
-                .iter()
-                .map(|e| e.origin_x + (yc - e.origin_y) * e.inverse_slope),
-        );
+        // Evaluated exactly at each line (the lines need not come one by one).
+        self.crossings
+            .extend(block[..a.live as usize].iter().map(|e| e.edge.column(row)));
         if let [a, b] = self.crossings[..] {
-            if b.total_cmp(&a).is_lt() {
+            if b < a {
                 self.crossings.swap(0, 1);
             }
         } else {
-            self.crossings.sort_unstable_by(f64::total_cmp);
+            self.crossings.sort_unstable();
         }
         &self.crossings
     }

@@ -162,8 +162,14 @@ impl Window {
 }
 
 /// How far (pixels) the Looker widens a window's sample rectangle: an edge this close to
-/// it makes its polygon an intersector.
-const MARGIN: f64 = 1e-6;
+/// it makes its polygon an intersector, and the window is subdivided down to pixels,
+/// whose centres the scan converter's exact coverage decides. The Looker classifies the
+/// unsnapped polygon, while coverage is decided on its vertices snapped to 1/256 pixel
+/// and, for a piece cut by a splitter, on its edges' snapped supports (docs/DESIGN.md,
+/// "Coverage"): an edge of either lies within 1/512·√2 pixel of the unsnapped edge (a
+/// support's, on the piece, within twice that), so a margin of 1/64 pixel keeps every
+/// centre the Looker calls surrounded or disjoint on the same side of both.
+const MARGIN: f64 = 1.0 / 64.0;
 
 /// Counters over all frames, for `--stats`.
 #[derive(Clone, Debug, Default, PartialEq, Eq)]

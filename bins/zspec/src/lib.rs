@@ -5,13 +5,16 @@
 //! (chapter 2.3's Z-buffer). zspec shares none of those algorithms: it is the *Z spec*
 //! of chapter 2.3 written out literally, in f64, one pixel centre at a time:
 //!
-//! * a polygon covers pixel (c, r) iff the centre (c+½, r+½) is inside its projection by
-//!   the even-odd rule with the top-left rule for centres on an edge (the crossing
-//!   arithmetic is [`proto::raster::Edge`], so both renderers decide on-edge centres
-//!   bit for bit alike);
-//! * its depth there is the z_e where the ray from the eye through the centre meets the
-//!   polygon's (Newell) plane, and it counts only when K1 ≤ z_e ≤ K2 (the hither/yon clip;
-//!   the side planes of the pyramid are the screen's edges);
+//! * a polygon covers pixel (c, r) iff the centre (c+½, r+½) is inside its projection,
+//!   its vertices snapped to the nearest 1/256 pixel (ties to even), by the even-odd rule
+//!   with the top-left rule for centres on an edge, decided exactly in integers by an edge
+//!   function at every centre ([`exact`]: its own arithmetic, not the scan converter's);
+//! * the polygon is first cut to the view volume, as the pipeline's clippers cut it: at
+//!   z_e = K1 and z_e = K2 in eye space, and at the screen's edges (the images of the
+//!   pyramid's side planes) in device space, so that the outline whose vertices are
+//!   snapped is the pipeline's;
+//! * its depth at a covered centre is the z_e where the ray from the eye through the
+//!   centre meets the polygon's (Newell) plane;
 //! * folding the covering polygons in stream order, a later one takes the pixel only when
 //!   its z_e is smaller than the holder's by more than 2⁻³⁰ of it (the tie rule,
 //!   [`proto::depth`]), so coplanar polygons tie and the earlier one shows.
@@ -34,15 +37,16 @@
 //!
 //! The frames are PPM images ([`proto::ppm`], whose [`Image`] `zspec compare` reads).
 
+mod exact;
 pub mod metrics;
 pub mod supersample;
 
 pub use metrics::{edges_from_mask, metrics, metrics_streams, EdgeError, Metrics};
 pub use supersample::{render_supersampled, Supersampled, SupersampledFrame};
 
+use exact::Outline;
 use proto::camera::{Device, EyeFrame};
 use proto::geometry::newell_plane;
-use proto::raster::{centres_in_clamped, Edge};
 use proto::shade::{self, Lighting, Shading};
 use proto::{Colour, DVec2, DVec3, DVec4, Polygon, View};
 use std::ops::Range;
@@ -93,10 +97,8 @@ struct Prepared {
     shading: Option<Shading>,
     /// Newell's plane a·x_e + b·y_e + c·z_e + d = 0 of the eye-space vertices.
     plane: DVec4,
-    edges: Vec<Edge>,
-    /// Screen bounding box, (min, max).
-    min: DVec2,
-    max: DVec2,
+    /// The snapped outline on the screen, for the coverage test.
+    outline: Outline,
 }
 
 /// [`cut_at_hither`] for a polygon with vertex colours: a crossing's colour is
@@ -145,6 +147,35 @@ fn cut_at_hither(vertices: &[DVec4], k1: f64, w_per_z: f64) -> Vec<DVec4> {
     cut_coloured_at_hither(vertices, &none, k1, w_per_z).0
 }
 
+/// The part of an eye-space polygon at or before the yon plane z_e = K2, as the pipeline's
+/// clippers leave it: a crossing is interpolated from the edge's inside end and put on the
+/// plane (z_e = K2, w = K2·s/d). Coverage is decided on the clipped polygon's snapped
+/// outline (docs/DESIGN.md, "Coverage"), so the reference cuts where the pipeline cuts
+/// rather than testing each centre's depth against K2, which would decide the centres
+/// along the cut by the unsnapped line.
+fn cut_at_yon(vertices: &[DVec4], k2: f64, w_per_z: f64) -> Vec<DVec4> {
+    if vertices.iter().all(|v| v.z <= k2) {
+        return vertices.to_vec();
+    }
+    let n = vertices.len();
+    let mut out = Vec::with_capacity(n + 2);
+    for i in 0..n {
+        let (a, b) = (vertices[i], vertices[(i + 1) % n]);
+        if a.z <= k2 {
+            out.push(a);
+        }
+        if (a.z <= k2) != (b.z <= k2) {
+            let (from, to) = if a.z <= k2 { (a, b) } else { (b, a) };
+            let t = (k2 - from.z) / (to.z - from.z);
+            let mut p = from + (to - from) * t;
+            p.z = k2;
+            p.w = k2 * w_per_z;
+            out.push(p);
+        }
+    }
+    out
+}
+
 /// `a·b` for three-vectors, as accurately as if computed in twice the working precision
 /// and then rounded: Ogita, Rump and Oishi's Dot2 ("Accurate sum and dot product", SIAM
 /// J. Sci. Comput. 26, 2005), each product split exactly by a fused multiply-add and the
@@ -178,6 +209,9 @@ pub struct Setup {
     pub view: View,
     pub width: u32,
     pub height: u32,
+    /// How many times finer than the pixel screen this screen is (1, or K for the K×K
+    /// reference): vertices are snapped to the pixel screen's 1/256-pixel grid.
+    pub samples: u32,
     /// The lighting of a Phong-shaded scene (its header says `vertex-normals`): a shaded
     /// polygon's values are then normals, and each pixel is lit by it.
     pub lighting: Option<Arc<Lighting>>,
@@ -190,6 +224,7 @@ impl Setup {
             view,
             width,
             height,
+            samples: 1,
             lighting: None,
         }
     }
@@ -233,7 +268,11 @@ impl Setup {
         }
         let eye3: Vec<DVec3> = eye.iter().map(|v| v.truncate()).collect();
         let mut plane = plane_of(&eye3);
-        let front = cut_at_hither(&eye, self.view.hither, self.frame.w_per_z);
+        let front = cut_at_yon(
+            &cut_at_hither(&eye, self.view.hither, self.frame.w_per_z),
+            self.view.yon,
+            self.frame.w_per_z,
+        );
         if front.len() < 3 {
             return Ok(None);
         }
@@ -259,26 +298,14 @@ impl Setup {
                 p.x, p.y
             ));
         }
-        if proto::raster::on_one_line(&points) {
+        let Some(outline) = Outline::new(&points, self.width, self.height, self.samples) else {
             return Ok(None);
-        }
-        let mut min = DVec2::splat(f64::INFINITY);
-        let mut max = DVec2::splat(f64::NEG_INFINITY);
-        for p in &points {
-            min = min.min(*p);
-            max = max.max(*p);
-        }
-        let n = points.len();
-        let edges = (0..n)
-            .filter_map(|i| Edge::new(points[i], points[(i + 1) % n]))
-            .collect();
+        };
         Ok(Some(Prepared {
             colour: poly.colour,
             shading: self.shading(poly, &eye),
             plane,
-            edges,
-            min,
-            max,
+            outline,
         }))
     }
 
@@ -332,7 +359,7 @@ impl Setup {
 
     /// The rows of `band` that the polygon's bounding box spans (empty if none).
     fn rows_in(&self, p: &Prepared, band: &Range<u32>) -> Range<u32> {
-        let rows = centres_in_clamped(p.min.y, p.max.y, self.height);
+        let rows = p.outline.rows(self.height);
         let start = rows.start.max(band.start);
         start..rows.end.min(band.end).max(start)
     }
@@ -346,30 +373,25 @@ impl Setup {
         mut f: impl FnMut(u32, u32, f64),
     ) {
         let rows = self.rows_in(p, &band);
-        // One pixel of slack either side: a crossing evaluated from an edge's top end can
-        // round past the box of the vertices; the inside test below is exact anyway.
-        let cols = centres_in_clamped(p.min.x - 1.0, p.max.x + 1.0, self.width);
-        let (k1, k2) = (self.view.hither, self.view.yon);
+        let cols = p.outline.columns(self.width);
         let n = p.plane.truncate();
         for r in rows {
             let yc = r as f64 + 0.5;
             for c in cols.clone() {
                 let xc = c as f64 + 0.5;
-                // Even-odd with the half-open rule: count the edges spanning the centre's
-                // row (top.y ≤ yc < bottom.y) that cross it at or left of the centre.
-                let crossings = p
-                    .edges
-                    .iter()
-                    .filter(|e| e.top.y <= yc && yc < e.bottom.y && e.x_at(yc) <= xc)
-                    .count();
-                if crossings % 2 == 0 {
+                // Even-odd with the half-open and top-left rules, exactly, on the snapped
+                // outline.
+                if !p.outline.covers(c, r) {
                     continue;
                 }
                 // The ray t·dir meets the plane n·v + d = 0 at t = −d / (n·dir); t is z_e.
                 // n·dir is where a plane seen at a grazing angle cancels: compensated.
                 let dir = self.ray(xc, yc);
                 let z = -p.plane.w / dot3(n, dir);
-                if z.is_finite() && k1 <= z && z <= k2 {
+                // The polygon was cut at hither and yon before it was snapped: its
+                // centres are in the view volume but for the snapping's 1/512 pixel,
+                // which the pipeline's clipped polygons share.
+                if z.is_finite() && z > 0.0 {
                     f(c, r, z);
                 }
             }

@@ -92,6 +92,7 @@ impl SupersampledFrame {
             fine: Setup {
                 width,
                 height,
+                samples: k * setup.samples,
                 ..setup.clone()
             },
             k,

@@ -486,14 +486,19 @@ fn one_sample_is_point_sampling() {
 
 #[test]
 fn k_samples_are_the_box_filter_of_a_k_times_finer_screen() {
-    // zspec --samples 4 at 20x20 against zspec at 80x80, box-filtered; also for a
+    // zspec --samples 4 at 20x20 against zspec at 80x80 with its vertices snapped to
+    // the 20x20 screen's grid (1/256 of a 20x20 pixel), box-filtered; also for a
     // non-square screen (aspect 40/30 = 160/120 to the last bit).
     for (w, h) in [(20, 20), (40, 30)] {
         for polys in example("penetrating.txt")
             .iter()
             .chain(&example("concave.txt"))
         {
-            let fine = render_frame(polys, &setup(4 * w, 4 * h), K).unwrap();
+            let fine_setup = Setup {
+                samples: 4,
+                ..setup(4 * w, 4 * h)
+            };
+            let fine = render_frame(polys, &fine_setup, K).unwrap();
             let ss = supersampled(polys, &setup(w, h), 4);
             assert_eq!(ss.pixels, box_filter(&fine, w, h, 4), "{w}x{h}");
             assert!(ss.edges.iter().any(|&e| e), "the scene has edges");
@@ -561,7 +566,10 @@ proptest! {
             let pts: Vec<(f64, f64)> = pts.iter().map(|&(x, y)| (x as f64 / 4.0, y as f64 / 4.0)).collect();
             poly_at(colours[*c], &pts, *z as f64, w, h)
         }).collect();
-        let fine = render_frame(&polys, &setup(k * w, k * h), K).unwrap();
+        // The finer frame with its vertices snapped on the pixel screen's grid, as the
+        // samples' are.
+        let fine_setup = Setup { samples: k, ..setup(k * w, k * h) };
+        let fine = render_frame(&polys, &fine_setup, K).unwrap();
         let mut frame = SupersampledFrame::new(&setup(w, h), k, K).unwrap();
         for p in &polys {
             frame.draw(p).unwrap();
