@@ -2,9 +2,11 @@
 //! binary the README uses; later runs call cargo only when a source of a binary is newer
 //! than the binaries (render's look, bins/render/src/fresh.rs).
 
+// The binaries render builds: its own list.
 use pipeline_tests::output_with_stdin;
 use pipeline_tests::render::{example, frames, render};
 use pipeline_tests::{bin_dir, repo_root};
+use render::fresh::BINARIES;
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 use std::time::Duration;
@@ -110,30 +112,6 @@ done
     }
     bin
 }
-
-/// The binaries render builds (bins/render/src/fresh.rs).
-const BINARIES: [&str; 20] = [
-    "viewxf",
-    "clipplane",
-    "clipbatch",
-    "splitter",
-    "persp",
-    "scanconv",
-    "zbuf",
-    "scanline",
-    "warnock",
-    "painter",
-    "hiddenline",
-    "supersample",
-    "abuf",
-    "scene",
-    "zspec",
-    "frames",
-    "farm",
-    "chart",
-    "plan",
-    "render",
-];
 
 /// Where cargo puts release binaries in its target folder: `<host tuple>/release`, as
 /// .cargo/config.toml's `target = "host-tuple"` has it (the tests' own folder says which

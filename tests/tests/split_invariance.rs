@@ -170,7 +170,8 @@ fn the_in_process_pipeline_is_render_sh_at_depth_0() {
     let scene =
         std::fs::read(pipeline_tests::repo_root().join("examples/penetrating.txt")).unwrap();
     let ours = render(&scene, "333x187", 0).unwrap();
-    let theirs = pipeline_tests::run("scripts/render.sh --depth 0 --size 333x187 examples/penetrating.txt");
+    let theirs =
+        pipeline_tests::run("scripts/render.sh --depth 0 --size 333x187 examples/penetrating.txt");
     assert!(
         ours == theirs,
         "the in-process render differs from render.sh's"
