@@ -1009,7 +1009,7 @@ fn stats_name_each_subtrees_host_and_its_links_bytes() {
     assert!(out.status.success(), "{}", stderr(&out));
     let err = stderr(&out);
     assert!(
-        err.contains("host node1: scanconv (leaf 1): 2 polygons in, 2 drawn, 21082 pixels tested")
+        err.contains("host node1: scanconv (leaf 1): 2 polygons in, 2 drawn, 21119 pixels tested")
             && err.contains("host node2: splitter y=0 (node 3): 2 polygons in;"),
         "{err}"
     );
