@@ -1016,7 +1016,7 @@ fn stats_name_each_subtrees_host_and_its_links_bytes() {
     assert_eq!(
         links(&out),
         [
-            "render: subtree 2 on host node1: 581 bytes there, 7749 bytes back",
+            "render: subtree 2 on host node1: 581 bytes there, 7765 bytes back",
             "render: subtree 3 on host node2: 581 bytes there, 4661 bytes back",
         ]
     );
@@ -1038,7 +1038,7 @@ fn stats_name_each_subtrees_host_and_its_links_bytes() {
         links(&out),
         [
             "render: leaf 0 on host node1: 645 bytes there, 2609 bytes back",
-            "render: leaf 1 on host node2: 645 bytes there, 5201 bytes back",
+            "render: leaf 1 on host node2: 645 bytes there, 5217 bytes back",
             "render: leaf 2 on host node1: 741 bytes there, 2449 bytes back",
             "render: leaf 3 on host node2: 341 bytes there, 2273 bytes back",
         ]

@@ -296,8 +296,8 @@ fn stats_name_each_node_and_leaf_and_add_up_to_the_linear_pipeline() {
          splitter y=0 (node 3): 2 polygons in; out1 2 polygons, 8 vertices; out2 1 polygons, 3 vertices; 737 and 337 bytes out\n";
     assert_eq!(
         stats("buffer", "0"),
-        "scanconv: 2 polygons in, 2 drawn, 543 spans, 59356 pixels\n\
-         zbuf: leaf-0: 543 spans, 59356 pixels, 17441 bytes in\n"
+        "scanconv: 2 polygons in, 2 drawn, 544 spans, 59393 pixels\n\
+         zbuf: leaf-0: 544 spans, 59393 pixels, 17473 bytes in\n"
     );
     // Node 3's second output gets a one-vertex piece of one polygon, which draws
     // nothing: the lean stream sends leaf 3 a `skip 1` for it.
@@ -305,15 +305,15 @@ fn stats_name_each_node_and_leaf_and_add_up_to_the_linear_pipeline() {
         stats("buffer", "2"),
         SPLITTERS.to_string()
             + "scanconv (leaf 0): 2 polygons in, 2 drawn, 155 spans, 13684 pixels\n\
-         scanconv (leaf 1): 2 polygons in, 2 drawn, 313 spans, 21082 pixels\n\
+         scanconv (leaf 1): 2 polygons in, 2 drawn, 314 spans, 21119 pixels\n\
          scanconv (leaf 2): 2 polygons in, 2 drawn, 229 spans, 17463 pixels\n\
          scanconv (leaf 3): 1 polygons in, 1 drawn, 139 spans, 7127 pixels\n\
          zbuf: leaf-0: 155 spans, 13684 pixels, 5025 bytes in\n\
-         zbuf: leaf-1: 313 spans, 21082 pixels, 10081 bytes in\n\
+         zbuf: leaf-1: 314 spans, 21119 pixels, 10113 bytes in\n\
          zbuf: leaf-2: 229 spans, 17463 pixels, 7393 bytes in\n\
          zbuf: leaf-3: 139 spans, 7127 pixels, 4513 bytes in\n"
     );
-    assert_eq!(13684 + 21082 + 17463 + 7127, 59356);
+    assert_eq!(13684 + 21119 + 17463 + 7127, 59393);
     // Leaves that resolve test the same pixels; each sends only its visible ones, as
     // runs, and 500x500 is 8x8 tiles of 64, of which each leaf makes those it touches.
     // At depth 0 the one leaf is zbuf itself, reading persp's polygons; in a tree, zbuf
@@ -322,20 +322,20 @@ fn stats_name_each_node_and_leaf_and_add_up_to_the_linear_pipeline() {
     // region whole, with no runs made of it.
     assert_eq!(
         stats("tiles", "0"),
-        "zbuf: leaf-0: 2 polygons in, 59356 pixels tested, 54673 written\n"
+        "zbuf: leaf-0: 2 polygons in, 59393 pixels tested, 54710 written\n"
     );
     assert_eq!(
         stats("tiles", "2"),
         SPLITTERS.to_string()
-            + "scanconv (leaf 1): 2 polygons in, 2 drawn, 21082 pixels tested, 21082 written, 322 runs out, 10 tiles\n\
+            + "scanconv (leaf 1): 2 polygons in, 2 drawn, 21119 pixels tested, 21119 written, 323 runs out, 10 tiles\n\
          scanconv (leaf 2): 2 polygons in, 2 drawn, 17463 pixels tested, 14313 written, 150 runs out, 13 tiles\n\
          scanconv (leaf 3): 1 polygons in, 1 drawn, 7127 pixels tested, 7127 written, 139 runs out, 7 tiles\n\
          zbuf: leaf-0: 2 polygons in, 13684 pixels tested, 12151 written\n\
-         zbuf: leaf-1: 0 spans, 322 runs, 18189 pixels, 5201 bytes in\n\
+         zbuf: leaf-1: 0 spans, 323 runs, 18226 pixels, 5217 bytes in\n\
          zbuf: leaf-2: 0 spans, 150 runs, 14313 pixels, 2449 bytes in\n\
          zbuf: leaf-3: 0 spans, 139 runs, 7127 pixels, 2273 bytes in\n"
     );
-    assert_eq!(18189 + 14313 + 7127, 50102 - 10473);
+    assert_eq!(18226 + 14313 + 7127, 50139 - 10473);
 }
 
 /// `--times`: after the stages' own words, a line a stage in the graph's order with its
