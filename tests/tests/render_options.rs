@@ -171,6 +171,59 @@ fn on_a_terminal_with_no_scene_the_example_is_drawn_and_said() {
     );
 }
 
+/// With no SCENE and stdin /dev/null (a job started with no input: cron, CI, `ssh HOST
+/// COMMAND`), render draws the example, as on a terminal, and says why; a pipe, even an
+/// empty one, is a scene.
+#[test]
+fn with_stdin_dev_null_and_no_scene_the_example_is_drawn_and_said() {
+    let dir = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("render-dev-null");
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    let (png, expected) = (dir.join("example.png"), dir.join("expected.png"));
+    bin_dir();
+    let out = Command::new(repo_root().join("scripts/render.sh"))
+        .args([
+            "--size",
+            "32x32",
+            "--depth",
+            "0",
+            "-o",
+            png.to_str().unwrap(),
+        ])
+        .stdin(std::process::Stdio::null())
+        .output()
+        .unwrap();
+    assert!(out.status.success(), "{out:?}");
+    assert_eq!(
+        String::from_utf8_lossy(&out.stderr),
+        format!(
+            "render: no SCENE given and stdin is a device (such as /dev/null): rendering {} (give a SCENE, `-`, or pipe one in)\n",
+            example()
+        )
+    );
+    render_ok(
+        &[
+            "--size",
+            "32x32",
+            "-o",
+            expected.to_str().unwrap(),
+            &example(),
+        ],
+        b"",
+    );
+    assert_eq!(
+        std::fs::read(&png).unwrap(),
+        std::fs::read(&expected).unwrap()
+    );
+    // An empty pipe is a scene: viewxf says it is empty.
+    let out = render(&["--size", "32x32", "--depth", "0"], b"");
+    assert_eq!(out.status.code(), Some(1));
+    assert!(
+        String::from_utf8_lossy(&out.stderr).starts_with("viewxf: empty input"),
+        "{out:?}"
+    );
+}
+
 /// A POLYPIPE_SSH that is set but blank names no command: refused before any host is
 /// tried, status 2, naming the variable (for --by leaves and --by frames alike).
 #[test]

@@ -120,7 +120,7 @@ fn frames_on_hosts(cli: &options::Cli, list: Option<&str>) -> Error {
         return Error::usage("--times is the stages' here: not with --by frames");
     }
     let o = match cli
-        .validate(Vec::new(), std::io::stdin().is_terminal())
+        .validate(Vec::new(), stdin_gives_no_scene().is_some())
         .and_then(|o| options::check_scene(&o.scene).map(|_| o))
     {
         Ok(o) => o,
@@ -177,12 +177,34 @@ fn frames_on_hosts(cli: &options::Cli, list: Option<&str>) -> Error {
     Error::from(e).context(format!("cannot run {}", bin.join("farm").display()))
 }
 
-/// On a terminal with no SCENE: says which scene is rendered.
+/// Why stdin gives no scene, where it gives none: a terminal (a person at the keyboard),
+/// a character device such as /dev/null (a job started with no input: cron, CI, `ssh HOST
+/// COMMAND`, `< /dev/null`), or a closed stdin. A pipe or a file is a scene, read as a
+/// filter reads it, even an empty one (viewxf then says so).
+pub fn stdin_gives_no_scene() -> Option<&'static str> {
+    use std::os::fd::AsFd;
+    use std::os::unix::fs::FileTypeExt;
+    let stdin = std::io::stdin();
+    if stdin.is_terminal() {
+        return Some("a terminal");
+    }
+    let Ok(fd) = stdin.as_fd().try_clone_to_owned() else {
+        return Some("closed");
+    };
+    match std::fs::File::from(fd).metadata() {
+        Ok(m) if m.file_type().is_char_device() => Some("a device (such as /dev/null)"),
+        Ok(_) => None,
+        Err(_) => Some("closed"),
+    }
+}
+
+/// With no SCENE and nothing on stdin: says which scene is rendered, and why.
 fn tell_example(o: &Options) {
     if o.example {
+        let why = stdin_gives_no_scene().unwrap_or("a terminal");
         let _ = writeln!(
             std::io::stderr(),
-            "{ME}: no SCENE given and stdin is a terminal: rendering {} (give a SCENE, `-`, or pipe one in)",
+            "{ME}: no SCENE given and stdin is {why}: rendering {} (give a SCENE, `-`, or pipe one in)",
             repository_example().display()
         );
     }
@@ -286,7 +308,7 @@ fn run_inner<I: IntoIterator<Item = OsString>>(args: I) -> Result<u8, Error> {
             "--first-frame numbers -o's files: it needs -o",
         ));
     }
-    let o = cli.validate(hosts, std::io::stdin().is_terminal())?;
+    let o = cli.validate(hosts, stdin_gives_no_scene().is_some())?;
     options::check_scene(&o.scene)?;
     if !Path::new("/proc/self/stat").exists() {
         return Err(Error::io("needs /proc (Linux), to run its stages"));

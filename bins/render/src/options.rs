@@ -16,8 +16,9 @@ The frames are byte-identical for every --depth with reciprocal or projective de
 with --zmode eye-z: eye-space z is not linear across the screen, and each piece
 of a split polygon interpolates it between its own vertices.
 
-With no SCENE, the scene is read from stdin when stdin is not a terminal (as a filter
-reads it); on a terminal, examples/penetrating.txt is rendered, and stderr says so.
+With no SCENE, the scene is read from stdin when stdin is a pipe or a file (as a filter
+reads it); when it is a terminal or a device such as /dev/null, examples/penetrating.txt
+is rendered, and stderr says so.
 
 Run through scripts/render.sh, the binaries are built first when missing (cargo,
 release, into $CARGO_TARGET_DIR, taken from the repository root when relative, or
@@ -244,7 +245,8 @@ pub struct Options {
     pub remote_bin: Option<String>,
     pub subtree: Option<u64>,
     pub scene: Scene,
-    /// Whether the scene is the example, chosen because stdin is a terminal.
+    /// Whether the scene is the example, chosen because stdin gives none (a terminal, a
+    /// device such as /dev/null).
     pub example: bool,
 }
 
@@ -298,9 +300,9 @@ impl Cli {
     }
 
     /// Checks the options against each other, as a local render uses them; `hosts` are
-    /// --hosts' (checked already), `stdin_is_terminal` chooses the scene when none is
+    /// --hosts' (checked already), `stdin_gives_none` chooses the scene when none is
     /// given. The scene itself is checked by [`check_scene`].
-    pub fn validate(&self, hosts: Vec<String>, stdin_is_terminal: bool) -> Result<Options, Error> {
+    pub fn validate(&self, hosts: Vec<String>, stdin_gives_none: bool) -> Result<Options, Error> {
         let usage = |m: String| Err(Error::usage(m));
         let depth = match self.depth.as_deref() {
             None | Some("auto") => None,
@@ -411,7 +413,7 @@ impl Cli {
             }
         }
         let (scene, example) = match self.scene.as_slice() {
-            [] if stdin_is_terminal => (Scene::Path(crate::repository_example()), true),
+            [] if stdin_gives_none => (Scene::Path(crate::repository_example()), true),
             [] => (Scene::Stdin, false),
             [one] if one == "-" => (Scene::Stdin, false),
             [one] => (Scene::Path(one.into()), false),
