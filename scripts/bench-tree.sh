@@ -407,7 +407,7 @@ table() { # SCENE SIZE LABEL
         fi
     done
     choice=$(scripts/render.sh --size "$size" --depth auto --stats "$scene" 2>&1 >/dev/null |
-        sed -n 's/^render.sh: depth auto chose //p')
+        sed -n 's/^render: depth auto chose //p')
     auto=$(awk -v a="${t[auto]}" -v b="$best" 'BEGIN { printf "%.2f", a / b }')
     echo "| $label | ${t[0]} | ${t[1]} | ${t[2]} | ${t[3]} | ${t[4]} | $bestd | ${t[auto]} | **$auto** | ${choice%% (*} |"
 }
@@ -488,7 +488,7 @@ for d in "${depths[@]}"; do
     fi
 done
 choice=$(scripts/render.sh --size $size --depth auto --stats "$scene" 2>&1 >/dev/null |
-    sed -n 's/^render.sh: depth auto chose //p')
+    sed -n 's/^render: depth auto chose //p')
 echo
 echo "| fill scene, wall s, median of $reps interleaved | depth 0 | 1 | 2 | 3 | best | auto | auto / best | auto chose |"
 echo "|---|---|---|---|---|---|---|---|---|"
