@@ -108,6 +108,52 @@ pub struct Row {
     pub visible_segments: f64,
     #[serde(default)]
     pub segments_per_line: f64,
+    /// A hidden-line method's drawing (empty for the others): the pieces of edges and of
+    /// lines of intersection it drew (`<line>`s in its SVGs, all frames), those of them
+    /// lines of intersection, and their length in pixels. The two hidden-line methods
+    /// have no pixels to compare with `zspec`; where they agree, these agree (the
+    /// continuous method's exact pieces against Archuleta's, whose ends fall between
+    /// scan lines).
+    #[serde(default)]
+    pub line_pieces: Option<u64>,
+    #[serde(default)]
+    pub intersection_pieces: Option<u64>,
+    #[serde(default)]
+    pub line_length_px: Option<f64>,
+}
+
+/// What a hidden-line drawing holds: its pieces, those of them lines of intersection, and
+/// their length in pixels.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Lines {
+    pub pieces: u64,
+    pub intersections: u64,
+    pub length_px: f64,
+}
+
+impl Lines {
+    /// Adds the `<line>`s of one SVG as `hiddenline` writes them (`<line x1="…" y1="…"
+    /// x2="…" y2="…" …/>`, `class="intersection"` on a line of intersection).
+    pub fn add_svg(&mut self, svg: &str) -> Result<()> {
+        for line in svg.lines().filter(|l| l.starts_with("<line")) {
+            let coord = |name: &str| -> Result<f64> {
+                let key = format!(" {name}=\"");
+                let at = line
+                    .find(&key)
+                    .ok_or_else(|| anyhow!("no {name} in the SVG's line {line}"))?;
+                let rest = &line[at + key.len()..];
+                let end = rest.find('"').unwrap_or(rest.len());
+                rest[..end]
+                    .parse()
+                    .with_context(|| format!("{name} in the SVG's line {line}"))
+            };
+            let (dx, dy) = (coord("x2")? - coord("x1")?, coord("y2")? - coord("y1")?);
+            self.pieces += 1;
+            self.intersections += u64::from(line.contains(r#"class="intersection""#));
+            self.length_px += dx.hypot(dy);
+        }
+        Ok(())
+    }
 }
 
 /// One row of `model.csv`.
@@ -332,6 +378,8 @@ impl Setup {
     ) -> Result<Row> {
         let input = self.input(scene, method.input)?;
         let frames = self.work.join("frames.ppm");
+        // A hidden-line method's drawing: an SVG a frame, numbered from 0.
+        let svg = |frame: u64| self.work.join(format!("lines-{frame}.svg"));
         let err = self.work.join("render.err");
         let mut runs = Vec::new();
         for rep in 0..self.reps.max(1) {
@@ -339,7 +387,11 @@ impl Setup {
             cmd.args(["--size", &scene.size(), "--depth", &depth.to_string()])
                 .args(method.options)
                 .arg(&input);
-            if rep == 0 {
+            if method.lines {
+                cmd.arg("-o")
+                    .arg(self.work.join("lines-%d.svg"))
+                    .stdout(Stdio::null());
+            } else if rep == 0 {
                 cmd.stdout(File::create(&frames)?);
             } else {
                 cmd.stdout(Stdio::null());
@@ -354,13 +406,7 @@ impl Setup {
         }
         let usage = measure::median(&runs);
         let max_rss_kib = runs[0].max_rss_kib;
-        let point = self.compare(&refs.point, &frames, None)?;
-        let sixteen = match &refs.sixteen {
-            Some((reference, mask)) => Some(self.compare(reference, &frames, Some(mask))?),
-            None => None,
-        };
-        let _ = std::fs::remove_file(&frames);
-        Ok(Row {
+        let mut row = Row {
             scene: scene.name.clone(),
             method: method.name.to_string(),
             depth,
@@ -370,15 +416,45 @@ impl Setup {
             wall_s: usage.wall_s,
             cpu_s: usage.cpu_s,
             max_rss_kib,
-            error_fraction: point.differing as f64 / point.pixels.max(1) as f64,
-            edge_rmse: sixteen.and_then(|c| c.edge_rmse),
-            rmse: sixteen.map_or(f64::NAN, |c| c.rmse),
+            error_fraction: f64::NAN,
+            edge_rmse: None,
+            rmse: f64::NAN,
             edges: stats.edges,
             depth_complexity: stats.depth_complexity,
             visible_polygons: stats.visible_polygons,
             visible_segments: stats.visible_segments,
             segments_per_line: stats.segments_per_line,
-        })
+            line_pieces: None,
+            intersection_pieces: None,
+            line_length_px: None,
+        };
+        if method.lines {
+            // No pixels to compare with zspec (the error stays NaN): the drawing's
+            // pieces and length instead.
+            let mut lines = Lines::default();
+            for frame in 0..env.frames.max(1) {
+                let path = svg(frame);
+                let text = std::fs::read_to_string(&path).with_context(|| {
+                    format!("{} on {}: {}", method.name, scene.name, path.display())
+                })?;
+                lines.add_svg(&text)?;
+                let _ = std::fs::remove_file(&path);
+            }
+            row.line_pieces = Some(lines.pieces);
+            row.intersection_pieces = Some(lines.intersections);
+            row.line_length_px = Some(lines.length_px);
+            return Ok(row);
+        }
+        let point = self.compare(&refs.point, &frames, None)?;
+        let sixteen = match &refs.sixteen {
+            Some((reference, mask)) => Some(self.compare(reference, &frames, Some(mask))?),
+            None => None,
+        };
+        let _ = std::fs::remove_file(&frames);
+        row.error_fraction = point.differing as f64 / point.pixels.max(1) as f64;
+        row.edge_rmse = sixteen.and_then(|c| c.edge_rmse);
+        row.rmse = sixteen.map_or(f64::NAN, |c| c.rmse);
+        Ok(row)
     }
 
     /// `zspec compare --metrics --csv [--edges MASK] REF FRAMES`: its `overall` row.
@@ -590,6 +666,26 @@ mod tests {
         std::fs::write(&odd, "").unwrap();
         let s = Scene::parse(&odd.to_string_lossy(), (5, 6)).unwrap();
         assert_eq!((s.path, s.width, s.height), (odd, 5, 6));
+    }
+
+    #[test]
+    fn a_drawing_is_counted_by_its_pieces_and_their_length() {
+        let svg = "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"10\" height=\"10\">\n\
+                   <g stroke-width=\"1\">\n\
+                   <line x1=\"0\" y1=\"0\" x2=\"3\" y2=\"4\" stroke=\"rgb(1,2,3)\"/>\n\
+                   <line class=\"intersection\" x1=\"1.5\" y1=\"2\" x2=\"1.5\" y2=\"4.5\" stroke=\"rgb(1,2,3)\"/>\n\
+                   </g>\n</svg>\n";
+        let mut l = Lines::default();
+        l.add_svg(svg).unwrap();
+        assert_eq!((l.pieces, l.intersections), (2, 1));
+        assert!((l.length_px - 7.5).abs() < 1e-12, "{l:?}");
+        // A second frame adds to the first.
+        l.add_svg(svg).unwrap();
+        assert_eq!((l.pieces, l.intersections, l.length_px), (4, 2, 15.0));
+        let e = Lines::default()
+            .add_svg("<line x1=\"0\" y1=\"0\" x2=\"a\" y2=\"1\"/>")
+            .unwrap_err();
+        assert!(format!("{e:#}").contains("x2 in the SVG's line"), "{e:#}");
     }
 
     #[test]

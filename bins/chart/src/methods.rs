@@ -28,6 +28,9 @@ pub struct Method {
     pub depths: &'static [u8],
     /// Whether `--quick` runs it (at its first depth only).
     pub quick: bool,
+    /// Whether it draws the visible edges (`render --hidden-line`, an SVG a frame) rather
+    /// than frames of pixels: no pixel error against `zspec`, its pieces counted instead.
+    pub lines: bool,
 }
 
 const TREE: &[u8] = &[0, 1, 2, 3, 4];
@@ -37,7 +40,11 @@ const ROOT: &[u8] = &[0];
 ///
 /// The hidden-surface methods (`--hse`) at every depth, the anti-aliasing modes (`--aa`,
 /// the same frames at every depth, so two depths show what the tree does to their time),
-/// and the z-buffer's variants.
+/// the z-buffer's variants, and the two hidden-line methods (`--hidden-line`, at depth 0
+/// only: the tree's cuts are not edges): the continuous one, each edge against the
+/// polygons that may hide it in exact geometry, and Archuleta's, counters on Watkins's
+/// scan-line segments at raster resolution (Archuleta, *Hidden Surface Line Drawing
+/// Algorithm*, "Line Drawing Algorithm").
 pub const METHODS: &[Method] = &[
     Method {
         name: "scanline",
@@ -45,6 +52,7 @@ pub const METHODS: &[Method] = &[
         input: Input::AsGiven,
         depths: TREE,
         quick: true,
+        lines: false,
     },
     Method {
         name: "warnock",
@@ -52,6 +60,7 @@ pub const METHODS: &[Method] = &[
         input: Input::AsGiven,
         depths: TREE,
         quick: true,
+        lines: false,
     },
     Method {
         name: "painter",
@@ -59,6 +68,7 @@ pub const METHODS: &[Method] = &[
         input: Input::AsGiven,
         depths: TREE,
         quick: true,
+        lines: false,
     },
     Method {
         name: "painter-split",
@@ -66,6 +76,7 @@ pub const METHODS: &[Method] = &[
         input: Input::AsGiven,
         depths: TREE,
         quick: false,
+        lines: false,
     },
     Method {
         name: "abuf",
@@ -73,6 +84,7 @@ pub const METHODS: &[Method] = &[
         input: Input::AsGiven,
         depths: &[0, 2],
         quick: true,
+        lines: false,
     },
     Method {
         name: "ss2",
@@ -80,6 +92,7 @@ pub const METHODS: &[Method] = &[
         input: Input::AsGiven,
         depths: &[0, 2],
         quick: false,
+        lines: false,
     },
     Method {
         name: "ss4",
@@ -87,6 +100,7 @@ pub const METHODS: &[Method] = &[
         input: Input::AsGiven,
         depths: &[0, 2],
         quick: true,
+        lines: false,
     },
     Method {
         name: "ss8",
@@ -94,6 +108,7 @@ pub const METHODS: &[Method] = &[
         input: Input::AsGiven,
         depths: &[0, 2],
         quick: false,
+        lines: false,
     },
     Method {
         name: "ss16",
@@ -101,6 +116,7 @@ pub const METHODS: &[Method] = &[
         input: Input::AsGiven,
         depths: &[0, 2],
         quick: false,
+        lines: false,
     },
     Method {
         name: "zbuf-pixels",
@@ -108,6 +124,7 @@ pub const METHODS: &[Method] = &[
         input: Input::AsGiven,
         depths: ROOT,
         quick: false,
+        lines: false,
     },
     Method {
         name: "zbuf",
@@ -115,6 +132,7 @@ pub const METHODS: &[Method] = &[
         input: Input::AsGiven,
         depths: TREE,
         quick: true,
+        lines: false,
     },
     Method {
         name: "zbuf-eye-z",
@@ -122,6 +140,7 @@ pub const METHODS: &[Method] = &[
         input: Input::AsGiven,
         depths: ROOT,
         quick: true,
+        lines: false,
     },
     Method {
         name: "zbuf-buffer",
@@ -129,6 +148,7 @@ pub const METHODS: &[Method] = &[
         input: Input::AsGiven,
         depths: &[0, 2],
         quick: false,
+        lines: false,
     },
     Method {
         name: "zbuf-chain",
@@ -136,6 +156,7 @@ pub const METHODS: &[Method] = &[
         input: Input::AsGiven,
         depths: ROOT,
         quick: false,
+        lines: false,
     },
     Method {
         name: "zbuf-text",
@@ -143,6 +164,7 @@ pub const METHODS: &[Method] = &[
         input: Input::Text,
         depths: ROOT,
         quick: false,
+        lines: false,
     },
     Method {
         name: "zbuf-binary",
@@ -150,6 +172,23 @@ pub const METHODS: &[Method] = &[
         input: Input::Binary,
         depths: ROOT,
         quick: true,
+        lines: false,
+    },
+    Method {
+        name: "hiddenline",
+        options: &["--hidden-line"],
+        input: Input::AsGiven,
+        depths: ROOT,
+        quick: true,
+        lines: true,
+    },
+    Method {
+        name: "hiddenline-archuleta",
+        options: &["--hidden-line", "--hidden-line-method", "archuleta"],
+        input: Input::AsGiven,
+        depths: ROOT,
+        quick: true,
+        lines: true,
     },
 ];
 
@@ -172,6 +211,12 @@ pub fn runs(quick: bool, only: Option<&[String]>) -> Vec<(Method, u8)> {
     runs
 }
 
+/// Whether the method of a name draws lines (a hidden-line method): it has no pixel error,
+/// and the speed-accuracy panels leave it out.
+pub fn draws_lines(name: &str) -> bool {
+    by_name(name).is_some_and(|m| m.lines)
+}
+
 /// The method of a name.
 pub fn by_name(name: &str) -> Option<Method> {
     METHODS.iter().find(|m| m.name == name).copied()
@@ -189,6 +234,17 @@ mod tests {
         assert_eq!(names.len(), METHODS.len());
         assert_eq!(by_name("zbuf").unwrap().depths, &[0, 1, 2, 3, 4]);
         assert!(by_name("nothing").is_none());
+        // The hidden-line methods draw lines at depth 0 alone; no other method does.
+        let lines: Vec<_> = METHODS.iter().filter(|m| m.lines).collect();
+        assert_eq!(
+            lines.iter().map(|m| m.name).collect::<Vec<_>>(),
+            ["hiddenline", "hiddenline-archuleta"]
+        );
+        assert!(lines.iter().all(|m| m.depths == [0]
+            && m.options.first() == Some(&"--hidden-line")
+            && m.input == Input::AsGiven));
+        assert!(draws_lines("hiddenline-archuleta") && !draws_lines("zbuf"));
+        assert!(!draws_lines("nothing"));
     }
 
     #[test]

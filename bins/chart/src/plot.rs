@@ -4,7 +4,7 @@
 //! no system font library is needed).
 
 use crate::chart::{Extrapolation, ModelRow, Row};
-use crate::methods::METHODS;
+use crate::methods::{draws_lines, Method, METHODS};
 use anyhow::{anyhow, Context, Result};
 use plotters::coord::Shift;
 use plotters::prelude::*;
@@ -35,12 +35,12 @@ pub enum Shape {
     Cross,
 }
 
-/// Sixteen colours that tell apart on screen and in print (no two of one hue and
+/// Eighteen colours that tell apart on screen and in print (no two of one hue and
 /// lightness; none too light for white paper): the methods' marks, in the order of
 /// [`METHODS`], each with a shape as well, so that the hues that are nearest (the
 /// blues, say) differ in shape too. The model picture's scenes and lines take them in
 /// order.
-pub const STYLES: [(RGBColor, Shape); 16] = [
+pub const STYLES: [(RGBColor, Shape); 18] = [
     (RGBColor(31, 119, 180), Shape::Square),    // scanline: blue
     (RGBColor(214, 39, 40), Shape::Triangle),   // warnock: red
     (RGBColor(44, 160, 44), Shape::Diamond),    // painter: green
@@ -57,13 +57,15 @@ pub const STYLES: [(RGBColor, Shape); 16] = [
     (RGBColor(128, 0, 0), Shape::Square),       // zbuf-chain: maroon
     (RGBColor(0, 128, 128), Shape::Cross),      // zbuf-text: teal
     (RGBColor(184, 134, 11), Shape::Triangle),  // zbuf-binary: dark gold
+    (RGBColor(230, 0, 230), Shape::Cross),      // hiddenline: magenta
+    (RGBColor(90, 150, 0), Shape::Cross),       // hiddenline-archuleta: leaf green
 ];
 
 /// The colours alone, in order.
-const PALETTE: [RGBColor; 16] = {
-    let mut p = [RGBColor(0, 0, 0); 16];
+const PALETTE: [RGBColor; 18] = {
+    let mut p = [RGBColor(0, 0, 0); 18];
     let mut i = 0;
-    while i < 16 {
+    while i < 18 {
         p[i] = STYLES[i].0;
         i += 1;
     }
@@ -151,7 +153,9 @@ fn log_ticks(lo: f64, hi: f64) -> usize {
     10 * ((hi / lo).log10().ceil().max(1.0) as usize + 1)
 }
 
-/// Each method's mark on a scene's panel: its fastest depth.
+/// Each method's mark on a scene's panel: its fastest depth. The hidden-line methods
+/// have no pixel error (they draw lines, not pixels) and have no mark here; the cost
+/// figure compares them.
 pub fn marks<'a>(rows: &'a [Row], scene: &str) -> Vec<&'a Row> {
     let mut best: Vec<&Row> = Vec::new();
     // A scene measured against the point-sampled reference alone has no measure of an
@@ -159,9 +163,9 @@ pub fn marks<'a>(rows: &'a [Row], scene: &str) -> Vec<&'a Row> {
     // edge pixel): its panel draws the point-sampled methods only.
     let point = rows
         .iter()
-        .filter(|r| r.scene == scene)
+        .filter(|r| r.scene == scene && !draws_lines(&r.method))
         .all(|r| r.rmse.is_nan());
-    let drawn = |r: &&Row| !(point && anti_aliased(&r.method));
+    let drawn = |r: &&Row| !(point && anti_aliased(&r.method) || draws_lines(&r.method));
     for r in rows.iter().filter(|r| r.scene == scene).filter(drawn) {
         match best.iter_mut().find(|b| b.method == r.method) {
             Some(b) if r.wall_s < b.wall_s => *b = r,
@@ -547,11 +551,16 @@ fn place_label(
     })
 }
 
+/// The methods the speed-accuracy panels draw: all but the hidden-line ones.
+fn surface_methods() -> impl Iterator<Item = &'static Method> {
+    METHODS.iter().filter(|m| !m.lines)
+}
+
 /// The legend's height for a picture `width` pixels wide: a row of entries of
 /// [`LEGEND_ENTRY`] px each, as many rows as the methods need.
 fn legend_height(width: u32) -> u32 {
     let per_row = (width.saturating_sub(40) / LEGEND_ENTRY).max(1) as usize;
-    16 + 26 * METHODS.len().div_ceil(per_row) as u32
+    16 + 26 * surface_methods().count().div_ceil(per_row) as u32
 }
 
 const LEGEND_ENTRY: u32 = 150;
@@ -563,11 +572,11 @@ where
 {
     let width = area.dim_in_pixel().0;
     let per_row = (width.saturating_sub(40) / LEGEND_ENTRY).max(1) as usize;
-    let rows = METHODS.len().div_ceil(per_row);
+    let count = surface_methods().count();
     // Centred: the last row's entries line up under the others'.
-    let used = (per_row.min(METHODS.len()) as u32 * LEGEND_ENTRY) as i32;
+    let used = (per_row.min(count) as u32 * LEGEND_ENTRY) as i32;
     let left = (width as i32 - used) / 2;
-    for (i, m) in METHODS.iter().enumerate() {
+    for (i, m) in surface_methods().enumerate() {
         let (row, col) = (i / per_row, i % per_row);
         let x = left + col as i32 * LEGEND_ENTRY as i32;
         let y = 8 + row as i32 * 26 + 10;
@@ -582,7 +591,6 @@ where
                 .pos(Pos::new(HPos::Left, VPos::Center)),
         ))?;
     }
-    let _ = rows;
     Ok(())
 }
 
@@ -622,9 +630,12 @@ pub fn speed_accuracy(dir: &Path, rows: &[Row]) -> Result<()> {
     speed_accuracy_on(root, rows, &title).map_err(|e| anyhow!("drawing {}: {e}", svg.display()))
 }
 
-/// The methods of the cost-against-environment figure: the hidden-surface methods and
-/// the anti-aliasing ones, each alone (depth 0).
-pub const ENVIRONMENT_METHODS: [&str; 7] = [
+/// The methods of the cost-against-environment figure: the hidden-surface methods, the
+/// anti-aliasing ones and the two hidden-line methods, each alone (depth 0). The
+/// hidden-line methods have no pixel error, so this is the figure that compares them:
+/// the continuous method's edge-against-polygon tests against Archuleta's counters on
+/// Watkins's scan-line segments.
+pub const ENVIRONMENT_METHODS: [&str; 9] = [
     "zbuf",
     "scanline",
     "warnock",
@@ -632,6 +643,8 @@ pub const ENVIRONMENT_METHODS: [&str; 7] = [
     "painter-split",
     "abuf",
     "ss4",
+    "hiddenline",
+    "hiddenline-archuleta",
 ];
 
 /// The least-squares slope of log y on log x: the power of the statistic a method's
@@ -1054,6 +1067,9 @@ mod tests {
             visible_polygons: 2.0,
             visible_segments: 10.0,
             segments_per_line: 1.0,
+            line_pieces: None,
+            intersection_pieces: None,
+            line_length_px: None,
         }
     }
 
@@ -1101,7 +1117,7 @@ mod tests {
     }
 
     #[test]
-    fn sixteen_methods_sixteen_colours_and_no_two_alike() {
+    fn every_method_its_own_colour_and_no_two_alike() {
         assert_eq!(METHODS.len(), STYLES.len());
         for (i, a) in STYLES.iter().enumerate() {
             for b in &STYLES[i + 1..] {
@@ -1259,6 +1275,81 @@ mod tests {
             (p[1].0 - 5000.0).abs() < 1e-9 && (p[1].1 - 0.5).abs() < 1e-9,
             "{p:?}"
         );
+    }
+
+    #[test]
+    fn the_hidden_line_methods_are_on_the_cost_figure_alone() {
+        // Three scenes of 1, 100 and 1,000 polygons: zbuf's cost in proportion, the
+        // continuous hidden-line method's as the square, Archuleta's in proportion.
+        let mut rows = Vec::new();
+        for (scene, p) in [("a", 1.0f64), ("b", 100.0), ("c", 1000.0)] {
+            for (method, cpu) in [
+                ("zbuf", 0.01 + 1e-4 * p),
+                ("hiddenline", 0.01 + 1e-6 * p * p),
+                ("hiddenline-archuleta", 0.01 + 2e-4 * p),
+            ] {
+                let mut r = row(method, 0, cpu, 1.0);
+                r.scene = scene.into();
+                r.cpu_s = cpu;
+                r.polygons = p as u64;
+                if method.starts_with("hiddenline") {
+                    (r.rmse, r.error_fraction) = (f64::NAN, f64::NAN);
+                    r.line_pieces = Some(3 * p as u64);
+                }
+                rows.push(r);
+            }
+        }
+        // A point to every scene but the cheapest (the fixed cost), for both.
+        for m in ["hiddenline", "hiddenline-archuleta"] {
+            assert!(ENVIRONMENT_METHODS.contains(&m));
+            assert_eq!(
+                environment_points(&rows, m, STATISTICS[0].1).len(),
+                2,
+                "{m}"
+            );
+        }
+        // No mark on a speed-accuracy panel (their error is NaN), and the panel of a
+        // scene with a 16×16 reference still draws its anti-aliased methods.
+        let m = marks(&rows, "b");
+        assert_eq!(
+            m.iter().map(|r| r.method.as_str()).collect::<Vec<_>>(),
+            ["zbuf"]
+        );
+        let dir = tempfile::tempdir().unwrap();
+        speed_accuracy(dir.path(), &rows).unwrap();
+        let svg = std::fs::read_to_string(dir.path().join("speed-accuracy.svg")).unwrap();
+        assert!(
+            !svg.contains("hiddenline"),
+            "figure 1 names no hidden-line method"
+        );
+        // Figure 2: their fitted slopes (2 points fit any line; 4 scenes give 3).
+        let mut more = rows.clone();
+        for m in ["zbuf", "hiddenline", "hiddenline-archuleta"] {
+            let mut r = rows
+                .iter()
+                .find(|r| r.method == m && r.scene == "c")
+                .unwrap()
+                .clone();
+            r.scene = "d".into();
+            r.polygons = 10_000;
+            r.cpu_s = match m {
+                "zbuf" => 0.01 + 1.0,
+                "hiddenline" => 0.01 + 100.0,
+                _ => 0.01 + 2.0,
+            };
+            more.push(r);
+        }
+        environment(dir.path(), &more).unwrap();
+        let svg = std::fs::read_to_string(dir.path().join("cost-environment.svg")).unwrap();
+        assert!(
+            svg.contains("hiddenline: slope 2.00"),
+            "the continuous one's square"
+        );
+        assert!(
+            svg.contains("hiddenline-archuleta: slope 1.00"),
+            "Archuleta's line"
+        );
+        assert!(svg.contains("zbuf: slope 1.00"));
     }
 
     #[test]
