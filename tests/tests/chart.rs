@@ -637,7 +637,8 @@ fn hard_scenes_run_every_depth_and_count_their_statistics() {
 
 /// The committed figures (`scripts/chart.sh --figures`): the CSV beside them has, for
 /// every method on every hard scene, its depth-0 run and the depths it was tried at,
-/// and the painter's depth-0 error on the cyclic bars is there, above 0.
+/// the painter's depth-0 error on the cyclic bars is there, above 0, and both
+/// hidden-line methods are there on every scene.
 #[test]
 fn the_committed_figures_have_every_method_at_depth_0_and_its_best() {
     let images = repo_root().join("docs/images");
@@ -686,6 +687,23 @@ fn the_committed_figures_have_every_method_at_depth_0_and_its_best() {
     }
     let p = find(&rows, "cyclic-bars", "painter", 0).expect("the painter on the cyclic bars");
     assert!(num(p, "error_fraction") > 0.0, "{p:?}");
+    // Both hidden-line methods on every scene of the figures, standard and hard, at
+    // depth 0 alone, each with a drawing and no pixel error.
+    let mut scenes: Vec<&str> = rows.iter().map(|r| r["scene"].as_str()).collect();
+    scenes.dedup();
+    assert!(scenes.len() >= HARD.len() + 5, "{scenes:?}");
+    for scene in &scenes {
+        for m in ["hiddenline", "hiddenline-archuleta"] {
+            let runs: Vec<_> = rows
+                .iter()
+                .filter(|r| r["scene"] == *scene && r["method"] == m)
+                .collect();
+            assert_eq!(runs.len(), 1, "{m} on {scene}");
+            assert_eq!(runs[0]["depth"], "0");
+            assert!(num(runs[0], "error_fraction").is_nan(), "{:?}", runs[0]);
+            assert!(num(runs[0], "line_pieces") > 0.0, "{:?}", runs[0]);
+        }
+    }
     for f in [
         "speed-accuracy.png",
         "speed-accuracy.svg",
@@ -694,4 +712,89 @@ fn the_committed_figures_have_every_method_at_depth_0_and_its_best() {
     ] {
         assert!(images.join(f).metadata().unwrap().len() > 0, "{f}");
     }
+}
+
+/// The two hidden-line methods (`render --hidden-line`, continuous and Archuleta's) are
+/// charted on every scene at depth 0: timed, with no pixel error (NaN: they draw lines,
+/// not pixels), their drawings' pieces counted over every frame, the same count the
+/// SVGs that render writes itself hold; on the figures, the cost one alone.
+#[test]
+fn the_hidden_line_methods_are_charted_on_every_scene() {
+    let work = tempfile::tempdir().unwrap();
+    let movie = work.path().join("movie.txt");
+    let made = sh(
+        &format!(
+            "scene environment --text --seed 4 --polygons 60 --depth-complexity 1 \
+             --size 120x90 --frames 3 > {}",
+            movie.display()
+        ),
+        b"",
+    );
+    assert!(made.status.success(), "{made:?}");
+    let dir = chart(&format!(
+        "--reps 1 --methods zbuf,hiddenline,hiddenline-archuleta \
+         examples/penetrating.txt@200x150 {}@120x90",
+        movie.display()
+    ));
+    let d = dir.path();
+    let (header, rows) = read_csv(&d.join("results.csv"));
+    for c in ["line_pieces", "intersection_pieces", "line_length_px"] {
+        assert!(header.iter().any(|h| h == c), "results.csv lacks {c}");
+    }
+    for (scene, size, frames) in [("penetrating", "200x150", 1), ("movie", "120x90", 3)] {
+        for (method, how) in [
+            ("hiddenline", "continuous"),
+            ("hiddenline-archuleta", "archuleta"),
+        ] {
+            let runs: Vec<_> = rows
+                .iter()
+                .filter(|r| r["scene"] == scene && r["method"] == method)
+                .collect();
+            assert_eq!(runs.len(), 1, "{method} on {scene}: {runs:?}");
+            let r = runs[0];
+            assert_eq!((r["depth"].as_str(), r["size"].as_str()), ("0", size));
+            assert_eq!(r["frames"], frames.to_string());
+            assert!(num(r, "wall_s") > 0.0 && num(r, "cpu_s") > 0.0, "{r:?}");
+            assert!(num(r, "error_fraction").is_nan() && num(r, "rmse").is_nan());
+            assert_eq!(r["edge_rmse"], "");
+            // The drawing render makes of the scene, frame by frame: as many lines.
+            let input = if scene == "movie" {
+                movie.display().to_string()
+            } else {
+                "examples/penetrating.txt".into()
+            };
+            let svgs = work.path().join(method);
+            std::fs::create_dir_all(&svgs).unwrap();
+            let out = sh(
+                &format!(
+                    "render --size {size} --hidden-line --hidden-line-method {how} \
+                     -o {0}/f%d.svg {input} && cat {0}/f*.svg | grep -c '<line'",
+                    svgs.display()
+                ),
+                b"",
+            );
+            assert!(out.status.success(), "{out:?}");
+            let lines: u64 = String::from_utf8_lossy(&out.stdout).trim().parse().unwrap();
+            assert_eq!(num(r, "line_pieces"), lines as f64, "{r:?}");
+            assert_eq!(std::fs::read_dir(&svgs).unwrap().count(), frames);
+        }
+        // The two agree on what they draw: the same length within 2% (Archuleta's ends
+        // fall between the scan lines).
+        let length = |m: &str| num(find(&rows, scene, m, 0).unwrap(), "line_length_px");
+        let (c, a) = (length("hiddenline"), length("hiddenline-archuleta"));
+        assert!(
+            c > 100.0 && (a - c).abs() < 0.02 * c,
+            "{scene}: {c} against {a}"
+        );
+    }
+    // The penetrating scene's one line of intersection, drawn by both.
+    for m in ["hiddenline", "hiddenline-archuleta"] {
+        let r = find(&rows, "penetrating", m, 0).unwrap();
+        assert_eq!(num(r, "intersection_pieces"), 1.0, "{r:?}");
+    }
+    // No hidden-line mark on the speed-accuracy panels; both on the cost figure.
+    let svg = std::fs::read_to_string(d.join("speed-accuracy.svg")).unwrap();
+    assert!(!svg.contains("hiddenline"));
+    let cost = std::fs::read_to_string(d.join("cost-environment.svg")).unwrap();
+    assert!(cost.contains("\nhiddenline-archuleta\n") && cost.contains("\nhiddenline\n"));
 }
