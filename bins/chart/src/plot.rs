@@ -228,9 +228,11 @@ pub fn pareto_by<'a>(marks: &[&'a Row], err: &dyn Fn(&Row) -> f64) -> Vec<&'a Ro
     front
 }
 
+/// The scenes of the speed-accuracy panels, in order: those with a run of a method that
+/// draws pixels (a scene run by the hidden-line methods alone has no panel).
 fn scenes_of(rows: &[Row]) -> Vec<String> {
     let mut s: Vec<String> = Vec::new();
-    for r in rows {
+    for r in rows.iter().filter(|r| !draws_lines(&r.method)) {
         if !s.contains(&r.scene) {
             s.push(r.scene.clone());
         }
@@ -329,7 +331,9 @@ where
     let panels = body.split_evenly((nrows, cols));
     for (scene, panel) in scenes.iter().zip(panels) {
         let marks = marks(rows, scene);
-        let first = marks[0];
+        let Some(&first) = marks.first() else {
+            continue;
+        };
         let point = pointwise(&marks);
         let err = |r: &Row| error_of(r, point);
         // Each method's depth-0 run beside its fastest, where they differ.
@@ -861,6 +865,11 @@ fn measured_panel<DB: DrawingBackend>(root: &DrawingArea<DB, Shift>, rows: &[Mod
 where
     DB::ErrorType: 'static,
 {
+    // A run without zbuf (`--methods hiddenline`) has no row to predict: no panel (an
+    // axis from infinity would ask plotters for ticks without end).
+    if rows.is_empty() {
+        return Ok(());
+    }
     let all = rows.iter().flat_map(|r| [r.predicted_s, r.measured_s]);
     let (lo, hi) = all.fold((f64::INFINITY, 0.0f64), |(a, b), v| (a.min(v), b.max(v)));
     let (lo, hi) = decades(lo / 1.3, hi * 1.5);
