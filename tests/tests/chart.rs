@@ -435,7 +435,8 @@ fn chart_exits_as_the_stages_do() {
             2,
             "chart: invalid value 'foo' for '--methods <NAME,…>': no method foo; the methods: \
              scanline, warnock, painter, painter-split, abuf, ss2, ss4, ss8, ss16, zbuf-pixels, \
-             zbuf, zbuf-eye-z, zbuf-buffer, zbuf-chain, zbuf-text, zbuf-binary\n",
+             zbuf, zbuf-eye-z, zbuf-buffer, zbuf-chain, zbuf-text, zbuf-binary, hiddenline, \
+             hiddenline-archuleta\n",
         ),
     ];
     // OUT: a folder that none of these makes, each failing before anything is written.
