@@ -117,10 +117,10 @@ fn quick_chart_of_a_small_scene_makes_its_files_with_real_values() {
         let e = num(r, "edge_rmse");
         assert!(e > 1.0 && e < 255.0, "{r:?}");
     }
-    // max_rss_kib is the whole tree's: the stages' peaks summed, so that depth 4's 23
-    // stages hold more than depth 0's 3 (ru_maxrss, the largest one process's, was
-    // bash's 4 MB on every row, less than depth 0's three stages together). The tree's
-    // short-lived stages are not all seen at their peak, so the bound is loose.
+    // max_rss_kib is the whole tree's: the stages' peaks summed (render's `--times`,
+    // from its launcher's wait4 of each stage), so that depth 4's 23 stages hold more
+    // than depth 0's 3 (ru_maxrss, the largest one process's, is one stage's; a sampler
+    // of /proc missed the stages of this render of a few milliseconds).
     let rss = |d: usize| num(zbuf[d], "max_rss_kib");
     assert!(
         rss(4) > 1.2 * rss(0),
