@@ -731,17 +731,8 @@ pub(crate) fn for_each_segment(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::tests::{crossing_pair, square, BLUE, RED};
     use crate::{for_each_segment_by, Method};
-
-    const RED: Colour = [255, 0, 0];
-    const BLUE: Colour = [0, 0, 255];
-
-    fn square(colour: Colour, x0: f64, y0: f64, x1: f64, y1: f64, z: f64) -> Polygon {
-        Polygon::from_xyz(
-            colour,
-            &[[x0, y0, z], [x1, y0, z], [x1, y1, z], [x0, y1, z]],
-        )
-    }
 
     fn draw(polygons: &[Polygon], stats: &mut LineStats) -> Vec<Segment> {
         let mut out = Vec::new();
@@ -824,18 +815,8 @@ mod tests {
         // Blue slopes through red's plane at X = 40 (Archuleta's second problem): the
         // front changes from red to blue between columns 39 and 40 on lines 30 to 49,
         // one block, drawn from the boundary Y = 30 to Y = 50, in red's colour.
-        let red = square(RED, 10.0, 10.0, 70.0, 70.0, 0.5);
-        let blue = Polygon::from_xyz(
-            BLUE,
-            &[
-                [20.0, 30.0, 0.7],
-                [60.0, 30.0, 0.3],
-                [60.0, 50.0, 0.3],
-                [20.0, 50.0, 0.7],
-            ],
-        );
         let mut stats = LineStats::default();
-        let segs = draw(&[red, blue], &mut stats);
+        let segs = draw(&crossing_pair(), &mut stats);
         let crossing: Vec<_> = segs.iter().filter(|s| s.intersection).collect();
         assert_eq!(crossing.len(), 1, "{segs:?}");
         let c = crossing[0];

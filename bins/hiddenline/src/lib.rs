@@ -1239,11 +1239,29 @@ pub fn svg(
 mod tests {
     use super::*;
 
-    fn square(colour: Colour, x0: f64, y0: f64, x1: f64, y1: f64, z: f64) -> Polygon {
+    /// A square at depth `z` from (x0, y0) to (x1, y1) in screen coordinates; also the
+    /// fixture of Archuleta's method's tests.
+    pub(crate) fn square(colour: Colour, x0: f64, y0: f64, x1: f64, y1: f64, z: f64) -> Polygon {
         Polygon::from_xyz(
             colour,
             &[[x0, y0, z], [x1, y0, z], [x1, y1, z], [x0, y1, z]],
         )
+    }
+
+    /// Red square at depth 0.5, and blue sloping through red's plane at X = 40, inside
+    /// red: the line of intersection is X = 40 from Y = 30 to Y = 50.
+    pub(crate) fn crossing_pair() -> [Polygon; 2] {
+        let red = square(RED, 10.0, 10.0, 70.0, 70.0, 0.5);
+        let blue = Polygon::from_xyz(
+            BLUE,
+            &[
+                [20.0, 30.0, 0.7],
+                [60.0, 30.0, 0.3],
+                [60.0, 50.0, 0.3],
+                [20.0, 50.0, 0.7],
+            ],
+        );
+        [red, blue]
     }
 
     fn lines(polygons: &[Polygon]) -> Vec<(f64, f64, f64, f64, Colour)> {
@@ -1254,9 +1272,9 @@ mod tests {
             .collect()
     }
 
-    const RED: Colour = [255, 0, 0];
+    pub(crate) const RED: Colour = [255, 0, 0];
     const GREEN: Colour = [0, 255, 0];
-    const BLUE: Colour = [0, 0, 255];
+    pub(crate) const BLUE: Colour = [0, 0, 255];
 
     #[test]
     fn a_nearer_square_hides_part_of_a_farther_one() {
@@ -1343,16 +1361,7 @@ mod tests {
         // Blue slopes through red's plane (z = 0.5) at X = 40, inside red: the line of
         // intersection is X = 40 across blue, from Y = 30 to Y = 50, in red's colour
         // (red is earlier in the stream).
-        let red = square(RED, 10.0, 10.0, 70.0, 70.0, 0.5);
-        let blue = Polygon::from_xyz(
-            BLUE,
-            &[
-                [20.0, 30.0, 0.7],
-                [60.0, 30.0, 0.3],
-                [60.0, 50.0, 0.3],
-                [20.0, 50.0, 0.7],
-            ],
-        );
+        let [red, blue] = crossing_pair();
         let mut stats = LineStats::default();
         let segs = visible_segments(&[red.clone(), blue.clone()], 100, 100, &mut stats);
         let crossing: Vec<_> = segs.iter().filter(|s| s.intersection).collect();
