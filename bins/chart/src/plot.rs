@@ -279,6 +279,25 @@ fn title_height(lines: usize) -> u32 {
     20 + TITLE_FONT.1 * lines.max(1) as u32
 }
 
+/// A figure's title, its lines centred at the top of `title` (made `title_height` tall).
+fn draw_title<DB: DrawingBackend>(title: &DrawingArea<DB, Shift>, title_text: &[String]) -> Drawn
+where
+    DB::ErrorType: 'static,
+{
+    let centre = title.dim_in_pixel().0 as i32 / 2;
+    for (i, line) in title_text.iter().enumerate() {
+        title.draw(&Text::new(
+            line.as_str(),
+            (centre, 12 + (TITLE_FONT.1 * i as u32) as i32),
+            ("sans-serif", TITLE_FONT.0)
+                .into_font()
+                .color(&BLACK)
+                .pos(Pos::new(HPos::Center, VPos::Top)),
+        ))?;
+    }
+    Ok(())
+}
+
 /// `text` in lines that `fits`: broken at its clauses (after a `;`) where it must break,
 /// as a person would, and a clause too long for a line alone by words; as much a line as
 /// fits. A word too long for a line alone has the line to itself.
@@ -317,17 +336,7 @@ where
     let (title, rest) = root.split_vertically(title_height(title_text.len()));
     let height = rest.dim_in_pixel().1;
     let (body, foot) = rest.split_vertically(height - legend_height(rest.dim_in_pixel().0));
-    let centre = title.dim_in_pixel().0 as i32 / 2;
-    for (i, line) in title_text.iter().enumerate() {
-        title.draw(&Text::new(
-            line.as_str(),
-            (centre, 12 + (TITLE_FONT.1 * i as u32) as i32),
-            ("sans-serif", TITLE_FONT.0)
-                .into_font()
-                .color(&BLACK)
-                .pos(Pos::new(HPos::Center, VPos::Top)),
-        ))?;
-    }
+    draw_title(&title, title_text)?;
     let panels = body.split_evenly((nrows, cols));
     for (scene, panel) in scenes.iter().zip(panels) {
         let marks = marks(rows, scene);
@@ -725,17 +734,7 @@ where
 {
     root.fill(&WHITE)?;
     let (title, rest) = root.split_vertically(title_height(title_text.len()));
-    let centre = title.dim_in_pixel().0 as i32 / 2;
-    for (i, line) in title_text.iter().enumerate() {
-        title.draw(&Text::new(
-            line.as_str(),
-            (centre, 12 + (TITLE_FONT.1 * i as u32) as i32),
-            ("sans-serif", TITLE_FONT.0)
-                .into_font()
-                .color(&BLACK)
-                .pos(Pos::new(HPos::Center, VPos::Top)),
-        ))?;
-    }
+    draw_title(&title, title_text)?;
     let height = rest.dim_in_pixel().1;
     let (body, foot) = rest.split_vertically(height - 50);
     let panels = body.split_evenly((2, 2));
