@@ -86,12 +86,12 @@ for ((leaf = 0; leaf < leaves; leaf++)); do
 done
 run zbuf /dev/null - "$bin/zbuf" "${fragments[@]}"
 
-# Wait for every stage. The first to fail is named after its own messages, and its status
-# is ours (1 bad data, 2 usage, 3 I/O); the rest are stopped, their messages unsaid.
+# Wait for each stage: the first to fail is named, its status is ours, the rest stopped.
 while ((${#running[@]})); do
-    wait -n -p pid "${!running[@]}"
-    status=$? n=${running[$pid]}
-    unset "running[$pid]"
+    pid='' && wait -n -p pid "${!running[@]}"; status=$?
+    # A stage bash has reaped already goes unnamed by wait -n: `wait PID` gives its status.
+    [[ -n $pid ]] || { for pid in "${!running[@]}"; do break; done; wait "$pid"; status=$?; }
+    n=${running[$pid]} && unset "running[$pid]"
     if ((status != 0)); then
         cat "$pipes/stderr-$n" >&2
         die "$status" "${names[n]} failed (status $status)"
