@@ -478,6 +478,10 @@ pub fn shim_script(spool: &Path, ssh: &[String], joblog: &Path) -> String {
         r#"#!/bin/sh
 # farm's ssh for GNU parallel: chunk $PARALLEL_SEQ of the spool to the host and back.
 spool={spool}
+# parallel's worker runs the command with the far side's $SHELL, which sshd sets from the
+# user's login; a stand-in for ssh that runs it here (a test's, a container's) inherits
+# ours, and without one the worker runs nothing and exits 0. sh, as sshd would say.
+export SHELL="${{SHELL:-/bin/sh}}"
 k=${{PARALLEL_SEQ-}}
 case $k in '' | *[!0-9]*) exec {ssh} "$@" ;; esac
 [ -e "$spool/$k.in" ] || exec {ssh} "$@"
