@@ -1,8 +1,12 @@
 # shellcheck shell=bash
 # bench.sh (library): what the benchmark scripts share. Sourced, not run.
 #
+#   bench_options "$@"         the options every benchmark takes: --quick (sets `quick`
+#                              to 1), --reps N (sets `reps`), -h/--help (prints the
+#                              script's opening comment); the other words in `args`
+#   bench_usage MESSAGE        says MESSAGE as a usage error and exits 2
 #   bench_build                the binaries, built when missing or stale; sets `bindir`
-#   bench_help                 the running script's opening comment, as its --help
+#   bench_stamp                "Measured by `scripts/NAME ARGS` at commit …, N cores, date"
 #   release_bin ROOT           the folder of ROOT's release binaries, after a cargo build
 #                              (scripts/lib/binaries.sh)
 #   methods_list KIND          the methods a benchmark runs, one `NAME<TAB>LEAF COMMAND` a
@@ -15,6 +19,9 @@
 #   peak_kib CMD…              peak resident memory of one run, KiB (GNU time's %M)
 #   timed REPS CMD…            the median wall seconds of REPS runs: hyperfine where it is
 #                              installed (one warm-up, its own statistics), else `seconds`
+#   best_of REPS FN CMD…       the least of REPS runs of `FN CMD…` (seconds, cpu_seconds)
+#   reading FILE CMD…          CMD with its stdin from FILE, opened afresh each run: for
+#                              the functions above, which leave stdin as it is
 #   median / best              the median / least of the numbers on stdin
 #   quotient A B [PLACES]      A / B to PLACES places (default 2), `-` unless both > 0
 #   ratio A B                  quotient A B 2
@@ -37,8 +44,37 @@
 
 bench_root=$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)
 bench_me=${0##*/}
+bench_argv=''
 # shellcheck source=binaries.sh
 source "$bench_root/scripts/lib/binaries.sh" # release_bin, and bench_build's build_binaries
+
+bench_usage() {
+    echo "$bench_me: $1 (--help says more)" >&2
+    exit 2
+}
+
+# shellcheck disable=SC2034 # quick, reps and args are the calling script's
+bench_options() {
+    bench_argv=$*
+    args=()
+    while (($#)); do
+        case $1 in
+            --quick) quick=1 ;;
+            --reps)
+                [[ ${2-} =~ ^[1-9][0-9]*$ ]] || bench_usage "--reps needs a whole number above 0"
+                reps=$2
+                shift
+                ;;
+            -h | --help)
+                bench_help
+                exit 0
+                ;;
+            -*) bench_usage "unknown option $1" ;;
+            *) args+=("$1") ;;
+        esac
+        shift
+    done
+}
 
 bench_build() {
     local root=$bench_root me=$bench_me
@@ -52,6 +88,12 @@ bench_build() {
 # The opening comment of the script that sourced this, from its second line to the first
 # line that is not a comment.
 bench_help() { sed -n '2,/^[^#]/{/^#/s/^# \{0,1\}//p}' "$0"; }
+
+bench_stamp() {
+    printf 'Measured by `scripts/%s%s` at commit %s, %s cores, %s' "$bench_me" \
+        "${bench_argv:+ $bench_argv}" "$(git -C "$bench_root" rev-parse --short HEAD 2>/dev/null || echo unknown)" \
+        "$(nproc)" "$(date -u '+%Y-%m-%d %H:%M UTC')"
+}
 
 # methods_list KIND: see above. One table, so that the benchmarks run what render runs;
 # the leaf command is what render's graph puts at a leaf for that method.
@@ -146,8 +188,20 @@ timed() {
         t=$(seconds "$@") || return
         times+=$t$'\n'
     done
-    median <<<"$times"
+    printf '%s' "$times" | median
 }
+
+best_of() {
+    local reps=$1 i t all=''
+    shift
+    for ((i = 0; i < reps; i++)); do
+        t=$("$@") || return
+        all+=$t$'\n'
+    done
+    printf '%s' "$all" | best
+}
+
+reading() { "${@:2}" <"$1"; }
 
 quotient() { awk -v a="$1" -v b="$2" -v p="${3:-2}" 'BEGIN { if (a > 0 && b > 0) printf "%.*f", p, a / b; else printf "-" }'; }
 
