@@ -1,6 +1,6 @@
-//! The benchmark scripts' shared library (scripts/lib/bench.sh): a command that fails
-//! is never timed as a success, the pixels that differ between two frames are counted,
-//! and the methods a benchmark runs are render's.
+//! The benchmark scripts' shared library (scripts/lib/bench.sh) and the scripts
+//! themselves: a command that fails is never timed as a success, the pixels that differ
+//! between two frames are counted, and the methods a benchmark runs are render's.
 
 use pipeline_tests::{bin_dir, repo_root};
 use std::path::Path;
@@ -192,4 +192,40 @@ fn methods_list_is_render_s_methods() {
         text(&out.stderr),
         "bench-test: methods_list: no kind 'all' (kinds: hse aa lines)\n"
     );
+}
+
+/// The scripts, one per question: each prints its opening comment for --help without
+/// building anything, and refuses an option it does not know with status 2.
+const BENCH_SCRIPTS: [&str; 7] = [
+    "bench-methods.sh",
+    "bench-painter.sh",
+    "bench-scanline.sh",
+    "bench-warnock.sh",
+    "bench-aa.sh",
+    "bench-bounds.sh",
+    "aa-table.sh",
+];
+
+#[test]
+fn each_benchmark_says_its_usage_and_refuses_an_unknown_option() {
+    for script in BENCH_SCRIPTS {
+        let path = repo_root().join("scripts").join(script);
+        let out = Command::new(&path).arg("--help").output().unwrap();
+        assert!(out.status.success(), "{script} --help: {out:?}");
+        let help = text(&out.stdout);
+        assert!(
+            help.starts_with(&format!("{script}: ")),
+            "{script} --help: {help}"
+        );
+        assert!(
+            help.contains(&format!("Usage: scripts/{script} ")),
+            "{script} --help: {help}"
+        );
+        let out = Command::new(&path).arg("--fast").output().unwrap();
+        assert_eq!(out.status.code(), Some(2), "{script} --fast: {out:?}");
+        assert_eq!(
+            text(&out.stderr),
+            format!("{script}: unknown option --fast (--help says more)\n")
+        );
+    }
 }
