@@ -22,9 +22,9 @@
 # shellcheck source=lib/bench.sh
 source "$(dirname "${BASH_SOURCE[0]}")/lib/bench.sh"
 
-# --- pipeline (was scripts/bench-pipeline.sh) -----------------------------------
+# --- pipeline ------------------------------------------------------------------
 mode_pipeline() (
-# bench-pipeline.sh: the whole pipeline measured, printed as tables.
+# The whole pipeline measured, printed as tables.
 #
 #   1. wall time of the linear pipeline (render.sh --depth 0) on 100,000 polygons at 500x500
 #   2. wall time for splitter depths 0..4 on a fill-heavy scene (10,000 polygons, depth
@@ -250,9 +250,9 @@ if want 6; then
 fi
 )
 
-# --- merge (was scripts/bench-merge.sh) -----------------------------------------
+# --- merge ---------------------------------------------------------------------
 mode_merge() (
-# bench-merge.sh: leaves that see against the thesis's PAR.BUFF.
+# Leaves that see against the thesis's PAR.BUFF.
 #
 #   1. wall time of render.sh at splitter depths 0..4 with --merge tiles (each leaf
 #      resolves its region, zbuf places runs) and --merge buffer (every fragment to one
@@ -266,7 +266,7 @@ mode_merge() (
 #
 # Compare figures within one run of the script: the machine is shared.
 #
-# Usage: scripts/bench-merge.sh [SECTION...]   (sections 1-2; default both)
+# Usage: scripts/bench-tree.sh merge [SECTION...]   (sections 1-2; default both)
 set -euo pipefail
 
 root=$(cd "$(dirname "$0")/.." && pwd)
@@ -324,7 +324,6 @@ if want 2; then
     echo
     echo "| depth | mode | slowest leaf scanconv s | largest leaf scanconv KiB | zbuf s | zbuf KiB | bytes to zbuf |"
     echo "|---|---|---|---|---|---|---|"
-    source "$root/scripts/tree-planes.sh"
     size=1920x1080
     clip="$B/clipplane left | $B/clipplane right | $B/clipplane top | $B/clipplane bottom | $B/clipplane hither | $B/clipplane yon"
     "$B/viewxf" --size $size < "$work/fill.pp" | bash -c "$clip" > "$work/node1"
@@ -341,9 +340,9 @@ if want 2; then
     }
     for d in 0 1 2 3 4; do
         leaves=$((1 << d))
-        tree_planes 1920 1080 "$d"
         for ((node = 1; node < leaves; node++)); do
-            "$B/splitter" "${plane_of[$node]}" "$work/node$((2 * node))" "$work/node$((2 * node + 1))" < "$work/node$node"
+            "$B/splitter" --node "$node" --depth "$d" --size $size "$work/node$((2 * node))" \
+                "$work/node$((2 * node + 1))" < "$work/node$node"
         done
         for m in tiles buffer; do
             flag=; [[ $m == tiles ]] && flag=--resolve
@@ -367,14 +366,14 @@ if want 2; then
 fi
 )
 
-# --- depth-auto (was scripts/bench-depth-auto.sh) -------------------------------
+# --- depth-auto ----------------------------------------------------------------
 mode_depth_auto() (
-# bench-depth-auto.sh: render.sh --depth auto against every fixed depth 0-4 on the
+# render.sh --depth auto against every fixed depth 0-4 on the
 # fill-heavy scene of scripts/bench.sh (10,000 quads, Dc≈10, 1920×1080) and on two
 # polygons: whole-process wall seconds, median of N, in one run, and auto over the best
 # fixed depth (the goal: within 10%). Not part of CI.
 #
-# Usage: scripts/bench-depth-auto.sh [--reps N]
+# Usage: scripts/bench-tree.sh depth-auto [--reps N]
 set -euo pipefail
 export LC_ALL=C
 reps=5
@@ -382,7 +381,7 @@ case ${1-} in
     --reps) reps=${2:?--reps needs N} ;;
     -h | --help) sed -n '2,7p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
     '') ;;
-    *) echo "bench-depth-auto.sh: unknown argument $1" >&2; exit 2 ;;
+    *) echo "bench-tree.sh depth-auto: unknown argument $1" >&2; exit 2 ;;
 esac
 root=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
 cd "$root"
@@ -413,7 +412,7 @@ table() { # SCENE SIZE LABEL
 }
 
 echo
-echo "Measured by \`scripts/bench-depth-auto.sh\` at commit $(git rev-parse --short HEAD)," \
+echo "Measured by \`scripts/bench-tree.sh depth-auto\` at commit $(git rev-parse --short HEAD)," \
     "$(nproc) cores, $(date -u +%Y-%m-%d): render.sh wall seconds, median of $reps, one run."
 echo
 echo "| scene | depth 0 | 1 | 2 | 3 | 4 | best | auto | auto / best | auto chose |"
@@ -424,7 +423,7 @@ table examples/penetrating.txt 500x500 "2 polygons, 500×500"
 
 # --- plan (the cost model's checks) ---------------------------------------------------
 mode_plan() (
-# bench-plan.sh: the cost model's checks on this machine (docs/model.md, "The model against
+# The cost model's checks on this machine (docs/model.md, "The model against
 # this machine"), on the fill-heavy scene of scripts/bench.sh (10,000 quads, Dc≈10,
 # 1920×1080), in one run:
 #   1. render.sh --depth auto against fixed depths 0-3, interleaved (every round runs each
@@ -445,7 +444,7 @@ case ${1-} in
     --reps) reps=${2:?--reps needs N} ;;
     -h | --help) sed -n '2,15p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
     '') ;;
-    *) echo "bench-plan.sh: unknown argument $1" >&2; exit 2 ;;
+    *) echo "bench-tree.sh plan: unknown argument $1" >&2; exit 2 ;;
 esac
 root=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
 cd "$root"
