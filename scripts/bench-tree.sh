@@ -457,13 +457,6 @@ scene=$work/fill.txt
 fill_scene "$B" 10000 "$size" > "$scene"
 scripts/render.sh --depth 0 --size $size "$scene" > /dev/null # binaries current
 
-seconds() {
-    local t0=$EPOCHREALTIME
-    "$@" > /dev/null 2>&1
-    awk -v a="$t0" -v b="$EPOCHREALTIME" 'BEGIN { printf "%.6f\n", b - a }'
-}
-median() { sort -g | awk '{ t[NR] = $1 } END { printf "%.3f", NR % 2 ? t[(NR + 1) / 2] : (t[NR / 2] + t[NR / 2 + 1]) / 2 }'; }
-
 echo
 echo "Measured by \`scripts/bench-tree.sh plan\` at commit $(git rev-parse --short HEAD), $(nproc) cores" \
     "($(grep -m1 'model name' /proc/cpuinfo | sed 's/.*: //')), $(date -u '+%Y-%m-%d %H:%M') UTC," \
