@@ -32,19 +32,19 @@ trap 'rm -rf "$work"' EXIT
 
 screen=$work/screen
 "$bindir/scene" environment --polygons "$n" --size "$size" --seed 1 | to_screen "$size" >"$screen"
-polygons=$(stat_count "$("$bindir/scanconv" --resolve --stats <"$screen" 2>&1 >/dev/null)" "polygons in")
+polygons=$(stat_count "$("$bindir/scanconv" --stats <"$screen" 2>&1 >/dev/null)" "polygons in")
 
 echo "$(bench_stamp): \`scene environment --polygons $n --size $size --seed 1\`, $polygons" \
     "polygons into one leaf (depth 0); wall and CPU seconds the median of $reps."
 echo
 echo "| method | leaf | wall s | CPU s | peak KiB | output bytes |"
 echo "|---|---|---|---|---|---|"
+cmd=()
 mapfile -t methods < <(methods_list aa)
 for method in "${methods[@]}"; do
     IFS=$'\t' read -r name leaf <<<"$method"
     echo "$bench_me: $name" >&2
-    read -ra cmd <<<"$leaf"
-    cmd[0]=$bindir/${cmd[0]}
+    leaf_words cmd "$leaf"
     walls='' cpus=''
     for ((i = 0; i < reps; i++)); do
         walls+=$(seconds reading "$screen" "${cmd[@]}")$'\n'

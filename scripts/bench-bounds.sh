@@ -32,10 +32,11 @@ d=$((quick ? 10 : 1))
 
 # The methods: render's, then the painter's splitting, the hidden lines and the a-buffer.
 mapfile -t methods < <(methods_list hse)
-methods+=($'painter --split\tpainter --split')
+methods+=("painter --split"$'\t'"$(method_leaf hse painter) --split")
 mapfile -t -O ${#methods[@]} methods < <(methods_list lines)
-mapfile -t -O ${#methods[@]} methods < <(methods_list aa | grep '^abuf')
+methods+=("abuf"$'\t'"$(method_leaf aa abuf)")
 
+cmd=()
 # over CMD…: CMD under `timeout 120`, status 124 when the time ran out.
 over() { timeout 120 "$@"; }
 
@@ -51,8 +52,7 @@ for scene in "stack $((20000 / d))" "slivers $((10000 / d))" "pinhead $((100000 
     for method in "${methods[@]}"; do
         IFS=$'\t' read -r name leaf <<<"$method"
         echo "$bench_me: $scene, $name" >&2
-        read -ra cmd <<<"$leaf"
-        cmd[0]=$bindir/${cmd[0]}
+        leaf_words cmd "$leaf"
         status=0
         cpu=$(best_of "$reps" cpu_seconds reading "$in" over "${cmd[@]}") || status=$?
         if ((status == 124)); then
@@ -78,11 +78,14 @@ done
 echo
 echo "| scene planes N, 500x500 | pixels unlike the z-buffer | share | painter --split said it could not order | within 0.5% or said |"
 echo "|---|---|---|---|---|"
+zbuf=() split=()
+leaf_words zbuf "$(method_leaf hse zbuf)"
+leaf_words split "$(method_leaf hse painter) --split"
 for n in 5 50 400; do
     in=$work/planes-$n
     "$bindir/scene" planes "$n" | to_screen 500x500 >"$in"
-    "$bindir/scanconv" --resolve <"$in" | "$bindir/zbuf" >"$work/z.ppm"
-    "$bindir/painter" --split <"$in" 2>"$work/err" | "$bindir/zbuf" >"$work/p.ppm"
+    "${zbuf[@]}" <"$in" | "$bindir/zbuf" >"$work/z.ppm"
+    "${split[@]}" <"$in" 2>"$work/err" | "$bindir/zbuf" >"$work/p.ppm"
     differ=$(differing "$work/z.ppm" "$work/p.ppm")
     said=no
     grep -q "could not order" "$work/err" && said=yes

@@ -41,17 +41,16 @@ d=$((quick ? 10 : 1))
 echo "$(bench_stamp): each leaf alone, 500x500, the least wall seconds of $reps."
 echo
 
-# leaf WORDS: the command of a leaf's words, the binary's path first.
-leaf() {
-    read -ra cmd <<<"$1"
-    cmd[0]=$bindir/${cmd[0]}
-}
+cmd=()
+zbuf=$(method_leaf hse zbuf) painter=$(method_leaf hse painter)
+lines=$(method_leaf lines hiddenline) abuf=$(method_leaf aa abuf)
 
-# frame IN WORDS: the frame the leaf WORDS draws from IN into $work/m.ppm; its stderr in
+# frame IN WORDS FRAME: the frame the leaf WORDS draws from IN into FRAME; its stderr in
 # $work/err.
 frame() {
-    leaf "$2"
-    "${cmd[@]}" <"$1" 2>"$work/err" | "$bindir/zbuf" >"$work/m.ppm"
+    local cmd
+    leaf_words cmd "$2"
+    "${cmd[@]}" <"$1" 2>"$work/err" | "$bindir/zbuf" >"$3"
 }
 
 if ((!hostile)); then
@@ -66,15 +65,15 @@ if ((!hostile)); then
     echo "|---|---|---|---|---|---|---|"
     for scene in "${scenes[@]}"; do
         in=$work/$scene
-        "$bindir/scanconv" --resolve <"$in" | "$bindir/zbuf" >"$work/z.ppm"
-        for method in "scanconv --resolve" painter "painter --split" hiddenline; do
+        frame "$in" "$zbuf" "$work/z.ppm"
+        for method in "$zbuf" "$painter" "$painter --split" "$lines"; do
             echo "$bench_me: $scene, $method" >&2
-            leaf "$method"
+            leaf_words cmd "$method"
             t=$(best_of "$reps" seconds reading "$in" "${cmd[@]}")
             kib=$(peak_kib "${cmd[@]}" <"$in")
             differ=— cycles=— given_up=—
-            if [[ $method == painter* ]]; then
-                frame "$in" "$method --stats"
+            if [[ $method == "$painter"* ]]; then
+                frame "$in" "$method --stats" "$work/m.ppm"
                 differ=$(differing "$work/z.ppm" "$work/m.ppm")
                 stats=$(<"$work/err")
                 cycles=$(stat_count "$stats" "cycles,")
@@ -95,11 +94,11 @@ for scene in "stack $((20000 / d))" "slivers $((10000 / d))" "pinhead $((100000 
     in=$work/${scene// /-}
     read -ra words <<<"$scene"
     "$bindir/scene" "${words[@]}" | to_screen 500x500 >"$in"
-    "$bindir/scanconv" --resolve <"$in" | "$bindir/zbuf" >"$work/z.ppm"
+    frame "$in" "$zbuf" "$work/z.ppm"
     zt='' zk=''
-    for method in "scanconv --resolve" painter "painter --split" abuf; do
+    for method in "$zbuf" "$painter" "$painter --split" "$abuf"; do
         echo "$bench_me: $scene, $method" >&2
-        leaf "$method"
+        leaf_words cmd "$method"
         status=0
         t=$(best_of "$reps" seconds reading "$in" over "${cmd[@]}") || status=$?
         if ((status == 124)); then
@@ -110,8 +109,8 @@ for scene in "stack $((20000 / d))" "slivers $((10000 / d))" "pinhead $((100000 
         kib=$(peak_kib "${cmd[@]}" <"$in")
         zt=${zt:-$t} zk=${zk:-$kib}
         differ=— said=—
-        if [[ $method == painter* ]]; then
-            frame "$in" "$method"
+        if [[ $method == "$painter"* ]]; then
+            frame "$in" "$method" "$work/m.ppm"
             differ=$(differing "$work/z.ppm" "$work/m.ppm")
             said=no
             grep -q "could not order" "$work/err" && said=yes

@@ -52,6 +52,9 @@ bench_build
 work=$(mktemp -d "${TMPDIR:-/tmp}/bench-scanline.XXXXXX")
 trap 'rm -rf "$work"' EXIT
 want() { [[ " ${sections[*]} " == *" $1 "* ]]; }
+scanline=() zbuf=()
+leaf_words scanline "$(method_leaf hse scanline)"
+leaf_words zbuf "$(method_leaf hse zbuf)"
 
 if ((quick)); then
     frames=2 counts=(1 16 64) env_n=1000 building_frames=20 d=10
@@ -65,9 +68,9 @@ per() { awk -v a="$1" -v b="$2" -v p="$3" 'BEGIN { printf "%.*f", p, (b > 0 ? a 
 # row LABEL FILE: the table row of sections 1-5 for the screen-space stream FILE.
 row() {
     local s z stats polygons frames lines
-    s=$(best_of "$reps" cpu_seconds reading "$2" "$bindir/scanline")
-    z=$(best_of "$reps" cpu_seconds reading "$2" "$bindir/scanconv" --resolve)
-    stats=$("$bindir/scanline" --stats <"$2" 2>&1 >/dev/null)
+    s=$(best_of "$reps" cpu_seconds reading "$2" "${scanline[@]}")
+    z=$(best_of "$reps" cpu_seconds reading "$2" "${zbuf[@]}")
+    stats=$("${scanline[@]}" --stats <"$2" 2>&1 >/dev/null)
     polygons=$(stat_count "$stats" "polygons in")
     frames=$(stat_count "$stats" frames)
     lines=$(stat_count "$stats" "scan lines")
@@ -133,7 +136,7 @@ if want 6; then
         local f=$1 out re='Collected : ([0-9]+)'
         shift
         command -v valgrind >/dev/null || { echo -; return; }
-        out=$(valgrind --tool=callgrind --callgrind-out-file=/dev/null "$bindir/scanline" "$@" <"$f" 2>&1 >/dev/null)
+        out=$(valgrind --tool=callgrind --callgrind-out-file=/dev/null "${scanline[@]}" "$@" <"$f" 2>&1 >/dev/null)
         [[ $out =~ $re ]] || { echo "$bench_me: callgrind counted nothing: $out" >&2 && return 1; }
         echo "${BASH_REMATCH[1]}"
     }
@@ -144,7 +147,7 @@ if want 6; then
     "$bindir/scene" screen reversing $((1000 / d)) >"$work/reversing"
     for name in spheres stack slivers reversing planes; do
         f=$work/$name
-        stats=$("$bindir/scanline" --stats <"$f" 2>&1 >/dev/null)
+        stats=$("${scanline[@]}" --stats <"$f" 2>&1 >/dev/null)
         lines=$(stat_count "$stats" "scan lines")
         cells=''
         for c in "segments," "segments merged in" "re-sorted" "swaps"; do
@@ -155,8 +158,8 @@ if want 6; then
         cells+=" $(per "$(stat_count "$stats" "midpoint subdivisions")" "$lines" 2) |"
         ic=$(instructions "$f")
         ia=$(instructions "$f" --sort-afresh)
-        cc=$(best_of "$reps" cpu_seconds reading "$f" "$bindir/scanline")
-        ca=$(best_of "$reps" cpu_seconds reading "$f" "$bindir/scanline" --sort-afresh)
+        cc=$(best_of "$reps" cpu_seconds reading "$f" "${scanline[@]}")
+        ca=$(best_of "$reps" cpu_seconds reading "$f" "${scanline[@]}" --sort-afresh)
         echo "| $name |$cells $ic | $ia | $(quotient "$ic" "$ia" 3) | $cc | $ca |"
     done
     echo

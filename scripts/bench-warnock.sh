@@ -62,7 +62,10 @@ windows() {
     echo "$t"
 }
 
-z=$bindir/scanconv w=$bindir/warnock h=$bindir/hiddenline
+z=() w=() h=()
+leaf_words z "$(method_leaf hse zbuf)"
+leaf_words w "$(method_leaf hse warnock)"
+leaf_words h "$(method_leaf lines hiddenline)"
 echo "## warnock and hiddenline against the z-buffer leaf, $size (CPU s, best of $reps; peak KiB)"
 echo
 echo "$(bench_stamp): each leaf alone, file to /dev/null."
@@ -74,16 +77,16 @@ for name in "${scenes[@]}"; do
     f=$work/$name.pp
     read -ra words <<<"$(scene_words "$name")"
     "$bindir/scene" screen "${words[@]}" --size "$size" >"$f"
-    zs=$(best_of "$reps" cpu_seconds reading "$f" "$z" --resolve)
-    ws=$(best_of "$reps" cpu_seconds reading "$f" "$w")
-    hs=$(cpu_seconds reading "$f" "$h")
-    ((${hs%.*} >= 5)) || hs=$(best_of "$reps" cpu_seconds reading "$f" "$h")
-    zk=$(peak_kib "$z" --resolve <"$f")
-    wk=$(peak_kib "$w" <"$f")
-    hk=$(peak_kib "$h" <"$f")
-    wstats=$("$w" --stats <"$f" 2>&1 >"$work/w.runs")
-    hstats=$("$h" --stats <"$f" 2>&1 >/dev/null)
-    "$z" --resolve <"$f" | "$bindir/zbuf" >"$work/z.ppm"
+    zs=$(best_of "$reps" cpu_seconds reading "$f" "${z[@]}")
+    ws=$(best_of "$reps" cpu_seconds reading "$f" "${w[@]}")
+    hs=$(cpu_seconds reading "$f" "${h[@]}")
+    ((${hs%.*} >= 5)) || hs=$(best_of "$reps" cpu_seconds reading "$f" "${h[@]}")
+    zk=$(peak_kib "${z[@]}" <"$f")
+    wk=$(peak_kib "${w[@]}" <"$f")
+    hk=$(peak_kib "${h[@]}" <"$f")
+    wstats=$("${w[@]}" --stats <"$f" 2>&1 >"$work/w.runs")
+    hstats=$("${h[@]}" --stats <"$f" 2>&1 >/dev/null)
+    "${z[@]}" <"$f" | "$bindir/zbuf" >"$work/z.ppm"
     "$bindir/zbuf" <"$work/w.runs" >"$work/w.ppm"
     polygons=$(stat_count "$wstats" "polygons in")
     edges=$(stat_count "$hstats" "pieces drawn;")

@@ -13,6 +13,9 @@
 #                              line: KIND `hse` render's hidden-surface methods (--hse
 #                              NAME), `aa` its anti-aliasing leaves (--aa NAME, `point`
 #                              for none), `lines` the hidden-line drawing
+#   method_leaf KIND NAME      the leaf command of method NAME of methods_list KIND
+#   leaf_words ARRAY WORDS     sets ARRAY to the command WORDS, its binary in `bindir`
+#                              (shellcheck sees ARRAY set when the script sets it to ())
 #   seconds CMD…               wall seconds of one run (bash's microsecond clock), output
 #                              to /dev/null
 #   cpu_seconds CMD…           user + system seconds of one run (bash's `time`, ms)
@@ -110,6 +113,22 @@ methods_list() {
             return 2
             ;;
     esac
+}
+
+method_leaf() {
+    local rows name leaf
+    rows=$(methods_list "$1") || return
+    while IFS=$'\t' read -r name leaf; do
+        [[ $name == "$2" ]] && { echo "$leaf"; return 0; }
+    done <<<"$rows"
+    echo "$bench_me: methods_list $1 has no method '$2'" >&2
+    return 2
+}
+
+leaf_words() {
+    local -n words=$1
+    read -r -a words <<<"$2"
+    words[0]=${bindir:?leaf_words needs bindir}/${words[0]}
 }
 
 # bench_failed STATUS ERRFILE CMD…: the one message for a measured command that failed.

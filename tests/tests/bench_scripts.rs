@@ -165,7 +165,7 @@ fn render_accepts(option: &str) -> Vec<String> {
 
 /// The benchmarks' methods are render's: `methods_list hse` names each `--hse` method
 /// and `methods_list aa` each `--aa` leaf (`point` for none), each with the leaf command
-/// render puts at a leaf for it.
+/// render puts at a leaf for it, which `method_leaf` finds by name.
 #[test]
 fn methods_list_is_render_s_methods() {
     let out = lib("methods_list hse; echo; methods_list aa; echo; methods_list lines");
@@ -187,6 +187,17 @@ fn methods_list_is_render_s_methods() {
     );
     assert!(lists[1].contains("ss8\tsupersample --samples 8\n"));
     assert_eq!(lists[2], "hiddenline\thiddenline\n");
+    // A method's leaf command by its name, for the scripts that compare a few methods.
+    let out = lib("method_leaf hse zbuf; method_leaf aa ss4; method_leaf hse abuf");
+    assert_eq!(out.status.code(), Some(2));
+    assert_eq!(
+        text(&out.stdout),
+        "scanconv --resolve\nsupersample --samples 4\n"
+    );
+    assert_eq!(
+        text(&out.stderr),
+        "bench-test: methods_list hse has no method 'abuf'\n"
+    );
     let out = lib("methods_list all");
     assert_eq!(out.status.code(), Some(2));
     assert_eq!(
