@@ -459,7 +459,8 @@ impl Builder<'_> {
 }
 
 /// The leaves' hidden-surface stage for these options: the binary's name, then its
-/// options (see [`Builder::method`]).
+/// options (see [`Builder::method`]): the row of the table of methods that --aa or
+/// --hse selects (`methods::METHODS`), or with --merge buffer scanconv's fragments.
 pub fn method(o: &Options) -> Vec<String> {
     let words = |w: &[&str]| w.iter().map(|s| s.to_string()).collect::<Vec<_>>();
     if o.merge == "buffer" {
@@ -468,20 +469,13 @@ pub fn method(o: &Options) -> Vec<String> {
             m.push("--pixels".into());
         }
         m
-    } else if let Some(k) = o.aa.strip_prefix("ss") {
-        words(&["supersample", "--samples", k])
-    } else if o.aa == "abuf" {
-        words(&["abuf"])
-    } else if o.hse == "zbuf" {
-        words(&["scanconv", "--resolve"])
-    } else if o.hse == "painter" {
-        let mut m = words(&["painter"]);
+    } else {
+        // The row of the table of methods that --aa, else --hse, selects.
+        let mut m = o.leaf.clone();
         if o.split {
             m.push("--split".into());
         }
         m
-    } else {
-        vec![o.hse.clone()]
     }
 }
 
