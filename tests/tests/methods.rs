@@ -149,7 +149,7 @@ fn options_that_cannot_combine_are_refused() {
     for (options, message) in [
         (
             "--hse zsort",
-            "render: --hse must be zbuf, scanline, warnock or painter, not 'zsort'",
+            "render: --hse must be scanline, warnock, painter or zbuf, not 'zsort'",
         ),
         (
             "--merge buffer --hse scanline",
