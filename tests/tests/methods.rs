@@ -29,12 +29,24 @@ fn differing(a: &[u8], b: &[u8]) -> usize {
         .sum()
 }
 
-/// `--hse scanline` and `--hse warnock` give `--hse zbuf`'s bytes at depths 0–4.
+/// The hidden-surface methods the table of methods says are exact, besides the z-buffer
+/// itself: scanline and warnock.
+fn exact_methods() -> Vec<&'static str> {
+    methods::METHODS
+        .iter()
+        .filter_map(|m| match m.selector {
+            methods::Selector::Hse(name) if m.exact && name != "zbuf" => Some(name),
+            _ => None,
+        })
+        .collect()
+}
+
+/// Each exact `--hse` method gives `--hse zbuf`'s bytes at depths 0–4.
 fn exact_at_every_depth(options: &str) {
     for depth in 0..=4 {
         let zbuf = render(&format!("--depth {depth} {options}"));
         assert!(!zbuf.is_empty());
-        for method in ["scanline", "warnock"] {
+        for method in exact_methods() {
             let other = render(&format!("--hse {method} --depth {depth} {options}"));
             assert!(
                 other == zbuf,
@@ -43,6 +55,32 @@ fn exact_at_every_depth(options: &str) {
             );
         }
     }
+}
+
+#[test]
+fn the_exact_methods_are_scanline_and_warnock() {
+    assert_eq!(exact_methods(), ["scanline", "warnock"]);
+}
+
+#[test]
+fn render_lists_the_table_of_methods_for_scripts() {
+    // The table as methods::listing prints it, through render.sh as a script runs it.
+    let listing = run("scripts/render.sh --list-methods");
+    assert_eq!(
+        String::from_utf8(listing).unwrap(),
+        methods::listing(methods::METHODS)
+    );
+    // Read as a bench script reads it: the header skipped, the columns by name.
+    let read = run(r#"scripts/render.sh --list-methods | {
+        read -r
+        while IFS=$'\t' read -r name selector options stage draws exact rest; do
+            if [[ $selector == hse:* && $exact == exact ]]; then printf '%s=%s;' "$name" "$stage"; fi
+        done
+    }"#);
+    assert_eq!(
+        String::from_utf8(read).unwrap(),
+        "scanline=scanline;warnock=warnock;zbuf=scanconv --resolve;"
+    );
 }
 
 #[test]
