@@ -185,6 +185,16 @@ mod tests {
     }
 
     #[test]
+    fn every_methods_binary_is_built_once() {
+        let all = binaries();
+        for b in BINARIES.iter().chain(&methods::binaries(methods::METHODS)) {
+            assert_eq!(all.iter().filter(|a| a == &b).count(), 1, "{b}");
+        }
+        // Today's methods' stages are all in the list already.
+        assert_eq!(all, BINARIES);
+    }
+
+    #[test]
     fn a_source_newer_than_the_oldest_binary_and_the_stamp_is_stale() {
         let d = tempfile::tempdir().unwrap();
         let (root, bin) = (d.path().join("r"), d.path().join("b"));
