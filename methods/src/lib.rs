@@ -453,6 +453,26 @@ pub fn by_aa<'t>(table: &'t [Method], name: &str) -> Option<&'t Method> {
         .find(|m| matches!(m.selector, Selector::Aa(n) if n == name))
 }
 
+/// The row `render --hidden-line --hidden-line-method NAME` selects in `table`; without
+/// a NAME, the first hidden-line row (hiddenline's default method).
+pub fn by_hidden_line<'t>(table: &'t [Method], name: Option<&str>) -> Option<&'t Method> {
+    table.iter().find(|m| match m.selector {
+        Selector::HiddenLine(n) => name.is_none_or(|name| n == name),
+        _ => false,
+    })
+}
+
+/// The names `render --hidden-line-method` takes, in the table's order.
+pub fn hidden_line_names(table: &[Method]) -> Vec<&'static str> {
+    table
+        .iter()
+        .filter_map(|m| match m.selector {
+            Selector::HiddenLine(n) => Some(n),
+            _ => None,
+        })
+        .collect()
+}
+
 /// The names `render --hse` takes, in the table's order.
 pub fn hse_names(table: &[Method]) -> Vec<&'static str> {
     table
@@ -626,6 +646,13 @@ mod tests {
             ["supersample", "--samples", "8"]
         );
         assert!(by_hse(METHODS, "painter-split").is_none());
+        assert_eq!(hidden_line_names(METHODS), ["continuous", "archuleta"]);
+        assert_eq!(by_hidden_line(METHODS, None).unwrap().stage, ["hiddenline"]);
+        assert_eq!(
+            by_hidden_line(METHODS, Some("archuleta")).unwrap().name,
+            "hiddenline-archuleta"
+        );
+        assert!(by_hidden_line(METHODS, Some("exact")).is_none());
         assert!(by_name(METHODS, "nothing").is_none());
         assert_eq!(
             binaries(METHODS),

@@ -446,15 +446,16 @@ impl Builder<'_> {
         argv.extend(os(["--size", &self.o.size]));
         argv.extend(os(zmode_words(ZStage::Persp, &self.o.zmode)));
         self.start("persp", clipped, pipe("screen"), argv);
-        let mut argv = os([self.bin("hiddenline")]);
-        if let Some(m) = &self.o.hidden_line_method {
-            argv.extend(os(["--method", m]));
-        }
+        // The row of the table of methods that --hidden-line-method selects.
+        let o = self.o;
+        let stage = &o.leaf;
+        let mut argv = os([self.bin(&stage[0])]);
+        argv.extend(os(stage[1..].iter()));
         argv.extend(self.stats());
         if let Some(pattern) = &self.o.output {
             argv.extend(os(["-o", pattern]));
         }
-        self.start("hiddenline", pipe("screen"), End::Inherit, argv);
+        self.start(stage[0].clone(), pipe("screen"), End::Inherit, argv);
     }
 }
 

@@ -239,7 +239,8 @@ pub struct Options {
     pub split: bool,
     pub aa: String,
     /// The stage at each leaf for --hse and --aa, its binary first, from the table of
-    /// methods (with --merge tiles; --merge buffer's is scanconv's fragments).
+    /// methods (with --merge tiles; --merge buffer's is scanconv's fragments); with
+    /// --hidden-line, the drawing's stage after persp.
     pub leaf: Vec<String>,
     pub pixels: bool,
     pub hidden_line: bool,
@@ -382,7 +383,18 @@ impl Cli {
         if self.hidden_line_method.is_some() && !self.hidden_line {
             return usage("--hidden-line-method needs --hidden-line".into());
         }
+        let mut leaf = leaf;
         if self.hidden_line {
+            if let Some(m) = &self.hidden_line_method {
+                one_of(
+                    "--hidden-line-method",
+                    m,
+                    &methods::hidden_line_names(table),
+                )?;
+            }
+            // The drawing's one stage after persp, from its row.
+            let row = methods::by_hidden_line(table, self.hidden_line_method.as_deref());
+            leaf = row.map_or_else(Vec::new, Method::stage_words);
             if let Some(d) = depth.filter(|d| *d != 0) {
                 return usage(format!(
                     "--hidden-line draws at depth 0 (the tree's cuts are not edges), not --depth {d}"
@@ -573,6 +585,10 @@ mod tests {
                 "--subtree needs --depth N, the depth of the tree it is part of",
             ),
             (&["--hidden-line"], "--hidden-line needs -o FILE.svg"),
+            (
+                &["--hidden-line", "--hidden-line-method", "exact"],
+                "--hidden-line-method must be continuous or archuleta, not 'exact'",
+            ),
             (
                 &["--first-frame", "-1"],
                 "--first-frame must be a frame number, 0 or more, not '-1'",
