@@ -10,8 +10,8 @@
 //! scene the chart runs it at, the colour and marker the chart draws it in, and the fuzz
 //! target that checks it.
 //!
-//! Who reads the table: `render` (the names `--hse` and `--aa` take, and the leaf stage
-//! each one starts; `render --list-methods` prints the table for the scripts, one line a
+//! Who reads the table: `render` (the names `--hse`, `--aa` and `--hidden-line-method`
+//! take, and the stage each one starts; `render --list-methods` prints the table for the scripts, one line a
 //! row), `chart` (the runs, the CSV's names, the colours and markers), the end-to-end
 //! tests (which methods must give the z-buffer's bytes) and the fuzz target (which check
 //! each row gets). Adding a method is a row here, its stage crate under `bins/`, and its
