@@ -98,21 +98,34 @@ bench_stamp() {
         "$(nproc)" "$(date -u '+%Y-%m-%d %H:%M UTC')"
 }
 
-# methods_list KIND: see above. One table, so that the benchmarks run what render runs;
-# the leaf command is what render's graph puts at a leaf for that method.
+# methods_list KIND: see above. The rows come from the table of methods (methods/src/lib.rs)
+# as `render --list-methods` prints it (a header, then NAME, SELECTOR, OPTIONS, STAGE, …
+# tab-separated), so that the benchmarks run what render runs: the rows whose selector is
+# `hse:NAME`, `aa:NAME` (after `point`, no anti-aliasing, which is zbuf's leaf) or
+# `hidden-line:continuous` (the hiddenline stage's own method), each with its stage.
 methods_list() {
+    local rows name selector stage want
     case $1 in
-        hse) printf '%s\t%s\n' zbuf "scanconv --resolve" scanline scanline warnock warnock \
-            painter painter ;;
-        aa) printf '%s\t%s\n' point "scanconv --resolve" ss2 "supersample --samples 2" \
-            ss4 "supersample --samples 4" ss8 "supersample --samples 8" \
-            ss16 "supersample --samples 16" abuf abuf ;;
-        lines) printf '%s\t%s\n' hiddenline hiddenline ;;
+        hse) want=hse: ;;
+        aa) want=aa: ;;
+        lines) want=hidden-line:continuous ;;
         *)
             echo "$bench_me: methods_list: no kind '$1' (kinds: hse aa lines)" >&2
             return 2
             ;;
     esac
+    rows=$("${bindir:?methods_list needs bindir}/render" --list-methods) || {
+        echo "$bench_me: methods_list: \`$bindir/render --list-methods\` failed" >&2
+        return 3
+    }
+    if [[ $1 == aa ]]; then
+        printf 'point\t%s\n' "$(awk -F'\t' '$2 == "hse:zbuf" { print $4 }' <<<"$rows")"
+    fi
+    while IFS=$'\t' read -r name selector _ stage _; do
+        if [[ $selector == "$want"* ]]; then
+            printf '%s\t%s\n' "$name" "$stage"
+        fi
+    done < <(tail -n +2 <<<"$rows")
 }
 
 method_leaf() {

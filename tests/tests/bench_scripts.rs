@@ -163,7 +163,8 @@ fn render_accepts(option: &str) -> Vec<String> {
         .collect()
 }
 
-/// The benchmarks' methods are render's: `methods_list hse` names each `--hse` method
+/// The benchmarks' methods are render's (`render --list-methods`, the table of methods):
+/// `methods_list hse` names each `--hse` method
 /// and `methods_list aa` each `--aa` leaf (`point` for none), each with the leaf command
 /// render puts at a leaf for it, which `method_leaf` finds by name.
 #[test]
@@ -183,7 +184,7 @@ fn methods_list_is_render_s_methods() {
     assert_eq!(aa, render_accepts("--aa"));
     assert_eq!(
         lists[0],
-        "zbuf\tscanconv --resolve\nscanline\tscanline\nwarnock\twarnock\npainter\tpainter"
+        "scanline\tscanline\nwarnock\twarnock\npainter\tpainter\nzbuf\tscanconv --resolve"
     );
     assert!(lists[1].contains("ss8\tsupersample --samples 8\n"));
     assert_eq!(lists[2], "hiddenline\thiddenline\n");
@@ -250,7 +251,7 @@ fn no_script_names_a_script_that_does_not_exist() {
     let root = repo_root();
     let mut files = Vec::new();
     for top in [
-        "scripts", "bins", "tests", "proto", "stagecli", "scan", ".ci", "bench",
+        "scripts", "bins", "tests", "proto", "stagecli", "scan", ".ci", "bench", "docs", "methods",
     ] {
         walk(&root.join(top), &mut files);
     }
