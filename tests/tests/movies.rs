@@ -344,6 +344,56 @@ fn a_chunk_that_fails_every_try_names_the_host_and_the_frames_before_it_are_whol
 }
 
 #[test]
+fn a_chunk_that_fails_its_last_try_while_another_runs_is_the_one_named() {
+    // Three hosts. The first chunk is slow wherever it runs; the second fails wherever it
+    // runs (its hosts recorded). It fails its second and last try while the first is
+    // still rendering: --halt soon starts nothing more, the first chunk ends and is
+    // written, and the line names the second chunk and its two hosts.
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path().display();
+    let ssh = fake_ssh(
+        dir.path(),
+        "ssh",
+        &format!(
+            "case ${{PARALLEL_SEQ:-0}} in \
+             1) echo \"$host\" > '{d}/host.1'; sleep 2 ;; \
+             2) echo \"$host\" >> '{d}/host.2'; \
+             echo \"ssh: connect to host $host port 22: Connection refused\" >&2; exit 255 ;; \
+             esac"
+        ),
+    );
+    let m = movie(dir.path());
+    let want = local(&m, "");
+    let out = farm(
+        &ssh,
+        &["--hosts", "a,b,c", "--chunk", "8", "--retries", "2"],
+        &m,
+    );
+    assert_eq!(out.status.code(), Some(3), "{}", stderr(&out));
+    let read = |f: &str| std::fs::read_to_string(dir.path().join(f)).unwrap();
+    let first = read("host.1");
+    let tried: Vec<String> = read("host.2").lines().map(String::from).collect();
+    assert_eq!(tried.len(), 2, "{tried:?}");
+    assert!(
+        !tried.contains(&first.trim().to_string()),
+        "{tried:?} {first}"
+    );
+    assert_eq!(
+        stderr(&out),
+        format!(
+            "farm: hosts {}, {}: frames 8 to 15, 2 tries, the last on {}: ssh: connect to \
+             host {} port 22: Connection refused\n",
+            tried[0], tried[1], tried[1], tried[1]
+        )
+    );
+    assert!(
+        out.stdout == want[..8 * FRAME],
+        "not the movie's first 8 frames, whole: {} bytes",
+        out.stdout.len()
+    );
+}
+
+#[test]
 fn resume_after_sigint_renders_only_the_missing_chunks() {
     let dir = tempfile::tempdir().unwrap();
     let ssh = fake_ssh(dir.path(), "ssh", "sleep 0.3");

@@ -1119,8 +1119,19 @@ where
             break Ok(Outcome::Stopped(sig));
         }
         if let Some(status) = ended {
-            // parallel has ended with chunks not rendered: the earliest is the failure.
-            let h = handed.get(head);
+            // parallel has ended with chunks not rendered. The failure is the chunk that
+            // failed on its last try (`--halt soon` stops there, after the jobs running
+            // then end), not an earlier one left with a try to go; else the earliest.
+            let pending: Vec<(usize, usize)> = handed[head..]
+                .iter()
+                .filter(|h| !h.taken)
+                .filter_map(|h| Some((h.seq?, tries_of(&dir, h.seq?).len())))
+                .collect();
+            let failed = failed_chunk(&pending, options.retries.max(1) as usize);
+            let h = failed
+                .and_then(|seq| by_seq.get(&seq))
+                .and_then(|&k| handed.get(k))
+                .or(handed.get(head));
             let (seq, info) = (h.and_then(|h| h.seq), h.map(|h| h.info));
             break Err(failure_of(&dir, seq, info, status, log));
         }
@@ -1184,6 +1195,16 @@ fn write_frames<W: Write>(out: &mut W, frames: &[Frame]) -> Result<bool> {
             stagecli::error::io_message(&e)
         ))),
     }
+}
+
+/// Of the chunks not rendered, as (job number, failed tries) in the movie's order, the
+/// job of the earliest that failed on every one of its `retries` tries; `None` when none
+/// did (parallel ended for another reason).
+pub fn failed_chunk(pending: &[(usize, usize)], retries: usize) -> Option<usize> {
+    pending
+        .iter()
+        .find(|&&(_, tries)| tries >= retries)
+        .map(|&(seq, _)| seq)
 }
 
 /// The failed tries of the chunk of job `seq`, from the spool.
@@ -1527,6 +1548,15 @@ mod tests {
         assert_eq!(chunk_arg(chunk(24, 1)), "frame-24");
         assert_eq!(chunk_of_command("x # frames-9-to-8"), None);
         assert_eq!(chunk_of_command("x # idle"), None);
+    }
+
+    #[test]
+    fn the_failure_is_the_chunk_that_used_up_its_tries() {
+        // Job 3 failed once and waits for a retry that --halt soon never starts; job 5
+        // failed its three: the run's line is job 5's.
+        assert_eq!(failed_chunk(&[(3, 1), (4, 0), (5, 3), (6, 3)], 3), Some(5));
+        assert_eq!(failed_chunk(&[(3, 1), (4, 0)], 3), None);
+        assert_eq!(failed_chunk(&[], 1), None);
     }
 
     #[test]
