@@ -88,7 +88,46 @@ fn farm_cmd(ssh: &Path, args: &[&str], movie: &Path) -> Command {
 }
 
 fn farm(ssh: &Path, args: &[&str], movie: &Path) -> Output {
-    farm_cmd(ssh, args, movie).output().unwrap()
+    output_within(farm_cmd(ssh, args, movie))
+}
+
+/// The command's output, or a failed test when it has not ended within two minutes (a
+/// run whose GNU parallel waits forever for an argument hangs rather than fails).
+fn output_within(mut cmd: Command) -> Output {
+    use std::io::Read;
+    let mut child = cmd
+        .stdout(std::process::Stdio::piped())
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .unwrap();
+    let mut out = child.stdout.take().unwrap();
+    let mut err = child.stderr.take().unwrap();
+    let out = std::thread::spawn(move || {
+        let mut v = Vec::new();
+        out.read_to_end(&mut v).map(|_| v)
+    });
+    let err = std::thread::spawn(move || {
+        let mut v = Vec::new();
+        err.read_to_end(&mut v).map(|_| v)
+    });
+    let start = Instant::now();
+    let status = loop {
+        if let Some(status) = child.try_wait().unwrap() {
+            break status;
+        }
+        if start.elapsed() > Duration::from_secs(120) {
+            let _ = Command::new("kill")
+                .args(["-TERM", &child.id().to_string()])
+                .status();
+            panic!("the run has not ended in 120 s");
+        }
+        std::thread::sleep(Duration::from_millis(20));
+    };
+    Output {
+        status,
+        stdout: out.join().unwrap().unwrap(),
+        stderr: err.join().unwrap().unwrap(),
+    }
 }
 
 fn stderr(out: &Output) -> String {
@@ -188,7 +227,7 @@ fn a_chunk_that_fails_on_flaky_is_retried_on_good_and_the_frames_are_a_local_run
     assert_eq!(want.len(), 60 * FRAME);
     let log = dir.path().join("jobs");
     let log_arg = log.display().to_string();
-    let out = farm_cmd(
+    let mut cmd = farm_cmd(
         &ssh,
         &[
             "--hosts",
@@ -200,10 +239,9 @@ fn a_chunk_that_fails_on_flaky_is_retried_on_good_and_the_frames_are_a_local_run
             "--stats",
         ],
         &m,
-    )
-    .env("TMPDIR", &tmp)
-    .output()
-    .unwrap();
+    );
+    cmd.env("TMPDIR", &tmp);
+    let out = output_within(cmd);
     assert!(out.status.success(), "{}", stderr(&out));
     assert!(out.stdout == want, "the frames differ from a local run's");
     // Two job slots: four chunks in the spool at most, while chunks wait for good.
@@ -289,10 +327,9 @@ fn the_spool_holds_two_chunks_a_job_slot_however_long_the_movie() {
     );
     let m = movie(dir.path());
     let want = local(&m, "");
-    let out = farm_cmd(&ssh, &["--hosts", "fast,slow", "--chunk", "2"], &m)
-        .env("TMPDIR", &tmp)
-        .output()
-        .unwrap();
+    let mut cmd = farm_cmd(&ssh, &["--hosts", "fast,slow", "--chunk", "2"], &m);
+    cmd.env("TMPDIR", &tmp);
+    let out = output_within(cmd);
     assert!(out.status.success(), "{}", stderr(&out));
     assert!(out.stdout == want, "the frames differ from a local run's");
     let seen = counts(&record);

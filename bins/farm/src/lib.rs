@@ -32,9 +32,9 @@
 //! ([`spool_bound`]): chunks handed to parallel and not yet taken (their streams, `K.in`)
 //! and chunks taken but waiting for an earlier one to be written (their frames, on
 //! stdout's way); memory holds one chunk's frames at a time, and one chunk cut ahead.
-//! parallel's own files in its `--tmpdir` (the spool) are two a running job, its buffers
-//! of the job's stdout and stderr, unlinked as soon as they are opened and empty here
-//! (the script sends a job's output to the spool), and `--joblog`'s file.
+//! parallel's own files in its `--tmpdir` (the spool) are a few a running job, its
+//! buffers of the job's stdout and stderr, unlinked as they are opened or as the job
+//! ends, and empty here (the script sends a job's output to the spool files above).
 //!
 //! Holding the chunks back needs one more thing of this program. parallel reads its next
 //! argument as soon as its queue has none it could start on a free job slot, and waits
