@@ -13,6 +13,10 @@
 #                                                 depth-0..N graphs runs (cachegrind):
 #                                                 the tree's own work, free of the
 #                                                 machine's noise
+#   scripts/bench-tree.sh farm [--reps N] [--hosts N,…]
+#                                                 a movie by frames over 1, 2, 4 hosts
+#                                                 (GNU parallel, a stand-in ssh) beside
+#                                                 the cost model's prediction (plan movie)
 #
 # Each mode's own notes are at its function below. They share scripts/lib/bench.sh.
 
@@ -606,12 +610,106 @@ echo "$line"
 echo "$ratios"
 )
 
+# --- farm ---------------------------------------------------------------------------
+mode_farm() (
+# A movie rendered by frames (render.sh --by frames: farm on GNU parallel) over 1, 2 and 4
+# hosts, each a stand-in ssh that runs the command here (the tests' POLYPIPE_SSH: no ssh
+# or encryption), against render.sh here: wall seconds and the CPU seconds of every
+# process of the run (perf stat -e task-clock where perf is installed, else bash's
+# `time`), medians of N rounds, the runs of a round interleaved. Beside them, the cost
+# model's prediction of the same runs (`plan movie --login 0`): its CPU seconds, and its
+# wall seconds on hosts of their own with this machine's cores each. On one machine the
+# stand-in hosts share its cores, so the measured wall time shows little; the CPU
+# seconds, the work, are what compare.
+#
+# Usage: scripts/bench-tree.sh farm [--reps N] [--hosts N,…] [--frames N] [--chunk N]
+set -euo pipefail
+export LC_ALL=C
+reps=5 hosts=1,2,4 frames=96 chunk=8 size=512x512
+while (($#)); do
+    case $1 in
+        --reps) reps=${2:?--reps needs N}; shift 2 ;;
+        --hosts) hosts=${2:?--hosts needs N,…}; shift 2 ;;
+        --frames) frames=${2:?--frames needs N}; shift 2 ;;
+        --chunk) chunk=${2:?--chunk needs N}; shift 2 ;;
+        -h | --help) sed -n '/^mode_farm/,/^set -euo/{/^# /{s/^# \{0,1\}//;p}}' "${BASH_SOURCE[0]}"; exit 0 ;;
+        *) echo "bench-tree.sh farm: unknown argument $1" >&2; exit 2 ;;
+    esac
+done
+command -v parallel >/dev/null || { echo "bench-tree.sh farm: needs GNU parallel" >&2; exit 3; }
+root=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
+cd "$root"
+cargo build --release --quiet --bins
+B=$(release_bin "$root")
+work=$(mktemp -d)
+trap 'rm -rf "$work"' EXIT
+"$B/scene" environment --polygons 1000 --depth-complexity 30 --size "$size" \
+    --frames "$frames" > "$work/movie.pp"
+cat > "$work/ssh" <<'SSH'
+#!/bin/sh
+while [ $# -gt 0 ]; do case $1 in -[oplSOiF]) shift 2 ;; -*) shift ;; *) break ;; esac; done
+shift
+[ "${1-}" = -- ] && shift
+exec sh -c "$*"
+SSH
+chmod +x "$work/ssh"
+IFS=, read -r -a counts <<<"$hosts"
+
+# run NAME CMD…: one run, its wall and CPU seconds appended to $work/NAME.
+run() {
+    local name=$1 t0 t1 cpu
+    shift
+    t0=$EPOCHREALTIME
+    if command -v perf >/dev/null; then
+        perf stat -x, -e task-clock -o "$work/perf" -- "$@" >/dev/null 2>&1
+        cpu=$(awk -F, '/task-clock/ { printf "%.3f", $1 / 1000 }' "$work/perf")
+    else
+        cpu=$(cpu_seconds "$@")
+    fi
+    t1=$EPOCHREALTIME
+    awk -v a="$t0" -v b="$t1" -v c="$cpu" 'BEGIN { printf "%.3f %s\n", b - a, c }' >>"$work/$name"
+}
+for ((r = 0; r < reps; r++)); do
+    run local scripts/render.sh --size "$size" --depth 0 "$work/movie.pp"
+    for n in "${counts[@]}"; do
+        list=$(seq -f 'h%g' 1 "$n" | paste -sd,)
+        run "hosts$n" env POLYPIPE_SSH="$work/ssh" POLYPIPE_LOAD=0 scripts/render.sh \
+            --by frames --hosts "$list" --chunk "$chunk" --size "$size" --depth 0 "$work/movie.pp"
+    done
+done
+col() { awk -v c="$2" '{ print $c }' "$work/$1" | median; }
+"$B/plan" movie --hosts "$hosts" --chunk "$chunk" --size "$size" --login 0 \
+    --host-cores "$(nproc)" "$work/movie.pp" > "$work/plan"
+predicted() { # HOSTS COLUMN: plan movie's row for HOSTS hosts
+    awk -F'|' -v n="$1" -v c="$2" '$2 + 0 == n && $2 ~ /[0-9]/ { gsub(/ /, "", $c); print $c }' "$work/plan"
+}
+local_cpu=$(col local 2)
+echo
+echo "Measured by \`scripts/bench-tree.sh farm --reps $reps\` at commit" \
+    "$(git rev-parse --short HEAD 2>/dev/null || echo unknown), $(nproc) cores," \
+    "load $(cut -d' ' -f1 /proc/loadavg), $(date -u +%Y-%m-%d): $frames frames of" \
+    "\`scene environment --polygons 1000 --depth-complexity 30 --size $size\`," \
+    "render.sh --size $size --depth 0, --by frames --chunk $chunk, medians of $reps."
+echo
+echo "| run | wall s | CPU s | CPU × local | predicted CPU s | predicted wall s, hosts of $(nproc) cores |"
+echo "|---|---|---|---|---|---|"
+echo "| render.sh here | $(col local 1) | $local_cpu | 1.00 | – | – |"
+for n in "${counts[@]}"; do
+    cpu=$(col "hosts$n" 2)
+    echo "| --by frames, $n host$( ((n == 1)) || echo s) | $(col "hosts$n" 1) | $cpu |" \
+        "$(ratio "$cpu" "$local_cpu") | $(predicted "$n" 7) | $(predicted "$n" 5) |"
+done
+echo
+sed -n '/frames, /p' "$work/plan"
+)
+
 case ${1-} in
     pipeline) shift; mode_pipeline "$@" ;;
+    farm) shift; mode_farm "$@" ;;
     plan) shift; mode_plan "$@" ;;
     merge) shift; mode_merge "$@" ;;
     depth-auto) shift; mode_depth_auto "$@" ;;
     work) shift; mode_work "$@" ;;
     -h | --help | "") sed -n '2,/^$/{s/^# \{0,1\}//;p}' "${BASH_SOURCE[0]}"; [[ -n ${1-} ]] ;;
-    *) echo "bench-tree.sh: no mode '$1' (modes: pipeline merge depth-auto plan work)" >&2; exit 2 ;;
+    *) echo "bench-tree.sh: no mode '$1' (modes: pipeline merge depth-auto plan work farm)" >&2; exit 2 ;;
 esac
