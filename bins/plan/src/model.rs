@@ -134,7 +134,8 @@ pub struct Overheads {
 pub struct Machine {
     /// The CPU model, as /proc/cpuinfo names it.
     pub cpu: String,
-    /// The cores the calibration saw (`available_parallelism`).
+    /// The machine's cores, online (`calibrate::machine_cores`: `taskset` does not
+    /// change them).
     pub cores: usize,
     /// The polypipe version of the binaries measured.
     pub version: String,
