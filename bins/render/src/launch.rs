@@ -157,11 +157,13 @@ pub fn channels(stages: &[Stage]) -> Result<Vec<(String, Channel)>, SpecError> {
     }
 }
 
+/// The channels of a graph's first stages, and those of their stdouts that none of them
+/// reads (their readers start later), by name and writer.
+pub type OpenChannels = (Vec<(String, Channel)>, Vec<(String, usize)>);
+
 /// [`channels`] of the first stages of a graph: also those written on a stage's stdout
 /// that none of them reads (their readers start later), by name and writer.
-pub fn channels_open(
-    stages: &[Stage],
-) -> Result<(Vec<(String, Channel)>, Vec<(String, usize)>), SpecError> {
+pub fn channels_open(stages: &[Stage]) -> Result<OpenChannels, SpecError> {
     let mut writers: Vec<(String, (usize, Option<usize>))> = Vec::new();
     let mut readers: Vec<(String, (usize, Option<usize>))> = Vec::new();
     let mut named: Vec<(String, (usize, usize))> = Vec::new();
