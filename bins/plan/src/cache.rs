@@ -45,7 +45,7 @@ pub const MEASURED: [&str; 7] = [
 pub fn this_machine(bin: &Path) -> Machine {
     Machine {
         cpu: cpu_model(),
-        cores: crate::calibrate::cores(),
+        cores: crate::calibrate::machine_cores(),
         version: env!("CARGO_PKG_VERSION").to_string(),
         binaries: fingerprint(bin),
     }
