@@ -275,6 +275,27 @@ impl Branch<proto::Token> {
     }
 }
 
+/// Refuses a polygon that is not opaque (opacity below 255, a stream whose header says
+/// `opacity`), for a stage that draws opaque polygons only: status 2 and a line naming the
+/// a-buffer, rather than drawing it opaque. `at` says where it is (`frame F, polygon P`),
+/// asked only for a polygon refused: an opaque one costs one comparison.
+#[inline]
+pub fn refuse_transparent(
+    stage: &str,
+    polygon: &Polygon,
+    at: impl FnOnce() -> String,
+) -> Result<()> {
+    if polygon.opacity == proto::OPAQUE {
+        return Ok(());
+    }
+    Err(Error::usage(format!(
+        "{}: a polygon of opacity {} (below 255): {stage} draws opaque polygons only; \
+         transparency is the a-buffer's (render.sh --aa abuf)",
+        at(),
+        polygon.opacity
+    )))
+}
+
 /// [`check_finite`] on a polygon `doing` (the split, the perspective division, …) made:
 /// the message says which work made a number too large.
 #[inline]

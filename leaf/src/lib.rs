@@ -1,30 +1,20 @@
-//! The stream loop of a hidden-surface stage that resolves whole frames at a leaf of the
-//! splitter tree (docs/DESIGN.md, "Leaves resolve visibility").
+//! # leaf: the stream loop of a stage that resolves whole frames at a leaf
+//!
+//! A leaf of the splitter tree (docs/DESIGN.md, "Leaves resolve visibility") gets the
+//! screen-space polygons of its part of the screen and sends on finished pixels as `run`
+//! records for the merger (`zbuf`) to place. The methods that resolve a frame at once
+//! (scan-line, area subdivision, depth sort, supersampling, the a-buffer) share that
+//! loop; each is a [`scan::frame::HiddenSurface`], and [`resolve_frames`] is the rest:
+//! reading the stream, gathering a frame's polygons, refusing what the method cannot
+//! draw, writing the runs, the `--stats` line.
+//!
+//! It is a crate of its own because it is where the rasteriser (`scan`) meets a stage's
+//! skeleton (`stagecli`): the geometry stages (viewxf, clipplane, persp, the splitter)
+//! use `stagecli` and link no rasteriser.
 
-use crate::{next, read_stdin, write_stdout, Error, Result};
 use proto::{Form, Fragment, Header, Polygon, Space, SpaceKind, Token};
 use scan::frame::HiddenSurface;
-
-/// Refuses a polygon that is not opaque (opacity below 255, a stream whose header says
-/// `opacity`), for a stage that draws opaque polygons only: status 2 and a line naming the
-/// a-buffer, rather than drawing it opaque. `at` says where it is (`frame F, polygon P`),
-/// asked only for a polygon refused: an opaque one costs one comparison.
-#[inline]
-pub fn refuse_transparent(
-    stage: &str,
-    polygon: &Polygon,
-    at: impl FnOnce() -> String,
-) -> Result<()> {
-    if polygon.opacity == proto::OPAQUE {
-        return Ok(());
-    }
-    Err(Error::usage(format!(
-        "{}: a polygon of opacity {} (below 255): {stage} draws opaque polygons only; \
-         transparency is the a-buffer's (render.sh --aa abuf)",
-        at(),
-        polygon.opacity
-    )))
-}
+use stagecli::{next, read_stdin, refuse_transparent, write_stdout, Error, Result};
 
 /// Counts every frame-resolving stage prints under `--stats`, before its method's own.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -65,7 +55,7 @@ pub fn resolve_frames(
         .screen_size()
         .ok_or_else(|| Error::data("screen-space header without a size"))?;
     // At least a resolved colour for every pixel a frame's polygons may cover.
-    crate::memory::check_screen(width, height, 3, "at least a resolved colour")?;
+    stagecli::memory::check_screen(width, height, 3, "at least a resolved colour")?;
     let header = Header::new(Space::Fragments { width, height })
         .with(input.header().attributes.for_fragments());
     let mut out = write_stdout::<Fragment>(header, form)?;
