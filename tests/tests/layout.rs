@@ -300,9 +300,19 @@ fn no_stage_crate_depends_on_another() {
 #[test]
 fn stagecli_and_the_geometry_stages_link_no_rasteriser() {
     let all = members();
-    for name in ["stagecli", "viewxf", "persp", "clipplane", "clipbatch", "splitter"] {
+    for name in [
+        "stagecli",
+        "viewxf",
+        "persp",
+        "clipplane",
+        "clipbatch",
+        "splitter",
+    ] {
         let links = linked(&all, name, &CODE);
-        assert!(links.contains("proto") || name == "proto", "{name}: {links:?}");
+        assert!(
+            links.contains("proto") || name == "proto",
+            "{name}: {links:?}"
+        );
         assert!(!links.contains("scan"), "{name} links scan: {links:?}");
     }
     // The leaf's loop is where the rasteriser comes in.
@@ -345,7 +355,12 @@ fn no_circle_between_crates() {
     let all = members();
     let graph: BTreeMap<String, BTreeSet<String>> = all
         .iter()
-        .map(|m| (m.name.clone(), deps_of(&all, &m.name, &ALL).into_iter().collect()))
+        .map(|m| {
+            (
+                m.name.clone(),
+                deps_of(&all, &m.name, &ALL).into_iter().collect(),
+            )
+        })
         .collect();
     let found = circles(&graph);
     let allowed: Vec<Vec<String>> = CRATE_CIRCLES
@@ -371,7 +386,11 @@ fn proto_has_no_command_line_parser() {
     let root = repo_root();
     let text = fs::read_to_string(root.join("proto/Cargo.toml")).unwrap();
     let manifest = parse_toml(&text, "proto/Cargo.toml");
-    let deps: Vec<&String> = manifest["dependencies"].as_table().unwrap().keys().collect();
+    let deps: Vec<&String> = manifest["dependencies"]
+        .as_table()
+        .unwrap()
+        .keys()
+        .collect();
     assert!(deps.iter().any(|d| *d == "glam"), "{deps:?}");
     for cli in ["clap", "anyhow", "stagecli"] {
         assert!(!deps.iter().any(|d| *d == cli), "proto depends on {cli}");
@@ -932,7 +951,10 @@ fn a_circle_between_module_files_is_found_with_its_files() {
     let src = dir.path().join("src");
     fs::create_dir_all(src.join("c")).unwrap();
     let write = |p: &str, t: &str| fs::write(src.join(p), t).unwrap();
-    write("lib.rs", "pub mod a;\npub mod b;\npub mod c;\npub use b::Bee;\n");
+    write(
+        "lib.rs",
+        "pub mod a;\npub mod b;\npub mod c;\npub use b::Bee;\n",
+    );
     write("a.rs", "use crate::Bee;\n");
     write("b.rs", "pub struct Bee;\nfn f() { crate::c::g() }\n");
     write("c.rs", "mod d;\n");
@@ -946,7 +968,14 @@ fn a_circle_between_module_files_is_found_with_its_files() {
         .iter()
         .map(|w| w.rsplit('/').take(2).collect::<Vec<_>>().join(" < "))
         .collect();
-    assert_eq!(files, ["a.rs names b < src", "b.rs names c < src", "d.rs names a < c"]);
+    assert_eq!(
+        files,
+        [
+            "a.rs names b < src",
+            "b.rs names c < src",
+            "d.rs names a < c"
+        ]
+    );
 }
 
 #[test]
@@ -965,7 +994,11 @@ fn no_circle_between_module_files() {
             .iter()
             .any(|(k, c, _)| k == krate && c.iter().eq(circle.iter()));
         if !allowed {
-            unexplained.push(format!("{krate}: {} ({})", circle.join(" ↔ "), why.join("; ")));
+            unexplained.push(format!(
+                "{krate}: {} ({})",
+                circle.join(" ↔ "),
+                why.join("; ")
+            ));
         }
     }
     assert!(
