@@ -45,10 +45,15 @@ pub const MEASURED: [&str; 7] = [
 pub fn this_machine(bin: &Path) -> Machine {
     Machine {
         cpu: cpu_model(),
-        cores: crate::calibrate::cores(),
+        cores: cores(),
         version: env!("CARGO_PKG_VERSION").to_string(),
         binaries: fingerprint(bin),
     }
+}
+
+/// The machine's cores (what the standard library sees as available).
+pub fn cores() -> usize {
+    std::thread::available_parallelism().map_or(1, |n| n.get())
 }
 
 /// The CPU model, from /proc/cpuinfo (`model name`, else the first of `Hardware`,

@@ -7,6 +7,9 @@
 //! script's and each process's start-up are then fitted to `render.sh`'s wall time on a
 //! two-polygon scene at depths 0 to 4, less what the stages predict there.
 
+// The cores are part of what identifies the machine a calibration was made on (the
+// cache's); named here too, where the model's callers look for them.
+pub use crate::cache::cores;
 use crate::look::{count_screen, count_world, Environment};
 use crate::measure::{self, Usage};
 use crate::model::{fit, stage_work, Constants, Cost, Overheads, StageWork, Work};
@@ -298,11 +301,6 @@ pub fn background_load() -> f64 {
         .ok()
         .and_then(|s| s.split_whitespace().next()?.parse::<f64>().ok())
         .map_or(0.0, |l| (l - 1.0).max(0.0))
-}
-
-/// The machine's cores (what the standard library sees as available).
-pub fn cores() -> usize {
-    std::thread::available_parallelism().map_or(1, |n| n.get())
 }
 
 /// The CPU model and cores, and the date, for the constants file.
