@@ -19,12 +19,14 @@
 //! neither formats nor allocates per polygon. Version 1 encoded the same records with
 //! serde and bincode; `scripts/bench-stages.sh codec` measures the two, and the record
 //! decoding was most of a geometry stage's time (the header stays bincode: it is read
-//! once). The layouts are in [`crate::polygon`] and [`crate::fragment`]. Bytes a record
+//! once). The layouts are in [`polygons`] and [`crate::fragment`]. Bytes a record
 //! does not use must be zero, so a corrupt stream is caught at the record where it
 //! goes wrong rather than read as other numbers.
 //!
 //! [`Token`]: crate::Token
 //! [`Fragment`]: crate::Fragment
+
+pub mod polygons;
 
 use crate::header::{text_version, Header, Space, BINARY_MAGIC, TEXT_MAGIC, VERSION};
 use crate::text::{Lexer, Number, Shown};
@@ -1121,8 +1123,8 @@ impl<W: Write> Writer<crate::Token, W> {
     #[inline]
     pub fn write_polygon(&mut self, p: &crate::Polygon) -> io::Result<()> {
         match self.form {
-            Form::Binary => crate::polygon::write_polygon_binary(p, &mut self.out)?,
-            Form::Text => crate::polygon::write_polygon_text(
+            Form::Binary => polygons::write_polygon_binary(p, &mut self.out)?,
+            Form::Text => polygons::write_polygon_text(
                 p,
                 &mut self.out,
                 &self.header,

@@ -21,20 +21,12 @@
 //! reference renderer, `zspec`, computes them with the same functions from the same
 //! eye-space vertices.
 
-use crate::geometry::newell_plane;
+use crate::newell::newell_plane;
 use crate::polygon::Vertex;
+pub use crate::polygon::{ColourPlanes, VertexColour};
 use glam::{DVec3, DVec4};
 use serde::{Deserialize, Serialize};
 use std::sync::Arc;
-
-/// A vertex's colour: red, green and blue, each a number from 0 to 255, kept as f64
-/// through the pipeline so that an interpolated colour is rounded once, at the pixel.
-pub type VertexColour = DVec3;
-
-/// A polygon's colour planes, one per channel (red, green, blue): `(A, B, C, D)` with
-/// `A·x + B·y + C·c + D = 0`, over eye-space screen positions `(x_s, y_s)` or over device
-/// coordinates `(X, Y)`, as the stream's space says.
-pub type ColourPlanes = [DVec4; 3];
 
 /// The colour planes of an eye-space polygon with per-vertex colours: each channel's
 /// Newell plane over `(u, v, c)` at the vertices, where `(u, v) = (x_e/w, y_e/w)` is the

@@ -636,6 +636,8 @@ fn root_uses(code: &str) -> Vec<String> {
     top_level_statements(code)
         .into_iter()
         .filter_map(|s| {
+            // Attributes (`#[doc(inline)]`) may come first.
+            let s = s.rsplit(']').next().unwrap_or(s);
             let words: Vec<&str> = s.split_whitespace().collect();
             let at = words.iter().position(|w| *w == "use")?;
             // Only visibility before `use`: `pub`, `pub(crate)`.
@@ -657,7 +659,9 @@ fn top_level_statements(code: &str) -> Vec<&str> {
             '{' => depth += 1,
             '}' => {
                 depth -= 1;
-                if depth == 0 {
+                // A block ends an item (`fn f() { … }`); a group before `;` does not
+                // (`use a::{B, C};`).
+                if depth == 0 && !code[k + 1..].trim_start().starts_with(';') {
                     start = k + 1;
                 }
             }
@@ -1014,4 +1018,23 @@ fn no_circle_between_module_files() {
             "MODULE_CIRCLES lists {krate}: {circle:?}, which is no circle now: take it out"
         );
     }
+}
+
+#[test]
+fn protos_records_are_apart_from_their_codecs() {
+    let graph = module_graph(&repo_root().join("proto/src/lib.rs"));
+    let names = |m: &str| -> Vec<&str> { graph[m].keys().map(String::as_str).collect() };
+    // The polygon records need Newell's plane (for the plane a polygon records), and
+    // nothing of the stream's forms; the codec is above them.
+    assert_eq!(names("polygon"), ["newell"]);
+    assert_eq!(names("header"), ["depth", "error", "shade"]);
+    assert_eq!(
+        names("codec"),
+        ["error", "header", "polygon", "shade", "text"]
+    );
+    // A plane from the command line is read by the number parser, not by the camera.
+    assert_eq!(
+        names("geometry"),
+        ["header", "newell", "numbers", "polygon"]
+    );
 }
