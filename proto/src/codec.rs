@@ -239,9 +239,9 @@ impl<R: Read> BinaryInput<R> {
         Ok(())
     }
 
-    /// Whether the input is at its end (no byte left).
-    /// Reads `n` vertex colours (three little-endian `f64`s each) into `colours`, in
-    /// blocks as they arrive, as [`BinaryInput::vertices`] reads vertices.
+    /// Reads `n` vertex attributes (three little-endian `f64`s each: colours or normals,
+    /// as the header says) into `colours`, in blocks as they arrive, as
+    /// [`BinaryInput::vertices`] reads vertices.
     #[inline]
     pub fn colours(&mut self, colours: &mut Vec<DVec3>, n: usize) -> Result<(), BinaryError> {
         colours.clear();
@@ -258,6 +258,7 @@ impl<R: Read> BinaryInput<R> {
         Ok(())
     }
 
+    /// Whether the input is at its end (no byte left).
     fn at_end(&mut self) -> io::Result<bool> {
         loop {
             match self.inner.fill_buf() {
@@ -292,8 +293,8 @@ pub fn write_vertices<W: Write>(out: &mut W, vertices: &[DVec4]) -> io::Result<(
     }
 }
 
-/// A record's 8-byte head: tag, three bytes (a colour, or zero) and a count or number.
-/// Writes vertex colours as one block of little-endian `f64`s, three a colour.
+/// Writes vertex attributes (colours or normals) as one block of little-endian `f64`s,
+/// three a vertex.
 #[inline]
 pub fn write_colours<W: Write>(out: &mut W, colours: &[DVec3]) -> io::Result<()> {
     #[cfg(target_endian = "little")]
@@ -309,6 +310,7 @@ pub fn write_colours<W: Write>(out: &mut W, colours: &[DVec3]) -> io::Result<()>
     }
 }
 
+/// A record's 8-byte head: tag, three bytes (a colour, or zero) and a count or number.
 #[inline]
 pub fn head(tag: u8, bytes: [u8; 3], n: u32) -> [u8; 8] {
     let n = n.to_le_bytes();

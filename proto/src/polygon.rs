@@ -48,8 +48,12 @@ pub type Colour = [u8; 3];
 /// text form writes only the numbers the space has.
 pub type Vertex = DVec4;
 
-/// A vertex's colour: red, green and blue, each a number from 0 to 255, kept as f64
-/// through the pipeline so that an interpolated colour is rounded once, at the pixel.
+/// What a vertex carries besides its position: three numbers whose meaning the stream's
+/// header decides. Under `vertex-colours` they are the vertex's colour (red, green and
+/// blue, each a number from 0 to 255; Gouraud shading), under `vertex-normals` its normal
+/// (Phong shading: the pixel is lit with it). Either way they are kept as f64 through the
+/// pipeline and interpolated alike, at every cut and across the screen, so that an
+/// interpolated colour is rounded once, at the pixel.
 pub type VertexColour = DVec3;
 
 /// A polygon's colour planes, one per channel (red, green, blue): `(A, B, C, D)` with

@@ -48,12 +48,12 @@ impl Token {
 /// | 0 | polygon | colour, n = vertex count | n vertices |
 /// | 1 | NEXT.FRAME | zeros | – |
 /// | 2 | END | zeros | – |
-/// | 3 | annotated polygon | colour, n | `flags: u32` (1 = plane, 2 = supports, 4 = shade, 8 = vertex colours) and a `u32` whose low byte is 255 − opacity (zero: opaque), the rest zero; the plane (one vertex's 32 bytes) if flagged; the three colour planes (96 bytes) if flagged; n vertices; if flagged, n vertex colours (three `f64`s, 24 bytes each); if flagged, the supports in groups of eight edges: eight bytes 0/1 (edge has one), then the two ends of each that has one |
+/// | 3 | annotated polygon | colour, n | `flags: u32` (1 = plane, 2 = supports, 4 = shade, 8 = vertex attributes: colours or normals) and a `u32` whose low byte is 255 − opacity (zero: opaque), the rest zero; the plane (one vertex's 32 bytes) if flagged; the three colour planes (96 bytes) if flagged; n vertices; if flagged, n vertex attributes (three `f64`s, 24 bytes each); if flagged, the supports in groups of eight edges: eight bytes 0/1 (edge has one), then the two ends of each that has one |
 /// | 4 | `skip N` | zero colour, n = N | – |
 ///
-/// A polygon without annotations, vertex colours or opacity is tag 0, so the common record
-/// is its head and its vertices, which are read and written as one block; a flat stream's
-/// records are those of stream version 3.
+/// A polygon without annotations, vertex attributes or opacity is tag 0, so the common
+/// record is its head and its vertices, which are read and written as one block; a flat
+/// stream's records are those of stream version 3.
 mod tag {
     pub const POLYGON: u8 = 0;
     pub const NEXT_FRAME: u8 = 1;
