@@ -243,7 +243,7 @@ impl<R: Read> BinaryInput<R> {
     /// as the header says) into `colours`, in blocks as they arrive, as
     /// [`BinaryInput::vertices`] reads vertices.
     #[inline]
-    pub fn colours(&mut self, colours: &mut Vec<DVec3>, n: usize) -> Result<(), BinaryError> {
+    pub fn vertex_attrs(&mut self, colours: &mut Vec<DVec3>, n: usize) -> Result<(), BinaryError> {
         colours.clear();
         while colours.len() < n {
             let from = colours.len();
@@ -296,7 +296,7 @@ pub fn write_vertices<W: Write>(out: &mut W, vertices: &[DVec4]) -> io::Result<(
 /// Writes vertex attributes (colours or normals) as one block of little-endian `f64`s,
 /// three a vertex.
 #[inline]
-pub fn write_colours<W: Write>(out: &mut W, colours: &[DVec3]) -> io::Result<()> {
+pub fn write_vertex_attrs<W: Write>(out: &mut W, colours: &[DVec3]) -> io::Result<()> {
     #[cfg(target_endian = "little")]
     {
         out.write_all(bytemuck::cast_slice(colours))

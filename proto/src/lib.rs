@@ -28,4 +28,4 @@ pub use error::StreamError;
 pub use fragment::Fragment;
 pub use glam::{DVec2, DVec3, DVec4};
 pub use header::{Attributes, DepthForm, Header, Space, SpaceKind, View};
-pub use polygon::{Colour, ColourPlanes, Polygon, Token, Vertex, VertexColour, OPAQUE};
+pub use polygon::{Colour, ColourPlanes, Polygon, Token, Vertex, VertexAttr, OPAQUE};

@@ -54,7 +54,7 @@ pub type Vertex = DVec4;
 /// (Phong shading: the pixel is lit with it). Either way they are kept as f64 through the
 /// pipeline and interpolated alike, at every cut and across the screen, so that an
 /// interpolated colour is rounded once, at the pixel.
-pub type VertexColour = DVec3;
+pub type VertexAttr = DVec3;
 
 /// A polygon's colour planes, one per channel (red, green, blue): `(A, B, C, D)` with
 /// `A·x + B·y + C·c + D = 0`, over eye-space screen positions `(x_s, y_s)` or over device
@@ -76,7 +76,7 @@ pub struct Polygon {
     /// stream declares them in its header (`vertex-colours`, `vertex-normals`). Both are
     /// three numbers interpolated the same way at every cut and across the screen, so every
     /// stage but the one that lights pixels treats them alike.
-    pub colours: Vec<VertexColour>,
+    pub vertex_attrs: Vec<VertexAttr>,
     /// The colour planes of the whole polygon ([`crate::shade`]), if a stage recorded
     /// them: over the screen position in eye space, over device coordinates in screen
     /// space. Text: a line `shade` and twelve numbers after `plane`. Boxed, so that a flat
@@ -94,7 +94,7 @@ impl Default for Polygon {
             vertices: Vec::new(),
             plane: None,
             supports: Vec::new(),
-            colours: Vec::new(),
+            vertex_attrs: Vec::new(),
             shade: None,
             opacity: OPAQUE,
         }
@@ -117,7 +117,7 @@ impl Polygon {
     /// Phong-shaded).
     #[inline]
     pub fn is_shaded(&self) -> bool {
-        !self.colours.is_empty()
+        !self.vertex_attrs.is_empty()
     }
 
     /// The support of edge i (vertex i → vertex i+1), if it has one.

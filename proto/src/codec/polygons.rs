@@ -2,8 +2,8 @@
 //! [`crate::polygon`]'s [`Token`]s, which [`crate::codec`]'s reader and writer use.
 
 use crate::codec::{
-    expect_zero, head, head_n, write_colours, write_vertices, BinaryError, BinaryInput, Control,
-    Record, MAX_VERTICES,
+    expect_zero, head, head_n, write_vertex_attrs, write_vertices, BinaryError, BinaryInput,
+    Control, Record, MAX_VERTICES,
 };
 use crate::header::{Header, Space};
 use crate::polygon::{Colour, Polygon, Token, Vertex, OPAQUE};
@@ -65,11 +65,11 @@ mod tag {
 const FLAG_PLANE: u64 = 1;
 const FLAG_SUPPORTS: u64 = 2;
 const FLAG_SHADE: u64 = 4;
-const FLAG_COLOURS: u64 = 8;
+const FLAG_VERTEX_ATTRS: u64 = 8;
 /// The flag word's bits 32–39 hold 255 − opacity, so an opaque polygon's are zero.
 const TRANSPARENCY_SHIFT: u32 = 32;
 const KNOWN_FLAGS: u64 =
-    FLAG_PLANE | FLAG_SUPPORTS | FLAG_SHADE | FLAG_COLOURS | (0xff << TRANSPARENCY_SHIFT);
+    FLAG_PLANE | FLAG_SUPPORTS | FLAG_SHADE | FLAG_VERTEX_ATTRS | (0xff << TRANSPARENCY_SHIFT);
 
 /// Writes a polygon's binary record (tag 0, or tag 3 when it carries annotations).
 #[inline]
@@ -83,7 +83,7 @@ pub(crate) fn write_polygon_binary<W: Write>(p: &Polygon, out: &mut W) -> io::Re
     }
     if p.plane.is_none()
         && p.supports.is_empty()
-        && p.colours.is_empty()
+        && p.vertex_attrs.is_empty()
         && p.shade.is_none()
         && p.opacity == OPAQUE
     {
@@ -99,7 +99,7 @@ pub(crate) fn write_polygon_binary<W: Write>(p: &Polygon, out: &mut W) -> io::Re
 fn write_annotated<W: Write>(p: &Polygon, out: &mut W) -> io::Result<()> {
     let n = p.vertices.len();
     let supports = p.supports.iter().any(Option::is_some);
-    let shaded = !p.colours.is_empty();
+    let shaded = !p.vertex_attrs.is_empty();
     if p.plane.is_none() && !supports && !shaded && p.shade.is_none() && p.opacity == OPAQUE {
         out.write_all(&head(tag::POLYGON, p.colour, n as u32))?;
         return write_vertices(out, &p.vertices);
@@ -110,10 +110,10 @@ fn write_annotated<W: Write>(p: &Polygon, out: &mut W) -> io::Result<()> {
             format!("{} edge supports for {n} vertices", p.supports.len()),
         ));
     }
-    if shaded && p.colours.len() != n {
+    if shaded && p.vertex_attrs.len() != n {
         return Err(io::Error::new(
             io::ErrorKind::InvalidInput,
-            format!("{} vertex colours for {n} vertices", p.colours.len()),
+            format!("{} vertex colours for {n} vertices", p.vertex_attrs.len()),
         ));
     }
     out.write_all(&head(tag::ANNOTATED, p.colour, n as u32))?;
@@ -121,7 +121,7 @@ fn write_annotated<W: Write>(p: &Polygon, out: &mut W) -> io::Result<()> {
     let flags = flag(p.plane.is_some(), FLAG_PLANE)
         | flag(supports, FLAG_SUPPORTS)
         | flag(p.shade.is_some(), FLAG_SHADE)
-        | flag(shaded, FLAG_COLOURS)
+        | flag(shaded, FLAG_VERTEX_ATTRS)
         | u64::from(OPAQUE - p.opacity) << TRANSPARENCY_SHIFT;
     out.write_all(&flags.to_le_bytes())?;
     if let Some(plane) = p.plane {
@@ -132,7 +132,7 @@ fn write_annotated<W: Write>(p: &Polygon, out: &mut W) -> io::Result<()> {
     }
     write_vertices(out, &p.vertices)?;
     if shaded {
-        write_colours(out, &p.colours)?;
+        write_vertex_attrs(out, &p.vertex_attrs)?;
     }
     if supports {
         for group in (0..n).step_by(8) {
@@ -164,8 +164,8 @@ fn read_polygon_binary<R: Read>(
     p.supports.clear();
     p.shade = None;
     p.opacity = OPAQUE;
-    if !p.colours.is_empty() {
-        p.colours.clear();
+    if !p.vertex_attrs.is_empty() {
+        p.vertex_attrs.clear();
     }
     let n = head_n(head) as usize;
     if n > MAX_VERTICES {
@@ -192,8 +192,8 @@ fn read_polygon_binary<R: Read>(
         ]));
     }
     input.vertices(&mut p.vertices, n)?;
-    if flags & FLAG_COLOURS != 0 {
-        input.colours(&mut p.colours, n)?;
+    if flags & FLAG_VERTEX_ATTRS != 0 {
+        input.vertex_attrs(&mut p.vertex_attrs, n)?;
     }
     if flags & FLAG_SUPPORTS != 0 {
         for group in (0..n).step_by(8) {
@@ -443,7 +443,7 @@ fn read_polygon_text<R: BufRead>(
     p.opacity = OPAQUE;
     p.vertices.clear();
     p.supports.clear();
-    p.colours.clear();
+    p.vertex_attrs.clear();
     let arity = space.vertex_arity();
     if arity == 0 {
         // A fragments stream has no vertices: a polygon's vertices there would have no
@@ -607,7 +607,7 @@ fn read_vertex_words<R: BufRead>(
                 c.x, c.y, c.z
             )));
         }
-        p.colours.push(c);
+        p.vertex_attrs.push(c);
         v[arity..].fill(0.0);
         if arity == 3 {
             v[3] = 1.0;
@@ -685,7 +685,7 @@ pub(crate) fn write_polygon_text<W: Write>(
         if coloured {
             // A polygon of a declared stream has one colour a vertex (the writer's
             // caller validated it); a missing one is written black rather than dropped.
-            let c = p.colours.get(i).copied().unwrap_or_default();
+            let c = p.vertex_attrs.get(i).copied().unwrap_or_default();
             write!(out, " {} {} {}", c.x, c.y, c.z)?;
         }
         if let Some([a, b]) = p.support(i) {
@@ -733,29 +733,29 @@ const NORMALS: VertexValues = VertexValues {
 
 /// Checks a polygon's vertex colours: one a vertex, each channel a number from 0 to 255;
 /// or its normals (`normals`): one a vertex, finite.
-fn check_colours(p: &Polygon, normals: bool) -> Result<(), String> {
+fn check_vertex_attrs(p: &Polygon, normals: bool) -> Result<(), String> {
     let what = if normals { "normals" } else { "colours" };
-    if p.colours.len() != p.vertices.len() {
+    if p.vertex_attrs.len() != p.vertices.len() {
         return Err(format!(
             "{} vertex {what} for {} vertices (one per vertex)",
-            p.colours.len(),
+            p.vertex_attrs.len(),
             p.vertices.len()
         ));
     }
     if normals {
-        return match p.colours.iter().position(|n| !n.is_finite()) {
+        return match p.vertex_attrs.iter().position(|n| !n.is_finite()) {
             Some(i) => Err(format!(
                 "the normal of vertex {i} is {:?}; a normal's numbers must be finite",
-                p.colours[i].to_array()
+                p.vertex_attrs[i].to_array()
             )),
             None => Ok(()),
         };
     }
-    match p.colours.iter().position(|&c| !is_colour(c)) {
+    match p.vertex_attrs.iter().position(|&c| !is_colour(c)) {
         Some(i) => Err(format!(
             "the colour of vertex {i} is {:?}; a vertex colour's channels are numbers from 0 \
              to 255",
-            p.colours[i].to_array()
+            p.vertex_attrs[i].to_array()
         )),
         None => Ok(()),
     }
@@ -802,7 +802,7 @@ impl Record for Token {
                 ));
             }
             let shaded = header.attributes.shaded();
-            if !p.colours.is_empty() || (shaded && !p.vertices.is_empty()) {
+            if !p.vertex_attrs.is_empty() || (shaded && !p.vertices.is_empty()) {
                 if !shaded {
                     return Err(
                         "a polygon with vertex colours or normals in a stream whose header \
@@ -810,7 +810,7 @@ impl Record for Token {
                             .into(),
                     );
                 }
-                check_colours(p, header.attributes.vertex_normals)?;
+                check_vertex_attrs(p, header.attributes.vertex_normals)?;
             }
             if p.opacity != OPAQUE && !header.attributes.opacity {
                 return Err(format!(
