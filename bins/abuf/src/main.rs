@@ -44,7 +44,7 @@ struct Args {
 fn main() -> ExitCode {
     stagecli::main("abuf", |args: Args| {
         let mut method = ABuffer::new(args.background);
-        stagecli::resolve_frames("abuf", args.text.form(), args.stats, &mut method)?;
+        leaf::resolve_frames("abuf", args.text.form(), args.stats, &mut method)?;
         Ok(())
     })
 }

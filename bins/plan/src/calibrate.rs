@@ -7,6 +7,9 @@
 //! script's and each process's start-up are then fitted to `render.sh`'s wall time on a
 //! two-polygon scene at depths 0 to 4, less what the stages predict there.
 
+// The cores are part of what identifies the machine a calibration was made on (the
+// cache's); named here too, where the model's callers look for them.
+pub use crate::cache::{cores, machine_cores};
 use crate::look::{count_screen, count_world, Environment};
 use crate::measure::{self, Usage};
 use crate::model::{fit, stage_work, Constants, Cost, Overheads, StageWork, Work};
@@ -313,26 +316,6 @@ pub fn load_now(loadavg: &str) -> Option<f64> {
     let (running, _) = fields.nth(2)?.split_once('/')?;
     let running: u32 = running.parse().ok()?;
     Some(f64::from(running.saturating_sub(1)).min((average - 1.0).max(0.0)))
-}
-
-/// The cores this process may run on (what the standard library sees as available:
-/// fewer than the machine's under `taskset`): the cores a render here plans for.
-pub fn cores() -> usize {
-    std::thread::available_parallelism().map_or(1, |n| n.get())
-}
-
-/// The machine's cores, online, whatever this process's affinity: what tells one
-/// machine from another for its calibration (a stage costs the same CPU seconds on one
-/// core of it as on two, so a render under `taskset -c 0` plans with the machine's
-/// calibration, for one core), and what the load average is spread over.
-pub fn machine_cores() -> usize {
-    // SAFETY: sysconf reads a system value and has no other effect.
-    let online = unsafe { libc::sysconf(libc::_SC_NPROCESSORS_ONLN) };
-    usize::try_from(online)
-        .ok()
-        .filter(|&n| n > 0)
-        .unwrap_or_else(cores)
-        .max(cores())
 }
 
 /// The CPU model and cores, and the date, for the constants file.
