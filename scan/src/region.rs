@@ -157,14 +157,15 @@ fn run_starts(line: &[u32; TILE as usize]) -> u64 {
 }
 
 /// Paints the covered cells of one tile row, `line` (packed colours, 0 where no polygon
-/// covers the pixel), into `out`, the same pixels of an RGB raster, leaving the rest.
+/// covers the pixel), into `out`, the same pixels of an RGB raster, and the rest in
+/// `back`, or leaves them as they are without one.
 ///
 /// Four pixels at a time where all four are covered (nearly every block of a filled
 /// screen): their twelve RGB bytes gathered into two words and stored as an eight- and
 /// a four-byte write, where a pixel at a time was three byte stores and a branch each.
 /// A block with an empty pixel, and the row's last pixels, go a pixel at a time.
 #[inline]
-fn paint_row(out: &mut [Colour], line: &[u32]) {
+fn paint_row(out: &mut [Colour], line: &[u32], back: Option<Colour>) {
     debug_assert_eq!(out.len(), line.len());
     let mut outs = out.chunks_exact_mut(4);
     let mut cells = line.chunks_exact(4);
@@ -183,16 +184,22 @@ fn paint_row(out: &mut [Colour], line: &[u32]) {
             bytes[8..12].copy_from_slice(&hi.to_le_bytes());
         } else {
             for (out, &p) in o.iter_mut().zip(c) {
-                if p != 0 {
-                    *out = unpack(p);
-                }
+                paint_one(out, p, back);
             }
         }
     }
     for (out, &p) in outs.into_remainder().iter_mut().zip(cells.remainder()) {
-        if p != 0 {
-            *out = unpack(p);
-        }
+        paint_one(out, p, back);
+    }
+}
+
+/// One pixel of [`paint_row`]: packed colour `p`, or `back` (if any) where `p` is 0.
+#[inline(always)]
+fn paint_one(out: &mut Colour, p: u32, back: Option<Colour>) {
+    if p != 0 {
+        *out = unpack(p);
+    } else if let Some(back) = back {
+        *out = back;
     }
 }
 
@@ -206,7 +213,7 @@ fn paint_row(out: &mut [Colour], line: &[u32]) {
 /// The processor must have AVX2; `out` and `line` must be of one length.
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx2")]
-unsafe fn paint_row_avx2(out: &mut [Colour], line: &[u32]) {
+unsafe fn paint_row_avx2(out: &mut [Colour], line: &[u32], back: Option<Colour>) {
     use std::arch::x86_64::*;
     debug_assert_eq!(out.len(), line.len());
     let n = line.len().min(out.len()) & !3;
@@ -228,19 +235,14 @@ unsafe fn paint_row_avx2(out: &mut [Colour], line: &[u32]) {
                 (o.add(8) as *mut i32).write_unaligned(_mm_extract_epi32::<2>(b));
             } else {
                 for k in i..i + 4 {
-                    let p = *line.get_unchecked(k);
-                    if p != 0 {
-                        *out.get_unchecked_mut(k) = unpack(p);
-                    }
+                    paint_one(out.get_unchecked_mut(k), *line.get_unchecked(k), back);
                 }
             }
         }
         i += 4;
     }
     for (o, &p) in out[n..].iter_mut().zip(&line[n..]) {
-        if p != 0 {
-            *o = unpack(p);
-        }
+        paint_one(o, p, back);
     }
 }
 
@@ -667,18 +669,39 @@ impl RegionBuffer {
     /// is also the only leaf (`zbuf` reading persp's stream at depth 0), where runs would
     /// only be taken apart again.
     pub fn finish_into(&mut self, raster: &mut [Colour]) {
+        self.paint(raster, None);
+    }
+
+    /// [`RegionBuffer::finish_into`] over a raster that holds anything (the frame
+    /// before's pixels): every pixel is written, the covered ones in their colour and the
+    /// rest in `background`. A movie's frames then need no pass of their own to put the
+    /// background back first: on a screen the polygons cover, the painting writes every
+    /// pixel anyway.
+    pub fn finish_over(&mut self, raster: &mut [Colour], background: Colour) {
+        self.paint(raster, Some(background));
+    }
+
+    /// Paints the frame into `raster` (pixels no polygon covers: left as they are, or
+    /// `back`), then clears the buffer.
+    fn paint(&mut self, raster: &mut [Colour], back: Option<Colour>) {
         let width = self.width as usize;
         assert_eq!(raster.len(), width * self.height as usize, "raster size");
         for ty in 0..self.tiles_y {
             let rows = TILE.min(self.height - ty * TILE);
             for tx in 0..self.tiles_x {
                 let s = self.slot[(ty * self.tiles_x + tx) as usize];
+                let left = (tx * TILE) as usize;
+                let cols = (TILE as usize).min(width - left);
                 if s == UNTOUCHED {
+                    if let Some(back) = back {
+                        for r in 0..rows {
+                            let at = (ty * TILE + r) as usize * width + left;
+                            raster[at..at + cols].fill(back);
+                        }
+                    }
                     continue;
                 }
                 let tile = self.colour.tile(s);
-                let left = (tx * TILE) as usize;
-                let cols = (TILE as usize).min(width - left);
                 for r in 0..rows {
                     let line = &tile[(r << SHIFT) as usize..][..cols];
                     let at = (ty * TILE + r) as usize * width + left;
@@ -687,8 +710,8 @@ impl RegionBuffer {
                         #[cfg(target_arch = "x86_64")]
                         // SAFETY: `kernel` is Avx2 only where the processor has AVX2
                         // (`ZTest::detect`, `set_kernel`); the slices are of one length.
-                        ZTest::Avx2 => unsafe { paint_row_avx2(out, line) },
-                        _ => paint_row(out, line),
+                        ZTest::Avx2 => unsafe { paint_row_avx2(out, line, back) },
+                        _ => paint_row(out, line, back),
                     }
                 }
             }
@@ -874,6 +897,11 @@ mod tests {
         let mut got = vec![back; (w * h) as usize];
         rb.finish_into(&mut got);
         assert_eq!(got, want);
+        // Over the frame before's pixels, with the background put back where nothing is.
+        draw(&mut rb);
+        let mut over = vec![[1, 2, 3]; (w * h) as usize];
+        rb.finish_over(&mut over, back);
+        assert_eq!(over, want);
         // Cleared for the next frame.
         assert_eq!(rb.colour_at(10, 3), None);
     }
@@ -898,6 +926,11 @@ mod tests {
         let mut want = vec![[0, 0, 0]; 256 * 128];
         want[70 * 256 + 200..70 * 256 + 203].fill(G);
         assert_eq!(got, want);
+        // Over another frame's pixels: the untouched tiles get the background too.
+        rb.span(70, 200..203, 1.0, 0.0, G);
+        let mut over = vec![[7, 7, 7]; 256 * 128];
+        rb.finish_over(&mut over, [0, 0, 0]);
+        assert_eq!(over, want);
         // A far span in frame 1's tile, behind its old pixels' bars, still takes them.
         rb.span(5, 0..4, 9.0, 0.0, B);
         assert_eq!(runs(&mut rb), [run(5, 0, 4, B)]);
@@ -914,19 +947,24 @@ mod tests {
                 0..70,
             ),
             back in proptest::array::uniform3(0u8..=255),
+            before in proptest::array::uniform3(0u8..=255),
         ) {
             use proptest::prelude::*;
             let line: Vec<u32> = cells.iter().map(|c| c.map_or(0, pack)).collect();
             let want: Vec<Colour> = cells.iter().map(|c| c.unwrap_or(back)).collect();
-            let mut got = vec![back; line.len()];
-            paint_row(&mut got, &line);
-            prop_assert_eq!(&got, &want);
-            #[cfg(target_arch = "x86_64")]
-            if ZTest::Avx2.available() {
-                let mut got = vec![back; line.len()];
-                // SAFETY: the processor has AVX2; the slices are of one length.
-                unsafe { paint_row_avx2(&mut got, &line) };
+            // Over a raster holding the background (finish_into), and over one holding
+            // anything else, with the background to put back (finish_over).
+            for (start, with) in [(back, None), (before, Some(back))] {
+                let mut got = vec![start; line.len()];
+                paint_row(&mut got, &line, with);
                 prop_assert_eq!(&got, &want);
+                #[cfg(target_arch = "x86_64")]
+                if ZTest::Avx2.available() {
+                    let mut got = vec![start; line.len()];
+                    // SAFETY: the processor has AVX2; the slices are of one length.
+                    unsafe { paint_row_avx2(&mut got, &line, with) };
+                    prop_assert_eq!(&got, &want);
+                }
             }
         }
 
