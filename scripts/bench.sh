@@ -19,6 +19,11 @@
 #   (c) 10,000 quads, depth complexity 10, 1920x1080 (the fill-heavy scene)
 #   (d) a 100-frame movie of 1,024 quads at 500x500
 #   (e) two polygons at 64x64 (examples/triangle-square.txt: start-up, nothing else)
+#   (f) a large mesh at 500x500: a real model, not one of this project's generators'
+#       (`scene obj --shade` of MESH, default WusonOBJ.obj of Debian's
+#       assimp-testmodels: 3,732 faces, mostly triangles of a few pixels). Get it with
+#       `apt-get install assimp-testmodels` (it lands in /usr/share/assimp/models/OBJ/);
+#       when the file is missing the row is skipped, with a message saying so.
 #
 # The rows: render.sh with its default options against the llvmpipe harness
 # (bench/llvmpipe/render.c through OSMesa, the same scene, camera and pyramid) and
@@ -37,7 +42,8 @@
 #
 # Environment: RENDER (default scripts/render.sh) and FUSED (default target/bin/fused,
 # or the release folder's examples/fused) name other commands to measure in their place;
-# POLYPIPE_BIN a folder of built binaries to measure as they are, with no cargo build.
+# POLYPIPE_BIN a folder of built binaries to measure as they are, with no cargo build;
+# MESH the OBJ file of row (f) (default /usr/share/assimp/models/OBJ/WusonOBJ.obj).
 #
 # Usage: scripts/bench.sh [--quick] [--reps N] [--scaling] [--fill N WxH]
 #   --quick    3 repetitions and smaller scenes (b: 20,000 quads; c: 2,000 quads at
@@ -135,6 +141,15 @@ echo "bench.sh: generating the scenes" >&2
 fill_scene "$B" "$fill_n" "$fill_size" > "$work/fill.txt"
 "$B/scene" environment --text --seed 4 --polygons 1024 --frames "$movie_frames" --size 500x500 > "$work/movie.txt"
 cp "$root/examples/triangle-square.txt" "$work/two.txt"
+# (f), from a model file this project did not make: skipped, with a message, without it.
+mesh=${MESH:-/usr/share/assimp/models/OBJ/WusonOBJ.obj}
+if [[ -r $mesh ]] && "$B/scene" obj --shade --text "$mesh" > "$work/mesh.txt"; then
+    faces=$(grep -c '^[[:space:]]*f[[:space:]]' "$mesh" || true)
+    scenes+=(mesh)
+    size[mesh]=500x500 label[mesh]="(f) ${mesh##*/}, $(commas "$faces") faces, 500×500"
+else
+    echo "bench.sh: no large mesh at $mesh (apt-get install assimp-testmodels, or MESH=FILE.obj): row (f) skipped" >&2
+fi
 
 # --- The commands, by name. -----------------------------------------------------------
 jobs=()

@@ -147,13 +147,176 @@ impl<T: ZeroIsDefault> Slab<T> {
 
 /// Where the runs of a tile row start: bit i is set where cell i differs from cell i − 1,
 /// and bit 0 always.
+///
+/// On x86-64, four cells a compare in 128-bit registers (SSE2, which every x86-64 has):
+/// cells 4k..4k+4 against cells 4k−1..4k+3, the lanes' results taken as four bits. The
+/// loop below, which the compiler vectorised with 64-bit lanes of shifted booleans, was
+/// most of a movie's leaves' time in `finish_frame`.
+#[cfg(target_arch = "x86_64")]
 #[inline]
 fn run_starts(line: &[u32; TILE as usize]) -> u64 {
+    use std::arch::x86_64::*;
+    let p = line.as_ptr();
+    // SAFETY: SSE2 is part of x86-64. Every load is of four cells within the 64: cells
+    // 0..4, then 4k..4k+4 and 4k−1..4k+3 for k in 1..16; unaligned loads.
+    unsafe {
+        let first = _mm_loadu_si128(p as *const __m128i);
+        // Lanes 1-3 against cells 0-2 (lane 0 against a zero, its bit set anyway).
+        let same = _mm_cmpeq_epi32(first, _mm_slli_si128::<4>(first));
+        let mut starts = (!_mm_movemask_ps(_mm_castsi128_ps(same)) as u64 & 0xf) | 1;
+        let mut k = 4;
+        while k < TILE as usize {
+            let cur = _mm_loadu_si128(p.add(k) as *const __m128i);
+            let prev = _mm_loadu_si128(p.add(k - 1) as *const __m128i);
+            let same = _mm_movemask_ps(_mm_castsi128_ps(_mm_cmpeq_epi32(cur, prev)));
+            starts |= (!same as u64 & 0xf) << k;
+            k += 4;
+        }
+        starts
+    }
+}
+
+/// [`run_starts`] a cell at a time: the definition, and the code off x86-64.
+#[cfg_attr(target_arch = "x86_64", allow(dead_code))]
+#[inline]
+fn run_starts_scalar(line: &[u32; TILE as usize]) -> u64 {
     let mut starts = 1u64;
     for i in 1..TILE as usize {
         starts |= u64::from(line[i] != line[i - 1]) << i;
     }
     starts
+}
+
+#[cfg(not(target_arch = "x86_64"))]
+use run_starts_scalar as run_starts;
+
+/// Paints the covered cells of one tile row, `line` (packed colours, 0 where no polygon
+/// covers the pixel), into `out`, the same pixels of an RGB raster, and the rest in
+/// `back`, or leaves them as they are without one.
+///
+/// Four pixels at a time where all four are covered (nearly every block of a filled
+/// screen): their twelve RGB bytes gathered into two words and stored as an eight- and
+/// a four-byte write, where a pixel at a time was three byte stores and a branch each.
+/// A block with an empty pixel, and the row's last pixels, go a pixel at a time.
+#[inline]
+fn paint_row(out: &mut [Colour], line: &[u32], back: Option<Colour>) {
+    debug_assert_eq!(out.len(), line.len());
+    let mut outs = out.chunks_exact_mut(4);
+    let mut cells = line.chunks_exact(4);
+    for (o, c) in (&mut outs).zip(&mut cells) {
+        let &[p0, p1, p2, p3] = c else {
+            unreachable!("chunks of four")
+        };
+        if p0 != 0 && p1 != 0 && p2 != 0 && p3 != 0 {
+            // Pixel i's bytes are the low three of p_i's little-endian bytes (`pack`).
+            let lo = u64::from(p0 & 0x00ff_ffff)
+                | u64::from(p1 & 0x00ff_ffff) << 24
+                | u64::from(p2 & 0xffff) << 48;
+            let hi = (p2 >> 16) & 0xff | p3 << 8;
+            let bytes = o.as_flattened_mut();
+            bytes[..8].copy_from_slice(&lo.to_le_bytes());
+            bytes[8..12].copy_from_slice(&hi.to_le_bytes());
+        } else {
+            for (out, &p) in o.iter_mut().zip(c) {
+                paint_one(out, p, back);
+            }
+        }
+    }
+    for (out, &p) in outs.into_remainder().iter_mut().zip(cells.remainder()) {
+        paint_one(out, p, back);
+    }
+}
+
+/// The farthest of a covered tile row's TILE bars, in four 256-bit registers of running
+/// maxima folded at the end. The compiler kept the fold of
+/// [`RegionBuffer::refresh_row_bar`] one maximum after another, a chain of 64 dependent
+/// instructions that was a third of the z-test's time on the fill-heavy scene. The bars
+/// of a covered row are numbers, so taking the maxima in another order changes nothing
+/// but, between 0 and −0, which zero is kept; and a row bar is only compared (`>=`),
+/// where the two are one.
+///
+/// # Safety
+///
+/// The processor must have AVX2; `bars` must hold TILE cells.
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2")]
+#[inline]
+unsafe fn farthest_avx2(bars: &[Depth]) -> Depth {
+    use std::arch::x86_64::*;
+    assert!(bars.len() == TILE as usize);
+    let p = bars.as_ptr();
+    // SAFETY: the 64 cells p..p+64 are in `bars`; unaligned loads.
+    unsafe {
+        let mut m = [
+            _mm256_loadu_pd(p),
+            _mm256_loadu_pd(p.add(4)),
+            _mm256_loadu_pd(p.add(8)),
+            _mm256_loadu_pd(p.add(12)),
+        ];
+        let mut k = 16;
+        while k < TILE as usize {
+            for (j, mj) in m.iter_mut().enumerate() {
+                *mj = _mm256_max_pd(_mm256_loadu_pd(p.add(k + 4 * j)), *mj);
+            }
+            k += 16;
+        }
+        let m = _mm256_max_pd(_mm256_max_pd(m[0], m[1]), _mm256_max_pd(m[2], m[3]));
+        let h = _mm_max_pd(_mm256_castpd256_pd128(m), _mm256_extractf128_pd::<1>(m));
+        _mm_cvtsd_f64(_mm_max_sd(h, _mm_unpackhi_pd(h, h)))
+    }
+}
+
+/// One pixel of [`paint_row`]: packed colour `p`, or `back` (if any) where `p` is 0.
+#[inline(always)]
+fn paint_one(out: &mut Colour, p: u32, back: Option<Colour>) {
+    if p != 0 {
+        *out = unpack(p);
+    } else if let Some(back) = back {
+        *out = back;
+    }
+}
+
+/// [`paint_row`] with 128-bit vectors: four packed pixels loaded at once, tested for an
+/// empty one with one compare, and where all four are covered their twelve RGB bytes
+/// gathered by one byte shuffle and stored as eight and four bytes. The same raster to
+/// the byte.
+///
+/// # Safety
+///
+/// The processor must have AVX2; `out` and `line` must be of one length.
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2")]
+unsafe fn paint_row_avx2(out: &mut [Colour], line: &[u32], back: Option<Colour>) {
+    use std::arch::x86_64::*;
+    debug_assert_eq!(out.len(), line.len());
+    let n = line.len().min(out.len()) & !3;
+    // Bytes 0-2, 4-6, 8-10 and 12-14 of four packed pixels (each R, G, B, then the
+    // top byte that marks it covered, `pack`): their RGB bytes in order.
+    let gather = _mm_setr_epi8(0, 1, 2, 4, 5, 6, 8, 9, 10, 12, 13, 14, -1, -1, -1, -1);
+    let zero = _mm_setzero_si128();
+    let mut i = 0;
+    while i < n {
+        // SAFETY: i + 4 <= n <= both lengths, so cells i..i+4 of `line` and pixels
+        // i..i+4 of `out` (bytes 3i..3i+12, a Colour being 3 bytes) are in bounds;
+        // unaligned loads and stores.
+        unsafe {
+            let v = _mm_loadu_si128(line.as_ptr().add(i) as *const __m128i);
+            if _mm_movemask_epi8(_mm_cmpeq_epi32(v, zero)) == 0 {
+                let o = out.as_mut_ptr().add(i) as *mut u8;
+                let b = _mm_shuffle_epi8(v, gather);
+                _mm_storel_epi64(o as *mut __m128i, b);
+                (o.add(8) as *mut i32).write_unaligned(_mm_extract_epi32::<2>(b));
+            } else {
+                for k in i..i + 4 {
+                    paint_one(out.get_unchecked_mut(k), *line.get_unchecked(k), back);
+                }
+            }
+        }
+        i += 4;
+    }
+    for (o, &p) in out[n..].iter_mut().zip(&line[n..]) {
+        paint_one(o, p, back);
+    }
 }
 
 /// Finished pixels `x0..x1` (end exclusive) of row `y`, all of one colour.
@@ -222,6 +385,10 @@ pub struct RegionBuffer {
     /// Frames this buffer has finished.
     frames: u64,
     in_use: usize,
+    /// Tiles `in_use..dirty` of the pool still hold an earlier frame's colours and row
+    /// bars: cleared as each is taken again ([`RegionBuffer::first_touch`]), not when the
+    /// frame ends, so that the last frame of a stream clears nothing.
+    dirty: usize,
     /// The z-test's kernel, the fastest this processor has.
     kernel: ZTest,
     pub stats: RegionStats,
@@ -247,6 +414,7 @@ impl RegionBuffer {
             frame_behind: 0,
             frames: 0,
             in_use: 0,
+            dirty: 0,
             kernel: ZTest::detect(),
             stats: RegionStats::default(),
         }
@@ -295,6 +463,12 @@ impl RegionBuffer {
             self.stats.tiles += 1;
         }
         let s = self.in_use as u32;
+        if self.in_use < self.dirty {
+            // A tile of an earlier frame, taken again: empty it (see `clear`).
+            self.colour.tile_mut(s).fill(0);
+            let rows = row_at(s, 0);
+            self.row_bar[rows..rows + TILE as usize].fill(Depth::NAN);
+        }
         self.in_use += 1;
         self.slot[at] = s;
         s
@@ -430,8 +604,15 @@ impl RegionBuffer {
         let bars = &self.depth.tile(tile)[cells];
         let covered = colours.iter().fold(true, |all, &c| all & (c != 0));
         self.row_bar[row_at(tile, y)] = if covered {
-            bars.iter()
-                .fold(Depth::NEG_INFINITY, |m, &b| if b > m { b } else { m })
+            match self.kernel {
+                #[cfg(target_arch = "x86_64")]
+                // SAFETY: `kernel` is Avx2 only where the processor has AVX2; a tile row
+                // is TILE cells.
+                ZTest::Avx2 => unsafe { farthest_avx2(bars) },
+                _ => bars
+                    .iter()
+                    .fold(Depth::NEG_INFINITY, |m, &b| if b > m { b } else { m }),
+            }
         } else {
             Depth::NAN
         };
@@ -568,25 +749,49 @@ impl RegionBuffer {
     /// is also the only leaf (`zbuf` reading persp's stream at depth 0), where runs would
     /// only be taken apart again.
     pub fn finish_into(&mut self, raster: &mut [Colour]) {
+        self.paint(raster, None);
+    }
+
+    /// [`RegionBuffer::finish_into`] over a raster that holds anything (the frame
+    /// before's pixels): every pixel is written, the covered ones in their colour and the
+    /// rest in `background`. A movie's frames then need no pass of their own to put the
+    /// background back first: on a screen the polygons cover, the painting writes every
+    /// pixel anyway.
+    pub fn finish_over(&mut self, raster: &mut [Colour], background: Colour) {
+        self.paint(raster, Some(background));
+    }
+
+    /// Paints the frame into `raster` (pixels no polygon covers: left as they are, or
+    /// `back`), then clears the buffer.
+    fn paint(&mut self, raster: &mut [Colour], back: Option<Colour>) {
         let width = self.width as usize;
         assert_eq!(raster.len(), width * self.height as usize, "raster size");
         for ty in 0..self.tiles_y {
             let rows = TILE.min(self.height - ty * TILE);
             for tx in 0..self.tiles_x {
                 let s = self.slot[(ty * self.tiles_x + tx) as usize];
+                let left = (tx * TILE) as usize;
+                let cols = (TILE as usize).min(width - left);
                 if s == UNTOUCHED {
+                    if let Some(back) = back {
+                        for r in 0..rows {
+                            let at = (ty * TILE + r) as usize * width + left;
+                            raster[at..at + cols].fill(back);
+                        }
+                    }
                     continue;
                 }
                 let tile = self.colour.tile(s);
-                let left = (tx * TILE) as usize;
-                let cols = (TILE as usize).min(width - left);
                 for r in 0..rows {
                     let line = &tile[(r << SHIFT) as usize..][..cols];
                     let at = (ty * TILE + r) as usize * width + left;
-                    for (out, &p) in raster[at..at + cols].iter_mut().zip(line) {
-                        if p != 0 {
-                            *out = unpack(p);
-                        }
+                    let out = &mut raster[at..at + cols];
+                    match self.kernel {
+                        #[cfg(target_arch = "x86_64")]
+                        // SAFETY: `kernel` is Avx2 only where the processor has AVX2
+                        // (`ZTest::detect`, `set_kernel`); the slices are of one length.
+                        ZTest::Avx2 => unsafe { paint_row_avx2(out, line, back) },
+                        _ => paint_row(out, line, back),
                     }
                 }
             }
@@ -603,15 +808,15 @@ impl RegionBuffer {
     /// frame that kept them and turned away fewer than one pixel in [`PAYS`] of those it
     /// tested, the frames stop keeping them, all but one in [`PROBE`], which looks again.
     /// The pictures are the same either way.
+    ///
+    /// The tiles themselves are emptied only as the next frame takes them again
+    /// ([`RegionBuffer::first_touch`]): a tile's colours are read only through its slot,
+    /// and a tile no slot names is read by nothing. So the last frame of a stream (the
+    /// only one of a still) leaves its 8 MB of colours at 1920×1080 as they are, where
+    /// clearing them was a pass over memory long out of the caches.
     pub fn clear(&mut self) {
-        for s in &mut self.slot {
-            if *s != UNTOUCHED {
-                self.colour.tile_mut(*s).fill(0);
-                let rows = row_at(*s, 0);
-                self.row_bar[rows..rows + TILE as usize].fill(Depth::NAN);
-                *s = UNTOUCHED;
-            }
-        }
+        self.slot.fill(UNTOUCHED);
+        self.dirty = self.dirty.max(self.in_use);
         self.in_use = 0;
         if self.rows_kept {
             self.rows_paid = self.frame_behind.saturating_mul(PAYS) >= self.frame_tested;
@@ -772,11 +977,117 @@ mod tests {
         let mut got = vec![back; (w * h) as usize];
         rb.finish_into(&mut got);
         assert_eq!(got, want);
+        // Over the frame before's pixels, with the background put back where nothing is.
+        draw(&mut rb);
+        let mut over = vec![[1, 2, 3]; (w * h) as usize];
+        rb.finish_over(&mut over, back);
+        assert_eq!(over, want);
         // Cleared for the next frame.
         assert_eq!(rb.colour_at(10, 3), None);
     }
 
+    #[test]
+    fn a_tile_taken_again_holds_nothing_of_the_frame_before() {
+        // Frame 1 covers two tiles whole; frame 2 touches one other tile with a short span:
+        // it gets the pool's first tile, frame 1's, and only its own pixels come out.
+        let mut rb = RegionBuffer::new(256, 128);
+        for y in 0..64 {
+            rb.span(y, 0..128, 1.0, 0.0, R);
+        }
+        assert_eq!(runs(&mut rb).len(), 64);
+        rb.span(70, 200..203, 1.0, 0.0, G);
+        assert_eq!(rb.colour_at(0, 0), None);
+        assert_eq!(rb.colour_at(200, 70), Some(G));
+        assert_eq!(runs(&mut rb), [run(70, 200, 203, G)]);
+        // And painted into a raster, the same.
+        rb.span(70, 200..203, 1.0, 0.0, G);
+        let mut got = vec![[0, 0, 0]; 256 * 128];
+        rb.finish_into(&mut got);
+        let mut want = vec![[0, 0, 0]; 256 * 128];
+        want[70 * 256 + 200..70 * 256 + 203].fill(G);
+        assert_eq!(got, want);
+        // Over another frame's pixels: the untouched tiles get the background too.
+        rb.span(70, 200..203, 1.0, 0.0, G);
+        let mut over = vec![[7, 7, 7]; 256 * 128];
+        rb.finish_over(&mut over, [0, 0, 0]);
+        assert_eq!(over, want);
+        // A far span in frame 1's tile, behind its old pixels' bars, still takes them.
+        rb.span(5, 0..4, 9.0, 0.0, B);
+        assert_eq!(runs(&mut rb), [run(5, 0, 4, B)]);
+    }
+
     proptest::proptest! {
+        /// Where the runs of a row start, four cells a compare, is the definition's.
+        #[test]
+        fn run_starts_are_where_a_cell_differs_from_the_one_before(
+            // Few colours, so that neighbours are often the same.
+            cells in proptest::collection::vec(0u32..3, TILE as usize),
+            big in 0u32..=u32::MAX,
+        ) {
+            use proptest::prelude::*;
+            let mut line = [0u32; TILE as usize];
+            for (l, c) in line.iter_mut().zip(&cells) {
+                *l = if *c == 2 { big } else { *c };
+            }
+            prop_assert_eq!(run_starts(&line), run_starts_scalar(&line));
+        }
+
+        /// The vector maximum of a covered row's bars is the scalar fold's (as a number:
+        /// 0 and −0 are one to the comparisons that read it).
+        #[test]
+        fn the_vector_row_bar_is_the_farthest_bar(
+            bars in proptest::collection::vec(
+                proptest::prop_oneof![
+                    8 => -4.0f64..4.0,
+                    1 => proptest::strategy::Just(0.0),
+                    1 => proptest::strategy::Just(-0.0),
+                    1 => proptest::strategy::Just(f64::INFINITY),
+                    1 => proptest::strategy::Just(f64::NEG_INFINITY),
+                ],
+                TILE as usize,
+            ),
+        ) {
+            use proptest::prelude::*;
+            let want = bars.iter().fold(Depth::NEG_INFINITY, |m, &b| if b > m { b } else { m });
+            #[cfg(target_arch = "x86_64")]
+            if ZTest::Avx2.available() {
+                // SAFETY: the processor has AVX2; TILE bars.
+                let got = unsafe { farthest_avx2(&bars) };
+                prop_assert!(got == want, "{} against {}", got, want);
+            }
+        }
+
+        /// Painting four pixels at a time (each way) leaves the raster a pixel at a time
+        /// would.
+        #[test]
+        fn paint_row_paints_each_covered_pixel(
+            // None: no polygon covers the pixel; black ([0, 0, 0]) is a covered colour.
+            cells in proptest::collection::vec(
+                proptest::option::weighted(0.8, proptest::array::uniform3(0u8..=255)),
+                0..70,
+            ),
+            back in proptest::array::uniform3(0u8..=255),
+            before in proptest::array::uniform3(0u8..=255),
+        ) {
+            use proptest::prelude::*;
+            let line: Vec<u32> = cells.iter().map(|c| c.map_or(0, pack)).collect();
+            let want: Vec<Colour> = cells.iter().map(|c| c.unwrap_or(back)).collect();
+            // Over a raster holding the background (finish_into), and over one holding
+            // anything else, with the background to put back (finish_over).
+            for (start, with) in [(back, None), (before, Some(back))] {
+                let mut got = vec![start; line.len()];
+                paint_row(&mut got, &line, with);
+                prop_assert_eq!(&got, &want);
+                #[cfg(target_arch = "x86_64")]
+                if ZTest::Avx2.available() {
+                    let mut got = vec![start; line.len()];
+                    // SAFETY: the processor has AVX2; the slices are of one length.
+                    unsafe { paint_row_avx2(&mut got, &line, with) };
+                    prop_assert_eq!(&got, &want);
+                }
+            }
+        }
+
         /// The vector z-test gives the scalar one's runs and counts, span for span, on
         /// spans crossing tiles and the screen's edges.
         #[test]

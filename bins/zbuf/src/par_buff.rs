@@ -747,12 +747,16 @@ pub fn one_input(
         let mut frame = 0u64;
         let painted = (|| -> Result<()> {
             for mut region in painting.iter() {
-                // The last frame's pixels are cleared only when another frame comes: a
-                // one-frame render does not clear its 6 MB (at 1920x1080) for nothing.
-                if frame > 0 {
-                    fb.clear();
+                // The first frame is painted over the background the frame buffer was
+                // made with; each later one over the frame before, every pixel written
+                // (its colour, or the background put back), with no pass of its own to
+                // clear it first. The frame buffer's depth and polygon buffers are never
+                // made here: the region buffer did the depth tests.
+                if frame == 0 {
+                    region.finish_into(fb.raster_mut());
+                } else {
+                    region.finish_over(fb.raster_mut(), background);
                 }
-                region.finish_into(fb.raster_mut());
                 on_frame(frame, &fb)?;
                 frame += 1;
                 let _ = to_reuse.send(region);
