@@ -175,3 +175,24 @@ fn the_check_finds_each_kind_of_bad_citation() {
         [format!("line 1: cites `{OUTSIDE}`, outside the repository")]
     );
 }
+
+/// The documents stay short enough to read: current figures by topic, history in git
+/// (CONTRIBUTING.md). A page that grows past its length is cut, or split by topic.
+#[test]
+fn each_document_stays_within_its_length() {
+    let limits = [
+        ("README.md", 400),
+        ("docs/performance.md", 400),
+        ("docs/DESIGN.md", 900),
+        ("docs/methods.md", 900),
+    ];
+    let long: Vec<String> = limits
+        .iter()
+        .filter_map(|&(file, most)| {
+            let text = fs::read_to_string(repo_root().join(file)).unwrap();
+            let lines = text.lines().count();
+            (lines > most).then(|| format!("{file}: {lines} lines (at most {most})"))
+        })
+        .collect();
+    assert!(long.is_empty(), "{long:#?}");
+}
