@@ -909,14 +909,9 @@ impl HiddenSurface for Painter {
     }
 
     /// A Gouraud- or Phong-shaded polygon is painted in its colour at each pixel centre
-    /// (its pieces in the whole's), as the z-buffer draws it.
-    fn shades(&self) -> bool {
-        true
-    }
-
-    /// The lighting of a Phong-shaded stream: each pixel of a shaded polygon is lit by it.
-    fn set_lighting(&mut self, lighting: Option<Arc<Lighting>>) {
-        self.lighting = lighting;
+    /// (its pieces in the whole's), as the z-buffer draws it, lit by the stream's lighting.
+    fn lighting(&mut self) -> Option<&mut Option<Arc<Lighting>>> {
+        Some(&mut self.lighting)
     }
 
     fn stats(&self) -> String {

@@ -1201,14 +1201,9 @@ impl HiddenSurface for Scanline {
     }
 
     /// A Gouraud- or Phong-shaded polygon's visible spans take its colour at each pixel
-    /// centre, as the z-buffer's do.
-    fn shades(&self) -> bool {
-        true
-    }
-
-    /// The lighting of a Phong-shaded stream: each pixel of a shaded polygon is lit by it.
-    fn set_lighting(&mut self, lighting: Option<Arc<Lighting>>) {
-        self.lighting = lighting;
+    /// centre, as the z-buffer's do, lit by the stream's lighting.
+    fn lighting(&mut self) -> Option<&mut Option<Arc<Lighting>>> {
+        Some(&mut self.lighting)
     }
 
     fn stats(&self) -> String {

@@ -842,14 +842,9 @@ impl HiddenSurface for Warnock {
     }
 
     /// A Gouraud- or Phong-shaded polygon's visible pixels take its colour at each
-    /// centre, as the z-buffer's do.
-    fn shades(&self) -> bool {
-        true
-    }
-
-    /// The lighting of a Phong-shaded stream: each pixel of a shaded polygon is lit by it.
-    fn set_lighting(&mut self, lighting: Option<Arc<Lighting>>) {
-        self.lighting = lighting;
+    /// centre, as the z-buffer's do, lit by the stream's lighting.
+    fn lighting(&mut self) -> Option<&mut Option<Arc<Lighting>>> {
+        Some(&mut self.lighting)
     }
 
     fn stats(&self) -> String {
