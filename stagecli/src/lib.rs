@@ -27,6 +27,7 @@
 //! several-line messages are joined ([`args::usage_line`]), with clap's status 2.
 //! `--help` and `--version` print as usual and exit 0.
 
+pub mod antialias;
 pub mod args;
 pub mod error;
 pub mod leaf;
@@ -36,6 +37,7 @@ pub mod pieces;
 pub mod remote;
 pub mod stream;
 
+pub use antialias::AntialiasArgs;
 pub use args::{parse, parse_colour, DepthArg, PpmTextFlag, TextFlag, ViewArgs};
 pub use error::{Context, Error, Kind, Result};
 pub use leaf::{refuse_transparent, resolve_frames, FrameCounts};
