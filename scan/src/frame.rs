@@ -131,6 +131,16 @@ pub fn pseudo_random(seed: u64) -> impl FnMut() -> f64 {
     }
 }
 
+/// The rectangle from (x0, y0) to (x1, y1) on the screen at constant depth `z`, its
+/// corners in the order (x0, y0), (x1, y0), (x1, y1), (x0, y1) (clockwise on a screen
+/// whose Y grows downward): the methods' tests' commonest polygon.
+pub fn square(colour: Colour, x0: f64, y0: f64, x1: f64, y1: f64, z: f64) -> Polygon {
+    Polygon::from_xyz(
+        colour,
+        &[[x0, y0, z], [x1, y0, z], [x1, y1, z], [x0, y1, z]],
+    )
+}
+
 /// The picture `runs` paint on a `width`×`height` screen, row-major: `None` where no run
 /// reaches. A pixel painted twice is an error of the method that made the runs, and
 /// panics here, in its tests.
@@ -224,13 +234,6 @@ pub fn shaded_runs(
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    fn square(colour: Colour, x0: f64, y0: f64, x1: f64, y1: f64, z: f64) -> Polygon {
-        Polygon::from_xyz(
-            colour,
-            &[[x0, y0, z], [x1, y0, z], [x1, y1, z], [x0, y1, z]],
-        )
-    }
 
     #[test]
     fn the_zbuffer_keeps_the_nearer_and_the_earlier_of_a_tie() {

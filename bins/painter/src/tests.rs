@@ -1,13 +1,9 @@
 use super::*;
-use scan::frame::{differing_pixels, image_of, zbuffer_image};
+use scan::frame::{differing_pixels, image_of, square, zbuffer_image};
 
 fn quad(colour: Colour, corners: [[f64; 2]; 4], z: impl Fn(f64, f64) -> f64) -> Polygon {
     let v: Vec<[f64; 3]> = corners.iter().map(|&[x, y]| [x, y, z(x, y)]).collect();
     Polygon::from_xyz(colour, &v)
-}
-
-fn square(colour: Colour, x0: f64, y0: f64, x1: f64, y1: f64, z: f64) -> Polygon {
-    quad(colour, [[x0, y0], [x1, y0], [x1, y1], [x0, y1]], |_, _| z)
 }
 
 fn paint(painter: &mut Painter, polygons: &[Polygon], w: u32, h: u32) -> Vec<Option<Colour>> {

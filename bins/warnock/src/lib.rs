@@ -872,14 +872,7 @@ impl HiddenSurface for Warnock {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use scan::frame::{differing_pixels, image_of, zbuffer_image};
-
-    fn square(colour: Colour, x0: f64, y0: f64, x1: f64, y1: f64, z: f64) -> Polygon {
-        Polygon::from_xyz(
-            colour,
-            &[[x0, y0, z], [x1, y0, z], [x1, y1, z], [x0, y1, z]],
-        )
-    }
+    use scan::frame::{differing_pixels, image_of, square, zbuffer_image};
 
     fn win(x0: u32, y0: u32, x1: u32, y1: u32) -> Window {
         Window { x0, y0, x1, y1 }
