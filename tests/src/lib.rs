@@ -6,7 +6,9 @@
 //! building them once first if they are missing.
 
 pub mod hosts;
+pub mod reference;
 pub mod render;
+pub mod scenes;
 
 use std::path::{Path, PathBuf};
 use std::process::{Child, Command, ExitStatus, Output, Stdio};
@@ -122,6 +124,18 @@ pub struct Frame {
 impl Frame {
     pub fn at(&self, x: usize, y: usize) -> [u8; 3] {
         self.pixels[y * self.width + x]
+    }
+
+    /// The pixels where this frame and `other` (of the same size) differ, with the colour
+    /// each shows there.
+    pub fn differences(&self, other: &Frame) -> Vec<([u8; 3], [u8; 3])> {
+        assert_eq!(self.pixels.len(), other.pixels.len());
+        self.pixels
+            .iter()
+            .zip(&other.pixels)
+            .filter(|(p, q)| p != q)
+            .map(|(p, q)| (*p, *q))
+            .collect()
     }
 
     /// The frame as characters, one per pixel, from a colour → character table; any

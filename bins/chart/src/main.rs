@@ -122,7 +122,6 @@ enum Sub {
     Thesis,
 }
 
-
 /// The constants the chart predicts with: `--model FILE`; else this machine's
 /// calibration, made first (at most 20 s, with a progress line) when there is none, or
 /// when it is stale or another machine's.
