@@ -102,7 +102,12 @@ pub fn output_with_stdin(mut cmd: Command, stdin: &[u8]) -> Output {
 /// Runs `script` (see [`sh`]) with no input and returns its stdout; a failure fails the
 /// test with the script and its stderr.
 pub fn run(script: &str) -> Vec<u8> {
-    let out = sh(script, b"");
+    run_with(script, b"")
+}
+
+/// [`run`] with `stdin` as the script's input.
+pub fn run_with(script: &str, stdin: &[u8]) -> Vec<u8> {
+    let out = sh(script, stdin);
     assert!(
         out.status.success(),
         "`{script}` failed ({}): {}",

@@ -1,19 +1,12 @@
 //! Frames drawn through shell pipelines of the stages, and compared: with zspec's exact
 //! frame, with the z-buffer's, pixel by pixel.
 
-use crate::{parse_ppm_stream, sh, Frame};
+use crate::{parse_ppm_stream, run_with, sh, Frame};
 
 /// The one frame `script` (see [`sh`]) writes as PPM with `stdin` as its input; a
 /// failure, or a number of frames other than one, fails the test with the script.
 pub fn one_frame(script: &str, stdin: &[u8]) -> Frame {
-    let out = sh(script, stdin);
-    assert!(
-        out.status.success(),
-        "`{script}` failed ({}): {}",
-        out.status,
-        String::from_utf8_lossy(&out.stderr)
-    );
-    let mut frames = parse_ppm_stream(&out.stdout).unwrap();
+    let mut frames = parse_ppm_stream(&run_with(script, stdin)).unwrap();
     assert_eq!(frames.len(), 1, "{script}");
     frames.remove(0)
 }

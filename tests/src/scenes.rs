@@ -26,6 +26,34 @@ pub fn on_tilted_plane(x: f64, y: f64) -> String {
     format!("{x:.16} {y:.16} {:.16}\n", (0.3 * x + 0.7 * y) / 3.0)
 }
 
+/// Decals on one tilted plane ([`on_tilted_plane`]), a world-space scene of the first
+/// `n` (at most 3) of: a red quad, a green quad inside it, a blue triangle inside that.
+/// Coplanar polygons tie at every pixel, and the earlier one must show.
+pub fn tilted_decals(n: usize) -> String {
+    let decals: [(&str, &[(f64, f64)]); 3] = [
+        (
+            "255 0 0",
+            &[(-8.0, -6.0), (8.1, -5.7), (7.9, 6.2), (-8.3, 5.9)],
+        ),
+        (
+            "0 255 0",
+            &[(-5.1, -3.3), (2.2, -4.1), (3.3, 2.7), (-4.4, 3.1)],
+        ),
+        ("0 0 255", &[(0.3, -2.2), (6.1, 0.4), (1.3, 4.4)]),
+    ];
+    let mut s = String::from("polypipe 1 world\n");
+    for (i, (colour, corners)) in decals.iter().take(n).enumerate() {
+        if i > 0 {
+            s += "NEXT.POLYGON\n";
+        }
+        s += &format!("colour {colour}\n");
+        for &(x, y) in *corners {
+            s += &on_tilted_plane(x, y);
+        }
+    }
+    s + "END\n"
+}
+
 /// The default camera's projection (s = 10, d = 16, so w = z_e·s/d) onto a `w`×`h`
 /// screen, with projective depth.
 pub fn projective(w: u32, h: u32) -> Perspective {

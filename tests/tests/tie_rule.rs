@@ -7,7 +7,7 @@
 //! of equal depth.
 
 use pipeline_tests::reference::{agree_with_zspec as agree, one_frame as frame};
-use pipeline_tests::scenes::{on_tilted_plane as on_plane, Lcg};
+use pipeline_tests::scenes::{tilted_decals, Lcg};
 use pipeline_tests::{sh, Frame};
 
 const RED: [u8; 3] = [255, 0, 0];
@@ -34,19 +34,7 @@ fn count(f: &Frame, colour: [u8; 3]) -> usize {
 
 /// A red quad, then a green quad and a blue triangle inside it, all on one tilted plane.
 fn decal_scene() -> String {
-    let mut s = String::from("polypipe 1 world\ncolour 255 0 0\n");
-    for (x, y) in [(-8.0, -6.0), (8.1, -5.7), (7.9, 6.2), (-8.3, 5.9)] {
-        s += &on_plane(x, y);
-    }
-    s += "NEXT.POLYGON\ncolour 0 255 0\n";
-    for (x, y) in [(-5.1, -3.3), (2.2, -4.1), (3.3, 2.7), (-4.4, 3.1)] {
-        s += &on_plane(x, y);
-    }
-    s += "NEXT.POLYGON\ncolour 0 0 255\n";
-    for (x, y) in [(0.3, -2.2), (6.1, 0.4), (1.3, 4.4)] {
-        s += &on_plane(x, y);
-    }
-    s + "END\n"
+    tilted_decals(3)
 }
 
 #[test]
