@@ -12,6 +12,23 @@ fn paint(painter: &mut Painter, polygons: &[Polygon], w: u32, h: u32) -> Vec<Opt
     image_of(&runs, w, h)
 }
 
+/// The painter with --split after painting `polygons`, and its picture, which must cover
+/// the pixels the z-buffer's covers (the fuzz target `methods`' property).
+fn split_covering_the_zbuffers_pixels(
+    polygons: &[Polygon],
+    w: u32,
+    h: u32,
+) -> (Painter, Vec<Option<Colour>>) {
+    let z = zbuffer_image(polygons, w, h);
+    let mut s = Painter::with_split();
+    let image = paint(&mut s, polygons, w, h);
+    assert!(z
+        .iter()
+        .zip(&image)
+        .all(|(a, b)| a.is_some() == b.is_some()));
+    (s, image)
+}
+
 /// The z-buffer's picture, the painter's, and the painter's with --split.
 fn against_zbuffer(polygons: &[Polygon], w: u32, h: u32) -> (usize, usize, Painter, Painter) {
     let z = zbuffer_image(polygons, w, h);
@@ -641,13 +658,7 @@ fn a_plane_whose_terms_cancel_is_not_cut() {
     let b = Polygon::from_xyz([0, 0, 0], &v);
     let scene = [a, b];
     let (w, h) = (47, 47);
-    let z = zbuffer_image(&scene, w, h);
-    let mut s = Painter::with_split();
-    let image = paint(&mut s, &scene, w, h);
-    assert!(z
-        .iter()
-        .zip(&image)
-        .all(|(a, b)| a.is_some() == b.is_some()));
+    let (mut s, _) = split_covering_the_zbuffers_pixels(&scene, w, h);
     assert_eq!((s.stats.splits, s.stats.given_up, s.stats.apart), (0, 0, 1));
     assert_eq!(s.take_note(), None);
 }
@@ -696,14 +707,8 @@ fn triangles_crossing_through_a_shared_vertex_keep_their_pixels() {
     );
     let scene = [a, b];
     let (w, h) = (47, 21);
-    let z = zbuffer_image(&scene, w, h);
-    let mut s = Painter::with_split();
-    let image = paint(&mut s, &scene, w, h);
+    let (s, image) = split_covering_the_zbuffers_pixels(&scene, w, h);
     assert!(image[7 * 47 + 24].is_some());
-    assert!(z
-        .iter()
-        .zip(&image)
-        .all(|(a, b)| a.is_some() == b.is_some()));
     assert_eq!(s.stats.splits, 1);
 }
 
@@ -733,12 +738,6 @@ fn a_sliver_a_hair_wide_keeps_its_edge_pixels_when_cut() {
     );
     let scene = [p0, p1, p2];
     let (w, h) = (47, 48);
-    let z = zbuffer_image(&scene, w, h);
-    let mut s = Painter::with_split();
-    let image = paint(&mut s, &scene, w, h);
-    assert!(z
-        .iter()
-        .zip(&image)
-        .all(|(a, b)| a.is_some() == b.is_some()));
+    let (s, _) = split_covering_the_zbuffers_pixels(&scene, w, h);
     assert!(s.stats.splits > 0);
 }
