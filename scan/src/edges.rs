@@ -1,6 +1,7 @@
 //! The Edge Table and the Active Edge Table (thesis Appendix 3.1).
 
 use proto::raster::{Edge, EdgeWalk, Point};
+use proto::Polygon;
 use std::ops::Range;
 
 /// An Edge Table entry: the edge's crossings from its first row on (an exact DDA, see
@@ -97,6 +98,59 @@ pub fn polygon_edge(
     i: usize,
 ) -> Option<Edge> {
     proto::raster::polygon_edge(points, supports, rows, i)
+}
+
+/// A polygon's outline on the sub-pixel grid (docs/DESIGN.md, "Coverage"): its vertices
+/// and its edges' supports snapped to 1/256 pixel, and the first row at or below each
+/// vertex, which is what [`polygon_edge`] reads. Kept by whatever walks polygons one
+/// after another (the span walker, the scan-line method's edge arena) and reloaded for
+/// each, so that loading allocates nothing once the buffers have grown.
+#[derive(Debug, Default)]
+pub struct Outline {
+    pub points: Vec<Point>,
+    pub supports: Vec<Option<[Point; 2]>>,
+    pub rows: Vec<i64>,
+}
+
+impl Outline {
+    /// Loads `polygon`'s snapped outline. `false`, leaving nothing to draw, when it covers
+    /// nothing: fewer than three vertices, every vertex on one line once snapped, or a
+    /// vertex or support with no place on the screen (NaN, infinite). The stages refuse
+    /// a polygon far off the screen before it gets here ([`crate::check_on_screen`]),
+    /// and no snapped stand-in for a vertex at infinity would be the polygon.
+    pub fn load(&mut self, polygon: &Polygon) -> bool {
+        let finite = |v: &proto::DVec4| v.x.is_finite() && v.y.is_finite();
+        if polygon.vertices.len() < 3
+            || !polygon.vertices.iter().all(finite)
+            || !polygon.supports.iter().flatten().flatten().all(finite)
+        {
+            return false;
+        }
+        let snap = |v: &proto::DVec4| Point {
+            x: proto::raster::snap(v.x),
+            y: proto::raster::snap(v.y),
+        };
+        self.points.clear();
+        self.points.extend(polygon.vertices.iter().map(snap));
+        self.supports.clear();
+        self.supports.extend(
+            polygon
+                .supports
+                .iter()
+                .map(|s| s.as_ref().map(|[a, b]| [snap(a), snap(b)])),
+        );
+        if proto::raster::snapped_on_one_line(&self.points) {
+            return false;
+        }
+        proto::raster::vertex_rows(&self.points, &self.supports, &mut self.rows);
+        true
+    }
+
+    /// Edge i of the loaded polygon (vertex i → vertex i+1), by [`polygon_edge`].
+    #[inline]
+    pub fn edge(&self, i: usize) -> Option<Edge> {
+        polygon_edge(&self.points, &self.supports, &self.rows, i)
+    }
 }
 
 /// The Active Edge Table (Appendix 3.1): the edges the current scanline crosses.

@@ -88,7 +88,7 @@ use proto::raster::centres_in_clamped;
 use proto::shade::{Lighting, Shading};
 use proto::{Colour, Polygon};
 use scan::frame::{shaded_runs, HiddenSurface};
-use scan::{depth_at, polygon_edge, Depth, DepthPlane, Run};
+use scan::{depth_at, Depth, DepthPlane, Outline, Run};
 use std::ops::Range;
 use std::sync::Arc;
 
@@ -280,11 +280,9 @@ struct EdgeArena {
     edges: Vec<ArenaEdge>,
     /// Entries of blocks whose polygons have left.
     dead: usize,
-    /// Scratch: a polygon's vertices and supports, snapped, and its vertices' first
-    /// lines, as it enters; a line's crossings (each the first column at or right of it).
-    points: Vec<proto::raster::Point>,
-    supports: Vec<Option<[proto::raster::Point; 2]>>,
-    rows: Vec<i64>,
+    /// Scratch: a polygon's outline, snapped, as it enters; a line's crossings (each the
+    /// first column at or right of it).
+    outline: Outline,
     crossings: Vec<i64>,
 }
 
@@ -300,35 +298,13 @@ impl EdgeArena {
     /// (fewer than three vertices, every vertex on one line, no edge across a centre).
     /// The edges are [`scan::polygon_edge`]'s: from the supports of a split polygon.
     fn enter(&mut self, polygon: &Polygon, height: u32) -> Option<(usize, u32, Range<i64>)> {
-        // As scan::SpanWalker loads a polygon: a non-finite vertex covers nothing, the
-        // rest are snapped to 1/256 pixel.
-        let finite = |v: &proto::DVec4| v.x.is_finite() && v.y.is_finite();
-        if polygon.vertices.len() < 3
-            || !polygon.vertices.iter().all(finite)
-            || !polygon.supports.iter().flatten().flatten().all(finite)
-        {
+        // Snapped as scan::SpanWalker loads a polygon.
+        if !self.outline.load(polygon) {
             return None;
         }
-        let snap = |v: &proto::DVec4| proto::raster::Point {
-            x: proto::raster::snap(v.x),
-            y: proto::raster::snap(v.y),
-        };
-        self.points.clear();
-        self.points.extend(polygon.vertices.iter().map(snap));
-        self.supports.clear();
-        self.supports.extend(
-            polygon
-                .supports
-                .iter()
-                .map(|s| s.as_ref().map(|[a, b]| [snap(a), snap(b)])),
-        );
-        if proto::raster::snapped_on_one_line(&self.points) {
-            return None;
-        }
-        proto::raster::vertex_rows(&self.points, &self.supports, &mut self.rows);
         let base = self.edges.len();
-        for i in 0..self.points.len() {
-            let Some(edge) = polygon_edge(&self.points, &self.supports, &self.rows, i) else {
+        for i in 0..self.outline.points.len() {
+            let Some(edge) = self.outline.edge(i) else {
                 continue;
             };
             let rows = edge.rows();
