@@ -116,13 +116,15 @@ const CUT_HAIR: f64 = 1e-11;
 
 /// The band, relative to the sum of the magnitudes of a distance's terms, within which a
 /// vertex counts as on another polygon's plane, in tests 3 and 4 and in deciding whether
-/// a polygon straddles a plane: a hundred times [`CUT_HAIR`]. The distance is proto's
-/// ([`Plane::distance`], the clipper's sum in its order), but not proto's band
-/// ([`Plane::classify`]: 4 machine epsilons of the same sum, for the vertices of exact
-/// geometry): a piece's vertices on the line it was cut along lie on the cutting plane
-/// moved by the hair, so under proto's band they are a hair in front of or behind the
-/// cutter's plane, the piece straddles the plane it was cut by, and the cycles that
-/// splitting mends stay unresolved (six of the unit tests fail with it, among them
+/// a polygon straddles a plane. The distance is proto's ([`Plane::distance`], the
+/// clipper's sum in its order), but not proto's band ([`Plane::classify`]: 4 machine
+/// epsilons of the same sum, the rounding of the distance itself): these tests must also
+/// absorb persp's rounding of the vertex depths and of the planes fitted to them (two
+/// coplanar polygons must tie), and the pieces of a cut, whose vertices on the cut line
+/// lie on the cutting plane moved by [`CUT_HAIR`], a hundredth of this band. Under proto's
+/// band those vertices are a hair in front of or behind the cutter's plane, a piece
+/// straddles the plane it was cut by, and the cycles that splitting mends stay
+/// unresolved (six of the unit tests fail with it, among them
 /// `interpenetrating_squares_fail_and_split_mends_them`).
 const ON_PLANE: f64 = 1e-9;
 
