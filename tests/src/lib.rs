@@ -107,10 +107,15 @@ pub fn run(script: &str) -> Vec<u8> {
 
 /// [`run`] with `stdin` as the script's input.
 pub fn run_with(script: &str, stdin: &[u8]) -> Vec<u8> {
-    let out = sh(script, stdin);
+    succeeded(script, sh(script, stdin))
+}
+
+/// The stdout of `out`, which must be a success; else the test fails naming `what` ran,
+/// its status and its stderr.
+pub fn succeeded(what: &str, out: Output) -> Vec<u8> {
     assert!(
         out.status.success(),
-        "`{script}` failed ({}): {}",
+        "`{what}` failed ({}): {}",
         out.status,
         String::from_utf8_lossy(&out.stderr)
     );
@@ -196,6 +201,13 @@ pub fn parse_ppm_stream(bytes: &[u8]) -> Result<Vec<Frame>, String> {
             pixels: i.pixels,
         })
         .collect())
+}
+
+/// The one frame of a PPM stream; a stream of any other number of frames fails the test.
+pub fn only_frame(ppm: &[u8]) -> Frame {
+    let mut frames = parse_ppm_stream(ppm).expect("a PPM stream");
+    assert_eq!(frames.len(), 1, "frames in the stream");
+    frames.remove(0)
 }
 
 /// Three per-vertex values of a world-space triangle (colours or normals) mixed at the

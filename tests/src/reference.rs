@@ -1,14 +1,12 @@
 //! Frames drawn through shell pipelines of the stages, and compared: with zspec's exact
 //! frame, with the z-buffer's, pixel by pixel.
 
-use crate::{parse_ppm_stream, run_with, sh, Frame};
+use crate::{only_frame, parse_ppm_stream, run_with, sh, Frame};
 
 /// The one frame `script` (see [`sh`]) writes as PPM with `stdin` as its input; a
 /// failure, or a number of frames other than one, fails the test with the script.
 pub fn one_frame(script: &str, stdin: &[u8]) -> Frame {
-    let mut frames = parse_ppm_stream(&run_with(script, stdin)).unwrap();
-    assert_eq!(frames.len(), 1, "{script}");
-    frames.remove(0)
+    only_frame(&run_with(script, stdin))
 }
 
 /// Renders `scene` with zspec and with `scripts/render.sh` under each of `variants`
