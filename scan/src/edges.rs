@@ -198,13 +198,21 @@ impl ActiveEdgeTable {
             e.walk.step();
             c
         }));
-        if let [a, b] = self.crossings[..] {
-            if b < a {
-                self.crossings.swap(0, 1);
-            }
-        } else {
-            self.crossings.sort_unstable();
-        }
+        sort_crossings(&mut self.crossings);
         &self.crossings
+    }
+}
+
+/// Sorts a row's crossings (columns) into the order in which they bound the covered
+/// columns, pairs `c0, c1` of them (even-odd): the two of a convex polygon, the common
+/// case, by one comparison, more by a sort.
+#[inline]
+pub fn sort_crossings(crossings: &mut [i64]) {
+    if let [a, b] = crossings {
+        if *b < *a {
+            crossings.swap(0, 1);
+        }
+    } else {
+        crossings.sort_unstable();
     }
 }

@@ -351,13 +351,7 @@ impl EdgeArena {
         // Evaluated exactly at each line (the lines need not come one by one).
         self.crossings
             .extend(block[..a.live as usize].iter().map(|e| e.edge.column(row)));
-        if let [a, b] = self.crossings[..] {
-            if b < a {
-                self.crossings.swap(0, 1);
-            }
-        } else {
-            self.crossings.sort_unstable();
-        }
+        scan::sort_crossings(&mut self.crossings);
         &self.crossings
     }
 
