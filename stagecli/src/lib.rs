@@ -34,6 +34,7 @@ pub mod leaf;
 pub mod memory;
 pub mod names;
 pub mod pieces;
+pub mod project;
 pub mod remote;
 pub mod stream;
 
@@ -42,6 +43,7 @@ pub use args::{parse, parse_colour, DepthArg, PpmTextFlag, TextFlag, ViewArgs};
 pub use error::{Context, Error, Kind, Result};
 pub use leaf::{refuse_transparent, resolve_frames, FrameCounts};
 pub use names::FrameNames;
+pub use project::ProjectArgs;
 pub use stream::{
     check_finite, check_finite_after, filter_polygons, filter_records, input_error, input_name,
     next, open_input, open_output, read_stdin, same_file, stdout, write_stdout, Branch, Counted,
