@@ -89,16 +89,9 @@ impl EdgeTable {
 
 /// Edge i of a polygon (vertex i → vertex i+1): rows from the vertices' rows, crossings
 /// from its support if a splitter cut it out of a longer edge ([`Edge::with_support`]),
-/// so that the pieces of a split polygon cover exactly the pixels the whole covers.
-#[inline]
-pub fn polygon_edge(
-    points: &[Point],
-    supports: &[Option<[Point; 2]>],
-    rows: &[i64],
-    i: usize,
-) -> Option<Edge> {
-    proto::raster::polygon_edge(points, supports, rows, i)
-}
+/// so that the pieces of a split polygon cover exactly the pixels the whole covers. The
+/// rasteriser's name for proto's function.
+pub use proto::raster::polygon_edge;
 
 /// A polygon's outline on the sub-pixel grid (docs/DESIGN.md, "Coverage"): its vertices
 /// and its edges' supports snapped to 1/256 pixel, and the first row at or below each
