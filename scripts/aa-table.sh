@@ -1,43 +1,38 @@
 #!/usr/bin/env bash
-# The error table of docs/antialiasing.md: each anti-aliasing leaf against the exact
-# 16×16 reference (`zspec --samples 16`), on the scenes of tests/tests/antialiasing.rs,
-# through a splitter tree of depth D built as render.sh builds it (splitter --node K),
-# every leaf `persp | METHOD`, merged by zbuf. Columns: `zspec compare --metrics
-# --edges`'s overall edge-pixel RMSE and whole-frame RMSE (0-255 units), and the share of
-# pixels differing from the 16×16 reference.
+# aa-table.sh: the error table of docs/antialiasing.md: each anti-aliasing leaf of
+# render.sh (--aa) against the exact 16×16 reference (`zspec --samples 16`), on the
+# scenes of tests/tests/antialiasing.rs, through a splitter tree of depth D built as
+# render.sh builds it (splitter --node K), every leaf `persp | METHOD`, merged by zbuf.
+# Columns: `zspec compare --metrics --edges`'s overall edge-pixel RMSE and whole-frame
+# RMSE (0-255 units), and the share of pixels differing from the 16×16 reference.
 #
-#   scripts/aa-table.sh [WxH] [DEPTH] [PICTURES_DIR]   (defaults 64x48 0; with a
-#   folder, also writes there each scene's frames as PNGs, side by side: point, ss4,
-#   abuf, reference, magnified 4×)
+# Usage: scripts/aa-table.sh [WxH] [DEPTH] [PICTURES_DIR]
+#   (defaults 64x48 0; with a folder, also writes there each scene's frames as PNGs,
+#   side by side: point, ss4, abuf, reference, magnified 4×)
 set -euo pipefail
+# shellcheck source=lib/bench.sh
+source "$(dirname "${BASH_SOURCE[0]}")/lib/bench.sh"
 
+for arg in "$@"; do
+  case $arg in
+    -h | --help) bench_help; exit 0 ;;
+    -*) bench_usage "unknown option $arg" ;;
+  esac
+done
 SIZE=${1:-64x48}
 DEPTH=${2:-0}
 PICS=${3:-}
-ROOT=$(cd "$(dirname "$0")/.." && pwd)
+ROOT=$bench_root
 TMP=$(mktemp -d "${TMPDIR:-/tmp}/aa-table.XXXXXX")
 trap 'rm -rf "$TMP"' EXIT
 
-cargo build --release --quiet --manifest-path "$ROOT/Cargo.toml" -p scene -p viewxf \
-  -p clipbatch -p splitter -p persp -p scanconv -p supersample -p abuf -p zbuf -p zspec
-# shellcheck source=lib/binaries.sh
-source "$ROOT/scripts/lib/binaries.sh"
-B=$(release_bin "$ROOT")
-export PATH=$B:$PATH
+bench_build
+export PATH=$bindir:$PATH
 
 scene environment --polygons 200 --seed 7 >"$TMP/environment.pp"
 scene sphere --stacks 8 --slices 12 >"$TMP/sphere.pp"
 cp "$ROOT/examples/penetrating.txt" "$TMP/penetrating.pp"
-{
-  echo "polypipe 1 world"
-  for i in $(seq 0 23); do
-    ((i == 0)) || echo NEXT.POLYGON
-    awk -v i="$i" 'BEGIN { x = -11 + i * 0.93; lean = i % 7 - 3; z = i % 5 - 2;
-      printf "colour %d %d %d\n%s -10 %s\n%s -10 %s\n%s 10 %s\n",
-        255 - i * 8, 60 + i * 7, 40 + i * 9, x, z, x + 0.25, z, x + lean, z }'
-  done
-  echo END
-} >"$TMP/needles.pp"
+scene needles >"$TMP/needles.pp"
 
 # render SCENE METHOD...: the frame through a tree of depth DEPTH.
 render() {
@@ -55,16 +50,14 @@ render() {
   zbuf "${leaves[@]}"
 }
 
+mapfile -t methods < <(methods_list aa)
 echo "against zspec --samples 16, $SIZE, tree depth $DEPTH"
 printf '%-12s %-6s %9s %9s %10s\n' scene method edge_rmse rmse differing
 for scene in environment sphere penetrating needles; do
   zspec --size "$SIZE" --samples 16 --edge-mask "$TMP/edges.ppm" <"$TMP/$scene.pp" >"$TMP/ref.ppm"
-  for m in point ss2 ss4 ss8 ss16 abuf; do
-    case $m in
-      point) cmd=(scanconv --resolve) ;;
-      ss*) cmd=(supersample --samples "${m#ss}") ;;
-      abuf) cmd=(abuf) ;;
-    esac
+  for method in "${methods[@]}"; do
+    IFS=$'\t' read -r m leaf <<<"$method"
+    read -ra cmd <<<"$leaf"
     render "$TMP/$scene.pp" "${cmd[@]}" >"$TMP/$m.ppm"
     zspec compare --metrics --edges "$TMP/edges.ppm" "$TMP/ref.ppm" "$TMP/$m.ppm" \
       | awk -v s="$scene" -v m="$m" '/^overall/ { for (i = 1; i < NF; i++) v[$i] = $(i + 1);

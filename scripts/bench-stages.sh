@@ -22,7 +22,7 @@
 # shellcheck source=lib/bench.sh
 source "$(dirname "${BASH_SOURCE[0]}")/lib/bench.sh"
 
-# --- geometry (was scripts/bench-geometry.sh) -----------------------------------
+# --- geometry ------------------------------------------------------------------
 mode_geometry() (
 # Throughput of the geometry stages (viewxf, clipplane ×6, splitter, persp), binary →
 # binary, file → /dev/null, best of REPS runs.
@@ -75,7 +75,7 @@ PY
 # Check the generated stream against the codec before timing anything.
 "$BIN/viewxf" --text <"$TMP/world.bin" | head -6 >"$TMP/check.txt"
 grep -q '^polypipe 1 eye aspect 1 hither 1 yon 30$' "$TMP/check.txt" \
-  || { echo "bench-geometry: generated scene not read as expected" >&2; cat "$TMP/check.txt" >&2; exit 1; }
+  || { echo "bench-stages.sh geometry: generated scene not read as expected" >&2; cat "$TMP/check.txt" >&2; exit 1; }
 
 "$BIN/viewxf" <"$TMP/world.bin" >"$TMP/eye.bin"
 "$BIN/clipplane" left <"$TMP/eye.bin" | "$BIN/clipplane" right | "$BIN/clipplane" top \
@@ -119,7 +119,7 @@ chain() {
 bench "chain (8 procs)" "$TMP/world.bin" chain
 )
 
-# --- clip (was scripts/bench-clip.sh) -------------------------------------------
+# --- clip ----------------------------------------------------------------------
 mode_clip() (
 # Clipping throughput: clipbatch (Theoharis & Page's batch clipper, the six planes in one
 # process) against the six-process chain clipplane left | right | top | bottom | hither
@@ -127,7 +127,7 @@ mode_clip() (
 # §4.3). Binary to binary, eye-space file → /dev/null, median of REPS runs, all in one
 # run of this script.
 #
-#   scripts/bench-clip.sh [N] [REPS]     N four-vertex polygons (default 1000000), REPS 5
+#   scripts/bench-stages.sh clip [N] [REPS]     N four-vertex polygons (default 1000000), REPS 5
 #
 # Two scenes of N quadrilaterals from `scene environment` (thesis ch. 5.2), half of them
 # wholly outside one plane of the pyramid:
@@ -183,7 +183,7 @@ for scene in environment cut-heavy; do
   bash -c "$CHAIN" <"$input" >"$TMP/chain.out"
   for b in 1024 4096; do
     "$BIN/clipbatch" --batch "$b" <"$input" | cmp -s - "$TMP/chain.out" \
-      || { echo "bench-clip: clipbatch --batch $b differs from the chain on $scene" >&2; exit 1; }
+      || { echo "bench-stages.sh clip: clipbatch --batch $b differs from the chain on $scene" >&2; exit 1; }
   done
   chain_rate='' chain_cpu_rate=
   row() { # row NAME CMD
@@ -209,11 +209,11 @@ echo "machine disturbs least. ÷ DAP: polygons/s (wall) over the paper's 25,000/
 echo "DAP in DAP Fortran, §4.3)."
 )
 
-# --- codec (was scripts/bench-codec.sh) -----------------------------------------
+# --- codec ---------------------------------------------------------------------
 mode_codec() (
-# bench-codec.sh: the stream codec measured, printed as tables.
+# The stream codec measured, printed as tables.
 #
-#   scripts/bench-codec.sh [POLYGONS] [REPS]     (defaults 200000 and 5)
+#   scripts/bench-stages.sh codec [POLYGONS] [REPS]     (defaults 200000 and 5)
 #
 #   1. binary records in memory: stream version 1 (serde + bincode) against version 2
 #      (fixed layout), encode and decode, four-vertex eye-space polygons and fragment
@@ -270,7 +270,7 @@ echo '```'
 echo '```'
 )
 
-# --- fused (was scripts/bench-fused.sh) -----------------------------------------
+# --- fused ---------------------------------------------------------------------
 mode_fused() (
 # What the pipes and the codec cost: scripts/render.sh (one process per stage, every
 # polygon encoded and decoded between stages) against `fused` (tests/src/bin/fused.rs:
@@ -278,7 +278,7 @@ mode_fused() (
 # file, writing the same PPM bytes (checked before anything is timed). Wall time, median
 # of REPS runs, all in one run of this script; the goal is pipes ≤ 1.3 × fused.
 #
-#   scripts/bench-fused.sh [REPS]      (default 5)
+#   scripts/bench-stages.sh fused [REPS]      (default 5)
 #
 # Scenes (`scene environment`, thesis ch. 5.2), each as scene writes it (binary) and as
 # text:
@@ -352,7 +352,7 @@ for scene in environment fill-heavy; do
     bash -c "${cmds[0]}" >"$TMP/expected.ppm"
     for cmd in "${cmds[@]:1}"; do
       bash -c "$cmd" | cmp -s - "$TMP/expected.ppm" \
-        || { echo "bench-fused: \`$cmd\` does not write render.sh's frame" >&2; exit 1; }
+        || { echo "bench-stages.sh fused: \`$cmd\` does not write render.sh's frame" >&2; exit 1; }
     done
     walls=() cpus=()
     for i in "${!cmds[@]}"; do

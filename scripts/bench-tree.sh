@@ -13,6 +13,10 @@
 #                                                 depth-0..N graphs runs (cachegrind):
 #                                                 the tree's own work, free of the
 #                                                 machine's noise
+#   scripts/bench-tree.sh farm [--reps N] [--hosts N,…]
+#                                                 a movie by frames over 1, 2, 4 hosts
+#                                                 (GNU parallel, a stand-in ssh) beside
+#                                                 the cost model's prediction (plan movie)
 #
 # Each mode's own notes are at its function below. They share scripts/lib/bench.sh.
 
@@ -22,9 +26,9 @@
 # shellcheck source=lib/bench.sh
 source "$(dirname "${BASH_SOURCE[0]}")/lib/bench.sh"
 
-# --- pipeline (was scripts/bench-pipeline.sh) -----------------------------------
+# --- pipeline ------------------------------------------------------------------
 mode_pipeline() (
-# bench-pipeline.sh: the whole pipeline measured, printed as tables.
+# The whole pipeline measured, printed as tables.
 #
 #   1. wall time of the linear pipeline (render.sh --depth 0) on 100,000 polygons at 500x500
 #   2. wall time for splitter depths 0..4 on a fill-heavy scene (10,000 polygons, depth
@@ -56,23 +60,16 @@ sections=("$@")
 ((${#sections[@]})) || sections=(1 2 3 4 5 6)
 want() { [[ " ${sections[*]} " == *" $1 "* ]]; }
 
-# best_of CMD...: the smallest wall time of REPS runs, in seconds.
-best_of() {
-    local best='' t
-    for ((i = 0; i < REPS; i++)); do
-        /usr/bin/time -f %e -o "$work/time" bash -c "$1" >/dev/null 2>&1
-        t=$(tail -n 1 "$work/time")
-        if [[ -z $best ]] || awk -v a="$t" -v b="$best" 'BEGIN { exit !(a < b) }'; then best=$t; fi
-    done
-    echo "$best"
-}
+# wall CMD: the least wall seconds of REPS runs of the shell command CMD, to the ms
+# (lib/bench.sh: a failing run fails it).
+wall() { local t; t=$(best_of "$REPS" seconds bash -o pipefail -c "$1") && echo "${t%???}"; }
 
 clip="$B/clipplane left | $B/clipplane right | $B/clipplane top | $B/clipplane bottom | $B/clipplane hither | $B/clipplane yon"
 
 if want 1; then
     echo "## 1. Linear pipeline, 100,000 polygons, 500x500"
     "$B/scene" environment --polygons 100000 --depth-complexity 10 --seed 1 > "$work/geo.pp"
-    t=$(best_of "$root/scripts/render.sh $work/geo.pp")
+    t=$(wall "$root/scripts/render.sh $work/geo.pp")
     printf '| scene | wall s |\n|---|---|\n| environment 100000 polygons, Dc 10 | %s |\n\n' "$t"
 fi
 
@@ -83,8 +80,8 @@ if want 2; then
     echo "| depth | fill-heavy (10k, Dc 10, 1920x1080) | geometry-heavy (100k small, 500x500) |"
     echo "|---|---|---|"
     for d in 0 1 2 3 4; do
-        tf=$(best_of "$root/scripts/render.sh --depth $d --size 1920x1080 $work/fill.pp")
-        tg=$(best_of "$root/scripts/render.sh --depth $d $work/geo.pp")
+        tf=$(wall "$root/scripts/render.sh --depth $d --size 1920x1080 $work/fill.pp")
+        tg=$(wall "$root/scripts/render.sh --depth $d $work/geo.pp")
         echo "| $d | $tf | $tg |"
     done
     echo
@@ -103,8 +100,8 @@ if want 3; then
     for mode in spans pixels; do
         flag=; [[ $mode == pixels ]] && flag=--pixels
         bytes=$("$B/scanconv" $flag < "$work/fill.screen" | wc -c)
-        ts=$(best_of "$B/scanconv $flag < $work/fill.screen")
-        tz=$(best_of "$B/scanconv $flag < $work/fill.screen | $B/zbuf")
+        ts=$(wall "$B/scanconv $flag < $work/fill.screen")
+        tz=$(wall "$B/scanconv $flag < $work/fill.screen | $B/zbuf")
         echo "| $mode | $bytes | $ts | $tz |"
     done
     echo
@@ -169,15 +166,8 @@ if want 6; then
     echo "the wall time is at least the sum; with one processor per process, streaming, at least"
     echo "the slowest process's time."
     echo
-    # cpu CMD: the smallest user + system seconds of REPS runs of a shell command.
-    cpu() {
-        local best='' t
-        for ((i = 0; i < REPS; i++)); do
-            t=$( { TIMEFORMAT='%3U %3S'; time bash -c "$1" >/dev/null 2>&1; } 2>&1 | awk '{ print $1 + $2 }')
-            if [[ -z $best ]] || awk -v a="$t" -v b="$best" 'BEGIN { exit !(a < b) }'; then best=$t; fi
-        done
-        echo "$best"
-    }
+    # cpu CMD: the least user + system seconds of REPS runs of a shell command.
+    cpu() { best_of "$REPS" cpu_seconds bash -o pipefail -c "$1"; }
     # tree_cost NAME SCENE SIZE: one table row per depth.
     tree_cost() {
         local name=$1 scene=$2 size=$3 d t prev total slowest slowest_name base=
@@ -250,9 +240,9 @@ if want 6; then
 fi
 )
 
-# --- merge (was scripts/bench-merge.sh) -----------------------------------------
+# --- merge ---------------------------------------------------------------------
 mode_merge() (
-# bench-merge.sh: leaves that see against the thesis's PAR.BUFF.
+# Leaves that see against the thesis's PAR.BUFF.
 #
 #   1. wall time of render.sh at splitter depths 0..4 with --merge tiles (each leaf
 #      resolves its region, zbuf places runs) and --merge buffer (every fragment to one
@@ -266,7 +256,7 @@ mode_merge() (
 #
 # Compare figures within one run of the script: the machine is shared.
 #
-# Usage: scripts/bench-merge.sh [SECTION...]   (sections 1-2; default both)
+# Usage: scripts/bench-tree.sh merge [SECTION...]   (sections 1-2; default both)
 set -euo pipefail
 
 root=$(cd "$(dirname "$0")/.." && pwd)
@@ -288,14 +278,9 @@ want() { [[ " ${sections[*]} " == *" $1 "* ]]; }
 "$B/scene" environment --polygons 10000 --depth-complexity 10 --size 1920x1080 --seed 2 > "$work/fill.pp"
 "$B/scene" environment --polygons 100000 --depth-complexity 1 --seed 3 > "$work/geo.pp"
 
-# best CMD: the smallest wall time of REPS runs, in seconds.
-best() {
-    local i
-    for ((i = 0; i < REPS; i++)); do
-        /usr/bin/time -f %e -o "$work/time" bash -c "$1" >/dev/null 2>&1
-        tail -n 1 "$work/time"
-    done | sort -n | head -n 1
-}
+# wall CMD: the least wall seconds of REPS runs of the shell command CMD, to the ms
+# (lib/bench.sh: a failing run fails it).
+wall() { local t; t=$(best_of "$REPS" seconds bash -o pipefail -c "$1") && echo "${t%???}"; }
 
 
 if want 1; then
@@ -308,12 +293,12 @@ if want 1; then
         row="| $d |"
         for s in fill:1920x1080 geo:500x500; do
             for m in tiles buffer; do
-                t=$(best "$root/scripts/render.sh --merge $m --depth $d --size ${s#*:} $work/${s%%:*}.pp")
+                t=$(wall "$root/scripts/render.sh --merge $m --depth $d --size ${s#*:} $work/${s%%:*}.pp")
                 [[ -n ${base[$s$m]-} ]] || base[$s$m]=$t
                 row+=" $t ($(ratio "${base[$s$m]}" "$t")x) |"
             done
         done
-        row+=" $(best "$root/scripts/render.sh --depth $d --size 8x8 $root/examples/penetrating.txt") |"
+        row+=" $(wall "$root/scripts/render.sh --depth $d --size 8x8 $root/examples/penetrating.txt") |"
         echo "$row"
     done
     echo
@@ -324,26 +309,21 @@ if want 2; then
     echo
     echo "| depth | mode | slowest leaf scanconv s | largest leaf scanconv KiB | zbuf s | zbuf KiB | bytes to zbuf |"
     echo "|---|---|---|---|---|---|---|"
-    source "$root/scripts/tree-planes.sh"
     size=1920x1080
     clip="$B/clipplane left | $B/clipplane right | $B/clipplane top | $B/clipplane bottom | $B/clipplane hither | $B/clipplane yon"
     "$B/viewxf" --size $size < "$work/fill.pp" | bash -c "$clip" > "$work/node1"
     # cpu_rss CMD: "seconds KiB", the smallest CPU time (user + system, to the
     # millisecond) of REPS runs, and the peak resident memory of one more.
     cpu_rss() {
-        local i best='' t
-        for ((i = 0; i < REPS; i++)); do
-            t=$( { TIMEFORMAT='%3U %3S'; time bash -c "exec $1" >/dev/null 2>&1; } 2>&1 | awk '{ printf "%.3f", $1 + $2 }')
-            if [[ -z $best ]] || awk -v a="$t" -v b="$best" 'BEGIN { exit !(a < b) }'; then best=$t; fi
-        done
-        /usr/bin/time -f %M -o "$work/rss" bash -c "exec $1" >/dev/null 2>&1
-        echo "$best $(tail -n 1 "$work/rss")"
+        local t k
+        t=$(best_of "$REPS" cpu_seconds bash -c "exec $1") && k=$(peak_kib bash -c "exec $1") &&
+            echo "$t $k"
     }
     for d in 0 1 2 3 4; do
         leaves=$((1 << d))
-        tree_planes 1920 1080 "$d"
         for ((node = 1; node < leaves; node++)); do
-            "$B/splitter" "${plane_of[$node]}" "$work/node$((2 * node))" "$work/node$((2 * node + 1))" < "$work/node$node"
+            "$B/splitter" --node "$node" --depth "$d" --size $size "$work/node$((2 * node))" \
+                "$work/node$((2 * node + 1))" < "$work/node$node"
         done
         for m in tiles buffer; do
             flag=; [[ $m == tiles ]] && flag=--resolve
@@ -351,13 +331,15 @@ if want 2; then
             for ((leaf = leaves; leaf < 2 * leaves; leaf++)); do
                 "$B/persp" --size $size < "$work/node$leaf" > "$work/screen$leaf"
                 "$B/scanconv" $flag < "$work/screen$leaf" > "$work/frag$leaf"
-                read -r s k < <(cpu_rss "$B/scanconv $flag < $work/screen$leaf")
+                sk=$(cpu_rss "$B/scanconv $flag < $work/screen$leaf")
+                read -r s k <<<"$sk"
                 slow=$(awk -v a="$s" -v b="$slow" 'BEGIN { print (a > b ? a : b) }')
                 ((k > big)) && big=$k
                 bytes=$((bytes + $(stat -c %s "$work/frag$leaf")))
                 frags+=("$work/frag$leaf")
             done
-            read -r zs zk < <(cpu_rss "$B/zbuf ${frags[*]}")
+            zsk=$(cpu_rss "$B/zbuf ${frags[*]}")
+            read -r zs zk <<<"$zsk"
             echo "| $d | $m | $slow | $big | $zs | $zk | $bytes |"
         done
         for ((node = 2; node < 2 * leaves; node++)); do rm -f "$work/node$node"; done
@@ -367,14 +349,14 @@ if want 2; then
 fi
 )
 
-# --- depth-auto (was scripts/bench-depth-auto.sh) -------------------------------
+# --- depth-auto ----------------------------------------------------------------
 mode_depth_auto() (
-# bench-depth-auto.sh: render.sh --depth auto against every fixed depth 0-4 on the
+# render.sh --depth auto against every fixed depth 0-4 on the
 # fill-heavy scene of scripts/bench.sh (10,000 quads, Dc≈10, 1920×1080) and on two
 # polygons: whole-process wall seconds, median of N, in one run, and auto over the best
 # fixed depth (the goal: within 10%). Not part of CI.
 #
-# Usage: scripts/bench-depth-auto.sh [--reps N]
+# Usage: scripts/bench-tree.sh depth-auto [--reps N]
 set -euo pipefail
 export LC_ALL=C
 reps=5
@@ -382,7 +364,7 @@ case ${1-} in
     --reps) reps=${2:?--reps needs N} ;;
     -h | --help) sed -n '2,7p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
     '') ;;
-    *) echo "bench-depth-auto.sh: unknown argument $1" >&2; exit 2 ;;
+    *) echo "bench-tree.sh depth-auto: unknown argument $1" >&2; exit 2 ;;
 esac
 root=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
 cd "$root"
@@ -413,7 +395,7 @@ table() { # SCENE SIZE LABEL
 }
 
 echo
-echo "Measured by \`scripts/bench-depth-auto.sh\` at commit $(git rev-parse --short HEAD)," \
+echo "Measured by \`scripts/bench-tree.sh depth-auto\` at commit $(git rev-parse --short HEAD)," \
     "$(nproc) cores, $(date -u +%Y-%m-%d): render.sh wall seconds, median of $reps, one run."
 echo
 echo "| scene | depth 0 | 1 | 2 | 3 | 4 | best | auto | auto / best | auto chose |"
@@ -424,7 +406,7 @@ table examples/penetrating.txt 500x500 "2 polygons, 500×500"
 
 # --- plan (the cost model's checks) ---------------------------------------------------
 mode_plan() (
-# bench-plan.sh: the cost model's checks on this machine (docs/model.md, "The model against
+# The cost model's checks on this machine (docs/model.md, "The model against
 # this machine"), on the fill-heavy scene of scripts/bench.sh (10,000 quads, Dc≈10,
 # 1920×1080), in one run:
 #   1. render.sh --depth auto against fixed depths 0-3, interleaved (every round runs each
@@ -445,7 +427,7 @@ case ${1-} in
     --reps) reps=${2:?--reps needs N} ;;
     -h | --help) sed -n '2,15p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
     '') ;;
-    *) echo "bench-plan.sh: unknown argument $1" >&2; exit 2 ;;
+    *) echo "bench-tree.sh plan: unknown argument $1" >&2; exit 2 ;;
 esac
 root=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
 cd "$root"
@@ -457,13 +439,6 @@ size=1920x1080
 scene=$work/fill.txt
 fill_scene "$B" 10000 "$size" > "$scene"
 scripts/render.sh --depth 0 --size $size "$scene" > /dev/null # binaries current
-
-seconds() {
-    local t0=$EPOCHREALTIME
-    "$@" > /dev/null 2>&1
-    awk -v a="$t0" -v b="$EPOCHREALTIME" 'BEGIN { printf "%.6f\n", b - a }'
-}
-median() { sort -g | awk '{ t[NR] = $1 } END { printf "%.3f", NR % 2 ? t[(NR + 1) / 2] : (t[NR / 2] + t[NR / 2 + 1]) / 2 }'; }
 
 echo
 echo "Measured by \`scripts/bench-tree.sh plan\` at commit $(git rev-parse --short HEAD), $(nproc) cores" \
@@ -635,12 +610,106 @@ echo "$line"
 echo "$ratios"
 )
 
+# --- farm ---------------------------------------------------------------------------
+mode_farm() (
+# A movie rendered by frames (render.sh --by frames: farm on GNU parallel) over 1, 2 and 4
+# hosts, each a stand-in ssh that runs the command here (the tests' POLYPIPE_SSH: no ssh
+# or encryption), against render.sh here: wall seconds and the CPU seconds of every
+# process of the run (perf stat -e task-clock where perf is installed, else bash's
+# `time`), medians of N rounds, the runs of a round interleaved. Beside them, the cost
+# model's prediction of the same runs (`plan movie --login 0`): its CPU seconds, and its
+# wall seconds on hosts of their own with this machine's cores each. On one machine the
+# stand-in hosts share its cores, so the measured wall time shows little; the CPU
+# seconds, the work, are what compare.
+#
+# Usage: scripts/bench-tree.sh farm [--reps N] [--hosts N,…] [--frames N] [--chunk N]
+set -euo pipefail
+export LC_ALL=C
+reps=5 hosts=1,2,4 frames=96 chunk=8 size=512x512
+while (($#)); do
+    case $1 in
+        --reps) reps=${2:?--reps needs N}; shift 2 ;;
+        --hosts) hosts=${2:?--hosts needs N,…}; shift 2 ;;
+        --frames) frames=${2:?--frames needs N}; shift 2 ;;
+        --chunk) chunk=${2:?--chunk needs N}; shift 2 ;;
+        -h | --help) sed -n '/^mode_farm/,/^set -euo/{/^# /{s/^# \{0,1\}//;p}}' "${BASH_SOURCE[0]}"; exit 0 ;;
+        *) echo "bench-tree.sh farm: unknown argument $1" >&2; exit 2 ;;
+    esac
+done
+command -v parallel >/dev/null || { echo "bench-tree.sh farm: needs GNU parallel" >&2; exit 3; }
+root=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
+cd "$root"
+cargo build --release --quiet --bins
+B=$(release_bin "$root")
+work=$(mktemp -d)
+trap 'rm -rf "$work"' EXIT
+"$B/scene" environment --polygons 1000 --depth-complexity 30 --size "$size" \
+    --frames "$frames" > "$work/movie.pp"
+cat > "$work/ssh" <<'SSH'
+#!/bin/sh
+while [ $# -gt 0 ]; do case $1 in -[oplSOiF]) shift 2 ;; -*) shift ;; *) break ;; esac; done
+shift
+[ "${1-}" = -- ] && shift
+exec sh -c "$*"
+SSH
+chmod +x "$work/ssh"
+IFS=, read -r -a counts <<<"$hosts"
+
+# run NAME CMD…: one run, its wall and CPU seconds appended to $work/NAME.
+run() {
+    local name=$1 t0 t1 cpu
+    shift
+    t0=$EPOCHREALTIME
+    if command -v perf >/dev/null; then
+        perf stat -x, -e task-clock -o "$work/perf" -- "$@" >/dev/null 2>&1
+        cpu=$(awk -F, '/task-clock/ { printf "%.3f", $1 / 1000 }' "$work/perf")
+    else
+        cpu=$(cpu_seconds "$@")
+    fi
+    t1=$EPOCHREALTIME
+    awk -v a="$t0" -v b="$t1" -v c="$cpu" 'BEGIN { printf "%.3f %s\n", b - a, c }' >>"$work/$name"
+}
+for ((r = 0; r < reps; r++)); do
+    run local scripts/render.sh --size "$size" --depth 0 "$work/movie.pp"
+    for n in "${counts[@]}"; do
+        list=$(seq -f 'h%g' 1 "$n" | paste -sd,)
+        run "hosts$n" env POLYPIPE_SSH="$work/ssh" POLYPIPE_LOAD=0 scripts/render.sh \
+            --by frames --hosts "$list" --chunk "$chunk" --size "$size" --depth 0 "$work/movie.pp"
+    done
+done
+col() { awk -v c="$2" '{ print $c }' "$work/$1" | median; }
+"$B/plan" movie --hosts "$hosts" --chunk "$chunk" --size "$size" --login 0 \
+    --host-cores "$(nproc)" "$work/movie.pp" > "$work/plan"
+predicted() { # HOSTS COLUMN: plan movie's row for HOSTS hosts
+    awk -F'|' -v n="$1" -v c="$2" '$2 + 0 == n && $2 ~ /[0-9]/ { gsub(/ /, "", $c); print $c }' "$work/plan"
+}
+local_cpu=$(col local 2)
+echo
+echo "Measured by \`scripts/bench-tree.sh farm --reps $reps\` at commit" \
+    "$(git rev-parse --short HEAD 2>/dev/null || echo unknown), $(nproc) cores," \
+    "load $(cut -d' ' -f1 /proc/loadavg), $(date -u +%Y-%m-%d): $frames frames of" \
+    "\`scene environment --polygons 1000 --depth-complexity 30 --size $size\`," \
+    "render.sh --size $size --depth 0, --by frames --chunk $chunk, medians of $reps."
+echo
+echo "| run | wall s | CPU s | CPU × local | predicted CPU s | predicted wall s, hosts of $(nproc) cores |"
+echo "|---|---|---|---|---|---|"
+echo "| render.sh here | $(col local 1) | $local_cpu | 1.00 | – | – |"
+for n in "${counts[@]}"; do
+    cpu=$(col "hosts$n" 2)
+    echo "| --by frames, $n host$( ((n == 1)) || echo s) | $(col "hosts$n" 1) | $cpu |" \
+        "$(ratio "$cpu" "$local_cpu") | $(predicted "$n" 7) | $(predicted "$n" 5) |"
+done
+echo
+sed -n '/frames, /p' "$work/plan"
+)
+
 case ${1-} in
     pipeline) shift; mode_pipeline "$@" ;;
+    farm) shift; mode_farm "$@" ;;
     plan) shift; mode_plan "$@" ;;
     merge) shift; mode_merge "$@" ;;
     depth-auto) shift; mode_depth_auto "$@" ;;
     work) shift; mode_work "$@" ;;
     -h | --help | "") sed -n '2,/^$/{s/^# \{0,1\}//;p}' "${BASH_SOURCE[0]}"; [[ -n ${1-} ]] ;;
-    *) echo "bench-tree.sh: no mode '$1' (modes: pipeline merge depth-auto plan work)" >&2; exit 2 ;;
+    *) echo "bench-tree.sh: no mode '$1' (modes: pipeline merge depth-auto plan work farm)" >&2; exit 2 ;;
 esac

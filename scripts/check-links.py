@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""check-links.py: every link of README.md and docs/*.md resolves.
+"""check-links.py: every link of the repository's Markdown files resolves.
 
 A link `](#anchor)` must name a heading of the same file, `](path)` a file or folder of
 the repository (relative to the file that links), and `](path#anchor)` a heading of that
@@ -8,10 +8,12 @@ file. Anchors are made from headings as GitHub makes them: lower case, punctuati
 Links to other sites (`http…`, `mailto:`) are not followed. Prints one line per broken
 link, `FILE:LINE: …`, and exits 1 if there is any, 0 otherwise.
 
-    scripts/check-links.py [FILE.md…]   (default: README.md and docs/*.md)
+    scripts/check-links.py [FILE.md…]   (default: every *.md file git tracks; without
+                                         git, README.md, CONTRIBUTING.md and docs/*.md)
 """
 
 import re
+import subprocess
 import sys
 from pathlib import Path
 
@@ -63,10 +65,23 @@ def check(path):
     return problems
 
 
+def tracked_markdown():
+    """Every Markdown file git tracks here, or the top-level documents and docs/*.md."""
+    try:
+        out = subprocess.run(
+            ["git", "-C", str(ROOT), "ls-files", "-z", "*.md"],
+            capture_output=True,
+            check=True,
+        ).stdout.decode()
+        return [ROOT / name for name in sorted(out.split("\0")) if name]
+    except (OSError, subprocess.CalledProcessError):
+        return [ROOT / "README.md", ROOT / "CONTRIBUTING.md"] + sorted(
+            (ROOT / "docs").glob("*.md")
+        )
+
+
 def main():
-    files = [Path(a).resolve() for a in sys.argv[1:]] or [ROOT / "README.md"] + sorted(
-        (ROOT / "docs").glob("*.md")
-    )
+    files = [Path(a).resolve() for a in sys.argv[1:]] or tracked_markdown()
     problems = [p for f in files for p in check(f)]
     for p in problems:
         print(p)

@@ -6,6 +6,7 @@
 //! building them once first if they are missing.
 
 pub mod hosts;
+pub mod nearest;
 pub mod reference;
 pub mod render;
 pub mod scenes;

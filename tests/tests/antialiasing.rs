@@ -282,7 +282,7 @@ fn render_sh_refuses_aa_with_another_method_or_the_one_zbuffer() {
     for (options, message) in [
         (
             "--aa ss3",
-            "render: --aa must be none, ss2, ss4, ss8, ss16 or abuf, not 'ss3'",
+            "render: --aa must be none, abuf, ss2, ss4, ss8 or ss16, not 'ss3'",
         ),
         (
             "--aa abuf --hse warnock",

@@ -319,15 +319,17 @@ fn frames_stream_back_before_the_last_host_is_done_with_the_spool_bounded() {
         at_first < 24,
         "the first frame came only after all {at_first} sessions had started"
     );
-    // farm's spool in the local TMPDIR: the movie's stream, cut into chunks as it is read
-    // (GNU parallel is handed every chunk at once, so that it never waits on its input
-    // with a chunk to retry), and the frames of chunks done before their turn; never the
-    // movie's frames (here, 4 chunks a host would be 8 MB).
+    // farm's spool in the local TMPDIR: two chunks a job slot at most (four here), each
+    // its stream (cut as the movie is read) or its frames done before their turn, and
+    // the frames of the two chunks coming back (one more while a chunk's frames are
+    // taken, under two names for a moment); never the movie's stream or frames.
     let movie_bytes = std::fs::metadata(&movie).unwrap().len();
     let chunk_frames = 4 * frame_bytes(256, 256) as u64;
+    let chunk_stream = movie_bytes.div_ceil(24);
     assert!(
-        local_disk <= movie_bytes + 8 * chunk_frames,
-        "{local_disk} bytes in the local TMPDIR, for a movie of {movie_bytes} bytes"
+        local_disk <= 4 * chunk_stream.max(chunk_frames) + 3 * chunk_frames + (64 << 10),
+        "{local_disk} bytes in the local TMPDIR, for chunks of {chunk_stream} bytes in and \
+         {chunk_frames} out"
     );
     // A host's render.sh keeps its chunk (4 frames of about 11 KB) to choose... nothing
     // at --depth 0: its folder holds named pipes and its stages' messages.

@@ -109,3 +109,28 @@ fn proto_has_no_command_line_parser() {
         );
     }
 }
+
+#[test]
+fn the_table_of_methods_depends_on_nothing_and_no_stage_reads_it() {
+    let manifest = fs::read_to_string(repo_root().join("methods/Cargo.toml")).unwrap();
+    assert_eq!(dependency_lines(&manifest), Vec::<&str>::new());
+    // Its readers are the tools (render, chart) and the tests, never a stage.
+    for krate in bins().iter().filter(|b| !TOOLS.contains(&b.as_str())) {
+        let manifest =
+            fs::read_to_string(repo_root().join(format!("bins/{krate}/Cargo.toml"))).unwrap();
+        assert!(
+            !dependency_lines(&manifest)
+                .iter()
+                .any(|l| l.starts_with("methods")),
+            "bins/{krate} depends on the table of methods"
+        );
+    }
+    for tool in ["render", "chart"] {
+        let manifest =
+            fs::read_to_string(repo_root().join(format!("bins/{tool}/Cargo.toml"))).unwrap();
+        assert!(
+            dependency_lines(&manifest).contains(&"methods.workspace = true"),
+            "{tool} reads its methods from elsewhere"
+        );
+    }
+}

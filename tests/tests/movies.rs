@@ -88,15 +88,55 @@ fn farm_cmd(ssh: &Path, args: &[&str], movie: &Path) -> Command {
 }
 
 fn farm(ssh: &Path, args: &[&str], movie: &Path) -> Output {
-    farm_cmd(ssh, args, movie).output().unwrap()
+    output_within(farm_cmd(ssh, args, movie))
+}
+
+/// The command's output, or a failed test when it has not ended within two minutes (a
+/// run whose GNU parallel waits forever for an argument hangs rather than fails).
+fn output_within(mut cmd: Command) -> Output {
+    use std::io::Read;
+    let mut child = cmd
+        .stdout(std::process::Stdio::piped())
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .unwrap();
+    let mut out = child.stdout.take().unwrap();
+    let mut err = child.stderr.take().unwrap();
+    let out = std::thread::spawn(move || {
+        let mut v = Vec::new();
+        out.read_to_end(&mut v).map(|_| v)
+    });
+    let err = std::thread::spawn(move || {
+        let mut v = Vec::new();
+        err.read_to_end(&mut v).map(|_| v)
+    });
+    let start = Instant::now();
+    let status = loop {
+        if let Some(status) = child.try_wait().unwrap() {
+            break status;
+        }
+        if start.elapsed() > Duration::from_secs(120) {
+            let _ = Command::new("kill")
+                .args(["-TERM", &child.id().to_string()])
+                .status();
+            panic!("the run has not ended in 120 s");
+        }
+        std::thread::sleep(Duration::from_millis(20));
+    };
+    Output {
+        status,
+        stdout: out.join().unwrap().unwrap(),
+        stderr: err.join().unwrap().unwrap(),
+    }
 }
 
 fn stderr(out: &Output) -> String {
     String::from_utf8_lossy(&out.stderr).into_owned()
 }
 
-/// A job log's lines after its header: (job number, host, exit status).
-fn joblog(path: &Path) -> Vec<(usize, String, i32)> {
+/// A job log's lines after its header: (job number, host, exit status, the first frame
+/// of its chunk: `None` for an idle job).
+fn joblog(path: &Path) -> Vec<(usize, String, i32, Option<usize>)> {
     let text = std::fs::read_to_string(path).unwrap();
     let mut lines = text.lines();
     assert_eq!(
@@ -106,12 +146,44 @@ fn joblog(path: &Path) -> Vec<(usize, String, i32)> {
     lines
         .map(|l| {
             let f: Vec<&str> = l.split('\t').collect();
+            // parallel's lines end `# frames-A-to-B` (or `# frame-A`, `# idle`); the
+            // failed tries' lines farm writes end `farm: frames A to B, a failed try …`.
+            let first = f[8]
+                .rsplit_once("frames")
+                .or_else(|| f[8].rsplit_once("frame"))
+                .and_then(|(_, r)| {
+                    r.trim_start_matches(['-', ' '])
+                        .split(['-', ' ', ','])
+                        .next()?
+                        .parse()
+                        .ok()
+                });
             (
                 f[0].parse().unwrap(),
                 f[1].to_string(),
                 f[6].parse().unwrap(),
+                first,
             )
         })
+        .collect()
+}
+
+/// A fake ssh's rule that appends to `record` how many chunks the spool in `tmp` holds as
+/// a chunk starts: their streams (`K.in`) and frames held for their turn (`K.held`).
+fn count_spool(tmp: &Path, record: &Path) -> String {
+    format!(
+        "ls '{}'/farm.*/ | grep -cE '\\.(in|held)$' >> '{}'",
+        tmp.display(),
+        record.display()
+    )
+}
+
+/// The counts `count_spool` recorded.
+fn counts(record: &Path) -> Vec<usize> {
+    std::fs::read_to_string(record)
+        .unwrap()
+        .lines()
+        .map(|l| l.trim().parse().unwrap())
         .collect()
 }
 
@@ -136,14 +208,18 @@ fn pngs(dir: &Path) -> Vec<(String, Vec<u8>)> {
 fn a_chunk_that_fails_on_flaky_is_retried_on_good_and_the_frames_are_a_local_runs() {
     let dir = tempfile::tempdir().unwrap();
     let d = dir.path().display();
-    // flaky fails every chunk's first try (it leaves a mark for each it failed).
+    let tmp = dir.path().join("tmp");
+    std::fs::create_dir_all(&tmp).unwrap();
+    let record = dir.path().join("in-spool");
+    // flaky fails every job's first try (it leaves a mark for each it failed).
     let ssh = fake_ssh(
         dir.path(),
         "ssh",
         &format!(
-            "if [ \"$host\" = flaky ] && [ ! -e '{d}/failed.'$PARALLEL_SEQ ]; then \
+            "{}; if [ \"$host\" = flaky ] && [ ! -e '{d}/failed.'$PARALLEL_SEQ ]; then \
              : > '{d}/failed.'$PARALLEL_SEQ; \
-             echo 'ssh: connect to host flaky port 22: Connection refused' >&2; exit 255; fi"
+             echo 'ssh: connect to host flaky port 22: Connection refused' >&2; exit 255; fi",
+            count_spool(&tmp, &record)
         ),
     );
     let m = movie(dir.path());
@@ -151,7 +227,7 @@ fn a_chunk_that_fails_on_flaky_is_retried_on_good_and_the_frames_are_a_local_run
     assert_eq!(want.len(), 60 * FRAME);
     let log = dir.path().join("jobs");
     let log_arg = log.display().to_string();
-    let out = farm(
+    let mut cmd = farm_cmd(
         &ssh,
         &[
             "--hosts",
@@ -164,32 +240,52 @@ fn a_chunk_that_fails_on_flaky_is_retried_on_good_and_the_frames_are_a_local_run
         ],
         &m,
     );
+    cmd.env("TMPDIR", &tmp);
+    let out = output_within(cmd);
     assert!(out.status.success(), "{}", stderr(&out));
     assert!(out.stdout == want, "the frames differ from a local run's");
+    // Two job slots: four chunks in the spool at most, while chunks wait for good.
+    let seen = counts(&record);
+    assert!(seen.iter().all(|&n| n <= 4), "{seen:?}");
 
     // The log: each chunk flaky tried has its failed try (255 on flaky) and then its
-    // success on good; every chunk of the 8 succeeded once.
+    // success on good; every chunk of the 8 succeeded once. A job is known by its
+    // number, a chunk by its first frame (idle jobs take numbers too).
     let lines = joblog(&log);
-    let failed_here: BTreeSet<usize> = (1..=8)
+    let failed_here: BTreeSet<usize> = lines
+        .iter()
+        .map(|l| l.0)
         .filter(|k| dir.path().join(format!("failed.{k}")).exists())
         .collect();
     assert!(!failed_here.is_empty(), "flaky was never tried: {lines:?}");
     let failed_in_log: BTreeSet<usize> = lines
         .iter()
-        .filter(|(_, h, st)| h == "flaky" && *st == 255)
-        .map(|(k, _, _)| *k)
+        .filter(|l| l.1 == "flaky" && l.2 == 255)
+        .map(|l| l.0)
         .collect();
     assert_eq!(failed_in_log, failed_here, "{lines:?}");
     let ok: Vec<usize> = {
-        let mut v: Vec<usize> = lines.iter().filter(|l| l.2 == 0).map(|l| l.0).collect();
+        let mut v: Vec<usize> = lines
+            .iter()
+            .filter(|l| l.2 == 0)
+            .filter_map(|l| l.3)
+            .collect();
         v.sort();
         v
     };
-    assert_eq!(ok, (1..=8).collect::<Vec<_>>(), "{lines:?}");
-    for k in &failed_here {
+    assert_eq!(ok, (0..8).map(|k| 8 * k).collect::<Vec<_>>(), "{lines:?}");
+    // The frames of the chunks flaky failed, each then rendered on good.
+    let failed_frames: BTreeSet<usize> = lines
+        .iter()
+        .filter(|l| l.1 == "flaky" && l.2 == 255)
+        .map(|l| l.3.unwrap())
+        .collect();
+    for f in &failed_frames {
         assert!(
-            lines.contains(&(*k, "good".to_string(), 0)),
-            "chunk {k} retried on good: {lines:?}"
+            lines
+                .iter()
+                .any(|l| l.1 == "good" && l.2 == 0 && l.3 == Some(*f)),
+            "the chunk of frame {f} retried on good: {lines:?}"
         );
     }
     // --stats says so too, a line a failed try.
@@ -198,20 +294,49 @@ fn a_chunk_that_fails_on_flaky_is_retried_on_good_and_the_frames_are_a_local_run
         .lines()
         .filter(|l| l.ends_with(": a try on host flaky failed (status 255), retried"))
         .map(|l| {
-            let first: usize = l["farm: frames ".len()..]
+            l["farm: frames ".len()..]
                 .split(' ')
                 .next()
                 .unwrap()
                 .parse()
-                .unwrap();
-            first / 8 + 1
+                .unwrap()
         })
         .collect();
-    assert_eq!(retried, failed_here, "{err}");
+    assert_eq!(retried, failed_frames, "{err}");
     assert!(
         err.lines().any(|l| l.starts_with("farm: host good: ")),
         "{err}"
     );
+}
+
+#[test]
+fn the_spool_holds_two_chunks_a_job_slot_however_long_the_movie() {
+    // 30 chunks of 2 frames over two hosts, one of them slow: the chunks the fast host
+    // renders wait in the spool for the slow one's, and no more are cut meanwhile.
+    let dir = tempfile::tempdir().unwrap();
+    let tmp = dir.path().join("tmp");
+    std::fs::create_dir_all(&tmp).unwrap();
+    let record = dir.path().join("in-spool");
+    let ssh = fake_ssh(
+        dir.path(),
+        "ssh",
+        &format!(
+            "{}; [ \"$host\" = slow ] && sleep 0.3",
+            count_spool(&tmp, &record)
+        ),
+    );
+    let m = movie(dir.path());
+    let want = local(&m, "");
+    let mut cmd = farm_cmd(&ssh, &["--hosts", "fast,slow", "--chunk", "2"], &m);
+    cmd.env("TMPDIR", &tmp);
+    let out = output_within(cmd);
+    assert!(out.status.success(), "{}", stderr(&out));
+    assert!(out.stdout == want, "the frames differ from a local run's");
+    let seen = counts(&record);
+    assert_eq!(seen.len(), 30, "a count a chunk: {seen:?}");
+    assert!(seen.iter().all(|&n| (1..=4).contains(&n)), "{seen:?}");
+    // The spool is gone with the run.
+    assert_eq!(std::fs::read_dir(&tmp).unwrap().count(), 0);
 }
 
 #[test]
@@ -256,6 +381,56 @@ fn a_chunk_that_fails_every_try_names_the_host_and_the_frames_before_it_are_whol
 }
 
 #[test]
+fn a_chunk_that_fails_its_last_try_while_another_runs_is_the_one_named() {
+    // Three hosts. The first chunk is slow wherever it runs; the second fails wherever it
+    // runs (its hosts recorded). It fails its second and last try while the first is
+    // still rendering: --halt soon starts nothing more, the first chunk ends and is
+    // written, and the line names the second chunk and its two hosts.
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path().display();
+    let ssh = fake_ssh(
+        dir.path(),
+        "ssh",
+        &format!(
+            "case ${{PARALLEL_SEQ:-0}} in \
+             1) echo \"$host\" > '{d}/host.1'; sleep 2 ;; \
+             2) echo \"$host\" >> '{d}/host.2'; \
+             echo \"ssh: connect to host $host port 22: Connection refused\" >&2; exit 255 ;; \
+             esac"
+        ),
+    );
+    let m = movie(dir.path());
+    let want = local(&m, "");
+    let out = farm(
+        &ssh,
+        &["--hosts", "a,b,c", "--chunk", "8", "--retries", "2"],
+        &m,
+    );
+    assert_eq!(out.status.code(), Some(3), "{}", stderr(&out));
+    let read = |f: &str| std::fs::read_to_string(dir.path().join(f)).unwrap();
+    let first = read("host.1");
+    let tried: Vec<String> = read("host.2").lines().map(String::from).collect();
+    assert_eq!(tried.len(), 2, "{tried:?}");
+    assert!(
+        !tried.contains(&first.trim().to_string()),
+        "{tried:?} {first}"
+    );
+    assert_eq!(
+        stderr(&out),
+        format!(
+            "farm: hosts {}, {}: frames 8 to 15, 2 tries, the last on {}: ssh: connect to \
+             host {} port 22: Connection refused\n",
+            tried[0], tried[1], tried[1], tried[1]
+        )
+    );
+    assert!(
+        out.stdout == want[..8 * FRAME],
+        "not the movie's first 8 frames, whole: {} bytes",
+        out.stdout.len()
+    );
+}
+
+#[test]
 fn resume_after_sigint_renders_only_the_missing_chunks() {
     let dir = tempfile::tempdir().unwrap();
     let ssh = fake_ssh(dir.path(), "ssh", "sleep 0.3");
@@ -282,7 +457,7 @@ fn resume_after_sigint_renders_only_the_missing_chunks() {
         let done = std::fs::read_to_string(&log)
             .map(|t| {
                 t.lines()
-                    .filter(|l| l.split('\t').nth(6) == Some("0"))
+                    .filter(|l| l.split('\t').nth(6) == Some("0") && !l.ends_with("# idle"))
                     .count()
             })
             .unwrap_or(0);
@@ -302,10 +477,11 @@ fn resume_after_sigint_renders_only_the_missing_chunks() {
     assert!(sent.success());
     let out = child.wait_with_output().unwrap();
     assert_eq!(out.status.code(), Some(130), "{}", stderr(&out));
+    // The chunks finished, from 1, by their first frames.
     let before: BTreeSet<usize> = joblog(&log)
         .into_iter()
         .filter(|l| l.2 == 0)
-        .map(|l| l.0)
+        .filter_map(|l| Some(l.3? / 8 + 1))
         .collect();
     assert!(
         before.len() >= 3 && before.len() < 8,
@@ -325,7 +501,10 @@ fn resume_after_sigint_renders_only_the_missing_chunks() {
     let out = farm(&ssh, &resume, &m);
     assert!(out.status.success(), "{}", stderr(&out));
     // The log's new lines: the missing chunks, each once.
-    let new: Vec<usize> = joblog(&log)[lines_before..].iter().map(|l| l.0).collect();
+    let new: Vec<usize> = joblog(&log)[lines_before..]
+        .iter()
+        .filter_map(|l| Some(l.3? / 8 + 1))
+        .collect();
     let missing: Vec<usize> = (1..=8).filter(|k| !before.contains(k)).collect();
     let mut sorted = new.clone();
     sorted.sort();
@@ -469,8 +648,12 @@ fn hosts_from_an_sshloginfile_write_files_numbered_from_first_frame() {
     }
     // The job log beside the files: 9 chunks (8 of 7 frames and one of 4), all done.
     let lines = joblog(&out_dir.join("farm.joblog"));
-    let mut done: Vec<usize> = lines.iter().filter(|l| l.2 == 0).map(|l| l.0).collect();
+    let mut done: Vec<usize> = lines
+        .iter()
+        .filter(|l| l.2 == 0)
+        .filter_map(|l| l.3)
+        .collect();
     done.sort();
-    assert_eq!(done, (1..=9).collect::<Vec<_>>());
+    assert_eq!(done, (0..9).map(|k| 7 * k).collect::<Vec<_>>());
     assert_eq!(std::fs::read_dir(&out_dir).unwrap().count(), 61);
 }

@@ -6,7 +6,7 @@
 
 use crate::look::{self, Environment};
 use crate::measure::{self, Usage};
-use crate::methods::{self, Input, Method};
+use crate::methods::{self, Draws, Input, Method};
 use crate::model::{self, Constants};
 use crate::stats::{self, Stats};
 use anyhow::{anyhow, bail, Context, Result};
@@ -386,7 +386,7 @@ impl Setup {
             cmd.args(["--size", &scene.size(), "--depth", &depth.to_string()])
                 .args(method.options)
                 .arg(&input);
-            if method.lines {
+            if method.draws == Draws::Lines {
                 cmd.arg("-o")
                     .arg(self.work.join("lines-%d.svg"))
                     .stdout(Stdio::null());
@@ -435,7 +435,7 @@ impl Setup {
             intersection_pieces: None,
             line_length_px: None,
         };
-        if method.lines {
+        if method.draws == Draws::Lines {
             // No pixels to compare with zspec (the error stays NaN): the drawing's
             // pieces and length instead.
             let mut lines = Lines::default();

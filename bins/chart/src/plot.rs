@@ -25,60 +25,45 @@ fn register_font() {
     });
 }
 
-/// A mark's shape.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Shape {
-    Circle,
-    Square,
-    Triangle,
-    Diamond,
-    Cross,
-}
+/// The chart's marker shapes: the table's.
+pub use methods::Marker as Shape;
 
-/// Eighteen colours that tell apart on screen and in print (no two of one hue and
-/// lightness; none too light for white paper): the methods' marks, in the order of
-/// [`METHODS`], each with a shape as well, so that the hues that are nearest (the
-/// blues, say) differ in shape too. The model picture's scenes and lines take them in
-/// order.
-pub const STYLES: [(RGBColor, Shape); 18] = [
-    (RGBColor(31, 119, 180), Shape::Square),    // scanline: blue
-    (RGBColor(214, 39, 40), Shape::Triangle),   // warnock: red
-    (RGBColor(44, 160, 44), Shape::Diamond),    // painter: green
-    (RGBColor(0, 200, 100), Shape::Circle),     // painter-split: spring green
-    (RGBColor(255, 127, 14), Shape::Circle),    // abuf: orange
-    (RGBColor(148, 103, 189), Shape::Diamond),  // ss2: purple
-    (RGBColor(140, 86, 75), Shape::Square),     // ss4: brown
-    (RGBColor(227, 119, 194), Shape::Triangle), // ss8: pink
-    (RGBColor(127, 127, 127), Shape::Circle),   // ss16: grey
-    (RGBColor(188, 189, 34), Shape::Square),    // zbuf-pixels: olive
-    (RGBColor(0, 0, 0), Shape::Circle),         // zbuf: black
-    (RGBColor(23, 190, 207), Shape::Triangle),  // zbuf-eye-z: cyan
-    (RGBColor(0, 0, 128), Shape::Diamond),      // zbuf-buffer: navy
-    (RGBColor(128, 0, 0), Shape::Square),       // zbuf-chain: maroon
-    (RGBColor(0, 128, 128), Shape::Cross),      // zbuf-text: teal
-    (RGBColor(184, 134, 11), Shape::Triangle),  // zbuf-binary: dark gold
-    (RGBColor(230, 0, 230), Shape::Cross),      // hiddenline: magenta
-    (RGBColor(90, 150, 0), Shape::Cross),       // hiddenline-archuleta: leaf green
-];
+/// Every row's colour and shape, in the order of [`METHODS`] (the table's `colour` and
+/// `marker`: apart in colour, and those nearest apart in shape too, `methods::check`).
+/// The model picture's scenes and lines take the colours in order.
+pub const STYLES: [(RGBColor, Shape); METHODS.len()] = {
+    let mut s = [(RGBColor(0, 0, 0), Shape::Circle); METHODS.len()];
+    let mut i = 0;
+    while i < METHODS.len() {
+        let [r, g, b] = METHODS[i].colour;
+        s[i] = (RGBColor(r, g, b), METHODS[i].marker);
+        i += 1;
+    }
+    s
+};
 
 /// The colours alone, in order.
-const PALETTE: [RGBColor; 18] = {
-    let mut p = [RGBColor(0, 0, 0); 18];
+const PALETTE: [RGBColor; METHODS.len()] = {
+    let mut p = [RGBColor(0, 0, 0); METHODS.len()];
     let mut i = 0;
-    while i < 18 {
+    while i < METHODS.len() {
         p[i] = STYLES[i].0;
         i += 1;
     }
     p
 };
 
-/// A method's colour and shape: its place in the method table, on [`STYLES`].
+/// A method's colour and shape, from its row in the method table (a name the table
+/// does not have: the first row's).
 pub fn style_of(method: &str) -> (RGBColor, Shape) {
-    let i = METHODS
-        .iter()
-        .position(|m| m.name == method)
-        .unwrap_or(METHODS.len());
-    STYLES[i % STYLES.len()]
+    style_in(METHODS, method)
+}
+
+/// [`style_of`] in `table`.
+pub fn style_in(table: &[Method], method: &str) -> (RGBColor, Shape) {
+    let m = methods::by_name(table, method).unwrap_or(&table[0]);
+    let [r, g, b] = m.colour;
+    (RGBColor(r, g, b), m.marker)
 }
 
 /// Draws a mark of `shape` and radius `r` at `at` (data coordinates) on `area`.
@@ -176,9 +161,10 @@ pub fn marks<'a>(rows: &'a [Row], scene: &str) -> Vec<&'a Row> {
     best
 }
 
-/// Whether a method anti-aliases (`abuf`, `ssK`).
+/// Whether a method anti-aliases: its row in the table of methods is an `--aa` mode
+/// (`abuf`, `ssK`).
 pub fn anti_aliased(method: &str) -> bool {
-    method == "abuf" || method.starts_with("ss")
+    crate::methods::by_name(method).is_some_and(|m| matches!(m.selector, methods::Selector::Aa(_)))
 }
 
 /// A method's run at depth 0 on a scene (the method alone, no splitter tree).
@@ -566,7 +552,7 @@ fn place_label(
 
 /// The methods the speed-accuracy panels draw: all but the hidden-line ones.
 fn surface_methods() -> impl Iterator<Item = &'static Method> {
-    METHODS.iter().filter(|m| !m.lines)
+    METHODS.iter().filter(|m| m.draws == methods::Draws::Pixels)
 }
 
 /// The legend's height for a picture `width` pixels wide: a row of entries of
@@ -647,7 +633,8 @@ pub fn speed_accuracy(dir: &Path, rows: &[Row]) -> Result<()> {
 /// anti-aliasing ones and the two hidden-line methods, each alone (depth 0). The
 /// hidden-line methods have no pixel error, so this is the figure that compares them:
 /// the continuous method's edge-against-polygon tests against Archuleta's counters on
-/// Watkins's scan-line segments.
+/// Watkins's scan-line segments. A selection by name, not a column of the table of
+/// methods: a new method is added here to appear on the figure.
 pub const ENVIRONMENT_METHODS: [&str; 9] = [
     "zbuf",
     "scanline",
@@ -1122,6 +1109,17 @@ mod tests {
             ["0.001", "0.002", "0.005", "0.01", "0.02", "0.05", "0.1", "0.2", "0.5"]
         );
         let _ = KeyPointHint::max_num_points(&3usize);
+    }
+
+    #[test]
+    fn the_anti_aliased_methods_are_the_tables_aa_rows() {
+        let aa: Vec<&str> = METHODS
+            .iter()
+            .map(|m| m.name)
+            .filter(|n| anti_aliased(n))
+            .collect();
+        assert_eq!(aa, ["abuf", "ss2", "ss4", "ss8", "ss16"]);
+        assert!(!anti_aliased("nothing") && !anti_aliased("zbuf-pixels"));
     }
 
     #[test]

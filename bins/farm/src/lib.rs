@@ -11,9 +11,8 @@
 //! 2. hands the chunks to GNU parallel (Tange, `man parallel`), one argument line a
 //!    chunk: parallel chooses the host with a free job slot (`--sshlogin N/host`,
 //!    `--sshloginfile`), retries a chunk that failed on a host where it has not failed
-//!    (`--retries`), keeps the job log (`--joblog`, which `--resume-failed` reads to skip
-//!    what finished), and stops starting chunks after one failed on every try (`--halt
-//!    soon,fail=1`);
+//!    (`--retries`), keeps the job log (`--joblog`), and stops starting chunks after
+//!    one failed on every try (`--halt soon,fail=1`);
 //! 3. writes the frames in the movie's order on stdout, or each frame to its file
 //!    (`-o PATTERN`, numbered from `--first-frame`) as its chunk comes back.
 //!
@@ -28,13 +27,27 @@
 //! retries elsewhere, and a chunk the job log calls done is one whose frames were
 //! written.
 //!
-//! parallel is handed every chunk as soon as it is cut: it reads its arguments only as it
-//! starts jobs, and a chunk waiting to be retried on another host would otherwise wait
-//! behind an argument that is never written. So the spool holds the movie's stream (its
-//! polygons, cut) and the frames of chunks that finished before their turn, and memory
-//! one chunk's frames at a time; parallel's own files in its `--tmpdir` (the spool) are
-//! its buffers of the jobs' output, which stay empty (the script sends a job's stdout and
-//! stderr to the spool).
+//! Memory and disk stay bounded by the hosts' job slots, not the movie's length. The
+//! movie is cut only while the spool holds fewer than two chunks a job slot
+//! ([`spool_bound`]): chunks handed to parallel and not yet taken (their streams, `K.in`)
+//! and chunks taken but waiting for an earlier one to be written (their frames, on
+//! stdout's way); memory holds one chunk's frames at a time, and one chunk cut ahead.
+//! parallel's own files in its `--tmpdir` (the spool) are a few a running job, its
+//! buffers of the job's stdout and stderr, unlinked as they are opened or as the job
+//! ends, and empty here (the script sends a job's output to the spool files above).
+//!
+//! Holding the chunks back needs one more thing of this program. parallel reads its next
+//! argument as soon as its queue has none it could start on a free job slot, and waits
+//! for it doing nothing else: it neither reaps a job that ended nor retries a chunk
+//! elsewhere. A chunk that failed on one host and awaits another leaves that host's slot
+//! free, so parallel waits for an argument, and the argument waits for the spool to
+//! empty, which waits for the retry: a deadlock (with hosts `good,flaky`, flaky failing
+//! every first try, it came within a second of the start). So when the spool is full,
+//! no job is running and one has ended since the last argument, this program hands
+//! parallel an *idle* argument ([`IDLE_ARG`]), whose job ends at once without a host:
+//! parallel wakes, reaps, and retries the chunk. The job log shows these jobs as
+//! `# idle`; they take job numbers, so `--resume` knows a chunk by its frames
+//! ([`finished_chunks`]) and hands parallel only the chunks not finished.
 //!
 //! When a chunk fails on every try, the chunks before it are written whole and the run
 //! ends with one line naming the host(s) and the chunk: status 3 for a host or the link,
@@ -315,7 +328,7 @@ pub fn frames_text(first: u64, frames: u64) -> String {
 }
 
 /// A chunk's place in the movie.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash)]
 pub struct ChunkInfo {
     pub first: u64,
     pub frames: u64,
@@ -446,13 +459,45 @@ pub fn parse_joblog(text: &str) -> Vec<JobLine> {
         .collect()
 }
 
-/// The chunks (from 0) a job log says finished: exit 0, no signal. These are what
-/// parallel's `--resume-failed` skips.
-pub fn finished_chunks(lines: &[JobLine]) -> BTreeSet<usize> {
+/// A chunk's argument line, which the job log shows at the end of its command (`… #
+/// frames-8-to-15`): its frames, in one word.
+pub fn chunk_arg(chunk: ChunkInfo) -> String {
+    frames_text(chunk.first, chunk.frames).replace(' ', "-")
+}
+
+/// The argument line of an *idle* job: one farm hands parallel only to wake it when it
+/// waits for its next argument while a chunk awaits a retry ([`run`] says why). It
+/// renders nothing and contacts no host.
+pub const IDLE_ARG: &str = "idle";
+
+/// The chunk a job log's command was run for (its argument line, after the last `# `),
+/// `None` for an idle job or a line not farm's.
+pub fn chunk_of_command(command: &str) -> Option<ChunkInfo> {
+    let (_, arg) = command.rsplit_once("# ")?;
+    let arg = arg.trim();
+    if let Some(one) = arg.strip_prefix("frame-") {
+        return Some(ChunkInfo {
+            first: one.parse().ok()?,
+            frames: 1,
+        });
+    }
+    let (a, b) = arg.strip_prefix("frames-")?.split_once("-to-")?;
+    let (a, b): (u64, u64) = (a.parse().ok()?, b.parse().ok()?);
+    (b >= a).then(|| ChunkInfo {
+        first: a,
+        frames: b - a + 1,
+    })
+}
+
+/// The chunks a job log says finished (exit 0, no signal), by their frames: what
+/// `--resume` skips. A chunk is known by its frames rather than its job number, which
+/// idle jobs shift from run to run; a run with another `--chunk` cuts other chunks and
+/// skips none of them.
+pub fn finished_chunks(lines: &[JobLine]) -> BTreeSet<ChunkInfo> {
     lines
         .iter()
-        .filter(|l| l.exit == 0 && l.signal == 0 && l.seq > 0)
-        .map(|l| l.seq - 1)
+        .filter(|l| l.exit == 0 && l.signal == 0)
+        .filter_map(|l| chunk_of_command(&l.command))
         .collect()
 }
 
@@ -467,8 +512,10 @@ use stagecli::remote::quote;
 /// waits for farm to take it: `K.ok` then says the frames were whole and written, and
 /// the job succeeds; `K.bad` says why not, and the try fails. A failed try is kept
 /// (`K.tries`: host and status a line; `K.err.N`: its stderr) and logged in the job log
-/// as a line of its own (parallel logs only a job's last try). Anything else parallel
-/// runs through its ssh goes straight to `SSH…`.
+/// as a line of its own (parallel logs only a job's last try). An idle job (`K.idle`)
+/// ends at once with status 0. Each job appends a byte to `starts` as it starts and to
+/// `ends` as it ends. Anything else parallel runs through its ssh goes straight to
+/// `SSH…`.
 pub fn shim_script(spool: &Path, ssh: &[String], joblog: &Path) -> String {
     let ssh: Vec<String> = ssh.iter().map(|w| quote(w)).collect();
     let ssh = ssh.join(" ");
@@ -484,7 +531,17 @@ spool={spool}
 export SHELL="${{SHELL:-/bin/sh}}"
 k=${{PARALLEL_SEQ-}}
 case $k in '' | *[!0-9]*) exec {ssh} "$@" ;; esac
+# Every job of farm's is counted as it starts and as it ends: farm tells from the two
+# when nothing runs.
+if [ -e "$spool/$k.idle" ]; then
+    rm -f "$spool/$k.idle"
+    printf s >>"$spool/starts"
+    printf e >>"$spool/ends"
+    exit 0
+fi
 [ -e "$spool/$k.in" ] || exec {ssh} "$@"
+printf s >>"$spool/starts"
+trap '{{ printf e >>"$spool/ends"; }} 2>/dev/null' EXIT
 host=${{PARALLEL_SSHLOGIN:-?}}
 start=$(date +%s.%N)
 {ssh} "$@" <"$spool/$k.in" >"$spool/$k.part" 2>"$spool/$k.err"
@@ -704,11 +761,15 @@ pub fn catch_stop_signals() {
     }
 }
 
-/// A chunk handed to parallel.
+/// A chunk of the movie, handed to parallel or skipped as finished before.
 struct Handed {
     info: ChunkInfo,
+    /// Its job number (its argument line's, from 1); `None` when skipped.
+    seq: Option<usize>,
     /// Its frames taken (checked, and written or held), or skipped as finished before.
     taken: bool,
+    /// Its frames written (to -o's files or to stdout), or skipped.
+    written: bool,
     /// Its frames, held in the spool for stdout until its turn.
     held: Option<PathBuf>,
     /// The host of the try that rendered it, and that try's stderr.
@@ -801,6 +862,7 @@ where
             ))
         })?;
     }
+    let joblog_from = count_bytes(&joblog) as usize;
     let shim = dir.join("ssh");
     let spool_io = |e: std::io::Error| {
         Error::io(format!(
@@ -829,9 +891,6 @@ where
         .arg(&dir)
         .arg("--ssh")
         .arg(&shim);
-    if options.resume {
-        parallel.arg("--resume-failed");
-    }
     match &options.logins {
         Logins::List(l) => {
             for (n, host) in l {
@@ -873,14 +932,18 @@ where
     }
 
     debug_assert!(slots > 0);
+    let bound = spool_bound(slots);
     let mut handed: Vec<Handed> = Vec::new();
+    let mut lines = 0; // argument lines handed: the last one's job number
+    let mut by_seq: BTreeMap<usize, usize> = BTreeMap::new(); // job number → chunk
+    let mut ends_at_last_line = 0;
     let mut head = 0; // the earliest chunk not yet written
     let mut input_done = false;
     let mut ended: Option<std::process::ExitStatus> = None;
     let result: Result<Outcome> = loop {
-        // Hand parallel every chunk cut so far.
+        // Hand parallel the next chunks while fewer than `bound` are in the spool.
         let mut cut_error = None;
-        while !input_done {
+        while !input_done && in_spool(&handed[head..]) < bound {
             let chunk = match chunks_rx.try_recv() {
                 Ok(Ok(Some(chunk))) => chunk,
                 Ok(Ok(None)) | Err(mpsc::TryRecvError::Disconnected) => {
@@ -894,48 +957,71 @@ where
                 }
                 Err(mpsc::TryRecvError::Empty) => break,
             };
-            let k = handed.len();
             let info = ChunkInfo {
                 first: chunk.first,
                 frames: chunk.frames,
             };
-            let done_before = finished.contains(&k);
-            let what = frames_text(info.first, info.frames);
-            if !done_before {
-                let wrote = std::fs::write(dir.join(format!("{}.in", k + 1)), &chunk.bytes)
-                    .and_then(|()| std::fs::write(dir.join(format!("{}.what", k + 1)), &what));
-                if let Err(e) = wrote {
-                    cut_error = Some(spool_io(e));
-                    break;
-                }
-            }
-            handed.push(Handed {
+            let mut h = Handed {
                 info,
-                taken: done_before,
+                seq: None,
+                taken: true,
+                written: true,
                 held: None,
                 host: None,
                 stderr: String::new(),
                 sent: chunk.bytes.len() as u64,
                 received: 0,
-            });
-            // The argument line: the chunk's frames, which the job log shows.
-            let line = what.replace(' ', "-");
-            if let Some(a) = &mut args {
-                if writeln!(a, "{line}").and_then(|()| a.flush()).is_err() {
-                    args = None; // parallel has gone: its end says why
+            };
+            if !finished.contains(&info) {
+                let seq = lines + 1;
+                let wrote =
+                    std::fs::write(dir.join(format!("{seq}.in")), &chunk.bytes).and_then(|()| {
+                        std::fs::write(
+                            dir.join(format!("{seq}.what")),
+                            frames_text(info.first, info.frames),
+                        )
+                    });
+                if let Err(e) = wrote {
+                    cut_error = Some(spool_io(e));
+                    break;
                 }
+                h.seq = Some(seq);
+                h.taken = false;
+                h.written = false;
+                by_seq.insert(seq, handed.len());
+                hand(&mut args, &chunk_arg(info));
+                lines = seq;
+                ends_at_last_line = count_bytes(&dir.join("ends"));
             }
+            handed.push(h);
         }
         if let Some(e) = cut_error {
             break Err(e);
         }
+        // parallel reads its next argument as soon as its queue has none, and does
+        // nothing else until it comes: a try that failed is neither reaped nor retried
+        // meanwhile. So when the spool is full, nothing runs, and a job has ended since
+        // the last line (parallel may be waiting for one), an idle job wakes it: it
+        // contacts no host and adds nothing to the spool.
+        if !input_done && in_spool(&handed[head..]) >= bound {
+            let ends = count_bytes(&dir.join("ends"));
+            let running = count_bytes(&dir.join("starts")).saturating_sub(ends);
+            if running == 0 && ends != ends_at_last_line {
+                let seq = lines + 1;
+                if let Err(e) = std::fs::write(dir.join(format!("{seq}.idle")), "") {
+                    break Err(spool_io(e));
+                }
+                hand(&mut args, IDLE_ARG);
+                lines = seq;
+                ends_at_last_line = ends;
+            }
+        }
         // The chunks that came back: checked, then written (files) or held (stdout).
         let mut fatal = None;
-        for (k, h) in handed.iter_mut().enumerate().skip(head) {
-            if h.taken {
+        for h in handed.iter_mut().skip(head) {
+            let (false, Some(seq)) = (h.taken, h.seq) else {
                 continue;
-            }
-            let seq = k + 1;
+            };
             let landed = dir.join(format!("{seq}.out"));
             let Ok(file) = std::fs::File::open(&landed) else {
                 continue;
@@ -960,6 +1046,7 @@ where
                                     break;
                                 }
                             }
+                            h.written = written.is_ok();
                         }
                     }
                     if let Err(e) = written {
@@ -1014,6 +1101,7 @@ where
                         break;
                     }
                 }
+                handed[head].written = true;
             }
             head += 1;
         }
@@ -1031,10 +1119,21 @@ where
             break Ok(Outcome::Stopped(sig));
         }
         if let Some(status) = ended {
-            // parallel has ended with chunks not rendered: the earliest is the failure.
-            let k = head;
-            let info = handed.get(k).map(|h| h.info);
-            break Err(failure_of(&dir, k, info, status, log));
+            // parallel has ended with chunks not rendered. The failure is the chunk that
+            // failed on its last try (`--halt soon` stops there, after the jobs running
+            // then end), not an earlier one left with a try to go; else the earliest.
+            let pending: Vec<(usize, usize)> = handed[head..]
+                .iter()
+                .filter(|h| !h.taken)
+                .filter_map(|h| Some((h.seq?, tries_of(&dir, h.seq?).len())))
+                .collect();
+            let failed = failed_chunk(&pending, options.retries.max(1) as usize);
+            let h = failed
+                .and_then(|seq| by_seq.get(&seq))
+                .and_then(|&k| handed.get(k))
+                .or(handed.get(head));
+            let (seq, info) = (h.and_then(|h| h.seq), h.map(|h| h.info));
+            break Err(failure_of(&dir, seq, info, status, log));
         }
         match child.try_wait() {
             Ok(Some(status)) => ended = Some(status), // one more look at what came back
@@ -1046,9 +1145,36 @@ where
     let _ = out.flush();
     let all_written = input_done && head == handed.len();
     if let (Ok(Outcome::Done), true) = (&result, all_written) {
-        report(&handed, options, &joblog, log);
+        report(&handed, &by_seq, options, (&joblog, joblog_from), log);
     }
     finish(child, spool, all_written, result)
+}
+
+/// The chunks the spool holds at most (their streams, or their frames waiting for their
+/// turn on stdout): two a job slot, so that each host has a chunk to start as soon as it
+/// finishes one while the writer waits for an earlier chunk.
+pub fn spool_bound(slots: usize) -> usize {
+    2 * slots.max(1)
+}
+
+/// The chunks of `from` whose stream or frames are in the spool: handed and not yet
+/// written.
+fn in_spool(from: &[Handed]) -> usize {
+    from.iter().filter(|h| !h.written).count()
+}
+
+/// Hands parallel an argument line; when it has gone, its end says why.
+fn hand(args: &mut Option<std::process::ChildStdin>, line: &str) {
+    if let Some(a) = args {
+        if writeln!(a, "{line}").and_then(|()| a.flush()).is_err() {
+            *args = None;
+        }
+    }
+}
+
+/// The bytes of a file (0 when there is none): the jobs' count of their starts and ends.
+fn count_bytes(path: &Path) -> u64 {
+    std::fs::metadata(path).map_or(0, |m| m.len())
 }
 
 /// Writes frames to stdout: Ok(true) done, Ok(false) when the reader has gone away
@@ -1071,7 +1197,17 @@ fn write_frames<W: Write>(out: &mut W, frames: &[Frame]) -> Result<bool> {
     }
 }
 
-/// The tries of chunk `k` that failed, from the spool.
+/// Of the chunks not rendered, as (job number, failed tries) in the movie's order, the
+/// job of the earliest that failed on every one of its `retries` tries; `None` when none
+/// did (parallel ended for another reason).
+pub fn failed_chunk(pending: &[(usize, usize)], retries: usize) -> Option<usize> {
+    pending
+        .iter()
+        .find(|&&(_, tries)| tries >= retries)
+        .map(|&(seq, _)| seq)
+}
+
+/// The failed tries of the chunk of job `seq`, from the spool.
 fn tries_of(dir: &Path, seq: usize) -> Vec<(Try, String)> {
     let list = std::fs::read_to_string(dir.join(format!("{seq}.tries"))).unwrap_or_default();
     list.lines()
@@ -1096,17 +1232,17 @@ fn tries_of(dir: &Path, seq: usize) -> Vec<(Try, String)> {
         .collect()
 }
 
-/// The run's error when parallel ended with chunk `k` (the earliest not written) not
-/// rendered: its tries' one line, the lines its last host wrote before its last on `log`;
+/// The run's error when parallel ended with a chunk (the earliest not written: job `seq`,
+/// frames `info`) not rendered: its tries' one line, the lines its last host wrote before its last on `log`;
 /// or, with no try of it on record, parallel's own last line.
 fn failure_of(
     dir: &Path,
-    k: usize,
+    seq: Option<usize>,
     info: Option<ChunkInfo>,
     status: std::process::ExitStatus,
     log: &mut dyn Write,
 ) -> Error {
-    let tries = tries_of(dir, k + 1);
+    let tries = seq.map(|seq| tries_of(dir, seq)).unwrap_or_default();
     if let (Some(info), false) = (info, tries.is_empty()) {
         let (last, stderr) = &tries[tries.len() - 1];
         let lines: Vec<&str> = stderr.lines().filter(|l| !l.trim().is_empty()).collect();
@@ -1197,7 +1333,13 @@ fn kill(pid: u32, sig: i32) {
 
 /// On success: the hosts' own stderr lines (their --stats), labelled with the host, in
 /// the movie's order; with --stats, each host's part and each failed try.
-fn report(handed: &[Handed], options: &Options, joblog: &Path, log: &mut dyn Write) {
+fn report(
+    handed: &[Handed],
+    by_seq: &BTreeMap<usize, usize>,
+    options: &Options,
+    joblog: (&Path, usize),
+    log: &mut dyn Write,
+) {
     for h in handed {
         let host = h.host.as_deref().unwrap_or("?");
         for line in h.stderr.lines() {
@@ -1208,14 +1350,20 @@ fn report(handed: &[Handed], options: &Options, joblog: &Path, log: &mut dyn Wri
     if !options.stats {
         return;
     }
-    let lines = parse_joblog(&std::fs::read_to_string(joblog).unwrap_or_default());
+    // This run's lines: those after the log's length when it started.
+    let text = std::fs::read(joblog.0).unwrap_or_default();
+    let lines = parse_joblog(&String::from_utf8_lossy(
+        text.get(joblog.1..).unwrap_or_default(),
+    ));
     let mut hosts: BTreeMap<String, HostStats> = BTreeMap::new();
     let mut order: Vec<String> = match &options.logins {
         Logins::List(l) => l.iter().map(|(_, h)| h.clone()).collect(),
         Logins::File(_) => Vec::new(),
     };
-    for (k, h) in handed.iter().enumerate() {
-        let Some(host) = &h.host else { continue };
+    for h in handed {
+        let (Some(host), Some(seq)) = (&h.host, h.seq) else {
+            continue;
+        };
         if !order.contains(host) {
             order.push(host.clone());
         }
@@ -1226,7 +1374,7 @@ fn report(handed: &[Handed], options: &Options, joblog: &Path, log: &mut dyn Wri
         if let Some(l) = lines
             .iter()
             .rev()
-            .find(|l| l.seq == k + 1 && l.exit == 0 && l.signal == 0)
+            .find(|l| l.seq == seq && l.exit == 0 && l.signal == 0)
         {
             s.busy += l.runtime;
         }
@@ -1257,7 +1405,7 @@ fn report(handed: &[Handed], options: &Options, joblog: &Path, log: &mut dyn Wri
         );
     }
     for l in lines.iter().filter(|l| l.exit != 0 || l.signal != 0) {
-        if let Some(h) = l.seq.checked_sub(1).and_then(|k| handed.get(k)) {
+        if let Some(h) = by_seq.get(&l.seq).and_then(|&k| handed.get(k)) {
             let _ = writeln!(
                 log,
                 "farm: {}: a try on host {} failed (status {}), retried",
@@ -1379,10 +1527,43 @@ mod tests {
             (lines[0].seq, lines[0].host.as_str(), lines[0].exit),
             (2, "flaky", 255)
         );
+        let chunk = |first, frames| ChunkInfo { first, frames };
         assert_eq!(
             finished_chunks(&lines).into_iter().collect::<Vec<_>>(),
-            [0, 1]
+            [chunk(0, 8), chunk(8, 8)]
         );
+        // An idle job finishes no chunk; a chunk of one frame is `frame-N`.
+        let log = format!(
+            "{JOBLOG_HEADER}\
+             4\tgood\t1.0\t 0.0\t0\t0\t0\t0\texec render.sh - # idle\n\
+             5\tgood\t1.0\t 0.5\t0\t0\t0\t0\texec render.sh - # frame-24\n"
+        );
+        assert_eq!(
+            finished_chunks(&parse_joblog(&log))
+                .into_iter()
+                .collect::<Vec<_>>(),
+            [chunk(24, 1)]
+        );
+        assert_eq!(chunk_arg(chunk(8, 8)), "frames-8-to-15");
+        assert_eq!(chunk_arg(chunk(24, 1)), "frame-24");
+        assert_eq!(chunk_of_command("x # frames-9-to-8"), None);
+        assert_eq!(chunk_of_command("x # idle"), None);
+    }
+
+    #[test]
+    fn the_failure_is_the_chunk_that_used_up_its_tries() {
+        // Job 3 failed once and waits for a retry that --halt soon never starts; job 5
+        // failed its three: the run's line is job 5's.
+        assert_eq!(failed_chunk(&[(3, 1), (4, 0), (5, 3), (6, 3)], 3), Some(5));
+        assert_eq!(failed_chunk(&[(3, 1), (4, 0)], 3), None);
+        assert_eq!(failed_chunk(&[], 1), None);
+    }
+
+    #[test]
+    fn the_spool_holds_two_chunks_a_job_slot() {
+        assert_eq!(spool_bound(1), 2);
+        assert_eq!(spool_bound(3), 6);
+        assert_eq!(spool_bound(0), 2);
     }
 
     #[test]

@@ -16,7 +16,7 @@ use std::process::ExitCode;
 /// its stdin, and retries a chunk that failed on another host; COMMAND renders a movie
 /// to PPM frames (`render.sh --by frames` runs `COMMAND = env POLYPIPE_BIN=DIR
 /// …/render.sh OPTIONS -`). The frames come out on stdout in the movie's order, or one
-/// file each with -o, with a few chunks per job slot at most in $TMPDIR.
+/// file each with -o, with two chunks a job slot at most in $TMPDIR.
 ///
 /// With --slurm-array DIR, nothing is rendered: DIR/render.sbatch is written, a Slurm
 /// job array whose task k renders chunk k to -o's files.

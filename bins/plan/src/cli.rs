@@ -308,3 +308,97 @@ pub fn background(root: &Path) -> Result<()> {
     cmd.spawn()?;
     Ok(())
 }
+
+#[derive(clap::Args, Debug)]
+pub struct MovieArgs {
+    /// The screen size, as render's --size.
+    #[arg(long, default_value = "500x500", value_parser = parse_size, value_name = "WxH")]
+    pub size: (u32, u32),
+    /// The numbers of hosts to predict for, a row each.
+    #[arg(long, value_name = "N,…", value_delimiter = ',', default_values_t = [1u32, 2, 4],
+          value_parser = clap::value_parser!(u32).range(1..=4096))]
+    pub hosts: Vec<u32>,
+    /// Job slots on each host (`N/host` in an sshloginfile; a host named N times).
+    #[arg(long, value_name = "N", default_value_t = 1,
+          value_parser = clap::value_parser!(u32).range(1..=256))]
+    pub slots: u32,
+    /// Frames a chunk (render --chunk).
+    #[arg(long, value_name = "N", default_value_t = 8,
+          value_parser = clap::value_parser!(u64).range(1..))]
+    pub chunk: u64,
+    /// Cores of each host (default: as many as this machine's).
+    #[arg(long, value_name = "C", value_parser = clap::value_parser!(u32).range(1..=4096))]
+    pub host_cores: Option<u32>,
+    /// Seconds of a chunk's login to its host (ssh); 0 for a stand-in that runs the
+    /// command here.
+    #[arg(long, value_name = "S", default_value_t = 0.1)]
+    pub login: f64,
+    /// Seconds GNU parallel adds to a job (its Perl wrapper on the host).
+    #[arg(long, value_name = "S", default_value_t = crate::movie::PARALLEL_JOB_S)]
+    pub job: f64,
+    /// The model's constants file (default: this machine's calibration, else the
+    /// repository's bench/model.toml).
+    #[arg(long, value_name = "FILE")]
+    pub model: Option<PathBuf>,
+    /// The repository, for bench/model.toml.
+    #[arg(long, value_name = "DIR")]
+    pub root: Option<PathBuf>,
+    /// The movie (a file, read whole).
+    pub scene: PathBuf,
+}
+
+/// `plan movie`: a movie rendered in chunks over 1, 2, … hosts (render --by frames), a
+/// row each: the wall time, the frames a second and the work ([`crate::movie`]).
+pub fn movie(a: MovieArgs) -> Result<()> {
+    let root = root_dir(a.root.clone())?;
+    let bin = bin_dir()?;
+    let (k, note, _) = constants(a.model.as_deref(), &root, &bin)?;
+    let (w, h) = a.size;
+    let env = look::look(&a.scene, w, h, &[], None)?;
+    let host_cores = a
+        .host_cores
+        .map_or_else(crate::calibrate::cores, |c| c as usize);
+    let mut t = String::from(
+        "| hosts | job slots | chunks | predicted wall s | frames/s | predicted CPU s | chunks a slot |\n\
+         |---|---|---|---|---|---|---|\n",
+    );
+    let mut last = None;
+    for &n in &a.hosts {
+        let slots = (n * a.slots) as usize;
+        let f = crate::movie::farm_from_model(&k, &env, a.chunk, slots, host_cores, a.login, a.job);
+        let p = crate::movie::predict_farm(&f);
+        let spread: Vec<String> = p.per_slot.iter().map(u64::to_string).collect();
+        t += &format!(
+            "| {n} | {slots} | {} | {:.3} | {:.1} | {:.3} | {} |\n",
+            p.chunks,
+            p.wall_s,
+            p.frames_per_s(f.frames),
+            p.work_s,
+            spread.join(", ")
+        );
+        last = Some(f);
+    }
+    if let Some(f) = last {
+        t += &format!(
+            "\n{} frames, {} a chunk, {}x{}, {} core{} a host: a chunk {:.4} s to start \
+             ({:.3} s login, {:.3} s parallel's job) + {:.4} s a frame (CPU {:.4} + {:.4}), \
+             the writer {:.4} s a frame, parallel's start {:.3} s; {}\n",
+            f.frames,
+            a.chunk,
+            w,
+            h,
+            host_cores,
+            if host_cores == 1 { "" } else { "s" },
+            f.start_s,
+            a.login,
+            a.job,
+            f.frame_s,
+            f.start_cpu_s,
+            f.frame_cpu_s,
+            f.write_s,
+            f.run_s,
+            note.unwrap_or_else(|| k.measured_on.clone())
+        );
+    }
+    crate::say(&t)
+}

@@ -18,6 +18,7 @@ pub mod cli;
 pub mod look;
 pub mod measure;
 pub mod model;
+pub mod movie;
 pub mod thesis;
 
 use std::io::Write;

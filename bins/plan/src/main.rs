@@ -20,6 +20,7 @@ use std::process::ExitCode;
         plan depth --size 1920x1080 fill.txt        # the depth render --depth auto takes\n  \
         plan depth --cores 64 fill.txt              # … on a machine of 64 cores\n  \
         plan depth --hosts 4 --link-gbps 10 fill.txt\n  \
+        plan movie --hosts 1,2,4 --chunk 8 --size 512x512 movie.pp   # render --by frames\n  \
         plan calibrate                              # fit this machine's constants (at most 20 s)\n  \
         plan thesis                                 # thesis 5.2's timings and 6.4's depth 5"
 )]
@@ -38,6 +39,11 @@ enum Sub {
     /// stage's seconds (its busiest process) and the tree's per-level work, as a table:
     /// what `plan depth` chooses from.
     Predict(Box<plan::cli::DepthArgs>),
+    /// Prints what a movie rendered in chunks over other hosts (render --by frames)
+    /// takes, a row for each number of hosts: its wall time, frames a second and work,
+    /// each chunk a render of its own by the model, the chunks shared among the hosts'
+    /// job slots and written back in order.
+    Movie(Box<plan::cli::MovieArgs>),
     /// Fits the model's constants on this machine (at most 20 s) and keeps them in
     /// ${XDG_CACHE_HOME:-$HOME/.cache}/polypipe/model.toml.
     Calibrate {
@@ -92,6 +98,7 @@ fn main() -> ExitCode {
         let done = match cli.command {
             Sub::Depth(a) => plan::cli::depth(*a),
             Sub::Predict(a) => plan::cli::predict(*a),
+            Sub::Movie(a) => plan::cli::movie(*a),
             Sub::Calibrate {
                 quick,
                 background,

@@ -35,6 +35,18 @@ pub const BINARIES: [&str; 20] = [
     "render",
 ];
 
+/// [`BINARIES`], and the stage binary of every row of the table of methods that it does
+/// not name: a method added to the table is built and kept current with the rest.
+pub fn binaries() -> Vec<&'static str> {
+    let mut all = BINARIES.to_vec();
+    for b in methods::binaries(methods::METHODS) {
+        if !all.contains(&b) {
+            all.push(b);
+        }
+    }
+    all
+}
+
 /// The file whose time says when render last had cargo bring the binaries up to date
 /// (cargo leaves a binary alone when what changed does not affect it, as an unrelated
 /// change to Cargo.lock: without it, every run would ask cargo again).
@@ -45,7 +57,7 @@ fn mtime(p: &Path) -> Option<SystemTime> {
 }
 
 /// The newest time among the files a binary can be built from: the workspace's
-/// manifest and lock and, in each of its crates (proto, scan, stagecli and bins/*:
+/// manifest and lock and, in each of its crates (proto, scan, stagecli, methods and bins/*:
 /// docs/DESIGN.md's layout), the manifest, a build script, and what is under src/ or
 /// fonts/ (chart's font); not tests, benches, scripts, documents or examples.
 pub fn newest_source(root: &Path) -> Option<SystemTime> {
@@ -62,7 +74,7 @@ pub fn newest_source(root: &Path) -> Option<SystemTime> {
             }
         }
     }
-    let mut crates: Vec<PathBuf> = ["proto", "scan", "stagecli"]
+    let mut crates: Vec<PathBuf> = ["proto", "scan", "stagecli", "methods"]
         .iter()
         .map(|c| root.join(c))
         .collect();
@@ -97,7 +109,7 @@ pub enum Look {
 pub fn look(root: &Path, bin: &Path) -> Look {
     let mut oldest: Option<SystemTime> = None;
     let mut missing = Vec::new();
-    for b in BINARIES {
+    for b in binaries() {
         match mtime(&bin.join(b)) {
             Some(t) => oldest = Some(oldest.map_or(t, |o| o.min(t))),
             None => missing.push(b),
@@ -129,10 +141,10 @@ pub fn ensure(root: &Path, bin: &Path, me: &str) -> stagecli::Result<bool> {
     let mut cmd = std::process::Command::new("cargo");
     cmd.current_dir(root)
         .args(["build", "--release", "--quiet"])
-        .args(BINARIES.iter().flat_map(|b| ["-p", b]))
+        .args(binaries().iter().flat_map(|b| ["-p", *b]))
         .stdout(std::io::stderr());
     match &look {
-        Look::Missing(m) if m.len() == BINARIES.len() => {
+        Look::Missing(m) if m.len() == binaries().len() => {
             eprintln!("{me}: building the polypipe binaries (first run only)…")
         }
         Look::Missing(m) => eprintln!("{me}: building {}…", m.join(" ")),
@@ -170,6 +182,16 @@ mod tests {
         std::fs::create_dir_all(p.parent().unwrap()).unwrap();
         let f = std::fs::File::create(p).unwrap();
         f.set_modified(t).unwrap();
+    }
+
+    #[test]
+    fn every_methods_binary_is_built_once() {
+        let all = binaries();
+        for b in BINARIES.iter().chain(&methods::binaries(methods::METHODS)) {
+            assert_eq!(all.iter().filter(|a| a == &b).count(), 1, "{b}");
+        }
+        // Today's methods' stages are all in the list already.
+        assert_eq!(all, BINARIES);
     }
 
     #[test]

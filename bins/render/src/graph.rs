@@ -446,20 +446,22 @@ impl Builder<'_> {
         argv.extend(os(["--size", &self.o.size]));
         argv.extend(os(zmode_words(ZStage::Persp, &self.o.zmode)));
         self.start("persp", clipped, pipe("screen"), argv);
-        let mut argv = os([self.bin("hiddenline")]);
-        if let Some(m) = &self.o.hidden_line_method {
-            argv.extend(os(["--method", m]));
-        }
+        // The row of the table of methods that --hidden-line-method selects.
+        let o = self.o;
+        let stage = &o.leaf;
+        let mut argv = os([self.bin(&stage[0])]);
+        argv.extend(os(stage[1..].iter()));
         argv.extend(self.stats());
         if let Some(pattern) = &self.o.output {
             argv.extend(os(["-o", pattern]));
         }
-        self.start("hiddenline", pipe("screen"), End::Inherit, argv);
+        self.start(stage[0].clone(), pipe("screen"), End::Inherit, argv);
     }
 }
 
 /// The leaves' hidden-surface stage for these options: the binary's name, then its
-/// options (see [`Builder::method`]).
+/// options (see [`Builder::method`]): the row of the table of methods that --aa or
+/// --hse selects (`methods::METHODS`), or with --merge buffer scanconv's fragments.
 pub fn method(o: &Options) -> Vec<String> {
     let words = |w: &[&str]| w.iter().map(|s| s.to_string()).collect::<Vec<_>>();
     if o.merge == "buffer" {
@@ -468,20 +470,13 @@ pub fn method(o: &Options) -> Vec<String> {
             m.push("--pixels".into());
         }
         m
-    } else if let Some(k) = o.aa.strip_prefix("ss") {
-        words(&["supersample", "--samples", k])
-    } else if o.aa == "abuf" {
-        words(&["abuf"])
-    } else if o.hse == "zbuf" {
-        words(&["scanconv", "--resolve"])
-    } else if o.hse == "painter" {
-        let mut m = words(&["painter"]);
+    } else {
+        // The row of the table of methods that --aa, else --hse, selects.
+        let mut m = o.leaf.clone();
         if o.split {
             m.push("--split".into());
         }
         m
-    } else {
-        vec![o.hse.clone()]
     }
 }
 

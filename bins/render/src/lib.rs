@@ -236,7 +236,13 @@ fn farm_only(cli: &options::Cli) -> Result<(), Error> {
 /// Renders as the command line `args` (the program's name first) asks, and returns the
 /// exit status. Messages go to stderr as `render: …`.
 pub fn run<I: IntoIterator<Item = OsString>>(args: I) -> u8 {
-    match run_inner(args) {
+    run_in(methods::METHODS, args)
+}
+
+/// [`run`], with the methods of `table` (a table with a row of a test's own, whose stage
+/// binary is in `POLYPIPE_BIN`: docs/extending.md).
+pub fn run_in<I: IntoIterator<Item = OsString>>(table: &[methods::Method], args: I) -> u8 {
+    match run_inner(table, args) {
         Ok(status) => status,
         Err(e) => {
             if e.kind() != stagecli::Kind::ReaderGone {
@@ -247,7 +253,10 @@ pub fn run<I: IntoIterator<Item = OsString>>(args: I) -> u8 {
     }
 }
 
-fn run_inner<I: IntoIterator<Item = OsString>>(args: I) -> Result<u8, Error> {
+fn run_inner<I: IntoIterator<Item = OsString>>(
+    table: &[methods::Method],
+    args: I,
+) -> Result<u8, Error> {
     let args: Vec<OsString> = args.into_iter().collect();
     let cli = match options::parse(args.iter().cloned())? {
         Parsed::Print(text) => {
@@ -275,6 +284,13 @@ fn run_inner<I: IntoIterator<Item = OsString>>(args: I) -> Result<u8, Error> {
     }
     if cli.build_only {
         return Ok(0);
+    }
+    if cli.list_methods {
+        let listing = methods::listing(table);
+        return match std::io::stdout().write_all(listing.as_bytes()) {
+            Ok(()) => Ok(0),
+            Err(e) => Err(Error::from(e).context("the list of methods")),
+        };
     }
     let mut hosts = Vec::new();
     let mut ssh = Vec::new();
@@ -308,7 +324,7 @@ fn run_inner<I: IntoIterator<Item = OsString>>(args: I) -> Result<u8, Error> {
             "--first-frame numbers -o's files: it needs -o",
         ));
     }
-    let o = cli.validate(hosts, stdin_gives_no_scene().is_some())?;
+    let o = cli.validate_in(table, hosts, stdin_gives_no_scene().is_some())?;
     options::check_scene(&o.scene)?;
     if !Path::new("/proc/self/stat").exists() {
         return Err(Error::io("needs /proc (Linux), to run its stages"));

@@ -8,6 +8,7 @@
 
 use clap::error::{ContextKind, ContextValue, ErrorKind};
 use clap::{CommandFactory, Parser};
+use methods::Method;
 use stagecli::Error;
 use std::ffi::OsString;
 
@@ -86,7 +87,8 @@ pub struct Cli {
     pub merge: String,
     /// The leaves' hidden-surface method: zbuf, scanline (Watkins), warnock (area
     /// subdivision) or painter (depth sort, wrong where polygons interpenetrate or
-    /// overlap cyclically); every one at every --depth, with --merge tiles.
+    /// overlap cyclically); every one at every --depth, with --merge tiles
+    /// (--list-methods: the table of methods).
     #[arg(long, value_name = "METHOD", default_value = "zbuf")]
     pub hse: String,
     /// With --hse painter: cut polygons by each other's planes where no depth order
@@ -161,6 +163,11 @@ pub struct Cli {
     /// a zbuf --runs), from the stream into node K on stdin to its runs on stdout.
     #[arg(long, value_name = "K")]
     pub subtree: Option<String>,
+    /// Print the table of methods, for scripts, and exit: a header line, then one line a
+    /// method, tab-separated (name, selector, options, stage, draws, exact, input,
+    /// depths, quick, colour, marker, fuzz; `-` for none).
+    #[arg(long)]
+    pub list_methods: bool,
     /// Only make the binaries current with their sources (in $POLYPIPE_SOURCES, else
     /// the repository above this binary) and exit: scripts/lib/binaries.sh's check.
     #[arg(long, hide = true)]
@@ -231,6 +238,10 @@ pub struct Options {
     pub hse: String,
     pub split: bool,
     pub aa: String,
+    /// The stage at each leaf for --hse and --aa, its binary first, from the table of
+    /// methods (with --merge tiles; --merge buffer's is scanconv's fragments); with
+    /// --hidden-line, the drawing's stage after persp.
+    pub leaf: Vec<String>,
     pub pixels: bool,
     pub hidden_line: bool,
     pub hidden_line_method: Option<String>,
@@ -303,6 +314,17 @@ impl Cli {
     /// --hosts' (checked already), `stdin_gives_none` chooses the scene when none is
     /// given. The scene itself is checked by [`check_scene`].
     pub fn validate(&self, hosts: Vec<String>, stdin_gives_none: bool) -> Result<Options, Error> {
+        self.validate_in(methods::METHODS, hosts, stdin_gives_none)
+    }
+
+    /// [`Cli::validate`], with the methods of `table` (`methods::METHODS`, or a table
+    /// with a row of a test's own).
+    pub fn validate_in(
+        &self,
+        table: &[Method],
+        hosts: Vec<String>,
+        stdin_gives_none: bool,
+    ) -> Result<Options, Error> {
         let usage = |m: String| Err(Error::usage(m));
         let depth = match self.depth.as_deref() {
             None | Some("auto") => None,
@@ -328,16 +350,19 @@ impl Cli {
         )?;
         one_of("--merge", &self.merge, &["tiles", "buffer"])?;
         one_of("--clip", &self.clip, &["batch", "chain"])?;
-        one_of(
-            "--hse",
-            &self.hse,
-            &["zbuf", "scanline", "warnock", "painter"],
-        )?;
+        one_of("--hse", &self.hse, &methods::hse_names(table))?;
         let (hse, aa, merge) = (self.hse.as_str(), self.aa.as_str(), self.merge.as_str());
         if self.split && hse != "painter" {
             return usage("--split is the painter's splitting step: it needs --hse painter".into());
         }
-        one_of("--aa", aa, &["none", "ss2", "ss4", "ss8", "ss16", "abuf"])?;
+        let mut aa_names = vec!["none"];
+        aa_names.extend(methods::aa_names(table));
+        one_of("--aa", aa, &aa_names)?;
+        // The leaf's stage: the anti-aliasing mode's, else the method's.
+        let leaf = match methods::by_aa(table, aa) {
+            Some(row) => row.stage_words(),
+            None => methods::by_hse(table, hse).map_or_else(Vec::new, Method::stage_words),
+        };
         // The methods and anti-aliasing modes are the leaves' own: PAR.BUFF sends every
         // fragment to the one zbuf, and anti-aliasing resolves with a z-buffer.
         if merge != "tiles" && !(hse == "zbuf" && aa == "none") {
@@ -358,7 +383,18 @@ impl Cli {
         if self.hidden_line_method.is_some() && !self.hidden_line {
             return usage("--hidden-line-method needs --hidden-line".into());
         }
+        let mut leaf = leaf;
         if self.hidden_line {
+            if let Some(m) = &self.hidden_line_method {
+                one_of(
+                    "--hidden-line-method",
+                    m,
+                    &methods::hidden_line_names(table),
+                )?;
+            }
+            // The drawing's one stage after persp, from its row.
+            let row = methods::by_hidden_line(table, self.hidden_line_method.as_deref());
+            leaf = row.map_or_else(Vec::new, Method::stage_words);
             if let Some(d) = depth.filter(|d| *d != 0) {
                 return usage(format!(
                     "--hidden-line draws at depth 0 (the tree's cuts are not edges), not --depth {d}"
@@ -436,6 +472,7 @@ impl Cli {
             hse: self.hse.clone(),
             split: self.split,
             aa: self.aa.clone(),
+            leaf,
             pixels: self.pixels,
             hidden_line: self.hidden_line,
             hidden_line_method: self.hidden_line_method.clone(),
@@ -528,8 +565,12 @@ mod tests {
                 "--merge must be tiles or buffer, not 'zbuf'",
             ),
             (
+                &["--hse", "zsort"],
+                "--hse must be scanline, warnock, painter or zbuf, not 'zsort'",
+            ),
+            (
                 &["--aa", "ss3"],
-                "--aa must be none, ss2, ss4, ss8, ss16 or abuf, not 'ss3'",
+                "--aa must be none, abuf, ss2, ss4, ss8 or ss16, not 'ss3'",
             ),
             (
                 &["--split"],
@@ -544,6 +585,10 @@ mod tests {
                 "--subtree needs --depth N, the depth of the tree it is part of",
             ),
             (&["--hidden-line"], "--hidden-line needs -o FILE.svg"),
+            (
+                &["--hidden-line", "--hidden-line-method", "exact"],
+                "--hidden-line-method must be continuous or archuleta, not 'exact'",
+            ),
             (
                 &["--first-frame", "-1"],
                 "--first-frame must be a frame number, 0 or more, not '-1'",
@@ -575,6 +620,38 @@ mod tests {
         assert_eq!(
             (o.depth, o.scene.clone(), o.example),
             (None, Scene::Stdin, false)
+        );
+    }
+
+    #[test]
+    fn each_leaf_stage_is_its_rows_in_the_table_of_methods() {
+        for row in methods::METHODS {
+            let args: Vec<&str> = match row.selector {
+                methods::Selector::Hse(n) => vec!["--hse", n],
+                methods::Selector::Aa(n) => vec!["--aa", n],
+                _ => continue,
+            };
+            assert_eq!(cli(&args).unwrap().leaf, row.stage, "{args:?}");
+        }
+        assert_eq!(cli(&[]).unwrap().leaf, ["scanconv", "--resolve"]);
+        // A row of another table: its name taken, its stage at the leaves.
+        let row = methods::Method {
+            name: "nearest",
+            selector: methods::Selector::Hse("nearest"),
+            options: &["--hse", "nearest"],
+            stage: &["nearest", "--brute"],
+            ..methods::METHODS[0]
+        };
+        let table = [row];
+        let args = ["render", "--hse", "nearest"].map(OsString::from);
+        let Ok(Parsed::Run(c)) = parse(args) else {
+            panic!("options")
+        };
+        let o = c.validate_in(&table, Vec::new(), false).unwrap();
+        assert_eq!(o.leaf, ["nearest", "--brute"]);
+        assert_eq!(
+            c.validate(Vec::new(), false).unwrap_err().message(),
+            "--hse must be scanline, warnock, painter or zbuf, not 'nearest'"
         );
     }
 

@@ -136,6 +136,12 @@ enum Command {
         after_help = "Example:\n  scene triangle-square --text"
     )]
     TriangleSquare,
+    /// 24 thin triangles tapering to points at many slopes: what point sampling breaks
+    /// into dashes (scripts/aa-table.sh).
+    #[command(
+        after_help = "Example:\n  scene needles | scripts/render.sh --aa abuf --size 64x48 -"
+    )]
+    Needles,
     /// Hostile: N full-screen squares stacked in depth (depth complexity N everywhere).
     #[command(after_help = "Example:\n  scene stack 20000 | scripts/render.sh --hse painter -")]
     Stack {
@@ -177,6 +183,20 @@ enum Command {
         #[arg(value_parser = hostile_count)]
         count: usize,
     },
+    /// Screen-space scenes for timing one leaf method alone: polygons already in the
+    /// device coordinates of a WxH screen (depth in (0, 1), smaller nearer), for
+    /// `scanconv --resolve`, `scanline`, `warnock` or `hiddenline` to read with no stage
+    /// in front; with --frames, the same frame repeated.
+    #[command(after_help = "Examples:\n  \
+        scene screen crossings 64 --size 1024x1024 --frames 10 | scanline --stats > /dev/null\n  \
+        scene screen tiles 8 --behind 10000 | warnock > /dev/null")]
+    Screen {
+        /// The screen's size.
+        #[arg(long, global = true, default_value = "500x500", value_parser = proto::camera::parse_size, value_name = "WxH")]
+        size: (u32, u32),
+        #[command(subcommand)]
+        scene: ScreenScene,
+    },
     /// A Wavefront OBJ model: each face one polygon, coloured by its material's diffuse
     /// colour (200 200 200 without one).
     #[command(
@@ -213,6 +233,88 @@ enum Command {
         #[command(flatten)]
         lights: LightArgs,
     },
+}
+
+/// The scenes of `scene screen` (the library's `screen` module says what each is for).
+#[derive(Subcommand, Debug)]
+enum ScreenScene {
+    /// N columns, each two full-height quadrilaterals whose planes cross down its middle:
+    /// N crossings on every scan line, depth complexity 2.
+    Crossings {
+        #[arg(value_parser = hostile_count)]
+        count: usize,
+    },
+    /// N full-screen planes at random depths, none crossing: depth complexity N.
+    Parallel {
+        #[arg(value_parser = hostile_count)]
+        count: usize,
+        #[arg(long, default_value_t = 1)]
+        seed: u64,
+    },
+    /// N full-screen planes tilted at random: depth complexity N, the front changing
+    /// along every line.
+    Tilted {
+        #[arg(value_parser = hostile_count)]
+        count: usize,
+        #[arg(long, default_value_t = 1)]
+        seed: u64,
+    },
+    /// N strips a pixel wide whose order along a line reverses from top to bottom.
+    Reversing {
+        #[arg(value_parser = hostile_count)]
+        count: usize,
+    },
+    /// N full-screen squares at distinct depths, shuffled: depth complexity N.
+    Stack {
+        #[arg(value_parser = hostile_count)]
+        count: usize,
+    },
+    /// N triangles from one side of the screen to the other, 0.4 of a pixel wide at
+    /// their base, at random heights and depths.
+    Slivers {
+        #[arg(value_parser = hostile_count)]
+        count: usize,
+        #[arg(long, default_value_t = 1)]
+        seed: u64,
+    },
+    /// N triangles at distinct depths around one pixel's centre: N fragments in it.
+    Pinhead {
+        #[arg(value_parser = hostile_count)]
+        count: usize,
+        #[arg(long, default_value_t = 1)]
+        seed: u64,
+    },
+    /// K x K tiles covering the screen in front of N random squares.
+    Tiles {
+        /// K, the tiles along each side.
+        #[arg(value_parser = clap::value_parser!(u32).range(1..=4096))]
+        k: u32,
+        /// N, the squares hidden behind the tiles.
+        #[arg(long, default_value_t = 2000, value_parser = hostile_count)]
+        behind: usize,
+        #[arg(long, default_value_t = 1)]
+        seed: u64,
+    },
+    /// Two full-screen planes crossing along a vertical line.
+    Penetrate,
+}
+
+impl ScreenScene {
+    /// The scene's one frame on a `size` screen.
+    fn polygons(&self, size: scene::screen::Size) -> Vec<Polygon> {
+        use scene::screen;
+        match *self {
+            ScreenScene::Crossings { count } => screen::crossings(count, size),
+            ScreenScene::Parallel { count, seed } => screen::parallel(count, seed, size),
+            ScreenScene::Tilted { count, seed } => screen::tilted(count, seed, size),
+            ScreenScene::Reversing { count } => screen::reversing(count, size),
+            ScreenScene::Stack { count } => screen::stack(count, size),
+            ScreenScene::Slivers { count, seed } => screen::slivers(count, seed, size),
+            ScreenScene::Pinhead { count, seed } => screen::pinhead(count, seed, size),
+            ScreenScene::Tiles { k, behind, seed } => screen::tiles(k as usize, behind, seed, size),
+            ScreenScene::Penetrate => screen::penetrate(size),
+        }
+    }
 }
 
 /// The lighting of `--shade`, `--gouraud` and `--phong` (proto's `Lighting`: Phong's
@@ -358,15 +460,16 @@ fn fraction(s: &str) -> Result<f64, String> {
     }
 }
 
-/// Writes a movie: a world-space header, the frames separated by NEXT.FRAME, then END.
+/// Writes a movie: a header for `space`, the frames separated by NEXT.FRAME, then END.
 /// A polygon with a coordinate that is not finite (a model too large to turn) is refused,
 /// naming its frame and place.
 fn write_movie<F: IntoIterator<Item = Polygon>>(
     frames: impl IntoIterator<Item = F>,
+    space: Space,
     form: Form,
     attributes: proto::Attributes,
 ) -> stagecli::Result<()> {
-    let mut writer = stagecli::write_stdout(Header::new(Space::World).with(attributes), form)?;
+    let mut writer = stagecli::write_stdout(Header::new(space).with(attributes), form)?;
     for (i, frame) in frames.into_iter().enumerate() {
         if i > 0 {
             writer.write(&Token::NextFrame)?;
@@ -412,6 +515,7 @@ fn main() -> ExitCode {
                 };
                 return write_movie(
                     scene::environment::frames(&env),
+                    Space::World,
                     form,
                     proto::Attributes::default(),
                 );
@@ -468,6 +572,7 @@ fn main() -> ExitCode {
                 DVec3::ZERO,
                 Shading::Flat,
             ),
+            Command::Needles => spin(&shapes::needles(), frames, DVec3::ZERO, Shading::Flat),
             Command::Stack { count } => {
                 spin(&shapes::stack(count), frames, DVec3::ZERO, Shading::Flat)
             }
@@ -488,6 +593,18 @@ fn main() -> ExitCode {
             }
             Command::Strips { count } => {
                 spin(&shapes::strips(count), frames, DVec3::ZERO, Shading::Flat)
+            }
+            Command::Screen {
+                size: (width, height),
+                scene,
+            } => {
+                let frame = scene.polygons(scene::screen::Size::new(width, height));
+                return write_movie(
+                    std::iter::repeat_n(frame, frames),
+                    Space::Screen { width, height },
+                    form,
+                    proto::Attributes::default(),
+                );
             }
             Command::Obj {
                 file,
@@ -544,6 +661,6 @@ fn main() -> ExitCode {
             },
             ..proto::Attributes::default()
         };
-        write_movie(movie, form, attributes)
+        write_movie(movie, Space::World, form, attributes)
     })
 }

@@ -404,6 +404,28 @@ fn mesh_colour(i: usize, j: usize, cols: usize, rows: usize) -> Colour {
     [(m >> 16) as u8, (m >> 8) as u8, m as u8]
 }
 
+/// `scene needles`: 24 triangles a quarter of a world unit (about half a pixel at 64×48)
+/// wide at their base on y = −10, each tapering to a point on y = 10 leaning by −3 to 3
+/// units, at depths −2 to 2: edges at many slopes that point sampling breaks into dashes
+/// (docs/antialiasing.md; the sampling thesis, 6.3, on the a-buffer's thin polygons).
+pub fn needles() -> Vec<Face> {
+    (0..24u8)
+        .map(|i| {
+            let x = -11.0 + f64::from(i) * 0.93;
+            let lean = f64::from(i % 7) - 3.0;
+            let z = f64::from(i % 5) - 2.0;
+            Face::new(
+                [255 - i * 8, 60 + i * 7, 40 + i * 9],
+                vec![
+                    DVec3::new(x, -10.0, z),
+                    DVec3::new(x + 0.25, -10.0, z),
+                    DVec3::new(x + lean, 10.0, z),
+                ],
+            )
+        })
+        .collect()
+}
+
 /// The triangle piercing a square of the Warnock chapter (seed 004, figure 14-8a): a
 /// green square facing the viewer in the plane z = 0, and a yellow triangle whose base is
 /// behind the square and whose tip comes through it, so that the line where they meet,
@@ -443,7 +465,7 @@ pub const FULL_SCREEN_HALF: f64 = 20.0;
 
 /// A colour of its own for polygon `k` of up to 2^24: the bijective mix of
 /// [`mesh_colour`], kept away from black (the background) by setting the top bit of red.
-fn hostile_colour(k: usize) -> Colour {
+pub(crate) fn hostile_colour(k: usize) -> Colour {
     let m = (k as u32).wrapping_mul(0x9E3779) & 0xFF_FFFF;
     [(m >> 16) as u8 | 0x80, (m >> 8) as u8, m as u8]
 }
@@ -451,7 +473,7 @@ fn hostile_colour(k: usize) -> Colour {
 /// The order in which a hostile scene writes its `n` polygons: k·p mod n for a step p
 /// prime to n near n·0.618, so the stream is neither back to front nor front to back
 /// (each order favours some method).
-fn shuffled(n: usize) -> impl Iterator<Item = usize> {
+pub(crate) fn shuffled(n: usize) -> impl Iterator<Item = usize> {
     let mut p = ((n as f64 * 0.618) as usize).max(1);
     while gcd(p, n.max(1)) != 1 {
         p += 1;
@@ -605,6 +627,28 @@ pub fn strips(n: usize) -> Vec<Face> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn needles_are_24_thin_triangles_at_many_slopes() {
+        let n = needles();
+        assert_eq!(n.len(), 24);
+        assert_eq!(
+            n[0],
+            Face::new(
+                [255, 60, 40],
+                vec![
+                    DVec3::new(-11.0, -10.0, -2.0),
+                    DVec3::new(-10.75, -10.0, -2.0),
+                    DVec3::new(-14.0, 10.0, -2.0)
+                ]
+            )
+        );
+        assert_eq!(n[23].colour, [71, 221, 247]);
+        assert_eq!(
+            n[23].points[2],
+            DVec3::new(-11.0 + 23.0 * 0.93 - 1.0, 10.0, 1.0)
+        );
+    }
 
     #[test]
     fn penetrating_is_the_inputter_scene() {

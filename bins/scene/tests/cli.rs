@@ -95,6 +95,48 @@ fn triangle_square_text_is_exact() {
         );
 }
 
+/// A screen-space scene: a `screen W H` header, the size given after the scene's name,
+/// and with --frames the same frame again after each NEXT.FRAME.
+#[test]
+fn screen_penetrate_text_is_exact() {
+    let frame = "colour 200 0 0\n0 0 0.2\n10 0 0.6\n10 8 0.6\n0 8 0.2\nNEXT.POLYGON\n\
+                 colour 0 0 200\n0 0 0.55\n10 0 0.31\n10 8 0.31\n0 8 0.55\n";
+    scene()
+        .args([
+            "screen",
+            "penetrate",
+            "--size",
+            "10x8",
+            "--frames",
+            "2",
+            "--text",
+        ])
+        .assert()
+        .success()
+        .stdout(format!(
+            "polypipe 1 screen 10 8\n{frame}NEXT.FRAME\n{frame}END\n"
+        ));
+    // The binary form holds the same polygons.
+    let binary = scene()
+        .args(["screen", "stack", "7", "--size", "64x48"])
+        .output()
+        .unwrap();
+    let mut reader = Reader::<Token, _>::new(&binary.stdout[..]).unwrap();
+    assert_eq!(
+        reader.header().space,
+        Space::Screen {
+            width: 64,
+            height: 48
+        }
+    );
+    let mut polygons = 0;
+    while let Some(Token::Polygon(p)) = reader.next_record().unwrap() {
+        assert_eq!(p.vertices[2].truncate().truncate().to_array(), [64.0, 48.0]);
+        polygons += 1;
+    }
+    assert_eq!(polygons, 7);
+}
+
 #[test]
 fn frames_are_separated_by_next_frame() {
     let out = scene()

@@ -4,8 +4,8 @@
 use pipeline_tests::{bin_dir, output_with_stdin};
 use std::process::Command;
 
-/// The old scripts/tree-planes.sh, which render.sh sourced until the nodes computed their
-/// own planes (`splitter --node K`): the oracle for them, kept verbatim.
+/// The old tree-planes script of scripts/, which render.sh sourced until the nodes
+/// computed their own planes (`splitter --node K`): the oracle for them, kept verbatim.
 const OLD_TREE_PLANES_SH: &str = r#"
 k_of() {
     awk -v n="$1" -v d="$2" -v s="$3" \
