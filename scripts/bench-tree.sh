@@ -7,6 +7,8 @@
 #   scripts/bench-tree.sh merge [OPTIONS]         leaves that resolve (--merge tiles)
 #                                                 against PAR.BUFF (--merge buffer)
 #   scripts/bench-tree.sh depth-auto [--reps N]   --depth auto against every fixed depth
+#                                                 on 1 and all cores, and render's
+#                                                 start-up against the stages by hand
 #   scripts/bench-tree.sh plan [--reps N]         the cost model against this machine
 #                                                 (docs/model.md)
 #   scripts/bench-tree.sh work [MAX-DEPTH]        the instructions each process of the
@@ -349,59 +351,122 @@ if want 2; then
 fi
 )
 
-# --- depth-auto ----------------------------------------------------------------
+# --- depth-auto ---------------------------------------------------------------------
 mode_depth_auto() (
-# render.sh --depth auto against every fixed depth 0-4 on the
-# fill-heavy scene of scripts/bench.sh (10,000 quads, Dc≈10, 1920×1080) and on two
-# polygons: whole-process wall seconds, median of N, in one run, and auto over the best
-# fixed depth (the goal: within 10%). Not part of CI.
+# render --depth auto against every fixed depth 0-3 on the fill-heavy scene of
+# scripts/bench.sh (10,000 quads, Dc≈10, 1920×1080), on one core (`taskset -c 0`) and on
+# all of them, and render's start-up against the four stages composed by hand (two
+# polygons at 64×64, examples/triangle-square.txt: `viewxf | clipbatch | persp | zbuf`,
+# the pipe line run by this shell as render is). One run: every round runs every
+# command once, in turn, so that a change in the machine's load falls on all of them;
+# wall seconds (bash's microsecond clock) and CPU seconds (user + system of the whole
+# process tree), medians of N rounds. The goals: auto within 5% of the best fixed depth
+# on each core count, render's start-up within 15% of the stages by hand. POLYPIPE_LOAD
+# is unset: auto plans for the load it finds. The load before and after, the model's
+# constants, and what auto chose and predicted are printed with the tables. Not part of
+# CI.
 #
-# Usage: scripts/bench-tree.sh depth-auto [--reps N]
+# Usage: scripts/bench-tree.sh depth-auto [--reps N]   (default 7)
 set -euo pipefail
 export LC_ALL=C
-reps=5
+unset POLYPIPE_LOAD
+reps=7
 case ${1-} in
     --reps) reps=${2:?--reps needs N} ;;
-    -h | --help) sed -n '2,7p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
+    -h | --help) sed -n '/^mode_depth_auto/,/^# Usage/p' "${BASH_SOURCE[0]}" | sed '1d; s/^# \{0,1\}//'; exit 0 ;;
     '') ;;
     *) echo "bench-tree.sh depth-auto: unknown argument $1" >&2; exit 2 ;;
 esac
-root=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
-cd "$root"
-cargo build --release --quiet --bins
-B=$(release_bin "$root")
-work=$(mktemp -d)
+[[ $reps =~ ^[1-9][0-9]*$ ]] || { echo "bench-tree.sh depth-auto: --reps needs a count, not '$reps'" >&2; exit 2; }
+bench_build
+B=$bindir
+cd "$bench_root"
+work=$(mktemp -d "${TMPDIR:-/tmp}/bench-auto.XXXXXX")
 trap 'rm -rf "$work"' EXIT
-fill_scene "$B" > "$work/fill.txt"
+size=1920x1080
+fill_scene "$B" 10000 "$size" > "$work/fill.txt"
+two=examples/triangle-square.txt
+last=$(($(nproc) - 1))
+cores=(0 "0-$last")
+depths=(0 1 2 3 auto)
+load() { echo "load average $(cut -d' ' -f1-3 /proc/loadavg), runnable now $(cut -d' ' -f4 /proc/loadavg)"; }
 
-
-table() { # SCENE SIZE LABEL
-    local scene=$1 size=$2 label=$3 d best='' bestd='' auto choice
-    declare -A t
-    for d in 0 1 2 3 4 auto; do
-        t[$d]=$(for ((r = 0; r < reps; r++)); do
-            seconds scripts/render.sh --size "$size" --depth "$d" "$scene"
-        done | median)
+# The commands, by name, each a function (so that the hand pipe line is timed as this
+# shell runs it).
+declare -A wall cpu
+names=()
+for c in "${cores[@]}"; do
+    for d in "${depths[@]}"; do names+=("fill $c $d"); done
+done
+names+=("start render" "start hand")
+run_one() { # NAME
+    local c d
+    case $1 in
+        fill\ *)
+            read -r _ c d <<<"$1"
+            taskset -c "$c" "$B/render" --size "$size" --depth "$d" "$work/fill.txt" ;;
+        "start render") "$B/render" --size 64x64 "$two" ;;
+        "start hand") "$B/viewxf" --size 64x64 <"$two" | "$B/clipbatch" | "$B/persp" --size 64x64 | "$B/zbuf" ;;
+    esac
+}
+# Every command once, its frames checked: every depth's the same bytes as depth 0's.
+for n in "${names[@]}"; do run_one "$n" >"$work/out.${n// /_}"; done
+for c in "${cores[@]}"; do
+    for d in "${depths[@]}"; do
+        cmp -s "$work/out.fill_${c}_$d" "$work/out.fill_0_0" ||
+            { echo "bench-tree.sh depth-auto: depth $d on cores $c drew other bytes" >&2; exit 1; }
     done
-    for d in 0 1 2 3 4; do
-        if [[ -z $best ]] || awk -v a="${t[$d]}" -v b="$best" 'BEGIN { exit !(a < b) }'; then
-            best=${t[$d]} bestd=$d
+done
+cmp -s "$work/out.start_render" "$work/out.start_hand" ||
+    { echo "bench-tree.sh depth-auto: render and the stages by hand drew other bytes" >&2; exit 1; }
+
+before=$(load)
+TIMEFORMAT='%3U %3S'
+for ((r = 0; r < reps; r++)); do
+    for ((i = 0; i < ${#names[@]}; i++)); do
+        n=${names[(i + r) % ${#names[@]}]}
+        t0=$EPOCHREALTIME
+        { time run_one "$n" >/dev/null; } 2>"$work/time"
+        t1=$EPOCHREALTIME
+        wall[$n]+="$(awk -v a="$t0" -v b="$t1" 'BEGIN { printf "%.6f", b - a }') "
+        cpu[$n]+="$(awk '{ printf "%.3f", $1 + $2 }' "$work/time") "
+    done
+done
+after=$(load)
+med() { tr ' ' '\n' <<<"$1" | grep . | median; }
+
+echo
+echo "Measured by \`scripts/bench-tree.sh depth-auto --reps $reps\` at commit $(git rev-parse --short HEAD)," \
+    "$(nproc) cores ($(grep -m1 'model name' /proc/cpuinfo | sed 's/.*: //')), $(date -u '+%Y-%m-%d %H:%M') UTC;" \
+    "before: $before; after: $after; POLYPIPE_LOAD unset; constants: $("$B/plan" status | head -1)."
+echo
+echo "| fill scene, cores | | depth 0 | 1 | 2 | 3 | auto | best | auto / best | auto chose |"
+echo "|---|---|---|---|---|---|---|---|---|---|"
+for c in "${cores[@]}"; do
+    best='' bestd=''
+    declare -A m=() k=()
+    for d in "${depths[@]}"; do
+        m[$d]=$(med "${wall[fill $c $d]}")
+        k[$d]=$(med "${cpu[fill $c $d]}")
+        if [[ $d != auto ]] && { [[ -z $best ]] || awk -v a="${m[$d]}" -v b="$best" 'BEGIN { exit !(a < b) }'; }; then
+            best=${m[$d]} bestd=$d
         fi
     done
-    choice=$(scripts/render.sh --size "$size" --depth auto --stats "$scene" 2>&1 >/dev/null |
+    chose=$(taskset -c "$c" "$B/render" --size "$size" --stats "$work/fill.txt" 2>&1 >/dev/null |
         sed -n 's/^render: depth auto chose //p')
-    auto=$(awk -v a="${t[auto]}" -v b="$best" 'BEGIN { printf "%.2f", a / b }')
-    echo "| $label | ${t[0]} | ${t[1]} | ${t[2]} | ${t[3]} | ${t[4]} | $bestd | ${t[auto]} | **$auto** | ${choice%% (*} |"
-}
-
+    echo "| \`taskset -c $c\` | wall s | ${m[0]} | ${m[1]} | ${m[2]} | ${m[3]} | ${m[auto]} | $bestd | **$(ratio "${m[auto]}" "$best")** | ${chose%% (*} |"
+    echo "| | CPU s | ${k[0]} | ${k[1]} | ${k[2]} | ${k[3]} | ${k[auto]} | | | |"
+    lines+=("cores $c: depth auto chose $chose")
+done
 echo
-echo "Measured by \`scripts/bench-tree.sh depth-auto\` at commit $(git rev-parse --short HEAD)," \
-    "$(nproc) cores, $(date -u +%Y-%m-%d): render.sh wall seconds, median of $reps, one run."
+printf '%s\n' "${lines[@]}"
 echo
-echo "| scene | depth 0 | 1 | 2 | 3 | 4 | best | auto | auto / best | auto chose |"
-echo "|---|---|---|---|---|---|---|---|---|---|"
-table "$work/fill.txt" 1920x1080 "10,000 quads, Dc≈10, 1920×1080"
-table examples/penetrating.txt 500x500 "2 polygons, 500×500"
+r=$(med "${wall[start render]}") h=$(med "${wall[start hand]}")
+rc=$(med "${cpu[start render]}") hc=$(med "${cpu[start hand]}")
+echo "| two polygons, 64×64 | render | viewxf \| clipbatch \| persp \| zbuf | render / by hand |"
+echo "|---|---|---|---|"
+echo "| wall s | $r | $h | **$(ratio "$r" "$h")** |"
+echo "| CPU s | $rc | $hc | $(ratio "$rc" "$hc") |"
 )
 
 # --- plan (the cost model's checks) ---------------------------------------------------

@@ -40,7 +40,7 @@ fuzz_target!(|data: &[u8]| {
         });
         // Half the polygons Gouraud-shaded: any colour at each vertex.
         if b.u8() % 2 == 0 {
-            poly.colours = (0..poly.vertices.len())
+            poly.vertex_attrs = (0..poly.vertices.len())
                 .map(|_| proto::DVec3::new(b.u8() as f64, b.u8() as f64, b.u8() as f64))
                 .collect();
         }

@@ -29,7 +29,7 @@ fuzz_target!(|data: &[u8]| {
     let mut poly = polygon(&mut b, eye_vertex);
     // Vertex colours for some polygons (Gouraud shading): whole numbers and fractions.
     if b.u8() & 1 == 1 {
-        poly.colours = (0..poly.vertices.len())
+        poly.vertex_attrs = (0..poly.vertices.len())
             .map(|_| {
                 proto::DVec3::new(
                     b.u8() as f64,
@@ -47,11 +47,11 @@ fuzz_target!(|data: &[u8]| {
         // A piece has a colour for each vertex, each channel within 0-255, and the
         // reader's checks accept it.
         if poly.is_shaded() {
-            assert_eq!(out.colours.len(), out.vertices.len(), "from {poly:?}");
+            assert_eq!(out.vertex_attrs.len(), out.vertices.len(), "from {poly:?}");
         } else {
-            assert!(out.colours.is_empty());
+            assert!(out.vertex_attrs.is_empty());
         }
-        for c in &out.colours {
+        for c in &out.vertex_attrs {
             assert!(
                 c.cmpge(proto::DVec3::ZERO).all() && c.cmple(proto::DVec3::splat(255.0)).all(),
                 "colour {c:?} out of 0-255, from {poly:?}"

@@ -7,6 +7,9 @@
 //! from the eye to the screen, so that the clipping pyramid is |x_e| ≤ a·w, |y_e| ≤ w.
 
 use crate::header::View;
+// The parsers of a camera's numbers on a command line are `numbers`'s; named here too,
+// where the stages look for them.
+pub use crate::numbers::{parse_numbers, parse_size, parse_triple};
 use glam::{DVec3, DVec4};
 
 /// A camera: where the eye is, what it looks at, which way is up, and the screen's
@@ -125,44 +128,6 @@ impl Device {
     pub fn reciprocal_depth(&self, z_e: f64) -> f64 {
         -self.view.hither / z_e
     }
-}
-
-/// Parses `N` comma-separated finite numbers, e.g. `X,Y,Z`; `form` names them for the
-/// message (`X,Y,Z`, `a,b,c,d,k`).
-pub fn parse_numbers<const N: usize>(s: &str, form: &str) -> Result<[f64; N], String> {
-    let parts: Vec<&str> = s.split(',').map(str::trim).collect();
-    if parts.len() != N {
-        return Err(format!("expected {form} ({N} numbers), found `{s}`"));
-    }
-    let mut v = [0.0; N];
-    for (slot, p) in v.iter_mut().zip(&parts) {
-        *slot = p
-            .parse::<f64>()
-            .ok()
-            .filter(|x| x.is_finite())
-            .ok_or_else(|| format!("`{p}` in `{s}` is not a finite number"))?;
-    }
-    Ok(v)
-}
-
-/// Parses `X,Y,Z`.
-pub fn parse_triple(s: &str) -> Result<DVec3, String> {
-    parse_numbers::<3>(s, "X,Y,Z").map(DVec3::from_array)
-}
-
-/// Parses a screen size `WxH` (each 1 to 65536).
-pub fn parse_size(s: &str) -> Result<(u32, u32), String> {
-    let (w, h) = s
-        .split_once(['x', 'X'])
-        .ok_or_else(|| format!("expected WxH, e.g. 500x500, found `{s}`"))?;
-    let dim = |t: &str| {
-        t.trim()
-            .parse::<u32>()
-            .ok()
-            .filter(|v| (1..=65536).contains(v))
-            .ok_or_else(|| format!("`{t}` in `{s}` is not a size from 1 to 65536"))
-    };
-    Ok((dim(w)?, dim(h)?))
 }
 
 #[cfg(test)]

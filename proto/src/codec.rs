@@ -19,12 +19,14 @@
 //! neither formats nor allocates per polygon. Version 1 encoded the same records with
 //! serde and bincode; `scripts/bench-stages.sh codec` measures the two, and the record
 //! decoding was most of a geometry stage's time (the header stays bincode: it is read
-//! once). The layouts are in [`crate::polygon`] and [`crate::fragment`]. Bytes a record
+//! once). The layouts are in [`polygons`] and [`crate::fragment`]. Bytes a record
 //! does not use must be zero, so a corrupt stream is caught at the record where it
 //! goes wrong rather than read as other numbers.
 //!
 //! [`Token`]: crate::Token
 //! [`Fragment`]: crate::Fragment
+
+pub mod polygons;
 
 use crate::header::{text_version, Header, Space, BINARY_MAGIC, TEXT_MAGIC, VERSION};
 use crate::text::{Lexer, Number, Shown};
@@ -237,11 +239,11 @@ impl<R: Read> BinaryInput<R> {
         Ok(())
     }
 
-    /// Whether the input is at its end (no byte left).
-    /// Reads `n` vertex colours (three little-endian `f64`s each) into `colours`, in
-    /// blocks as they arrive, as [`BinaryInput::vertices`] reads vertices.
+    /// Reads `n` vertex attributes (three little-endian `f64`s each: colours or normals,
+    /// as the header says) into `colours`, in blocks as they arrive, as
+    /// [`BinaryInput::vertices`] reads vertices.
     #[inline]
-    pub fn colours(&mut self, colours: &mut Vec<DVec3>, n: usize) -> Result<(), BinaryError> {
+    pub fn vertex_attrs(&mut self, colours: &mut Vec<DVec3>, n: usize) -> Result<(), BinaryError> {
         colours.clear();
         while colours.len() < n {
             let from = colours.len();
@@ -256,6 +258,7 @@ impl<R: Read> BinaryInput<R> {
         Ok(())
     }
 
+    /// Whether the input is at its end (no byte left).
     fn at_end(&mut self) -> io::Result<bool> {
         loop {
             match self.inner.fill_buf() {
@@ -290,10 +293,10 @@ pub fn write_vertices<W: Write>(out: &mut W, vertices: &[DVec4]) -> io::Result<(
     }
 }
 
-/// A record's 8-byte head: tag, three bytes (a colour, or zero) and a count or number.
-/// Writes vertex colours as one block of little-endian `f64`s, three a colour.
+/// Writes vertex attributes (colours or normals) as one block of little-endian `f64`s,
+/// three a vertex.
 #[inline]
-pub fn write_colours<W: Write>(out: &mut W, colours: &[DVec3]) -> io::Result<()> {
+pub fn write_vertex_attrs<W: Write>(out: &mut W, colours: &[DVec3]) -> io::Result<()> {
     #[cfg(target_endian = "little")]
     {
         out.write_all(bytemuck::cast_slice(colours))
@@ -307,6 +310,7 @@ pub fn write_colours<W: Write>(out: &mut W, colours: &[DVec3]) -> io::Result<()>
     }
 }
 
+/// A record's 8-byte head: tag, three bytes (a colour, or zero) and a count or number.
 #[inline]
 pub fn head(tag: u8, bytes: [u8; 3], n: u32) -> [u8; 8] {
     let n = n.to_le_bytes();
@@ -1121,8 +1125,8 @@ impl<W: Write> Writer<crate::Token, W> {
     #[inline]
     pub fn write_polygon(&mut self, p: &crate::Polygon) -> io::Result<()> {
         match self.form {
-            Form::Binary => crate::polygon::write_polygon_binary(p, &mut self.out)?,
-            Form::Text => crate::polygon::write_polygon_text(
+            Form::Binary => polygons::write_polygon_binary(p, &mut self.out)?,
+            Form::Text => polygons::write_polygon_text(
                 p,
                 &mut self.out,
                 &self.header,

@@ -15,11 +15,12 @@
 //! to the bit, whether its span started at the polygon's left edge or at a splitting
 //! plane (which is what keeps a split polygon identical to the whole).
 
+use crate::codec::polygons::{
+    read_polygon_start, write_polygon_start, write_skip, Start, END, NEXT_FRAME,
+};
 use crate::codec::{expect_zero, head, head_n, BinaryError, BinaryInput, Control, Record};
 use crate::header::Header;
-use crate::polygon::{
-    read_polygon_start, write_polygon_start, write_skip, Colour, Start, END, NEXT_FRAME,
-};
+use crate::polygon::Colour;
 use crate::text::Lexer;
 use crate::StreamError;
 use serde::{Deserialize, Serialize};

@@ -230,7 +230,7 @@ impl Perspective {
         let eye_shade = match poly.shade.as_deref() {
             Some(planes) => Some(*planes),
             None if poly.is_shaded() => {
-                crate::shade::eye_colour_planes(&poly.vertices, &poly.colours)
+                crate::shade::eye_colour_planes(&poly.vertices, &poly.vertex_attrs)
             }
             None => None,
         };

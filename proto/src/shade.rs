@@ -21,20 +21,12 @@
 //! reference renderer, `zspec`, computes them with the same functions from the same
 //! eye-space vertices.
 
-use crate::geometry::newell_plane;
+use crate::newell::newell_plane;
 use crate::polygon::Vertex;
+pub use crate::polygon::{ColourPlanes, VertexAttr};
 use glam::{DVec3, DVec4};
 use serde::{Deserialize, Serialize};
 use std::sync::Arc;
-
-/// A vertex's colour: red, green and blue, each a number from 0 to 255, kept as f64
-/// through the pipeline so that an interpolated colour is rounded once, at the pixel.
-pub type VertexColour = DVec3;
-
-/// A polygon's colour planes, one per channel (red, green, blue): `(A, B, C, D)` with
-/// `A·x + B·y + C·c + D = 0`, over eye-space screen positions `(x_s, y_s)` or over device
-/// coordinates `(X, Y)`, as the stream's space says.
-pub type ColourPlanes = [DVec4; 3];
 
 /// The colour planes of an eye-space polygon with per-vertex colours: each channel's
 /// Newell plane over `(u, v, c)` at the vertices, where `(u, v) = (x_e/w, y_e/w)` is the
@@ -42,7 +34,7 @@ pub type ColourPlanes = [DVec4; 3];
 /// [`colour_planes_to_screen`]). `None` when a vertex is at or behind the eye (w ≤ 0: it
 /// has no screen position; the polygon is shaded from its clipped vertices instead), when
 /// the points span no area on the screen, or when anything is not finite.
-pub fn eye_colour_planes(vertices: &[Vertex], colours: &[VertexColour]) -> Option<ColourPlanes> {
+pub fn eye_colour_planes(vertices: &[Vertex], colours: &[VertexAttr]) -> Option<ColourPlanes> {
     if vertices.len() < 3 || colours.len() != vertices.len() {
         return None;
     }
@@ -55,7 +47,7 @@ pub fn eye_colour_planes(vertices: &[Vertex], colours: &[VertexColour]) -> Optio
 /// The colour planes of a screen-space polygon fitted to its own vertices: Newell's plane
 /// over `(X, Y, c)` per channel. For a stream written without `shade` (by hand, or an
 /// eye-space stream that could not record one).
-pub fn screen_colour_planes(vertices: &[Vertex], colours: &[VertexColour]) -> Option<ColourPlanes> {
+pub fn screen_colour_planes(vertices: &[Vertex], colours: &[VertexAttr]) -> Option<ColourPlanes> {
     if vertices.len() < 3 || colours.len() != vertices.len() {
         return None;
     }
@@ -64,7 +56,7 @@ pub fn screen_colour_planes(vertices: &[Vertex], colours: &[VertexColour]) -> Op
 
 fn planes_over(
     positions: impl Iterator<Item = (f64, f64)> + Clone,
-    colours: &[VertexColour],
+    colours: &[VertexAttr],
 ) -> Option<ColourPlanes> {
     let mut planes = [DVec4::ZERO; 3];
     let mut points = Vec::with_capacity(colours.len());
@@ -172,9 +164,9 @@ impl Shading {
             .shade
             .as_deref()
             .copied()
-            .or_else(|| screen_colour_planes(&polygon.vertices, &polygon.colours))
+            .or_else(|| screen_colour_planes(&polygon.vertices, &polygon.vertex_attrs))
             .unwrap_or_else(|| {
-                let c = polygon.colours[0];
+                let c = polygon.vertex_attrs[0];
                 [0, 1, 2].map(|k| DVec4::new(0.0, 0.0, 1.0, -c[k]))
             });
         Some(Shading::new(planes).lit(lighting, polygon.colour))
@@ -470,7 +462,7 @@ fn unit(d: DVec3) -> Option<DVec3> {
 }
 
 /// A vertex colour from whole numbers (tests and scene generators).
-pub fn colour(rgb: [u8; 3]) -> VertexColour {
+pub fn colour(rgb: [u8; 3]) -> VertexAttr {
     DVec3::new(rgb[0] as f64, rgb[1] as f64, rgb[2] as f64)
 }
 

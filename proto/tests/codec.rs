@@ -790,7 +790,7 @@ fn vertex_colours_shade_and_opacity_round_trip_in_binary() {
     let start = encode::<Token>(plain, &[], Form::Binary).len();
     assert_eq!(flat.len() - start, 8 + 96);
     assert_eq!(&flat[start..start + 8], &[0, 1, 2, 3, 3, 0, 0, 0]);
-    p.colours = vec![
+    p.vertex_attrs = vec![
         DVec3::new(255.0, 0.0, 0.0),
         DVec3::new(0.1, 254.9, 1.0 / 3.0),
         DVec3::new(0.0, 0.0, 255.0),
@@ -1047,7 +1047,7 @@ fn vertex_normals_and_lighting_round_trip() {
         [200, 100, 50],
         &[[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]],
     );
-    p.colours = vec![
+    p.vertex_attrs = vec![
         DVec3::new(0.0, 0.0, 1.0),
         DVec3::new(0.6, 0.0, 0.8),
         DVec3::new(-0.1, 1e-300, 0.99),

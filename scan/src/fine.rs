@@ -50,7 +50,7 @@ pub fn scaled(polygon: &Polygon, k: u32) -> Polygon {
             .iter()
             .map(|o| o.map(|[a, b]| [s(a), s(b)]))
             .collect(),
-        colours: polygon.colours.clone(),
+        vertex_attrs: polygon.vertex_attrs.clone(),
         shade: polygon
             .shade
             .as_ref()

@@ -30,7 +30,7 @@
 pub mod antialias;
 pub mod args;
 pub mod error;
-pub mod leaf;
+pub mod filter;
 pub mod memory;
 pub mod names;
 pub mod pieces;
@@ -41,12 +41,12 @@ pub mod stream;
 pub use antialias::AntialiasArgs;
 pub use args::{parse, parse_colour, DepthArg, PpmTextFlag, TextFlag, ViewArgs};
 pub use error::{Context, Error, Kind, Result};
-pub use leaf::{refuse_transparent, resolve_frames, FrameCounts};
+pub use filter::filter_polygons;
 pub use names::FrameNames;
 pub use project::ProjectArgs;
 pub use stream::{
-    check_finite, check_finite_after, filter_polygons, filter_records, input_error, input_name,
-    next, open_input, open_output, read_stdin, same_file, stdout, write_stdout, Branch, Counted,
+    check_finite, check_finite_after, filter_records, input_error, input_name, next, open_input,
+    open_output, read_stdin, refuse_transparent, same_file, stdout, write_stdout, Branch, Counted,
     Counts, Named, RawStdout,
 };
 

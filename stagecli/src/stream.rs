@@ -1,5 +1,6 @@
-//! Opening a stage's inputs and outputs, and the read-transform-write loop of the
-//! one-in, one-out geometry stages.
+//! Opening a stage's inputs and outputs, the checks on a polygon read or about to be
+//! written, and the one-reader loop of the one-in, one-out geometry stages
+//! ([`filter_records`]; [`crate::filter`] chooses between it and the reader in pieces).
 
 use crate::{Context, Error, Kind, Result};
 use proto::{Form, Header, Polygon, Reader, Record, SpaceKind, StreamError, Token, Writer};
@@ -275,6 +276,27 @@ impl Branch<proto::Token> {
     }
 }
 
+/// Refuses a polygon that is not opaque (opacity below 255, a stream whose header says
+/// `opacity`), for a stage that draws opaque polygons only: status 2 and a line naming the
+/// a-buffer, rather than drawing it opaque. `at` says where it is (`frame F, polygon P`),
+/// asked only for a polygon refused: an opaque one costs one comparison.
+#[inline]
+pub fn refuse_transparent(
+    stage: &str,
+    polygon: &Polygon,
+    at: impl FnOnce() -> String,
+) -> Result<()> {
+    if polygon.opacity == proto::OPAQUE {
+        return Ok(());
+    }
+    Err(Error::usage(format!(
+        "{}: a polygon of opacity {} (below 255): {stage} draws opaque polygons only; \
+         transparency is the a-buffer's (render.sh --aa abuf)",
+        at(),
+        polygon.opacity
+    )))
+}
+
 /// [`check_finite`] on a polygon `doing` (the split, the perspective division, …) made:
 /// the message says which work made a number too large.
 #[inline]
@@ -323,66 +345,6 @@ pub fn check_finite(poly: &Polygon) -> std::result::Result<(), String> {
     Ok(())
 }
 
-/// The loop of a one-in, one-out polygon stage (viewxf, clipplane, persp): reads the
-/// polygon stream on stdin, which must be in space `expect`; `setup` turns its header
-/// into the output's header and the stage's transformation of a polygon. Writes that
-/// header and then every record to stdout in `form`, each polygon transformed. A polygon
-/// the transformation refuses, or leaves with a number that is not finite, ends the stage
-/// with a data error naming the polygon's place in the input (`frame 0, polygon 3: …`);
-/// `doing` says what the stage did to it (`the viewing transformation`).
-///
-/// A text stream written on as binary is read in pieces on several threads where there
-/// are cores for them ([`crate::pieces`]), with the same output and messages.
-pub fn filter_polygons<F>(
-    expect: SpaceKind,
-    form: Form,
-    doing: &str,
-    setup: impl FnOnce(&Header) -> Result<(Header, F)>,
-) -> Result<()>
-where
-    F: FnMut(&mut Polygon) -> std::result::Result<(), String> + Clone + Send,
-{
-    let reader = read_stdin::<Token>(expect)?;
-    let in_header = *reader.header();
-    let (header, mut transform) = setup(reader.header())?;
-    let mut writer = write_stdout(header, form)?;
-    let mut reader = match (form, crate::pieces::piece_workers()) {
-        (Form::Binary, Some(workers)) => match reader.into_text_rest() {
-            Ok(rest) => {
-                crate::pieces::filter_text_in_pieces(
-                    rest,
-                    in_header,
-                    header,
-                    &mut writer,
-                    transform,
-                    doing,
-                    (workers, crate::pieces::PIECE_BYTES),
-                    stdin_ready,
-                )?;
-                writer.flush()?;
-                return Ok(());
-            }
-            Err(reader) => reader,
-        },
-        _ => reader,
-    };
-    filter_records(&mut reader, &mut writer, &mut transform, doing)?;
-    writer.flush()?;
-    Ok(())
-}
-
-/// Whether standard input can be read at once, without waiting: more input there, or
-/// its end.
-fn stdin_ready() -> bool {
-    let mut fd = libc::pollfd {
-        fd: 0,
-        events: libc::POLLIN,
-        revents: 0,
-    };
-    // SAFETY: poll reads and writes the one pollfd it is given, and waits not at all.
-    unsafe { libc::poll(&mut fd, 1, 0) > 0 }
-}
-
 /// What [`filter_records`] read: NEXT.FRAMEs, the polygons after the last of them (or
 /// from the start, if none), and whether END was among the records.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -392,7 +354,7 @@ pub struct Counts {
     pub ended: bool,
 }
 
-/// [`filter_polygons`]'s loop: every record of `reader` to `writer`, each polygon
+/// [`crate::filter_polygons`]'s loop on one reader: every record of `reader` to `writer`, each polygon
 /// transformed and checked, until the reader has no more.
 pub fn filter_records<R: Read, W: Write, F>(
     reader: &mut Reader<Token, R>,

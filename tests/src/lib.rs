@@ -123,6 +123,17 @@ pub fn succeeded(what: &str, out: Output) -> Vec<u8> {
     out.stdout
 }
 
+/// The whole linear pipeline at `size` (W×H), from a world-space scene on stdin to
+/// zbuf's PPM frames on stdout: the viewing transformation, the six clippers, the
+/// perspective division, the scan converter and the z-buffer.
+pub fn linear_pipeline(size: &str) -> String {
+    format!(
+        "viewxf --size {size} | clipplane left | clipplane right | clipplane top \
+         | clipplane bottom | clipplane hither | clipplane yon | persp --size {size} \
+         | scanconv | zbuf"
+    )
+}
+
 /// One frame of a PPM stream.
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct Frame {

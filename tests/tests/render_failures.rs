@@ -212,3 +212,27 @@ fn render_killed_takes_its_stages_with_it() {
     }
     drop(input);
 }
+
+/// `--depth auto` starts viewxf and the clipper before it has looked at the scene: a scene
+/// the look cannot read goes on at depth 0, and the render ends as a depth-0 render of it
+/// ends, viewxf (started early) named with its own words and status.
+#[test]
+fn a_scene_the_look_cannot_read_fails_in_viewxf_as_at_depth_0() {
+    let dir = tempfile::tempdir().unwrap();
+    let bad = dir.path().join("bad.txt");
+    std::fs::write(&bad, "polypipe 1 world\ncolour 1 2 3\n0 0\n").unwrap();
+    let bad = bad.display().to_string();
+    // 1920x1080: no scene file is small enough there for depth 0 without the model.
+    let auto = render(&["--size", "1920x1080", "--stats", &bad], b"");
+    let zero = render(&["--size", "1920x1080", "--depth", "0", &bad], b"");
+    let err = String::from_utf8_lossy(&auto.stderr);
+    assert_eq!(auto.status.code(), Some(1), "{err}");
+    assert_eq!(zero.status.code(), Some(1));
+    assert!(
+        err.starts_with("viewxf: line 3, column 4: expected z of vertex 0")
+            && err.ends_with("\nrender: viewxf failed (status 1)\n"),
+        "{err}"
+    );
+    assert_eq!(err, String::from_utf8_lossy(&zero.stderr));
+    assert!(auto.stdout.is_empty());
+}

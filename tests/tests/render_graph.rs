@@ -466,3 +466,44 @@ mod random_scenes {
         }
     }
 }
+
+/// `--depth auto` starts the clipper chain before the depth is chosen, and joins the rest
+/// of the graph to it once it is: the frames are the bytes of the depth it chose, given
+/// as a fixed depth, and of depth 0.
+#[test]
+fn depth_auto_draws_the_bytes_of_the_depth_it_chose() {
+    let dir = tempfile::tempdir().unwrap();
+    let scene = dir.path().join("fill.txt");
+    let made = Command::new(bin_dir().join("scene"))
+        .args(["environment", "--text", "--seed", "2", "--polygons", "3000"])
+        .args([
+            "--depth-complexity",
+            "6",
+            "--frames",
+            "2",
+            "--size",
+            "640x360",
+        ])
+        .output()
+        .unwrap();
+    assert!(made.status.success());
+    std::fs::write(&scene, &made.stdout).unwrap();
+    let scene = scene.display().to_string();
+    let auto = render(&["--size", "640x360", "--stats", &scene], b"");
+    assert!(
+        auto.status.success(),
+        "{}",
+        String::from_utf8_lossy(&auto.stderr)
+    );
+    let err = String::from_utf8_lossy(&auto.stderr);
+    let chose = err
+        .lines()
+        .find_map(|l| l.strip_prefix("render: depth auto chose "))
+        .and_then(|l| l.split(' ').next())
+        .expect("the depth auto chose");
+    let fixed = render_ok(&["--size", "640x360", "--depth", chose, &scene], b"");
+    let zero = render_ok(&["--size", "640x360", "--depth", "0", &scene], b"");
+    assert_eq!(frames(&auto.stdout).len(), 2);
+    assert!(auto.stdout == fixed, "auto against --depth {chose}");
+    assert!(auto.stdout == zero, "auto (depth {chose}) against depth 0");
+}

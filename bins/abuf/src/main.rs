@@ -40,7 +40,7 @@ struct Args {
 fn main() -> ExitCode {
     stagecli::main("abuf", |args: Args| {
         let mut method = ABuffer::new(args.aa.background);
-        stagecli::resolve_frames("abuf", args.aa.text.form(), args.stats, &mut method)?;
+        leaf::resolve_frames("abuf", args.aa.text.form(), args.stats, &mut method)?;
         Ok(())
     })
 }

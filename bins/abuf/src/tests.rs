@@ -443,7 +443,7 @@ fn the_depth_extent_artefact_along_a_column() {
 /// A Gouraud-shaded quadrilateral: its corners red, green, blue and grey.
 fn shaded_quad(pts: [[f64; 3]; 4]) -> Polygon {
     let mut p = quad(WHITE, pts);
-    p.colours = [
+    p.vertex_attrs = [
         [250.0, 10.0, 0.0],
         [0.0, 240.0, 20.0],
         [30.0, 0.0, 255.0],

@@ -127,14 +127,20 @@ impl VertexArrays {
 /// Clips a polygon with vertex colours against `planes` in turn, with
 /// [`proto::geometry::clip_coloured`]; clears its supports where a plane changed it.
 fn clip_shaded(planes: &[Plane; 6], poly: &mut Polygon, scratch: &mut Vec<Vertex>) {
-    let mut colours = Vec::with_capacity(poly.colours.len() + 6);
+    let mut colours = Vec::with_capacity(poly.vertex_attrs.len() + 6);
     for plane in planes {
-        clip_coloured(&poly.vertices, &poly.colours, plane, scratch, &mut colours);
+        clip_coloured(
+            &poly.vertices,
+            &poly.vertex_attrs,
+            plane,
+            scratch,
+            &mut colours,
+        );
         if *scratch != poly.vertices {
             poly.supports.clear();
         }
         std::mem::swap(&mut poly.vertices, scratch);
-        std::mem::swap(&mut poly.colours, &mut colours);
+        std::mem::swap(&mut poly.vertex_attrs, &mut colours);
     }
 }
 

@@ -60,12 +60,12 @@ fn main() -> ExitCode {
                 if poly.is_shaded() {
                     clip_coloured(
                         &poly.vertices,
-                        &poly.colours,
+                        &poly.vertex_attrs,
                         &plane,
                         &mut scratch,
                         &mut colours,
                     );
-                    std::mem::swap(&mut poly.colours, &mut colours);
+                    std::mem::swap(&mut poly.vertex_attrs, &mut colours);
                 } else {
                     clip_against(&poly.vertices, &plane, &mut scratch);
                 }

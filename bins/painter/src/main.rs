@@ -93,7 +93,7 @@ fn main() -> ExitCode {
         } else {
             Painter::new()
         };
-        stagecli::resolve_frames("painter", args.text.form(), args.stats, &mut Loud(method))?;
+        leaf::resolve_frames("painter", args.text.form(), args.stats, &mut Loud(method))?;
         Ok(())
     })
 }

@@ -225,7 +225,7 @@ fn interpenetrating_squares_fail_and_split_mends_them() {
 #[test]
 fn shaded_squares_and_their_pieces_are_shaded_as_the_whole() {
     let shaded = |mut p: Polygon, colours: [[f64; 3]; 4]| {
-        p.colours = colours.iter().map(|&c| DVec3::from(c)).collect();
+        p.vertex_attrs = colours.iter().map(|&c| DVec3::from(c)).collect();
         p
     };
     let red = shaded(

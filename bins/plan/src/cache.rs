@@ -45,10 +45,29 @@ pub const MEASURED: [&str; 7] = [
 pub fn this_machine(bin: &Path) -> Machine {
     Machine {
         cpu: cpu_model(),
-        cores: crate::calibrate::cores(),
+        cores: machine_cores(),
         version: env!("CARGO_PKG_VERSION").to_string(),
         binaries: fingerprint(bin),
     }
+}
+
+/// The machine's cores (what the standard library sees as available).
+pub fn cores() -> usize {
+    std::thread::available_parallelism().map_or(1, |n| n.get())
+}
+
+/// The machine's cores, online, whatever this process's affinity: what tells one
+/// machine from another for its calibration (a stage costs the same CPU seconds on one
+/// core of it as on two, so a render under `taskset -c 0` plans with the machine's
+/// calibration, for one core), and what the load average is spread over.
+pub fn machine_cores() -> usize {
+    // SAFETY: sysconf reads a system value and has no other effect.
+    let online = unsafe { libc::sysconf(libc::_SC_NPROCESSORS_ONLN) };
+    usize::try_from(online)
+        .ok()
+        .filter(|&n| n > 0)
+        .unwrap_or_else(cores)
+        .max(cores())
 }
 
 /// The CPU model, from /proc/cpuinfo (`model name`, else the first of `Hardware`,

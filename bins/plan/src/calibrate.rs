@@ -7,6 +7,9 @@
 //! script's and each process's start-up are then fitted to `render.sh`'s wall time on a
 //! two-polygon scene at depths 0 to 4, less what the stages predict there.
 
+// The cores are part of what identifies the machine a calibration was made on (the
+// cache's); named here too, where the model's callers look for them.
+pub use crate::cache::{cores, machine_cores};
 use crate::look::{count_screen, count_world, Environment};
 use crate::measure::{self, Usage};
 use crate::model::{fit, stage_work, Constants, Cost, Overheads, StageWork, Work};
@@ -278,14 +281,18 @@ fn overheads(
     })
 }
 
-/// Other programs' runnable threads on the cores now: the 1-minute load average of
-/// /proc/loadavg, less one (the render's own stages, or the runs before it, are in the
-/// average too), never below 0; 0 where there is no /proc/loadavg. On a machine shared
-/// with others, a render gets only its fair share of the cores
-/// ([`crate::model::Target::shares`]); on an idle one this is 0 and changes nothing.
-/// `POLYPIPE_LOAD=L` in the environment sets it instead (what `--load L` does for `plan
-/// depth`, for a render.sh whose choice must not depend on what else the machine runs:
-/// the test suite's).
+/// Other programs' runnable threads on the cores now: the threads runnable at this
+/// instant, as /proc/loadavg's fourth field counts them (`R/T`), less the one reading it
+/// ([`load_now`]), or the 1-minute load average less one (the render's own stages, or
+/// the runs before it, are in the average too) when that is less: the average alone
+/// lags the machine by a minute (a render started when other programs' builds had just
+/// ended planned for a load of 8 on an idle machine, and chose a deeper tree for it than
+/// the idle machine's best), the count alone takes a thread runnable for a moment for a
+/// load. Never below 0; 0 where there is no /proc/loadavg. On a machine shared with
+/// others, a render gets only its share of the cores ([`crate::model::Target::shares`]);
+/// on an idle one this is 0 and changes nothing. `POLYPIPE_LOAD=L` in the environment
+/// sets it instead (what `--load L` does for `plan depth`, for a render whose choice
+/// must not depend on what else the machine runs: the test suite's).
 pub fn background_load() -> f64 {
     if let Some(l) = std::env::var("POLYPIPE_LOAD")
         .ok()
@@ -296,13 +303,19 @@ pub fn background_load() -> f64 {
     }
     std::fs::read_to_string("/proc/loadavg")
         .ok()
-        .and_then(|s| s.split_whitespace().next()?.parse::<f64>().ok())
-        .map_or(0.0, |l| (l - 1.0).max(0.0))
+        .and_then(|s| load_now(&s))
+        .unwrap_or(0.0)
 }
 
-/// The machine's cores (what the standard library sees as available).
-pub fn cores() -> usize {
-    std::thread::available_parallelism().map_or(1, |n| n.get())
+/// The load in the text of /proc/loadavg (`0.52 0.41 0.30 3/210 4567`): the runnable
+/// threads but the reader (3 runnable now, so 2), or the 1-minute average less one when
+/// that is less (so 0 here).
+pub fn load_now(loadavg: &str) -> Option<f64> {
+    let mut fields = loadavg.split_whitespace();
+    let average: f64 = fields.next()?.parse().ok()?;
+    let (running, _) = fields.nth(2)?.split_once('/')?;
+    let running: u32 = running.parse().ok()?;
+    Some(f64::from(running.saturating_sub(1)).min((average - 1.0).max(0.0)))
 }
 
 /// The CPU model and cores, and the date, for the constants file.
@@ -311,7 +324,7 @@ pub fn machine() -> String {
     let days = std::time::SystemTime::now()
         .duration_since(std::time::UNIX_EPOCH)
         .map_or(0, |d| d.as_secs() / 86400);
-    format!("{cpu}, {} cores, day {days} since 1970", cores())
+    format!("{cpu}, {} cores, day {days} since 1970", machine_cores())
 }
 
 /// The steps [`calibrate`] reports to its `tick`: a scene each, and the start-up fit.
@@ -400,4 +413,23 @@ pub fn table(k: &Constants) -> String {
         "start-up", k.overheads.script, k.overheads.process
     );
     t
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_load_is_the_threads_runnable_now_but_the_reader() {
+        assert_eq!(load_now("9.5 10.94 8.01 13/208 15186\n"), Some(8.5));
+        assert_eq!(load_now("13.5 10.94 8.01 7/208 15186\n"), Some(6.0));
+        // A machine whose builds have just ended: the average still says 9, the
+        // runnable threads now are the reader alone.
+        assert_eq!(load_now("9.11 11.22 9.72 1/102 8177"), Some(0.0));
+        // A thread runnable for a moment on an idle machine is no load.
+        assert_eq!(load_now("0.30 0.20 0.10 2/102 8177"), Some(0.0));
+        assert_eq!(load_now("0.00 0.00 0.00 0/1 1"), Some(0.0));
+        assert_eq!(load_now("0.5 0.4 0.3"), None);
+        assert_eq!(load_now("0.5 0.4 0.3 x/9 1"), None);
+    }
 }

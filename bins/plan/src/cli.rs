@@ -151,7 +151,7 @@ fn setup(a: &DepthArgs) -> Result<(Constants, Option<String>, State, look::Envir
     let (w, h) = a.size;
     let env = match a.stream.as_deref() {
         Some(ended) => look::look_stream(&a.scene, w, h, &camera, ended == "whole")?,
-        None => look::look(&a.scene, w, h, &camera, Some(look::SAMPLE_BYTES))?,
+        None => look::look(&a.scene, w, h, &camera, Some(look::LOOK_BYTES))?,
     };
     let target = target(a.cores, a.load, a.hosts, a.host_cores, a.link_gbps);
     Ok((k, note, state, env, target))
@@ -174,7 +174,7 @@ pub fn target(
             // The load is spread over the machine's cores: a plan for fewer of them
             // (taskset) meets its part; one for more cores than this machine has is a
             // plan for another, idle, machine.
-            let here = crate::calibrate::cores();
+            let here = crate::calibrate::machine_cores();
             if cores <= here {
                 crate::calibrate::background_load() * cores as f64 / here as f64
             } else {

@@ -17,13 +17,32 @@ use std::fs::File;
 use std::io::Read;
 use std::os::fd::{AsFd, OwnedFd};
 use std::path::Path;
+use std::sync::Arc;
 
-/// The depth chosen, the line `--stats` prints about it, and the feed of a stream.
+/// The depth chosen, and the line `--stats` prints about it.
 pub struct Choice {
     pub depth: u32,
     /// `depth auto chose …`, for --stats.
     pub said: Option<String>,
-    pub feed: Option<Feed>,
+}
+
+/// A scene on a stream, sampled ([`sample_stream`]): the sample, whether it is the whole
+/// stream, and the rest of the stream, until [`Sampled::feed`] takes it.
+pub struct Sampled {
+    pub sample: Arc<Vec<u8>>,
+    pub whole: bool,
+    pub rest: Option<OwnedFd>,
+}
+
+impl Sampled {
+    /// The feed that gives viewxf the sample and then the rest of the stream; the
+    /// sample stays here too, for the look.
+    pub fn feed(&mut self) -> Feed {
+        Feed {
+            sample: Arc::clone(&self.sample),
+            rest: self.rest.take(),
+        }
+    }
 }
 
 /// The largest scene file too small for the tree to pay on any number of cores, on a
@@ -70,46 +89,65 @@ pub fn stream_of(scene: &Scene) -> stagecli::Result<Option<OwnedFd>> {
     }
 }
 
-/// Chooses the depth for `o`'s scene (`o.depth` is `None`). `root`: the repository
+/// The machine to plan `o`'s render for: this one's cores (`taskset`'s, under it), and
+/// the load of other programs on them, read before the render starts a stage (the
+/// threads runnable now: the render's own are not yet among them); with --hosts, the
+/// hosts.
+pub fn target(o: &Options) -> plan::model::Target {
+    let hosts = (!o.hosts.is_empty()).then_some(o.hosts.len() as u32);
+    plan::cli::target(None, None, hosts, None, 1.0)
+}
+
+/// Samples `o`'s scene when it is a stream ([`stream_of`]): its first 512 KiB kept in
+/// memory, or less when it ends or pauses ([`crate::sample`]). `None` for a scene file,
+/// which the look reads where it lies.
+pub fn sample_stream(o: &Options) -> stagecli::Result<Option<Sampled>> {
+    let Some(fd) = stream_of(&o.scene)? else {
+        return Ok(None);
+    };
+    let mut input = File::from(fd);
+    let mut bytes = Vec::new();
+    let (_, ended) = sample::sample(
+        &mut input,
+        &mut bytes,
+        sample::SAMPLE_BYTES,
+        sample::PATIENCE,
+    )
+    .map_err(|e| stagecli::Error::from(e).context("cannot read the scene's first bytes"))?;
+    let whole = ended == Ended::Whole;
+    Ok(Some(Sampled {
+        sample: Arc::new(bytes),
+        whole,
+        rest: (!whole).then(|| OwnedFd::from(input)),
+    }))
+}
+
+/// Chooses the depth for `o`'s scene (`o.depth` is `None`), from `sampled` when the scene
+/// is a stream ([`sample_stream`]), else from the scene file. `root`: the repository
 /// (bench/model.toml, the constants of a machine not yet calibrated); `bin`: the
 /// binaries (whose calibration this is); `tell`: whether a person watches stderr, to be
-/// told once that the machine is not calibrated.
+/// told once that the machine is not calibrated. A scene the look cannot read is left to
+/// the stages, at depth 0.
 pub fn choose(
     o: &Options,
+    sampled: Option<&Sampled>,
+    target: &plan::model::Target,
     root: &Path,
     bin: &Path,
     tell: bool,
     me: &str,
-) -> stagecli::Result<Choice> {
+) -> Choice {
     let mut choice = Choice {
         depth: 0,
         said: None,
-        feed: None,
     };
-    let mut sampled = None;
-    if let Some(fd) = stream_of(&o.scene)? {
-        let mut input = File::from(fd);
-        let mut bytes = Vec::new();
-        let (_, ended) = sample::sample(
-            &mut input,
-            &mut bytes,
-            sample::SAMPLE_BYTES,
-            sample::PATIENCE,
-        )
-        .map_err(|e| stagecli::Error::from(e).context("cannot read the scene's first bytes"))?;
-        let whole = ended == Ended::Whole;
-        choice.feed = Some(Feed {
-            sample: bytes,
-            rest: (!whole).then(|| OwnedFd::from(input)),
-        });
-        sampled = Some(whole);
-    } else if let (Scene::Path(p), true) = (&o.scene, o.hosts.is_empty()) {
+    if let (Scene::Path(p), None, true) = (&o.scene, sampled, o.hosts.is_empty()) {
         if let Some(bound) = tiny_bound(o.width, o.height).filter(|b| tiny_file(p, *b)) {
             choice.said = Some(format!(
                 "depth auto chose 0 (a scene file of at most {bound} bytes on a {} screen: under 2 ms of depth tests; the model not asked)",
                 o.size
             ));
-            return Ok(choice);
+            return choice;
         }
     }
     // The camera as single words, so that a value with a leading minus stays a value.
@@ -119,22 +157,18 @@ pub fn choose(
         .map(|w| format!("{}={}", w[0], w.get(1).map_or("", String::as_str)))
         .collect();
     let Ok((k, note, state)) = plan::cli::constants(None, root, bin) else {
-        return Ok(choice);
+        return choice;
     };
-    let env = match (&o.scene, sampled, &choice.feed) {
-        (_, Some(whole), Some(feed)) => {
-            plan::look::look_sample(&feed.sample, o.width, o.height, &camera, whole)
+    let env = match (&o.scene, sampled) {
+        (_, Some(s)) => plan::look::look_sample(&s.sample, o.width, o.height, &camera, s.whole),
+        (Scene::Path(p), None) => {
+            plan::look::look(p, o.width, o.height, &camera, Some(plan::look::LOOK_BYTES))
         }
-        (Scene::Path(p), _, _) => {
-            plan::look::look(p, o.width, o.height, &camera, Some(sample::SAMPLE_BYTES))
-        }
-        _ => return Ok(choice),
+        (Scene::Stdin, None) => return choice,
     };
     // A scene the look cannot read: the stages say what is wrong with it, at depth 0.
-    let Ok(env) = env else { return Ok(choice) };
-    let hosts = (!o.hosts.is_empty()).then_some(o.hosts.len() as u32);
-    let target = plan::cli::target(None, None, hosts, None, 1.0);
-    let (depth, reason, _) = plan::model::choose_depth_on(&k, &env, &target, 6);
+    let Ok(env) = env else { return choice };
+    let (depth, reason, _) = plan::model::choose_depth_on(&k, &env, target, 6);
     choice.depth = u32::from(depth);
     let reason = match note {
         Some(n) => format!("{reason}; {n}"),
@@ -144,7 +178,7 @@ pub fn choose(
     if tell && state.needs_fitting() {
         plan::cli::tell_once(&state, root, me);
     }
-    Ok(choice)
+    choice
 }
 
 #[cfg(test)]

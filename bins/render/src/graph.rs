@@ -103,6 +103,25 @@ pub fn build(o: &Options, c: &Context) -> Vec<Stage> {
     b.stages
 }
 
+/// The clipper chain alone (viewxf and the clipper, their output the channel
+/// `clipped`): the stages `render --depth auto` starts while it looks at the scene, which
+/// are [`build`]'s first stages at any depth (the channel out of them is `leaf-0` where
+/// the merger reads it itself).
+pub fn chain(o: &Options, c: &Context) -> Vec<Stage> {
+    let provisional = Context { depth: 1, ..*c };
+    let mut b = Builder {
+        o,
+        c: &provisional,
+        stages: Vec::new(),
+        input_of: Default::default(),
+        projected: false,
+        to_screen: Vec::new(),
+        fragments: Vec::new(),
+    };
+    b.clipper_chain();
+    b.stages
+}
+
 impl Builder<'_> {
     fn bin(&self, name: &str) -> OsString {
         self.c.bin.join(name).into_os_string()
@@ -620,5 +639,38 @@ mod tests {
                 "zbuf: /dev/null > -: zbuf --runs leaf-2 leaf-3 [2]",
             ]
         );
+    }
+
+    #[test]
+    fn the_chain_started_early_is_the_graphs_first_stages_at_every_depth() {
+        for args in [
+            &["s.txt"][..],
+            &["--clip", "chain", "-"],
+            &["--hse", "painter", "s"],
+        ] {
+            let args = std::iter::once("render")
+                .chain(args.iter().copied())
+                .map(OsString::from);
+            let Ok(Parsed::Run(cli)) = parse(args) else {
+                panic!("options")
+            };
+            let o = cli.validate(Vec::new(), false).unwrap();
+            let c = |depth| Context {
+                bin: Path::new("/b"),
+                depth,
+                ssh: &[],
+                root: Path::new("/r"),
+                fed: false,
+            };
+            let early = chain(&o, &c(0));
+            assert_eq!(early.last().unwrap().output, pipe("clipped"));
+            for depth in 0..4 {
+                let full = build(&o, &c(depth));
+                for (e, f) in early.iter().zip(&full) {
+                    assert_eq!((&e.label, &e.argv, &e.input), (&f.label, &f.argv, &f.input));
+                }
+                assert!(full.len() > early.len());
+            }
+        }
     }
 }

@@ -147,6 +147,23 @@ pub struct Channel {
 /// Each channel's writer and reader. A channel on a stdout is written there, on a stdin
 /// read there; one named on a command line is the other end of one of those.
 pub fn channels(stages: &[Stage]) -> Result<Vec<(String, Channel)>, SpecError> {
+    let (chans, open) = channels_open(stages)?;
+    match open.into_iter().next() {
+        Some((name, _)) => Err(SpecError::Channel(
+            name,
+            "needs one writer and one reader".into(),
+        )),
+        None => Ok(chans),
+    }
+}
+
+/// The channels of a graph's first stages, and those of their stdouts that none of them
+/// reads (their readers start later), by name and writer.
+pub type OpenChannels = (Vec<(String, Channel)>, Vec<(String, usize)>);
+
+/// [`channels`] of the first stages of a graph: also those written on a stage's stdout
+/// that none of them reads (their readers start later), by name and writer.
+pub fn channels_open(stages: &[Stage]) -> Result<OpenChannels, SpecError> {
     let mut writers: Vec<(String, (usize, Option<usize>))> = Vec::new();
     let mut readers: Vec<(String, (usize, Option<usize>))> = Vec::new();
     let mut named: Vec<(String, (usize, usize))> = Vec::new();
@@ -176,6 +193,7 @@ pub fn channels(stages: &[Stage]) -> Result<Vec<(String, Channel)>, SpecError> {
         }
     }
     let mut out = Vec::new();
+    let mut open = Vec::new();
     for (name, writer) in &writers {
         let mut found = readers.iter().filter(|(n, _)| n == name);
         match (
@@ -190,6 +208,7 @@ pub fn channels(stages: &[Stage]) -> Result<Vec<(String, Channel)>, SpecError> {
                     reader: *reader,
                 },
             )),
+            (None, _, 1) if writer.1.is_none() => open.push((name.clone(), writer.0)),
             _ => {
                 return Err(SpecError::Channel(
                     name.clone(),
@@ -204,7 +223,7 @@ pub fn channels(stages: &[Stage]) -> Result<Vec<(String, Channel)>, SpecError> {
     {
         return Err(SpecError::Channel(name.clone(), "has no writer".into()));
     }
-    Ok(out)
+    Ok((out, open))
 }
 
 // --- What the stages said, and how they ended. -----------------------------------------
@@ -381,7 +400,8 @@ pub struct Outcome {
 /// they came from; `None` when the stream ended within the sample).
 #[derive(Debug, Default)]
 pub struct Feed {
-    pub sample: Vec<u8>,
+    /// Shared with the look at it, which runs while the feed is written.
+    pub sample: std::sync::Arc<Vec<u8>>,
     pub rest: Option<OwnedFd>,
 }
 
@@ -717,8 +737,32 @@ fn open_end(path: &std::path::Path, write: bool) -> std::io::Result<std::fs::Fil
 
 /// Runs the graph to its end and says how it ended ([`Outcome`]); `me` is the name the
 /// messages start with (`render`).
-pub fn run(stages: Vec<Stage>, options: Options, me: &str) -> Result<Outcome, SpecError> {
-    let chans = channels(&stages)?;
+pub fn run(stages: Vec<Stage>, mut options: Options, me: &str) -> Result<Outcome, SpecError> {
+    let feed = options.feed.take();
+    start(stages.clone(), feed, me)?.finish(stages, options)
+}
+
+/// The first stages of a graph, running while the rest of it is worked out (`render
+/// --depth auto` starts viewxf and the clipper chain, whose command lines no depth
+/// changes, and looks at the scene meanwhile): [`Early::finish`] starts the rest and
+/// watches them all; [`Early::stop`] ends those started.
+pub struct Early {
+    me: String,
+    /// `None` when the launcher could not begin (no signalfd): `failed` says so.
+    run: Option<Running>,
+    /// How the run ended already: a stage that could not be started (the others
+    /// stopped).
+    failed: Option<Outcome>,
+    /// The read ends of the started stages' outputs whose readers are not started yet,
+    /// by their writer: (stage, argument or `None` for its stdout).
+    pending: Vec<((usize, Option<usize>), OwnedFd, String)>,
+}
+
+/// Starts `stages`, the first stages of a graph in its order, each output channel that
+/// no stage of them reads left open for the stages [`Early::finish`] adds. The stage that
+/// would read the launcher's stdin reads `feed` instead, when given.
+pub fn start(stages: Vec<Stage>, feed: Option<Feed>, me: &str) -> Result<Early, SpecError> {
+    let (chans, open) = channels_open(&stages)?;
     cloexec_inherited();
     let set = signal_set();
     // SAFETY: blocks the signals for this thread (the only one), so that they queue on
@@ -727,43 +771,18 @@ pub fn run(stages: Vec<Stage>, options: Options, me: &str) -> Result<Outcome, Sp
         libc::pthread_sigmask(libc::SIG_BLOCK, &set, std::ptr::null_mut());
         libc::signalfd(-1, &set, libc::SFD_CLOEXEC | libc::SFD_NONBLOCK)
     };
-    let fail = |message: String| Outcome { status: 3, message };
+    let failed = |run: Option<Running>, message: String| Early {
+        me: me.to_string(),
+        run,
+        failed: Some(Outcome { status: 3, message }),
+        pending: Vec::new(),
+    };
     if signals < 0 {
-        return Ok(fail(format!("{me}: {}\n", os_error("signalfd"))));
+        return Ok(failed(None, format!("{me}: {}\n", os_error("signalfd"))));
     }
     // SAFETY: a new descriptor, owned by nothing else.
     let signals = unsafe { OwnedFd::from_raw_fd(signals) };
     let n = stages.len();
-    // Each stage's ends: stdin, stdout, and (fd, name) for its named channels.
-    let mut stdin_of: Vec<Option<OwnedFd>> = (0..n).map(|_| None).collect();
-    let mut stdout_of: Vec<Option<OwnedFd>> = (0..n).map(|_| None).collect();
-    let mut named_of: Vec<Vec<(usize, OwnedFd, String)>> = (0..n).map(|_| Vec::new()).collect();
-    for (name, ch) in &chans {
-        let (r, w) = match pipe() {
-            Ok(p) => p,
-            Err(e) => return Ok(fail(format!("{me}: {e}\n"))),
-        };
-        match ch.writer {
-            (i, None) => stdout_of[i] = Some(w),
-            (i, Some(k)) => named_of[i].push((k, w, name.clone())),
-        }
-        match ch.reader {
-            (i, None) => stdin_of[i] = Some(r),
-            (i, Some(k)) => named_of[i].push((k, r, name.clone())),
-        }
-    }
-    // The feed: a pipe into the stage that would read stdin, written by a thread, which
-    // holds the signals blocked as this one does (they are blocked before it starts).
-    if let Some(feed) = options.feed {
-        if let Some(i) = stages.iter().position(|s| s.input == End::Inherit) {
-            let (r, w) = match pipe() {
-                Ok(p) => p,
-                Err(e) => return Ok(fail(format!("{me}: {e}\n"))),
-            };
-            stdin_of[i] = Some(r);
-            std::thread::spawn(move || feed_stage(feed, w));
-        }
-    }
     let mut run = Running {
         pids: vec![None; n],
         exits: vec![None; n],
@@ -775,168 +794,350 @@ pub fn run(stages: Vec<Stage>, options: Options, me: &str) -> Result<Outcome, Sp
         signals,
         stages,
     };
-    // SAFETY: getpid has no failure.
-    let launcher = unsafe { libc::getpid() };
-    for i in 0..n {
-        let stage = run.stages[i].clone();
-        let started = (|| -> std::io::Result<libc::pid_t> {
-            let mut cmd = Command::new(&stage.argv[0]);
-            let mut args: Vec<OsString> = stage.argv[1..].to_vec();
-            let mut keep = Vec::new();
-            for (k, fd, name) in &named_of[i] {
-                args[k - 1] = format!("/dev/fd/{}", fd.as_raw_fd()).into();
-                keep.push(fd.as_raw_fd());
-                run.fds[i].push((fd.as_raw_fd(), name.clone()));
+    let mut ends = Ends::new(n);
+    let mut pending = Vec::new();
+    let made = (|| -> std::io::Result<()> {
+        for (name, ch) in &chans {
+            let (r, w) = pipe()?;
+            ends.writer(ch.writer, w, name);
+            ends.reader(ch.reader, r, name);
+        }
+        for (name, writer) in open {
+            let (r, w) = pipe()?;
+            ends.writer((writer, None), w, &name);
+            pending.push(((writer, None), r, name));
+        }
+        // The feed: a pipe into the stage that would read stdin, written by a thread,
+        // which holds the signals blocked as this one does (blocked before it starts).
+        if let Some(feed) = feed {
+            if let Some(i) = run.stages.iter().position(|s| s.input == End::Inherit) {
+                let (r, w) = pipe()?;
+                ends.reader((i, None), r, "");
+                std::thread::spawn(move || feed_stage(feed, w));
             }
-            cmd.args(&args);
-            cmd.stdin(match (&stage.input, stdin_of[i].take()) {
-                (_, Some(fd)) => Stdio::from(fd),
-                (End::Path(p), None) => Stdio::from(open_end(p, false)?),
-                _ => Stdio::inherit(),
-            });
-            cmd.stdout(match (&stage.output, stdout_of[i].take()) {
-                (_, Some(fd)) => Stdio::from(fd),
-                (End::Path(p), None) => Stdio::from(open_end(p, true)?),
-                _ => Stdio::inherit(),
-            });
-            let (err_r, err_w) = pipe()?;
-            cmd.stderr(Stdio::from(err_w));
-            // SAFETY: between fork and exec the closure makes only system calls on
-            // numbers it was given, allocating nothing.
-            unsafe {
-                cmd.pre_exec(move || {
-                    // The signals the launcher takes on its signalfd, the stage gets.
-                    let mut none = std::mem::zeroed::<libc::sigset_t>();
-                    libc::sigemptyset(&mut none);
-                    libc::sigprocmask(libc::SIG_SETMASK, &none, std::ptr::null_mut());
-                    // The stage ends with the launcher, however that ends (SIGKILL too).
-                    if libc::prctl(libc::PR_SET_PDEATHSIG, libc::SIGTERM) != 0
-                        || libc::getppid() != launcher
-                    {
-                        return Err(std::io::Error::other("the launcher is gone"));
-                    }
-                    for &fd in &keep {
-                        if libc::fcntl(fd, libc::F_SETFD, 0) != 0 {
-                            return Err(std::io::Error::last_os_error());
-                        }
-                    }
-                    Ok(())
-                });
-            }
-            let child = cmd.spawn().map_err(|e| {
-                std::io::Error::new(
-                    e.kind(),
-                    format!("cannot run {}: {e}", stage.argv[0].to_string_lossy()),
-                )
-            })?;
-            run.errs[i] = Some(err_r);
-            Ok(child.id() as libc::pid_t)
-        })();
-        // The stage's ends are its own now: this process keeps none of them.
-        named_of[i].clear();
-        match started {
-            Ok(pid) => run.pids[i] = Some(pid),
-            Err(e) => {
-                run.stop_all();
-                return Ok(fail(format!("{me}: {}: {e}\n", stage.label)));
-            }
+        }
+        Ok(())
+    })();
+    if let Err(e) = made {
+        return Ok(failed(Some(run), format!("{me}: {e}\n")));
+    }
+    if let Err(message) = run.spawn(0, ends, me) {
+        return Ok(failed(Some(run), message));
+    }
+    Ok(Early {
+        me: me.to_string(),
+        run: Some(run),
+        failed: None,
+        pending,
+    })
+}
+
+/// Each stage's ends before it starts: stdin, stdout, and (argument, fd, name) for its
+/// named channels.
+struct Ends {
+    stdin: Vec<Option<OwnedFd>>,
+    stdout: Vec<Option<OwnedFd>>,
+    named: Vec<Vec<(usize, OwnedFd, String)>>,
+}
+
+impl Ends {
+    fn new(n: usize) -> Ends {
+        Ends {
+            stdin: (0..n).map(|_| None).collect(),
+            stdout: (0..n).map(|_| None).collect(),
+            named: (0..n).map(|_| Vec::new()).collect(),
         }
     }
-    drop((stdin_of, stdout_of, named_of));
 
-    // Watch. The first failure starts a short wait for the stages it brings down.
-    let mut failed_at: Option<Instant> = None;
-    const SETTLE: Duration = Duration::from_millis(100);
-    loop {
-        if failed_at.is_none() && run.exits.iter().flatten().any(|e| !e.success()) {
-            failed_at = Some(Instant::now());
+    /// `fd`, a channel's write end, as stage `at.0`'s stdout or its argument `at.1`.
+    fn writer(&mut self, at: (usize, Option<usize>), fd: OwnedFd, name: &str) {
+        match at {
+            (i, None) => self.stdout[i] = Some(fd),
+            (i, Some(k)) => self.named[i].push((k, fd, name.to_string())),
         }
-        let timeout = match failed_at {
-            Some(t) => match SETTLE.checked_sub(t.elapsed()) {
-                Some(left) => left,
-                None => break,
-            },
-            None if run.all_exited() => {
-                run.drain();
-                break;
-            }
-            // A stage's end wakes this by SIGCHLD, or by its stderr ending; the bound
-            // is for a SIGCHLD taken by another thread (the tests').
-            None => Duration::from_millis(200),
+    }
+
+    /// `fd`, a channel's read end, as stage `at.0`'s stdin or its argument `at.1`.
+    fn reader(&mut self, at: (usize, Option<usize>), fd: OwnedFd, name: &str) {
+        match at {
+            (i, None) => self.stdin[i] = Some(fd),
+            (i, Some(k)) => self.named[i].push((k, fd, name.to_string())),
+        }
+    }
+}
+
+impl Early {
+    /// Starts the rest of the graph `full` (whose first stages are those started, the
+    /// same command lines reading the same inputs; the channel out of the last of them
+    /// may have another name now) and runs it all to its end ([`run`]).
+    pub fn finish(self, full: Vec<Stage>, options: Options) -> Result<Outcome, SpecError> {
+        let Early {
+            me,
+            run,
+            failed,
+            mut pending,
+        } = self;
+        let me = me.as_str();
+        let (Some(mut run), None) = (run, failed.as_ref()) else {
+            return Ok(failed.unwrap_or(Outcome {
+                status: 3,
+                message: String::new(),
+            }));
         };
-        if let Some(sig) = run.step(Some(timeout)) {
+        let k = run.stages.len();
+        for (i, s) in run.stages.iter().enumerate() {
+            match full.get(i) {
+                Some(f) if f.argv == s.argv && f.input == s.input => {}
+                _ => return Err(SpecError::Bad(i, "not the stage started early".into())),
+            }
+        }
+        let chans = channels(&full)?;
+        let n = full.len();
+        let mut ends = Ends::new(n);
+        let made = (|| -> Result<std::io::Result<()>, SpecError> {
+            for (name, ch) in &chans {
+                let (w, r) = (ch.writer.0, ch.reader.0);
+                if r < k {
+                    if w >= k {
+                        return Err(SpecError::Bad(r, "reads a stage started after it".into()));
+                    }
+                    continue; // made when both started
+                }
+                if w < k {
+                    let Some(at) = pending.iter().position(|(by, _, _)| *by == ch.writer) else {
+                        return Err(SpecError::Channel(name.clone(), "has no writer".into()));
+                    };
+                    let (_, fd, _) = pending.swap_remove(at);
+                    ends.reader(ch.reader, fd, name);
+                    continue;
+                }
+                let (rd, wr) = match pipe() {
+                    Ok(p) => p,
+                    Err(e) => return Ok(Err(e)),
+                };
+                ends.writer(ch.writer, wr, name);
+                ends.reader(ch.reader, rd, name);
+            }
+            Ok(Ok(()))
+        })()?;
+        if let Some((_, _, name)) = pending.first() {
+            return Err(SpecError::Channel(name.clone(), "has no reader".into()));
+        }
+        run.stages = full;
+        run.pids.resize(n, None);
+        run.exits.resize(n, None);
+        run.costs.resize(n, Cost::default());
+        run.errs.resize_with(n, || None);
+        run.said.resize(n, Vec::new());
+        run.fds.resize(n, Vec::new());
+        if let Err(e) = made {
             run.stop_all();
             return Ok(Outcome {
-                status: (128 + sig) as u8,
-                message: String::new(),
+                status: 3,
+                message: format!("{me}: {e}\n"),
             });
         }
+        if let Err(message) = run.spawn(k, ends, me) {
+            return Ok(Outcome { status: 3, message });
+        }
+        run.watch(&options, me)
     }
 
-    let statuses = run.statuses();
-    let Some(c) = failed_at.and_then(|_| cause(&statuses)) else {
-        let said: Vec<String> = (0..n).map(|i| run.labelled(i)).collect();
-        let mut message = said.concat();
-        if options.links {
-            message.push_str(&links(&run.stages, &said, options.depth, me));
+    /// Stops the stages started, and waits for them: the graph will not be finished (the
+    /// look at the scene failed, and render says why).
+    pub fn stop(self) {
+        if let Some(mut run) = self.run {
+            run.stop_all();
         }
-        if options.times {
-            message.push_str(&times(&run.stages, &run.costs, me));
-        }
-        return Ok(Outcome { status: 0, message });
-    };
-    run.stop_all();
-    let statuses = run.statuses();
-    let st = statuses[c].unwrap_or(0);
-    let said = run.labelled(c);
-    let stage = &run.stages[c];
-    if stage.host.is_none() {
-        // The merger found a host's runs empty: that host answered with nothing (a
-        // command that is not render, say), the host's fault, not the data's.
-        if let Some(node) = empty_from(&said) {
-            if let Some(h) = run
-                .stages
-                .iter()
-                .position(|s| matches!(&s.host, Some((_, k)) if *k == node))
-            {
-                let (host, _) = run.stages[h].host.clone().unwrap_or_default();
-                return Ok(fail(format!(
-                    "{me}: host {host} ({}): sent back nothing ({} from its command)\n",
-                    what_node(node, options.depth),
-                    describe(statuses[h].unwrap_or(0))
-                )));
+    }
+}
+
+impl Running {
+    /// Starts stages `from..` with their ends. On a failure to start one, stops every
+    /// stage started and returns the message.
+    fn spawn(&mut self, from: usize, mut ends: Ends, me: &str) -> Result<(), String> {
+        // SAFETY: getpid has no failure.
+        let launcher = unsafe { libc::getpid() };
+        for i in from..self.stages.len() {
+            let stage = self.stages[i].clone();
+            let named = std::mem::take(&mut ends.named[i]);
+            let (stdin, stdout) = (ends.stdin[i].take(), ends.stdout[i].take());
+            let started = self.spawn_one(i, &stage, stdin, stdout, &named, launcher);
+            // The stage's ends are its own now: this process keeps none of them.
+            drop(named);
+            match started {
+                Ok(pid) => self.pids[i] = Some(pid),
+                Err(e) => {
+                    drop(ends);
+                    self.stop_all();
+                    return Err(format!("{me}: {}: {e}\n", stage.label));
+                }
             }
         }
+        Ok(())
     }
-    if let Some((host, node)) = &stage.host {
-        // A subtree on a host: what ssh or the far side said last is the message.
-        let lines: Vec<&str> = said.lines().collect();
-        let mut message: String = lines[..lines.len().saturating_sub(1)]
-            .iter()
-            .map(|l| format!("{l}\n"))
-            .collect();
-        let raw = String::from_utf8_lossy(&run.said[c]);
-        let (code, signal) = run.exits[c].map_or((Some(st), None), |e| (e.code(), e.signal()));
-        let f = stagecli::remote::classify(code, signal, &raw, "render.sh").unwrap_or(
-            stagecli::remote::Failure {
-                message: "failed".into(),
-                status: 1,
-            },
-        );
-        message.push_str(&format!(
-            "{me}: host {host} ({}): {}\n",
-            what_node(*node, options.depth),
-            f.message
-        ));
-        return Ok(Outcome {
-            status: f.status,
-            message,
+
+    fn spawn_one(
+        &mut self,
+        i: usize,
+        stage: &Stage,
+        stdin: Option<OwnedFd>,
+        stdout: Option<OwnedFd>,
+        named: &[(usize, OwnedFd, String)],
+        launcher: libc::pid_t,
+    ) -> std::io::Result<libc::pid_t> {
+        let mut cmd = Command::new(&stage.argv[0]);
+        let mut args: Vec<OsString> = stage.argv[1..].to_vec();
+        let mut keep = Vec::new();
+        for (k, fd, name) in named {
+            args[k - 1] = format!("/dev/fd/{}", fd.as_raw_fd()).into();
+            keep.push(fd.as_raw_fd());
+            self.fds[i].push((fd.as_raw_fd(), name.clone()));
+        }
+        cmd.args(&args);
+        cmd.stdin(match (&stage.input, stdin) {
+            (_, Some(fd)) => Stdio::from(fd),
+            (End::Path(p), None) => Stdio::from(open_end(p, false)?),
+            _ => Stdio::inherit(),
         });
+        cmd.stdout(match (&stage.output, stdout) {
+            (_, Some(fd)) => Stdio::from(fd),
+            (End::Path(p), None) => Stdio::from(open_end(p, true)?),
+            _ => Stdio::inherit(),
+        });
+        let (err_r, err_w) = pipe()?;
+        cmd.stderr(Stdio::from(err_w));
+        // SAFETY: between fork and exec the closure makes only system calls on
+        // numbers it was given, allocating nothing.
+        unsafe {
+            cmd.pre_exec(move || {
+                // The signals the launcher takes on its signalfd, the stage gets.
+                let mut none = std::mem::zeroed::<libc::sigset_t>();
+                libc::sigemptyset(&mut none);
+                libc::sigprocmask(libc::SIG_SETMASK, &none, std::ptr::null_mut());
+                // The stage ends with the launcher, however that ends (SIGKILL too).
+                if libc::prctl(libc::PR_SET_PDEATHSIG, libc::SIGTERM) != 0
+                    || libc::getppid() != launcher
+                {
+                    return Err(std::io::Error::other("the launcher is gone"));
+                }
+                for &fd in &keep {
+                    if libc::fcntl(fd, libc::F_SETFD, 0) != 0 {
+                        return Err(std::io::Error::last_os_error());
+                    }
+                }
+                Ok(())
+            });
+        }
+        let child = cmd.spawn().map_err(|e| {
+            std::io::Error::new(
+                e.kind(),
+                format!("cannot run {}: {e}", stage.argv[0].to_string_lossy()),
+            )
+        })?;
+        self.errs[i] = Some(err_r);
+        Ok(child.id() as libc::pid_t)
     }
-    Ok(Outcome {
-        status: if (1..=3).contains(&st) { st as u8 } else { 1 },
-        message: format!("{said}{me}: {} failed ({})\n", stage.label, describe(st)),
-    })
+
+    /// Watches every stage to its end, and says how the run ended.
+    fn watch(mut self, options: &Options, me: &str) -> Result<Outcome, SpecError> {
+        let run = &mut self;
+        let n = run.stages.len();
+        let fail = |message: String| Outcome { status: 3, message };
+        // Watch. The first failure starts a short wait for the stages it brings down.
+        let mut failed_at: Option<Instant> = None;
+        const SETTLE: Duration = Duration::from_millis(100);
+        loop {
+            if failed_at.is_none() && run.exits.iter().flatten().any(|e| !e.success()) {
+                failed_at = Some(Instant::now());
+            }
+            let timeout = match failed_at {
+                Some(t) => match SETTLE.checked_sub(t.elapsed()) {
+                    Some(left) => left,
+                    None => break,
+                },
+                None if run.all_exited() => {
+                    run.drain();
+                    break;
+                }
+                // A stage's end wakes this by SIGCHLD, or by its stderr ending; the bound
+                // is for a SIGCHLD taken by another thread (the tests').
+                None => Duration::from_millis(200),
+            };
+            if let Some(sig) = run.step(Some(timeout)) {
+                run.stop_all();
+                return Ok(Outcome {
+                    status: (128 + sig) as u8,
+                    message: String::new(),
+                });
+            }
+        }
+
+        let statuses = run.statuses();
+        let Some(c) = failed_at.and_then(|_| cause(&statuses)) else {
+            let said: Vec<String> = (0..n).map(|i| run.labelled(i)).collect();
+            let mut message = said.concat();
+            if options.links {
+                message.push_str(&links(&run.stages, &said, options.depth, me));
+            }
+            if options.times {
+                message.push_str(&times(&run.stages, &run.costs, me));
+            }
+            return Ok(Outcome { status: 0, message });
+        };
+        run.stop_all();
+        let statuses = run.statuses();
+        let st = statuses[c].unwrap_or(0);
+        let said = run.labelled(c);
+        let stage = &run.stages[c];
+        if stage.host.is_none() {
+            // The merger found a host's runs empty: that host answered with nothing (a
+            // command that is not render, say), the host's fault, not the data's.
+            if let Some(node) = empty_from(&said) {
+                if let Some(h) = run
+                    .stages
+                    .iter()
+                    .position(|s| matches!(&s.host, Some((_, k)) if *k == node))
+                {
+                    let (host, _) = run.stages[h].host.clone().unwrap_or_default();
+                    return Ok(fail(format!(
+                        "{me}: host {host} ({}): sent back nothing ({} from its command)\n",
+                        what_node(node, options.depth),
+                        describe(statuses[h].unwrap_or(0))
+                    )));
+                }
+            }
+        }
+        if let Some((host, node)) = &stage.host {
+            // A subtree on a host: what ssh or the far side said last is the message.
+            let lines: Vec<&str> = said.lines().collect();
+            let mut message: String = lines[..lines.len().saturating_sub(1)]
+                .iter()
+                .map(|l| format!("{l}\n"))
+                .collect();
+            let raw = String::from_utf8_lossy(&run.said[c]);
+            let (code, signal) = run.exits[c].map_or((Some(st), None), |e| (e.code(), e.signal()));
+            let f = stagecli::remote::classify(code, signal, &raw, "render.sh").unwrap_or(
+                stagecli::remote::Failure {
+                    message: "failed".into(),
+                    status: 1,
+                },
+            );
+            message.push_str(&format!(
+                "{me}: host {host} ({}): {}\n",
+                what_node(*node, options.depth),
+                f.message
+            ));
+            return Ok(Outcome {
+                status: f.status,
+                message,
+            });
+        }
+        Ok(Outcome {
+            status: if (1..=3).contains(&st) { st as u8 } else { 1 },
+            message: format!("{said}{me}: {} failed ({})\n", stage.label, describe(st)),
+        })
+    }
 }
 
 /// Writes `feed` into `to`: the sample, then the rest of its stream. A reader that has
@@ -1189,5 +1390,103 @@ mod tests {
                 message: "a: bad\nrender: a failed (status 2)\n".into()
             }
         );
+    }
+
+    /// `sh -c SCRIPT` as a stage labelled `label`.
+    fn sh(label: &str, input: End, output: End, script: &str) -> Stage {
+        Stage {
+            label: label.into(),
+            input,
+            output,
+            host: None,
+            argv: words(&["sh", "-c", script]),
+            pipes: 0,
+        }
+    }
+
+    #[test]
+    fn stages_started_early_join_the_rest_through_their_open_channel() {
+        let dir = tempfile::tempdir().unwrap();
+        let out = dir.path().join("out");
+        let null = || End::Path("/dev/null".into());
+        // The first stage writes into `clipped`, which none of the early stages reads;
+        // the whole graph names that channel `leaf-0`.
+        let first = sh(
+            "a",
+            null(),
+            End::Pipe("clipped".into()),
+            "echo early; echo a: said >&2",
+        );
+        let early = start(vec![first.clone()], None, "render").unwrap();
+        let mut renamed = first;
+        renamed.output = End::Pipe("leaf-0".into());
+        let full = vec![
+            renamed,
+            sh(
+                "b",
+                End::Pipe("leaf-0".into()),
+                End::Path(out.clone()),
+                "tr a-z A-Z; echo b: done >&2",
+            ),
+        ];
+        assert_eq!(
+            early.finish(full, Options::default()).unwrap(),
+            Outcome {
+                status: 0,
+                message: "a: said\nb: done\n".into()
+            }
+        );
+        assert_eq!(std::fs::read_to_string(&out).unwrap(), "EARLY\n");
+    }
+
+    #[test]
+    fn an_early_stage_that_fails_is_named_as_in_one_phase() {
+        let null = || End::Path("/dev/null".into());
+        let pipe = || End::Pipe("p".into());
+        // It fails before the rest of the graph starts: the rest still starts, reads
+        // its short input, and the early stage is the cause, with its own words.
+        let first = sh(
+            "viewxf",
+            null(),
+            pipe(),
+            "echo 'viewxf: line 1: bad' >&2; exit 1",
+        );
+        let early = start(vec![first.clone()], None, "render").unwrap();
+        std::thread::sleep(Duration::from_millis(50));
+        let full = vec![
+            first,
+            sh(
+                "zbuf",
+                pipe(),
+                null(),
+                "cat >/dev/null; echo 'zbuf: empty input' >&2; exit 1",
+            ),
+        ];
+        assert_eq!(
+            early.finish(full, Options::default()).unwrap(),
+            Outcome {
+                status: 1,
+                message: "viewxf: line 1: bad\nrender: viewxf failed (status 1)\n".into()
+            }
+        );
+    }
+
+    #[test]
+    fn a_graph_that_does_not_begin_with_the_early_stages_is_refused() {
+        let null = || End::Path("/dev/null".into());
+        let pipe = || End::Pipe("p".into());
+        let early = start(vec![sh("a", null(), pipe(), "cat")], None, "render").unwrap();
+        let other = vec![
+            sh("a", null(), pipe(), "cat -u"),
+            sh("b", pipe(), null(), "cat"),
+        ];
+        assert_eq!(
+            early.finish(other, Options::default()),
+            Err(SpecError::Bad(0, "not the stage started early".into()))
+        );
+        assert!(matches!(
+            channels(&[sh("a", null(), pipe(), "cat")]),
+            Err(SpecError::Channel(n, _)) if n == "p"
+        ));
     }
 }

@@ -333,35 +333,50 @@ fn run_inner<I: IntoIterator<Item = OsString>>(
     check_binaries(&o, &bin, from_env)?;
     tell_example(&o);
     let root = repository();
-    let mut feed = None;
-    let depth = match o.depth {
-        Some(d) => d,
-        None if o.hidden_line || o.subtree.is_some() => 0,
-        None => {
-            let choice = auto::choose(&o, &root, &bin, std::io::stderr().is_terminal(), ME)?;
-            if let (true, Some(said)) = (o.stats, &choice.said) {
-                let _ = writeln!(std::io::stderr(), "{ME}: {said}");
-            }
-            feed = choice.feed;
-            choice.depth
-        }
+    let fixed = match o.depth {
+        Some(d) => Some(d),
+        None if o.hidden_line || o.subtree.is_some() => Some(0),
+        None => None,
     };
-    let context = graph::Context {
+    let context = |depth: u32, fed: bool| graph::Context {
         bin: &bin,
         depth,
         ssh: &ssh,
         root: &root,
-        fed: feed.is_some(),
+        fed,
     };
-    let stages = graph::build(&o, &context);
-    let options = launch::Options {
+    let options = |depth: u32| launch::Options {
         depth,
         links: o.stats && !o.hosts.is_empty(),
         times: o.times,
-        feed,
+        feed: None,
     };
-    let outcome =
-        launch::run(stages, options, ME).map_err(|e| Error::usage(format!("the graph: {e}")))?;
+    let graph_error = |e: launch::SpecError| Error::usage(format!("the graph: {e}"));
+    let outcome = match fixed {
+        Some(depth) => {
+            let stages = graph::build(&o, &context(depth, false));
+            launch::run(stages, options(depth), ME).map_err(graph_error)?
+        }
+        None => {
+            // --depth auto, in two phases: viewxf and the clipper, which no depth
+            // changes, start first and work while the scene is looked at and the model
+            // asked; the tree, the leaves and the merger, which the depth makes, then.
+            let target = auto::target(&o);
+            let mut sampled = auto::sample_stream(&o)?;
+            let feed = sampled.as_mut().map(auto::Sampled::feed);
+            let chain = graph::chain(&o, &context(0, feed.is_some()));
+            let early = launch::start(chain, feed, ME).map_err(graph_error)?;
+            let tell = std::io::stderr().is_terminal();
+            let choice = auto::choose(&o, sampled.as_ref(), &target, &root, &bin, tell, ME);
+            if let (true, Some(said)) = (o.stats, &choice.said) {
+                let _ = writeln!(std::io::stderr(), "{ME}: {said}");
+            }
+            let stages = graph::build(&o, &context(choice.depth, sampled.is_some()));
+            early
+                .finish(stages, options(choice.depth))
+                .map_err(graph_error)?
+        }
+    };
     launch::tell(&outcome);
     Ok(outcome.status)
 }

@@ -1693,7 +1693,7 @@ mod tests {
                     .collect();
                 let mut p = Polygon::from_xyz([i as u8, 7, 9], &pts);
                 if i % 3 != 0 {
-                    p.colours = (0..n)
+                    p.vertex_attrs = (0..n)
                         .map(|_| proto::DVec3::new(next(), next(), next()) * 255.0)
                         .collect();
                 }

@@ -58,7 +58,7 @@ fn main() -> ExitCode {
     stagecli::main("scanline", |args: Args| {
         let mut method = Scanline::new();
         method.sort_afresh = args.sort_afresh;
-        stagecli::resolve_frames("scanline", args.text.form(), args.stats, &mut method)?;
+        leaf::resolve_frames("scanline", args.text.form(), args.stats, &mut method)?;
         Ok(())
     })
 }

@@ -112,7 +112,7 @@ pub fn spin_lit(
                     };
                     match shading {
                         Shading::Gouraud => {
-                            polygon.colours = points
+                            polygon.vertex_attrs = points
                                 .iter()
                                 .enumerate()
                                 .map(|(k, p)| {
@@ -122,7 +122,7 @@ pub fn spin_lit(
                                 .collect();
                         }
                         Shading::Phong => {
-                            polygon.colours = points
+                            polygon.vertex_attrs = points
                                 .iter()
                                 .enumerate()
                                 .map(|(k, p)| normal(k, p))

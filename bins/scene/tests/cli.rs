@@ -444,8 +444,8 @@ fn obj_gouraud_lights_each_vertex_by_its_normal() {
     assert!(reader.header().attributes.vertex_colours);
     let k = 0.3 + 0.7 * 2.0 / 7.25f64.sqrt();
     let polygon = &frames_of(&out.stdout)[0][0];
-    assert_eq!(polygon.colours.len(), 3);
-    for c in &polygon.colours {
+    assert_eq!(polygon.vertex_attrs.len(), 3);
+    for c in &polygon.vertex_attrs {
         assert!(
             (c.x - 200.0 * k).abs() < 1e-9 && c.x == c.y && c.y == c.z,
             "{c:?}"
@@ -495,7 +495,7 @@ fn obj_lights_and_ambient_are_the_users() {
         .arg(&obj)
         .output()
         .unwrap();
-    for c in &frames_of(&out.stdout)[0][0].colours {
+    for c in &frames_of(&out.stdout)[0][0].vertex_attrs {
         assert!((c.x - 170.0).abs() < 1e-9, "{c:?}");
     }
     for (light, message) in [
@@ -648,8 +648,8 @@ fn sphere_phong_normals_are_the_spheres() {
     assert!(reader.header().attributes.vertex_normals);
     for polygon in &frames_of(&out.stdout)[0] {
         assert_eq!(polygon.colour, [220, 120, 60]);
-        assert_eq!(polygon.colours.len(), polygon.vertices.len());
-        for (n, v) in polygon.colours.iter().zip(&polygon.vertices) {
+        assert_eq!(polygon.vertex_attrs.len(), polygon.vertices.len());
+        for (n, v) in polygon.vertex_attrs.iter().zip(&polygon.vertices) {
             assert!((n.length() - 1.0).abs() < 1e-12);
             assert!((v.truncate() / 5.0 - *n).length() < 1e-12, "{n:?} at {v:?}");
         }
@@ -673,7 +673,7 @@ fn spheres_normals_point_from_each_spheres_centre() {
     assert_eq!(polygons.len(), 2 * 4 * 6);
     for (k, polygon) in polygons.iter().enumerate() {
         let (centre, radius) = centres[k / 24];
-        for (n, v) in polygon.colours.iter().zip(&polygon.vertices) {
+        for (n, v) in polygon.vertex_attrs.iter().zip(&polygon.vertices) {
             assert!(
                 ((v.truncate() - centre) / radius - *n).length() < 1e-12,
                 "{k}"

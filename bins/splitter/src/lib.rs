@@ -252,7 +252,7 @@ pub fn split(poly: &Polygon, plane: &Plane, out1: &mut Polygon, out2: &mut Polyg
         out.opacity = poly.opacity;
         out.vertices.clear();
         out.supports.clear();
-        out.colours.clear();
+        out.vertex_attrs.clear();
         out.plane = poly.plane;
         out.shade.clone_from(&poly.shade);
     }
@@ -260,7 +260,7 @@ pub fn split(poly: &Polygon, plane: &Plane, out1: &mut Polygon, out2: &mut Polyg
         return;
     }
     // A flat polygon walks without colours: the walk is compiled twice.
-    if poly.is_shaded() && poly.colours.len() == poly.vertices.len() {
+    if poly.is_shaded() && poly.vertex_attrs.len() == poly.vertices.len() {
         walk::<true>(poly, plane, out1, out2);
     } else {
         walk::<false>(poly, plane, out1, out2);
@@ -281,7 +281,7 @@ pub fn split(poly: &Polygon, plane: &Plane, out1: &mut Polygon, out2: &mut Polyg
         if poly.shade.is_none() && poly.is_shaded() {
             // The whole polygon's colour planes, as its depth plane (viewxf records them
             // first, unless a vertex was behind the eye).
-            let whole = proto::shade::eye_colour_planes(&poly.vertices, &poly.colours);
+            let whole = proto::shade::eye_colour_planes(&poly.vertices, &poly.vertex_attrs);
             out1.shade = whole.map(Box::new);
             out2.shade = whole.map(Box::new);
         }
@@ -393,14 +393,14 @@ fn walk<const SHADED: bool>(poly: &Polygon, plane: &Plane, out1: &mut Polygon, o
     let mut pieces = Pieces::<SHADED> {
         out1: &mut out1.vertices,
         in1: &mut out1.supports,
-        colours1: &mut out1.colours,
+        colours1: &mut out1.vertex_attrs,
         out2: &mut out2.vertices,
         in2: &mut out2.supports,
-        colours2: &mut out2.colours,
+        colours2: &mut out2.vertex_attrs,
     };
     let colour = |i: usize| {
         if SHADED {
-            poly.colours[i]
+            poly.vertex_attrs[i]
         } else {
             proto::DVec3::ZERO
         }
@@ -687,9 +687,9 @@ mod tests {
         // colour planes, and the opacity.
         let mut square = poly(&[(-2.0, -2.0), (2.0, -2.0), (2.0, 2.0), (-2.0, 2.0)]);
         let (red, blue) = (DVec3::new(255.0, 0.0, 0.0), DVec3::new(0.0, 0.0, 255.0));
-        square.colours = vec![red, blue, blue, red];
+        square.vertex_attrs = vec![red, blue, blue, red];
         square.opacity = 99;
-        let whole = proto::shade::eye_colour_planes(&square.vertices, &square.colours);
+        let whole = proto::shade::eye_colour_planes(&square.vertices, &square.vertex_attrs);
         assert!(whole.is_some());
         let (mut a, mut b) = (Polygon::default(), Polygon::default());
         split(&square, &x0(), &mut a, &mut b);
@@ -698,12 +698,12 @@ mod tests {
             a.vertices,
             [v(-2.0, -2.0), v(0.0, -2.0), v(0.0, 2.0), v(-2.0, 2.0)]
         );
-        assert_eq!(a.colours, [red, purple, purple, red]);
+        assert_eq!(a.vertex_attrs, [red, purple, purple, red]);
         assert_eq!(
             b.vertices,
             [v(0.0, -2.0), v(2.0, -2.0), v(2.0, 2.0), v(0.0, 2.0)]
         );
-        assert_eq!(b.colours, [purple, blue, blue, purple]);
+        assert_eq!(b.vertex_attrs, [purple, blue, blue, purple]);
         assert_eq!(
             (a.shade.clone(), b.shade.clone()),
             (whole.map(Box::new), whole.map(Box::new))
@@ -715,7 +715,7 @@ mod tests {
         assert_eq!(a.shade, square.shade);
         let flat = poly(&[(-2.0, -2.0), (2.0, -2.0), (2.0, 2.0)]);
         split(&flat, &x0(), &mut a, &mut b);
-        assert!(a.colours.is_empty() && b.colours.is_empty() && a.shade.is_none());
+        assert!(a.vertex_attrs.is_empty() && b.vertex_attrs.is_empty() && a.shade.is_none());
     }
 
     #[test]

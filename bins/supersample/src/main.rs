@@ -35,7 +35,7 @@ fn main() -> ExitCode {
     stagecli::main("supersample", |args: Args| {
         let mut method = Supersample::new(args.samples, args.aa.background)
             .map_err(|m| Error::usage(format!("--samples {m}")))?;
-        stagecli::resolve_frames("supersample", args.aa.text.form(), args.stats, &mut method)?;
+        leaf::resolve_frames("supersample", args.aa.text.form(), args.stats, &mut method)?;
         Ok(())
     })
 }

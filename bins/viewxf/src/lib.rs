@@ -27,7 +27,8 @@ pub fn view_polygon(frame: &EyeFrame, poly: &mut Polygon) {
         *v = view_vertex(frame, *v);
     }
     if poly.is_shaded() {
-        poly.shade = proto::shade::eye_colour_planes(&poly.vertices, &poly.colours).map(Box::new);
+        poly.shade =
+            proto::shade::eye_colour_planes(&poly.vertices, &poly.vertex_attrs).map(Box::new);
     }
 }
 

@@ -1482,7 +1482,7 @@ mod tests {
         let mut next = scan::frame::pseudo_random(0x9e37_79b9_7f4a_7c15u64);
         let (w, h) = (150u32, 100u32);
         let mut polygons = vec![square([1, 2, 3], -5.0, -5.0, 160.0, 110.0, 0.9)];
-        polygons[0].colours = [
+        polygons[0].vertex_attrs = [
             [200.0, 0.0, 0.0],
             [0.0, 200.0, 0.0],
             [0.0, 0.0, 200.0],
@@ -1504,7 +1504,7 @@ mod tests {
                 .collect();
             let mut p = Polygon::from_xyz([i as u8, 7, 9], &pts);
             if i % 3 != 0 {
-                p.colours = (0..n)
+                p.vertex_attrs = (0..n)
                     .map(|_| proto::DVec3::new(next(), next(), next()) * 255.0)
                     .collect();
             }

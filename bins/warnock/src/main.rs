@@ -37,7 +37,7 @@ struct Args {
 
 fn main() -> ExitCode {
     stagecli::main("warnock", |args: Args| {
-        stagecli::resolve_frames("warnock", args.text.form(), args.stats, &mut Warnock::new())
+        leaf::resolve_frames("warnock", args.text.form(), args.stats, &mut Warnock::new())
             .map(|_| ())
     })
 }

@@ -323,9 +323,13 @@ impl Setup {
         if !poly.is_shaded() {
             return None;
         }
-        let planes = shade::eye_colour_planes(eye, &poly.colours).or_else(|| {
-            let (front, colours) =
-                cut_coloured_at_hither(eye, &poly.colours, self.view.hither, self.frame.w_per_z);
+        let planes = shade::eye_colour_planes(eye, &poly.vertex_attrs).or_else(|| {
+            let (front, colours) = cut_coloured_at_hither(
+                eye,
+                &poly.vertex_attrs,
+                self.view.hither,
+                self.frame.w_per_z,
+            );
             shade::eye_colour_planes(&front, &colours)
         });
         let screen = planes.and_then(|p| {
@@ -334,7 +338,7 @@ impl Setup {
         let shading = match screen {
             Some(planes) => Shading::new(planes),
             None => {
-                let c = poly.colours[0];
+                let c = poly.vertex_attrs[0];
                 Shading::new([0, 1, 2].map(|k| DVec4::new(0.0, 0.0, 1.0, -c[k])))
             }
         };

@@ -27,7 +27,7 @@ struct Args {
 fn main() -> ExitCode {
     stagecli::main("nearest", |args: Args| {
         let mut method = Nearest::default();
-        stagecli::resolve_frames("nearest", args.text.form(), args.stats, &mut method)?;
+        leaf::resolve_frames("nearest", args.text.form(), args.stats, &mut method)?;
         Ok(())
     })
 }
