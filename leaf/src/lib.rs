@@ -154,7 +154,7 @@ mod tests {
         fn stats(&self) -> String {
             String::new()
         }
-        fn shades(&self) -> bool {
+        fn shades(&mut self) -> bool {
             self.shades
         }
     }

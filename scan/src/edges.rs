@@ -1,6 +1,7 @@
 //! The Edge Table and the Active Edge Table (thesis Appendix 3.1).
 
 use proto::raster::{Edge, EdgeWalk, Point};
+use proto::Polygon;
 use std::ops::Range;
 
 /// An Edge Table entry: the edge's crossings from its first row on (an exact DDA, see
@@ -88,15 +89,61 @@ impl EdgeTable {
 
 /// Edge i of a polygon (vertex i → vertex i+1): rows from the vertices' rows, crossings
 /// from its support if a splitter cut it out of a longer edge ([`Edge::with_support`]),
-/// so that the pieces of a split polygon cover exactly the pixels the whole covers.
-#[inline]
-pub fn polygon_edge(
-    points: &[Point],
-    supports: &[Option<[Point; 2]>],
-    rows: &[i64],
-    i: usize,
-) -> Option<Edge> {
-    proto::raster::polygon_edge(points, supports, rows, i)
+/// so that the pieces of a split polygon cover exactly the pixels the whole covers. The
+/// rasteriser's name for proto's function.
+pub use proto::raster::polygon_edge;
+
+/// A polygon's outline on the sub-pixel grid (docs/DESIGN.md, "Coverage"): its vertices
+/// and its edges' supports snapped to 1/256 pixel, and the first row at or below each
+/// vertex, which is what [`polygon_edge`] reads. Kept by whatever walks polygons one
+/// after another (the span walker, the scan-line method's edge arena) and reloaded for
+/// each, so that loading allocates nothing once the buffers have grown.
+#[derive(Debug, Default)]
+pub struct Outline {
+    pub points: Vec<Point>,
+    pub supports: Vec<Option<[Point; 2]>>,
+    pub rows: Vec<i64>,
+}
+
+impl Outline {
+    /// Loads `polygon`'s snapped outline. `false`, leaving nothing to draw, when it covers
+    /// nothing: fewer than three vertices, every vertex on one line once snapped, or a
+    /// vertex or support with no place on the screen (NaN, infinite). The stages refuse
+    /// a polygon far off the screen before it gets here ([`crate::check_on_screen`]),
+    /// and no snapped stand-in for a vertex at infinity would be the polygon.
+    pub fn load(&mut self, polygon: &Polygon) -> bool {
+        let finite = |v: &proto::DVec4| v.x.is_finite() && v.y.is_finite();
+        if polygon.vertices.len() < 3
+            || !polygon.vertices.iter().all(finite)
+            || !polygon.supports.iter().flatten().flatten().all(finite)
+        {
+            return false;
+        }
+        let snap = |v: &proto::DVec4| Point {
+            x: proto::raster::snap(v.x),
+            y: proto::raster::snap(v.y),
+        };
+        self.points.clear();
+        self.points.extend(polygon.vertices.iter().map(snap));
+        self.supports.clear();
+        self.supports.extend(
+            polygon
+                .supports
+                .iter()
+                .map(|s| s.as_ref().map(|[a, b]| [snap(a), snap(b)])),
+        );
+        if proto::raster::snapped_on_one_line(&self.points) {
+            return false;
+        }
+        proto::raster::vertex_rows(&self.points, &self.supports, &mut self.rows);
+        true
+    }
+
+    /// Edge i of the loaded polygon (vertex i → vertex i+1), by [`polygon_edge`].
+    #[inline]
+    pub fn edge(&self, i: usize) -> Option<Edge> {
+        polygon_edge(&self.points, &self.supports, &self.rows, i)
+    }
 }
 
 /// The Active Edge Table (Appendix 3.1): the edges the current scanline crosses.
@@ -144,13 +191,21 @@ impl ActiveEdgeTable {
             e.walk.step();
             c
         }));
-        if let [a, b] = self.crossings[..] {
-            if b < a {
-                self.crossings.swap(0, 1);
-            }
-        } else {
-            self.crossings.sort_unstable();
-        }
+        sort_crossings(&mut self.crossings);
         &self.crossings
+    }
+}
+
+/// Sorts a row's crossings (columns) into the order in which they bound the covered
+/// columns, pairs `c0, c1` of them (even-odd): the two of a convex polygon, the common
+/// case, by one comparison, more by a sort.
+#[inline]
+pub fn sort_crossings(crossings: &mut [i64]) {
+    if let [a, b] = crossings {
+        if *b < *a {
+            crossings.swap(0, 1);
+        }
+    } else {
+        crossings.sort_unstable();
     }
 }

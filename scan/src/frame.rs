@@ -33,17 +33,32 @@ pub trait HiddenSurface {
     /// stage's name (`12 windows at depth 0, …`).
     fn stats(&self) -> String;
 
-    /// Whether the method draws Gouraud-shaded polygons (vertex colours, docs/DESIGN.md,
-    /// "Shading"); a stage whose method does not refuses a stream that declares them,
-    /// rather than drawing it flat.
-    fn shades(&self) -> bool {
-        false
+    /// Where a method that draws shaded polygons keeps the lighting of a Phong-shaded
+    /// stream, lent to [`HiddenSurface::shades`] and [`HiddenSurface::set_lighting`]: a
+    /// method that shades holds an `Option<Arc<Lighting>>` and answers
+    /// `Some(&mut self.lighting)`, and lights each pixel of a shaded polygon by it
+    /// ([`proto::shade::Shading::of`]). `None`, the default: the method draws each
+    /// polygon in one colour.
+    fn lighting(&mut self) -> Option<&mut Option<Arc<Lighting>>> {
+        None
+    }
+
+    /// Whether the method draws Gouraud- and Phong-shaded polygons (vertex colours or
+    /// normals, docs/DESIGN.md, "Shading"): whether it keeps a lighting
+    /// ([`HiddenSurface::lighting`]). A stage whose method does not refuses a stream that
+    /// declares them, rather than drawing it flat.
+    fn shades(&mut self) -> bool {
+        self.lighting().is_some()
     }
 
     /// The lighting of a Phong-shaded stream (its header says `vertex-normals`), given
-    /// before the first frame: a method that shades lights each pixel of a shaded polygon
-    /// by it ([`proto::shade::Shading::of`]); `None` for a Gouraud or flat stream.
-    fn set_lighting(&mut self, _lighting: Option<Arc<Lighting>>) {}
+    /// before the first frame and kept where [`HiddenSurface::lighting`] says; `None` for
+    /// a Gouraud or flat stream.
+    fn set_lighting(&mut self, lighting: Option<Arc<Lighting>>) {
+        if let Some(slot) = self.lighting() {
+            *slot = lighting;
+        }
+    }
 
     /// Whether the method draws polygons of opacity below 255 as transparent; a stage whose
     /// method does not refuses such a polygon rather than draw it opaque.
@@ -82,12 +97,8 @@ impl HiddenSurface for ZBuffer {
         });
     }
 
-    fn shades(&self) -> bool {
-        true
-    }
-
-    fn set_lighting(&mut self, lighting: Option<Arc<Lighting>>) {
-        self.lighting = lighting;
+    fn lighting(&mut self) -> Option<&mut Option<Arc<Lighting>>> {
+        Some(&mut self.lighting)
     }
 
     fn stats(&self) -> String {
@@ -118,6 +129,16 @@ pub fn pseudo_random(seed: u64) -> impl FnMut() -> f64 {
         state ^= state << 17;
         (state >> 11) as f64 / (1u64 << 53) as f64
     }
+}
+
+/// The rectangle from (x0, y0) to (x1, y1) on the screen at constant depth `z`, its
+/// corners in the order (x0, y0), (x1, y0), (x1, y1), (x0, y1) (clockwise on a screen
+/// whose Y grows downward): the methods' tests' commonest polygon.
+pub fn square(colour: Colour, x0: f64, y0: f64, x1: f64, y1: f64, z: f64) -> Polygon {
+    Polygon::from_xyz(
+        colour,
+        &[[x0, y0, z], [x1, y0, z], [x1, y1, z], [x0, y1, z]],
+    )
 }
 
 /// The picture `runs` paint on a `width`×`height` screen, row-major: `None` where no run
@@ -213,13 +234,6 @@ pub fn shaded_runs(
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    fn square(colour: Colour, x0: f64, y0: f64, x1: f64, y1: f64, z: f64) -> Polygon {
-        Polygon::from_xyz(
-            colour,
-            &[[x0, y0, z], [x1, y0, z], [x1, y1, z], [x0, y1, z]],
-        )
-    }
 
     #[test]
     fn the_zbuffer_keeps_the_nearer_and_the_earlier_of_a_tie() {

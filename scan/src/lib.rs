@@ -49,7 +49,7 @@ mod walk;
 mod ztest;
 
 pub use depth::{depth_at, takes, Depth, DepthPlane};
-pub use edges::{polygon_edge, ActiveEdgeTable, EdgeTable};
+pub use edges::{polygon_edge, sort_crossings, ActiveEdgeTable, EdgeTable, Outline};
 pub use frame::{HiddenSurface, ZBuffer};
 pub use pages::{advise_huge_pages, ZeroedBuffer};
 pub use region::{RegionBuffer, RegionStats, Run};

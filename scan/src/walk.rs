@@ -1,8 +1,8 @@
 //! Walking a polygon's scanlines: the covered spans of each row, with their depth.
 
 use crate::depth::{depth_at, Depth, DepthPlane};
-use crate::edges::{ActiveEdgeTable, EdgeTable};
-use proto::raster::{centres_in_clamped, vertex_rows, Point};
+use crate::edges::{ActiveEdgeTable, EdgeTable, Outline};
+use proto::raster::{centres_in_clamped, Point};
 use proto::Polygon;
 use std::convert::Infallible;
 use std::ops::Range;
@@ -40,11 +40,8 @@ impl Span {
 pub struct SpanWalker {
     et: EdgeTable,
     aet: ActiveEdgeTable,
-    /// The loaded polygon's vertices and supports, snapped (docs/DESIGN.md, "Coverage"),
-    /// and the first row at or below each vertex.
-    points: Vec<Point>,
-    supports: Vec<Option<[Point; 2]>>,
-    rows: Vec<i64>,
+    /// The loaded polygon's outline, snapped (docs/DESIGN.md, "Coverage").
+    outline: Outline,
 }
 
 impl SpanWalker {
@@ -63,36 +60,16 @@ impl SpanWalker {
     /// [`SpanWalker::start`] for the rows of `band` only (a band of a frame drawn a few
     /// rows at a time): the rows of the band the polygon may cover.
     pub fn start_in(&mut self, polygon: &Polygon, band: Range<u32>) -> Range<i64> {
-        // A vertex with no place on the screen (NaN, infinite) makes a polygon that covers
-        // nothing: the stages refuse one far off the screen before it gets here
-        // ([`check_on_screen`]), and no snapped stand-in for it would be the polygon.
-        let finite = |v: &proto::DVec4| v.x.is_finite() && v.y.is_finite();
-        if polygon.vertices.len() < 3
-            || !polygon.vertices.iter().all(finite)
-            || !polygon.supports.iter().flatten().flatten().all(finite)
-        {
+        if !self.outline.load(polygon) {
             return 0..0;
         }
-        self.points.clear();
-        let snap = |v: &proto::DVec4| Point {
-            x: proto::raster::snap(v.x),
-            y: proto::raster::snap(v.y),
-        };
-        self.points.extend(polygon.vertices.iter().map(snap));
-        self.supports.clear();
-        self.supports.extend(
-            polygon
-                .supports
-                .iter()
-                .map(|s| s.as_ref().map(|[a, b]| [snap(a), snap(b)])),
-        );
-        if proto::raster::snapped_on_one_line(&self.points) {
-            return 0..0;
-        }
-        vertex_rows(&self.points, &self.supports, &mut self.rows);
         self.aet.clear();
-        self.et
-            .build_in(&self.points, &self.supports, &self.rows, band)
+        self.et.build_in(
+            &self.outline.points,
+            &self.outline.supports,
+            &self.outline.rows,
+            band,
+        )
     }
 
     /// The sorted crossings of the loaded polygon's edges with the centre line of `row`,

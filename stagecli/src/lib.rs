@@ -27,19 +27,23 @@
 //! several-line messages are joined ([`args::usage_line`]), with clap's status 2.
 //! `--help` and `--version` print as usual and exit 0.
 
+pub mod antialias;
 pub mod args;
 pub mod error;
 pub mod filter;
 pub mod memory;
 pub mod names;
 pub mod pieces;
+pub mod project;
 pub mod remote;
 pub mod stream;
 
+pub use antialias::AntialiasArgs;
 pub use args::{parse, parse_colour, DepthArg, PpmTextFlag, TextFlag, ViewArgs};
 pub use error::{Context, Error, Kind, Result};
 pub use filter::filter_polygons;
 pub use names::FrameNames;
+pub use project::ProjectArgs;
 pub use stream::{
     check_finite, check_finite_after, filter_records, input_error, input_name, next, open_input,
     open_output, read_stdin, refuse_transparent, same_file, stdout, write_stdout, Branch, Counted,

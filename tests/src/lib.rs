@@ -7,7 +7,9 @@
 
 pub mod hosts;
 pub mod nearest;
+pub mod reference;
 pub mod render;
+pub mod scenes;
 
 use std::path::{Path, PathBuf};
 use std::process::{Child, Command, ExitStatus, Output, Stdio};
@@ -101,10 +103,20 @@ pub fn output_with_stdin(mut cmd: Command, stdin: &[u8]) -> Output {
 /// Runs `script` (see [`sh`]) with no input and returns its stdout; a failure fails the
 /// test with the script and its stderr.
 pub fn run(script: &str) -> Vec<u8> {
-    let out = sh(script, b"");
+    run_with(script, b"")
+}
+
+/// [`run`] with `stdin` as the script's input.
+pub fn run_with(script: &str, stdin: &[u8]) -> Vec<u8> {
+    succeeded(script, sh(script, stdin))
+}
+
+/// The stdout of `out`, which must be a success; else the test fails naming `what` ran,
+/// its status and its stderr.
+pub fn succeeded(what: &str, out: Output) -> Vec<u8> {
     assert!(
         out.status.success(),
-        "`{script}` failed ({}): {}",
+        "`{what}` failed ({}): {}",
         out.status,
         String::from_utf8_lossy(&out.stderr)
     );
@@ -134,6 +146,18 @@ pub struct Frame {
 impl Frame {
     pub fn at(&self, x: usize, y: usize) -> [u8; 3] {
         self.pixels[y * self.width + x]
+    }
+
+    /// The pixels where this frame and `other` (of the same size) differ, with the colour
+    /// each shows there.
+    pub fn differences(&self, other: &Frame) -> Vec<([u8; 3], [u8; 3])> {
+        assert_eq!(self.pixels.len(), other.pixels.len());
+        self.pixels
+            .iter()
+            .zip(&other.pixels)
+            .filter(|(p, q)| p != q)
+            .map(|(p, q)| (*p, *q))
+            .collect()
     }
 
     /// The frame as characters, one per pixel, from a colour → character table; any
@@ -189,6 +213,13 @@ pub fn parse_ppm_stream(bytes: &[u8]) -> Result<Vec<Frame>, String> {
             pixels: i.pixels,
         })
         .collect())
+}
+
+/// The one frame of a PPM stream; a stream of any other number of frames fails the test.
+pub fn only_frame(ppm: &[u8]) -> Frame {
+    let mut frames = parse_ppm_stream(ppm).expect("a PPM stream");
+    assert_eq!(frames.len(), 1, "frames in the stream");
+    frames.remove(0)
 }
 
 /// Three per-vertex values of a world-space triangle (colours or normals) mixed at the

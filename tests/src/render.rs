@@ -1,7 +1,7 @@
 //! What the tests of `render` (bins/render) share: running it through
 //! scripts/render.sh as a user would, and reading its frames.
 
-use crate::{bin_dir, output_with_stdin, parse_ppm_stream, repo_root, Frame};
+use crate::{bin_dir, output_with_stdin, parse_ppm_stream, repo_root, succeeded, Frame};
 use std::process::{Command, Output};
 
 /// `scripts/render.sh ARGS`, the binaries built first.
@@ -21,14 +21,7 @@ pub fn render(args: &[&str], stdin: &[u8]) -> Output {
 
 /// Runs render, which must succeed; its stdout.
 pub fn render_ok(args: &[&str], stdin: &[u8]) -> Vec<u8> {
-    let out = render(args, stdin);
-    assert!(
-        out.status.success(),
-        "render {args:?}: {:?}\n{}",
-        out.status,
-        String::from_utf8_lossy(&out.stderr)
-    );
-    out.stdout
+    succeeded(&format!("render {args:?}"), render(args, stdin))
 }
 
 /// The frames of a concatenated P6 stream.

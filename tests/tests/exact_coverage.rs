@@ -7,46 +7,14 @@
 //! The in-process tests (meshes, pieces) take the scan converter and the splitter as
 //! libraries; a handful of scenes go through render.sh and zspec.
 
-use pipeline_tests::{parse_ppm_stream, sh, Frame};
+use pipeline_tests::reference::agree_with_zspec as agree;
+use pipeline_tests::scenes::{eye_at, projective, tilted_decals, Lcg};
 use proptest::prelude::*;
 use proto::geometry::Plane;
-use proto::perspective::{DepthMode, Perspective};
-use proto::{DVec4, Polygon, View};
+use proto::perspective::Perspective;
+use proto::{DVec4, Polygon};
 use scan::SpanWalker;
 use std::collections::BTreeMap;
-
-fn frame(script: &str, scene: &[u8]) -> Frame {
-    let out = sh(script, scene);
-    assert!(
-        out.status.success(),
-        "`{script}` failed ({}): {}",
-        out.status,
-        String::from_utf8_lossy(&out.stderr)
-    );
-    let mut frames = parse_ppm_stream(&out.stdout).unwrap();
-    assert_eq!(frames.len(), 1, "{script}");
-    frames.remove(0)
-}
-
-/// Renders `scene` with zspec and with render.sh under each of `variants`, and asserts
-/// that every pixel agrees; returns the reference.
-fn agree(scene: &str, camera: &str, variants: &[&str]) -> Frame {
-    let reference = frame(&format!("zspec {camera} -"), scene.as_bytes());
-    for v in variants {
-        let got = frame(
-            &format!("scripts/render.sh {camera} {v} -"),
-            scene.as_bytes(),
-        );
-        let differ = got
-            .pixels
-            .iter()
-            .zip(&reference.pixels)
-            .filter(|(a, b)| a != b)
-            .count();
-        assert_eq!(differ, 0, "render.sh {camera} {v}: {differ} pixels differ");
-    }
-    reference
-}
 
 /// The methods, each at tree depths from 0 to 4 (the painter with its splitting step,
 /// where it is exact).
@@ -108,22 +76,10 @@ fn the_penetrating_scene_is_the_reference_at_every_size_method_and_depth() {
     }
 }
 
-/// A point on the plane z = (0.3x + 0.7y)/3, written to 16 digits as a user would.
-fn on_plane(x: f64, y: f64) -> String {
-    format!("{x:.16} {y:.16} {:.16}\n", (0.3 * x + 0.7 * y) / 3.0)
-}
-
 #[test]
 fn tilted_coplanar_decals_are_the_reference_from_three_eyes() {
-    let mut s = String::from("polypipe 1 world\ncolour 255 0 0\n");
-    for (x, y) in [(-8.0, -6.0), (8.1, -5.7), (7.9, 6.2), (-8.3, 5.9)] {
-        s += &on_plane(x, y);
-    }
-    s += "NEXT.POLYGON\ncolour 0 255 0\n";
-    for (x, y) in [(-5.1, -3.3), (2.2, -4.1), (3.3, 2.7), (-4.4, 3.1)] {
-        s += &on_plane(x, y);
-    }
-    s += "END\n";
+    // A red quad and a green one inside it on one tilted plane: the green one ties.
+    let s = tilted_decals(2);
     let vs = variants(&[0, 2, 4]);
     let vs: Vec<&str> = vs.iter().map(String::as_str).collect();
     for camera in [
@@ -284,23 +240,12 @@ const W: u32 = 48;
 const H: u32 = 32;
 
 fn perspective() -> Perspective {
-    let view = View {
-        aspect: W as f64 / H as f64,
-        ..View::default()
-    };
-    Perspective::new(W, H, view, DepthMode::Projective).unwrap()
+    projective(W, H)
 }
 
 /// An eye-space vertex that projects to screen point (X, Y) at depth z_e (to rounding).
 fn at(x: f64, y: f64, z: f64) -> DVec4 {
-    let w = z * 0.625;
-    let a = W as f64 / H as f64;
-    DVec4::new(
-        (2.0 * x / W as f64 - 1.0) * a * w,
-        (1.0 - 2.0 * y / H as f64) * w,
-        z,
-        w,
-    )
+    eye_at((W, H), x, y, z)
 }
 
 /// The pixel → covering count map of projected polygons (screen space).
@@ -403,13 +348,8 @@ fn shallow_edges_cut_near_a_row_centre_cover_the_whole() {
     // cut point's rows would cross that row up to a pixel away from the cut. Thousands of
     // such cuts; the pieces cover exactly the whole's pixels, and the cases where the
     // rows move are counted, so that the test is known to reach them.
-    let mut rng = 0x1985u64;
-    let mut next = |n: u64| {
-        rng = rng
-            .wrapping_mul(6364136223846793005)
-            .wrapping_add(1442695040888963407);
-        (rng >> 33) % n
-    };
+    let mut rng = Lcg(0x1985);
+    let mut next = |n: u64| rng.next(n);
     let mut moved = 0;
     for case in 0..20_000 {
         let k = 10 + next(28) as u32;

@@ -3,35 +3,15 @@
 //! pixel for pixel, on the thesis's penetrating scene and on three bars in a cyclic
 //! overlap; with --split, the z-buffer's frames on both.
 
+use pipeline_tests::reference::{one_frame, through_leaf as frames, CYCLIC_BARS};
 use pipeline_tests::{parse_ppm_stream, sh, Frame};
-
-/// The frames of `stream_cmd | LEAF | zbuf`.
-fn frames(stream_cmd: &str, leaf: &str, stdin: &[u8]) -> (Vec<Frame>, String) {
-    let out = sh(&format!("{stream_cmd} | {leaf} | zbuf"), stdin);
-    let stderr = String::from_utf8_lossy(&out.stderr).into_owned();
-    assert!(out.status.success(), "{leaf}: {stderr}");
-    (parse_ppm_stream(&out.stdout).expect("PPM frames"), stderr)
-}
-
-/// Pixels where two frames differ, with the colours each shows there.
-fn differences(a: &Frame, b: &Frame) -> Vec<([u8; 3], [u8; 3])> {
-    assert_eq!(a.pixels.len(), b.pixels.len());
-    a.pixels
-        .iter()
-        .zip(&b.pixels)
-        .filter(|(p, q)| p != q)
-        .map(|(p, q)| (*p, *q))
-        .collect()
-}
 
 /// zspec's exact frame of the penetrating scene.
 fn zspec_frame(size: &str) -> Frame {
-    let out = sh(
+    one_frame(
         &format!("zspec --size {size} < examples/penetrating.txt"),
         b"",
-    );
-    assert!(out.status.success());
-    parse_ppm_stream(&out.stdout).expect("PPM").remove(0)
+    )
 }
 
 const RED: [u8; 3] = [255, 60, 60];
@@ -47,7 +27,7 @@ fn the_penetrating_scene_is_painted_wrong_on_one_side_of_the_crossing() {
         // The triangle and the quadrilateral pass through each other: the red triangle
         // is painted whole over the blue one, also where the z-buffer shows blue in
         // front of it.
-        let diff = differences(&z[0], &p[0]);
+        let diff = z[0].differences(&p[0]);
         assert_eq!(diff.len(), wrong, "{size}");
         assert!(
             diff.iter()
@@ -61,8 +41,8 @@ fn the_penetrating_scene_is_painted_wrong_on_one_side_of_the_crossing() {
         // Cut by the other's plane, the pieces sort: the exact picture (zspec's) and the
         // z-buffer's. Pixel centres on the line of intersection itself go to the earlier
         // polygon (the tie rule), in the cut as in the z-buffer.
-        assert_eq!(differences(&zspec_frame(size), &s[0]).len(), 0, "{size}");
-        assert_eq!(differences(&z[0], &s[0]).len(), 0, "{size}");
+        assert_eq!(zspec_frame(size).differences(&s[0]).len(), 0, "{size}");
+        assert_eq!(z[0].differences(&s[0]).len(), 0, "{size}");
         assert!(
             split_stats.contains(", 1 splits, 0 cycles painted out of order"),
             "{split_stats}"
@@ -70,38 +50,19 @@ fn the_penetrating_scene_is_painted_wrong_on_one_side_of_the_crossing() {
     }
 }
 
-/// Three bars, each over the next: A (red) over C (blue) at the top left, C over B
-/// (green) at the bottom right, B over A at the top right; no two pass through each
-/// other. Screen space, 32×32.
-const CYCLIC: &str = "polypipe 1 screen 32 32
-colour 255 0 0
-2 4 0.2
-28 4 0.8
-28 10 0.8
-2 10 0.2
-NEXT.POLYGON
-colour 0 255 0
-20 2 0.5
-26 2 0.5
-26 28 0.8
-20 28 0.8
-NEXT.POLYGON
-colour 0 0 255
-2 8 0.6
-6 4 0.6
-28 26 0.3
-24 30 0.3
-END
-";
+/// Three bars in a cyclic overlap ([`CYCLIC_BARS`]), one frame on a 32×32 screen.
+fn cyclic() -> String {
+    format!("polypipe 1 screen 32 32\n{CYCLIC_BARS}END\n")
+}
 
 #[test]
 fn a_cyclic_overlap_is_painted_wrong_where_bars_overlap() {
-    let (z, _) = frames("cat", "scanconv --resolve", CYCLIC.as_bytes());
-    let (p, stats) = frames("cat", "painter --stats", CYCLIC.as_bytes());
-    let (s, split_stats) = frames("cat", "painter --split --stats", CYCLIC.as_bytes());
+    let (z, _) = frames("cat", "scanconv --resolve", cyclic().as_bytes());
+    let (p, stats) = frames("cat", "painter --stats", cyclic().as_bytes());
+    let (s, split_stats) = frames("cat", "painter --split --stats", cyclic().as_bytes());
     // The 36 pixels red and green share come out red, where green is in front, and the
     // 32 red and blue share come out blue, where red is in front.
-    let diff = differences(&z[0], &p[0]);
+    let diff = z[0].differences(&p[0]);
     assert_eq!(diff.len(), 68);
     let count =
         |zb: [u8; 3], painted: [u8; 3]| diff.iter().filter(|&&d| d == (zb, painted)).count();
@@ -112,15 +73,15 @@ fn a_cyclic_overlap_is_painted_wrong_where_bars_overlap() {
         "{stats}"
     );
     // Said without --stats, once for the frame, and the frames are written (exit 0).
-    let (_, said) = frames("cat", "painter", CYCLIC.as_bytes());
+    let (_, said) = frames("cat", "painter", cyclic().as_bytes());
     assert_eq!(
         said,
         "painter: frame 0: 2 cycles painted out of order; --split cuts them\n"
     );
-    let (_, said) = frames("cat", "painter --split", CYCLIC.as_bytes());
+    let (_, said) = frames("cat", "painter --split", cyclic().as_bytes());
     assert_eq!(said, "");
     // Two cuts by plane (the pixel-wise form needed four).
-    assert_eq!(differences(&z[0], &s[0]).len(), 0);
+    assert_eq!(z[0].differences(&s[0]).len(), 0);
     assert!(
         split_stats.contains("2 splits, 0 cycles painted out of order"),
         "{split_stats}"
@@ -134,8 +95,8 @@ fn the_triangle_piercing_a_square_fails_alike() {
     let (z, _) = frames(stream, "scanconv --resolve", b"");
     let (p, _) = frames(stream, "painter", b"");
     let (s, _) = frames(stream, "painter --split", b"");
-    assert_eq!(differences(&z[0], &p[0]).len(), 174);
-    assert_eq!(differences(&z[0], &s[0]).len(), 0);
+    assert_eq!(z[0].differences(&p[0]).len(), 174);
+    assert_eq!(z[0].differences(&s[0]).len(), 0);
 }
 
 #[test]
@@ -148,7 +109,7 @@ fn scenes_with_a_depth_order_come_out_as_the_zbuffers() {
         let stream = format!("viewxf --eye 7,9,20 < {scene} | clipbatch | persp --size 120x120");
         let (z, _) = frames(&stream, "scanconv --resolve", b"");
         let (p, stats) = frames(&stream, "painter --stats", b"");
-        assert_eq!(differences(&z[0], &p[0]).len(), 0, "{scene}");
+        assert_eq!(z[0].differences(&p[0]).len(), 0, "{scene}");
         assert!(stats.contains(" 0 cycles,"), "{scene}: {stats}");
     }
 }
@@ -160,7 +121,7 @@ fn a_movie_of_a_random_environment_matches_frame_by_frame_with_split() {
     let (s, stats) = frames(stream, "painter --split --stats", b"");
     assert_eq!(z.len(), 3);
     for (a, b) in z.iter().zip(&s) {
-        assert_eq!(differences(a, b).len(), 0, "{stats}");
+        assert_eq!(a.differences(b).len(), 0, "{stats}");
     }
 }
 
@@ -247,7 +208,7 @@ fn the_degenerate_scenes_painted_and_split() {
         let (p, _) = frames(&stream, "painter", b"");
         let (s, _) = frames(&stream, "painter --split", b"");
         let total =
-            |m: &[Frame]| -> usize { z.iter().zip(m).map(|(a, b)| differences(a, b).len()).sum() };
+            |m: &[Frame]| -> usize { z.iter().zip(m).map(|(a, b)| a.differences(b).len()).sum() };
         assert_eq!(
             (z.len(), p.len(), s.len()),
             (z.len(), z.len(), z.len()),
@@ -278,7 +239,7 @@ fn render_sh_passes_split_to_the_painter_leaves() {
         );
         let frames = parse_ppm_stream(&out.stdout).expect("PPM");
         assert_eq!(
-            differences(&zspec_frame("64x64"), &frames[0]).len(),
+            zspec_frame("64x64").differences(&frames[0]).len(),
             0,
             "depth {depth}"
         );

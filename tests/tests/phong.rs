@@ -7,14 +7,8 @@
 //! normals mixed by barycentric weights on the screen, normalized, and lit by Phong's
 //! model (ambient, two-sided diffuse, a white highlight (r·v)^N).
 
-use pipeline_tests::{check_triangle_frame, parse_ppm_stream, run, screen_mix, sh, Frame};
-
-/// The one frame of a PPM stream.
-fn frame(ppm: &[u8]) -> Frame {
-    let mut frames = parse_ppm_stream(ppm).expect("a PPM stream");
-    assert_eq!(frames.len(), 1);
-    frames.remove(0)
-}
+use pipeline_tests::reference::one_frame;
+use pipeline_tests::{check_triangle_frame, only_frame as frame, run, screen_mix, sh};
 
 #[test]
 fn a_phong_scene_is_zspecs_at_every_depth_in_both_merge_modes() {
@@ -104,16 +98,10 @@ fn a_triangles_pixels_are_its_normals_interpolated_on_the_screen_and_lit() {
     let size = (120, 90);
     let mut highlight = 0;
     for depth in [0, 3] {
-        let out = sh(
+        let f = one_frame(
             &format!("scripts/render.sh --size 120x90 --depth {depth} -"),
             scene.as_bytes(),
         );
-        assert!(
-            out.status.success(),
-            "{}",
-            String::from_utf8_lossy(&out.stderr)
-        );
-        let f = frame(&out.stdout);
         assert_eq!((f.width, f.height), size);
         let covered = check_triangle_frame(&f, |x, y, margin| {
             held_out(vertices, normals, size, (x, y), margin)

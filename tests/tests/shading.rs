@@ -6,14 +6,8 @@
 //! held-out computation of Gouraud's rule written here from scratch: the vertex colours
 //! interpolated linearly across the screen (barycentric weights at each pixel centre).
 
-use pipeline_tests::{check_triangle_frame, parse_ppm_stream, run, screen_mix, sh, Frame};
-
-/// The one frame of a PPM stream.
-fn frame(ppm: &[u8]) -> Frame {
-    let mut frames = parse_ppm_stream(ppm).expect("a PPM stream");
-    assert_eq!(frames.len(), 1);
-    frames.remove(0)
-}
+use pipeline_tests::reference::one_frame;
+use pipeline_tests::{check_triangle_frame, only_frame as frame, run, screen_mix, sh};
 
 #[test]
 fn a_shaded_scene_is_zspecs_at_every_depth_in_both_merge_modes() {
@@ -159,16 +153,10 @@ fn a_triangles_pixels_are_the_screen_space_interpolation_of_its_vertex_colours()
     let size = (120, 90);
     let methods = ["zbuf", "scanline", "warnock", "painter"];
     for (method, depth) in methods.iter().flat_map(|m| [(m, 0), (m, 3)]) {
-        let out = sh(
+        let f = one_frame(
             &format!("scripts/render.sh --size 120x90 --hse {method} --depth {depth} -"),
             scene.as_bytes(),
         );
-        assert!(
-            out.status.success(),
-            "{}",
-            String::from_utf8_lossy(&out.stderr)
-        );
-        let f = frame(&out.stdout);
         assert_eq!((f.width, f.height), size);
         let covered = check_triangle_frame(&f, |x, y, margin| {
             held_out(vertices, colours, size, x, y, margin)

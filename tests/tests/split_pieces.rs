@@ -3,9 +3,10 @@
 //! pixel once, with the same fixed-point depth. The pieces' edge supports give their
 //! crossings to the bit, and the plane recorded before the cut gives their depths.
 
+use pipeline_tests::scenes::{eye_at, projective, Lcg};
 use proto::geometry::Plane;
-use proto::perspective::{DepthMode, Perspective};
-use proto::{DVec4, Fragment, Polygon, View};
+use proto::perspective::Perspective;
+use proto::{DVec4, Fragment, Polygon};
 use scanconv::{Output, ScanConverter};
 use std::collections::BTreeMap;
 
@@ -35,36 +36,13 @@ fn pixels(polys: &[Polygon]) -> Result<BTreeMap<(u32, u32), f64>, String> {
 }
 
 fn perspective() -> Perspective {
-    let view = View {
-        aspect: W as f64 / H as f64,
-        ..View::default()
-    };
-    Perspective::new(W, H, view, DepthMode::Projective).unwrap()
+    projective(W, H)
 }
 
 /// An eye-space vertex that projects near screen point (X, Y) at depth z_e (w = z_e·s/d
 /// for the default camera). X, Y on a half-pixel lattice put pixel centres on the edges.
 fn at(x: f64, y: f64, z: f64) -> DVec4 {
-    let w = z * 0.625;
-    let a = W as f64 / H as f64;
-    DVec4::new(
-        (2.0 * x / W as f64 - 1.0) * a * w,
-        (1.0 - 2.0 * y / H as f64) * w,
-        z,
-        w,
-    )
-}
-
-/// A small deterministic generator (no dependency on the rand crates' streams).
-struct Lcg(u64);
-impl Lcg {
-    fn next(&mut self, n: u64) -> u64 {
-        self.0 = self
-            .0
-            .wrapping_mul(6364136223846793005)
-            .wrapping_add(1442695040888963407);
-        (self.0 >> 33) % n
-    }
+    eye_at((W, H), x, y, z)
 }
 
 /// Splits `poly` by the column plane through device column `c` (a pixel boundary), the

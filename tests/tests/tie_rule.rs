@@ -6,7 +6,9 @@
 //! and the thesis's penetrating polygons at sizes where pixel centres fall on their line
 //! of equal depth.
 
-use pipeline_tests::{parse_ppm_stream, sh, Frame};
+use pipeline_tests::reference::{agree_with_zspec as agree, one_frame as frame};
+use pipeline_tests::scenes::{tilted_decals, Lcg};
+use pipeline_tests::{sh, Frame};
 
 const RED: [u8; 3] = [255, 0, 0];
 const GREEN: [u8; 3] = [0, 255, 0];
@@ -26,66 +28,13 @@ const VARIANTS: &[&str] = &[
     "--depth 2 --hse scanline",
 ];
 
-fn frame(script: &str, scene: &[u8]) -> Frame {
-    let out = sh(script, scene);
-    assert!(
-        out.status.success(),
-        "`{script}` failed ({}): {}",
-        out.status,
-        String::from_utf8_lossy(&out.stderr)
-    );
-    let mut frames = parse_ppm_stream(&out.stdout).unwrap();
-    assert_eq!(frames.len(), 1, "{script}");
-    frames.remove(0)
-}
-
 fn count(f: &Frame, colour: [u8; 3]) -> usize {
     f.pixels.iter().filter(|p| **p == colour).count()
 }
 
-/// Renders `scene` with zspec and every variant of render.sh with `camera` options, and
-/// asserts that they agree byte for byte; returns the reference.
-fn agree(scene: &str, camera: &str, variants: &[&str]) -> Frame {
-    let reference = frame(&format!("zspec {camera} -"), scene.as_bytes());
-    for v in variants {
-        let got = frame(
-            &format!("scripts/render.sh {camera} {v} -"),
-            scene.as_bytes(),
-        );
-        let differ = got
-            .pixels
-            .iter()
-            .zip(&reference.pixels)
-            .filter(|(a, b)| a != b)
-            .count();
-        assert_eq!(
-            differ, 0,
-            "render.sh {camera} {v}: {differ} pixels differ from zspec"
-        );
-    }
-    reference
-}
-
-/// A point on the plane z = (0.3x + 0.7y)/3, written to 16 digits as a user would.
-fn on_plane(x: f64, y: f64) -> String {
-    format!("{x:.16} {y:.16} {:.16}\n", (0.3 * x + 0.7 * y) / 3.0)
-}
-
 /// A red quad, then a green quad and a blue triangle inside it, all on one tilted plane.
 fn decal_scene() -> String {
-    let mut s = String::from("polypipe 1 world\ncolour 255 0 0\n");
-    for (x, y) in [(-8.0, -6.0), (8.1, -5.7), (7.9, 6.2), (-8.3, 5.9)] {
-        s += &on_plane(x, y);
-    }
-    s += "NEXT.POLYGON\ncolour 0 255 0\n";
-    for (x, y) in [(-5.1, -3.3), (2.2, -4.1), (3.3, 2.7), (-4.4, 3.1)] {
-        s += &on_plane(x, y);
-    }
-    s += "NEXT.POLYGON\ncolour 0 0 255\n";
-    for (x, y) in [(0.3, -2.2), (6.1, 0.4), (1.3, 4.4)] {
-        s += &on_plane(x, y);
-    }
-    s + "END\n"
+    tilted_decals(3)
 }
 
 #[test]
@@ -255,13 +204,8 @@ fn penetrating_polygons_are_the_reference_at_every_size() {
 #[test]
 fn generated_eyes_and_sizes_agree_with_the_reference() {
     // A small linear congruential generator: the same cases every run.
-    let mut state = 0x2545_f491_4f6c_dd1du64;
-    let mut next = |n: u64| {
-        state = state
-            .wrapping_mul(6_364_136_223_846_793_005)
-            .wrapping_add(1_442_695_040_888_963_407);
-        (state >> 33) % n
-    };
+    let mut state = Lcg(0x2545_f491_4f6c_dd1d);
+    let mut next = |n: u64| state.next(n);
     let scene = decal_scene();
     let pen = std::fs::read_to_string(pipeline_tests::repo_root().join("examples/penetrating.txt"))
         .unwrap();

@@ -3,51 +3,8 @@
 //! stderr; the pair tests that grow with the square of the polygons whose depth extents
 //! overlap; the cut budget that crossing planes spend.
 
-use pipeline_tests::{parse_ppm_stream, sh, Frame};
-
-/// The frames and the painter's stderr of `stream_cmd | LEAF | zbuf`, which must exit 0.
-fn frames(stream_cmd: &str, leaf: &str, stdin: &[u8]) -> (Vec<Frame>, String) {
-    let out = sh(
-        &format!(
-            "e=$(mktemp); trap 'rm -f \"$e\"' EXIT
-             {stream_cmd} | {leaf} 2>\"$e\" | zbuf; s=$?; cat \"$e\" >&2; exit $s"
-        ),
-        stdin,
-    );
-    let stderr = String::from_utf8_lossy(&out.stderr).into_owned();
-    assert!(out.status.success(), "{leaf}: {stderr}");
-    (parse_ppm_stream(&out.stdout).expect("PPM frames"), stderr)
-}
-
-fn differing(a: &Frame, b: &Frame) -> usize {
-    assert_eq!(a.pixels.len(), b.pixels.len());
-    a.pixels
-        .iter()
-        .zip(&b.pixels)
-        .filter(|(p, q)| p != q)
-        .count()
-}
-
-/// Three bars, each over the next (A over C, C over B, B over A): no order to paint in.
-/// Screen space, 32×32; the same scene as tests/painter.rs.
-const CYCLIC: &str = "colour 255 0 0
-2 4 0.2
-28 4 0.8
-28 10 0.8
-2 10 0.2
-NEXT.POLYGON
-colour 0 255 0
-20 2 0.5
-26 2 0.5
-26 28 0.8
-20 28 0.8
-NEXT.POLYGON
-colour 0 0 255
-2 8 0.6
-6 4 0.6
-28 26 0.3
-24 30 0.3
-";
+use pipeline_tests::reference::{through_leaf as frames, CYCLIC_BARS as CYCLIC};
+use pipeline_tests::sh;
 
 #[test]
 fn cyclic_bars_at_depth_0_are_painted_wrong_and_said() {
@@ -55,14 +12,14 @@ fn cyclic_bars_at_depth_0_are_painted_wrong_and_said() {
     let (z, _) = frames("cat", "scanconv --resolve", stream.as_bytes());
     let (p, said) = frames("cat", "painter", stream.as_bytes());
     // 68 of 1,024 pixels: two of the three overlaps the wrong way round.
-    assert_eq!(differing(&z[0], &p[0]), 68);
+    assert_eq!(z[0].differences(&p[0]).len(), 68);
     assert_eq!(
         said,
         "painter: frame 0: 2 cycles painted out of order; --split cuts them\n"
     );
     // Cut by the planes, the z-buffer's picture, and nothing to say.
     let (s, said) = frames("cat", "painter --split", stream.as_bytes());
-    assert_eq!((differing(&z[0], &s[0]), said.as_str()), (0, ""));
+    assert_eq!((z[0].differences(&s[0]).len(), said.as_str()), (0, ""));
 }
 
 #[test]
@@ -75,7 +32,7 @@ fn the_cyclic_bars_example_at_depth_0_is_said() {
         b"",
     );
     let (p, said) = frames("cat examples/screen/cyclic-bars.txt", "painter", b"");
-    assert_eq!(differing(&z[0], &p[0]), 4352);
+    assert_eq!(z[0].differences(&p[0]).len(), 4352);
     assert_eq!(
         said,
         "painter: frame 0: 2 cycles painted out of order; --split cuts them\n"
@@ -107,13 +64,13 @@ fn five_crossing_planes_are_cut_in_silence_fifty_spend_the_budget_and_say_so() {
     // "Coverage"), and it takes the other plane's colour.
     let (z, _) = frames(&stream(5), "scanconv --resolve", b"");
     let (s, said) = frames(&stream(5), "painter --split", b"");
-    assert_eq!((differing(&z[0], &s[0]), said.as_str()), (1, ""));
+    assert_eq!((z[0].differences(&s[0]).len(), said.as_str()), (1, ""));
     // Without --split the same five are painted wrong, and said.
     let (p, said) = frames(&stream(5), "painter", b"");
     assert!(
-        differing(&z[0], &p[0]) > 1000,
+        z[0].differences(&p[0]).len() > 1000,
         "{}",
-        differing(&z[0], &p[0])
+        z[0].differences(&p[0]).len()
     );
     assert!(
         said.starts_with("painter: frame 0: ")
@@ -184,7 +141,7 @@ fn a_cycle_that_leaves_no_pixel_wrong_is_not_said() {
     let stream = "scene environment --polygons 1000 --depth-complexity 3 | viewxf | clipbatch | persp --size 500x500";
     let (z, _) = frames(stream, "scanconv --resolve", b"");
     let (s, said) = frames(stream, "painter --split --stats", b"");
-    assert_eq!(differing(&z[0], &s[0]), 0);
+    assert_eq!(z[0].differences(&s[0]).len(), 0);
     assert!(
         said.contains(", 0 cycles painted out of order, 1 out of order that left no pixel wrong\n"),
         "{said}"

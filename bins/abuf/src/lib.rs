@@ -411,15 +411,10 @@ impl HiddenSurface for ABuffer {
         true
     }
 
-    /// A Gouraud- or Phong-shaded polygon's fragment has its colour at the pixel centre.
-    fn shades(&self) -> bool {
-        true
-    }
-
-    /// The lighting of a Phong-shaded stream: each fragment of a shaded polygon is lit
-    /// by it at the pixel centre.
-    fn set_lighting(&mut self, lighting: Option<Arc<Lighting>>) {
-        self.lighting = lighting;
+    /// A Gouraud- or Phong-shaded polygon's fragment has its colour at the pixel centre,
+    /// lit there by the stream's lighting.
+    fn lighting(&mut self) -> Option<&mut Option<Arc<Lighting>>> {
+        Some(&mut self.lighting)
     }
 
     fn stats(&self) -> String {

@@ -2,8 +2,7 @@
 
 use abuf::ABuffer;
 use clap::Parser;
-use proto::Colour;
-use stagecli::TextFlag;
+use stagecli::AntialiasArgs;
 use std::process::ExitCode;
 
 /// Anti-aliasing with Carpenter's a-buffer (sampling thesis 6.3; docs/DESIGN.md,
@@ -29,11 +28,8 @@ use std::process::ExitCode;
 #[derive(Parser)]
 #[command(name = "abuf", version, verbatim_doc_comment)]
 struct Args {
-    /// Background colour R,G,B: what shows through the uncovered samples of a pixel.
-    #[arg(long, value_parser = stagecli::parse_colour, default_value = "0,0,0")]
-    background: Colour,
     #[command(flatten)]
-    text: TextFlag,
+    aa: AntialiasArgs,
     /// Print counts (polygons in, frames, runs out; fragments, simple pixelstructs,
     /// lists, the longest list, fragments combined and hidden, intersect cases, pixels
     /// out) on stderr at the end.
@@ -43,8 +39,8 @@ struct Args {
 
 fn main() -> ExitCode {
     stagecli::main("abuf", |args: Args| {
-        let mut method = ABuffer::new(args.background);
-        leaf::resolve_frames("abuf", args.text.form(), args.stats, &mut method)?;
+        let mut method = ABuffer::new(args.aa.background);
+        leaf::resolve_frames("abuf", args.aa.text.form(), args.stats, &mut method)?;
         Ok(())
     })
 }

@@ -4,7 +4,7 @@ use proptest::prelude::*;
 use proto::DVec4;
 /// The exact K×K reference.
 use scan::fine::supersampled_image as reference;
-use scan::frame::image_of;
+use scan::frame::{image_of, square};
 
 fn render_with(polys: &[Polygon], w: u32, h: u32, bg: Colour) -> (Vec<Option<Colour>>, ListStats) {
     let mut runs = Vec::new();
@@ -30,24 +30,8 @@ const WHITE: Colour = [255, 255, 255];
 /// one, the background the other 25 %.
 #[test]
 fn seed_figure_6_7_a_pixel_covered_50_25_25() {
-    let near = quad(
-        RED,
-        [
-            [0.0, 0.0, 0.2],
-            [0.5, 0.0, 0.2],
-            [0.5, 1.0, 0.2],
-            [0.0, 1.0, 0.2],
-        ],
-    );
-    let far = quad(
-        BLUE,
-        [
-            [0.0, 0.0, 0.6],
-            [1.0, 0.0, 0.6],
-            [1.0, 0.5, 0.6],
-            [0.0, 0.5, 0.6],
-        ],
-    );
+    let near = square(RED, 0.0, 0.0, 0.5, 1.0, 0.2);
+    let far = square(BLUE, 0.0, 0.0, 1.0, 0.5, 0.6);
     let bg = [0, 200, 0];
     for polys in [[near.clone(), far.clone()], [far, near]] {
         let (image, stats) = render_with(&polys, 1, 1, bg);
@@ -133,24 +117,8 @@ fn seed_intersecting_fragments_split_by_zmin_zmax() {
 
 #[test]
 fn a_fully_covered_pixel_needs_no_list() {
-    let sq = quad(
-        RED,
-        [
-            [0.0, 0.0, 0.5],
-            [3.0, 0.0, 0.5],
-            [3.0, 3.0, 0.5],
-            [0.0, 3.0, 0.5],
-        ],
-    );
-    let behind = quad(
-        BLUE,
-        [
-            [0.0, 0.0, 0.7],
-            [3.0, 0.0, 0.7],
-            [3.0, 3.0, 0.7],
-            [0.0, 3.0, 0.7],
-        ],
-    );
+    let sq = square(RED, 0.0, 0.0, 3.0, 3.0, 0.5);
+    let behind = square(BLUE, 0.0, 0.0, 3.0, 3.0, 0.7);
     let (image, stats) = render_with(&[sq.clone(), behind.clone()], 3, 3, [0; 3]);
     assert_eq!(image, vec![Some(RED); 9]);
     // The square behind is culled row by row: its fragments are never made.
@@ -383,15 +351,7 @@ fn a_transparent_polygon_crossing_an_opaque_one_inside_a_pixel() {
     // Blue at depth 0.5 everywhere; red (opacity 128) from depth 0.3 on the left to 0.7
     // on the right: in front on the left half of the pixel, behind on the right.
     let polys = [
-        quad(
-            [0, 0, 255],
-            [
-                [0.0, 0.0, 0.5],
-                [1.0, 0.0, 0.5],
-                [1.0, 1.0, 0.5],
-                [0.0, 1.0, 0.5],
-            ],
-        ),
+        square([0, 0, 255], 0.0, 0.0, 1.0, 1.0, 0.5),
         see_through(
             [255, 0, 0],
             128,
@@ -455,15 +415,7 @@ fn the_depth_extent_artefact_along_a_column() {
     // its fragment's depth extent in column 7 straddles the red's depth, so the packer
     // takes the two as crossing inside the pixel and gives green a share of the red's
     // samples: 48 levels of red too few, all down the column.
-    let red = quad(
-        [255, 40, 40],
-        [
-            [0.0, 0.0, 2.0],
-            [7.5, 0.0, 2.0],
-            [7.5, 16.0, 2.0],
-            [0.0, 16.0, 2.0],
-        ],
-    );
+    let red = square([255, 40, 40], 0.0, 0.0, 7.5, 16.0, 2.0);
     let green = quad(
         [40, 200, 40],
         [
@@ -546,15 +498,7 @@ fn a_transparent_shaded_polygon_blends_its_colour_at_the_centre_by_eq_6_5() {
         [0.0, 4.0, 0.2],
     ]);
     front.opacity = 128;
-    let back = quad(
-        BLUE,
-        [
-            [0.0, 0.0, 0.7],
-            [6.0, 0.0, 0.7],
-            [6.0, 4.0, 0.7],
-            [0.0, 4.0, 0.7],
-        ],
-    );
+    let back = square(BLUE, 0.0, 0.0, 6.0, 4.0, 0.7);
     let shading = proto::shade::Shading::of(&front, None).expect("shaded");
     // Either order in the stream: the list is sorted by depth.
     for polys in [[front.clone(), back.clone()], [back, front]] {

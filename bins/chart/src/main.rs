@@ -5,6 +5,8 @@ use chart::chart::{Scene, Setup};
 use chart::model::Constants;
 use clap::{Parser, Subcommand};
 use indicatif::{ProgressBar, ProgressStyle};
+// The built binaries (beside this one) and the repository, found as plan finds them.
+use plan::cli::{bin_dir, root_dir};
 use proto::camera::parse_size;
 use std::io::Write;
 use std::path::{Path, PathBuf};
@@ -118,27 +120,6 @@ enum Sub {
     /// Thesis 5.2's stage timings on its T424-20 from its own constants, beside its
     /// figures, and 6.4's depth (5), through the model code `--depth auto` uses.
     Thesis,
-}
-
-/// The built binaries: beside this one.
-fn bin_dir() -> Result<PathBuf> {
-    let exe = std::env::current_exe().context("where chart is")?;
-    Ok(exe.parent().context("chart's folder")?.to_path_buf())
-}
-
-/// The repository: --root, else the first folder above the binaries' (target/<host>/release)
-/// with scripts/render.sh, else here.
-fn root_dir(root: Option<PathBuf>) -> Result<PathBuf> {
-    if let Some(r) = root {
-        return Ok(r);
-    }
-    let bin = bin_dir()?;
-    for up in bin.ancestors() {
-        if up.join("scripts/render.sh").is_file() {
-            return Ok(up.to_path_buf());
-        }
-    }
-    Ok(std::env::current_dir()?)
 }
 
 /// The constants the chart predicts with: `--model FILE`; else this machine's

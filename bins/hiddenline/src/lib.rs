@@ -1241,12 +1241,7 @@ mod tests {
 
     /// A square at depth `z` from (x0, y0) to (x1, y1) in screen coordinates; also the
     /// fixture of Archuleta's method's tests.
-    pub(crate) fn square(colour: Colour, x0: f64, y0: f64, x1: f64, y1: f64, z: f64) -> Polygon {
-        Polygon::from_xyz(
-            colour,
-            &[[x0, y0, z], [x1, y0, z], [x1, y1, z], [x0, y1, z]],
-        )
-    }
+    pub(crate) use scan::frame::square;
 
     /// Red square at depth 0.5, and blue sloping through red's plane at X = 40, inside
     /// red: the line of intersection is X = 40 from Y = 30 to Y = 50.

@@ -78,11 +78,8 @@ impl HiddenSurface for Loud {
     fn stats(&self) -> String {
         self.0.stats()
     }
-    fn shades(&self) -> bool {
-        self.0.shades()
-    }
-    fn set_lighting(&mut self, lighting: Option<Arc<Lighting>>) {
-        self.0.set_lighting(lighting)
+    fn lighting(&mut self) -> Option<&mut Option<Arc<Lighting>>> {
+        self.0.lighting()
     }
     fn transparency(&self) -> bool {
         self.0.transparency()

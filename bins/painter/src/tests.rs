@@ -1,19 +1,32 @@
 use super::*;
-use scan::frame::{differing_pixels, image_of, zbuffer_image};
+use scan::frame::{differing_pixels, image_of, square, zbuffer_image};
 
 fn quad(colour: Colour, corners: [[f64; 2]; 4], z: impl Fn(f64, f64) -> f64) -> Polygon {
     let v: Vec<[f64; 3]> = corners.iter().map(|&[x, y]| [x, y, z(x, y)]).collect();
     Polygon::from_xyz(colour, &v)
 }
 
-fn square(colour: Colour, x0: f64, y0: f64, x1: f64, y1: f64, z: f64) -> Polygon {
-    quad(colour, [[x0, y0], [x1, y0], [x1, y1], [x0, y1]], |_, _| z)
-}
-
 fn paint(painter: &mut Painter, polygons: &[Polygon], w: u32, h: u32) -> Vec<Option<Colour>> {
     let mut runs = Vec::new();
     painter.resolve(polygons, w, h, &mut runs);
     image_of(&runs, w, h)
+}
+
+/// The painter with --split after painting `polygons`, and its picture, which must cover
+/// the pixels the z-buffer's covers (the fuzz target `methods`' property).
+fn split_covering_the_zbuffers_pixels(
+    polygons: &[Polygon],
+    w: u32,
+    h: u32,
+) -> (Painter, Vec<Option<Colour>>) {
+    let z = zbuffer_image(polygons, w, h);
+    let mut s = Painter::with_split();
+    let image = paint(&mut s, polygons, w, h);
+    assert!(z
+        .iter()
+        .zip(&image)
+        .all(|(a, b)| a.is_some() == b.is_some()));
+    (s, image)
 }
 
 /// The z-buffer's picture, the painter's, and the painter's with --split.
@@ -645,13 +658,7 @@ fn a_plane_whose_terms_cancel_is_not_cut() {
     let b = Polygon::from_xyz([0, 0, 0], &v);
     let scene = [a, b];
     let (w, h) = (47, 47);
-    let z = zbuffer_image(&scene, w, h);
-    let mut s = Painter::with_split();
-    let image = paint(&mut s, &scene, w, h);
-    assert!(z
-        .iter()
-        .zip(&image)
-        .all(|(a, b)| a.is_some() == b.is_some()));
+    let (mut s, _) = split_covering_the_zbuffers_pixels(&scene, w, h);
     assert_eq!((s.stats.splits, s.stats.given_up, s.stats.apart), (0, 0, 1));
     assert_eq!(s.take_note(), None);
 }
@@ -700,14 +707,8 @@ fn triangles_crossing_through_a_shared_vertex_keep_their_pixels() {
     );
     let scene = [a, b];
     let (w, h) = (47, 21);
-    let z = zbuffer_image(&scene, w, h);
-    let mut s = Painter::with_split();
-    let image = paint(&mut s, &scene, w, h);
+    let (s, image) = split_covering_the_zbuffers_pixels(&scene, w, h);
     assert!(image[7 * 47 + 24].is_some());
-    assert!(z
-        .iter()
-        .zip(&image)
-        .all(|(a, b)| a.is_some() == b.is_some()));
     assert_eq!(s.stats.splits, 1);
 }
 
@@ -737,12 +738,6 @@ fn a_sliver_a_hair_wide_keeps_its_edge_pixels_when_cut() {
     );
     let scene = [p0, p1, p2];
     let (w, h) = (47, 48);
-    let z = zbuffer_image(&scene, w, h);
-    let mut s = Painter::with_split();
-    let image = paint(&mut s, &scene, w, h);
-    assert!(z
-        .iter()
-        .zip(&image)
-        .all(|(a, b)| a.is_some() == b.is_some()));
+    let (s, _) = split_covering_the_zbuffers_pixels(&scene, w, h);
     assert!(s.stats.splits > 0);
 }

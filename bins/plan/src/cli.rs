@@ -69,13 +69,14 @@ pub struct DepthArgs {
     pub scene: PathBuf,
 }
 
-/// The built binaries: beside this one.
+/// The built binaries: beside this one (plan's, or chart's: chart finds them so too).
 pub fn bin_dir() -> Result<PathBuf> {
-    let exe = std::env::current_exe().context("where plan is")?;
-    Ok(exe.parent().context("plan's folder")?.to_path_buf())
+    let exe = std::env::current_exe().context("cannot tell where this program is")?;
+    Ok(exe.parent().context("this program's folder")?.to_path_buf())
 }
 
-/// The repository: --root, else the folder above the binaries' with scripts/render.sh.
+/// The repository: --root, else the first folder above the binaries' (target/<host>/release)
+/// with scripts/render.sh, else here.
 pub fn root_dir(root: Option<PathBuf>) -> Result<PathBuf> {
     if let Some(r) = root {
         return Ok(r);

@@ -88,7 +88,7 @@ use proto::raster::centres_in_clamped;
 use proto::shade::{Lighting, Shading};
 use proto::{Colour, Polygon};
 use scan::frame::{shaded_runs, HiddenSurface};
-use scan::{depth_at, polygon_edge, Depth, DepthPlane, Run};
+use scan::{depth_at, Depth, DepthPlane, Outline, Run};
 use std::ops::Range;
 use std::sync::Arc;
 
@@ -280,11 +280,9 @@ struct EdgeArena {
     edges: Vec<ArenaEdge>,
     /// Entries of blocks whose polygons have left.
     dead: usize,
-    /// Scratch: a polygon's vertices and supports, snapped, and its vertices' first
-    /// lines, as it enters; a line's crossings (each the first column at or right of it).
-    points: Vec<proto::raster::Point>,
-    supports: Vec<Option<[proto::raster::Point; 2]>>,
-    rows: Vec<i64>,
+    /// Scratch: a polygon's outline, snapped, as it enters; a line's crossings (each the
+    /// first column at or right of it).
+    outline: Outline,
     crossings: Vec<i64>,
 }
 
@@ -300,35 +298,13 @@ impl EdgeArena {
     /// (fewer than three vertices, every vertex on one line, no edge across a centre).
     /// The edges are [`scan::polygon_edge`]'s: from the supports of a split polygon.
     fn enter(&mut self, polygon: &Polygon, height: u32) -> Option<(usize, u32, Range<i64>)> {
-        // As scan::SpanWalker loads a polygon: a non-finite vertex covers nothing, the
-        // rest are snapped to 1/256 pixel.
-        let finite = |v: &proto::DVec4| v.x.is_finite() && v.y.is_finite();
-        if polygon.vertices.len() < 3
-            || !polygon.vertices.iter().all(finite)
-            || !polygon.supports.iter().flatten().flatten().all(finite)
-        {
+        // Snapped as scan::SpanWalker loads a polygon.
+        if !self.outline.load(polygon) {
             return None;
         }
-        let snap = |v: &proto::DVec4| proto::raster::Point {
-            x: proto::raster::snap(v.x),
-            y: proto::raster::snap(v.y),
-        };
-        self.points.clear();
-        self.points.extend(polygon.vertices.iter().map(snap));
-        self.supports.clear();
-        self.supports.extend(
-            polygon
-                .supports
-                .iter()
-                .map(|s| s.as_ref().map(|[a, b]| [snap(a), snap(b)])),
-        );
-        if proto::raster::snapped_on_one_line(&self.points) {
-            return None;
-        }
-        proto::raster::vertex_rows(&self.points, &self.supports, &mut self.rows);
         let base = self.edges.len();
-        for i in 0..self.points.len() {
-            let Some(edge) = polygon_edge(&self.points, &self.supports, &self.rows, i) else {
+        for i in 0..self.outline.points.len() {
+            let Some(edge) = self.outline.edge(i) else {
                 continue;
             };
             let rows = edge.rows();
@@ -375,13 +351,7 @@ impl EdgeArena {
         // Evaluated exactly at each line (the lines need not come one by one).
         self.crossings
             .extend(block[..a.live as usize].iter().map(|e| e.edge.column(row)));
-        if let [a, b] = self.crossings[..] {
-            if b < a {
-                self.crossings.swap(0, 1);
-            }
-        } else {
-            self.crossings.sort_unstable();
-        }
+        scan::sort_crossings(&mut self.crossings);
         &self.crossings
     }
 
@@ -1201,14 +1171,9 @@ impl HiddenSurface for Scanline {
     }
 
     /// A Gouraud- or Phong-shaded polygon's visible spans take its colour at each pixel
-    /// centre, as the z-buffer's do.
-    fn shades(&self) -> bool {
-        true
-    }
-
-    /// The lighting of a Phong-shaded stream: each pixel of a shaded polygon is lit by it.
-    fn set_lighting(&mut self, lighting: Option<Arc<Lighting>>) {
-        self.lighting = lighting;
+    /// centre, as the z-buffer's do, lit by the stream's lighting.
+    fn lighting(&mut self) -> Option<&mut Option<Arc<Lighting>>> {
+        Some(&mut self.lighting)
     }
 
     fn stats(&self) -> String {

@@ -5,7 +5,7 @@ use clap::Parser;
 use proto::perspective::Perspective;
 use proto::{Space, SpaceKind, Token};
 use splitter::{Lean, SplitPlane, Subtree, Tree};
-use stagecli::{Branch, DepthArg, Error, TextFlag};
+use stagecli::{Branch, DepthArg, Error, ProjectArgs, TextFlag};
 use std::process::ExitCode;
 
 /// A splitter node (thesis chapter 6.2): splits every polygon of an eye-space stream
@@ -68,17 +68,8 @@ struct Cli {
     /// The screen's size in pixels, for --node and --project.
     #[arg(long, value_name = "WxH")]
     size: Option<String>,
-    /// Project both outputs to a --size screen, as `persp --size WxH --zmode MODE` would.
-    #[arg(long, requires = "size")]
-    project: bool,
-    /// The depth --project writes, as persp's --zmode [default: reciprocal].
-    #[arg(long, value_enum, value_name = "MODE")]
-    zmode: Option<DepthArg>,
-    /// `--project --zmode MODE`'s old spelling, taken for one release with a note on
-    /// stderr.
-    #[arg(long, value_enum, value_name = "MODE", hide = true, requires = "size",
-          conflicts_with_all = ["project", "zmode"])]
-    persp: Option<DepthArg>,
+    #[command(flatten)]
+    project: ProjectArgs,
     #[command(flatten)]
     text: TextFlag,
     /// At END, print on stderr the polygons in and the non-empty polygons and vertices
@@ -103,7 +94,7 @@ struct Plan {
 }
 
 fn plan(cli: &Cli) -> Result<Plan, Error> {
-    let depth = stagecli::args::projection("splitter", cli.project, cli.zmode, cli.persp)?;
+    let depth = cli.project.depth("splitter")?;
     let size = match cli.size.as_deref() {
         Some(size) => Some(
             proto::camera::parse_size(size)

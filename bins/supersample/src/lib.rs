@@ -193,12 +193,10 @@ impl HiddenSurface for Supersample {
         self.fine.clear();
     }
 
-    fn shades(&self) -> bool {
-        true
-    }
-
-    fn set_lighting(&mut self, lighting: Option<Arc<Lighting>>) {
-        self.lighting = lighting;
+    /// A Gouraud- or Phong-shaded polygon's sample takes its colour at the sample, lit
+    /// there by the stream's lighting.
+    fn lighting(&mut self) -> Option<&mut Option<Arc<Lighting>>> {
+        Some(&mut self.lighting)
     }
 
     fn stats(&self) -> String {

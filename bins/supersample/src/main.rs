@@ -1,8 +1,7 @@
 //! supersample: a leaf that anti-aliases by K×K samples per pixel.
 
 use clap::Parser;
-use proto::Colour;
-use stagecli::{Error, TextFlag};
+use stagecli::{AntialiasArgs, Error};
 use std::process::ExitCode;
 use supersample::Supersample;
 
@@ -24,11 +23,8 @@ struct Args {
     /// K: samples a side of each pixel, 2, 4, 8 or 16 (1 is point sampling).
     #[arg(long, value_name = "K", default_value_t = 4)]
     samples: u32,
-    /// Background colour R,G,B: what uncovered samples of a partly covered pixel show.
-    #[arg(long, value_parser = stagecli::parse_colour, default_value = "0,0,0")]
-    background: Colour,
     #[command(flatten)]
-    text: TextFlag,
+    aa: AntialiasArgs,
     /// Print counts (polygons in, frames, runs out, samples tested and written, pixels out)
     /// on stderr at the end.
     #[arg(long)]
@@ -37,9 +33,9 @@ struct Args {
 
 fn main() -> ExitCode {
     stagecli::main("supersample", |args: Args| {
-        let mut method = Supersample::new(args.samples, args.background)
+        let mut method = Supersample::new(args.samples, args.aa.background)
             .map_err(|m| Error::usage(format!("--samples {m}")))?;
-        leaf::resolve_frames("supersample", args.text.form(), args.stats, &mut method)?;
+        leaf::resolve_frames("supersample", args.aa.text.form(), args.stats, &mut method)?;
         Ok(())
     })
 }

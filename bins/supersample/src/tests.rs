@@ -3,7 +3,7 @@ use proptest::prelude::*;
 use proto::DVec4;
 /// The exact K×K reference.
 use scan::fine::supersampled_image as reference;
-use scan::frame::{image_of, zbuffer_image};
+use scan::frame::{image_of, square, zbuffer_image};
 
 fn render(polys: &[Polygon], w: u32, h: u32, k: u32, bg: Colour) -> Vec<Option<Colour>> {
     let mut runs = Vec::new();
@@ -34,15 +34,7 @@ fn k_must_be_a_power_of_two_up_to_16() {
 #[test]
 fn half_a_pixel_is_half_the_colour() {
     // White over the left half of pixel (0, 0) on black, 4×4 samples: 8 of 16 covered.
-    let sq = Polygon::from_xyz(
-        [255, 255, 255],
-        &[
-            [0.0, 0.0, 0.5],
-            [0.5, 0.0, 0.5],
-            [0.5, 1.0, 0.5],
-            [0.0, 1.0, 0.5],
-        ],
-    );
+    let sq = square([255, 255, 255], 0.0, 0.0, 0.5, 1.0, 0.5);
     let image = render(std::slice::from_ref(&sq), 2, 1, 4, [0; 3]);
     assert_eq!(image, vec![Some([128; 3]), None]);
     // On a grey background the uncovered half counts as grey: (8·255 + 8·100 + 8)/16.

@@ -842,14 +842,9 @@ impl HiddenSurface for Warnock {
     }
 
     /// A Gouraud- or Phong-shaded polygon's visible pixels take its colour at each
-    /// centre, as the z-buffer's do.
-    fn shades(&self) -> bool {
-        true
-    }
-
-    /// The lighting of a Phong-shaded stream: each pixel of a shaded polygon is lit by it.
-    fn set_lighting(&mut self, lighting: Option<Arc<Lighting>>) {
-        self.lighting = lighting;
+    /// centre, as the z-buffer's do, lit by the stream's lighting.
+    fn lighting(&mut self) -> Option<&mut Option<Arc<Lighting>>> {
+        Some(&mut self.lighting)
     }
 
     fn stats(&self) -> String {
@@ -877,14 +872,7 @@ impl HiddenSurface for Warnock {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use scan::frame::{differing_pixels, image_of, zbuffer_image};
-
-    fn square(colour: Colour, x0: f64, y0: f64, x1: f64, y1: f64, z: f64) -> Polygon {
-        Polygon::from_xyz(
-            colour,
-            &[[x0, y0, z], [x1, y0, z], [x1, y1, z], [x0, y1, z]],
-        )
-    }
+    use scan::frame::{differing_pixels, image_of, square, zbuffer_image};
 
     fn win(x0: u32, y0: u32, x1: u32, y1: u32) -> Window {
         Window { x0, y0, x1, y1 }

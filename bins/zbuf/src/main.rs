@@ -2,7 +2,7 @@
 
 use clap::Parser;
 use proto::Colour;
-use stagecli::{DepthArg, Error, PpmTextFlag};
+use stagecli::{Error, PpmTextFlag, ProjectArgs};
 use std::io::{self, Write};
 use std::process::ExitCode;
 use zbuf::par_buff::{par_buff, Input};
@@ -57,18 +57,8 @@ struct Args {
     /// polygons read and the pixels tested), on stderr at the end.
     #[arg(long)]
     stats: bool,
-    /// Project eye-space inputs to a --size screen, as `persp --size WxH --zmode MODE`
-    /// would, and resolve them here: persp's work, without its process.
-    #[arg(long, requires = "size")]
-    project: bool,
-    /// The depth --project writes, as persp's --zmode [default: reciprocal].
-    #[arg(long, value_enum, value_name = "MODE")]
-    zmode: Option<DepthArg>,
-    /// `--project --zmode MODE`'s old spelling, taken for one release with a note on
-    /// stderr.
-    #[arg(long, value_enum, value_name = "MODE", hide = true, requires = "size",
-          conflicts_with_all = ["project", "zmode"])]
-    persp: Option<DepthArg>,
+    #[command(flatten)]
+    project: ProjectArgs,
     /// The screen's size in pixels, `WxH`, for --project.
     #[arg(long, value_parser = proto::camera::parse_size, value_name = "WxH")]
     size: Option<(u32, u32)>,
@@ -89,7 +79,7 @@ struct Plan {
 }
 
 fn plan(args: &Args) -> Result<Plan, Error> {
-    let depth = stagecli::args::projection("zbuf", args.project, args.zmode, args.persp)?;
+    let depth = args.project.depth("zbuf")?;
     let to_screen = match (depth, args.size) {
         (Some(depth), Some((width, height))) => Some(zbuf::par_buff::ToScreen {
             width,
