@@ -309,13 +309,21 @@ pub fn background_load() -> f64 {
 
 /// The load in the text of /proc/loadavg (`0.52 0.41 0.30 3/210 4567`): the runnable
 /// threads but the reader (3 runnable now, so 2), or the 1-minute average less one when
-/// that is less (so 0 here).
+/// that is less (so 0 here), in whole threads: a fraction of one is no other program
+/// holding a core but the renders that ran just before (a movie's frames, a benchmark's
+/// rounds, one after another, keep the average near 1.5 on an idle 2-core machine, where
+/// planning for a load of 0.6 chose depth 0 and depth 1 was 20% faster:
+/// `scripts/bench-tree.sh depth-auto --reps 21`).
 pub fn load_now(loadavg: &str) -> Option<f64> {
     let mut fields = loadavg.split_whitespace();
     let average: f64 = fields.next()?.parse().ok()?;
     let (running, _) = fields.nth(2)?.split_once('/')?;
     let running: u32 = running.parse().ok()?;
-    Some(f64::from(running.saturating_sub(1)).min((average - 1.0).max(0.0)))
+    Some(
+        f64::from(running.saturating_sub(1))
+            .min((average - 1.0).max(0.0))
+            .floor(),
+    )
 }
 
 /// The CPU model and cores, and the date, for the constants file.
@@ -421,13 +429,17 @@ mod tests {
 
     #[test]
     fn the_load_is_the_threads_runnable_now_but_the_reader() {
-        assert_eq!(load_now("9.5 10.94 8.01 13/208 15186\n"), Some(8.5));
+        assert_eq!(load_now("9.5 10.94 8.01 13/208 15186\n"), Some(8.0));
         assert_eq!(load_now("13.5 10.94 8.01 7/208 15186\n"), Some(6.0));
         // A machine whose builds have just ended: the average still says 9, the
         // runnable threads now are the reader alone.
         assert_eq!(load_now("9.11 11.22 9.72 1/102 8177"), Some(0.0));
         // A thread runnable for a moment on an idle machine is no load.
         assert_eq!(load_now("0.30 0.20 0.10 2/102 8177"), Some(0.0));
+        // Renders one after another on an idle machine keep the average above 1: a
+        // fraction of a thread is no program holding a core.
+        assert_eq!(load_now("1.65 1.32 3.32 2/85 9120"), Some(0.0));
+        assert_eq!(load_now("2.9 2.5 2.0 3/85 9120"), Some(1.0));
         assert_eq!(load_now("0.00 0.00 0.00 0/1 1"), Some(0.0));
         assert_eq!(load_now("0.5 0.4 0.3"), None);
         assert_eq!(load_now("0.5 0.4 0.3 x/9 1"), None);
