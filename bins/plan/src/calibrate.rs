@@ -301,10 +301,16 @@ pub fn background_load() -> f64 {
     {
         return l.max(0.0);
     }
-    std::fs::read_to_string("/proc/loadavg")
-        .ok()
-        .and_then(|s| load_now(&s))
-        .unwrap_or(0.0)
+    // Two reads 100 µs apart, the lesser kept: a thread runnable for a moment (a pipeline's
+    // other end, a process exiting) is in one of them, a program holding a core in both.
+    let read = || {
+        std::fs::read_to_string("/proc/loadavg")
+            .ok()
+            .and_then(|s| load_now(&s))
+    };
+    let Some(first) = read() else { return 0.0 };
+    std::thread::sleep(std::time::Duration::from_micros(100));
+    read().map_or(first, |second| first.min(second))
 }
 
 /// The load in the text of /proc/loadavg (`0.52 0.41 0.30 3/210 4567`): the runnable
