@@ -507,3 +507,29 @@ fn depth_auto_draws_the_bytes_of_the_depth_it_chose() {
     assert!(auto.stdout == fixed, "auto against --depth {chose}");
     assert!(auto.stdout == zero, "auto (depth {chose}) against depth 0");
 }
+
+/// With a core or less for the render (one core under `taskset -c 0`; a loaded machine's
+/// share) `--depth auto` is depth 0 without the look or the model, which would choose it
+/// anyway: `--stats` says so, and the frames are depth 0's. (At 500x500 no scene file is
+/// small enough to be depth 0 for its size alone.)
+#[test]
+fn depth_auto_on_one_core_is_depth_0_without_a_look() {
+    let scene = example();
+    let mut one_core = Command::new("taskset");
+    one_core
+        .args(["-c", "0"])
+        .arg(repo_root().join("scripts/render.sh"))
+        .args(["--size", "500x500", "--stats", &scene])
+        .env("POLYPIPE_LOAD", "0");
+    let out = pipeline_tests::output_with_stdin(one_core, b"");
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(out.status.success(), "{err}");
+    assert!(
+        err.lines().any(|l| l
+            == "render: depth auto chose 0 (a core or less for the render: a deeper tree \
+                cannot run its stages side by side and only adds work; the model not asked)"),
+        "{err}"
+    );
+    let zero = render_ok(&["--size", "500x500", "--depth", "0", &scene], b"");
+    assert!(out.stdout == zero, "auto on one core against depth 0");
+}

@@ -803,6 +803,43 @@ mod tests {
         }
     }
 
+    /// What render's `--depth auto` leans on to skip the look when the render has a
+    /// core or less (`render::auto::one_core_at_most`): then every depth's time is its
+    /// work over that share, and the tree only adds work, so the model takes depth 0 for
+    /// every scene, with these constants and the committed ones.
+    #[test]
+    fn a_core_or_less_is_depth_0_for_every_scene() {
+        let targets = [
+            Target::cores(1),
+            Target {
+                load: 1.0,
+                ..Target::cores(2)
+            },
+            Target {
+                load: 7.0,
+                ..Target::cores(2)
+            },
+            Target {
+                load: 3.0,
+                ..Target::cores(4)
+            },
+        ];
+        for target in targets {
+            assert!(target.shares(0).1 <= 1.0, "{target:?}");
+            for k in [constants(), Constants::committed()] {
+                for e in [
+                    env(2, 64, 64, 1.0),
+                    env(1_024, 500, 500, 2.0),
+                    env(10_000, 1920, 1080, 10.0),
+                    env(100_000, 3840, 2160, 10.0),
+                ] {
+                    let (depth, why, _) = choose_depth_on(&k, &e, &target, 6);
+                    assert_eq!(depth, 0, "{target:?}, {e:?}: {why}");
+                }
+            }
+        }
+    }
+
     fn constants() -> Constants {
         Constants {
             overheads: Overheads {

@@ -58,6 +58,20 @@ pub fn tiny_bound(width: u32, height: u32) -> Option<u64> {
     (bound >= 64).then_some(bound)
 }
 
+/// What `--stats` says when `o`'s scene is a file too small for the tree to pay
+/// ([`tiny_bound`]) and there are no hosts: depth 0, chosen before the load is read or
+/// the model asked (`None` otherwise).
+pub fn tiny_scene(o: &Options) -> Option<String> {
+    let (Scene::Path(p), true) = (&o.scene, o.hosts.is_empty()) else {
+        return None;
+    };
+    let bound = tiny_bound(o.width, o.height).filter(|b| tiny_file(p, *b))?;
+    Some(format!(
+        "depth auto chose 0 (a scene file of at most {bound} bytes on a {} screen: under 2 ms of depth tests; the model not asked)",
+        o.size
+    ))
+}
+
 /// Whether the file `path` is at most `bound` bytes and in the text form (a binary
 /// stream, whose first byte is 0x89, is left to the model). Reads at most `bound + 1`
 /// bytes.
@@ -96,6 +110,20 @@ pub fn stream_of(scene: &Scene) -> stagecli::Result<Option<OwnedFd>> {
 pub fn target(o: &Options) -> plan::model::Target {
     let hosts = (!o.hosts.is_empty()).then_some(o.hosts.len() as u32);
     plan::cli::target(None, None, hosts, None, 1.0)
+}
+
+/// What `--stats` says when the render has a core or less ([`one_core_at_most`]).
+pub const ONE_CORE: &str = "depth auto chose 0 (a core or less for the render: a deeper tree \
+     cannot run its stages side by side and only adds work; the model not asked)";
+
+/// Whether `target` leaves the render's processes a core or less together (one core, as
+/// under `taskset -c 0`, or a loaded machine's share) with no hosts: there the model
+/// takes depth 0 for every scene, as a deeper tree only adds work
+/// (`plan::model::Target::shares`; `a_core_or_less_is_depth_0_for_every_scene` holds
+/// it), so render skips the look and the model (0.6 ms and more of a one-core render's
+/// CPU, where nothing overlaps them).
+pub fn one_core_at_most(target: &plan::model::Target) -> bool {
+    target.hosts.is_none() && target.shares(0).1 <= 1.0
 }
 
 /// Samples `o`'s scene when it is a stream ([`stream_of`]): its first 512 KiB kept in
@@ -141,12 +169,9 @@ pub fn choose(
         depth: 0,
         said: None,
     };
-    if let (Scene::Path(p), None, true) = (&o.scene, sampled, o.hosts.is_empty()) {
-        if let Some(bound) = tiny_bound(o.width, o.height).filter(|b| tiny_file(p, *b)) {
-            choice.said = Some(format!(
-                "depth auto chose 0 (a scene file of at most {bound} bytes on a {} screen: under 2 ms of depth tests; the model not asked)",
-                o.size
-            ));
+    if sampled.is_none() {
+        if let Some(said) = tiny_scene(o) {
+            choice.said = Some(said);
             return choice;
         }
     }

@@ -352,10 +352,26 @@ fn run_inner<I: IntoIterator<Item = OsString>>(
         feed: None,
     };
     let graph_error = |e: launch::SpecError| Error::usage(format!("the graph: {e}"));
+    let depth_0_said = match fixed {
+        Some(_) => None,
+        None => auto::tiny_scene(&o).or_else(|| {
+            auto::one_core_at_most(&auto::target(&o)).then(|| auto::ONE_CORE.to_string())
+        }),
+    };
     let outcome = match fixed {
         Some(depth) => {
             let stages = graph::build(&o, &context(depth, false));
             launch::run(stages, options(depth), ME).map_err(graph_error)?
+        }
+        // Depth 0 without the model, in one phase: a scene file too small for the tree
+        // to pay, or a core or less for the render, where the model takes depth 0
+        // whatever the scene (plan::model::Target::shares).
+        None if depth_0_said.is_some() => {
+            if let (true, Some(said)) = (o.stats, &depth_0_said) {
+                let _ = writeln!(std::io::stderr(), "{ME}: {said}");
+            }
+            let stages = graph::build(&o, &context(0, false));
+            launch::run(stages, options(0), ME).map_err(graph_error)?
         }
         None => {
             // --depth auto, in two phases: viewxf and the clipper, which no depth
