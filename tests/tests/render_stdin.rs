@@ -143,3 +143,27 @@ fn depth_auto_reads_a_pipe_once() {
     assert!(out.stdout == expected, "a named pipe at auto");
     assert_eq!(std::fs::read_dir(dir.join("tmp")).unwrap().count(), 0);
 }
+
+/// A small scene given as a pipe's path (`/dev/stdin`, `<(…)`) on a screen where a file
+/// that small is depth 0 for its size alone: render does not open it to measure it (the
+/// bytes it read would be lost to viewxf), and the frame is the file's.
+#[test]
+fn a_small_scene_named_as_a_pipe_is_read_once() {
+    let example = repo_root().join("examples/penetrating.txt");
+    let text = std::fs::read(&example).unwrap();
+    let out = output_with_stdin(
+        render_cmd(&["--size", "64x64", "--stats", "/dev/stdin"]),
+        &text,
+    );
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let expected = render_ok(&["--size", "64x64", example.to_str().unwrap()], b"");
+    assert_eq!(frames(&out.stdout).len(), 1);
+    assert!(
+        out.stdout == expected,
+        "the pipe's frame against the file's"
+    );
+}

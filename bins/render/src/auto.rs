@@ -58,13 +58,17 @@ pub fn tiny_bound(width: u32, height: u32) -> Option<u64> {
     (bound >= 64).then_some(bound)
 }
 
-/// What `--stats` says when `o`'s scene is a file too small for the tree to pay
+/// What `--stats` says when `o`'s scene is a regular file too small for the tree to pay
 /// ([`tiny_bound`]) and there are no hosts: depth 0, chosen before the load is read or
-/// the model asked (`None` otherwise).
+/// the model asked (`None` otherwise). A scene named that is a pipe (`<(…)`) is a stream,
+/// read once, by the stages: it is not opened here.
 pub fn tiny_scene(o: &Options) -> Option<String> {
     let (Scene::Path(p), true) = (&o.scene, o.hosts.is_empty()) else {
         return None;
     };
+    if !p.is_file() {
+        return None;
+    }
     let bound = tiny_bound(o.width, o.height).filter(|b| tiny_file(p, *b))?;
     Some(format!(
         "depth auto chose 0 (a scene file of at most {bound} bytes on a {} screen: under 2 ms of depth tests; the model not asked)",
