@@ -65,16 +65,7 @@ fn render_in(table: &[Method], args: &[&str]) -> u8 {
 fn render_runs_the_new_method_at_the_leaves_and_it_draws_the_zbuffers_frames() {
     // The stages render starts, and the new one, in one folder.
     let bin = tempfile::tempdir().unwrap();
-    let stages = [
-        "viewxf",
-        "clipplane",
-        "clipbatch",
-        "splitter",
-        "persp",
-        "scanconv",
-        "zbuf",
-    ];
-    for stage in stages {
+    for stage in render::PIPELINE_STAGES {
         std::os::unix::fs::symlink(bin_dir().join(stage), bin.path().join(stage)).unwrap();
     }
     std::os::unix::fs::symlink(env!("CARGO_BIN_EXE_nearest"), bin.path().join("nearest")).unwrap();

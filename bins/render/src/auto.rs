@@ -173,12 +173,6 @@ pub fn choose(
         depth: 0,
         said: None,
     };
-    if sampled.is_none() {
-        if let Some(said) = tiny_scene(o) {
-            choice.said = Some(said);
-            return choice;
-        }
-    }
     // The camera as single words, so that a value with a leading minus stays a value.
     let camera: Vec<String> = o
         .camera

@@ -52,20 +52,23 @@ fn bin_dir() -> Result<(PathBuf, bool), Error> {
     Ok((exe.parent().unwrap_or(Path::new(".")).to_path_buf(), false))
 }
 
+/// The stages a graph may run whatever its leaves' method: the pipeline above the leaves
+/// and the merger (a method's own stage comes from the table of methods).
+pub const PIPELINE_STAGES: [&str; 7] = [
+    "viewxf",
+    "clipplane",
+    "clipbatch",
+    "splitter",
+    "persp",
+    "scanconv",
+    "zbuf",
+];
+
 /// Every binary `o`'s graph runs is in `bin`: `no X in DIR`, status 3, before anything
 /// starts.
 fn check_binaries(o: &Options, bin: &Path, from_env: bool) -> Result<(), Error> {
     let method = graph::method(o);
-    let stages = [
-        "viewxf",
-        "clipplane",
-        "clipbatch",
-        "splitter",
-        "persp",
-        "scanconv",
-        "zbuf",
-    ];
-    for b in stages.iter().copied().chain([method[0].as_str()]) {
+    for b in PIPELINE_STAGES.iter().copied().chain([method[0].as_str()]) {
         if !bin.join(b).is_file() {
             let whose = if from_env { " (POLYPIPE_BIN)" } else { "" };
             return Err(Error::io(format!("no {b} in {}{whose}", bin.display())));
@@ -352,12 +355,15 @@ fn run_inner<I: IntoIterator<Item = OsString>>(
         feed: None,
     };
     let graph_error = |e: launch::SpecError| Error::usage(format!("the graph: {e}"));
-    let depth_0_said = match fixed {
-        Some(_) => None,
-        None => auto::tiny_scene(&o).or_else(|| {
-            auto::one_core_at_most(&auto::target(&o)).then(|| auto::ONE_CORE.to_string())
-        }),
-    };
+    // --depth auto's depth 0 without the model: a scene file too small for the tree to pay
+    // (decided before the load is read), or a core or less for the render.
+    let tiny = fixed.is_none().then(|| auto::tiny_scene(&o)).flatten();
+    let target = (fixed.is_none() && tiny.is_none()).then(|| auto::target(&o));
+    let depth_0_said = tiny.or_else(|| {
+        target
+            .filter(auto::one_core_at_most)
+            .map(|_| auto::ONE_CORE.to_string())
+    });
     let outcome = match fixed {
         Some(depth) => {
             let stages = graph::build(&o, &context(depth, false));
@@ -377,7 +383,7 @@ fn run_inner<I: IntoIterator<Item = OsString>>(
             // --depth auto, in two phases: viewxf and the clipper, which no depth
             // changes, start first and work while the scene is looked at and the model
             // asked; the tree, the leaves and the merger, which the depth makes, then.
-            let target = auto::target(&o);
+            let target = target.unwrap_or_else(|| auto::target(&o));
             let mut sampled = auto::sample_stream(&o)?;
             let feed = sampled.as_mut().map(auto::Sampled::feed);
             let chain = graph::chain(&o, &context(0, feed.is_some()));
