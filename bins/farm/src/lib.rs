@@ -63,7 +63,7 @@ use std::collections::{BTreeMap, BTreeSet};
 use std::io::{BufRead, BufReader, Read, Write};
 use std::path::{Path, PathBuf};
 use std::process::{Child, Command, Stdio};
-use std::sync::atomic::{AtomicI32, Ordering};
+use std::sync::atomic::{AtomicBool, AtomicI32, Ordering};
 use std::sync::mpsc;
 use std::time::Duration;
 
@@ -761,6 +761,91 @@ pub fn catch_stop_signals() {
     }
 }
 
+/// Whether [`adopt_orphans`] has made this process the reaper of its descendants.
+static ADOPTING: AtomicBool = AtomicBool::new(false);
+
+/// From now on a process started under this one (a job of parallel's, its ssh) that
+/// outlives its parent is handed to this process, not to init, and [`run`] stops and
+/// reaps every such process before it returns. GNU parallel stops its jobs by process
+/// group when asked to stop, but a job it is starting at that moment (forked, not yet in
+/// its table of running jobs) escapes that and goes on: its ssh and the session on the
+/// host outlived the run about one stop in six. Call it once, from the program's main,
+/// before [`run`]: a process that adopts must know all its children.
+pub fn adopt_orphans() {
+    // SAFETY: prctl(PR_SET_CHILD_SUBREAPER) takes an integer and touches no memory.
+    let done = unsafe { libc::prctl(libc::PR_SET_CHILD_SUBREAPER, 1, 0, 0, 0) } == 0;
+    ADOPTING.store(done, Ordering::SeqCst);
+}
+
+/// The processes whose parent is this one, by pid, with their process groups.
+fn children() -> Vec<(libc::pid_t, libc::pid_t)> {
+    let me = std::process::id() as libc::pid_t;
+    let Ok(entries) = std::fs::read_dir("/proc") else {
+        return Vec::new();
+    };
+    let mut found = Vec::new();
+    for entry in entries.flatten() {
+        let Some(pid) = entry.file_name().to_str().and_then(|n| n.parse().ok()) else {
+            continue;
+        };
+        let Ok(stat) = std::fs::read_to_string(format!("/proc/{pid}/stat")) else {
+            continue;
+        };
+        // pid (comm) state ppid pgrp ...: the name may hold spaces and parentheses.
+        let Some((_, rest)) = stat.rsplit_once(") ") else {
+            continue;
+        };
+        let mut fields = rest.split(' ').skip(1);
+        let ppid: Option<libc::pid_t> = fields.next().and_then(|f| f.parse().ok());
+        let pgrp: Option<libc::pid_t> = fields.next().and_then(|f| f.parse().ok());
+        if let (Some(ppid), Some(pgrp)) = (ppid, pgrp) {
+            if ppid == me {
+                found.push((pid, pgrp));
+            }
+        }
+    }
+    found
+}
+
+/// Once parallel has ended: stops (SIGTERM, then SIGKILL after a second) and reaps every
+/// process handed to this one ([`adopt_orphans`]), and those they leave in turn, for at
+/// most three seconds. A process in a group of its own gets the signal by its group,
+/// as parallel would have sent it.
+fn reap_orphans() {
+    if !ADOPTING.load(Ordering::SeqCst) {
+        return;
+    }
+    let start = std::time::Instant::now();
+    let mut signalled: BTreeMap<libc::pid_t, i32> = BTreeMap::new();
+    loop {
+        let left = children();
+        if left.is_empty() || start.elapsed() > Duration::from_secs(3) {
+            return;
+        }
+        let sig = if start.elapsed() < Duration::from_secs(1) {
+            libc::SIGTERM
+        } else {
+            libc::SIGKILL
+        };
+        for &(pid, pgrp) in &left {
+            let mut status = 0;
+            // SAFETY: waitpid on a child of ours, WNOHANG; status is a local.
+            if unsafe { libc::waitpid(pid, &mut status, libc::WNOHANG) } == pid {
+                continue;
+            }
+            if signalled.get(&pid) != Some(&sig) {
+                signalled.insert(pid, sig);
+                let target = if pgrp == pid { -pid } else { pid };
+                // SAFETY: kill(2) touches no memory of ours.
+                unsafe {
+                    libc::kill(target, sig);
+                }
+            }
+        }
+        std::thread::sleep(Duration::from_millis(5));
+    }
+}
+
 /// A chunk of the movie, handed to parallel or skipped as finished before.
 struct Handed {
     info: ChunkInfo,
@@ -1317,6 +1402,7 @@ fn finish(
         std::thread::sleep(Duration::from_millis(10));
         waited = waited.saturating_sub(10);
     }
+    reap_orphans();
     drop(spool);
     result
 }

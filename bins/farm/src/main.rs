@@ -119,6 +119,7 @@ fn main() -> ExitCode {
         let input = stagecli::open_input(&cli.scene)?;
         let reader = Reader::<Token, _>::new(input).map_err(|e| stagecli::input_error(&name, e))?;
         farm::catch_stop_signals();
+        farm::adopt_orphans();
         let mut out = stagecli::stdout();
         outcome = farm::run(reader, &options, &mut out, &mut std::io::stderr())?;
         Ok(())
