@@ -101,7 +101,17 @@ fn calibration_is_kept_with_its_machine_and_judged_by_it() {
     if let Some(cpu) = cpu {
         assert!(kept.contains(&format!("cpu = \"{cpu}\"")), "{kept}");
     }
-    let cores = std::thread::available_parallelism().unwrap().get();
+    // The machine's cores are those online, whatever this process's affinity or a
+    // container's CPU quota (which the standard library's available_parallelism counts,
+    // and `taskset -c 0` or a CI runner's cgroup lowers): getconf's count, or the
+    // available ones where more are available than getconf says.
+    let online = Command::new("getconf")
+        .arg("_NPROCESSORS_ONLN")
+        .output()
+        .ok()
+        .and_then(|o| text(&o.stdout).trim().parse::<usize>().ok());
+    let available = std::thread::available_parallelism().unwrap().get();
+    let cores = online.unwrap_or(available).max(available);
     assert!(kept.contains(&format!("\ncores = {cores}\n")), "{kept}");
     assert!(kept.contains("version = \"0.1.0\""), "{kept}");
 
