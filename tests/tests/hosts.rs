@@ -92,12 +92,12 @@ fn last_line(out: &Output) -> String {
 
 /// Asserts that nothing of a run is left. Here, at once: farm stops and reaps its ssh
 /// processes before it exits, and leaves nothing in the local TMPDIR. The run's processes
-/// here are those with its TMPDIR in their environment or its ssh_config on their
-/// command line (a farm of another test binary, run beside this one, is not this run's). On the hosts: no session process under any host's sshd, no render.sh or
-/// stage process, nothing in any host's TMPDIR. A remote render.sh stops when its ssh
-/// goes (its input ends, its output has no reader), which takes it a moment: well under a
-/// second idle, and it is given 30 s, the bound of one that does not stop, not of a
-/// loaded machine's scheduling.
+/// here are those with its TMPDIR in their environment or its ssh_config on their command
+/// line (a farm of another test, run beside this one, is not this run's). On the hosts:
+/// no session process under any host's sshd, no render.sh or stage process, nothing in
+/// any host's TMPDIR. A remote render.sh stops when its ssh goes (its input ends, its
+/// output has no reader), which takes it a moment: well under a second idle, and it is
+/// given 30 s, the bound of one that does not stop, not of a loaded machine's scheduling.
 fn assert_nothing_left(hosts: &Hosts, n_hosts: usize, tmp: &Path) {
     let mut here =
         hosts::processes_matching(&[], &[hosts.dir().join("ssh_config").display().to_string()]);
@@ -741,11 +741,11 @@ fn a_host_that_drops_mid_run_ends_it_within_seconds_leaving_nothing() {
 }
 
 /// After node2 dropped: the run ends within 30 s (a second or two idle; the bound is that
-/// of a run that waits on the lost host, not of a loaded machine), status 3, its last line starting
-/// `prefix`; what it wrote is whole frames, the first of the movie as `render.sh
-/// --size 128x128 LOCAL` renders it here, fewer than all; node1 and here are clean. (node2
-/// went down with its processes killed outright, as a machine losing power does: what
-/// that left in node2's own TMPDIR is node2's.)
+/// of a run that waits on the lost host, not of a loaded machine), status 3, its last
+/// line starting `prefix`; what it wrote is whole frames, the first of the movie as
+/// `render.sh --size 128x128 LOCAL` renders it here, fewer than all; node1 and here are
+/// clean. (node2 went down with its processes killed outright, as a machine losing power
+/// does: what that left in node2's own TMPDIR is node2's.)
 fn the_dropped_run_ends_well(
     hosts: &Hosts,
     tmp: &Path,

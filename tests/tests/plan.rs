@@ -351,11 +351,12 @@ fn a_live_source_s_first_frame_comes_out_at_once() {
         .write_all(format!("{body}NEXT.FRAME\n").as_bytes())
         .unwrap();
     input.flush().unwrap();
-    let frame = 15 + 100 * 100 * 3; // "P6\n100 100\n255\n" and the pixels
-                                    // The first frame must come while the source is still open and silent: a render that
-                                    // waited for more of it (a full sample, or the stream's end) would never send it. On
-                                    // an idle machine it comes in about 0.2 s (the sample's patience, then the render);
-                                    // the bound is that of a render held up, not of a loaded machine's scheduling.
+    // "P6\n100 100\n255\n" and the pixels.
+    let frame = 15 + 100 * 100 * 3;
+    // The first frame must come while the source is still open and silent: a render that
+    // waited for more of it (a full sample, or the stream's end) would never send it. On
+    // an idle machine it comes in about 0.2 s (the sample's patience, then the render);
+    // the bound is that of a render held up, not of a loaded machine's scheduling.
     let (tx, rx) = std::sync::mpsc::channel();
     let reader = std::thread::spawn(move || {
         let mut got = vec![0u8; frame];
