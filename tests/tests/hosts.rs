@@ -264,51 +264,54 @@ fn frames_stream_back_before_the_last_host_is_done_with_the_spool_bounded() {
         .expect("start render.sh --by frames");
     let pid = child.id();
     let mut stdout = child.stdout.take().unwrap();
+    // The sessions started by the time the first frame is whole, counted by the thread
+    // that reads it, at that moment: counted by the loop below, they would be those of
+    // whenever a loaded machine next ran the loop.
     let (first_tx, first_rx) = std::sync::mpsc::channel();
-    let reader = std::thread::spawn(move || {
-        use std::io::Read;
-        let mut all = Vec::new();
-        let mut buf = vec![0u8; 1 << 16];
-        let mut told = false;
+    let hosts_at_first = &hosts;
+    let (frames, peak, local_disk, remote_disk) = std::thread::scope(|scope| {
+        let reader = scope.spawn(move || {
+            use std::io::Read;
+            let mut all = Vec::new();
+            let mut buf = vec![0u8; 1 << 16];
+            let mut told = false;
+            loop {
+                let n = stdout.read(&mut buf).unwrap();
+                if n == 0 {
+                    break;
+                }
+                all.extend_from_slice(&buf[..n]);
+                if !told && all.len() >= frame_bytes(256, 256) {
+                    let _ = first_tx.send(hosts_at_first.sessions(0) + hosts_at_first.sessions(1));
+                    told = true;
+                }
+            }
+            all
+        });
+        let (mut peak, mut local_disk, mut remote_disk) = (0, 0, 0);
         loop {
-            let n = stdout.read(&mut buf).unwrap();
-            if n == 0 {
+            peak = peak.max(peak_memory(pid).unwrap_or(0));
+            local_disk = local_disk.max(bytes_under(&tmp));
+            remote_disk = remote_disk.max(
+                (0..2)
+                    .map(|i| bytes_under(hosts.remote_tmp(i)))
+                    .max()
+                    .unwrap(),
+            );
+            if child.try_wait().unwrap().is_some() {
                 break;
             }
-            all.extend_from_slice(&buf[..n]);
-            if !told && all.len() >= frame_bytes(256, 256) {
-                let _ = first_tx.send(Instant::now());
-                told = true;
-            }
+            assert!(
+                started.elapsed() < Duration::from_secs(120),
+                "still running after 120 s"
+            );
+            std::thread::sleep(Duration::from_millis(2));
         }
-        all
+        let frames = reader.join().unwrap();
+        (frames, peak, local_disk, remote_disk)
     });
-    // Until the first frame is whole: the sessions started by then.
-    let mut sessions_at_first = None;
-    let (mut peak, mut local_disk, mut remote_disk) = (0, 0, 0);
-    loop {
-        if sessions_at_first.is_none() && first_rx.try_recv().is_ok() {
-            sessions_at_first = Some(hosts.sessions(0) + hosts.sessions(1));
-        }
-        peak = peak.max(peak_memory(pid).unwrap_or(0));
-        local_disk = local_disk.max(bytes_under(&tmp));
-        remote_disk = remote_disk.max(
-            (0..2)
-                .map(|i| bytes_under(hosts.remote_tmp(i)))
-                .max()
-                .unwrap(),
-        );
-        if child.try_wait().unwrap().is_some() {
-            break;
-        }
-        assert!(
-            started.elapsed() < Duration::from_secs(120),
-            "still running after 120 s"
-        );
-        std::thread::sleep(Duration::from_millis(2));
-    }
     let status = child.wait().unwrap();
-    let frames = reader.join().unwrap();
+    let sessions_at_first = first_rx.try_recv().ok();
     let mut err = String::new();
     std::io::Read::read_to_string(&mut child.stderr.take().unwrap(), &mut err).unwrap();
     assert!(status.success(), "{err}");
