@@ -181,7 +181,11 @@ fn a_job_parallel_leaves_behind_when_stopped_is_stopped_by_farm() {
         .arg(&fake)
         .status()
         .unwrap();
-    let path = format!("{}:{}", dir.path().display(), std::env::var("PATH").unwrap());
+    let path = format!(
+        "{}:{}",
+        dir.path().display(),
+        std::env::var("PATH").unwrap()
+    );
     let movie_file = dir.path().join("movie.txt");
     std::fs::write(&movie_file, movie(4)).unwrap();
     let mut farm = std::process::Command::new(env!("CARGO_BIN_EXE_farm"))
@@ -196,10 +200,16 @@ fn a_job_parallel_leaves_behind_when_stopped_is_stopped_by_farm() {
         .unwrap();
     let started = std::time::Instant::now();
     while !pid_file.exists() {
-        assert!(started.elapsed().as_secs() < 10, "the stand-in never started its job");
+        assert!(
+            started.elapsed().as_secs() < 10,
+            "the stand-in never started its job"
+        );
         std::thread::sleep(std::time::Duration::from_millis(10));
     }
-    let job = std::fs::read_to_string(&pid_file).unwrap().trim().to_string();
+    let job = std::fs::read_to_string(&pid_file)
+        .unwrap()
+        .trim()
+        .to_string();
     assert!(std::path::Path::new(&format!("/proc/{job}")).exists());
     let status = std::process::Command::new("kill")
         .args(["-TERM", &farm.id().to_string()])
