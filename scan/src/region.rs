@@ -276,10 +276,14 @@ fn paint_one(out: &mut Colour, p: u32, back: Option<Colour>) {
     }
 }
 
-/// [`paint_row`] with 128-bit vectors: four packed pixels loaded at once, tested for an
-/// empty one with one compare, and where all four are covered their twelve RGB bytes
-/// gathered by one byte shuffle and stored as eight and four bytes. The same raster to
-/// the byte.
+/// [`paint_row`] with 256-bit vectors: eight packed pixels loaded at once and tested for
+/// an empty one with one compare. Where all eight are covered, or `back` is given and the
+/// empty ones take it (blended in as a packed colour), their 24 RGB bytes are gathered by
+/// a byte shuffle within each 128-bit half and a move of the halves' 12 bytes together,
+/// and stored as 16 and 8 bytes: no branch a pixel. Over the frame before (a movie's
+/// frames after the first), every block goes so. A row's last four are done the same in
+/// 128 bits, and a block with an empty pixel and no `back` a pixel at a time. The same
+/// raster to the byte.
 ///
 /// # Safety
 ///
@@ -289,21 +293,63 @@ fn paint_one(out: &mut Colour, p: u32, back: Option<Colour>) {
 unsafe fn paint_row_avx2(out: &mut [Colour], line: &[u32], back: Option<Colour>) {
     use std::arch::x86_64::*;
     debug_assert_eq!(out.len(), line.len());
-    let n = line.len().min(out.len()) & !3;
+    let len = line.len().min(out.len());
     // Bytes 0-2, 4-6, 8-10 and 12-14 of four packed pixels (each R, G, B, then the
-    // top byte that marks it covered, `pack`): their RGB bytes in order.
-    let gather = _mm_setr_epi8(0, 1, 2, 4, 5, 6, 8, 9, 10, 12, 13, 14, -1, -1, -1, -1);
-    let zero = _mm_setzero_si128();
+    // top byte that marks it covered, `pack`): their RGB bytes in order, in each half.
+    let gather = _mm256_setr_epi8(
+        0, 1, 2, 4, 5, 6, 8, 9, 10, 12, 13, 14, -1, -1, -1, -1, //
+        0, 1, 2, 4, 5, 6, 8, 9, 10, 12, 13, 14, -1, -1, -1, -1,
+    );
+    // The low half's three gathered words, then the high half's: 24 bytes in a row.
+    let together = _mm256_setr_epi32(0, 1, 2, 4, 5, 6, 3, 7);
+    let zero = _mm256_setzero_si256();
+    // The background as a covered cell, for the empty ones to take.
+    let fill = back.map(|b| _mm256_set1_epi32(pack(b) as i32));
     let mut i = 0;
-    while i < n {
-        // SAFETY: i + 4 <= n <= both lengths, so cells i..i+4 of `line` and pixels
-        // i..i+4 of `out` (bytes 3i..3i+12, a Colour being 3 bytes) are in bounds;
+    while i + 8 <= len {
+        // SAFETY: i + 8 <= len <= both lengths, so cells i..i+8 of `line` and pixels
+        // i..i+8 of `out` (bytes 3i..3i+24, a Colour being 3 bytes) are in bounds;
         // unaligned loads and stores.
         unsafe {
-            let v = _mm_loadu_si128(line.as_ptr().add(i) as *const __m128i);
-            if _mm_movemask_epi8(_mm_cmpeq_epi32(v, zero)) == 0 {
+            let mut v = _mm256_loadu_si256(line.as_ptr().add(i) as *const __m256i);
+            let empty = _mm256_cmpeq_epi32(v, zero);
+            let paint = if _mm256_testz_si256(empty, empty) != 0 {
+                true
+            } else if let Some(fill) = fill {
+                v = _mm256_blendv_epi8(v, fill, empty);
+                true
+            } else {
+                false
+            };
+            if paint {
                 let o = out.as_mut_ptr().add(i) as *mut u8;
-                let b = _mm_shuffle_epi8(v, gather);
+                let b = _mm256_permutevar8x32_epi32(_mm256_shuffle_epi8(v, gather), together);
+                _mm_storeu_si128(o as *mut __m128i, _mm256_castsi256_si128(b));
+                _mm_storel_epi64(o.add(16) as *mut __m128i, _mm256_extracti128_si256::<1>(b));
+            } else {
+                for k in i..i + 8 {
+                    paint_one(out.get_unchecked_mut(k), *line.get_unchecked(k), back);
+                }
+            }
+        }
+        i += 8;
+    }
+    if i + 4 <= len {
+        // SAFETY: as above, for cells and pixels i..i+4.
+        unsafe {
+            let mut v = _mm_loadu_si128(line.as_ptr().add(i) as *const __m128i);
+            let empty = _mm_cmpeq_epi32(v, _mm_setzero_si128());
+            let paint = if _mm_testz_si128(empty, empty) != 0 {
+                true
+            } else if let Some(fill) = fill {
+                v = _mm_blendv_epi8(v, _mm256_castsi256_si128(fill), empty);
+                true
+            } else {
+                false
+            };
+            if paint {
+                let o = out.as_mut_ptr().add(i) as *mut u8;
+                let b = _mm_shuffle_epi8(v, _mm256_castsi256_si128(gather));
                 _mm_storel_epi64(o as *mut __m128i, b);
                 (o.add(8) as *mut i32).write_unaligned(_mm_extract_epi32::<2>(b));
             } else {
@@ -314,7 +360,7 @@ unsafe fn paint_row_avx2(out: &mut [Colour], line: &[u32], back: Option<Colour>)
         }
         i += 4;
     }
-    for (o, &p) in out[n..].iter_mut().zip(&line[n..]) {
+    for (o, &p) in out[i..len].iter_mut().zip(&line[i..len]) {
         paint_one(o, p, back);
     }
 }
