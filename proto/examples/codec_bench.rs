@@ -418,6 +418,18 @@ fn main() {
     println!("| str::parse::<f64> | {:.1} |", per(t));
     let t = best(reps, || sum(&|w| fast_float2::parse::<f64, _>(w).unwrap()));
     println!("| fast-float2 0.2 | {:.1} |", per(t));
+    for w in &words {
+        let got = proto::text::parse_decimal(w.as_bytes()).map(|(v, n)| (v.to_bits(), n));
+        assert_eq!(
+            got,
+            Some((w.parse::<f64>().unwrap().to_bits(), w.len())),
+            "{w}"
+        );
+    }
+    let t = best(reps, || {
+        sum(&|w| proto::text::parse_decimal(w.as_bytes()).unwrap().0)
+    });
+    println!("| proto::text::parse_decimal | {:.1} |", per(t));
     let t = best(reps, || {
         sum(&|w| lexical_core::parse::<f64>(w.as_bytes()).unwrap())
     });
