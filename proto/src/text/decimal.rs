@@ -82,10 +82,11 @@ fn common_shape(s: &[u8]) -> Option<(f64, usize)> {
     }
     let f = p + int_run + 1;
     let (b, c, d) = (word(f), word(f + 8), word(f + 16));
-    // Each run counts only where the one before it filled its word.
+    // Each run counts only where the one before it filled its word (r >> 3 is 1 for a
+    // run of 8, else 0: a product, not a branch).
     let r1 = digit_run(b);
-    let r2 = if r1 == 8 { digit_run(c) } else { 0 };
-    let r3 = if r2 == 8 { digit_run(d) } else { 0 };
+    let r2 = (r1 >> 3) * digit_run(c);
+    let r3 = (r2 >> 3) * digit_run(d);
     let after = r1 + r2 + r3;
     let end = f + after;
     if int_run + after > MOST_DIGITS || matches!(s[end], b'e' | b'E') {
@@ -96,11 +97,12 @@ fn common_shape(s: &[u8]) -> Option<(f64, usize)> {
         + leading_digits(d, r3);
     let w = int * POW10_U64[after] + fraction;
     let magnitude = if w == 0 {
-        0.0
+        0
     } else {
-        f64::from_bits(eisel_lemire(-(after as i32), w)?)
+        eisel_lemire(-(after as i32), w)?
     };
-    Some((if negative { -magnitude } else { magnitude }, end))
+    // The sign as a bit, not a branch: a scene's signs come at random.
+    Some((f64::from_bits(magnitude | u64::from(negative) << 63), end))
 }
 
 /// [`parse_decimal`] a digit at a time (eight at a time after the point, where eight
@@ -222,11 +224,8 @@ fn digit_run(v: u64) -> usize {
     const HIGHS: u64 = 0x8080_8080_8080_8080;
     let flags =
         (v.wrapping_add(0x4646_4646_4646_4646) | v.wrapping_sub(0x3030_3030_3030_3030)) & HIGHS;
-    if flags == 0 {
-        8
-    } else {
-        flags.trailing_zeros() as usize / 8
-    }
+    // No flag: 64 trailing zeros, eight digits.
+    flags.trailing_zeros() as usize / 8
 }
 
 /// The eight ASCII digits of `v` (the first in the lowest byte) as a number: pairs, then
