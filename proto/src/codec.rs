@@ -48,6 +48,9 @@ pub const MAX_VERTICES: usize = (MAX_RECORD_BYTES / 32) as usize - 1;
 /// in a few system calls per thousand polygons.
 const IO_BUFFER: usize = 1 << 16;
 
+// The lexer's reads go past a text reader's `BufReader` (see `text::BUFFER`).
+const _: () = assert!(crate::text::BUFFER >= 2 * IO_BUFFER);
+
 /// Vertices read per block of a long vertex list (64 KiB).
 const VERTEX_BLOCK: usize = 2048;
 

@@ -18,11 +18,15 @@ pub use decimal::parse_decimal;
 
 /// The input buffer's size once a stream has shown it is long; it starts at
 /// [`FIRST_BUFFER`] (a short stream then costs little) and grows past this only for a
-/// line longer than it.
-const BUFFER: usize = 1 << 16;
+/// line longer than it. Twice the `BufReader` a stream's reader puts before the lexer
+/// (`codec`'s `IO_BUFFER`, which checks this): a read of at least a `BufReader`'s
+/// capacity, when it holds nothing, goes straight to its input, so that the input's
+/// bytes are copied once, into this buffer, and not first into the `BufReader`'s and
+/// then here.
+pub(crate) const BUFFER: usize = 1 << 17;
 const FIRST_BUFFER: usize = 1 << 12;
 
-/// Reads words one line at a time; memory is one buffer of input (at most 64 KiB, or the
+/// Reads words one line at a time; memory is one buffer of input (at most 128 KiB, or the
 /// longest line), whatever the stream's length.
 pub struct Lexer<R> {
     input: R,
@@ -499,7 +503,14 @@ impl<R: Read> Lexer<R> {
         let length = memchr::memchr(b'\n', &self.buf[from..self.end])?;
         let (start, stop) = (from, from + length);
         let (value, last_word) = read(&self.buf[start..stop])?;
-        let text = std::str::from_utf8(&self.buf[start..stop]).ok()?;
+        let line = &self.buf[start..stop];
+        let text = if line.is_ascii() {
+            // SAFETY: ASCII is UTF-8 (the check is from_utf8's, without its set-up on a
+            // short line: the colour line between every two polygons).
+            unsafe { std::str::from_utf8_unchecked(line) }
+        } else {
+            std::str::from_utf8(line).ok()?
+        };
         self.line.clear();
         self.line.push_str(text);
         self.ascii = text.is_ascii();
