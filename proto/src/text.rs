@@ -117,6 +117,22 @@ impl<R: Read> Lexer<R> {
         lx
     }
 
+    /// [`Lexer::resume`] with the input's next bytes already in hand: `bytes` (whole
+    /// lines), then `input`. They become the lexer's buffer as they are, so a stream cut
+    /// into pieces in memory is read from each piece's own copy, without the reads from a
+    /// reader into a buffer grown from [`FIRST_BUFFER`] (a tenth of a piece reader's
+    /// instructions, on pieces of 256 KiB).
+    pub fn resume_with(bytes: Vec<u8>, input: R, lines_before: u64, last_line: String) -> Self {
+        let mut lx = Lexer::resume(input, lines_before, last_line);
+        if !bytes.is_empty() {
+            // (An empty buffer stays the one `new` made: a read into no room would look
+            // like the input's end.)
+            lx.end = bytes.len();
+            lx.buf = bytes;
+        }
+        lx
+    }
+
     /// Takes the lexer apart where it stands at the end of a line with nothing peeked
     /// (after a stream's header): the bytes it has read but not lexed, its input, the
     /// lines read and the last of them. Anywhere else it is handed back.
@@ -1101,6 +1117,32 @@ mod tests {
             "line 6, column 8: expected x, found the end of the input"
         );
         assert_eq!(words(Lexer::new(Trickle(text.as_bytes(), 0))), whole);
+    }
+
+    /// A lexer given the next bytes in hand reads what one reading them from its input
+    /// reads: the same words, places and last message, whatever more the input holds.
+    #[test]
+    fn bytes_in_hand_read_as_bytes_read() {
+        let text = "colour 1 2 3\n1.5 -2 3\n  4 5 6 # c\nNEXT.POLYGON\nx\u{3000}y 7\n";
+        for cut in [0, 1, 13, 22, text.find('#').unwrap(), text.len()] {
+            let (hand, rest) = text.as_bytes().split_at(cut);
+            let read = words(Lexer::resume(text.as_bytes(), 4, "prev".to_string()));
+            let in_hand = words(Lexer::resume_with(
+                hand.to_vec(),
+                Trickle(rest, 0),
+                4,
+                "prev".to_string(),
+            ));
+            assert_eq!(in_hand, read, "{cut}");
+            assert_eq!(read.0[0], ("colour".to_string(), (5, 1)));
+        }
+        // Nothing in hand, and nothing more: the end, after the last line.
+        let (found, message) = words(Lexer::resume_with(vec![], &b""[..], 7, "a b".into()));
+        assert!(found.is_empty());
+        assert_eq!(
+            message,
+            "line 7, column 4: expected x, found the end of the input"
+        );
     }
 
     #[test]
