@@ -17,15 +17,16 @@
 //! have 17 digits and miss it, and the branch between the two methods, taken at random,
 //! cost more than the division saved.)
 //!
-//! The common shape, `[-]D.DDDDDDDDDDDDDDDD` with one to seven digits before the point
-//! and at most 19 in all, is read without a branch that depends on the digits: the
-//! integer part and up to 24 digits after the point as three 8-byte words, each word's
-//! run of digits found by a bit test and converted by multiplications. Anything else
-//! (an exponent, no point, a long integer part, a number near the end of the input) is
-//! read digit by digit; and what is not a number of this form or out of range (more than
-//! 19 significant digits, q outside the table, an exponent of more than four digits,
-//! `inf`, `nan`, no digit) answers `None`, and the caller reads the word with the full
-//! parser: this one is only faster, never different.
+//! The common shape, `[-]D.DDDDDDDDDDDDDDDD` with one to three digits before the point
+//! and at most 16 after it, is read without a branch that depends on the digits: the
+//! integer part and the fraction as 8-byte words, each word's run of digits found by a
+//! bit test and converted by multiplications, the fraction padded with zeros to 16
+//! digits (`w·10⁻¹⁶` is the same number, and the rounding does not see the zeros).
+//! Anything else (an exponent, no point, a longer integer part or fraction, a number near
+//! the end of the input) is read digit by digit; and what is not a number of this form
+//! or out of range (more than 19 significant digits, q outside the table, an exponent of
+//! more than four digits, `inf`, `nan`, no digit) answers `None`, and the caller reads
+//! the word with the full parser: this one is only faster, never different.
 
 /// The least and greatest power of ten read here; a number needing another goes to the
 /// full parser. Scenes' numbers have q from −21 to 2 (17 digits after the point at most
@@ -47,9 +48,10 @@ const POW10_U64: [u64; 20] = {
     t
 };
 
-/// The bytes the branch-free read of the common shape looks at: a sign, eight for the
-/// integer part and the point, and 24 after it.
-const SHAPE_BYTES: usize = 1 + 8 + 24;
+/// The bytes the read of the common shape looks at: a sign, eight from the integer part
+/// on (three digits and the point at most are its), and from the fraction's start 16 and
+/// the byte after them.
+const SHAPE_BYTES: usize = 1 + 4 + 16 + 1;
 
 /// Reads the number at the start of `s`: its value and the bytes it took, which stop at
 /// the first byte that cannot go on the number (the caller checks what that byte is).
@@ -65,10 +67,13 @@ pub fn parse_decimal(s: &[u8]) -> Option<(f64, usize)> {
     digit_by_digit(s)
 }
 
-/// [`parse_decimal`] for the common shape, `[+-]D.DDD…` (one to seven digits before the
-/// point, 19 in all at most, no exponent), with [`SHAPE_BYTES`] bytes of `s` to look
-/// at; `None` for any other shape. The digits are three runs read as words: the only
-/// branches test the shape, and do not depend on the digits' values or count.
+/// [`parse_decimal`] for the common shape, `[+-]D.DDD…` (one to three digits before the
+/// point, at most 16 after it, no exponent), with [`SHAPE_BYTES`] bytes of `s` to look
+/// at; `None` for any other shape. The integer part and the fraction are read as 8-byte
+/// words, each word's digits found by a bit test, and the fraction is taken as 16 digits,
+/// zeros after its own: `int·10¹⁶ + fraction·10^(16−n)` times 10⁻¹⁶ is the number, and
+/// the Eisel–Lemire step rounds it the same whatever zeros it ends in. So the only
+/// branches test the shape, and no digit count moves a digit.
 #[inline]
 fn common_shape(s: &[u8]) -> Option<(f64, usize)> {
     let word = |at: usize| u64::from_le_bytes(s[at..at + 8].try_into().expect("8 bytes"));
@@ -77,30 +82,25 @@ fn common_shape(s: &[u8]) -> Option<(f64, usize)> {
     let p = usize::from(negative || first == b'+');
     let a = word(p);
     let int_run = digit_run(a);
-    if int_run == 0 || int_run == 8 || s[p + int_run] != b'.' {
+    if int_run == 0 || int_run > 3 || s[p + int_run] != b'.' {
         return None;
     }
     let f = p + int_run + 1;
-    let (b, c, d) = (word(f), word(f + 8), word(f + 16));
-    // Each run counts only where the one before it filled its word (r >> 3 is 1 for a
-    // run of 8, else 0: a product, not a branch).
+    let (b, c) = (word(f), word(f + 8));
+    // The second word counts only where the first is all digits (r1 >> 3 is 1 for a run
+    // of 8, else 0: a product, not a branch).
     let r1 = digit_run(b);
     let r2 = (r1 >> 3) * digit_run(c);
-    let r3 = (r2 >> 3) * digit_run(d);
-    let after = r1 + r2 + r3;
-    let end = f + after;
-    if int_run + after > MOST_DIGITS || matches!(s[end], b'e' | b'E') {
+    let end = f + r1 + r2;
+    // A 17th digit after the point, or an exponent: read digit by digit.
+    if matches!(s[end], b'0'..=b'9' | b'e' | b'E') {
         return None;
     }
-    let int = leading_digits(a, int_run);
-    let fraction = (leading_digits(b, r1) * POW10_U64[r2] + leading_digits(c, r2)) * POW10_U64[r3]
-        + leading_digits(d, r3);
-    let w = int * POW10_U64[after] + fraction;
-    let magnitude = if w == 0 {
-        0
-    } else {
-        eisel_lemire(-(after as i32), w)?
-    };
+    // int·10¹⁶ (below 10¹⁹: three digits at most) plus the fraction's 16 digits.
+    let w = padded_digits(a, int_run) * POW10_U64[8 + int_run]
+        + padded_digits(b, r1) * POW10_U64[8]
+        + padded_digits(c, r2);
+    let magnitude = if w == 0 { 0 } else { eisel_lemire(-16, w)? };
     // The sign as a bit, not a branch: a scene's signs come at random.
     Some((f64::from_bits(magnitude | u64::from(negative) << 63), end))
 }
@@ -243,6 +243,16 @@ fn leading_digits(v: u64, run: usize) -> u64 {
     // eight digits. Two shifts, each under 64 bits, so that a run of 0 gives 0.
     let shift = 4 * (8 - run) as u32;
     combine_eight((v.wrapping_sub(0x3030_3030_3030_3030) << shift) << shift)
+}
+
+/// The first `run` (0 to 8) bytes of `v`, digits, followed by zeros to eight digits, as
+/// a number: the run's value times 10^(8 − run).
+#[inline]
+fn padded_digits(v: u64, run: usize) -> u64 {
+    // The digits' values (a digit borrows nothing from the bytes after it), the bytes
+    // past the run cleared; two shifts, each under 64 bits, for runs of 0 and 8.
+    let keep = !((u64::MAX << (4 * run)) << (4 * run));
+    combine_eight(v.wrapping_sub(0x3030_3030_3030_3030) & keep)
 }
 
 /// Eight digit values, one a byte, the most significant in the lowest byte, as a number.
