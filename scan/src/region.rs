@@ -25,7 +25,7 @@
 mod shaded;
 
 use crate::depth::{depth_at, Depth};
-use crate::pages::{reserve_aligned, ZeroIsDefault};
+use crate::pages::reserve_aligned;
 use crate::walk::Span;
 use crate::ztest::{self, ZTest};
 use proto::Colour;
@@ -65,21 +65,29 @@ fn unpack(p: u32) -> Colour {
     [r, g, b]
 }
 
-/// The tiles' memory: tile k's pixels are `k·AREA .. (k+1)·AREA`, row-major within the
-/// tile, in one slab for the depth bar and one for packed colour. A pixel's bar means
-/// something only where its colour is non-zero.
+/// The tiles' memory, one block a tile: its TILE×TILE depth bars, then its TILE×TILE
+/// packed colours, each row-major within the tile. A pixel's bar means something only
+/// where its colour is non-zero.
 ///
-/// Each slab reserves room for every tile of the screen up front (address space, not
+/// The slab reserves room for every tile of the screen up front (address space, not
 /// memory: a page is mapped when a tile is first made in it), so that it never moves, and
 /// asks the kernel for huge pages there (`madvise(MADV_HUGEPAGE)`): a full-HD buffer is
 /// 25 MB, and faulting it in 4 KiB pages cost the fill-heavy scene's leaf a quarter of
 /// its time in the kernel. Where the reservation cannot be had (a screen of billions of
-/// pixels) the slabs grow as tiles are made, in ordinary pages.
+/// pixels) the slab grows as tiles are made, in ordinary pages.
 ///
-/// A slab's tiles start on a 64-byte boundary (a cache line): a tile row is then whole
-/// cache lines, and the z-test's four-pixel blocks of bars (32 bytes) never straddle two.
-struct Slab<T> {
-    cells: Vec<T>,
+/// Tiles are made in the order spans first touch them, packed, so the memory a leaf
+/// touches is its tiles' and the kernel zeroes whole huge pages of it, the last one
+/// part-used. Bars and colours in one block leave one such last page a leaf, where two
+/// slabs (bars, colours) left two: a leaf of the fill-heavy scene at depth 2 (135 tiles,
+/// 6.5 MB) touched five huge pages, now four.
+///
+/// The slab's tiles start on a 64-byte boundary (a cache line), and a block (48 KiB) is
+/// whole cache lines: a tile row is then whole cache lines, and the z-test's four-pixel
+/// blocks of bars (32 bytes) never straddle two.
+struct Slab {
+    /// The blocks, in units of a bar: a tile's colours take half a unit each.
+    cells: Vec<Depth>,
     /// The cells before the first tile, there to align it.
     start: usize,
     /// Whether the vector's spare capacity is zeroed memory no one has written (its
@@ -89,13 +97,32 @@ struct Slab<T> {
 
 /// The alignment of a slab's first tile, in bytes.
 const LINE: usize = 64;
+/// A tile's block in units of a bar: AREA bars, then AREA colours of half a unit each.
+const BLOCK: usize = AREA + AREA / 2;
 
-impl<T: ZeroIsDefault> Slab<T> {
+/// A tile's colours, stored in units of a bar, as the packed colours they are.
+#[inline(always)]
+fn as_colours(units: &[Depth]) -> &[u32] {
+    // SAFETY: the units' memory is `2 × units.len()` u32 cells, aligned for them (a u32's
+    // alignment divides an f64's), and every bit pattern is a valid u32; the borrow of
+    // `units` covers the new slice's lifetime.
+    unsafe { std::slice::from_raw_parts(units.as_ptr() as *const u32, 2 * units.len()) }
+}
+
+/// [`as_colours`], to write.
+#[inline(always)]
+fn as_colours_mut(units: &mut [Depth]) -> &mut [u32] {
+    // SAFETY: as in `as_colours`; every bit pattern is also a valid f64, so the units
+    // stay valid whatever is written, and the mutable borrow is held throughout.
+    unsafe { std::slice::from_raw_parts_mut(units.as_mut_ptr() as *mut u32, 2 * units.len()) }
+}
+
+impl Slab {
     fn new(tiles: usize) -> Self {
         // A slab of a huge page or more starts on a huge page's boundary
         // (`pages::reserve_aligned`): unaligned, its first and last part-pages were
         // faulted in 4 KiB pages, 1,400 of the fill-heavy scene zbuf's 2,700 faults.
-        let (cells, zeroed) = match reserve_aligned(tiles.saturating_mul(AREA), LINE) {
+        let (cells, zeroed) = match reserve_aligned(tiles.saturating_mul(BLOCK), LINE) {
             Some(v) => (v, true),
             None => (Vec::new(), false),
         };
@@ -109,39 +136,55 @@ impl<T: ZeroIsDefault> Slab<T> {
 
     /// Tiles made so far.
     fn tiles(&self) -> usize {
-        (self.cells.len() - self.start) / AREA
+        (self.cells.len() - self.start) / BLOCK
     }
 
-    /// A new tile, every cell `T::default()`.
+    /// A new tile, every bar 0.0 and every colour 0 (empty).
     fn push_tile(&mut self) {
-        let len = self.cells.len() + AREA;
+        let len = self.cells.len() + BLOCK;
         if self.zeroed && len <= self.cells.capacity() {
             // SAFETY: the cells up to `len` are within the capacity, in memory the
             // allocator zeroed and nothing has written since (`zeroed`), and all-zero
-            // bytes are a valid T, its default (`ZeroIsDefault`).
+            // bytes are a valid f64, 0.0 (`ZeroIsDefault`).
             unsafe { self.cells.set_len(len) };
         } else {
             // Beyond the first allocation the vector may move, into memory not zeroed.
             self.zeroed = false;
-            self.cells.resize(len, T::default());
+            self.cells.resize(len, 0.0);
         }
     }
 
     /// The index of tile k's first cell.
     #[inline]
     fn base(&self, k: u32) -> usize {
-        self.start + k as usize * AREA
+        self.start + k as usize * BLOCK
     }
 
+    /// Tile k's bars.
     #[inline]
-    fn tile(&self, k: u32) -> &[T] {
+    fn bars(&self, k: u32) -> &[Depth] {
         &self.cells[self.base(k)..][..AREA]
     }
 
+    /// Tile k's packed colours.
     #[inline]
-    fn tile_mut(&mut self, k: u32) -> &mut [T] {
+    fn colours(&self, k: u32) -> &[u32] {
+        as_colours(&self.cells[self.base(k) + AREA..][..AREA / 2])
+    }
+
+    /// Tile k's packed colours, to write.
+    #[inline]
+    fn colours_mut(&mut self, k: u32) -> &mut [u32] {
+        let at = self.base(k) + AREA;
+        as_colours_mut(&mut self.cells[at..][..AREA / 2])
+    }
+
+    /// Tile k's bars and colours, to write.
+    #[inline]
+    fn tile_mut(&mut self, k: u32) -> (&mut [Depth], &mut [u32]) {
         let at = self.base(k);
-        &mut self.cells[at..][..AREA]
+        let (bars, colours) = self.cells[at..][..BLOCK].split_at_mut(AREA);
+        (bars, as_colours_mut(colours))
     }
 }
 
@@ -411,10 +454,9 @@ pub struct RegionBuffer {
     /// Per tile position, row-major, its tile in the slabs, or [`UNTOUCHED`].
     slot: Vec<u32>,
     /// Every tile ever made; the first `in_use` hold this frame's pixels, the rest are
-    /// clear.
-    /// Per pixel, the bar a later polygon's depth must be under to take it.
-    depth: Slab<Depth>,
-    colour: Slab<u32>,
+    /// clear. Per pixel, the bar a later polygon's depth must be under to take it, and
+    /// its packed colour.
+    tiles: Slab,
     /// Per tile row ([`RegionBuffer::row_at`]), the farthest bar of its cells when every
     /// cell is covered, else NaN (and NaN throughout a frame that does not keep them): a
     /// span's piece that is nowhere nearer than it takes no cell, and is turned away
@@ -451,8 +493,7 @@ impl RegionBuffer {
             tiles_x,
             tiles_y,
             slot: vec![UNTOUCHED; tiles_x as usize * tiles_y as usize],
-            depth: Slab::new(tiles_x as usize * tiles_y as usize),
-            colour: Slab::new(tiles_x as usize * tiles_y as usize),
+            tiles: Slab::new(tiles_x as usize * tiles_y as usize),
             row_bar: Vec::new(),
             rows_kept: true,
             rows_paid: true,
@@ -502,16 +543,15 @@ impl RegionBuffer {
     #[cold]
     #[inline(never)]
     fn first_touch(&mut self, at: usize) -> u32 {
-        if self.in_use == self.depth.tiles() {
-            self.depth.push_tile();
-            self.colour.push_tile();
+        if self.in_use == self.tiles.tiles() {
+            self.tiles.push_tile();
             self.row_bar.extend([Depth::NAN; TILE as usize]);
             self.stats.tiles += 1;
         }
         let s = self.in_use as u32;
         if self.in_use < self.dirty {
             // A tile of an earlier frame, taken again: empty it (see `clear`).
-            self.colour.tile_mut(s).fill(0);
+            self.tiles.colours_mut(s).fill(0);
             let rows = row_at(s, 0);
             self.row_bar[rows..rows + TILE as usize].fill(Depth::NAN);
         }
@@ -608,9 +648,10 @@ impl RegionBuffer {
             }
             // The tile's row y: cell i is column left + i.
             let row = offset..offset + TILE as usize;
+            let (bars, colours) = self.tiles.tile_mut(tile);
             let taken = kernel(
-                &mut self.depth.tile_mut(tile)[row.clone()],
-                &mut self.colour.tile_mut(tile)[row],
+                &mut bars[row.clone()],
+                &mut colours[row],
                 (x - left) as usize,
                 (end - left) as usize,
                 left,
@@ -646,8 +687,8 @@ impl RegionBuffer {
         }
         let r = (y & (TILE - 1)) as usize;
         let cells = r << SHIFT..(r + 1) << SHIFT;
-        let colours = &self.colour.tile(tile)[cells.clone()];
-        let bars = &self.depth.tile(tile)[cells];
+        let colours = &self.tiles.colours(tile)[cells.clone()];
+        let bars = &self.tiles.bars(tile)[cells];
         let covered = colours.iter().fold(true, |all, &c| all & (c != 0));
         self.row_bar[row_at(tile, y)] = if covered {
             match self.kernel {
@@ -672,17 +713,13 @@ impl RegionBuffer {
         {
             use std::arch::x86_64::{_mm_prefetch, _MM_HINT_T0};
             let (lo, hi) = (lo as usize, hi as usize);
-            let bars = self
-                .depth
+            let base = self
+                .tiles
                 .cells
                 .as_ptr()
-                .wrapping_add(self.depth.base(tile) + row);
-            let colours = self
-                .colour
-                .cells
-                .as_ptr()
-                .wrapping_add(self.colour.base(tile) + row);
-            let (bars, colours) = (bars as *const i8, colours as *const i8);
+                .wrapping_add(self.tiles.base(tile));
+            let bars = base.wrapping_add(row) as *const i8;
+            let colours = (base.wrapping_add(AREA) as *const u32).wrapping_add(row) as *const i8;
             let mut b = (lo * 8) & !63;
             while b < hi * 8 {
                 // SAFETY: a prefetch is a hint; it does not fault, whatever the address.
@@ -708,7 +745,7 @@ impl RegionBuffer {
             return None;
         }
         let at = (((y & (TILE - 1)) << SHIFT) + (x & (TILE - 1))) as usize;
-        let p = self.colour.tile(s)[at];
+        let p = self.tiles.colours(s)[at];
         (p != 0).then(|| unpack(p))
     }
 
@@ -740,7 +777,8 @@ impl RegionBuffer {
                 let mut open: Option<Run> = None;
                 for &(tx, s) in &row_tiles {
                     let base = (r << SHIFT) as usize;
-                    let Some(line) = self.colour.tile(s)[base..].first_chunk::<{ TILE as usize }>()
+                    let Some(line) =
+                        self.tiles.colours(s)[base..].first_chunk::<{ TILE as usize }>()
                     else {
                         unreachable!("a tile holds TILE rows of TILE cells")
                     };
@@ -827,7 +865,7 @@ impl RegionBuffer {
                     }
                     continue;
                 }
-                let tile = self.colour.tile(s);
+                let tile = self.tiles.colours(s);
                 for r in 0..rows {
                     let line = &tile[(r << SHIFT) as usize..][..cols];
                     let at = (ty * TILE + r) as usize * width + left;
@@ -895,6 +933,29 @@ mod tests {
     const R: Colour = [255, 0, 0];
     const G: Colour = [0, 255, 0];
     const B: Colour = [0, 0, 255];
+
+    #[test]
+    fn a_tiles_bars_and_colours_share_one_block_and_no_cell() {
+        let mut slab = Slab::new(4);
+        slab.push_tile();
+        slab.push_tile();
+        assert_eq!(slab.tiles(), 2);
+        // Whole cache lines: the first tile on a line, each block 48 KiB.
+        assert_eq!(slab.bars(0).as_ptr() as usize % LINE, 0);
+        assert_eq!(BLOCK * std::mem::size_of::<Depth>(), 48 << 10);
+        let (bars, colours) = slab.tile_mut(0);
+        assert_eq!((bars.len(), colours.len()), (AREA, AREA));
+        bars.fill(-1.0);
+        colours.fill(u32::MAX);
+        assert!(slab.bars(0).iter().all(|&b| b == -1.0));
+        assert!(slab.colours(0).iter().all(|&c| c == u32::MAX));
+        // The next tile's cells are apart from them, and zero.
+        assert!(slab.bars(1).iter().all(|&b| b.to_bits() == 0));
+        assert!(slab.colours(1).iter().all(|&c| c == 0));
+        slab.colours_mut(0).fill(7);
+        assert!(slab.bars(0).iter().all(|&b| b == -1.0));
+        assert_eq!(slab.colours(0)[AREA - 1], 7);
+    }
 
     #[test]
     fn nearer_wins_and_a_tie_keeps_the_earlier_polygon() {
