@@ -25,7 +25,7 @@
 mod shaded;
 
 use crate::depth::{depth_at, Depth};
-use crate::pages::reserve_aligned;
+use crate::pages::{advise_huge_page, reserve_unadvised, HUGE_PAGE};
 use crate::walk::Span;
 use crate::ztest::{self, ZTest};
 use proto::Colour;
@@ -80,7 +80,15 @@ fn unpack(p: u32) -> Colour {
 /// touches is its tiles' and the kernel zeroes whole huge pages of it, the last one
 /// part-used. Bars and colours in one block leave one such last page a leaf, where two
 /// slabs (bars, colours) left two: a leaf of the fill-heavy scene at depth 2 (135 tiles,
-/// 6.5 MB) touched five huge pages, now four.
+/// 6.5 MB) touched five huge pages, then four, the fourth a sixth used.
+///
+/// So each huge page after the first is asked for only as the first tile reaches it, and
+/// only where the tiles expected ([`Slab::push_tile`]'s guess: the box of tile positions
+/// touched so far) fill at least half of it; the rest of a last page comes in 4 KiB
+/// pages, as tiles are made. A huge page costs about as much to zero as 0.8 MiB of 4 KiB
+/// pages costs to fault in (this machine: 0.13 against 0.31-0.36 ms a MiB, touched a
+/// page at a time), so a page half full or more is cheaper huge. A wrong guess costs
+/// time, never a pixel.
 ///
 /// The slab's tiles start on a 64-byte boundary (a cache line), and a block (48 KiB) is
 /// whole cache lines: a tile row is then whole cache lines, and the z-test's four-pixel
@@ -93,6 +101,13 @@ struct Slab {
     /// Whether the vector's spare capacity is zeroed memory no one has written (its
     /// first allocation, asked of the allocator zeroed): a new tile is then there already.
     zeroed: bool,
+    /// Whether the first tile starts on a huge page's boundary (a reservation of a huge
+    /// page or more), its huge pages to be asked for one by one.
+    huge: bool,
+    /// Bytes from the first tile up to which the pages are decided (huge or not).
+    decided: usize,
+    /// Pages asked for huge so far, and pages decided and left to 4 KiB pages.
+    pages: [usize; 2],
 }
 
 /// The alignment of a slab's first tile, in bytes.
@@ -120,17 +135,22 @@ fn as_colours_mut(units: &mut [Depth]) -> &mut [u32] {
 impl Slab {
     fn new(tiles: usize) -> Self {
         // A slab of a huge page or more starts on a huge page's boundary
-        // (`pages::reserve_aligned`): unaligned, its first and last part-pages were
+        // (`pages::reserve_unadvised`): unaligned, its first and last part-pages were
         // faulted in 4 KiB pages, 1,400 of the fill-heavy scene zbuf's 2,700 faults.
-        let (cells, zeroed) = match reserve_aligned(tiles.saturating_mul(BLOCK), LINE) {
+        let (cells, zeroed) = match reserve_unadvised::<Depth>(tiles.saturating_mul(BLOCK), LINE) {
             Some(v) => (v, true),
             None => (Vec::new(), false),
         };
         let start = cells.len();
+        let first = cells.as_ptr().wrapping_add(start) as usize;
+        let bytes = (cells.capacity() - start) * std::mem::size_of::<Depth>();
         Slab {
+            huge: zeroed && bytes >= HUGE_PAGE && first.is_multiple_of(HUGE_PAGE),
             cells,
             start,
             zeroed,
+            decided: 0,
+            pages: [0, 0],
         }
     }
 
@@ -139,14 +159,40 @@ impl Slab {
         (self.cells.len() - self.start) / BLOCK
     }
 
-    /// A new tile, every bar 0.0 and every colour 0 (empty).
-    fn push_tile(&mut self) {
+    /// A new tile, every bar 0.0 and every colour 0 (empty), with `expected` tiles
+    /// thought to be made in all (this one among them): where it reaches a huge page not
+    /// yet decided, the page is asked for huge if those tiles fill half of it or more.
+    fn push_tile(&mut self, expected: usize) {
         let len = self.cells.len() + BLOCK;
         if self.zeroed && len <= self.cells.capacity() {
+            let size = std::mem::size_of::<Depth>();
+            let to = (len - self.start) * size;
+            let room = (self.cells.capacity() - self.start) * size;
+            while self.huge && self.decided < to {
+                let page = self.decided;
+                let filled = expected.max(self.tiles() + 1) * BLOCK * size;
+                // The first page huge whatever the guess, which knows nothing yet.
+                if (page == 0 || filled >= page + HUGE_PAGE / 2) && page + HUGE_PAGE <= room {
+                    let first = self.cells.as_ptr().wrapping_add(self.start) as *const u8;
+                    advise_huge_page(first.wrapping_add(page));
+                    self.pages[0] += 1;
+                } else {
+                    self.pages[1] += 1;
+                }
+                self.decided = page + HUGE_PAGE;
+            }
             // SAFETY: the cells up to `len` are within the capacity, in memory the
             // allocator zeroed and nothing has written since (`zeroed`), and all-zero
             // bytes are a valid f64, 0.0 (`ZeroIsDefault`).
             unsafe { self.cells.set_len(len) };
+            // The block's pages faulted in by a write, each once: the z-test's first look
+            // at a new tile is a read, which mapped the zero page, and its first write
+            // then faulted again to copy it.
+            for cell in self.cells[len - BLOCK..].iter_mut().step_by(4096 / size) {
+                // SAFETY: a write of the value the cell holds (0.0), volatile so that it
+                // is not left out.
+                unsafe { std::ptr::write_volatile(cell, 0.0) };
+            }
         } else {
             // Beyond the first allocation the vector may move, into memory not zeroed.
             self.zeroed = false;
@@ -463,6 +509,9 @@ pub struct RegionBuffer {
     /// without a test. (Not +∞ for a row with an empty cell: an empty cell takes a depth
     /// of +∞ too, and no depth compares as at or behind NaN.)
     row_bar: Vec<Depth>,
+    /// The box of tile positions ever touched, `[x0, x1, y0, y1]` (inclusive; empty
+    /// while `x0 > x1`): how many tiles the slab is expected to hold ([`Slab::push_tile`]).
+    touched: [u32; 4],
     /// Whether this frame keeps [`RegionBuffer::row_bar`] (see [`RegionBuffer::clear`]).
     rows_kept: bool,
     /// Whether the last frame that kept the row bars turned away enough to pay for them.
@@ -495,6 +544,7 @@ impl RegionBuffer {
             slot: vec![UNTOUCHED; tiles_x as usize * tiles_y as usize],
             tiles: Slab::new(tiles_x as usize * tiles_y as usize),
             row_bar: Vec::new(),
+            touched: [u32::MAX, 0, u32::MAX, 0],
             rows_kept: true,
             rows_paid: true,
             frame_tested: 0,
@@ -543,8 +593,14 @@ impl RegionBuffer {
     #[cold]
     #[inline(never)]
     fn first_touch(&mut self, at: usize) -> u32 {
+        let (tx, ty) = (at as u32 % self.tiles_x, at as u32 / self.tiles_x);
+        let [x0, x1, y0, y1] = &mut self.touched;
+        (*x0, *x1, *y0, *y1) = ((*x0).min(tx), (*x1).max(tx), (*y0).min(ty), (*y1).max(ty));
         if self.in_use == self.tiles.tiles() {
-            self.tiles.push_tile();
+            // The tiles expected: those in the box of the tile positions touched so far.
+            let [x0, x1, y0, y1] = self.touched;
+            let expected = (x1 - x0 + 1) as usize * (y1 - y0 + 1) as usize;
+            self.tiles.push_tile(expected);
             self.row_bar.extend([Depth::NAN; TILE as usize]);
             self.stats.tiles += 1;
         }
@@ -937,8 +993,8 @@ mod tests {
     #[test]
     fn a_tiles_bars_and_colours_share_one_block_and_no_cell() {
         let mut slab = Slab::new(4);
-        slab.push_tile();
-        slab.push_tile();
+        slab.push_tile(2);
+        slab.push_tile(2);
         assert_eq!(slab.tiles(), 2);
         // Whole cache lines: the first tile on a line, each block 48 KiB.
         assert_eq!(slab.bars(0).as_ptr() as usize % LINE, 0);
@@ -955,6 +1011,34 @@ mod tests {
         slab.colours_mut(0).fill(7);
         assert!(slab.bars(0).iter().all(|&b| b == -1.0));
         assert_eq!(slab.colours(0)[AREA - 1], 7);
+    }
+
+    #[test]
+    fn a_last_huge_page_is_asked_for_only_where_the_tiles_expected_fill_half() {
+        // A full-HD screen's slab (510 tiles); a leaf of a depth-2 tree makes 135 tiles
+        // (6.33 MiB: three huge pages and a sixth of a fourth), and knows it early.
+        let mut slab = Slab::new(510);
+        if !slab.huge {
+            return; // no room reserved on this machine: nothing to decide
+        }
+        for _ in 0..135 {
+            slab.push_tile(135);
+        }
+        assert_eq!(slab.pages, [3, 1]);
+        assert!(slab.bars(134).iter().all(|&b| b.to_bits() == 0));
+        // The whole screen: every page is full but the last (23.9 MiB), all huge.
+        let mut slab = Slab::new(510);
+        for _ in 0..510 {
+            slab.push_tile(510);
+        }
+        assert_eq!(slab.pages, [12, 0]);
+        // The first page is huge even where the guess says one tile; the next, reached
+        // with the guess that it is barely begun, is not.
+        let mut slab = Slab::new(510);
+        for k in 0..50 {
+            slab.push_tile(k + 1);
+        }
+        assert_eq!(slab.pages, [1, 1]);
     }
 
     #[test]
