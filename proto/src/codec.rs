@@ -48,6 +48,9 @@ pub const MAX_VERTICES: usize = (MAX_RECORD_BYTES / 32) as usize - 1;
 /// in a few system calls per thousand polygons.
 const IO_BUFFER: usize = 1 << 16;
 
+// The lexer's reads go past a text reader's `BufReader` (see `text::BUFFER`).
+const _: () = assert!(crate::text::BUFFER >= 2 * IO_BUFFER);
+
 /// Vertices read per block of a long vertex list (64 KiB).
 const VERTEX_BLOCK: usize = 2048;
 
@@ -461,22 +464,6 @@ impl<T: Record, R: Read> Reader<T, R> {
         }
     }
 
-    /// [`Reader::resume_text`] over a piece of a stream cut between two records, whose
-    /// end is the end of the piece: `next_into` answers `false` there (or after END)
-    /// rather than finding the stream cut short.
-    pub fn piece_of_text(
-        input: R,
-        header: Header,
-        lines: (u64, String),
-        frame: u64,
-        polygons_in_frame: u64,
-    ) -> Self {
-        Reader {
-            piece: true,
-            ..Self::resume_text(input, header, lines, frame, polygons_in_frame)
-        }
-    }
-
     /// A text stream's rest, right after its header (for a reader of it in pieces,
     /// `stagecli`'s); a binary stream, or a text one whose header line goes on, is handed
     /// back.
@@ -643,6 +630,32 @@ impl<T: Record, R: Read> Reader<T, R> {
             }
         }
         Ok(())
+    }
+}
+
+impl<'a, T: Record> Reader<T, &'a [u8]> {
+    /// [`Reader::resume_text`] over a piece of a stream cut between two records, in
+    /// memory, whose end is the end of the piece: `next_into` answers `false` there (or
+    /// after END) rather than finding the stream cut short. The lexer reads a copy of the
+    /// piece as its buffer ([`Lexer::resume_with`]).
+    pub fn piece_of_text(
+        input: &'a [u8],
+        header: Header,
+        (lines, last_line): (u64, String),
+        frame: u64,
+        polygons_in_frame: u64,
+    ) -> Self {
+        let nothing_more = BufReader::with_capacity(0, &input[input.len()..]);
+        let lex = Lexer::resume_with(input.to_vec(), nothing_more, lines, last_line);
+        Reader {
+            source: Source::Text(lex),
+            header,
+            frame,
+            polygons_in_frame,
+            ended: false,
+            spare: T::default(),
+            piece: true,
+        }
     }
 }
 
@@ -1013,6 +1026,22 @@ pub struct Writer<T, W: Write> {
     _kind: std::marker::PhantomData<T>,
 }
 
+impl<T: Record> Writer<T, Vec<u8>> {
+    /// A binary writer that goes on with a stream whose header is written elsewhere: for
+    /// a piece of the stream encoded apart, in memory, to be put in its place by the
+    /// stream's own writer with [`Writer::write_encoded`]. The records go straight into
+    /// `out` (a buffer before a buffer would copy every byte once more).
+    pub fn continuing_binary(out: Vec<u8>, header: Header) -> Self {
+        Writer {
+            out: BufWriter::with_capacity(0, out),
+            form: Form::Binary,
+            header,
+            polygons_in_frame: 0,
+            _kind: std::marker::PhantomData,
+        }
+    }
+}
+
 impl<T: Record, W: Write> Writer<T, W> {
     /// Writes the header: the binary form's magic and bincode header (version
     /// [`VERSION`], whatever `header.version` says), or the text form's
@@ -1045,19 +1074,6 @@ impl<T: Record, W: Write> Writer<T, W> {
             polygons_in_frame: 0,
             _kind: std::marker::PhantomData,
         })
-    }
-
-    /// A binary writer that goes on with a stream whose header is written elsewhere: for
-    /// a piece of the stream encoded apart, to be put in its place by the stream's own
-    /// writer with [`Writer::write_encoded`].
-    pub fn continuing_binary(out: W, header: Header) -> Self {
-        Writer {
-            out: BufWriter::with_capacity(IO_BUFFER, out),
-            form: Form::Binary,
-            header,
-            polygons_in_frame: 0,
-            _kind: std::marker::PhantomData,
-        }
     }
 
     /// Writes records encoded by a [`Writer::continuing_binary`] (a binary stream only),

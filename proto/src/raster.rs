@@ -266,11 +266,14 @@ impl EdgeWalk {
     pub fn step(&mut self) {
         // numerator' = (column + step_column)·den − (rem − step_rem)
         self.column += self.step_column;
-        self.rem -= self.step_rem;
-        if self.rem < 0 {
-            self.rem += self.den;
-            self.column += 1;
-        }
+        // rem − step_rem lies in (−den, den): where it is negative, one more column and
+        // den back. Without a branch: the borrow is taken from the sign (−1 or 0), as the
+        // sign of a sloping edge's remainder changes from row to row unpredictably, and
+        // a mispredicted branch here was most of the Active Edge Table's time.
+        let rem = self.rem - self.step_rem;
+        let borrow = rem >> 63;
+        self.rem = rem + (self.den & borrow);
+        self.column -= borrow;
     }
 }
 

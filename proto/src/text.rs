@@ -13,13 +13,20 @@ use std::fmt;
 use std::io::{self, Read};
 use std::ops::Range;
 
+mod decimal;
+pub use decimal::parse_decimal;
+
 /// The input buffer's size once a stream has shown it is long; it starts at
 /// [`FIRST_BUFFER`] (a short stream then costs little) and grows past this only for a
-/// line longer than it.
-const BUFFER: usize = 1 << 16;
+/// line longer than it. Twice the `BufReader` a stream's reader puts before the lexer
+/// (`codec`'s `IO_BUFFER`, which checks this): a read of at least a `BufReader`'s
+/// capacity, when it holds nothing, goes straight to its input, so that the input's
+/// bytes are copied once, into this buffer, and not first into the `BufReader`'s and
+/// then here.
+pub(crate) const BUFFER: usize = 1 << 17;
 const FIRST_BUFFER: usize = 1 << 12;
 
-/// Reads words one line at a time; memory is one buffer of input (at most 64 KiB, or the
+/// Reads words one line at a time; memory is one buffer of input (at most 128 KiB, or the
 /// longest line), whatever the stream's length.
 pub struct Lexer<R> {
     input: R,
@@ -107,6 +114,22 @@ impl<R: Read> Lexer<R> {
         lx.cursor = last_line.len();
         lx.line = last_line;
         lx.at = (lines_before.max(1), lx.cursor + 1);
+        lx
+    }
+
+    /// [`Lexer::resume`] with the input's next bytes already in hand: `bytes` (whole
+    /// lines), then `input`. They become the lexer's buffer as they are, so a stream cut
+    /// into pieces in memory is read from each piece's own copy, without the reads from a
+    /// reader into a buffer grown from [`FIRST_BUFFER`] (a tenth of a piece reader's
+    /// instructions, on pieces of 256 KiB).
+    pub fn resume_with(bytes: Vec<u8>, input: R, lines_before: u64, last_line: String) -> Self {
+        let mut lx = Lexer::resume(input, lines_before, last_line);
+        if !bytes.is_empty() {
+            // (An empty buffer stays the one `new` made: a read into no room would look
+            // like the input's end.)
+            lx.end = bytes.len();
+            lx.buf = bytes;
+        }
         lx
     }
 
@@ -413,8 +436,8 @@ impl<R: Read> Lexer<R> {
             if !line[..first.start].iter().all(|&b| is_space(b)) {
                 return 0;
             }
-            match number_line(line, &mut numbers[..n]) {
-                Some(last_word) if take(&numbers[..n]) => {
+            match number_line(line, &mut numbers[..n], LineEnd::Text) {
+                Some((last_word, _)) if take(&numbers[..n]) => {
                     self.peeked = None;
                     self.cursor = line.len();
                     self.at = (self.line_no, last_word + 1);
@@ -427,14 +450,18 @@ impl<R: Read> Lexer<R> {
         }
         let lines_before = taken;
         let mut last = (0, 0, 0); // the last line taken: start, stop, its last word's start
-        while let Some(length) = memchr::memchr(b'\n', &self.buf[self.next..self.end]) {
-            let (start, stop) = (self.next, self.next + length);
-            let Some(last_word) = number_line(&self.buf[start..stop], &mut numbers[..n]) else {
-                break;
-            };
+                                  // A line is read where it stands in the buffer, up to its newline (not found
+                                  // first: the numbers' reading finds it), so a line not in the buffer whole stops
+                                  // the loop, as a line the word-by-word path must read does.
+        while let Some((last_word, length)) = number_line(
+            &self.buf[self.next..self.end],
+            &mut numbers[..n],
+            LineEnd::Newline,
+        ) {
             if !take(&numbers[..n]) {
                 break;
             }
+            let (start, stop) = (self.next, self.next + length);
             self.next = stop + 1;
             taken += 1;
             last = (start, stop, last_word);
@@ -492,7 +519,14 @@ impl<R: Read> Lexer<R> {
         let length = memchr::memchr(b'\n', &self.buf[from..self.end])?;
         let (start, stop) = (from, from + length);
         let (value, last_word) = read(&self.buf[start..stop])?;
-        let text = std::str::from_utf8(&self.buf[start..stop]).ok()?;
+        let line = &self.buf[start..stop];
+        let text = if line.is_ascii() {
+            // SAFETY: ASCII is UTF-8 (the check is from_utf8's, without its set-up on a
+            // short line: the colour line between every two polygons).
+            unsafe { std::str::from_utf8_unchecked(line) }
+        } else {
+            std::str::from_utf8(line).ok()?
+        };
         self.line.clear();
         self.line.push_str(text);
         self.ascii = text.is_ascii();
@@ -613,42 +647,62 @@ pub(crate) fn is_blank(b: u8) -> bool {
     b == b' ' || b == b'\t'
 }
 
-/// Reads `line` (without its newline) as exactly `out.len()` finite numbers separated by
-/// spaces and tabs, and answers where its last number starts; `None` for anything else
-/// (a word that is not a number, a comment, a byte that is not ASCII, other whitespace),
-/// which [`Lexer::number_lines`] leaves to the word-by-word path.
+/// Where a line that [`number_line`] reads ends.
+#[derive(Clone, Copy, PartialEq, Eq)]
+enum LineEnd {
+    /// At the end of the text given (a line the lexer keeps, without its newline).
+    Text,
+    /// At a newline, within the text given (the input buffer from the line's start).
+    Newline,
+}
+
+/// Reads a line at the start of `text` as exactly `out.len()` finite numbers separated
+/// by spaces and tabs (blanks after the last allowed), the line ending where `end` says;
+/// answers where its last number starts and where the line ends (the newline's offset,
+/// or the text's length). `None` for anything else (a word that is not a number, a
+/// comment, a byte that is not ASCII, other whitespace, no newline in `text`), which
+/// [`Lexer::number_lines`] leaves to the word-by-word path.
 ///
-/// Each number is found and read in one pass (`fast_float2::parse_partial`: the same
-/// Eisel–Lemire algorithm as `str::parse`, correctly rounded, so the same value), where
-/// finding the word's end first and then parsing it read every digit twice: viewxf on
-/// the 100,000-quad scene 899 → 728 M instructions. A number is taken only when a blank
-/// or the line's end follows what was read; where the two parsers' grammars differ
-/// (`str::parse` takes `+1`, `1.`, `.5`, `1e5`; a word either refuses is not followed
-/// by a blank, or is refused whole), the line goes to the word-by-word path, which reads
-/// with [`parse_f64`], so what is accepted, and every message, is unchanged.
+/// Each number is found and read in one pass: by [`parse_decimal`], which reads the short
+/// form of a scene's numbers (digits, a point, an exponent, at most 19 significant
+/// digits) to `str::parse`'s bits, and otherwise by `fast_float2::parse_partial` (the
+/// same Eisel–Lemire rounding as `str::parse`, so the same value). A number is taken only
+/// when a blank or the line's end follows what was read; where the parsers' grammars
+/// differ from [`parse_f64`]'s (`str::parse` takes `+1`, `1.`, `.5`, `1e5`; a word one of
+/// them refuses is not followed by a blank, or is refused whole), the line goes to the
+/// word-by-word path, which reads with [`parse_f64`], so what is accepted, and every
+/// message, is unchanged. Every byte of a line taken is a number's or a blank, so ASCII.
+///
+/// Finding the numbers' ends and reading them in one pass spared reading every digit
+/// twice (viewxf on the 100,000-quad scene 899 → 728 M instructions), and finding the
+/// newline by the same pass spares a search of each line for it.
 #[inline]
-fn number_line(line: &[u8], out: &mut [f64]) -> Option<usize> {
-    if !line.is_ascii() {
-        return None;
-    }
+fn number_line(text: &[u8], out: &mut [f64], end: LineEnd) -> Option<(usize, usize)> {
     let (mut i, mut last) = (0, 0);
     for slot in out.iter_mut() {
-        while i < line.len() && is_blank(line[i]) {
+        while i < text.len() && is_blank(text[i]) {
             i += 1;
         }
-        if i == line.len() {
-            return None;
-        }
         let start = i;
-        let (value, used) = fast_float2::parse_partial::<f64, _>(&line[start..]).ok()?;
+        let rest = &text[start..];
+        let (value, used) = match parse_decimal(rest) {
+            Some(read) => read,
+            None => fast_float2::parse_partial::<f64, _>(rest).ok()?,
+        };
         i = start + used;
-        if i < line.len() && !is_blank(line[i]) {
+        if i < text.len() && !is_blank(text[i]) && text[i] != b'\n' {
             return None;
         }
         *slot = Some(value).filter(|v| v.is_finite())?;
         last = start;
     }
-    line[i..].iter().all(|&b| is_blank(b)).then_some(last)
+    while i < text.len() && is_blank(text[i]) {
+        i += 1;
+    }
+    match end {
+        LineEnd::Text => (i == text.len()).then_some((last, i)),
+        LineEnd::Newline => (text.get(i) == Some(&b'\n')).then_some((last, i)),
+    }
 }
 
 /// A line of the input (without its newline) as the lexer keeps it, and whether it is
@@ -686,12 +740,11 @@ pub fn kept_line(raw: &[u8], first: bool) -> Result<(&str, bool), usize> {
 }
 
 /// Parses a number of the text form: `str::parse::<f64>`, which is the Eisel–Lemire
-/// algorithm of fast_float since Rust 1.55. `fast-float2` and `lexical-core` measured
-/// within a few per cent of it on the environment scene's numbers, and a Clinger fast
-/// path of our own slower (half of those numbers have 17 digits and miss it); see
-/// `scripts/bench-stages.sh codec`. The text reader's speed comes from not allocating or
-/// formatting per word, and, on vertex lines, from finding and reading each number in
-/// one pass (`number_line`). The grammar of the text form is this function's.
+/// algorithm of fast_float since Rust 1.55. The grammar of the text form is this
+/// function's. The vertex lines that make up nearly all of a scene are read faster, to
+/// the same bits, by `number_line` ([`parse_decimal`] and fast_float2, one pass for a
+/// line's numbers and its end); `scripts/bench-stages.sh codec` measures the parsers on
+/// the environment scene's numbers.
 #[inline]
 pub fn parse_f64(w: &str) -> Option<f64> {
     w.parse::<f64>().ok()
@@ -806,9 +859,11 @@ mod tests {
         ];
         for w in words {
             let want = parse_f64(w).filter(|v| v.is_finite());
-            let mut out = [0.0];
-            if number_line(w.as_bytes(), &mut out).is_some() {
-                assert_eq!(Some(out[0].to_bits()), want.map(f64::to_bits), "{w:?}");
+            for (text, end) in in_both_forms(w) {
+                let mut out = [0.0];
+                if number_line(text.as_bytes(), &mut out, end).is_some() {
+                    assert_eq!(Some(out[0].to_bits()), want.map(f64::to_bits), "{text:?}");
+                }
             }
         }
         let mut out = [0.0; 3];
@@ -816,17 +871,96 @@ mod tests {
             "9.819403625187153 -7.697877382108967 1.0006495953187375",
             "\t1 2.5\t -3e-2  ",
             "0 -0 1e308",
+            "-0.0004417409009040803 12345678.12345678901 .5",
         ] {
-            assert!(number_line(line.as_bytes(), &mut out).is_some(), "{line:?}");
-            let want: Vec<u64> = line
-                .split_ascii_whitespace()
-                .map(|w| parse_f64(w).unwrap().to_bits())
-                .collect();
-            assert_eq!(out.map(f64::to_bits).to_vec(), want, "{line:?}");
+            for (text, end) in in_both_forms(line) {
+                let read = number_line(text.as_bytes(), &mut out, end);
+                let last = line.rfind(|c: char| !c.is_ascii_whitespace()).unwrap();
+                let last_word = line[..last].rfind([' ', '\t']).unwrap() + 1;
+                assert_eq!(read, Some((last_word, line.len())), "{text:?}");
+                let want: Vec<u64> = line
+                    .split_ascii_whitespace()
+                    .map(|w| parse_f64(w).unwrap().to_bits())
+                    .collect();
+                assert_eq!(out.map(f64::to_bits).to_vec(), want, "{text:?}");
+            }
         }
         // A word run into another, or a number too few or too many: not taken.
-        for line in ["1.5x 2 3", "1 2", "1 2 3 4", "1 2 3#c", "1 2 3e"] {
-            assert_eq!(number_line(line.as_bytes(), &mut out), None, "{line:?}");
+        for line in [
+            "1.5x 2 3",
+            "1 2",
+            "1 2 3 4",
+            "1 2 3#c",
+            "1 2 3e",
+            "1 2 3\r",
+            "1 2\x0b3",
+            "1 2 3é",
+            "1 2 1.000000000000000000000001x",
+        ] {
+            for (text, end) in in_both_forms(line) {
+                assert_eq!(
+                    number_line(text.as_bytes(), &mut out, end),
+                    None,
+                    "{text:?}"
+                );
+            }
+        }
+        // With no newline in the buffer, a line is not whole yet.
+        assert_eq!(number_line(b"1 2 3", &mut out, LineEnd::Newline), None);
+    }
+
+    /// A line as number_line is given it: alone (as the lexer keeps it), and at the start
+    /// of the input buffer, its newline and more lines after it (whose bytes a reader of
+    /// eight at a time may look at, but must not take).
+    fn in_both_forms(line: &str) -> [(String, LineEnd); 2] {
+        [
+            (line.to_string(), LineEnd::Text),
+            (
+                format!("{line}\n12345678901234567890 1.5e3\nNEXT.POLYGON\n"),
+                LineEnd::Newline,
+            ),
+        ]
+    }
+
+    proptest::proptest! {
+        #![proptest_config(proptest::prelude::ProptestConfig::with_cases(2_000))]
+
+        /// Lines of three numbers, printed in every way a double is printed and with
+        /// blanks of every kind between: number_line takes each, with the values
+        /// str::parse gives its words, whether it stands alone or in the buffer.
+        #[test]
+        fn lines_of_printed_doubles_read_as_their_words(
+            bits in proptest::array::uniform3(proptest::prelude::any::<u64>()),
+            forms in proptest::array::uniform3(0usize..4),
+            blanks in proptest::array::uniform4("[ \t]{0,3}"),
+        ) {
+            let words: Vec<String> = bits
+                .iter()
+                .zip(forms)
+                .map(|(&b, form)| {
+                    let x = f64::from_bits(b);
+                    let x = if x.is_finite() { x } else { b as f64 };
+                    match form {
+                        0 => format!("{x}"),
+                        1 => format!("{x:e}"),
+                        2 => format!("{:.3}", x / 1e300),
+                        _ if (x as f32).is_finite() => format!("{}", x as f32),
+                        _ => format!("{x:?}"),
+                    }
+                })
+                .collect();
+            // At least one blank between words.
+            let line = format!(
+                "{}{} {}{} {}{} {}",
+                blanks[0], words[0], blanks[1], words[1], blanks[2], words[2], blanks[3]
+            );
+            let want: Vec<u64> = words.iter().map(|w| parse_f64(w).unwrap().to_bits()).collect();
+            for (text, end) in in_both_forms(&line) {
+                let mut out = [0.0; 3];
+                let read = number_line(text.as_bytes(), &mut out, end);
+                proptest::prop_assert_eq!(read.map(|(_, stop)| stop), Some(line.len()));
+                proptest::prop_assert_eq!(out.map(f64::to_bits).to_vec(), want.clone());
+            }
         }
     }
 
@@ -983,6 +1117,32 @@ mod tests {
             "line 6, column 8: expected x, found the end of the input"
         );
         assert_eq!(words(Lexer::new(Trickle(text.as_bytes(), 0))), whole);
+    }
+
+    /// A lexer given the next bytes in hand reads what one reading them from its input
+    /// reads: the same words, places and last message, whatever more the input holds.
+    #[test]
+    fn bytes_in_hand_read_as_bytes_read() {
+        let text = "colour 1 2 3\n1.5 -2 3\n  4 5 6 # c\nNEXT.POLYGON\nx\u{3000}y 7\n";
+        for cut in [0, 1, 13, 22, text.find('#').unwrap(), text.len()] {
+            let (hand, rest) = text.as_bytes().split_at(cut);
+            let read = words(Lexer::resume(text.as_bytes(), 4, "prev".to_string()));
+            let in_hand = words(Lexer::resume_with(
+                hand.to_vec(),
+                Trickle(rest, 0),
+                4,
+                "prev".to_string(),
+            ));
+            assert_eq!(in_hand, read, "{cut}");
+            assert_eq!(read.0[0], ("colour".to_string(), (5, 1)));
+        }
+        // Nothing in hand, and nothing more: the end, after the last line.
+        let (found, message) = words(Lexer::resume_with(vec![], &b""[..], 7, "a b".into()));
+        assert!(found.is_empty());
+        assert_eq!(
+            message,
+            "line 7, column 4: expected x, found the end of the input"
+        );
     }
 
     #[test]

@@ -52,6 +52,14 @@ fn zeroed_vec<T: ZeroIsDefault>(n: usize) -> Option<Vec<T>> {
 /// with capacity for the `n` after them, and huge pages asked for. `None` where the
 /// allocator cannot give it. `align` must be a multiple of T's size.
 pub(crate) fn reserve_aligned<T: ZeroIsDefault>(n: usize, align: usize) -> Option<Vec<T>> {
+    let cells = reserve_unadvised(n, align)?;
+    advise_huge_pages(&cells);
+    Some(cells)
+}
+
+/// [`reserve_aligned`] without asking for huge pages: for a caller that asks page by
+/// page ([`advise_huge_page`]) as it comes to use them.
+pub(crate) fn reserve_unadvised<T: ZeroIsDefault>(n: usize, align: usize) -> Option<Vec<T>> {
     let size = std::mem::size_of::<T>().max(1);
     let bytes = n.checked_mul(size)?;
     let huge = bytes >= HUGE_PAGE;
@@ -65,7 +73,6 @@ pub(crate) fn reserve_aligned<T: ZeroIsDefault>(n: usize, align: usize) -> Optio
         0
     };
     let mut cells = zeroed_vec::<T>(n.checked_add(align.div_ceil(size))?.checked_add(extra)?)?;
-    advise_huge_pages(&cells);
     let start = ((cells.as_ptr() as usize).wrapping_neg() % align).div_ceil(size);
     // SAFETY: `start` cells lie within the capacity (the pad reserved for them), in
     // memory the allocator zeroed, and all-zero bytes are a valid T.
@@ -89,6 +96,18 @@ pub fn advise_huge_pages<T>(cells: &Vec<T>) {
         unsafe {
             libc::madvise(from as *mut libc::c_void, to - from, libc::MADV_HUGEPAGE);
         }
+    }
+}
+
+/// Asks for a transparent huge page over the 2 MiB at `page` (a huge page's boundary),
+/// memory not yet written: a hint, as [`advise_huge_pages`].
+pub(crate) fn advise_huge_page(page: *const u8) {
+    debug_assert!((page as usize).is_multiple_of(HUGE_PAGE));
+    // SAFETY: madvise only advises the kernel about the pages of the range; it reads and
+    // writes no memory. A range not wholly mapped is refused (ENOMEM), changing nothing
+    // that matters: the caller passes one inside a vector's capacity.
+    unsafe {
+        libc::madvise(page as *mut libc::c_void, HUGE_PAGE, libc::MADV_HUGEPAGE);
     }
 }
 

@@ -25,7 +25,7 @@
 mod shaded;
 
 use crate::depth::{depth_at, Depth};
-use crate::pages::{reserve_aligned, ZeroIsDefault};
+use crate::pages::{advise_huge_page, reserve_unadvised, HUGE_PAGE};
 use crate::walk::Span;
 use crate::ztest::{self, ZTest};
 use proto::Colour;
@@ -65,83 +65,172 @@ fn unpack(p: u32) -> Colour {
     [r, g, b]
 }
 
-/// The tiles' memory: tile k's pixels are `k·AREA .. (k+1)·AREA`, row-major within the
-/// tile, in one slab for the depth bar and one for packed colour. A pixel's bar means
-/// something only where its colour is non-zero.
+/// The tiles' memory, one block a tile: its TILE×TILE depth bars, then its TILE×TILE
+/// packed colours, each row-major within the tile. A pixel's bar means something only
+/// where its colour is non-zero.
 ///
-/// Each slab reserves room for every tile of the screen up front (address space, not
+/// The slab reserves room for every tile of the screen up front (address space, not
 /// memory: a page is mapped when a tile is first made in it), so that it never moves, and
 /// asks the kernel for huge pages there (`madvise(MADV_HUGEPAGE)`): a full-HD buffer is
 /// 25 MB, and faulting it in 4 KiB pages cost the fill-heavy scene's leaf a quarter of
 /// its time in the kernel. Where the reservation cannot be had (a screen of billions of
-/// pixels) the slabs grow as tiles are made, in ordinary pages.
+/// pixels) the slab grows as tiles are made, in ordinary pages.
 ///
-/// A slab's tiles start on a 64-byte boundary (a cache line): a tile row is then whole
-/// cache lines, and the z-test's four-pixel blocks of bars (32 bytes) never straddle two.
-struct Slab<T> {
-    cells: Vec<T>,
+/// Tiles are made in the order spans first touch them, packed, so the memory a leaf
+/// touches is its tiles' and the kernel zeroes whole huge pages of it, the last one
+/// part-used. Bars and colours in one block leave one such last page a leaf, where two
+/// slabs (bars, colours) left two: a leaf of the fill-heavy scene at depth 2 (135 tiles,
+/// 6.5 MB) touched five huge pages, then four, the fourth a sixth used.
+///
+/// So each huge page after the first is asked for only as the first tile reaches it, and
+/// only where the tiles expected ([`Slab::push_tile`]'s guess: the box of tile positions
+/// touched so far) fill at least half of it; the rest of a last page comes in 4 KiB
+/// pages, as tiles are made. A huge page costs about as much to zero as 0.8 MiB of 4 KiB
+/// pages costs to fault in (this machine: 0.13 against 0.31-0.36 ms a MiB, touched a
+/// page at a time), so a page half full or more is cheaper huge. A wrong guess costs
+/// time, never a pixel.
+///
+/// The slab's tiles start on a 64-byte boundary (a cache line), and a block (48 KiB) is
+/// whole cache lines: a tile row is then whole cache lines, and the z-test's four-pixel
+/// blocks of bars (32 bytes) never straddle two.
+struct Slab {
+    /// The blocks, in units of a bar: a tile's colours take half a unit each.
+    cells: Vec<Depth>,
     /// The cells before the first tile, there to align it.
     start: usize,
     /// Whether the vector's spare capacity is zeroed memory no one has written (its
     /// first allocation, asked of the allocator zeroed): a new tile is then there already.
     zeroed: bool,
+    /// Whether the first tile starts on a huge page's boundary (a reservation of a huge
+    /// page or more), its huge pages to be asked for one by one.
+    huge: bool,
+    /// Bytes from the first tile up to which the pages are decided (huge or not).
+    decided: usize,
+    /// Pages asked for huge so far, and pages decided and left to 4 KiB pages.
+    pages: [usize; 2],
 }
 
 /// The alignment of a slab's first tile, in bytes.
 const LINE: usize = 64;
+/// A tile's block in units of a bar: AREA bars, then AREA colours of half a unit each.
+const BLOCK: usize = AREA + AREA / 2;
 
-impl<T: ZeroIsDefault> Slab<T> {
+/// A tile's colours, stored in units of a bar, as the packed colours they are.
+#[inline(always)]
+fn as_colours(units: &[Depth]) -> &[u32] {
+    // SAFETY: the units' memory is `2 × units.len()` u32 cells, aligned for them (a u32's
+    // alignment divides an f64's), and every bit pattern is a valid u32; the borrow of
+    // `units` covers the new slice's lifetime.
+    unsafe { std::slice::from_raw_parts(units.as_ptr() as *const u32, 2 * units.len()) }
+}
+
+/// [`as_colours`], to write.
+#[inline(always)]
+fn as_colours_mut(units: &mut [Depth]) -> &mut [u32] {
+    // SAFETY: as in `as_colours`; every bit pattern is also a valid f64, so the units
+    // stay valid whatever is written, and the mutable borrow is held throughout.
+    unsafe { std::slice::from_raw_parts_mut(units.as_mut_ptr() as *mut u32, 2 * units.len()) }
+}
+
+impl Slab {
     fn new(tiles: usize) -> Self {
         // A slab of a huge page or more starts on a huge page's boundary
-        // (`pages::reserve_aligned`): unaligned, its first and last part-pages were
+        // (`pages::reserve_unadvised`): unaligned, its first and last part-pages were
         // faulted in 4 KiB pages, 1,400 of the fill-heavy scene zbuf's 2,700 faults.
-        let (cells, zeroed) = match reserve_aligned(tiles.saturating_mul(AREA), LINE) {
+        let (cells, zeroed) = match reserve_unadvised::<Depth>(tiles.saturating_mul(BLOCK), LINE) {
             Some(v) => (v, true),
             None => (Vec::new(), false),
         };
         let start = cells.len();
+        let first = cells.as_ptr().wrapping_add(start) as usize;
+        let bytes = (cells.capacity() - start) * std::mem::size_of::<Depth>();
         Slab {
+            huge: zeroed && bytes >= HUGE_PAGE && first.is_multiple_of(HUGE_PAGE),
             cells,
             start,
             zeroed,
+            decided: 0,
+            pages: [0, 0],
         }
     }
 
     /// Tiles made so far.
     fn tiles(&self) -> usize {
-        (self.cells.len() - self.start) / AREA
+        (self.cells.len() - self.start) / BLOCK
     }
 
-    /// A new tile, every cell `T::default()`.
-    fn push_tile(&mut self) {
-        let len = self.cells.len() + AREA;
+    /// A new tile, every bar 0.0 and every colour 0 (empty), with `expected` tiles
+    /// thought to be made in all (this one among them): where it reaches a huge page not
+    /// yet decided, the page is asked for huge if those tiles fill half of it or more.
+    fn push_tile(&mut self, expected: usize) {
+        let len = self.cells.len() + BLOCK;
         if self.zeroed && len <= self.cells.capacity() {
+            let size = std::mem::size_of::<Depth>();
+            let to = (len - self.start) * size;
+            let room = (self.cells.capacity() - self.start) * size;
+            while self.huge && self.decided < to {
+                let page = self.decided;
+                let filled = expected.max(self.tiles() + 1) * BLOCK * size;
+                // The first page huge whatever the guess, which knows nothing yet.
+                if (page == 0 || filled >= page + HUGE_PAGE / 2) && page + HUGE_PAGE <= room {
+                    let first = self.cells.as_ptr().wrapping_add(self.start) as *const u8;
+                    advise_huge_page(first.wrapping_add(page));
+                    self.pages[0] += 1;
+                } else {
+                    self.pages[1] += 1;
+                }
+                self.decided = page + HUGE_PAGE;
+            }
             // SAFETY: the cells up to `len` are within the capacity, in memory the
             // allocator zeroed and nothing has written since (`zeroed`), and all-zero
-            // bytes are a valid T, its default (`ZeroIsDefault`).
+            // bytes are a valid f64, 0.0 (`ZeroIsDefault`).
             unsafe { self.cells.set_len(len) };
+            // The block's pages faulted in by a write, each once: the z-test's first look
+            // at a new tile is a read, which mapped the zero page, and its first write
+            // then faulted again to copy it.
+            for cell in self.cells[len - BLOCK..].iter_mut().step_by(4096 / size) {
+                // SAFETY: a write of the value the cell holds (0.0), volatile so that it
+                // is not left out.
+                unsafe { std::ptr::write_volatile(cell, 0.0) };
+            }
         } else {
             // Beyond the first allocation the vector may move, into memory not zeroed.
             self.zeroed = false;
-            self.cells.resize(len, T::default());
+            self.cells.resize(len, 0.0);
         }
     }
 
     /// The index of tile k's first cell.
     #[inline]
     fn base(&self, k: u32) -> usize {
-        self.start + k as usize * AREA
+        self.start + k as usize * BLOCK
     }
 
+    /// Tile k's bars.
     #[inline]
-    fn tile(&self, k: u32) -> &[T] {
+    fn bars(&self, k: u32) -> &[Depth] {
         &self.cells[self.base(k)..][..AREA]
     }
 
+    /// Tile k's packed colours.
     #[inline]
-    fn tile_mut(&mut self, k: u32) -> &mut [T] {
+    fn colours(&self, k: u32) -> &[u32] {
+        as_colours(&self.cells[self.base(k) + AREA..][..AREA / 2])
+    }
+
+    /// Tile k's packed colours, to write.
+    #[inline]
+    fn colours_mut(&mut self, k: u32) -> &mut [u32] {
+        let at = self.base(k) + AREA;
+        as_colours_mut(&mut self.cells[at..][..AREA / 2])
+    }
+
+    /// Tile k's bars and colours, to write.
+    #[inline]
+    fn tile_mut(&mut self, k: u32) -> (&mut [Depth], &mut [u32]) {
         let at = self.base(k);
-        &mut self.cells[at..][..AREA]
+        let (bars, colours) = self.cells[at..][..BLOCK].split_at_mut(AREA);
+        (bars, as_colours_mut(colours))
     }
 }
 
@@ -276,10 +365,14 @@ fn paint_one(out: &mut Colour, p: u32, back: Option<Colour>) {
     }
 }
 
-/// [`paint_row`] with 128-bit vectors: four packed pixels loaded at once, tested for an
-/// empty one with one compare, and where all four are covered their twelve RGB bytes
-/// gathered by one byte shuffle and stored as eight and four bytes. The same raster to
-/// the byte.
+/// [`paint_row`] with 256-bit vectors: eight packed pixels loaded at once and tested for
+/// an empty one with one compare. Where all eight are covered, or `back` is given and the
+/// empty ones take it (blended in as a packed colour), their 24 RGB bytes are gathered by
+/// a byte shuffle within each 128-bit half and a move of the halves' 12 bytes together,
+/// and stored as 16 and 8 bytes: no branch a pixel. Over the frame before (a movie's
+/// frames after the first), every block goes so. A row's last four are done the same in
+/// 128 bits, and a block with an empty pixel and no `back` a pixel at a time. The same
+/// raster to the byte.
 ///
 /// # Safety
 ///
@@ -289,21 +382,63 @@ fn paint_one(out: &mut Colour, p: u32, back: Option<Colour>) {
 unsafe fn paint_row_avx2(out: &mut [Colour], line: &[u32], back: Option<Colour>) {
     use std::arch::x86_64::*;
     debug_assert_eq!(out.len(), line.len());
-    let n = line.len().min(out.len()) & !3;
+    let len = line.len().min(out.len());
     // Bytes 0-2, 4-6, 8-10 and 12-14 of four packed pixels (each R, G, B, then the
-    // top byte that marks it covered, `pack`): their RGB bytes in order.
-    let gather = _mm_setr_epi8(0, 1, 2, 4, 5, 6, 8, 9, 10, 12, 13, 14, -1, -1, -1, -1);
-    let zero = _mm_setzero_si128();
+    // top byte that marks it covered, `pack`): their RGB bytes in order, in each half.
+    let gather = _mm256_setr_epi8(
+        0, 1, 2, 4, 5, 6, 8, 9, 10, 12, 13, 14, -1, -1, -1, -1, //
+        0, 1, 2, 4, 5, 6, 8, 9, 10, 12, 13, 14, -1, -1, -1, -1,
+    );
+    // The low half's three gathered words, then the high half's: 24 bytes in a row.
+    let together = _mm256_setr_epi32(0, 1, 2, 4, 5, 6, 3, 7);
+    let zero = _mm256_setzero_si256();
+    // The background as a covered cell, for the empty ones to take.
+    let fill = back.map(|b| _mm256_set1_epi32(pack(b) as i32));
     let mut i = 0;
-    while i < n {
-        // SAFETY: i + 4 <= n <= both lengths, so cells i..i+4 of `line` and pixels
-        // i..i+4 of `out` (bytes 3i..3i+12, a Colour being 3 bytes) are in bounds;
+    while i + 8 <= len {
+        // SAFETY: i + 8 <= len <= both lengths, so cells i..i+8 of `line` and pixels
+        // i..i+8 of `out` (bytes 3i..3i+24, a Colour being 3 bytes) are in bounds;
         // unaligned loads and stores.
         unsafe {
-            let v = _mm_loadu_si128(line.as_ptr().add(i) as *const __m128i);
-            if _mm_movemask_epi8(_mm_cmpeq_epi32(v, zero)) == 0 {
+            let mut v = _mm256_loadu_si256(line.as_ptr().add(i) as *const __m256i);
+            let empty = _mm256_cmpeq_epi32(v, zero);
+            let paint = if _mm256_testz_si256(empty, empty) != 0 {
+                true
+            } else if let Some(fill) = fill {
+                v = _mm256_blendv_epi8(v, fill, empty);
+                true
+            } else {
+                false
+            };
+            if paint {
                 let o = out.as_mut_ptr().add(i) as *mut u8;
-                let b = _mm_shuffle_epi8(v, gather);
+                let b = _mm256_permutevar8x32_epi32(_mm256_shuffle_epi8(v, gather), together);
+                _mm_storeu_si128(o as *mut __m128i, _mm256_castsi256_si128(b));
+                _mm_storel_epi64(o.add(16) as *mut __m128i, _mm256_extracti128_si256::<1>(b));
+            } else {
+                for k in i..i + 8 {
+                    paint_one(out.get_unchecked_mut(k), *line.get_unchecked(k), back);
+                }
+            }
+        }
+        i += 8;
+    }
+    if i + 4 <= len {
+        // SAFETY: as above, for cells and pixels i..i+4.
+        unsafe {
+            let mut v = _mm_loadu_si128(line.as_ptr().add(i) as *const __m128i);
+            let empty = _mm_cmpeq_epi32(v, _mm_setzero_si128());
+            let paint = if _mm_testz_si128(empty, empty) != 0 {
+                true
+            } else if let Some(fill) = fill {
+                v = _mm_blendv_epi8(v, _mm256_castsi256_si128(fill), empty);
+                true
+            } else {
+                false
+            };
+            if paint {
+                let o = out.as_mut_ptr().add(i) as *mut u8;
+                let b = _mm_shuffle_epi8(v, _mm256_castsi256_si128(gather));
                 _mm_storel_epi64(o as *mut __m128i, b);
                 (o.add(8) as *mut i32).write_unaligned(_mm_extract_epi32::<2>(b));
             } else {
@@ -314,7 +449,7 @@ unsafe fn paint_row_avx2(out: &mut [Colour], line: &[u32], back: Option<Colour>)
         }
         i += 4;
     }
-    for (o, &p) in out[n..].iter_mut().zip(&line[n..]) {
+    for (o, &p) in out[i..len].iter_mut().zip(&line[i..len]) {
         paint_one(o, p, back);
     }
 }
@@ -365,16 +500,18 @@ pub struct RegionBuffer {
     /// Per tile position, row-major, its tile in the slabs, or [`UNTOUCHED`].
     slot: Vec<u32>,
     /// Every tile ever made; the first `in_use` hold this frame's pixels, the rest are
-    /// clear.
-    /// Per pixel, the bar a later polygon's depth must be under to take it.
-    depth: Slab<Depth>,
-    colour: Slab<u32>,
+    /// clear. Per pixel, the bar a later polygon's depth must be under to take it, and
+    /// its packed colour.
+    tiles: Slab,
     /// Per tile row ([`RegionBuffer::row_at`]), the farthest bar of its cells when every
     /// cell is covered, else NaN (and NaN throughout a frame that does not keep them): a
     /// span's piece that is nowhere nearer than it takes no cell, and is turned away
     /// without a test. (Not +∞ for a row with an empty cell: an empty cell takes a depth
     /// of +∞ too, and no depth compares as at or behind NaN.)
     row_bar: Vec<Depth>,
+    /// The box of tile positions ever touched, `[x0, x1, y0, y1]` (inclusive; empty
+    /// while `x0 > x1`): how many tiles the slab is expected to hold ([`Slab::push_tile`]).
+    touched: [u32; 4],
     /// Whether this frame keeps [`RegionBuffer::row_bar`] (see [`RegionBuffer::clear`]).
     rows_kept: bool,
     /// Whether the last frame that kept the row bars turned away enough to pay for them.
@@ -405,9 +542,9 @@ impl RegionBuffer {
             tiles_x,
             tiles_y,
             slot: vec![UNTOUCHED; tiles_x as usize * tiles_y as usize],
-            depth: Slab::new(tiles_x as usize * tiles_y as usize),
-            colour: Slab::new(tiles_x as usize * tiles_y as usize),
+            tiles: Slab::new(tiles_x as usize * tiles_y as usize),
             row_bar: Vec::new(),
+            touched: [u32::MAX, 0, u32::MAX, 0],
             rows_kept: true,
             rows_paid: true,
             frame_tested: 0,
@@ -456,16 +593,21 @@ impl RegionBuffer {
     #[cold]
     #[inline(never)]
     fn first_touch(&mut self, at: usize) -> u32 {
-        if self.in_use == self.depth.tiles() {
-            self.depth.push_tile();
-            self.colour.push_tile();
+        let (tx, ty) = (at as u32 % self.tiles_x, at as u32 / self.tiles_x);
+        let [x0, x1, y0, y1] = &mut self.touched;
+        (*x0, *x1, *y0, *y1) = ((*x0).min(tx), (*x1).max(tx), (*y0).min(ty), (*y1).max(ty));
+        if self.in_use == self.tiles.tiles() {
+            // The tiles expected: those in the box of the tile positions touched so far.
+            let [x0, x1, y0, y1] = self.touched;
+            let expected = (x1 - x0 + 1) as usize * (y1 - y0 + 1) as usize;
+            self.tiles.push_tile(expected);
             self.row_bar.extend([Depth::NAN; TILE as usize]);
             self.stats.tiles += 1;
         }
         let s = self.in_use as u32;
         if self.in_use < self.dirty {
             // A tile of an earlier frame, taken again: empty it (see `clear`).
-            self.colour.tile_mut(s).fill(0);
+            self.tiles.colours_mut(s).fill(0);
             let rows = row_at(s, 0);
             self.row_bar[rows..rows + TILE as usize].fill(Depth::NAN);
         }
@@ -562,9 +704,10 @@ impl RegionBuffer {
             }
             // The tile's row y: cell i is column left + i.
             let row = offset..offset + TILE as usize;
+            let (bars, colours) = self.tiles.tile_mut(tile);
             let taken = kernel(
-                &mut self.depth.tile_mut(tile)[row.clone()],
-                &mut self.colour.tile_mut(tile)[row],
+                &mut bars[row.clone()],
+                &mut colours[row],
                 (x - left) as usize,
                 (end - left) as usize,
                 left,
@@ -600,8 +743,8 @@ impl RegionBuffer {
         }
         let r = (y & (TILE - 1)) as usize;
         let cells = r << SHIFT..(r + 1) << SHIFT;
-        let colours = &self.colour.tile(tile)[cells.clone()];
-        let bars = &self.depth.tile(tile)[cells];
+        let colours = &self.tiles.colours(tile)[cells.clone()];
+        let bars = &self.tiles.bars(tile)[cells];
         let covered = colours.iter().fold(true, |all, &c| all & (c != 0));
         self.row_bar[row_at(tile, y)] = if covered {
             match self.kernel {
@@ -626,17 +769,13 @@ impl RegionBuffer {
         {
             use std::arch::x86_64::{_mm_prefetch, _MM_HINT_T0};
             let (lo, hi) = (lo as usize, hi as usize);
-            let bars = self
-                .depth
+            let base = self
+                .tiles
                 .cells
                 .as_ptr()
-                .wrapping_add(self.depth.base(tile) + row);
-            let colours = self
-                .colour
-                .cells
-                .as_ptr()
-                .wrapping_add(self.colour.base(tile) + row);
-            let (bars, colours) = (bars as *const i8, colours as *const i8);
+                .wrapping_add(self.tiles.base(tile));
+            let bars = base.wrapping_add(row) as *const i8;
+            let colours = (base.wrapping_add(AREA) as *const u32).wrapping_add(row) as *const i8;
             let mut b = (lo * 8) & !63;
             while b < hi * 8 {
                 // SAFETY: a prefetch is a hint; it does not fault, whatever the address.
@@ -662,7 +801,7 @@ impl RegionBuffer {
             return None;
         }
         let at = (((y & (TILE - 1)) << SHIFT) + (x & (TILE - 1))) as usize;
-        let p = self.colour.tile(s)[at];
+        let p = self.tiles.colours(s)[at];
         (p != 0).then(|| unpack(p))
     }
 
@@ -694,7 +833,8 @@ impl RegionBuffer {
                 let mut open: Option<Run> = None;
                 for &(tx, s) in &row_tiles {
                     let base = (r << SHIFT) as usize;
-                    let Some(line) = self.colour.tile(s)[base..].first_chunk::<{ TILE as usize }>()
+                    let Some(line) =
+                        self.tiles.colours(s)[base..].first_chunk::<{ TILE as usize }>()
                     else {
                         unreachable!("a tile holds TILE rows of TILE cells")
                     };
@@ -781,7 +921,7 @@ impl RegionBuffer {
                     }
                     continue;
                 }
-                let tile = self.colour.tile(s);
+                let tile = self.tiles.colours(s);
                 for r in 0..rows {
                     let line = &tile[(r << SHIFT) as usize..][..cols];
                     let at = (ty * TILE + r) as usize * width + left;
@@ -849,6 +989,57 @@ mod tests {
     const R: Colour = [255, 0, 0];
     const G: Colour = [0, 255, 0];
     const B: Colour = [0, 0, 255];
+
+    #[test]
+    fn a_tiles_bars_and_colours_share_one_block_and_no_cell() {
+        let mut slab = Slab::new(4);
+        slab.push_tile(2);
+        slab.push_tile(2);
+        assert_eq!(slab.tiles(), 2);
+        // Whole cache lines: the first tile on a line, each block 48 KiB.
+        assert_eq!(slab.bars(0).as_ptr() as usize % LINE, 0);
+        assert_eq!(BLOCK * std::mem::size_of::<Depth>(), 48 << 10);
+        let (bars, colours) = slab.tile_mut(0);
+        assert_eq!((bars.len(), colours.len()), (AREA, AREA));
+        bars.fill(-1.0);
+        colours.fill(u32::MAX);
+        assert!(slab.bars(0).iter().all(|&b| b == -1.0));
+        assert!(slab.colours(0).iter().all(|&c| c == u32::MAX));
+        // The next tile's cells are apart from them, and zero.
+        assert!(slab.bars(1).iter().all(|&b| b.to_bits() == 0));
+        assert!(slab.colours(1).iter().all(|&c| c == 0));
+        slab.colours_mut(0).fill(7);
+        assert!(slab.bars(0).iter().all(|&b| b == -1.0));
+        assert_eq!(slab.colours(0)[AREA - 1], 7);
+    }
+
+    #[test]
+    fn a_last_huge_page_is_asked_for_only_where_the_tiles_expected_fill_half() {
+        // A full-HD screen's slab (510 tiles); a leaf of a depth-2 tree makes 135 tiles
+        // (6.33 MiB: three huge pages and a sixth of a fourth), and knows it early.
+        let mut slab = Slab::new(510);
+        if !slab.huge {
+            return; // no room reserved on this machine: nothing to decide
+        }
+        for _ in 0..135 {
+            slab.push_tile(135);
+        }
+        assert_eq!(slab.pages, [3, 1]);
+        assert!(slab.bars(134).iter().all(|&b| b.to_bits() == 0));
+        // The whole screen: every page is full but the last (23.9 MiB), all huge.
+        let mut slab = Slab::new(510);
+        for _ in 0..510 {
+            slab.push_tile(510);
+        }
+        assert_eq!(slab.pages, [12, 0]);
+        // The first page is huge even where the guess says one tile; the next, reached
+        // with the guess that it is barely begun, is not.
+        let mut slab = Slab::new(510);
+        for k in 0..50 {
+            slab.push_tile(k + 1);
+        }
+        assert_eq!(slab.pages, [1, 1]);
+    }
 
     #[test]
     fn nearer_wins_and_a_tie_keeps_the_earlier_polygon() {

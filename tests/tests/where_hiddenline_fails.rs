@@ -276,3 +276,48 @@ fn archuleta_draws_every_hard_scene_within_the_screen() {
         );
     }
 }
+
+/// The bounds of the hidden-line drawing at full size, through the binary: peak resident
+/// memory under 256 MB and CPU under 30 s (user + system, `/usr/bin/time`) on the
+/// scenes a user makes in a minute, 500 × 500. Measured (one run each, a loaded 2-core
+/// machine): `pinhead 100000` 1.9 s / 165 MB continuous, 0.3 s / 149 MB Archuleta's;
+/// `planes 2000` 1.9 s / 11 MB and 1.1 s / 4 MB; `slivers 10000` Archuleta's 0.8 s /
+/// 17 MB (the continuous method's 11 s there, drawing 3.2 million visible pieces, is
+/// docs/methods.md's and scripts/bench-bounds.sh's, too long for a test).
+#[test]
+fn the_bounds_hold_at_full_size() {
+    use pipeline_tests::sh;
+    for (scene, methods) in [
+        ("pinhead 100000", &["continuous", "archuleta"][..]),
+        ("planes 2000", &["continuous", "archuleta"][..]),
+        ("slivers 10000", &["archuleta"][..]),
+    ] {
+        for method in methods {
+            let out = sh(
+                &format!(
+                    "set -e; d=$(mktemp -d); trap 'rm -rf \"$d\"' EXIT
+                     scene {scene} | viewxf --size 500x500 | clipbatch | persp --size 500x500 > \"$d/in\"
+                     /usr/bin/time -f '%U %S %M' -o \"$d/time\" hiddenline --method {method} < \"$d/in\" | grep -c '<line'
+                     cat \"$d/time\""
+                ),
+                b"",
+            );
+            let stdout = String::from_utf8_lossy(&out.stdout);
+            assert!(
+                out.status.success(),
+                "{scene}, {method}: {stdout}{}",
+                String::from_utf8_lossy(&out.stderr)
+            );
+            let words: Vec<f64> = stdout
+                .split_whitespace()
+                .map(|w| w.parse().expect("a number"))
+                .collect();
+            let [lines, user, sys, kib] = words[..] else {
+                panic!("{scene}, {method}: {stdout}")
+            };
+            assert!(lines > 0.0, "{scene}, {method}: nothing drawn");
+            assert!(user + sys < 30.0, "{scene}, {method}: {user} + {sys} s");
+            assert!(kib < 256.0 * 1024.0, "{scene}, {method}: {kib} KiB");
+        }
+    }
+}

@@ -1045,17 +1045,23 @@ impl Scanline {
 
 impl HiddenSurface for Scanline {
     fn resolve(&mut self, polygons: &[Polygon], width: u32, height: u32, runs: &mut Vec<Run>) {
-        // Preframe processing: the polygons sorted by the first line they may reach (a
-        // line whose centre is at or below their top vertex). The walker finds the exact
-        // lines when the polygon enters.
+        // Preframe processing: the polygons sorted by the first line they may reach, the
+        // least of their vertices' rows on the snapped outline (docs/DESIGN.md,
+        // "Coverage": each vertex's first row whose centre is at or below it, once
+        // snapped to 1/256 pixel; a cut vertex's from where its support meets the cut).
+        // No edge counts on a line above it. Taken from the unsnapped top vertex instead,
+        // a vertex a hair below a line centre (14.500000000000002 for the 14.5 a scene
+        // meant), snapped onto that centre, would enter a line after its edges start and
+        // lose that line's span. A polygon that covers nothing never enters.
         self.entering.clear();
         for (i, p) in polygons.iter().enumerate() {
-            if p.vertices.len() < 3 {
+            if !self.arena.outline.load(p) {
                 continue;
             }
-            let top = p.vertices.iter().map(|v| v.y).fold(f64::INFINITY, f64::min);
-            // Saturating: NaN gives 0, −∞ gives i64::MIN.
-            let first = ((top - 0.5).ceil() as i64).max(0);
+            let Some(&first) = self.arena.outline.rows.iter().min() else {
+                continue;
+            };
+            let first = first.max(0);
             if first < height as i64 {
                 self.entering.push((first, i));
             }
@@ -1086,9 +1092,8 @@ impl HiddenSurface for Scanline {
                 let i = self.entering[next].1;
                 next += 1;
                 let p = &polygons[i];
-                // (Its edges' first line is never above the one found from the top
-                // vertex; should rounding ever say otherwise, the arena steps its edges
-                // past the lines skipped.)
+                // (Its edges' first line is never above this one: both come from the
+                // same snapped outline.)
                 let Some((base, len, rows)) = self.arena.enter(p, height) else {
                     continue;
                 };
@@ -1597,6 +1602,55 @@ mod tests {
         assert_eq!(image_of(&runs, 8, 8), zbuffer_image(&polygons, 8, 8));
         let (runs, _) = resolve(&polygons, 0, 0);
         assert!(runs.is_empty());
+    }
+
+    #[test]
+    fn a_top_edge_a_hair_below_a_line_centre_is_drawn_on_that_line() {
+        // Tops a hair below a line centre, snapped onto it (persp makes a scene's 14.5
+        // into 14.500000000000002; 2.5 + 1/1024 is a quarter of a sub-pixel unit off):
+        // a top edge holds the centres on it, so the line is drawn, as the z-buffer
+        // draws it, down to the screen's last line. A top a hair above a line centre
+        // stays above it too.
+        let top = |y: f64, colour| {
+            quad(
+                colour,
+                [
+                    [1.25, y, 0.5],
+                    [6.25, y, 0.5],
+                    [6.25, 30.0, 0.5],
+                    [1.25, 30.0, 0.5],
+                ],
+            )
+        };
+        let cases = [
+            (14.500000000000002, 14),
+            (2.5 + 1.0 / 1024.0, 2),
+            (15.500000000000002, 15),
+            (0.5 + 1.0 / 1024.0, 0),
+            (3.4999999999999996, 3),
+        ];
+        for (y, line) in cases {
+            let polygons = [top(y, RED)];
+            let (runs, _) = resolve(&polygons, 8, 16);
+            assert_eq!(runs.first(), Some(&run(line, 1, 6, RED)), "top at {y}");
+            assert_eq!(runs.len(), 16 - line as usize, "top at {y}");
+            assert_eq!(image_of(&runs, 8, 16), zbuffer_image(&polygons, 8, 16));
+        }
+        // A sliver whose apex lies one ulp below the line of its other two vertices,
+        // exactly on a snapping tie: the two ends snap to the centre of line 0 (ties to
+        // even), the apex just past it, so the sliver holds the centres of line 0 between
+        // its ends.
+        let y0 = 0.5 + 1.0 / 512.0;
+        let sliver = Polygon::from_xyz(
+            GREEN,
+            &[
+                [0.25, y0, 0.5],
+                [6.25, y0, 0.5],
+                [3.25, y0 + f64::EPSILON, 0.5],
+            ],
+        );
+        let (runs, _) = resolve(std::slice::from_ref(&sliver), 8, 8);
+        assert_eq!(runs, vec![run(0, 0, 6, GREEN)]);
     }
 
     #[test]

@@ -247,9 +247,12 @@ fn main() -> ExitCode {
             match &token {
                 Token::Polygon(poly) => {
                     tree.split(poly);
-                    for piece in tree.pieces() {
-                        stagecli::check_finite_after(piece, "the split")
-                            .map_err(|m| Error::data(format!("{}: {m}", reader.position())))?;
+                    // Only a cut makes numbers the polygon did not have (`Subtree::cut`).
+                    if tree.cut() {
+                        for piece in tree.pieces() {
+                            stagecli::check_finite_after(piece, "the split")
+                                .map_err(|m| Error::data(format!("{}: {m}", reader.position())))?;
+                        }
                     }
                     let pieces = tree.outputs();
                     if let Some(perspective) = &perspective {

@@ -7,7 +7,7 @@
 //! there by the z-buffer's own rule: coverage by [`scan::SpanWalker`], depth by the
 //! polygon's depth plane, decided by the tie rule (`scan::takes`).
 //! The picture is thus the point-sampled K·W × K·H picture box-filtered in K×K blocks,
-//! which is what `zspec --samples K` computes in f64.
+//! which is what `zspec --samples K` computes, in its own arithmetic.
 //!
 //! The filter: each channel is `(sum + K²/2) / K²` in integers, a sample no polygon covers
 //! counting as the background colour. A pixel none of whose samples is covered is not

@@ -313,6 +313,8 @@ pub struct Warnock {
     /// The frame's faces, sorted by ZMIN (the listing's polygon list).
     faces: Vec<Face>,
     points: Vec<DVec2>,
+    /// Scratch: a polygon's vertices snapped to the sub-pixel grid.
+    snapped: Vec<proto::raster::Point>,
     /// The window lists of the windows on the current path of the subdivision, each on
     /// top of its ancestor's (the listing's HISTORY, one level per window).
     lists: Vec<Entry>,
@@ -340,7 +342,7 @@ impl Warnock {
     }
 
     /// The listing's INITIALIZE: each polygon's box, plane and ZMIN, the list sorted by
-    /// ZMIN. Polygons of fewer than three vertices, or with all on one line, cover no
+    /// ZMIN. Polygons of fewer than three vertices, or with all on one line once snapped, cover no
     /// centre and are left out.
     fn gather(&mut self, polygons: &[Polygon], width: u32, height: u32) {
         self.faces.clear();
@@ -357,7 +359,13 @@ impl Warnock {
             self.points
                 .extend(p.vertices.iter().map(|v| DVec2::new(v.x, v.y)));
             let pts = &self.points[start..];
-            if pts.len() < 3 || proto::raster::on_one_line(pts) {
+            // On one line as the walker decides it, on the vertices snapped to 1/256
+            // pixel (docs/DESIGN.md, "Coverage"): three points within rounding of a line
+            // may snap apart, a sliver that holds the centres it passes over.
+            self.snapped.clear();
+            self.snapped
+                .extend(pts.iter().map(|&v| proto::raster::Point::snap(v)));
+            if pts.len() < 3 || proto::raster::snapped_on_one_line(&self.snapped) {
                 self.points.truncate(start);
                 continue;
             }
@@ -1001,6 +1009,44 @@ mod tests {
             Resolution::Surrounded
         );
         assert_eq!(picture(&mut m).iter().filter(|p| p.is_some()).count(), 4);
+    }
+
+    #[test]
+    fn a_sliver_on_one_line_only_before_snapping_is_drawn() {
+        // The apex lies one ulp below the line of the other two vertices, which sit
+        // exactly on a snapping tie: the ends snap to the centre of row 0 (ties to even),
+        // the apex just past it, and the snapped sliver holds the centres of row 0
+        // between its ends (docs/DESIGN.md, "Coverage"), with its recorded plane or
+        // without one. Collinear points stay out.
+        let y0 = 0.5 + 1.0 / 512.0;
+        let mut sliver = Polygon::from_xyz(
+            RED,
+            &[
+                [0.25, y0, 0.5],
+                [6.25, y0, 0.5],
+                [3.25, y0 + f64::EPSILON, 0.5],
+            ],
+        );
+        let flat = Polygon::from_xyz(
+            GREEN,
+            &[[0.25, 3.0, 0.5], [6.25, 3.0, 0.5], [3.25, 3.0, 0.5]],
+        );
+        for plane in [None, Some(proto::DVec4::new(0.0, 0.0, -1.0, 0.5))] {
+            sliver.plane = plane;
+            let polygons = [sliver.clone(), flat.clone()];
+            let (runs, _) = resolved(&polygons, 8, 8);
+            assert_eq!(
+                runs,
+                vec![Run {
+                    y: 0,
+                    x0: 0,
+                    x1: 6,
+                    colour: RED
+                }],
+                "{plane:?}"
+            );
+            assert_eq!(image_of(&runs, 8, 8), zbuffer_image(&polygons, 8, 8));
+        }
     }
 
     #[test]

@@ -269,8 +269,9 @@ pub fn par_buff(
                         // machine is refused (status 3; the message says how much it needs).
                         let name = &states[input].name;
                         crate::check_memory(width, height).map_err(|e| e.context(name))?;
-                        let buffer = FrameBuffer::new(width, height, background)
+                        let mut buffer = FrameBuffer::new(width, height, background)
                             .map_err(|m| Error::io(format!("{name}: {m}")))?;
+                        buffer.list_runs(list_runs);
                         fb = Some(buffer);
                         first_header = Some(input);
                         watch = QuantumWatch::for_form(depth, width, height);

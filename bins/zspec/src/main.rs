@@ -9,11 +9,13 @@ use std::io::{self, BufReader, BufWriter, Write};
 use std::process::ExitCode;
 use zspec::Setup;
 
-/// The exact reference: the Z spec (thesis 2.3; docs/DESIGN.md, "Visibility") evaluated in f64 at
-/// every pixel centre — coverage by the even-odd and top-left rules, depth where the ray
-/// through the centre meets the polygon's plane, hither ≤ z_e ≤ yon, nearest wins,
-/// earlier wins a tie. No clipping chain, no edge table: an independent renderer to
-/// measure the pipeline against.
+/// The exact reference: the Z spec (thesis 2.3; docs/DESIGN.md, "Coverage" and
+/// "Visibility") evaluated at every pixel centre — coverage by the even-odd rule, a centre
+/// on an edge to the polygon it is a left or top edge of, decided exactly in integers on
+/// the vertices snapped to 1/256 pixel; depth in f64 where the ray through the centre
+/// meets the polygon's plane, hither ≤ z_e ≤ yon, nearest wins, earlier wins a tie. No
+/// clipping chain, no edge table: an independent renderer to measure the pipeline
+/// against.
 ///
 /// Reads a world-space scene (binary or text; SCENE, or stdin for `-` or none) and writes
 /// one binary PPM (P6; plain P3 with --text) per frame, like zbuf. The camera options are
@@ -42,8 +44,9 @@ struct Cli {
     #[arg(long, value_parser = zspec::parse_colour, default_value = "0,0,0", value_name = "R,G,B")]
     background: Colour,
     /// Anti-aliasing reference: K×K samples per pixel, at the sub-pixel centres
-    /// (c + (i+½)/K, r + (j+½)/K), each decided by the rules of a pixel centre (exactly
-    /// as on a K·W × K·H screen), box-filtered: each channel is the average of the K²
+    /// (c + (i+½)/K, r + (j+½)/K), each decided by the rules of a pixel centre (as on a
+    /// K·W × K·H screen, the vertices snapped on this screen's 1/256-pixel grid),
+    /// box-filtered: each channel is the average of the K²
     /// samples rounded to nearest, halves up, (sum + K²/2) / K² in integers. K = 1 is
     /// point sampling. Holds the frame's polygons and draws bands of sample rows.
     #[arg(long, default_value_t = 1, value_name = "K",

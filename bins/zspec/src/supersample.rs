@@ -3,13 +3,16 @@
 //!
 //! Pixel (c, r) takes its samples at the sub-pixel centres (c + (i+½)/K, r + (j+½)/K),
 //! i, j = 0..K−1, and each sample is decided by exactly the rules of a pixel centre
-//! (coverage by the even-odd and top-left rules, the depth of the ray through the sample,
+//! (coverage by the even-odd rule with left and top edges holding the samples on them,
+//! on the vertices snapped to 1/256 pixel, the depth of the ray through the sample,
 //! K1 ≤ z_e ≤ K2, nearest wins, earlier wins a tie, background elsewhere). Those points
 //! are the pixel centres (C + ½, R + ½) of the same view on a screen K times finer,
 //! C = K·c + i, R = K·r + j, so the samples are *computed* as that finer screen's pixels:
 //! the polygons are projected onto a (K·W)×(K·H) device and every sample is the point
-//! rule there, bit for bit what `zspec --size KWxKH` gives and what the pipeline's ssK,
-//! which renders at K·W × K·H and box-filters, must reproduce.
+//! rule there, what the pipeline's ssK, which renders at K·W × K·H and box-filters, must
+//! reproduce. The vertices are snapped on the pixel screen's 1/256 grid, as ssK's are
+//! (`scan::fine::scaled`), not on the finer screen's: so it is `zspec --size KWxKH` but
+//! for samples within 1/256 pixel of an edge.
 //!
 //! The filter: each channel of a pixel is the average of its K² samples rounded to
 //! nearest, halves up, in integers: `(sum + K²/2) / K²` (K²/2 rounded down; for odd K no

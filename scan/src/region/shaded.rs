@@ -86,8 +86,8 @@ impl RegionBuffer {
             let n = (end - x) as usize;
             let tile = self.tile(tx, ty);
             let at = offset + (x & (TILE - 1)) as usize;
-            let bars = &mut self.depth.tile_mut(tile)[at..at + n];
-            let colours = &mut self.colour.tile_mut(tile)[at..at + n];
+            let (bars, colours) = self.tiles.tile_mut(tile);
+            let (bars, colours) = (&mut bars[at..at + n], &mut colours[at..at + n]);
             let mut taken = 0;
             for (i, (bar, f)) in bars.iter_mut().zip(colours.iter_mut()).enumerate() {
                 let column = x + i as u32;
