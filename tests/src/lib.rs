@@ -180,6 +180,15 @@ impl Frame {
     }
 }
 
+/// Whether a render started by these tests (`POLYPIPE_LOAD=0`, no hosts) has a core or
+/// less: the cores this process may use (its affinity, a container's CPU quota), as
+/// render counts them. There `--depth auto` is 0 for every scene, without a look or the
+/// model (render's `auto::one_core_at_most`), and a test of what the look or the model
+/// decides checks that instead.
+pub fn one_core_for_render() -> bool {
+    std::thread::available_parallelism().map_or(1, |n| n.get()) <= 1
+}
+
 /// Waits for `child` to exit, and returns its status and the time it took; if it is still
 /// running after `limit` (waiting for input it should not need, or hung), kills it and
 /// fails the test with `what()`.

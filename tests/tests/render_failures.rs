@@ -100,14 +100,17 @@ fn a_stage_killed_by_sigkill_stops_the_whole_tree() {
         .status()
         .unwrap();
     assert!(killed.success());
+    // render gives the stages a second after its SIGTERM before it sends SIGKILL, so it
+    // ends a second or so after the failure; the bound is that of a hang, not of that
+    // second, which a loaded machine stretches (18 stages on one core).
     let killed_at = Instant::now();
     let status = loop {
         if let Some(status) = render.try_wait().unwrap() {
             break status;
         }
         assert!(
-            killed_at.elapsed() < Duration::from_secs(2),
-            "render still running 2 s after a stage was killed"
+            killed_at.elapsed() < Duration::from_secs(30),
+            "render still running 30 s after a stage was killed"
         );
         std::thread::sleep(Duration::from_millis(10));
     };
@@ -124,6 +127,7 @@ fn a_stage_killed_by_sigkill_stops_the_whole_tree() {
         0,
         "nothing left in TMPDIR"
     );
+    // render reaps its stages before it exits: none is left, not even as a zombie.
     for pid in stages {
         assert!(
             !Path::new(&format!("/proc/{pid}")).exists(),
@@ -199,18 +203,30 @@ fn render_killed_takes_its_stages_with_it() {
     };
     render.kill().unwrap();
     render.wait().unwrap();
+    // Each stage has SIGTERM from the kernel as render dies (PR_SET_PDEATHSIG) and ends
+    // as soon as it is scheduled; the bound is that of a stage that ignored it, not of
+    // the scheduling, which a loaded machine stretches.
     let gone = Instant::now();
-    while stages
-        .iter()
-        .any(|p| Path::new(&format!("/proc/{p}/cmdline")).exists())
-    {
+    while stages.iter().any(|&p| running(p)) {
         assert!(
-            gone.elapsed() < Duration::from_secs(5),
-            "a stage outlived render"
+            gone.elapsed() < Duration::from_secs(30),
+            "a stage outlived render by 30 s: {:?}",
+            stages.iter().filter(|&&p| running(p)).collect::<Vec<_>>()
         );
         std::thread::sleep(Duration::from_millis(10));
     }
     drop(input);
+}
+
+/// Whether process `pid` still runs: it exists and is not a zombie. A stage whose
+/// launcher was killed is reaped by whichever process adopts it (init, or a container's
+/// first process, which may never reap): a zombie has ended, whoever holds its status.
+fn running(pid: u32) -> bool {
+    std::fs::read_to_string(format!("/proc/{pid}/stat")).is_ok_and(|stat| {
+        // "pid (comm) state …": comm may hold spaces and parentheses.
+        stat.rsplit_once(") ")
+            .is_some_and(|(_, rest)| !rest.starts_with('Z'))
+    })
 }
 
 /// `--depth auto` starts viewxf and the clipper before it has looked at the scene: a scene
@@ -228,6 +244,18 @@ fn a_scene_the_look_cannot_read_fails_in_viewxf_as_at_depth_0() {
     let err = String::from_utf8_lossy(&auto.stderr);
     assert_eq!(auto.status.code(), Some(1), "{err}");
     assert_eq!(zero.status.code(), Some(1));
+    // With a core or less for the render (a one-CPU runner, a container's quota,
+    // `taskset -c 0`), depth auto is 0 without a look, and `--stats` says so first; the
+    // rest is the same depth-0 failure.
+    let err = if pipeline_tests::one_core_for_render() {
+        let said = format!("render: {}\n", render::auto::ONE_CORE);
+        let Some(rest) = err.strip_prefix(said.as_str()) else {
+            panic!("one core: {err}")
+        };
+        rest.to_string()
+    } else {
+        err.into_owned()
+    };
     assert!(
         err.starts_with("viewxf: line 3, column 4: expected z of vertex 0")
             && err.ends_with("\nrender: viewxf failed (status 1)\n"),

@@ -201,7 +201,7 @@ fn a_job_parallel_leaves_behind_when_stopped_is_stopped_by_farm() {
     let started = std::time::Instant::now();
     while !pid_file.exists() {
         assert!(
-            started.elapsed().as_secs() < 10,
+            started.elapsed().as_secs() < 60,
             "the stand-in never started its job"
         );
         std::thread::sleep(std::time::Duration::from_millis(10));

@@ -112,17 +112,26 @@ mod tests {
 
     #[test]
     fn a_pausing_source_is_not_waited_for() {
+        // The source writes a frame and then nothing until the sample is taken (or 20 s
+        // have passed): the sample is the frame alone, taken PATIENCE after it. Had the
+        // sample waited for more, it would hold the second write too. The bound on the
+        // time is that of a sample that waits, not of PATIENCE itself, which a loaded
+        // machine's scheduling stretches.
         let (mut r, mut w) = std::io::pipe().unwrap();
+        let (taken, wait) = std::sync::mpsc::channel::<()>();
         let writer = std::thread::spawn(move || {
             w.write_all(b"first frame").unwrap();
-            std::thread::sleep(Duration::from_secs(2));
+            let _ = wait.recv_timeout(Duration::from_secs(20));
             let _ = w.write_all(b"second");
         });
         let start = Instant::now();
         let mut out = Vec::new();
         let got = sample(&mut r, &mut out, 1 << 20, PATIENCE).unwrap();
+        let took = start.elapsed();
+        let _ = taken.send(());
         assert_eq!(got, (11, Ended::More));
-        assert!(start.elapsed() < Duration::from_millis(1000));
+        assert_eq!(out, b"first frame");
+        assert!(took < Duration::from_secs(10), "took {took:?}");
         drop(r);
         writer.join().unwrap();
     }
