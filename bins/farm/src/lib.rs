@@ -809,7 +809,7 @@ fn children() -> Vec<(libc::pid_t, libc::pid_t)> {
 
 /// Once parallel has ended: stops (SIGTERM, then SIGKILL after a second) and reaps every
 /// process handed to this one ([`adopt_orphans`]), and those they leave in turn, for at
-/// most three seconds. A process in a group of its own gets the signal by its group,
+/// most ten seconds (a loaded machine can take a while to end a killed process). A process in a group of its own gets the signal by its group,
 /// as parallel would have sent it.
 fn reap_orphans() {
     if !ADOPTING.load(Ordering::SeqCst) {
@@ -819,7 +819,7 @@ fn reap_orphans() {
     let mut signalled: BTreeMap<libc::pid_t, i32> = BTreeMap::new();
     loop {
         let left = children();
-        if left.is_empty() || start.elapsed() > Duration::from_secs(3) {
+        if left.is_empty() || start.elapsed() > Duration::from_secs(10) {
             return;
         }
         let sig = if start.elapsed() < Duration::from_secs(1) {
