@@ -809,8 +809,8 @@ fn children() -> Vec<(libc::pid_t, libc::pid_t)> {
 
 /// Once parallel has ended: stops (SIGTERM, then SIGKILL after a second) and reaps every
 /// process handed to this one ([`adopt_orphans`]), and those they leave in turn, for at
-/// most ten seconds (a loaded machine can take a while to end a killed process). A process in a group of its own gets the signal by its group,
-/// as parallel would have sent it.
+/// most ten seconds (a loaded machine can take a while to end a killed process). A
+/// process in a group of its own gets the signal by its group, as parallel would send it.
 fn reap_orphans() {
     if !ADOPTING.load(Ordering::SeqCst) {
         return;
