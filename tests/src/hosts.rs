@@ -449,60 +449,48 @@ pub fn describe(pid: u32) -> String {
     format!("{pid}: {}", words.join(" "))
 }
 
-/// The processes now running (zombies left out) that were started with `var=value` in
-/// their environment: a run's own processes, told from those of another test that runs
-/// the same programs at the same time, when the run was given a `var` of its own (a
-/// TMPDIR in the test's folder).
-pub fn processes_with_env(var: &str, value: &Path) -> Vec<String> {
+/// The processes now running but this one, zombies left out (they are gone but for
+/// their status), that `keep` keeps, described for messages and sorted.
+fn living_processes(keep: impl Fn(u32) -> bool) -> Vec<String> {
     let me = std::process::id();
-    let mut wanted = format!("{var}=").into_bytes();
-    wanted.extend_from_slice(value.as_os_str().as_encoded_bytes());
-    let mut found = Vec::new();
-    for &pid in parents().keys() {
-        if pid == me {
-            continue;
-        }
-        let state = fs::read_to_string(format!("/proc/{pid}/stat")).unwrap_or_default();
-        if state
-            .rsplit_once(") ")
-            .is_some_and(|(_, rest)| rest.starts_with('Z'))
-        {
-            continue;
-        }
-        let environ = fs::read(format!("/proc/{pid}/environ")).unwrap_or_default();
-        if environ.split(|&b| b == 0).any(|v| v == wanted.as_slice()) {
-            found.push(describe(pid));
-        }
-    }
+    let mut found: Vec<String> = parents()
+        .keys()
+        .copied()
+        .filter(|&pid| pid != me)
+        .filter(|pid| {
+            let state = fs::read_to_string(format!("/proc/{pid}/stat")).unwrap_or_default();
+            !state
+                .rsplit_once(") ")
+                .is_some_and(|(_, rest)| rest.starts_with('Z'))
+        })
+        .filter(|&pid| keep(pid))
+        .map(describe)
+        .collect();
     found.sort();
     found
 }
 
+/// The processes now running that were started with `var=value` in their environment:
+/// a run's own processes, told from those of another test that runs the same programs
+/// at the same time, when the run was given a `var` of its own (a TMPDIR in the test's
+/// folder).
+pub fn processes_with_env(var: &str, value: &Path) -> Vec<String> {
+    let mut wanted = format!("{var}=").into_bytes();
+    wanted.extend_from_slice(value.as_os_str().as_encoded_bytes());
+    living_processes(|pid| {
+        let environ = fs::read(format!("/proc/{pid}/environ")).unwrap_or_default();
+        environ.split(|&b| b == 0).any(|v| v == wanted.as_slice())
+    })
+}
+
 /// The processes now running whose program is one of `programs`, or whose command line
 /// contains one of `markers` (a test's own folders, a script's path): what a run left
-/// behind, once it has ended. Zombies are left out (they are gone but for their status).
+/// behind, once it has ended.
 pub fn processes_matching(programs: &[PathBuf], markers: &[String]) -> Vec<String> {
-    let me = std::process::id();
-    let mut found = Vec::new();
-    for &pid in parents().keys() {
-        if pid == me {
-            continue;
-        }
-        let state = fs::read_to_string(format!("/proc/{pid}/stat")).unwrap_or_default();
-        if state
-            .rsplit_once(") ")
-            .is_some_and(|(_, rest)| rest.starts_with('Z'))
-        {
-            continue;
-        }
+    living_processes(|pid| {
         let exe = fs::read_link(format!("/proc/{pid}/exe")).ok();
-        let by_program = exe.as_ref().is_some_and(|e| programs.contains(e));
         let line = describe(pid);
-        let by_marker = markers.iter().any(|m| line.contains(m.as_str()));
-        if by_program || by_marker {
-            found.push(line);
-        }
-    }
-    found.sort();
-    found
+        exe.as_ref().is_some_and(|e| programs.contains(e))
+            || markers.iter().any(|m| line.contains(m.as_str()))
+    })
 }

@@ -123,6 +123,21 @@ pub fn succeeded(what: &str, out: Output) -> Vec<u8> {
     out.stdout
 }
 
+/// The counter written just before `what` in a leaf's `--stats` line (`… 4939 single
+/// pixels, …`, `…, 3434 crossings; …`): the last number before it, past spaces, commas
+/// and semicolons.
+pub fn stats_count(stats: &str, what: &str) -> u64 {
+    let at = stats
+        .find(what)
+        .unwrap_or_else(|| panic!("no {what} in {stats}"));
+    stats[..at]
+        .trim_end()
+        .rsplit([' ', ';', ','])
+        .find(|w| !w.is_empty())
+        .and_then(|n| n.parse().ok())
+        .unwrap_or_else(|| panic!("no count before {what} in {stats}"))
+}
+
 /// The whole linear pipeline at `size` (W×H), from a world-space scene on stdin to
 /// zbuf's PPM frames on stdout: the viewing transformation, the six clippers, the
 /// perspective division, the scan converter and the z-buffer.

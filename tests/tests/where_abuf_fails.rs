@@ -5,20 +5,7 @@
 //! (the z-buffer writes a pixel once a nearer polygon); and the list a pixel, capped at
 //! the 64 samples, on polygons piled in one pixel (docs/methods.md, "abuf").
 
-use pipeline_tests::{parse_ppm_stream, sh};
-
-/// The counter before `what` in abuf's `--stats` line (`… 948380 fragments, …`).
-fn count(stats: &str, what: &str) -> u64 {
-    let at = stats
-        .find(what)
-        .unwrap_or_else(|| panic!("no {what} in {stats}"));
-    stats[..at]
-        .trim_end()
-        .rsplit([' ', ','])
-        .find(|w| !w.is_empty())
-        .and_then(|n| n.parse().ok())
-        .unwrap_or_else(|| panic!("no count before {what} in {stats}"))
-}
+use pipeline_tests::{parse_ppm_stream, sh, stats_count};
 
 /// abuf's `--stats` line for `scene ARGS` at 200×200.
 fn abuf_stats(scene: &str) -> String {
@@ -76,21 +63,21 @@ fn crossing_planes_make_a_fragment_for_every_plane_at_every_pixel() {
         .into();
     let pixels = 200.0 * 200.0;
     for (n, s) in [50.0, 100.0, 200.0].iter().zip(&stats) {
-        let fragments = count(s, " fragments") as f64;
+        let fragments = stats_count(s, " fragments") as f64;
         // Most planes reach the screen's every pixel: between 0.4·N and N a pixel.
         assert!(
             (0.4 * n * pixels..=n * pixels).contains(&fragments),
             "{n} planes: {s}"
         );
-        let hidden = count(s, " hidden") as f64;
+        let hidden = stats_count(s, " hidden") as f64;
         assert!(hidden > 0.8 * fragments, "{n} planes: {s}");
         // The list stays within the samples of a pixel.
         assert!(after(s, "max list length") <= 64, "{n} planes: {s}");
     }
     // Twice the planes, twice the fragments: linear in N, each a pixel's worth.
     for k in 0..2 {
-        let grew =
-            count(&stats[k + 1], " fragments") as f64 / count(&stats[k], " fragments") as f64;
+        let grew = stats_count(&stats[k + 1], " fragments") as f64
+            / stats_count(&stats[k], " fragments") as f64;
         assert!((1.8..2.2).contains(&grew), "{stats:?}");
     }
 }
@@ -113,9 +100,9 @@ fn a_pinhead_keeps_one_list_of_64_fragments() {
     // 19,927 merges (measured), the list's length and its time bounded.
     let stats = abuf_stats("pinhead 20000");
     assert_eq!(after(&stats, "max list length"), 64, "{stats}");
-    assert_eq!(count(&stats, " lists"), 1, "{stats}");
-    let merged = count(&stats, " merged past 64 a list");
-    let fragments = count(&stats, " fragments");
+    assert_eq!(stats_count(&stats, " lists"), 1, "{stats}");
+    let merged = stats_count(&stats, " merged past 64 a list");
+    let fragments = stats_count(&stats, " fragments");
     assert!(
         fragments > 19_000 && merged + 64 >= fragments,
         "{fragments} fragments, {merged} merged: {stats}"

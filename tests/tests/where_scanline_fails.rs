@@ -5,20 +5,7 @@
 //! the *visible* complexity, here the crossings of every line). The pictures stay the
 //! z-buffer leaf's to the byte.
 
-use pipeline_tests::sh;
-
-/// The counter before `what` in a `--stats` line ("…, 3434 crossings; …").
-fn count(stats: &str, what: &str) -> u64 {
-    let at = stats
-        .find(what)
-        .unwrap_or_else(|| panic!("no {what} in {stats}"));
-    stats[..at]
-        .trim_end()
-        .rsplit(' ')
-        .next()
-        .and_then(|n| n.parse().ok())
-        .unwrap_or_else(|| panic!("no count before {what} in {stats}"))
-}
+use pipeline_tests::{sh, stats_count};
 
 #[test]
 fn two_hundred_thousand_pinhead_triangles_fit_in_256_mb() {
@@ -69,16 +56,16 @@ fn crossing_planes_cost_comparisons_growing_with_the_crossings() {
         String::from_utf8_lossy(&out.stdout).into_owned()
     };
     let s50 = stats(50);
-    assert_eq!(count(&s50, "crossings;"), 3434, "{s50}");
-    assert_eq!(count(&s50, "crossings computed"), 1849, "{s50}");
-    assert_eq!(count(&s50, "of them searched"), 0, "{s50}");
-    assert_eq!(count(&s50, "depth comparisons"), 715_384, "{s50}");
+    assert_eq!(stats_count(&s50, "crossings;"), 3434, "{s50}");
+    assert_eq!(stats_count(&s50, "crossings computed"), 1849, "{s50}");
+    assert_eq!(stats_count(&s50, "of them searched"), 0, "{s50}");
+    assert_eq!(stats_count(&s50, "depth comparisons"), 715_384, "{s50}");
     // Twice the planes, nearly twice the crossings (6,409) and 3.4 times the depth
     // comparisons (2,439,223): the sample spans hold every plane, and each crossing
     // is looked for among all of them.
     let s100 = stats(100);
-    assert_eq!(count(&s100, "crossings;"), 6409, "{s100}");
-    assert_eq!(count(&s100, "of them searched"), 0, "{s100}");
-    let ratio = count(&s100, "depth comparisons") as f64 / 715_384.0;
+    assert_eq!(stats_count(&s100, "crossings;"), 6409, "{s100}");
+    assert_eq!(stats_count(&s100, "of them searched"), 0, "{s100}");
+    let ratio = stats_count(&s100, "depth comparisons") as f64 / 715_384.0;
     assert!((3.0..4.0).contains(&ratio), "{ratio}");
 }

@@ -6,7 +6,7 @@
 //! z-buffer leaf's, byte for byte. The small hand-made cases (the Thinker's failures, a
 //! crossing subdivided to pixels) are in `warnock.rs`, `where_it_slows` and `hostile`.
 
-use pipeline_tests::sh;
+use pipeline_tests::{sh, stats_count};
 
 /// Warnock's `--stats` line for `scene ARGS` at `size`×`size`, after checking that its
 /// runs are the z-buffer leaf's byte for byte.
@@ -41,19 +41,6 @@ fn windows_by_depth(stats: &str) -> Vec<u64> {
         .collect()
 }
 
-/// The counter before `what` in the stats line (`… 4939 single pixels, …`).
-fn count(stats: &str, what: &str) -> u64 {
-    let at = stats
-        .find(what)
-        .unwrap_or_else(|| panic!("no {what} in {stats}"));
-    stats[..at]
-        .trim_end()
-        .rsplit([' ', ';', ','])
-        .find(|w| !w.is_empty())
-        .and_then(|n| n.parse().ok())
-        .unwrap_or_else(|| panic!("no count before {what} in {stats}"))
-}
-
 #[test]
 fn windows_grow_with_the_edges_not_the_pixels() {
     // Archuleta's two spheres (1,024 polygons) at 250, 500 and 1,000 pixels a side: each
@@ -69,7 +56,10 @@ fn windows_grow_with_the_edges_not_the_pixels() {
         .iter()
         .map(|s| windows_by_depth(s).iter().sum())
         .collect();
-    let pixels: Vec<u64> = stats.iter().map(|s| count(s, " single pixels")).collect();
+    let pixels: Vec<u64> = stats
+        .iter()
+        .map(|s| stats_count(s, " single pixels"))
+        .collect();
     for k in 0..2 {
         let grew = windows[k + 1] as f64 / windows[k] as f64;
         assert!((1.8..2.6).contains(&grew), "windows {windows:?}");
@@ -89,7 +79,7 @@ fn a_deep_stack_is_one_window() {
     // than what it holds.
     let stats = warnock_stats("stack 50000", 500);
     assert_eq!(windows_by_depth(&stats), [1], "{stats}");
-    assert_eq!(count(&stats, " polygons looked at"), 1, "{stats}");
+    assert_eq!(stats_count(&stats, " polygons looked at"), 1, "{stats}");
     assert!(
         stats.contains("1 ZMIN exits leaving 49999 unexamined"),
         "{stats}"
@@ -106,9 +96,9 @@ fn slivers_take_a_pixel_window_for_nearly_every_visible_segment() {
     let stats = warnock_stats("slivers 2000", 500);
     let by_depth = windows_by_depth(&stats);
     assert_eq!(by_depth.len(), 10, "{stats}");
-    let runs = count(&stats, " runs out");
+    let runs = stats_count(&stats, " runs out");
     assert_eq!(runs, 103_830, "{stats}");
-    let pixels = count(&stats, " single pixels");
+    let pixels = stats_count(&stats, " single pixels");
     assert!(
         (runs..2 * runs).contains(&pixels),
         "{pixels} pixel windows for {runs} segments: {stats}"
