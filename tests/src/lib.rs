@@ -123,6 +123,29 @@ pub fn succeeded(what: &str, out: Output) -> Vec<u8> {
     out.stdout
 }
 
+/// A leaf method's `--stats` line (its stderr) for `scene ARGS` drawn at
+/// `size`×`size`, after checking that the leaf's runs are the z-buffer leaf's
+/// (`scanconv --resolve`) byte for byte: the exact methods' costs, measured on a frame
+/// they draw right.
+pub fn leaf_stats_drawing_as_zbuf(leaf: &str, scene: &str, size: u32) -> String {
+    let out = sh(
+        &format!(
+            "set -e; d=$(mktemp -d); trap 'rm -rf \"$d\"' EXIT
+             scene {scene} | viewxf --size {size}x{size} | clipbatch | persp --size {size}x{size} > \"$d/in\"
+             {leaf} --stats < \"$d/in\" 2> \"$d/stats\" > \"$d/leaf\"
+             scanconv --resolve < \"$d/in\" | cmp - \"$d/leaf\"
+             cat \"$d/stats\""
+        ),
+        b"",
+    );
+    assert!(
+        out.status.success(),
+        "{leaf} on {scene} at {size}: {}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    String::from_utf8_lossy(&out.stdout).into_owned()
+}
+
 /// The counter written just before `what` in a leaf's `--stats` line (`… 4939 single
 /// pixels, …`, `…, 3434 crossings; …`): the last number before it, past spaces, commas
 /// and semicolons.

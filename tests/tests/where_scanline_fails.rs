@@ -5,7 +5,7 @@
 //! the *visible* complexity, here the crossings of every line). The pictures stay the
 //! z-buffer leaf's to the byte.
 
-use pipeline_tests::{sh, stats_count};
+use pipeline_tests::{leaf_stats_drawing_as_zbuf, sh, stats_count};
 
 #[test]
 fn two_hundred_thousand_pinhead_triangles_fit_in_256_mb() {
@@ -37,24 +37,7 @@ fn crossing_planes_cost_comparisons_growing_with_the_crossings() {
     // `scene planes N` at 200×200: every pair of planes crosses, and the front changes
     // along every line. Each crossing column is computed from the two depth lines
     // (XINTER) and settled by the tie rule at the centres beside it: none searched.
-    let stats = |n: u32| {
-        let out = sh(
-            &format!(
-                "set -e; d=$(mktemp -d); trap 'rm -rf \"$d\"' EXIT
-                 scene planes {n} | viewxf | clipbatch | persp --size 200x200 > \"$d/in\"
-                 scanline --stats < \"$d/in\" 2> \"$d/stats\" > \"$d/scanline\"
-                 scanconv --resolve < \"$d/in\" | cmp - \"$d/scanline\"
-                 cat \"$d/stats\""
-            ),
-            b"",
-        );
-        assert!(
-            out.status.success(),
-            "{}",
-            String::from_utf8_lossy(&out.stderr)
-        );
-        String::from_utf8_lossy(&out.stdout).into_owned()
-    };
+    let stats = |n: u32| leaf_stats_drawing_as_zbuf("scanline", &format!("planes {n}"), 200);
     let s50 = stats(50);
     assert_eq!(stats_count(&s50, "crossings;"), 3434, "{s50}");
     assert_eq!(stats_count(&s50, "crossings computed"), 1849, "{s50}");

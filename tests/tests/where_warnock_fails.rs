@@ -6,27 +6,12 @@
 //! z-buffer leaf's, byte for byte. The small hand-made cases (the Thinker's failures, a
 //! crossing subdivided to pixels) are in `warnock.rs`, `where_it_slows` and `hostile`.
 
-use pipeline_tests::{sh, stats_count};
+use pipeline_tests::{leaf_stats_drawing_as_zbuf, stats_count};
 
-/// Warnock's `--stats` line for `scene ARGS` at `size`×`size`, after checking that its
-/// runs are the z-buffer leaf's byte for byte.
+/// Warnock's `--stats` line for `scene ARGS` at `size`×`size`, its runs the z-buffer
+/// leaf's byte for byte.
 fn warnock_stats(scene: &str, size: u32) -> String {
-    let out = sh(
-        &format!(
-            "set -e; d=$(mktemp -d); trap 'rm -rf \"$d\"' EXIT
-             scene {scene} | viewxf --size {size}x{size} | clipbatch | persp --size {size}x{size} > \"$d/in\"
-             warnock --stats < \"$d/in\" 2> \"$d/stats\" > \"$d/warnock\"
-             scanconv --resolve < \"$d/in\" | cmp - \"$d/warnock\"
-             cat \"$d/stats\""
-        ),
-        b"",
-    );
-    assert!(
-        out.status.success(),
-        "{scene} at {size}: {}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    String::from_utf8_lossy(&out.stdout).into_owned()
+    leaf_stats_drawing_as_zbuf("warnock", scene, size)
 }
 
 /// The windows at each level of the subdivision, from the stats line.
