@@ -453,6 +453,18 @@ impl<T: Record, R: Read> Reader<T, R> {
         polygons_in_frame: u64,
     ) -> Self {
         let lex = Lexer::resume(BufReader::with_capacity(IO_BUFFER, input), lines, last_line);
+        Self::resumed(lex, header, (frame, polygons_in_frame), false)
+    }
+
+    /// A reader of text from `lex`, a lexer resumed part way through a stream, in frame
+    /// `frame` after `polygons_in_frame` of its polygons; `piece`: its input's end is a
+    /// piece's, not the stream's.
+    fn resumed(
+        lex: Lexer<BufReader<R>>,
+        header: Header,
+        (frame, polygons_in_frame): (u64, u64),
+        piece: bool,
+    ) -> Self {
         Reader {
             source: Source::Text(lex),
             header,
@@ -460,7 +472,7 @@ impl<T: Record, R: Read> Reader<T, R> {
             polygons_in_frame,
             ended: false,
             spare: T::default(),
-            piece: false,
+            piece,
         }
     }
 
@@ -647,15 +659,7 @@ impl<'a, T: Record> Reader<T, &'a [u8]> {
     ) -> Self {
         let nothing_more = BufReader::with_capacity(0, &input[input.len()..]);
         let lex = Lexer::resume_with(input.to_vec(), nothing_more, lines, last_line);
-        Reader {
-            source: Source::Text(lex),
-            header,
-            frame,
-            polygons_in_frame,
-            ended: false,
-            spare: T::default(),
-            piece: true,
-        }
+        Self::resumed(lex, header, (frame, polygons_in_frame), true)
     }
 }
 
