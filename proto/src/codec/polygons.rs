@@ -426,6 +426,22 @@ fn annotations_allowed(space: &Space) -> bool {
 const NO_WORLD_ANNOTATIONS: &str =
     "annotations (`plane`, `shade`, `on`) are defined for eye and screen space only";
 
+/// Refuses `what` (an annotation, as the message names it) where the stream's space has
+/// no annotations ([`annotations_allowed`]), at the lexer's place.
+fn allow_annotation<R: BufRead>(
+    lex: &Lexer<R>,
+    space: &Space,
+    what: &str,
+) -> Result<(), StreamError> {
+    if annotations_allowed(space) {
+        return Ok(());
+    }
+    Err(lex.error(format!(
+        "{what} in a {}-space stream: {NO_WORLD_ANNOTATIONS}",
+        space.name()
+    )))
+}
+
 /// Reads a polygon's text after its `colour R G B` into `p`, reusing its buffers: the
 /// opacity `A` where the header declares `opacity`, and each vertex's colour `r g b` after
 /// its coordinates where it declares `vertex-colours`.
@@ -471,12 +487,7 @@ fn read_polygon_text<R: BufRead>(
         take_vertex_lines(p, lex, arity)
     };
     if first_taken == 0 && lex.peek()? == Some(PLANE) {
-        if !annotations_allowed(space) {
-            return Err(lex.error(format!(
-                "a `plane` line in a {}-space stream: {NO_WORLD_ANNOTATIONS}",
-                space.name()
-            )));
-        }
+        allow_annotation(lex, space, "a `plane` line")?;
         lex.skip_word();
         let mut n = [0.0; 4];
         for (c, name) in n.iter_mut().zip(["a", "b", "c", "d"]) {
@@ -487,12 +498,7 @@ fn read_polygon_text<R: BufRead>(
         p.plane = Some(DVec4::from_array(n));
     }
     if first_taken == 0 && lex.peek()? == Some(SHADE) {
-        if !annotations_allowed(space) {
-            return Err(lex.error(format!(
-                "a `shade` line in a {}-space stream: {NO_WORLD_ANNOTATIONS}",
-                space.name()
-            )));
-        }
+        allow_annotation(lex, space, "a `shade` line")?;
         lex.skip_word();
         let mut planes = [DVec4::ZERO; 3];
         for (plane, channel) in planes.iter_mut().zip(["red", "green", "blue"]) {
@@ -624,12 +630,7 @@ fn read_support<R: BufRead>(
     space: &Space,
 ) -> Result<(), StreamError> {
     let arity = space.vertex_arity();
-    if !annotations_allowed(space) {
-        return Err(lex.error(format!(
-            "an edge support (`on`) in a {}-space stream: {NO_WORLD_ANNOTATIONS}",
-            space.name()
-        )));
-    }
+    allow_annotation(lex, space, "an edge support (`on`)")?;
     lex.skip_word();
     let i = p.vertices.len() - 1;
     let mut ends = [DVec4::new(0.0, 0.0, 0.0, 1.0); 2];
