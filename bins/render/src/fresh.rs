@@ -10,30 +10,47 @@
 use std::path::{Path, PathBuf};
 use std::time::SystemTime;
 
-/// The stages a render runs, and the other binaries the README's examples use: all
-/// built together, so that every command in the README works after the first run.
-pub const BINARIES: [&str; 20] = [
-    "viewxf",
-    "clipplane",
-    "clipbatch",
-    "splitter",
-    "persp",
-    "scanconv",
-    "zbuf",
-    "scanline",
-    "warnock",
-    "painter",
-    "hiddenline",
-    "supersample",
-    "abuf",
-    "scene",
-    "zspec",
-    "frames",
-    "farm",
-    "chart",
-    "plan",
-    "render",
-];
+/// The stages a render runs ([`crate::PIPELINE_STAGES`], then the leaves' methods), and
+/// the other binaries the README's examples use: all built together, so that every
+/// command in the README works after the first run.
+pub const BINARIES: [&str; 20] = join(
+    &crate::PIPELINE_STAGES,
+    &[
+        "scanline",
+        "warnock",
+        "painter",
+        "hiddenline",
+        "supersample",
+        "abuf",
+        "scene",
+        "zspec",
+        "frames",
+        "farm",
+        "chart",
+        "plan",
+        "render",
+    ],
+);
+
+/// `a` then `b`, as one array of `N` names (N their lengths' sum, checked as it is built).
+const fn join<const N: usize>(a: &[&'static str], b: &[&'static str]) -> [&'static str; N] {
+    assert!(
+        a.len() + b.len() == N,
+        "N must be the two lists' lengths together"
+    );
+    let mut out = [""; N];
+    let mut i = 0;
+    while i < a.len() {
+        out[i] = a[i];
+        i += 1;
+    }
+    let mut j = 0;
+    while j < b.len() {
+        out[a.len() + j] = b[j];
+        j += 1;
+    }
+    out
+}
 
 /// [`BINARIES`], and the stage binary of every row of the table of methods that it does
 /// not name: a method added to the table is built and kept current with the rest.
