@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # aa-table.sh: the error table of docs/antialiasing.md: each anti-aliasing leaf of
 # render.sh (--aa) against the exact 16×16 reference (`zspec --samples 16`), on the
-# scenes of tests/tests/antialiasing.rs, through a splitter tree of depth D built as
+# scenes of tests/tests/surfaces/antialiasing.rs, through a splitter tree of depth D built as
 # render.sh builds it (splitter --node K), every leaf `persp | METHOD`, merged by zbuf.
 # Columns: `zspec compare --metrics --edges`'s overall edge-pixel RMSE and whole-frame
 # RMSE (0-255 units), and the share of pixels differing from the 16×16 reference.

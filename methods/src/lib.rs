@@ -567,7 +567,7 @@ pub fn listing(table: &[Method]) -> String {
 /// `--aa NAME`, `--hidden-line`); a stage, some depth, depth 0 alone for a hidden-line
 /// row (the tree's cuts are not edges); no exact row that draws lines; colours and
 /// markers that tell the rows apart. This crate's tests check [`METHODS`] with it, and
-/// tests/tests/extending.rs a table with a row of its own.
+/// tests/tests/house/extending.rs a table with a row of its own.
 pub fn check(table: &[Method]) -> Result<(), String> {
     for (i, m) in table.iter().enumerate() {
         let name = m.name;

@@ -484,7 +484,7 @@ mod tests {
     #[test]
     fn a_polygon_on_one_line_covers_nothing() {
         // Its centres on the line would otherwise be claimed by crossings that round
-        // apart (found by tests/tests/degenerate.rs and the fuzzer).
+        // apart (found by tests/tests/surfaces/degenerate.rs and the fuzzer).
         let line = poly(&[[16.5, 47.5, 0.5], [32.0, 32.0, 0.5], [47.5, 16.5, 0.5]]);
         assert_eq!(spans_of(64, 64, &[line]), vec![]);
         let line = poly(&[[0.0, 0.0, 0.7], [4.0, 4.0, 0.2], [2.0, 2.0, 0.9]]);

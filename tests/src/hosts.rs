@@ -158,7 +158,7 @@ impl Hosts {
     /// [`Hosts::start`] with the server at `sshd` (an absolute path).
     pub fn start_using(sshd: &Path, kinds: &[Host]) -> Option<Hosts> {
         if let Some(why) = unavailable(sshd) {
-            eprintln!("SKIPPED: no loopback ssh hosts: {why}");
+            crate::note_skip(&format!("no loopback ssh hosts: {why}"));
             return None;
         }
         let dir = tempfile::Builder::new()

@@ -338,3 +338,50 @@ pub fn check_triangle_frame(
     }
     covered
 }
+
+/// Whether the tests run under CI (`CI=true`, as `.ci/run` sets it): there a test that
+/// cannot run what it tests fails instead of skipping.
+pub fn under_ci() -> bool {
+    std::env::var("CI").is_ok_and(|v| v == "true")
+}
+
+/// A test that cannot run here (a tool not installed, a mount refused) calls this and
+/// returns: under `CI=true` it panics with `why` instead, so that a machine missing what
+/// `.ci/run` installs fails the run rather than passing it untested; elsewhere it prints
+/// `SKIPPED: why` and counts the skip, and the test binary lists every skip when it exits.
+pub fn skip(why: &str) {
+    assert!(
+        !under_ci(),
+        "not skipped under CI=true, where it must run: {why}"
+    );
+    note_skip(why);
+}
+
+/// Counts a skip without [`skip`]'s check of `CI` (for a helper such as
+/// [`hosts::Hosts::start_using`] whose caller has made that check), prints `SKIPPED: why`,
+/// and has the skips listed when the test binary exits.
+pub fn note_skip(why: &str) {
+    use std::sync::Mutex;
+    static SKIPS: Mutex<Vec<String>> = Mutex::new(Vec::new());
+    extern "C" fn list_skips() {
+        let skips = SKIPS.lock().unwrap_or_else(|e| e.into_inner());
+        eprintln!("\n{} test(s) skipped in this test binary:", skips.len());
+        for why in skips.iter() {
+            eprintln!("  SKIPPED: {why}");
+        }
+    }
+    extern "C" {
+        fn atexit(callback: extern "C" fn()) -> std::ffi::c_int;
+    }
+    eprintln!("SKIPPED: {why}");
+    let mut skips = SKIPS.lock().unwrap_or_else(|e| e.into_inner());
+    if skips.is_empty() {
+        // SAFETY: atexit only records the function pointer; `list_skips` is a plain
+        // `extern "C" fn` that takes no arguments and does not unwind (eprintln and the
+        // lock do not panic on a poisoned mutex here), as atexit requires.
+        unsafe {
+            atexit(list_skips);
+        }
+    }
+    skips.push(why.to_string());
+}

@@ -618,7 +618,7 @@ mod tests {
         #![proptest_config(ProptestConfig::with_cases(2000))]
 
         /// In process, many more cases than the binaries' property in
-        /// tests/tests/clipbatch.rs: every polygon of a batch comes out bit for bit as the
+        /// tests/tests/composer/clipbatch_render.rs: every polygon of a batch comes out bit for bit as the
         /// one-polygon-at-a-time chain makes it, whatever the batch size and view volume.
         #[test]
         fn a_batch_is_the_chain_bit_for_bit(

@@ -1,7 +1,7 @@
 //! nearest: screen-space polygons in, each frame's visible pixels out as runs, the
 //! nearest polygon at each pixel centre found by brute force (`pipeline_tests::nearest`).
 //!
-//! The test-only method of docs/extending.md: tests/tests/extending.rs gives it a row of
+//! The test-only method of docs/extending.md: tests/tests/house/extending.rs gives it a row of
 //! the table of methods and has render run it at the leaves.
 
 use clap::Parser;

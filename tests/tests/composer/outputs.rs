@@ -83,7 +83,7 @@ fn readme_ffmpeg_recipe_makes_a_100_frame_movie() {
         "the recipe changed; update this test: {recipe}"
     );
     if !on_path("ffmpeg") {
-        println!("skipped: ffmpeg not installed");
+        pipeline_tests::skip("ffmpeg not installed (apt-get install ffmpeg)");
         return;
     }
     let dir = tempfile::tempdir().unwrap();
@@ -99,7 +99,7 @@ fn readme_ffmpeg_recipe_makes_a_100_frame_movie() {
     assert!(size > 1000, "{} is {size} bytes", mp4.display());
 
     if !on_path("ffprobe") {
-        println!("ffprobe not installed: the mp4's frames are not counted");
+        pipeline_tests::skip("ffprobe not installed: the mp4's frames are not counted");
         return;
     }
     let probe = run(&format!(
@@ -116,7 +116,7 @@ fn readme_ffmpeg_recipe_makes_a_100_frame_movie() {
 fn netpbm_reads_the_ppm_stream_and_round_trips_png() {
     let tools = ["pnmtopng", "pngtopnm", "pamfile"];
     if let Some(missing) = tools.iter().find(|t| !on_path(t)) {
-        println!("skipped: netpbm not installed (no {missing})");
+        pipeline_tests::skip(&format!("netpbm not installed (no {missing})"));
         return;
     }
     let dir = tempfile::tempdir().unwrap();

@@ -32,7 +32,7 @@ fn assert_trees_render_as_depth_0(what: &str, args: &[&str], stdin: &[u8]) {
         stdin,
     );
     // Depths 1, 2 and 5 of real trees (processes, pipes, both merges); every depth from
-    // 1 to 6 of the geometry is checked in process (tests/tests/split_invariance.rs).
+    // 1 to 6 of the geometry is checked in process (tests/tests/composer/split_invariance.rs).
     for (merge, depth) in trees(&["1", "2", "5"]) {
         let tree = render(
             [&["--merge", merge, "--depth", depth], args]
@@ -58,7 +58,7 @@ fn splitter_trees_render_the_penetrating_polygons_as_the_linear_pipeline() {
     // The scene's round numbers put many pixel centres exactly on its edges, and from
     // depth 3 on the planes cut those edges: the pieces' crossings come from the whole
     // edges (their supports), so every on-edge centre is decided as at depth 0.
-    // At 500x500 and 21x21 too in process (tests/tests/split_invariance.rs).
+    // At 500x500 and 21x21 too in process (tests/tests/composer/split_invariance.rs).
     let scene = example();
     assert_trees_render_as_depth_0("penetrating", &["--size", "333x187", &scene], b"");
     let linear = render_ok(&[&scene], b"");
@@ -70,7 +70,7 @@ fn splitter_trees_render_the_penetrating_polygons_as_the_linear_pipeline() {
     }
 }
 
-// Every example at depths 1 to 6 is checked in process (tests/tests/split_invariance.rs:
+// Every example at depths 1 to 6 is checked in process (tests/tests/composer/split_invariance.rs:
 // the stage libraries, no processes, in about a second); the 336 render.sh runs that did
 // it here took most of the suite's time. The tests here keep a handful of real trees.
 
@@ -442,7 +442,7 @@ mod random_scenes {
     proptest! {
         // Each case is eleven real renders (processes, pipes, both merge modes); the
         // geometry's invariance is tested in process over every example
-        // (tests/tests/split_invariance.rs), so a few cases suffice here.
+        // (tests/tests/composer/split_invariance.rs), so a few cases suffice here.
         #![proptest_config(ProptestConfig { cases: 6, ..ProptestConfig::default() })]
 
         /// As a property: any scene, trees of depth 1–3 at 64×48, either merge

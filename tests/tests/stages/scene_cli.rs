@@ -7,7 +7,7 @@ use proto::{Polygon, Reader, Space, Token};
 use std::fs;
 
 fn scene() -> Command {
-    Command::cargo_bin("scene").unwrap()
+    Command::new(pipeline_tests::bin("scene"))
 }
 
 /// Reads a stream (either form) into frames of polygons, checking the header is world.
@@ -56,7 +56,7 @@ fn penetrating_text_is_exact() {
 fn penetrating_example_file_is_the_same_scene() {
     let text = fs::read_to_string(concat!(
         env!("CARGO_MANIFEST_DIR"),
-        "/../../examples/penetrating.txt"
+        "/../examples/penetrating.txt"
     ))
     .unwrap();
     let out = scene().args(["penetrating", "--text"]).output().unwrap();
@@ -405,8 +405,8 @@ fn obj_fit_puts_the_model_in_view() {
     let frames = frames_of(&out.stdout);
     let v = &frames[0][0].vertices;
     // Bounding box centred on the origin, bounding-sphere radius 8 about its centre.
-    assert_eq!(v[0].truncate(), glam::DVec3::new(-6.4, -4.8, 0.0));
-    assert_eq!(v[2].truncate(), glam::DVec3::new(6.4, 4.8, 0.0));
+    assert_eq!(v[0].truncate(), proto::DVec3::new(-6.4, -4.8, 0.0));
+    assert_eq!(v[2].truncate(), proto::DVec3::new(6.4, 4.8, 0.0));
 }
 
 #[test]
@@ -541,7 +541,7 @@ fn obj_errors() {
 
 #[test]
 fn example_scenes_are_valid_world_streams() {
-    let dir = concat!(env!("CARGO_MANIFEST_DIR"), "/../../examples");
+    let dir = concat!(env!("CARGO_MANIFEST_DIR"), "/../examples");
     let mut n = 0;
     for entry in fs::read_dir(dir).unwrap() {
         let path = entry.unwrap().path();

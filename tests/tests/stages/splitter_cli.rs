@@ -44,8 +44,7 @@ END
 fn split(name: &str, args: &[&str]) -> (String, String) {
     let dir = scratch(name);
     let (a, b) = (dir.join("out1"), dir.join("out2"));
-    Command::cargo_bin("splitter")
-        .unwrap()
+    Command::new(pipeline_tests::bin("splitter"))
         .args(args)
         .arg(&a)
         .arg(&b)
@@ -177,8 +176,7 @@ fn a_general_plane_and_stdout() {
     // 1·x_e + 0 + 0 − 0.1·w + 0 ≥ 0: x_e ≥ 1 at w = 10, to stdout (OUT1 = -).
     let dir = scratch("general");
     let b = dir.join("out2");
-    Command::cargo_bin("splitter")
-        .unwrap()
+    Command::new(pipeline_tests::bin("splitter"))
         .args(["--plane", "1,0,0,-0.1,0", "-"])
         .arg(&b)
         .args(["--text", "--stats"])
@@ -207,8 +205,7 @@ fn column_planes_use_the_aspect_ratio() {
     // a = 2: x=0.5 is x_e = 0.5·2·w = 10 at w = 10.
     let dir = scratch("aspect");
     let b = dir.join("out2");
-    Command::cargo_bin("splitter")
-        .unwrap()
+    Command::new(pipeline_tests::bin("splitter"))
         .args(["x=0.5", "-"])
         .arg(&b)
         .arg("--text")
@@ -230,8 +227,7 @@ fn column_planes_use_the_aspect_ratio() {
 fn binary_output_reads_back_as_the_text() {
     let dir = scratch("binary");
     let (a, b) = (dir.join("a.bin"), dir.join("b.bin"));
-    Command::cargo_bin("splitter")
-        .unwrap()
+    Command::new(pipeline_tests::bin("splitter"))
         .arg("x=0")
         .arg(&a)
         .arg(&b)
@@ -241,8 +237,7 @@ fn binary_output_reads_back_as_the_text() {
     let bin = std::fs::read(&a).unwrap();
     assert_eq!(bin[0], 0x89, "binary by default");
     // Splitting out1 again at the same plane changes nothing and sends nothing across.
-    Command::cargo_bin("splitter")
-        .unwrap()
+    Command::new(pipeline_tests::bin("splitter"))
         .args(["x=0", "-"])
         .arg(dir.join("c"))
         .arg("--text")
@@ -255,16 +250,14 @@ fn binary_output_reads_back_as_the_text() {
 #[test]
 fn k_off_the_screen_is_a_usage_error() {
     for plane in ["x=1.5", "y=-1.01", "x=nan"] {
-        Command::cargo_bin("splitter")
-            .unwrap()
+        Command::new(pipeline_tests::bin("splitter"))
             .args([plane, "a", "b"])
             .write_stdin(EYE)
             .assert()
             .code(2)
             .stderr(predicates::str::contains(plane));
     }
-    Command::cargo_bin("splitter")
-        .unwrap()
+    Command::new(pipeline_tests::bin("splitter"))
         .args(["x=1.5", "a", "b"])
         .assert()
         .code(2)
@@ -281,8 +274,7 @@ fn other_bad_arguments() {
         &["--plane", "1,0,0,0,0", "x=0", "a", "b"],
     ];
     for args in cases {
-        Command::cargo_bin("splitter")
-            .unwrap()
+        Command::new(pipeline_tests::bin("splitter"))
             .args(*args)
             .write_stdin(EYE)
             .assert()
@@ -293,8 +285,7 @@ fn other_bad_arguments() {
 #[test]
 fn world_space_input_is_refused() {
     let dir = scratch("world");
-    Command::cargo_bin("splitter")
-        .unwrap()
+    Command::new(pipeline_tests::bin("splitter"))
         .arg("x=0")
         .arg(dir.join("a"))
         .arg(dir.join("b"))
@@ -309,8 +300,7 @@ fn world_space_input_is_refused() {
 fn bad_input_is_located_and_finished_frames_are_kept() {
     let dir = scratch("bad");
     let (a, b) = (dir.join("a"), dir.join("b"));
-    Command::cargo_bin("splitter")
-        .unwrap()
+    Command::new(pipeline_tests::bin("splitter"))
         .arg("x=0")
         .arg(&a)
         .arg(&b)
@@ -344,8 +334,7 @@ fn skips_coalesce_and_keep_numbering() {
          NEXT.POLYGON\ncolour 2 2 2\n{right}NEXT.POLYGON\ncolour 3 3 3\nNEXT.POLYGON\nskip 3\n\
          NEXT.POLYGON\ncolour 4 4 4\n{left}NEXT.FRAME\nskip 1\nEND\n"
     );
-    Command::cargo_bin("splitter")
-        .unwrap()
+    Command::new(pipeline_tests::bin("splitter"))
         .args(["--text", "--stats", "x=0"])
         .arg(&a)
         .arg(&b)
@@ -486,8 +475,7 @@ fn persp_refuses_as_persp_does() {
     let dir = scratch("persp-bad");
     let (a, b) = (dir.join("a"), dir.join("b"));
     let run = |args: &[&str], input: &str| {
-        Command::cargo_bin("splitter")
-            .unwrap()
+        Command::new(pipeline_tests::bin("splitter"))
             .args(args)
             .arg(&a)
             .arg(&b)
@@ -530,8 +518,7 @@ fn old_persp_spelling_still_works_with_a_note() {
     let dir = scratch("persp-old");
     let (a, b) = (dir.join("a"), dir.join("b"));
     let run = |args: &[&str]| {
-        Command::cargo_bin("splitter")
-            .unwrap()
+        Command::new(pipeline_tests::bin("splitter"))
             .args(args)
             .arg(&a)
             .arg(&b)
@@ -557,7 +544,7 @@ fn old_persp_spelling_still_works_with_a_note() {
     .code(2)
     .stderr("splitter: the argument '--persp <MODE>' cannot be used with '--zmode <MODE>'\n");
     // That the help tells of --project and --zmode, not of the old spelling, is held for
-    // every binary that projects by tests/tests/depth_option.rs.
+    // every binary that projects by tests/tests/composer/depth_option.rs.
 }
 
 /// `--levels L` is node K and the nodes below it in one process: its outputs are the
@@ -588,8 +575,7 @@ fn levels_in_one_process_write_what_a_process_per_node_writes() {
     assert!(clipped.status.success());
     std::fs::write(&eye, &clipped.stdout).unwrap();
     let node = |k: u32, depth: u32, extra: &[&str], input: &PathBuf, outs: &[PathBuf]| {
-        let out = Command::cargo_bin("splitter")
-            .unwrap()
+        let out = Command::new(pipeline_tests::bin("splitter"))
             .args([
                 "--stats",
                 "--node",
@@ -663,8 +649,7 @@ fn levels_in_one_process_write_what_a_process_per_node_writes() {
 #[test]
 fn levels_refuses_a_subtree_outside_the_tree_or_the_wrong_outputs() {
     let run = |args: &[&str]| {
-        Command::cargo_bin("splitter")
-            .unwrap()
+        Command::new(pipeline_tests::bin("splitter"))
             .args(args)
             .write_stdin(EYE)
             .assert()

@@ -5,7 +5,7 @@ use assert_cmd::Command;
 use predicates::prelude::*;
 
 fn frames() -> Command {
-    Command::cargo_bin("frames").unwrap()
+    Command::new(pipeline_tests::bin("frames"))
 }
 
 /// Three frames of one triangle each, coloured 1, 2 and 3.

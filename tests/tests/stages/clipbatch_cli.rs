@@ -1,14 +1,14 @@
 //! clipbatch as a filter: exact vertex lists for cuts by every plane of the pyramid, batch
 //! boundaries anywhere, polygon numbering, refusals and exit codes. (That its output is
 //! the six-process clipplane chain's, byte for byte, is tested in
-//! tests/tests/clipbatch.rs, where both sets of binaries are at hand.)
+//! tests/tests/composer/clipbatch_render.rs, where both sets of binaries are at hand.)
 
 use assert_cmd::Command;
 use predicates::prelude::*;
 use proto::{DVec4, Form, Header, Polygon, Space, Token, View, Writer};
 
 fn clipbatch() -> Command {
-    Command::cargo_bin("clipbatch").unwrap()
+    Command::new(pipeline_tests::bin("clipbatch"))
 }
 
 const HEADER: &str = "polypipe 1 eye aspect 1 hither 1 yon 30\n";

@@ -6,7 +6,7 @@ use predicates::prelude::*;
 use proto::{Form, Header, Polygon, Space, Token, View, Writer};
 
 fn clipplane() -> Command {
-    Command::cargo_bin("clipplane").unwrap()
+    Command::new(pipeline_tests::bin("clipplane"))
 }
 
 const HEADER: &str = "polypipe 1 eye aspect 1 hither 1 yon 30\n";

@@ -44,7 +44,7 @@ fn scanconv(screen: &str) -> Vec<u8> {
 }
 
 fn zbuf() -> Command {
-    Command::cargo_bin("zbuf").unwrap()
+    Command::new(pipeline_tests::bin("zbuf"))
 }
 
 const R: [u8; 3] = [255, 0, 0];
@@ -580,7 +580,7 @@ fn old_persp_spelling_still_works_with_a_note() {
         .stdout("")
         .stderr("zbuf: the following required arguments were not provided: --size <WxH>\n");
     // That the help tells of --project and --zmode, not of the old spelling, is held for
-    // every binary that projects by tests/tests/depth_option.rs.
+    // every binary that projects by tests/tests/composer/depth_option.rs.
 }
 
 /// Two screen-space inputs, a frame each of two, over disjoint halves of the screen (two
@@ -689,7 +689,7 @@ fn closed_stdout_ends_quietly() {
     text += "END\n";
     let dir = tempfile::tempdir().unwrap();
     let input = write(dir.path(), "in", text);
-    let zbuf = assert_cmd::cargo::cargo_bin("zbuf");
+    let zbuf = pipeline_tests::bin("zbuf");
     let out = std::process::Command::new("bash")
         .arg("-c")
         .arg(format!(
@@ -710,7 +710,7 @@ fn progress_is_silent_when_stderr_is_a_file() {
     let dir = tempfile::tempdir().unwrap();
     let input = write(dir.path(), "two.frag", TWO_FRAMES);
     let err_path = dir.path().join("stderr.txt");
-    let out = std::process::Command::new(assert_cmd::cargo::cargo_bin("zbuf"))
+    let out = std::process::Command::new(pipeline_tests::bin("zbuf"))
         .arg("--progress")
         .arg(&input)
         .stderr(std::fs::File::create(&err_path).unwrap())
@@ -746,7 +746,7 @@ fn progress_counts_frames_on_a_terminal() {
         .output()
         .is_ok_and(|o| o.status.success());
     if !has_script {
-        println!("skipped: util-linux `script` not installed");
+        pipeline_tests::skip("util-linux `script` not installed");
         return;
     }
     let dir = tempfile::tempdir().unwrap();
@@ -754,7 +754,7 @@ fn progress_counts_frames_on_a_terminal() {
     let ppm_path = dir.path().join("out.ppm");
     let cmd = format!(
         "'{}' --progress < '{}' > '{}'",
-        assert_cmd::cargo::cargo_bin("zbuf").display(),
+        pipeline_tests::bin("zbuf").display(),
         input.display(),
         ppm_path.display()
     );

@@ -3,8 +3,7 @@
 use assert_cmd::Command;
 
 fn scanconv(args: &[&str], input: &str) -> assert_cmd::assert::Assert {
-    Command::cargo_bin("scanconv")
-        .unwrap()
+    Command::new(pipeline_tests::bin("scanconv"))
         .args(args)
         .write_stdin(input)
         .assert()
@@ -96,8 +95,7 @@ fn binary_output_reads_back_as_the_same_text() {
     assert_eq!(&binary[..8], b"\x89PPIPE\r\n");
     // scanconv itself refuses fragments, naming the stage to use; the binary form is
     // recognised and read far enough to say so.
-    Command::cargo_bin("scanconv")
-        .unwrap()
+    Command::new(pipeline_tests::bin("scanconv"))
         .write_stdin(binary)
         .assert()
         .code(1)

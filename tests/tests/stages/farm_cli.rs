@@ -42,7 +42,7 @@ const RENDER: &str =
 fn the_frames_come_back_in_the_movies_order() {
     let dir = tempfile::tempdir().unwrap();
     let ssh = fake_ssh(dir.path());
-    let frames_dir = PathBuf::from(env!("CARGO_BIN_EXE_farm"))
+    let frames_dir = PathBuf::from(pipeline_tests::bin("farm"))
         .parent()
         .unwrap()
         .to_path_buf();
@@ -61,8 +61,7 @@ fn the_frames_come_back_in_the_movies_order() {
         frames_dir.display(),
         std::env::var("PATH").unwrap()
     );
-    let out = Command::cargo_bin("farm")
-        .unwrap()
+    let out = Command::new(pipeline_tests::bin("farm"))
         .args([
             "--hosts", "a,b,c", "--chunk", "2", "-", "--", "sh", "-c", RENDER,
         ])
@@ -90,8 +89,7 @@ fn the_frames_come_back_in_the_movies_order() {
 fn a_host_that_sends_nothing_back_is_named_with_status_3() {
     let dir = tempfile::tempdir().unwrap();
     let ssh = fake_ssh(dir.path());
-    Command::cargo_bin("farm")
-        .unwrap()
+    Command::new(pipeline_tests::bin("farm"))
         .args([
             "--hosts",
             "quiet",
@@ -116,21 +114,18 @@ fn a_host_that_sends_nothing_back_is_named_with_status_3() {
 
 #[test]
 fn usage_errors_are_status_2() {
-    Command::cargo_bin("farm")
-        .unwrap()
+    Command::new(pipeline_tests::bin("farm"))
         .args(["--hosts", "a,,b", "-", "--", "true"])
         .write_stdin(movie(1))
         .assert()
         .code(2)
         .stderr("farm: --hosts must be host names separated by commas, not 'a,,b'\n");
-    Command::cargo_bin("farm")
-        .unwrap()
+    Command::new(pipeline_tests::bin("farm"))
         .args(["--hosts", "a", "-"])
         .assert()
         .code(2);
     // Files that frames are written to, and only those, can be resumed.
-    Command::cargo_bin("farm")
-        .unwrap()
+    Command::new(pipeline_tests::bin("farm"))
         .args(["--hosts", "a", "--resume", "-", "--", "true"])
         .env("POLYPIPE_SSH", "ssh")
         .write_stdin(movie(1))
@@ -139,8 +134,7 @@ fn usage_errors_are_status_2() {
         .stderr(
             "farm: --resume needs -o: frames written to stdout by an earlier run are not kept\n",
         );
-    Command::cargo_bin("farm")
-        .unwrap()
+    Command::new(pipeline_tests::bin("farm"))
         .args([
             "--slurm-array",
             "out",
@@ -188,7 +182,7 @@ fn a_job_parallel_leaves_behind_when_stopped_is_stopped_by_farm() {
     );
     let movie_file = dir.path().join("movie.txt");
     std::fs::write(&movie_file, movie(4)).unwrap();
-    let mut farm = std::process::Command::new(env!("CARGO_BIN_EXE_farm"))
+    let mut farm = std::process::Command::new(pipeline_tests::bin("farm"))
         .args(["--hosts", "a", "--chunk", "2"])
         .arg(&movie_file)
         .args(["--", "true"])

@@ -5,7 +5,7 @@ use assert_cmd::Command;
 use predicates::str::contains;
 
 fn zspec() -> Command {
-    Command::cargo_bin("zspec").unwrap()
+    Command::new(pipeline_tests::bin("zspec"))
 }
 
 /// With the default camera on a 4x4 screen, device point (X, Y) at z_w = 4 (z_e = 16,
@@ -203,7 +203,7 @@ fn help_has_an_example() {
 }
 
 fn example(name: &str) -> String {
-    format!("{}/../../examples/{name}", env!("CARGO_MANIFEST_DIR"))
+    format!("{}/../examples/{name}", env!("CARGO_MANIFEST_DIR"))
 }
 
 fn stdout_of(args: &[&str]) -> Vec<u8> {

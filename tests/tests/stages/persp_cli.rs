@@ -5,7 +5,7 @@ use predicates::prelude::*;
 use proto::{DVec4, Form, Header, Polygon, Reader, Space, Token, View, Writer};
 
 fn persp() -> Command {
-    Command::cargo_bin("persp").unwrap()
+    Command::new(pipeline_tests::bin("persp"))
 }
 
 /// A 2:1 view volume with K1 = 2, K2 = 4, so K2/(K2 − K1) = 2 and depths are exact:
@@ -285,5 +285,5 @@ fn old_depth_spelling_still_works_with_a_note() {
         .stdout("")
         .stderr("persp: the argument '--depth <MODE>' cannot be used with '--zmode <MODE>'\n");
     // That the help names --zmode and its modes, not the old spelling, is held for every
-    // binary that projects by tests/tests/depth_option.rs.
+    // binary that projects by tests/tests/composer/depth_option.rs.
 }

@@ -5,7 +5,7 @@ use predicates::prelude::*;
 use proto::{Form, Header, Polygon, Space, Token, Writer};
 
 fn viewxf() -> Command {
-    Command::cargo_bin("viewxf").unwrap()
+    Command::new(pipeline_tests::bin("viewxf"))
 }
 
 /// docs/DESIGN.md's "The example scene", plus an empty polygon and a second frame.
@@ -245,7 +245,7 @@ fn a_reader_that_goes_away_ends_the_stage_quietly() {
         scene += "colour 1 2 3\n1 2 3\n4 5 6\n7 8 9\n";
     }
     scene += "END\n";
-    let mut child = Std::new(assert_cmd::cargo::cargo_bin("viewxf"))
+    let mut child = Std::new(pipeline_tests::bin("viewxf"))
         .arg("--text")
         .stdin(Stdio::piped())
         .stdout(Stdio::piped())
@@ -298,8 +298,7 @@ fn long_scene(n: usize) -> String {
 fn run(scene: &str, one_core: bool) -> (Vec<u8>, String, Option<i32>) {
     let mut cmd = if one_core {
         let mut c = Command::new("taskset");
-        c.args(["-c", "0"])
-            .arg(assert_cmd::cargo::cargo_bin("viewxf"));
+        c.args(["-c", "0"]).arg(pipeline_tests::bin("viewxf"));
         c
     } else {
         viewxf()
@@ -363,7 +362,7 @@ fn a_live_stream_gets_each_frame_back_as_it_ends() {
         .stdout
         .clone();
     let want = whole[..whole.len() - 8].to_vec();
-    let mut child = Std::new(assert_cmd::cargo::cargo_bin("viewxf"))
+    let mut child = Std::new(pipeline_tests::bin("viewxf"))
         .stdin(Stdio::piped())
         .stdout(Stdio::piped())
         .spawn()

@@ -237,7 +237,7 @@ fn a_movie_is_one_file_per_frame() {
 fn chromium_draws_the_visible_pieces() {
     let chromium = std::path::Path::new("/usr/bin/chromium");
     if !chromium.exists() {
-        eprintln!("skipped: /usr/bin/chromium is not installed (apt-get install -y chromium)");
+        pipeline_tests::skip("/usr/bin/chromium is not installed (apt-get install -y chromium)");
         return;
     }
     let dir = tempfile::tempdir().expect("temp dir");

@@ -1,0 +1,6 @@
+//! Rendering on other hosts over real OpenSSH on loopback addresses, and on GNU parallel.
+//!
+//! One test binary of modules (a linked binary each costs the build a link and the run a
+//! start): `cargo test --release -p pipeline-tests --test hosts [FILTER]`.
+
+mod hosts;
