@@ -858,17 +858,17 @@ fn under_ci_a_missing_sshd_fails_the_tests() {
         let _ = Hosts::start_checked(Path::new("/nonexistent/sshd"), true, &[Host::Serving]);
         return;
     }
+    // The test's name in its binary: its module's path less the binary's own name.
+    let module = module_path!().split_once("::").map_or("", |(_, m)| m);
+    let name = format!("{module}::under_ci_a_missing_sshd_fails_the_tests");
     let out = Command::new(std::env::current_exe().unwrap())
-        .args([
-            "--exact",
-            "under_ci_a_missing_sshd_fails_the_tests",
-            "--nocapture",
-        ])
+        .args(["--exact", &name, "--nocapture"])
         .env("POLYPIPE_TEST_CHILD", "1")
         .output()
         .unwrap();
     assert!(!out.status.success());
     let text = String::from_utf8_lossy(&out.stdout) + String::from_utf8_lossy(&out.stderr);
+    assert!(text.contains("1 failed"), "{text}");
     assert!(
         text.contains(
             "no loopback ssh hosts under CI=true, where they must run: /nonexistent/sshd is \

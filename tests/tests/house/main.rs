@@ -7,3 +7,4 @@
 mod docs;
 mod extending;
 mod layout;
+mod test_binaries;
