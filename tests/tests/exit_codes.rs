@@ -575,3 +575,198 @@ fn a_movie_to_one_file_name_is_refused_naming_the_option() {
         assert!(!std::path::Path::new(&one).exists(), "{cmd}");
     }
 }
+
+/// Every numeric option of every binary, given a value out of its range, NaN, an
+/// infinity or a negative number: status 2 at once, one line naming the option (a
+/// negative value is the option's value, not an unknown option `-1`). The binary, the
+/// words before the option, the option, the words after it, and the bad values.
+type NumberCase = (
+    &'static str,
+    &'static [&'static str],
+    &'static str,
+    &'static [&'static str],
+    &'static [&'static str],
+);
+
+const NUMBERS: &[NumberCase] = &[
+    ("viewxf", &[], "--s", &[], &["-3", "nan", "inf", "0"]),
+    ("viewxf", &[], "--d", &[], &["-1", "nan"]),
+    ("viewxf", &[], "--hither", &[], &["-1", "nan", "inf"]),
+    ("viewxf", &[], "--yon", &[], &["-1", "nan"]),
+    ("viewxf", &[], "--aspect", &[], &["-2", "nan", "inf", "0"]),
+    ("viewxf", &[], "--size", &[], &["-5x5", "0x5", "nanxnan"]),
+    ("zspec", &[], "--samples", &[], &["-1", "0", "nan", "1e308"]),
+    ("zspec", &[], "--background", &[], &["-1,0,0", "256,0,0"]),
+    (
+        "zspec",
+        &["compare", "a", "b"],
+        "--tolerance",
+        &[],
+        &["-1", "nan", "inf", "1.5"],
+    ),
+    (
+        "zspec",
+        &["compare", "a", "b"],
+        "--min-agreement",
+        &[],
+        &["-1", "nan", "101"],
+    ),
+    ("persp", &[], "--size", &[], &["-5x5", "0x0", "65537x1"]),
+    (
+        "clipplane",
+        &["hither"],
+        "--at",
+        &[],
+        &["nan", "inf", "-inf"],
+    ),
+    ("clipbatch", &[], "--batch", &[], &["-1", "0", "nan"]),
+    (
+        "splitter",
+        &["--depth", "2", "--size", "8x8"],
+        "--node",
+        &["a", "b"],
+        &["-1", "nan"],
+    ),
+    (
+        "splitter",
+        &["--node", "1", "--size", "8x8"],
+        "--depth",
+        &["a", "b"],
+        &["-1"],
+    ),
+    (
+        "zbuf",
+        &["-o", "f%03d.png"],
+        "--first-frame",
+        &[],
+        &["-3", "nan", "1.5"],
+    ),
+    ("zbuf", &[], "--background", &[], &["-1,0,0", "nan,0,0"]),
+    ("supersample", &[], "--samples", &[], &["-1", "nan"]),
+    ("supersample", &[], "--background", &[], &["-1,0,0"]),
+    (
+        "hiddenline",
+        &[],
+        "--stroke-width",
+        &[],
+        &["-1", "0", "nan", "inf"],
+    ),
+    ("painter", &["--split"], "--cuts-base", &[], &["-1", "nan"]),
+    ("painter", &["--split"], "--cuts-per-polygon", &[], &["-1"]),
+    ("frames", &[], "--from", &[], &["-1", "nan", "1.5"]),
+    ("frames", &[], "--to", &[], &["-2"]),
+    (
+        "scene",
+        &[],
+        "--frames",
+        &["penetrating"],
+        &["-1", "0", "nan"],
+    ),
+    (
+        "scene",
+        &["environment"],
+        "--depth-complexity",
+        &[],
+        &["1e308", "-1", "0", "nan", "inf"],
+    ),
+    (
+        "scene",
+        &["environment"],
+        "--clipped",
+        &[],
+        &["-0.5", "nan", "2"],
+    ),
+    (
+        "scene",
+        &["environment"],
+        "--polygons",
+        &[],
+        &["-1", "0", "nan"],
+    ),
+    ("scene", &["sphere"], "--radius", &[], &["-1", "0", "inf"]),
+    ("scene", &["sphere"], "--stacks", &[], &["-1", "1"]),
+    ("plan", &["depth"], "--cores", &["x"], &["-1", "0", "nan"]),
+    (
+        "plan",
+        &["depth"],
+        "--link-gbps",
+        &["x"],
+        &["nan", "0", "inf", "1e-300", "-1"],
+    ),
+    ("plan", &["depth"], "--load", &["x"], &["-1", "nan"]),
+    ("plan", &["depth"], "--max-depth", &["x"], &["-1", "7"]),
+    ("plan", &["movie"], "--login", &["x"], &["-1", "nan"]),
+    ("plan", &["movie"], "--chunk", &["x"], &["-1", "0"]),
+    (
+        "farm",
+        &["--hosts", "a"],
+        "--chunk",
+        &["-", "--", "true"],
+        &["-1", "0"],
+    ),
+    (
+        "farm",
+        &["--hosts", "a"],
+        "--retries",
+        &["-", "--", "true"],
+        &["-1"],
+    ),
+    ("chart", &["-o", "x"], "--reps", &[], &["-1", "0"]),
+];
+
+#[test]
+fn every_numeric_option_refuses_bad_values_naming_itself() {
+    for &(name, before, option, after, values) in NUMBERS {
+        for value in values {
+            let args: Vec<&str> = before
+                .iter()
+                .copied()
+                .chain([option, *value])
+                .chain(after.iter().copied())
+                .collect();
+            let (status, out, err) = run_without_input(name, &args);
+            let what = format!("{name} {}", args.join(" "));
+            assert_eq!(status, Some(2), "{what}: {err}");
+            assert_eq!(out, "", "{what}");
+            assert_eq!(err.lines().count(), 1, "{what}: {err}");
+            assert!(err.starts_with(name), "{what}: {err}");
+            assert!(err.contains(option), "{what}: `{option}` not in {err}");
+            for wrong in ["unexpected argument", "unknown option"] {
+                assert!(!err.contains(wrong), "{what}: {err}");
+            }
+        }
+    }
+    // The range, in the option's own words.
+    for (args, said) in [
+        (
+            &["plan", "depth", "--link-gbps", "nan", "x"][..],
+            "plan: invalid value 'nan' for '--link-gbps <G>': `nan` is not a finite number \
+             from 0.001 to 100000\n",
+        ),
+        (
+            &["frames", "--from", "-1"],
+            "frames: invalid value '-1' for '--from <A>': `-1` is not a whole number 0 or more\n",
+        ),
+        (
+            &["scene", "environment", "--depth-complexity", "1e308"],
+            "scene: invalid value '1e308' for '--depth-complexity <DEPTH_COMPLEXITY>': \
+             `1e308` is not a finite number from 0.000001 to 1000000\n",
+        ),
+    ] {
+        let (status, _, err) = run_without_input(args[0], &args[1..]);
+        assert_eq!((status, err.as_str()), (Some(2), said), "{args:?}");
+    }
+}
+
+/// A subcommand given without its own subcommand lists its own (`scene screen`'s
+/// scenes), not the top level's.
+#[test]
+fn a_missing_subcommand_lists_its_parents_own() {
+    let (status, _, err) = run_without_input("scene", &["screen"]);
+    assert_eq!(status, Some(2), "{err}");
+    assert!(
+        err.starts_with("scene: give a subcommand: ") && err.contains("(`scene screen --help`"),
+        "{err}"
+    );
+    assert!(!err.contains("environment, penetrating"), "{err}");
+}

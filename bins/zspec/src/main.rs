@@ -80,11 +80,11 @@ enum Command {
         b: String,
         /// The largest fraction of a frame's pixels that may differ with the streams still
         /// called the same (0 to 1; default 0: any differing pixel is a difference).
-        #[arg(long, value_parser = fraction, value_name = "FRACTION")]
+        #[arg(long, value_parser = stagecli::numbers::fraction, value_name = "FRACTION")]
         tolerance: Option<f64>,
         /// The same as --tolerance (100 − P)/100: the least percentage of agreeing pixels
-        /// every frame must reach (0 to 100).
-        #[arg(long, value_parser = percentage, conflicts_with = "tolerance")]
+        /// every frame must reach (0 to 100; default 100, every pixel the same).
+        #[arg(long, value_parser = stagecli::numbers::percent, conflicts_with = "tolerance")]
         min_agreement: Option<f64>,
         /// Instead, measure B against A: per frame and `overall`, the differing
         /// fraction, the RMSE (0-255 units, three channels), the largest channel error
@@ -100,22 +100,6 @@ enum Command {
         #[arg(long, requires = "metrics")]
         csv: bool,
     },
-}
-
-/// A fraction from 0 to 1.
-fn fraction(s: &str) -> Result<f64, String> {
-    s.parse::<f64>()
-        .ok()
-        .filter(|p| (0.0..=1.0).contains(p))
-        .ok_or_else(|| format!("`{s}` is not a fraction from 0 to 1"))
-}
-
-/// A percentage from 0 to 100.
-fn percentage(s: &str) -> Result<f64, String> {
-    s.parse::<f64>()
-        .ok()
-        .filter(|p| (0.0..=100.0).contains(p))
-        .ok_or_else(|| format!("`{s}` is not a percentage from 0 to 100"))
 }
 
 fn main() -> ExitCode {
