@@ -712,6 +712,15 @@ const NUMBERS: &[NumberCase] = &[
         &["-1"],
     ),
     ("chart", &["-o", "x"], "--reps", &[], &["-1", "0"]),
+    ("render", &[], "--size", &[], &["-5x5", "0x5"]),
+    ("render", &[], "--depth", &[], &["-1", "7", "nan"]),
+    (
+        "render",
+        &["-o", "f%03d.png"],
+        "--first-frame",
+        &[],
+        &["-1", "nan"],
+    ),
 ];
 
 #[test]
@@ -746,6 +755,10 @@ fn every_numeric_option_refuses_bad_values_naming_itself() {
         (
             &["frames", "--from", "-1"],
             "frames: invalid value '-1' for '--from <A>': `-1` is not a whole number 0 or more\n",
+        ),
+        (
+            &["render", "--depth", "-1"],
+            "render: --depth must be an integer from 0 to 6 or auto, not '-1'\n",
         ),
         (
             &["scene", "environment", "--depth-complexity", "1e308"],
