@@ -455,7 +455,14 @@ fn zspec_compare_exits_alike_with_and_without_metrics() {
     let a = file("a.ppm", b"P6\n1 1\n255\n\xff\x00\x00");
     let png = file("b.png", b"\x89PNG\r\n\x1a\n\x00\x00\x00\rIHDR");
     let cut = file("cut.ppm", b"P6\n2 2\n255\n\xff\x00");
+    let empty = file("empty.ppm", b"");
     let cases: &[(&str, i32, String)] = &[
+        // The same fault in the same words, with --metrics and without.
+        (
+            &empty,
+            2,
+            format!("zspec compare: {empty}: empty: not a PPM stream (no frame)\n"),
+        ),
         (
             &png,
             2,
@@ -782,4 +789,54 @@ fn a_missing_subcommand_lists_its_parents_own() {
         "{err}"
     );
     assert!(!err.contains("environment, penetrating"), "{err}");
+}
+
+/// `zspec compare`'s default is what the README says: every pixel the same (100%), so
+/// that one differing pixel in 10,000 is a difference (status 1) unless `--tolerance` or
+/// `--min-agreement` accepts it.
+#[test]
+fn zspec_compare_agrees_on_every_pixel_by_default_as_the_readme_says() {
+    let readme = std::fs::read_to_string(pipeline_tests::repo_root().join("README.md")).unwrap();
+    assert!(
+        readme.contains("`--min-agreement` percent, default 100: every pixel)"),
+        "README"
+    );
+    let dir = tempfile::tempdir().unwrap();
+    let mut a = b"P6\n100 100\n255\n".to_vec();
+    a.extend(std::iter::repeat_n(0u8, 30_000));
+    let mut b = a.clone();
+    let last = b.len() - 1;
+    b[last] = 255;
+    std::fs::write(dir.path().join("a.ppm"), &a).unwrap();
+    std::fs::write(dir.path().join("b.ppm"), &b).unwrap();
+    let d = dir.path().display();
+    for (options, status) in [
+        ("", 1),
+        ("--min-agreement 100", 1),
+        ("--min-agreement 99.99", 0),
+        ("--tolerance 0.0001", 0),
+    ] {
+        let cmd = format!("zspec compare {options} {d}/a.ppm {d}/b.ppm");
+        assert_eq!(sh(&cmd, b"").status.code(), Some(status), "{cmd}");
+    }
+}
+
+/// `plan depth` is the name the README and the help give; `chart choose-depth`, its old
+/// name, still runs (scripts use it) but is not listed in chart's help.
+#[test]
+fn plan_depth_has_one_name_in_the_help() {
+    let chart = sh("chart --help", b"");
+    let help = String::from_utf8_lossy(&chart.stdout);
+    assert!(!help.contains("choose-depth"), "{help}");
+    let plan = sh("plan --help", b"");
+    assert!(
+        String::from_utf8_lossy(&plan.stdout).contains("\n  depth "),
+        "plan --help"
+    );
+    let readme = std::fs::read_to_string(pipeline_tests::repo_root().join("README.md")).unwrap();
+    assert!(readme.contains("(`chart choose-depth`, its old name, still runs it)"));
+    assert!(!readme.contains("(`plan depth` is its old name)"));
+    let old = sh("chart choose-depth --help", b"");
+    assert_eq!(old.status.code(), Some(0));
+    assert!(String::from_utf8_lossy(&old.stdout).contains("plan depth --size"));
 }

@@ -305,10 +305,12 @@ fn run_inner<I: IntoIterator<Item = OsString>>(
         // (--slurm-array).
         let farm_hosts = by == By::Frames && farm_option(&cli).is_some();
         if cli.hosts.is_none() && !farm_hosts {
-            return Err(Error::usage(format!(
-                "--by {} needs --hosts H1,H2,…",
-                options::name(by)
-            )));
+            return Err(Error::usage(if by == By::Frames {
+                "--by frames needs hosts: --hosts H1,H2,… or --sshloginfile FILE (or \
+                 --slurm-array DIR, for Slurm's)"
+            } else {
+                "--by leaves needs --hosts H1,H2,…"
+            }));
         }
         ssh = stagecli::remote::ssh_command_from_env()?;
         if let Some(list) = &cli.hosts {

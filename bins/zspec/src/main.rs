@@ -283,10 +283,11 @@ fn read_ppms(path: &str) -> stagecli::Result<Vec<ppm::Image>> {
         .map_err(|e| Error::from(e).context(stagecli::input_name(path)))
 }
 
-/// Compares two PPM streams: `Ok(true)` when no frame has more than `tolerance` of its
-/// pixels differing. An empty input is trouble, not a stream of no frames: comparing two
-/// files that were never written would otherwise say they are the same.
-fn compare(a: &str, b: &str, tolerance: f64) -> stagecli::Result<bool> {
+/// The two PPM streams compared, with or without --metrics, and the same trouble said the
+/// same way by both: `-` named twice, or an input that is empty. An empty input is trouble,
+/// not a stream of no frames: comparing two files that were never written would otherwise
+/// say they are the same.
+fn read_pair(a: &str, b: &str) -> stagecli::Result<(Vec<ppm::Image>, Vec<ppm::Image>)> {
     if a == "-" && b == "-" {
         return Err(Error::usage(
             "`-` (stdin) is named twice: it can be read only once",
@@ -299,6 +300,13 @@ fn compare(a: &str, b: &str, tolerance: f64) -> stagecli::Result<bool> {
                 .context(stagecli::input_name(path)));
         }
     }
+    Ok((ia, ib))
+}
+
+/// Compares two PPM streams: `Ok(true)` when no frame has more than `tolerance` of its
+/// pixels differing.
+fn compare(a: &str, b: &str, tolerance: f64) -> stagecli::Result<bool> {
+    let (ia, ib) = read_pair(a, b)?;
     let frames = zspec::compare(&ia, &ib);
     if let Ok(frames) = &frames {
         let mut out = stagecli::stdout();
@@ -319,12 +327,7 @@ fn compare(a: &str, b: &str, tolerance: f64) -> stagecli::Result<bool> {
 
 /// `compare --metrics`: the error measures of B against A, per frame and overall.
 fn compare_metrics(a: &str, b: &str, edges: Option<&str>, csv: bool) -> stagecli::Result<()> {
-    if a == "-" && b == "-" {
-        return Err(Error::usage(
-            "`-` (stdin) is named twice: it can be read only once",
-        ));
-    }
-    let (ia, ib) = (read_ppms(a)?, read_ppms(b)?);
+    let (ia, ib) = read_pair(a, b)?;
     let masks = edges.map(read_ppms).transpose()?;
     let frames = zspec::metrics_streams(&ia, &ib, masks.as_deref())
         .map_err(|e| Error::data(format!("{e:#}")))?;
