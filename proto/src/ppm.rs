@@ -6,6 +6,7 @@
 //! values as decimal text) is the picture's text form, what `--text` asks for. Both are
 //! read. Only 8-bit images (maximum value 255) are written or read.
 
+use crate::text::{line_too_long, Shown, MAX_LINE_BYTES};
 use crate::{Colour, StreamError};
 use std::io::{self, BufRead, Read, Write};
 
@@ -219,13 +220,27 @@ fn number<R: BufRead>(input: &mut R, what: &str) -> Result<Option<u64>, StreamEr
             }
         };
         if byte.is_ascii_digit() {
+            if digits.len() > 20 {
+                // No u64 has more digits: stop reading what may be an endless number.
+                return Err(invalid(format!(
+                    "the {what} `{}` is too large",
+                    Shown(&digits)
+                )));
+            }
             digits.push(byte as char);
             input.consume(1);
         } else if !digits.is_empty() {
             break;
         } else if byte == b'#' {
             let mut comment = Vec::new();
-            input.read_until(b'\n', &mut comment)?;
+            let limit = MAX_LINE_BYTES as u64 + 1;
+            input.by_ref().take(limit).read_until(b'\n', &mut comment)?;
+            if comment.len() as u64 == limit && comment.last() != Some(&b'\n') {
+                return Err(invalid(format!(
+                    "a comment in the header: {}",
+                    line_too_long()
+                )));
+            }
         } else if byte.is_ascii_whitespace() {
             input.consume(1);
         } else {
@@ -237,7 +252,7 @@ fn number<R: BufRead>(input: &mut R, what: &str) -> Result<Option<u64>, StreamEr
     digits
         .parse()
         .map(Some)
-        .map_err(|_| invalid(format!("the {what} `{digits}` is too large")))
+        .map_err(|_| invalid(format!("the {what} `{}` is too large", Shown(&digits))))
 }
 
 #[cfg(test)]

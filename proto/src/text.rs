@@ -193,6 +193,13 @@ impl<R: Read> Lexer<R> {
             if self.eof {
                 break None;
             }
+            if self.end - self.next > MAX_LINE_BYTES {
+                return Err(StreamError::Text {
+                    line: self.line_no + 1,
+                    column: 1,
+                    msg: line_too_long(),
+                });
+            }
             // Make room: keep the unread part, and grow the buffer for a long line.
             if self.next > 0 {
                 self.buf.copy_within(self.next..self.end, 0);
@@ -221,6 +228,13 @@ impl<R: Read> Lexer<R> {
             None if self.next < self.end => (self.next, self.end),
             None => return Ok(false),
         };
+        if stop - start > MAX_LINE_BYTES {
+            return Err(StreamError::Text {
+                line: self.line_no + 1,
+                column: 1,
+                msg: line_too_long(),
+            });
+        }
         self.next = newline.map_or(self.end, |i| i + 1);
         self.line_no += 1;
         let (line, ascii) =
@@ -752,8 +766,33 @@ pub fn parse_f64(w: &str) -> Option<f64> {
 
 /// A word of the input as a message shows it: control characters, a byte-order mark and
 /// other invisible characters escaped (`\x00`, `\x1a`, `\u{feff}`), so that a message is
-/// one readable line whatever the input held.
+/// one readable line whatever the input held, and a word longer than [`SHOWN_CHARS`]
+/// characters cut to its first ones and its length (`123456… (50000000 bytes)`), so that
+/// a 50 MB number does not make a 50 MB message. Every message that quotes its input
+/// quotes it through this (stagecli's too).
 pub struct Shown<'a>(pub &'a str);
+
+/// How many characters of a word [`Shown`] shows: a message stays one line of a
+/// terminal's width or two, whatever it quotes.
+pub const SHOWN_CHARS: usize = 80;
+
+/// The longest line of text a reader takes, 1 MiB: a line of the text form holds one
+/// vertex, one keyword's words or a comment, a few hundred bytes at most; a line of an
+/// OBJ file one face. A longer line is refused as bad input (status 1) when its first
+/// 1 MiB has no end of line in it, so that input with no newline (`/dev/zero`) costs a
+/// reader 2 MiB of buffer and not all the memory there is. A binary record's bound is
+/// `codec::MAX_RECORD_BYTES` (64 MiB): the text form spreads a polygon over lines, so a
+/// polygon's bound is the same in both forms. docs/DESIGN.md, "Errors and exit
+/// statuses".
+pub const MAX_LINE_BYTES: usize = 1 << 20;
+
+/// What a reader says of a line longer than [`MAX_LINE_BYTES`], after where it starts.
+pub fn line_too_long() -> String {
+    format!(
+        "expected a line of text of at most {MAX_LINE_BYTES} bytes, found {MAX_LINE_BYTES} \
+         bytes with no end of line (not a text stream?)"
+    )
+}
 
 fn invisible(c: char) -> bool {
     c.is_control()
@@ -763,21 +802,33 @@ fn invisible(c: char) -> bool {
 
 impl fmt::Display for Shown<'_> {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        if !self.0.chars().any(invisible) {
-            return f.write_str(self.0);
+        // Cut where the first SHOWN_CHARS characters end (a char boundary).
+        let cut = self.0.char_indices().nth(SHOWN_CHARS).map(|(i, _)| i);
+        let shown = &self.0[..cut.unwrap_or(self.0.len())];
+        if !shown.chars().any(invisible) {
+            f.write_str(shown)?;
+        } else {
+            escaped(shown, f)?;
         }
-        for c in self.0.chars() {
-            match c {
-                '\t' => f.write_str("\\t")?,
-                '\n' => f.write_str("\\n")?,
-                '\r' => f.write_str("\\r")?,
-                c if c.is_ascii() && invisible(c) => write!(f, "\\x{:02x}", c as u32)?,
-                c if invisible(c) => write!(f, "\\u{{{:x}}}", c as u32)?,
-                c => write!(f, "{c}")?,
-            }
+        match cut {
+            Some(_) => write!(f, "… ({} bytes)", self.0.len()),
+            None => Ok(()),
         }
-        Ok(())
     }
+}
+
+fn escaped(s: &str, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+    for c in s.chars() {
+        match c {
+            '\t' => f.write_str("\\t")?,
+            '\n' => f.write_str("\\n")?,
+            '\r' => f.write_str("\\r")?,
+            c if c.is_ascii() && invisible(c) => write!(f, "\\x{:02x}", c as u32)?,
+            c if invisible(c) => write!(f, "\\u{{{:x}}}", c as u32)?,
+            c => write!(f, "{c}")?,
+        }
+    }
+    Ok(())
 }
 
 /// Adds to a message that shows an escaped byte-order mark what that is.
@@ -962,6 +1013,31 @@ mod tests {
                 proptest::prop_assert_eq!(out.map(f64::to_bits).to_vec(), want.clone());
             }
         }
+    }
+
+    /// A line is read up to [`MAX_LINE_BYTES`] and no further: input that never ends and
+    /// has no newline (`/dev/zero`) is refused after 1 MiB, as is a longer line that does
+    /// end; a line of exactly the bound is read.
+    #[test]
+    fn a_line_longer_than_the_bound_is_refused_where_it_starts() {
+        let mut lx = Lexer::new(std::io::Read::take(std::io::repeat(0), 1 << 40));
+        let e = lx.next_word().unwrap_err().to_string();
+        assert_eq!(e, format!("line 1, column 1: {}", line_too_long()));
+        let mut long = b"a\n".to_vec();
+        long.extend(std::iter::repeat_n(b'x', MAX_LINE_BYTES + 1));
+        long.push(b'\n');
+        let mut lx = Lexer::new(&long[..]);
+        assert_eq!(lx.next_word().unwrap().as_deref(), Some("a"));
+        let e = lx.next_word().unwrap_err().to_string();
+        assert!(e.starts_with("line 2, column 1: expected a line"), "{e}");
+        let mut exact = vec![b'y'; MAX_LINE_BYTES];
+        exact.extend_from_slice(b"\nz\n");
+        let mut lx = Lexer::new(&exact[..]);
+        assert_eq!(
+            lx.next_word().unwrap().map(|w| w.len()),
+            Some(MAX_LINE_BYTES)
+        );
+        assert_eq!(lx.next_word().unwrap().as_deref(), Some("z"));
     }
 
     #[test]
@@ -1185,6 +1261,13 @@ mod tests {
             "\\u{feff}x\\u{200b}"
         );
         assert_eq!(Shown("plain é").to_string(), "plain é");
+        // A long word: its first 80 characters and its length in bytes.
+        let long = "é".repeat(100);
+        assert_eq!(
+            Shown(&long).to_string(),
+            format!("{}… (200 bytes)", "é".repeat(80))
+        );
+        assert_eq!(Shown(&"x".repeat(80)).to_string(), "x".repeat(80));
         // A byte-order mark first is skipped; elsewhere it is escaped and named.
         let mut lx = Lexer::new("\u{feff}polypipe\n\u{feff}1\n".as_bytes());
         assert_eq!(lx.next_word().unwrap().as_deref(), Some("polypipe"));

@@ -6,6 +6,7 @@ use clap::error::ErrorKind;
 use clap::{ArgMatches, Command};
 use proto::camera::{parse_size, parse_triple, Camera, EyeFrame};
 use proto::perspective::DepthMode;
+use proto::text::Shown;
 use proto::{DVec3, Form, View};
 use std::ffi::OsString;
 use std::io::Write;
@@ -87,13 +88,16 @@ pub fn projection(
 pub fn parse_colour(s: &str) -> Result<proto::Colour, String> {
     let parts: Vec<&str> = s.split(',').map(str::trim).collect();
     if parts.len() != 3 {
-        return Err(format!("expected R,G,B (three numbers 0-255), got `{s}`"));
+        return Err(format!(
+            "expected R,G,B (three numbers 0-255), got `{}`",
+            Shown(s)
+        ));
     }
     let mut c = [0u8; 3];
     for (slot, p) in c.iter_mut().zip(parts) {
         *slot = p
             .parse()
-            .map_err(|_| format!("`{p}` is not a colour component 0-255"))?;
+            .map_err(|_| format!("`{}` is not a colour component 0-255", Shown(p)))?;
     }
     Ok(c)
 }
@@ -115,9 +119,10 @@ where
     I: IntoIterator<Item = T>,
     T: Into<OsString> + Clone,
 {
+    let args: Vec<OsString> = args.into_iter().map(Into::into).collect();
     let mut cmd = command::<C>();
     let parsed = cmd
-        .try_get_matches_from_mut(args)
+        .try_get_matches_from_mut(args.clone())
         .and_then(|mut m: ArgMatches| C::from_arg_matches_mut(&mut m));
     parsed.map_err(|e| {
         let e = e.format(&mut cmd);
@@ -127,14 +132,30 @@ where
                 ExitCode::SUCCESS
             }
             _ => {
-                let _ = writeln!(std::io::stderr(), "{stage}: {}", usage_line(&e, &cmd));
+                // A subcommand's missing subcommand lists its own (`scene screen`).
+                cmd.build();
+                let sub = subcommand_named(&cmd, &args);
+                let _ = writeln!(std::io::stderr(), "{stage}: {}", usage_line(&e, sub));
                 ExitCode::from(Error::usage("").kind().status())
             }
         }
     })
 }
 
-/// The stage's clap command with the conventions applied (a version everywhere).
+/// The innermost subcommand of `cmd` that `args` (the program's name first) name, in
+/// turn: `scene screen` is `screen`'s, whose own subcommands a message lists.
+fn subcommand_named<'a>(cmd: &'a Command, args: &[OsString]) -> &'a Command {
+    let mut at = cmd;
+    for word in args.iter().skip(1).filter_map(|a| a.to_str()) {
+        if let Some(sub) = at.find_subcommand(word) {
+            at = sub;
+        }
+    }
+    at
+}
+
+/// The stage's clap command with the conventions applied (a version everywhere, and
+/// [`hyphen_values`]).
 pub fn command<C: clap::CommandFactory>() -> Command {
     let cmd = C::command();
     let cmd = if cmd.get_version().is_none() {
@@ -142,7 +163,30 @@ pub fn command<C: clap::CommandFactory>() -> Command {
     } else {
         cmd
     };
-    cmd.propagate_version(true)
+    hyphen_values(cmd.propagate_version(true))
+}
+
+/// A value that starts with `-` is the value of the option before it, in every
+/// subcommand: `--cores -1`, `--size -5x5`, `--background -1,0,0` are refused by the
+/// option's own parser, naming the option and its range, rather than taken for an
+/// unknown option `-1`. An option that takes exactly one value takes the next word
+/// whatever it is; an option with an optional value, or several, and a positional
+/// argument take a negative number (`scene stack -3`) but not a word such as `--text`.
+pub fn hyphen_values(cmd: Command) -> Command {
+    cmd.mut_args(|a| {
+        if !a.get_action().takes_values() {
+            return a;
+        }
+        let one = a
+            .get_num_args()
+            .is_none_or(|n| n.min_values() == 1 && n.max_values() == 1);
+        if one && !a.is_positional() {
+            a.allow_hyphen_values(true)
+        } else {
+            a.allow_negative_numbers(true)
+        }
+    })
+    .mut_subcommands(hyphen_values)
 }
 
 /// A clap error as one line without the program name: clap's own message, with its
@@ -160,10 +204,12 @@ pub fn usage_line(e: &clap::Error, cmd: &Command) -> String {
             .map(Command::get_name)
             .filter(|n| *n != "help")
             .collect();
+        // A subcommand built by its parent is named `parent-sub`; a person types
+        // `parent sub`.
+        let name = cmd.get_bin_name().unwrap_or(cmd.get_name());
         return format!(
-            "give a subcommand: {} (`{} --help` describes them)",
+            "give a subcommand: {} (`{name} --help` describes them)",
             names.join(", "),
-            cmd.get_name()
         );
     }
     let text = e.render().to_string();
@@ -180,7 +226,27 @@ pub fn usage_line(e: &clap::Error, cmd: &Command) -> String {
             None => {}
         }
     }
-    parts.join(" ")
+    cut_long_words(&parts.join(" "))
+}
+
+/// A message with each word longer than [`proto::text::SHOWN_CHARS`] characters cut, as
+/// [`Shown`] cuts a word of the input: clap quotes a value whole (`invalid value
+/// '99…9' for '--cores <N>'`), and an argument may be 128 KiB long.
+pub fn cut_long_words(line: &str) -> String {
+    let max = proto::text::SHOWN_CHARS;
+    let words: Vec<String> = line
+        .split(' ')
+        .map(|w| match w.char_indices().nth(max) {
+            Some((cut, _)) => {
+                let close = w
+                    .ends_with(['\'', '`', ',', ':'])
+                    .then(|| &w[w.len() - 1..]);
+                format!("{}… ({} bytes){}", &w[..cut], w.len(), close.unwrap_or(""))
+            }
+            None => w.to_string(),
+        })
+        .collect();
+    words.join(" ")
 }
 
 /// `--text`: write the stream's text form instead of binary.

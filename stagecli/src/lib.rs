@@ -33,6 +33,7 @@ pub mod error;
 pub mod filter;
 pub mod memory;
 pub mod names;
+pub mod numbers;
 pub mod pieces;
 pub mod project;
 pub mod remote;

@@ -29,7 +29,7 @@ use std::process::{Command, ExitCode};
         scripts/chart.sh -o out --standard            # the four scene classes and the failure scene\n  \
         scripts/chart.sh --figures                    # docs/images: standard and hard scenes\n  \
         scripts/chart.sh -o out --calibrate           # measure the model's constants: bench/model.toml\n  \
-        chart choose-depth --size 1920x1080 fill.txt  # the depth render.sh --depth auto takes"
+        plan depth --size 1920x1080 fill.txt          # the depth render.sh --depth auto takes"
 )]
 struct Cli {
     #[command(subcommand)]
@@ -94,11 +94,13 @@ struct Cli {
 
 #[derive(Subcommand, Debug)]
 enum Sub {
-    /// `plan depth` under its old name: the splitter tree depth the cost model predicts
-    /// fastest for a scene on this machine, and why, as one line `N (reason; rule: …)`.
+    /// `plan depth` under its old name, kept for scripts and hidden from the list: the
+    /// splitter tree depth the cost model predicts fastest for a scene on this machine,
+    /// and why, as one line `N (reason; rule: …)`. The name to use is `plan depth`.
     #[command(
         name = "choose-depth",
-        after_help = "Example:\n  chart choose-depth --size 1920x1080 --cores 2 fill.txt\n  \
+        hide = true,
+        after_help = "Example:\n  plan depth --size 1920x1080 --cores 2 fill.txt\n  \
                       1 (10000 polygons in view, Dc 9.8, …; rule: …)"
     )]
     ChooseDepth(Box<plan::cli::DepthArgs>),

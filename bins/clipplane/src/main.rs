@@ -31,7 +31,7 @@ struct Cli {
           value_name = "a,b,c,d,k", conflicts_with_all = ["which", "at"])]
     plane: Option<Plane>,
     /// For hither or yon: the distance K (clip at z_e = K) instead of the header's.
-    #[arg(long, value_name = "K", allow_hyphen_values = true)]
+    #[arg(long, value_name = "K", value_parser = stagecli::numbers::finite)]
     at: Option<f64>,
     #[command(flatten)]
     text: TextFlag,

@@ -31,10 +31,11 @@ struct Cli {
     #[arg(long, conflicts_with_all = ["from", "to", "text"])]
     count: bool,
     /// The first frame to keep (from 0).
-    #[arg(long, value_name = "A", default_value_t = 0)]
+    #[arg(long, value_name = "A", default_value_t = 0,
+          value_parser = stagecli::numbers::whole::<u64>(0, u64::MAX))]
     from: u64,
     /// The frame after the last to keep (default: to the end; past the end means the end).
-    #[arg(long, value_name = "B")]
+    #[arg(long, value_name = "B", value_parser = stagecli::numbers::whole::<u64>(0, u64::MAX))]
     to: Option<u64>,
     /// Write the text form instead of binary.
     #[arg(long)]

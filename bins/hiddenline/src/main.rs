@@ -38,7 +38,7 @@ struct Args {
     #[arg(long, value_parser = stagecli::parse_colour, default_value = "255,255,255")]
     background: Colour,
     /// Line width in pixels.
-    #[arg(long, default_value_t = 1.0, value_parser = parse_width)]
+    #[arg(long, default_value_t = 1.0, value_parser = stagecli::numbers::positive)]
     stroke_width: f64,
     /// Print counts on stderr at the end: frames, edges, edges left out (shared, cuts,
     /// screen border), edge–polygon pairs tested, pieces drawn; lines of intersection and
@@ -61,13 +61,6 @@ struct Args {
 enum MethodArg {
     Continuous,
     Archuleta,
-}
-
-fn parse_width(s: &str) -> Result<f64, String> {
-    s.parse::<f64>()
-        .ok()
-        .filter(|w| w.is_finite() && *w > 0.0)
-        .ok_or_else(|| format!("`{s}` is not a line width (a positive number)"))
 }
 
 fn main() -> ExitCode {

@@ -54,10 +54,12 @@ struct Args {
     #[arg(long)]
     split: bool,
     /// With --split: cuts allowed a frame, per polygon of the frame.
-    #[arg(long, default_value_t = painter::CUTS_PER_POLYGON, requires = "split")]
+    #[arg(long, default_value_t = painter::CUTS_PER_POLYGON, requires = "split",
+          value_parser = stagecli::numbers::whole::<usize>(0, u32::MAX as u64))]
     cuts_per_polygon: usize,
     /// With --split: cuts allowed a frame, in addition to those per polygon.
-    #[arg(long, default_value_t = painter::CUTS_BASE, requires = "split")]
+    #[arg(long, default_value_t = painter::CUTS_BASE, requires = "split",
+          value_parser = stagecli::numbers::whole::<usize>(0, u32::MAX as u64))]
     cuts_base: usize,
     /// Print counts on stderr at the end: polygons, pieces painted, the pairs each of
     /// the five tests resolved, swaps, cycles met, splits, cycles painted out of order.

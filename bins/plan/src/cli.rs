@@ -29,10 +29,11 @@ pub struct DepthArgs {
     /// Other programs' runnable threads on this machine's cores, which the render shares
     /// them with (default: $POLYPIPE_LOAD, or else the 1-minute load average, less one
     /// for the render's own stages seen in it; 0 plans for an idle machine).
-    #[arg(long, value_name = "L")]
+    #[arg(long, value_name = "L", value_parser = stagecli::numbers::non_negative)]
     pub load: Option<f64>,
     /// The links to the hosts, gigabits a second (default 1).
-    #[arg(long, value_name = "G", default_value_t = 1.0)]
+    #[arg(long, value_name = "G", default_value_t = 1.0,
+          value_parser = stagecli::numbers::between(1e-3, 1e5))]
     pub link_gbps: f64,
     /// The model's constants file (default: this machine's calibration, else the
     /// repository's bench/model.toml).
@@ -331,10 +332,12 @@ pub struct MovieArgs {
     pub host_cores: Option<u32>,
     /// Seconds of a chunk's login to its host (ssh); 0 for a stand-in that runs the
     /// command here.
-    #[arg(long, value_name = "S", default_value_t = 0.1)]
+    #[arg(long, value_name = "S", default_value_t = 0.1,
+          value_parser = stagecli::numbers::non_negative)]
     pub login: f64,
     /// Seconds GNU parallel adds to a job (its Perl wrapper on the host).
-    #[arg(long, value_name = "S", default_value_t = crate::movie::PARALLEL_JOB_S)]
+    #[arg(long, value_name = "S", default_value_t = crate::movie::PARALLEL_JOB_S,
+          value_parser = stagecli::numbers::non_negative)]
     pub job: f64,
     /// The model's constants file (default: this machine's calibration, else the
     /// repository's bench/model.toml).

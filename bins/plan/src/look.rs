@@ -352,10 +352,12 @@ fn look_reader<R: Read>(
     let (mut eye, mut clipped) = (Vec::new(), Vec::new());
 
     let bytes = Arc::new(AtomicU64::new(0));
+    // With a sample, nothing past it is read: a polygon that runs on past the sample (up
+    // to a record's 64 MiB) ends the look where the sample does, as a cut one.
     let mut reader = Reader::<Token, _>::new(std::io::BufReader::with_capacity(
         1 << 16,
         Counted {
-            inner: input,
+            inner: input.take(sample.unwrap_or(u64::MAX)),
             bytes: Arc::clone(&bytes),
         },
     ))
@@ -377,6 +379,10 @@ fn look_reader<R: Read>(
             Ok(false) => break,
             // A sample cut from a stream ends where it was cut: in a record, perhaps.
             Err(_) if cut && e.polygons > 0 => break,
+            Err(_) if sample.is_some_and(|s| bytes.load(Relaxed) >= s) && e.polygons > 0 => {
+                whole = false;
+                break;
+            }
             Err(err) => {
                 return Err(anyhow::Error::from(err)).with_context(|| format!("reading {name}"))
             }

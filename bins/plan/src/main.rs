@@ -32,7 +32,7 @@ struct Cli {
 #[derive(Subcommand, Debug)]
 enum Sub {
     /// Prints the splitter tree depth the cost model predicts fastest for a scene, and
-    /// why, as one line `N (reason; rule: …)`. It looks at the scene's first 512 KiB
+    /// why, as one line `N (reason; rule: …)`. It looks at the scene's first 128 KiB
     /// through the geometry viewxf, clipplane and persp share (proto's), in this process.
     Depth(Box<plan::cli::DepthArgs>),
     /// Prints the model's prediction at every depth (0 to --max-depth) for a scene, each

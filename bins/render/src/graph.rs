@@ -17,7 +17,8 @@
 //! and label their own --stats lines.
 
 use crate::launch::{End, Stage};
-use crate::options::{Options, Scene};
+use crate::options::{Clip, Merge, Options, Scene};
+use stagecli::DepthArg;
 use std::ffi::OsString;
 use std::path::{Path, PathBuf};
 
@@ -34,7 +35,8 @@ pub enum ZStage {
 /// the classic projective one, or eye-space z): `persp --zmode MODE`, and for a zbuf
 /// or splitter that projects, `--project --zmode MODE`. The one place the spelling is
 /// written.
-pub fn zmode_words(stage: ZStage, mode: &str) -> Vec<String> {
+pub fn zmode_words(stage: ZStage, mode: DepthArg) -> Vec<String> {
+    let mode = mode.name();
     match stage {
         ZStage::Persp => vec!["--zmode".into(), mode.into()],
         ZStage::Projecting => vec!["--project".into(), "--zmode".into(), mode.into()],
@@ -171,7 +173,7 @@ impl Builder<'_> {
         let o = self.o;
         o.hse == "zbuf"
             && o.aa == "none"
-            && o.merge == "tiles"
+            && o.merge == Merge::Tiles
             && o.subtree.is_none()
             && o.hosts.is_empty()
     }
@@ -192,7 +194,7 @@ impl Builder<'_> {
         argv.extend(os(["--size", &self.o.size]));
         argv.extend(os(self.o.camera.iter()));
         self.start("viewxf", scene, pipe("view"), argv);
-        if self.o.clip == "batch" {
+        if self.o.clip == Clip::Batch {
             self.start(
                 "clipbatch",
                 pipe("view"),
@@ -244,7 +246,7 @@ impl Builder<'_> {
             levels -= span;
             let group = 1u64 << span;
             if leaves && first * group >= below {
-                to_screen = zmode_words(ZStage::Projecting, &self.o.zmode);
+                to_screen = zmode_words(ZStage::Projecting, self.o.zmode);
                 self.projected = true;
             }
             for node in first..first + n {
@@ -318,7 +320,7 @@ impl Builder<'_> {
             let screen = pipe(format!("screen-{leaf}"));
             let mut argv = os([self.bin("persp")]);
             argv.extend(os(["--size", &self.o.size]));
-            argv.extend(os(zmode_words(ZStage::Persp, &self.o.zmode)));
+            argv.extend(os(zmode_words(ZStage::Persp, self.o.zmode)));
             self.start(format!("persp{label}"), input, screen.clone(), argv);
             input = screen;
         }
@@ -342,7 +344,7 @@ impl Builder<'_> {
                 self.fragments.push("leaf-0".into()); // the merger's own
                 if depth == 0 {
                     // The clipper's eye-space stream: the merger projects it too.
-                    self.to_screen = zmode_words(ZStage::Projecting, &self.o.zmode);
+                    self.to_screen = zmode_words(ZStage::Projecting, self.o.zmode);
                     self.to_screen
                         .extend(["--size".into(), self.o.size.clone()]);
                 }
@@ -391,7 +393,7 @@ impl Builder<'_> {
                 "--size".into(),
                 o.size.clone(),
                 "--zmode".into(),
-                o.zmode.clone(),
+                o.zmode.name().into(),
                 "--hse".into(),
                 o.hse.clone(),
             ];
@@ -449,8 +451,8 @@ impl Builder<'_> {
         if let Some(pattern) = &o.output {
             argv.extend(os(["-o", pattern]));
         }
-        if let Some(n) = &o.first_frame {
-            argv.extend(os(["--first-frame", n]));
+        if let Some(n) = o.first_frame {
+            argv.extend(os(["--first-frame".to_string(), n.to_string()]));
         }
         let n = self.fragments.len();
         argv.extend(os(self.fragments.iter()));
@@ -463,7 +465,7 @@ impl Builder<'_> {
     fn hidden_line(&mut self, clipped: End) {
         let mut argv = os([self.bin("persp")]);
         argv.extend(os(["--size", &self.o.size]));
-        argv.extend(os(zmode_words(ZStage::Persp, &self.o.zmode)));
+        argv.extend(os(zmode_words(ZStage::Persp, self.o.zmode)));
         self.start("persp", clipped, pipe("screen"), argv);
         // The row of the table of methods that --hidden-line-method selects.
         let o = self.o;
@@ -483,7 +485,7 @@ impl Builder<'_> {
 /// --hse selects (`methods::METHODS`), or with --merge buffer scanconv's fragments.
 pub fn method(o: &Options) -> Vec<String> {
     let words = |w: &[&str]| w.iter().map(|s| s.to_string()).collect::<Vec<_>>();
-    if o.merge == "buffer" {
+    if o.merge == Merge::Buffer {
         let mut m = words(&["scanconv"]);
         if o.pixels {
             m.push("--pixels".into());

@@ -19,7 +19,7 @@ pub mod launch;
 pub mod options;
 pub mod sample;
 
-use options::{Options, Parsed, Scene};
+use options::{By, Options, Parsed, Scene};
 use stagecli::Error;
 use std::ffi::OsString;
 use std::io::{IsTerminal, Write};
@@ -79,19 +79,20 @@ fn check_binaries(o: &Options, bin: &Path, from_env: bool) -> Result<(), Error> 
 
 /// The options about the picture, for the hosts' renders of `--by frames`.
 fn picture_options(cli: &options::Cli) -> Vec<String> {
-    let mut w: Vec<String> = vec!["--size".into(), cli.size.clone()];
-    if let Some(d) = &cli.depth {
-        w.extend(["--depth".into(), d.clone()]);
+    let (width, height) = cli.size;
+    let mut w: Vec<String> = vec!["--size".into(), format!("{width}x{height}")];
+    if let Some(d) = cli.depth {
+        w.extend(["--depth".into(), d.to_string()]);
     }
     w.extend(cli.camera());
     for (opt, v) in [
-        ("--zmode", &cli.zmode),
-        ("--merge", &cli.merge),
-        ("--hse", &cli.hse),
-        ("--aa", &cli.aa),
-        ("--clip", &cli.clip),
+        ("--zmode", cli.zmode.name().to_string()),
+        ("--merge", options::name(cli.merge)),
+        ("--hse", cli.hse.clone()),
+        ("--aa", cli.aa.clone()),
+        ("--clip", options::name(cli.clip)),
     ] {
-        w.extend([opt.to_string(), v.clone()]);
+        w.extend([opt.to_string(), v]);
     }
     if let Some(m) = &cli.hidden_line_method {
         w.extend(["--hidden-line-method".into(), m.clone()]);
@@ -142,14 +143,15 @@ fn frames_on_hosts(cli: &options::Cli, list: Option<&str>) -> Error {
     if let Some(list) = list {
         farm.args(["--hosts", list]);
     }
+    let number = |n: Option<u64>| n.map(|n| n.to_string());
     let valued = [
-        ("--chunk", &cli.chunk),
+        ("--chunk", &number(cli.chunk)),
         ("--sshloginfile", &cli.sshloginfile),
-        ("--retries", &cli.retries),
+        ("--retries", &number(cli.retries)),
         ("--joblog", &cli.joblog),
         ("--slurm-array", &cli.slurm_array),
         ("-o", &cli.output),
-        ("--first-frame", &cli.first_frame),
+        ("--first-frame", &number(cli.first_frame)),
     ];
     for (opt, v) in valued {
         if let Some(v) = v {
@@ -298,26 +300,23 @@ fn run_inner<I: IntoIterator<Item = OsString>>(
     let mut hosts = Vec::new();
     let mut ssh = Vec::new();
     if cli.hosts.is_some() || cli.by.is_some() {
-        let by = cli.by.as_deref().unwrap_or("leaves");
+        let by = cli.by.unwrap_or_default();
         // --by frames may take its hosts from farm's --sshloginfile, or need none
         // (--slurm-array).
-        let farm_hosts = by == "frames" && farm_option(&cli).is_some();
+        let farm_hosts = by == By::Frames && farm_option(&cli).is_some();
         if cli.hosts.is_none() && !farm_hosts {
-            return Err(Error::usage(format!(
-                "--by {} needs --hosts H1,H2,…",
-                cli.by.as_deref().unwrap_or("")
-            )));
-        }
-        if by != "leaves" && by != "frames" {
-            return Err(Error::usage(format!(
-                "--by must be leaves or frames, not '{by}'"
-            )));
+            return Err(Error::usage(if by == By::Frames {
+                "--by frames needs hosts: --hosts H1,H2,… or --sshloginfile FILE (or \
+                 --slurm-array DIR, for Slurm's)"
+            } else {
+                "--by leaves needs --hosts H1,H2,…"
+            }));
         }
         ssh = stagecli::remote::ssh_command_from_env()?;
         if let Some(list) = &cli.hosts {
             hosts = stagecli::remote::parse_hosts(list).map_err(Error::usage)?;
         }
-        if by == "frames" {
+        if by == By::Frames {
             return Err(frames_on_hosts(&cli, cli.hosts.as_deref()));
         }
     }

@@ -1,16 +1,115 @@
 //! render's command line: the options (clap), and the checks of what they ask for
 //! together, each refused in one line that names the option as it was typed (status 2).
 //!
-//! clap parses; the values are kept as the words given and checked here, so that the
-//! messages are render's own (`--depth must be an integer from 0 to 6 or auto, not '7'`)
-//! rather than clap's several lines. The camera and `-o` are left to the stages that
-//! take them (viewxf, zbuf), whose usage errors come out of render as status 2.
+//! clap parses each option into its type (a value enum, a size, a depth, a frame number),
+//! and a refusal is put in render's own words (`--depth must be an integer from 0 to 6 or
+//! auto, not '7'`, `--merge must be tiles or buffer, not 'zbuf'`) rather than clap's
+//! several lines ([`usage_message`]). The methods (`--hse`, `--aa`,
+//! `--hidden-line-method`) are the table of methods' names, checked against the table.
+//! The camera and `-o` are left to the stages that take them (viewxf, zbuf), whose
+//! usage errors come out of render as status 2.
 
 use clap::error::{ContextKind, ContextValue, ErrorKind};
-use clap::{CommandFactory, Parser};
+use clap::{CommandFactory, FromArgMatches, Parser, ValueEnum};
 use methods::Method;
-use stagecli::Error;
+use stagecli::{DepthArg, Error};
 use std::ffi::OsString;
+
+/// `--merge`: how the leaves' pictures become one.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, ValueEnum)]
+pub enum Merge {
+    /// Each leaf resolves its own region; zbuf places the finished pixels.
+    #[default]
+    Tiles,
+    /// The thesis's PAR.BUFF: every fragment depth-tested in the one zbuf.
+    Buffer,
+}
+
+/// `--clip`: the six clipping planes in one process or six.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, ValueEnum)]
+pub enum Clip {
+    /// clipbatch: the six planes in one process.
+    #[default]
+    Batch,
+    /// The thesis's six clipplane processes.
+    Chain,
+}
+
+/// `--by`: what the hosts of `--hosts` are given.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, ValueEnum)]
+pub enum By {
+    /// Each host a leaf, or a subtree.
+    #[default]
+    Leaves,
+    /// Each host chunks of the movie's frames (the `farm` binary).
+    Frames,
+}
+
+/// The name of a value enum's value as the command line spells it.
+pub fn name<T: ValueEnum>(value: T) -> String {
+    value
+        .to_possible_value()
+        .map_or_else(String::new, |v| v.get_name().to_string())
+}
+
+/// `--depth N|auto`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Depth {
+    /// The depth the cost model chooses.
+    Auto,
+    /// A tree of this depth, 0 to 6.
+    Fixed(u32),
+}
+
+impl Depth {
+    /// The depth, `None` for auto.
+    pub fn fixed(self) -> Option<u32> {
+        match self {
+            Depth::Auto => None,
+            Depth::Fixed(d) => Some(d),
+        }
+    }
+}
+
+impl std::fmt::Display for Depth {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            Depth::Auto => f.write_str("auto"),
+            Depth::Fixed(d) => write!(f, "{d}"),
+        }
+    }
+}
+
+/// `--depth N|auto`. The message follows the option's name and comes before the value
+/// ([`usage_message`]).
+fn tree_depth(s: &str) -> Result<Depth, String> {
+    match s {
+        "auto" => Ok(Depth::Auto),
+        d if d.len() == 1 && (b'0'..=b'6').contains(&d.as_bytes()[0]) => {
+            Ok(Depth::Fixed(u32::from(d.as_bytes()[0] - b'0')))
+        }
+        _ => Err("must be an integer from 0 to 6 or auto".into()),
+    }
+}
+
+/// `--size WxH`, with the stages' bounds ([`parse_size`]).
+fn size(s: &str) -> Result<(u32, u32), String> {
+    parse_size(s).ok_or_else(|| "must be WxH with W and H from 1 to 65536".into())
+}
+
+/// `--first-frame N`.
+fn frame_number(s: &str) -> Result<u64, String> {
+    s.parse::<u64>()
+        .map_err(|_| "must be a frame number, 0 or more".into())
+}
+
+/// `--chunk N`, `--retries N`: farm's, checked here first.
+fn at_least_one(s: &str) -> Result<u64, String> {
+    s.parse::<u64>()
+        .ok()
+        .filter(|n| *n >= 1)
+        .ok_or_else(|| "must be a whole number, 1 or more".into())
+}
 
 const AFTER_HELP: &str = "\
 The frames are byte-identical for every --depth with reciprocal or projective depth, but not
@@ -48,14 +147,14 @@ Examples:
 )]
 pub struct Cli {
     /// Screen size in pixels, W and H from 1 to 65536.
-    #[arg(long, value_name = "WxH", default_value = "500x500")]
-    pub size: String,
+    #[arg(long, value_name = "WxH", default_value = "500x500", value_parser = size)]
+    pub size: (u32, u32),
     /// Splitter tree depth, 0 to 6 (0: no splitter), or auto: the depth the cost model
     /// (docs/model.md) predicts fastest for this scene, screen and machine (and
     /// --hosts), from a look at its first 512 KiB; `chart calibrate` fits the model to
     /// this machine.
-    #[arg(long, value_name = "N|auto")]
-    pub depth: Option<String>,
+    #[arg(long, value_name = "N|auto", value_parser = tree_depth)]
+    pub depth: Option<Depth>,
     /// Camera: the eye (viewxf's options, as given).
     #[arg(long, value_name = "X,Y,Z", allow_hyphen_values = true)]
     pub eye: Option<String>,
@@ -79,12 +178,12 @@ pub struct Cli {
     pub yon: Option<String>,
     /// persp's depth: reciprocal (-K1/z_e), projective (the classic z-buffer's, which
     /// loses precision near yon) or eye-z (the occam code's).
-    #[arg(long, value_name = "MODE", default_value = "reciprocal")]
-    pub zmode: String,
+    #[arg(long, value_name = "MODE", value_enum, default_value_t)]
+    pub zmode: DepthArg,
     /// tiles: each leaf resolves its own region and zbuf only places the finished
     /// pixels; buffer: the thesis's PAR.BUFF, every fragment depth-tested in the one zbuf.
-    #[arg(long, value_name = "MODE", default_value = "tiles")]
-    pub merge: String,
+    #[arg(long, value_name = "MODE", value_enum, default_value_t)]
+    pub merge: Merge,
     /// The leaves' hidden-surface method: zbuf, scanline (Watkins), warnock (area
     /// subdivision) or painter (depth sort, wrong where polygons interpenetrate or
     /// overlap cyclically); every one at every --depth, with --merge tiles
@@ -114,8 +213,8 @@ pub struct Cli {
     pub hidden_line_method: Option<String>,
     /// batch: clipbatch, the six planes in one process (Theoharis & Page's DAP
     /// clipper); chain: the thesis's six clipplane processes.
-    #[arg(long, value_name = "MODE", default_value = "batch")]
-    pub clip: String,
+    #[arg(long, value_name = "MODE", value_enum, default_value_t)]
+    pub clip: Clip,
     /// Splitter nodes, scan converters and zbuf print counts on stderr.
     #[arg(long)]
     pub stats: bool,
@@ -127,8 +226,8 @@ pub struct Cli {
     #[arg(short = 'o', value_name = "PATTERN", allow_hyphen_values = true)]
     pub output: Option<String>,
     /// The number -o's pattern gives the first frame.
-    #[arg(long, value_name = "N", allow_hyphen_values = true)]
-    pub first_frame: Option<String>,
+    #[arg(long, value_name = "N", value_parser = frame_number)]
+    pub first_frame: Option<u64>,
     /// Run the tree on other hosts over ssh ($POLYPIPE_SSH HOST …, default ssh),
     /// round-robin: each host a leaf, or a whole subtree when the tree has more leaves
     /// than there are hosts.
@@ -136,17 +235,17 @@ pub struct Cli {
     pub hosts: Option<String>,
     /// With --hosts: leaves (default), or frames: a movie cut into chunks of frames,
     /// each rendered whole on the next host free (the `farm` binary).
-    #[arg(long, value_name = "MODE")]
-    pub by: Option<String>,
+    #[arg(long, value_name = "MODE", value_enum)]
+    pub by: Option<By>,
     /// With --by frames: frames a chunk, one ssh session each (farm's default 8).
-    #[arg(long, value_name = "N")]
-    pub chunk: Option<String>,
+    #[arg(long, value_name = "N", value_parser = at_least_one)]
+    pub chunk: Option<u64>,
     /// With --by frames: farm's hosts from FILE (GNU parallel's form), passed to farm.
     #[arg(long, value_name = "FILE")]
     pub sshloginfile: Option<String>,
     /// With --by frames: a chunk's tries, passed to farm.
-    #[arg(long, value_name = "N")]
-    pub retries: Option<String>,
+    #[arg(long, value_name = "N", value_parser = at_least_one)]
+    pub retries: Option<u64>,
     /// With --by frames: farm's record of each chunk, passed to farm.
     #[arg(long, value_name = "FILE")]
     pub joblog: Option<String>,
@@ -185,7 +284,13 @@ pub enum Parsed {
 
 /// Parses `args` (the program's name first). A usage error is one line, status 2.
 pub fn parse<I: IntoIterator<Item = OsString>>(args: I) -> Result<Parsed, Error> {
-    match Cli::try_parse_from(args) {
+    // stagecli's conventions: a value that starts with `-` is the option's (`--depth -1`
+    // is refused as a depth, not as an unknown option `-1`).
+    let mut cmd = stagecli::args::command::<Cli>();
+    let parsed = cmd
+        .try_get_matches_from_mut(args)
+        .and_then(|mut m| Cli::from_arg_matches_mut(&mut m));
+    match parsed {
         Ok(cli) => Ok(Parsed::Run(Box::new(cli))),
         Err(e) if matches!(e.kind(), ErrorKind::DisplayHelp | ErrorKind::DisplayVersion) => {
             Ok(Parsed::Print(e.render().to_string()))
@@ -195,15 +300,35 @@ pub fn parse<I: IntoIterator<Item = OsString>>(args: I) -> Result<Parsed, Error>
 }
 
 /// clap's error in render's words: `unknown option --bogus`, `--size needs a value`,
-/// `--stats takes no value`; anything else as clap says it, in one line.
+/// `--stats takes no value`, `--merge must be tiles or buffer, not 'zbuf'` (a value
+/// enum's), `--depth must be an integer from 0 to 6 or auto, not '7'` (a typed parser's
+/// words, which follow the option's name); anything else as clap says it, in one line.
 fn usage_message(e: &clap::Error) -> String {
+    use std::error::Error as _;
     let arg = match e.get(ContextKind::InvalidArg) {
         Some(ContextValue::String(s)) => s.split([' ', '=']).next().unwrap_or("").to_string(),
         _ => String::new(),
     };
-    let value_given =
-        matches!(e.get(ContextKind::InvalidValue), Some(ContextValue::String(v)) if !v.is_empty());
+    let value = match e.get(ContextKind::InvalidValue) {
+        Some(ContextValue::String(v)) => v.clone(),
+        _ => String::new(),
+    };
+    let value_given = !value.is_empty();
+    let shown = proto::text::Shown(&value);
     match e.kind() {
+        ErrorKind::ValueValidation if !arg.is_empty() => match e.source() {
+            Some(why) => format!("{arg} {why}, not '{shown}'"),
+            None => stagecli::args::usage_line(e, &Cli::command()),
+        },
+        ErrorKind::InvalidValue if !arg.is_empty() && value_given => {
+            match e.get(ContextKind::ValidValue) {
+                Some(ContextValue::Strings(valid)) => {
+                    let valid: Vec<&str> = valid.iter().map(String::as_str).collect();
+                    format!("{arg} must be {}, not '{shown}'", either(&valid))
+                }
+                _ => stagecli::args::usage_line(e, &Cli::command()),
+            }
+        }
         ErrorKind::UnknownArgument if !arg.is_empty() => format!("unknown option {arg}"),
         ErrorKind::InvalidValue if !arg.is_empty() && !value_given => {
             format!("{arg} needs a value")
@@ -233,8 +358,8 @@ pub struct Options {
     /// The tree's depth; `None` for auto.
     pub depth: Option<u32>,
     pub depth_asked: bool,
-    pub zmode: String,
-    pub merge: String,
+    pub zmode: DepthArg,
+    pub merge: Merge,
     pub hse: String,
     pub split: bool,
     pub aa: String,
@@ -245,11 +370,11 @@ pub struct Options {
     pub pixels: bool,
     pub hidden_line: bool,
     pub hidden_line_method: Option<String>,
-    pub clip: String,
+    pub clip: Clip,
     pub stats: bool,
     pub times: bool,
     pub output: Option<String>,
-    pub first_frame: Option<String>,
+    pub first_frame: Option<u64>,
     /// viewxf's options, as given (`--eye`, `X,Y,Z`, …).
     pub camera: Vec<String>,
     pub hosts: Vec<String>,
@@ -275,17 +400,23 @@ pub fn parse_size(size: &str) -> Option<(u32, u32)> {
     Some((number(w)?, number(h)?))
 }
 
+/// `a, b or c`.
+fn either(allowed: &[&str]) -> String {
+    match allowed {
+        [a, b] => format!("{a} or {b}"),
+        [rest @ .., last] => format!("{} or {last}", rest.join(", ")),
+        [] => String::new(),
+    }
+}
+
 fn one_of(option: &str, value: &str, allowed: &[&str]) -> Result<(), Error> {
     if allowed.contains(&value) {
         return Ok(());
     }
-    let list = match allowed {
-        [a, b] => format!("{a} or {b}"),
-        [rest @ .., last] => format!("{} or {last}", rest.join(", ")),
-        [] => String::new(),
-    };
     Err(Error::usage(format!(
-        "{option} must be {list}, not '{value}'"
+        "{option} must be {}, not '{}'",
+        either(allowed),
+        proto::text::Shown(value)
     )))
 }
 
@@ -326,32 +457,10 @@ impl Cli {
         stdin_gives_none: bool,
     ) -> Result<Options, Error> {
         let usage = |m: String| Err(Error::usage(m));
-        let depth = match self.depth.as_deref() {
-            None | Some("auto") => None,
-            Some(d) if d.len() == 1 && (b'0'..=b'6').contains(&d.as_bytes()[0]) => {
-                Some(u32::from(d.as_bytes()[0] - b'0'))
-            }
-            Some(d) => {
-                return usage(format!(
-                    "--depth must be an integer from 0 to 6 or auto, not '{d}'"
-                ))
-            }
-        };
-        let Some((width, height)) = parse_size(&self.size) else {
-            return usage(format!(
-                "--size must be WxH with W and H from 1 to 65536, not '{}'",
-                self.size
-            ));
-        };
-        one_of(
-            "--zmode",
-            &self.zmode,
-            &["reciprocal", "projective", "eye-z"],
-        )?;
-        one_of("--merge", &self.merge, &["tiles", "buffer"])?;
-        one_of("--clip", &self.clip, &["batch", "chain"])?;
+        let depth = self.depth.and_then(Depth::fixed);
+        let (width, height) = self.size;
         one_of("--hse", &self.hse, &methods::hse_names(table))?;
-        let (hse, aa, merge) = (self.hse.as_str(), self.aa.as_str(), self.merge.as_str());
+        let (hse, aa) = (self.hse.as_str(), self.aa.as_str());
         if self.split && hse != "painter" {
             return usage("--split is the painter's splitting step: it needs --hse painter".into());
         }
@@ -365,7 +474,7 @@ impl Cli {
         };
         // The methods and anti-aliasing modes are the leaves' own: PAR.BUFF sends every
         // fragment to the one zbuf, and anti-aliasing resolves with a z-buffer.
-        if merge != "tiles" && !(hse == "zbuf" && aa == "none") {
+        if self.merge != Merge::Tiles && !(hse == "zbuf" && aa == "none") {
             return usage(format!(
                 "--merge buffer is the z-buffer's, point-sampled: not with --hse {hse} --aa {aa}"
             ));
@@ -375,7 +484,7 @@ impl Cli {
                 "--aa {aa} is a z-buffer's anti-aliasing: not with --hse {hse}"
             ));
         }
-        if self.pixels && merge != "buffer" {
+        if self.pixels && self.merge != Merge::Buffer {
             return usage(
                 "--pixels sends fragments to the one z-buffer: it needs --merge buffer".into(),
             );
@@ -405,7 +514,7 @@ impl Cli {
             }
             // Its drawing has no hidden-surface method, samples or merger of its own to
             // change: options for those would be taken and do nothing.
-            if hse != "zbuf" || aa != "none" || merge != "tiles" || self.pixels {
+            if hse != "zbuf" || aa != "none" || self.merge != Merge::Tiles || self.pixels {
                 return usage("--hidden-line draws the visible edges: not with --hse, --aa, --merge buffer or --pixels".into());
             }
         }
@@ -426,12 +535,12 @@ impl Cli {
                     ))
                 }
             }
-            if merge != "tiles" || !hosts.is_empty() || self.hidden_line {
+            if self.merge != Merge::Tiles || !hosts.is_empty() || self.hidden_line {
                 return usage("--subtree is a host's part of --hosts: not with --merge buffer, --hosts or --hidden-line".into());
             }
         }
         if !hosts.is_empty() {
-            if merge != "tiles" {
+            if self.merge != Merge::Tiles {
                 return usage(
                     "--hosts runs leaves that resolve their regions: not with --merge buffer"
                         .into(),
@@ -439,13 +548,6 @@ impl Cli {
             }
             if self.hidden_line {
                 return usage("--hidden-line is drawn here: not with --hosts".into());
-            }
-        }
-        if let Some(n) = &self.first_frame {
-            if n.parse::<u64>().is_err() {
-                return usage(format!(
-                    "--first-frame must be a frame number, 0 or more, not '{n}'"
-                ));
             }
         }
         let (scene, example) = match self.scene.as_slice() {
@@ -462,13 +564,13 @@ impl Cli {
             }
         };
         Ok(Options {
-            size: self.size.clone(),
+            size: format!("{width}x{height}"),
             width,
             height,
             depth,
             depth_asked: self.depth.is_some(),
-            zmode: self.zmode.clone(),
-            merge: self.merge.clone(),
+            zmode: self.zmode,
+            merge: self.merge,
             hse: self.hse.clone(),
             split: self.split,
             aa: self.aa.clone(),
@@ -476,11 +578,11 @@ impl Cli {
             pixels: self.pixels,
             hidden_line: self.hidden_line,
             hidden_line_method: self.hidden_line_method.clone(),
-            clip: self.clip.clone(),
+            clip: self.clip,
             stats: self.stats,
             times: self.times,
             output: self.output.clone(),
-            first_frame: self.first_frame.clone(),
+            first_frame: self.first_frame,
             camera: self.camera(),
             hosts,
             remote_bin: self.remote_bin.clone(),

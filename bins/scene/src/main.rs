@@ -4,6 +4,7 @@ use clap::{Parser, Subcommand};
 use glam::DVec3;
 use proto::{Form, Header, Polygon, Space, Token};
 use scene::{obj, shapes, spin, Shading};
+use stagecli::numbers::{between, degrees, fraction, non_negative, positive, whole};
 use stagecli::{Error, TextFlag};
 use std::io;
 use std::path::{Path, PathBuf};
@@ -44,13 +45,13 @@ enum Command {
         scene environment --polygons 1024 --clipped 0.5 --depth-complexity 1 --seed 1 --size 500x500")]
     Environment {
         /// P_t: the number of polygons.
-        #[arg(long, default_value_t = 1000)]
+        #[arg(long, default_value_t = 1000, value_parser = whole::<usize>(1, 1 << 30))]
         polygons: usize,
         /// The fraction of polygons wholly outside the clipping pyramid (0 to 1).
-        #[arg(long, default_value_t = 0.5, value_parser = fraction, allow_negative_numbers = true)]
+        #[arg(long, default_value_t = 0.5, value_parser = fraction)]
         clipped: f64,
         /// Dc: the average number of visible polygons covering a pixel.
-        #[arg(long, default_value_t = 1.0, value_parser = positive, allow_negative_numbers = true)]
+        #[arg(long, default_value_t = 1.0, value_parser = between(1e-6, 1e6))]
         depth_complexity: f64,
         /// The random seed: the same seed gives the same scene on every platform.
         #[arg(long, default_value_t = 1)]
@@ -76,7 +77,7 @@ enum Command {
         #[arg(long, default_value_t = 32, value_parser = clap::value_parser!(u32).range(3..=4096))]
         slices: u32,
         /// The radius (the visible square at the origin is ±12.5).
-        #[arg(long, default_value_t = 8.0, value_parser = positive, allow_negative_numbers = true)]
+        #[arg(long, default_value_t = 8.0, value_parser = positive)]
         radius: f64,
         /// Light each vertex instead of each face, as vertex colours (the header says
         /// `vertex-colours`): the sphere is Gouraud-shaded.
@@ -228,7 +229,7 @@ enum Command {
         phong: bool,
         /// With --gouraud or --phong: faces that meet at a sharper angle than this, in
         /// degrees, are not smoothed across their edge.
-        #[arg(long, value_name = "DEGREES", default_value_t = 60.0, value_parser = crease)]
+        #[arg(long, value_name = "DEGREES", default_value_t = 60.0, value_parser = degrees)]
         crease: f64,
         #[command(flatten)]
         lights: LightArgs,
@@ -328,7 +329,7 @@ struct LightArgs {
     #[arg(long, value_name = "X,Y,Z[,I]", value_parser = light, allow_hyphen_values = true)]
     light: Vec<(DVec3, f64)>,
     /// The ambient term, lit everywhere.
-    #[arg(long, value_name = "A", default_value_t = 0.3, value_parser = ambient)]
+    #[arg(long, value_name = "A", default_value_t = 0.3, value_parser = non_negative)]
     ambient: f64,
     /// A white highlight: coefficient KS and Phong's exponent N (N ≥ 1: the larger, the
     /// sharper). Without it, none.
@@ -410,35 +411,6 @@ fn light(s: &str) -> Result<(DVec3, f64), String> {
     Ok((direction, intensity))
 }
 
-/// An ambient term: a finite number ≥ 0.
-fn ambient(s: &str) -> Result<f64, String> {
-    let v: f64 = s.parse().map_err(|_| format!("`{s}` is not a number"))?;
-    if v.is_finite() && v >= 0.0 {
-        Ok(v)
-    } else {
-        Err(format!("{v} must be a finite number, 0 or more"))
-    }
-}
-
-/// A crease angle: 0 to 180 degrees.
-fn crease(s: &str) -> Result<f64, String> {
-    let v: f64 = s.parse().map_err(|_| format!("`{s}` is not a number"))?;
-    if (0.0..=180.0).contains(&v) {
-        Ok(v)
-    } else {
-        Err(format!("{v} must be an angle from 0 to 180 degrees"))
-    }
-}
-
-fn positive(s: &str) -> Result<f64, String> {
-    let v: f64 = s.parse().map_err(|_| format!("`{s}` is not a number"))?;
-    if v.is_finite() && v > 0.0 {
-        Ok(v)
-    } else {
-        Err(format!("{v} must be a finite number > 0"))
-    }
-}
-
 /// A hostile scene's polygon count: 1 to 2^24 (each polygon keeps a colour of its own).
 fn hostile_count(s: &str) -> Result<usize, String> {
     let v: usize = s
@@ -451,23 +423,16 @@ fn hostile_count(s: &str) -> Result<usize, String> {
     }
 }
 
-fn fraction(s: &str) -> Result<f64, String> {
-    let v: f64 = s.parse().map_err(|_| format!("`{s}` is not a number"))?;
-    if (0.0..=1.0).contains(&v) {
-        Ok(v)
-    } else {
-        Err(format!("{v} is not a fraction from 0 to 1"))
-    }
-}
-
 /// Writes a movie: a header for `space`, the frames separated by NEXT.FRAME, then END.
 /// A polygon with a coordinate that is not finite (a model too large to turn) is refused,
 /// naming its frame and place.
+/// `fix`, when not empty, says what to change then (`leave out --no-fit`).
 fn write_movie<F: IntoIterator<Item = Polygon>>(
     frames: impl IntoIterator<Item = F>,
     space: Space,
     form: Form,
     attributes: proto::Attributes,
+    fix: &str,
 ) -> stagecli::Result<()> {
     let mut writer = stagecli::write_stdout(Header::new(space).with(attributes), form)?;
     for (i, frame) in frames.into_iter().enumerate() {
@@ -476,9 +441,14 @@ fn write_movie<F: IntoIterator<Item = Polygon>>(
         }
         for (k, polygon) in frame.into_iter().enumerate() {
             stagecli::check_finite(&polygon).map_err(|m| {
+                let fix = if fix.is_empty() {
+                    String::new()
+                } else {
+                    format!("; {fix}")
+                };
                 Error::data(format!(
                     "frame {i}, polygon {k}: {m}: not a finite number (coordinates this \
-                     large overflow when the model turns; leave out --no-fit)"
+                     large overflow when the model turns{fix})"
                 ))
             })?;
             writer.write(&Token::Polygon(polygon))?;
@@ -496,6 +466,9 @@ fn main() -> ExitCode {
         // The sphere's and the model's shading and lighting (the other scenes' are fixed).
         let mut shading = Shading::Flat;
         let mut lighting = proto::shade::Lighting::default();
+        // What to change when the movie's coordinates overflow: only a model not fitted
+        // to the view can make them so large.
+        let mut fix = "";
         let movie = match cli.command {
             Command::Environment {
                 polygons,
@@ -518,6 +491,7 @@ fn main() -> ExitCode {
                     Space::World,
                     form,
                     proto::Attributes::default(),
+                    "",
                 );
             }
             Command::Penetrating => {
@@ -604,6 +578,7 @@ fn main() -> ExitCode {
                     Space::Screen { width, height },
                     form,
                     proto::Attributes::default(),
+                    "",
                 );
             }
             Command::Obj {
@@ -633,7 +608,9 @@ fn main() -> ExitCode {
                 for w in &model.warnings {
                     eprintln!("scene: warning: {w}");
                 }
-                if !no_fit {
+                if no_fit {
+                    fix = "leave out --no-fit";
+                } else {
                     obj::fit(&mut model.faces);
                 }
                 let faces_only = if shade {
@@ -661,6 +638,6 @@ fn main() -> ExitCode {
             },
             ..proto::Attributes::default()
         };
-        write_movie(movie, Space::World, form, attributes)
+        write_movie(movie, Space::World, form, attributes, fix)
     })
 }

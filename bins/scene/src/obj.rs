@@ -7,6 +7,7 @@
 
 use crate::shapes::Face;
 use glam::DVec3;
+use proto::text::Shown;
 use stagecli::{Context, Error};
 use std::cell::RefCell;
 use std::io::BufRead;
@@ -35,8 +36,7 @@ pub struct Model {
 pub fn load<R: BufRead>(input: &mut R, dir: &Path, name: &str) -> stagecli::Result<Model> {
     // Read it whole first: a read that fails is then an I/O error of its own, not a
     // parse error of tobj's, and the vertices can be checked with their line numbers.
-    let mut text = Vec::new();
-    input.read_to_end(&mut text).context(name)?;
+    let text = read_lines(input, name)?;
     let text = join_continued_lines(&text);
     check_lines(&text).map_err(|m| Error::data(format!("{name}: {m}")))?;
     let input = &mut std::io::Cursor::new(text);
@@ -171,20 +171,21 @@ fn check_material_lines(text: &[u8]) -> Result<(), String> {
             continue;
         }
         let values: Vec<&str> = words.collect();
-        let at = |why: String| format!("line {}: `{}`: {why}", k + 1, line.trim());
+        let at = |why: String| format!("line {}: `{}`: {why}", k + 1, Shown(line.trim()));
         if values.len() != 3 {
             return Err(at("a diffuse colour is three numbers from 0 to 1".into()));
         }
         for word in values {
+            let word_shown = Shown(word);
             match word.parse::<f64>() {
                 Ok(x) if (0.0..=1.0).contains(&x) => {}
                 Ok(_) => {
                     return Err(at(format!(
-                        "`{word}` is not from 0 to 1 (a diffuse colour is three numbers \
+                        "`{word_shown}` is not from 0 to 1 (a diffuse colour is three numbers \
                          from 0 to 1)"
                     )))
                 }
-                Err(_) => return Err(at(format!("`{word}` is not a number"))),
+                Err(_) => return Err(at(format!("`{word_shown}` is not a number"))),
             }
         }
     }
@@ -204,6 +205,51 @@ fn check_material_lines(text: &[u8]) -> Result<(), String> {
 ///   negative index back from the vertices read so far, 1-based ones from the start).
 ///
 /// What this does not catch, tobj still refuses, in its own words.
+/// Reads an OBJ file whole, each line checked as it comes in: at most
+/// [`proto::text::MAX_LINE_BYTES`] long and UTF-8 (which tobj needs, and refuses without
+/// saying where), so that input that is not an OBJ file (`/dev/zero`, `/dev/urandom`) is
+/// refused at its first line rather than read into memory for ever.
+fn read_lines<R: BufRead>(input: &mut R, name: &str) -> stagecli::Result<Vec<u8>> {
+    use proto::text::{line_too_long, MAX_LINE_BYTES};
+    let mut text = Vec::new();
+    let (mut line_start, mut searched, mut line_no) = (0usize, 0usize, 1u64);
+    let check = |line: &[u8], line_no: u64| match std::str::from_utf8(line) {
+        Ok(_) => Ok(()),
+        Err(e) => Err(Error::data(format!(
+            "{name}: line {line_no}: not text: byte {} of the line is not UTF-8 (is this an \
+             OBJ file?)",
+            e.valid_up_to() + 1
+        ))),
+    };
+    loop {
+        let buf = match input.fill_buf() {
+            Ok(buf) => buf,
+            Err(e) if e.kind() == std::io::ErrorKind::Interrupted => continue,
+            Err(e) => return Err(e).context(name),
+        };
+        if buf.is_empty() {
+            break;
+        }
+        let n = buf.len();
+        text.extend_from_slice(buf);
+        input.consume(n);
+        while let Some(i) = text[searched..].iter().position(|&b| b == b'\n') {
+            let end = searched + i;
+            check(&text[line_start..end], line_no)?;
+            (line_start, searched, line_no) = (end + 1, end + 1, line_no + 1);
+        }
+        searched = text.len();
+        if text.len() - line_start > MAX_LINE_BYTES {
+            return Err(Error::data(format!(
+                "{name}: line {line_no}: {}",
+                line_too_long()
+            )));
+        }
+    }
+    check(&text[line_start..], line_no)?;
+    Ok(text)
+}
+
 fn check_lines(text: &[u8]) -> Result<(), String> {
     // tobj reads lines as UTF-8 and refuses others without saying where.
     for (k, line) in text.split(|&b| b == b'\n').enumerate() {
@@ -230,7 +276,7 @@ fn check_lines(text: &[u8]) -> Result<(), String> {
             Some("f" | "l") => {
                 for word in words {
                     check_face_word(word, seen, vertices)
-                        .map_err(|why| at(format!("face `{}`: {why}", line.trim())))?;
+                        .map_err(|why| at(format!("face `{}`: {why}", Shown(line.trim()))))?;
                 }
                 continue;
             }
@@ -240,21 +286,22 @@ fn check_lines(text: &[u8]) -> Result<(), String> {
         if values.len() < numbers {
             return Err(at(format!(
                 "{kind} `{}` needs {numbers} numbers",
-                line.trim()
+                Shown(line.trim())
             )));
         }
         for word in values {
+            let word_shown = Shown(word);
             match word.parse::<f64>() {
                 Err(_) => {
                     return Err(at(format!(
-                        "{kind} `{}` has `{word}`, which is not a number",
-                        line.trim()
+                        "{kind} `{}` has `{word_shown}`, which is not a number",
+                        Shown(line.trim())
                     )))
                 }
                 Ok(x) if kind == "vertex" && !x.is_finite() => {
                     return Err(at(format!(
-                        "vertex `{}` has a coordinate `{word}` that is not a finite number",
-                        line.trim()
+                        "vertex `{}` has a coordinate `{word_shown}` that is not a finite number",
+                        Shown(line.trim())
                     )))
                 }
                 Ok(_) => {}
@@ -271,13 +318,14 @@ fn check_lines(text: &[u8]) -> Result<(), String> {
 /// vertex index checked against the `vertices` of the file (`seen` of them before the
 /// face, for an index counted back from there).
 fn check_face_word(word: &str, seen: usize, vertices: usize) -> Result<(), String> {
+    let word_shown = Shown(word);
     let parts: Vec<&str> = word.split('/').collect();
     if parts.len() > 3 || parts[0].is_empty() {
-        return Err(format!("`{word}` is not a vertex's indices"));
+        return Err(format!("`{word_shown}` is not a vertex's indices"));
     }
     for part in parts.iter().filter(|p| !p.is_empty()) {
         if part.parse::<isize>().is_err() {
-            return Err(format!("`{word}` is not a vertex's indices"));
+            return Err(format!("`{word_shown}` is not a vertex's indices"));
         }
     }
     let index: isize = parts[0].parse().unwrap_or(0);

@@ -44,7 +44,8 @@ struct Args {
     /// The number -o's pattern gives the first frame (the rest follow it): a chunk of a
     /// movie rendered on its own (`frames --from A --to B | … --first-frame A`) writes
     /// the files the whole movie's run would.
-    #[arg(long, value_name = "N", default_value_t = 0, requires = "output")]
+    #[arg(long, value_name = "N", default_value_t = 0, requires = "output",
+          value_parser = stagecli::numbers::whole::<u64>(0, u64::MAX))]
     first_frame: u64,
     #[command(flatten)]
     text: PpmTextFlag,

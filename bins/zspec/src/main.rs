@@ -80,11 +80,11 @@ enum Command {
         b: String,
         /// The largest fraction of a frame's pixels that may differ with the streams still
         /// called the same (0 to 1; default 0: any differing pixel is a difference).
-        #[arg(long, value_parser = fraction, value_name = "FRACTION")]
+        #[arg(long, value_parser = stagecli::numbers::fraction, value_name = "FRACTION")]
         tolerance: Option<f64>,
         /// The same as --tolerance (100 − P)/100: the least percentage of agreeing pixels
-        /// every frame must reach (0 to 100).
-        #[arg(long, value_parser = percentage, conflicts_with = "tolerance")]
+        /// every frame must reach (0 to 100; default 100, every pixel the same).
+        #[arg(long, value_parser = stagecli::numbers::percent, conflicts_with = "tolerance")]
         min_agreement: Option<f64>,
         /// Instead, measure B against A: per frame and `overall`, the differing
         /// fraction, the RMSE (0-255 units, three channels), the largest channel error
@@ -100,22 +100,6 @@ enum Command {
         #[arg(long, requires = "metrics")]
         csv: bool,
     },
-}
-
-/// A fraction from 0 to 1.
-fn fraction(s: &str) -> Result<f64, String> {
-    s.parse::<f64>()
-        .ok()
-        .filter(|p| (0.0..=1.0).contains(p))
-        .ok_or_else(|| format!("`{s}` is not a fraction from 0 to 1"))
-}
-
-/// A percentage from 0 to 100.
-fn percentage(s: &str) -> Result<f64, String> {
-    s.parse::<f64>()
-        .ok()
-        .filter(|p| (0.0..=100.0).contains(p))
-        .ok_or_else(|| format!("`{s}` is not a percentage from 0 to 100"))
 }
 
 fn main() -> ExitCode {
@@ -299,10 +283,11 @@ fn read_ppms(path: &str) -> stagecli::Result<Vec<ppm::Image>> {
         .map_err(|e| Error::from(e).context(stagecli::input_name(path)))
 }
 
-/// Compares two PPM streams: `Ok(true)` when no frame has more than `tolerance` of its
-/// pixels differing. An empty input is trouble, not a stream of no frames: comparing two
-/// files that were never written would otherwise say they are the same.
-fn compare(a: &str, b: &str, tolerance: f64) -> stagecli::Result<bool> {
+/// The two PPM streams compared, with or without --metrics, and the same trouble said the
+/// same way by both: `-` named twice, or an input that is empty. An empty input is trouble,
+/// not a stream of no frames: comparing two files that were never written would otherwise
+/// say they are the same.
+fn read_pair(a: &str, b: &str) -> stagecli::Result<(Vec<ppm::Image>, Vec<ppm::Image>)> {
     if a == "-" && b == "-" {
         return Err(Error::usage(
             "`-` (stdin) is named twice: it can be read only once",
@@ -315,6 +300,13 @@ fn compare(a: &str, b: &str, tolerance: f64) -> stagecli::Result<bool> {
                 .context(stagecli::input_name(path)));
         }
     }
+    Ok((ia, ib))
+}
+
+/// Compares two PPM streams: `Ok(true)` when no frame has more than `tolerance` of its
+/// pixels differing.
+fn compare(a: &str, b: &str, tolerance: f64) -> stagecli::Result<bool> {
+    let (ia, ib) = read_pair(a, b)?;
     let frames = zspec::compare(&ia, &ib);
     if let Ok(frames) = &frames {
         let mut out = stagecli::stdout();
@@ -335,12 +327,7 @@ fn compare(a: &str, b: &str, tolerance: f64) -> stagecli::Result<bool> {
 
 /// `compare --metrics`: the error measures of B against A, per frame and overall.
 fn compare_metrics(a: &str, b: &str, edges: Option<&str>, csv: bool) -> stagecli::Result<()> {
-    if a == "-" && b == "-" {
-        return Err(Error::usage(
-            "`-` (stdin) is named twice: it can be read only once",
-        ));
-    }
-    let (ia, ib) = (read_ppms(a)?, read_ppms(b)?);
+    let (ia, ib) = read_pair(a, b)?;
     let masks = edges.map(read_ppms).transpose()?;
     let frames = zspec::metrics_streams(&ia, &ib, masks.as_deref())
         .map_err(|e| Error::data(format!("{e:#}")))?;

@@ -4,7 +4,9 @@
 //! finished before a fault.
 
 use pipeline_tests::sh;
-use std::process::Output;
+use std::io::Read;
+use std::process::{Command, Output, Stdio};
+use std::time::{Duration, Instant};
 
 /// Each stage: its name, its command line, and a shell pipeline writing a valid binary
 /// stream of the space it reads (`T` is the world-space text scene).
@@ -268,4 +270,137 @@ fn zbuf_writes_the_frames_finished_before_a_fault_in_frame_3() {
     refused("zbuf", "cut in frame 3", &out);
     let frames = pipeline_tests::parse_ppm_stream(&out.stdout).expect("whole frames");
     assert_eq!(frames.len(), 2, "frames 0 and 1 whole");
+}
+
+/// Runs `args` (the binary first, from the build) with stdin from `stdin` (a path; none
+/// for /dev/null), and returns its status, stderr, wall time and peak memory (KiB, from
+/// wait4: the largest of the process and the children it waited for).
+// The child is reaped by wait4 (for its rusage), which clippy does not see.
+#[allow(clippy::zombie_processes)]
+fn measured(args: &[&str], stdin: Option<&str>) -> (Option<i32>, String, Duration, i64) {
+    use std::os::unix::process::ExitStatusExt;
+    let input = match stdin {
+        Some(p) => Stdio::from(std::fs::File::open(p).unwrap()),
+        None => Stdio::null(),
+    };
+    let start = Instant::now();
+    let mut child = Command::new(pipeline_tests::bin(args[0]))
+        .args(&args[1..])
+        .current_dir(pipeline_tests::repo_root())
+        .env("POLYPIPE_BIN", pipeline_tests::bin_dir())
+        .env("POLYPIPE_LOAD", "0")
+        .stdin(input)
+        .stdout(Stdio::null())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    let mut err = String::new();
+    // stderr is read to its end (one short line, or a hang's worth), then the child reaped
+    // by wait4 for its rusage; a child still running after 60 s is killed.
+    let pid = child.id() as libc::pid_t;
+    let mut stderr = child.stderr.take().unwrap();
+    let reader = std::thread::spawn(move || {
+        let mut s = String::new();
+        let _ = stderr.read_to_string(&mut s);
+        s
+    });
+    let killer = std::thread::spawn(move || {
+        std::thread::sleep(Duration::from_secs(60));
+        // SAFETY: kill reads its two integer arguments; a pid already reaped at worst
+        // names no process (the test has failed its time bound by then anyway).
+        unsafe { libc::kill(pid, libc::SIGKILL) };
+    });
+    let mut status = 0;
+    // SAFETY: an all-zero rusage is a valid value of the plain C struct.
+    let mut usage: libc::rusage = unsafe { std::mem::zeroed() };
+    // SAFETY: wait4 writes the status and the rusage through the two pointers, which point
+    // at live locals of the right types.
+    let reaped = unsafe { libc::wait4(pid, &mut status, 0, &mut usage) };
+    assert_eq!(reaped, pid, "{args:?}: wait4");
+    let elapsed = start.elapsed();
+    drop(killer);
+    err.push_str(&reader.join().unwrap());
+    let code = std::process::ExitStatus::from_raw(status).code();
+    (code, err, elapsed, usage.ru_maxrss)
+}
+
+/// Input that never ends and holds no line, or no text (`/dev/zero`, `/dev/urandom`),
+/// into every reader: the stream codec's (viewxf, clipbatch, persp, zbuf, zspec, `frames
+/// --count`), `plan depth`'s look, render's (the scene a FILE, and stdin) and `scene
+/// obj`'s (a FILE, and stdin). Each ends with status 1 and one line of at most 200 bytes
+/// (render: its stage's, and the line naming the stage) within a hang's bound (a second where the machine is idle: the figures are printed),
+/// its peak memory at most 64 MB (a text line is refused past 1 MiB,
+/// `proto::text::MAX_LINE_BYTES`; before, each read on past 1.7 GB).
+#[test]
+fn endless_devices_are_refused_at_once_in_bounded_memory() {
+    for device in ["/dev/zero", "/dev/urandom"] {
+        let cases: Vec<(Vec<&str>, Option<&str>)> = vec![
+            (vec!["viewxf"], Some(device)),
+            (vec!["clipbatch"], Some(device)),
+            (vec!["persp", "--size", "8x8"], Some(device)),
+            (vec!["zbuf"], Some(device)),
+            (vec!["zspec", "--size", "8x8"], Some(device)),
+            (vec!["frames", "--count"], Some(device)),
+            (vec!["frames", "--count", device], None),
+            (vec!["plan", "depth", device], None),
+            (vec!["render", "--depth", "0", device], None),
+            (vec!["render", "--depth", "0", "-"], Some(device)),
+            (vec!["render", "--depth", "auto", "-"], Some(device)),
+            (vec!["scene", "obj", device], None),
+            (vec!["scene", "obj", "-"], Some(device)),
+        ];
+        for (args, stdin) in cases {
+            let what = format!("{} < {}", args.join(" "), stdin.unwrap_or("/dev/null"));
+            let (code, err, took, kib) = measured(&args, stdin);
+            eprintln!("{what}: status {code:?}, {took:.2?}, {kib} KiB; {err:?}");
+            assert_eq!(code, Some(1), "{what}: {err}");
+            // render passes on its first stage's line, and names the stage after it
+            // (docs/DESIGN.md, "Errors and exit statuses").
+            let lines: Vec<&str> = err.lines().collect();
+            let own = match args[0] {
+                "render" => lines.len() == 2 && lines[1] == "render: viewxf failed (status 1)",
+                _ => lines.len() == 1,
+            };
+            assert!(own, "{what}: {err}");
+            assert!(
+                lines[0].len() <= 200 && lines[0].starts_with(args[0]) || args[0] == "render",
+                "{what}: {} bytes: {err}",
+                lines[0].len()
+            );
+            assert!(lines[0].len() <= 200, "{what}: {err}");
+            assert!(!err.contains("panicked"), "{what}: {err}");
+            assert!(took < Duration::from_secs(20), "{what}: {took:?}");
+            assert!(kib <= 64_000, "{what}: {kib} KiB");
+        }
+    }
+}
+
+/// A word of 50 MB (a number with no end, on one line within the bound, or quoted by a
+/// stage's message) is quoted cut to about 80 characters: a message stays one short line.
+#[test]
+fn a_long_word_is_quoted_cut() {
+    let digits = "9".repeat(900_000);
+    for (what, input) in [
+        (
+            "a long number",
+            format!("polypipe 1 world\ncolour 1 2 3\n{digits}x 0 0\n"),
+        ),
+        ("a long keyword", format!("polypipe 1 world\n{digits}\n")),
+    ] {
+        let out = run("viewxf", input.as_bytes());
+        let e = refused("viewxf", what, &out);
+        assert!(e.len() < 300, "{what}: {} bytes", e.len());
+        assert!(
+            e.contains("999… (900001 bytes)") || e.contains("999… (900000 bytes)"),
+            "{e}"
+        );
+    }
+    // A text line longer than the bound is refused where it starts.
+    let long = format!("polypipe 1 world\n# {}\n", " ".repeat(2 << 20));
+    let e = refused("viewxf", "a long line", &run("viewxf", long.as_bytes()));
+    assert_eq!(
+        e.trim_end(),
+        "viewxf: line 2, column 1: expected a line of text of at most 1048576 bytes, found \
+         1048576 bytes with no end of line (not a text stream?)"
+    );
 }

@@ -455,7 +455,14 @@ fn zspec_compare_exits_alike_with_and_without_metrics() {
     let a = file("a.ppm", b"P6\n1 1\n255\n\xff\x00\x00");
     let png = file("b.png", b"\x89PNG\r\n\x1a\n\x00\x00\x00\rIHDR");
     let cut = file("cut.ppm", b"P6\n2 2\n255\n\xff\x00");
+    let empty = file("empty.ppm", b"");
     let cases: &[(&str, i32, String)] = &[
+        // The same fault in the same words, with --metrics and without.
+        (
+            &empty,
+            2,
+            format!("zspec compare: {empty}: empty: not a PPM stream (no frame)\n"),
+        ),
         (
             &png,
             2,
@@ -574,4 +581,262 @@ fn a_movie_to_one_file_name_is_refused_naming_the_option() {
         // The first frame's picture, written before the second came, is taken back.
         assert!(!std::path::Path::new(&one).exists(), "{cmd}");
     }
+}
+
+/// Every numeric option of every binary, given a value out of its range, NaN, an
+/// infinity or a negative number: status 2 at once, one line naming the option (a
+/// negative value is the option's value, not an unknown option `-1`). The binary, the
+/// words before the option, the option, the words after it, and the bad values.
+type NumberCase = (
+    &'static str,
+    &'static [&'static str],
+    &'static str,
+    &'static [&'static str],
+    &'static [&'static str],
+);
+
+const NUMBERS: &[NumberCase] = &[
+    ("viewxf", &[], "--s", &[], &["-3", "nan", "inf", "0"]),
+    ("viewxf", &[], "--d", &[], &["-1", "nan"]),
+    ("viewxf", &[], "--hither", &[], &["-1", "nan", "inf"]),
+    ("viewxf", &[], "--yon", &[], &["-1", "nan"]),
+    ("viewxf", &[], "--aspect", &[], &["-2", "nan", "inf", "0"]),
+    ("viewxf", &[], "--size", &[], &["-5x5", "0x5", "nanxnan"]),
+    ("zspec", &[], "--samples", &[], &["-1", "0", "nan", "1e308"]),
+    ("zspec", &[], "--background", &[], &["-1,0,0", "256,0,0"]),
+    (
+        "zspec",
+        &["compare", "a", "b"],
+        "--tolerance",
+        &[],
+        &["-1", "nan", "inf", "1.5"],
+    ),
+    (
+        "zspec",
+        &["compare", "a", "b"],
+        "--min-agreement",
+        &[],
+        &["-1", "nan", "101"],
+    ),
+    ("persp", &[], "--size", &[], &["-5x5", "0x0", "65537x1"]),
+    (
+        "clipplane",
+        &["hither"],
+        "--at",
+        &[],
+        &["nan", "inf", "-inf"],
+    ),
+    ("clipbatch", &[], "--batch", &[], &["-1", "0", "nan"]),
+    (
+        "splitter",
+        &["--depth", "2", "--size", "8x8"],
+        "--node",
+        &["a", "b"],
+        &["-1", "nan"],
+    ),
+    (
+        "splitter",
+        &["--node", "1", "--size", "8x8"],
+        "--depth",
+        &["a", "b"],
+        &["-1"],
+    ),
+    (
+        "zbuf",
+        &["-o", "f%03d.png"],
+        "--first-frame",
+        &[],
+        &["-3", "nan", "1.5"],
+    ),
+    ("zbuf", &[], "--background", &[], &["-1,0,0", "nan,0,0"]),
+    ("supersample", &[], "--samples", &[], &["-1", "nan"]),
+    ("supersample", &[], "--background", &[], &["-1,0,0"]),
+    (
+        "hiddenline",
+        &[],
+        "--stroke-width",
+        &[],
+        &["-1", "0", "nan", "inf"],
+    ),
+    ("painter", &["--split"], "--cuts-base", &[], &["-1", "nan"]),
+    ("painter", &["--split"], "--cuts-per-polygon", &[], &["-1"]),
+    ("frames", &[], "--from", &[], &["-1", "nan", "1.5"]),
+    ("frames", &[], "--to", &[], &["-2"]),
+    (
+        "scene",
+        &[],
+        "--frames",
+        &["penetrating"],
+        &["-1", "0", "nan"],
+    ),
+    (
+        "scene",
+        &["environment"],
+        "--depth-complexity",
+        &[],
+        &["1e308", "-1", "0", "nan", "inf"],
+    ),
+    (
+        "scene",
+        &["environment"],
+        "--clipped",
+        &[],
+        &["-0.5", "nan", "2"],
+    ),
+    (
+        "scene",
+        &["environment"],
+        "--polygons",
+        &[],
+        &["-1", "0", "nan"],
+    ),
+    ("scene", &["sphere"], "--radius", &[], &["-1", "0", "inf"]),
+    ("scene", &["sphere"], "--stacks", &[], &["-1", "1"]),
+    ("plan", &["depth"], "--cores", &["x"], &["-1", "0", "nan"]),
+    (
+        "plan",
+        &["depth"],
+        "--link-gbps",
+        &["x"],
+        &["nan", "0", "inf", "1e-300", "-1"],
+    ),
+    ("plan", &["depth"], "--load", &["x"], &["-1", "nan"]),
+    ("plan", &["depth"], "--max-depth", &["x"], &["-1", "7"]),
+    ("plan", &["movie"], "--login", &["x"], &["-1", "nan"]),
+    ("plan", &["movie"], "--chunk", &["x"], &["-1", "0"]),
+    (
+        "farm",
+        &["--hosts", "a"],
+        "--chunk",
+        &["-", "--", "true"],
+        &["-1", "0"],
+    ),
+    (
+        "farm",
+        &["--hosts", "a"],
+        "--retries",
+        &["-", "--", "true"],
+        &["-1"],
+    ),
+    ("chart", &["-o", "x"], "--reps", &[], &["-1", "0"]),
+    ("render", &[], "--size", &[], &["-5x5", "0x5"]),
+    ("render", &[], "--depth", &[], &["-1", "7", "nan"]),
+    (
+        "render",
+        &["-o", "f%03d.png"],
+        "--first-frame",
+        &[],
+        &["-1", "nan"],
+    ),
+];
+
+#[test]
+fn every_numeric_option_refuses_bad_values_naming_itself() {
+    for &(name, before, option, after, values) in NUMBERS {
+        for value in values {
+            let args: Vec<&str> = before
+                .iter()
+                .copied()
+                .chain([option, *value])
+                .chain(after.iter().copied())
+                .collect();
+            let (status, out, err) = run_without_input(name, &args);
+            let what = format!("{name} {}", args.join(" "));
+            assert_eq!(status, Some(2), "{what}: {err}");
+            assert_eq!(out, "", "{what}");
+            assert_eq!(err.lines().count(), 1, "{what}: {err}");
+            assert!(err.starts_with(name), "{what}: {err}");
+            assert!(err.contains(option), "{what}: `{option}` not in {err}");
+            for wrong in ["unexpected argument", "unknown option"] {
+                assert!(!err.contains(wrong), "{what}: {err}");
+            }
+        }
+    }
+    // The range, in the option's own words.
+    for (args, said) in [
+        (
+            &["plan", "depth", "--link-gbps", "nan", "x"][..],
+            "plan: invalid value 'nan' for '--link-gbps <G>': `nan` is not a finite number \
+             from 0.001 to 100000\n",
+        ),
+        (
+            &["frames", "--from", "-1"],
+            "frames: invalid value '-1' for '--from <A>': `-1` is not a whole number 0 or more\n",
+        ),
+        (
+            &["render", "--depth", "-1"],
+            "render: --depth must be an integer from 0 to 6 or auto, not '-1'\n",
+        ),
+        (
+            &["scene", "environment", "--depth-complexity", "1e308"],
+            "scene: invalid value '1e308' for '--depth-complexity <DEPTH_COMPLEXITY>': \
+             `1e308` is not a finite number from 0.000001 to 1000000\n",
+        ),
+    ] {
+        let (status, _, err) = run_without_input(args[0], &args[1..]);
+        assert_eq!((status, err.as_str()), (Some(2), said), "{args:?}");
+    }
+}
+
+/// A subcommand given without its own subcommand lists its own (`scene screen`'s
+/// scenes), not the top level's.
+#[test]
+fn a_missing_subcommand_lists_its_parents_own() {
+    let (status, _, err) = run_without_input("scene", &["screen"]);
+    assert_eq!(status, Some(2), "{err}");
+    assert!(
+        err.starts_with("scene: give a subcommand: ") && err.contains("(`scene screen --help`"),
+        "{err}"
+    );
+    assert!(!err.contains("environment, penetrating"), "{err}");
+}
+
+/// `zspec compare`'s default is what the README says: every pixel the same (100%), so
+/// that one differing pixel in 10,000 is a difference (status 1) unless `--tolerance` or
+/// `--min-agreement` accepts it.
+#[test]
+fn zspec_compare_agrees_on_every_pixel_by_default_as_the_readme_says() {
+    let readme = std::fs::read_to_string(pipeline_tests::repo_root().join("README.md")).unwrap();
+    assert!(
+        readme.contains("`--min-agreement` percent, default 100: every pixel)"),
+        "README"
+    );
+    let dir = tempfile::tempdir().unwrap();
+    let mut a = b"P6\n100 100\n255\n".to_vec();
+    a.extend(std::iter::repeat_n(0u8, 30_000));
+    let mut b = a.clone();
+    let last = b.len() - 1;
+    b[last] = 255;
+    std::fs::write(dir.path().join("a.ppm"), &a).unwrap();
+    std::fs::write(dir.path().join("b.ppm"), &b).unwrap();
+    let d = dir.path().display();
+    for (options, status) in [
+        ("", 1),
+        ("--min-agreement 100", 1),
+        ("--min-agreement 99.99", 0),
+        ("--tolerance 0.0001", 0),
+    ] {
+        let cmd = format!("zspec compare {options} {d}/a.ppm {d}/b.ppm");
+        assert_eq!(sh(&cmd, b"").status.code(), Some(status), "{cmd}");
+    }
+}
+
+/// `plan depth` is the name the README and the help give; `chart choose-depth`, its old
+/// name, still runs (scripts use it) but is not listed in chart's help.
+#[test]
+fn plan_depth_has_one_name_in_the_help() {
+    let chart = sh("chart --help", b"");
+    let help = String::from_utf8_lossy(&chart.stdout);
+    assert!(!help.contains("choose-depth"), "{help}");
+    let plan = sh("plan --help", b"");
+    assert!(
+        String::from_utf8_lossy(&plan.stdout).contains("\n  depth "),
+        "plan --help"
+    );
+    let readme = std::fs::read_to_string(pipeline_tests::repo_root().join("README.md")).unwrap();
+    assert!(readme.contains("(`chart choose-depth`, its old name, still runs it)"));
+    assert!(!readme.contains("(`plan depth` is its old name)"));
+    let old = sh("chart choose-depth --help", b"");
+    assert_eq!(old.status.code(), Some(0));
+    assert!(String::from_utf8_lossy(&old.stdout).contains("plan depth --size"));
 }

@@ -885,7 +885,12 @@ fn usage_errors_need_no_hosts() {
     for (args, message) in [
         (
             vec!["--by", "frames", "examples/penetrating.txt"],
-            "render: --by frames needs --hosts H1,H2,…",
+            "render: --by frames needs hosts: --hosts H1,H2,… or --sshloginfile FILE (or \
+             --slurm-array DIR, for Slurm's)",
+        ),
+        (
+            vec!["--by", "leaves", "examples/penetrating.txt"],
+            "render: --by leaves needs --hosts H1,H2,…",
         ),
         (
             vec!["--hosts", "a,b", "--by", "frames", "--subtree", "1"],

@@ -457,7 +457,7 @@ fn obj_gouraud_lights_each_vertex_by_its_normal() {
         .assert()
         .code(2)
         .stderr(predicate::str::contains(
-            "200 must be an angle from 0 to 180 degrees",
+            "`200` is not an angle from 0 to 180 degrees",
         ));
 }
 
