@@ -300,6 +300,64 @@ pub const METHODS: &[Method] = &[
         marker: Marker::Circle,
         fuzz: None,
     },
+    // K×K samples only where an edge, a silhouette or a crossing touches the pixel:
+    // ssK's bytes on flat polygons (docs/antialiasing.md, "Adaptive supersampling").
+    Method {
+        name: "adaptive2",
+        selector: Selector::Aa("adaptive2"),
+        options: &["--aa", "adaptive2"],
+        stage: &["supersample", "--samples", "2", "--adaptive"],
+        draws: Draws::Pixels,
+        exact: false,
+        input: Input::AsGiven,
+        depths: AA,
+        quick: false,
+        colour: [70, 20, 250], // violet
+        marker: Marker::Diamond,
+        fuzz: None,
+    },
+    Method {
+        name: "adaptive4",
+        selector: Selector::Aa("adaptive4"),
+        options: &["--aa", "adaptive4"],
+        stage: &["supersample", "--samples", "4", "--adaptive"],
+        draws: Draws::Pixels,
+        exact: false,
+        input: Input::AsGiven,
+        depths: AA,
+        quick: true,
+        colour: [110, 250, 80], // light green
+        marker: Marker::Square,
+        fuzz: None,
+    },
+    Method {
+        name: "adaptive8",
+        selector: Selector::Aa("adaptive8"),
+        options: &["--aa", "adaptive8"],
+        stage: &["supersample", "--samples", "8", "--adaptive"],
+        draws: Draws::Pixels,
+        exact: false,
+        input: Input::AsGiven,
+        depths: AA,
+        quick: false,
+        colour: [160, 0, 130], // plum
+        marker: Marker::Triangle,
+        fuzz: None,
+    },
+    Method {
+        name: "adaptive16",
+        selector: Selector::Aa("adaptive16"),
+        options: &["--aa", "adaptive16"],
+        stage: &["supersample", "--samples", "16", "--adaptive"],
+        draws: Draws::Pixels,
+        exact: false,
+        input: Input::AsGiven,
+        depths: AA,
+        quick: false,
+        colour: [10, 250, 0], // bright green
+        marker: Marker::Circle,
+        fuzz: None,
+    },
     // The thesis's PAR.BUFF with its quadruplets: one fragment a pixel to the one zbuf.
     Method {
         name: "zbuf-pixels",
@@ -626,7 +684,7 @@ mod tests {
     #[test]
     fn the_table_passes_its_own_check() {
         assert_eq!(check(METHODS), Ok(()));
-        assert_eq!(METHODS.len(), 18);
+        assert_eq!(METHODS.len(), 22);
     }
 
     #[test]
@@ -635,7 +693,20 @@ mod tests {
             hse_names(METHODS),
             ["scanline", "warnock", "painter", "zbuf"]
         );
-        assert_eq!(aa_names(METHODS), ["abuf", "ss2", "ss4", "ss8", "ss16"]);
+        assert_eq!(
+            aa_names(METHODS),
+            [
+                "abuf",
+                "ss2",
+                "ss4",
+                "ss8",
+                "ss16",
+                "adaptive2",
+                "adaptive4",
+                "adaptive8",
+                "adaptive16"
+            ]
+        );
         assert_eq!(
             by_hse(METHODS, "zbuf").unwrap().stage,
             ["scanconv", "--resolve"]
@@ -685,11 +756,11 @@ mod tests {
             "scanline\thse:scanline\t--hse scanline\tscanline\tpixels\texact\tas-given\t0,1,2,3,4\tquick\t#1f77b4\tsquare\tmethods"
         );
         assert_eq!(
-            lines[11],
+            lines[15],
             "zbuf\thse:zbuf\t-\tscanconv --resolve\tpixels\texact\tas-given\t0,1,2,3,4\tquick\t#000000\tcircle\tscanconv"
         );
         assert_eq!(
-            lines[18],
+            lines[22],
             "hiddenline-archuleta\thidden-line:archuleta\t--hidden-line --hidden-line-method archuleta\thiddenline --method archuleta\tlines\tapproximate\tas-given\t0\tquick\t#5a9600\tcross\t-"
         );
     }

@@ -1118,7 +1118,20 @@ mod tests {
             .map(|m| m.name)
             .filter(|n| anti_aliased(n))
             .collect();
-        assert_eq!(aa, ["abuf", "ss2", "ss4", "ss8", "ss16"]);
+        assert_eq!(
+            aa,
+            [
+                "abuf",
+                "ss2",
+                "ss4",
+                "ss8",
+                "ss16",
+                "adaptive2",
+                "adaptive4",
+                "adaptive8",
+                "adaptive16"
+            ]
+        );
         assert!(!anti_aliased("nothing") && !anti_aliased("zbuf-pixels"));
     }
 
@@ -1365,12 +1378,12 @@ mod tests {
         speed_accuracy(dir.path(), &rows).unwrap();
         let png = image::open(dir.path().join("speed-accuracy.png")).unwrap();
         // One panel is narrower than the title: three lines, the picture taller by two;
-        // the legend below, its sixteen methods four to a row.
+        // the legend below, its twenty methods four to a row.
         assert_eq!(
             (png.width(), png.height()),
             (PANEL.0, PANEL.1 + title_height(3) + legend_height(PANEL.0))
         );
-        assert_eq!(legend_height(PANEL.0), 16 + 26 * 4);
+        assert_eq!(legend_height(PANEL.0), 16 + 26 * 5);
         let svg = std::fs::read_to_string(dir.path().join("speed-accuracy.svg")).unwrap();
         assert!(svg.contains("zbuf-eye-z"), "the label is in the SVG");
         assert!(svg.contains("wall time, seconds"));

@@ -32,9 +32,38 @@ impl Samples {
     }
 
     fn fit(&self, columns: [bool; 6]) -> Cost {
-        Cost::from_coefficients(fit(&self.rows, &self.seconds, columns))
+        Cost::from_coefficients(fit_relative(&self.rows, &self.seconds, columns))
     }
 }
+
+/// [`fit`] in relative terms: each run's row and seconds divided by its seconds, so that
+/// the least squares weigh a 1-ms run's error of 1 ms as a 1-s run's of 1 s. In absolute
+/// terms the large scenes decide every coefficient and the constant a process is what
+/// their line extrapolates to at no work, which was twice a two-polygon run's own time;
+/// with the tiny scene among the runs ([`TINY`]) and the relative weights, the constant
+/// is that run's measured start-up, and the model's error is what the chart reports,
+/// relative. Runs of no measurable time (0 s) keep their absolute weight.
+fn fit_relative(rows: &[[f64; 6]], seconds: &[f64], columns: [bool; 6]) -> [f64; 6] {
+    let weight = |t: f64| if t > 0.0 { 1.0 / t } else { 1.0 };
+    let scaled: Vec<[f64; 6]> = rows
+        .iter()
+        .zip(seconds)
+        .map(|(row, &t)| row.map(|x| x * weight(t)))
+        .collect();
+    let ones: Vec<f64> = seconds.iter().map(|&t| t * weight(t)).collect();
+    fit(&scaled, &ones, columns)
+}
+
+/// The tiny scene (polygons, width, height, depth complexity) measured beside
+/// [`grid`]'s: two polygons at 500×500, a stage run that is all start-up (the process,
+/// its exec, its header, its exit), so that each stage's constant a process is measured
+/// on this machine, not extrapolated from thousands of polygons. Always measured, late or
+/// not: its runs take milliseconds.
+pub const TINY: (u64, u32, u32, f64) = (2, 500, 500, 1.0);
+
+/// Runs of each stage on [`TINY`] (the fastest kept): a start-up of a few milliseconds
+/// varies by a millisecond from run to run.
+const TINY_REPS: usize = 5;
 
 /// The fastest of `reps` runs of a command (CPU seconds), its stdin and stdout files.
 fn cpu(reps: usize, mut make: impl FnMut() -> Result<Command>) -> Result<f64> {
@@ -102,17 +131,22 @@ pub fn calibrate(
     quick: bool,
     mut tick: impl FnMut(&str),
 ) -> Result<Constants> {
-    let reps = if quick { 1 } else { 2 };
+    let scene_reps = if quick { 1 } else { 2 };
     let [mut vt, mut vb, mut clip, mut split, mut persp, mut hse, mut merge, mut resolve] =
         std::array::from_fn(|_| Samples::default());
     let f = |n: &str| work.join(n);
     let start = std::time::Instant::now();
-    for (i, &(p, w, h, dc)) in grid(quick).iter().enumerate() {
+    let scenes = grid(quick);
+    let count = scenes.len();
+    for (i, &(p, w, h, dc)) in scenes.iter().chain([&TINY]).enumerate() {
+        let tiny = i == count;
         // The 20 s bound on a loaded machine: past LATE, no more scenes once the five
-        // the fit needs at least (five terms of the leaf's cost) are measured.
-        if i >= 5 && start.elapsed() > LATE {
-            break;
+        // the fit needs at least (five terms of the leaf's cost) are measured, but the
+        // tiny one.
+        if i >= 5 && !tiny && start.elapsed() > LATE {
+            continue;
         }
+        let reps = if tiny { TINY_REPS } else { scene_reps };
         let size = format!("{w}x{h}");
         tick(&format!("{p} polygons, {size}, Dc {dc}"));
         for (text, name) in [(false, "w.pp"), (true, "w.txt")] {
@@ -343,7 +377,7 @@ pub fn machine() -> String {
 
 /// The steps [`calibrate`] reports to its `tick`: a scene each, and the start-up fit.
 pub fn steps(quick: bool) -> usize {
-    grid(quick).len() + 1
+    grid(quick).len() + 2
 }
 
 /// Calibrates this machine and keeps the result in the cache ([`crate::cache`]), saying
@@ -432,6 +466,58 @@ pub fn table(k: &Constants) -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// A stage of 2 ms a process and 1 µs a polygon, slower a polygon on the large scenes
+    /// (its memory outgrows the caches: what a linear model cannot follow). The absolute
+    /// fit over scenes of 1,000 to 30,000 polygons and the two-polygon run puts the
+    /// constant where the large runs' line meets zero, and predicts the two polygons far
+    /// off; the relative fit predicts every run within its error, the tiny one best.
+    #[test]
+    fn the_relative_fit_takes_the_start_up_from_the_tiny_run() {
+        let polygons = [2.0, 1000.0, 8000.0, 30000.0, 2000.0];
+        let rows: Vec<[f64; 6]> = polygons
+            .iter()
+            .map(|&p| [1.0, p, 0.0, 0.0, 0.0, 0.0])
+            .collect();
+        let y: Vec<f64> = polygons
+            .iter()
+            .map(|&p| 0.002 + 1e-6 * p + 5e-12 * p * p)
+            .collect();
+        let columns = [true, true, false, false, false, false];
+        let errors = |c: [f64; 6]| -> Vec<f64> {
+            rows.iter()
+                .zip(&y)
+                .map(|(r, &t)| ((c[0] + c[1] * r[1]) - t).abs() / t)
+                .collect()
+        };
+        let (relative, absolute) = (
+            errors(fit_relative(&rows, &y, columns)),
+            errors(fit(&rows, &y, columns)),
+        );
+        let mean = |e: &[f64]| e.iter().sum::<f64>() / e.len() as f64;
+        assert!(
+            relative[0] < 0.05 && absolute[0] > 0.1,
+            "{relative:?} {absolute:?}"
+        );
+        assert!(
+            mean(&relative) < mean(&absolute),
+            "{relative:?} {absolute:?}"
+        );
+        // Exact linear data: both give the constants back.
+        let exact: Vec<f64> = polygons.iter().map(|&p| 0.002 + 1e-6 * p).collect();
+        for c in [
+            fit_relative(&rows, &exact, columns),
+            fit(&rows, &exact, columns),
+        ] {
+            assert!(
+                (c[0] - 0.002).abs() < 1e-9 && (c[1] - 1e-6).abs() < 1e-12,
+                "{c:?}"
+            );
+        }
+        // A run of no measurable time keeps its absolute weight: no division by zero.
+        let c = fit_relative(&rows, &[0.0, 0.003, 0.01, 0.032, 0.004], columns);
+        assert!(c.iter().all(|v| v.is_finite()), "{c:?}");
+    }
 
     #[test]
     fn the_load_is_the_threads_runnable_now_but_the_reader() {

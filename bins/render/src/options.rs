@@ -195,7 +195,9 @@ pub struct Cli {
     #[arg(long)]
     pub split: bool,
     /// Anti-aliasing at the leaves: none (one sample at each pixel centre), ss2, ss4,
-    /// ss8, ss16 (K×K samples a pixel, box filter) or abuf (Carpenter's a-buffer).
+    /// ss8, ss16 (K×K samples a pixel, box filter), adaptive2 … adaptive16 (K×K samples
+    /// only where an edge or a crossing touches the pixel: ssK's bytes on flat polygons)
+    /// or abuf (Carpenter's a-buffer).
     #[arg(long, value_name = "MODE", default_value = "none")]
     pub aa: String,
     /// With --merge buffer: one fragment per pixel (the thesis's quadruplets) instead of
@@ -672,7 +674,8 @@ mod tests {
             ),
             (
                 &["--aa", "ss3"],
-                "--aa must be none, abuf, ss2, ss4, ss8 or ss16, not 'ss3'",
+                "--aa must be none, abuf, ss2, ss4, ss8, ss16, adaptive2, adaptive4, adaptive8 or \
+                 adaptive16, not 'ss3'",
             ),
             (
                 &["--split"],

@@ -22,7 +22,7 @@ use proto::shade::{Lighting, Shading};
 use proto::{Colour, Polygon};
 use scan::fine::{scaled, ActiveRows};
 use scan::frame::{push_row_runs_at, HiddenSurface};
-use scan::{Run, SpanWalker};
+use scan::{Run, Span, SpanWalker};
 use std::sync::Arc;
 
 /// No polygon has covered the sample yet.
@@ -38,6 +38,8 @@ pub struct Stats {
     /// Pixels sent, and of those the ones whose samples were not all one polygon's.
     pub pixels: u64,
     pub mixed: u64,
+    /// Adaptively: the pixels sampled K×K (the others took one polygon's colour).
+    pub sampled: u64,
 }
 
 /// The supersampling method: K×K samples per pixel, box filter.
@@ -53,11 +55,23 @@ pub struct Supersample {
     shading: Vec<Option<Shading>>,
     /// The lighting of a Phong-shaded stream: each sample is lit by it.
     lighting: Option<Arc<Lighting>>,
+    /// Whether any polygon of the frame is shaded: the flat loop asks nothing more.
+    shaded: bool,
     /// The band: K fine rows of the columns in use, depth and polygon of each sample.
     depth: Vec<scan::Depth>,
     owner: Vec<u32>,
     /// One pixel row of finished pixels.
     row: Vec<Option<Colour>>,
+    /// Adaptive sampling: K×K samples only in the pixels that need them.
+    adaptive: bool,
+    /// Adaptively, per pixel of the row, what the test found; the row's spans (polygon,
+    /// span) in stream order; and the mixed pixels as runs of pixel indices.
+    class: Vec<Class>,
+    verdicts: Vec<Verdict>,
+    spans: Vec<(u32, Span)>,
+    mixed: Vec<std::ops::Range<u32>>,
+    /// Per pixel of the row, the index of the first mixed run that ends after it.
+    next_mixed: Vec<u32>,
     pub stats: Stats,
 }
 
@@ -79,15 +93,32 @@ impl Supersample {
             fine: Vec::new(),
             shading: Vec::new(),
             lighting: None,
+            shaded: false,
             depth: Vec::new(),
             owner: Vec::new(),
             row: Vec::new(),
+            adaptive: false,
+            class: Vec::new(),
+            verdicts: Vec::new(),
+            spans: Vec::new(),
+            mixed: Vec::new(),
+            next_mixed: Vec::new(),
             stats: Stats::default(),
         })
     }
 
+    /// Adaptive supersampling: K×K samples only in the pixels that an edge, a silhouette
+    /// or a crossing of two polygons touches, one polygon's colour elsewhere (see
+    /// [`Supersample::classify`]): the same bytes as all K² samples on flat polygons.
+    pub fn adaptive(mut self) -> Self {
+        self.adaptive = true;
+        self
+    }
+
     /// Draws pixel row `r`'s K fine rows over columns `cols` for the `active` polygons
-    /// (stream order), filters them and pushes the row's runs.
+    /// (stream order), filters them and pushes the row's runs. Adaptively, only the
+    /// pixels [`Supersample::classify`] finds mixed are sampled, by the same fold and the
+    /// same filter; the others take their one polygon's colour.
     fn draw_row(
         &mut self,
         r: u32,
@@ -105,41 +136,81 @@ impl Supersample {
             self.depth.resize(len, 0.0);
             self.owner.resize(len, NONE);
         }
-        self.owner[..len].fill(NONE);
-        let (depth, owner, stats) = (&mut self.depth, &mut self.owner, &mut self.stats);
-        for &i in active {
-            self.walker
-                .for_each_span_in(&self.fine[i as usize], fine_w, band.clone(), |s| {
-                    let base = (s.y - band.start) as usize * n;
-                    let (x0, x1) = (s.x0.max(fx0), s.x1.min(fx0 + n as u32));
-                    for x in x0..x1 {
-                        let at = base + (x - fx0) as usize;
-                        let z = s.depth(x);
-                        stats.samples_tested += 1;
-                        // Polygons come in stream order, so the holder is the earlier
-                        // one: the tie rule (the z-buffer's).
-                        if (owner[at] == NONE && !z.is_nan()) || scan::takes(z, depth[at]) {
-                            depth[at] = z;
-                            owner[at] = i;
-                            stats.samples_written += 1;
-                        }
-                    }
-                });
+        if self.adaptive {
+            self.classify(active, cols.clone(), fine_w, band.clone());
+            // Only the mixed pixels' samples are read.
+            for m in &self.mixed {
+                for j in 0..k as usize {
+                    let at = j * n;
+                    self.owner[at + (m.start * k) as usize..at + (m.end * k) as usize].fill(NONE);
+                }
+            }
+            let (depth, owner, stats) = (&mut self.depth, &mut self.owner, &mut self.stats);
+            let (mixed, next) = (&self.mixed, &self.next_mixed);
+            let shift = k.trailing_zeros();
+            for &(i, s) in &self.spans {
+                let (x0, x1) = (s.x0.max(fx0), s.x1.min(fx0 + n as u32));
+                // The mixed runs (pixel indices) the span reaches, each sampled.
+                let p1 = (x1 - fx0 + k - 1) >> shift;
+                let first = next[((x0 - fx0) >> shift) as usize] as usize;
+                for m in mixed[first..].iter().take_while(|m| m.start < p1) {
+                    let (a, b) = (x0.max(fx0 + m.start * k), x1.min(fx0 + m.end * k));
+                    sample(&s, i, a..b, fx0, n, band.start, depth, owner, stats);
+                }
+            }
+        } else {
+            self.owner[..len].fill(NONE);
+            let (depth, owner, stats) = (&mut self.depth, &mut self.owner, &mut self.stats);
+            for &i in active {
+                self.walker
+                    .for_each_span_in(&self.fine[i as usize], fine_w, band.clone(), |s| {
+                        let (x0, x1) = (s.x0.max(fx0), s.x1.min(fx0 + n as u32));
+                        sample(&s, i, x0..x1, fx0, n, band.start, depth, owner, stats);
+                    });
+            }
         }
         // The box filter.
         let count = k * k;
         let pixels = (cols.end - cols.start) as usize;
         self.row.clear();
-        // Whether any polygon of the frame is shaded: the flat loop asks nothing more.
-        let shaded = self.shading.iter().any(Option::is_some);
+        let shaded = self.shaded;
         for c in 0..pixels {
+            if self.adaptive {
+                match self.verdicts[c] {
+                    Verdict::Empty => {
+                        self.row.push(None);
+                        continue;
+                    }
+                    Verdict::Uniform(o) if !shaded => {
+                        self.stats.pixels += 1;
+                        self.row.push(Some(self.fine[o as usize].colour));
+                        continue;
+                    }
+                    Verdict::Uniform(o) => {
+                        self.stats.pixels += 1;
+                        let (fx, fy) = (fx0 + c as u32 * k, band.start);
+                        let colour = match &self.shading[o as usize] {
+                            // Phong: every sample lit, as whole supersampling lights them.
+                            Some(sh) if shaded && self.lighting.is_some() => {
+                                block_mean(sh, fx, fy, 0..k)
+                            }
+                            // Gouraud: the central 2×2 samples.
+                            Some(sh) if shaded => block_mean(sh, fx, fy, k / 2 - 1..k / 2 + 1),
+                            _ => self.fine[o as usize].colour,
+                        };
+                        self.row.push(Some(colour));
+                        continue;
+                    }
+                    Verdict::Mixed => self.stats.sampled += 1,
+                }
+            }
             let mut sum = [0u32; 3];
             let mut covered = 0u32;
-            let first = owner[c * k as usize];
+            let first = self.owner[c * k as usize];
             let mut mixed = false;
             for j in 0..k as usize {
                 let at = j * n + c * k as usize;
-                for (i, &o) in owner[at..at + k as usize].iter().enumerate() {
+                for (i, &o) in self.owner[at..at + k as usize].iter().enumerate() {
                     mixed |= o != first;
                     let colour = if o == NONE {
                         self.background
@@ -166,6 +237,231 @@ impl Supersample {
         }
         push_row_runs_at(r, cols.start, &self.row, runs);
     }
+
+    /// Adaptive sampling's test, per pixel of the row: which pixels one polygon wins at
+    /// every sample ([`Verdict::Uniform`]), which no polygon reaches, and which must be
+    /// sampled; walks the row's spans once, keeping them in `spans` for the sampling.
+    ///
+    /// A polygon *covers* pixel c wholly when each of the band's K fine rows has exactly
+    /// one of its spans and that span holds all K of the pixel's sample columns; every
+    /// other pixel its spans reach it *touches*. Each touch carries the least and greatest
+    /// depth the fold can compute at the pixel's samples: a sample's depth is
+    /// `z_row + x·dz` rounded twice ([`Span::depth`]), monotone in `z_row` and in `x`
+    /// (rounding to nearest is monotone), so the bounds are that expression at the least
+    /// and greatest `z_row` of the polygon's rows in the band and at the pixel's first
+    /// and last sample column, exact and attained. A pixel is uniform when a polygon P
+    /// covers it wholly and its greatest depth is below the tie bar ([`proto::depth::bar`])
+    /// of every other toucher's least: then at every sample P takes the sample from
+    /// whoever holds it, and no later polygon takes it from P ([`scan::takes`]), so the
+    /// fold ends at P everywhere, and K² samples of one flat colour filter to that colour.
+    /// Hidden edges under P, and crossings of polygons, leave the pixel mixed unless P is
+    /// in front of them by more than the tie at every sample.
+    fn classify(
+        &mut self,
+        active: &[u32],
+        cols: std::ops::Range<u32>,
+        fine_w: u32,
+        band: std::ops::Range<u32>,
+    ) {
+        let k = self.k;
+        let pixels = (cols.end - cols.start) as usize;
+        self.class.clear();
+        self.class.resize(pixels, Class::default());
+        self.spans.clear();
+        let (fx0, fx1) = (cols.start * k, cols.end * k);
+        let shift = k.trailing_zeros();
+        for &i in active {
+            let from = self.spans.len();
+            let spans = &mut self.spans;
+            self.walker
+                .for_each_span_in(&self.fine[i as usize], fine_w, band.clone(), |s| {
+                    if s.x0.max(fx0) < s.x1.min(fx1) {
+                        spans.push((i, s));
+                    }
+                });
+            let mine = &self.spans[from..];
+            let Some(&(_, s0)) = mine.first() else {
+                continue;
+            };
+            let dz = s0.dz;
+            let (mut zmin, mut zmax) = (s0.z_row, s0.z_row);
+            // Touched pixels t0..t1, wholly covered ones a..b (relative to cols.start).
+            let (mut t0, mut t1) = (u32::MAX, 0);
+            let (mut a, mut b) = (0, u32::MAX);
+            let one_span_a_row =
+                mine.len() == k as usize && mine.windows(2).all(|w| w[0].1.y < w[1].1.y);
+            for &(_, s) in mine {
+                zmin = zmin.min(s.z_row);
+                zmax = zmax.max(s.z_row);
+                let (x0, x1) = (s.x0.max(fx0) - fx0, s.x1.min(fx1) - fx0);
+                // K is a power of two: shifts, not divisions.
+                let (first, end) = (x0 >> shift, (x1 + k - 1) >> shift);
+                t0 = t0.min(first);
+                t1 = t1.max(end);
+                a = a.max((x0 + k - 1) >> shift);
+                b = b.min(x1 >> shift);
+            }
+            if !one_span_a_row || mine.iter().any(|(_, s)| s.z_row.is_nan()) {
+                // Some row with no span or several: no pixel wholly covered (safe);
+                // a NaN depth: the row's touches all mixed.
+                (a, b) = (0, 0);
+                if mine.iter().any(|(_, s)| s.z_row.is_nan()) {
+                    (zmin, zmax) = (f64::NAN, f64::NAN);
+                }
+            }
+            for c in t0..t1 {
+                let (x_first, x_last) = (fx0 + c * k, fx0 + c * k + k - 1);
+                let (near, far) = if dz >= 0.0 {
+                    (x_first, x_last)
+                } else {
+                    (x_last, x_first)
+                };
+                let lo = scan::depth_at(zmin, dz, near);
+                let hi = scan::depth_at(zmax, dz, far);
+                self.class[c as usize].touch(i, lo, hi, a <= c && c < b);
+            }
+        }
+        // The verdicts, and the mixed pixels as runs for the sampling.
+        self.verdicts.clear();
+        self.verdicts.extend(self.class.iter().map(Class::verdict));
+        self.mixed.clear();
+        self.next_mixed.clear();
+        for (c, &verdict) in self.verdicts.iter().enumerate() {
+            if verdict == Verdict::Mixed {
+                let c = c as u32;
+                match self.mixed.last_mut() {
+                    Some(m) if m.end == c => m.end = c + 1,
+                    _ => self.mixed.push(c..c + 1),
+                }
+                // Pixel c's run is the last one.
+                self.next_mixed.push(self.mixed.len() as u32 - 1);
+            } else {
+                self.next_mixed.push(self.mixed.len() as u32);
+            }
+        }
+    }
+}
+
+/// Decides the samples of span `s` of polygon `i` at fine columns `xs` (within the band's
+/// `fx0..fx0 + n`) by the z-buffer's rule: the one fold of supersampling, whole or
+/// adaptive.
+#[allow(clippy::too_many_arguments)]
+#[inline]
+fn sample(
+    s: &Span,
+    i: u32,
+    xs: std::ops::Range<u32>,
+    fx0: u32,
+    n: usize,
+    band_start: u32,
+    depth: &mut [scan::Depth],
+    owner: &mut [u32],
+    stats: &mut Stats,
+) {
+    let base = (s.y - band_start) as usize * n;
+    for x in xs {
+        let at = base + (x - fx0) as usize;
+        let z = s.depth(x);
+        stats.samples_tested += 1;
+        // Polygons come in stream order, so the holder is the earlier
+        // one: the tie rule (the z-buffer's).
+        if (owner[at] == NONE && !z.is_nan()) || scan::takes(z, depth[at]) {
+            depth[at] = z;
+            owner[at] = i;
+            stats.samples_written += 1;
+        }
+    }
+}
+
+/// A shaded polygon's colour over a pixel it wins wholly, adaptively: the mean of its
+/// colours at the samples (i, j) of `block` × `block` of the pixel whose first sample is
+/// fine pixel (fx, fy), rounded as the box filter rounds. Gouraud takes the central 2×2
+/// samples: its colour is affine, so they average to what all K² do within a level
+/// (docs/antialiasing.md, "Adaptive supersampling"); for K = 2 they are all the samples.
+/// Phong takes all K²: its colour is not affine, and lighting them all gives ssK's bytes.
+fn block_mean(shading: &Shading, fx: u32, fy: u32, block: std::ops::Range<u32>) -> Colour {
+    let mut sum = [0u32; 3];
+    for y in block.clone() {
+        let row = shading.row(fy + y);
+        for x in block.clone() {
+            for (s, v) in sum.iter_mut().zip(row.at(fx + x)) {
+                *s += v as u32;
+            }
+        }
+    }
+    let count = block.len() as u32 * block.len() as u32;
+    sum.map(|s| ((s + count / 2) / count) as u8)
+}
+
+/// What adaptive sampling knows of one pixel of the row after [`Supersample::classify`].
+#[derive(Clone, Copy, Debug)]
+struct Class {
+    /// The wholly covering polygon of least greatest depth, or [`NONE`].
+    front: u32,
+    front_lo: scan::Depth,
+    front_hi: scan::Depth,
+    /// The least depth of every other polygon that touches the pixel.
+    other_lo: scan::Depth,
+    /// Whether any other polygon touches it.
+    others: bool,
+}
+
+impl Default for Class {
+    fn default() -> Self {
+        Class {
+            front: NONE,
+            front_lo: f64::INFINITY,
+            front_hi: f64::INFINITY,
+            other_lo: f64::INFINITY,
+            others: false,
+        }
+    }
+}
+
+/// How a pixel is drawn adaptively.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Verdict {
+    /// No polygon reaches it: not sent.
+    Empty,
+    /// This polygon wins every sample.
+    Uniform(u32),
+    /// Sampled K×K.
+    Mixed,
+}
+
+impl Class {
+    /// Polygon `i` touches the pixel, its depths at the samples within `lo..=hi`,
+    /// covering it wholly or not.
+    fn touch(&mut self, i: u32, lo: scan::Depth, hi: scan::Depth, whole: bool) {
+        if lo.is_nan() || hi.is_nan() {
+            // No order is known: the pixel is sampled.
+            self.others = true;
+            self.other_lo = f64::NEG_INFINITY;
+        } else if whole && hi < self.front_hi {
+            if self.front != NONE {
+                self.others = true;
+                self.other_lo = self.other_lo.min(self.front_lo);
+            }
+            (self.front, self.front_lo, self.front_hi) = (i, lo, hi);
+        } else {
+            self.others = true;
+            self.other_lo = self.other_lo.min(lo);
+        }
+    }
+
+    fn verdict(&self) -> Verdict {
+        if self.front == NONE {
+            if self.others {
+                Verdict::Mixed
+            } else {
+                Verdict::Empty
+            }
+        } else if !self.others || self.front_hi < proto::depth::bar(self.other_lo) {
+            Verdict::Uniform(self.front)
+        } else {
+            Verdict::Mixed
+        }
+    }
 }
 
 impl HiddenSurface for Supersample {
@@ -181,6 +477,7 @@ impl HiddenSurface for Supersample {
         let lighting = self.lighting.as_ref();
         self.shading
             .extend(self.fine.iter().map(|p| Shading::of(p, lighting)));
+        self.shaded = self.shading.iter().any(Option::is_some);
         self.rows.start(polygons, width, height);
         let mut from = self.rows.first_row().unwrap_or(height);
         let mut active = Vec::new();
@@ -201,8 +498,14 @@ impl HiddenSurface for Supersample {
 
     fn stats(&self) -> String {
         let s = self.stats;
+        let adaptive = if self.adaptive {
+            format!(", {} sampled (adaptive)", s.sampled)
+        } else {
+            String::new()
+        };
         format!(
-            "{0}x{0} samples, {1} samples tested, {2} written, {3} pixels out, {4} of them mixed",
+            "{0}x{0} samples, {1} samples tested, {2} written, {3} pixels out, {4} of them \
+             mixed{adaptive}",
             self.k, s.samples_tested, s.samples_written, s.pixels, s.mixed
         )
     }

@@ -15,6 +15,9 @@ use supersample::Supersample;
 /// the background. The output is runs of finished pixels (`run Y X0 X1 R G B`) for zbuf,
 /// which must be given the same --background. `zspec --samples K` is its exact reference.
 ///
+/// With --adaptive, only the pixels an edge, a silhouette or a crossing touches are
+/// sampled K×K (render --aa adaptiveK).
+///
 /// Example:
 ///   persp --size 500x500 < eye.pp | supersample --samples 4 | zbuf > frame.ppm
 #[derive(Parser)]
@@ -23,6 +26,11 @@ struct Args {
     /// K: samples a side of each pixel, 2, 4, 8 or 16 (1 is point sampling).
     #[arg(long, value_name = "K", default_value_t = 4)]
     samples: u32,
+    /// K×K samples only in the pixels an edge, a silhouette or a crossing of two
+    /// polygons touches, one polygon's colour elsewhere: the same bytes on flat polygons,
+    /// shaded ones averaged at the pixel's central 2×2 samples (docs/antialiasing.md).
+    #[arg(long)]
+    adaptive: bool,
     #[command(flatten)]
     aa: AntialiasArgs,
     /// Print counts (polygons in, frames, runs out, samples tested and written, pixels out)
@@ -35,6 +43,9 @@ fn main() -> ExitCode {
     stagecli::main("supersample", |args: Args| {
         let mut method = Supersample::new(args.samples, args.aa.background)
             .map_err(|m| Error::usage(format!("--samples {m}")))?;
+        if args.adaptive {
+            method = method.adaptive();
+        }
         leaf::resolve_frames("supersample", args.aa.text.form(), args.stats, &mut method)?;
         Ok(())
     })

@@ -125,3 +125,161 @@ proptest! {
         prop_assert_eq!(render(&polys, w, h, k, bg), reference(&polys, w, h, k, bg));
     }
 }
+
+/// The frame and stats of adaptive K×K supersampling.
+fn adaptive(polys: &[Polygon], w: u32, h: u32, k: u32, bg: Colour) -> (Vec<Option<Colour>>, Stats) {
+    let mut runs = Vec::new();
+    let mut ss = Supersample::new(k, bg).unwrap().adaptive();
+    ss.resolve(polys, w, h, &mut runs);
+    (image_of(&runs, w, h), ss.stats)
+}
+
+/// A square of one depth plane `z = z0 + zx·X` over x0..x1 × y0..y1.
+fn slab(colour: Colour, [x0, y0, x1, y1]: [f64; 4], z0: f64, zx: f64) -> Polygon {
+    let z = |x: f64| z0 + zx * x;
+    Polygon::from_xyz(
+        colour,
+        &[
+            [x0, y0, z(x0)],
+            [x1, y0, z(x1)],
+            [x1, y1, z(x1)],
+            [x0, y1, z(x0)],
+        ],
+    )
+}
+
+#[test]
+fn adaptive_samples_only_the_pixels_edges_and_crossings_touch() {
+    // A square over pixels 2.5..13.5 in front of a smaller one whose edges it hides:
+    // only the front square's outline ring is sampled (12 pixels a side, 44 in all).
+    let front = slab([255, 0, 0], [2.5, 2.5, 13.5, 13.5], 0.2, 0.0);
+    let hidden = slab([0, 0, 255], [4.25, 5.5, 10.75, 9.5], 0.6, 0.0);
+    for k in [2, 4, 8, 16] {
+        for polys in [
+            [front.clone(), hidden.clone()],
+            [hidden.clone(), front.clone()],
+        ] {
+            let (image, stats) = adaptive(&polys, 16, 16, k, [0; 3]);
+            assert_eq!(image, render(&polys, 16, 16, k, [0; 3]), "K = {k}");
+            assert_eq!(stats.sampled, 44, "K = {k}");
+            assert_eq!(stats.pixels, 144);
+        }
+    }
+    // The hidden square in front instead: its edges are seen, and sampled too (7 × 4 + 2
+    // rings' corners: columns 4 and 10, rows 5 and 9 of the smaller square's outline).
+    let (image, stats) = adaptive(
+        &[
+            front.clone(),
+            slab([0, 0, 255], [4.25, 5.5, 10.75, 9.5], 0.1, 0.0),
+        ],
+        16,
+        16,
+        4,
+        [0; 3],
+    );
+    assert_eq!(image[7 * 16 + 7], Some([0, 0, 255]));
+    assert_eq!(stats.sampled, 44 + 2 * 7 + 2 * 3);
+    // Two screen-filling planes crossing along X = 8.5: only column 8 is sampled.
+    let a = slab([255, 255, 255], [0.0, 0.0, 16.0, 16.0], 0.5, 0.01);
+    let b = slab([0, 255, 0], [0.0, 0.0, 16.0, 16.0], 0.67, -0.01);
+    for k in [2, 4, 8, 16] {
+        let (image, stats) = adaptive(&[a.clone(), b.clone()], 16, 16, k, [0; 3]);
+        assert_eq!(image, render(&[a.clone(), b.clone()], 16, 16, k, [0; 3]));
+        assert_eq!(stats.sampled, 16, "K = {k}");
+        assert_eq!(image[3 * 16 + 2], Some([255; 3]));
+        assert_eq!(image[3 * 16 + 12], Some([0, 255, 0]));
+    }
+    // One plane on the other (equal depths everywhere): the tie is for the samples.
+    let (image, stats) = adaptive(&[a.clone(), a.clone()], 16, 16, 4, [0; 3]);
+    assert_eq!(image, render(&[a.clone(), a], 16, 16, 4, [0; 3]));
+    assert_eq!(stats.sampled, 256);
+}
+
+/// Larger polygons than [`polygon_strategy`]'s, so that most pixels are inside one:
+/// depths from a few planes (coplanar overlaps and equal depths), some tilted across
+/// each other (crossings), some nearer than the tie rule tells apart.
+fn big_polygon_strategy() -> impl Strategy<Value = Polygon> {
+    (
+        prop::collection::vec((-6.0f64..30.0, -6.0f64..22.0), 3..6),
+        (
+            prop::sample::select(vec![0.25, 0.5, 0.5 + 1e-12, 0.75]),
+            prop::sample::select(vec![0.0, 0.02, -0.03]),
+            prop::sample::select(vec![0.0, 0.01, -0.02]),
+        ),
+        prop::sample::select(vec![[255, 0, 0], [0, 255, 0], [0, 0, 255], [255, 255, 255]]),
+        any::<bool>(),
+    )
+        .prop_map(|(pts, (z0, zx, zy), colour, grid)| {
+            // Quarter-pixel corners put edges on sample lines and pixel boundaries.
+            let q = |v: f64| if grid { (v * 4.0).round() / 4.0 } else { v };
+            let pts: Vec<[f64; 3]> = pts
+                .iter()
+                .map(|&(x, y)| {
+                    let (x, y) = (q(x), q(y));
+                    [x, y, z0 + zx * (x - 12.0) + zy * (y - 8.0)]
+                })
+                .collect();
+            Polygon::from_xyz(colour, &pts)
+        })
+}
+
+/// A Gouraud-shaded triangle: random vertex colours.
+fn gouraud_strategy() -> impl Strategy<Value = Polygon> {
+    (
+        big_polygon_strategy(),
+        prop::collection::vec((0.0f64..=255.0, 0.0f64..=255.0, 0.0f64..=255.0), 3),
+    )
+        .prop_map(|(mut p, colours)| {
+            p.vertices.truncate(3);
+            p.vertex_attrs = colours
+                .iter()
+                .map(|&(r, g, b)| proto::DVec3::new(r, g, b))
+                .collect();
+            p
+        })
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(96))]
+
+    /// Adaptive supersampling is whole supersampling byte for byte on flat polygons:
+    /// overlaps, hidden edges, crossings, equal and near-equal depths, concave and
+    /// self-intersecting polygons, at every K.
+    #[test]
+    fn adaptive_is_whole_supersampling_on_flat_polygons(
+        polys in prop::collection::vec(big_polygon_strategy(), 1..9),
+        small in prop::collection::vec(polygon_strategy(), 0..3),
+        k in prop::sample::select(vec![1u32, 2, 4, 8, 16]),
+        bg in prop::sample::select(vec![[0u8; 3], [10, 20, 30]]),
+    ) {
+        let polys: Vec<Polygon> = polys.into_iter().chain(small).collect();
+        let (w, h) = (24, 16);
+        let (image, _) = adaptive(&polys, w, h, k, bg);
+        prop_assert_eq!(image, render(&polys, w, h, k, bg));
+    }
+
+    /// Under Gouraud shading a pixel one polygon wins takes the mean of its central 2×2
+    /// samples: within one level of all K² samples' mean in every channel (both are
+    /// within half a level of the affine colour's mean, which the central four share).
+    #[test]
+    fn adaptive_gouraud_is_within_a_level_of_whole_supersampling(
+        polys in prop::collection::vec(gouraud_strategy(), 1..5),
+        k in prop::sample::select(vec![2u32, 4, 8, 16]),
+    ) {
+        let (w, h) = (24, 16);
+        let (image, _) = adaptive(&polys, w, h, k, [0; 3]);
+        let whole = render(&polys, w, h, k, [0; 3]);
+        for (got, want) in image.iter().zip(&whole) {
+            match (got, want) {
+                (Some(g), Some(w)) => {
+                    let d = (0..3).map(|c| g[c].abs_diff(w[c])).max().unwrap();
+                    prop_assert!(d <= 1 || k == 2 && d == 0, "{:?} against {:?}", g, w);
+                }
+                _ => prop_assert_eq!(got, want),
+            }
+        }
+        if k == 2 {
+            prop_assert_eq!(image, whole);
+        }
+    }
+}

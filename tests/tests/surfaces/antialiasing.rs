@@ -162,6 +162,7 @@ fn frames_are_the_same_at_every_tree_depth() {
         "supersample --samples 4",
         "supersample --samples 8",
         "supersample --samples 16",
+        "supersample --samples 4 --adaptive",
     ] {
         for (name, scene) in &scenes[..3] {
             let base = render(scene, 0, method);
@@ -282,7 +283,8 @@ fn render_sh_refuses_aa_with_another_method_or_the_one_zbuffer() {
     for (options, message) in [
         (
             "--aa ss3",
-            "render: --aa must be none, abuf, ss2, ss4, ss8 or ss16, not 'ss3'",
+            "render: --aa must be none, abuf, ss2, ss4, ss8, ss16, adaptive2, adaptive4, \
+             adaptive8 or adaptive16, not 'ss3'",
         ),
         (
             "--aa abuf --hse warnock",
@@ -300,5 +302,114 @@ fn render_sh_refuses_aa_with_another_method_or_the_one_zbuffer() {
             Some(message),
             "{options}"
         );
+    }
+}
+
+/// `render --aa adaptiveK` as a user runs it: on flat scenes (the 1,024-quad environment,
+/// the intersecting spheres, the penetrating polygons) byte for byte `--aa ssK` at tree
+/// depths 0 and 2, at 500×500, with K×K samples in a few pixels only.
+#[test]
+fn adaptive_is_ss_byte_for_byte_on_flat_scenes() {
+    let dir = tempfile::tempdir().unwrap();
+    let env = dir.path().join("environment.pp");
+    run(&format!(
+        "scene environment --polygons 1024 --clipped 0.5 --depth-complexity 1 --seed 1 \
+         --size 500x500 > {}",
+        env.display()
+    ));
+    let spheres = dir.path().join("spheres.pp");
+    run(&format!("scene spheres > {}", spheres.display()));
+    let scenes = [
+        ("environment", env.display().to_string()),
+        ("spheres", spheres.display().to_string()),
+        ("penetrating", "examples/penetrating.txt".to_string()),
+    ];
+    for (name, scene) in &scenes {
+        for k in [4, 16] {
+            let ss = run(&format!(
+                "scripts/render.sh --size 500x500 --aa ss{k} {scene}"
+            ));
+            for depth in [0, 2] {
+                let adaptive = run(&format!(
+                    "scripts/render.sh --size 500x500 --aa adaptive{k} --depth {depth} {scene}"
+                ));
+                assert!(
+                    adaptive == ss,
+                    "{name}: adaptive{k} at depth {depth} is not ss{k}"
+                );
+            }
+        }
+    }
+    // The environment's leaf samples K×K in a few of the pixels it sends.
+    let out = sh(
+        &format!(
+            "viewxf --size 500x500 < {} | clipbatch | persp --size 500x500 \
+             | supersample --samples 4 --adaptive --stats > /dev/null",
+            scenes[0].1
+        ),
+        b"",
+    );
+    let stats = String::from_utf8_lossy(&out.stderr);
+    let count = |words: &str| -> u64 {
+        let at = stats
+            .find(words)
+            .unwrap_or_else(|| panic!("no '{words}' in {stats}"));
+        stats[..at]
+            .split_whitespace()
+            .last()
+            .unwrap()
+            .parse()
+            .unwrap()
+    };
+    let (pixels, sampled) = (count(" pixels out"), count(" sampled (adaptive)"));
+    assert!(
+        sampled * 5 < pixels,
+        "{sampled} of {pixels} pixels sampled: {stats}"
+    );
+}
+
+/// Shaded scenes: Gouraud's pixels within one level of `--aa ss4`'s in every channel (the
+/// central 2×2 samples of an affine colour), Phong's byte for byte (every sample lit),
+/// even with a highlight a few pixels wide.
+#[test]
+fn adaptive_shading_is_within_a_level_of_ss() {
+    let dir = tempfile::tempdir().unwrap();
+    let (a, b) = (dir.path().join("a.ppm"), dir.path().join("b.ppm"));
+    for (options, most) in [
+        ("--gouraud", 1),
+        ("--gouraud --stacks 4 --slices 6 --specular 1,50", 1),
+        ("--phong --specular 1,1000 --radius 3", 0),
+    ] {
+        for k in [4, 16] {
+            run(&format!(
+                "scene sphere {options} | scripts/render.sh --size 300x300 --aa ss{k} - > {}",
+                a.display()
+            ));
+            run(&format!(
+                "scene sphere {options} | scripts/render.sh --size 300x300 --aa adaptive{k} \
+                 --depth 2 - > {}",
+                b.display()
+            ));
+            let report = sh(
+                &format!("zspec compare --metrics {} {}", a.display(), b.display()),
+                b"",
+            );
+            let text = String::from_utf8_lossy(&report.stdout).to_string()
+                + &String::from_utf8_lossy(&report.stderr);
+            let overall = text
+                .lines()
+                .find(|l| l.starts_with("overall"))
+                .unwrap_or_else(|| panic!("no overall line in {text}"));
+            let words: Vec<&str> = overall.split_whitespace().collect();
+            let at = words.iter().position(|w| *w == "max").unwrap();
+            let max: u32 = words[at + 1].parse().unwrap();
+            assert!(max <= most, "{options}, K = {k}: {overall}");
+            if most == 1 {
+                assert!(
+                    overall.contains(" differing ") && !overall.contains(" differing 0 "),
+                    "{options}: {overall}"
+                );
+            }
+        }
     }
 }

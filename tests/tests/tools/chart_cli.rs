@@ -245,6 +245,8 @@ fn the_full_method_table_runs_every_variant() {
         "ss4@0",
         "ss8@0",
         "ss16@2",
+        "adaptive4@0",
+        "adaptive16@2",
         "zbuf-pixels@0",
         "zbuf-eye-z@0",
         "zbuf-buffer@0",
@@ -266,6 +268,7 @@ fn the_full_method_table_runs_every_variant() {
             || m.starts_with("painter")
             || m == "abuf"
             || m.starts_with("ss")
+            || m.starts_with("adaptive")
             || m.starts_with("hiddenline"))
     };
     let painter = rows.iter().find(|r| r["method"] == "painter").unwrap();
@@ -287,6 +290,14 @@ fn the_full_method_table_runs_every_variant() {
         edge("zbuf")
     );
     assert!(edge("ss16") < edge("ss4") && edge("ss4") < edge("zbuf"));
+    // A flat scene: adaptive sampling draws ssK's pixels.
+    for k in [2, 4, 8, 16] {
+        assert_eq!(
+            edge(&format!("adaptive{k}")),
+            edge(&format!("ss{k}")),
+            "K = {k}"
+        );
+    }
     assert!(rows.len() >= 8);
 }
 
@@ -434,7 +445,8 @@ fn chart_exits_as_the_stages_do() {
             "chart -o OUT --methods foo examples/penetrating.txt",
             2,
             "chart: invalid value 'foo' for '--methods <NAME,…>': no method foo; the methods: \
-             scanline, warnock, painter, painter-split, abuf, ss2, ss4, ss8, ss16, zbuf-pixels, \
+             scanline, warnock, painter, painter-split, abuf, ss2, ss4, ss8, ss16, adaptive2, adaptive4, adaptive8, \
+             adaptive16, zbuf-pixels, \
              zbuf, zbuf-eye-z, zbuf-buffer, zbuf-chain, zbuf-text, zbuf-binary, hiddenline, \
              hiddenline-archuleta\n",
         ),
