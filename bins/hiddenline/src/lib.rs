@@ -386,9 +386,13 @@ struct Grid {
 impl Grid {
     /// Places the faces (in ZMIN order) in the cells (see the module notes).
     fn new(faces: &[Face], stats: &mut LineStats) -> Grid {
-        let n = ((faces.len() as f64).sqrt().ceil() as usize).clamp(1, 128);
         let min = faces.iter().fold(DVec2::INFINITY, |m, f| m.min(f.min));
         let max = faces.iter().fold(DVec2::NEG_INFINITY, |m, f| m.max(f.max));
+        // No finer than a pixel: polygons piled inside a pixel (or a few) share one
+        // cell, rather than each being placed in thousands of cells smaller than its
+        // edges' rounding, most of which only an edge crosses and no polygon surrounds.
+        let pixels = (max - min).max_element().ceil();
+        let n = ((faces.len() as f64).sqrt().ceil().min(pixels) as usize).clamp(1, 128);
         let extent = (max - min).max(DVec2::splat(1e-9));
         let mut grid = Grid {
             origin: min,
@@ -999,11 +1003,11 @@ pub fn for_each_segment(
             // shared with a hidden back face takes the front face's colour), else the
             // first's.
             let edge_owners = &owners[&key];
-            let colour = edge_owners
-                .iter()
-                .map(|&j| &faces[j as usize])
-                .find(|f| edge_owners.len() == 1 || side_shows(f, &frame, p0, p1))
-                .map_or(a.colour, |f| f.colour);
+            let colour = if edge_owners.len() == 1 {
+                a.colour
+            } else {
+                beside_front(&frame, p0, p1, edge_owners).map_or(a.colour, |f| f.colour)
+            };
             let line = Line {
                 p0,
                 p1,
@@ -1152,35 +1156,51 @@ fn edge_key(p0: DVec2, p1: DVec2) -> [u64; 4] {
     [u.x, u.y, v.x, v.y].map(f64::to_bits)
 }
 
-/// Does face `f` show just beside the middle of its edge p0→p1: is a point inside it a
-/// hair from the edge hidden by no other polygon?
-fn side_shows(f: &Face, frame: &Frame, p0: DVec2, p1: DVec2) -> bool {
+/// The first of an edge's `owners` (stream order) that shows just beside the middle of
+/// the edge p0→p1: whose inside a hair from the edge is hidden by no other polygon. The
+/// polygon in front is found once on each side of the edge (one pass over the cell's
+/// list), so that an edge a pile of copies share costs the pile once, not once a copy.
+fn beside_front<'f>(frame: &'f Frame, p0: DVec2, p1: DVec2, owners: &[u32]) -> Option<&'f Face> {
     let m = (p0 + p1) * 0.5;
     let d = p1 - p0;
     let n = DVec2::new(-d.y, d.x) * (1e-6 / d.length().max(1e-300)) * (1.0 + m.abs().max_element());
     let tol = 1e-9;
-    let Some(q) = [m + n, m - n]
-        .into_iter()
-        .find(|&q| f.strictly_inside(q, tol))
-    else {
-        return false;
-    };
-    let z = f.depth_at(q);
-    let list = &frame.grid.cells[frame.grid.cell_of(q)];
-    let this = list
-        .iter()
-        .any(|&k| frame.faces[k as usize].index == f.index);
-    this && !list.iter().map(|&k| &frame.faces[k as usize]).any(|b| {
-        b.index != f.index && b.strictly_inside(q, tol) && {
+    // The polygon in front at q among those holding it strictly inside: nearer by more
+    // than the rounding, or within it and earlier in the stream.
+    let front = |q: DVec2| -> Option<u32> {
+        let list = &frame.grid.cells[frame.grid.cell_of(q)];
+        let mut best: Option<(u32, f64)> = None;
+        for &k in list {
+            let b = &frame.faces[k as usize];
+            if !b.strictly_inside(q, tol) {
+                continue;
+            }
             let zb = b.depth_at(q);
-            let scale = 1e-12 * (1.0 + z.abs());
-            if (zb - z).abs() <= scale {
-                b.index < f.index
-            } else {
-                zb < z
+            let wins = match best {
+                None => true,
+                Some((h, z)) => {
+                    let scale = 1e-12 * (1.0 + z.abs());
+                    if (zb - z).abs() <= scale {
+                        b.index < frame.faces[h as usize].index
+                    } else {
+                        zb < z
+                    }
+                }
+            };
+            if wins {
+                best = Some((k, zb));
             }
         }
-    })
+        best.map(|(k, _)| k)
+    };
+    let sides = [m + n, m - n].map(|q| (q, front(q)));
+    owners
+        .iter()
+        .map(|&k| (k, &frame.faces[k as usize]))
+        .find_map(|(k, f)| {
+            let (_, shown) = sides.iter().find(|(q, _)| f.strictly_inside(*q, tol))?;
+            (*shown == Some(k)).then_some(f)
+        })
 }
 
 /// The SVG's opening: the `<svg>` element, the background and the group of lines.
