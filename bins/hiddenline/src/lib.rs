@@ -106,17 +106,7 @@ pub fn for_each_segment_by(
         Method::Archuleta => archuleta::for_each_segment(polygons, width, height, stats, emit),
     }
 }
-use std::fmt::Write as _;
-
-/// A visible piece of an edge, or of a line of intersection, in device coordinates.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Segment {
-    pub from: DVec2,
-    pub to: DVec2,
-    pub colour: Colour,
-    /// A piece of the line where two polygons pass through each other, not of an edge.
-    pub intersection: bool,
-}
+pub use lines::{svg, svg_line, svg_start, Segment, SvgWriter, SVG_END};
 
 /// Counters for `--stats`.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -1203,58 +1193,6 @@ fn beside_front<'f>(frame: &'f Frame, p0: DVec2, p1: DVec2, owners: &[u32]) -> O
         })
 }
 
-/// The SVG's opening: the `<svg>` element, the background and the group of lines.
-pub fn svg_start(width: u32, height: u32, background: Colour, stroke: f64) -> String {
-    let mut s = String::new();
-    let [r, g, b] = background;
-    let _ = writeln!(
-        s,
-        r#"<svg xmlns="http://www.w3.org/2000/svg" width="{width}" height="{height}" viewBox="0 0 {width} {height}">"#
-    );
-    let _ = writeln!(
-        s,
-        r#"<rect width="{width}" height="{height}" fill="rgb({r},{g},{b})"/>"#
-    );
-    let _ = writeln!(
-        s,
-        r#"<g fill="none" stroke-width="{stroke}" stroke-linecap="round">"#
-    );
-    s
-}
-
-/// One piece as a `<line>` (with `class="intersection"` on a line of intersection).
-pub fn svg_line(out: &mut String, seg: &Segment) {
-    let [r, g, b] = seg.colour;
-    let class = if seg.intersection {
-        r#" class="intersection""#
-    } else {
-        ""
-    };
-    let _ = writeln!(
-        out,
-        r#"<line{class} x1="{}" y1="{}" x2="{}" y2="{}" stroke="rgb({r},{g},{b})"/>"#,
-        seg.from.x, seg.from.y, seg.to.x, seg.to.y
-    );
-}
-
-/// The SVG's closing.
-pub const SVG_END: &str = "</g>\n</svg>\n";
-
-/// One frame's SVG: the pieces as `<line>`s stroked in their colours over a background.
-pub fn svg(
-    segments: &[Segment],
-    width: u32,
-    height: u32,
-    background: Colour,
-    stroke: f64,
-) -> String {
-    let mut s = svg_start(width, height, background, stroke);
-    for seg in segments {
-        svg_line(&mut s, seg);
-    }
-    s.push_str(SVG_END);
-    s
-}
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -1,7 +1,7 @@
 //! hiddenline: screen-space polygons in, the visible parts of their edges out, as SVG.
 
 use clap::Parser;
-use hiddenline::{for_each_segment_by, svg_line, svg_start, LineStats, Method, SVG_END};
+use hiddenline::{for_each_segment_by, svg_start, LineStats, Method, SvgWriter, SVG_END};
 use proto::{Colour, Polygon, SpaceKind, Token};
 use stagecli::Error;
 use stagecli::FrameNames;
@@ -14,7 +14,8 @@ use std::process::ExitCode;
 /// Reads a screen-space polygon stream (from persp) on stdin and writes, per frame, an
 /// SVG whose viewBox is the screen in device coordinates (`0 0 W H`, X right, Y down, the
 /// pixels of the PPM frames), each visible piece of an edge a <line> stroked in its
-/// polygon's colour. Visibility is exact geometry (f64), not sampled: a piece of an edge
+/// polygon's colour (the pieces of one edge, one after another, one <line> with a
+/// stroke-dasharray: the same drawing). Visibility is exact geometry (f64), not sampled: a piece of an edge
 /// is hidden where it lies strictly inside a nearer polygon; at equal depth the earlier
 /// polygon hides the later. An edge two polygons share is drawn once; edges that the
 /// splitter tree or the clipper made (cuts along a splitting plane, the screen's border)
@@ -134,14 +135,16 @@ fn main() -> ExitCode {
                 MethodArg::Continuous => Method::Continuous,
                 MethodArg::Archuleta => Method::Archuleta,
             };
+            let mut joined = SvgWriter::new();
             for_each_segment_by(method, &polygons, width, height, &mut stats, |seg| {
-                svg_line(&mut text, &seg);
+                joined.push(&mut text, &seg);
                 if text.len() >= 1 << 16 && failed.is_none() {
                     failed = sink.write_all(text.as_bytes()).err();
                     text.clear();
                 }
             });
             polygons.clear();
+            joined.flush(&mut text);
             text.push_str(SVG_END);
             if let Some(e) = failed {
                 return Err(e.into());
