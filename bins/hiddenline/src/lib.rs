@@ -47,8 +47,8 @@
 //! Testing every edge against every polygon is quadratic in the polygons stacked over a
 //! point. Instead the screen is divided into a grid of cells (buckets), about one per
 //! polygon, up to 128 × 128. Polygons are put in the cells they touch, nearest ZMIN
-//! first (the vertex depth nearest the eye), with Warnock's Looker (Sutherland, Sproull
-//! & Schumacker's survey, Appendix VI, AVI.1) deciding whether a polygon touches a cell
+//! first (the vertex depth nearest the eye), with Warnock's Looker (Newman and Sproull
+//! 1973, Appendix VI, AVI.1) deciding whether a polygon touches a cell
 //! or surrounds it, and with the listing's ZMIN test: once a polygon surrounds a cell,
 //! any polygon whose ZMIN is farther than that surrounder's farthest corner in the cell
 //! is hidden there and is not put in it. A stack of polygons costs one polygon per cell.
@@ -130,6 +130,9 @@ pub struct LineStats {
     /// Placements of a polygon in a cell left out because a surrounder of the cell
     /// hides it there (the ZMIN test); a polygon hidden in every cell counts once.
     pub culled: u64,
+    /// Watkins's visible segments the scan lines passed on (the stretches of a line
+    /// where one polygon is in front): what Archuleta's counters count on.
+    pub visible_segments: u64,
 }
 
 /// A polygon ready for the tests: its screen points, depths and depth plane.
@@ -1010,7 +1013,14 @@ pub fn for_each_segment(
             stats.segments += frame.emit_visible(&line, &hidden, colour, false, &mut emit);
         }
     }
-    intersections(&frame, &mut scratch, (width, height), stats, &mut emit);
+    intersections(
+        &frame,
+        polygons,
+        &mut scratch,
+        (width, height),
+        stats,
+        &mut emit,
+    );
 }
 
 /// The lines where two polygons pass through each other (see the module notes): the
@@ -1018,6 +1028,7 @@ pub fn for_each_segment(
 /// each pair's line then cut exactly to the part inside both and hidden as an edge.
 fn intersections(
     frame: &Frame,
+    polygons: &[Polygon],
     scratch: &mut Scratch,
     (width, height): (u32, u32),
     stats: &mut LineStats,
@@ -1025,7 +1036,7 @@ fn intersections(
 ) {
     let faces = &frame.faces;
     let mut scan = LineStats::default();
-    let pairs = archuleta::front_crossings(faces, width, height, &mut scan);
+    let pairs = archuleta::front_crossings(faces, polygons, width, height, &mut scan);
     stats.neighbours += scan.neighbours;
     for (ka, kb) in pairs {
         let (a, b) = (&faces[ka as usize], &faces[kb as usize]);

@@ -8,20 +8,22 @@ use stagecli::FrameNames;
 use std::io::Write;
 use std::process::ExitCode;
 
-/// Hidden-line drawing (Archuleta's output of Watkins's algorithm, Archuleta (1972)): the
-/// visible parts of every polygon edge, as SVG.
+/// Hidden-line drawing (Archuleta (1972)): the visible parts of every polygon edge, as
+/// SVG.
 ///
 /// Reads a screen-space polygon stream (from persp) on stdin and writes, per frame, an
 /// SVG whose viewBox is the screen in device coordinates (`0 0 W H`, X right, Y down, the
 /// pixels of the PPM frames), each visible piece of an edge a <line> stroked in its
 /// polygon's colour (the pieces of one edge, one after another, one <line> with a
-/// stroke-dasharray: the same drawing). Visibility is exact geometry (f64), not sampled: a piece of an edge
-/// is hidden where it lies strictly inside a nearer polygon; at equal depth the earlier
-/// polygon hides the later. An edge two polygons share is drawn once; edges that the
-/// splitter tree or the clipper made (cuts along a splitting plane, the screen's border)
-/// are not drawn. Where two polygons pass through each other, the visible part of their
-/// line of intersection is drawn as <line class="intersection"> (Archuleta's "second
-/// problem"), in the colour of the earlier polygon.
+/// stroke-dasharray: the same drawing). By default (`--method continuous`) visibility is
+/// exact geometry (f64), not sampled, this program's own way rather than Archuleta's: a
+/// piece of an edge is hidden where it lies strictly inside a nearer polygon; at equal
+/// depth the earlier polygon hides the later. `--method archuleta` is Archuleta's own
+/// output of Watkins's scan-line algorithm. An edge two polygons share is drawn once;
+/// edges that the splitter tree or the clipper made (cuts along a splitting plane, the
+/// screen's border) are not drawn. Where two polygons pass through each other, the
+/// visible part of their line of intersection is drawn as <line class="intersection">
+/// (Archuleta's "second problem"), in the colour of the earlier polygon.
 ///
 /// One frame goes to stdout; a movie needs -o with %d in the name.
 ///
@@ -47,13 +49,13 @@ struct Args {
     /// hid.
     #[arg(long)]
     stats: bool,
-    /// How the visible pieces are found: `continuous`, each edge against the polygons
-    /// that may hide it in exact geometry; or `archuleta`, Archuleta's own: counters on
-    /// Watkins's scan-line segments, a line drawn when its edge exits or stops being
-    /// visible, its ends between the screen's rows (raster resolution in Y). With
-    /// --stats under archuleta, "pairs tested" counts the edges' visibility tests, one
-    /// an edge a scan line, and the placements hidden count polygons passed over on a
-    /// line by its farthest depth.
+    /// How the visible pieces are found: `continuous` (this program's own), each edge
+    /// against the polygons that may hide it in exact geometry; or `archuleta`,
+    /// Archuleta's (1972): counters on the visible segments of Watkins's scan-line
+    /// algorithm (the scanline stage's), a line drawn when its edge exits or stops being
+    /// visible, its ends between the screen's rows (raster resolution in Y). With --stats
+    /// under archuleta, "pairs tested" counts the edges' visibility tests, one an edge a
+    /// scan line, and "visible segments" Watkins's segments passed on.
     #[arg(long, value_enum, default_value_t = MethodArg::Continuous)]
     method: MethodArg,
 }
@@ -158,9 +160,10 @@ fn main() -> ExitCode {
             eprintln!(
                 "hiddenline: {frame} frames, {} edges, {} shared, {} cuts, {} on the border, {} pairs tested, {} pieces drawn; \
                  {} lines of intersection, {} pieces drawn; {} placements in cells hidden by a surrounder; \
-                 {} pairs of neighbours passed over",
+                 {} pairs of neighbours passed over; {} visible segments",
                 s.edges, s.shared, s.cuts, s.border, s.pairs_tested, s.segments,
-                s.intersection_lines, s.intersections, s.culled, s.neighbours
+                s.intersection_lines, s.intersections, s.culled, s.neighbours,
+                s.visible_segments
             );
         }
         Ok(())
