@@ -827,3 +827,41 @@ fn the_hidden_line_methods_are_charted_on_every_scene() {
     let cost = std::fs::read_to_string(d.join("cost-environment.svg")).unwrap();
     assert!(cost.contains("\nhiddenline-archuleta\n") && cost.contains("\nhiddenline\n"));
 }
+
+/// `chart hidden-lines` at a small scale: a row for each scene, size and hidden-line
+/// method, the continuous drawing the reference (line error 0), Archuleta's scored
+/// against it, no figure NaN, and the picture written.
+#[test]
+fn the_hidden_line_figure_scores_both_methods() {
+    let out_dir = tempfile::tempdir().unwrap();
+    let out = sh(
+        &format!(
+            "chart hidden-lines --sizes 64,128 --reps 1 -o {} --root {}",
+            out_dir.path().display(),
+            repo_root().display()
+        ),
+        b"",
+    );
+    assert!(out.status.success(), "{out:?}");
+    let csv = std::fs::read_to_string(out_dir.path().join("hidden-lines.csv")).unwrap();
+    let mut lines = csv.lines();
+    assert_eq!(
+        lines.next(),
+        Some("scene,size,method,seconds,line_error_px,missed_px,extra_px,reference_px,line_error_percent")
+    );
+    let rows: Vec<Vec<&str>> = lines.map(|l| l.split(',').collect()).collect();
+    assert_eq!(rows.len(), 4 * 2 * 2, "{csv}");
+    for r in &rows {
+        let nums: Vec<f64> = r[3..].iter().map(|v| v.parse().unwrap()).collect();
+        assert!(nums.iter().all(|v| v.is_finite()), "{r:?}");
+        if r[2] == "continuous" {
+            assert_eq!(nums[1], 0.0, "{r:?}");
+        }
+        assert!(nums[4] > 0.0, "{r:?}: a drawing with length");
+    }
+    // Archuleta's counters at 64 scan lines miss somewhere.
+    assert!(rows
+        .iter()
+        .any(|r| r[2] == "archuleta" && r[4].parse::<f64>().unwrap() > 0.0));
+    assert!(out_dir.path().join("hidden-lines.png").exists());
+}

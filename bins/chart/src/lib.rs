@@ -11,6 +11,7 @@
 
 pub mod chart;
 pub mod error;
+pub mod hidden;
 pub mod methods;
 pub mod plot;
 pub mod stats;

@@ -1,7 +1,7 @@
 //! hiddenline: screen-space polygons in, the visible parts of their edges out, as SVG.
 
 use clap::Parser;
-use hiddenline::{for_each_segment_by, svg_start, LineStats, Method, SvgWriter, SVG_END};
+use hiddenline::{for_each_segment_by, svg_start, LineStats, Method, Segment, SvgWriter, SVG_END};
 use proto::{Colour, Polygon, SpaceKind, Token};
 use stagecli::Error;
 use stagecli::FrameNames;
@@ -58,6 +58,14 @@ struct Args {
     /// scan line, and "visible segments" Watkins's segments passed on.
     #[arg(long, value_enum, default_value_t = MethodArg::Continuous)]
     method: MethodArg,
+    /// Score the drawing against a reference drawing of the same frame (an SVG as this
+    /// program writes it, e.g. the continuous method's): print on stderr its line error,
+    /// the length of the reference's lines that no drawn line comes within half the
+    /// line width of (visible lines missed), plus the length drawn that no reference
+    /// line comes within half the line width of (hidden lines drawn), in pixels,
+    /// intersection lines included, computed exactly (lines::line_error). One frame.
+    #[arg(long, value_name = "REFERENCE.svg")]
+    score: Option<String>,
 }
 
 #[derive(Clone, Copy, clap::ValueEnum)]
@@ -95,6 +103,15 @@ fn main() -> ExitCode {
             .space
             .screen_size()
             .ok_or_else(|| Error::data("screen-space header without a size"))?;
+        let reference = match &args.score {
+            Some(name) => {
+                let text = std::fs::read_to_string(name)
+                    .map_err(|e| Error::io(format!("cannot read {name}: {e}")))?;
+                Some(lines::read_svg(&text).map_err(|e| Error::data(format!("{name}: {e}")))?)
+            }
+            None => None,
+        };
+        let mut drawn: Vec<Segment> = Vec::new();
         let mut stats = LineStats::default();
         let mut polygons: Vec<Polygon> = Vec::new();
         let mut frame = 0u64;
@@ -138,7 +155,15 @@ fn main() -> ExitCode {
                 MethodArg::Archuleta => Method::Archuleta,
             };
             let mut joined = SvgWriter::new();
+            if reference.is_some() && frame > 0 {
+                return Err(Error::data(
+                    "--score compares one frame with its reference, and this stream has more",
+                ));
+            }
             for_each_segment_by(method, &polygons, width, height, &mut stats, |seg| {
+                if reference.is_some() {
+                    drawn.push(seg);
+                }
                 joined.push(&mut text, &seg);
                 if text.len() >= 1 << 16 && failed.is_none() {
                     failed = sink.write_all(text.as_bytes()).err();
@@ -154,6 +179,18 @@ fn main() -> ExitCode {
             sink.write_all(text.as_bytes())?;
             sink.flush()?;
             frame += 1;
+        }
+        if let Some(reference) = &reference {
+            let e = lines::line_error(&drawn, reference, args.stroke_width / 2.0);
+            eprintln!(
+                "hiddenline: line error {:.3} px: {:.3} px of the reference's {:.3} px missed, \
+                 {:.3} px of the {:.3} px drawn not on it",
+                e.total_px(),
+                e.missed_px,
+                e.reference_px,
+                e.extra_px,
+                e.drawn_px
+            );
         }
         if args.stats {
             let s = stats;
