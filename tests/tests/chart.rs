@@ -865,3 +865,62 @@ fn the_hidden_line_figure_scores_both_methods() {
         .any(|r| r[2] == "archuleta" && r[4].parse::<f64>().unwrap() > 0.0));
     assert!(out_dir.path().join("hidden-lines.png").exists());
 }
+
+/// `chart thesis --measure` at 0.1% of the thesis's sizes: the thesis's 5.1.3 table (E_t and
+/// E_r of A, B and C, its HSE best and worst, clipping and the transformations) and ours
+/// beside it, every stage timed, every hidden-surface method named.
+#[test]
+fn thesis_5_1_is_measured_beside_its_table() {
+    let out = sh(
+        &format!(
+            "chart thesis --measure --scale 0.001 --root {}",
+            repo_root().display()
+        ),
+        b"",
+    );
+    assert!(out.status.success(), "{out:?}");
+    let text = String::from_utf8_lossy(&out.stdout);
+    let lines: Vec<&str> = text.lines().collect();
+    let at = |head: &str| {
+        lines
+            .iter()
+            .position(|l| l.starts_with(head))
+            .unwrap_or_else(|| panic!("no `{head}` in {text}"))
+    };
+    let thesis = at("thesis (units of time)");
+    let words = |i: usize| lines[i].split_whitespace().collect::<Vec<_>>();
+    assert_eq!(
+        words(thesis + 2)[..8],
+        ["A", "800", "400", "140K", "2.4B", "8K", "8K", "4K"]
+    );
+    assert_eq!(words(thesis + 3)[..3], ["B", "20K", "10K"]);
+    assert_eq!(
+        words(thesis + 4)[..8],
+        ["C", "480K", "240K", "7.5M", "1500B", "4.8M", "4.8M", "2.4M"]
+    );
+    let ours = at("measured here");
+    for (k, (name, polygons)) in [("A", 2u64), ("B", 5), ("C", 120)].iter().enumerate() {
+        let w = words(ours + 2 + k);
+        assert_eq!(w[0], *name, "{text}");
+        let (et, er, p): (u64, u64, u64) = (
+            w[1].parse().unwrap(),
+            w[2].parse().unwrap(),
+            w[3].parse().unwrap(),
+        );
+        // Four-sided polygons: E_t = 4·P_t; about half survive the clipper.
+        assert_eq!((p, et), (*polygons, 4 * polygons), "{text}");
+        if *name == "C" {
+            assert!(
+                (et as f64 * 0.3..=et as f64 * 0.7).contains(&(er as f64)),
+                "{text}"
+            );
+        }
+        // Every time a number, the best method and the worst named.
+        for i in [5, 7, 9, 10, 11] {
+            assert!(w[i].parse::<f64>().unwrap() >= 0.0, "{text}");
+        }
+    }
+    for m in ["zbuf", "scanline", "warnock", "painter"] {
+        assert!(text.contains(&format!("{m} ")), "{m} not timed: {text}");
+    }
+}

@@ -9,6 +9,7 @@
 //! the planner are the `plan` crate's (re-exported here under their old names, so that
 //! `chart::model` still reads); `chart choose-depth` is a thin alias of `plan depth`.
 
+pub mod bottleneck;
 pub mod chart;
 pub mod error;
 pub mod hidden;

@@ -118,8 +118,22 @@ enum Sub {
         root: Option<PathBuf>,
     },
     /// Thesis 5.2's stage timings on its T424-20 from its own constants, beside its
-    /// figures, and 6.4's depth (5), through the model code `--depth auto` uses.
-    Thesis,
+    /// figures, and 6.4's depth (5), through the model code `--depth auto` uses. With
+    /// --measure, 5.1.3's table too: environments A, B and C built with its E_t and E_r
+    /// (800/400, 20K/10K, 480K/240K) and viewing, clipping, perspective and every
+    /// hidden-surface method timed on them here (CPU seconds a frame, one core), beside
+    /// the thesis's figures.
+    Thesis {
+        /// Build and time environments A, B and C (5.1.3).
+        #[arg(long)]
+        measure: bool,
+        /// The environments at this fraction of the thesis's sizes (for a quick look).
+        #[arg(long, default_value_t = 1.0, value_name = "F")]
+        scale: f64,
+        /// The repository; chart.sh gives it.
+        #[arg(long, value_name = "DIR")]
+        root: Option<PathBuf>,
+    },
     /// The hidden-line figure: `hiddenline --method continuous` and `archuleta` on four
     /// scenes at several sizes, each drawing's line error against the continuous one
     /// (lines::line_error: length missed plus length drawn not on it, 0.5 px reach) and
@@ -580,7 +594,22 @@ fn dispatch(cli: Cli) -> Result<()> {
             let root = root_dir(root)?;
             calibrate(quick, model.as_deref(), &root, &bin_dir()?)
         }
-        Some(Sub::Thesis) => say(&chart::thesis::report()),
+        Some(Sub::Thesis {
+            measure,
+            scale,
+            root,
+        }) => {
+            say(&chart::thesis::report())?;
+            if !measure {
+                return Ok(());
+            }
+            if !(scale > 0.0 && scale <= 1.0) {
+                return Err(stagecli::Error::usage("--scale is a fraction in (0, 1]").into());
+            }
+            let work = root_dir(root)?.join("target/chart/thesis");
+            let rows = chart::bottleneck::measure(&bin_dir()?, &work, scale)?;
+            say(&format!("\n{}", chart::bottleneck::report(&rows, scale)))
+        }
         Some(Sub::HiddenLines {
             out,
             sizes,
