@@ -346,8 +346,8 @@ fn copies_text(n: usize) -> String {
 /// were 1/200 of one here, and each copy was classified in all 16,384 of them), and the
 /// colour of an edge that all the copies share is found from the polygon in front beside
 /// it once, not by a search of the pile for each copy. Measured (one run, a loaded 2-core
-/// machine): continuous 0.4 s / 100 MB (24.5 s and 374 MB before), Archuleta's 0.4 s /
-/// 98 MB.
+/// machine): continuous 0.4 s / 131 MB (24.5 s and 374 MB before), Archuleta's (on
+/// Watkins's segments) 0.3 s / 119 MB.
 #[test]
 fn a_pile_of_copies_in_one_pixel_is_bounded() {
     use pipeline_tests::sh;
