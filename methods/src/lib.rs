@@ -2,8 +2,9 @@
 //!
 //! Every way the project draws a frame that is measured against the others is a row of
 //! [`METHODS`]: the hidden-surface methods of the leaves (`render --hse NAME`, thesis
-//! chapter 2.3 and Sutherland, Sproull and Schumacker, *A Characterization of Ten
-//! Hidden-Surface Algorithms*), the anti-aliasing modes (`render --aa NAME`), the
+//! chapter 2.3, Newman and Sproull's chapter 14, and the depth sort of Sutherland,
+//! Sproull and Schumacker, *A Characterization of Ten Hidden-Surface Algorithms*, which
+//! the thesis cites and the seeds do not hold), the anti-aliasing modes (`render --aa NAME`), the
 //! z-buffer's variants, and the hidden-line drawings (`render --hidden-line`). A row says
 //! how render selects it, which stage binary does the work at each leaf, what it draws,
 //! whether its pictures are the z-buffer's byte for byte, the tree depths and the form of
@@ -168,7 +169,7 @@ const AA: &[u8] = &[0, 2];
 /// at raster resolution (Archuleta, *Hidden Surface Line Drawing Algorithm*, "Line
 /// Drawing Algorithm").
 pub const METHODS: &[Method] = &[
-    // Watkins's scan line (Sutherland, Sproull and Schumacker, "Watkins"; Archuleta).
+    // Watkins's scan line (Archuleta; Newman and Sproull, 14.4).
     Method {
         name: "scanline",
         selector: Selector::Hse("scanline"),
@@ -183,7 +184,7 @@ pub const METHODS: &[Method] = &[
         marker: Marker::Square,
         fuzz: Some("methods"),
     },
-    // Warnock's area subdivision (Sutherland, Sproull and Schumacker, "Warnock").
+    // Warnock's area subdivision (Newman and Sproull, 14.3 and Appendix VI).
     Method {
         name: "warnock",
         selector: Selector::Hse("warnock"),

@@ -46,6 +46,7 @@ pub mod pages;
 pub mod precision;
 pub mod region;
 mod walk;
+pub mod watkins;
 mod ztest;
 
 pub use depth::{depth_at, takes, Depth, DepthPlane};

@@ -132,25 +132,13 @@ pub struct Lines {
 }
 
 impl Lines {
-    /// Adds the `<line>`s of one SVG as `hiddenline` writes them (`<line x1="…" y1="…"
-    /// x2="…" y2="…" …/>`, `class="intersection"` on a line of intersection).
+    /// Adds the pieces of one SVG as `hiddenline` writes them (`lines::read_svg`: a
+    /// `<line>` a piece, or a dashed `<line>` for the pieces of one edge).
     pub fn add_svg(&mut self, svg: &str) -> Result<()> {
-        for line in svg.lines().filter(|l| l.starts_with("<line")) {
-            let coord = |name: &str| -> Result<f64> {
-                let key = format!(" {name}=\"");
-                let at = line
-                    .find(&key)
-                    .ok_or_else(|| anyhow!("no {name} in the SVG's line {line}"))?;
-                let rest = &line[at + key.len()..];
-                let end = rest.find('"').unwrap_or(rest.len());
-                rest[..end]
-                    .parse()
-                    .with_context(|| format!("{name} in the SVG's line {line}"))
-            };
-            let (dx, dy) = (coord("x2")? - coord("x1")?, coord("y2")? - coord("y1")?);
+        for piece in lines::read_svg(svg).map_err(|e| anyhow!(e))? {
             self.pieces += 1;
-            self.intersections += u64::from(line.contains(r#"class="intersection""#));
-            self.length_px += dx.hypot(dy);
+            self.intersections += u64::from(piece.intersection);
+            self.length_px += piece.length();
         }
         Ok(())
     }
@@ -701,7 +689,17 @@ mod tests {
         let e = Lines::default()
             .add_svg("<line x1=\"0\" y1=\"0\" x2=\"a\" y2=\"1\"/>")
             .unwrap_err();
-        assert!(format!("{e:#}").contains("x2 in the SVG's line"), "{e:#}");
+        assert!(
+            format!("{e:#}").contains(r#"x2="a" is not a number in the SVG's line"#),
+            "{e:#}"
+        );
+        // The pieces of one edge, joined: each dash a piece.
+        let mut l = Lines::default();
+        l.add_svg(
+            r#"<line x1="0" y1="0" x2="6" y2="8" stroke="rgb(1,2,3)" stroke-dasharray="2 3 5"/>"#,
+        )
+        .unwrap();
+        assert_eq!((l.pieces, l.intersections, l.length_px), (2, 0, 7.0));
     }
 
     #[test]

@@ -9,8 +9,10 @@
 //! the planner are the `plan` crate's (re-exported here under their old names, so that
 //! `chart::model` still reads); `chart choose-depth` is a thin alias of `plan depth`.
 
+pub mod bottleneck;
 pub mod chart;
 pub mod error;
+pub mod hidden;
 pub mod methods;
 pub mod plot;
 pub mod stats;

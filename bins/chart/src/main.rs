@@ -56,7 +56,7 @@ struct Cli {
     #[arg(long)]
     hard: bool,
     /// The figures of docs/images, at this commit: --standard (its small scenes, every
-    /// method at every depth) and --hard, written to the repository's docs/images (or
+    /// method at every depth), --hard and `chart hidden-lines`, written to the repository's docs/images (or
     /// -o DIR), the scenes, references, frames and the cost model's files kept in
     /// target/chart.
     #[arg(long)]
@@ -120,8 +120,42 @@ enum Sub {
         root: Option<PathBuf>,
     },
     /// Thesis 5.2's stage timings on its T424-20 from its own constants, beside its
-    /// figures, and 6.4's depth (5), through the model code `--depth auto` uses.
-    Thesis,
+    /// figures, and 6.4's depth (5), through the model code `--depth auto` uses. With
+    /// --measure, 5.1.3's table too: environments A, B and C built with its E_t and E_r
+    /// (800/400, 20K/10K, 480K/240K) and viewing, clipping, perspective and every
+    /// hidden-surface method timed on them here (CPU seconds a frame, one core), beside
+    /// the thesis's figures.
+    Thesis {
+        /// Build and time environments A, B and C (5.1.3).
+        #[arg(long)]
+        measure: bool,
+        /// The environments at this fraction of the thesis's sizes (for a quick look).
+        #[arg(long, default_value_t = 1.0, value_name = "F")]
+        scale: f64,
+        /// The repository; chart.sh gives it.
+        #[arg(long, value_name = "DIR")]
+        root: Option<PathBuf>,
+    },
+    /// The hidden-line figure: `hiddenline --method continuous` and `archuleta` on four
+    /// scenes at several sizes, each drawing's line error against the continuous one
+    /// (lines::line_error: length missed plus length drawn not on it, 0.5 px reach) and
+    /// its time; writes DIR/hidden-lines.csv and DIR/hidden-lines.png (DIR: the
+    /// repository's docs/images unless -o).
+    #[command(name = "hidden-lines")]
+    HiddenLines {
+        /// The output folder.
+        #[arg(short = 'o', value_name = "DIR")]
+        out: Option<PathBuf>,
+        /// The square screen sizes.
+        #[arg(long, value_delimiter = ',', default_value = "256,512,1024,2048")]
+        sizes: Vec<u32>,
+        /// Timed runs of each drawing; the median is kept.
+        #[arg(long, default_value_t = 5)]
+        reps: u32,
+        /// The repository; chart.sh gives it.
+        #[arg(long, value_name = "DIR")]
+        root: Option<PathBuf>,
+    },
 }
 
 /// The constants the chart predicts with: `--model FILE`; else this machine's
@@ -382,6 +416,9 @@ fn run(mut cli: Cli) -> Result<()> {
     chart::plot::speed_accuracy(&out, &rows)?;
     chart::plot::environment(&out, &rows)?;
     chart::plot::model(model_out, &model_rows, &extra)?;
+    if cli.figures {
+        hidden_lines(&root, &out, &HIDDEN_SIZES, 5)?;
+    }
     say(&model_table(&model_rows))?;
     say_err(&format!(
         "chart: wrote {0}/results.csv, {0}/speed-accuracy.png and .svg, {0}/cost-environment.png and .svg, {1}/model.csv, {1}/model.png",
@@ -389,6 +426,24 @@ fn run(mut cli: Cli) -> Result<()> {
         model_out.display()
     ));
     Ok(())
+}
+
+/// The sizes of the committed hidden-line figure (`chart hidden-lines`' default).
+const HIDDEN_SIZES: [u32; 4] = [256, 512, 1024, 2048];
+
+/// `chart hidden-lines`, also run by `--figures`: `out`/hidden-lines.csv and .png.
+fn hidden_lines(
+    root: &Path,
+    out: &Path,
+    sizes: &[u32],
+    reps: u32,
+) -> Result<Vec<chart::hidden::HiddenRow>> {
+    std::fs::create_dir_all(out)?;
+    let work = root.join("target/chart/hidden-lines");
+    let rows = chart::hidden::measure(&bin_dir()?, root, &work, sizes, reps)?;
+    std::fs::write(out.join("hidden-lines.csv"), chart::hidden::csv(&rows))?;
+    chart::plot::hidden_lines(&out.join("hidden-lines.png"), &rows)?;
+    Ok(rows)
 }
 
 /// `--remodel`: the predictions of `DIR/model.csv` made again beside its measurements.
@@ -541,7 +596,33 @@ fn dispatch(cli: Cli) -> Result<()> {
             let root = root_dir(root)?;
             calibrate(quick, model.as_deref(), &root, &bin_dir()?)
         }
-        Some(Sub::Thesis) => say(&chart::thesis::report()),
+        Some(Sub::Thesis {
+            measure,
+            scale,
+            root,
+        }) => {
+            say(&chart::thesis::report())?;
+            if !measure {
+                return Ok(());
+            }
+            if !(scale > 0.0 && scale <= 1.0) {
+                return Err(stagecli::Error::usage("--scale is a fraction in (0, 1]").into());
+            }
+            let work = root_dir(root)?.join("target/chart/thesis");
+            let rows = chart::bottleneck::measure(&bin_dir()?, &work, scale)?;
+            say(&format!("\n{}", chart::bottleneck::report(&rows, scale)))
+        }
+        Some(Sub::HiddenLines {
+            out,
+            sizes,
+            reps,
+            root,
+        }) => {
+            let root = root_dir(root)?;
+            let out = out.unwrap_or_else(|| root.join("docs/images"));
+            let rows = hidden_lines(&root, &out, &sizes, reps)?;
+            say(&chart::hidden::csv(&rows))
+        }
         None => run(cli),
     }
 }

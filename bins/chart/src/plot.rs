@@ -1039,6 +1039,113 @@ pub fn model(dir: &Path, rows: &[ModelRow], extra: &[Extrapolation]) -> Result<(
     })
 }
 
+/// `hidden-lines.png`: seconds a frame (log) against line error (% of the reference
+/// drawing's length) for the two hidden-line methods, a colour a scene, a line through
+/// each method's sizes, each point labelled with its size (`crate::hidden`).
+pub fn hidden_lines(path: &Path, rows: &[crate::hidden::HiddenRow]) -> Result<()> {
+    let size = (1100, 760);
+    png(path, size, |root| hidden_lines_on(root, rows))
+}
+
+fn hidden_lines_on<DB: DrawingBackend>(
+    root: DrawingArea<DB, Shift>,
+    rows: &[crate::hidden::HiddenRow],
+) -> Drawn
+where
+    DB::ErrorType: 'static,
+{
+    // Exact drawings (error 0) are drawn at the axis's floor.
+    const FLOOR: f64 = 0.1;
+    const COLOURS: [RGBColor; 4] = [
+        RGBColor(31, 119, 180),
+        RGBColor(214, 39, 40),
+        RGBColor(44, 160, 44),
+        RGBColor(148, 103, 189),
+    ];
+    root.fill(&WHITE)?;
+    let tmin = rows.iter().map(|r| r.seconds).fold(f64::INFINITY, f64::min);
+    let tmax = rows.iter().map(|r| r.seconds).fold(0.0, f64::max);
+    let emax = rows.iter().map(|r| r.error_px).fold(FLOOR, f64::max);
+    let largest = rows.iter().map(|r| r.size).max().unwrap_or(0);
+    let (ylo, yhi) = decades(tmin.max(1e-4), tmax.max(2e-4));
+    let (xlo, xhi) = decades(FLOOR, emax);
+    let mut chart = ChartBuilder::on(&root)
+        .caption(
+            "Hidden lines: time against line error (Archuleta's counters against exact geometry)",
+            ("sans-serif", 22),
+        )
+        .margin(16)
+        .x_label_area_size(56)
+        .y_label_area_size(80)
+        .build_cartesian_2d((xlo..xhi).log_scale(), (ylo..yhi).log_scale())?;
+    chart
+        .configure_mesh()
+        .x_desc(format!(
+            "line error: visible length missed + length drawn off it, pixels of {largest}² \
+             (0.5 px reach; exact = 0, drawn at {FLOOR})"
+        ))
+        .y_desc("hiddenline wall time a frame, seconds (log)")
+        .axis_desc_style(("sans-serif", 17))
+        .label_style(("sans-serif", 16))
+        .x_labels(log_ticks(xlo, xhi))
+        .x_max_light_lines(0)
+        .x_label_formatter(&|v| log_tick(*v))
+        .y_labels(log_ticks(ylo, yhi))
+        .y_max_light_lines(0)
+        .y_label_formatter(&|v| log_tick(*v))
+        .light_line_style(RGBColor(235, 235, 235))
+        .draw()?;
+    for (i, (scene, _)) in crate::hidden::SCENES.iter().enumerate() {
+        let colour = COLOURS[i % COLOURS.len()];
+        for method in crate::hidden::METHODS {
+            let mut pts: Vec<&crate::hidden::HiddenRow> = rows
+                .iter()
+                .filter(|r| r.scene == *scene && r.method == method)
+                .collect();
+            pts.sort_by_key(|r| r.size);
+            let xy: Vec<(f64, f64)> = pts
+                .iter()
+                .map(|r| (r.error_px.max(FLOOR), r.seconds))
+                .collect();
+            let exact = method == "continuous";
+            let line = chart.draw_series(LineSeries::new(
+                xy.clone(),
+                colour.stroke_width(if exact { 1 } else { 2 }),
+            ))?;
+            if exact {
+                line.label(format!("{scene}: continuous (exact)"))
+                    .legend(move |(x, y)| Circle::new((x + 10, y), 5, colour.stroke_width(2)));
+                chart.draw_series(
+                    xy.iter()
+                        .map(|&p| Circle::new(p, 5, colour.stroke_width(2))),
+                )?;
+            } else {
+                line.label(format!("{scene}: archuleta"))
+                    .legend(move |(x, y)| TriangleMarker::new((x + 10, y), 6, colour.filled()));
+                chart.draw_series(
+                    xy.iter()
+                        .map(|&p| TriangleMarker::new(p, 7, colour.filled())),
+                )?;
+            }
+            for (r, &(x, y)) in pts.iter().zip(&xy) {
+                chart.draw_series(std::iter::once(Text::new(
+                    format!(" {}²", r.size),
+                    (x, y),
+                    ("sans-serif", 13).into_font().color(&colour),
+                )))?;
+            }
+        }
+    }
+    chart
+        .configure_series_labels()
+        .position(SeriesLabelPosition::Coordinate(110, 470))
+        .background_style(WHITE.mix(0.9))
+        .border_style(RGBColor(180, 180, 180))
+        .label_font(("sans-serif", 15))
+        .draw()?;
+    Ok(())
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

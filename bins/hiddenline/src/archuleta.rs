@@ -13,15 +13,17 @@
 //!
 //! Here, per scan line (the screen's rows, the centre of row r at Y = r + 0.5):
 //!
-//! - **Visibility along the line**: the active polygons' segments, nearest ZMIN first,
-//!   each written into a row of polygon indices and depths at the pixel centres it
-//!   covers, by the z-buffer's own coverage and tie rule (docs/DESIGN.md, "Visibility").
-//!   Once every column holds a polygon, a polygon whose ZMIN is farther than the row's
-//!   farthest depth cannot take a pixel, and neither can any after it: the rest are
-//!   passed over (Warnock's ZMIN test on one line).
+//! - **Visibility along the line**: Watkins's own scan ([`scan::watkins`], the
+//!   `scanline` stage's method, not a depth buffer): the active polygons' segments in X
+//!   order, cut into sample spans, depth compared only where segments overlap, split
+//!   where one comes in front (XINTER). Its visible segments, the stretches of the line
+//!   where one polygon is in front, are what it would pass to the shader; here they give
+//!   each column of the row the polygon in front at its pixel centre (the z-buffer's
+//!   picture, to the pixel).
 //! - **The counters**: an edge crossing the row's centre at X is visible on this line
-//!   unless the polygon in front at X's column holds (X, Y) strictly inside and is
-//!   nearer there than the edge; an edge's own polygons, and those it is shared with,
+//!   (its counter incremented, as when a visible segment that it bounds goes to the
+//!   shader) unless the visible segment at X's column is another polygon's that holds
+//!   (X, Y) strictly inside and is nearer there than the edge; an edge's own polygons, and those it is shared with,
 //!   never hide it (one block per edge of the model: a shared edge has one counter, so
 //!   it is drawn once). A run of visible lines is drawn from where it started (the
 //!   edge's top vertex, or the boundary between lines where it became visible) to where
@@ -99,10 +101,9 @@ impl Edge {
 }
 
 /// One row of the screen after visibility: per column the polygon in front at the pixel
-/// centre (a place in ZMIN order, or [`NONE`]) and its depth there.
+/// centre (a place in ZMIN order, or [`NONE`]), from Watkins's visible segments.
 struct Row {
     front: Vec<u32>,
-    depth: Vec<f64>,
 }
 
 /// A line of intersection being followed down the scan lines (its segment block).
@@ -235,158 +236,68 @@ fn model_edges(
     (edges, owners)
 }
 
-/// The X where `f`'s edges cross height `y`, sorted (pairs of them bound its segments).
-fn crossings(f: &Face, y: f64, xs: &mut Vec<f64>) {
-    xs.clear();
-    for i in 0..f.points.len() {
-        let (a, b) = f.edge(i);
-        if (a.y > y) != (b.y > y) {
-            xs.push(a.x + (y - a.y) / (b.y - a.y) * (b.x - a.x));
-        }
-    }
-    xs.sort_by(f64::total_cmp);
-}
-
 impl Row {
     fn blank(width: usize) -> Row {
         Row {
             front: vec![NONE; width],
-            depth: vec![f64::INFINITY; width],
         }
     }
 }
 
-/// Watkins's scan: the polygons bucketed by the row they enter on, the active ones kept
-/// in ZMIN order, and each row resolved into its fronts.
+/// Watkins's scan-line method ([`scan::watkins`], the `scanline` stage's own) run down the
+/// frame a line at a time: each line's visible segments (the pieces where one polygon's
+/// segment is in front, as they go to the shader) become the row's fronts.
 pub(crate) struct Scan<'a> {
-    faces: &'a [Face],
-    enter: Vec<Vec<u32>>,
-    leave: Vec<i64>,
-    active: Vec<u32>,
-    merged: Vec<u32>,
-    xs: Vec<f64>,
-    next: Vec<u32>,
+    polygons: &'a [Polygon],
+    /// Each polygon's place in ZMIN order, by stream index ([`NONE`]: not a face).
+    place: Vec<u32>,
+    watkins: scan::watkins::Scanline,
+    runs: Vec<scan::Run>,
+    width: u32,
+    height: u32,
+    /// Watkins's scan has passed its last polygon: every row from here is blank.
+    done: bool,
 }
 
 impl<'a> Scan<'a> {
-    /// `faces` in ZMIN order.
-    pub(crate) fn new(faces: &'a [Face], _width: u32, height: u32) -> Scan<'a> {
-        let hr = height as i64;
-        let row_of = |y: f64| (y - 0.5).ceil() as i64;
-        let mut enter: Vec<Vec<u32>> = vec![Vec::new(); hr as usize];
-        let mut leave: Vec<i64> = vec![-1; faces.len()];
+    /// `faces` in ZMIN order, made from `polygons` (stream order).
+    pub(crate) fn new(
+        faces: &[Face],
+        polygons: &'a [Polygon],
+        width: u32,
+        height: u32,
+    ) -> Scan<'a> {
+        let mut place = vec![NONE; polygons.len()];
         for (k, f) in faces.iter().enumerate() {
-            let (r0, r1) = (row_of(f.min.y).max(0), (row_of(f.max.y) - 1).min(hr - 1));
-            if r0 <= r1 {
-                enter[r0 as usize].push(k as u32);
-                leave[k] = r1;
-            }
+            place[f.index] = k as u32;
         }
+        let mut watkins = scan::watkins::Scanline::new();
+        watkins.begin(polygons, height);
         Scan {
-            faces,
-            enter,
-            leave,
-            active: Vec::new(),
-            merged: Vec::new(),
-            xs: Vec::new(),
-            next: Vec::new(),
+            polygons,
+            place,
+            watkins,
+            runs: Vec::new(),
+            width,
+            height,
+            done: false,
         }
     }
 
-    /// Row `r`'s fronts into `row` (blank below the screen's last row).
+    /// Row `r`'s fronts into `row` (blank below the screen's last row). The rows come
+    /// one after another from 0, as Watkins's scan goes.
     fn resolve(&mut self, r: i64, row: &mut Row, stats: &mut LineStats) {
         row.front.fill(NONE);
-        row.depth.fill(f64::INFINITY);
-        if r < 0 || r as usize >= self.enter.len() {
+        if r < 0 || r >= self.height as i64 || self.done {
             return;
         }
-        let (faces, wc, y) = (self.faces, row.front.len(), r as f64 + 0.5);
-        // The active polygons, kept in ZMIN order: the entering merged in.
-        let entering = &self.enter[r as usize];
-        let leave = &self.leave;
-        self.active.retain(|&k| leave[k as usize] >= r);
-        self.merged.clear();
-        let (active, merged) = (&self.active, &mut self.merged);
-        let (mut i, mut j) = (0, 0);
-        while i < active.len() || j < entering.len() {
-            if j == entering.len() || (i < active.len() && active[i] < entering[j]) {
-                merged.push(active[i]);
-                i += 1;
-            } else {
-                merged.push(entering[j]);
-                j += 1;
-            }
-        }
-        std::mem::swap(&mut self.active, &mut self.merged);
-        // Visibility along the line, nearest ZMIN first. `far` bounds the farthest depth
-        // held on the line from above (raised as columns are filled; a nearer polygon
-        // taking a column may lower the truth, so it is recomputed now and then); `next`
-        // finds the first column at or after a column that holds no polygon.
-        let (mut filled, mut far, mut dirty) = (0usize, f64::NEG_INFINITY, false);
-        let next = &mut self.next;
-        next.clear();
-        next.extend(0..=wc as u32);
-        fn empty_from(next: &mut [u32], mut c: usize) -> usize {
-            while next[c] as usize != c {
-                let up = next[next[c] as usize];
-                next[c] = up;
-                c = up as usize;
-            }
-            c
-        }
-        for (n, &k) in self.active.iter().enumerate() {
-            let f = &faces[k as usize];
-            if filled > 0 {
-                if dirty && n % 16 == 0 {
-                    far = row
-                        .front
-                        .iter()
-                        .zip(&row.depth)
-                        .filter(|(&k, _)| k != NONE)
-                        .map(|(_, &z)| z)
-                        .fold(f64::NEG_INFINITY, f64::max);
-                    dirty = false;
-                }
-                // Behind the farthest depth held (by the tie rule, so that an earlier
-                // polygon within it is not passed over): it can take no column that
-                // holds a polygon. On a full line neither can any after it.
-                if proto::depth::takes(far, f.zmin) {
-                    if filled == wc {
-                        stats.culled += (self.active.len() - n) as u64;
-                        break;
-                    }
-                    let c0 = ((f.min.x - 0.5).ceil().max(0.0) as usize).min(wc);
-                    let c1 = ((f.max.x - 0.5).ceil().max(0.0) as usize).min(wc);
-                    if empty_from(next, c0) >= c1 {
-                        stats.culled += 1;
-                        continue;
-                    }
-                }
-            }
-            crossings(f, y, &mut self.xs);
-            for pair in self.xs.chunks_exact(2) {
-                let c0 = ((pair[0] - 0.5).ceil().max(0.0) as usize).min(wc);
-                let c1 = ((pair[1] - 0.5).ceil().max(0.0) as usize).min(wc);
-                let cells = row.front[c0..c1].iter_mut().zip(&mut row.depth[c0..c1]);
-                for (c, (held, depth)) in (c0..).zip(cells) {
-                    let z = f.depth_at(DVec2::new(c as f64 + 0.5, y));
-                    let wins = *held == NONE || {
-                        let h = &faces[*held as usize];
-                        proto::depth::in_front(z, f.index > h.index, *depth)
-                    };
-                    if wins {
-                        if *held == NONE {
-                            filled += 1;
-                            next[c] = c as u32 + 1;
-                            far = far.max(z);
-                        } else {
-                            dirty = true;
-                        }
-                        *held = k;
-                        *depth = z;
-                    }
-                }
-            }
+        self.runs.clear();
+        let (y, w, h) = (r as u32, self.width, self.height);
+        self.done = !self.watkins.line(self.polygons, y, w, h, &mut self.runs);
+        for p in self.watkins.pieces() {
+            stats.visible_segments += 1;
+            let k = self.place[p.polygon];
+            row.front[p.x0 as usize..p.x1 as usize].fill(k);
         }
     }
 }
@@ -428,6 +339,7 @@ fn crossing_between(
 /// do, exactly).
 pub(crate) fn front_crossings(
     faces: &[Face],
+    polygons: &[Polygon],
     width: u32,
     height: u32,
     stats: &mut LineStats,
@@ -438,7 +350,7 @@ pub(crate) fn front_crossings(
     }
     let tol = 1e-12 * (width as f64 + height as f64).max(1.0);
     let wc = width as usize;
-    let mut scan = Scan::new(faces, width, height);
+    let mut scan = Scan::new(faces, polygons, width, height);
     let (mut prev, mut cur) = (Row::blank(wc), Row::blank(wc));
     for r in 0..height as i64 {
         std::mem::swap(&mut prev, &mut cur);
@@ -494,7 +406,7 @@ pub(crate) fn for_each_segment(
 
     // Watkins's Y buckets: edges by the row they enter on; a horizontal edge by the row
     // below the boundary it lies on (processed with the row above).
-    let mut scan = Scan::new(&faces, width, height);
+    let mut scan = Scan::new(&faces, polygons, width, height);
     let mut edge_enter: Vec<Vec<u32>> = vec![Vec::new(); hr as usize + 1];
     for (j, e) in edges.iter().enumerate() {
         if e.first <= e.last {
@@ -662,7 +574,11 @@ pub(crate) fn for_each_segment(
             for c in 0..wc.saturating_sub(1) {
                 let (ka, kb) = (cur.front[c], cur.front[c + 1]);
                 let qa = DVec2::new(c as f64 + 0.5, y);
-                if !crossing_between(&faces, ka, kb, qa, qa + DVec2::X, (tol, true), stats) {
+                // Inside by more than the snapping of Watkins's coverage (vertices to
+                // 1/256 pixel): a centre nearer an edge than that may be covered on
+                // either side of it, and a change of front there is the edge's.
+                let inside = tol.max(1.0 / 256.0);
+                if !crossing_between(&faces, ka, kb, qa, qa + DVec2::X, (inside, true), stats) {
                     continue;
                 }
                 let (a, b) = (&faces[ka as usize], &faces[kb as usize]);
@@ -876,9 +792,9 @@ mod tests {
         let segs = draw(&polygons, &mut stats);
         assert_eq!(sorted(&segs).len(), 4);
         assert!(segs.iter().all(|s| s.colour == [0, 1, 2]), "{segs:?}");
-        // On each of the 80 lines the nearest fills the row and the other 299 are
-        // passed over at once.
-        assert_eq!(stats.culled, 80 * 299);
+        // On each of the 80 lines Watkins's scan passes one visible segment on, the
+        // nearest's: the other 299 are behind it across the line.
+        assert_eq!(stats.visible_segments, 80);
     }
 
     mod properties {

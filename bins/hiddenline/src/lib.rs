@@ -47,8 +47,8 @@
 //! Testing every edge against every polygon is quadratic in the polygons stacked over a
 //! point. Instead the screen is divided into a grid of cells (buckets), about one per
 //! polygon, up to 128 × 128. Polygons are put in the cells they touch, nearest ZMIN
-//! first (the vertex depth nearest the eye), with Warnock's Looker (Sutherland, Sproull
-//! & Schumacker's survey, Appendix VI, AVI.1) deciding whether a polygon touches a cell
+//! first (the vertex depth nearest the eye), with Warnock's Looker (Newman and Sproull
+//! 1973, Appendix VI, AVI.1) deciding whether a polygon touches a cell
 //! or surrounds it, and with the listing's ZMIN test: once a polygon surrounds a cell,
 //! any polygon whose ZMIN is farther than that surrounder's farthest corner in the cell
 //! is hidden there and is not put in it. A stack of polygons costs one polygon per cell.
@@ -106,17 +106,7 @@ pub fn for_each_segment_by(
         Method::Archuleta => archuleta::for_each_segment(polygons, width, height, stats, emit),
     }
 }
-use std::fmt::Write as _;
-
-/// A visible piece of an edge, or of a line of intersection, in device coordinates.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Segment {
-    pub from: DVec2,
-    pub to: DVec2,
-    pub colour: Colour,
-    /// A piece of the line where two polygons pass through each other, not of an edge.
-    pub intersection: bool,
-}
+pub use lines::{svg, svg_line, svg_start, Segment, SvgWriter, SVG_END};
 
 /// Counters for `--stats`.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -140,6 +130,9 @@ pub struct LineStats {
     /// Placements of a polygon in a cell left out because a surrounder of the cell
     /// hides it there (the ZMIN test); a polygon hidden in every cell counts once.
     pub culled: u64,
+    /// Watkins's visible segments the scan lines passed on (the stretches of a line
+    /// where one polygon is in front): what Archuleta's counters count on.
+    pub visible_segments: u64,
 }
 
 /// A polygon ready for the tests: its screen points, depths and depth plane.
@@ -386,9 +379,13 @@ struct Grid {
 impl Grid {
     /// Places the faces (in ZMIN order) in the cells (see the module notes).
     fn new(faces: &[Face], stats: &mut LineStats) -> Grid {
-        let n = ((faces.len() as f64).sqrt().ceil() as usize).clamp(1, 128);
         let min = faces.iter().fold(DVec2::INFINITY, |m, f| m.min(f.min));
         let max = faces.iter().fold(DVec2::NEG_INFINITY, |m, f| m.max(f.max));
+        // No finer than a pixel: polygons piled inside a pixel (or a few) share one
+        // cell, rather than each being placed in thousands of cells smaller than its
+        // edges' rounding, most of which only an edge crosses and no polygon surrounds.
+        let pixels = (max - min).max_element().ceil();
+        let n = ((faces.len() as f64).sqrt().ceil().min(pixels) as usize).clamp(1, 128);
         let extent = (max - min).max(DVec2::splat(1e-9));
         let mut grid = Grid {
             origin: min,
@@ -999,11 +996,11 @@ pub fn for_each_segment(
             // shared with a hidden back face takes the front face's colour), else the
             // first's.
             let edge_owners = &owners[&key];
-            let colour = edge_owners
-                .iter()
-                .map(|&j| &faces[j as usize])
-                .find(|f| edge_owners.len() == 1 || side_shows(f, &frame, p0, p1))
-                .map_or(a.colour, |f| f.colour);
+            let colour = if edge_owners.len() == 1 {
+                a.colour
+            } else {
+                beside_front(&frame, p0, p1, edge_owners).map_or(a.colour, |f| f.colour)
+            };
             let line = Line {
                 p0,
                 p1,
@@ -1016,7 +1013,14 @@ pub fn for_each_segment(
             stats.segments += frame.emit_visible(&line, &hidden, colour, false, &mut emit);
         }
     }
-    intersections(&frame, &mut scratch, (width, height), stats, &mut emit);
+    intersections(
+        &frame,
+        polygons,
+        &mut scratch,
+        (width, height),
+        stats,
+        &mut emit,
+    );
 }
 
 /// The lines where two polygons pass through each other (see the module notes): the
@@ -1024,6 +1028,7 @@ pub fn for_each_segment(
 /// each pair's line then cut exactly to the part inside both and hidden as an edge.
 fn intersections(
     frame: &Frame,
+    polygons: &[Polygon],
     scratch: &mut Scratch,
     (width, height): (u32, u32),
     stats: &mut LineStats,
@@ -1031,7 +1036,7 @@ fn intersections(
 ) {
     let faces = &frame.faces;
     let mut scan = LineStats::default();
-    let pairs = archuleta::front_crossings(faces, width, height, &mut scan);
+    let pairs = archuleta::front_crossings(faces, polygons, width, height, &mut scan);
     stats.neighbours += scan.neighbours;
     for (ka, kb) in pairs {
         let (a, b) = (&faces[ka as usize], &faces[kb as usize]);
@@ -1152,89 +1157,53 @@ fn edge_key(p0: DVec2, p1: DVec2) -> [u64; 4] {
     [u.x, u.y, v.x, v.y].map(f64::to_bits)
 }
 
-/// Does face `f` show just beside the middle of its edge p0→p1: is a point inside it a
-/// hair from the edge hidden by no other polygon?
-fn side_shows(f: &Face, frame: &Frame, p0: DVec2, p1: DVec2) -> bool {
+/// The first of an edge's `owners` (stream order) that shows just beside the middle of
+/// the edge p0→p1: whose inside a hair from the edge is hidden by no other polygon. The
+/// polygon in front is found once on each side of the edge (one pass over the cell's
+/// list), so that an edge a pile of copies share costs the pile once, not once a copy.
+fn beside_front<'f>(frame: &'f Frame, p0: DVec2, p1: DVec2, owners: &[u32]) -> Option<&'f Face> {
     let m = (p0 + p1) * 0.5;
     let d = p1 - p0;
     let n = DVec2::new(-d.y, d.x) * (1e-6 / d.length().max(1e-300)) * (1.0 + m.abs().max_element());
     let tol = 1e-9;
-    let Some(q) = [m + n, m - n]
-        .into_iter()
-        .find(|&q| f.strictly_inside(q, tol))
-    else {
-        return false;
-    };
-    let z = f.depth_at(q);
-    let list = &frame.grid.cells[frame.grid.cell_of(q)];
-    let this = list
-        .iter()
-        .any(|&k| frame.faces[k as usize].index == f.index);
-    this && !list.iter().map(|&k| &frame.faces[k as usize]).any(|b| {
-        b.index != f.index && b.strictly_inside(q, tol) && {
+    // The polygon in front at q among those holding it strictly inside: nearer by more
+    // than the rounding, or within it and earlier in the stream.
+    let front = |q: DVec2| -> Option<u32> {
+        let list = &frame.grid.cells[frame.grid.cell_of(q)];
+        let mut best: Option<(u32, f64)> = None;
+        for &k in list {
+            let b = &frame.faces[k as usize];
+            if !b.strictly_inside(q, tol) {
+                continue;
+            }
             let zb = b.depth_at(q);
-            let scale = 1e-12 * (1.0 + z.abs());
-            if (zb - z).abs() <= scale {
-                b.index < f.index
-            } else {
-                zb < z
+            let wins = match best {
+                None => true,
+                Some((h, z)) => {
+                    let scale = 1e-12 * (1.0 + z.abs());
+                    if (zb - z).abs() <= scale {
+                        b.index < frame.faces[h as usize].index
+                    } else {
+                        zb < z
+                    }
+                }
+            };
+            if wins {
+                best = Some((k, zb));
             }
         }
-    })
-}
-
-/// The SVG's opening: the `<svg>` element, the background and the group of lines.
-pub fn svg_start(width: u32, height: u32, background: Colour, stroke: f64) -> String {
-    let mut s = String::new();
-    let [r, g, b] = background;
-    let _ = writeln!(
-        s,
-        r#"<svg xmlns="http://www.w3.org/2000/svg" width="{width}" height="{height}" viewBox="0 0 {width} {height}">"#
-    );
-    let _ = writeln!(
-        s,
-        r#"<rect width="{width}" height="{height}" fill="rgb({r},{g},{b})"/>"#
-    );
-    let _ = writeln!(
-        s,
-        r#"<g fill="none" stroke-width="{stroke}" stroke-linecap="round">"#
-    );
-    s
-}
-
-/// One piece as a `<line>` (with `class="intersection"` on a line of intersection).
-pub fn svg_line(out: &mut String, seg: &Segment) {
-    let [r, g, b] = seg.colour;
-    let class = if seg.intersection {
-        r#" class="intersection""#
-    } else {
-        ""
+        best.map(|(k, _)| k)
     };
-    let _ = writeln!(
-        out,
-        r#"<line{class} x1="{}" y1="{}" x2="{}" y2="{}" stroke="rgb({r},{g},{b})"/>"#,
-        seg.from.x, seg.from.y, seg.to.x, seg.to.y
-    );
+    let sides = [m + n, m - n].map(|q| (q, front(q)));
+    owners
+        .iter()
+        .map(|&k| (k, &frame.faces[k as usize]))
+        .find_map(|(k, f)| {
+            let (_, shown) = sides.iter().find(|(q, _)| f.strictly_inside(*q, tol))?;
+            (*shown == Some(k)).then_some(f)
+        })
 }
 
-/// The SVG's closing.
-pub const SVG_END: &str = "</g>\n</svg>\n";
-
-/// One frame's SVG: the pieces as `<line>`s stroked in their colours over a background.
-pub fn svg(
-    segments: &[Segment],
-    width: u32,
-    height: u32,
-    background: Colour,
-    stroke: f64,
-) -> String {
-    let mut s = svg_start(width, height, background, stroke);
-    for seg in segments {
-        svg_line(&mut s, seg);
-    }
-    s.push_str(SVG_END);
-    s
-}
 #[cfg(test)]
 mod tests {
     use super::*;

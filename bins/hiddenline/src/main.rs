@@ -1,26 +1,29 @@
 //! hiddenline: screen-space polygons in, the visible parts of their edges out, as SVG.
 
 use clap::Parser;
-use hiddenline::{for_each_segment_by, svg_line, svg_start, LineStats, Method, SVG_END};
+use hiddenline::{for_each_segment_by, svg_start, LineStats, Method, Segment, SvgWriter, SVG_END};
 use proto::{Colour, Polygon, SpaceKind, Token};
 use stagecli::Error;
 use stagecli::FrameNames;
 use std::io::Write;
 use std::process::ExitCode;
 
-/// Hidden-line drawing (Archuleta's output of Watkins's algorithm, Archuleta (1972)): the
-/// visible parts of every polygon edge, as SVG.
+/// Hidden-line drawing (Archuleta (1972)): the visible parts of every polygon edge, as
+/// SVG.
 ///
 /// Reads a screen-space polygon stream (from persp) on stdin and writes, per frame, an
 /// SVG whose viewBox is the screen in device coordinates (`0 0 W H`, X right, Y down, the
 /// pixels of the PPM frames), each visible piece of an edge a <line> stroked in its
-/// polygon's colour. Visibility is exact geometry (f64), not sampled: a piece of an edge
-/// is hidden where it lies strictly inside a nearer polygon; at equal depth the earlier
-/// polygon hides the later. An edge two polygons share is drawn once; edges that the
-/// splitter tree or the clipper made (cuts along a splitting plane, the screen's border)
-/// are not drawn. Where two polygons pass through each other, the visible part of their
-/// line of intersection is drawn as <line class="intersection"> (Archuleta's "second
-/// problem"), in the colour of the earlier polygon.
+/// polygon's colour (the pieces of one edge, one after another, one <line> with a
+/// stroke-dasharray: the same drawing). By default (`--method continuous`) visibility is
+/// exact geometry (f64), not sampled, this program's own way rather than Archuleta's: a
+/// piece of an edge is hidden where it lies strictly inside a nearer polygon; at equal
+/// depth the earlier polygon hides the later. `--method archuleta` is Archuleta's own
+/// output of Watkins's scan-line algorithm. An edge two polygons share is drawn once;
+/// edges that the splitter tree or the clipper made (cuts along a splitting plane, the
+/// screen's border) are not drawn. Where two polygons pass through each other, the
+/// visible part of their line of intersection is drawn as <line class="intersection">
+/// (Archuleta's "second problem"), in the colour of the earlier polygon.
 ///
 /// One frame goes to stdout; a movie needs -o with %d in the name.
 ///
@@ -46,15 +49,23 @@ struct Args {
     /// hid.
     #[arg(long)]
     stats: bool,
-    /// How the visible pieces are found: `continuous`, each edge against the polygons
-    /// that may hide it in exact geometry; or `archuleta`, Archuleta's own: counters on
-    /// Watkins's scan-line segments, a line drawn when its edge exits or stops being
-    /// visible, its ends between the screen's rows (raster resolution in Y). With
-    /// --stats under archuleta, "pairs tested" counts the edges' visibility tests, one
-    /// an edge a scan line, and the placements hidden count polygons passed over on a
-    /// line by its farthest depth.
+    /// How the visible pieces are found: `continuous` (this program's own), each edge
+    /// against the polygons that may hide it in exact geometry; or `archuleta`,
+    /// Archuleta's (1972): counters on the visible segments of Watkins's scan-line
+    /// algorithm (the scanline stage's), a line drawn when its edge exits or stops being
+    /// visible, its ends between the screen's rows (raster resolution in Y). With --stats
+    /// under archuleta, "pairs tested" counts the edges' visibility tests, one an edge a
+    /// scan line, and "visible segments" Watkins's segments passed on.
     #[arg(long, value_enum, default_value_t = MethodArg::Continuous)]
     method: MethodArg,
+    /// Score the drawing against a reference drawing of the same frame (an SVG as this
+    /// program writes it, e.g. the continuous method's): print on stderr its line error,
+    /// the length of the reference's lines that no drawn line comes within half the
+    /// line width of (visible lines missed), plus the length drawn that no reference
+    /// line comes within half the line width of (hidden lines drawn), in pixels,
+    /// intersection lines included, computed exactly (lines::line_error). One frame.
+    #[arg(long, value_name = "REFERENCE.svg")]
+    score: Option<String>,
 }
 
 #[derive(Clone, Copy, clap::ValueEnum)]
@@ -85,6 +96,15 @@ fn main() -> ExitCode {
             .space
             .screen_size()
             .ok_or_else(|| Error::data("screen-space header without a size"))?;
+        let reference = match &args.score {
+            Some(name) => {
+                let text = std::fs::read_to_string(name)
+                    .map_err(|e| Error::io(format!("cannot read {name}: {e}")))?;
+                Some(lines::read_svg(&text).map_err(|e| Error::data(format!("{name}: {e}")))?)
+            }
+            None => None,
+        };
+        let mut drawn: Vec<Segment> = Vec::new();
         let mut stats = LineStats::default();
         let mut polygons: Vec<Polygon> = Vec::new();
         let mut frame = 0u64;
@@ -127,14 +147,24 @@ fn main() -> ExitCode {
                 MethodArg::Continuous => Method::Continuous,
                 MethodArg::Archuleta => Method::Archuleta,
             };
+            let mut joined = SvgWriter::new();
+            if reference.is_some() && frame > 0 {
+                return Err(Error::data(
+                    "--score compares one frame with its reference, and this stream has more",
+                ));
+            }
             for_each_segment_by(method, &polygons, width, height, &mut stats, |seg| {
-                svg_line(&mut text, &seg);
+                if reference.is_some() {
+                    drawn.push(seg);
+                }
+                joined.push(&mut text, &seg);
                 if text.len() >= 1 << 16 && failed.is_none() {
                     failed = sink.write_all(text.as_bytes()).err();
                     text.clear();
                 }
             });
             polygons.clear();
+            joined.flush(&mut text);
             text.push_str(SVG_END);
             if let Some(e) = failed {
                 return Err(e.into());
@@ -143,14 +173,27 @@ fn main() -> ExitCode {
             sink.flush()?;
             frame += 1;
         }
+        if let Some(reference) = &reference {
+            let e = lines::line_error(&drawn, reference, args.stroke_width / 2.0);
+            eprintln!(
+                "hiddenline: line error {:.3} px: {:.3} px of the reference's {:.3} px missed, \
+                 {:.3} px of the {:.3} px drawn not on it",
+                e.total_px(),
+                e.missed_px,
+                e.reference_px,
+                e.extra_px,
+                e.drawn_px
+            );
+        }
         if args.stats {
             let s = stats;
             eprintln!(
                 "hiddenline: {frame} frames, {} edges, {} shared, {} cuts, {} on the border, {} pairs tested, {} pieces drawn; \
                  {} lines of intersection, {} pieces drawn; {} placements in cells hidden by a surrounder; \
-                 {} pairs of neighbours passed over",
+                 {} pairs of neighbours passed over; {} visible segments",
                 s.edges, s.shared, s.cuts, s.border, s.pairs_tested, s.segments,
-                s.intersection_lines, s.intersections, s.culled, s.neighbours
+                s.intersection_lines, s.intersections, s.culled, s.neighbours,
+                s.visible_segments
             );
         }
         Ok(())

@@ -1,6 +1,6 @@
 //! # warnock: Warnock's area subdivision at a leaf of the splitter tree
 //!
-//! Sutherland, Sproull & Schumacker's survey, 14.3, and its Appendix VI (the Looker and
+//! Newman and Sproull (1973), 14.3, and their Appendix VI (the Looker and
 //! Thinker of AVI.1 and AVI.2, and the SAIL listing `WARNOCK (LEFT, BOTTOM, SIZE)`);
 //! docs/DESIGN.md, "Leaves resolve visibility"; docs/methods.md, "warnock".
 //!

@@ -9,7 +9,7 @@ use warnock::Warnock;
 /// Warnock's area subdivision (a hidden-surface method for a leaf of the splitter tree).
 ///
 /// Reads a screen-space polygon stream (from persp) on stdin, gathers each frame, and
-/// resolves it by windows as the survey's Appendix VI listing does: the polygons sorted by
+/// resolves it by windows as Newman and Sproull's Appendix VI listing does: the polygons sorted by
 /// their nearest depth (ZMIN); for each window the Looker sorts them into surrounders,
 /// intersectors and disjoint ones from their edges (stopping at the first polygon behind a
 /// surrounder), the Thinker compares depths at the window's four corners: a window with

@@ -802,14 +802,21 @@ fn the_hidden_line_methods_are_charted_on_every_scene() {
             let out = sh(
                 &format!(
                     "render --size {size} --hidden-line --hidden-line-method {how} \
-                     -o {0}/f%d.svg {input} && cat {0}/f*.svg | grep -c '<line'",
+                     -o {0}/f%d.svg {input}",
                     svgs.display()
                 ),
                 b"",
             );
             assert!(out.status.success(), "{out:?}");
-            let lines: u64 = String::from_utf8_lossy(&out.stdout).trim().parse().unwrap();
-            assert_eq!(num(r, "line_pieces"), lines as f64, "{r:?}");
+            // Its pieces: a `<line>` each, or the dashes of one (an edge's pieces joined).
+            let pieces: usize = std::fs::read_dir(&svgs)
+                .unwrap()
+                .map(|f| {
+                    let text = std::fs::read_to_string(f.unwrap().path()).unwrap();
+                    lines::read_svg(&text).unwrap().len()
+                })
+                .sum();
+            assert_eq!(num(r, "line_pieces"), pieces as f64, "{r:?}");
             assert_eq!(std::fs::read_dir(&svgs).unwrap().count(), frames);
         }
         // The two agree on what they draw: the same length within 2% (Archuleta's ends
@@ -831,4 +838,101 @@ fn the_hidden_line_methods_are_charted_on_every_scene() {
     assert!(!svg.contains("hiddenline"));
     let cost = std::fs::read_to_string(d.join("cost-environment.svg")).unwrap();
     assert!(cost.contains("\nhiddenline-archuleta\n") && cost.contains("\nhiddenline\n"));
+}
+
+/// `chart hidden-lines` at a small scale: a row for each scene, size and hidden-line
+/// method, the continuous drawing the reference (line error 0), Archuleta's scored
+/// against it, no figure NaN, and the picture written.
+#[test]
+fn the_hidden_line_figure_scores_both_methods() {
+    let out_dir = tempfile::tempdir().unwrap();
+    let out = sh(
+        &format!(
+            "chart hidden-lines --sizes 64,128 --reps 1 -o {} --root {}",
+            out_dir.path().display(),
+            repo_root().display()
+        ),
+        b"",
+    );
+    assert!(out.status.success(), "{out:?}");
+    let csv = std::fs::read_to_string(out_dir.path().join("hidden-lines.csv")).unwrap();
+    let mut lines = csv.lines();
+    assert_eq!(
+        lines.next(),
+        Some("scene,size,method,seconds,line_error_px,missed_px,extra_px,reference_px,line_error_percent")
+    );
+    let rows: Vec<Vec<&str>> = lines.map(|l| l.split(',').collect()).collect();
+    assert_eq!(rows.len(), 4 * 2 * 2, "{csv}");
+    for r in &rows {
+        let nums: Vec<f64> = r[3..].iter().map(|v| v.parse().unwrap()).collect();
+        assert!(nums.iter().all(|v| v.is_finite()), "{r:?}");
+        if r[2] == "continuous" {
+            assert_eq!(nums[1], 0.0, "{r:?}");
+        }
+        assert!(nums[4] > 0.0, "{r:?}: a drawing with length");
+    }
+    // Archuleta's counters at 64 scan lines miss somewhere.
+    assert!(rows
+        .iter()
+        .any(|r| r[2] == "archuleta" && r[4].parse::<f64>().unwrap() > 0.0));
+    assert!(out_dir.path().join("hidden-lines.png").exists());
+}
+
+/// `chart thesis --measure` at 0.1% of the thesis's sizes: the thesis's 5.1.3 table (E_t and
+/// E_r of A, B and C, its HSE best and worst, clipping and the transformations) and ours
+/// beside it, every stage timed, every hidden-surface method named.
+#[test]
+fn thesis_5_1_is_measured_beside_its_table() {
+    let out = sh(
+        &format!(
+            "chart thesis --measure --scale 0.001 --root {}",
+            repo_root().display()
+        ),
+        b"",
+    );
+    assert!(out.status.success(), "{out:?}");
+    let text = String::from_utf8_lossy(&out.stdout);
+    let lines: Vec<&str> = text.lines().collect();
+    let at = |head: &str| {
+        lines
+            .iter()
+            .position(|l| l.starts_with(head))
+            .unwrap_or_else(|| panic!("no `{head}` in {text}"))
+    };
+    let thesis = at("thesis (units of time)");
+    let words = |i: usize| lines[i].split_whitespace().collect::<Vec<_>>();
+    assert_eq!(
+        words(thesis + 2)[..8],
+        ["A", "800", "400", "140K", "2.4B", "8K", "8K", "4K"]
+    );
+    assert_eq!(words(thesis + 3)[..3], ["B", "20K", "10K"]);
+    assert_eq!(
+        words(thesis + 4)[..8],
+        ["C", "480K", "240K", "7.5M", "1500B", "4.8M", "4.8M", "2.4M"]
+    );
+    let ours = at("measured here");
+    for (k, (name, polygons)) in [("A", 2u64), ("B", 5), ("C", 120)].iter().enumerate() {
+        let w = words(ours + 2 + k);
+        assert_eq!(w[0], *name, "{text}");
+        let (et, er, p): (u64, u64, u64) = (
+            w[1].parse().unwrap(),
+            w[2].parse().unwrap(),
+            w[3].parse().unwrap(),
+        );
+        // Four-sided polygons: E_t = 4·P_t; about half survive the clipper.
+        assert_eq!((p, et), (*polygons, 4 * polygons), "{text}");
+        if *name == "C" {
+            assert!(
+                (et as f64 * 0.3..=et as f64 * 0.7).contains(&(er as f64)),
+                "{text}"
+            );
+        }
+        // Every time a number, the best method and the worst named.
+        for i in [5, 7, 9, 10, 11] {
+            assert!(w[i].parse::<f64>().unwrap() >= 0.0, "{text}");
+        }
+    }
+    for m in ["zbuf", "scanline", "warnock", "painter"] {
+        assert!(text.contains(&format!("{m} ")), "{m} not timed: {text}");
+    }
 }
