@@ -34,6 +34,7 @@ pub mod filter;
 pub mod memory;
 pub mod names;
 pub mod pieces;
+pub mod place;
 pub mod project;
 pub mod remote;
 pub mod stream;

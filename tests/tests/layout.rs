@@ -2,11 +2,10 @@
 //!
 //! Between crates: `proto` is the stream and the geometry, with no command-line parser
 //! in it; `stagecli` is a stage binary's skeleton and links no rasteriser (`scan`), so a
-//! geometry stage (viewxf, persp) links none either; no stage crate under `bins/`
-//! depends on another one (shared code lives in the libraries: proto, stagecli, scan,
-//! leaf). The tools that compose, plan and measure the stages (render, plan, chart) may
-//! use a stage's library, as chart counts its statistics on the reference renderer's
-//! pixels. No two crates depend on each other, through any kind of dependency, but for
+//! geometry stage (viewxf, persp) links none either; no crate under `bins/` (a stage,
+//! or a tool that composes, plans or measures them: render, plan, chart) depends on
+//! another one: shared code lives in the libraries at the top (proto, stagecli, scan,
+//! leaf, methods, costmodel, reference). No two crates depend on each other, through any kind of dependency, but for
 //! the exceptions listed in [`CRATE_CIRCLES`] with their reasons.
 //!
 //! Within a crate: the files of its top-level modules, joined by every `crate::x` (and
@@ -20,19 +19,13 @@ use std::collections::{BTreeMap, BTreeSet};
 use std::fs;
 use std::path::{Component, Path, PathBuf};
 
-/// The crates under bins/ that are not stages of the stream: the composer, the cost
-/// model and the chart.
-const TOOLS: [&str; 3] = ["chart", "plan", "render"];
-
 /// Circles between crates that are allowed, each with its reason: `(crates, reason)`.
 const CRATE_CIRCLES: &[(&[&str], &str)] = &[(
-    &["chart", "pipeline-tests", "splitter", "zspec"],
-    "dev-dependencies: splitter's and zspec's own tests run real binaries through the \
-     end-to-end helpers (pipeline_tests::bin, ::run), whose library links those stages \
-     for the fused pipeline and zspec's reference frames; the end-to-end tests \
-     (extending.rs) run chart's library, which links zspec for its statistics, on a \
-     table with one more method; cargo builds a dev-dependency after the library it \
-     tests, so no code of any of these libraries needs another's",
+    &["pipeline-tests", "splitter"],
+    "dev-dependencies: splitter's own tests run real binaries through the end-to-end \
+     helpers (pipeline_tests::bin, ::run), whose library links splitter for the fused \
+     pipeline; cargo builds a dev-dependency after the library it tests, so no code of \
+     either library needs the other's",
 )];
 
 /// Circles between the module files of one crate that are allowed, each with its reason:
@@ -219,10 +212,20 @@ fn linked(all: &[Member], name: &str, kinds: &[DepKind]) -> BTreeSet<String> {
     seen
 }
 
+/// The crates under bins/ that are not stages of the stream: the composer, the cost
+/// model's command line and the chart.
+const TOOLS: [&str; 3] = ["chart", "plan", "render"];
+
+/// The binary crates: the folders under bins/.
+fn binaries(all: &[Member]) -> Vec<&Member> {
+    all.iter().filter(|m| m.dir.starts_with("bins")).collect()
+}
+
 /// The stage crates: the folders under bins/ that are not tools.
 fn stages(all: &[Member]) -> Vec<&Member> {
-    all.iter()
-        .filter(|m| m.dir.starts_with("bins") && !TOOLS.contains(&m.name.as_str()))
+    binaries(all)
+        .into_iter()
+        .filter(|m| !TOOLS.contains(&m.name.as_str()))
         .collect()
 }
 
@@ -271,10 +274,10 @@ fn manifests_are_read_in_every_form() {
     assert!(stages(&all).len() >= 9);
     // `proto.workspace = true`
     assert_eq!(deps_of(&all, "stagecli", &CODE), ["proto"]);
-    // `plan.workspace = true`, through the root's `plan = { path = "bins/plan" }`
-    assert!(deps_of(&all, "render", &CODE).contains(&"plan".to_string()));
-    // `zspec = { path = "../zspec" }`
-    assert!(deps_of(&all, "chart", &CODE).contains(&"zspec".to_string()));
+    // `costmodel.workspace = true`, through the root's `costmodel = { path = "costmodel" }`
+    assert!(deps_of(&all, "render", &CODE).contains(&"costmodel".to_string()));
+    // `splitter = { path = "../bins/splitter" }`
+    assert!(deps_of(&all, "pipeline-tests", &CODE).contains(&"splitter".to_string()));
     // a dev-dependency by path
     assert_eq!(
         deps_of(&all, "splitter", &[DepKind::Dev]),
@@ -283,18 +286,18 @@ fn manifests_are_read_in_every_form() {
 }
 
 #[test]
-fn no_stage_crate_depends_on_another() {
+fn no_crate_under_bins_depends_on_another() {
     let all = members();
-    let stage_names: Vec<&str> = stages(&all).iter().map(|m| m.name.as_str()).collect();
-    for stage in stages(&all) {
-        let deps: Vec<String> = deps_of(&all, &stage.name, &ALL)
+    let names: Vec<&str> = binaries(&all).iter().map(|m| m.name.as_str()).collect();
+    for krate in binaries(&all) {
+        let deps: Vec<String> = deps_of(&all, &krate.name, &ALL)
             .into_iter()
-            .filter(|d| stage_names.contains(&d.as_str()))
+            .filter(|d| names.contains(&d.as_str()))
             .collect();
         assert!(
             deps.is_empty(),
-            "{}/Cargo.toml depends on the stage crates {deps:?}",
-            stage.dir.display()
+            "{}/Cargo.toml depends on the crates under bins/ {deps:?}",
+            krate.dir.display()
         );
     }
 }

@@ -1,4 +1,5 @@
-//! zspec: the exact reference renderer, docs/DESIGN.md's "The Z specification" evaluated directly.
+//! reference: the exact reference renderer, docs/DESIGN.md's "The Z specification"
+//! evaluated directly; the `zspec` binary (bins/zspec) is its command line.
 //!
 //! The pipeline reaches its pictures through clipping (chapter 3), perspective, an edge
 //! table scan converter (chapter 4, Appendix 3) and a depth buffer with reciprocal depth

@@ -407,7 +407,7 @@ fn box_filter(fine: &[Colour], w: u32, h: u32, k: u32) -> Vec<Colour> {
 
 /// The frames of a text scene file of the repository's `examples/`.
 fn example(name: &str) -> Vec<Vec<Polygon>> {
-    let path = format!("{}/../../examples/{name}", env!("CARGO_MANIFEST_DIR"));
+    let path = format!("{}/../examples/{name}", env!("CARGO_MANIFEST_DIR"));
     let text = std::fs::read(&path).unwrap();
     let mut reader = proto::Reader::<proto::Token, _>::new(&text[..]).unwrap();
     let mut frames = vec![Vec::new()];
