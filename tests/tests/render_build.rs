@@ -255,7 +255,7 @@ fn only_the_binaries_sources_make_render_sh_call_cargo() {
     let now = std::time::SystemTime::now();
     // Tests, test helpers and documents are not sources of the binaries.
     for file in [
-        "bins/splitter/tests/tree_nodes.rs",
+        "tests/tests/tree_nodes.rs",
         "bins/zbuf/tests/cli.rs",
         "tests/src/lib.rs",
         "README.md",
