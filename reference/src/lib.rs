@@ -38,10 +38,12 @@
 //!
 //! The frames are PPM images ([`proto::ppm`], whose [`Image`] `zspec compare` reads).
 
+pub mod error;
 mod exact;
 pub mod metrics;
 pub mod supersample;
 
+pub use error::Error;
 pub use metrics::{edges_from_mask, metrics, metrics_streams, EdgeError, Metrics};
 pub use supersample::{render_supersampled, Supersampled, SupersampledFrame};
 

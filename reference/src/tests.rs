@@ -703,8 +703,8 @@ fn overall_metrics_pool_the_pixels_of_all_frames() {
 
 #[test]
 fn metrics_refuse_what_does_not_match() {
-    fn err<T>(r: anyhow::Result<T>) -> String {
-        format!("{:#}", r.err().unwrap())
+    fn err<T>(r: crate::error::Result<T>) -> String {
+        r.err().unwrap().to_string()
     }
     let a = image(2, 1, vec![K, K]);
     let tall = image(1, 2, vec![K, K]);

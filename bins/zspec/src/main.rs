@@ -255,8 +255,8 @@ fn render_supersampled(
         }
         None => None,
     };
-    let mut frame = reference::SupersampledFrame::new(&setup, k, background)
-        .map_err(|e| Error::data(format!("{e:#}")))?;
+    let mut frame =
+        reference::SupersampledFrame::new(&setup, k, background).map_err(Error::from)?;
     while let Some(token) = scene.next()? {
         match token {
             Token::Polygon(p) => {
@@ -342,8 +342,7 @@ fn compare_metrics(a: &str, b: &str, edges: Option<&str>, csv: bool) -> stagecli
     }
     let (ia, ib) = (read_ppms(a)?, read_ppms(b)?);
     let masks = edges.map(read_ppms).transpose()?;
-    let frames = reference::metrics_streams(&ia, &ib, masks.as_deref())
-        .map_err(|e| Error::data(format!("{e:#}")))?;
+    let frames = reference::metrics_streams(&ia, &ib, masks.as_deref()).map_err(Error::from)?;
     let overall = reference::Metrics::overall(&frames);
     let mut out = stagecli::stdout();
     if csv {
