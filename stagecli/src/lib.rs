@@ -35,6 +35,7 @@ pub mod memory;
 pub mod names;
 pub mod numbers;
 pub mod pieces;
+pub mod place;
 pub mod project;
 pub mod remote;
 pub mod stream;

@@ -6,8 +6,8 @@
 //! `zspec` references. It writes `DIR/results.csv` and the picture of time against error
 //! (`speed-accuracy.png`, `.svg`), and puts the cost model of thesis chapters 5.2 and 6.4
 //! beside measurement in `DIR/model.csv` and `model.png`. The model, its calibration and
-//! the planner are the `plan` crate's (re-exported here under their old names, so that
-//! `chart::model` still reads); `chart choose-depth` is a thin alias of `plan depth`.
+//! the planner are the `costmodel` crate's (re-exported here under their old names, so
+//! that `chart::model` still reads); `chart choose-depth` is a thin alias of `plan depth`.
 
 pub mod bottleneck;
 pub mod chart;
@@ -17,4 +17,4 @@ pub mod methods;
 pub mod plot;
 pub mod stats;
 
-pub use plan::{cache, calibrate, look, measure, model, thesis};
+pub use costmodel::{cache, calibrate, look, measure, model, thesis};

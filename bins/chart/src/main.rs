@@ -6,8 +6,8 @@ use chart::model::Constants;
 use clap::{Parser, Subcommand};
 use indicatif::{ProgressBar, ProgressStyle};
 // The built binaries (beside this one) and the repository, found as plan finds them.
-use plan::cli::{bin_dir, root_dir};
 use proto::camera::parse_size;
+use stagecli::place::{bin_dir, root_dir};
 use std::io::Write;
 use std::path::{Path, PathBuf};
 use std::process::{Command, ExitCode};
@@ -103,7 +103,7 @@ enum Sub {
         after_help = "Example:\n  plan depth --size 1920x1080 --cores 2 fill.txt\n  \
                       1 (10000 polygons in view, Dc 9.8, …; rule: …)"
     )]
-    ChooseDepth(Box<plan::cli::DepthArgs>),
+    ChooseDepth(Box<costmodel::cli::DepthArgs>),
     /// Fits the cost model's constants on this machine now (at most 20 s) and keeps them
     /// in ${XDG_CACHE_HOME:-$HOME/.cache}/polypipe/model.toml, where `render.sh --depth
     /// auto` and the chart read them; prints them.
@@ -552,7 +552,7 @@ fn calibrate(quick: bool, model: Option<&Path>, root: &Path, bin: &Path) -> Resu
     let (k, _) = calibrate_now(root, bin, quick || chart::calibrate::quick_from_env())?;
     if let Some(path) = model {
         let text = format!(
-            "# The cost model's constants (bins/plan/src/model.rs), seconds, fitted by\n\
+            "# The cost model's constants (costmodel/src/model.rs), seconds, fitted by\n\
              # `chart calibrate{}` on {}: each stage binary alone on\n\
              # synthetic scenes, least squares. The fallback of `render.sh --depth auto`\n\
              # until a machine has its own calibration, and the example of the file.\n{}",
@@ -591,7 +591,7 @@ fn main() -> ExitCode {
 
 fn dispatch(cli: Cli) -> Result<()> {
     match cli.command {
-        Some(Sub::ChooseDepth(args)) => plan::cli::depth(*args),
+        Some(Sub::ChooseDepth(args)) => costmodel::cli::depth(*args),
         Some(Sub::Calibrate { quick, model, root }) => {
             let root = root_dir(root)?;
             calibrate(quick, model.as_deref(), &root, &bin_dir()?)

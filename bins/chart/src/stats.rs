@@ -25,9 +25,9 @@
 
 use anyhow::{Context, Result};
 use proto::{Polygon, Reader, Token};
+use reference::Setup;
 use serde::{Deserialize, Serialize};
 use std::path::Path;
-use zspec::Setup;
 
 /// The environment statistics of a scene on one screen, a frame.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
@@ -58,7 +58,7 @@ pub fn frame_counts(polys: &[Polygon], setup: &Setup) -> Result<(u64, u64, u64)>
         "a frame of {} polygons: the statistics count at most 16,777,214",
         polys.len()
     );
-    let covered: u64 = zspec::coverage_counts(polys, setup)
+    let covered: u64 = reference::coverage_counts(polys, setup)
         .iter()
         .map(|&c| c as u64)
         .sum();
@@ -73,7 +73,7 @@ pub fn frame_counts(polys: &[Polygon], setup: &Setup) -> Result<(u64, u64, u64)>
             ..Polygon::default()
         })
         .collect();
-    let ids: Vec<u32> = zspec::render_frame(&owners, setup, [0, 0, 0])
+    let ids: Vec<u32> = reference::render_frame(&owners, setup, [0, 0, 0])
         .map_err(anyhow::Error::msg)?
         .into_iter()
         .map(colour_id)

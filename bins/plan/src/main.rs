@@ -4,8 +4,8 @@
 
 use anyhow::Result;
 use clap::{Parser, Subcommand};
-use plan::cache;
-use plan::say;
+use costmodel::cache;
+use costmodel::say;
 use std::path::PathBuf;
 use std::process::ExitCode;
 
@@ -34,16 +34,16 @@ enum Sub {
     /// Prints the splitter tree depth the cost model predicts fastest for a scene, and
     /// why, as one line `N (reason; rule: …)`. It looks at the scene's first 128 KiB
     /// through the geometry viewxf, clipplane and persp share (proto's), in this process.
-    Depth(Box<plan::cli::DepthArgs>),
+    Depth(Box<costmodel::cli::DepthArgs>),
     /// Prints the model's prediction at every depth (0 to --max-depth) for a scene, each
     /// stage's seconds (its busiest process) and the tree's per-level work, as a table:
     /// what `plan depth` chooses from.
-    Predict(Box<plan::cli::DepthArgs>),
+    Predict(Box<costmodel::cli::DepthArgs>),
     /// Prints what a movie rendered in chunks over other hosts (render --by frames)
     /// takes, a row for each number of hosts: its wall time, frames a second and work,
     /// each chunk a render of its own by the model, the chunks shared among the hosts'
     /// job slots and written back in order.
-    Movie(Box<plan::cli::MovieArgs>),
+    Movie(Box<costmodel::cli::MovieArgs>),
     /// Fits the model's constants on this machine (at most 20 s) and keeps them in
     /// ${XDG_CACHE_HOME:-$HOME/.cache}/polypipe/model.toml.
     Calibrate {
@@ -66,26 +66,26 @@ enum Sub {
 }
 
 fn calibrate(quick: bool, background_only: bool, root: Option<PathBuf>) -> Result<()> {
-    let root = plan::cli::root_dir(root)?;
+    let root = costmodel::cli::root_dir(root)?;
     if background_only {
-        return plan::cli::background(&root);
+        return costmodel::cli::background(&root);
     }
-    let bin = plan::cli::bin_dir()?;
-    let result = plan::calibrate::calibrate_and_store(
+    let bin = costmodel::cli::bin_dir()?;
+    let result = costmodel::calibrate::calibrate_and_store(
         "plan",
         &bin,
         &root.join("scripts/render.sh"),
-        quick || plan::calibrate::quick_from_env(),
+        quick || costmodel::calibrate::quick_from_env(),
     );
     if let Some(dir) = cache::dir() {
         let _ = std::fs::remove_file(dir.join("calibrating"));
     }
     let (k, _) = result?;
-    say(&plan::calibrate::table(&k))
+    say(&costmodel::calibrate::table(&k))
 }
 
 fn status() -> Result<()> {
-    let bin = plan::cli::bin_dir()?;
+    let bin = costmodel::cli::bin_dir()?;
     let path = cache::path().map_or(
         "(no cache folder: neither XDG_CACHE_HOME nor HOME is set)".into(),
         |p| p.display().to_string(),
@@ -96,16 +96,16 @@ fn status() -> Result<()> {
 fn main() -> ExitCode {
     stagecli::main::<Cli>("plan", |cli| {
         let done = match cli.command {
-            Sub::Depth(a) => plan::cli::depth(*a),
-            Sub::Predict(a) => plan::cli::predict(*a),
-            Sub::Movie(a) => plan::cli::movie(*a),
+            Sub::Depth(a) => costmodel::cli::depth(*a),
+            Sub::Predict(a) => costmodel::cli::predict(*a),
+            Sub::Movie(a) => costmodel::cli::movie(*a),
             Sub::Calibrate {
                 quick,
                 background,
                 root,
             } => calibrate(quick, background, root),
             Sub::Status => status(),
-            Sub::Thesis => say(&plan::thesis::report()),
+            Sub::Thesis => say(&costmodel::thesis::report()),
         };
         done.map_err(|e| plan_error(&e))
     })

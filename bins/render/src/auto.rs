@@ -111,9 +111,9 @@ pub fn stream_of(scene: &Scene) -> stagecli::Result<Option<OwnedFd>> {
 /// the load of other programs on them, read before the render starts a stage (the
 /// threads runnable now: the render's own are not yet among them); with --hosts, the
 /// hosts.
-pub fn target(o: &Options) -> plan::model::Target {
+pub fn target(o: &Options) -> costmodel::model::Target {
     let hosts = (!o.hosts.is_empty()).then_some(o.hosts.len() as u32);
-    plan::cli::target(None, None, hosts, None, 1.0)
+    costmodel::cli::target(None, None, hosts, None, 1.0)
 }
 
 /// What `--stats` says when the render has a core or less ([`one_core_at_most`]).
@@ -123,10 +123,10 @@ pub const ONE_CORE: &str = "depth auto chose 0 (a core or less for the render: a
 /// Whether `target` leaves the render's processes a core or less together (one core, as
 /// under `taskset -c 0`, or a loaded machine's share) with no hosts: there the model
 /// takes depth 0 for every scene, as a deeper tree only adds work
-/// (`plan::model::Target::shares`; `a_core_or_less_is_depth_0_for_every_scene` holds
+/// (`costmodel::model::Target::shares`; `a_core_or_less_is_depth_0_for_every_scene` holds
 /// it), so render skips the look and the model (0.6 ms and more of a one-core render's
 /// CPU, where nothing overlaps them).
-pub fn one_core_at_most(target: &plan::model::Target) -> bool {
+pub fn one_core_at_most(target: &costmodel::model::Target) -> bool {
     target.hosts.is_none() && target.shares(0).1 <= 1.0
 }
 
@@ -163,7 +163,7 @@ pub fn sample_stream(o: &Options) -> stagecli::Result<Option<Sampled>> {
 pub fn choose(
     o: &Options,
     sampled: Option<&Sampled>,
-    target: &plan::model::Target,
+    target: &costmodel::model::Target,
     root: &Path,
     bin: &Path,
     tell: bool,
@@ -179,19 +179,25 @@ pub fn choose(
         .chunks(2)
         .map(|w| format!("{}={}", w[0], w.get(1).map_or("", String::as_str)))
         .collect();
-    let Ok((k, note, state)) = plan::cli::constants(None, root, bin) else {
+    let Ok((k, note, state)) = costmodel::cli::constants(None, root, bin) else {
         return choice;
     };
     let env = match (&o.scene, sampled) {
-        (_, Some(s)) => plan::look::look_sample(&s.sample, o.width, o.height, &camera, s.whole),
-        (Scene::Path(p), None) => {
-            plan::look::look(p, o.width, o.height, &camera, Some(plan::look::LOOK_BYTES))
+        (_, Some(s)) => {
+            costmodel::look::look_sample(&s.sample, o.width, o.height, &camera, s.whole)
         }
+        (Scene::Path(p), None) => costmodel::look::look(
+            p,
+            o.width,
+            o.height,
+            &camera,
+            Some(costmodel::look::LOOK_BYTES),
+        ),
         (Scene::Stdin, None) => return choice,
     };
     // A scene the look cannot read: the stages say what is wrong with it, at depth 0.
     let Ok(env) = env else { return choice };
-    let (depth, reason, _) = plan::model::choose_depth_on(&k, &env, target, 6);
+    let (depth, reason, _) = costmodel::model::choose_depth_on(&k, &env, target, 6);
     choice.depth = u32::from(depth);
     let reason = match note {
         Some(n) => format!("{reason}; {n}"),
@@ -199,7 +205,7 @@ pub fn choose(
     };
     choice.said = Some(format!("depth auto chose {depth} ({reason})"));
     if tell && state.needs_fitting() {
-        plan::cli::tell_once(&state, root, me);
+        costmodel::cli::tell_once(&state, root, me);
     }
     choice
 }

@@ -3,7 +3,7 @@
 //! One program plans, starts and watches a render's process graph (thesis chapter 6.3;
 //! docs/DESIGN.md, "The splitter tree"): its options ([`options`]), the graph they ask
 //! for ([`graph`]), the depth the cost model chooses for `--depth auto`, from a look at
-//! the scene in this process ([`auto`], with the `plan` crate's model), and the launcher
+//! the scene in this process ([`auto`], with the `costmodel` crate's model), and the launcher
 //! that runs the stages, each a process of its own joined to the next by an anonymous
 //! pipe, and ends the run as one ([`launch`]). `scripts/render.sh` builds the binaries
 //! and becomes it ([`fresh`]); `chart` runs it.
@@ -34,7 +34,7 @@ pub fn repository() -> PathBuf {
     if let Some(root) = std::env::var_os("POLYPIPE_SOURCES").filter(|r| !r.is_empty()) {
         return root.into();
     }
-    plan::cli::root_dir(None).unwrap_or_else(|_| PathBuf::from("."))
+    stagecli::place::root_dir(None).unwrap_or_else(|_| PathBuf::from("."))
 }
 
 /// The scene rendered when none is given and stdin is a terminal.
@@ -370,7 +370,7 @@ fn run_inner<I: IntoIterator<Item = OsString>>(
         }
         // Depth 0 without the model, in one phase: a scene file too small for the tree
         // to pay, or a core or less for the render, where the model takes depth 0
-        // whatever the scene (plan::model::Target::shares).
+        // whatever the scene (costmodel::model::Target::shares).
         None if depth_0_said.is_some() => {
             if let (true, Some(said)) = (o.stats, &depth_0_said) {
                 let _ = writeln!(std::io::stderr(), "{ME}: {said}");

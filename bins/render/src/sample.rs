@@ -10,7 +10,7 @@ use std::io::{self, Read, Write};
 use std::os::fd::AsRawFd;
 use std::time::{Duration, Instant};
 
-pub use plan::look::SAMPLE_BYTES;
+pub use costmodel::look::SAMPLE_BYTES;
 
 /// How long after the stream's first byte the sample may wait for the rest of its bytes.
 pub const PATIENCE: Duration = Duration::from_millis(150);

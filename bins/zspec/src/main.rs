@@ -3,11 +3,11 @@
 
 use clap::{Parser, Subcommand};
 use proto::{ppm, Colour, Reader, SpaceKind, Token};
+use reference::Setup;
 use stagecli::{Error, PpmTextFlag, ViewArgs};
 use std::fs::File;
 use std::io::{self, BufReader, BufWriter, Write};
 use std::process::ExitCode;
-use zspec::Setup;
 
 /// The exact reference: the Z spec (thesis 2.3; docs/DESIGN.md, "Coverage" and
 /// "Visibility") evaluated at every pixel centre — coverage by the even-odd rule, a centre
@@ -41,7 +41,7 @@ struct Cli {
     #[command(flatten)]
     view: ViewArgs,
     /// The background colour `R,G,B`.
-    #[arg(long, value_parser = zspec::parse_colour, default_value = "0,0,0", value_name = "R,G,B")]
+    #[arg(long, value_parser = reference::parse_colour, default_value = "0,0,0", value_name = "R,G,B")]
     background: Colour,
     /// Anti-aliasing reference: K×K samples per pixel, at the sub-pixel centres
     /// (c + (i+½)/K, r + (j+½)/K), each decided by the rules of a pixel centre (as on a
@@ -50,7 +50,7 @@ struct Cli {
     /// samples rounded to nearest, halves up, (sum + K²/2) / K² in integers. K = 1 is
     /// point sampling. Holds the frame's polygons and draws bands of sample rows.
     #[arg(long, default_value_t = 1, value_name = "K",
-          value_parser = clap::value_parser!(u32).range(1..=zspec::supersample::MAX_SAMPLES as i64))]
+          value_parser = clap::value_parser!(u32).range(1..=reference::supersample::MAX_SAMPLES as i64))]
     samples: u32,
     /// Also write the edge pixels, those whose K×K samples are not all one colour, to
     /// FILE: one PPM a frame, white for an edge pixel, black elsewhere (for `zspec
@@ -195,7 +195,7 @@ fn render(
     let mut scene = Scene::open(view, scene)?;
     let setup = scene.setup.clone();
     let mut out = BufWriter::new(stagecli::stdout());
-    let mut frame = zspec::ReferenceFrame::new(&setup, background).map_err(Error::data)?;
+    let mut frame = reference::ReferenceFrame::new(&setup, background).map_err(Error::data)?;
     while let Some(token) = scene.next()? {
         match token {
             Token::Polygon(p) => {
@@ -239,8 +239,8 @@ fn render_supersampled(
         }
         None => None,
     };
-    let mut frame = zspec::SupersampledFrame::new(&setup, k, background)
-        .map_err(|e| Error::data(format!("{e:#}")))?;
+    let mut frame =
+        reference::SupersampledFrame::new(&setup, k, background).map_err(Error::from)?;
     while let Some(token) = scene.next()? {
         match token {
             Token::Polygon(p) => {
@@ -307,7 +307,7 @@ fn read_pair(a: &str, b: &str) -> stagecli::Result<(Vec<ppm::Image>, Vec<ppm::Im
 /// pixels differing.
 fn compare(a: &str, b: &str, tolerance: f64) -> stagecli::Result<bool> {
     let (ia, ib) = read_pair(a, b)?;
-    let frames = zspec::compare(&ia, &ib);
+    let frames = reference::compare(&ia, &ib);
     if let Ok(frames) = &frames {
         let mut out = stagecli::stdout();
         for (k, f) in frames.iter().enumerate() {
@@ -316,7 +316,7 @@ fn compare(a: &str, b: &str, tolerance: f64) -> stagecli::Result<bool> {
         out.flush()?;
     }
     // Different, as cmp says: status 1, and a line saying how.
-    match frames.and_then(|f| zspec::agreed(&f, tolerance)) {
+    match frames.and_then(|f| reference::agreed(&f, tolerance)) {
         Ok(()) => Ok(true),
         Err(why) => {
             let _ = writeln!(io::stderr(), "zspec compare: {why}");
@@ -329,12 +329,11 @@ fn compare(a: &str, b: &str, tolerance: f64) -> stagecli::Result<bool> {
 fn compare_metrics(a: &str, b: &str, edges: Option<&str>, csv: bool) -> stagecli::Result<()> {
     let (ia, ib) = read_pair(a, b)?;
     let masks = edges.map(read_ppms).transpose()?;
-    let frames = zspec::metrics_streams(&ia, &ib, masks.as_deref())
-        .map_err(|e| Error::data(format!("{e:#}")))?;
-    let overall = zspec::Metrics::overall(&frames);
+    let frames = reference::metrics_streams(&ia, &ib, masks.as_deref()).map_err(Error::from)?;
+    let overall = reference::Metrics::overall(&frames);
     let mut out = stagecli::stdout();
     if csv {
-        writeln!(out, "{}", zspec::Metrics::CSV_HEADER)?;
+        writeln!(out, "{}", reference::Metrics::CSV_HEADER)?;
         for (k, m) in frames.iter().enumerate() {
             writeln!(out, "{}", m.csv_row(&k.to_string()))?;
         }

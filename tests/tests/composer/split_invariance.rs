@@ -9,7 +9,7 @@
 //! fragments. This is what `render.sh --depth N` promises (byte-identical frames at
 //! every depth), checked on all 22 examples at four sizes and six depths in a second or
 //! two; the processes, pipes and merge modes are checked by the real tree renders of
-//! bins/splitter/tests/render_script.rs.
+//! tests/tree_script.rs, render_graph.rs and render_failures.rs.
 
 use clap::Parser;
 use clipbatch::ClipBatch;

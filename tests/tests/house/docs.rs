@@ -176,23 +176,100 @@ fn the_check_finds_each_kind_of_bad_citation() {
     );
 }
 
-/// The documents stay short enough to read: current figures by topic, history in git
-/// (CONTRIBUTING.md). A page that grows past its length is cut, or split by topic.
+/// What dates a line as a run's log rather than a description: a calendar date
+/// (`2026-11-25`), a time of day in UTC, a commit hash (a word of 7 to 12 hexadecimal
+/// digits with both digits and letters in it, or of 40), or a load average with its
+/// figure. History goes in git (CONTRIBUTING.md); a document gives current figures, each
+/// with the command that gives them.
+fn dated(line: &str) -> Vec<String> {
+    let mut found = Vec::new();
+    for word in line.split(|c: char| !c.is_ascii_alphanumeric() && c != '-' && c != ':') {
+        let w = word.trim_matches(|c| c == '-' || c == ':');
+        let b = w.as_bytes();
+        let digits = |r: std::ops::Range<usize>| b[r].iter().all(u8::is_ascii_digit);
+        if b.len() == 10
+            && digits(0..4)
+            && b[4] == b'-'
+            && digits(5..7)
+            && b[7] == b'-'
+            && digits(8..10)
+        {
+            found.push(format!("a date, {w}"));
+        }
+        let hex = w
+            .bytes()
+            .all(|c| c.is_ascii_digit() || (b'a'..=b'f').contains(&c));
+        let mixed =
+            w.bytes().any(|c| c.is_ascii_digit()) && w.bytes().any(|c| c.is_ascii_alphabetic());
+        if hex && mixed && ((7..=12).contains(&w.len()) || w.len() == 40) {
+            found.push(format!("a commit hash, {w}"));
+        }
+    }
+    for (i, _) in line.match_indices(" UTC") {
+        let before = line[..i].trim_end_matches(|c: char| c.is_ascii_digit());
+        if before.ends_with(':') {
+            found.push("a time of day".to_string());
+        }
+    }
+    let lower = line.to_lowercase();
+    for (i, m) in lower.match_indices("load average") {
+        let after: String = lower[i + m.len()..].chars().take(24).collect();
+        if after.chars().any(|c| c.is_ascii_digit()) {
+            found.push(format!("a load average, `{m}{after}`"));
+        }
+    }
+    found
+}
+
 #[test]
-fn each_document_stays_within_its_length() {
-    let limits = [
-        ("README.md", 400),
-        ("docs/performance.md", 400),
-        ("docs/DESIGN.md", 900),
-        ("docs/methods.md", 900),
+fn dated_runs_are_found() {
+    let cases = [
+        (
+            "measured at commit 3a66264 on 2 cores",
+            vec!["a commit hash, 3a66264"],
+        ),
+        (
+            "2026-11-25 20:00 UTC",
+            vec!["a date, 2026-11-25", "a time of day"],
+        ),
+        (
+            "load average before: 2.01 2.21",
+            vec!["a load average, `load average before: 2.01 2.21`"],
+        ),
+        // A description, not a run: the planner reads the load average.
+        ("or else the 1-minute load average less one", vec![]),
+        (
+            "a hash such as 0dd0b7baeefcafc1, 1e156 px, the 16x16 reference",
+            vec![],
+        ),
     ];
-    let long: Vec<String> = limits
-        .iter()
-        .filter_map(|&(file, most)| {
-            let text = fs::read_to_string(repo_root().join(file)).unwrap();
-            let lines = text.lines().count();
-            (lines > most).then(|| format!("{file}: {lines} lines (at most {most})"))
-        })
-        .collect();
-    assert!(long.is_empty(), "{long:#?}");
+    for (line, want) in cases {
+        assert_eq!(dated(line), want, "{line}");
+    }
+}
+
+/// The documents describe the code as it is; a run's date, commit and load belong in
+/// the commit that measured it.
+#[test]
+fn no_document_holds_a_dated_run() {
+    let root = repo_root();
+    let mut files = vec![root.join("README.md")];
+    for e in fs::read_dir(root.join("docs")).unwrap() {
+        let path = e.unwrap().path();
+        if path.extension().is_some_and(|x| x == "md") {
+            files.push(path);
+        }
+    }
+    files.sort();
+    let mut bad = Vec::new();
+    for file in &files {
+        let text = fs::read_to_string(file).unwrap();
+        for (i, line) in text.lines().enumerate() {
+            for what in dated(line) {
+                let name = file.strip_prefix(&root).unwrap().display();
+                bad.push(format!("{name}:{}: {what}", i + 1));
+            }
+        }
+    }
+    assert!(bad.is_empty(), "{bad:#?}");
 }

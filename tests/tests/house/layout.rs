@@ -1,36 +1,23 @@
-//! The workspace's shape, read from its manifests and its sources.
+//! The workspace's shape, read from `cargo metadata` and from its sources.
 //!
 //! Between crates: `proto` is the stream and the geometry, with no command-line parser
 //! in it; `stagecli` is a stage binary's skeleton and links no rasteriser (`scan`), so a
-//! geometry stage (viewxf, persp) links none either; no stage crate under `bins/`
-//! depends on another one (shared code lives in the libraries: proto, stagecli, scan,
-//! leaf). The tools that compose, plan and measure the stages (render, plan, chart) may
-//! use a stage's library, as chart counts its statistics on the reference renderer's
-//! pixels. No two crates depend on each other, through any kind of dependency, but for
-//! the exceptions listed in [`CRATE_CIRCLES`] with their reasons.
+//! geometry stage (viewxf, persp) links none either; no crate under `bins/` (a stage,
+//! or a tool that composes, plans or measures them: render, plan, chart) depends on
+//! another one: shared code lives in the libraries at the top (proto, stagecli, scan,
+//! leaf, methods, costmodel, reference). No two crates depend on each other, through
+//! any kind of dependency (a dev-dependency too: the end-to-end helpers link stage
+//! libraries, so a stage's tests that need those helpers live in tests/).
 //!
 //! Within a crate: the files of its top-level modules, joined by every `crate::x` (and
-//! `super::x` that reaches the crate's root) their code names, form no circle, but for
-//! the exceptions listed in [`MODULE_CIRCLES`] with their reasons. A circle between two
+//! `super::x` that reaches the crate's root) their code names, form no circle. A circle between two
 //! files means neither can be read, tested or moved without the other; records apart
 //! from their codecs, a parser in a module of its own, are how the libraries cut theirs.
 
 use pipeline_tests::repo_root;
 use std::collections::{BTreeMap, BTreeSet};
 use std::fs;
-use std::path::{Component, Path, PathBuf};
-
-/// The crates under bins/ that are not stages of the stream: the composer, the cost
-/// model and the chart.
-const TOOLS: [&str; 3] = ["chart", "plan", "render"];
-
-/// Circles between crates that are allowed, each with its reason: `(crates, reason)`.
-const CRATE_CIRCLES: &[(&[&str], &str)] = &[];
-
-/// Circles between the module files of one crate that are allowed, each with its reason:
-/// `(crate, modules, reason)`. A test fails on an entry that no longer matches a circle,
-/// so the list stays the list of circles there are.
-const MODULE_CIRCLES: &[(&str, &[&str], &str)] = &[];
+use std::path::{Path, PathBuf};
 
 // ---------------------------------------------------------------------------------------
 // Manifests
@@ -44,138 +31,71 @@ enum DepKind {
     Dev,
 }
 
-/// One workspace crate: its package name, its folder (relative to the root) and the
-/// workspace crates it depends on, by package name.
+/// One workspace crate: its package name, its folder (relative to the root), the
+/// workspace crates it depends on, and every crate its code depends on (the registry's
+/// too: `[dependencies]`, `[build-dependencies]`), by package name.
 #[derive(Clone, Debug)]
 struct Member {
     name: String,
     dir: PathBuf,
     deps: Vec<(String, DepKind)>,
+    code_deps: Vec<String>,
 }
 
-/// `a/b/../c` → `a/c`, without asking the file system.
-fn normalise(path: &Path) -> PathBuf {
-    let mut out = PathBuf::new();
-    for c in path.components() {
-        match c {
-            Component::ParentDir => {
-                out.pop();
-            }
-            Component::CurDir => {}
-            c => out.push(c),
-        }
-    }
-    out
-}
-
-fn parse_toml(text: &str, what: &str) -> toml::Table {
-    text.parse::<toml::Table>()
-        .unwrap_or_else(|e| panic!("{what}: {e}"))
-}
-
-/// The dependencies of manifest `text` in folder `dir` that are paths, as
-/// `(package, folder, kind)`: named by a path (`x = { path = "../x" }`, or a table
-/// `[dependencies.x]`), or through the workspace's table (`x.workspace = true`,
-/// `x = { workspace = true }`, where `workspace` maps `x` to its folder), under
-/// `[dependencies]`, `[dev-dependencies]`, `[build-dependencies]` and their
-/// `[target.'cfg(…)'.…]` forms. A dependency renamed (`y = { package = "x", … }`) is
-/// given by its package's name.
-fn path_dependencies(
-    text: &str,
-    dir: &Path,
-    workspace: &BTreeMap<String, PathBuf>,
-) -> Vec<(String, PathBuf, DepKind)> {
-    let manifest = parse_toml(text, &dir.display().to_string());
-    let mut tables: Vec<(&toml::Table, DepKind)> = Vec::new();
-    let kinds = [
-        ("dependencies", DepKind::Normal),
-        ("build-dependencies", DepKind::Build),
-        ("dev-dependencies", DepKind::Dev),
-    ];
-    let mut scopes = vec![&manifest];
-    if let Some(targets) = manifest.get("target").and_then(toml::Value::as_table) {
-        scopes.extend(targets.values().filter_map(toml::Value::as_table));
-    }
-    for scope in scopes {
-        for (key, kind) in kinds {
-            if let Some(t) = scope.get(key).and_then(toml::Value::as_table) {
-                tables.push((t, kind));
-            }
-        }
-    }
-    let mut found = Vec::new();
-    for (table, kind) in tables {
-        for (key, spec) in table {
-            let Some(spec) = spec.as_table() else {
-                continue; // `x = "1"`: from a registry
-            };
-            let package = spec
-                .get("package")
-                .and_then(toml::Value::as_str)
-                .unwrap_or(key)
-                .to_string();
-            let folder = if let Some(p) = spec.get("path").and_then(toml::Value::as_str) {
-                Some(normalise(&dir.join(p)))
-            } else if spec.get("workspace").and_then(toml::Value::as_bool) == Some(true) {
-                workspace.get(key).cloned()
-            } else {
-                None
-            };
-            if let Some(folder) = folder {
-                found.push((package, folder, kind));
-            }
-        }
-    }
-    found.sort();
-    found.dedup();
-    found
-}
-
-/// Every member of the workspace, with its dependencies on other members.
+/// The workspace as cargo reads it: `cargo metadata --format-version 1 --no-deps`, so
+/// that every form a manifest may take (`x.workspace = true`, a path, a renamed package,
+/// `[target.'cfg(…)'.dependencies]`) is cargo's to read, not this test's.
 fn members() -> Vec<Member> {
     let root = repo_root();
-    let manifest = parse_toml(
-        &fs::read_to_string(root.join("Cargo.toml")).unwrap(),
-        "Cargo.toml",
+    let cargo = std::env::var_os("CARGO").unwrap_or_else(|| "cargo".into());
+    let out = std::process::Command::new(cargo)
+        .args([
+            "metadata",
+            "--format-version",
+            "1",
+            "--no-deps",
+            "--offline",
+        ])
+        .current_dir(&root)
+        .output()
+        .expect("cargo metadata");
+    assert!(
+        out.status.success(),
+        "cargo metadata: {}",
+        String::from_utf8_lossy(&out.stderr)
     );
-    let workspace = manifest["workspace"].as_table().unwrap();
-    // `[workspace.dependencies]`: the folders of those named by a path.
-    let shared: BTreeMap<String, PathBuf> = workspace
-        .get("dependencies")
-        .and_then(toml::Value::as_table)
-        .into_iter()
-        .flatten()
-        .filter_map(|(k, v)| {
-            let p = v.as_table()?.get("path")?.as_str()?;
-            Some((k.clone(), normalise(Path::new(p))))
-        })
-        .collect();
-    let dirs: Vec<PathBuf> = workspace["members"]
-        .as_array()
-        .unwrap()
+    let meta: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    let root = std::path::absolute(&root).unwrap();
+    let packages = meta["packages"].as_array().unwrap();
+    let names: BTreeSet<&str> = packages.iter().filter_map(|p| p["name"].as_str()).collect();
+    packages
         .iter()
-        .map(|m| PathBuf::from(m.as_str().unwrap()))
-        .collect();
-    let mut by_dir = BTreeMap::new();
-    let mut raw = Vec::new();
-    for dir in &dirs {
-        let text = fs::read_to_string(root.join(dir).join("Cargo.toml")).unwrap();
-        let name = parse_toml(&text, &dir.display().to_string())["package"]["name"]
-            .as_str()
-            .unwrap()
-            .to_string();
-        by_dir.insert(dir.clone(), name.clone());
-        raw.push((name, dir.clone(), path_dependencies(&text, dir, &shared)));
-    }
-    raw.into_iter()
-        .map(|(name, dir, deps)| Member {
-            deps: deps
-                .into_iter()
-                .filter(|(_, folder, _)| by_dir.contains_key(folder))
-                .map(|(package, _, kind)| (package, kind))
-                .collect(),
-            name,
-            dir,
+        .map(|p| {
+            let manifest = Path::new(p["manifest_path"].as_str().unwrap());
+            let dir = manifest.parent().unwrap().strip_prefix(&root).unwrap();
+            let all_deps = p["dependencies"].as_array().unwrap();
+            let kind = |d: &serde_json::Value| match d["kind"].as_str() {
+                Some("dev") => DepKind::Dev,
+                Some("build") => DepKind::Build,
+                _ => DepKind::Normal,
+            };
+            let name = |d: &serde_json::Value| d["name"].as_str().unwrap().to_string();
+            Member {
+                name: p["name"].as_str().unwrap().to_string(),
+                dir: dir.to_path_buf(),
+                deps: all_deps
+                    .iter()
+                    .filter(|d| {
+                        d["path"].is_string() && names.contains(d["name"].as_str().unwrap())
+                    })
+                    .map(|d| (name(d), kind(d)))
+                    .collect(),
+                code_deps: all_deps
+                    .iter()
+                    .filter(|d| kind(d) != DepKind::Dev)
+                    .map(name)
+                    .collect(),
+            }
         })
         .collect()
 }
@@ -211,10 +131,20 @@ fn linked(all: &[Member], name: &str, kinds: &[DepKind]) -> BTreeSet<String> {
     seen
 }
 
+/// The crates under bins/ that are not stages of the stream: the composer, the cost
+/// model's command line and the chart.
+const TOOLS: [&str; 3] = ["chart", "plan", "render"];
+
+/// The binary crates: the folders under bins/.
+fn binaries(all: &[Member]) -> Vec<&Member> {
+    all.iter().filter(|m| m.dir.starts_with("bins")).collect()
+}
+
 /// The stage crates: the folders under bins/ that are not tools.
 fn stages(all: &[Member]) -> Vec<&Member> {
-    all.iter()
-        .filter(|m| m.dir.starts_with("bins") && !TOOLS.contains(&m.name.as_str()))
+    binaries(all)
+        .into_iter()
+        .filter(|m| !TOOLS.contains(&m.name.as_str()))
         .collect()
 }
 
@@ -222,68 +152,31 @@ const CODE: [DepKind; 2] = [DepKind::Normal, DepKind::Build];
 const ALL: [DepKind; 3] = [DepKind::Normal, DepKind::Build, DepKind::Dev];
 
 #[test]
-fn manifests_are_read_in_every_form() {
-    let workspace = BTreeMap::from([
-        ("a".to_string(), PathBuf::from("libs/a")),
-        ("b".to_string(), PathBuf::from("libs/b")),
-    ]);
-    let text = r#"
-        [package]
-        name = "x"
-        [dependencies]
-        a.workspace = true
-        serde = "1"
-        c = { path = "../c", version = "0.1" }
-        renamed = { package = "d", path = "../../libs/d" }
-        [dependencies.e]
-        path = "../e"
-        [dev-dependencies]
-        b = { workspace = true }
-        [target.'cfg(unix)'.build-dependencies]
-        f = { path = "f" }
-    "#;
-    let deps = path_dependencies(text, Path::new("bins/x"), &workspace);
-    let show: Vec<String> = deps
-        .iter()
-        .map(|(n, p, k)| format!("{n} {} {k:?}", p.display()))
-        .collect();
-    assert_eq!(
-        show,
-        [
-            "a libs/a Normal",
-            "b libs/b Dev",
-            "c bins/c Normal",
-            "d libs/d Normal",
-            "e bins/e Normal",
-            "f bins/x/f Build",
-        ]
-    );
-    // And the workspace's own manifests, in each form they use.
+fn the_workspace_is_read_as_cargo_reads_it() {
     let all = members();
     assert!(stages(&all).len() >= 9);
     // `proto.workspace = true`
     assert_eq!(deps_of(&all, "stagecli", &CODE), ["proto"]);
-    // `plan.workspace = true`, through the root's `plan = { path = "bins/plan" }`
-    assert!(deps_of(&all, "render", &CODE).contains(&"plan".to_string()));
-    // `zspec = { path = "../zspec" }`
-    assert!(deps_of(&all, "chart", &CODE).contains(&"zspec".to_string()));
-    // a dev-dependency by path
-    assert!(deps_of(&all, "pipeline-tests", &[DepKind::Dev]).contains(&"scene".to_string()));
+    // `costmodel.workspace = true`, through the root's `costmodel = { path = "costmodel" }`
+    assert!(deps_of(&all, "render", &CODE).contains(&"costmodel".to_string()));
+    // `splitter = { path = "../bins/splitter" }`
+    assert!(deps_of(&all, "pipeline-tests", &CODE).contains(&"splitter".to_string()));
+    assert_eq!(member(&all, "render").dir, Path::new("bins/render"));
 }
 
 #[test]
-fn no_stage_crate_depends_on_another() {
+fn no_crate_under_bins_depends_on_another() {
     let all = members();
-    let stage_names: Vec<&str> = stages(&all).iter().map(|m| m.name.as_str()).collect();
-    for stage in stages(&all) {
-        let deps: Vec<String> = deps_of(&all, &stage.name, &ALL)
+    let names: Vec<&str> = binaries(&all).iter().map(|m| m.name.as_str()).collect();
+    for krate in binaries(&all) {
+        let deps: Vec<String> = deps_of(&all, &krate.name, &ALL)
             .into_iter()
-            .filter(|d| stage_names.contains(&d.as_str()))
+            .filter(|d| names.contains(&d.as_str()))
             .collect();
         assert!(
             deps.is_empty(),
-            "{}/Cargo.toml depends on the stage crates {deps:?}",
-            stage.dir.display()
+            "{}/Cargo.toml depends on the crates under bins/ {deps:?}",
+            krate.dir.display()
         );
     }
 }
@@ -354,37 +247,19 @@ fn no_circle_between_crates() {
         })
         .collect();
     let found = circles(&graph);
-    let allowed: Vec<Vec<String>> = CRATE_CIRCLES
-        .iter()
-        .map(|(c, _)| c.iter().map(|s| s.to_string()).collect())
-        .collect();
-    for circle in &found {
-        assert!(
-            allowed.contains(circle),
-            "the crates {circle:?} depend on each other"
-        );
-    }
-    for circle in &allowed {
-        assert!(
-            found.contains(circle),
-            "CRATE_CIRCLES lists {circle:?}, which is no circle now: take it out"
-        );
-    }
+    assert!(
+        found.is_empty(),
+        "crates that depend on each other: {found:?}"
+    );
 }
 
 #[test]
 fn proto_has_no_command_line_parser() {
-    let root = repo_root();
-    let text = fs::read_to_string(root.join("proto/Cargo.toml")).unwrap();
-    let manifest = parse_toml(&text, "proto/Cargo.toml");
-    let deps: Vec<&String> = manifest["dependencies"]
-        .as_table()
-        .unwrap()
-        .keys()
-        .collect();
-    assert!(deps.iter().any(|d| *d == "glam"), "{deps:?}");
+    let all = members();
+    let deps = &member(&all, "proto").code_deps;
+    assert!(deps.iter().any(|d| d == "glam"), "{deps:?}");
     for cli in ["clap", "anyhow", "stagecli"] {
-        assert!(!deps.iter().any(|d| *d == cli), "proto depends on {cli}");
+        assert!(!deps.iter().any(|d| d == cli), "proto depends on {cli}");
     }
 }
 
@@ -983,32 +858,15 @@ fn no_circle_between_module_files() {
             }
         }
     }
-    let mut unexplained = Vec::new();
-    for (krate, circle, why) in &found {
-        let allowed = MODULE_CIRCLES
-            .iter()
-            .any(|(k, c, _)| k == krate && c.iter().eq(circle.iter()));
-        if !allowed {
-            unexplained.push(format!(
-                "{krate}: {} ({})",
-                circle.join(" ↔ "),
-                why.join("; ")
-            ));
-        }
-    }
+    let said: Vec<String> = found
+        .iter()
+        .map(|(krate, circle, why)| format!("{krate}: {} ({})", circle.join(" ↔ "), why.join("; ")))
+        .collect();
     assert!(
-        unexplained.is_empty(),
+        said.is_empty(),
         "import circles between module files:\n{}",
-        unexplained.join("\n")
+        said.join("\n")
     );
-    for (krate, circle, _) in MODULE_CIRCLES {
-        assert!(
-            found
-                .iter()
-                .any(|(k, c, _)| k == krate && c.iter().eq(circle.iter())),
-            "MODULE_CIRCLES lists {krate}: {circle:?}, which is no circle now: take it out"
-        );
-    }
 }
 
 #[test]
@@ -1032,18 +890,12 @@ fn protos_records_are_apart_from_their_codecs() {
 
 #[test]
 fn the_table_of_methods_depends_on_nothing_and_no_stage_reads_it() {
-    let text = fs::read_to_string(repo_root().join("methods/Cargo.toml")).unwrap();
-    let manifest = parse_toml(&text, "methods/Cargo.toml");
-    for section in ["dependencies", "build-dependencies"] {
-        assert!(
-            manifest
-                .get(section)
-                .and_then(|t| t.as_table())
-                .is_none_or(|t| t.is_empty()),
-            "methods has [{section}]: the table is plain data"
-        );
-    }
     let all = members();
+    let deps = &member(&all, "methods").code_deps;
+    assert!(
+        deps.is_empty(),
+        "methods depends on {deps:?}: the table is plain data"
+    );
     // Its readers are the tools (render, chart) and the tests, never a stage.
     for stage in stages(&all) {
         assert!(

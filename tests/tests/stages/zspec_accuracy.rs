@@ -9,9 +9,9 @@
 
 use pipeline_tests::{run, sh};
 use proto::ppm::read_all as read_ppm_stream;
+use reference::{compare, FrameAgreement, Image};
 use std::fmt::Write as _;
 use std::path::Path;
-use zspec::{compare, FrameAgreement, Image};
 
 const MIN_AGREEMENT: f64 = 99.95;
 
@@ -279,7 +279,7 @@ fn the_mesh_covers_every_pixel_exactly_once() {
     let stream = run("scene mesh --cols 64 --rows 48 --size 640x480 --frames 3");
     let frames = frames_of(&stream);
     assert_eq!(frames.len(), 3);
-    let setup = zspec::Setup::new(
+    let setup = reference::Setup::new(
         proto::camera::Camera::default().frame().unwrap(),
         proto::View {
             aspect: 640.0 / 480.0,
@@ -290,7 +290,7 @@ fn the_mesh_covers_every_pixel_exactly_once() {
     );
     for (k, polys) in frames.iter().enumerate() {
         assert_eq!(polys.len(), 64 * 48);
-        let counts = zspec::coverage_counts(polys, &setup);
+        let counts = reference::coverage_counts(polys, &setup);
         let wrong: Vec<usize> = (0..counts.len()).filter(|&i| counts[i] != 1).collect();
         assert!(
             wrong.is_empty(),

@@ -30,7 +30,7 @@ fn differing(a: &[u8], b: &[u8]) -> usize {
 }
 
 /// The hidden-surface methods the table of methods says are exact, besides the z-buffer
-/// itself: scanline and warnock.
+/// itself (scanline and warnock, and any added so).
 fn exact_methods() -> Vec<&'static str> {
     methods::METHODS
         .iter()
@@ -58,8 +58,12 @@ fn exact_at_every_depth(options: &str) {
 }
 
 #[test]
-fn the_exact_methods_are_scanline_and_warnock() {
-    assert_eq!(exact_methods(), ["scanline", "warnock"]);
+fn scanline_and_warnock_are_exact() {
+    // The thesis's exact methods are in the table as exact (a method added to it may
+    // join them, and is then compared with the z-buffer as they are).
+    for name in ["scanline", "warnock"] {
+        assert!(exact_methods().contains(&name), "{name}");
+    }
 }
 
 #[test]

@@ -407,7 +407,7 @@ fn box_filter(fine: &[Colour], w: u32, h: u32, k: u32) -> Vec<Colour> {
 
 /// The frames of a text scene file of the repository's `examples/`.
 fn example(name: &str) -> Vec<Vec<Polygon>> {
-    let path = format!("{}/../../examples/{name}", env!("CARGO_MANIFEST_DIR"));
+    let path = format!("{}/../examples/{name}", env!("CARGO_MANIFEST_DIR"));
     let text = std::fs::read(&path).unwrap();
     let mut reader = proto::Reader::<proto::Token, _>::new(&text[..]).unwrap();
     let mut frames = vec![Vec::new()];
@@ -703,8 +703,8 @@ fn overall_metrics_pool_the_pixels_of_all_frames() {
 
 #[test]
 fn metrics_refuse_what_does_not_match() {
-    fn err<T>(r: anyhow::Result<T>) -> String {
-        format!("{:#}", r.err().unwrap())
+    fn err<T>(r: crate::error::Result<T>) -> String {
+        r.err().unwrap().to_string()
     }
     let a = image(2, 1, vec![K, K]);
     let tall = image(1, 2, vec![K, K]);

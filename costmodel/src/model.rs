@@ -182,7 +182,7 @@ pub struct Constants {
 
 /// The constants committed after a calibration run on the project's machine: the fallback
 /// until this machine is calibrated, and the documented example of the file.
-pub const COMMITTED: &str = include_str!("../../../bench/model.toml");
+pub const COMMITTED: &str = include_str!("../../bench/model.toml");
 
 impl Constants {
     pub fn parse(text: &str) -> anyhow::Result<Constants> {

@@ -13,9 +13,9 @@
 //! Sums are kept exact (integers), so that frames add up into an overall figure that is
 //! the figure of all their pixels taken together.
 
+use crate::error::{bail, Result};
 use crate::supersample::mask_colour;
 use crate::Image;
-use anyhow::{bail, Context};
 use std::fmt::Write as _;
 
 /// The squared error over the edge pixels.
@@ -152,7 +152,7 @@ impl Metrics {
 /// Measures frame `b` against frame `a` (the measures are symmetric), over the pixels
 /// flagged in `edges` (row-major, one flag a pixel) for the edge RMSE. Frames of
 /// different sizes, or a flag list of another length, are an error.
-pub fn metrics(a: &Image, b: &Image, edges: Option<&[bool]>) -> anyhow::Result<Metrics> {
+pub fn metrics(a: &Image, b: &Image, edges: Option<&[bool]>) -> Result<Metrics> {
     if (a.width, a.height) != (b.width, b.height) || a.pixels.len() != b.pixels.len() {
         bail!(
             "the frames are {}x{} and {}x{}",
@@ -208,7 +208,7 @@ pub fn metrics_streams(
     a: &[Image],
     b: &[Image],
     edge_masks: Option<&[Image]>,
-) -> anyhow::Result<Vec<Metrics>> {
+) -> Result<Vec<Metrics>> {
     if a.len() != b.len() {
         bail!("the streams have {} and {} frames", a.len(), b.len());
     }
@@ -240,15 +240,15 @@ pub fn metrics_streams(
                     edges_from_mask(m)
                 })
                 .transpose()
-                .with_context(|| format!("edge mask frame {k}"))?;
-            metrics(fa, fb, flags.as_deref()).with_context(|| format!("frame {k}"))
+                .map_err(|e| e.context(format!("edge mask frame {k}")))?;
+            metrics(fa, fb, flags.as_deref()).map_err(|e| e.context(format!("frame {k}")))
         })
         .collect()
 }
 
 /// Reads an edge mask (`zspec --samples K --edge-mask`): white pixels are edge pixels,
 /// black are not; any other colour means the image is not a mask.
-pub fn edges_from_mask(mask: &Image) -> anyhow::Result<Vec<bool>> {
+pub fn edges_from_mask(mask: &Image) -> Result<Vec<bool>> {
     mask.pixels
         .iter()
         .enumerate()

@@ -24,8 +24,8 @@
 //! summed into per-pixel accumulators before the next band is drawn. Memory is the
 //! polygons, one band, and about 16 bytes a pixel; never the K·W × K·H screen.
 
+use crate::error::{bail, Error, Result};
 use crate::{Prepared, Setup};
-use anyhow::bail;
 use proto::{Colour, Polygon};
 
 /// The most samples (depth and colour, 11 bytes each) one band holds: about 11 MiB.
@@ -78,7 +78,7 @@ pub struct SupersampledFrame {
 impl SupersampledFrame {
     /// A frame of K×K samples per pixel; K from 1 to [`MAX_SAMPLES`], and K·W, K·H must
     /// fit in a u32.
-    pub fn new(setup: &Setup, k: u32, background: Colour) -> anyhow::Result<Self> {
+    pub fn new(setup: &Setup, k: u32, background: Colour) -> Result<Self> {
         if !(1..=MAX_SAMPLES).contains(&k) {
             bail!("{k} samples a side: K must be from 1 to {MAX_SAMPLES}");
         }
@@ -106,7 +106,7 @@ impl SupersampledFrame {
 
     /// Takes the next polygon of the frame; refuses one the reference cannot draw
     /// exactly (its projection overflows), as [`crate::ReferenceFrame::draw`] does.
-    pub fn draw(&mut self, poly: &Polygon) -> Result<(), String> {
+    pub fn draw(&mut self, poly: &Polygon) -> std::result::Result<(), String> {
         if let Some(p) = self.fine.prepare(poly)? {
             self.polygons.push(p);
         }
@@ -195,12 +195,12 @@ pub fn render_supersampled(
     setup: &Setup,
     k: u32,
     background: Colour,
-) -> anyhow::Result<Supersampled> {
+) -> Result<Supersampled> {
     let mut frame = SupersampledFrame::new(setup, k, background)?;
     for (i, poly) in polys.iter().enumerate() {
         frame
             .draw(poly)
-            .map_err(|m| anyhow::anyhow!("polygon {i}: {m}"))?;
+            .map_err(|m| Error::Data(format!("polygon {i}: {m}")))?;
     }
     Ok(frame.finish())
 }

@@ -1,4 +1,4 @@
-//! # plan: the cost model, its calibration, and `render --depth auto`'s planner
+//! # costmodel: the cost model, its calibration, and `render --depth auto`'s planner
 //!
 //! Thesis chapter 5.2 models each stage's time for an environment (polygons, screen,
 //! depth complexity) as a sum of per-polygon, per-vertex, per-scan-line and per-pixel
@@ -9,8 +9,9 @@
 //! `${XDG_CACHE_HOME:-$HOME/.cache}/polypipe/model.toml`), the thesis's own T424-20
 //! constants and environment ([`thesis`]). `render --depth auto` (the `render` crate,
 //! which also starts and watches the stages) and `chart` (the measuring and plotting
-//! binary) use this library in their own processes; the `plan` binary is its command
-//! line.
+//! binary) use this library in their own processes; the `plan` binary (bins/plan) is its
+//! command line, whose subcommands' arguments and bodies are in [`cli`] because `chart
+//! choose-depth` shares them.
 
 pub mod cache;
 pub mod calibrate;

@@ -9,6 +9,8 @@ use anyhow::{Context, Result};
 use proto::camera::parse_size;
 use std::path::{Path, PathBuf};
 
+pub use stagecli::place::{bin_dir, root_dir};
+
 #[derive(clap::Args, Debug)]
 pub struct DepthArgs {
     /// The screen size, as render's --size.
@@ -68,27 +70,6 @@ pub struct DepthArgs {
     pub yon: Option<String>,
     /// The scene (a file: it is read here and again by the render).
     pub scene: PathBuf,
-}
-
-/// The built binaries: beside this one (plan's, or chart's: chart finds them so too).
-pub fn bin_dir() -> Result<PathBuf> {
-    let exe = std::env::current_exe().context("cannot tell where this program is")?;
-    Ok(exe.parent().context("this program's folder")?.to_path_buf())
-}
-
-/// The repository: --root, else the first folder above the binaries' (target/<host>/release)
-/// with scripts/render.sh, else here.
-pub fn root_dir(root: Option<PathBuf>) -> Result<PathBuf> {
-    if let Some(r) = root {
-        return Ok(r);
-    }
-    let bin = bin_dir()?;
-    for up in bin.ancestors() {
-        if up.join("scripts/render.sh").is_file() {
-            return Ok(up.to_path_buf());
-        }
-    }
-    Ok(std::env::current_dir()?)
 }
 
 /// The constants to plan with and, when they are not this machine's, a note saying so:

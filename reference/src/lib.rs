@@ -1,4 +1,5 @@
-//! zspec: the exact reference renderer, docs/DESIGN.md's "The Z specification" evaluated directly.
+//! reference: the exact reference renderer, docs/DESIGN.md's "The Z specification"
+//! evaluated directly; the `zspec` binary (bins/zspec) is its command line.
 //!
 //! The pipeline reaches its pictures through clipping (chapter 3), perspective, an edge
 //! table scan converter (chapter 4, Appendix 3) and a depth buffer with reciprocal depth
@@ -37,10 +38,12 @@
 //!
 //! The frames are PPM images ([`proto::ppm`], whose [`Image`] `zspec compare` reads).
 
+pub mod error;
 mod exact;
 pub mod metrics;
 pub mod supersample;
 
+pub use error::Error;
 pub use metrics::{edges_from_mask, metrics, metrics_streams, EdgeError, Metrics};
 pub use supersample::{render_supersampled, Supersampled, SupersampledFrame};
 

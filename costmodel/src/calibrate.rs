@@ -418,7 +418,7 @@ pub fn calibrate_and_store(
     let _ = std::fs::remove_dir_all(&work);
     let k = result?;
     let header = format!(
-        "# The cost model's constants for this machine (bins/plan/src/model.rs), seconds,\n\
+        "# The cost model's constants for this machine (costmodel/src/model.rs), seconds,\n\
          # fitted by `chart calibrate{}` in {:.1} s: each stage binary alone on synthetic\n\
          # scenes, least squares. `render.sh --depth auto`, `plan depth` and `chart` read it.\n",
         if quick { " --quick" } else { "" },
