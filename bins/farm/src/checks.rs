@@ -85,28 +85,69 @@ impl Output {
         }
     }
 
+    /// The number in the file name of the movie's frame `k` (`--first-frame` + k).
+    pub fn number(&self, k: u64) -> u64 {
+        match self {
+            Output::Stdout => k,
+            Output::Files { first, .. } => first + k,
+        }
+    }
+
     /// Writes the movie's frame `k` to its file, the bytes zbuf's `-o` would write.
     pub fn save(&self, k: u64, frame: &Frame) -> Result<()> {
         let (Some(path), Output::Files { png, .. }) = (self.path(k), self) else {
             return Ok(());
         };
         let fail = |e: String| Error::io(format!("cannot write {}: {e}", path.display()));
-        if *png {
-            image::save_buffer_with_format(
-                &path,
+        let bytes = if *png {
+            let mut bytes = std::io::Cursor::new(Vec::new());
+            image::write_buffer_with_format(
+                &mut bytes,
                 &frame.rgb,
                 frame.width,
                 frame.height,
                 image::ExtendedColorType::Rgb8,
                 image::ImageFormat::Png,
             )
-            .map_err(|e| match e {
-                image::ImageError::IoError(io) => fail(stagecli::error::io_message(&io)),
-                other => fail(other.to_string()),
-            })
+            .map_err(|e| fail(e.to_string()))?;
+            bytes.into_inner()
         } else {
-            std::fs::write(&path, frame.ppm()).map_err(|e| fail(stagecli::error::io_message(&e)))
+            frame.ppm()
+        };
+        crate::files::write_whole(&path, &bytes).map_err(fail)
+    }
+}
+
+/// Whether the file of a frame is one whole frame: a PNG that decodes, or a PPM of one
+/// frame and nothing after it; its width and height, or why not.
+pub fn verify_frame(path: &std::path::Path, png: bool) -> std::result::Result<(u32, u32), String> {
+    let meta = std::fs::metadata(path).map_err(|e| match e.kind() {
+        std::io::ErrorKind::NotFound => "missing".to_string(),
+        _ => stagecli::error::io_message(&e),
+    })?;
+    if !meta.is_file() {
+        return Err("not a file".to_string());
+    }
+    if png {
+        let image = image::ImageReader::open(path)
+            .map_err(|e| stagecli::error::io_message(&e))?
+            .with_guessed_format()
+            .map_err(|e| stagecli::error::io_message(&e))?;
+        if image.format() != Some(image::ImageFormat::Png) {
+            return Err("not a PNG".to_string());
         }
+        let decoded = image.decode().map_err(|e| format!("cut or damaged: {e}"))?;
+        return Ok((decoded.width(), decoded.height()));
+    }
+    let file = std::fs::File::open(path).map_err(|e| stagecli::error::io_message(&e))?;
+    let mut input = std::io::BufReader::new(file);
+    match next_frame(&mut input) {
+        Ok(Some(f)) => match next_frame(&mut input) {
+            Ok(None) => Ok((f.width, f.height)),
+            _ => Err("more than one frame".to_string()),
+        },
+        Ok(None) => Err("empty".to_string()),
+        Err(why) => Err(format!("cut or damaged: {why}")),
     }
 }
 

@@ -3,14 +3,17 @@
 
 use crate::checks::{check_frames, frames_text, ChunkInfo, Frame, Output};
 use crate::cutter::{Chunk, Cutter};
-use crate::hosts::{slots_in_sshloginfile, Logins};
-use crate::joblog::{chunk_arg, finished_chunks, parse_joblog, IDLE_ARG, JOBLOG_HEADER};
+use crate::files::{make_folder, write_whole};
+use crate::hosts::{login_lines, slots_in_sshloginfile, Logins};
+use crate::joblog::{chunk_arg, IDLE_ARG, JOBLOG_HEADER};
 use crate::report::report;
+use crate::resume::resume;
 use crate::shim::shim_script;
 use crate::spool::{
     count_bytes, failed_chunk, failure_of, in_spool, spool_bound, tries_of, Handed,
 };
 use crate::supervise::{finish, Outcome, STOP};
+use crate::watch::{HostWatch, HOSTS_FILE};
 use proto::{Reader, Token};
 use stagecli::{Error, Result};
 use std::collections::{BTreeMap, BTreeSet};
@@ -45,6 +48,10 @@ pub struct Options {
     pub scene: String,
     /// The parallel to run (`parallel`, found on PATH).
     pub parallel: PathBuf,
+    /// Failed tries in a row after which a host gets no more chunks.
+    pub host_failures: u32,
+    /// Seconds a host may send nothing before its try fails (0: for ever).
+    pub host_timeout: u64,
 }
 
 /// `parallel` on PATH, or the one line saying to install it (status 3).
@@ -101,6 +108,7 @@ where
     if options.ssh.is_empty() {
         return Err(Error::usage("POLYPIPE_SSH names no command"));
     }
+    let mut login_text = None;
     let slots = match &options.logins {
         Logins::List(l) if l.is_empty() => {
             return Err(Error::usage("--hosts must name at least one host"))
@@ -114,33 +122,35 @@ where
                     stagecli::error::io_message(&e)
                 ))
             })?;
-            match slots_in_sshloginfile(&text) {
-                0 => {
-                    return Err(Error::usage(format!(
-                        "--sshloginfile {} names no host",
-                        f.display()
-                    )))
-                }
-                n => n,
+            let n = slots_in_sshloginfile(&text);
+            if n == 0 {
+                return Err(Error::usage(format!(
+                    "--sshloginfile {} names no host",
+                    f.display()
+                )));
             }
+            login_text = Some(text);
+            n
         }
     };
     let joblog_given = joblog_path(options.joblog.as_deref(), &options.output);
+    if let Output::Files { pattern, .. } = &options.output {
+        make_folder(
+            Path::new(pattern).parent().unwrap_or(Path::new("")),
+            "-o's folder",
+        )?;
+    }
     let mut finished = BTreeSet::new();
+    let mut seq0 = 0;
+    let mut fresh_log = !options.resume;
     if options.resume {
         let Some(path) = &joblog_given else {
             return Err(Error::usage(
                 "--resume needs -o: frames written to stdout by an earlier run are not kept",
             ));
         };
-        let text = std::fs::read_to_string(path).map_err(|e| {
-            Error::io(format!(
-                "--resume: cannot read the job log {}: {}",
-                path.display(),
-                stagecli::error::io_message(&e)
-            ))
-        })?;
-        finished = finished_chunks(&parse_joblog(&text));
+        let resumed = resume(path, &options.output, log)?;
+        (finished, seq0, fresh_log) = (resumed.finished, resumed.seq0, !resumed.found);
     }
     let mut cutter = Cutter::new(reader, options.chunk).map_err(|e| e.context(&options.scene))?;
 
@@ -150,12 +160,11 @@ where
         .map_err(|e| Error::io(format!("cannot make a spool folder in $TMPDIR: {e}")))?;
     let dir = spool.path().to_path_buf();
     let joblog = joblog_given.clone().unwrap_or_else(|| dir.join("joblog"));
-    if !options.resume {
-        std::fs::write(&joblog, JOBLOG_HEADER).map_err(|e| {
+    if fresh_log {
+        write_whole(&joblog, JOBLOG_HEADER.as_bytes()).map_err(|e| {
             Error::io(format!(
-                "cannot write the job log {}: {}",
-                joblog.display(),
-                stagecli::error::io_message(&e)
+                "cannot write the job log {}: {e}",
+                joblog.display()
             ))
         })?;
     }
@@ -169,6 +178,13 @@ where
         ))
     };
     std::fs::write(&shim, shim_script(&dir, &options.ssh, &joblog)).map_err(spool_io)?;
+    std::fs::write(dir.join("seq0"), seq0.to_string()).map_err(spool_io)?;
+    let mut watch = HostWatch::new(
+        login_lines(&options.logins, login_text.as_deref()),
+        options.host_failures,
+        options.host_timeout,
+    );
+    watch.write_hosts(&dir)?;
     {
         use std::os::unix::fs::PermissionsExt;
         std::fs::set_permissions(&shim, std::fs::Permissions::from_mode(0o700))
@@ -177,29 +193,21 @@ where
 
     let mut parallel = Command::new(&options.parallel);
     parallel
-        .arg("-j1")
         .arg("--retries")
         .arg(options.retries.max(1).to_string())
         .arg("--halt")
         .arg("soon,fail=1")
-        .arg("--joblog")
-        .arg(format!("+{}", joblog.display()))
         .arg("--tmpdir")
         .arg(&dir)
         .arg("--ssh")
         .arg(&shim);
-    match &options.logins {
-        Logins::List(l) => {
-            for (n, host) in l {
-                parallel.arg("--sshlogin").arg(format!("{n}/{host}"));
-            }
-        }
-        Logins::File(f) => {
-            parallel.arg("--sshloginfile").arg(f);
-        }
-    }
-    // The chunk's frames ride in the command as a comment, for the job log.
-    parallel.arg(format!("{} # {{}}", options.command));
+    // parallel reads its sshlogin file again when it changes: a host dropped from it
+    // gets no more chunks. The chunk's frames ride in the command as a comment, for
+    // the job log.
+    parallel
+        .arg("--sshloginfile")
+        .arg(dir.join(HOSTS_FILE))
+        .arg(format!("{} # {{}}", options.command));
     let parallel_err = std::fs::File::create(dir.join("parallel.err")).map_err(spool_io)?;
     let mut child = parallel
         .stdin(Stdio::piped())
@@ -271,11 +279,17 @@ where
             };
             if !finished.contains(&info) {
                 let seq = lines + 1;
-                let wrote =
-                    std::fs::write(dir.join(format!("{seq}.in")), &chunk.bytes).and_then(|()| {
+                let wrote = std::fs::write(dir.join(format!("{seq}.in")), &chunk.bytes)
+                    .and_then(|()| {
                         std::fs::write(
                             dir.join(format!("{seq}.what")),
                             frames_text(info.first, info.frames),
+                        )
+                    })
+                    .and_then(|()| {
+                        std::fs::write(
+                            dir.join(format!("{seq}.cmd")),
+                            format!("{} # {}", options.command, chunk_arg(info)),
                         )
                     });
                 if let Err(e) = wrote {
@@ -312,6 +326,16 @@ where
                 lines = seq;
                 ends_at_last_line = ends;
             }
+        }
+        // A host's first failure named, a host failing again and again dropped, a
+        // silent one stopped.
+        let running: Vec<usize> = handed[head..]
+            .iter()
+            .filter(|h| !h.taken)
+            .filter_map(|h| h.seq)
+            .collect();
+        if let Err(e) = watch.poll(&dir, &running, log) {
+            break Err(e);
         }
         // The chunks that came back: checked, then written (files) or held (stdout).
         let mut fatal = None;
@@ -441,16 +465,19 @@ where
     drop(args);
     let _ = out.flush();
     let all_written = input_done && head == handed.len();
+    let result = finish(child, all_written, result);
     if let (Ok(Outcome::Done), true) = (&result, all_written) {
+        let joblog = (joblog.as_path(), joblog_from, seq0);
         report(
             &handed,
             &by_seq,
             (&options.logins, options.stats),
-            (&joblog, joblog_from),
+            joblog,
             log,
         );
     }
-    finish(child, spool, all_written, result)
+    drop(spool);
+    result
 }
 
 /// Hands parallel an argument line; when it has gone, its end says why.

@@ -68,17 +68,21 @@ pub const DEFAULT_RETRIES: u32 = 3;
 mod checks;
 mod cutter;
 mod driver;
+mod files;
+pub use files::{make_folder, write_whole};
 mod hosts;
 mod joblog;
 mod report;
+mod resume;
 mod shim;
 mod slurm;
 mod spool;
 mod supervise;
+mod watch;
 
 pub use checks::{
     check_frames, classify, every_try_failed, frames_text, last_line, next_frame, parse_hosts,
-    remote_command, ChunkInfo, Failure, Frame, Output, Try,
+    remote_command, verify_frame, ChunkInfo, Failure, Frame, Output, Try,
 };
 pub use cutter::{count_frames, Chunk, Cutter};
 pub use driver::{find_parallel, joblog_path, run, Options};
@@ -87,6 +91,9 @@ pub use joblog::{
     chunk_arg, chunk_of_command, finished_chunks, parse_joblog, JobLine, IDLE_ARG, JOBLOG_HEADER,
 };
 pub use shim::shim_script;
-pub use slurm::{array_tasks, sbatch_script, SlurmArray};
+pub use slurm::{
+    array_tasks, check_frames_of, check_script, sbatch_path_ok, sbatch_script, SlurmArray,
+};
 pub use spool::{failed_chunk, spool_bound};
 pub use supervise::{adopt_orphans, catch_stop_signals, Outcome};
+pub use watch::{DEFAULT_HOST_FAILURES, DEFAULT_HOST_TIMEOUT};

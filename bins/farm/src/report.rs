@@ -23,7 +23,7 @@ pub(crate) fn report(
     handed: &[Handed],
     by_seq: &BTreeMap<usize, usize>,
     (logins, stats): (&Logins, bool),
-    joblog: (&Path, usize),
+    joblog: (&Path, usize, usize),
     log: &mut dyn Write,
 ) {
     for h in handed {
@@ -60,7 +60,7 @@ pub(crate) fn report(
         if let Some(l) = lines
             .iter()
             .rev()
-            .find(|l| l.seq == seq && l.exit == 0 && l.signal == 0)
+            .find(|l| l.seq == seq + joblog.2 && l.exit == 0 && l.signal == 0)
         {
             s.busy += l.runtime;
         }
@@ -91,7 +91,10 @@ pub(crate) fn report(
         );
     }
     for l in lines.iter().filter(|l| l.exit != 0 || l.signal != 0) {
-        if let Some(h) = by_seq.get(&l.seq).and_then(|&k| handed.get(k)) {
+        if let Some(h) = by_seq
+            .get(&l.seq.saturating_sub(joblog.2))
+            .and_then(|&k| handed.get(k))
+        {
             let _ = writeln!(
                 log,
                 "farm: {}: a try on host {} failed (status {}), retried",

@@ -125,7 +125,6 @@ fn reap_orphans() {
 /// `result`.
 pub(crate) fn finish(
     mut child: Child,
-    spool: tempfile::TempDir,
     all_written: bool,
     result: Result<Outcome>,
 ) -> Result<Outcome> {
@@ -158,7 +157,6 @@ pub(crate) fn finish(
         waited = waited.saturating_sub(10);
     }
     reap_orphans();
-    drop(spool);
     result
 }
 
