@@ -9,10 +9,11 @@
 //!    movie of its own with the movie's header ([`Cutter`]), kept in a private spool
 //!    folder of `$TMPDIR`;
 //! 2. hands the chunks to GNU parallel (Tange, `man parallel`), one argument line a
-//!    chunk: parallel chooses the host with a free job slot (`--sshlogin N/host`,
-//!    `--sshloginfile`), retries a chunk that failed on a host where it has not failed
-//!    (`--retries`), keeps the job log (`--joblog`), and stops starting chunks after
-//!    one failed on every try (`--halt soon,fail=1`);
+//!    chunk: parallel chooses the host with a free job slot (`N/host` lines of the
+//!    `--sshloginfile` farm writes), retries a chunk that failed on a host where it has
+//!    not failed (`--retries`), reads the file again when farm drops a failing host from
+//!    it (`watch`), and stops starting chunks after one failed on every try (`--halt
+//!    soon,fail=1`);
 //! 3. writes the frames in the movie's order on stdout, or each frame to its file
 //!    (`-o PATTERN`, numbered from `--first-frame`) as its chunk comes back.
 //!
@@ -45,9 +46,9 @@
 //! every first try, it came within a second of the start). So when the spool is full,
 //! no job is running and one has ended since the last argument, this program hands
 //! parallel an *idle* argument ([`IDLE_ARG`]), whose job ends at once without a host:
-//! parallel wakes, reaps, and retries the chunk. The job log shows these jobs as
-//! `# idle`; they take job numbers, so `--resume` knows a chunk by its frames
-//! ([`finished_chunks`]) and hands parallel only the chunks not finished.
+//! parallel wakes, reaps, and retries the chunk. They take job numbers, so `--resume`
+//! knows a chunk by its frames ([`finished_chunks`]), and checks them
+//! ([`verify_frame`]). The job log, in parallel's format, is the shim's: a line a try.
 //!
 //! When a chunk fails on every try, the chunks before it are written whole and the run
 //! ends with one line naming the host(s) and the chunk: status 3 for a host or the link,
