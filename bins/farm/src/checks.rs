@@ -181,7 +181,7 @@ pub fn check_frames<R: BufRead>(
             Ok(None) => break,
             Err(why) => {
                 return Err(format!(
-                    "sent back {} of its {what}, then what is not a frame: {why}",
+                    "sent back {} of its {what}, then garbage (not a frame: {why})",
                     frames.len()
                 ))
             }
@@ -285,7 +285,7 @@ mod tests {
         let cut = [frame(1), b"P6\n1 1\n255\n\x01".to_vec()].concat();
         assert!(check_frames(&mut &cut[..], chunk)
             .unwrap_err()
-            .starts_with("sent back 1 of its frames 8 to 9, then what is not a frame: "));
+            .starts_with("sent back 1 of its frames 8 to 9, then garbage (not a frame: "));
     }
 
     #[test]

@@ -18,7 +18,7 @@ struct HostStats {
 }
 
 /// On success: the hosts' own stderr lines (their --stats), labelled with the host, in
-/// the movie's order; with --stats, each host's part and each failed try.
+/// the movie's order (a host's `depth auto chose` once while it is the same); with --stats, each host's part and each failed try.
 pub(crate) fn report(
     handed: &[Handed],
     by_seq: &BTreeMap<usize, usize>,
@@ -26,10 +26,19 @@ pub(crate) fn report(
     joblog: (&Path, usize, usize),
     log: &mut dyn Write,
 ) {
+    // A host's choice of depth is said by each of its chunks: said once a host, and again
+    // only when it changes.
+    let mut depth_said: BTreeMap<&str, &str> = BTreeMap::new();
     for h in handed {
         let host = h.host.as_deref().unwrap_or("?");
         for line in h.stderr.lines() {
             let line = stagecli::remote::without_render_prefix(line);
+            if line.contains("depth auto chose ") {
+                let choice = line.split(" (").next().unwrap_or(line);
+                if depth_said.insert(host, choice) == Some(choice) {
+                    continue;
+                }
+            }
             let _ = writeln!(log, "host {host}: {line}");
         }
     }

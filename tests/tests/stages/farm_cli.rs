@@ -555,3 +555,89 @@ fn an_output_folder_that_cannot_be_made_is_named() {
         )
     );
 }
+
+#[test]
+fn a_hosts_choice_of_depth_is_said_once() {
+    let dir = tempfile::tempdir().unwrap();
+    let ssh = fake_ssh(dir.path());
+    let say = "echo 'render: depth auto chose 2 (a reason)' >&2; ";
+    let out = farm_run(&ssh, &["--hosts", "a", "--chunk", "1", "-"], say, 3);
+    assert!(out.status.success(), "{}", text(&out.stderr));
+    assert_eq!(out.stdout, reds(3));
+    assert_eq!(text(&out.stderr), "host a: depth auto chose 2 (a reason)\n");
+}
+
+#[test]
+fn garbage_from_a_host_is_named_as_garbage() {
+    let dir = tempfile::tempdir().unwrap();
+    let ssh = fake_ssh_with(
+        dir.path(),
+        "noisy) shift; [ \"$1\" = -- ] && shift; sh -c \"$*\" >/dev/null; echo hello; exit 0 ;;",
+    );
+    let out = farm_run(&ssh, &["--hosts", "noisy", "--retries", "1", "-"], "", 2);
+    assert_eq!(out.status.code(), Some(3));
+    let err = text(&out.stderr);
+    assert!(
+        err.ends_with(&format!(
+            "farm: host noisy: frames 0 to 1, 1 try: sent back 0 of its frames 0 to 1, then \
+             garbage (not a frame: {}\n",
+            err.rsplit("not a frame: ").next().unwrap().trim_end()
+        )) && err.lines().count() == 2,
+        "{err}"
+    );
+}
+
+#[test]
+fn the_slurm_check_names_frames_by_the_movies_numbers_and_the_tasks_to_submit_again() {
+    // Frames 100 to 105 in tasks of two: 101 missing, 102 cut, 105 a folder.
+    let dir = tempfile::tempdir().unwrap();
+    let movie_file = dir.path().join("movie.pp");
+    std::fs::write(&movie_file, movie(6)).unwrap();
+    let array = dir.path().join("it's an array");
+    let pattern = format!("{}/f%d.ppm", array.display());
+    let farm = |extra: &[&str]| {
+        let mut cmd = Command::cargo_bin("farm").unwrap();
+        cmd.arg("--slurm-array")
+            .arg(&array)
+            .args(["--chunk", "2", "-o", &pattern, "--first-frame", "100"])
+            .arg(&movie_file)
+            .args(extra);
+        cmd.output().unwrap()
+    };
+    let made = farm(&["--", "true"]);
+    assert!(made.status.success(), "{}", text(&made.stderr));
+    for k in [100, 103, 104] {
+        std::fs::write(array.join(format!("f{k}.ppm")), ppm(k as u8)).unwrap();
+    }
+    std::fs::write(array.join("f102.ppm"), b"P6\n1 1\n255\n\x01").unwrap();
+    std::fs::create_dir(array.join("f105.ppm")).unwrap();
+    let out = farm(&["--check"]);
+    assert_eq!(out.status.code(), Some(1), "{}", text(&out.stderr));
+    let a = array.display();
+    let said = text(&out.stdout);
+    let lines: Vec<&str> = said.lines().collect();
+    assert_eq!(lines.len(), 4, "{said}");
+    assert_eq!(lines[0], format!("frame 101 ({a}/f101.ppm): missing"));
+    assert!(lines[1].starts_with(&format!("frame 102 ({a}/f102.ppm): cut or damaged: ")));
+    assert_eq!(lines[2], format!("frame 105 ({a}/f105.ppm): not a file"));
+    assert_eq!(
+        lines[3],
+        format!(
+            "sbatch --array=0,1,2 '{}/render.sbatch'",
+            a.to_string().replace('\'', r"'\''")
+        )
+    );
+    assert_eq!(
+        text(&out.stderr),
+        "farm: 3 of 6 frames missing or bad, of array tasks 0,1,2: the line above submits \
+         them again\n"
+    );
+    // The script's --check is this check.
+    let by_script = std::process::Command::new("bash")
+        .arg(array.join("render.sbatch"))
+        .arg("--check")
+        .output()
+        .unwrap();
+    assert_eq!(by_script.status.code(), Some(1));
+    assert_eq!(by_script.stdout, out.stdout);
+}
