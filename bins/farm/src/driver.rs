@@ -5,7 +5,7 @@ use crate::checks::{check_frames, frames_text, ChunkInfo, Frame, Output};
 use crate::cutter::{Chunk, Cutter};
 use crate::files::{make_folder, write_whole};
 use crate::hosts::{login_lines, slots_in_sshloginfile, Logins};
-use crate::joblog::{chunk_arg, IDLE_ARG, JOBLOG_HEADER};
+use crate::joblog::{chunk_arg, joblog_path, IDLE_ARG, JOBLOG_HEADER};
 use crate::report::report;
 use crate::resume::resume;
 use crate::shim::shim_script;
@@ -72,24 +72,6 @@ pub fn find_parallel(path: Option<&std::ffi::OsStr>) -> Result<PathBuf> {
 fn is_executable(path: &Path) -> bool {
     use std::os::unix::fs::PermissionsExt;
     std::fs::metadata(path).is_ok_and(|m| m.is_file() && m.permissions().mode() & 0o111 != 0)
-}
-
-/// The job log's path: `--joblog`, else beside -o's files (`DIR/farm.joblog`, DIR the
-/// pattern's folder), else `None` (a temporary one in the spool).
-pub fn joblog_path(joblog: Option<&Path>, output: &Output) -> Option<PathBuf> {
-    if let Some(j) = joblog {
-        return Some(j.to_path_buf());
-    }
-    match output {
-        Output::Stdout => None,
-        Output::Files { pattern, .. } => {
-            let dir = Path::new(pattern)
-                .parent()
-                .filter(|d| !d.as_os_str().is_empty())
-                .unwrap_or(Path::new("."));
-            Some(dir.join("farm.joblog"))
-        }
-    }
 }
 
 /// Renders the movie `reader` reads on the hosts through GNU parallel, writing the

@@ -1,7 +1,8 @@
 //! The job log, in GNU parallel's format, and the chunks it says finished.
 
-use crate::checks::{frames_text, ChunkInfo};
+use crate::checks::{frames_text, ChunkInfo, Output};
 use std::collections::BTreeSet;
+use std::path::{Path, PathBuf};
 
 /// The first line of a job log, as GNU parallel writes it.
 pub const JOBLOG_HEADER: &str =
@@ -78,6 +79,24 @@ pub fn finished_chunks(lines: &[JobLine]) -> BTreeSet<ChunkInfo> {
         .filter(|l| l.exit == 0 && l.signal == 0)
         .filter_map(|l| chunk_of_command(&l.command))
         .collect()
+}
+
+/// The job log's path: `--joblog`, else beside -o's files (`DIR/farm.joblog`, DIR the
+/// pattern's folder), else `None` (a temporary one in the spool).
+pub fn joblog_path(joblog: Option<&Path>, output: &Output) -> Option<PathBuf> {
+    if let Some(j) = joblog {
+        return Some(j.to_path_buf());
+    }
+    match output {
+        Output::Stdout => None,
+        Output::Files { pattern, .. } => {
+            let dir = Path::new(pattern)
+                .parent()
+                .filter(|d| !d.as_os_str().is_empty())
+                .unwrap_or(Path::new("."));
+            Some(dir.join("farm.joblog"))
+        }
+    }
 }
 
 #[cfg(test)]

@@ -86,10 +86,11 @@ pub use checks::{
     remote_command, verify_frame, ChunkInfo, Failure, Frame, Output, Try,
 };
 pub use cutter::{count_frames, Chunk, Cutter};
-pub use driver::{find_parallel, joblog_path, run, Options};
+pub use driver::{find_parallel, run, Options};
 pub use hosts::{logins_from_hosts, slots_in_sshloginfile, Logins};
 pub use joblog::{
-    chunk_arg, chunk_of_command, finished_chunks, parse_joblog, JobLine, IDLE_ARG, JOBLOG_HEADER,
+    chunk_arg, chunk_of_command, finished_chunks, joblog_path, parse_joblog, JobLine, IDLE_ARG,
+    JOBLOG_HEADER,
 };
 pub use shim::shim_script;
 pub use slurm::{
