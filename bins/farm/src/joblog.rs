@@ -46,7 +46,7 @@ pub fn chunk_arg(chunk: ChunkInfo) -> String {
 }
 
 /// The argument line of an *idle* job: one farm hands parallel only to wake it when it
-/// waits for its next argument while a chunk awaits a retry ([`run`] says why). It
+/// waits for its next argument while a chunk awaits a retry ([`run`](crate::run) says why). It
 /// renders nothing and contacts no host.
 pub const IDLE_ARG: &str = "idle";
 

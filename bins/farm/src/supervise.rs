@@ -38,12 +38,12 @@ pub fn catch_stop_signals() {
 static ADOPTING: AtomicBool = AtomicBool::new(false);
 
 /// From now on a process started under this one (a job of parallel's, its ssh) that
-/// outlives its parent is handed to this process, not to init, and [`run`] stops and
+/// outlives its parent is handed to this process, not to init, and [`run`](crate::run) stops and
 /// reaps every such process before it returns. GNU parallel stops its jobs by process
 /// group when asked to stop, but a job it is starting at that moment (forked, not yet in
 /// its table of running jobs) escapes that and goes on: its ssh and the session on the
 /// host outlived the run about one stop in six. Call it once, from the program's main,
-/// before [`run`]: a process that adopts must know all its children.
+/// before [`run`](crate::run): a process that adopts must know all its children.
 pub fn adopt_orphans() {
     // SAFETY: prctl(PR_SET_CHILD_SUBREAPER) takes an integer and touches no memory.
     let done = unsafe { libc::prctl(libc::PR_SET_CHILD_SUBREAPER, 1, 0, 0, 0) } == 0;
