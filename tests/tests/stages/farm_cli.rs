@@ -338,6 +338,13 @@ fn two_slots_on_one_host_run_two_chunks_at_once() {
     assert_eq!(out.stdout, reds(4));
     let t = tries(&joblog);
     assert_eq!(t.len(), 4, "one line a try: {t:?}");
+    // Each line gives the bytes of the chunk sent and of its one frame received.
+    let log = std::fs::read_to_string(&joblog).unwrap();
+    for line in log.lines().skip(1) {
+        let f: Vec<&str> = line.split('\t').collect();
+        assert!(f[4].parse::<u64>().unwrap() > 0, "{line}");
+        assert_eq!(f[5], "14", "{line}");
+    }
     let overlap = t.iter().enumerate().any(|(i, a)| {
         t[i + 1..]
             .iter()
