@@ -42,10 +42,7 @@ const RENDER: &str =
 fn the_frames_come_back_in_the_movies_order() {
     let dir = tempfile::tempdir().unwrap();
     let ssh = fake_ssh(dir.path());
-    let frames_dir = PathBuf::from(pipeline_tests::bin("farm"))
-        .parent()
-        .unwrap()
-        .to_path_buf();
+    let frames_dir = pipeline_tests::bin("farm").parent().unwrap().to_path_buf();
     if !frames_dir.join("frames").exists() {
         // `cargo test -p farm` alone builds farm's binaries only.
         let cargo = std::env::var("CARGO").unwrap_or_else(|_| "cargo".into());
@@ -220,24 +217,11 @@ fn a_job_parallel_leaves_behind_when_stopped_is_stopped_by_farm() {
     }
 }
 
-/// PATH with the folder of farm's binaries (and `frames`, built if missing) first.
+/// PATH with the folder of the binaries (farm, frames) first.
 fn path_with_frames() -> String {
-    let frames_dir = PathBuf::from(env!("CARGO_BIN_EXE_farm"))
-        .parent()
-        .unwrap()
-        .to_path_buf();
-    if !frames_dir.join("frames").exists() {
-        let cargo = std::env::var("CARGO").unwrap_or_else(|_| "cargo".into());
-        let mut build = std::process::Command::new(cargo);
-        build.args(["build", "--quiet", "-p", "frames"]);
-        if frames_dir.ends_with("release") {
-            build.arg("--release");
-        }
-        assert!(build.status().unwrap().success(), "cargo build -p frames");
-    }
     format!(
         "{}:{}",
-        frames_dir.display(),
+        pipeline_tests::bin_dir().display(),
         std::env::var("PATH").unwrap()
     )
 }
@@ -273,7 +257,7 @@ fn reds(n: u8) -> Vec<u8> {
 /// farm ARGS -- sh -c RENDER (after `before`, shell run first on the host) with `ssh`.
 fn farm_run(ssh: &std::path::Path, args: &[&str], before: &str, n: u64) -> std::process::Output {
     let render = format!("{before}{RENDER}");
-    let mut cmd = Command::cargo_bin("farm").unwrap();
+    let mut cmd = Command::new(pipeline_tests::bin("farm"));
     cmd.args(args)
         .args(["--", "sh", "-c", &render])
         .env("POLYPIPE_SSH", ssh)
@@ -603,7 +587,7 @@ fn the_slurm_check_names_frames_by_the_movies_numbers_and_the_tasks_to_submit_ag
     let array = dir.path().join("it's an array");
     let pattern = format!("{}/f%d.ppm", array.display());
     let farm = |extra: &[&str]| {
-        let mut cmd = Command::cargo_bin("farm").unwrap();
+        let mut cmd = Command::new(pipeline_tests::bin("farm"));
         cmd.arg("--slurm-array")
             .arg(&array)
             .args(["--chunk", "2", "-o", &pattern, "--first-frame", "100"])
