@@ -6,7 +6,7 @@ use std::path::Path;
 /// The script parallel runs as its ssh (`--ssh`): `SCRIPT [OPTIONS] HOST COMMAND…`. For a
 /// job (`$PARALLEL_SEQ` set: the chunk's argument line, from 1) it runs `SSH… "$@"` with
 /// the chunk's stream `SPOOL/K.in` on stdin, its stdout to `K.part` and stderr to
-/// `K.err`, its pid in `K.pid` (farm stops a host silent for `--host-timeout`, saying so
+/// `K.err`, the script's pid in `K.pid` (farm stops a host silent for `--host-timeout`, saying so
 /// in `K.timeout`); on success it renames `K.part` to `K.out` (with the host in `K.host`)
 /// and waits for farm to take it: `K.ok` then says the frames were whole and written, and
 /// the job succeeds; `K.bad` says why not, and the try fails. A failed try is kept
@@ -55,9 +55,10 @@ if [ -s "$spool/dropped" ] && [ "$1" = "$host" ] && grep -qxF -- "$host" "$spool
 fi
 start=$(date +%s.%N)
 sent=$(wc -c <"$spool/$k.in")
-{ssh} "$@" <"$spool/$k.in" >"$spool/$k.part" 2>"$spool/$k.err" &
-printf '%s\n' "$!" >"$spool/$k.pid"
-wait "$!"
+# In the foreground (an asynchronous list would ignore SIGINT): farm stops a silent host
+# by signalling this script's children, by its pid.
+printf '%s\n' "$$" >"$spool/$k.pid"
+{ssh} "$@" <"$spool/$k.in" >"$spool/$k.part" 2>"$spool/$k.err"
 st=$?
 rm -f "$spool/$k.pid"
 received=$(wc -c <"$spool/$k.part" 2>/dev/null || echo 0)

@@ -181,10 +181,32 @@ impl HostWatch {
             return;
         }
         self.timed_out.insert(seq);
-        // SAFETY: kill(2) touches no memory of ours; the pid is the shim's ssh, which the
-        // shim waits for (and so has not been reaped while its pid file is there).
-        unsafe {
-            libc::kill(pid, libc::SIGTERM);
+        for child in children_of(pid) {
+            // SAFETY: kill(2) touches no memory of ours; the pid is a child of the shim,
+            // which waits for it (so it has not been reaped and its pid not reused).
+            unsafe {
+                libc::kill(child, libc::SIGTERM);
+            }
         }
     }
+}
+
+/// The processes whose parent is `parent` (from /proc).
+fn children_of(parent: libc::pid_t) -> Vec<libc::pid_t> {
+    let Ok(entries) = std::fs::read_dir("/proc") else {
+        return Vec::new();
+    };
+    entries
+        .flatten()
+        .filter_map(|e| e.file_name().to_str()?.parse::<libc::pid_t>().ok())
+        .filter(|pid| {
+            let stat = std::fs::read_to_string(format!("/proc/{pid}/stat")).unwrap_or_default();
+            // pid (comm) state ppid …: the name may hold spaces and parentheses.
+            let ppid = stat
+                .rsplit_once(") ")
+                .and_then(|(_, rest)| rest.split(' ').nth(1))
+                .and_then(|p| p.parse::<libc::pid_t>().ok());
+            ppid == Some(parent)
+        })
+        .collect()
 }
