@@ -10,6 +10,7 @@ pub mod nearest;
 pub mod reference;
 pub mod render;
 pub mod scenes;
+pub mod slurm;
 
 use std::path::{Path, PathBuf};
 use std::process::{Child, Command, ExitStatus, Output, Stdio};

@@ -19,7 +19,8 @@ use std::process::ExitCode;
 /// file each with -o, with two chunks a job slot at most in $TMPDIR.
 ///
 /// With --slurm-array DIR, nothing is rendered: DIR/render.sbatch is written, a Slurm
-/// job array whose task k renders chunk k to -o's files.
+/// job array whose task k renders chunk k to -o's files, and DIR/check.sbatch, the job
+/// that checks the frames once the tasks have ended (`--check`).
 ///
 /// Exit status: 0 success (also when the reader of the frames goes away); 1 bad input;
 /// 2 bad arguments; 3 a chunk failed on every try (the message names the host(s) and
@@ -53,16 +54,31 @@ struct Cli {
     #[arg(long, value_name = "N", default_value_t = farm::DEFAULT_RETRIES,
           value_parser = clap::value_parser!(u32).range(1..))]
     retries: u32,
+    /// Failed tries in a row after which a host gets no more chunks (while another host
+    /// is left); its first failure is named at once.
+    #[arg(long, value_name = "K", default_value_t = farm::DEFAULT_HOST_FAILURES,
+          value_parser = clap::value_parser!(u32).range(1..))]
+    host_failures: u32,
+    /// Seconds a host may send nothing (no frame byte, no message) before its try fails
+    /// and its chunk is retried elsewhere; 0 waits for ever.
+    #[arg(long, value_name = "S", default_value_t = farm::DEFAULT_HOST_TIMEOUT)]
+    host_timeout: u64,
     /// GNU parallel's job log (default: farm.joblog beside -o's files; with the frames
     /// on stdout, none kept).
     #[arg(long, value_name = "FILE")]
     joblog: Option<PathBuf>,
-    /// Render only the chunks the job log does not call finished (needs -o).
+    /// Render only the chunks the job log does not call finished, or whose frames are
+    /// missing or cut (needs -o; without a job log, every chunk).
     #[arg(long)]
     resume: bool,
     /// Write DIR/render.sbatch, a Slurm job array of the chunks, instead of rendering.
     #[arg(long, value_name = "DIR", conflicts_with_all = ["hosts", "sshloginfile", "resume", "joblog"])]
     slurm_array: Option<PathBuf>,
+    /// With --slurm-array DIR: check the frames the array wrote (each there, whole, all of
+    /// one size) instead of writing DIR's scripts, printing the line that submits the
+    /// tasks of any missing or bad again (status 1 then).
+    #[arg(long, requires = "slurm_array")]
+    check: bool,
     /// One file a frame instead of PPMs on stdout: `%d` or `%0Nd` the frame's number;
     /// .png or .ppm by the extension (zbuf's -o).
     #[arg(short = 'o', value_name = "PATTERN")]
@@ -77,7 +93,7 @@ struct Cli {
     #[arg(default_value = "-")]
     scene: String,
     /// What each host runs, the chunk on its stdin and the frames on its stdout.
-    #[arg(last = true, required = true, value_name = "COMMAND")]
+    #[arg(last = true, required_unless_present = "check", value_name = "COMMAND")]
     command: Vec<String>,
 }
 
@@ -115,6 +131,8 @@ fn main() -> ExitCode {
             stats: cli.stats,
             scene: name.clone(),
             parallel,
+            host_failures: cli.host_failures,
+            host_timeout: cli.host_timeout,
         };
         let input = stagecli::open_input(&cli.scene)?;
         let reader = Reader::<Token, _>::new(input).map_err(|e| stagecli::input_error(&name, e))?;
@@ -130,7 +148,8 @@ fn main() -> ExitCode {
     }
 }
 
-/// --slurm-array DIR: counts the movie's frames and writes DIR/render.sbatch.
+/// --slurm-array DIR: counts the movie's frames and writes DIR/render.sbatch and
+/// DIR/check.sbatch, or with --check checks the frames.
 fn slurm(cli: &Cli, dir: &std::path::Path) -> stagecli::Result<()> {
     let pattern = cli
         .output
@@ -150,28 +169,45 @@ fn slurm(cli: &Cli, dir: &std::path::Path) -> stagecli::Result<()> {
         .display()
         .to_string();
     let dir = absolute(dir)?;
-    let here = std::env::current_exe()
-        .map_err(|e| Error::io(format!("cannot find farm's own folder: {e}")))?;
-    let frames_bin = here.with_file_name("frames");
     let input = stagecli::open_input(&cli.scene)?;
     let reader =
         Reader::<Token, _>::new(input).map_err(|e| stagecli::input_error(&cli.scene, e))?;
     let frames = farm::count_frames(reader).map_err(|e| e.context(&cli.scene))?;
+    if cli.check {
+        let output = Output::files(&pattern, cli.first_frame).map_err(Error::usage)?;
+        let mut out = std::io::stdout();
+        let script = dir.join("render.sbatch");
+        return farm::check_frames_of(&output, frames, cli.chunk, &script, &mut out);
+    }
+    if !farm::sbatch_path_ok(&dir) {
+        return Err(Error::usage(format!(
+            "--slurm-array {}: a folder with a double quote or a newline cannot be named in \
+             an #SBATCH line",
+            dir.display()
+        )));
+    }
+    let here = std::env::current_exe()
+        .map_err(|e| Error::io(format!("cannot find farm's own folder: {e}")))?;
     let script = farm::sbatch_script(&farm::SlurmArray {
         movie,
         frames,
         chunk: cli.chunk,
-        pattern,
+        pattern: pattern.clone(),
         first_frame: cli.first_frame,
-        frames_bin,
+        frames_bin: here.with_file_name("frames"),
         command: cli.command.clone(),
         dir: dir.clone(),
+        farm_bin: here,
     });
-    std::fs::create_dir_all(&dir)
-        .map_err(|e| Error::io(format!("cannot make {}: {e}", dir.display())))?;
+    farm::make_folder(&dir, "the folder")?;
+    let pattern_dir = std::path::Path::new(&pattern).parent();
+    farm::make_folder(pattern_dir.unwrap_or(&dir), "-o's folder")?;
     let path = dir.join("render.sbatch");
-    std::fs::write(&path, script)
-        .map_err(|e| Error::io(format!("cannot write {}: {e}", path.display())))?;
+    let check = dir.join("check.sbatch");
+    for (p, text) in [(&path, script), (&check, farm::check_script(&dir))] {
+        farm::write_whole(p, text.as_bytes())
+            .map_err(|e| Error::io(format!("cannot write {}: {e}", p.display())))?;
+    }
     if cli.stats {
         eprintln!(
             "farm: {}: {} frames in {} array tasks of {}",

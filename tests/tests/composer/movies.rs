@@ -355,8 +355,9 @@ fn a_chunk_that_fails_every_try_names_the_host_and_the_frames_before_it_are_whol
     assert_eq!(out.status.code(), Some(3), "{}", stderr(&out));
     assert_eq!(
         stderr(&out),
-        "farm: host broken: frames 16 to 23, 3 tries: ssh: connect to host broken port 22: \
-         Connection refused\n"
+        "farm: host broken: a try of frames 16 to 23 failed: ssh: connect to host broken \
+         port 22: Connection refused\nfarm: host broken: frames 16 to 23, 3 tries: ssh: \
+         connect to host broken port 22: Connection refused\n"
     );
     assert!(
         out.stdout == want[..16 * FRAME],
@@ -374,8 +375,9 @@ fn a_chunk_that_fails_every_try_names_the_host_and_the_frames_before_it_are_whol
     assert_eq!(out.status.code(), Some(3));
     assert_eq!(
         stderr(&out),
-        "farm: host down: frames 0 to 7, 2 tries: ssh: connect to host down port 22: No \
-         route to host\n"
+        "farm: host down: a try of frames 0 to 7 failed: ssh: connect to host down port \
+         22: No route to host\nfarm: host down: frames 0 to 7, 2 tries: ssh: connect to host \
+         down port 22: No route to host\n"
     );
     assert!(out.stdout.is_empty());
 }
@@ -418,9 +420,13 @@ fn a_chunk_that_fails_its_last_try_while_another_runs_is_the_one_named() {
     assert_eq!(
         stderr(&out),
         format!(
-            "farm: hosts {}, {}: frames 8 to 15, 2 tries, the last on {}: ssh: connect to \
-             host {} port 22: Connection refused\n",
-            tried[0], tried[1], tried[1], tried[1]
+            "farm: host {a}: a try of frames 8 to 15 failed: ssh: connect to host {a} port \
+             22: Connection refused\nfarm: host {b}: a try of frames 8 to 15 failed: ssh: \
+             connect to host {b} port 22: Connection refused\nfarm: hosts {a}, {b}: frames 8 \
+             to 15, 2 tries, the last on {b}: ssh: connect to host {b} port 22: Connection \
+             refused\n",
+            a = tried[0],
+            b = tried[1],
         )
     );
     assert!(
@@ -545,7 +551,20 @@ fn the_slurm_arrays_tasks_run_here_give_a_local_runs_frames() {
         .output()
         .unwrap();
     assert_eq!(check.status.code(), Some(1));
-    assert!(stderr(&check).ends_with("render.sbatch: 60 of 60 frames missing\n"));
+    assert_eq!(
+        stderr(&check),
+        "farm: 60 of 60 frames missing or bad, of array tasks 0,1,2,3: the line above \
+         submits them again\n"
+    );
+    let said = String::from_utf8_lossy(&check.stdout).into_owned();
+    assert_eq!(
+        said.lines().next().unwrap(),
+        format!("frame 0 ({}/f00000.png): missing", array.display())
+    );
+    assert_eq!(
+        said.lines().last().unwrap(),
+        format!("sbatch --array=0,1,2,3 '{}'", script.display())
+    );
     for k in 0..4 {
         let task = Command::new("bash")
             .arg(&script)
@@ -562,7 +581,7 @@ fn the_slurm_arrays_tasks_run_here_give_a_local_runs_frames() {
     assert!(check.status.success(), "{}", stderr(&check));
     assert_eq!(
         String::from_utf8_lossy(&check.stdout),
-        "render.sbatch: all 60 frames there\n"
+        "all 60 frames there, whole\n"
     );
     assert!(
         pngs(&array) == pngs(&here),

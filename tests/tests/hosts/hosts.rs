@@ -533,6 +533,48 @@ fn a_host_that_cannot_be_reached_is_named() {
 }
 
 #[test]
+fn a_host_dead_from_the_start_is_named_at_once_and_dropped_after_two_failures() {
+    let _serial = hosts::serial();
+    let Some(hosts) = Hosts::start(&[Host::Serving, Host::Unreachable]) else {
+        return;
+    };
+    let tmp = local_tmp(&hosts);
+    let movie = scene_file(hosts.dir(), "spheres.pp", &["spheres", "--frames", "8"]);
+    let m = movie.display().to_string();
+    let args = [
+        "--hosts",
+        "node1,node2",
+        "--size",
+        "32x32",
+        "--chunk",
+        "1",
+        &m,
+    ];
+    let (out, _) = render_frames(&hosts, &tmp, &args, b"");
+    assert!(out.status.success(), "{}", stderr(&out));
+    assert!(
+        out.stdout == render_locally(&format!("--size 32x32 {m}")),
+        "the frames differ from a local run's"
+    );
+    let (address, port) = hosts.address(1);
+    let err = stderr(&out);
+    let ours: Vec<&str> = err.lines().filter(|l| l.starts_with("farm: ")).collect();
+    assert_eq!(ours.len(), 2, "{err}");
+    assert!(
+        ours[0].starts_with("farm: host node2: a try of frame ")
+            && ours[0].ends_with(&format!(
+                " failed: ssh: connect to host {address} port {port}: Connection refused"
+            )),
+        "{err}"
+    );
+    assert_eq!(
+        ours[1],
+        "farm: host node2: 2 failed tries in a row; it gets no more chunks"
+    );
+    assert_nothing_left(&hosts, 2, &tmp);
+}
+
+#[test]
 fn a_host_that_refuses_the_command_is_named() {
     // node2 lets the key in only to run `false`, whatever is asked.
     let _serial = hosts::serial();
