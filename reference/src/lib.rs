@@ -122,8 +122,8 @@ fn cut_coloured_at_hither(
             out_colours.push(ca);
         }
         if (a.z >= k1) != (b.z >= k1) {
-            let t = (k1 - a.z) / (b.z - a.z);
-            let mut p = a + (b - a) * t;
+            let t = crossing_at(k1, a.z, b.z);
+            let mut p = lerp(a, b, t);
             p.z = k1;
             p.w = k1 * w_per_z;
             out.push(p);
@@ -131,6 +131,27 @@ fn cut_coloured_at_hither(
         }
     }
     (out, out_colours)
+}
+
+/// The parameter t at which z goes from `a` to `b` through `k`: `(k − a)/(b − a)`, or,
+/// where that overflows (ends near ±f64::MAX), the same with every term halved.
+fn crossing_at(k: f64, a: f64, b: f64) -> f64 {
+    let t = (k - a) / (b - a);
+    if t.is_finite() {
+        t
+    } else {
+        (k * 0.5 - a * 0.5) / (b * 0.5 - a * 0.5)
+    }
+}
+
+/// `a + (b − a)·t`, or, where that overflows, `a·(1 − t) + b·t`.
+fn lerp(a: DVec4, b: DVec4, t: f64) -> DVec4 {
+    let p = a + (b - a) * t;
+    if p.is_finite() {
+        p
+    } else {
+        a * (1.0 - t) + b * t
+    }
 }
 
 /// Cuts an eye-space polygon to the half-space z_e ≥ K1 (one plane, inline: each edge
@@ -169,14 +190,43 @@ fn cut_at_yon(vertices: &[DVec4], k2: f64, w_per_z: f64) -> Vec<DVec4> {
         }
         if (a.z <= k2) != (b.z <= k2) {
             let (from, to) = if a.z <= k2 { (a, b) } else { (b, a) };
-            let t = (k2 - from.z) / (to.z - from.z);
-            let mut p = from + (to - from) * t;
+            let t = crossing_at(k2, from.z, to.z);
+            let mut p = lerp(from, to, t);
             p.z = k2;
             p.w = k2 * w_per_z;
             out.push(p);
         }
     }
     out
+}
+
+/// Projected coordinates beyond this, in pixels, are first cut to [`GUARD`].
+const HUGE: f64 = 1e300;
+
+/// The guard band's half-width, in half-screens: the planes x_e = ±G·aspect·w and
+/// y_e = ±G·w, 2^20 screens off the screen's edges.
+const GUARD: f64 = (1u64 << 20) as f64;
+
+/// An eye-space polygon cut to the guard band's four planes by the clippers' own
+/// Sutherland–Hodgman step ([`proto::geometry::clip_against`]: its crossing is put
+/// exactly on the plane, and computed scaled down where the coordinates' sums would
+/// overflow). The screen's edges lie far inside the band, so the cut changes no pixel:
+/// the points it removes project beyond the screen.
+fn cut_to_guard(vertices: &[DVec4], aspect: f64) -> Vec<DVec4> {
+    use proto::geometry::{clip_against, Plane};
+    let (g, ga) = (GUARD, GUARD * aspect);
+    let mut pts = vertices.to_vec();
+    let mut out = Vec::with_capacity(pts.len() + 4);
+    for n in [
+        DVec4::new(1.0, 0.0, 0.0, ga),
+        DVec4::new(-1.0, 0.0, 0.0, ga),
+        DVec4::new(0.0, -1.0, 0.0, g),
+        DVec4::new(0.0, 1.0, 0.0, g),
+    ] {
+        clip_against(&pts, &Plane::new(n, 0.0), &mut out);
+        std::mem::swap(&mut pts, &mut out);
+    }
+    pts
 }
 
 /// `a·b` for three-vectors, as accurately as if computed in twice the working precision
@@ -251,9 +301,11 @@ impl Setup {
 
     /// Eye-space vertices, hither cut, projection and plane of a world-space polygon;
     /// `None` for a polygon that can cover no pixel (fewer than three vertices, no area,
-    /// nothing in front of the hither plane). A polygon the reference cannot compute
-    /// exactly enough is refused, the message saying why: one whose eye coordinates or
-    /// screen projection overflow f64.
+    /// nothing in front of the hither plane). A polygon whose projection overflows f64
+    /// (a vertex at ±1e308 off the screen's side) is first cut to a guard band around the
+    /// view, as the pipeline's clippers cut it to the view, and drawn as they draw it. A
+    /// polygon the reference cannot compute exactly enough is refused, the message saying
+    /// why: one whose eye coordinates overflow f64 (as viewxf refuses it).
     fn prepare(&self, poly: &Polygon) -> Result<Option<Prepared>, String> {
         if poly.vertices.len() < 3 {
             return Ok(None);
@@ -279,6 +331,12 @@ impl Setup {
         if front.len() < 3 {
             return Ok(None);
         }
+        if let Some(v) = front.iter().find(|v| !v.is_finite()) {
+            return Err(format!(
+                "cut at hither and yon, a vertex is ({:?} {:?} {:?} {:?}): too large for f64",
+                v.x, v.y, v.z, v.w
+            ));
+        }
         if plane.truncate() == DVec3::ZERO {
             // No plane: a polygon of no net area, e.g. a bowtie whose lobes cancel. Its
             // lobes still cover pixels by the even-odd rule; give it the depth of its
@@ -288,13 +346,26 @@ impl Setup {
             plane = DVec4::new(0.0, 0.0, 1.0, -nearest);
         }
         let device = self.device();
-        let points: Vec<DVec2> = front
+        let project = |front: &[DVec4]| -> Vec<DVec2> {
+            front
+                .iter()
+                .map(|&v| {
+                    let (x, y) = device.project(v);
+                    DVec2::new(x, y)
+                })
+                .collect()
+        };
+        let mut points = project(&front);
+        // A vertex so far off the screen that its projection overflows (or is too large
+        // for the cut to the screen's sums): the part of the polygon within a guard band
+        // around the view is what covers the screen, as the pipeline's clippers keep the
+        // part within the pyramid.
+        if points
             .iter()
-            .map(|&v| {
-                let (x, y) = device.project(v);
-                DVec2::new(x, y)
-            })
-            .collect();
+            .any(|p| !p.is_finite() || p.abs().max_element() > HUGE)
+        {
+            points = project(&cut_to_guard(&front, self.view.aspect));
+        }
         if let Some(p) = points.iter().find(|p| !p.is_finite()) {
             return Err(format!(
                 "a vertex projects to ({:?}, {:?}) on the screen: too far off it for f64",

@@ -140,11 +140,13 @@ impl SupersampledFrame {
             depth[..n].fill(f64::INFINITY);
             colour[..n].fill(self.background);
             // The point rule at every sample of the band: polygons in stream order, a
-            // strictly nearer depth replaces, so the earlier polygon keeps a tie.
+            // later one takes a sample only by the tie rule (nearer by more than 2⁻³⁰ of
+            // the holder's depth, [`proto::depth::takes`]), as at a pixel centre: the
+            // earlier polygon keeps a tie.
             for p in &self.polygons {
                 self.fine.for_each_covered_in(p, band.clone(), |c, r, z| {
                     let i = (r - r0) as usize * fine_w + c as usize;
-                    if z < depth[i] {
+                    if proto::depth::takes(z, depth[i]) {
                         depth[i] = z;
                         colour[i] = p.colour_at(c, r);
                     }

@@ -314,18 +314,27 @@ fn planes_of_huge_polygons_do_not_overflow() {
 }
 
 #[test]
-fn a_polygon_projecting_beyond_f64_is_refused() {
-    // x_e = 1.7e308 at the hither distance projects to about 2.7e308 · W/2: infinite.
-    let s = setup(4, 4);
+fn a_polygon_projecting_beyond_f64_is_cut_to_the_guard_band_and_drawn() {
+    // x_e = 1.7e308 at the hither distance projects to about 2.7e308 · W/2: infinite. It
+    // was refused while the pipeline, which clips before it projects, drew it; cut to the
+    // guard band first, it is drawn as the band y_e in (−1, 1) it is on the screen.
+    let s = setup(8, 8);
     let p = Polygon::from_xyz(
         R,
         &[[1.7e308, 0.0, 19.0], [0.0, 1.0, 19.0], [0.0, -1.0, 19.0]],
     );
-    let e = render_frame(&[p], &s, K).unwrap_err();
-    assert!(
-        e.starts_with("polygon 0: a vertex projects to (inf, "),
-        "{e}"
+    let band = Polygon::from_xyz(
+        R,
+        &[
+            [1e6, 1.0, 19.0],
+            [0.0, 1.0, 19.0],
+            [0.0, -1.0, 19.0],
+            [1e6, -1.0, 19.0],
+        ],
     );
+    let drawn = render_frame(&[p], &s, K).unwrap();
+    assert_eq!(drawn, render_frame(&[band], &s, K).unwrap());
+    assert!(drawn.contains(&R), "{drawn:?}");
 }
 
 #[test]

@@ -15,8 +15,9 @@
 //! 2. the screen bounding boxes of the vertices do not overlap;
 //! 3. every vertex of P lies behind Q's plane (or on it);
 //! 4. every vertex of Q lies in front of P's plane (or on it);
-//! 5. the projections do not overlap: no two edges cross, no vertex of one lies inside
-//!    the other.
+//! 5. the projections do not overlap: a line through an edge of one has it on one side
+//!    and the other on the other (for polygons not convex, failing that: no two edges
+//!    cross, no vertex of one lies inside the other, the outlines do not touch).
 //!
 //! All five are decided on the polygons' geometry: the screen vertices (X, Y, depth),
 //! their planes (`a·X + b·Y + c·depth + d = 0`, persp's recorded plane or Newell's), their
@@ -31,7 +32,8 @@
 //! the pieces re-enter the sort at the head of the list, unmarked. Without the splitting
 //! step, or once the frame's *cut budget* is spent, the cycle is painted in the order at
 //! hand: the failure is kept and counted ([`PainterStats::given_up`]), and `painter` says
-//! so on stderr.
+//! so on stderr. After the frame is painted, the centres beside each cut line that the
+//! snapped pieces gave to the polygon behind there are mended ([`PainterStats::mended`]).
 //!
 //! ## Departures
 //!
@@ -106,6 +108,11 @@ pub struct PainterStats {
     pub apart: u64,
     /// Frames whose cut budget was spent.
     pub budget_spent: u64,
+    /// Pixels beside a cut line that the pieces' outlines gave to the polygon behind
+    /// there, repainted in the one in front ([`Painter::mend_cut_lines`]).
+    pub mended: u64,
+    /// Frames whose cut lines were not all checked (the check's budget spent): said.
+    pub unchecked: u64,
 }
 
 /// How far a cut moves the cutting plane in depth, relative to its depth scale
@@ -318,10 +325,86 @@ fn strictly_inside(p: DVec2, poly: &[DVec2]) -> bool {
     inside
 }
 
+/// Whether `c` lies on the far side of the line through the edge (a, b) from the polygon,
+/// or on it to within a rounding band: `side` is the sign the polygon's own vertices
+/// take (+1 or −1).
+#[inline]
+fn beyond(a: DVec2, b: DVec2, c: DVec2, side: f64) -> bool {
+    let band = 1e-10 * (b - a).length_squared().max(f64::MIN_POSITIVE);
+    orient(a, b, c) * side <= band
+}
+
+/// The side (+1 or −1) of the line through the edge (a, b) on which every vertex of
+/// `poly` lies, to within the band (a *supporting* edge), if there is one.
+fn supporting_side(a: DVec2, b: DVec2, poly: &[DVec2]) -> Option<f64> {
+    let band = 1e-10 * (b - a).length_squared().max(f64::MIN_POSITIVE);
+    let (mut pos, mut neg) = (false, false);
+    for &v in poly {
+        let o = orient(a, b, v);
+        pos |= o > band;
+        neg |= o < -band;
+    }
+    match (pos, neg) {
+        (true, false) => Some(1.0),
+        (false, true) => Some(-1.0),
+        _ => None,
+    }
+}
+
+/// Whether a line through an edge of `pp` that has all of `pp` on one side has all of
+/// `qq` on the other (or on the line): the projections' interiors are then disjoint,
+/// whatever their shapes. Also says whether every edge of `pp` was such an edge (`pp` is
+/// convex).
+fn separated_by_an_edge_of(pp: &[DVec2], qq: &[DVec2]) -> (bool, bool) {
+    let n = pp.len();
+    let mut convex = true;
+    for i in 0..n {
+        let (a, b) = (pp[i], pp[(i + 1) % n]);
+        if a == b {
+            continue;
+        }
+        match supporting_side(a, b, pp) {
+            Some(side) => {
+                if qq.iter().all(|&c| beyond(a, b, c, side)) {
+                    return (true, convex);
+                }
+            }
+            None => convex = false,
+        }
+    }
+    (false, convex)
+}
+
+/// Whether `p` lies on the segment (a, b), to within the band of [`edges_cross`].
+fn on_segment(p: DVec2, a: DVec2, b: DVec2) -> bool {
+    let band = 1e-10 * (b - a).length_squared().max(f64::MIN_POSITIVE);
+    orient(a, b, p).abs() <= band && (p - a).dot(b - a) >= 0.0 && (p - b).dot(a - b) >= 0.0
+}
+
 /// Test 5's question: do the projections of two polygons share an interior point?
+///
+/// A line through an edge of either that has that polygon on one side and the other on
+/// the other side shows they do not (the separating axis: for two convex polygons, the
+/// pieces of a cut, there is such an edge exactly when they share no interior point).
+/// For a polygon that is not convex, they share one if two edges cross, a vertex of one
+/// lies inside the other, or (not knowing better) the outlines touch: edges crossing and
+/// vertices inside alone miss two wedges with a common apex whose edges lie along each
+/// other (the pieces of planes that all pass through one point), which overlap with no
+/// edge crossing and no vertex strictly inside.
 fn projections_overlap(p: &Polygon, q: &Polygon) -> bool {
     let pp: Vec<DVec2> = p.vertices.iter().map(|v| v.truncate().truncate()).collect();
     let qq: Vec<DVec2> = q.vertices.iter().map(|v| v.truncate().truncate()).collect();
+    let (apart, p_convex) = separated_by_an_edge_of(&pp, &qq);
+    if apart {
+        return false;
+    }
+    let (apart, q_convex) = separated_by_an_edge_of(&qq, &pp);
+    if apart {
+        return false;
+    }
+    if p_convex && q_convex {
+        return true;
+    }
     let (n, m) = (pp.len(), qq.len());
     for i in 0..n {
         let (a, b) = (pp[i], pp[(i + 1) % n]);
@@ -331,12 +414,15 @@ fn projections_overlap(p: &Polygon, q: &Polygon) -> bool {
             }
         }
     }
-    let centroid = |v: &[DVec2]| v.iter().copied().sum::<DVec2>() / v.len() as f64;
+    let touches = |vs: &[DVec2], poly: &[DVec2]| {
+        let k = poly.len();
+        vs.iter()
+            .any(|&v| (0..k).any(|j| on_segment(v, poly[j], poly[(j + 1) % k])))
+    };
     pp.iter().any(|&v| strictly_inside(v, &qq))
         || qq.iter().any(|&v| strictly_inside(v, &pp))
-        // Equal outlines: every vertex on the other's boundary.
-        || strictly_inside(centroid(&pp), &qq)
-        || strictly_inside(centroid(&qq), &pp)
+        || touches(&pp, &qq)
+        || touches(&qq, &pp)
 }
 
 /// The first of the five tests that shows P may be painted before Q (P hides no part of
@@ -542,11 +628,14 @@ pub struct Painter {
     walker: SpanWalker,
     /// The colour-only frame, row-major (no depth buffer).
     frame: Vec<Option<Colour>>,
-    /// The item painted last at each pixel, row-major, from the frame's first cycle
-    /// painted out of order on (empty until then): kept only to judge, at the end of the
-    /// frame, whether the pixels such a cycle painted are wrong (never to decide what is
-    /// painted).
+    /// The item painted last at each pixel, row-major, from the frame's first cut or
+    /// cycle painted out of order on (empty until then): kept only to mend the pixels
+    /// beside the cut lines and to judge, at the end of the frame, whether the pixels such
+    /// a cycle painted are wrong (never to decide the order of painting).
     owner: Vec<u32>,
+    /// The pairs of whole polygons (indices in the frame) one of which was cut by the
+    /// other's plane in this frame, each once.
+    cut_pairs: Vec<(usize, usize)>,
     /// The stream's lighting, for Phong shading.
     lighting: Option<Arc<Lighting>>,
     /// Frames resolved so far: the number of the next one (from 0, as the stream's
@@ -560,6 +649,11 @@ pub struct Painter {
 /// The pixel tests spent judging whether the cycles painted out of order in a frame left
 /// a pixel wrong, per pixel of the screen: past them, a cycle counts as wrong unjudged.
 const JUDGED_PER_PIXEL: u64 = 64;
+
+/// How far from a line of equal depth, in pixels, a pixel centre is checked by
+/// [`Painter::mend_cut_lines`]: the pieces' vertices on a cut are snapped to 1/256 pixel
+/// by the scan converter (docs/DESIGN.md, "Coverage"), moving the cut by at most 1/256.
+const CUT_LINE_BAND: f64 = 1.0 / 32.0;
 
 /// The default cut budget: `CUTS_PER_POLYGON·n + CUTS_BASE` cuts for a frame of n
 /// polygons.
@@ -695,6 +789,133 @@ impl Painter {
         wrong
     }
 
+    /// Mends the pixels beside the frame's cut lines. A cut's pieces cover exactly the
+    /// whole's pixels, but their vertices on the cut line are snapped to 1/256 pixel as
+    /// every vertex is, so a pixel centre within 1/256 pixel of the line where two planes
+    /// have equal depth may fall in the piece that is behind there, while the z-buffer
+    /// compares the two depths at the centre. For each pair of polygons one of which was
+    /// cut by the other's plane, every centre within [`CUT_LINE_BAND`] pixel of their line
+    /// of equal depth that is held by one of the two while the other covers it (by the
+    /// sampling rule) and is in front there (on the z-buffer's depth planes, by the tie
+    /// rule) is repainted in the one in front. At most [`JUDGED_PER_PIXEL`] centres a pixel
+    /// of the screen are looked at; false when that ran out before every line was checked.
+    fn mend_cut_lines(
+        &mut self,
+        polygons: &[Polygon],
+        items: &[Item],
+        planes: &mut [Option<DepthPlane>],
+        width: u32,
+        height: u32,
+    ) -> bool {
+        // An item of each whole polygon, to hold a repainted pixel.
+        let mut item_of = vec![u32::MAX; polygons.len()];
+        for (k, it) in items.iter().enumerate() {
+            item_of[it.index] = k as u32;
+        }
+        let mut budget = JUDGED_PER_PIXEL * width as u64 * height as u64;
+        let pairs = std::mem::take(&mut self.cut_pairs);
+        let mut complete = true;
+        'pairs: for &(x, b) in &pairs {
+            let px = *planes[x].get_or_insert_with(|| DepthPlane::of(&polygons[x]));
+            let pb = *planes[b].get_or_insert_with(|| DepthPlane::of(&polygons[b]));
+            // The difference of the depths, A + c·D along row r; its step down a row.
+            let diff = |r: u32| {
+                let ((zx, dx), (zb, db)) = (px.row(r), pb.row(r));
+                (
+                    zx - zb,
+                    dx - db,
+                    zx.abs() + zb.abs() + (dx.abs() + db.abs()) * width as f64,
+                )
+            };
+            let (a0, d, _) = diff(0);
+            let step = diff(1).0 - a0;
+            let band = CUT_LINE_BAND * d.hypot(step);
+            for r in 0..height {
+                let (a, d, size) = diff(r);
+                // Within the band, or within the tie rule's width of equal depth.
+                let tol = band + 4.0 * proto::depth::TIE * size;
+                let cols = if d != 0.0 {
+                    let (u, v) = ((-a - tol) / d, (-a + tol) / d);
+                    let (lo, hi) = (u.min(v).floor().max(0.0), u.max(v).ceil());
+                    if lo.is_nan() || hi.is_nan() || lo > hi || hi < 0.0 || lo >= width as f64 {
+                        continue;
+                    }
+                    lo as u32..(hi as u32).saturating_add(1).min(width)
+                } else if a.abs() <= tol {
+                    0..width
+                } else {
+                    continue;
+                };
+                if budget < cols.len() as u64 {
+                    complete = false;
+                    break 'pairs;
+                }
+                budget -= cols.len() as u64;
+                for c in cols {
+                    self.mend_pixel(polygons, items, &item_of, (x, b), (px, pb), c, r, width);
+                }
+            }
+        }
+        self.cut_pairs = pairs;
+        complete
+    }
+
+    /// [`Painter::mend_cut_lines`] at pixel (c, r), for the wholes `x` and `b` whose depth
+    /// planes are `px` and `pb`.
+    #[allow(clippy::too_many_arguments)]
+    fn mend_pixel(
+        &mut self,
+        polygons: &[Polygon],
+        items: &[Item],
+        item_of: &[u32],
+        (x, b): (usize, usize),
+        (px, pb): (DepthPlane, DepthPlane),
+        c: u32,
+        r: u32,
+        width: u32,
+    ) {
+        let at = r as usize * width as usize + c as usize;
+        let held = match self.owner[at] {
+            u32::MAX => None,
+            o => Some(items[o as usize].index),
+        };
+        if held.is_some_and(|h| h != x && h != b) {
+            return;
+        }
+        let (zx, zb) = (px.at(c, r), pb.at(c, r));
+        // x < b: the earlier, x, keeps a tie.
+        let (front, back) = if takes(zb, zx) { (b, x) } else { (x, b) };
+        if held == Some(front) {
+            return;
+        }
+        let walker = &mut self.walker;
+        let mut covers = |i: usize| {
+            let mut inside = false;
+            walker.for_each_span_in(&polygons[i], width, r..r + 1, |s| {
+                inside |= s.x0 <= c && c < s.x1;
+            });
+            inside
+        };
+        let to = if covers(front) {
+            front
+        } else if held.is_none() && covers(back) {
+            back
+        } else {
+            return;
+        };
+        if item_of[to] == u32::MAX {
+            return;
+        }
+        let shading = Shading::of(&polygons[to], self.lighting.as_ref());
+        let pixel = &mut self.frame[at];
+        match shading {
+            None => *pixel = Some(polygons[to].colour),
+            Some(sh) => shaded_runs(&sh, r, c..c + 1, |_, _, colour| *pixel = Some(colour)),
+        }
+        self.owner[at] = item_of[to];
+        self.stats.mended += 1;
+    }
+
     /// The frame's items, sorted farthest first (at an equal farthest depth, the later
     /// polygon first, so that the earlier ends in front).
     fn items(polygons: &[Polygon]) -> Vec<Item> {
@@ -747,6 +968,11 @@ impl Painter {
             let Some((front, back)) = cut(&items[xi], &items[bi]) else {
                 continue;
             };
+            let pair = (items[xi].index, items[bi].index);
+            let pair = (pair.0.min(pair.1), pair.0.max(pair.1));
+            if !self.cut_pairs.contains(&pair) {
+                self.cut_pairs.push(pair);
+            }
             list.remove(x);
             // The pieces re-enter the sort, each at its farthest depth.
             for piece in [front, back] {
@@ -803,6 +1029,7 @@ impl HiddenSurface for Painter {
         // Kept from the first cycle painted out of order on (the pixels judged are all
         // painted from then on); a frame without one allocates nothing.
         self.owner.clear();
+        self.cut_pairs.clear();
         let mut items = Self::items(polygons);
         self.stats.polygons += items.len() as u64;
         let budget = self.cut_budget(items.len());
@@ -874,6 +1101,10 @@ impl HiddenSurface for Painter {
                     if cuts < budget {
                         if self.split_cycle(&mut items, &mut list, k, generation) {
                             cuts += 1;
+                            if self.owner.is_empty() {
+                                self.owner
+                                    .resize(width as usize * height as usize, u32::MAX);
+                            }
                             continue 'list;
                         }
                     } else {
@@ -900,12 +1131,20 @@ impl HiddenSurface for Painter {
             moves = 0;
         }
         self.stats.budget_spent += spent as u64;
+        let mut planes: Vec<Option<DepthPlane>> = Vec::new();
+        if !self.owner.is_empty() {
+            planes.resize(polygons.len(), None);
+        }
+        let mut checked = true;
+        if !self.cut_pairs.is_empty() {
+            checked = self.mend_cut_lines(polygons, &items, &mut planes, width, height);
+            self.stats.unchecked += !checked as u64;
+        }
         // A cycle painted out of order is a failure where it left a pixel wrong: judged
         // on P's pixels against the polygon painted last there, up to JUDGED_PER_PIXEL
         // pixel tests a pixel of the screen in the frame.
         let mut given_up = 0u64;
         if !out_of_order.is_empty() {
-            let mut planes: Vec<Option<DepthPlane>> = vec![None; polygons.len()];
             let mut budget = JUDGED_PER_PIXEL * width as u64 * height as u64;
             for &p in &out_of_order {
                 if self.left_a_pixel_wrong(
@@ -925,6 +1164,17 @@ impl HiddenSurface for Painter {
         }
         self.stats.given_up += given_up;
         self.note = self.note_of(self.frames, given_up, spent, budget);
+        if !checked {
+            let line = format!(
+                "frame {}: the pixels beside the cut lines were not all checked: the picture \
+                 may be wrong beside them",
+                self.frames
+            );
+            self.note = Some(match self.note.take() {
+                Some(n) => format!("{n}; {}", &line[line.find(": ").unwrap_or(0) + 2..]),
+                None => line,
+            });
+        }
         self.frames += 1;
         for (y, row) in self.frame.chunks_exact(width.max(1) as usize).enumerate() {
             push_row_runs(y as u32, row, runs);
@@ -946,7 +1196,7 @@ impl HiddenSurface for Painter {
             .map(|(i, (name, n))| format!("test {} ({name}) {n}", i + 1))
             .collect();
         format!(
-            "{} polygons sorted, {} painted, pairs resolved by {}, {} unresolved, {} swaps, {} cycles, {} splits, {} cycles painted out of order, {} out of order that left no pixel wrong",
+            "{} polygons sorted, {} painted, pairs resolved by {}, {} unresolved, {} swaps, {} cycles, {} splits, {} cycles painted out of order, {} out of order that left no pixel wrong, {} pixels beside cut lines mended",
             s.polygons,
             s.painted,
             tests.join(", "),
@@ -955,7 +1205,8 @@ impl HiddenSurface for Painter {
             s.cycles,
             s.splits,
             s.given_up,
-            s.apart
+            s.apart,
+            s.mended
         )
     }
 }

@@ -260,6 +260,14 @@ enum ScreenScene {
         #[arg(long, default_value_t = 1)]
         seed: u64,
     },
+    /// N full-screen planes that all pass through each other: corners at depths a, b,
+    /// 1 − a, 1 − b (random a, b), every plane at depth 0.5 at the centre.
+    Through {
+        #[arg(value_parser = hostile_count)]
+        count: usize,
+        #[arg(long, default_value_t = 1)]
+        seed: u64,
+    },
     /// N strips a pixel wide whose order along a line reverses from top to bottom.
     Reversing {
         #[arg(value_parser = hostile_count)]
@@ -308,6 +316,7 @@ impl ScreenScene {
             ScreenScene::Crossings { count } => screen::crossings(count, size),
             ScreenScene::Parallel { count, seed } => screen::parallel(count, seed, size),
             ScreenScene::Tilted { count, seed } => screen::tilted(count, seed, size),
+            ScreenScene::Through { count, seed } => screen::through(count, seed, size),
             ScreenScene::Reversing { count } => screen::reversing(count, size),
             ScreenScene::Stack { count } => screen::stack(count, size),
             ScreenScene::Slivers { count, seed } => screen::slivers(count, seed, size),

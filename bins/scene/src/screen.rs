@@ -106,6 +106,31 @@ pub fn tilted(d: usize, seed: u64, size: Size) -> Vec<Polygon> {
         .collect()
 }
 
+/// `scene screen through D`: D full-screen planes that all pass through each other, each
+/// with random depths a and b in (0.05, 0.95) at its top corners and 1 − a and 1 − b at
+/// the corners opposite them: every plane holds depth 0.5 at the screen's centre, and
+/// every pair crosses on a line through it, so no depth order exists (a depth sort must
+/// cut them all, the painter's hardest case).
+pub fn through(d: usize, seed: u64, size: Size) -> Vec<Polygon> {
+    let mut rng = fastrand::Rng::with_seed(seed);
+    let (w, h) = (size.width, size.height);
+    (0..d)
+        .map(|k| {
+            let a = 0.05 + 0.9 * rng.f64();
+            let b = 0.05 + 0.9 * rng.f64();
+            Polygon::from_xyz(
+                hostile_colour(k),
+                &[
+                    [0.0, 0.0, a],
+                    [w, 0.0, b],
+                    [w, h, 1.0 - a],
+                    [0.0, h, 1.0 - b],
+                ],
+            )
+        })
+        .collect()
+}
+
 /// `scene screen reversing N`: N strips a pixel wide running from the top of the screen
 /// to the bottom, strip i from x = 0.1 + i·W/N at the top to x = W − 0.9 − i·W/N at
 /// the bottom, at depths 0.1 + 0.8·i/N: their order along a scan line at the top is
@@ -283,6 +308,24 @@ mod tests {
         // The same seed, the same scene; another seed, another.
         assert_eq!(parallel(16, 3, S), parallel(16, 3, S));
         assert_ne!(tilted(16, 3, S), tilted(16, 4, S));
+    }
+
+    #[test]
+    fn through_planes_all_hold_half_at_the_centre() {
+        let scene = through(7, 5, S);
+        assert_eq!(scene.len(), 7);
+        for p in &scene {
+            let v = xyz(p);
+            assert_eq!(
+                [v[0][0], v[0][1], v[2][0], v[2][1]],
+                [0.0, 0.0, 500.0, 400.0]
+            );
+            assert_eq!(v[0][2] + v[2][2], 1.0);
+            assert_eq!(v[1][2] + v[3][2], 1.0);
+            assert!((0.05..0.95).contains(&v[0][2]) && (0.05..0.95).contains(&v[1][2]));
+        }
+        assert_eq!(through(7, 5, S), through(7, 5, S));
+        assert_ne!(through(7, 5, S), through(7, 6, S));
     }
 
     #[test]

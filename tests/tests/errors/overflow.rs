@@ -132,3 +132,55 @@ fn the_reference_draws_a_triangle_at_1e307() {
     assert!(piped.status.success(), "{}", stderr(&piped));
     assert_eq!(parse_ppm_stream(&piped.stdout).unwrap(), exact);
 }
+
+/// `render` filled the screen with a triangle at ±1e308 while `zspec` exited 1 ("a
+/// vertex projects to (-inf, inf) on the screen"): the reference now cuts such a polygon
+/// to a guard band around the view before projecting it, as the pipeline's clippers cut it
+/// to the view, and both draw the same bytes, at ±1e308 and at its neighbours.
+#[test]
+fn the_reference_and_render_draw_the_same_huge_triangles() {
+    for v in ["1.7e308", "1e308", "1e300", "1e154", "1e30"] {
+        for (a, b) in [("0", "0"), ("1", "-1"), ("-3", "5")] {
+            let triangle = format!(
+                "polypipe 1 world\ncolour 255 0 0\n-{v} -{v} {a}\n{v} -{v} {a}\n0 {v} {b}\nEND\n"
+            );
+            let exact = sh("zspec --size 16x16", triangle.as_bytes());
+            assert!(exact.status.success(), "{v}: {}", stderr(&exact));
+            let exact = parse_ppm_stream(&exact.stdout).unwrap();
+            // Every pixel red: the triangle holds the whole view.
+            assert!(
+                exact[0].pixels.iter().all(|p| *p == [255, 0, 0]),
+                "{v} {a} {b}"
+            );
+            let rendered = sh("render --size 16x16 -", triangle.as_bytes());
+            assert!(rendered.status.success(), "{v}: {}", stderr(&rendered));
+            assert_eq!(
+                parse_ppm_stream(&rendered.stdout).unwrap(),
+                exact,
+                "{v} {a} {b}"
+            );
+        }
+    }
+}
+
+/// What is not a number is bad data to both, status 1, the same message but for the
+/// stage's name (render's viewxf reads it).
+#[test]
+fn the_reference_and_render_refuse_inf_and_nan_alike() {
+    for bad in ["inf", "-inf", "nan"] {
+        let triangle = format!("polypipe 1 world\ncolour 255 0 0\n0 0 0\n1 0 0\n{bad} 1 0\nEND\n");
+        let said = format!(
+            "line 5, column 1: x of vertex 2 (3 numbers a vertex in world space) is `{bad}`; \
+             coordinates must be finite\n"
+        );
+        let exact = sh("zspec --size 16x16", triangle.as_bytes());
+        assert_eq!(exact.status.code(), Some(1), "{bad}");
+        assert_eq!(stderr(&exact), format!("zspec: {said}"));
+        let rendered = sh("render --size 16x16 -", triangle.as_bytes());
+        assert_eq!(rendered.status.code(), Some(1), "{bad}");
+        assert_eq!(
+            stderr(&rendered),
+            format!("viewxf: {said}render: viewxf failed (status 1)\n")
+        );
+    }
+}

@@ -61,10 +61,15 @@ fn five_crossing_planes_are_cut_in_silence_fifty_spend_the_budget_and_say_so() {
     // wrong, so none is said. One centre, (136, 69), lies 0.00003 pixel from the line
     // where two of the planes have equal depth: the cut's ends are snapped to 1/256
     // pixel while the z-buffer compares the depths at the centre (docs/DESIGN.md,
-    // "Coverage"), and it takes the other plane's colour.
+    // "Coverage"), and the piece behind there covers it: it is mended.
     let (z, _) = frames(&stream(5), "scanconv --resolve", b"");
-    let (s, said) = frames(&stream(5), "painter --split", b"");
-    assert_eq!((z[0].differences(&s[0]).len(), said.as_str()), (1, ""));
+    let (s, said) = frames(&stream(5), "painter --split --stats", b"");
+    assert_eq!(z[0].differences(&s[0]).len(), 0);
+    assert!(
+        said.ends_with(", 1 pixels beside cut lines mended\n"),
+        "{said}"
+    );
+    assert_eq!(said.lines().count(), 1, "{said}");
     // Without --split the same five are painted wrong, and said.
     let (p, said) = frames(&stream(5), "painter", b"");
     assert!(
@@ -143,7 +148,7 @@ fn a_cycle_that_leaves_no_pixel_wrong_is_not_said() {
     let (s, said) = frames(stream, "painter --split --stats", b"");
     assert_eq!(z[0].differences(&s[0]).len(), 0);
     assert!(
-        said.contains(", 0 cycles painted out of order, 1 out of order that left no pixel wrong\n"),
+        said.contains(", 0 cycles painted out of order, 1 out of order that left no pixel wrong, 0 pixels beside cut lines mended\n"),
         "{said}"
     );
     assert_eq!(said.lines().count(), 1, "{said}");
@@ -178,17 +183,87 @@ fn render_sh_says_the_cyclic_bars_at_depth_0_and_nothing_where_right() {
     assert_eq!((z.differences(&p).len(), said.as_str()), (0, ""));
     let (s, said) = render(&format!("--depth 0 --hse painter --split {bars}"));
     assert_eq!((z.differences(&s).len(), said.as_str()), (0, ""));
-    // Five crossing planes at 500×500 with --split: cut into the z-buffer's picture but
-    // for two centres a thousandth of a pixel from a line of equal depth
+    // Five crossing planes at 500×500 with --split: cut into the z-buffer's picture, the
+    // two centres a thousandth of a pixel from a line of equal depth mended
     // (`split_planes.rs`), and nothing on stderr; without --split, said.
     let planes = "<(scene planes 5)";
     let (z, _) = render(&format!("--depth 0 {planes}"));
     let (s, said) = render(&format!("--depth 0 --hse painter --split {planes}"));
-    assert_eq!((z.differences(&s).len(), said.as_str()), (2, ""));
+    assert_eq!((z.differences(&s).len(), said.as_str()), (0, ""));
     let (p, said) = render(&format!("--depth 0 --hse painter {planes}"));
     assert!(z.differences(&p).len() > 10_000, "{said}");
     assert_eq!(
         said,
         "painter: frame 0: 4 cycles painted out of order; --split cuts them\n"
     );
+}
+
+/// `scene screen through N --seed S` at 300×300 through `leaf`: the frame and stderr.
+fn through(n: u32, seed: u32, leaf: &str) -> (pipeline_tests::Frame, String) {
+    let stream = format!("scene screen --size 300x300 through {n} --seed {seed}");
+    let (mut f, said) = frames(&stream, leaf, b"");
+    assert_eq!(f.len(), 1);
+    (f.remove(0), said)
+}
+
+#[test]
+fn planes_through_one_point_are_the_zbuffers_or_said() {
+    // N full-screen planes whose corners sit at depths a, b, 1 − a, 1 − b: every pair
+    // crosses on a line through the screen's centre, and every piece a cut leaves is a
+    // wedge with its apex there. Two such wedges that overlap share their apex and lie
+    // along each other's edges, so no edge crosses another and no vertex lies strictly
+    // inside the other: test 5 called them disjoint, and seed 19 was painted with
+    // 19,592 of 90,000 pixels wrong in silence ("0 cycles painted out of order"). Now:
+    // five are the z-buffer's picture, fifty
+    // and four hundred spend the cut budget, and say so, once.
+    let cases: [(u32, u32, usize, &str); 4] = [
+        (5, 1, 0, ""),
+        (5, 19, 0, ""),
+        (
+            50,
+            1,
+            69_379,
+            "painter: frame 0: could not order every polygon: 38 cycles painted out of order, \
+             the cut budget spent (2098 cuts: 1 a polygon + 2048)\n",
+        ),
+        (
+            400,
+            1,
+            88_771,
+            "painter: frame 0: could not order every polygon: 416 cycles painted out of \
+             order, the cut budget spent (2448 cuts: 1 a polygon + 2048)\n",
+        ),
+    ];
+    for (n, seed, wrong, line) in cases {
+        let (z, _) = through(n, seed, "scanconv --resolve");
+        let (p, said) = through(n, seed, "painter --split");
+        assert_eq!(
+            (z.differences(&p).len(), said.as_str()),
+            (wrong, line),
+            "planes {n}, seed {seed}"
+        );
+    }
+}
+
+#[test]
+fn planes_through_one_point_are_never_wrong_in_silence() {
+    // Random a and b (the scene's seed): each frame is the z-buffer's, or its line is on
+    // stderr, and --stats counts a cycle painted out of order wherever a pixel is wrong.
+    for seed in 1..=24 {
+        let (z, _) = through(5, seed, "scanconv --resolve");
+        let (p, said) = through(5, seed, "painter --split --stats");
+        let wrong = z.differences(&p).len();
+        let line = said
+            .lines()
+            .any(|l| l.starts_with("painter: frame 0: could not order"));
+        let counted = !said.contains(", 0 cycles painted out of order,");
+        assert!(
+            wrong == 0 || (line && counted),
+            "seed {seed}: {wrong} wrong: {said}"
+        );
+        assert!(
+            wrong > 0 || !line,
+            "seed {seed}: said with no pixel wrong: {said}"
+        );
+    }
 }
