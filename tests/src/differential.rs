@@ -560,6 +560,15 @@ impl Plan {
             ..Plan::quick()
         }
     }
+    /// Whether no mode of `family` (`ss4`, `painter-split`) is to run.
+    fn skips_family(&self, family: &str) -> bool {
+        self.skip.iter().any(|s| family.starts_with(s.as_str()))
+            || (!self.only.is_empty()
+                && !self
+                    .only
+                    .iter()
+                    .any(|o| family.starts_with(o.as_str()) || o.starts_with(family)))
+    }
     fn skips(&self, mode: &str) -> bool {
         self.skip.iter().any(|s| mode.starts_with(s.as_str()))
             || (!self.only.is_empty() && !self.only.iter().any(|o| mode.starts_with(o.as_str())))
@@ -727,6 +736,9 @@ impl Run<'_> {
         want: &[Frame],
         want_cmd: &str,
     ) -> Option<Vec<Frame>> {
+        if self.plan.skips(mode) {
+            return None;
+        }
         self.ran.push(mode.to_string());
         let got = draw(self.bins, self.dir, script);
         let command = format!("zspec compare <({script}) <({want_cmd})");
@@ -752,6 +764,9 @@ impl Run<'_> {
     /// The painter's claim: each frame is the z-buffer's, or its stderr says so for that
     /// frame; its `--stats` count of cycles painted out of order is the frames' lines'.
     fn painter(&mut self, mode: &str, script: &str, want: &[Frame], want_cmd: &str) {
+        if self.plan.skips(mode) {
+            return;
+        }
         self.ran.push(mode.to_string());
         let got = draw(self.bins, self.dir, script);
         let command =
@@ -918,7 +933,7 @@ fn world(run: &mut Run) {
         ("buffer-pixels", "--merge buffer --pixels"),
         ("chain", "--clip chain"),
     ] {
-        if run.plan.skips(family) {
+        if run.plan.skips_family(family) {
             continue;
         }
         for d in run.depths(family) {
@@ -934,7 +949,7 @@ fn world(run: &mut Run) {
     }
     // Projective depth: every tree depth the same bytes as depth 0; where it is not
     // zspec's frame, zbuf says so on stderr (docs/DESIGN.md, "Depth").
-    if !run.plan.skips("projective") {
+    if !run.plan.skips_family("projective") {
         let base_cmd = render("--zmode projective", 0);
         run.ran.push("projective@0".into());
         let base = draw(run.bins, run.dir, &base_cmd);
@@ -976,7 +991,7 @@ fn world(run: &mut Run) {
     // Supersampling: `--aa ssK` is `zspec --samples K`.
     for k in [2, 4, 8] {
         let family = format!("ss{k}");
-        if run.plan.skips(&family) {
+        if run.plan.skips_family(&family) {
             continue;
         }
         let want_cmd = zspec(k);
@@ -998,7 +1013,7 @@ fn world(run: &mut Run) {
     }
     // The a-buffer: the same bytes at every depth; on layers of one depth each (nothing
     // intersects in depth), flat, exactly the 8×8 supersampled picture.
-    if !run.plan.skips("abuf") {
+    if !run.plan.skips_family("abuf") {
         let base_cmd = render("--aa abuf", 0);
         let base = if scene.flat_depth {
             let want_cmd = zspec(8);
@@ -1033,7 +1048,7 @@ fn world(run: &mut Run) {
         ("painter", "--hse painter --stats"),
         ("painter-split", "--hse painter --split --stats"),
     ] {
-        if run.plan.skips(family) {
+        if run.plan.skips_family(family) {
             continue;
         }
         for d in run.depths(family) {
