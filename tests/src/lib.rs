@@ -5,6 +5,7 @@
 //! packages, so the tests find them beside the test executable in the target directory,
 //! building them once first if they are missing.
 
+pub mod differential;
 pub mod hosts;
 pub mod nearest;
 pub mod reference;

@@ -6,6 +6,7 @@
 
 mod antialiasing;
 mod degenerate;
+mod differential;
 mod exact_coverage;
 mod hidden_lines;
 mod method_table;
