@@ -264,3 +264,58 @@ fn a_scene_the_look_cannot_read_fails_in_viewxf_as_at_depth_0() {
     assert_eq!(err, String::from_utf8_lossy(&zero.stderr));
     assert!(auto.stdout.is_empty());
 }
+
+/// A stand-in for ssh in `dir`, named `name`: the shell `body`, run with ssh's arguments.
+fn fake_ssh(dir: &Path, name: &str, body: &str) -> PathBuf {
+    use std::os::unix::fs::PermissionsExt;
+    let path = dir.join(name);
+    std::fs::write(&path, format!("#!/bin/sh\n{body}\n")).unwrap();
+    std::fs::set_permissions(&path, std::fs::Permissions::from_mode(0o755)).unwrap();
+    path
+}
+
+#[test]
+fn a_host_that_sends_nothing_is_named_when_its_time_is_up() {
+    let dir = tempfile::tempdir().unwrap();
+    // A host that takes the stream and never answers.
+    let ssh = fake_ssh(dir.path(), "ssh", "exec sleep 1000");
+    let start = Instant::now();
+    let out = render_cmd(&[
+        "--hosts",
+        "alpha",
+        "--depth",
+        "1",
+        "--host-timeout",
+        "5",
+        &example(),
+    ])
+    .env("POLYPIPE_SSH", &ssh)
+    .stdin(Stdio::null())
+    .output()
+    .unwrap();
+    let took = start.elapsed();
+    assert_eq!(out.status.code(), Some(3));
+    assert_eq!(
+        String::from_utf8_lossy(&out.stderr),
+        "render: host alpha (subtree 1): sent nothing for 5 s (--host-timeout): counted as \
+         failed\n"
+    );
+    assert!(out.stdout.is_empty());
+    assert!(took >= Duration::from_secs(5), "{took:?}");
+    assert!(took < Duration::from_secs(15), "{took:?}");
+}
+
+#[test]
+fn a_host_timeout_out_of_range_is_a_usage_error() {
+    for bad in ["-1", "nan", "inf", "1e9", "x", ""] {
+        let out = render(&["--host-timeout", bad, &example()], b"");
+        assert_eq!(out.status.code(), Some(2), "{bad}");
+        assert_eq!(
+            String::from_utf8_lossy(&out.stderr),
+            format!(
+                "render: --host-timeout must be seconds from 0 (wait for ever) to 86400, not \
+                 '{bad}'\n"
+            )
+        );
+    }
+}

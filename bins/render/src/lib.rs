@@ -225,6 +225,24 @@ fn farm_option(cli: &options::Cli) -> Option<&'static str> {
     given.iter().find(|(_, on)| *on).map(|(opt, _)| *opt)
 }
 
+/// `--host-timeout S`: how long a host may send nothing (default 60 s; 0, for ever).
+fn host_timeout(cli: &options::Cli) -> Result<Option<std::time::Duration>, Error> {
+    const MAX: f64 = 86_400.0;
+    let Some(text) = &cli.host_timeout else {
+        return Ok(Some(std::time::Duration::from_secs(60)));
+    };
+    match text.trim().parse::<f64>() {
+        Ok(0.0) => Ok(None),
+        Ok(s) if s.is_finite() && s > 0.0 && s <= MAX => {
+            Ok(Some(std::time::Duration::from_secs_f64(s)))
+        }
+        _ => Err(Error::usage(format!(
+            "--host-timeout must be seconds from 0 (wait for ever) to {MAX}, not '{}'",
+            text.chars().take(80).collect::<String>()
+        ))),
+    }
+}
+
 /// farm's options: refused without `--by frames`.
 fn farm_only(cli: &options::Cli) -> Result<(), Error> {
     if cli.chunk.is_some() {
@@ -348,7 +366,9 @@ fn run_inner<I: IntoIterator<Item = OsString>>(
         root: &root,
         fed,
     };
+    let host_timeout = host_timeout(&cli)?;
     let options = |depth: u32| launch::Options {
+        host_timeout,
         depth,
         links: o.stats && !o.hosts.is_empty(),
         times: o.times,

@@ -138,6 +138,10 @@ pub struct Cli {
     /// each rendered whole on the next host free (the `farm` binary).
     #[arg(long, value_name = "MODE")]
     pub by: Option<String>,
+    /// With --hosts: a host that sends nothing for S seconds is named and fails the run,
+    /// status 3 (default 60; 0 waits for ever).
+    #[arg(long, value_name = "S", allow_hyphen_values = true)]
+    pub host_timeout: Option<String>,
     /// With --by frames: frames a chunk, one ssh session each (farm's default 8).
     #[arg(long, value_name = "N")]
     pub chunk: Option<String>,

@@ -111,13 +111,47 @@ pub fn cause(statuses: &[Option<i32>]) -> Option<usize> {
 
 /// The node a merger's message says sent back nothing (`zbuf: from-5: empty input`).
 fn empty_from(said: &str) -> Option<u64> {
-    let at = said.find(": empty input")?;
-    let before = &said[..at];
-    let digits = before.bytes().rev().take_while(u8::is_ascii_digit).count();
-    let node = &before[before.len() - digits..];
-    before[..before.len() - digits]
-        .ends_with("from-")
-        .then(|| node.parse().ok())?
+    from_node(said)
+        .filter(|(_, what)| what.starts_with("empty input"))
+        .map(|(node, _)| node)
+}
+
+/// The node a merger's message is about, and what it says of its stream
+/// (`zbuf: from-5: line 1, column 2: not UTF-8 text` gives 5 and `line 1, …`).
+fn from_node(said: &str) -> Option<(u64, &str)> {
+    said.lines().find_map(|line| {
+        let (_, rest) = line.split_once(": from-")?;
+        let (node, what) = rest.split_once(": ")?;
+        Some((node.parse().ok()?, what))
+    })
+}
+
+/// A stage on a host that sent nothing for `--host-timeout`: what it said, then its
+/// host and node named, status 3.
+pub fn silent_host(
+    stage: &Stage,
+    said: &str,
+    depth: u32,
+    timeout: std::time::Duration,
+    me: &str,
+) -> Outcome {
+    let s = timeout.as_secs_f64();
+    let Some((host, node)) = &stage.host else {
+        return Outcome {
+            status: 3,
+            message: format!(
+                "{said}{me}: {} sent nothing for {s} s (--host-timeout)\n",
+                stage.label
+            ),
+        };
+    };
+    Outcome {
+        status: 3,
+        message: format!(
+            "{said}{me}: host {host} ({}): sent nothing for {s} s (--host-timeout): counted as failed\n",
+            what_node(*node, depth)
+        ),
+    }
 }
 
 /// With `--stats` and `--hosts`: each host stage's node, host, and the bytes its link

@@ -2,13 +2,16 @@
 //! run, takes their ends and the user's stop on a signalfd, and stops the rest when one
 //! fails; [`super::report`] words how it ended.
 
-use super::plan::{channels, channels_open, End, SpecError, Stage};
-use super::report::{cause, labelled, shell_status, Cost, Ended, Outcome};
+use super::plan::{channels, channels_open, Channel, End, SpecError, Stage};
+use super::report::{cause, labelled, shell_status, silent_host, Cost, Ended, Outcome};
 use std::ffi::OsString;
+use std::io::Read;
 use std::io::Write;
 use std::os::fd::{AsRawFd, FromRawFd, OwnedFd, RawFd};
 use std::os::unix::process::{CommandExt, ExitStatusExt};
 use std::process::{Command, ExitStatus, Stdio};
+use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
+use std::sync::Arc;
 use std::time::{Duration, Instant};
 
 /// What a stage reading the launcher's stdin is fed instead: `sample` (the bytes
@@ -24,6 +27,9 @@ pub struct Feed {
 /// How the launcher runs the stages.
 #[derive(Debug, Default)]
 pub struct Options {
+    /// A stage on a host that sends nothing for this long fails the run (`--host-timeout`;
+    /// `None` waits for ever).
+    pub host_timeout: Option<Duration>,
     /// The tree's depth, for naming the hosts' nodes.
     pub depth: u32,
     /// Print the hosts' links' bytes on success (`--stats --hosts`).
@@ -89,6 +95,8 @@ struct Running {
     said: Vec<Vec<u8>>,
     fds: Vec<Vec<(RawFd, String)>>,
     signals: OwnedFd,
+    /// For a stage on a host: when it last sent anything ([`Heard`]).
+    heard: Vec<Option<Arc<Heard>>>,
 }
 
 impl Running {
@@ -156,6 +164,9 @@ impl Running {
             let got = unsafe { libc::read(fd.as_raw_fd(), buf.as_mut_ptr().cast(), buf.len()) };
             if got > 0 {
                 self.said[i].extend_from_slice(&buf[..got as usize]);
+                if let Some(h) = &self.heard[i] {
+                    h.now();
+                }
             } else if got == 0
                 || std::io::Error::last_os_error().raw_os_error() != Some(libc::EINTR)
             {
@@ -355,14 +366,14 @@ pub fn start(stages: Vec<Stage>, feed: Option<Feed>, me: &str) -> Result<Early, 
         fds: vec![Vec::new(); n],
         signals,
         stages,
+        heard: Vec::new(),
     };
     let mut ends = Ends::new(n);
     let mut pending = Vec::new();
+    let mut heard = vec![None; n];
     let made = (|| -> std::io::Result<()> {
         for (name, ch) in &chans {
-            let (r, w) = pipe()?;
-            ends.writer(ch.writer, w, name);
-            ends.reader(ch.reader, r, name);
+            join(&run.stages, ch, name, &mut ends, &mut heard)?;
         }
         for (name, writer) in open {
             let (r, w) = pipe()?;
@@ -380,6 +391,7 @@ pub fn start(stages: Vec<Stage>, feed: Option<Feed>, me: &str) -> Result<Early, 
         }
         Ok(())
     })();
+    run.heard = heard;
     if let Err(e) = made {
         return Ok(failed(Some(run), format!("{me}: {e}\n")));
     }
@@ -456,6 +468,8 @@ impl Early {
         let chans = channels(&full)?;
         let n = full.len();
         let mut ends = Ends::new(n);
+        let mut heard = std::mem::take(&mut run.heard);
+        heard.resize(n, None);
         let made = (|| -> Result<std::io::Result<()>, SpecError> {
             for (name, ch) in &chans {
                 let (w, r) = (ch.writer.0, ch.reader.0);
@@ -473,12 +487,9 @@ impl Early {
                     ends.reader(ch.reader, fd, name);
                     continue;
                 }
-                let (rd, wr) = match pipe() {
-                    Ok(p) => p,
-                    Err(e) => return Ok(Err(e)),
-                };
-                ends.writer(ch.writer, wr, name);
-                ends.reader(ch.reader, rd, name);
+                if let Err(e) = join(&full, ch, name, &mut ends, &mut heard) {
+                    return Ok(Err(e));
+                }
             }
             Ok(Ok(()))
         })()?;
@@ -492,6 +503,7 @@ impl Early {
         run.errs.resize_with(n, || None);
         run.said.resize(n, Vec::new());
         run.fds.resize(n, Vec::new());
+        run.heard = heard;
         if let Err(e) = made {
             run.stop_all();
             return Ok(Outcome {
@@ -601,6 +613,18 @@ impl Running {
         Ok(child.id() as libc::pid_t)
     }
 
+    /// The first stage on a host, still running, that has sent nothing (on its stdout or
+    /// its stderr) for `timeout`, while nothing here kept it waiting.
+    fn silent(&self, timeout: Duration) -> Option<usize> {
+        (0..self.stages.len()).find(|&i| {
+            self.exits[i].is_none()
+                && self.pids[i].is_some()
+                && self.heard[i]
+                    .as_ref()
+                    .is_some_and(|h| h.silent_for() >= timeout)
+        })
+    }
+
     /// Watches every stage to its end, and says how the run ended.
     fn watch(mut self, options: &Options, me: &str) -> Result<Outcome, SpecError> {
         let run = &mut self;
@@ -632,6 +656,14 @@ impl Running {
                     message: String::new(),
                 });
             }
+            if let Some((i, t)) = options
+                .host_timeout
+                .and_then(|t| run.silent(t).map(|i| (i, t)))
+            {
+                run.stop_all();
+                let said = run.labelled(i);
+                return Ok(silent_host(&run.stages[i], &said, options.depth, t, me));
+            }
         }
 
         let cause = failed_at.and_then(|_| cause(&run.statuses()));
@@ -650,6 +682,92 @@ impl Running {
         };
         Ok(ended.outcome(cause, me))
     }
+}
+
+/// When a stage on a host last sent anything: a byte on its stdout (through [`relay`])
+/// or its stderr. While the relay waits on the stage's reader, the host is not silent:
+/// it is this side that is slow.
+#[derive(Debug)]
+struct Heard {
+    since: Instant,
+    /// Milliseconds from `since` to the last byte.
+    last_ms: AtomicU64,
+    /// The relay is writing to the reader, or is done (the stdout ended).
+    not_waiting: AtomicBool,
+}
+
+impl Heard {
+    fn new() -> Heard {
+        Heard {
+            since: Instant::now(),
+            last_ms: AtomicU64::new(0),
+            not_waiting: AtomicBool::new(false),
+        }
+    }
+
+    fn now(&self) {
+        let ms = u64::try_from(self.since.elapsed().as_millis()).unwrap_or(u64::MAX);
+        self.last_ms.fetch_max(ms, Ordering::Relaxed);
+    }
+
+    /// How long the host has been silent while the relay waited for it.
+    fn silent_for(&self) -> Duration {
+        if self.not_waiting.load(Ordering::Relaxed) {
+            return Duration::ZERO;
+        }
+        let last = Duration::from_millis(self.last_ms.load(Ordering::Relaxed));
+        self.since.elapsed().saturating_sub(last)
+    }
+}
+
+/// Makes a channel's pipe, its ends given to its writer and its reader. Out of a stage on
+/// a host, two pipes with a [`relay`] between them, which notes when the host last sent
+/// anything (`--host-timeout`).
+fn join(
+    stages: &[Stage],
+    ch: &Channel,
+    name: &str,
+    ends: &mut Ends,
+    heard: &mut [Option<Arc<Heard>>],
+) -> std::io::Result<()> {
+    let (r, w) = pipe()?;
+    let (i, arg) = ch.writer;
+    if stages[i].host.is_none() || arg.is_some() {
+        ends.writer(ch.writer, w, name);
+        ends.reader(ch.reader, r, name);
+        return Ok(());
+    }
+    let (r2, w2) = pipe()?;
+    ends.writer(ch.writer, w, name);
+    ends.reader(ch.reader, r2, name);
+    let h = Arc::new(Heard::new());
+    heard[i] = Some(h.clone());
+    std::thread::spawn(move || relay(r, w2, &h));
+    Ok(())
+}
+
+/// Copies what a host sends into its reader's pipe, noting when each byte came. Ends with
+/// the host's stdout, or when the reader has gone.
+fn relay(from: OwnedFd, to: OwnedFd, heard: &Heard) {
+    let (mut from, mut to) = (std::fs::File::from(from), std::fs::File::from(to));
+    let mut buf = vec![0u8; 1 << 16];
+    loop {
+        let n = match from.read(&mut buf) {
+            Ok(0) => break,
+            Ok(n) => n,
+            Err(e) if e.kind() == std::io::ErrorKind::Interrupted => continue,
+            Err(_) => break,
+        };
+        heard.now();
+        heard.not_waiting.store(true, Ordering::Relaxed);
+        let gone = to.write_all(&buf[..n]).is_err();
+        heard.now();
+        heard.not_waiting.store(false, Ordering::Relaxed);
+        if gone {
+            break;
+        }
+    }
+    heard.not_waiting.store(true, Ordering::Relaxed);
 }
 
 /// Writes `feed` into `to`: the sample, then the rest of its stream. A reader that has
