@@ -319,3 +319,29 @@ fn a_host_timeout_out_of_range_is_a_usage_error() {
         );
     }
 }
+
+#[test]
+fn garbage_from_a_host_is_named_as_garbage_from_it() {
+    let dir = tempfile::tempdir().unwrap();
+    // A host that sends more bytes than a pipe holds, none of them a stream, so that it
+    // is still writing when the merger gives up (killed by SIGPIPE before this was named).
+    let ssh = fake_ssh(
+        dir.path(),
+        "ssh",
+        "cat >/dev/null &\nhead -c 2000000 /dev/zero | tr '\\0' 'x'",
+    );
+    for _ in 0..3 {
+        let out = render_cmd(&["--hosts", "alpha", "--depth", "1", &example()])
+            .env("POLYPIPE_SSH", &ssh)
+            .stdin(Stdio::null())
+            .output()
+            .unwrap();
+        assert_eq!(out.status.code(), Some(3));
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert!(
+            err.starts_with("render: host alpha (subtree 1): sent what is not a polypipe stream: "),
+            "{err}"
+        );
+        assert_eq!(err.lines().count(), 1, "{err}");
+    }
+}

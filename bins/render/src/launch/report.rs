@@ -287,6 +287,37 @@ pub struct Ended<'a> {
 }
 
 impl Ended<'_> {
+    /// The run's failure as garbage from a host, when the merger could not read what a
+    /// host sent (anything but an empty stream) and the cause `c` is the merger or that
+    /// host killed by the merger's end (SIGPIPE).
+    fn garbage(&self, c: usize, statuses: &[Option<i32>], me: &str) -> Option<Outcome> {
+        const SIGPIPE_STATUS: i32 = 128 + libc::SIGPIPE;
+        self.stages.iter().enumerate().find_map(|(m, merger)| {
+            if merger.host.is_some() || statuses[m].unwrap_or(0) == 0 {
+                return None;
+            }
+            let (node, what) = from_node(&self.said[m])?;
+            if what.starts_with("empty input") {
+                return None;
+            }
+            let h = self
+                .stages
+                .iter()
+                .position(|s| matches!(&s.host, Some((_, k)) if *k == node))?;
+            if c != m && !(c == h && statuses[h] == Some(SIGPIPE_STATUS)) {
+                return None;
+            }
+            let (host, _) = self.stages[h].host.clone().unwrap_or_default();
+            Some(Outcome {
+                status: 3,
+                message: format!(
+                    "{me}: host {host} ({}): sent what is not a polypipe stream: {what}\n",
+                    what_node(node, self.depth)
+                ),
+            })
+        })
+    }
+
     /// How the run ended, in words: on success what every stage said (and the links'
     /// bytes and the costs, when asked); on a failure with `cause` its words and its
     /// name, or the host that failed or sent back nothing.
@@ -306,6 +337,11 @@ impl Ended<'_> {
         let st = statuses[c].unwrap_or(0);
         let said = &self.said[c];
         let stage = &self.stages[c];
+        // A host that sent what is not a stream: the merger says what it found, and the
+        // host, still writing, is killed by SIGPIPE (status 141) or is no cause.
+        if let Some(out) = self.garbage(c, &statuses, me) {
+            return out;
+        }
         if stage.host.is_none() {
             // The merger found a host's runs empty: that host answered with nothing (a
             // command that is not render, say), the host's fault, not the data's.
