@@ -37,6 +37,7 @@ pub mod pieces;
 pub mod project;
 pub mod remote;
 pub mod stream;
+pub mod whole;
 
 pub use antialias::AntialiasArgs;
 pub use args::{parse, parse_colour, DepthArg, PpmTextFlag, TextFlag, ViewArgs};

@@ -149,10 +149,9 @@ fn a_failing_stages_status_class_passes_through() {
         "render: --size must be WxH with W and H from 1 to 65536, not '0x0'\n"
     );
     // An output zbuf cannot write: I/O, 3. (The tests may run as root, whom a read-only
-    // folder does not stop, so the folder does not exist.)
-    let nowhere = PathBuf::from(env!("CARGO_TARGET_TMPDIR"))
-        .join("no-such-folder")
-        .join("frame%02d.png");
+    // folder does not stop, and -o's folder is made when missing: so a file is in the
+    // way.)
+    let nowhere = PathBuf::from("/dev/null/frame%02d.png");
     let out = render(
         &[
             "--size",
