@@ -39,6 +39,7 @@ pub mod place;
 pub mod project;
 pub mod remote;
 pub mod stream;
+pub mod whole;
 
 pub use antialias::AntialiasArgs;
 pub use args::{parse, parse_colour, DepthArg, PpmTextFlag, TextFlag, ViewArgs};

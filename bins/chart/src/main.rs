@@ -560,7 +560,7 @@ fn calibrate(quick: bool, model: Option<&Path>, root: &Path, bin: &Path) -> Resu
             k.measured_on,
             k.to_toml()?
         );
-        std::fs::write(path, text).with_context(|| format!("cannot write {}", path.display()))?;
+        stagecli::whole::write_whole(path, text.as_bytes())?;
         say_err(&format!("chart: wrote {}", path.display()));
     }
     say(&chart::calibrate::table(&k))

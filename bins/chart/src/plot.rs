@@ -606,9 +606,24 @@ fn png(
     }
     let image =
         image::RgbImage::from_raw(size.0, size.1, buf).ok_or_else(|| anyhow!("picture buffer"))?;
+    let mut bytes = std::io::Cursor::new(Vec::new());
     image
-        .save(path)
+        .write_to(&mut bytes, image::ImageFormat::Png)
         .with_context(|| format!("cannot write {}", path.display()))?;
+    stagecli::whole::write_whole(path, bytes.get_ref())?;
+    Ok(())
+}
+
+/// An SVG picture drawn by `draw` into `path`, written whole or not at all.
+fn svg(
+    path: &Path,
+    size: (u32, u32),
+    draw: impl FnOnce(DrawingArea<SVGBackend, Shift>) -> Drawn,
+) -> Result<()> {
+    let mut text = String::new();
+    draw(SVGBackend::with_string(&mut text, size).into_drawing_area())
+        .map_err(|e| anyhow!("drawing {}: {e}", path.display()))?;
+    stagecli::whole::write_whole(path, text.as_bytes())?;
     Ok(())
 }
 
@@ -624,9 +639,9 @@ pub fn speed_accuracy(dir: &Path, rows: &[Row]) -> Result<()> {
     png(&dir.join("speed-accuracy.png"), size, |root| {
         speed_accuracy_on(root, rows, &title)
     })?;
-    let svg = dir.join("speed-accuracy.svg");
-    let root = SVGBackend::new(&svg, size).into_drawing_area();
-    speed_accuracy_on(root, rows, &title).map_err(|e| anyhow!("drawing {}: {e}", svg.display()))
+    svg(&dir.join("speed-accuracy.svg"), size, |root| {
+        speed_accuracy_on(root, rows, &title)
+    })
 }
 
 /// The methods of the cost-against-environment figure: the hidden-surface methods, the
@@ -825,9 +840,9 @@ pub fn environment(dir: &Path, rows: &[Row]) -> Result<()> {
     png(&dir.join("cost-environment.png"), size, |root| {
         environment_on(root, rows, &title)
     })?;
-    let svg = dir.join("cost-environment.svg");
-    let root = SVGBackend::new(&svg, size).into_drawing_area();
-    environment_on(root, rows, &title).map_err(|e| anyhow!("drawing {}: {e}", svg.display()))
+    svg(&dir.join("cost-environment.svg"), size, |root| {
+        environment_on(root, rows, &title)
+    })
 }
 
 fn model_on<DB: DrawingBackend>(

@@ -122,6 +122,7 @@ fn main() -> ExitCode {
             }
             // The SVG is written as its pieces are found: memory for the frame's
             // polygons, not for its drawing.
+            let mut file: Option<std::io::BufWriter<stagecli::whole::WholeFile>> = None;
             let mut sink: Box<dyn Write> =
                 match &pattern {
                     Some(p) if frame > 0 && !p.numbered() => {
@@ -130,11 +131,11 @@ fn main() -> ExitCode {
                         args.output.as_deref().unwrap_or_default()
                     )))
                     }
+                    // Written whole or not at all: a temporary renamed when complete.
                     Some(p) => {
-                        let name = p.name(frame);
-                        let file = std::fs::File::create(&name)
-                            .map_err(|e| Error::io(format!("cannot write {name}: {e}")))?;
-                        Box::new(std::io::BufWriter::with_capacity(1 << 16, file))
+                        let whole = stagecli::whole::WholeFile::create(p.name(frame))?;
+                        file = Some(std::io::BufWriter::with_capacity(1 << 16, whole));
+                        Box::new(std::io::sink())
                     }
                     None if frame > 0 => return Err(Error::data(
                         "more than one frame: give -o with %d in the name (e.g. -o frame%03d.svg)",
@@ -159,7 +160,11 @@ fn main() -> ExitCode {
                 }
                 joined.push(&mut text, &seg);
                 if text.len() >= 1 << 16 && failed.is_none() {
-                    failed = sink.write_all(text.as_bytes()).err();
+                    failed = match &mut file {
+                        Some(f) => f.write_all(text.as_bytes()),
+                        None => sink.write_all(text.as_bytes()),
+                    }
+                    .err();
                     text.clear();
                 }
             });
@@ -169,8 +174,16 @@ fn main() -> ExitCode {
             if let Some(e) = failed {
                 return Err(e.into());
             }
-            sink.write_all(text.as_bytes())?;
-            sink.flush()?;
+            match file {
+                Some(mut f) => {
+                    f.write_all(text.as_bytes())?;
+                    f.into_inner().map_err(|e| e.into_error())?.commit()?;
+                }
+                None => {
+                    sink.write_all(text.as_bytes())?;
+                    sink.flush()?;
+                }
+            }
             frame += 1;
         }
         if let Some(reference) = &reference {

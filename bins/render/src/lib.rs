@@ -130,6 +130,9 @@ fn frames_on_hosts(cli: &options::Cli, list: Option<&str>) -> Error {
         Ok(o) => o,
         Err(e) => return e,
     };
+    if let Err(e) = host_timeout(cli) {
+        return e;
+    }
     let (bin, from_env) = match bin_dir() {
         Ok(b) => b,
         Err(e) => return e,
@@ -148,6 +151,8 @@ fn frames_on_hosts(cli: &options::Cli, list: Option<&str>) -> Error {
         ("--chunk", &number(cli.chunk)),
         ("--sshloginfile", &cli.sshloginfile),
         ("--retries", &number(cli.retries)),
+        ("--host-failures", &number(cli.host_failures)),
+        ("--host-timeout", &cli.host_timeout),
         ("--joblog", &cli.joblog),
         ("--slurm-array", &cli.slurm_array),
         ("-o", &cli.output),
@@ -220,11 +225,30 @@ fn farm_option(cli: &options::Cli) -> Option<&'static str> {
     let given = [
         ("--sshloginfile", cli.sshloginfile.is_some()),
         ("--retries", cli.retries.is_some()),
+        ("--host-failures", cli.host_failures.is_some()),
         ("--joblog", cli.joblog.is_some()),
         ("--resume", cli.resume),
         ("--slurm-array", cli.slurm_array.is_some()),
     ];
     given.iter().find(|(_, on)| *on).map(|(opt, _)| *opt)
+}
+
+/// `--host-timeout S`: how long a host may send nothing (default 60 s; 0, for ever).
+fn host_timeout(cli: &options::Cli) -> Result<Option<std::time::Duration>, Error> {
+    const MAX: f64 = 86_400.0;
+    let Some(text) = &cli.host_timeout else {
+        return Ok(Some(std::time::Duration::from_secs(60)));
+    };
+    match text.trim().parse::<f64>() {
+        Ok(0.0) => Ok(None),
+        Ok(s) if s.is_finite() && s > 0.0 && s <= MAX => {
+            Ok(Some(std::time::Duration::from_secs_f64(s)))
+        }
+        _ => Err(Error::usage(format!(
+            "--host-timeout must be seconds from 0 (wait for ever) to {MAX}, not '{}'",
+            text.chars().take(80).collect::<String>()
+        ))),
+    }
 }
 
 /// farm's options: refused without `--by frames`.
@@ -347,7 +371,9 @@ fn run_inner<I: IntoIterator<Item = OsString>>(
         root: &root,
         fed,
     };
+    let host_timeout = host_timeout(&cli)?;
     let options = |depth: u32| launch::Options {
+        host_timeout,
         depth,
         links: o.stats && !o.hosts.is_empty(),
         times: o.times,

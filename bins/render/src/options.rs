@@ -239,6 +239,11 @@ pub struct Cli {
     /// each rendered whole on the next host free (the `farm` binary).
     #[arg(long, value_name = "MODE", value_enum)]
     pub by: Option<By>,
+    /// With --hosts: a host that sends nothing for S seconds is named and counts as failed
+    /// (default 60; 0 waits for ever): status 3 with --by leaves, its chunk tried again
+    /// elsewhere with --by frames.
+    #[arg(long, value_name = "S", allow_hyphen_values = true)]
+    pub host_timeout: Option<String>,
     /// With --by frames: frames a chunk, one ssh session each (farm's default 8).
     #[arg(long, value_name = "N", value_parser = at_least_one)]
     pub chunk: Option<u64>,
@@ -248,6 +253,10 @@ pub struct Cli {
     /// With --by frames: a chunk's tries, passed to farm.
     #[arg(long, value_name = "N", value_parser = at_least_one)]
     pub retries: Option<u64>,
+    /// With --by frames: a host whose tries fail K times in a row gets no more chunks
+    /// (farm's default 2), passed to farm.
+    #[arg(long, value_name = "K", value_parser = at_least_one)]
+    pub host_failures: Option<u64>,
     /// With --by frames: farm's record of each chunk, passed to farm.
     #[arg(long, value_name = "FILE")]
     pub joblog: Option<String>,

@@ -22,7 +22,7 @@
 pub mod par_buff;
 
 use proto::{ppm, Colour};
-use stagecli::{Context, Error};
+use stagecli::Error;
 use std::io::{self, Write};
 use std::path::PathBuf;
 
@@ -506,32 +506,36 @@ impl FramePattern {
         self.names.name(frame).into()
     }
 
-    /// Writes frame `frame` to its file; a .ppm file in the given form.
+    /// Writes frame `frame` to its file, whole or not at all (a temporary renamed when
+    /// complete: [`stagecli::whole`]); a .ppm file in the given form.
     pub fn save(&self, frame: u64, fb: &FrameBuffer, form: ppm::Form) -> stagecli::Result<()> {
         let path = self.path(frame);
-        let fail = || format!("cannot write {}", path.display());
+        let mut file = stagecli::whole::WholeFile::create(&path)?;
         match self.format {
             ImageFormat::Ppm => {
-                let file = std::fs::File::create(&path).with_context(fail)?;
-                let mut out = io::BufWriter::new(file);
-                fb.write_ppm(&mut out, form).with_context(fail)?;
-                out.flush().with_context(fail)?;
+                let mut out = io::BufWriter::new(&mut file);
+                fb.write_ppm(&mut out, form)?;
+                out.flush()?;
             }
-            ImageFormat::Png => image::save_buffer_with_format(
-                &path,
-                fb.rgb(),
-                fb.width(),
-                fb.height(),
-                image::ExtendedColorType::Rgb8,
-                image::ImageFormat::Png,
-            )
-            .map_err(|e| match e {
-                image::ImageError::IoError(io) => Error::from(io),
-                // The encoder refusing our own buffer: nothing the user can mend.
-                other => Error::io(other.to_string()),
-            })
-            .with_context(fail)?,
+            ImageFormat::Png => {
+                let mut out = io::BufWriter::new(&mut file);
+                use image::ImageEncoder;
+                image::codecs::png::PngEncoder::new(&mut out)
+                    .write_image(
+                        fb.rgb(),
+                        fb.width(),
+                        fb.height(),
+                        image::ExtendedColorType::Rgb8,
+                    )
+                    .map_err(|e| match e {
+                        image::ImageError::IoError(io) => Error::from(io),
+                        // The encoder refusing our own buffer: nothing the user can mend.
+                        other => Error::io(other.to_string()),
+                    })?;
+                out.flush()?;
+            }
         }
+        file.commit()?;
         Ok(())
     }
 }

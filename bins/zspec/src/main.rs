@@ -5,7 +5,6 @@ use clap::{Parser, Subcommand};
 use proto::{ppm, Colour, Reader, SpaceKind, Token};
 use reference::Setup;
 use stagecli::{Error, PpmTextFlag, ViewArgs};
-use std::fs::File;
 use std::io::{self, BufReader, BufWriter, Write};
 use std::process::ExitCode;
 
@@ -233,9 +232,8 @@ fn render_supersampled(
     let mut out = BufWriter::new(stagecli::stdout());
     let mut mask = match edge_mask {
         Some(path) => {
-            Some(BufWriter::new(File::create(path).map_err(|e| {
-                Error::from(e).context(format!("cannot create {path}"))
-            })?))
+            // Whole or not at all: a temporary renamed at the end.
+            Some(BufWriter::new(stagecli::whole::WholeFile::create(path)?))
         }
         None => None,
     };
@@ -272,6 +270,9 @@ fn render_supersampled(
                 }
             }
         }
+    }
+    if let Some(m) = mask {
+        m.into_inner().map_err(|e| e.into_error())?.commit()?;
     }
     Ok(())
 }

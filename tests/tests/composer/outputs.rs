@@ -249,3 +249,208 @@ fn gallery_pictures_are_what_their_commands_make() {
         .count();
     assert_eq!(frames, 100);
 }
+
+/// `scene ARGS…` into `dir/NAME`.
+fn scene_file(dir: &Path, name: &str, args: &[&str]) -> PathBuf {
+    let out = std::process::Command::new(bin_dir().join("scene"))
+        .args(args)
+        .output()
+        .unwrap();
+    assert!(out.status.success(), "scene {args:?}");
+    let path = dir.join(name);
+    std::fs::write(&path, out.stdout).unwrap();
+    path
+}
+
+/// The names of the files in `dir`, sorted.
+fn names_in(dir: &Path) -> Vec<String> {
+    let mut names: Vec<String> = std::fs::read_dir(dir)
+        .map(|d| {
+            d.map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+                .collect()
+        })
+        .unwrap_or_default();
+    names.sort();
+    names
+}
+
+/// Each file in `dir` a whole frame named `f%04d.png` that equals that frame of
+/// `reference`: no temporary, no empty or cut file.
+fn only_whole_frames(dir: &Path, reference: &[Frame], what: &str) {
+    for name in names_in(dir) {
+        let number: usize = name
+            .strip_prefix('f')
+            .and_then(|n| n.strip_suffix(".png"))
+            .and_then(|n| n.parse().ok())
+            .unwrap_or_else(|| panic!("{what}: a file that is no frame left: {name}"));
+        let frame = read_png(&dir.join(&name));
+        assert!(
+            frame == reference[number],
+            "{what}: {name} is not that frame"
+        );
+    }
+}
+
+#[test]
+fn frames_stopped_by_sigterm_or_sigint_are_whole_or_absent() {
+    let dir = tempfile::tempdir().unwrap();
+    let movie = scene_file(dir.path(), "movie.pp", &["spheres", "--frames", "120"]);
+    let render = |out: &Path| {
+        let mut cmd = std::process::Command::new(bin_dir().join("render"));
+        cmd.args(["--size", "96x96", "--depth", "0", "-o"])
+            .arg(out.join("f%04d.png"))
+            .arg(&movie)
+            .stdin(std::process::Stdio::null())
+            .stderr(std::process::Stdio::null());
+        cmd
+    };
+    let whole = dir.path().join("whole");
+    let start = std::time::Instant::now();
+    assert!(render(&whole).status().unwrap().success());
+    let took = start.elapsed();
+    let reference: Vec<Frame> = (0..120)
+        .map(|i| read_png(&whole.join(format!("f{i:04}.png"))))
+        .collect();
+    // 20 moments spread over the run, in an order from a seed the test prints.
+    let seed = std::time::SystemTime::now()
+        .duration_since(std::time::UNIX_EPOCH)
+        .unwrap()
+        .subsec_nanos() as u64;
+    println!("seed {seed}");
+    let mut x = seed | 1;
+    for run in 0..20 {
+        x ^= x << 13;
+        x ^= x >> 7;
+        x ^= x << 17;
+        let at = took.mul_f64((x % 1000) as f64 / 1000.0);
+        let out = dir.path().join(format!("run{run}"));
+        let mut child = render(&out).spawn().unwrap();
+        std::thread::sleep(at);
+        let signal = if run % 2 == 0 { "-TERM" } else { "-INT" };
+        std::process::Command::new("kill")
+            .args([signal, &child.id().to_string()])
+            .status()
+            .unwrap();
+        let status = child.wait().unwrap();
+        only_whole_frames(
+            &out,
+            &reference,
+            &format!("seed {seed}, run {run}, {at:?}: {status}"),
+        );
+    }
+}
+
+/// A 64 KiB tmpfs at `dir`, unmounted when dropped; `None` (the test skips, saying so)
+/// where mount is refused, but not under CI=true, where the tests run as root.
+struct SmallDisk(PathBuf);
+
+impl SmallDisk {
+    fn new(dir: &Path) -> Option<SmallDisk> {
+        std::fs::create_dir_all(dir).unwrap();
+        let ok = std::process::Command::new("mount")
+            .args(["-t", "tmpfs", "-o", "size=64k", "tmpfs"])
+            .arg(dir)
+            .status()
+            .is_ok_and(|s| s.success());
+        if ok {
+            return Some(SmallDisk(dir.to_path_buf()));
+        }
+        assert!(
+            std::env::var("CI").as_deref() != Ok("true"),
+            "mount -t tmpfs refused under CI=true"
+        );
+        println!("SKIPPED: mount -t tmpfs refused (not root?)");
+        None
+    }
+}
+
+impl Drop for SmallDisk {
+    fn drop(&mut self) {
+        let _ = std::process::Command::new("umount").arg(&self.0).status();
+    }
+}
+
+#[test]
+fn on_a_full_disk_the_file_is_named_and_nothing_cut_is_left() {
+    let dir = tempfile::tempdir().unwrap();
+    let Some(disk) = SmallDisk::new(&dir.path().join("disk")) else {
+        return;
+    };
+    let movie = scene_file(dir.path(), "movie.pp", &["spheres", "--frames", "40"]);
+    let lines = scene_file(dir.path(), "slivers.pp", &["slivers", "2000"]);
+    let one = scene_file(dir.path(), "one.pp", &["spheres"]);
+    let render = |args: &[&str], scene: &Path| {
+        std::process::Command::new(bin_dir().join("render"))
+            .args(args)
+            .arg(scene)
+            .stdin(std::process::Stdio::null())
+            .output()
+            .unwrap()
+    };
+    let at = |name: &str| disk.0.join(name).display().to_string();
+    // PNG frames: some fit, the one that does not is named and left out.
+    let reference_dir = dir.path().join("reference");
+    let size = ["--size", "160x160", "--depth", "0"];
+    let out = render(
+        &[
+            &size[..],
+            &["-o", &reference_dir.join("f%04d.png").display().to_string()],
+        ]
+        .concat(),
+        &movie,
+    );
+    assert!(out.status.success());
+    let reference: Vec<Frame> = (0..40)
+        .map(|i| read_png(&reference_dir.join(format!("f{i:04}.png"))))
+        .collect();
+    let cases: [(Vec<String>, &Path, &str); 3] = [
+        (vec!["-o".into(), at("f%04d.png")], &movie, ".png"),
+        // One frame, too big for the disk (160×160 is 77 kB as a PPM).
+        (vec!["-o".into(), at("f.ppm")], &one, ".ppm"),
+        (
+            vec!["--hidden-line".into(), "-o".into(), at("lines.svg")],
+            &lines,
+            ".svg",
+        ),
+    ];
+    for (args, scene, ext) in cases {
+        for name in names_in(&disk.0) {
+            std::fs::remove_file(disk.0.join(name)).unwrap();
+        }
+        let args: Vec<&str> = size
+            .iter()
+            .copied()
+            .chain(args.iter().map(String::as_str))
+            .collect();
+        let out = render(&args, scene);
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(3), "{ext}: {err}");
+        let left = names_in(&disk.0);
+        match ext {
+            ".png" => {
+                let cut = (0..40)
+                    .find(|i| !left.contains(&format!("f{i:04}.png")))
+                    .expect("a frame the disk could not hold");
+                assert!(
+                    err.contains(&format!(
+                        "cannot write {}: No space left on device\n",
+                        at(&format!("f{cut:04}.png"))
+                    )),
+                    "{err}"
+                );
+                only_whole_frames(&disk.0, &reference, "full disk");
+            }
+            _ => {
+                let file = if ext == ".ppm" { "f.ppm" } else { "lines.svg" };
+                assert!(
+                    err.contains(&format!(
+                        "cannot write {}: No space left on device\n",
+                        at(file)
+                    )),
+                    "{err}"
+                );
+                assert!(left.is_empty(), "{ext}: {left:?}");
+            }
+        }
+    }
+}

@@ -149,10 +149,9 @@ fn a_failing_stages_status_class_passes_through() {
         "render: --size must be WxH with W and H from 1 to 65536, not '0x0'\n"
     );
     // An output zbuf cannot write: I/O, 3. (The tests may run as root, whom a read-only
-    // folder does not stop, so the folder does not exist.)
-    let nowhere = PathBuf::from(env!("CARGO_TARGET_TMPDIR"))
-        .join("no-such-folder")
-        .join("frame%02d.png");
+    // folder does not stop, and -o's folder is made when missing: so a file is in the
+    // way.)
+    let nowhere = PathBuf::from("/dev/null/frame%02d.png");
     let out = render(
         &[
             "--size",
@@ -263,4 +262,85 @@ fn a_scene_the_look_cannot_read_fails_in_viewxf_as_at_depth_0() {
     );
     assert_eq!(err, String::from_utf8_lossy(&zero.stderr));
     assert!(auto.stdout.is_empty());
+}
+
+/// A stand-in for ssh in `dir`, named `name`: the shell `body`, run with ssh's arguments.
+fn fake_ssh(dir: &Path, name: &str, body: &str) -> PathBuf {
+    use std::os::unix::fs::PermissionsExt;
+    let path = dir.join(name);
+    std::fs::write(&path, format!("#!/bin/sh\n{body}\n")).unwrap();
+    std::fs::set_permissions(&path, std::fs::Permissions::from_mode(0o755)).unwrap();
+    path
+}
+
+#[test]
+fn a_host_that_sends_nothing_is_named_when_its_time_is_up() {
+    let dir = tempfile::tempdir().unwrap();
+    // A host that takes the stream and never answers.
+    let ssh = fake_ssh(dir.path(), "ssh", "exec sleep 1000");
+    let start = Instant::now();
+    let out = render_cmd(&[
+        "--hosts",
+        "alpha",
+        "--depth",
+        "1",
+        "--host-timeout",
+        "5",
+        &example(),
+    ])
+    .env("POLYPIPE_SSH", &ssh)
+    .stdin(Stdio::null())
+    .output()
+    .unwrap();
+    let took = start.elapsed();
+    assert_eq!(out.status.code(), Some(3));
+    assert_eq!(
+        String::from_utf8_lossy(&out.stderr),
+        "render: host alpha (subtree 1): sent nothing for 5 s (--host-timeout): counted as \
+         failed\n"
+    );
+    assert!(out.stdout.is_empty());
+    assert!(took >= Duration::from_secs(5), "{took:?}");
+    assert!(took < Duration::from_secs(15), "{took:?}");
+}
+
+#[test]
+fn a_host_timeout_out_of_range_is_a_usage_error() {
+    for bad in ["-1", "nan", "inf", "1e9", "x", ""] {
+        let out = render(&["--host-timeout", bad, &example()], b"");
+        assert_eq!(out.status.code(), Some(2), "{bad}");
+        assert_eq!(
+            String::from_utf8_lossy(&out.stderr),
+            format!(
+                "render: --host-timeout must be seconds from 0 (wait for ever) to 86400, not \
+                 '{bad}'\n"
+            )
+        );
+    }
+}
+
+#[test]
+fn garbage_from_a_host_is_named_as_garbage_from_it() {
+    let dir = tempfile::tempdir().unwrap();
+    // A host that sends more bytes than a pipe holds, none of them a stream, so that it
+    // is still writing when the merger gives up (killed by SIGPIPE before this was named).
+    let ssh = fake_ssh(
+        dir.path(),
+        "ssh",
+        "cat >/dev/null &\nhead -c 2000000 /dev/zero | tr '\\0' 'x'",
+    );
+    for _ in 0..3 {
+        let out = render_cmd(&["--hosts", "alpha", "--depth", "1", &example()])
+            .env("POLYPIPE_SSH", &ssh)
+            .stdin(Stdio::null())
+            .output()
+            .unwrap();
+        assert_eq!(out.status.code(), Some(3));
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert!(
+            err.starts_with("render: host alpha (subtree 1): sent what is not a polypipe stream: "),
+            "{err}"
+        );
+        assert_eq!(err.lines().count(), 1, "{err}");
+    }
 }

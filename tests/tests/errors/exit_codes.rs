@@ -385,12 +385,12 @@ fn an_unwritable_output_exits_3() {
             "splitter: cannot open /nonexistent/a for writing: No such file or directory\n",
         ),
         (
-            "viewxf < T | persp --size 4x4 | scanconv | zbuf -o /nonexistent/f.ppm",
-            "zbuf: cannot write /nonexistent/f.ppm: No such file or directory\n",
+            "viewxf < T | persp --size 4x4 | scanconv | zbuf -o /dev/null/f.ppm",
+            "zbuf: cannot write /dev/null/f.ppm: Not a directory\n",
         ),
         (
-            "viewxf < T | persp --size 4x4 | scanconv | zbuf -o /nonexistent/f.png",
-            "zbuf: cannot write /nonexistent/f.png: No such file or directory\n",
+            "viewxf < T | persp --size 4x4 | scanconv | zbuf -o /dev/null/f.png",
+            "zbuf: cannot write /dev/null/f.png: Not a directory\n",
         ),
         (
             "viewxf < T > /dev/full",
@@ -423,12 +423,12 @@ fn an_unwritable_output_exits_3() {
             "zbuf: stdout: No space left on device\n",
         ),
         (
-            "viewxf < T | persp --size 4x4 | zbuf -o /nonexistent/f.png",
-            "zbuf: cannot write /nonexistent/f.png: No such file or directory\n",
+            "viewxf < T | persp --size 4x4 | zbuf -o /dev/null/f.png",
+            "zbuf: cannot write /dev/null/f.png: Not a directory\n",
         ),
         (
-            "scripts/render.sh --size 4x4 -o /nonexistent/dir/a.png T",
-            "zbuf: cannot write /nonexistent/dir/a.png: No such file or directory\n\
+            "scripts/render.sh --size 4x4 -o /dev/null/dir/a.png T",
+            "zbuf: cannot write /dev/null/dir/a.png: Not a directory\n\
              render: zbuf failed (status 3)\n",
         ),
     ];
