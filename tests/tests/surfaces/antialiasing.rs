@@ -408,6 +408,12 @@ fn adaptive_shading_is_within_a_level_of_ss() {
                 assert!(
                     overall.contains(" differing ") && !overall.contains(" differing 0 "),
                     "{options}: {overall}"
+                );
+            }
+        }
+    }
+}
+
 /// `render --aa ss4` gave `scene planes 10` one pixel unlike `zspec --samples 4` (8
 /// levels), `planes 50` eight: where two crossing planes' depths at a sample were within
 /// the tie rule's 2⁻³⁰, ss4 kept the earlier polygon (the tie rule) and zspec's
