@@ -6,7 +6,7 @@
 use pipeline_tests::output_with_stdin;
 use pipeline_tests::render::{example, frames, render};
 use pipeline_tests::{bin_dir, repo_root};
-use render::fresh::BINARIES;
+use render::fresh::binaries;
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 use std::time::Duration;
@@ -58,7 +58,7 @@ fn set_mtime(path: &Path, time: std::time::SystemTime) {
 
 /// A folder of the tools render.sh runs (found on PATH), linked, to be the whole PATH
 /// of a run: with `fake_cargo`, a `cargo` that logs each call (its folder and arguments)
-/// to DIR/cargo.log and "builds" each `-p NAME` (every binary of [`BINARIES`] for
+/// to DIR/cargo.log and "builds" each `-p NAME` (every binary of [`binaries`] for
 /// `--bins`) by copying the test's own binary into the release folder cargo would use (CARGO_TARGET_DIR taken from its working folder,
 /// as cargo does, then the host's folder, [`release_subdir`]), with a dep-info file
 /// listing the crate's and proto's sources.
@@ -102,7 +102,7 @@ done
 "#,
                 log = dir.join("cargo.log").display(),
                 real = bin_dir().display(),
-                all = BINARIES.join(" "),
+                all = binaries().join(" "),
                 sub = release_subdir()
             ),
         )
