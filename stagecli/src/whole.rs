@@ -3,7 +3,7 @@
 //! (render's `--resume`, a viewer, Slurm's check) never sees a cut file under the name.
 //! On an error the temporary is removed (its drop); on SIGTERM, SIGINT or SIGHUP a
 //! handler removes the one being written and the process then dies of the signal as
-//! it would have. A process killed by SIGKILL leaves its temporary (`.NAME.XXXXXX`
+//! it would have. A process killed by SIGKILL leaves its temporary (`.NAME.PID-N`
 //! beside the file), never a cut file under the name.
 
 use std::ffi::CString;
@@ -43,17 +43,38 @@ impl WholeFile {
         if !dir.exists() {
             std::fs::create_dir_all(&dir).map_err(|e| named(&path, e))?;
         }
-        let prefix = format!(
-            ".{}.",
-            path.file_name().unwrap_or_default().to_string_lossy()
-        );
-        let _held = Held::new();
-        let temp = tempfile::Builder::new()
-            .prefix(&prefix)
-            .permissions(std::os::unix::fs::PermissionsExt::from_mode(0o666))
-            .tempfile_in(&dir)
-            .map_err(|e| named(&path, e))?;
-        arm(temp.path());
+        // The temporary's name is chosen here and given to the signal handler before the
+        // file exists: a stop signal can reach any thread of the process (zbuf reads its
+        // inputs on several), so the handler must know the name from before its creation
+        // to after its rename; unlinking a name not (or no longer) there is harmless.
+        static COUNT: AtomicUsize = AtomicUsize::new(0);
+        let name = path.file_name().unwrap_or_default().to_string_lossy();
+        let file = loop {
+            let n = COUNT.fetch_add(1, Ordering::Relaxed);
+            let temp = dir.join(format!(".{name}.{}-{n}", std::process::id()));
+            arm(&temp);
+            let opened = std::fs::OpenOptions::new()
+                .write(true)
+                .create_new(true)
+                .open(&temp);
+            match opened {
+                Ok(file) => match tempfile::TempPath::try_from_path(&temp) {
+                    Ok(temp) => break tempfile::NamedTempFile::from_parts(file, temp),
+                    Err(e) => {
+                        let _ = std::fs::remove_file(&temp);
+                        disarm();
+                        return Err(named(&path, e));
+                    }
+                },
+                // Left by an earlier process of this number killed by SIGKILL.
+                Err(e) if e.kind() == io::ErrorKind::AlreadyExists => continue,
+                Err(e) => {
+                    disarm();
+                    return Err(named(&path, e));
+                }
+            }
+        };
+        let temp = file;
         Ok(WholeFile {
             temp: Some(temp),
             path,

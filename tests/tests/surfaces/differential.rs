@@ -26,6 +26,12 @@ const KNOWN_FAILURES: &[(u64, &str)] = &[];
 /// is described in docs/fuzzing.md, "The differential suite". A case listed here that
 /// passes fails the test too.
 const FOUND_NOT_YET_FIXED: &[(u64, &str)] = &[
+    // A triangle at ±1e308: zspec now draws it as render does at depth 0, but the one
+    // z-buffer merge (`--merge buffer`) and the clip chain at depths 3 and 4 fill the
+    // screen otherwise.
+    (21, "buffer@3"),
+    (21, "buffer-pixels@4"),
+    (21, "chain@4"),
     // Concave and bowtie polygons: every pipeline mode draws other pixels than zspec
     // (depths of zero-net-area bowties, and coverage in a movie's later frames).
     (5, "scanline@0"),
