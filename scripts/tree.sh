@@ -43,7 +43,7 @@ exec 3<&0 # the script's stdin, for a scene `-` (a stage started with & would ge
 pipes=$(mktemp -d "${TMPDIR:-/tmp}/tree.XXXXXX") || die 3 "cannot make a temporary folder"
 names=() # the stages, in the order they were started
 declare -A running=() # process id → the stage's number in `names`
-trap '((${#running[@]} == 0)) || kill "${!running[@]}" 2>/dev/null; rm -rf "$pipes"' EXIT
+trap '{ ((${#running[@]} == 0)) || kill "${!running[@]}"; rm -rf "$pipes"; } 2>/dev/null' EXIT
 trap 'exit 130' INT; trap 'exit 143' TERM
 
 # run NAME IN OUT COMMAND...: start a stage in the background, from IN to OUT (`-`: the
