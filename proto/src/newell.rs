@@ -11,15 +11,38 @@ use glam::{DVec3, DVec4};
 /// were collinear, this sums over every edge: it is twice the polygon's vector area, the
 /// least-squares best plane orientation of a non-planar polygon, and zero only for a
 /// polygon of no area.
+///
+/// "No area" includes a polygon whose vector area is zero in exact arithmetic but not in
+/// floating point: a bowtie whose two lobes cancel, or a polygon folded back on itself.
+/// Its sums then end in rounding noise (about 1e-14 for a bowtie 20 units across) whose
+/// direction is arbitrary, and a plane taken from that noise gives each renderer a
+/// different, meaningless depth: zspec and the pipeline, which sum in other coordinates,
+/// disagreed on the pixels of every such bowtie. Each component's sum is therefore
+/// compared with the bound on its own rounding error, (n + 3)·ε·Σ|term| for n terms
+/// (each product rounds twice, the sum n − 1 times; Higham, *Accuracy and Stability of
+/// Numerical Algorithms*, §3.1), doubled for margin; when all three are within it, the
+/// polygon has no area to speak of and the normal is exactly zero, which every stage
+/// and the reference take as "no plane" (docs/degenerate.md: such a polygon gets the
+/// depth of its nearest vertex). A polygon with any area above rounding keeps its sums
+/// as they are, bit for bit.
 pub fn newell_normal(points: &[DVec3]) -> DVec3 {
     let n = points.len();
     let mut normal = DVec3::ZERO;
+    let mut magnitude = DVec3::ZERO;
     for i in 0..n {
         let p = points[i];
         let q = points[(i + 1) % n];
-        normal.x += (p.y - q.y) * (p.z + q.z);
-        normal.y += (p.z - q.z) * (p.x + q.x);
-        normal.z += (p.x - q.x) * (p.y + q.y);
+        let term = DVec3::new(
+            (p.y - q.y) * (p.z + q.z),
+            (p.z - q.z) * (p.x + q.x),
+            (p.x - q.x) * (p.y + q.y),
+        );
+        normal += term;
+        magnitude += term.abs();
+    }
+    let bound = magnitude * (2.0 * (n as f64 + 3.0) * f64::EPSILON);
+    if normal.abs().cmple(bound).all() {
+        return DVec3::ZERO;
     }
     normal
 }
@@ -60,6 +83,25 @@ pub fn newell_plane_of(vertices: &[DVec4], point: impl Fn(&DVec4) -> DVec3) -> D
     } else {
         newell_plane(&vertices.iter().map(point).collect::<Vec<_>>())
     }
+}
+
+/// The plane of an eye-space polygon of no net area in eye space (a bowtie whose lobes
+/// cancel, whose [`newell_normal`] is zero), found from how it is seen: in perspective its
+/// lobes no longer cancel, and over the points (u, v, q) = (x_e/w, y_e/w, 1/z_e), in
+/// which every plane not through the eye is a plane (1/z_e is affine in the screen
+/// position), Newell's plane `A·u + B·v + C·q + D = 0` is the polygon's own. Times z_e,
+/// with x' = x_e·z_e/w, that is `A·x' + B·y' + D·z_e + C = 0`, returned as (A, B, D, C)
+/// over the normalised eye points (x', y', z_e) of [`crate::Polygon::eye_plane`].
+/// `None` for a polygon with a vertex at or behind the eye, or of no area on the screen
+/// either (seen edge-on, or its lobes cancel there too): the scan converter gives such a
+/// polygon its nearest vertex's depth.
+pub fn plane_seen_in_perspective(vertices: &[DVec4]) -> Option<DVec4> {
+    if !vertices.iter().all(|v| v.w > 0.0 && v.z > 0.0) {
+        return None;
+    }
+    let seen = newell_plane_of(vertices, |v| DVec3::new(v.x / v.w, v.y / v.w, 1.0 / v.z));
+    let plane = DVec4::new(seen.x, seen.y, seen.w, seen.z);
+    (plane.is_finite() && seen.z != 0.0).then_some(plane)
 }
 
 #[cfg(test)]
@@ -112,5 +154,68 @@ mod tests {
             DVec3::new(2.0, 2.0, 3.0),
         ];
         assert_eq!(newell_plane(&flat).truncate(), DVec3::ZERO);
+    }
+
+    #[test]
+    fn a_bowtie_whose_lobes_cancel_has_no_plane_not_a_plane_of_noise() {
+        // A planar bowtie found by the differential suite: its sums leave
+        // (2.8e-14, -2.8e-14, 0), a vertical plane in an arbitrary direction.
+        let bowtie = [
+            DVec3::new(-9.422154311560915, -6.858588079080317, -5.093216671888795),
+            DVec3::new(12.10366239857507, 11.848213681031712, 5.628495387079276),
+            DVec3::new(12.10366239857507, -6.858588079080317, 7.786818060084505),
+            DVec3::new(-9.422154311560915, 11.848213681031712, -7.251539344894023),
+        ];
+        assert_eq!(newell_normal(&bowtie), DVec3::ZERO);
+        // Its lobes made unequal by a hundredth of a unit: a plane again, the bowtie's.
+        let mut uneven = bowtie;
+        uneven[1] += (uneven[1] - uneven[0]) * 1e-3;
+        let plane = newell_plane(&uneven);
+        assert!(plane.truncate() != DVec3::ZERO);
+        for v in &uneven {
+            let off = (plane.truncate().dot(*v) + plane.w) / plane.truncate().length();
+            assert!(off.abs() < 1e-9, "{v} is {off} off the plane");
+        }
+    }
+
+    #[test]
+    fn a_bowtie_of_no_eye_area_gets_the_plane_it_is_seen_in() {
+        // The bowtie above in eye space (the thesis camera: z_e = 20 − z, w = 0.625·z_e):
+        // no plane from its eye points, its own plane from how it is seen.
+        let eye: Vec<DVec4> = [
+            [-9.422154311560915, -6.858588079080317, -5.093216671888795],
+            [12.10366239857507, 11.848213681031712, 5.628495387079276],
+            [12.10366239857507, -6.858588079080317, 7.786818060084505],
+            [-9.422154311560915, 11.848213681031712, -7.251539344894023],
+        ]
+        .iter()
+        .map(|p| DVec4::new(p[0], p[1], 20.0 - p[2], 0.625 * (20.0 - p[2])))
+        .collect();
+        let normalised = |v: &DVec4| DVec3::new(v.x * v.z / v.w, v.y * v.z / v.w, v.z);
+        assert_eq!(newell_plane_of(&eye, normalised).truncate(), DVec3::ZERO);
+        let plane = plane_seen_in_perspective(&eye).expect("a plane");
+        for v in &eye {
+            let p = normalised(v);
+            let off = (plane.truncate().dot(p) + plane.w) / plane.truncate().length();
+            assert!(off.abs() < 1e-9, "{p} is {off} off the plane");
+        }
+        // Behind the eye it has no screen position, and no such plane.
+        let mut behind = eye.clone();
+        behind[0].z = -1.0;
+        behind[0].w = -0.625;
+        assert_eq!(plane_seen_in_perspective(&behind), None);
+    }
+
+    #[test]
+    fn a_tiny_triangle_far_away_still_has_its_plane() {
+        // Area 1e-16 at 1e3 from the origin: far above the sums' rounding.
+        let t = [
+            DVec3::new(1e3, 1e3, 1e3),
+            DVec3::new(1e3 + 1e-8, 1e3, 1e3),
+            DVec3::new(1e3, 1e3 + 1e-8, 1e3 + 1e-8),
+        ];
+        let n = newell_normal(&t);
+        assert!(n != DVec3::ZERO);
+        assert!((n.normalize() - DVec3::new(0.0, -1.0, 1.0).normalize()).length() < 1e-6);
     }
 }

@@ -130,14 +130,19 @@ impl Polygon {
     /// (`proto::geometry::newell_plane`) over the normalised eye points
     /// `(x_e·z_e/w, y_e·z_e/w, z_e)`. Those are `z_e·(x_e/w, y_e/w, 1)`, and x_e/w, y_e/w
     /// are a·x_s and y_s, so the plane takes itself to the screen without s/d
-    /// (persp does so). `None` when it is not a plane (fewer than three distinct
-    /// points, w = 0).
+    /// (persp does so). A polygon of no net area there (a bowtie whose lobes cancel)
+    /// gets the plane it is seen in ([`crate::newell::plane_seen_in_perspective`]), the
+    /// same for every piece of it. `None` when it is not a plane (fewer than three
+    /// distinct points, w = 0, no area on the screen either).
     pub fn eye_plane(&self) -> Option<DVec4> {
         let n = newell_plane_of(&self.vertices, |v| {
             let r = v.z / v.w;
             DVec3::new(v.x * r, v.y * r, v.z)
         });
-        (n.is_finite() && n.truncate() != DVec3::ZERO).then_some(n)
+        if n.is_finite() && n.truncate() != DVec3::ZERO {
+            return Some(n);
+        }
+        crate::newell::plane_seen_in_perspective(&self.vertices)
     }
 
     /// Whether the polygon carries an annotation (`plane`, `on` or `shade`).

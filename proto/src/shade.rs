@@ -44,6 +44,86 @@ pub fn eye_colour_planes(vertices: &[Vertex], colours: &[VertexAttr]) -> Option<
     planes_over(vertices.iter().map(|v| (v.x / v.w, v.y / v.w)), colours)
 }
 
+/// The colour planes the pipeline and the reference both give an eye-space polygon
+/// (docs/DESIGN.md, "Shading"): [`eye_colour_planes`] of its vertices, or, for a polygon
+/// with a vertex at or behind the eye (which has no screen position there), of its part in
+/// front of the hither plane z_e = K1 ([`cut_coloured_at_hither`]), the attributes at a
+/// cut interpolated as the positions are. viewxf records these before any clipper sees
+/// the polygon and zspec computes them from the same vertices with the same function, so
+/// the two shade such a polygon alike; fitted instead to whatever the clippers leave, a
+/// polygon whose attributes are not coplanar (four random normals) got other planes.
+pub fn front_colour_planes(
+    vertices: &[Vertex],
+    colours: &[VertexAttr],
+    hither: f64,
+    w_per_z: f64,
+) -> Option<ColourPlanes> {
+    eye_colour_planes(vertices, colours).or_else(|| {
+        if colours.len() != vertices.len() || vertices.iter().all(|v| v.z >= hither) {
+            return None;
+        }
+        let (front, attrs) = cut_coloured_at_hither(vertices, colours, hither, w_per_z);
+        eye_colour_planes(&front, &attrs)
+    })
+}
+
+/// Cuts an eye-space polygon and its vertex attributes to the half-space z_e ≥ K1 (one
+/// plane, inline: each edge keeps its inside end and gains the crossing point when it
+/// leaves or enters), a crossing's attributes interpolated with the position's parameter
+/// and kept between the edge's ends.
+///
+/// A crossing point gets w = K1·s/d (`w_per_z`) from the definition of w, not by
+/// interpolation: an edge from 1e30 behind the eye to 1e30 in front meets the plane at
+/// t ≈ ½, where interpolating w from ±6e29 leaves nothing but rounding
+/// (examples/degenerate/huge-through-eye.txt).
+pub fn cut_coloured_at_hither(
+    vertices: &[Vertex],
+    colours: &[VertexAttr],
+    k1: f64,
+    w_per_z: f64,
+) -> (Vec<Vertex>, Vec<VertexAttr>) {
+    let n = vertices.len();
+    let (mut out, mut out_colours) = (Vec::with_capacity(n + 2), Vec::with_capacity(n + 2));
+    for i in 0..n {
+        let (a, b) = (vertices[i], vertices[(i + 1) % n]);
+        let (ca, cb) = (colours[i], colours[(i + 1) % n]);
+        if a.z >= k1 {
+            out.push(a);
+            out_colours.push(ca);
+        }
+        if (a.z >= k1) != (b.z >= k1) {
+            let t = crossing_at(k1, a.z, b.z);
+            let mut p = lerp(a, b, t);
+            p.z = k1;
+            p.w = k1 * w_per_z;
+            out.push(p);
+            out_colours.push((ca + (cb - ca) * t).clamp(ca.min(cb), ca.max(cb)));
+        }
+    }
+    (out, out_colours)
+}
+
+/// The parameter t at which z goes from `a` to `b` through `k`: `(k − a)/(b − a)`, or,
+/// where that overflows (ends near ±f64::MAX), the same with every term halved.
+pub fn crossing_at(k: f64, a: f64, b: f64) -> f64 {
+    let t = (k - a) / (b - a);
+    if t.is_finite() {
+        t
+    } else {
+        (k * 0.5 - a * 0.5) / (b * 0.5 - a * 0.5)
+    }
+}
+
+/// `a + (b − a)·t`, or, where that overflows, `a·(1 − t) + b·t`.
+pub fn lerp(a: DVec4, b: DVec4, t: f64) -> DVec4 {
+    let p = a + (b - a) * t;
+    if p.is_finite() {
+        p
+    } else {
+        a * (1.0 - t) + b * t
+    }
+}
+
 /// The colour planes of a screen-space polygon fitted to its own vertices: Newell's plane
 /// over `(X, Y, c)` per channel. For a stream written without `shade` (by hand, or an
 /// eye-space stream that could not record one).
@@ -623,5 +703,36 @@ mod tests {
         // Without the lighting, the same planes are colours.
         let gouraud = Shading::new(planes);
         assert_eq!(gouraud.at(2, 0), [1, 0, 1]);
+    }
+
+    #[test]
+    fn a_polygon_through_the_eye_is_shaded_from_its_part_in_front_of_hither() {
+        // Four vertex colours not on one plane, one vertex behind the eye: the planes are
+        // those of the hither cut, whatever clippers later leave of the polygon.
+        let eye = [
+            DVec4::new(-4.0, -3.0, 10.0, 6.25),
+            DVec4::new(4.0, -3.0, 10.0, 6.25),
+            DVec4::new(4.0, 3.0, -5.0, -3.125),
+            DVec4::new(-4.0, 3.0, 12.0, 7.5),
+        ];
+        let colours = [
+            DVec3::new(255.0, 0.0, 0.0),
+            DVec3::new(0.0, 255.0, 0.0),
+            DVec3::new(0.0, 0.0, 255.0),
+            DVec3::new(255.0, 255.0, 0.0),
+        ];
+        assert_eq!(eye_colour_planes(&eye, &colours), None);
+        let (front, attrs) = cut_coloured_at_hither(&eye, &colours, 1.0, 0.625);
+        assert_eq!(front.len(), 5);
+        assert!(front.iter().all(|v| v.z >= 1.0 && v.w > 0.0));
+        let planes = front_colour_planes(&eye, &colours, 1.0, 0.625).expect("planes");
+        assert_eq!(Some(planes), eye_colour_planes(&front, &attrs));
+        // A polygon wholly in front keeps the planes of its own vertices.
+        let ahead = [eye[0], eye[1], eye[3]];
+        let c3 = [colours[0], colours[1], colours[3]];
+        assert_eq!(
+            front_colour_planes(&ahead, &c3, 1.0, 0.625),
+            eye_colour_planes(&ahead, &c3)
+        );
     }
 }

@@ -50,7 +50,7 @@ pub use supersample::{render_supersampled, Supersampled, SupersampledFrame};
 use exact::Outline;
 use proto::camera::{Device, EyeFrame};
 use proto::geometry::newell_plane;
-use proto::shade::{self, Lighting, Shading};
+use proto::shade::{self, crossing_at, cut_coloured_at_hither, lerp, Lighting, Shading};
 use proto::{Colour, DVec2, DVec3, DVec4, Polygon, View};
 use std::ops::Range;
 use std::sync::Arc;
@@ -104,64 +104,9 @@ struct Prepared {
     outline: Outline,
 }
 
-/// [`cut_at_hither`] for a polygon with vertex colours: a crossing's colour is
-/// interpolated with the position's parameter.
-fn cut_coloured_at_hither(
-    vertices: &[DVec4],
-    colours: &[DVec3],
-    k1: f64,
-    w_per_z: f64,
-) -> (Vec<DVec4>, Vec<DVec3>) {
-    let n = vertices.len();
-    let (mut out, mut out_colours) = (Vec::with_capacity(n + 2), Vec::with_capacity(n + 2));
-    for i in 0..n {
-        let (a, b) = (vertices[i], vertices[(i + 1) % n]);
-        let (ca, cb) = (colours[i], colours[(i + 1) % n]);
-        if a.z >= k1 {
-            out.push(a);
-            out_colours.push(ca);
-        }
-        if (a.z >= k1) != (b.z >= k1) {
-            let t = crossing_at(k1, a.z, b.z);
-            let mut p = lerp(a, b, t);
-            p.z = k1;
-            p.w = k1 * w_per_z;
-            out.push(p);
-            out_colours.push((ca + (cb - ca) * t).clamp(ca.min(cb), ca.max(cb)));
-        }
-    }
-    (out, out_colours)
-}
-
-/// The parameter t at which z goes from `a` to `b` through `k`: `(k − a)/(b − a)`, or,
-/// where that overflows (ends near ±f64::MAX), the same with every term halved.
-fn crossing_at(k: f64, a: f64, b: f64) -> f64 {
-    let t = (k - a) / (b - a);
-    if t.is_finite() {
-        t
-    } else {
-        (k * 0.5 - a * 0.5) / (b * 0.5 - a * 0.5)
-    }
-}
-
-/// `a + (b − a)·t`, or, where that overflows, `a·(1 − t) + b·t`.
-fn lerp(a: DVec4, b: DVec4, t: f64) -> DVec4 {
-    let p = a + (b - a) * t;
-    if p.is_finite() {
-        p
-    } else {
-        a * (1.0 - t) + b * t
-    }
-}
-
-/// Cuts an eye-space polygon to the half-space z_e ≥ K1 (one plane, inline: each edge
-/// keeps its inside end and gains the crossing point when it leaves or enters).
-/// A polygon wholly in front of the plane comes back unchanged, bit for bit.
-///
-/// A crossing point gets w = K1·s/d (`w_per_z`) from the definition of w, not by
-/// interpolation: an edge from 1e30 behind the eye to 1e30 in front meets the plane at
-/// t ≈ ½, where interpolating w from ±6e29 leaves nothing but rounding
-/// (examples/degenerate/huge-through-eye.txt).
+/// Cuts an eye-space polygon to the half-space z_e ≥ K1 with
+/// [`shade::cut_coloured_at_hither`], the cut viewxf's shading planes are fitted to. A
+/// polygon wholly in front of the plane comes back unchanged, bit for bit.
 fn cut_at_hither(vertices: &[DVec4], k1: f64, w_per_z: f64) -> Vec<DVec4> {
     if vertices.iter().all(|v| v.z >= k1) {
         return vertices.to_vec();
@@ -338,12 +283,7 @@ impl Setup {
             ));
         }
         if plane.truncate() == DVec3::ZERO {
-            // No plane: a polygon of no net area, e.g. a bowtie whose lobes cancel. Its
-            // lobes still cover pixels by the even-odd rule; give it the depth of its
-            // nearest vertex in front of hither, as the scan converter's flat depth does
-            // (docs/degenerate.md). A polygon of no area at all still covers nothing.
-            let nearest = front.iter().map(|v| v.z).fold(f64::INFINITY, f64::min);
-            plane = DVec4::new(0.0, 0.0, 1.0, -nearest);
+            plane = self.plane_on_the_screen(&front);
         }
         let device = self.device();
         let project = |front: &[DVec4]| -> Vec<DVec2> {
@@ -383,6 +323,21 @@ impl Setup {
         }))
     }
 
+    /// The eye plane of a polygon of no net area in eye space, e.g. a bowtie whose lobes
+    /// cancel: the plane it is seen in, as the pipeline records it
+    /// ([`proto::newell::plane_seen_in_perspective`], over x' = x_e·z_e/w = x_e/(s/d),
+    /// here over x_e). A polygon of no area on the screen either gets the depth of its
+    /// nearest vertex in front of hither, as the scan converter's flat depth does
+    /// (docs/degenerate.md); one of no area at all still covers nothing.
+    fn plane_on_the_screen(&self, front: &[DVec4]) -> DVec4 {
+        if let Some(p) = proto::newell::plane_seen_in_perspective(front) {
+            let per_w = 1.0 / self.frame.w_per_z;
+            return DVec4::new(p.x * per_w, p.y * per_w, p.z, p.w);
+        }
+        let nearest = front.iter().map(|v| v.z).fold(f64::INFINITY, f64::min);
+        DVec4::new(0.0, 0.0, 1.0, -nearest)
+    }
+
     /// The direction of the ray from the eye through device point (X, Y), scaled to
     /// z_e = 1: x_s = 2X/W − 1, y_s = 1 − 2Y/H, and a point of the ray at depth z_e has
     /// x_e = x_s·a·w, y_e = y_s·w with w = z_e·s/d.
@@ -391,21 +346,17 @@ impl Setup {
     /// records it) from the eye-space polygon before any cut, and carried to this screen
     /// as persp carries it. A polygon with a vertex at or behind the eye has its planes
     /// from its part in front of the hither plane instead, the colours at the cut
-    /// interpolated as the positions are (the pipeline clips it at every side first and
-    /// fits its planes to what is left, so there the two may differ).
+    /// interpolated as the positions are: [`shade::front_colour_planes`], viewxf's.
     fn shading(&self, poly: &Polygon, eye: &[DVec4]) -> Option<Shading> {
         if !poly.is_shaded() {
             return None;
         }
-        let planes = shade::eye_colour_planes(eye, &poly.vertex_attrs).or_else(|| {
-            let (front, colours) = cut_coloured_at_hither(
-                eye,
-                &poly.vertex_attrs,
-                self.view.hither,
-                self.frame.w_per_z,
-            );
-            shade::eye_colour_planes(&front, &colours)
-        });
+        let planes = shade::front_colour_planes(
+            eye,
+            &poly.vertex_attrs,
+            self.view.hither,
+            self.frame.w_per_z,
+        );
         let screen = planes.and_then(|p| {
             shade::colour_planes_to_screen(&p, self.view.aspect, self.width, self.height)
         });

@@ -18,17 +18,24 @@ pub fn view_vertex(frame: &EyeFrame, v: Vertex) -> Vertex {
 /// polygon stays empty (it keeps the polygon numbering, docs/DESIGN.md, "Grammar").
 ///
 /// A polygon with vertex colours also gets its colour planes recorded (`shade`,
-/// [`proto::shade::eye_colour_planes`]) here, before any clipper or splitter changes its
+/// [`proto::shade::front_colour_planes`]) here, before any clipper or splitter changes its
 /// vertices, so that every piece of it is shaded as the whole is (docs/DESIGN.md,
-/// "Shading"); the colours themselves are left as they are.
+/// "Shading"); the colours themselves are left as they are. A polygon with a vertex at or
+/// behind the eye gets the planes of its part in front of the hither plane `hither`
+/// (K1), as zspec shades it.
 #[inline]
-pub fn view_polygon(frame: &EyeFrame, poly: &mut Polygon) {
+pub fn view_polygon(frame: &EyeFrame, hither: f64, poly: &mut Polygon) {
     for v in &mut poly.vertices {
         *v = view_vertex(frame, *v);
     }
     if poly.is_shaded() {
-        poly.shade =
-            proto::shade::eye_colour_planes(&poly.vertices, &poly.vertex_attrs).map(Box::new);
+        poly.shade = proto::shade::front_colour_planes(
+            &poly.vertices,
+            &poly.vertex_attrs,
+            hither,
+            frame.w_per_z,
+        )
+        .map(Box::new);
     }
 }
 
@@ -42,7 +49,7 @@ mod tests {
     fn thesis_camera_gives_z_e_equal_20_minus_z_w() {
         let frame = Camera::default().frame().unwrap();
         let mut p = Polygon::from_xyz([1, 2, 3], &[[-8.0, -4.0, 0.0], [0.0, 7.0, 4.0]]);
-        view_polygon(&frame, &mut p);
+        view_polygon(&frame, 1.0, &mut p);
         assert_eq!(p.colour, [1, 2, 3]);
         assert_eq!(
             p.vertices,
@@ -70,7 +77,7 @@ mod tests {
     fn empty_polygon_stays_empty() {
         let frame = Camera::default().frame().unwrap();
         let mut p = Polygon::new([9, 9, 9], vec![]);
-        view_polygon(&frame, &mut p);
+        view_polygon(&frame, 1.0, &mut p);
         assert_eq!(p, Polygon::new([9, 9, 9], vec![]));
     }
 }

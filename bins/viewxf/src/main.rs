@@ -35,7 +35,7 @@ fn main() -> ExitCode {
                 Ok((
                     Header::new(Space::Eye(view)).with(header.attributes),
                     |poly: &mut Polygon| {
-                        viewxf::view_polygon(&frame, poly);
+                        viewxf::view_polygon(&frame, view.hither, poly);
                         Ok(())
                     },
                 ))

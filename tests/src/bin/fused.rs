@@ -93,7 +93,7 @@ fn render(cli: &Cli) -> anyhow::Result<()> {
     while let Some(token) = reader.next_record()? {
         match token {
             Token::Polygon(mut poly) => {
-                view_polygon(&frame, &mut poly);
+                view_polygon(&frame, view.hither, &mut poly);
                 match cli.clipper {
                     Clipper::Planes => {
                         clip_planes(&planes, &mut poly, &mut scratch);
@@ -122,8 +122,8 @@ fn render(cli: &Cli) -> anyhow::Result<()> {
 const BATCHED: &str = "a polygon of the last batch";
 
 /// viewxf.
-fn view_polygon(frame: &EyeFrame, poly: &mut Polygon) {
-    viewxf::view_polygon(frame, poly);
+fn view_polygon(frame: &EyeFrame, hither: f64, poly: &mut Polygon) {
+    viewxf::view_polygon(frame, hither, poly);
 }
 
 /// The six clipplane stages, as each one's main loop does it: a polygon whose vertices a

@@ -101,7 +101,7 @@ fn render(scene: &[u8], size: &str, depth: u32) -> Result<Vec<u8>, String> {
     while let Some(token) = reader.next_record().map_err(|e| e.to_string())? {
         match token {
             Token::Polygon(mut poly) => {
-                viewxf::view_polygon(&frame, &mut poly);
+                viewxf::view_polygon(&frame, view.hither, &mut poly);
                 if !batch.fits(&poly) {
                     clipped.extend(batch.clip());
                 }
