@@ -801,6 +801,30 @@ mod tests {
             check(&[lines]),
             Err("a: lines are drawn at depth 0 alone, and are not pixels to compare".into())
         );
+        assert_eq!(
+            check(&[Method {
+                depths: ROOT,
+                exact: true,
+                ..lines
+            }]),
+            Err("a: lines are drawn at depth 0 alone, and are not pixels to compare".into())
+        );
+        let x = Method {
+            selector: Selector::Hse("x"),
+            options: &["--hse", "x"],
+            ..a
+        };
+        assert_eq!(
+            check(&[
+                x,
+                Method {
+                    name: "b",
+                    colour: [200, 0, 0],
+                    ..x
+                }
+            ]),
+            Err("b: Hse(\"x\") selects another row too".into())
+        );
         let hse = Method {
             selector: Selector::Hse("x"),
             options: &["--aa", "x"],

@@ -2,9 +2,10 @@
 //! "exact", "the same bytes", "says so" or "bounded" points to the test that holds it, as
 //! `(held by `FILE::NAME`)`: FILE a module of a test binary under tests/tests/ without `.rs`
 //! (`differential::supersampling_is_zspec_samples_k`), or any `.rs` path from the
-//! repository root (`bins/scan/src/lib.rs::name`); NAME a function in it. Sentences are
-//! read across line breaks (a paragraph, a list item or a table row is joined first), code
-//! blocks are skipped.
+//! repository root (`bins/scan/src/lib.rs::name`); NAME a test in it (a `#[test]` function,
+//! proptest's included). Sentences are read across line breaks (a paragraph, a list item or
+//! a table row is joined first), code blocks are skipped. A heading is not read: a pointer
+//! in it would change its anchor, and the sentences under it hold what it names.
 
 use pipeline_tests::repo_root;
 use std::fs;
@@ -18,23 +19,19 @@ const CLAIMS: &[&str] = &[
     "exact",
 ];
 
-/// The documents every claim of which must name its test today. The others are on their
-/// way: for them only the pointers they have are checked, and the count of sentences
-/// without one must not grow past [`UNHELD_AT_MOST`].
-const HELD: &[&str] = &["README.md"];
-
-/// The documents not yet in [`HELD`], and the most claims without a pointer each may have.
-const UNHELD_AT_MOST: &[(&str, usize)] = &[
-    ("docs/DESIGN.md", 23),
-    ("docs/antialiasing.md", 8),
-    ("docs/degenerate.md", 3),
-    ("docs/extending.md", 7),
-    ("docs/fuzzing.md", 3),
-    ("docs/methods.md", 22),
-    ("docs/model.md", 3),
-    ("docs/performance.md", 1),
-    ("docs/references.md", 0),
-];
+/// The documents whose every claim must name its test: the README and every page of docs/.
+fn documents() -> Vec<String> {
+    let mut docs: Vec<String> = fs::read_dir(repo_root().join("docs"))
+        .expect("docs/")
+        .flatten()
+        .map(|e| e.file_name().to_string_lossy().into_owned())
+        .filter(|n| n.ends_with(".md"))
+        .map(|n| format!("docs/{n}"))
+        .collect();
+    docs.sort();
+    docs.insert(0, "README.md".to_string());
+    docs
+}
 
 /// The blocks of `text` as one line each: paragraphs, list items and table rows, with
 /// fenced and indented code left out.
@@ -48,7 +45,8 @@ fn blocks(text: &str) -> Vec<String> {
         }
         cur.clear();
     };
-    for line in text.lines() {
+    let lines: Vec<&str> = text.lines().collect();
+    for (i, line) in lines.iter().enumerate() {
         if line.trim_start().starts_with("```") {
             fenced = !fenced;
             flush(&mut cur, &mut out);
@@ -57,12 +55,17 @@ fn blocks(text: &str) -> Vec<String> {
         if fenced || line.starts_with("    ") && cur.is_empty() {
             continue;
         }
+        // A table's header row names its columns and claims nothing.
+        let separator = |l: &&str| {
+            let l = l.trim();
+            l.starts_with("|-") || l.starts_with("| -") || l.starts_with("|:")
+        };
+        if line.trim_start().starts_with('|') && lines.get(i + 1).is_some_and(separator) {
+            continue;
+        }
         let t = line.trim();
         if t.is_empty() || t.starts_with('#') {
             flush(&mut cur, &mut out);
-            if t.starts_with('#') {
-                out.push(t.to_string());
-            }
             continue;
         }
         if t.starts_with('|') || t.starts_with("- ") || t.starts_with("* ") {
@@ -108,8 +111,11 @@ fn sentences(block: &str) -> Vec<String> {
     out
 }
 
+/// Whether a sentence is a claim: one of [`CLAIMS`] as words, in its prose (code spans,
+/// a path or an option between backquotes, are not read).
 fn is_claim(sentence: &str) -> bool {
-    let lower = sentence.to_lowercase();
+    let prose: String = sentence.split('`').step_by(2).collect::<Vec<_>>().join(" ");
+    let lower = prose.to_lowercase();
     CLAIMS.iter().any(|c| {
         lower.match_indices(c).any(|(at, _)| {
             let after = lower[at + c.len()..].chars().next();
@@ -120,18 +126,26 @@ fn is_claim(sentence: &str) -> bool {
     })
 }
 
-/// The `(held by `X::Y`)` pointers of a sentence.
+/// The `(held by `X::Y`)` pointers of a sentence: every backquoted name between `held by`
+/// and the closing parenthesis (`(held by `a::b`, `c::d`)`).
 fn pointers(sentence: &str) -> Vec<String> {
     sentence
         .match_indices("held by `")
-        .filter_map(|(at, m)| {
-            let rest = &sentence[at + m.len()..];
-            rest.split_once('`').map(|(p, _)| p.to_string())
+        .flat_map(|(at, m)| {
+            let rest = &sentence[at + m.len() - 1..];
+            let inside = rest.split_once(')').map_or(rest, |(i, _)| i);
+            inside
+                .split('`')
+                .skip(1)
+                .step_by(2)
+                .map(str::to_string)
+                .collect::<Vec<_>>()
         })
         .collect()
 }
 
-/// What is wrong with a pointer: a file that is not there, or no function of that name.
+/// What is wrong with a pointer: a file that is not there (a module of no test binary, or
+/// of two), or no test of that name in it.
 fn broken(pointer: &str) -> Option<String> {
     let Some((file, name)) = pointer.rsplit_once("::") else {
         return Some(format!("`{pointer}` is not FILE::NAME"));
@@ -142,18 +156,40 @@ fn broken(pointer: &str) -> Option<String> {
         // A module of one of the test binaries, tests/tests/BINARY/FILE.rs.
         let tests = repo_root().join("tests/tests");
         let module = format!("{file}.rs");
-        fs::read_dir(&tests)
+        let found: Vec<_> = fs::read_dir(&tests)
             .into_iter()
             .flatten()
             .flatten()
             .map(|binary| binary.path().join(&module))
-            .find(|path| path.is_file())
-            .unwrap_or_else(|| tests.join(&module))
+            .filter(|path| path.is_file())
+            .collect();
+        match found.as_slice() {
+            [one] => one.clone(),
+            [] => return Some(format!("`{pointer}`: no test module {file}")),
+            _ => return Some(format!("`{pointer}`: {file} is a module of two binaries")),
+        }
     };
     let Ok(text) = fs::read_to_string(&path) else {
         return Some(format!("`{pointer}`: no file {}", path.display()));
     };
-    (!text.contains(&format!("fn {name}("))).then(|| format!("`{pointer}`: no fn {name} in {file}"))
+    (!is_test(&text, name)).then(|| format!("`{pointer}`: no test {name} in {file}"))
+}
+
+/// Whether `text` has a function `name` that is a test: `#[test]` among the attributes
+/// right above it (other attributes and doc comments may stand between).
+fn is_test(text: &str, name: &str) -> bool {
+    let lines: Vec<&str> = text.lines().collect();
+    let head = format!("fn {name}(");
+    lines.iter().enumerate().any(|(i, line)| {
+        let t = line.trim_start();
+        (t.starts_with(&head) || t.starts_with(&format!("pub {head}")))
+            && lines[..i]
+                .iter()
+                .rev()
+                .map(|l| l.trim())
+                .take_while(|l| l.starts_with("#[") || l.starts_with("//") || l.ends_with(")]"))
+                .any(|l| l == "#[test]")
+    })
 }
 
 /// Each claim of `text`: (the sentence, its pointers).
@@ -172,38 +208,16 @@ fn claims(text: &str) -> Vec<(String, Vec<String>)> {
 #[test]
 fn every_claim_names_the_test_that_holds_it() {
     let mut report = Vec::new();
-    let docs = HELD.iter().chain(UNHELD_AT_MOST.iter().map(|(d, _)| d));
-    for doc in docs {
-        let text = fs::read_to_string(repo_root().join(doc)).unwrap();
-        let found = claims(&text);
-        let unheld: Vec<&String> = found
-            .iter()
-            .filter(|(_, p)| p.is_empty())
-            .map(|(s, _)| s)
-            .collect();
-        for (s, ps) in &found {
+    for doc in documents() {
+        let text = fs::read_to_string(repo_root().join(&doc)).unwrap();
+        for (s, ps) in claims(&text) {
+            if ps.is_empty() {
+                report.push(format!("{doc}: no (held by `…`): {s}"));
+            }
             for p in ps {
-                if let Some(why) = broken(p) {
+                if let Some(why) = broken(&p) {
                     report.push(format!("{doc}: {why}: {s}"));
                 }
-            }
-        }
-        if HELD.contains(doc) {
-            report.extend(
-                unheld
-                    .iter()
-                    .map(|s| format!("{doc}: no (held by `…`): {s}")),
-            );
-        } else {
-            let most = UNHELD_AT_MOST
-                .iter()
-                .find(|(d, _)| d == doc)
-                .map_or(0, |m| m.1);
-            if unheld.len() > most {
-                report.push(format!(
-                    "{doc}: {} claims without a (held by `…`), at most {most}",
-                    unheld.len()
-                ));
             }
         }
     }
@@ -215,10 +229,24 @@ fn the_check_reads_sentences_across_lines_and_finds_bad_pointers() {
     let text = "Intro line.\nThe frames are the same bytes\nat every depth (held by\n`differential::a_seed_gives_one_scene`). Exactly so, not a claim.\n\n```\nbyte for byte in code\n```\n| a | byte for byte |\n";
     let found = claims(text);
     assert_eq!(found.len(), 2, "{found:?}");
+    let two = claims("It is exact (held by `a::b`, `c::d`). Then.");
+    assert_eq!(two[0].1, ["a::b", "c::d"]);
     assert_eq!(found[0].1, ["differential::a_seed_gives_one_scene"]);
     assert!(broken(&found[0].1[0]).is_none());
     assert!(found[1].1.is_empty());
     assert!(broken("differential::no_such_test").is_some());
     assert!(broken("nowhere::x").is_some());
-    assert!(broken("bins/zspec/src/main.rs::main").is_none());
+    // A test that exists, named by the wrong module or path.
+    assert!(broken("painter::a_seed_gives_one_scene").is_some());
+    assert!(broken("surfaces::differential::a_seed_gives_one_scene").is_some());
+    assert!(broken("tests/tests/surfaces/painter.rs::a_seed_gives_one_scene").is_some());
+    assert!(broken("tests/tests/surfaces/differential.rs::a_seed_gives_one_scene").is_none());
+    // A function that is not a test.
+    assert!(broken("differential::holds").is_some());
+    assert!(broken("bins/zspec/src/main.rs::main").is_some());
+    // A heading is not a sentence, nor a table's header row, nor a code span; the claims
+    // under them are.
+    let found = claims("## The method is exact\n\nIt is exact.\n\n| exact? |\n|---|\n| exact |\n");
+    assert_eq!(found.len(), 2, "{found:?}");
+    assert!(claims("In `reference/src/exact.rs`.").is_empty());
 }

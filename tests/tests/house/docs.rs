@@ -273,3 +273,14 @@ fn no_document_holds_a_dated_run() {
     }
     assert!(bad.is_empty(), "{bad:#?}");
 }
+
+/// The README is the way in, not the manual: at most 400 lines (docs/ has the detail).
+#[test]
+fn the_readme_is_at_most_400_lines() {
+    let readme = fs::read_to_string(repo_root().join("README.md")).unwrap();
+    let lines = readme.lines().count();
+    assert!(
+        lines <= 400,
+        "README.md has {lines} lines, at most 400: move detail into docs/"
+    );
+}

@@ -160,3 +160,31 @@ proptest! {
         prop_assert_eq!(differing_pixels(&image, &zbuffer_image(&polygons, width, height)), 0);
     }
 }
+
+/// The `methods` fuzz target holds every exact row that names it to the z-buffer's
+/// picture: each such row has its resolver in the target's one `match`, so that a row
+/// added without one is found here, not on the fuzzer's first input.
+#[test]
+fn the_methods_fuzz_target_resolves_every_exact_row_that_names_it() {
+    let target = std::fs::read_to_string(repo_root().join("fuzz/fuzz_targets/methods.rs"))
+        .expect("fuzz/fuzz_targets/methods.rs");
+    assert!(
+        target.contains(".filter(|m| m.fuzz == Some(\"methods\") && m.exact)"),
+        "the target no longer picks its rows from the table"
+    );
+    let rows: Vec<&str> = METHODS
+        .iter()
+        .filter(|m| m.fuzz == Some("methods") && m.exact)
+        .map(|m| m.name)
+        .collect();
+    assert!(
+        rows.contains(&"scanline") && rows.contains(&"warnock"),
+        "{rows:?}"
+    );
+    for name in rows {
+        assert!(
+            target.contains(&format!("\"{name}\" => Box::new(")),
+            "the methods fuzz target has no resolver for {name}"
+        );
+    }
+}

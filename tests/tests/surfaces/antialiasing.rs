@@ -444,3 +444,35 @@ fn ss_k_is_zspec_samples_k_byte_for_byte_on_crossing_planes() {
         }
     }
 }
+
+/// Memory is bounded by a row, not the finer screen: at K = 16 on 600×600 the K·W × K·H
+/// screen is 92 million samples (over 1 GB at 12 bytes a sample); `supersample` (whole
+/// and adaptive) and `abuf` on two full-screen planes crossing stay under 64 MB of
+/// resident memory (/usr/bin/time's maximum resident set).
+#[test]
+fn memory_is_a_rows_not_the_finer_screens() {
+    for leaf in [
+        "supersample --samples 16",
+        "supersample --samples 16 --adaptive",
+        "abuf",
+    ] {
+        let out = sh(
+            &format!(
+                "set -e; d=$(mktemp -d); trap 'rm -rf \"$d\"' EXIT
+                 scene planes 2 | viewxf | clipbatch | persp --size 600x600 > \"$d/in\"
+                 /usr/bin/time -f %M -o \"$d/rss\" {leaf} < \"$d/in\" > \"$d/out\"
+                 test -s \"$d/out\"
+                 cat \"$d/rss\""
+            ),
+            b"",
+        );
+        let stdout = String::from_utf8_lossy(&out.stdout);
+        assert!(
+            out.status.success(),
+            "{leaf}: {stdout}{}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        let kib: u64 = stdout.trim().parse().expect("peak RSS in KiB");
+        assert!(kib < 64 * 1024, "{leaf}: {kib} KiB");
+    }
+}

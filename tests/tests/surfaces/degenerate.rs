@@ -303,3 +303,26 @@ fn a_mesh_of_shared_edges_has_no_crack_and_no_double_hit() {
         .collect();
     assert!(wrong.is_empty(), "pixels not hit exactly once: {wrong:?}");
 }
+
+/// Every scene of examples/degenerate/ is one of this file's: rendered by
+/// `reference_and_every_depth`, at depths 0 to 3 against zspec, by a test above.
+#[test]
+fn every_degenerate_scene_is_rendered_against_the_reference() {
+    let source = include_str!("degenerate.rs");
+    let dir = pipeline_tests::repo_root().join("examples/degenerate");
+    let mut names: Vec<String> = std::fs::read_dir(&dir)
+        .unwrap()
+        .flatten()
+        .filter_map(|e| {
+            let name = e.file_name().to_string_lossy().into_owned();
+            name.strip_suffix(".txt").map(str::to_string)
+        })
+        .collect();
+    names.sort();
+    assert_eq!(names.len(), 15, "{names:?}");
+    let missing: Vec<&String> = names
+        .iter()
+        .filter(|n| !source.contains(&format!("reference_and_every_depth(\"{n}\")")))
+        .collect();
+    assert!(missing.is_empty(), "scenes no test renders: {missing:?}");
+}

@@ -714,6 +714,26 @@ fn the_committed_figures_have_every_method_at_depth_0_and_its_best() {
     }
     let p = find(&rows, "cyclic-bars", "painter", 0).expect("the painter on the cyclic bars");
     assert!(num(p, "error_fraction") > 0.0, "{p:?}");
+    // Every row the table of methods marks exact draws 0 pixels unlike the reference, on
+    // every scene at every depth (docs/methods.md, "The exact methods"); zbuf-eye-z,
+    // not marked so, does not.
+    let exact: Vec<&str> = methods::METHODS
+        .iter()
+        .filter(|m| m.exact)
+        .map(|m| m.name)
+        .collect();
+    let mut seen = 0;
+    for r in rows
+        .iter()
+        .filter(|r| exact.contains(&r["method"].as_str()))
+    {
+        assert_eq!(num(r, "error_fraction"), 0.0, "{r:?}");
+        seen += 1;
+    }
+    assert!(seen >= 200, "{seen} rows of exact methods");
+    assert!(rows
+        .iter()
+        .any(|r| r["method"] == "zbuf-eye-z" && num(r, "error_fraction") > 0.0));
     // Both hidden-line methods on every scene of the figures, standard and hard, at
     // depth 0 alone, each with its drawing counted and no pixel error.
     let mut scenes: Vec<&str> = rows.iter().map(|r| r["scene"].as_str()).collect();

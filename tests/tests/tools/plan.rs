@@ -149,6 +149,20 @@ fn calibration_is_kept_with_its_machine_and_judged_by_it() {
         b"",
     );
     assert!(text(&plan.stdout).ends_with("; calibration stale: the binaries were rebuilt since)\n"));
+    // --depth auto still plans with it, and says so under --stats.
+    let auto = sh(
+        &format!(
+            "{} scripts/render.sh --stats examples/penetrating.txt",
+            cached(&cache)
+        ),
+        b"",
+    );
+    let line = text(&auto.stderr).lines().next().unwrap_or("").to_string();
+    assert!(
+        line.starts_with("render: depth auto chose ")
+            && line.ends_with("; calibration stale: the binaries were rebuilt since)"),
+        "{line}"
+    );
     // Another machine's (other cores): foreign, not used; the repository's file instead.
     std::fs::write(
         &file,
@@ -481,4 +495,47 @@ fn depth_auto_with_hosts_gives_every_host_a_subtree() {
         b"",
     );
     assert!(out.stdout == at0.stdout);
+}
+
+/// Watched from a terminal (a pseudo-terminal of `script`, util-linux), the first
+/// `--depth auto` on an uncalibrated machine says once that the model is another
+/// machine's and that this one's is being fitted in the background; the next run says
+/// nothing. A calibration already under way (a young lock file) keeps the test from
+/// starting one: the start is `costmodel::cli::background`'s, the telling this test's. At
+/// 400×400 no scene file is too small to ask the model about (`render::auto::tiny_bound`).
+#[test]
+fn on_a_terminal_the_first_uncalibrated_depth_auto_says_so_once() {
+    if pipeline_tests::one_core_for_render() {
+        // With a core or less, depth auto is 0 without the model, and nothing to tell.
+        pipeline_tests::skip("one core: depth auto does not ask the model");
+        return;
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let cache = dir.path().join("cache");
+    std::fs::create_dir_all(cache.join("polypipe")).unwrap();
+    std::fs::write(cache.join("polypipe/calibrating"), b"1").unwrap();
+    let png = dir.path().join("out.png");
+    let line = format!(
+        "{} POLYPIPE_LOAD=0 {} --size 400x400 -o {} {}",
+        cached(&cache),
+        repo_root().join("scripts/render.sh").display(),
+        png.display(),
+        repo_root().join("examples/penetrating.txt").display()
+    );
+    pipeline_tests::bin_dir();
+    let run = || {
+        let out = Command::new("script")
+            .args(["-qec", &line, "/dev/null"])
+            .stdin(Stdio::null())
+            .output()
+            .expect("script (util-linux) to run render on a terminal");
+        assert!(out.status.success(), "{}", text(&out.stdout));
+        text(&out.stdout).replace('\r', "")
+    };
+    assert_eq!(
+        run(),
+        "render: the cost model is not calibrated on this machine: --depth auto uses bench/model.toml's constants (another machine's) until this machine's are fitted, now, in the background (at most 20 s; `chart calibrate` to do it yourself)\n"
+    );
+    assert_eq!(run(), "");
+    assert!(png.is_file());
 }
