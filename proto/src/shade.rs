@@ -134,10 +134,29 @@ pub fn screen_colour_planes(vertices: &[Vertex], colours: &[VertexAttr]) -> Opti
     planes_over(vertices.iter().map(|v| (v.x, v.y)), colours)
 }
 
+/// Positions beyond this are scaled down before Newell's sums, which multiply two of
+/// them (u·v) and would overflow past about 1e154.
+const LARGE_POSITION: f64 = 1e150;
+
+/// Newell's plane over `(x, y, c)` per channel. Positions of ordinary size are used as
+/// they are, bit for bit; where one is beyond [`LARGE_POSITION`] (a triangle with
+/// vertices at ±1e308 seen from close by), every position is first divided by a power of
+/// two s, which is exact, and the plane A'·(x/s) + B'·(y/s) + C·c + D = 0 found there is
+/// the plane (A'/s)·x + (B'/s)·y + C·c + D = 0: the same plane, where the unscaled sums
+/// gave none and each renderer fell back to a colour of its own.
 fn planes_over(
     positions: impl Iterator<Item = (f64, f64)> + Clone,
     colours: &[VertexAttr],
 ) -> Option<ColourPlanes> {
+    let largest = positions
+        .clone()
+        .map(|(x, y)| x.abs().max(y.abs()))
+        .fold(0.0, f64::max);
+    let scale = if largest > LARGE_POSITION && largest.is_finite() {
+        2f64.powi((largest.log2().ceil() as i32).min(1023))
+    } else {
+        1.0
+    };
     let mut planes = [DVec4::ZERO; 3];
     let mut points = Vec::with_capacity(colours.len());
     for (k, plane) in planes.iter_mut().enumerate() {
@@ -146,9 +165,11 @@ fn planes_over(
             positions
                 .clone()
                 .zip(colours)
-                .map(|((x, y), c)| DVec3::new(x, y, c[k])),
+                .map(|((x, y), c)| DVec3::new(x / scale, y / scale, c[k])),
         );
-        let n = newell_plane(&points);
+        let mut n = newell_plane(&points);
+        n.x /= scale;
+        n.y /= scale;
         if !(n.is_finite() && n.z != 0.0) {
             return None;
         }
@@ -734,5 +755,38 @@ mod tests {
             front_colour_planes(&ahead, &c3, 1.0, 0.625),
             eye_colour_planes(&ahead, &c3)
         );
+    }
+
+    #[test]
+    fn colours_over_huge_positions_still_have_their_plane() {
+        // A triangle at ±1e308 seen from z_e = 20: its screen positions are about 1e307,
+        // and u·v overflows Newell's sums unless they are scaled first.
+        let eye = [
+            DVec4::new(-1e308, -1e308, 20.0, 12.5),
+            DVec4::new(1e308, -1e308, 20.0, 12.5),
+            DVec4::new(0.0, 1e308, 20.0, 12.5),
+        ];
+        let colours = [
+            DVec3::new(10.0, 20.0, 30.0),
+            DVec3::new(50.0, 20.0, 30.0),
+            DVec3::new(10.0, 60.0, 30.0),
+        ];
+        let planes = eye_colour_planes(&eye, &colours).expect("planes");
+        for (v, c) in eye.iter().zip(&colours) {
+            let (u, w) = (v.x / v.w, v.y / v.w);
+            for k in 0..3 {
+                let p = planes[k];
+                let at = -(p.x * u + p.y * w + p.w) / p.z;
+                assert!((at - c[k]).abs() < 1e-9, "channel {k}: {at} not {}", c[k]);
+            }
+        }
+        // Positions of ordinary size are not scaled: the plane is Newell's, bit for bit.
+        let small = eye.map(|v| DVec4::new(v.x * 1e-300, v.y * 1e-300, v.z, v.w));
+        let direct: Vec<DVec3> = small
+            .iter()
+            .zip(&colours)
+            .map(|(v, c)| DVec3::new(v.x / v.w, v.y / v.w, c[0]))
+            .collect();
+        assert_eq!(eye_colour_planes(&small, &colours).unwrap()[0], newell_plane(&direct));
     }
 }
