@@ -216,8 +216,8 @@ fn the_painter_is_the_zbuffer_where_there_is_a_depth_order_and_fails_by_counted_
 #[test]
 fn stats_give_each_leafs_method_counters() {
     for (method, counters) in [
-        ("scanline", "sample spans"),
-        ("warnock", "windows by depth"),
+        ("scanline", "sample_spans"),
+        ("warnock", "windows_by_depth"),
         ("painter", "swaps"),
     ] {
         let out = sh(
@@ -226,12 +226,14 @@ fn stats_give_each_leafs_method_counters() {
         );
         assert!(out.status.success());
         let err = String::from_utf8(out.stderr).unwrap();
+        let records = stagecli::stats::records_of(&err, method).unwrap();
         for leaf in 0..4 {
             // (The painter's leaves also say the cycles they painted out of order.)
-            let prefix = format!("{method} (leaf {leaf}): ");
+            let label = format!("{method} (leaf {leaf})");
             assert!(
-                err.lines()
-                    .any(|l| l.starts_with(&prefix) && l.contains(counters)),
+                records
+                    .iter()
+                    .any(|r| r.get("label") == Some(&label) && r.get(counters).is_some()),
                 "no counters of leaf {leaf} in {err}"
             );
         }

@@ -520,7 +520,17 @@ fn render_depth_auto_says_its_choice_and_renders_at_it() {
             line.starts_with(&auto_chose_0_for_two_polygons()),
             "{command}: {err}"
         );
-        assert!(!err.contains("splitter"), "no splitter at depth 0: {err}");
+        assert_eq!(
+            pipeline_tests::stat(&err, "depth_auto"),
+            0,
+            "{command}: {err}"
+        );
+        let records = stagecli::stats::records(&err).unwrap();
+        let stages: Vec<&str> = records.iter().map(|r| r.stage()).collect();
+        assert!(
+            !stages.contains(&"splitter"),
+            "no splitter at depth 0: {err}"
+        );
     }
     // Without --stats it says nothing.
     let quiet = sh(
@@ -542,6 +552,7 @@ fn auto_is_the_default_depth_and_a_scene_it_cannot_look_at_goes_to_the_stages() 
     assert!(out.status.success(), "{out:?}");
     let err = String::from_utf8(out.stderr).unwrap();
     assert!(err.starts_with(&auto_chose_0_for_two_polygons()), "{err}");
+    assert_eq!(pipeline_tests::stat(&err, "depth_auto"), 0, "{err}");
     let at0 = sh(
         "scripts/render.sh --depth 0 --eye -8,5,18 examples/penetrating.txt",
         b"",
