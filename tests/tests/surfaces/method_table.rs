@@ -244,10 +244,6 @@ fn stats_give_each_leafs_method_counters() {
 fn options_that_cannot_combine_are_refused() {
     for (options, message) in [
         (
-            "--hse zsort",
-            "render: --hse must be scanline, warnock, painter or zbuf, not 'zsort'",
-        ),
-        (
             "--merge buffer --hse scanline",
             "render: --merge buffer is the z-buffer's, point-sampled: not with --hse scanline --aa none",
         ),
@@ -278,6 +274,18 @@ fn options_that_cannot_combine_are_refused() {
         let err = String::from_utf8(out.stderr).unwrap();
         assert_eq!(err.lines().next(), Some(message), "{options}");
     }
+    // The names --hse takes are the table's, in its order.
+    let names = methods::hse_names(methods::METHODS);
+    let (last, rest) = names.split_last().expect("a method");
+    let out = sh("scripts/render.sh --hse zsort", b"");
+    assert_eq!(out.status.code(), Some(2));
+    assert_eq!(
+        String::from_utf8(out.stderr).unwrap(),
+        format!(
+            "render: --hse must be {} or {last}, not 'zsort'\n",
+            rest.join(", ")
+        )
+    );
 }
 
 #[test]
