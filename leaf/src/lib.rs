@@ -28,8 +28,10 @@ pub struct FrameCounts {
 /// Reads a screen-space stream on stdin, gathers each frame's polygons in stream order,
 /// has `method` resolve them at the frame's end, and writes the finished pixels to stdout
 /// in `form` as `run` records, frame by frame, for the merger (`zbuf`) to place
-/// ([`resolve`]). Under `stats`, prints one line on stderr at the end: `STAGE: P polygons
-/// in, F frames, R runs out, ` then the method's own counters.
+/// ([`resolve`]). Under `stats`, prints on stderr at the end one line for people, `STAGE:
+/// P polygons in, F frames, R runs out, ` then the method's own counters, and the same
+/// counts as a record (`stagecli::stats`): `polygons_in`, `frames`, `runs_out`, then
+/// [`HiddenSurface::counters`].
 pub fn resolve_frames(
     stage: &str,
     form: Form,
@@ -44,13 +46,21 @@ pub fn resolve_frames(
         method,
     )?;
     if stats {
-        eprintln!(
+        let human = format!(
             "{stage}: {} polygons in, {} frames, {} runs out, {}",
             counts.polygons_in,
             counts.frames,
             counts.runs_out,
             method.stats()
         );
+        let mut record = stagecli::stats::Record::new(stage)
+            .with("polygons_in", counts.polygons_in)
+            .with("frames", counts.frames)
+            .with("runs_out", counts.runs_out);
+        for (key, value) in method.counters() {
+            record.set(key, value);
+        }
+        record.print(&human);
     }
     Ok(counts)
 }
@@ -153,6 +163,9 @@ mod tests {
         }
         fn stats(&self) -> String {
             String::new()
+        }
+        fn counters(&self) -> Vec<(&'static str, String)> {
+            Vec::new()
         }
         fn shades(&mut self) -> bool {
             self.shades

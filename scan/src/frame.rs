@@ -33,6 +33,11 @@ pub trait HiddenSurface {
     /// stage's name (`12 windows at depth 0, …`).
     fn stats(&self) -> String;
 
+    /// The same counters as [`HiddenSurface::stats`], as the fields of the stage's
+    /// `--stats` record (`stagecli::stats`): a key a counter, in the line's order
+    /// (docs/DESIGN.md, "Structured stats", lists the keys).
+    fn counters(&self) -> Vec<(&'static str, String)>;
+
     /// Where a method that draws shaded polygons keeps the lighting of a Phong-shaded
     /// stream, lent to [`HiddenSurface::shades`] and [`HiddenSurface::set_lighting`]: a
     /// method that shades holds an `Option<Arc<Lighting>>` and answers
@@ -107,6 +112,14 @@ impl HiddenSurface for ZBuffer {
             "{} pixels tested, {} written",
             s.pixels_tested, s.pixels_written
         )
+    }
+
+    fn counters(&self) -> Vec<(&'static str, String)> {
+        let s = self.region.as_ref().map(|r| r.stats).unwrap_or_default();
+        vec![
+            ("pixels_tested", s.pixels_tested.to_string()),
+            ("pixels_written", s.pixels_written.to_string()),
+        ]
     }
 }
 

@@ -1250,6 +1250,31 @@ impl HiddenSurface for Scanline {
             s.crossings_searched,
         )
     }
+
+    fn counters(&self) -> Vec<(&'static str, String)> {
+        let s = &self.stats;
+        [
+            ("scan_lines", s.scan_lines),
+            ("segments", s.segments),
+            ("sample_spans", s.sample_spans),
+            ("segments_examined", s.segments_examined),
+            ("depth_comparisons", s.depth_comparisons),
+            ("crossings", s.crossings),
+            ("merged", s.merged),
+            ("resorted", s.resorted),
+            ("swaps", s.swaps),
+            ("fronts_predicted", s.fronts_predicted),
+            ("fronts_mispredicted", s.fronts_mispredicted),
+            ("crossings_predicted", s.crossings_predicted),
+            ("crossings_mispredicted", s.crossings_mispredicted),
+            ("midpoint_subdivisions", s.midpoint_subdivisions),
+            ("crossings_computed", s.crossings_computed),
+            ("crossings_searched", s.crossings_searched),
+        ]
+        .into_iter()
+        .map(|(k, n)| (k, n.to_string()))
+        .collect()
+    }
 }
 
 #[cfg(test)]

@@ -38,6 +38,7 @@ pub mod pieces;
 pub mod place;
 pub mod project;
 pub mod remote;
+pub mod stats;
 pub mod stream;
 pub mod whole;
 

@@ -121,22 +121,15 @@ fn main() {
                 bytes.0, local_bytes.0,
                 "{n} hosts: not the local run's bytes"
             );
-            for line in bytes.1.lines().filter(|l| l.contains(" sent ")) {
-                // farm: host node1: 8 frames in 2 chunks (…), sent S bytes, received R bytes, T s
-                let w: Vec<&str> = line.split_whitespace().collect();
-                let after = |word: &str| {
-                    w.iter()
-                        .position(|x| *x == word)
-                        .and_then(|i| w.get(i + 1))
-                        .copied()
-                        .unwrap_or("?")
-                };
+            let farm = stagecli::stats::records_of(&bytes.1, "farm").unwrap_or_default();
+            for r in farm.iter().filter(|r| r.get("sent_bytes").is_some()) {
+                let get = |key: &str| r.get(key).unwrap_or("?");
                 links += &format!(
                     "{} {} fr, {} → {}; ",
-                    w[2].trim_end_matches(':'),
-                    w[3],
-                    after("sent"),
-                    after("received")
+                    get("host"),
+                    get("frames"),
+                    get("sent_bytes"),
+                    get("received_bytes")
                 );
             }
             row(
@@ -177,13 +170,21 @@ fn main() {
                 bytes.0, local_bytes.0,
                 "{n} hosts: not the local run's bytes"
             );
-            // render: subtree 2 on host node1: 576 bytes there, 7744 bytes back
-            let links: Vec<String> = bytes
-                .1
-                .lines()
-                .filter_map(|l| l.strip_prefix("render: "))
-                .filter(|l| l.contains(" on host "))
-                .map(|l| l.replace(" bytes there,", " →").replace(" bytes back", ""))
+            // render's records of the links: node, host, bytes there and back.
+            let links: Vec<String> = stagecli::stats::records_of(&bytes.1, "render")
+                .unwrap_or_default()
+                .iter()
+                .filter(|r| r.get("bytes_back").is_some())
+                .map(|r| {
+                    let get = |key: &str| r.get(key).unwrap_or("?");
+                    format!(
+                        "node {} on host {}: {} → {}",
+                        get("node"),
+                        get("host"),
+                        get("bytes_there"),
+                        get("bytes_back")
+                    )
+                })
                 .collect();
             row(
                 &format!(

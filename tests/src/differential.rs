@@ -799,12 +799,9 @@ impl Run<'_> {
             self.fail(
                 mode,
                 format!(
-                    "wrong and not said: {} (stderr: {})",
+                    "wrong and not said: {} ({} painter records on stderr)",
                     describe(&shown, (w * h) as usize),
-                    got.stderr
-                        .lines()
-                        .filter(|l| l.starts_with("painter"))
-                        .count()
+                    stagecli::stats::records_of(&got.stderr, "painter").map_or(0, |r| r.len())
                 ),
                 command.clone(),
             );
@@ -821,42 +818,23 @@ impl Run<'_> {
     }
 }
 
-/// From a painter's stderr (alone or under render, `painter (leaf 3): …`): the frames a
-/// line names, the sum of the cycles those lines say were painted out of order, and the
-/// sum of the `--stats` lines' count (if any).
+/// From a painter's stderr (alone or under render), by its `--stats` records
+/// (stagecli::stats): the frames a note names (a record with `frame`), the sum of the
+/// cycles those notes say were painted out of order, and the sum of the totals' count
+/// (the records without `frame`; `None` without `--stats`).
 pub fn painter_says(stderr: &str) -> (BTreeSet<usize>, u64, Option<u64>) {
     let mut said = BTreeSet::new();
     let mut lines = 0;
     let mut stats = None;
-    for line in stderr.lines().filter(|l| l.starts_with("painter")) {
-        let Some((_, rest)) = line.split_once(": ") else {
-            continue;
-        };
-        if let Some(after) = rest.strip_prefix("frame ") {
-            let Some((n, what)) = after.split_once(": ") else {
-                continue;
-            };
-            if let Ok(n) = n.parse() {
-                said.insert(n);
+    let records = stagecli::stats::records_of(stderr, "painter").unwrap_or_else(|e| panic!("{e}"));
+    for r in records {
+        let cycles = r.count("out_of_order").unwrap_or(0);
+        match r.count("frame") {
+            Some(frame) => {
+                said.insert(frame as usize);
+                lines += cycles;
             }
-            // `K cycles painted out of order; --split cuts them`, or with --split
-            // `could not order every polygon: K cycles painted out of order, …`.
-            if let Some(at) = what.find(" cycles painted out of order") {
-                lines += what[..at]
-                    .rsplit(' ')
-                    .next()
-                    .and_then(|k| k.parse::<u64>().ok())
-                    .unwrap_or(0);
-            }
-        } else if rest.contains(" polygons in, ") {
-            if let Some(at) = rest.find(" cycles painted out of order") {
-                let k = rest[..at]
-                    .rsplit([' ', ','])
-                    .find(|w| !w.is_empty())
-                    .and_then(|w| w.parse::<u64>().ok())
-                    .unwrap_or(0);
-                *stats.get_or_insert(0) += k;
-            }
+            None => *stats.get_or_insert(0) += cycles,
         }
     }
     (said, lines, stats)

@@ -148,19 +148,30 @@ pub fn leaf_stats_drawing_as_zbuf(leaf: &str, scene: &str, size: u32) -> String 
     String::from_utf8_lossy(&out.stdout).into_owned()
 }
 
-/// The counter written just before `what` in a leaf's `--stats` line (`… 4939 single
-/// pixels, …`, `…, 3434 crossings; …`): the last number before it, past spaces, commas
-/// and semicolons.
-pub fn stats_count(stats: &str, what: &str) -> u64 {
-    let at = stats
-        .find(what)
-        .unwrap_or_else(|| panic!("no {what} in {stats}"));
-    stats[..at]
-        .trim_end()
-        .rsplit([' ', ';', ','])
-        .find(|w| !w.is_empty())
-        .and_then(|n| n.parse().ok())
-        .unwrap_or_else(|| panic!("no count before {what} in {stats}"))
+/// The count `key` in `stderr`'s last `--stats` record that has it (stagecli::stats;
+/// docs/DESIGN.md, "Structured stats", lists the keys).
+pub fn stat(stderr: &str, key: &str) -> u64 {
+    stat_record(stderr, key)
+        .count(key)
+        .unwrap_or_else(|| panic!("{key} is not a count in {stderr}"))
+}
+
+/// The list `key` (`warnock`'s `windows_by_depth`) in `stderr`'s last `--stats` record
+/// that has it.
+pub fn stat_list(stderr: &str, key: &str) -> Vec<u64> {
+    stat_record(stderr, key)
+        .list(key)
+        .unwrap_or_else(|| panic!("{key} is not a list of counts in {stderr}"))
+}
+
+/// `stderr`'s last `--stats` record that has `key`.
+pub fn stat_record(stderr: &str, key: &str) -> stagecli::stats::Record {
+    stagecli::stats::records(stderr)
+        .unwrap_or_else(|e| panic!("{e}"))
+        .into_iter()
+        .rev()
+        .find(|r| r.get(key).is_some())
+        .unwrap_or_else(|| panic!("no {key} in the records of {stderr}"))
 }
 
 /// The whole linear pipeline at `size` (W×H), from a world-space scene on stdin to

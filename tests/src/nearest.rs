@@ -51,4 +51,8 @@ impl HiddenSurface for Nearest {
     fn stats(&self) -> String {
         format!("{} centres tested", self.centres_tested)
     }
+
+    fn counters(&self) -> Vec<(&'static str, String)> {
+        vec![("centres_tested", self.centres_tested.to_string())]
+    }
 }

@@ -438,6 +438,28 @@ impl HiddenSurface for ABuffer {
             self.pixels_out
         )
     }
+
+    fn counters(&self) -> Vec<(&'static str, String)> {
+        let s = self.stats;
+        [
+            ("fragments", s.fragments),
+            ("simple", s.simple),
+            ("lists", s.lists),
+            ("max_list", s.max_list),
+            ("combined", s.combined),
+            ("hidden", s.hidden),
+            ("intersections", s.intersections),
+            ("merged", s.merged),
+            ("merge_limit", list::MAX_LIST as u64),
+            ("rows_culled", self.rows_culled),
+            ("blocks_culled", self.blocks_culled),
+            ("pixels_culled", self.pixels_culled),
+            ("pixels_out", self.pixels_out),
+        ]
+        .into_iter()
+        .map(|(k, n)| (k, n.to_string()))
+        .collect()
+    }
 }
 
 #[cfg(test)]

@@ -271,13 +271,15 @@ fn newer(a: &Path, b: &Path) -> bool {
     }
 }
 
-/// The stages' peak memory summed, KiB, from render's `--times` last line (`render: N
-/// stages: … ms CPU, X MB of peaks, …`, MB of 1024 KiB).
+/// The stages' peak memory summed, KiB, from render's `--times` record of the sums
+/// (`@stats render stages=N … peaks_kib=K …`, stagecli::stats).
 pub fn peaks_kib(said: &str) -> Option<u64> {
-    let line = said.lines().rev().find(|l| l.contains(" MB of peaks"))?;
-    let mb = line.split(" MB of peaks").next()?.rsplit(", ").next()?;
-    let mb: f64 = mb.trim().parse().ok()?;
-    Some((mb * 1024.0).round() as u64)
+    said.lines()
+        .rev()
+        .filter_map(stagecli::stats::parse_line)
+        .filter_map(Result::ok)
+        .find(|r| r.stage() == "render" && r.get("stages").is_some())?
+        .count("peaks_kib")
 }
 
 /// Runs `cmd` with its stderr in `err` (said in the error when it fails).
@@ -670,8 +672,12 @@ mod tests {
     fn the_trees_peak_is_the_sum_render_times_gives() {
         let said =
             "render: zbuf: 2.4 ms CPU (2.4 user, 0.0 system), 2.6 MB peak, ended at 3.6 ms\n\
-                    render: 3 stages: 5.1 ms CPU, 6.3 MB of peaks, the last ended at 3.6 ms\n";
+             @stats render label=zbuf user_ms=2.400 system_ms=0.000 peak_kib=2662 ended_ms=3.600\n\
+             render: 3 stages: 5.1 ms CPU, 6.3 MB of peaks, the last ended at 3.6 ms\n\
+             @stats render stages=3 cpu_ms=5.100 peaks_kib=6451 last_ended_ms=3.600\n";
         assert_eq!(peaks_kib(said), Some(6451));
+        // The readable lines alone are not read.
+        assert_eq!(peaks_kib(&stagecli::stats::human(said)), None);
         assert_eq!(peaks_kib("viewxf: empty input\n"), None);
     }
 

@@ -200,14 +200,27 @@ fn main() -> ExitCode {
         }
         if args.stats {
             let s = stats;
-            eprintln!(
-                "hiddenline: {frame} frames, {} edges, {} shared, {} cuts, {} on the border, {} pairs tested, {} pieces drawn; \
-                 {} lines of intersection, {} pieces drawn; {} placements in cells hidden by a surrounder; \
-                 {} pairs of neighbours passed over; {} visible segments",
-                s.edges, s.shared, s.cuts, s.border, s.pairs_tested, s.segments,
-                s.intersection_lines, s.intersections, s.culled, s.neighbours,
-                s.visible_segments
-            );
+            stagecli::stats::Record::new("hiddenline")
+                .with("frames", frame)
+                .with("edges", s.edges)
+                .with("shared", s.shared)
+                .with("cuts", s.cuts)
+                .with("border", s.border)
+                .with("pairs_tested", s.pairs_tested)
+                .with("pieces", s.segments)
+                .with("intersection_lines", s.intersection_lines)
+                .with("intersection_pieces", s.intersections)
+                .with("culled", s.culled)
+                .with("neighbours_passed", s.neighbours)
+                .with("visible_segments", s.visible_segments)
+                .print(&format!(
+                    "hiddenline: {frame} frames, {} edges, {} shared, {} cuts, {} on the border, {} pairs tested, {} pieces drawn; \
+                     {} lines of intersection, {} pieces drawn; {} placements in cells hidden by a surrounder; \
+                     {} pairs of neighbours passed over; {} visible segments",
+                    s.edges, s.shared, s.cuts, s.border, s.pairs_tested, s.segments,
+                    s.intersection_lines, s.intersections, s.culled, s.neighbours,
+                    s.visible_segments
+                ));
         }
         Ok(())
     })

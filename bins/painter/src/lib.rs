@@ -643,6 +643,9 @@ pub struct Painter {
     frames: u64,
     /// The line the last frame resolved has to say on stderr, if any.
     note: Option<String>,
+    /// The last frame resolved's cycles painted out of order, and whether the pixels
+    /// beside its cut lines were all checked, for [`Painter::note_record`].
+    last: (u64, bool),
     pub stats: PainterStats,
 }
 
@@ -708,6 +711,17 @@ impl Painter {
     /// N counts frames from 0, as the stream's positions and `zspec compare` do.
     pub fn take_note(&mut self) -> Option<String> {
         self.note.take()
+    }
+
+    /// The note of the frame last resolved as a `--stats` record (`stagecli::stats`),
+    /// printed after the note's line: `frame` (from 0), `out_of_order` (its cycles painted
+    /// out of order) and `unchecked` (1 where the pixels beside its cut lines were not all
+    /// checked, else 0).
+    pub fn note_record(&self) -> stagecli::stats::Record {
+        stagecli::stats::Record::new("painter")
+            .with("frame", self.frames.saturating_sub(1))
+            .with("out_of_order", self.last.0)
+            .with("unchecked", u8::from(!self.last.1))
     }
 
     /// The note of frame `frame`, which painted `given_up` cycles out of order and spent
@@ -1164,6 +1178,7 @@ impl HiddenSurface for Painter {
         }
         self.stats.given_up += given_up;
         self.note = self.note_of(self.frames, given_up, spent, budget);
+        self.last = (given_up, checked);
         if !checked {
             let line = format!(
                 "frame {}: the pixels beside the cut lines were not all checked: the picture \
@@ -1208,6 +1223,23 @@ impl HiddenSurface for Painter {
             s.apart,
             s.mended
         )
+    }
+
+    fn counters(&self) -> Vec<(&'static str, String)> {
+        let s = &self.stats;
+        let resolved_by: Vec<String> = s.resolved_by.iter().map(u64::to_string).collect();
+        vec![
+            ("polygons_sorted", s.polygons.to_string()),
+            ("painted", s.painted.to_string()),
+            ("resolved_by_test", resolved_by.join(",")),
+            ("unresolved", s.unresolved.to_string()),
+            ("swaps", s.swaps.to_string()),
+            ("cycles", s.cycles.to_string()),
+            ("splits", s.splits.to_string()),
+            ("out_of_order", s.given_up.to_string()),
+            ("out_of_order_harmless", s.apart.to_string()),
+            ("pixels_mended", s.mended.to_string()),
+        ]
     }
 }
 

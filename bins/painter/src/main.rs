@@ -74,11 +74,14 @@ impl HiddenSurface for Loud {
     fn resolve(&mut self, polygons: &[Polygon], width: u32, height: u32, runs: &mut Vec<Run>) {
         self.0.resolve(polygons, width, height, runs);
         if let Some(line) = self.0.take_note() {
-            eprintln!("painter: {line}");
+            self.0.note_record().print(&format!("painter: {line}"));
         }
     }
     fn stats(&self) -> String {
         self.0.stats()
+    }
+    fn counters(&self) -> Vec<(&'static str, String)> {
+        self.0.counters()
     }
     fn lighting(&mut self) -> Option<&mut Option<Arc<Lighting>>> {
         self.0.lighting()

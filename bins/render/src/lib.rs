@@ -264,6 +264,12 @@ fn farm_only(cli: &options::Cli) -> Result<(), Error> {
 
 /// Renders as the command line `args` (the program's name first) asks, and returns the
 /// exit status. Messages go to stderr as `render: …`.
+/// `--depth auto`'s choice as render's `--stats` record (`stagecli::stats`), printed
+/// after its readable line: `depth_auto` is the depth the tree was built with.
+pub fn depth_record(depth: u32) -> stagecli::stats::Record {
+    stagecli::stats::Record::new(ME).with("depth_auto", depth)
+}
+
 pub fn run<I: IntoIterator<Item = OsString>>(args: I) -> u8 {
     run_in(methods::METHODS, args)
 }
@@ -399,7 +405,7 @@ fn run_inner<I: IntoIterator<Item = OsString>>(
         // whatever the scene (costmodel::model::Target::shares).
         None if depth_0_said.is_some() => {
             if let (true, Some(said)) = (o.stats, &depth_0_said) {
-                let _ = writeln!(std::io::stderr(), "{ME}: {said}");
+                depth_record(0).print(&format!("{ME}: {said}"));
             }
             let stages = graph::build(&o, &context(0, false));
             launch::run(stages, options(0), ME).map_err(graph_error)?
@@ -416,7 +422,7 @@ fn run_inner<I: IntoIterator<Item = OsString>>(
             let tell = std::io::stderr().is_terminal();
             let choice = auto::choose(&o, sampled.as_ref(), &target, &root, &bin, tell, ME);
             if let (true, Some(said)) = (o.stats, &choice.said) {
-                let _ = writeln!(std::io::stderr(), "{ME}: {said}");
+                depth_record(choice.depth).print(&format!("{ME}: {said}"));
             }
             let stages = graph::build(&o, &context(choice.depth, sampled.is_some()));
             early

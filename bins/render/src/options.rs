@@ -678,15 +678,6 @@ mod tests {
                 "--merge must be tiles or buffer, not 'zbuf'",
             ),
             (
-                &["--hse", "zsort"],
-                "--hse must be scanline, warnock, painter or zbuf, not 'zsort'",
-            ),
-            (
-                &["--aa", "ss3"],
-                "--aa must be none, abuf, ss2, ss4, ss8, ss16, adaptive2, adaptive4, adaptive8 or \
-                 adaptive16, not 'ss3'",
-            ),
-            (
                 &["--split"],
                 "--split is the painter's splitting step: it needs --hse painter",
             ),
@@ -710,6 +701,19 @@ mod tests {
         ] {
             assert_eq!(refused(args), said, "{args:?}");
         }
+        // The methods' names are the table's (methods::METHODS), whatever it holds.
+        let hse = methods::hse_names(methods::METHODS);
+        assert_eq!(
+            refused(&["--hse", "zsort"]),
+            format!("--hse must be {}, not 'zsort'", either(&hse))
+        );
+        let mut aa = vec!["none"];
+        aa.extend(methods::aa_names(methods::METHODS));
+        assert_eq!(
+            refused(&["--aa", "ss3"]),
+            format!("--aa must be {}, not 'ss3'", either(&aa))
+        );
+        assert!(hse.contains(&"zbuf") && either(&["a", "b", "c"]) == "a, b or c");
     }
 
     #[test]
@@ -765,7 +769,10 @@ mod tests {
         assert_eq!(o.leaf, ["nearest", "--brute"]);
         assert_eq!(
             c.validate(Vec::new(), false).unwrap_err().message(),
-            "--hse must be scanline, warnock, painter or zbuf, not 'nearest'"
+            format!(
+                "--hse must be {}, not 'nearest'",
+                either(&methods::hse_names(methods::METHODS))
+            )
         );
     }
 

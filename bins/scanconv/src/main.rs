@@ -3,6 +3,7 @@
 use clap::Parser;
 use proto::{Fragment, Header, Space, SpaceKind, Token};
 use scanconv::{Output, ScanConverter};
+use stagecli::stats::Record;
 use stagecli::{Error, TextFlag};
 use std::process::ExitCode;
 
@@ -97,16 +98,28 @@ fn main() -> ExitCode {
         out.flush()?;
         if args.stats {
             let s = sc.stats;
+            let record = Record::new("scanconv")
+                .with("polygons_in", s.polygons_in)
+                .with("polygons_drawn", s.polygons_drawn);
             match sc.region_stats() {
-                Some(r) => eprintln!(
-                    "scanconv: {} polygons in, {} drawn, {} pixels tested, {} written, {} runs out, {} tiles{}",
-                    s.polygons_in, s.polygons_drawn, r.pixels_tested, r.pixels_written, r.runs, r.tiles,
-                    scan::precision::stats_suffix(s.rounding_decided)
-                ),
-                None => eprintln!(
-                    "scanconv: {} polygons in, {} drawn, {} spans, {} pixels",
-                    s.polygons_in, s.polygons_drawn, s.spans, s.pixels
-                ),
+                Some(r) => record
+                    .with("pixels_tested", r.pixels_tested)
+                    .with("pixels_written", r.pixels_written)
+                    .with("runs_out", r.runs)
+                    .with("tiles", r.tiles)
+                    .with("rounding_decided", s.rounding_decided)
+                    .print(&format!(
+                        "scanconv: {} polygons in, {} drawn, {} pixels tested, {} written, {} runs out, {} tiles{}",
+                        s.polygons_in, s.polygons_drawn, r.pixels_tested, r.pixels_written, r.runs, r.tiles,
+                        scan::precision::stats_suffix(s.rounding_decided)
+                    )),
+                None => record
+                    .with("spans", s.spans)
+                    .with("pixels", s.pixels)
+                    .print(&format!(
+                        "scanconv: {} polygons in, {} drawn, {} spans, {} pixels",
+                        s.polygons_in, s.polygons_drawn, s.spans, s.pixels
+                    )),
             }
         }
         Ok(())

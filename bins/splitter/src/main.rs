@@ -295,9 +295,9 @@ fn main() -> ExitCode {
     })
 }
 
-/// `--stats`, a line a node, level by level: what it split, and for the nodes whose
-/// outputs this process writes, the bytes each carried, a link's load when the branch
-/// runs on another host (thesis 6.5).
+/// `--stats`, a line a node and its record, level by level: what it split, and for the
+/// nodes whose outputs this process writes, the bytes each carried, a link's load when
+/// the branch runs on another host (thesis 6.5).
 fn print_stats(nodes: &Nodes, tree: &Subtree, outs: &[Branch<Token>]) {
     for (j, level) in nodes.iter().enumerate() {
         for (i, (plane, number)) in level.iter().enumerate() {
@@ -306,14 +306,24 @@ fn print_stats(nodes: &Nodes, tree: &Subtree, outs: &[Branch<Token>]) {
                 None => format!("splitter {plane}"),
             };
             let stats = tree.stats[j][i];
+            let mut record = stagecli::stats::Record::new("splitter");
+            if let Some(node) = number {
+                record.set("node", node);
+            }
+            let mut record = record
+                .with("plane", plane)
+                .with("polygons_in", stats.polygons_in)
+                .with("out1_polygons", stats.polygons_out[0])
+                .with("out1_vertices", stats.vertices_out[0])
+                .with("out2_polygons", stats.polygons_out[1])
+                .with("out2_vertices", stats.vertices_out[1]);
             if j + 1 == nodes.len() {
-                eprintln!(
-                    "{label}: {stats}; {} and {} bytes out",
-                    outs[2 * i].bytes(),
-                    outs[2 * i + 1].bytes()
-                );
+                let (a, b) = (outs[2 * i].bytes(), outs[2 * i + 1].bytes());
+                record.set("out1_bytes", a);
+                record.set("out2_bytes", b);
+                record.print(&format!("{label}: {stats}; {a} and {b} bytes out"));
             } else {
-                eprintln!("{label}: {stats}");
+                record.print(&format!("{label}: {stats}"));
             }
         }
     }

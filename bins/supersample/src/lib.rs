@@ -509,6 +509,21 @@ impl HiddenSurface for Supersample {
             self.k, s.samples_tested, s.samples_written, s.pixels, s.mixed
         )
     }
+
+    fn counters(&self) -> Vec<(&'static str, String)> {
+        let s = self.stats;
+        let mut c = vec![
+            ("samples", self.k.to_string()),
+            ("samples_tested", s.samples_tested.to_string()),
+            ("samples_written", s.samples_written.to_string()),
+            ("pixels_out", s.pixels.to_string()),
+            ("mixed", s.mixed.to_string()),
+        ];
+        if self.adaptive {
+            c.push(("sampled", s.sampled.to_string()));
+        }
+        c
+    }
 }
 
 #[cfg(test)]

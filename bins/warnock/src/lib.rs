@@ -875,6 +875,28 @@ impl HiddenSurface for Warnock {
             s.zmin_skipped
         )
     }
+
+    fn counters(&self) -> Vec<(&'static str, String)> {
+        let s = &self.stats;
+        let depths: Vec<String> = s.windows_by_depth.iter().map(u64::to_string).collect();
+        let mut c = vec![("windows_by_depth", depths.join(","))];
+        c.extend(
+            [
+                ("empty", s.empty),
+                ("single_pixels", s.pixels),
+                ("one_polygon", s.one_polygon),
+                ("surrounded", s.surrounded),
+                ("in_front", s.in_front),
+                ("subdivided", s.subdivided),
+                ("looked_at", s.looked_at),
+                ("hidden", s.hidden),
+                ("zmin_exits", s.zmin_exits),
+                ("zmin_skipped", s.zmin_skipped),
+            ]
+            .map(|(k, n)| (k, n.to_string())),
+        );
+        c
+    }
 }
 
 #[cfg(test)]

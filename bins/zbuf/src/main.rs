@@ -2,6 +2,7 @@
 
 use clap::Parser;
 use proto::Colour;
+use stagecli::stats::Record;
 use stagecli::{Error, PpmTextFlag, ProjectArgs};
 use std::io::{self, Write};
 use std::process::ExitCode;
@@ -226,6 +227,7 @@ fn main() -> ExitCode {
         if args.stats {
             for (name, s) in names.iter().zip(stats) {
                 let name = stagecli::input_name(name);
+                let record = Record::new("zbuf").with("input", name);
                 if let Some(r) = s.resolved {
                     // Runs only where they were passed between threads.
                     let runs = if s.runs > 0 {
@@ -234,20 +236,34 @@ fn main() -> ExitCode {
                         String::new()
                     };
                     let rounding = scan::precision::stats_suffix(r.rounding_decided);
-                    eprintln!(
-                        "zbuf: {name}: {} polygons in, {} pixels tested, {} written{runs}{rounding}",
-                        r.polygons, r.pixels_tested, r.pixels_written
-                    );
-                } else if s.runs > 0 {
-                    eprintln!(
-                        "zbuf: {name}: {} spans, {} runs, {} pixels, {} bytes in",
-                        s.spans, s.runs, s.pixels, s.bytes
-                    );
+                    record
+                        .with("polygons_in", r.polygons)
+                        .with("pixels_tested", r.pixels_tested)
+                        .with("pixels_written", r.pixels_written)
+                        .with("runs", s.runs)
+                        .with("rounding_decided", r.rounding_decided)
+                        .print(&format!(
+                            "zbuf: {name}: {} polygons in, {} pixels tested, {} written{runs}{rounding}",
+                            r.polygons, r.pixels_tested, r.pixels_written
+                        ));
                 } else {
-                    eprintln!(
-                        "zbuf: {name}: {} spans, {} pixels, {} bytes in",
-                        s.spans, s.pixels, s.bytes
-                    );
+                    let human = if s.runs > 0 {
+                        format!(
+                            "zbuf: {name}: {} spans, {} runs, {} pixels, {} bytes in",
+                            s.spans, s.runs, s.pixels, s.bytes
+                        )
+                    } else {
+                        format!(
+                            "zbuf: {name}: {} spans, {} pixels, {} bytes in",
+                            s.spans, s.pixels, s.bytes
+                        )
+                    };
+                    record
+                        .with("spans", s.spans)
+                        .with("runs", s.runs)
+                        .with("pixels", s.pixels)
+                        .with("bytes_in", s.bytes)
+                        .print(&human);
                 }
             }
         }

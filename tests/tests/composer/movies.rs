@@ -290,21 +290,17 @@ fn a_chunk_that_fails_on_flaky_is_retried_on_good_and_the_frames_are_a_local_run
     }
     // --stats says so too, a line a failed try.
     let err = stderr(&out);
-    let retried: BTreeSet<usize> = err
-        .lines()
-        .filter(|l| l.ends_with(": a try on host flaky failed (status 255), retried"))
-        .map(|l| {
-            l["farm: frames ".len()..]
-                .split(' ')
-                .next()
-                .unwrap()
-                .parse()
-                .unwrap()
-        })
+    let farm = stagecli::stats::records_of(&err, "farm").unwrap();
+    let retried: BTreeSet<usize> = farm
+        .iter()
+        .filter(|r| r.get("host") == Some("flaky") && r.count("failed_status") == Some(255))
+        .filter_map(|r| r.count("first_frame"))
+        .map(|f| f as usize)
         .collect();
     assert_eq!(retried, failed_frames, "{err}");
     assert!(
-        err.lines().any(|l| l.starts_with("farm: host good: ")),
+        farm.iter()
+            .any(|r| r.get("host") == Some("good") && r.count("chunks").is_some()),
         "{err}"
     );
 }

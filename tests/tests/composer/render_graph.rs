@@ -285,7 +285,36 @@ fn stats_name_each_node_and_leaf_and_add_up_to_the_linear_pipeline() {
             b"",
         );
         assert!(out.status.success(), "{out:?}");
-        String::from_utf8(out.stderr).unwrap()
+        let said = String::from_utf8(out.stderr).unwrap();
+        // Each readable line has its record, labelled with the stage.
+        let records = stagecli::stats::records(&said).unwrap();
+        let human = stagecli::stats::human(&said);
+        assert_eq!(records.len(), human.lines().count(), "{said}");
+        for (r, line) in records.iter().zip(human.lines()) {
+            // The splitters label their own lines, with their planes.
+            let label = match r.stage() {
+                "splitter" => "splitter",
+                _ => r.get("label").unwrap_or_default(),
+            };
+            assert!(line.starts_with(label), "{r} / {line}");
+        }
+        (human, records)
+    };
+    // What the leaves drew (scanconv's `pixels`, or what zbuf resolved itself).
+    let drawn = |records: &[stagecli::stats::Record]| -> u64 {
+        let leaves = records.iter().filter(|r| r.stage() == "scanconv");
+        let own = records.iter().filter(|r| r.stage() == "zbuf");
+        leaves.filter_map(|r| r.count("pixels")).sum::<u64>()
+            + own.filter_map(|r| r.count("pixels_tested")).sum::<u64>()
+    };
+    let buffer_0 = stats("buffer", "0");
+    let buffer_2 = stats("buffer", "2");
+    assert_eq!(drawn(&buffer_0.1), 59393);
+    assert_eq!(drawn(&buffer_2.1), 59393);
+    let stats = |merge: &str, depth: &str| match (merge, depth) {
+        ("buffer", "0") => buffer_0.0.clone(),
+        ("buffer", "2") => buffer_2.0.clone(),
+        _ => stats(merge, depth).0,
     };
     // One process is nodes 1, 2 and 3 (`splitter --levels 2`): node 1's outputs stay in
     // it, so its line has no bytes; nodes 2 and 3, the last level, write the leaves'
@@ -348,15 +377,10 @@ fn times_give_each_stage_its_cpu_and_memory_in_order() {
     assert!(out.status.success(), "{out:?}");
     assert_eq!(out.stdout, render_ok(&["--depth", "1", scene], b""));
     let err = String::from_utf8(out.stderr).unwrap();
-    let lines: Vec<&str> = err.lines().collect();
-    let labels: Vec<&str> = lines
+    let records = stagecli::stats::records_of(&err, "render").unwrap();
+    let labels: Vec<&str> = records
         .iter()
-        .map(|l| {
-            let l = l
-                .strip_prefix("render: ")
-                .unwrap_or_else(|| panic!("{err}"));
-            l.split(": ").next().unwrap()
-        })
+        .map(|r| r.get("label").unwrap_or_default())
         .collect();
     assert_eq!(
         labels,
@@ -366,38 +390,30 @@ fn times_give_each_stage_its_cpu_and_memory_in_order() {
             "splitter (node 1)",
             "scanconv (leaf 1)",
             "zbuf",
-            "5 stages"
+            ""
         ],
         "{err}"
     );
-    let number = |l: &str, before: &str| -> f64 {
-        let head = &l[..l.find(before).unwrap_or_else(|| panic!("{l}"))];
-        head.rsplit([' ', '(']).next().unwrap().parse().unwrap()
+    assert_eq!(records[5].count("stages"), Some(5), "{err}");
+    let ms = |r: &stagecli::stats::Record, key: &str| -> f64 {
+        r.number(key).unwrap_or_else(|| panic!("{key} in {r}"))
     };
-    let ended = |l: &str| -> f64 {
-        let at = l.rsplit("ended at ").next().unwrap();
-        at.strip_suffix(" ms")
-            .unwrap_or_else(|| panic!("{l}"))
-            .parse()
-            .unwrap()
-    };
-    for l in &lines[..5] {
-        let (cpu, user, system) = (
-            number(l, " ms CPU"),
-            number(l, " user"),
-            number(l, " system"),
-        );
-        assert!((cpu - user - system).abs() < 0.11, "{l}");
-        assert!(number(l, " MB peak") > 0.5, "{l}");
-        assert!(ended(l) > 0.0 && ended(l) <= ended(lines[5]), "{err}");
+    let (stages, sums) = (&records[..5], &records[5]);
+    for r in stages {
+        assert!(r.count("peak_kib").unwrap_or(0) > 512, "{r}");
+        assert!(ms(r, "user_ms") >= 0.0 && ms(r, "system_ms") >= 0.0, "{r}");
+        let ended = ms(r, "ended_ms");
+        assert!(ended > 0.0 && ended <= ms(sums, "last_ended_ms"), "{err}");
     }
-    let sum: f64 = lines[..5].iter().map(|l| number(l, " ms CPU")).sum();
-    assert!((number(lines[5], " ms CPU") - sum).abs() < 0.3, "{err}");
-    let peaks: f64 = lines[..5].iter().map(|l| number(l, " MB peak")).sum();
-    assert!(
-        (number(lines[5], " MB of peaks") - peaks).abs() < 0.3,
-        "{err}"
-    );
+    let cpu: f64 = stages
+        .iter()
+        .map(|r| ms(r, "user_ms") + ms(r, "system_ms"))
+        .sum();
+    assert!((ms(sums, "cpu_ms") - cpu).abs() < 0.01, "{err}");
+    let peaks: u64 = stages.iter().filter_map(|r| r.count("peak_kib")).sum();
+    assert_eq!(sums.count("peaks_kib"), Some(peaks), "{err}");
+    // People get a line a stage and one of the sums.
+    assert_eq!(stagecli::stats::human(&err).lines().count(), 6, "{err}");
     // Not with --by frames: the stages are the hosts'.
     let out = render(&["--hosts", "a", "--by", "frames", "--times", scene], b"");
     assert_eq!(out.status.code(), Some(2));
@@ -496,12 +512,8 @@ fn depth_auto_draws_the_bytes_of_the_depth_it_chose() {
         String::from_utf8_lossy(&auto.stderr)
     );
     let err = String::from_utf8_lossy(&auto.stderr);
-    let chose = err
-        .lines()
-        .find_map(|l| l.strip_prefix("render: depth auto chose "))
-        .and_then(|l| l.split(' ').next())
-        .expect("the depth auto chose");
-    let fixed = render_ok(&["--size", "640x360", "--depth", chose, &scene], b"");
+    let chose = pipeline_tests::stat(&err, "depth_auto").to_string();
+    let fixed = render_ok(&["--size", "640x360", "--depth", &chose, &scene], b"");
     let zero = render_ok(&["--size", "640x360", "--depth", "0", &scene], b"");
     assert_eq!(frames(&auto.stdout).len(), 2);
     assert!(auto.stdout == fixed, "auto against --depth {chose}");
@@ -530,6 +542,7 @@ fn depth_auto_on_one_core_is_depth_0_without_a_look() {
                 cannot run its stages side by side and only adds work; the model not asked)"),
         "{err}"
     );
+    assert_eq!(pipeline_tests::stat(&err, "depth_auto"), 0, "{err}");
     let zero = render_ok(&["--size", "500x500", "--depth", "0", &scene], b"");
     assert!(out.stdout == zero, "auto on one core against depth 0");
 }

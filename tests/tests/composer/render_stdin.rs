@@ -76,11 +76,7 @@ fn environment(polygons: u32) -> Vec<u8> {
 /// The depth `--depth auto --stats` says it chose.
 fn chosen(stderr: &[u8]) -> String {
     let err = String::from_utf8_lossy(stderr);
-    let line = err
-        .lines()
-        .find_map(|l| l.strip_prefix("render: depth auto chose "))
-        .unwrap_or_else(|| panic!("{err}"));
-    line.split(' ').next().unwrap().to_string()
+    pipeline_tests::stat(&err, "depth_auto").to_string()
 }
 
 /// `--depth auto` on a stream longer than its 512 KiB sample reads the stream once: the

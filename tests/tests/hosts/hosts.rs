@@ -435,48 +435,47 @@ fn stats_give_each_hosts_frames_and_the_bytes_each_way() {
     assert!(out.stdout == render_locally(&format!("--size 32x32 {m}")));
     let f = frame_bytes(32, 32);
     let err = stderr(&out);
-    let ours: Vec<&str> = err.lines().filter(|l| l.starts_with("farm: ")).collect();
-    assert_eq!(ours.len(), 3, "one line a host: {err}");
-    // GNU parallel chooses the host of each chunk: whichever rendered frame k, its line
-    // gives the bytes of frame k's cut sent and of one frame received; the lines' frames
-    // are the movie's, each once. Each line ends with the time it took, which varies.
+    let ours = stagecli::stats::records_of(&err, "farm").unwrap();
+    assert_eq!(ours.len(), 3, "one record a host: {err}");
+    // GNU parallel chooses the host of each chunk: whichever rendered frame k, its record
+    // gives the bytes of frame k's cut sent and of one frame received; the records'
+    // frames are the movie's, each once.
     let mut frames_seen = Vec::new();
-    for (i, line) in ours.iter().enumerate() {
-        let prefix = format!("farm: host node{}: ", i + 1);
-        assert!(line.starts_with(&prefix), "{line}");
-        let rest = &line[prefix.len()..];
-        if rest.starts_with("no frames") {
-            assert_eq!(rest, "no frames (the movie has 3)");
+    for (i, r) in ours.iter().enumerate() {
+        let host = format!("node{}", i + 1);
+        assert_eq!(r.get("host"), Some(host.as_str()), "{r}");
+        if r.count("frames") == Some(0) {
+            assert_eq!(r.count("chunks"), Some(0), "{r}");
             continue;
         }
-        // `N frame(s) in C chunk(s) (frame K, frame L), sent S bytes, received R bytes, T s`
-        let (_, ranges) = rest.split_once('(').unwrap();
-        let (ranges, tail) = ranges.split_once(')').unwrap();
-        let ks: Vec<usize> = ranges
-            .split(", ")
-            .map(|r| r.strip_prefix("frame ").unwrap().parse().unwrap())
-            .collect();
+        let ks: Vec<usize> = r.list("chunk_starts").unwrap_or_default();
+        assert_eq!(
+            r.list::<usize>("chunk_frames"),
+            Some(vec![1; ks.len()]),
+            "{r}"
+        );
         let sent: usize = ks
             .iter()
             .map(|k| cut(&k.to_string(), &(k + 1).to_string()))
             .sum();
-        let want = format!(", sent {sent} bytes, received {} bytes, ", ks.len() * f);
-        assert!(
-            tail.starts_with(&want) && tail.ends_with(" s"),
-            "{line}\nwanted {want}… s"
+        assert_eq!(r.number::<usize>("sent_bytes"), Some(sent), "{r}");
+        assert_eq!(
+            r.number::<usize>("received_bytes"),
+            Some(ks.len() * f),
+            "{r}"
         );
+        assert!(r.number::<f64>("busy_s").is_some(), "{r}");
         frames_seen.extend(ks);
     }
     frames_seen.sort();
     assert_eq!(frames_seen, [0, 1, 2], "{err}");
     // Each host's own --stats lines come labelled with it.
-    assert_eq!(
-        err.lines()
-            .filter(|l| l.contains(": zbuf: leaf-0: "))
-            .count(),
-        3,
-        "{err}"
-    );
+    let zbufs = stagecli::stats::records_of(&err, "zbuf").unwrap();
+    let hosts_said: Vec<_> = zbufs
+        .iter()
+        .filter(|r| r.get("input") == Some("leaf-0") && r.get("host").is_some())
+        .collect();
+    assert_eq!(hosts_said.len(), 3, "{err}");
     assert_nothing_left(&hosts, 3, &tmp);
 }
 
@@ -1043,11 +1042,13 @@ fn stats_name_each_subtrees_host_and_its_links_bytes() {
         return;
     };
     let tmp = local_tmp(&hosts);
+    // The links' records: render's own, a host each (stagecli::stats).
     let links = |out: &Output| -> Vec<String> {
-        stderr(out)
-            .lines()
-            .filter(|l| l.starts_with("render: "))
-            .map(str::to_string)
+        stagecli::stats::records_of(&stderr(out), "render")
+            .unwrap()
+            .iter()
+            .filter(|r| r.get("label").is_none())
+            .map(ToString::to_string)
             .collect()
     };
     // Two hosts at depth 2: each takes one of the root's subtrees, its splitter and two
@@ -1070,16 +1071,26 @@ fn stats_name_each_subtrees_host_and_its_links_bytes() {
     );
     assert!(out.status.success(), "{}", stderr(&out));
     let err = stderr(&out);
+    let records = stagecli::stats::records(&err).unwrap();
+    let said = |stage: &str, host: &str, key: &str, value: &str| {
+        records
+            .iter()
+            .any(|r| r.stage() == stage && r.get("host") == Some(host) && r.get(key) == Some(value))
+    };
     assert!(
-        err.contains("host node1: scanconv (leaf 1): 2 polygons in, 2 drawn, 21119 pixels tested")
-            && err.contains("host node2: splitter y=0 (node 3): 2 polygons in;"),
+        said("scanconv", "node1", "label", "scanconv (leaf 1)")
+            && records
+                .iter()
+                .any(|r| r.get("label") == Some("scanconv (leaf 1)")
+                    && r.count("pixels_tested") == Some(21119))
+            && said("splitter", "node2", "node", "3"),
         "{err}"
     );
     assert_eq!(
         links(&out),
         [
-            "render: subtree 2 on host node1: 581 bytes there, 7765 bytes back",
-            "render: subtree 3 on host node2: 581 bytes there, 4661 bytes back",
+            "@stats render node=2 host=node1 bytes_there=581 bytes_back=7765",
+            "@stats render node=3 host=node2 bytes_there=581 bytes_back=4661",
         ]
     );
     // Four hosts (each named twice) at depth 2: a leaf each, round-robin. A leaf's runs
@@ -1099,10 +1110,10 @@ fn stats_name_each_subtrees_host_and_its_links_bytes() {
     assert_eq!(
         links(&out),
         [
-            "render: leaf 0 on host node1: 645 bytes there, 2609 bytes back",
-            "render: leaf 1 on host node2: 645 bytes there, 5217 bytes back",
-            "render: leaf 2 on host node1: 741 bytes there, 2449 bytes back",
-            "render: leaf 3 on host node2: 341 bytes there, 2273 bytes back",
+            "@stats render node=4 host=node1 bytes_there=645 bytes_back=2609",
+            "@stats render node=5 host=node2 bytes_there=645 bytes_back=5217",
+            "@stats render node=6 host=node1 bytes_there=741 bytes_back=2449",
+            "@stats render node=7 host=node2 bytes_there=341 bytes_back=2273",
         ]
     );
     assert_eq!((hosts.sessions(0), hosts.sessions(1)), (3, 3));

@@ -551,11 +551,15 @@ fn an_output_folder_that_cannot_be_made_is_named() {
 fn a_hosts_choice_of_depth_is_said_once() {
     let dir = tempfile::tempdir().unwrap();
     let ssh = fake_ssh(dir.path());
-    let say = "echo 'render: depth auto chose 2 (a reason)' >&2; ";
+    let say =
+        "printf 'render: depth auto chose 2 (a reason)\\n@stats render depth_auto=2\\n' >&2; ";
     let out = farm_run(&ssh, &["--hosts", "a", "--chunk", "1", "-"], say, 3);
     assert!(out.status.success(), "{}", text(&out.stderr));
     assert_eq!(out.stdout, reds(3));
-    assert_eq!(text(&out.stderr), "host a: depth auto chose 2 (a reason)\n");
+    assert_eq!(
+        text(&out.stderr),
+        "host a: depth auto chose 2 (a reason)\n@stats render depth_auto=2 host=a\n"
+    );
 }
 
 #[test]

@@ -104,12 +104,14 @@ fn binary_output_reads_back_as_the_same_text() {
 
 #[test]
 fn stats_on_stderr() {
-    scanconv(&["--stats"], SCREEN)
-        .success()
-        .stderr("scanconv: 4 polygons in, 3 drawn, 8 spans, 16 pixels\n");
-    scanconv(&["--stats", "--pixels"], SCREEN)
-        .success()
-        .stderr("scanconv: 4 polygons in, 3 drawn, 0 spans, 16 pixels\n");
+    scanconv(&["--stats"], SCREEN).success().stderr(
+        "scanconv: 4 polygons in, 3 drawn, 8 spans, 16 pixels\n\
+             @stats scanconv polygons_in=4 polygons_drawn=3 spans=8 pixels=16\n",
+    );
+    scanconv(&["--stats", "--pixels"], SCREEN).success().stderr(
+        "scanconv: 4 polygons in, 3 drawn, 0 spans, 16 pixels\n\
+             @stats scanconv polygons_in=4 polygons_drawn=3 spans=0 pixels=16\n",
+    );
 }
 
 #[test]
@@ -168,7 +170,9 @@ END
     scanconv(&["--resolve", "--stats"], &input)
         .success()
         .stderr(
-            "scanconv: 4 polygons in, 3 drawn, 16 pixels tested, 16 written, 8 runs out, 1 tiles\n",
+            "scanconv: 4 polygons in, 3 drawn, 16 pixels tested, 16 written, 8 runs out, 1 tiles\n\
+             @stats scanconv polygons_in=4 polygons_drawn=3 pixels_tested=16 pixels_written=16 \
+             runs_out=8 tiles=1 rounding_decided=0\n",
         );
     // Pixels and resolving do not go together.
     scanconv(&["--resolve", "--pixels"], SCREEN).code(2);

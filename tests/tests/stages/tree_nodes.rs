@@ -118,11 +118,10 @@ fn splitter_node_labels_its_stats_with_the_old_plane_and_its_node() {
             );
             assert!(out.status.success(), "{out:?}");
             let err = String::from_utf8(out.stderr).unwrap();
-            let label = err
-                .strip_prefix("splitter ")
-                .and_then(|rest| rest.split_once(&format!(" (node {node}): 0 polygons in")))
-                .map(|(plane, _)| plane)
-                .unwrap_or_else(|| panic!("{w}x{h} node {node}: {err}"));
+            let record = pipeline_tests::stat_record(&err, "plane");
+            assert_eq!(record.count("node"), Some(u64::from(node)), "{err}");
+            assert_eq!(record.count("polygons_in"), Some(0), "{err}");
+            let label = record.get("plane").unwrap_or_default();
             assert_eq!(
                 plane_bits(label),
                 plane_bits(&old[node as usize - 1]),

@@ -117,7 +117,8 @@ END
         .success()
         .stdout(ppm(3, 1, &[[1, 2, 3], G, R]))
         .stderr(format!(
-            "zbuf: stdin: 1 spans, 3 pixels, {} bytes in\n",
+            "zbuf: stdin: 1 spans, 3 pixels, {0} bytes in\n\
+             @stats zbuf input=stdin spans=1 runs=0 pixels=3 bytes_in={0}\n",
             text.len()
         ));
 }
@@ -298,7 +299,10 @@ fn two_inputs_as_files() {
         .arg("--stats")
         .assert()
         .stderr(format!(
-            "zbuf: {}: 2 spans, 4 pixels, {} bytes in\nzbuf: {}: 3 spans, 6 pixels, {} bytes in\n",
+            "zbuf: {0}: 2 spans, 4 pixels, {1} bytes in\n\
+             @stats zbuf input={0} spans=2 runs=0 pixels=4 bytes_in={1}\n\
+             zbuf: {2}: 3 spans, 6 pixels, {3} bytes in\n\
+             @stats zbuf input={2} spans=3 runs=0 pixels=6 bytes_in={3}\n",
             a.display(),
             std::fs::metadata(&a).unwrap().len(),
             b.display(),
@@ -428,7 +432,11 @@ fn a_screen_space_input_is_resolved_here() {
         .assert()
         .success()
         .stdout(picture)
-        .stderr("zbuf: stdin: 2 polygons in, 10 pixels tested, 10 written\n");
+        .stderr(
+            "zbuf: stdin: 2 polygons in, 10 pixels tested, 10 written\n\
+             @stats zbuf input=stdin polygons_in=2 pixels_tested=10 pixels_written=10 runs=0 \
+             rounding_decided=0\n",
+        );
 }
 
 /// An eye-space stream of two frames: two overlapping polygons at different depths, then
@@ -826,10 +834,10 @@ fn runs_are_placed_without_a_depth_test() {
         .assert()
         .success()
         .stdout(ppm(3, 2, &[R, R, K, G, K, B]));
-    zbuf()
-        .arg("--stats")
-        .args([&left])
-        .assert()
-        .success()
-        .stderr(predicates::str::contains("0 spans, 2 runs, 3 pixels"));
+    let out = zbuf().arg("--stats").args([&left]).output().unwrap();
+    assert!(out.status.success());
+    let said = String::from_utf8_lossy(&out.stderr);
+    let record = pipeline_tests::stat_record(&said, "runs");
+    let counts = ["spans", "runs", "pixels"].map(|k| record.count(k));
+    assert_eq!(counts, [Some(0), Some(2), Some(3)], "{said}");
 }

@@ -239,7 +239,10 @@ fn abuf_stats_count_the_fragments() {
         String::from_utf8_lossy(&out.stderr),
         "abuf: 1 polygons in, 1 frames, 2 runs out, 4 fragments, 4 simple, 0 lists, max list \
          length 0, 0 combined, 0 hidden, 0 intersect cases, 0 merged past 64 a list, 0 polygon \
-         rows, 0 blocks and 0 pixels culled, 4 pixels out\n"
+         rows, 0 blocks and 0 pixels culled, 4 pixels out\n\
+         @stats abuf polygons_in=1 frames=1 runs_out=2 fragments=4 simple=4 lists=0 max_list=0 \
+         combined=0 hidden=0 intersections=0 merged=0 merge_limit=64 rows_culled=0 \
+         blocks_culled=0 pixels_culled=0 pixels_out=4\n"
     );
     assert!(String::from_utf8_lossy(&out.stdout).contains("run 1 1 3 9 9 9"));
 }
@@ -350,18 +353,8 @@ fn adaptive_is_ss_byte_for_byte_on_flat_scenes() {
         b"",
     );
     let stats = String::from_utf8_lossy(&out.stderr);
-    let count = |words: &str| -> u64 {
-        let at = stats
-            .find(words)
-            .unwrap_or_else(|| panic!("no '{words}' in {stats}"));
-        stats[..at]
-            .split_whitespace()
-            .last()
-            .unwrap()
-            .parse()
-            .unwrap()
-    };
-    let (pixels, sampled) = (count(" pixels out"), count(" sampled (adaptive)"));
+    let count = |key: &str| pipeline_tests::stat(&stats, key);
+    let (pixels, sampled) = (count("pixels_out"), count("sampled"));
     assert!(
         sampled * 5 < pixels,
         "{sampled} of {pixels} pixels sampled: {stats}"

@@ -216,8 +216,8 @@ fn the_painter_is_the_zbuffer_where_there_is_a_depth_order_and_fails_by_counted_
 #[test]
 fn stats_give_each_leafs_method_counters() {
     for (method, counters) in [
-        ("scanline", "sample spans"),
-        ("warnock", "windows by depth"),
+        ("scanline", "sample_spans"),
+        ("warnock", "windows_by_depth"),
         ("painter", "swaps"),
     ] {
         let out = sh(
@@ -226,12 +226,14 @@ fn stats_give_each_leafs_method_counters() {
         );
         assert!(out.status.success());
         let err = String::from_utf8(out.stderr).unwrap();
+        let records = stagecli::stats::records_of(&err, method).unwrap();
         for leaf in 0..4 {
             // (The painter's leaves also say the cycles they painted out of order.)
-            let prefix = format!("{method} (leaf {leaf}): ");
+            let label = format!("{method} (leaf {leaf})");
             assert!(
-                err.lines()
-                    .any(|l| l.starts_with(&prefix) && l.contains(counters)),
+                records
+                    .iter()
+                    .any(|r| r.get("label") == Some(&label) && r.get(counters).is_some()),
                 "no counters of leaf {leaf} in {err}"
             );
         }
@@ -241,10 +243,6 @@ fn stats_give_each_leafs_method_counters() {
 #[test]
 fn options_that_cannot_combine_are_refused() {
     for (options, message) in [
-        (
-            "--hse zsort",
-            "render: --hse must be scanline, warnock, painter or zbuf, not 'zsort'",
-        ),
         (
             "--merge buffer --hse scanline",
             "render: --merge buffer is the z-buffer's, point-sampled: not with --hse scanline --aa none",
@@ -276,6 +274,18 @@ fn options_that_cannot_combine_are_refused() {
         let err = String::from_utf8(out.stderr).unwrap();
         assert_eq!(err.lines().next(), Some(message), "{options}");
     }
+    // The names --hse takes are the table's, in its order.
+    let names = methods::hse_names(methods::METHODS);
+    let (last, rest) = names.split_last().expect("a method");
+    let out = sh("scripts/render.sh --hse zsort", b"");
+    assert_eq!(out.status.code(), Some(2));
+    assert_eq!(
+        String::from_utf8(out.stderr).unwrap(),
+        format!(
+            "render: --hse must be {} or {last}, not 'zsort'\n",
+            rest.join(", ")
+        )
+    );
 }
 
 #[test]

@@ -17,6 +17,21 @@ fn zspec_frame(size: &str) -> Frame {
 const RED: [u8; 3] = [255, 60, 60];
 const BLUE: [u8; 3] = [60, 60, 255];
 
+/// The counts `keys` of the painter's `--stats` totals (its last record without a
+/// `frame`: stagecli::stats).
+fn totals<const N: usize>(stats: &str, keys: [&str; N]) -> [u64; N] {
+    let records = stagecli::stats::records_of(stats, "painter").unwrap();
+    let totals = records
+        .iter()
+        .rfind(|r| r.get("frame").is_none())
+        .unwrap_or_else(|| panic!("no totals in {stats}"));
+    keys.map(|k| {
+        totals
+            .count(k)
+            .unwrap_or_else(|| panic!("no {k} in {totals}"))
+    })
+}
+
 #[test]
 fn the_penetrating_scene_is_painted_wrong_on_one_side_of_the_crossing() {
     for (size, wrong) in [("64x64", 68), ("500x500", 4571)] {
@@ -34,8 +49,9 @@ fn the_penetrating_scene_is_painted_wrong_on_one_side_of_the_crossing() {
                 .all(|&(zb, painted)| zb == BLUE && painted == RED),
             "{size}"
         );
-        assert!(
-            stats.contains(", 1 cycles, 0 splits, 1 cycles painted out of order"),
+        assert_eq!(
+            totals(&stats, ["cycles", "splits", "out_of_order"]),
+            [1, 0, 1],
             "{stats}"
         );
         // Cut by the other's plane, the pieces sort: the exact picture (zspec's) and the
@@ -43,8 +59,9 @@ fn the_penetrating_scene_is_painted_wrong_on_one_side_of_the_crossing() {
         // polygon (the tie rule), in the cut as in the z-buffer.
         assert_eq!(zspec_frame(size).differences(&s[0]).len(), 0, "{size}");
         assert_eq!(z[0].differences(&s[0]).len(), 0, "{size}");
-        assert!(
-            split_stats.contains(", 1 splits, 0 cycles painted out of order"),
+        assert_eq!(
+            totals(&split_stats, ["splits", "out_of_order"]),
+            [1, 0],
             "{split_stats}"
         );
     }
@@ -68,22 +85,25 @@ fn a_cyclic_overlap_is_painted_wrong_where_bars_overlap() {
         |zb: [u8; 3], painted: [u8; 3]| diff.iter().filter(|&&d| d == (zb, painted)).count();
     assert_eq!(count([0, 255, 0], [255, 0, 0]), 36);
     assert_eq!(count([255, 0, 0], [0, 0, 255]), 32);
-    assert!(
-        stats.contains("4 swaps, 2 cycles, 0 splits, 2 cycles painted out of order"),
+    assert_eq!(
+        totals(&stats, ["swaps", "cycles", "splits", "out_of_order"]),
+        [4, 2, 0, 2],
         "{stats}"
     );
     // Said without --stats, once for the frame, and the frames are written (exit 0).
     let (_, said) = frames("cat", "painter", cyclic().as_bytes());
     assert_eq!(
         said,
-        "painter: frame 0: 2 cycles painted out of order; --split cuts them\n"
+        "painter: frame 0: 2 cycles painted out of order; --split cuts them\n\
+         @stats painter frame=0 out_of_order=2 unchecked=0\n"
     );
     let (_, said) = frames("cat", "painter --split", cyclic().as_bytes());
     assert_eq!(said, "");
     // Two cuts by plane (the pixel-wise form needed four).
     assert_eq!(z[0].differences(&s[0]).len(), 0);
-    assert!(
-        split_stats.contains("2 splits, 0 cycles painted out of order"),
+    assert_eq!(
+        totals(&split_stats, ["splits", "out_of_order"]),
+        [2, 0],
         "{split_stats}"
     );
 }
@@ -110,7 +130,7 @@ fn scenes_with_a_depth_order_come_out_as_the_zbuffers() {
         let (z, _) = frames(&stream, "scanconv --resolve", b"");
         let (p, stats) = frames(&stream, "painter --stats", b"");
         assert_eq!(z[0].differences(&p[0]).len(), 0, "{scene}");
-        assert!(stats.contains(" 0 cycles,"), "{scene}: {stats}");
+        assert_eq!(totals(&stats, ["cycles"]), [0], "{scene}: {stats}");
     }
 }
 
@@ -254,6 +274,9 @@ fn render_sh_passes_split_to_the_painter_leaves() {
         err.starts_with("painter: frame 0: could not order every polygon: "),
         "{err}"
     );
+    let note = pipeline_tests::stat_record(&err, "frame");
+    assert_eq!(note.count("frame"), Some(0), "{err}");
+    assert!(note.count("out_of_order").unwrap_or(0) > 0, "{err}");
     let out = sh("scripts/render.sh --split >/dev/null", b"");
     assert_eq!(out.status.code(), Some(2));
     assert_eq!(

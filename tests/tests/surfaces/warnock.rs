@@ -81,7 +81,10 @@ fn exact_runs_and_stats_on_a_hand_written_stream() {
         "warnock: 4 polygons in, 2 frames, 20 runs out, windows by depth: 2 4 6; 0 empty, \
          0 single pixels, 0 one polygon, 4 surrounded, 5 one in front of a surrounder, \
          3 subdivided; 22 polygons looked at, 2 hidden by a surrounder, 0 ZMIN exits \
-         leaving 0 unexamined\n"
+         leaving 0 unexamined\n\
+         @stats warnock polygons_in=4 frames=2 runs_out=20 windows_by_depth=2,4,6 empty=0 \
+         single_pixels=0 one_polygon=0 surrounded=4 in_front=5 subdivided=3 looked_at=22 \
+         hidden=2 zmin_exits=0 zmin_skipped=0\n"
     );
     // The z-buffer leaf sends the same records.
     let zbuf = Command::new(bin("scanconv"))
@@ -163,28 +166,14 @@ fn tree(scene: &str, size: &str, depth: u32, leaf: &str) -> (Vec<u8>, String) {
     )
 }
 
-/// The windows `warnock --stats` reports at each depth, from its line.
+/// The windows `warnock --stats` reports at each depth, from its record.
 fn windows_by_depth(stats: &str) -> Vec<u64> {
-    let line = stats
-        .lines()
-        .find(|l| l.starts_with("warnock:"))
-        .expect("a warnock line");
-    let list = line
-        .split("windows by depth: ")
-        .nth(1)
-        .and_then(|s| s.split(';').next())
-        .expect("windows by depth");
-    list.split(' ').map(|n| n.parse().unwrap()).collect()
+    pipeline_tests::stat_list(stats, "windows_by_depth")
 }
 
-/// The count before `what` in warnock's stats line (`… 12 single pixels, …`).
-fn count(stats: &str, what: &str) -> u64 {
-    let before = stats.split(what).next().expect(what);
-    before
-        .rsplit([' ', ';', ','])
-        .find(|w| !w.is_empty())
-        .and_then(|w| w.parse().ok())
-        .unwrap_or_else(|| panic!("no count before {what} in {stats}"))
+/// The count `key` in warnock's stats record (`single_pixels`, …).
+fn count(stats: &str, key: &str) -> u64 {
+    pipeline_tests::stat(stats, key)
 }
 
 const SCENES: &[&str] = &[
@@ -225,7 +214,7 @@ mod where_it_slows {
         assert!(want == got, "frames differ");
         let by_depth = windows_by_depth(&stats);
         assert_eq!(by_depth.len(), 8, "{stats}");
-        assert!(count(&stats, " single pixels") > 2000, "{stats}");
+        assert!(count(&stats, "single_pixels") > 2000, "{stats}");
     }
 
     /// Slivers: a fan of triangles a fraction of a pixel wide in front of a background.
@@ -273,8 +262,8 @@ mod where_it_slows {
             vec![1, 4, 16, 60, 216, 744, 508],
             "{stats}"
         );
-        assert_eq!(count(&stats, " single pixels"), 508, "{stats}");
-        assert_eq!(count(&stats, " subdivided"), 387, "{stats}");
+        assert_eq!(count(&stats, "single_pixels"), 508, "{stats}");
+        assert_eq!(count(&stats, "subdivided"), 387, "{stats}");
     }
 
     /// Deep subdivision: two planes that penetrate along a line across the screen fail
@@ -340,7 +329,7 @@ END
             vec![1, 4, 8, 16, 32, 64, 128],
             "{stats}"
         );
-        assert_eq!(count(&stats, " single pixels"), 128, "{stats}");
+        assert_eq!(count(&stats, "single_pixels"), 128, "{stats}");
     }
 }
 
@@ -422,9 +411,9 @@ mod hostile {
         let (stats, got, want) = warnock_and_zbuf(&input);
         assert!(got == want, "frames differ");
         assert_eq!(windows_by_depth(&stats), vec![1], "{stats}");
-        assert_eq!(count(&stats, " polygons looked at"), 1, "{stats}");
-        assert_eq!(count(&stats, " ZMIN exits leaving"), 1, "{stats}");
-        assert!(stats.contains("leaving 1999 unexamined"), "{stats}");
+        assert_eq!(count(&stats, "looked_at"), 1, "{stats}");
+        assert_eq!(count(&stats, "zmin_exits"), 1, "{stats}");
+        assert_eq!(count(&stats, "zmin_skipped"), 1999, "{stats}");
     }
 
     /// 20,000 tiny triangles around one pixel centre, at distinct depths: the windows
@@ -454,6 +443,6 @@ mod hostile {
         // Levels 0 to 6 of a 64×64 screen, a few windows each around the pin.
         let by_depth = windows_by_depth(&stats);
         assert!(by_depth.iter().sum::<u64>() < 100, "{stats}");
-        assert!(count(&stats, " single pixels") < 40, "{stats}");
+        assert!(count(&stats, "single_pixels") < 40, "{stats}");
     }
 }

@@ -5,7 +5,7 @@
 //! (the z-buffer writes a pixel once a nearer polygon); and the list a pixel, capped at
 //! the 64 samples, on polygons piled in one pixel (docs/methods.md, "abuf").
 
-use pipeline_tests::{parse_ppm_stream, sh, stats_count};
+use pipeline_tests::{parse_ppm_stream, sh, stat};
 
 /// abuf's `--stats` line for `scene ARGS` at 200×200.
 fn abuf_stats(scene: &str) -> String {
@@ -63,33 +63,22 @@ fn crossing_planes_make_a_fragment_for_every_plane_at_every_pixel() {
         .into();
     let pixels = 200.0 * 200.0;
     for (n, s) in [50.0, 100.0, 200.0].iter().zip(&stats) {
-        let fragments = stats_count(s, " fragments") as f64;
+        let fragments = stat(s, "fragments") as f64;
         // Most planes reach the screen's every pixel: between 0.4·N and N a pixel.
         assert!(
             (0.4 * n * pixels..=n * pixels).contains(&fragments),
             "{n} planes: {s}"
         );
-        let hidden = stats_count(s, " hidden") as f64;
+        let hidden = stat(s, "hidden") as f64;
         assert!(hidden > 0.8 * fragments, "{n} planes: {s}");
         // The list stays within the samples of a pixel.
-        assert!(after(s, "max list length") <= 64, "{n} planes: {s}");
+        assert!(stat(s, "max_list") <= 64, "{n} planes: {s}");
     }
     // Twice the planes, twice the fragments: linear in N, each a pixel's worth.
     for k in 0..2 {
-        let grew = stats_count(&stats[k + 1], " fragments") as f64
-            / stats_count(&stats[k], " fragments") as f64;
+        let grew = stat(&stats[k + 1], "fragments") as f64 / stat(&stats[k], "fragments") as f64;
         assert!((1.8..2.2).contains(&grew), "{stats:?}");
     }
-}
-
-/// The count after `what` in the stats line (`… max list length 64, …`).
-fn after(stats: &str, what: &str) -> u64 {
-    stats
-        .split(what)
-        .nth(1)
-        .and_then(|s| s.trim_start().split([',', ' ']).next())
-        .and_then(|n| n.parse().ok())
-        .unwrap_or_else(|| panic!("no count after {what} in {stats}"))
 }
 
 #[test]
@@ -99,10 +88,10 @@ fn a_pinhead_keeps_one_list_of_64_fragments() {
     // pixel). Capped at 64 fragments, its two farthest merged as each new one comes:
     // 19,927 merges (measured), the list's length and its time bounded.
     let stats = abuf_stats("pinhead 20000");
-    assert_eq!(after(&stats, "max list length"), 64, "{stats}");
-    assert_eq!(stats_count(&stats, " lists"), 1, "{stats}");
-    let merged = stats_count(&stats, " merged past 64 a list");
-    let fragments = stats_count(&stats, " fragments");
+    assert_eq!(stat(&stats, "max_list"), 64, "{stats}");
+    assert_eq!(stat(&stats, "lists"), 1, "{stats}");
+    let merged = stat(&stats, "merged");
+    let fragments = stat(&stats, "fragments");
     assert!(
         fragments > 19_000 && merged + 64 >= fragments,
         "{fragments} fragments, {merged} merged: {stats}"

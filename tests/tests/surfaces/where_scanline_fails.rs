@@ -5,7 +5,7 @@
 //! the *visible* complexity, here the crossings of every line). The pictures stay the
 //! z-buffer leaf's to the byte.
 
-use pipeline_tests::{leaf_stats_drawing_as_zbuf, sh, stats_count};
+use pipeline_tests::{leaf_stats_drawing_as_zbuf, sh, stat};
 
 #[test]
 fn two_hundred_thousand_pinhead_triangles_fit_in_256_mb() {
@@ -39,16 +39,16 @@ fn crossing_planes_cost_comparisons_growing_with_the_crossings() {
     // (XINTER) and settled by the tie rule at the centres beside it: none searched.
     let stats = |n: u32| leaf_stats_drawing_as_zbuf("scanline", &format!("planes {n}"), 200);
     let s50 = stats(50);
-    assert_eq!(stats_count(&s50, "crossings;"), 3434, "{s50}");
-    assert_eq!(stats_count(&s50, "crossings computed"), 1849, "{s50}");
-    assert_eq!(stats_count(&s50, "of them searched"), 0, "{s50}");
-    assert_eq!(stats_count(&s50, "depth comparisons"), 715_384, "{s50}");
+    assert_eq!(stat(&s50, "crossings"), 3434, "{s50}");
+    assert_eq!(stat(&s50, "crossings_computed"), 1849, "{s50}");
+    assert_eq!(stat(&s50, "crossings_searched"), 0, "{s50}");
+    assert_eq!(stat(&s50, "depth_comparisons"), 715_384, "{s50}");
     // Twice the planes, nearly twice the crossings (6,409) and 3.4 times the depth
     // comparisons (2,439,223): the sample spans hold every plane, and each crossing
     // is looked for among all of them.
     let s100 = stats(100);
-    assert_eq!(stats_count(&s100, "crossings;"), 6409, "{s100}");
-    assert_eq!(stats_count(&s100, "of them searched"), 0, "{s100}");
-    let ratio = stats_count(&s100, "depth comparisons") as f64 / 715_384.0;
+    assert_eq!(stat(&s100, "crossings"), 6409, "{s100}");
+    assert_eq!(stat(&s100, "crossings_searched"), 0, "{s100}");
+    let ratio = stat(&s100, "depth_comparisons") as f64 / 715_384.0;
     assert!((3.0..4.0).contains(&ratio), "{ratio}");
 }

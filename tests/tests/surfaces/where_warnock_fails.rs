@@ -6,7 +6,7 @@
 //! z-buffer leaf's, byte for byte. The small hand-made cases (the Thinker's failures, a
 //! crossing subdivided to pixels) are in `warnock.rs`, `where_it_slows` and `hostile`.
 
-use pipeline_tests::{leaf_stats_drawing_as_zbuf, stats_count};
+use pipeline_tests::{leaf_stats_drawing_as_zbuf, stat, stat_list};
 
 /// Warnock's `--stats` line for `scene ARGS` at `size`×`size`, its runs the z-buffer
 /// leaf's byte for byte.
@@ -14,16 +14,9 @@ fn warnock_stats(scene: &str, size: u32) -> String {
     leaf_stats_drawing_as_zbuf("warnock", scene, size)
 }
 
-/// The windows at each level of the subdivision, from the stats line.
+/// The windows at each level of the subdivision, from the stats record.
 fn windows_by_depth(stats: &str) -> Vec<u64> {
-    stats
-        .split("windows by depth: ")
-        .nth(1)
-        .and_then(|s| s.split(';').next())
-        .unwrap_or_else(|| panic!("no windows by depth in {stats}"))
-        .split(' ')
-        .map(|n| n.parse().expect("a count of windows"))
-        .collect()
+    stat_list(stats, "windows_by_depth")
 }
 
 #[test]
@@ -41,10 +34,7 @@ fn windows_grow_with_the_edges_not_the_pixels() {
         .iter()
         .map(|s| windows_by_depth(s).iter().sum())
         .collect();
-    let pixels: Vec<u64> = stats
-        .iter()
-        .map(|s| stats_count(s, " single pixels"))
-        .collect();
+    let pixels: Vec<u64> = stats.iter().map(|s| stat(s, "single_pixels")).collect();
     for k in 0..2 {
         let grew = windows[k + 1] as f64 / windows[k] as f64;
         assert!((1.8..2.6).contains(&grew), "windows {windows:?}");
@@ -64,7 +54,7 @@ fn a_deep_stack_is_one_window() {
     // than what it holds.
     let stats = warnock_stats("stack 50000", 500);
     assert_eq!(windows_by_depth(&stats), [1], "{stats}");
-    assert_eq!(stats_count(&stats, " polygons looked at"), 1, "{stats}");
+    assert_eq!(stat(&stats, "looked_at"), 1, "{stats}");
     assert!(
         stats.contains("1 ZMIN exits leaving 49999 unexamined"),
         "{stats}"
@@ -81,9 +71,9 @@ fn slivers_take_a_pixel_window_for_nearly_every_visible_segment() {
     let stats = warnock_stats("slivers 2000", 500);
     let by_depth = windows_by_depth(&stats);
     assert_eq!(by_depth.len(), 10, "{stats}");
-    let runs = stats_count(&stats, " runs out");
+    let runs = stat(&stats, "runs_out");
     assert_eq!(runs, 103_830, "{stats}");
-    let pixels = stats_count(&stats, " single pixels");
+    let pixels = stat(&stats, "single_pixels");
     assert!(
         (runs..2 * runs).contains(&pixels),
         "{pixels} pixel windows for {runs} segments: {stats}"

@@ -440,16 +440,6 @@ fn chart_exits_as_the_stages_do() {
             "chart: invalid value '0x5' for '--size <WxH>': \
              `0` in `0x5` is not a size from 1 to 65536\n",
         ),
-        // clap's message as one line, its list of the valid values kept.
-        (
-            "chart -o OUT --methods foo examples/penetrating.txt",
-            2,
-            "chart: invalid value 'foo' for '--methods <NAME,…>': no method foo; the methods: \
-             scanline, warnock, painter, painter-split, abuf, ss2, ss4, ss8, ss16, adaptive2, adaptive4, adaptive8, \
-             adaptive16, zbuf-pixels, \
-             zbuf, zbuf-eye-z, zbuf-buffer, zbuf-chain, zbuf-text, zbuf-binary, hiddenline, \
-             hiddenline-archuleta\n",
-        ),
     ];
     // OUT: a folder that none of these makes, each failing before anything is written.
     let dir = tempfile::tempdir().unwrap();
@@ -463,6 +453,25 @@ fn chart_exits_as_the_stages_do() {
         );
         assert!(!out.exists(), "{command} made {}", out.display());
     }
+    // clap's message as one line, its list of the valid values kept: the table's names
+    // (methods::METHODS), whatever it holds.
+    let names: Vec<&str> = methods::METHODS.iter().map(|m| m.name).collect();
+    let command = format!(
+        "chart -o {} --methods foo examples/penetrating.txt",
+        out.display()
+    );
+    assert_eq!(
+        status_and_stderr(&command),
+        (
+            Some(2),
+            format!(
+                "chart: invalid value 'foo' for '--methods <NAME,…>': no method foo; the \
+                 methods: {}\n",
+                names.join(", ")
+            )
+        )
+    );
+    assert!(!out.exists(), "{command} made {}", out.display());
 }
 
 #[test]
@@ -520,7 +529,17 @@ fn render_depth_auto_says_its_choice_and_renders_at_it() {
             line.starts_with(&auto_chose_0_for_two_polygons()),
             "{command}: {err}"
         );
-        assert!(!err.contains("splitter"), "no splitter at depth 0: {err}");
+        assert_eq!(
+            pipeline_tests::stat(&err, "depth_auto"),
+            0,
+            "{command}: {err}"
+        );
+        let records = stagecli::stats::records(&err).unwrap();
+        let stages: Vec<&str> = records.iter().map(|r| r.stage()).collect();
+        assert!(
+            !stages.contains(&"splitter"),
+            "no splitter at depth 0: {err}"
+        );
     }
     // Without --stats it says nothing.
     let quiet = sh(
@@ -542,6 +561,7 @@ fn auto_is_the_default_depth_and_a_scene_it_cannot_look_at_goes_to_the_stages() 
     assert!(out.status.success(), "{out:?}");
     let err = String::from_utf8(out.stderr).unwrap();
     assert!(err.starts_with(&auto_chose_0_for_two_polygons()), "{err}");
+    assert_eq!(pipeline_tests::stat(&err, "depth_auto"), 0, "{err}");
     let at0 = sh(
         "scripts/render.sh --depth 0 --eye -8,5,18 examples/penetrating.txt",
         b"",

@@ -131,6 +131,7 @@ fn calibration_is_kept_with_its_machine_and_judged_by_it() {
     );
     let line = text(&auto.stderr).lines().next().unwrap_or("").to_string();
     assert!(line.starts_with("render: depth auto chose 0 ("), "{line}");
+    assert_eq!(pipeline_tests::stat(&text(&auto.stderr), "depth_auto"), 0);
     assert!(!line.contains("calibrat"), "{line}");
 
     // Rebuilt binaries: stale (still this machine's, planned with, and said so).
@@ -321,12 +322,7 @@ fn a_stream_longer_than_the_sample_is_planned_from_it_and_rendered_whole() {
     );
     assert!(out.status.success(), "{}", text(&out.stderr));
     let err = text(&out.stderr);
-    let line = err.lines().next().unwrap();
-    let depth: u8 = line
-        .strip_prefix("render: depth auto chose ")
-        .and_then(|l| l.split(' ').next())
-        .and_then(|d| d.parse().ok())
-        .unwrap_or_else(|| panic!("{err}"));
+    let depth = pipeline_tests::stat(&err, "depth_auto");
     // The frame is the one the file gives at that depth (and at depth 0: every depth
     // draws the same bytes): the sample and the rest of the stream reached viewxf whole.
     let at = sh(
@@ -482,11 +478,7 @@ fn depth_auto_with_hosts_gives_every_host_a_subtree() {
     assert!(out.status.success(), "{}", text(&out.stderr));
     let err = text(&out.stderr);
     let line = err.lines().next().unwrap();
-    let depth: u8 = line
-        .strip_prefix("render: depth auto chose ")
-        .and_then(|l| l.split(' ').next())
-        .and_then(|d| d.parse().ok())
-        .unwrap_or_else(|| panic!("{err}"));
+    let depth = pipeline_tests::stat(&err, "depth_auto");
     assert!(depth >= 2, "{line}");
     assert!(line.contains(" here, 4 hosts of "), "{line}");
     assert!(err.contains("on host d"), "every host had a subtree: {err}");

@@ -3,6 +3,7 @@
 //! links' bytes (`--stats --hosts`) and the stages' costs (`--times`).
 
 use super::plan::Stage;
+use stagecli::stats::Record;
 use std::io::Write;
 use std::os::fd::RawFd;
 use std::os::unix::process::ExitStatusExt;
@@ -47,11 +48,17 @@ pub fn what_node(node: u64, depth: u32) -> String {
 /// line that starts with the bare program name given the stage's full label instead
 /// (`scanconv: …` from leaf 2 becomes `scanconv (leaf 2): …`; lines a stage labelled
 /// itself, as `splitter y=0 (node 2): …`, are left alone); a host's render's lines
-/// (labelled by it) given the host.
+/// (labelled by it) given the host. A `--stats` record ([`stagecli::stats`]) is given the
+/// same: a value that is a `/dev/fd/N` its channel's name, a `label` (the stage's, where
+/// the record has none) and, from a host, a `host`.
 pub fn labelled(said: &str, stage: &Stage, fds: &[(RawFd, String)]) -> String {
     let program = stage.label.split(' ').next().unwrap_or("");
     let mut out = String::with_capacity(said.len());
     for line in said.lines() {
+        if let Some(Ok(record)) = stagecli::stats::parse_line(line) {
+            out.push_str(&format!("{}\n", labelled_record(record, stage, fds)));
+            continue;
+        }
         let line = name_channels(line, fds);
         if let Some((host, _)) = &stage.host {
             let line = stagecli::remote::without_render_prefix(&line);
@@ -67,6 +74,28 @@ pub fn labelled(said: &str, stage: &Stage, fds: &[(RawFd, String)]) -> String {
         }
     }
     out
+}
+
+/// A stage's `--stats` record as [`labelled`] gives it.
+fn labelled_record(mut record: Record, stage: &Stage, fds: &[(RawFd, String)]) -> Record {
+    let named: Vec<(String, String)> = record
+        .fields()
+        .iter()
+        .filter(|(_, v)| v.starts_with("/dev/fd/"))
+        .map(|(k, v)| (k.clone(), name_channels(v, fds)))
+        .collect();
+    for (k, v) in named {
+        record.set(&k, v);
+    }
+    if record.get("label").is_none() {
+        record.set("label", &stage.label);
+    }
+    if let Some((host, _)) = &stage.host {
+        if record.get("host").is_none() {
+            record.set("host", host);
+        }
+    }
+    record
 }
 
 /// `line` with each `/dev/fd/N` in `fds` replaced by its channel's name.
@@ -155,56 +184,57 @@ pub fn silent_host(
 }
 
 /// With `--stats` and `--hosts`: each host stage's node, host, and the bytes its link
-/// carried each way (thesis 6.5 estimates them for the transputer links), from the
-/// splitters' `…; A and B bytes out` and the merger's `zbuf: from-K: … N bytes in`. A
-/// subtree at the root carries the clipper's whole output, which nothing counts.
+/// carried each way (thesis 6.5 estimates them for the transputer links), from the local
+/// stages' records: the splitters' `out1_bytes` and `out2_bytes` and the merger's
+/// `bytes_in` from `from-K`. A subtree at the root carries the clipper's whole output,
+/// which nothing counts. A line for people and a record (`node`, `host`, `bytes_there`
+/// where counted, `bytes_back`) a host.
 pub fn links(stages: &[Stage], said: &[String], depth: u32, me: &str) -> String {
+    let records: Vec<Record> = said
+        .iter()
+        .flat_map(|t| t.lines())
+        .filter_map(stagecli::stats::parse_line)
+        .filter_map(Result::ok)
+        .filter(|r| r.get("host").is_none())
+        .collect();
     let mut out = String::new();
     for s in stages {
         let Some((host, node)) = &s.host else {
             continue;
         };
+        let mut record = Record::new(me).with("node", node).with("host", host);
         let mut there = "not counted (the clipper's output)".to_string();
         let mut back = "?".to_string();
         if *node > 1 {
-            let parent = format!("(node {}): ", node >> 1);
-            if let Some(line) = said
+            let out_key = if node & 1 == 0 {
+                "out1_bytes"
+            } else {
+                "out2_bytes"
+            };
+            if let Some(n) = records
                 .iter()
-                .flat_map(|t| t.lines())
-                .find(|l| l.contains(&parent))
+                .filter(|r| r.stage() == "splitter" && r.count("node") == Some(node >> 1))
+                .find_map(|r| r.count(out_key))
             {
-                if let Some((a, b)) = bytes_out(line) {
-                    there = format!("{} bytes there", if node & 1 == 0 { a } else { b });
-                }
+                there = format!("{n} bytes there");
+                record.set("bytes_there", n);
             }
         }
-        let from = format!("from-{node}: ");
-        if let Some(line) = said
+        let from = format!("from-{node}");
+        if let Some(n) = records
             .iter()
-            .flat_map(|t| t.lines())
-            .find(|l| l.starts_with("zbuf: ") && l.contains(&from))
+            .filter(|r| r.stage() == "zbuf" && r.get("input") == Some(from.as_str()))
+            .find_map(|r| r.count("bytes_in"))
         {
-            if let Some(n) = line
-                .strip_suffix(" bytes in")
-                .and_then(|l| l.rsplit(' ').next())
-                .filter(|n| n.parse::<u64>().is_ok())
-            {
-                back = format!("{n} bytes back");
-            }
+            back = format!("{n} bytes back");
+            record.set("bytes_back", n);
         }
         out.push_str(&format!(
-            "{me}: {} on host {host}: {there}, {back}\n",
+            "{me}: {} on host {host}: {there}, {back}\n{record}\n",
             what_node(*node, depth)
         ));
     }
     out
-}
-
-/// `…; A and B bytes out` at the end of a splitter's line.
-fn bytes_out(line: &str) -> Option<(u64, u64)> {
-    let tail = line.rsplit("; ").next()?.strip_suffix(" bytes out")?;
-    let (a, b) = tail.split_once(" and ")?;
-    Some((a.parse().ok()?, b.parse().ok()?))
 }
 
 /// What one stage cost, from `wait4`: its CPU (user and system) and its own peak
@@ -232,7 +262,9 @@ impl Cost {
 /// `--times`: a line a stage, `render: LABEL: 6.6 ms CPU (6.1 user, 0.5 system), 3.1
 /// MB peak, ended at 31.0 ms`, and a last line of their sums: the CPU of all of them, and
 /// the sum of their peaks, a bound on what the stages, running side by side, held at any
-/// one moment.
+/// one moment. Each line is followed by its record ([`stagecli::stats`]): a stage's
+/// `label`, `user_ms`, `system_ms`, `peak_kib`, `ended_ms`; the sums' `stages`, `cpu_ms`,
+/// `peaks_kib`, `last_ended_ms` (times to the microsecond).
 pub fn times(stages: &[Stage], costs: &[Cost], me: &str) -> String {
     let ms = |s: f64| s * 1e3;
     let mb = |kib: u64| kib as f64 / 1024.0;
@@ -247,6 +279,13 @@ pub fn times(stages: &[Stage], costs: &[Cost], me: &str) -> String {
             mb(c.peak_kib),
             ms(c.ended_s)
         ));
+        let record = Record::new(me)
+            .with("label", &s.label)
+            .with("user_ms", format!("{:.3}", ms(c.user_s)))
+            .with("system_ms", format!("{:.3}", ms(c.system_s)))
+            .with("peak_kib", c.peak_kib)
+            .with("ended_ms", format!("{:.3}", ms(c.ended_s)));
+        out.push_str(&format!("{record}\n"));
     }
     let cpu: f64 = costs.iter().map(|c| c.user_s + c.system_s).sum();
     let peak: u64 = costs.iter().map(|c| c.peak_kib).sum();
@@ -258,6 +297,12 @@ pub fn times(stages: &[Stage], costs: &[Cost], me: &str) -> String {
         mb(peak),
         ms(last)
     ));
+    let record = Record::new(me)
+        .with("stages", costs.len())
+        .with("cpu_ms", format!("{:.3}", ms(cpu)))
+        .with("peaks_kib", peak)
+        .with("last_ended_ms", format!("{:.3}", ms(last)));
+    out.push_str(&format!("{record}\n"));
     out
 }
 
@@ -416,6 +461,19 @@ mod tests {
             labelled("render: zbuf failed\nrender.sh: old\n", &s[2], &[]),
             "host a: zbuf failed\nhost a: old\n"
         );
+        // A record: its channels named, and the stage's label (and host) added.
+        assert_eq!(
+            labelled(
+                "zbuf: /dev/fd/12: 1 spans\n@stats zbuf input=/dev/fd/12 spans=1\n",
+                &s[4],
+                &[(12, "from-3".into())],
+            ),
+            "zbuf: from-3: 1 spans\n@stats zbuf input=from-3 spans=1 label=zbuf\n"
+        );
+        assert_eq!(
+            labelled("@stats scanconv tiles=2 label=x\n", &s[2], &[]),
+            "@stats scanconv tiles=2 label=x host=a\n"
+        );
         assert_eq!(
             name_channels("/dev/fd/123 /dev/fd/12 /dev/fd/", &[(12, "x".into())]),
             "/dev/fd/123 x /dev/fd/"
@@ -449,10 +507,20 @@ mod tests {
             cost(0.002, 0.0, 1024, 0.04),
         ];
         assert_eq!(
-            times(&s[..2], &costs, "render"),
+            stagecli::stats::human(&times(&s[..2], &costs, "render")),
             "render: viewxf: 6.6 ms CPU (6.1 user, 0.5 system), 3.1 MB peak, ended at 31.0 ms\n\
              render: splitter (node 1): 2.0 ms CPU (2.0 user, 0.0 system), 1.0 MB peak, ended at 40.0 ms\n\
              render: 2 stages: 8.6 ms CPU, 4.1 MB of peaks, the last ended at 40.0 ms\n"
+        );
+        let said = times(&s[..2], &costs, "render");
+        let records = stagecli::stats::records(&said).unwrap();
+        assert_eq!(
+            records.iter().map(ToString::to_string).collect::<Vec<_>>(),
+            [
+                "@stats render label=viewxf user_ms=6.100 system_ms=0.500 peak_kib=3174 ended_ms=31.000",
+                "@stats render label=splitter%20(node%201) user_ms=2.000 system_ms=0.000 peak_kib=1024 ended_ms=40.000",
+                "@stats render stages=2 cpu_ms=8.600 peaks_kib=4198 last_ended_ms=40.000",
+            ]
         );
     }
 
@@ -461,15 +529,31 @@ mod tests {
         let s = linear();
         let said = vec![
             String::new(),
-            "splitter x=0 (node 1): 10 polygons; 700 and 300 bytes out\n".into(),
+            "splitter x=0 (node 1): 10 polygons; 700 and 300 bytes out\n\
+             @stats splitter node=1 plane=x%3D0 polygons_in=10 out1_bytes=700 out2_bytes=300\n"
+                .into(),
+            // A host's own splitter of node 1 is not the local one.
+            "@stats splitter node=1 out1_bytes=5 out2_bytes=6 host=a\n".into(),
             String::new(),
-            String::new(),
-            "zbuf: from-2: 3 runs, 40 bytes in\nzbuf: from-3: 1 runs, 9 bytes in\n".into(),
+            "zbuf: from-2: 3 runs, 40 bytes in\n@stats zbuf input=from-2 runs=3 bytes_in=40\n\
+             @stats zbuf input=from-3 runs=1 bytes_in=9\n"
+                .into(),
         ];
         assert_eq!(
             links(&s, &said, 1, "render"),
             "render: leaf 0 on host a: 700 bytes there, 40 bytes back\n\
-             render: leaf 1 on host b: 300 bytes there, 9 bytes back\n"
+             @stats render node=2 host=a bytes_there=700 bytes_back=40\n\
+             render: leaf 1 on host b: 300 bytes there, 9 bytes back\n\
+             @stats render node=3 host=b bytes_there=300 bytes_back=9\n"
+        );
+        // The prose alone is not read.
+        let prose = vec![said[1].lines().next().unwrap_or("").to_string()];
+        assert_eq!(
+            links(&s, &prose, 1, "render"),
+            "render: leaf 0 on host a: not counted (the clipper's output), ?\n\
+             @stats render node=2 host=a\n\
+             render: leaf 1 on host b: not counted (the clipper's output), ?\n\
+             @stats render node=3 host=b\n"
         );
     }
 }
