@@ -10,10 +10,10 @@
 // The cores are part of what identifies the machine a calibration was made on (the
 // cache's); named here too, where the model's callers look for them.
 pub use crate::cache::{cores, machine_cores};
+use crate::error::{Context, Result};
 use crate::look::{count_screen, count_world, Environment};
 use crate::measure::{self, Usage};
 use crate::model::{fit, stage_work, Constants, Cost, Overheads, StageWork, Work};
-use anyhow::{Context, Result};
 use std::fs::File;
 use std::path::Path;
 use std::process::{Command, Stdio};

@@ -193,7 +193,7 @@ pub struct Constants {
 pub const COMMITTED: &str = include_str!("../../bench/model.toml");
 
 impl Constants {
-    pub fn parse(text: &str) -> anyhow::Result<Constants> {
+    pub fn parse(text: &str) -> crate::Result<Constants> {
         Ok(toml::from_str(text)?)
     }
 
@@ -201,7 +201,7 @@ impl Constants {
         Constants::parse(COMMITTED).unwrap_or_default()
     }
 
-    pub fn to_toml(&self) -> anyhow::Result<String> {
+    pub fn to_toml(&self) -> crate::Result<String> {
         Ok(toml::to_string(self)?)
     }
 }
