@@ -6,8 +6,8 @@
 //! a stale one (this machine's, if not these binaries') and with the repository's
 //! `bench/model.toml` where there is none or a foreign one.
 
+use crate::error::{Context, Error, Result};
 use crate::model::{Constants, Machine};
-use anyhow::{Context, Result};
 use std::path::{Path, PathBuf};
 
 /// The folder of polypipe's cache: `$XDG_CACHE_HOME/polypipe` (an absolute
@@ -192,8 +192,11 @@ pub fn load(bin: &Path) -> State {
 /// Writes a calibration to the cache (a temporary file renamed over the old, so that a
 /// reader never sees half of one). Returns the path.
 pub fn store(k: &Constants, header: &str) -> Result<PathBuf> {
-    let path = path()
-        .context("no cache folder for the calibration: neither XDG_CACHE_HOME nor HOME is set")?;
+    let path = path().ok_or_else(|| {
+        Error::Io(
+            "no cache folder for the calibration: neither XDG_CACHE_HOME nor HOME is set".into(),
+        )
+    })?;
     let dir = path.parent().unwrap_or(Path::new("."));
     std::fs::create_dir_all(dir).with_context(|| format!("cannot make {}", dir.display()))?;
     let tmp = dir.join(format!("model.toml.{}", std::process::id()));

@@ -10,10 +10,10 @@
 // The cores are part of what identifies the machine a calibration was made on (the
 // cache's); named here too, where the model's callers look for them.
 pub use crate::cache::{cores, machine_cores};
+use crate::error::{Context, Result};
 use crate::look::{count_screen, count_world, Environment};
 use crate::measure::{self, Usage};
 use crate::model::{fit, stage_work, Constants, Cost, Overheads, StageWork, Work};
-use anyhow::{Context, Result};
 use std::fs::File;
 use std::path::Path;
 use std::process::{Command, Stdio};
@@ -258,9 +258,9 @@ pub fn calibrate(
     Ok(k)
 }
 
-/// The script's and the processes' start-up: `render.sh` on two polygons at `depths`
-/// (wall seconds, median of `reps`) less the stages' predicted time, fitted to
-/// script + process × processes / cores.
+/// The script's, the processes' and the pipes' start-up: `render.sh` on two polygons at
+/// `depths` (wall seconds, median of `reps`) less the stages' predicted time, fitted to
+/// script + process × processes / cores + pipe × pipes / cores ([`fit_overheads`]).
 fn overheads(
     bin: &Path,
     render: &Path,
@@ -281,12 +281,12 @@ fn overheads(
     // The start-up is timed on the machine as it is: its load, as the predictions will
     // take it, is taken out of what is fitted.
     let load = background_load();
-    let mut rows = Vec::new();
-    let mut y = Vec::new();
+    let target = crate::model::Target::cores(cores).loaded(load);
+    let mut runs = Vec::new();
     for &d in depths {
-        let mut runs: Vec<Usage> = Vec::new();
+        let mut walls: Vec<Usage> = Vec::new();
         for _ in 0..reps {
-            runs.push(measure::run(
+            walls.push(measure::run(
                 Command::new(render)
                     // The binaries measured, run as they are: render.sh's own check for
                     // stale binaries could start a build in the middle of the timing.
@@ -297,22 +297,67 @@ fn overheads(
                     .stderr(Stdio::null()),
             )?);
         }
-        let wall = measure::median(&runs).wall_s;
         // With no start-up costs yet in `k`, shared_s is the stages' work over the
-        // cores: the wall time is the script's plus that plus the processes' starts over
-        // the cores (a two-polygon render is all start-up: the shared bound is the
-        // larger).
-        let target = crate::model::Target::cores(cores).loaded(load);
+        // cores, and a two-polygon render is all start-up: the shared bound is the
+        // larger.
         let p = crate::model::predict_on(k, &env, d, &target);
-        let (_, all) = target.shares(p.processes);
-        rows.push([1.0, p.processes as f64 / all, 0.0, 0.0, 0.0, 0.0]);
-        y.push(wall - p.shared_s.max(p.slowest_s));
+        runs.push(StartUp {
+            processes: p.processes,
+            pipes: p.pipes,
+            wall_s: measure::median(&walls).wall_s,
+            stages_s: p.shared_s.max(p.slowest_s),
+        });
     }
-    let c = fit(&rows, &y, [true, true, false, false, false, false]);
-    Ok(Overheads {
+    Ok(fit_overheads(&runs, target.shares(0).1))
+}
+
+/// One render of the two-polygon scene, for the start-up's fit.
+struct StartUp {
+    processes: usize,
+    pipes: usize,
+    /// Its measured wall seconds.
+    wall_s: f64,
+    /// Its stages' predicted seconds, with no start-up costs.
+    stages_s: f64,
+}
+
+/// The start-up's constants from renders at several depths on `all` cores' worth: the
+/// wall time less the stages' is the script's, and each process's and each pipe's over
+/// the cores. The depths tell the two apart because a splitter writes two or four pipes
+/// (at depth 0 to 4: 3, 5, 7, 13 and 23 processes; 2, 5, 9, 19 and 37 pipes).
+/// Non-negative least squares in relative terms, as the stages' ([`fit_relative`]): a
+/// 5 ms render's millisecond counts as a 50 ms one's ten.
+fn fit_overheads(runs: &[StartUp], all: f64) -> Overheads {
+    let all = all.max(f64::MIN_POSITIVE);
+    let rows: Vec<[f64; 6]> = runs
+        .iter()
+        .map(|r| {
+            [
+                1.0,
+                r.processes as f64 / all,
+                r.pipes as f64 / all,
+                0.0,
+                0.0,
+                0.0,
+            ]
+        })
+        .collect();
+    let y: Vec<f64> = runs.iter().map(|r| r.wall_s - r.stages_s).collect();
+    // Weighed by the measured wall time (what the chart's error is relative to), not the
+    // remainder, which can be near 0.
+    let weight = |r: &StartUp| if r.wall_s > 0.0 { 1.0 / r.wall_s } else { 1.0 };
+    let scaled: Vec<[f64; 6]> = rows
+        .iter()
+        .zip(runs)
+        .map(|(row, r)| row.map(|x| x * weight(r)))
+        .collect();
+    let ys: Vec<f64> = y.iter().zip(runs).map(|(y, r)| y * weight(r)).collect();
+    let c = fit(&scaled, &ys, [true, true, true, false, false, false]);
+    Overheads {
         script: c[0],
         process: c[1],
-    })
+        pipe: c[2],
+    }
 }
 
 /// Other programs' runnable threads on the cores now: the threads runnable at this
@@ -457,8 +502,8 @@ pub fn table(k: &Constants) -> String {
         );
     }
     t += &format!(
-        "{:18} script {:.4} s, each process {:.5} s\n",
-        "start-up", k.overheads.script, k.overheads.process
+        "{:18} script {:.4} s, each process {:.5} s, each pipe {:.5} s\n",
+        "start-up", k.overheads.script, k.overheads.process, k.overheads.pipe
     );
     t
 }
@@ -517,6 +562,62 @@ mod tests {
         // A run of no measurable time keeps its absolute weight: no division by zero.
         let c = fit_relative(&rows, &[0.0, 0.003, 0.01, 0.032, 0.004], columns);
         assert!(c.iter().all(|v| v.is_finite()), "{c:?}");
+    }
+
+    /// Renders of two polygons at depths 0 to 4 on 2 cores, timed as a script of 12 ms,
+    /// 1.5 ms a process and 0.4 ms a pipe over the cores: the fit gives each back, the
+    /// pipe's apart from the process's because the splitters' fan-out makes the pipes
+    /// outgrow the processes. Without the pipe term the process's cost takes the pipes'
+    /// and the deep trees are predicted off.
+    #[test]
+    fn the_start_up_fit_tells_a_pipe_from_a_process() {
+        let k = Constants::default();
+        let env = crate::look::Environment {
+            frames: 1,
+            polygons: 2,
+            vertices: 8,
+            relevant: 2,
+            relevant_vertices: 8,
+            area: 100.0,
+            width: 500,
+            height: 500,
+            text: true,
+        };
+        let target = crate::model::Target::cores(2);
+        let (script, process, pipe) = (0.012, 0.0015, 0.0004);
+        let runs: Vec<StartUp> = (0..=4)
+            .map(|d| {
+                let p = crate::model::predict_on(&k, &env, d, &target);
+                StartUp {
+                    processes: p.processes,
+                    pipes: p.pipes,
+                    wall_s: script + (process * p.processes as f64 + pipe * p.pipes as f64) / 2.0,
+                    stages_s: 0.0,
+                }
+            })
+            .collect();
+        let counts: Vec<(usize, usize)> = runs.iter().map(|r| (r.processes, r.pipes)).collect();
+        assert_eq!(counts, [(3, 2), (5, 5), (7, 9), (13, 19), (23, 37)]);
+        let o = fit_overheads(&runs, 2.0);
+        assert!((o.script - script).abs() < 1e-9, "{o:?}");
+        assert!((o.process - process).abs() < 1e-9, "{o:?}");
+        assert!((o.pipe - pipe).abs() < 1e-9, "{o:?}");
+        // Each run predicted back exactly, through the model's own sum.
+        let mut fitted = k.clone();
+        fitted.overheads = o;
+        for (d, r) in (0..=4).zip(&runs) {
+            let p = crate::model::predict_on(&fitted, &env, d, &target);
+            assert!((p.total_s - r.wall_s).abs() < 1e-6, "depth {d}: {p:?}");
+        }
+        // Noise of a millisecond on the shallow runs keeps every cost non-negative.
+        let mut noisy = runs;
+        noisy[0].wall_s += 0.001;
+        noisy[1].wall_s -= 0.001;
+        let o = fit_overheads(&noisy, 2.0);
+        assert!(
+            o.script >= 0.0 && o.process >= 0.0 && o.pipe >= 0.0,
+            "{o:?}"
+        );
     }
 
     #[test]

@@ -3,9 +3,9 @@
 //! calibration that a first `render --depth auto` starts.
 
 use crate::cache::{self, State};
+use crate::error::{Context, Error, Result};
 use crate::look;
 use crate::model::{self, Constants, Hosts, Target};
-use anyhow::{Context, Result};
 use proto::camera::parse_size;
 use std::path::{Path, PathBuf};
 
@@ -258,7 +258,7 @@ pub fn tell_once(state: &State, root: &Path, me: &str) {
 /// younger than a minute).
 pub fn background(root: &Path) -> Result<()> {
     use std::os::unix::process::CommandExt;
-    let dir = cache::dir().context("no cache folder")?;
+    let dir = cache::dir().ok_or_else(|| Error::Io("no cache folder".into()))?;
     std::fs::create_dir_all(&dir)?;
     let lock = dir.join("calibrating");
     if let Ok(m) = std::fs::metadata(&lock) {

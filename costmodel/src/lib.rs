@@ -11,26 +11,27 @@
 //! which also starts and watches the stages) and `chart` (the measuring and plotting
 //! binary) use this library in their own processes; the `plan` binary (bins/plan) is its
 //! command line, whose subcommands' arguments and bodies are in [`cli`] because `chart
-//! choose-depth` shares them.
+//! choose-depth` shares them. Its errors are one type, [`Error`], whose kind is a
+//! command's exit status.
 
 pub mod cache;
 pub mod calibrate;
 pub mod cli;
+pub mod error;
 pub mod look;
 pub mod measure;
 pub mod model;
 pub mod movie;
 pub mod thesis;
 
+pub use error::{Error, Result};
 use std::io::Write;
 
 /// Writes `text` to stdout as the stages do ([`stagecli::stdout`]): the reader going
 /// away ends the program quietly with 0, a failed write is `stdout: reason`, 3.
-pub fn say(text: &str) -> anyhow::Result<()> {
+pub fn say(text: &str) -> Result<()> {
     let mut out = stagecli::stdout();
-    out.write_all(text.as_bytes())
-        .and_then(|_| out.flush())
-        .map_err(stagecli::Error::from)?;
+    out.write_all(text.as_bytes()).and_then(|_| out.flush())?;
     Ok(())
 }
 

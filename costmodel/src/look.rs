@@ -5,7 +5,7 @@
 //! figures come from the geometry the first stages of a render are built on (proto's
 //! eye frame, Sutherland–Hodgman clipping and device mapping), called in this process.
 
-use anyhow::{Context, Result};
+use crate::error::{Context, Error, Result};
 use proto::camera::Device;
 use proto::geometry::{clip_against, PyramidPlane};
 use proto::{Polygon, Reader, Token, Vertex};
@@ -118,19 +118,16 @@ pub fn count_screen<R: Read>(input: R) -> Result<(u64, u64, f64)> {
 }
 
 /// Opens a scene, an I/O error naming it as the stages do: `cannot open PATH: reason`.
-pub fn open(scene: &Path) -> stagecli::Result<std::fs::File> {
-    std::fs::File::open(scene)
-        .map_err(|e| stagecli::Error::from(e).context(format!("cannot open {}", scene.display())))
+pub fn open(scene: &Path) -> Result<std::fs::File> {
+    std::fs::File::open(scene).with_context(|| format!("cannot open {}", scene.display()))
 }
 
 /// Whether the file starts like a text-form stream (else binary). Reading its first
 /// bytes is also the check that it can be read at all: a folder opens, and fails only
 /// here, as `PATH: Is a directory` (zspec's words for the same).
-pub fn is_text(scene: &Path) -> stagecli::Result<bool> {
+pub fn is_text(scene: &Path) -> Result<bool> {
     let mut first = [0u8; 8];
-    let n = open(scene)?
-        .read(&mut first)
-        .map_err(|e| stagecli::Error::from(e).context(scene.display()))?;
+    let n = open(scene)?.read(&mut first).context(scene.display())?;
     Ok(n > 0 && first[..n] != proto::header::BINARY_MAGIC[..n])
 }
 
@@ -337,7 +334,7 @@ fn look_reader<R: Read>(
         .map(String::from)
         .chain(camera.iter().cloned());
     let cam = <Camera as clap::Parser>::try_parse_from(args)
-        .map_err(|e| stagecli::Error::usage(format!("camera options {camera:?}: {e}")))?;
+        .map_err(|e| Error::Usage(format!("camera options {camera:?}: {e}")))?;
     // A camera or view volume that cannot be looked through (`--hither 0`) is a usage
     // error of viewxf's words, so chart exits 2 for it as viewxf does.
     let (frame, view) = cam.view.resolve()?;
@@ -383,9 +380,7 @@ fn look_reader<R: Read>(
                 whole = false;
                 break;
             }
-            Err(err) => {
-                return Err(anyhow::Error::from(err)).with_context(|| format!("reading {name}"))
-            }
+            Err(err) => return Err(Error::from(err).context(format!("reading {name}"))),
         }
         match &mut record {
             Token::Polygon(p) => {

@@ -7,7 +7,7 @@
 //! v2's `memory.peak` would be exact but needs a cgroup of one's own, which this machine,
 //! on cgroup v1, does not give.)
 
-use anyhow::{bail, Context, Result};
+use crate::error::{Context, Error, Result};
 use std::process::Command;
 use std::time::Instant;
 
@@ -72,7 +72,7 @@ fn run_with(cmd: &mut Command, watched: bool) -> Result<Usage> {
         } else {
             format!("signal {}", libc::WTERMSIG(status))
         };
-        bail!("{cmd:?} failed ({how})");
+        return Err(Error::Data(format!("{cmd:?} failed ({how})")));
     }
     // The largest single process's peak (`ru_maxrss`, over the child and every descendant
     // it waited for) is a floor under the tree's sum: a render of a few milliseconds can

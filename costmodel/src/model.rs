@@ -116,15 +116,23 @@ impl Cost {
     }
 }
 
-/// What the pipeline costs beyond its stages' work: the script and each process started
-/// (wall seconds, from `render.sh` on a two-polygon scene at every depth).
+/// What the pipeline costs beyond its stages' work: the script, each process started and
+/// each pipe between two processes (wall seconds, fitted to `render.sh` on a two-polygon
+/// scene at every depth: [`crate::calibrate`]).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
 #[serde(default)]
 pub struct Overheads {
     /// `render.sh` itself: bash, its checks, the private folder.
     pub script: f64,
-    /// Each stage process started and watched (fork, exec, a named pipe).
+    /// Each stage process started and watched (fork, exec, its wait).
     pub process: f64,
+    /// Each pipe between two processes ([`pipes`]): made and closed, and the relay
+    /// through it, a write, a reader woken and its read, for every record (the header,
+    /// each frame's end) even when no polygon crosses it. A tree's splitters write two or
+    /// four pipes a process, so the pipes outgrow the processes with depth (2 pipes for 3
+    /// processes at depth 0, 37 for 23 at depth 4). 0 in a file from before it was
+    /// measured: its start-up was all the process's.
+    pub pipe: f64,
 }
 
 /// The machine a calibration was made on: what [`crate::cache`] compares to tell a
@@ -185,7 +193,7 @@ pub struct Constants {
 pub const COMMITTED: &str = include_str!("../../bench/model.toml");
 
 impl Constants {
-    pub fn parse(text: &str) -> anyhow::Result<Constants> {
+    pub fn parse(text: &str) -> crate::Result<Constants> {
         Ok(toml::from_str(text)?)
     }
 
@@ -193,7 +201,7 @@ impl Constants {
         Constants::parse(COMMITTED).unwrap_or_default()
     }
 
-    pub fn to_toml(&self) -> anyhow::Result<String> {
+    pub fn to_toml(&self) -> crate::Result<String> {
         Ok(toml::to_string(self)?)
     }
 }
@@ -226,6 +234,8 @@ pub struct Prediction {
     /// processes' is in `shared_s`).
     pub overhead_s: f64,
     pub processes: usize,
+    /// The pipes between them ([`pipes`]).
+    pub pipes: usize,
     /// With hosts: the seconds a host's link is busy (its bytes over the link's rate).
     pub link_s: f64,
 }
@@ -565,11 +575,12 @@ pub fn predict_on(k: &Constants, env: &Environment, depth: u8, target: &Target) 
         _ => stages.extend(leaf_stages),
     }
     let processes: usize = stages.iter().map(|s| s.processes).sum();
+    let pipes = pipes(processes, here_levels);
     let slowest_s = stages.iter().map(|s| s.each_s).fold(hosts_s, f64::max);
-    // Starting a process (bash's fork and redirections, the exec, a named pipe's open)
-    // is work for the cores like the stages' own, done while the stages run; the
-    // script's own start is before any of it.
-    let starting = k.overheads.process * processes as f64;
+    // Starting a process (the fork, the exec, its wait) and relaying through a pipe
+    // (made, written, a reader woken) is work for the cores like the stages' own, done
+    // while the stages run; the script's own start is before any of it.
+    let starting = k.overheads.process * processes as f64 + k.overheads.pipe * pipes as f64;
     let work: f64 = stages.iter().map(|s| s.total_s).sum::<f64>() + starting;
     // On a loaded machine the render's processes together get their group's share of
     // the cores, and each at most a core of it.
@@ -588,8 +599,20 @@ pub fn predict_on(k: &Constants, env: &Environment, depth: u8, target: &Target) 
         shared_s,
         overhead_s,
         processes,
+        pipes,
         link_s,
     }
+}
+
+/// The pipes between a render's `processes` when the merger reads `2^merged_levels`
+/// streams (the leaves', or with hosts the subtrees'), as render's graph makes them
+/// (bins/render/src/graph.rs): viewxf reads the scene and the merger writes the frames,
+/// every other process reads one pipe (a splitter's outputs are its children's inputs,
+/// a leaf's its persp's or its splitter's), and the merger reads one from each leaf,
+/// leaf 0's included (the last splitter's, projected, where the merger resolves leaf 0
+/// itself; the clipper's at depth 0). Depth 0 to 4: 2, 5, 9, 19 and 37 pipes.
+pub fn pipes(processes: usize, merged_levels: u8) -> usize {
+    processes.saturating_sub(2) + (1usize << merged_levels.min(20))
 }
 
 /// How render.sh runs `levels` levels of a tree, top to bottom: the levels of each group
@@ -860,6 +883,7 @@ mod tests {
             overheads: Overheads {
                 script: 0.02,
                 process: 0.002,
+                pipe: 0.0,
             },
             viewxf_text: Cost {
                 process: 0.001,
@@ -1113,6 +1137,36 @@ mod tests {
         let gain = p1.total_s - p2.total_s;
         assert!(gain > 0.115 && gain < 0.165, "{p1:?} {p2:?}");
         assert!(p2.total_s > k.overheads.script + 0.115);
+    }
+
+    #[test]
+    fn every_pipe_is_work_shared_by_the_cores() {
+        let mut k = constants();
+        let e = env(1, 500, 500, 0.01);
+        // The pipes render's graph makes (bins/render/src/graph.rs) at depths 0 to 5:
+        // every process but viewxf reads one, and the merger one from each leaf.
+        let counts: Vec<(usize, usize)> = (0..=5)
+            .map(|d| {
+                let p = predict(&k, &e, d, 2);
+                (p.processes, p.pipes)
+            })
+            .collect();
+        assert_eq!(
+            counts,
+            [(3, 2), (5, 5), (7, 9), (13, 19), (23, 37), (45, 75)]
+        );
+        let before = predict(&k, &e, 4, 2);
+        k.overheads.pipe = 0.001;
+        let after = predict(&k, &e, 4, 2);
+        // 37 pipes of 1 ms on two cores: 18.5 ms more, the start-up's share of it too.
+        assert!(
+            (after.total_s - before.total_s - 0.0185).abs() < 1e-9,
+            "{before:?} {after:?}"
+        );
+        assert!((after.overhead_s - before.overhead_s - 0.037).abs() < 1e-9);
+        // An older constants file, with no pipe, reads as one of no pipe cost.
+        let old = Constants::parse("[overheads]\nscript = 0.01\nprocess = 0.002\n").unwrap();
+        assert_eq!(old.overheads.pipe, 0.0);
     }
 
     #[test]

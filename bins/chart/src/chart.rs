@@ -532,7 +532,8 @@ pub fn chart(
     for scene in scenes {
         tick(&format!("{}: references", scene.name));
         let refs = setup.references(scene)?;
-        let env = look::look(&scene.path, scene.width, scene.height, &[], None)?;
+        let env = look::look(&scene.path, scene.width, scene.height, &[], None)
+            .map_err(stagecli::Error::from)?;
         let stats = stats::stats(&scene.path, scene.width, scene.height)
             .with_context(|| format!("the statistics of {}", scene.name))?;
         if heaviest.as_ref().is_none_or(|(area, _)| env.area > *area) {

@@ -175,6 +175,7 @@ fn load_constants(model: Option<&Path>, root: &Path, bin: &Path) -> Result<Const
 
 fn calibrate_now(root: &Path, bin: &Path, quick: bool) -> Result<(Constants, PathBuf)> {
     chart::calibrate::calibrate_and_store("chart", bin, &root.join("scripts/render.sh"), quick)
+        .map_err(|e| stagecli::Error::from(e).into())
 }
 
 fn bar(len: u64) -> ProgressBar {
@@ -329,7 +330,7 @@ fn run(mut cli: Cli) -> Result<()> {
     // Each scene opened and its first bytes read before anything is made or run, so that
     // one that cannot be read is said at once, in the stages' words (`cannot open PATH: …`).
     for s in &scenes {
-        chart::look::is_text(&s.path)?;
+        chart::look::is_text(&s.path).map_err(stagecli::Error::from)?;
     }
     let bin = bin_dir()?;
     let work = cli.work.clone().unwrap_or_else(|| out.clone());
@@ -460,7 +461,8 @@ fn remodel(
     let old: Vec<chart::chart::ModelRow> = chart::chart::read_csv(&path)?;
     let mut rows = Vec::with_capacity(old.len());
     for scene in scenes {
-        let env = chart::look::look(&scene.path, scene.width, scene.height, &[], None)?;
+        let env = chart::look::look(&scene.path, scene.width, scene.height, &[], None)
+            .map_err(stagecli::Error::from)?;
         for r in old.iter().filter(|r| r.scene == scene.name) {
             rows.push(chart::chart::model_row(
                 &k,
@@ -485,7 +487,8 @@ fn remodel(
     let mut extra = Vec::new();
     let mut most = -1.0;
     for scene in scenes {
-        let env = chart::look::look(&scene.path, scene.width, scene.height, &[], None)?;
+        let env = chart::look::look(&scene.path, scene.width, scene.height, &[], None)
+            .map_err(stagecli::Error::from)?;
         if env.area > most {
             most = env.area;
             extra = chart::chart::extrapolate(&k, &env, &scene.name, cores);
@@ -591,7 +594,9 @@ fn main() -> ExitCode {
 
 fn dispatch(cli: Cli) -> Result<()> {
     match cli.command {
-        Some(Sub::ChooseDepth(args)) => costmodel::cli::depth(*args),
+        Some(Sub::ChooseDepth(args)) => {
+            costmodel::cli::depth(*args).map_err(|e| stagecli::Error::from(e).into())
+        }
         Some(Sub::Calibrate { quick, model, root }) => {
             let root = root_dir(root)?;
             calibrate(quick, model.as_deref(), &root, &bin_dir()?)

@@ -2,10 +2,8 @@
 //! depth`, `plan predict`), the calibration (`plan calibrate`) and the thesis's figures
 //! (`plan thesis`).
 
-use anyhow::Result;
 use clap::{Parser, Subcommand};
-use costmodel::cache;
-use costmodel::say;
+use costmodel::{cache, say, Result};
 use std::path::PathBuf;
 use std::process::ExitCode;
 
@@ -107,33 +105,7 @@ fn main() -> ExitCode {
             Sub::Status => status(),
             Sub::Thesis => say(&costmodel::thesis::report()),
         };
-        done.map_err(|e| plan_error(&e))
+        // The library's error carries its kind, and so the status: 1, 2 or 3.
+        done.map_err(stagecli::Error::from)
     })
-}
-
-/// An error as a stage's: its kind kept where it was made (a usage error, an I/O
-/// error), its contexts joined by `: `.
-fn plan_error(e: &anyhow::Error) -> stagecli::Error {
-    let mut said = Vec::new();
-    for cause in e.chain() {
-        if let Some(s) = cause.downcast_ref::<stagecli::Error>() {
-            said.push(s.message().to_string());
-            return stagecli::Error::new(s.kind(), said.join(": "));
-        }
-        if let Some(io) = cause.downcast_ref::<std::io::Error>() {
-            said.push(stagecli::error::io_message(io));
-            let kind = if io.kind() == std::io::ErrorKind::BrokenPipe {
-                stagecli::Kind::ReaderGone
-            } else {
-                stagecli::Kind::Io
-            };
-            return stagecli::Error::new(kind, said.join(": "));
-        }
-        if let Some(proto::StreamError::Io(io)) = cause.downcast_ref::<proto::StreamError>() {
-            said.push(stagecli::error::io_message(io));
-            return stagecli::Error::new(stagecli::Kind::Io, said.join(": "));
-        }
-        said.push(cause.to_string());
-    }
-    stagecli::Error::new(stagecli::Kind::Data, said.join(": "))
 }

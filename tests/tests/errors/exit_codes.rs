@@ -840,3 +840,50 @@ fn plan_depth_has_one_name_in_the_help() {
     assert_eq!(old.status.code(), Some(0));
     assert!(String::from_utf8_lossy(&old.stdout).contains("plan depth --size"));
 }
+
+/// The cost model's errors carry their kind to `plan`'s exit status and its one line, and
+/// to `chart choose-depth`'s (the same library): a scene that cannot be opened 3, a
+/// constants file that is not the model's TOML 1, a camera that cannot be looked through
+/// 2, the reader gone 0.
+#[test]
+fn the_cost_models_errors_keep_their_status_in_plan_and_chart() {
+    let dir = tempfile::tempdir().unwrap();
+    let bad = dir.path().join("bad.toml");
+    std::fs::write(&bad, "overheads = 3\n").unwrap();
+    let missing = dir.path().join("missing.txt");
+    for tool in ["plan depth", "chart choose-depth"] {
+        let me = tool.split(' ').next().unwrap();
+        let out = sh(&format!("{tool} {}", missing.display()), b"");
+        assert_eq!(out.status.code(), Some(3), "{tool}: {out:?}");
+        assert_eq!(
+            String::from_utf8_lossy(&out.stderr),
+            format!(
+                "{me}: cannot open {}: No such file or directory\n",
+                missing.display()
+            )
+        );
+        let out = sh(
+            &format!("{tool} --model {} examples/penetrating.txt", bad.display()),
+            b"",
+        );
+        assert_eq!(out.status.code(), Some(1), "{tool}: {out:?}");
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert!(
+            err.starts_with(&format!("{me}: reading {}: ", bad.display()))
+                && err.lines().count() == 1,
+            "{tool}: {err}"
+        );
+        let out = sh(&format!("{tool} --hither 0 examples/penetrating.txt"), b"");
+        assert_eq!(out.status.code(), Some(2), "{tool}: {out:?}");
+        assert!(
+            String::from_utf8_lossy(&out.stderr).starts_with(&format!("{me}: ")),
+            "{tool}: {out:?}"
+        );
+    }
+    let out = sh(
+        "plan predict --model bench/model.toml examples/penetrating.txt | head -c 1 >/dev/null",
+        b"",
+    );
+    assert_eq!(out.status.code(), Some(0), "{out:?}");
+    assert_eq!(String::from_utf8_lossy(&out.stderr), "");
+}
