@@ -283,7 +283,7 @@ mode_fused() (
 # Scenes (`scene environment`, thesis ch. 5.2), each as scene writes it (binary) and as
 # text:
 #   environment  100,000 quads, Dc 2, 500x500 (geometry-heavy)
-#   fill-heavy   10,000 quads, Dc 10, 1920x1080 (as scripts/bench-tree.sh pipeline makes it)
+#   fill-heavy   10,000 quads, Dc 10, 1920x1080 (as `bench tree pipeline` makes it)
 # Rows: render.sh --depth 0; the same processes as one shell pipe line (viewxf |
 # clipplane ×6 | persp | scanconv | zbuf: render.sh less its script); that pipe line with
 # clipbatch for the six clipplane processes; fused with the six planes; fused with

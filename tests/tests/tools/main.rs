@@ -4,6 +4,7 @@
 //! One test binary of modules (a linked binary each costs the build a link and the run a
 //! start): `cargo test --release -p pipeline-tests --test tools [FILTER]`.
 
+mod bench;
 mod bench_scripts;
 mod chart_cli;
 mod chart_sh;

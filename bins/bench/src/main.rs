@@ -1,0 +1,27 @@
+//! bench: the benchmarks, one subcommand a question, each printing markdown tables.
+
+use clap::{Parser, Subcommand};
+use std::process::ExitCode;
+
+/// The benchmarks of polypipe: each subcommand runs the built binaries (made current
+/// first; `POLYPIPE_BIN=DIR` measures DIR's as they are) and prints markdown tables on
+/// stdout. Every figure is from the one run that prints it: compare figures within a
+/// run, not across machines.
+#[derive(Parser, Debug)]
+#[command(name = "bench", version)]
+struct Cli {
+    #[command(subcommand)]
+    command: Sub,
+}
+
+#[derive(Subcommand, Debug)]
+enum Sub {
+    /// The splitter tree and its merge: pipeline, merge, depth-auto, plan, work, farm.
+    Tree(bench::tree::Args),
+}
+
+fn main() -> ExitCode {
+    stagecli::main("bench", |cli: Cli| match &cli.command {
+        Sub::Tree(a) => bench::tree::main(a),
+    })
+}

@@ -1,0 +1,141 @@
+//! The `bench` binary: each subcommand at a tiny size (`--quick --reps 1`) prints its
+//! tables, headers and rows as the benchmark scripts printed them; a bad option is a
+//! usage error.
+
+use assert_cmd::Command;
+use pipeline_tests::bin_dir;
+
+/// `bench ARGS`: its stdout, after asserting it succeeded.
+fn bench(args: &[&str]) -> String {
+    let out = Command::new(bin_dir().join("bench"))
+        .args(args)
+        .timeout(std::time::Duration::from_secs(600))
+        .output()
+        .unwrap();
+    assert!(out.status.success(), "bench {args:?}: {out:?}");
+    String::from_utf8(out.stdout).unwrap()
+}
+
+/// The rows of the markdown table whose header is `header`: each row's cells.
+fn table(text: &str, header: &str) -> Vec<Vec<String>> {
+    let mut lines = text.lines().skip_while(|l| *l != header);
+    assert_eq!(lines.next(), Some(header), "no table {header} in:\n{text}");
+    let rule = lines.next().unwrap_or_default();
+    let cells = header.matches('|').count() - 1 - header.matches("\\|").count();
+    assert_eq!(rule, "|---".repeat(cells) + "|");
+    lines
+        .take_while(|l| l.starts_with('|'))
+        .map(|l| {
+            let l = l.replace("\\|", "\u{1}");
+            l[1..l.len() - 1]
+                .split('|')
+                .map(|c| c.trim().replace('\u{1}', "\\|"))
+                .collect()
+        })
+        .collect()
+}
+
+/// A figure of a cell: seconds or a count.
+fn number(cell: &str) -> f64 {
+    cell.trim_matches('*')
+        .parse()
+        .unwrap_or_else(|_| panic!("not a number: {cell}"))
+}
+
+#[test]
+fn tree_pipeline_prints_the_linear_accuracy_and_memory_tables() {
+    let out = bench(&["tree", "pipeline", "--quick", "--reps", "1", "1", "4", "5"]);
+    let linear = table(&out, "| scene | wall s |");
+    assert_eq!(linear.len(), 1);
+    assert_eq!(linear[0][0], "environment 1000 polygons, Dc 10");
+    assert!(number(&linear[0][1]) > 0.0);
+    let accuracy = table(
+        &out,
+        "| scene | pixels | projective depth | eye-z depth (occam) |",
+    );
+    let scenes: Vec<&str> = accuracy.iter().map(|r| r[0].as_str()).collect();
+    assert_eq!(
+        scenes,
+        [
+            "penetrating",
+            "spheres",
+            "triangle-square",
+            "environment 1000, Dc 3",
+            "environment 100000, Dc 10"
+        ]
+    );
+    assert!(accuracy.iter().all(|r| r[1] == "250000"), "{accuracy:?}");
+    let memory = table(&out, "| stage | 100 polygons | 10000 polygons |");
+    let stages: Vec<&str> = memory.iter().map(|r| r[0].as_str()).collect();
+    assert_eq!(
+        stages,
+        [
+            "scene",
+            "viewxf",
+            "clipplane left",
+            "splitter x=0",
+            "persp",
+            "scanconv",
+            "zbuf",
+            "zspec"
+        ]
+    );
+    assert!(memory
+        .iter()
+        .all(|r| number(&r[1]) > 100.0 && number(&r[2]) > 100.0));
+    assert!(!out.contains("## 2."), "sections not asked for ran:\n{out}");
+}
+
+#[test]
+fn tree_merge_prints_the_leaves_and_the_merger_by_depth_and_mode() {
+    let out = bench(&["tree", "merge", "--quick", "--reps", "1", "2"]);
+    let rows = table(
+        &out,
+        "| depth | mode | slowest leaf scanconv s | largest leaf scanconv KiB | zbuf s | zbuf KiB \
+         | bytes to zbuf |",
+    );
+    let keys: Vec<String> = rows.iter().map(|r| format!("{} {}", r[0], r[1])).collect();
+    let want: Vec<String> = (0..=4)
+        .flat_map(|d| [format!("{d} tiles"), format!("{d} buffer")])
+        .collect();
+    assert_eq!(keys, want);
+    assert!(rows.iter().all(|r| number(&r[6]) > 0.0), "{rows:?}");
+}
+
+#[test]
+fn tree_depth_auto_and_plan_print_auto_against_the_fixed_depths() {
+    let out = bench(&["tree", "depth-auto", "--quick", "--reps", "1"]);
+    let rows = table(
+        &out,
+        "| fill scene, cores | | depth 0 | 1 | 2 | 3 | auto | best | auto / best | auto chose |",
+    );
+    assert_eq!(rows.len(), 4, "{out}");
+    assert_eq!(rows[0][0], "`taskset -c 0`");
+    assert_eq!(rows[1][1], "CPU s");
+    let start = table(
+        &out,
+        "| two polygons, 64×64 | render | viewxf \\| clipbatch \\| persp \\| zbuf | render / by hand |",
+    );
+    assert_eq!(start.len(), 2);
+    let out = bench(&["tree", "plan", "--quick", "--reps", "1"]);
+    let levels = table(
+        &out,
+        "| level | nodes | polygons in view read, all nodes (measured) | largest node | model, each node |",
+    );
+    let nodes: Vec<&str> = levels.iter().map(|r| r[1].as_str()).collect();
+    assert_eq!(nodes, ["2", "4", "8"]);
+    assert!(
+        out.contains("live source: the first frame came out "),
+        "{out}"
+    );
+}
+
+#[test]
+fn a_mode_bench_tree_does_not_know_is_a_usage_error() {
+    let out = Command::new(bin_dir().join("bench"))
+        .args(["tree", "forest"])
+        .output()
+        .unwrap();
+    assert_eq!(out.status.code(), Some(2), "{out:?}");
+    assert!(String::from_utf8_lossy(&out.stderr).contains("invalid value 'forest'"));
+}
