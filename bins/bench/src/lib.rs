@@ -7,4 +7,5 @@
 
 pub mod kit;
 pub mod measure;
+pub mod stages;
 pub mod tree;

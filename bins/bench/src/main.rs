@@ -18,10 +18,13 @@ struct Cli {
 enum Sub {
     /// The splitter tree and its merge: pipeline, merge, depth-auto, plan, work, farm.
     Tree(bench::tree::Args),
+    /// The stages and the stream: geometry, clip, codec, fused, fill, shading.
+    Stages(bench::stages::Args),
 }
 
 fn main() -> ExitCode {
     stagecli::main("bench", |cli: Cli| match &cli.command {
         Sub::Tree(a) => bench::tree::main(a),
+        Sub::Stages(a) => bench::stages::main(a),
     })
 }

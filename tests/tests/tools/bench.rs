@@ -139,3 +139,57 @@ fn a_mode_bench_tree_does_not_know_is_a_usage_error() {
     assert_eq!(out.status.code(), Some(2), "{out:?}");
     assert!(String::from_utf8_lossy(&out.stderr).contains("invalid value 'forest'"));
 }
+
+/// The first column of a table's rows.
+fn firsts(rows: &[Vec<String>]) -> Vec<&str> {
+    rows.iter().map(|r| r[0].as_str()).collect()
+}
+
+#[test]
+fn stages_geometry_clip_fused_and_shading_print_their_tables() {
+    let out = bench(&["stages", "geometry", "--polygons", "2000", "--reps", "1"]);
+    let names: Vec<&str> = out
+        .lines()
+        .skip_while(|l| !l.starts_with("stage "))
+        .skip(1)
+        .map(|l| l.split("  ").next().unwrap().trim())
+        .collect();
+    assert_eq!(
+        names,
+        [
+            "viewxf",
+            "clipplane left",
+            "clipplane right",
+            "clipplane top",
+            "clipplane bottom",
+            "clipplane hither",
+            "clipplane yon",
+            "splitter x=0",
+            "persp",
+            "persp eye-z",
+            "chain (8 procs)"
+        ],
+        "{out}"
+    );
+    let out = bench(&["stages", "clip", "--polygons", "2000", "--reps", "1"]);
+    assert!(
+        out.contains("| scene       | clipper                  |   wall |"),
+        "{out}"
+    );
+    assert_eq!(out.matches("| cut-heavy   |").count(), 4, "{out}");
+    let out = bench(&["stages", "fused", "--quick", "--reps", "1"]);
+    let rows = table(
+        &out,
+        "| scene | form | run | wall s | cpu s | wall ÷ fused | cpu ÷ fused |",
+    );
+    assert_eq!(rows.len(), 20, "{out}");
+    assert_eq!(rows[3][2], "fused");
+    assert_eq!(rows[3][5], "1.00");
+    let out = bench(&["stages", "shading", "--quick", "--reps", "1"]);
+    let rows = table(
+        &out,
+        "| shading | zbuf CPU ms | ratio | render --depth 0 CPU ms | ratio | error against Phong, 1152 polygons | the same, 288 polygons |",
+    );
+    assert_eq!(firsts(&rows), ["flat", "gouraud", "phong"]);
+    assert_eq!(rows[2][5], "0.00 / 0", "Phong against itself: {out}");
+}
