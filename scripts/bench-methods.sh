@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # bench-methods.sh: each hidden-surface method of render.sh (--hse) at every splitter
-# depth, on the four scene classes of scripts/bench.sh: whole process, wall seconds.
+# depth, on the four scene classes of bench llvmpipe: whole process, wall seconds.
 #
 # Usage: scripts/bench-methods.sh [--quick] [--reps N]
 #   --quick    smaller scenes, depths 0 and 2, one run each: a check that it works

@@ -16,6 +16,8 @@ struct Cli {
 
 #[derive(Subcommand, Debug)]
 enum Sub {
+    /// polypipe against Mesa's llvmpipe, the fused run and itself at depths 0-4.
+    Llvmpipe(bench::llvmpipe::Args),
     /// The splitter tree and its merge: pipeline, merge, depth-auto, plan, work, farm.
     Tree(bench::tree::Args),
     /// The stages and the stream: geometry, clip, codec, fused, fill, shading.
@@ -24,6 +26,7 @@ enum Sub {
 
 fn main() -> ExitCode {
     stagecli::main("bench", |cli: Cli| match &cli.command {
+        Sub::Llvmpipe(a) => bench::llvmpipe::main(a),
         Sub::Tree(a) => bench::tree::main(a),
         Sub::Stages(a) => bench::stages::main(a),
     })

@@ -193,3 +193,22 @@ fn stages_geometry_clip_fused_and_shading_print_their_tables() {
     assert_eq!(firsts(&rows), ["flat", "gouraud", "phong"]);
     assert_eq!(rows[2][5], "0.00 / 0", "Phong against itself: {out}");
 }
+
+#[test]
+fn llvmpipe_compares_render_with_llvmpipe_fused_and_its_depths() {
+    let out = bench(&["llvmpipe", "--quick", "--reps", "1"]);
+    let rows = table(
+        &out,
+        "| A against B | scene | A s | B s | A/B | by rounds | pictures |",
+    );
+    assert!(rows.len() >= 20, "{out}");
+    let depth = rows
+        .iter()
+        .find(|r| r[0] == "depth 2 against depth 0, `--merge tiles`")
+        .unwrap_or_else(|| panic!("{out}"));
+    assert_eq!(depth[1], "(c) 2,000 quads, Dc≈10, 960×540");
+    assert_eq!(depth[6], "identical to tiles depth 0");
+    let work = table(&out, "| depth | CPU s | against depth 0 | by rounds |");
+    assert_eq!(firsts(&work), ["0", "1", "2", "3", "4"]);
+    assert_eq!(work[0][2], "**1.00**");
+}
