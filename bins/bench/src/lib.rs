@@ -8,5 +8,6 @@
 pub mod kit;
 pub mod llvmpipe;
 pub mod measure;
+pub mod scanline;
 pub mod stages;
 pub mod tree;

@@ -22,6 +22,8 @@ enum Sub {
     Tree(bench::tree::Args),
     /// The stages and the stream: geometry, clip, codec, fused, fill, shading.
     Stages(bench::stages::Args),
+    /// Watkins's scan-line method against the z-buffer leaf as the scene grows.
+    Scanline(bench::scanline::Args),
 }
 
 fn main() -> ExitCode {
@@ -29,5 +31,6 @@ fn main() -> ExitCode {
         Sub::Llvmpipe(a) => bench::llvmpipe::main(a),
         Sub::Tree(a) => bench::tree::main(a),
         Sub::Stages(a) => bench::stages::main(a),
+        Sub::Scanline(a) => bench::scanline::main(a),
     })
 }

@@ -212,3 +212,13 @@ fn llvmpipe_compares_render_with_llvmpipe_fused_and_its_depths() {
     assert_eq!(firsts(&work), ["0", "1", "2", "3", "4"]);
     assert_eq!(work[0][2], "**1.00**");
 }
+
+#[test]
+fn bench_scanline_prints_a_row_per_scene() {
+    let out = bench(&["scanline", "--quick", "1"]);
+    let rows = table(
+        &out,
+        "| K | polygons a frame | segments/line | sample spans/line | depth comparisons/line | crossings/line | scanline s | z-buffer s | ratio |",
+    );
+    assert_eq!(firsts(&rows), ["1", "16", "64", "512"]);
+}
