@@ -13,7 +13,7 @@
 # time at depth 0, its best depth of 0-4 and the time there, and that best over the
 # z-buffer's best.
 #
-# The leaf methods alone are measured by bench-painter.sh, bench-scanline.sh,
+# The leaf methods alone are measured by `bench painter`, `bench scanline`,
 # bench-warnock.sh and bench-aa.sh; their bounds on hostile scenes by bench-bounds.sh.
 set -euo pipefail
 export LC_ALL=C

@@ -8,6 +8,7 @@
 pub mod kit;
 pub mod llvmpipe;
 pub mod measure;
+pub mod painter;
 pub mod scanline;
 pub mod stages;
 pub mod tree;

@@ -24,6 +24,8 @@ enum Sub {
     Stages(bench::stages::Args),
     /// Watkins's scan-line method against the z-buffer leaf as the scene grows.
     Scanline(bench::scanline::Args),
+    /// The depth sort and the hidden lines against the z-buffer leaf.
+    Painter(bench::painter::Args),
 }
 
 fn main() -> ExitCode {
@@ -32,5 +34,6 @@ fn main() -> ExitCode {
         Sub::Tree(a) => bench::tree::main(a),
         Sub::Stages(a) => bench::stages::main(a),
         Sub::Scanline(a) => bench::scanline::main(a),
+        Sub::Painter(a) => bench::painter::main(a),
     })
 }

@@ -222,3 +222,14 @@ fn bench_scanline_prints_a_row_per_scene() {
     );
     assert_eq!(firsts(&rows), ["1", "16", "64", "512"]);
 }
+
+#[test]
+fn bench_painter_prints_a_row_per_scene_and_method() {
+    let out = bench(&["painter", "--quick"]);
+    let rows = table(
+        &out,
+        "| scene | method | wall s | peak KiB | pixels ≠ zbuf | cycles | painted out of order |",
+    );
+    assert_eq!(rows.len(), 16, "{out}");
+    assert_eq!(rows[0][..2], ["penetrating", "scanconv --resolve"]);
+}
