@@ -233,3 +233,18 @@ fn bench_painter_prints_a_row_per_scene_and_method() {
     assert_eq!(rows.len(), 16, "{out}");
     assert_eq!(rows[0][..2], ["penetrating", "scanconv --resolve"]);
 }
+
+#[test]
+fn bench_aa_table_prints_the_error_table() {
+    let out = bench(&["aa-table", "--size", "32x24"]);
+    let mut lines = out.lines();
+    assert_eq!(
+        lines.next(),
+        Some("against zspec --samples 16, 32x24, tree depth 0")
+    );
+    assert_eq!(
+        lines.next(),
+        Some("scene        method edge_rmse      rmse  differing")
+    );
+    assert!(out.contains("\nenvironment  point  "), "{out}");
+}

@@ -209,13 +209,12 @@ fn methods_list_is_render_s_methods() {
 
 /// The scripts, one per question: each prints its opening comment for --help without
 /// building anything, and refuses an option it does not know with status 2.
-const BENCH_SCRIPTS: [&str; 6] = [
+const BENCH_SCRIPTS: [&str; 5] = [
     "bench-methods.sh",
     "bench-warnock.sh",
     "bench-aa.sh",
     "bench-adaptive.sh",
     "bench-bounds.sh",
-    "aa-table.sh",
 ];
 
 #[test]
