@@ -13,3 +13,4 @@ pub mod painter;
 pub mod scanline;
 pub mod stages;
 pub mod tree;
+pub mod warnock;

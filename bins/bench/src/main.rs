@@ -26,6 +26,8 @@ enum Sub {
     Scanline(bench::scanline::Args),
     /// The depth sort and the hidden lines against the z-buffer leaf.
     Painter(bench::painter::Args),
+    /// Warnock's subdivision and the hidden lines against the z-buffer leaf.
+    Warnock(bench::warnock::Args),
     /// The anti-aliasing leaves' error against the 16×16 reference.
     AaTable(bench::aatable::Args),
 }
@@ -37,6 +39,7 @@ fn main() -> ExitCode {
         Sub::Stages(a) => bench::stages::main(a),
         Sub::Scanline(a) => bench::scanline::main(a),
         Sub::Painter(a) => bench::painter::main(a),
+        Sub::Warnock(a) => bench::warnock::main(a),
         Sub::AaTable(a) => bench::aatable::main(a),
     })
 }

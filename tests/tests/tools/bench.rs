@@ -248,3 +248,14 @@ fn bench_aa_table_prints_the_error_table() {
     );
     assert!(out.contains("\nenvironment  point  "), "{out}");
 }
+
+#[test]
+fn bench_warnock_prints_a_row_per_scene() {
+    let out = bench(&["warnock", "--quick", "--size", "100x100"]);
+    let rows = table(
+        &out,
+        "| scene | polygons | visible edges | zbuf s | warnock s | hiddenline s | zbuf KiB | warnock KiB | hiddenline KiB | windows | pixel windows | looked at | pixels ≠ zbuf |",
+    );
+    assert_eq!(rows.len(), 14, "{out}");
+    assert_eq!(rows[0][..2], ["stack-100", "100"]);
+}

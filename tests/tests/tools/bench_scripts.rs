@@ -209,9 +209,8 @@ fn methods_list_is_render_s_methods() {
 
 /// The scripts, one per question: each prints its opening comment for --help without
 /// building anything, and refuses an option it does not know with status 2.
-const BENCH_SCRIPTS: [&str; 5] = [
+const BENCH_SCRIPTS: [&str; 4] = [
     "bench-methods.sh",
-    "bench-warnock.sh",
     "bench-aa.sh",
     "bench-adaptive.sh",
     "bench-bounds.sh",
