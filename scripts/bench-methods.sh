@@ -14,7 +14,7 @@
 # z-buffer's best.
 #
 # The leaf methods alone are measured by `bench painter`, `bench scanline`,
-# `bench warnock` and bench-aa.sh; their bounds on hostile scenes by bench-bounds.sh.
+# `bench warnock` and bench-aa.sh; their bounds on hostile scenes by `bench bounds`.
 set -euo pipefail
 export LC_ALL=C
 # shellcheck source=lib/bench.sh

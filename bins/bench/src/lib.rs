@@ -6,6 +6,7 @@
 //! one machine under one load: ratios, not seconds, are what carry over.
 
 pub mod aatable;
+pub mod bounds;
 pub mod kit;
 pub mod llvmpipe;
 pub mod measure;

@@ -28,6 +28,8 @@ enum Sub {
     Painter(bench::painter::Args),
     /// Warnock's subdivision and the hidden lines against the z-buffer leaf.
     Warnock(bench::warnock::Args),
+    /// Every method's time and memory bounds on the hostile scenes.
+    Bounds(bench::bounds::Args),
     /// The anti-aliasing leaves' error against the 16×16 reference.
     AaTable(bench::aatable::Args),
 }
@@ -40,6 +42,7 @@ fn main() -> ExitCode {
         Sub::Scanline(a) => bench::scanline::main(a),
         Sub::Painter(a) => bench::painter::main(a),
         Sub::Warnock(a) => bench::warnock::main(a),
+        Sub::Bounds(a) => bench::bounds::main(a),
         Sub::AaTable(a) => bench::aatable::main(a),
     })
 }

@@ -259,3 +259,13 @@ fn bench_warnock_prints_a_row_per_scene() {
     assert_eq!(rows.len(), 14, "{out}");
     assert_eq!(rows[0][..2], ["stack-100", "100"]);
 }
+
+#[test]
+fn bench_bounds_prints_the_planes_table() {
+    let out = bench(&["bounds", "--quick"]);
+    let rows = table(
+        &out,
+        "| scene planes N, 500x500 | pixels unlike the z-buffer | share | painter --split said it could not order | within 0.5% or said |",
+    );
+    assert_eq!(firsts(&rows), ["5", "50", "400"]);
+}
