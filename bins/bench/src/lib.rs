@@ -10,6 +10,7 @@ pub mod bounds;
 pub mod kit;
 pub mod llvmpipe;
 pub mod measure;
+pub mod methods;
 pub mod painter;
 pub mod scanline;
 pub mod stages;

@@ -22,6 +22,8 @@ enum Sub {
     Tree(bench::tree::Args),
     /// The stages and the stream: geometry, clip, codec, fused, fill, shading.
     Stages(bench::stages::Args),
+    /// Each --hse method at every depth on the four scene classes.
+    Methods(bench::methods::Args),
     /// Watkins's scan-line method against the z-buffer leaf as the scene grows.
     Scanline(bench::scanline::Args),
     /// The depth sort and the hidden lines against the z-buffer leaf.
@@ -39,6 +41,7 @@ fn main() -> ExitCode {
         Sub::Llvmpipe(a) => bench::llvmpipe::main(a),
         Sub::Tree(a) => bench::tree::main(a),
         Sub::Stages(a) => bench::stages::main(a),
+        Sub::Methods(a) => bench::methods::main(a),
         Sub::Scanline(a) => bench::scanline::main(a),
         Sub::Painter(a) => bench::painter::main(a),
         Sub::Warnock(a) => bench::warnock::main(a),

@@ -269,3 +269,13 @@ fn bench_bounds_prints_the_planes_table() {
     );
     assert_eq!(firsts(&rows), ["5", "50", "400"]);
 }
+
+#[test]
+fn bench_methods_prints_each_method_s_best_depth() {
+    let out = bench(&["methods", "--quick"]);
+    let rows = table(
+        &out,
+        "| scene | method | depth 0 s | best depth | best s | best / zbuf best |",
+    );
+    assert_eq!(rows.len(), 4 * methods::hse_names(methods::METHODS).len());
+}
