@@ -5,6 +5,7 @@
 //! scenes, the helpers the tables need). Every figure is from the run that prints it, on
 //! one machine under one load: ratios, not seconds, are what carry over.
 
+pub mod aa;
 pub mod aatable;
 pub mod bounds;
 pub mod kit;

@@ -32,6 +32,8 @@ enum Sub {
     Warnock(bench::warnock::Args),
     /// Every method's time and memory bounds on the hostile scenes.
     Bounds(bench::bounds::Args),
+    /// The anti-aliasing leaves alone: time, memory, output.
+    Aa(bench::aa::Args),
     /// The anti-aliasing leaves' error against the 16×16 reference.
     AaTable(bench::aatable::Args),
 }
@@ -46,6 +48,7 @@ fn main() -> ExitCode {
         Sub::Painter(a) => bench::painter::main(a),
         Sub::Warnock(a) => bench::warnock::main(a),
         Sub::Bounds(a) => bench::bounds::main(a),
+        Sub::Aa(a) => bench::aa::main(a),
         Sub::AaTable(a) => bench::aatable::main(a),
     })
 }

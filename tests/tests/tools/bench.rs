@@ -279,3 +279,14 @@ fn bench_methods_prints_each_method_s_best_depth() {
     );
     assert_eq!(rows.len(), 4 * methods::hse_names(methods::METHODS).len());
 }
+
+#[test]
+fn bench_aa_prints_a_row_per_leaf() {
+    let out = bench(&["aa", "--quick", "--polygons", "500", "--size", "160x120"]);
+    let rows = table(
+        &out,
+        "| method | leaf | wall s | CPU s | peak KiB | output bytes |",
+    );
+    assert_eq!(rows[0][..2], ["point", "`scanconv --resolve`"]);
+    assert_eq!(rows.len(), methods::aa_names(methods::METHODS).len() + 1);
+}

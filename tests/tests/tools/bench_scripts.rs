@@ -209,7 +209,7 @@ fn methods_list_is_render_s_methods() {
 
 /// The scripts, one per question: each prints its opening comment for --help without
 /// building anything, and refuses an option it does not know with status 2.
-const BENCH_SCRIPTS: [&str; 2] = ["bench-aa.sh", "bench-adaptive.sh"];
+const BENCH_SCRIPTS: [&str; 1] = ["bench-adaptive.sh"];
 
 #[test]
 fn each_benchmark_says_its_usage_and_refuses_an_unknown_option() {
