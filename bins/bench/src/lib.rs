@@ -7,6 +7,7 @@
 
 pub mod aa;
 pub mod aatable;
+pub mod adaptive;
 pub mod bounds;
 pub mod kit;
 pub mod llvmpipe;

@@ -36,6 +36,8 @@ enum Sub {
     Aa(bench::aa::Args),
     /// The anti-aliasing leaves' error against the 16×16 reference.
     AaTable(bench::aatable::Args),
+    /// Adaptive supersampling against supersampling.
+    Adaptive(bench::adaptive::Args),
 }
 
 fn main() -> ExitCode {
@@ -50,5 +52,6 @@ fn main() -> ExitCode {
         Sub::Bounds(a) => bench::bounds::main(a),
         Sub::Aa(a) => bench::aa::main(a),
         Sub::AaTable(a) => bench::aatable::main(a),
+        Sub::Adaptive(a) => bench::adaptive::main(a),
     })
 }

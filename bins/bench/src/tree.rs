@@ -987,11 +987,11 @@ fn farm(k: &Kit, reps: usize, a: &Args, n: Count) -> Result<()> {
                 .map_err(|_| Error::usage(format!("--hosts: not a count: '{h}'")))
         })
         .collect::<Result<_>>()?;
+    let polygons = n(1000).max(100);
     let movie = k.scene(
         "movie.pp",
         &format!(
-            "environment --polygons {} --depth-complexity 30 --size {size} --frames {}",
-            n(1000).max(100),
+            "environment --polygons {polygons} --depth-complexity 30 --size {size} --frames {}",
             a.frames
         ),
     )?;
@@ -1032,7 +1032,7 @@ fn farm(k: &Kit, reps: usize, a: &Args, n: Count) -> Result<()> {
     println!();
     println!(
         "Measured by `bench tree farm --reps {reps}` on {}, {}: {} frames of `scene environment \
-         --polygons 1000 --depth-complexity 30 --size {size}`, render --size {size} --depth 0, \
+         --polygons {polygons} --depth-complexity 30 --size {size}`, render --size {size} --depth 0, \
          --by frames --chunk {}, medians of {reps}.",
         machine(),
         load(),

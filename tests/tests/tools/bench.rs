@@ -290,3 +290,48 @@ fn bench_aa_prints_a_row_per_leaf() {
     assert_eq!(rows[0][..2], ["point", "`scanconv --resolve`"]);
     assert_eq!(rows.len(), methods::aa_names(methods::METHODS).len() + 1);
 }
+
+#[test]
+fn bench_adaptive_prints_render_and_the_leaf() {
+    let out = bench(&[
+        "adaptive",
+        "--quick",
+        "--polygons",
+        "100",
+        "--size",
+        "100x100",
+    ]);
+    let rows = table(&out, "| what | ss4 CPU s | adaptive4 CPU s | ratio |");
+    assert_eq!(firsts(&rows), ["render", "leaf"]);
+    assert!(out.contains("adaptive4's frame against ss4's: "), "{out}");
+}
+
+/// Every subcommand prints its usage for --help, and refuses an option it does not know
+/// with status 2 and one line naming it.
+#[test]
+fn every_subcommand_says_its_usage_and_refuses_an_unknown_option() {
+    for sub in [
+        "llvmpipe", "tree", "stages", "methods", "scanline", "painter", "warnock", "bounds", "aa",
+        "aa-table", "adaptive",
+    ] {
+        let out = Command::new(bin_dir().join("bench"))
+            .args([sub, "--help"])
+            .output()
+            .unwrap();
+        assert!(out.status.success(), "{sub} --help: {out:?}");
+        let help = String::from_utf8_lossy(&out.stdout);
+        assert!(
+            help.contains(&format!("Usage: bench {sub} ")),
+            "{sub}: {help}"
+        );
+        let out = Command::new(bin_dir().join("bench"))
+            .args([sub, "--fast"])
+            .output()
+            .unwrap();
+        assert_eq!(out.status.code(), Some(2), "{sub} --fast: {out:?}");
+        assert_eq!(
+            String::from_utf8_lossy(&out.stderr),
+            "bench: unexpected argument '--fast' found\n"
+        );
+    }
+}
