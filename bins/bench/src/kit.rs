@@ -126,8 +126,14 @@ impl Kit {
         Ok(path)
     }
 
-    /// The stdout of the bash line `line`, run in the repository.
+    /// The stdout of the bash line `line`, run in the repository, as text.
     pub fn out(&self, line: &str) -> Result<String> {
+        Ok(String::from_utf8_lossy(&sh(line, &self.root)?).into_owned())
+    }
+
+    /// The stdout of the bash line `line`, run in the repository, as bytes (frames and
+    /// streams compared byte for byte).
+    pub fn bytes(&self, line: &str) -> Result<Vec<u8>> {
         sh(line, &self.root)
     }
 
@@ -173,7 +179,7 @@ pub fn overall(csv: &str) -> Option<(u64, u64)> {
 
 /// Runs the bash line `line` in `dir`; its stdout, or an error with its status and the
 /// last line of its stderr.
-pub fn sh(line: &str, dir: &Path) -> Result<String> {
+pub fn sh(line: &str, dir: &Path) -> Result<Vec<u8>> {
     let out = Command::new("bash")
         .args(["-o", "pipefail", "-c", line])
         .current_dir(dir)
@@ -193,7 +199,7 @@ pub fn sh(line: &str, dir: &Path) -> Result<String> {
         };
         return Err(Error::data(format!("`{line}` failed with {how}{last}")));
     }
-    Ok(String::from_utf8_lossy(&out.stdout).into_owned())
+    Ok(out.stdout)
 }
 
 /// The number before `words` in a stage's --stats line (`50 polygons in`), or an error

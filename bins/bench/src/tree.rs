@@ -570,7 +570,7 @@ fn depth_auto(k: &Kit, reps: usize, n: Count) -> Result<()> {
         k.b("zbuf")
     ));
     // Every command once, its frames checked: every depth's the same bytes as depth 0's.
-    let outs: Vec<String> = lines.iter().map(|l| k.out(l)).collect::<Result<_>>()?;
+    let outs: Vec<Vec<u8>> = lines.iter().map(|l| k.bytes(l)).collect::<Result<_>>()?;
     for (i, name) in names.iter().enumerate().take(names.len() - 2) {
         if outs[i] != outs[0] {
             return Err(Error::data(format!("{name} drew other bytes than depth 0")));
