@@ -28,8 +28,8 @@ fail() {
 }
 # shellcheck source=lib/binaries.sh
 source "$root/scripts/lib/binaries.sh"
+bindir='' # set by build_binaries
 build_binaries
-# shellcheck disable=SC2154 # bindir, set by build_binaries
 
 case ${1-} in
     choose-depth | calibrate) exec "$bindir/chart" "$@" --root "$root" ;;

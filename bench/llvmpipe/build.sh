@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # build.sh: builds the Mesa llvmpipe harness (render.c, through OSMesa) with gcc -O2 and
-# prints the path of the binary. Not part of cargo's build or CI: only scripts/bench.sh
+# prints the path of the binary. Not part of cargo's build or CI: only bench llvmpipe
 # and bench/llvmpipe/check.sh use it.
 #
 # Needs gcc and the OSMesa development files (Debian/Ubuntu: libosmesa6-dev). When they

@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # check.sh: tests the llvmpipe harness's claim to render the same picture as polypipe
-# (same parser, camera, pyramid, depth rule), so that scripts/bench.sh compares like with
+# (same parser, camera, pyramid, depth rule), so that bench llvmpipe compares like with
 # like. Not part of CI (CI has no Mesa): run it by hand after changing render.c.
 #
 # For each scene it renders with the exact reference (zspec), scripts/render.sh and the

@@ -1,6 +1,6 @@
 /*
  * render.c: the same world-space text scene rendered by Mesa's llvmpipe through OSMesa,
- * as the yardstick for scripts/bench.sh. Not part of polypipe and not
+ * as the yardstick for bench llvmpipe. Not part of polypipe and not
  * built by cargo or CI.
  *
  * It reads polypipe's text form (docs/DESIGN.md, "The token stream": a `polypipe 1 world`

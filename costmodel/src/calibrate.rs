@@ -398,7 +398,7 @@ pub fn background_load() -> f64 {
 /// holding a core but the renders that ran just before (a movie's frames, a benchmark's
 /// rounds, one after another, keep the average near 1.5 on an idle 2-core machine, where
 /// planning for a load of 0.6 chose depth 0 and depth 1 was 20% faster:
-/// `scripts/bench-tree.sh depth-auto --reps 21`).
+/// `target/bin/bench tree depth-auto --reps 21`).
 pub fn load_now(loadavg: &str) -> Option<f64> {
     let mut fields = loadavg.split_whitespace();
     let average: f64 = fields.next()?.parse().ok()?;

@@ -278,7 +278,7 @@ fn look_with(
 /// that the tree's per-frame costs hardly count, and the scene is judged as one frame.
 /// The search is a byte search, not a parse: on a one-frame scene, which it reads to
 /// the limit in vain, it cost `plan depth` about 0.3 ms (the 26 MB scene (b) of
-/// scripts/bench.sh, 1.8–2.0 ms of CPU before, 2.2–2.4 after); on a movie it stops at
+/// bench llvmpipe, 1.8–2.0 ms of CPU before, 2.2–2.4 after); on a movie it stops at
 /// the first frame's end.
 pub const FRAME_SEARCH: u64 = 1 << 20;
 

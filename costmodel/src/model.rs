@@ -372,7 +372,7 @@ impl Target {
     /// 1920x1080) with 10 to 13 other threads runnable, depths 0 to 3 took 0.216, 0.244,
     /// 0.276 and 0.259 s on two cores, their wall time about three times their CPU time
     /// at every depth, where the threads' fair share (N·C/(N + L) for N processes) had
-    /// the deeper trees gain and chose depth 3 (`scripts/bench-tree.sh depth-auto`).
+    /// the deeper trees gain and chose depth 3 (`target/bin/bench tree depth-auto`).
     pub fn shares(&self, _processes: usize) -> (f64, f64) {
         let c = self.cores as f64;
         let l = self.load.max(0.0);

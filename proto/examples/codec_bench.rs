@@ -1,4 +1,4 @@
-//! The codec measured in one process (`scripts/bench-stages.sh codec` runs it and prints the
+//! The codec measured in one process (`bench stages codec` runs it and prints the
 //! table): stream version 1's serde + bincode records against version 2's fixed-layout
 //! records, encoding and decoding four-vertex eye-space polygons; the text form's reader
 //! and writer in MB/s; and float parsers on the text's numbers.
@@ -231,7 +231,7 @@ fn best<T>(reps: usize, mut f: impl FnMut() -> T) -> Duration {
         .unwrap()
 }
 
-/// Four-vertex eye-space polygons scattered as scripts/bench-stages.sh geometry scatters them.
+/// Four-vertex eye-space polygons scattered as bench stages geometry scatters them.
 fn polygons(n: usize) -> Vec<Polygon> {
     let mut state = 1985u64;
     let mut next = move || {

@@ -17,7 +17,7 @@
 //! (`x, y, z, w`, 32 bytes). A vertex list is written and read as one block, straight
 //! from and into the polygon's own `Vec` (a byte view of it, `bytemuck`), so a stage
 //! neither formats nor allocates per polygon. Version 1 encoded the same records with
-//! serde and bincode; `scripts/bench-stages.sh codec` measures the two, and the record
+//! serde and bincode; `bench stages codec` measures the two, and the record
 //! decoding was most of a geometry stage's time (the header stays bincode: it is read
 //! once). The layouts are in [`polygons`] and [`crate::fragment`]. Bytes a record
 //! does not use must be zero, so a corrupt stream is caught at the record where it

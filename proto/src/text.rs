@@ -757,7 +757,7 @@ pub fn kept_line(raw: &[u8], first: bool) -> Result<(&str, bool), usize> {
 /// algorithm of fast_float since Rust 1.55. The grammar of the text form is this
 /// function's. The vertex lines that make up nearly all of a scene are read faster, to
 /// the same bits, by `number_line` ([`parse_decimal`] and fast_float2, one pass for a
-/// line's numbers and its end); `scripts/bench-stages.sh codec` measures the parsers on
+/// line's numbers and its end); `bench stages codec` measures the parsers on
 /// the environment scene's numbers.
 #[inline]
 pub fn parse_f64(w: &str) -> Option<f64> {

@@ -44,7 +44,7 @@ struct Cli {
     /// model file (the repository's bench/model.toml unless --model).
     #[arg(long)]
     calibrate: bool,
-    /// Chart the standard scenes: the four scene classes of scripts/bench.sh, made with
+    /// Chart the standard scenes: the four scene classes of bench llvmpipe, made with
     /// `scene environment` into DIR/scenes, and examples/penetrating.txt.
     #[arg(long)]
     standard: bool,
@@ -189,7 +189,7 @@ fn bar(len: u64) -> ProgressBar {
 /// A scene class: name, seed, polygons, depth complexity, screen, frames.
 type Class = (&'static str, u64, u64, f64, (u32, u32), u64);
 
-/// The standard scenes (scripts/bench.sh's four classes, and the failure scene).
+/// The standard scenes (bench llvmpipe's four classes, and the failure scene).
 fn standard_scenes(bin: &Path, root: &Path, dir: &Path, quick: bool) -> Result<Vec<Scene>> {
     std::fs::create_dir_all(dir)?;
     let (geo, fill, fill_size, movie) = if quick {

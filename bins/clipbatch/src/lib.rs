@@ -70,7 +70,7 @@ use proto::geometry::{clip_coloured, Plane, PyramidPlane, Side};
 use proto::{Polygon, Vertex, View};
 
 /// Polygons clipped together by default: a 32×32 DAP's processing elements (Theoharis and
-/// Page's was 64×64). Measured with scripts/bench-stages.sh clip: batches of 64 to 1024 quads
+/// Page's was 64×64). Measured with bench stages clip: batches of 64 to 1024 quads
 /// run alike, 4096 a quarter slower (the batch's polygons and arrays, some 2 MB, no
 /// longer stay in this machine's cache).
 pub const DEFAULT_BATCH: usize = 1024;

@@ -14,10 +14,10 @@ use std::time::SystemTime;
 /// other binaries the README's examples use; [`binaries`] adds the methods' stages from
 /// the table of methods: all built together, so that every command in the README works
 /// after the first run.
-pub const BINARIES: [&str; 14] = join(
+pub const BINARIES: [&str; 15] = join(
     &crate::PIPELINE_STAGES,
     &[
-        "scene", "zspec", "frames", "farm", "chart", "plan", "render",
+        "scene", "zspec", "frames", "farm", "chart", "plan", "render", "bench",
     ],
 );
 

@@ -22,7 +22,7 @@ use std::process::ExitCode;
 /// to the pixel.
 ///
 /// It fails on no scene; what it pays for is segments and sample spans, not pixels
-/// (docs/methods.md, scripts/bench-scanline.sh): much faster than the z-buffer
+/// (docs/methods.md, `bench scanline`): much faster than the z-buffer
 /// on piles of big polygons (about 30 times on 64 stacked full-screen planes), slower
 /// with hundreds of crossings a line on polygons a few pixels wide (up to 1.9 times) and
 /// on many small polygons piled deep (1.7 times on the test environment at depth
@@ -49,7 +49,7 @@ struct Args {
     stats: bool,
     /// Sort the segments afresh on every line and predict nothing from the line above:
     /// the method without Watkins's scan-line coherence, for measuring what it buys
-    /// (scripts/bench-scanline.sh). The picture is the same.
+    /// (`bench scanline`). The picture is the same.
     #[arg(long)]
     sort_afresh: bool,
 }

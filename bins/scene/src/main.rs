@@ -138,7 +138,7 @@ enum Command {
     )]
     TriangleSquare,
     /// 24 thin triangles tapering to points at many slopes: what point sampling breaks
-    /// into dashes (scripts/aa-table.sh).
+    /// into dashes (`bench aa-table`).
     #[command(
         after_help = "Example:\n  scene needles | scripts/render.sh --aa abuf --size 64x48 -"
     )]

@@ -1,5 +1,5 @@
-//! Screen-space scenes for measuring the leaf methods alone (scripts/bench-scanline.sh,
-//! scripts/bench-warnock.sh): polygons already in device coordinates of a W×H screen, X
+//! Screen-space scenes for measuring the leaf methods alone (`bench scanline`,
+//! `bench warnock`): polygons already in device coordinates of a W×H screen, X
 //! and Y in pixels and a depth in (0, 1), smaller nearer, so that a leaf (`scanconv
 //! --resolve`, `scanline`, `warnock`, `hiddenline`) reads them with no viewxf, clipper or
 //! persp in front. Each scene makes one quantity that a method's cost follows grow while

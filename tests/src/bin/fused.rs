@@ -4,7 +4,7 @@
 //! clipbatch, persp, scanconv, zbuf), called one after the other on each polygon in one
 //! process: no pipes, no encoding or decoding between stages. It reads the same scene
 //! (text or binary) and writes the same PPM bytes, so `render.sh` time over `fused` time
-//! is what the pipes and the codec cost (scripts/bench-stages.sh fused).
+//! is what the pipes and the codec cost (bench stages fused).
 //!
 //! The glue is one small function per stage (`view`, `clip_planes` / `clip_batch`,
 //! `project`, `scan_convert`, and `ZBuffer` for zbuf's inner loop): when a stage

@@ -132,8 +132,8 @@ fn linked(all: &[Member], name: &str, kinds: &[DepKind]) -> BTreeSet<String> {
 }
 
 /// The crates under bins/ that are not stages of the stream: the composer, the cost
-/// model's command line and the chart.
-const TOOLS: [&str; 3] = ["chart", "plan", "render"];
+/// model's command line, the chart and the benchmarks.
+const TOOLS: [&str; 4] = ["bench", "chart", "plan", "render"];
 
 /// The binary crates: the folders under bins/.
 fn binaries(all: &[Member]) -> Vec<&Member> {

@@ -343,7 +343,7 @@ fn help_says_what_it_is() {
 
 /// Scenes a user can make in a minute to break a hidden-surface method, at a
 /// size a test can afford: Warnock's cost is the windows the picture needs, not the
-/// polygons stacked behind (scripts/bench-warnock.sh measures the full-size ones).
+/// polygons stacked behind (`bench warnock` measures the full-size ones).
 mod hostile {
     use super::*;
 

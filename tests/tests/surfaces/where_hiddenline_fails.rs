@@ -283,7 +283,7 @@ fn archuleta_draws_every_hard_scene_within_the_screen() {
 /// machine): `pinhead 100000` 1.9 s / 165 MB continuous, 0.3 s / 149 MB Archuleta's;
 /// `planes 2000` 1.9 s / 11 MB and 1.1 s / 4 MB; `slivers 10000` Archuleta's 0.8 s /
 /// 17 MB (the continuous method's 11 s there, drawing 3.2 million visible pieces, is
-/// docs/methods.md's and scripts/bench-bounds.sh's, too long for a test).
+/// docs/methods.md's and `bench bounds`'s, too long for a test).
 #[test]
 fn the_bounds_hold_at_full_size() {
     use pipeline_tests::sh;

@@ -1,0 +1,91 @@
+//! `bench adaptive`: what adaptive supersampling saves: `render --aa ssK` against
+//! `render --aa adaptiveK` (docs/antialiasing.md, "Adaptive supersampling"), the whole
+//! pipeline and the supersample leaf alone, in interleaved rounds.
+//!
+//! The scene is `scene environment --polygons N --size WxH --seed 1` (thesis chapter
+//! 5.2) in a file. Each round runs render at depth 0 with --aa ssK and --aa adaptiveK,
+//! then the leaf alone on the screen-space stream (`supersample --samples K`, then with
+//! --adaptive), so that a change in load falls on both alike. CPU seconds are the
+//! medians of the rounds. Run it on one core to compare as CI's machine would:
+//! `taskset -c 0 target/bin/bench adaptive`.
+
+use crate::kit::{header, row, stat_count, Kit};
+use crate::measure::{interleaved, median_of, ms, ratio, Figure};
+use stagecli::{Error, Result};
+
+/// The options of `bench adaptive`.
+#[derive(clap::Args, Debug)]
+pub struct Args {
+    /// Samples a side: 2, 4, 8 or 16.
+    #[arg(long, default_value_t = 4)]
+    pub samples: u32,
+    /// The environment's polygons.
+    #[arg(long, default_value_t = 1024)]
+    pub polygons: u32,
+    /// The screen.
+    #[arg(long, default_value = "500x500")]
+    pub size: String,
+    /// Rounds (default 11).
+    #[arg(long, value_parser = clap::value_parser!(u32).range(1..))]
+    pub reps: Option<u32>,
+    /// One round: a check that it works.
+    #[arg(long)]
+    pub quick: bool,
+}
+
+/// Runs `bench adaptive`.
+pub fn main(a: &Args) -> Result<()> {
+    let s = a.samples;
+    if ![2, 4, 8, 16].contains(&s) {
+        return Err(Error::usage(format!(
+            "--samples must be 2, 4, 8 or 16, not {s}"
+        )));
+    }
+    proto::numbers::parse_size(&a.size).map_err(|e| Error::usage(format!("--size: {e}")))?;
+    let reps = a.reps.map_or(if a.quick { 1 } else { 11 }, |r| r as usize);
+    let k = Kit::new()?;
+    let (n, size) = (a.polygons, &a.size);
+    let args = format!("environment --polygons {n} --size {size} --seed 1");
+    let world = k.scene("world", &args)?;
+    let screen = k.screen("screen", &args, size)?;
+    let render = |aa: &str| k.render(&format!("--size {size} --depth 0 --aa {aa} {world}"));
+    k.make("ss.ppm", &render(&format!("ss{s}")))?;
+    k.make("adaptive.ppm", &render(&format!("adaptive{s}")))?;
+    let (same, _) = k.differing(&k.w("ss.ppm"), &k.w("adaptive.ppm"))?;
+    let leaf = format!("{} --samples {s}", k.b("supersample"));
+    let stats = k.out(&format!(
+        "{leaf} --adaptive --stats < {screen} 2>&1 >/dev/null"
+    ))?;
+    let lines = [
+        render(&format!("ss{s}")),
+        render(&format!("adaptive{s}")),
+        format!("{leaf} < {screen}"),
+        format!("{leaf} --adaptive < {screen}"),
+    ];
+    let runs = interleaved(reps, &lines)?;
+    println!(
+        "{} `scene {args}`; CPU seconds, median of {reps} interleaved rounds.",
+        crate::kit::stamp("adaptive")
+    );
+    println!();
+    println!(
+        "adaptive{s}'s frame against ss{s}'s: {same} pixels differ; {} of {} pixels sampled.",
+        stat_count(&stats, "sampled")?,
+        stat_count(&stats, "pixels out")?
+    );
+    println!();
+    header(&[
+        "what",
+        &format!("ss{s} CPU s"),
+        &format!("adaptive{s} CPU s"),
+        "ratio",
+    ]);
+    for (i, what) in ["render", "leaf"].iter().enumerate() {
+        let (x, y) = (
+            median_of(&runs[2 * i], Figure::Cpu),
+            median_of(&runs[2 * i + 1], Figure::Cpu),
+        );
+        row(&[(*what).into(), ms(x), ms(y), ratio(y, x)]);
+    }
+    Ok(())
+}
