@@ -54,5 +54,5 @@ pub use edges::{polygon_edge, sort_crossings, ActiveEdgeTable, EdgeTable, Outlin
 pub use frame::{HiddenSurface, ZBuffer};
 pub use pages::{advise_huge_pages, ZeroedBuffer};
 pub use region::{RegionBuffer, RegionStats, Run};
-pub use walk::{check_on_screen, covered_on_row, Span, SpanWalker, GUARD_BAND};
+pub use walk::{check_on_screen, covered_on_row, BandWalk, Span, SpanWalker, GUARD_BAND};
 pub use ztest::ZTest;

@@ -108,23 +108,8 @@ impl SpanWalker {
         let depth = DepthPlane::of(polygon);
         let mut covered = 0u64;
         for row in rows {
-            let y = row as u32;
-            let (z_row, dz) = depth.row(y);
             let crossings = self.aet.advance(row, &self.et);
-            for pair in crossings.chunks_exact(2) {
-                let cols = centres_in_clamped(pair[0], pair[1], width);
-                if cols.is_empty() {
-                    continue;
-                }
-                covered += cols.len() as u64;
-                emit(Span {
-                    y,
-                    x0: cols.start,
-                    x1: cols.end,
-                    z_row,
-                    dz,
-                })?;
-            }
+            covered += row_spans(crossings, row as u32, width, &depth, &mut emit)?;
         }
         Ok(covered)
     }
@@ -157,6 +142,108 @@ impl SpanWalker {
             Ok::<(), Infallible>(())
         });
         n
+    }
+}
+
+/// Row `y`'s spans from its sorted `crossings` (pairs `c0, c1`, even-odd), clamped to a
+/// screen `width` wide, on the polygon's `depth` plane, each handed to `emit`: the one
+/// step from crossings to spans of every walk. Returns the pixels covered.
+#[inline]
+fn row_spans<E>(
+    crossings: &[i64],
+    y: u32,
+    width: u32,
+    depth: &DepthPlane,
+    emit: &mut impl FnMut(Span) -> Result<(), E>,
+) -> Result<u64, E> {
+    let (z_row, dz) = depth.row(y);
+    let mut covered = 0;
+    for pair in crossings.chunks_exact(2) {
+        let cols = centres_in_clamped(pair[0], pair[1], width);
+        if cols.is_empty() {
+            continue;
+        }
+        covered += cols.len() as u64;
+        emit(Span {
+            y,
+            x0: cols.start,
+            x1: cols.end,
+            z_row,
+            dz,
+        })?;
+    }
+    Ok(covered)
+}
+
+/// One polygon walked down the screen a band of rows at a time, its Edge Table built
+/// once: what [`SpanWalker::spans_in`] gives band by band, without rebuilding the table
+/// (loading the outline, setting up each edge's exact DDA) for every band. A method that
+/// draws a frame one band at a time keeps one of these per polygon the band reaches, so
+/// its memory is the active polygons' edges, not the screen.
+#[derive(Debug, Default)]
+pub struct BandWalk {
+    et: EdgeTable,
+    aet: ActiveEdgeTable,
+    depth: Option<DepthPlane>,
+    /// The rows not yet walked.
+    rows: Range<i64>,
+}
+
+impl BandWalk {
+    pub fn new() -> Self {
+        BandWalk::default()
+    }
+
+    /// Loads `polygon` (its outline through `outline`, whose buffers are reused) for the
+    /// rows `rows` of the screen. `false` when it covers none of them.
+    pub fn start(&mut self, outline: &mut Outline, polygon: &Polygon, rows: Range<u32>) -> bool {
+        self.aet.clear();
+        if !outline.load(polygon) {
+            self.rows = 0..0;
+            self.depth = None;
+            return false;
+        }
+        self.rows = self
+            .et
+            .build_in(&outline.points, &outline.supports, &outline.rows, rows);
+        self.depth = Some(DepthPlane::of(polygon));
+        !self.rows.is_empty()
+    }
+
+    /// Whether every row the polygon covers has been walked.
+    pub fn done(&self) -> bool {
+        self.rows.is_empty()
+    }
+
+    /// The spans of the rows of `band` on a screen `width` wide, exactly those of
+    /// [`SpanWalker::spans_in`] for the band. Bands must come top to bottom without
+    /// overlapping; the rows between two bands are stepped over. Returns the pixels
+    /// covered.
+    pub fn for_each_span_in(
+        &mut self,
+        width: u32,
+        band: Range<u32>,
+        mut emit: impl FnMut(Span),
+    ) -> u64 {
+        let Some(depth) = self.depth else {
+            return 0;
+        };
+        let end = self.rows.end.min(band.end as i64);
+        let mut covered = 0;
+        let mut emit = |s| {
+            emit(s);
+            Ok::<(), Infallible>(())
+        };
+        while self.rows.start < end {
+            let row = self.rows.start;
+            self.rows.start += 1;
+            let crossings = self.aet.advance(row, &self.et);
+            if row >= band.start as i64 {
+                let Ok(n) = row_spans(crossings, row as u32, width, &depth, &mut emit);
+                covered += n;
+            }
+        }
+        covered
     }
 }
 
@@ -572,6 +659,42 @@ mod tests {
                     r0 += band;
                 }
                 prop_assert_eq!(banded, whole);
+            }
+
+            /// A polygon walked band after band by one [`BandWalk`] (its table built
+            /// once) gives exactly the spans of the whole walk, bands skipped or not.
+            #[test]
+            fn a_band_walk_gives_the_whole_walks_spans(
+                pts in prop::collection::vec((-4.0f64..20.0, -4.0f64..20.0, 0.0f64..1.0), 3..9),
+                band in 1u32..6,
+                first in 0u32..8,
+                skip in 0u32..4,
+            ) {
+                let (w, h) = (16u32, 16u32);
+                let p = Polygon::from_xyz([1, 1, 1], &pts.iter().map(|&(x, y, z)| [x, y, z]).collect::<Vec<_>>());
+                let mut walker = SpanWalker::new();
+                let mut outline = Outline::default();
+                let mut walk = BandWalk::new();
+                let started = walk.start(&mut outline, &p, first..h);
+                let (mut banded, mut want) = (Vec::new(), Vec::new());
+                let mut r0 = first;
+                let mut i = 0;
+                while r0 < h {
+                    let b = r0..(r0 + band).min(h);
+                    // Every third band is skipped when `skip` says so.
+                    if skip == 0 || i % 3 != skip % 3 {
+                        walk.for_each_span_in(w, b.clone(), |s| banded.push(s));
+                        walker.for_each_span_in(&p, w, b, |s| want.push(s));
+                    }
+                    r0 += band;
+                    i += 1;
+                }
+                prop_assert_eq!(&banded, &want);
+                prop_assert!(started || want.is_empty());
+                // An empty band at the bottom steps over what is left.
+                walk.for_each_span_in(w, h..h, |s| banded.push(s));
+                prop_assert!(walk.done());
+                prop_assert_eq!(banded.len(), want.len());
             }
 
             /// A jittered grid cut into triangles, reaching past the screen, covers every

@@ -989,6 +989,30 @@ fn world(run: &mut Run) {
             );
         }
     }
+    // Adaptive supersampling: on flat scenes `--aa adaptiveK` is `--aa ssK` at the same
+    // depth, byte for byte (docs/antialiasing.md, "Adaptive supersampling").
+    for k in [2, 4, 8] {
+        let family = format!("adaptive{k}");
+        if scene.shading != "flat" || run.plan.skips_family(&family) {
+            continue;
+        }
+        for d in run.depths(&family) {
+            let want_cmd = render(&format!("--aa ss{k}"), d);
+            let want = match draw(run.bins, run.dir, &want_cmd).frames {
+                Ok(f) => f,
+                Err(e) => {
+                    run.fail(&format!("{family}@{d}"), format!("ss{k}: {e}"), want_cmd);
+                    continue;
+                }
+            };
+            run.same(
+                &format!("{family}@{d}"),
+                &render(&format!("--aa adaptive{k}"), d),
+                &want,
+                &want_cmd,
+            );
+        }
+    }
     // The a-buffer: the same bytes at every depth; on layers of one depth each (nothing
     // intersects in depth), flat, exactly the 8×8 supersampled picture.
     if !run.plan.skips_family("abuf") {

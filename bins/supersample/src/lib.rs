@@ -22,7 +22,7 @@ use proto::shade::{Lighting, Shading};
 use proto::{Colour, Polygon};
 use scan::fine::{scaled, ActiveRows};
 use scan::frame::{push_row_runs_at, HiddenSurface};
-use scan::{Run, Span, SpanWalker};
+use scan::{BandWalk, Outline, Run, Span};
 use std::sync::Arc;
 
 /// No polygon has covered the sample yet.
@@ -46,8 +46,10 @@ pub struct Stats {
 pub struct Supersample {
     k: u32,
     background: Colour,
-    walker: SpanWalker,
+    walks: Walks,
     rows: ActiveRows,
+    /// The fine screen's height.
+    fine_h: u32,
     /// The frame's polygons on the fine screen, in stream order.
     fine: Vec<Polygon>,
     /// Per fine polygon, its Gouraud shading on the finer screen, if it has vertex
@@ -68,6 +70,14 @@ pub struct Supersample {
     /// span) in stream order; and the mixed pixels as runs of pixel indices.
     class: Vec<Class>,
     verdicts: Vec<Verdict>,
+    /// Adaptively, per pixel of the row: how many polygons touch it (two for one whose
+    /// depths are not all finite), how many of them cover it wholly, and the last of
+    /// those; the row's touches; and the pixels two or more polygons touch, as runs.
+    touched: Vec<u32>,
+    wholly: Vec<u32>,
+    coverer: Vec<u32>,
+    touches: Vec<Touch>,
+    contested: Vec<std::ops::Range<u32>>,
     spans: Vec<(u32, Span)>,
     mixed: Vec<std::ops::Range<u32>>,
     /// Per pixel of the row, the index of the first mixed run that ends after it.
@@ -88,8 +98,9 @@ impl Supersample {
         Ok(Supersample {
             k,
             background,
-            walker: SpanWalker::new(),
+            walks: Walks::default(),
             rows: ActiveRows::new(),
+            fine_h: 0,
             fine: Vec::new(),
             shading: Vec::new(),
             lighting: None,
@@ -99,6 +110,11 @@ impl Supersample {
             row: Vec::new(),
             adaptive: false,
             class: Vec::new(),
+            touched: Vec::new(),
+            wholly: Vec::new(),
+            coverer: Vec::new(),
+            touches: Vec::new(),
+            contested: Vec::new(),
             verdicts: Vec::new(),
             spans: Vec::new(),
             mixed: Vec::new(),
@@ -162,8 +178,9 @@ impl Supersample {
             self.owner[..len].fill(NONE);
             let (depth, owner, stats) = (&mut self.depth, &mut self.owner, &mut self.stats);
             for &i in active {
-                self.walker
-                    .for_each_span_in(&self.fine[i as usize], fine_w, band.clone(), |s| {
+                let p = &self.fine[i as usize];
+                self.walks
+                    .spans(i, p, fine_w, self.fine_h, band.clone(), |s| {
                         let (x0, x1) = (s.x0.max(fx0), s.x1.min(fx0 + n as u32));
                         sample(&s, i, x0..x1, fx0, n, band.start, depth, owner, stats);
                     });
@@ -265,16 +282,21 @@ impl Supersample {
     ) {
         let k = self.k;
         let pixels = (cols.end - cols.start) as usize;
-        self.class.clear();
-        self.class.resize(pixels, Class::default());
         self.spans.clear();
+        self.touches.clear();
+        for v in [&mut self.touched, &mut self.wholly] {
+            v.clear();
+            v.resize(pixels, 0);
+        }
+        self.coverer.resize(pixels, NONE);
         let (fx0, fx1) = (cols.start * k, cols.end * k);
         let shift = k.trailing_zeros();
         for &i in active {
             let from = self.spans.len();
             let spans = &mut self.spans;
-            self.walker
-                .for_each_span_in(&self.fine[i as usize], fine_w, band.clone(), |s| {
+            let p = &self.fine[i as usize];
+            self.walks
+                .spans(i, p, fine_w, self.fine_h, band.clone(), |s| {
                     if s.x0.max(fx0) < s.x1.min(fx1) {
                         spans.push((i, s));
                     }
@@ -309,21 +331,80 @@ impl Supersample {
                     (zmin, zmax) = (f64::NAN, f64::NAN);
                 }
             }
-            for c in t0..t1 {
-                let (x_first, x_last) = (fx0 + c * k, fx0 + c * k + k - 1);
-                let (near, far) = if dz >= 0.0 {
-                    (x_first, x_last)
-                } else {
-                    (x_last, x_first)
-                };
-                let lo = scan::depth_at(zmin, dz, near);
-                let hi = scan::depth_at(zmax, dz, far);
-                self.class[c as usize].touch(i, lo, hi, a <= c && c < b);
+            let touch = Touch {
+                i,
+                zmin,
+                zmax,
+                dz,
+                touched: t0..t1,
+                whole: a..b.max(a),
+            };
+            // A pixel this polygon alone touches is uniform exactly when the polygon
+            // covers it wholly at depths `Class::touch` can order (finite): its depth
+            // bounds are monotone across the row, so finite at the ends of its pixels
+            // means finite at all of them. Otherwise it counts twice, which sends its
+            // pixels to the depth test.
+            let finite = [t0, t1 - 1].iter().all(|&c| {
+                let (lo, hi) = touch.depths(c, fx0, k);
+                lo.is_finite() && hi.is_finite()
+            });
+            let weight = if finite { 1 } else { 2 };
+            for t in &mut self.touched[t0 as usize..t1 as usize] {
+                *t += weight;
+            }
+            let whole = touch.whole.start as usize..touch.whole.end as usize;
+            for w in &mut self.wholly[whole.clone()] {
+                *w += 1;
+            }
+            self.coverer[whole].fill(i);
+            self.touches.push(touch);
+        }
+        // The pixels one polygon touches are decided; those two or more touch are
+        // contested, the depth test's, kept as runs.
+        self.verdicts.clear();
+        self.contested.clear();
+        for c in 0..pixels {
+            let verdict = match self.touched[c] {
+                0 => Verdict::Empty,
+                1 if self.wholly[c] == 1 => Verdict::Uniform(self.coverer[c]),
+                1 => Verdict::Mixed,
+                _ => {
+                    let c = c as u32;
+                    match self.contested.last_mut() {
+                        Some(m) if m.end == c => m.end = c + 1,
+                        _ => self.contested.push(c..c + 1),
+                    }
+                    Verdict::Mixed
+                }
+            };
+            self.verdicts.push(verdict);
+        }
+        // The depth test of the contested pixels: every polygon that touches one, in
+        // stream order, as `Class::touch` takes them.
+        self.class.resize(pixels, Class::default());
+        for m in &self.contested {
+            self.class[m.start as usize..m.end as usize].fill(Class::default());
+        }
+        for touch in &self.touches {
+            let r = &touch.touched;
+            let first = self.contested.partition_point(|m| m.end <= r.start);
+            for m in self.contested[first..]
+                .iter()
+                .take_while(|m| m.start < r.end)
+            {
+                for c in m.start.max(r.start)..m.end.min(r.end) {
+                    let (lo, hi) = touch.depths(c, fx0, k);
+                    let whole = touch.whole.contains(&c);
+                    self.class[c as usize].touch(touch.i, lo, hi, whole);
+                }
             }
         }
-        // The verdicts, and the mixed pixels as runs for the sampling.
-        self.verdicts.clear();
-        self.verdicts.extend(self.class.iter().map(Class::verdict));
+        for m in &self.contested {
+            for c in m.start..m.end {
+                self.verdicts[c as usize] = self.class[c as usize].verdict();
+            }
+        }
+        // The mixed pixels as runs for the sampling.
         self.mixed.clear();
         self.next_mixed.clear();
         for (c, &verdict) in self.verdicts.iter().enumerate() {
@@ -338,6 +419,105 @@ impl Supersample {
             } else {
                 self.next_mixed.push(self.mixed.len() as u32);
             }
+        }
+    }
+}
+
+/// One polygon's reach in one pixel row, adaptively: its least and greatest `z_row` over
+/// the band's fine rows and its step, the pixels it touches and those it covers wholly
+/// (relative to the row's first column).
+#[derive(Clone, Debug)]
+struct Touch {
+    i: u32,
+    zmin: scan::Depth,
+    zmax: scan::Depth,
+    dz: scan::Depth,
+    touched: std::ops::Range<u32>,
+    whole: std::ops::Range<u32>,
+}
+
+impl Touch {
+    /// The least and greatest depth the fold can compute at pixel c's samples (`fx0`
+    /// the row's first fine column, K samples a side): `z_row + x·dz`, rounded twice, is
+    /// monotone in `z_row` and in `x`, so the bounds are the expression at the least and
+    /// greatest `z_row` and at the pixel's first and last sample column, exact.
+    #[inline]
+    fn depths(&self, c: u32, fx0: u32, k: u32) -> (scan::Depth, scan::Depth) {
+        let (x_first, x_last) = (fx0 + c * k, fx0 + c * k + k - 1);
+        let (near, far) = if self.dz >= 0.0 {
+            (x_first, x_last)
+        } else {
+            (x_last, x_first)
+        };
+        (
+            scan::depth_at(self.zmin, self.dz, near),
+            scan::depth_at(self.zmax, self.dz, far),
+        )
+    }
+}
+
+/// The frame's polygons walked down the fine screen, one [`BandWalk`] for each polygon
+/// the current band reaches (its Edge Table built once, not once a band): the active
+/// polygons' edges, never the screen.
+#[derive(Debug, Default)]
+struct Walks {
+    outline: Outline,
+    walks: Vec<BandWalk>,
+    /// The walks not in use.
+    free: Vec<u32>,
+    /// Per polygon of the frame, its walk, or [`UNSTARTED`] or [`WALKED`].
+    slot: Vec<u32>,
+}
+
+/// A polygon whose walk has not begun.
+const UNSTARTED: u32 = u32::MAX;
+/// A polygon walked to its last row.
+const WALKED: u32 = u32::MAX - 1;
+
+impl Walks {
+    /// A frame of `n` polygons.
+    fn start_frame(&mut self, n: usize) {
+        self.slot.clear();
+        self.slot.resize(n, UNSTARTED);
+        self.free.clear();
+        self.free.extend(0..self.walks.len() as u32);
+    }
+
+    /// Polygon `i`'s (`p`'s) spans on the `band` of a `width`×`height` screen, each
+    /// handed to `emit`; bands top to bottom, as [`BandWalk::for_each_span_in`] takes
+    /// them.
+    fn spans(
+        &mut self,
+        i: u32,
+        p: &Polygon,
+        width: u32,
+        height: u32,
+        band: std::ops::Range<u32>,
+        emit: impl FnMut(Span),
+    ) {
+        let at = match self.slot[i as usize] {
+            WALKED => return,
+            UNSTARTED => {
+                let at = self.free.pop().unwrap_or_else(|| {
+                    self.walks.push(BandWalk::new());
+                    self.walks.len() as u32 - 1
+                });
+                if !self.walks[at as usize].start(&mut self.outline, p, band.start..height) {
+                    self.free.push(at);
+                    self.slot[i as usize] = WALKED;
+                    return;
+                }
+                at
+            }
+            at => at,
+        };
+        let walk = &mut self.walks[at as usize];
+        walk.for_each_span_in(width, band, emit);
+        if walk.done() {
+            self.free.push(at);
+            self.slot[i as usize] = WALKED;
+        } else {
+            self.slot[i as usize] = at;
         }
     }
 }
@@ -473,6 +653,8 @@ impl HiddenSurface for Supersample {
         let fine_w = width * k;
         self.fine.clear();
         self.fine.extend(polygons.iter().map(|p| scaled(p, k)));
+        self.fine_h = height * k;
+        self.walks.start_frame(self.fine.len());
         self.shading.clear();
         let lighting = self.lighting.as_ref();
         self.shading

@@ -153,6 +153,13 @@ fn supersampling_is_zspec_samples_k() {
     holds(3, false, &["ss"]);
 }
 
+/// `--aa adaptive2`, `adaptive4`, `adaptive8` on flat scenes: `--aa ssK`'s bytes at the
+/// same depth.
+#[test]
+fn adaptive_supersampling_is_ss_on_flat_scenes() {
+    holds(6, false, &["adaptive"]);
+}
+
 /// `--aa abuf`: the same bytes at every depth; on layers of constant depth, flat,
 /// exactly the 8×8 supersampled picture.
 #[test]
