@@ -205,8 +205,7 @@ fn slurm(cli: &Cli, dir: &std::path::Path) -> stagecli::Result<()> {
     let path = dir.join("render.sbatch");
     let check = dir.join("check.sbatch");
     for (p, text) in [(&path, script), (&check, farm::check_script(&dir))] {
-        farm::write_whole(p, text.as_bytes())
-            .map_err(|e| Error::io(format!("cannot write {}: {e}", p.display())))?;
+        stagecli::whole::write_whole(p, text.as_bytes())?;
     }
     if cli.stats {
         eprintln!(
