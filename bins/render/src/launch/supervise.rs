@@ -821,9 +821,28 @@ mod tests {
             ),
             Outcome {
                 status: 2,
-                message: "a: bad\nrender: a failed (status 2)\n".into()
+                message: "a: bad\n".into()
             }
         );
+        // A stage that failed saying nothing, or not by a status of the house's: named.
+        for (script, status, said) in [
+            ("exit 3", 3, "render: a failed (status 3)\n"),
+            (
+                "echo a: panicked >&2; exit 101",
+                1,
+                "a: panicked\nrender: a failed (status 101)\n",
+            ),
+            ("kill -KILL $$", 1, "render: a failed (killed by SIGKILL)\n"),
+        ] {
+            assert_eq!(
+                two(script, "cat >/dev/null"),
+                Outcome {
+                    status,
+                    message: said.into()
+                },
+                "{script}"
+            );
+        }
     }
 
     /// `sh -c SCRIPT` as a stage labelled `label`.
@@ -900,7 +919,7 @@ mod tests {
             early.finish(full, Options::default()).unwrap(),
             Outcome {
                 status: 1,
-                message: "viewxf: line 1: bad\nrender: viewxf failed (status 1)\n".into()
+                message: "viewxf: line 1: bad\n".into()
             }
         );
     }
