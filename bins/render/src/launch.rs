@@ -34,9 +34,10 @@
 //! `--stats` lines.
 //!
 //! The plan of processes is [`plan`], the supervisor [`supervise`], what is told of
-//! the run [`report`].
+//! the run [`report`], the progress shown while it runs [`progress`].
 
 pub mod plan;
+pub mod progress;
 pub mod report;
 pub mod supervise;
 
