@@ -128,6 +128,8 @@ pub fn resolve<R: Read, W: Write>(
             out.write(&r.into())?;
         }
         out.write(&end)?;
+        // A leaf of render's that shows progress: this leaf's part of the frame is done.
+        stagecli::progress::frame_done();
     }
     out.flush()?;
     Ok(counts)

@@ -36,6 +36,7 @@ pub mod names;
 pub mod numbers;
 pub mod pieces;
 pub mod place;
+pub mod progress;
 pub mod project;
 pub mod remote;
 pub mod stats;

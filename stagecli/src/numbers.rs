@@ -81,6 +81,26 @@ where
     }
 }
 
+/// A parser of one of the whole numbers `values` (supersample's `--samples`: 1, 2, 4, 8
+/// or 16), which the message lists.
+pub fn one_of(
+    values: &'static [u32],
+) -> impl Fn(&str) -> Result<u32, String> + Clone + Send + Sync + 'static {
+    move |s: &str| {
+        let v = s.trim().parse::<u32>().ok().filter(|v| values.contains(v));
+        v.ok_or_else(|| {
+            let listed: Vec<String> = values.iter().map(u32::to_string).collect();
+            let list = match listed.split_last() {
+                Some((last, rest)) if !rest.is_empty() => {
+                    format!("{} or {last}", rest.join(", "))
+                }
+                _ => listed.concat(),
+            };
+            format!("`{}` is not {list}", Shown(s))
+        })
+    }
+}
+
 /// `s` as a finite number that `ok` takes; `what` says which those are (`a fraction from
 /// 0 to 1`), for a word that is not one, NaN, an infinity or a number out of range alike.
 fn in_range(s: &str, what: &str, ok: impl Fn(f64) -> bool) -> Result<f64, String> {
@@ -143,6 +163,14 @@ mod tests {
             cores("2.5"),
             Err("`2.5` is not a whole number from 1 to 4096".into())
         );
+        let samples = one_of(&[1, 2, 4, 8, 16]);
+        assert_eq!(samples("8"), Ok(8));
+        for bad in ["3", "-1", "32", "nan"] {
+            assert_eq!(
+                samples(bad),
+                Err(format!("`{bad}` is not 1, 2, 4, 8 or 16"))
+            );
+        }
         // A long word is cut in the message.
         let long = "9".repeat(1000);
         let e = positive(&format!("-{long}")).unwrap_err();

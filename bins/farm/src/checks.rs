@@ -114,7 +114,7 @@ impl Output {
         } else {
             frame.ppm()
         };
-        crate::files::write_whole(&path, &bytes).map_err(fail)
+        Ok(stagecli::whole::write_whole(&path, &bytes)?)
     }
 }
 

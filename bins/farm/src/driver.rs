@@ -3,7 +3,7 @@
 
 use crate::checks::{check_frames, frames_text, ChunkInfo, Frame, Output};
 use crate::cutter::{Chunk, Cutter};
-use crate::files::{make_folder, write_whole};
+use crate::files::make_folder;
 use crate::hosts::{login_lines, slots_in_sshloginfile, Logins};
 use crate::joblog::{chunk_arg, joblog_path, IDLE_ARG, JOBLOG_HEADER};
 use crate::report::report;
@@ -15,6 +15,7 @@ use crate::spool::{
 use crate::supervise::{finish, Outcome, STOP};
 use crate::watch::{HostWatch, HOSTS_FILE};
 use proto::{Reader, Token};
+use stagecli::whole::write_whole;
 use stagecli::{Error, Result};
 use std::collections::{BTreeMap, BTreeSet};
 use std::io::{BufReader, Read, Write};
@@ -143,12 +144,9 @@ where
     let dir = spool.path().to_path_buf();
     let joblog = joblog_given.clone().unwrap_or_else(|| dir.join("joblog"));
     if fresh_log {
-        write_whole(&joblog, JOBLOG_HEADER.as_bytes()).map_err(|e| {
-            Error::io(format!(
-                "cannot write the job log {}: {e}",
-                joblog.display()
-            ))
-        })?;
+        // The message names the file: `cannot write PATH: why`.
+        write_whole(&joblog, JOBLOG_HEADER.as_bytes())
+            .map_err(|e| Error::from(e).context("the job log"))?;
     }
     let joblog_from = count_bytes(&joblog) as usize;
     let shim = dir.join("ssh");

@@ -1,29 +1,7 @@
-//! farm's own files written whole: to a temporary name in the same folder, renamed when
-//! complete, so that a file under its name is never a cut one (a frame `--resume` and
-//! `--check` can trust, a render.sbatch Slurm can run).
+//! farm's folders, made where missing before its files are written (its files are
+//! written whole by `stagecli::whole`, as every binary's are).
 
-use std::io::Write;
 use std::path::Path;
-
-/// Writes `bytes` to `path` whole: a temporary file in `path`'s folder, renamed to `path`
-/// once written; on any failure the temporary is removed and `path` left as it was. The
-/// message is the one line of the failure, without the path.
-pub fn write_whole(path: &Path, bytes: &[u8]) -> Result<(), String> {
-    let dir = match path.parent() {
-        Some(d) if !d.as_os_str().is_empty() => d,
-        _ => Path::new("."),
-    };
-    let mut file = tempfile::Builder::new()
-        .prefix(".farm.")
-        .tempfile_in(dir)
-        .map_err(|e| stagecli::error::io_message(&e))?;
-    file.write_all(bytes)
-        .and_then(|()| file.flush())
-        .map_err(|e| stagecli::error::io_message(&e))?;
-    file.persist(path)
-        .map_err(|e| stagecli::error::io_message(&e.error))?;
-    Ok(())
-}
 
 /// Makes `dir` and the folders above it where missing; the message names it.
 pub fn make_folder(dir: &Path, what: &str) -> stagecli::Result<()> {
@@ -44,16 +22,20 @@ mod tests {
     use super::*;
 
     #[test]
-    fn a_file_is_written_whole_and_nothing_else_is_left() {
+    fn folders_are_made_and_a_file_in_the_way_is_named() {
         let dir = tempfile::tempdir().unwrap();
-        let path = dir.path().join("f.txt");
-        std::fs::write(&path, "old").unwrap();
-        write_whole(&path, b"new").unwrap();
-        assert_eq!(std::fs::read_to_string(&path).unwrap(), "new");
-        let names: Vec<_> = std::fs::read_dir(dir.path()).unwrap().flatten().collect();
-        assert_eq!(names.len(), 1);
-        // A folder that is not there: an error, nothing written.
-        let err = write_whole(&dir.path().join("none/f.txt"), b"x").unwrap_err();
-        assert!(err.contains("No such file or directory"), "{err}");
+        let deep = dir.path().join("a/b");
+        make_folder(&deep, "-o's folder").unwrap();
+        assert!(deep.is_dir());
+        let file = dir.path().join("f");
+        std::fs::write(&file, "").unwrap();
+        let err = make_folder(&file.join("c"), "-o's folder").unwrap_err();
+        assert_eq!(
+            err.message(),
+            format!(
+                "cannot make -o's folder {}: Not a directory",
+                file.join("c").display()
+            )
+        );
     }
 }

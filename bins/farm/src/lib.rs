@@ -70,7 +70,7 @@ mod checks;
 mod cutter;
 mod driver;
 mod files;
-pub use files::{make_folder, write_whole};
+pub use files::make_folder;
 mod hosts;
 mod joblog;
 mod report;

@@ -48,20 +48,21 @@ struct Cli {
     sshloginfile: Option<PathBuf>,
     /// Frames a chunk: each chunk is one job, one ssh session.
     #[arg(long, value_name = "N", default_value_t = farm::DEFAULT_CHUNK,
-          value_parser = clap::value_parser!(u64).range(1..))]
+          value_parser = stagecli::numbers::whole::<u64>(1, u64::MAX))]
     chunk: u64,
     /// Tries of a chunk, each on a host where it has not failed while there is one.
     #[arg(long, value_name = "N", default_value_t = farm::DEFAULT_RETRIES,
-          value_parser = clap::value_parser!(u32).range(1..))]
+          value_parser = stagecli::numbers::whole::<u32>(1, u32::MAX as u64))]
     retries: u32,
     /// Failed tries in a row after which a host gets no more chunks (while another host
     /// is left); its first failure is named at once.
     #[arg(long, value_name = "K", default_value_t = farm::DEFAULT_HOST_FAILURES,
-          value_parser = clap::value_parser!(u32).range(1..))]
+          value_parser = stagecli::numbers::whole::<u32>(1, u32::MAX as u64))]
     host_failures: u32,
     /// Seconds a host may send nothing (no frame byte, no message) before its try fails
     /// and its chunk is retried elsewhere; 0 waits for ever.
-    #[arg(long, value_name = "S", default_value_t = farm::DEFAULT_HOST_TIMEOUT)]
+    #[arg(long, value_name = "S", default_value_t = farm::DEFAULT_HOST_TIMEOUT,
+          value_parser = stagecli::numbers::whole::<u64>(0, u64::MAX))]
     host_timeout: u64,
     /// GNU parallel's job log (default: farm.joblog beside -o's files; with the frames
     /// on stdout, none kept).
@@ -84,7 +85,8 @@ struct Cli {
     #[arg(short = 'o', value_name = "PATTERN")]
     output: Option<String>,
     /// The number -o gives the movie's first frame.
-    #[arg(long, value_name = "N", default_value_t = 0, requires = "output")]
+    #[arg(long, value_name = "N", default_value_t = 0, requires = "output",
+          value_parser = stagecli::numbers::whole::<u64>(0, u64::MAX))]
     first_frame: u64,
     /// Also: per host, its frames, the bytes each way and the time; each failed try.
     #[arg(long)]
@@ -205,8 +207,7 @@ fn slurm(cli: &Cli, dir: &std::path::Path) -> stagecli::Result<()> {
     let path = dir.join("render.sbatch");
     let check = dir.join("check.sbatch");
     for (p, text) in [(&path, script), (&check, farm::check_script(&dir))] {
-        farm::write_whole(p, text.as_bytes())
-            .map_err(|e| Error::io(format!("cannot write {}: {e}", p.display())))?;
+        stagecli::whole::write_whole(p, text.as_bytes())?;
     }
     if cli.stats {
         eprintln!(

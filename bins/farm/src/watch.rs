@@ -3,10 +3,10 @@
 //! (parallel reads the file again when it changes, and starts no more chunks there), and
 //! a host silent for `--host-timeout` stopped, so that its chunk is retried elsewhere.
 
-use crate::files::write_whole;
 use crate::hosts::host_of_line;
 use crate::spool::tries_of;
-use stagecli::{Error, Result};
+use stagecli::whole::write_whole;
+use stagecli::Result;
 use std::collections::{BTreeMap, BTreeSet};
 use std::io::Write;
 use std::path::Path;
@@ -79,8 +79,7 @@ impl HostWatch {
         }
         for (name, text) in [("left", left), ("dropped", dropped), (HOSTS_FILE, text)] {
             let path = dir.join(name);
-            write_whole(&path, text.as_bytes())
-                .map_err(|e| Error::io(format!("cannot write {}: {e}", path.display())))?;
+            write_whole(&path, text.as_bytes())?;
         }
         Ok(())
     }

@@ -185,6 +185,7 @@ fn main() -> ExitCode {
                 }
             }
             frame += 1;
+            stagecli::progress::frame_done();
         }
         if let Some(reference) = &reference {
             let e = lines::line_error(&drawn, reference, args.stroke_width / 2.0);

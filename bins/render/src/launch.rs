@@ -12,8 +12,9 @@
 //!    graph's order (the `--stats` counts), and exits 0. When one fails, the stages
 //!    downstream of it fail in turn (their input ends short), so it waits a moment,
 //!    names the cause (one killed by a signal, else the most upstream to fail), stops
-//!    the rest (TERM, KILL a second later), writes only the cause's words and
-//!    `render: STAGE failed (status N)`, and exits with the stage's class of
+//!    the rest (TERM, KILL a second later), writes only the cause's words (its one
+//!    line, when it exited 1 to 3 and said why; else they and `render: STAGE failed
+//!    (status N)`), and exits with the stage's class of
 //!    failure (1 bad data, 2 usage, 3 I/O; otherwise 1). SIGINT, SIGTERM and SIGHUP stop
 //!    every stage, and it exits 130, 143 or 129.
 //!
@@ -33,9 +34,10 @@
 //! `--stats` lines.
 //!
 //! The plan of processes is [`plan`], the supervisor [`supervise`], what is told of
-//! the run [`report`].
+//! the run [`report`], the progress shown while it runs [`progress`].
 
 pub mod plan;
+pub mod progress;
 pub mod report;
 pub mod supervise;
 

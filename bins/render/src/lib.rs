@@ -378,12 +378,22 @@ fn run_inner<I: IntoIterator<Item = OsString>>(
         fed,
     };
     let host_timeout = host_timeout(&cli)?;
+    // Progress: asked for, or a terminal on stderr. The stages are told by their
+    // environment to report it (stagecli::progress); set here, before any thread or
+    // stage is started.
+    let progress = cli.progress || (!cli.no_progress && std::io::stderr().is_terminal());
+    if progress {
+        std::env::set_var(stagecli::progress::ENV, "1");
+    } else {
+        std::env::remove_var(stagecli::progress::ENV);
+    }
     let options = |depth: u32| launch::Options {
         host_timeout,
         depth,
         links: o.stats && !o.hosts.is_empty(),
         times: o.times,
         feed: None,
+        progress,
     };
     let graph_error = |e: launch::SpecError| Error::usage(format!("the graph: {e}"));
     // --depth auto's depth 0 without the model: a scene file too small for the tree to pay

@@ -224,6 +224,14 @@ pub struct Cli {
     /// ended, and their sums, on stderr.
     #[arg(long)]
     pub times: bool,
+    /// Show progress on stderr (frames done, frames a second, in a tree the leaves done
+    /// of the frame being made), also when stderr is not a terminal; by default only on
+    /// a terminal. The image never mixes with it.
+    #[arg(long, overrides_with = "no_progress")]
+    pub progress: bool,
+    /// No progress, also on a terminal.
+    #[arg(long, overrides_with = "progress")]
+    pub no_progress: bool,
     /// zbuf writes one file per frame (e.g. frame%04d.png) instead of stdout.
     #[arg(short = 'o', value_name = "PATTERN", allow_hyphen_values = true)]
     pub output: Option<String>,

@@ -56,14 +56,17 @@ struct Cli {
     /// Node K of a splitter tree (thesis 6.3) numbered as a heap (root 1, children 2K
     /// and 2K+1): the node bisects its region of the screen on a pixel boundary, levels
     /// alternating x then y; `--stats` names it `splitter x=K (node K)`.
-    #[arg(long, value_name = "K", requires_all = ["depth", "size"], conflicts_with = "plane")]
+    #[arg(long, value_name = "K", requires_all = ["depth", "size"], conflicts_with = "plane",
+          value_parser = stagecli::numbers::whole::<u32>(1, (1 << splitter::MAX_TREE_DEPTH) - 1))]
     node: Option<u32>,
     /// The tree's depth, for --node: nodes 1 to 2^N − 1 split.
-    #[arg(long, value_name = "N", requires = "node")]
+    #[arg(long, value_name = "N", requires = "node",
+          value_parser = stagecli::numbers::whole::<u32>(1, splitter::MAX_TREE_DEPTH as u64))]
     depth: Option<u32>,
     /// For --node: node K and the nodes below it, L levels deep, in this one process
     /// (default 1: node K alone); the outputs are those of the level L below K's.
-    #[arg(long, value_name = "L", requires = "node", default_value_t = 1)]
+    #[arg(long, value_name = "L", requires = "node", default_value_t = 1,
+          value_parser = stagecli::numbers::whole::<u32>(1, splitter::MAX_TREE_DEPTH as u64))]
     levels: u32,
     /// The screen's size in pixels, for --node and --project.
     #[arg(long, value_name = "WxH")]

@@ -24,7 +24,8 @@ use supersample::Supersample;
 #[command(name = "supersample", version, verbatim_doc_comment)]
 struct Args {
     /// K: samples a side of each pixel, 2, 4, 8 or 16 (1 is point sampling).
-    #[arg(long, value_name = "K", default_value_t = 4)]
+    #[arg(long, value_name = "K", default_value_t = 4,
+          value_parser = stagecli::numbers::one_of(&[1, 2, 4, 8, 16]))]
     samples: u32,
     /// K×K samples only in the pixels an edge, a silhouette or a crossing of two
     /// polygons touches, one polygon's colour elsewhere: the same bytes on flat polygons,

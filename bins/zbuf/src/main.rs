@@ -204,6 +204,7 @@ fn main() -> ExitCode {
                 }
             }
             progress.inc(1);
+            stagecli::progress::frame_done();
             Ok(())
         };
         // One input and pictures out: a screen-space input is resolved and painted in

@@ -11,6 +11,7 @@ mod leaf_resolve;
 mod movies;
 mod outputs;
 mod plain_ppm;
+mod progress;
 mod render_build;
 mod render_failures;
 mod render_graph;

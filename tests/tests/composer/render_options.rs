@@ -135,7 +135,8 @@ fn on_a_terminal_with_no_scene_the_example_is_drawn_and_said() {
     std::fs::create_dir_all(&dir).unwrap();
     let png = dir.join("example.png");
     let line = format!(
-        "POLYPIPE_LOAD=0 {} --size 32x32 --depth 1 -o {}",
+        // (Its progress, shown on a terminal, is the progress module's.)
+        "POLYPIPE_LOAD=0 {} --size 32x32 --depth 1 --no-progress -o {}",
         repo_root().join("scripts/render.sh").display(),
         png.display()
     );

@@ -428,8 +428,7 @@ fn an_unwritable_output_exits_3() {
         ),
         (
             "scripts/render.sh --size 4x4 -o /dev/null/dir/a.png T",
-            "zbuf: cannot write /dev/null/dir/a.png: Not a directory\n\
-             render: zbuf failed (status 3)\n",
+            "zbuf: cannot write /dev/null/dir/a.png: Not a directory\n",
         ),
     ];
     for &(cmd, message) in cases {
@@ -632,14 +631,21 @@ const NUMBERS: &[NumberCase] = &[
         &["--depth", "2", "--size", "8x8"],
         "--node",
         &["a", "b"],
-        &["-1", "nan"],
+        &["-1", "nan", "0", "2147483648"],
     ),
     (
         "splitter",
         &["--node", "1", "--size", "8x8"],
         "--depth",
         &["a", "b"],
-        &["-1"],
+        &["-1", "0", "32", "1.5"],
+    ),
+    (
+        "splitter",
+        &["--node", "1", "--depth", "2", "--size", "8x8"],
+        "--levels",
+        &["a", "b"],
+        &["-1", "0", "32"],
     ),
     (
         "zbuf",
@@ -649,7 +655,13 @@ const NUMBERS: &[NumberCase] = &[
         &["-3", "nan", "1.5"],
     ),
     ("zbuf", &[], "--background", &[], &["-1,0,0", "nan,0,0"]),
-    ("supersample", &[], "--samples", &[], &["-1", "nan"]),
+    (
+        "supersample",
+        &[],
+        "--samples",
+        &[],
+        &["-1", "nan", "0", "3", "32"],
+    ),
     ("supersample", &[], "--background", &[], &["-1,0,0"]),
     (
         "hiddenline",
@@ -716,7 +728,28 @@ const NUMBERS: &[NumberCase] = &[
         &["--hosts", "a"],
         "--retries",
         &["-", "--", "true"],
-        &["-1"],
+        &["-1", "0", "nan"],
+    ),
+    (
+        "farm",
+        &["--hosts", "a"],
+        "--host-failures",
+        &["-", "--", "true"],
+        &["-1", "0"],
+    ),
+    (
+        "farm",
+        &["--hosts", "a"],
+        "--host-timeout",
+        &["-", "--", "true"],
+        &["-1", "1.5", "inf"],
+    ),
+    (
+        "farm",
+        &["--hosts", "a", "-o", "f%03d.png"],
+        "--first-frame",
+        &["-", "--", "true"],
+        &["-3", "nan"],
     ),
     ("chart", &["-o", "x"], "--reps", &[], &["-1", "0"]),
     ("render", &[], "--size", &[], &["-5x5", "0x5"]),
@@ -762,6 +795,44 @@ fn every_numeric_option_refuses_bad_values_naming_itself() {
         (
             &["frames", "--from", "-1"],
             "frames: invalid value '-1' for '--from <A>': `-1` is not a whole number 0 or more\n",
+        ),
+        (
+            &[
+                "splitter", "--node", "1", "--size", "8x8", "--depth", "-1", "a", "b",
+            ],
+            "splitter: invalid value '-1' for '--depth <N>': `-1` is not a whole number \
+             from 1 to 31\n",
+        ),
+        (
+            &[
+                "splitter", "--node", "0", "--size", "8x8", "--depth", "2", "a", "b",
+            ],
+            "splitter: invalid value '0' for '--node <K>': `0` is not a whole number \
+             from 1 to 2147483647\n",
+        ),
+        (
+            &["supersample", "--samples", "-1"],
+            "supersample: invalid value '-1' for '--samples <K>': `-1` is not 1, 2, 4, 8 \
+             or 16\n",
+        ),
+        (
+            &["farm", "--hosts", "a", "--chunk", "-1", "-", "--", "true"],
+            "farm: invalid value '-1' for '--chunk <N>': `-1` is not a whole number \
+             1 or more\n",
+        ),
+        (
+            &[
+                "farm",
+                "--hosts",
+                "a",
+                "--host-timeout",
+                "-5",
+                "-",
+                "--",
+                "true",
+            ],
+            "farm: invalid value '-5' for '--host-timeout <S>': `-5` is not a whole number \
+             0 or more\n",
         ),
         (
             &["render", "--depth", "-1"],

@@ -54,7 +54,7 @@ fn a_screen_too_large_for_this_machine_is_refused_at_the_header() {
     );
     assert_eq!(out.status.code(), Some(3), "{}", stderr(&out));
     assert!(
-        stderr(&out).ends_with("render: zbuf failed (status 3)\n"),
+        stderr(&out).starts_with("zbuf: ") && stderr(&out).lines().count() == 1,
         "{}",
         stderr(&out)
     );

@@ -678,7 +678,10 @@ fn levels_refuses_a_subtree_outside_the_tree_or_the_wrong_outputs() {
     run(&[
         "--node", "1", "--depth", "3", "--levels", "0", "--size", "8x8", "a", "b",
     ])
-    .stderr(predicates::str::contains("--levels 0"));
+    .stderr(
+        "splitter: invalid value '0' for '--levels <L>': `0` is not a whole number from 1 \
+         to 31\n",
+    );
     run(&["--levels", "2", "x=0", "a", "b"]).stderr(predicates::str::contains("--node"));
     run(&[
         "--node", "1", "--depth", "2", "--levels", "2", "--size", "8x8", "-", "b", "-", "d",

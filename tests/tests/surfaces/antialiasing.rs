@@ -215,8 +215,7 @@ fn bad_samples_and_bad_input_are_refused() {
     assert_eq!(out.status.code(), Some(2));
     assert_eq!(
         String::from_utf8_lossy(&out.stderr),
-        "supersample: --samples 3 samples a side: K must be 1, 2, 4, 8 or 16 (a power of \
-         two, so that the finer screen is exact)\n"
+        "supersample: invalid value '3' for '--samples <K>': `3` is not 1, 2, 4, 8 or 16\n"
     );
     for method in ["abuf", "supersample --samples 4"] {
         let out = sh(method, b"polypipe 1 screen 4 4\ncolour 1 2\n");

@@ -430,9 +430,17 @@ impl Ended<'_> {
                 message,
             };
         }
+        // A stage that ended with a status of the house's (1 to 3) and said why has
+        // said it in one line naming itself: that line is the message. One that said
+        // nothing, died of a signal or ended otherwise (a panic's 101) is named here.
+        let own = (1..=3).contains(&st) && !said.trim().is_empty();
         Outcome {
             status: if (1..=3).contains(&st) { st as u8 } else { 1 },
-            message: format!("{said}{me}: {} failed ({})\n", stage.label, describe(st)),
+            message: if own {
+                said.clone()
+            } else {
+                format!("{said}{me}: {} failed ({})\n", stage.label, describe(st))
+            },
         }
     }
 }

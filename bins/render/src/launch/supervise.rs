@@ -38,6 +38,9 @@ pub struct Options {
     pub times: bool,
     /// The stage that reads the launcher's stdin reads this instead.
     pub feed: Option<Feed>,
+    /// Show progress on stderr ([`super::progress`]); the stages are told to report it
+    /// by the environment render sets for them (`POLYPIPE_PROGRESS`).
+    pub progress: bool,
 }
 
 fn os_error(what: &str) -> std::io::Error {
@@ -97,6 +100,11 @@ struct Running {
     signals: OwnedFd,
     /// For a stage on a host: when it last sent anything ([`Heard`]).
     heard: Vec<Option<Arc<Heard>>>,
+    /// Where each stage's unread progress lines begin in `said`, and the frames it has
+    /// said it finished ([`stagecli::progress`]).
+    marks_from: Vec<usize>,
+    frames: Vec<u64>,
+    shown: Option<super::progress::Shown>,
 }
 
 impl Running {
@@ -166,6 +174,13 @@ impl Running {
                 self.said[i].extend_from_slice(&buf[..got as usize]);
                 if let Some(h) = &self.heard[i] {
                     h.now();
+                }
+                let done = stagecli::progress::take(&mut self.said[i], &mut self.marks_from[i]);
+                if done > 0 {
+                    self.frames[i] += done;
+                    if let Some(shown) = &self.shown {
+                        shown.update(&self.frames);
+                    }
                 }
             } else if got == 0
                 || std::io::Error::last_os_error().raw_os_error() != Some(libc::EINTR)
@@ -367,6 +382,9 @@ pub fn start(stages: Vec<Stage>, feed: Option<Feed>, me: &str) -> Result<Early, 
         signals,
         stages,
         heard: Vec::new(),
+        marks_from: vec![0; n],
+        frames: vec![0; n],
+        shown: None,
     };
     let mut ends = Ends::new(n);
     let mut pending = Vec::new();
@@ -503,6 +521,8 @@ impl Early {
         run.errs.resize_with(n, || None);
         run.said.resize(n, Vec::new());
         run.fds.resize(n, Vec::new());
+        run.marks_from.resize(n, 0);
+        run.frames.resize(n, 0);
         run.heard = heard;
         if let Err(e) = made {
             run.stop_all();
@@ -625,9 +645,21 @@ impl Running {
         })
     }
 
-    /// Watches every stage to its end, and says how the run ended.
+    /// Watches every stage to its end, and says how the run ended; the progress shown
+    /// meanwhile, when asked, is ended before the outcome is told.
     fn watch(mut self, options: &Options, me: &str) -> Result<Outcome, SpecError> {
-        let run = &mut self;
+        if options.progress {
+            self.shown = Some(super::progress::Shown::new(&self.stages, me));
+        }
+        let outcome = self.watch_to_end(options, me);
+        if let Some(shown) = self.shown.take() {
+            shown.end(matches!(&outcome, Ok(o) if o.status == 0));
+        }
+        outcome
+    }
+
+    fn watch_to_end(&mut self, options: &Options, me: &str) -> Result<Outcome, SpecError> {
+        let run = self;
         let n = run.stages.len();
         // Watch. The first failure starts a short wait for the stages it brings down.
         let mut failed_at: Option<Instant> = None;
@@ -821,9 +853,28 @@ mod tests {
             ),
             Outcome {
                 status: 2,
-                message: "a: bad\nrender: a failed (status 2)\n".into()
+                message: "a: bad\n".into()
             }
         );
+        // A stage that failed saying nothing, or not by a status of the house's: named.
+        for (script, status, said) in [
+            ("exit 3", 3, "render: a failed (status 3)\n"),
+            (
+                "echo a: panicked >&2; exit 101",
+                1,
+                "a: panicked\nrender: a failed (status 101)\n",
+            ),
+            ("kill -KILL $$", 1, "render: a failed (killed by SIGKILL)\n"),
+        ] {
+            assert_eq!(
+                two(script, "cat >/dev/null"),
+                Outcome {
+                    status,
+                    message: said.into()
+                },
+                "{script}"
+            );
+        }
     }
 
     /// `sh -c SCRIPT` as a stage labelled `label`.
@@ -900,7 +951,7 @@ mod tests {
             early.finish(full, Options::default()).unwrap(),
             Outcome {
                 status: 1,
-                message: "viewxf: line 1: bad\nrender: viewxf failed (status 1)\n".into()
+                message: "viewxf: line 1: bad\n".into()
             }
         );
     }
