@@ -13,6 +13,7 @@
 //! command line, whose subcommands' arguments and bodies are in [`cli`] because `chart
 //! choose-depth` shares them.
 
+pub mod accuracy;
 pub mod cache;
 pub mod calibrate;
 pub mod cli;
