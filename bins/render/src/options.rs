@@ -200,6 +200,11 @@ pub struct Cli {
     /// or abuf (Carpenter's a-buffer).
     #[arg(long, value_name = "MODE", default_value = "none")]
     pub aa: String,
+    /// Choose --aa and --depth: the cheapest predicted to keep the RMS error against the
+    /// 16×16 reference (zspec --samples 16) within E levels (0–255; 0: the reference's
+    /// own bytes). --stats says the choice and its predictions (docs/model.md).
+    #[arg(long, value_name = "E", value_parser = crate::budget::parse)]
+    pub max_error: Option<f64>,
     /// With --merge buffer: one fragment per pixel (the thesis's quadruplets) instead of
     /// spans.
     #[arg(long)]
