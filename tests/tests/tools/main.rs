@@ -7,5 +7,6 @@
 mod bench_scripts;
 mod chart_cli;
 mod chart_sh;
+mod max_error;
 mod plan;
 mod static_pie;
