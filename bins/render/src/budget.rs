@@ -13,13 +13,6 @@ use crate::options::{Cli, Options, Scene};
 use costmodel::accuracy::{self, Accuracy, Colours};
 use stagecli::Error;
 
-/// `--max-error E`'s parser: stagecli's finite number from 0 to 255, in render's words
-/// (the message follows the option's name and comes before the value).
-pub fn parse(s: &str) -> Result<f64, String> {
-    stagecli::numbers::between(0.0, 255.0)(s)
-        .map_err(|_| "must be a number from 0 to 255 (RMS levels)".to_string())
-}
-
 /// `--max-error E` with the other options: a usage error for those it cannot combine with.
 pub fn check(cli: &Cli) -> Result<(), Error> {
     let Some(e) = cli.max_error else {
