@@ -111,7 +111,9 @@ pub fn constants(
 
 /// What `plan depth` and `plan predict` share: the constants (and a note when they are
 /// not this machine's), the look at the scene, and the target.
-fn setup(a: &DepthArgs) -> Result<(Constants, Option<String>, State, look::Environment, Target)> {
+pub fn setup(
+    a: &DepthArgs,
+) -> Result<(Constants, Option<String>, State, look::Environment, Target)> {
     let root = root_dir(a.root.clone())?;
     let bin = bin_dir()?;
     let (k, note, state) = constants(a.model.as_deref(), &root, &bin)?;

@@ -14,6 +14,7 @@
 //! choose-depth` shares them. Its errors are one type, [`Error`], whose kind is a
 //! command's exit status.
 
+pub mod accuracy;
 pub mod cache;
 pub mod calibrate;
 pub mod cli;

@@ -2,6 +2,8 @@
 //! depth`, `plan predict`), the calibration (`plan calibrate`) and the thesis's figures
 //! (`plan thesis`).
 
+mod accuracy;
+
 use clap::{Parser, Subcommand};
 use costmodel::{cache, say, Result};
 use std::path::PathBuf;
@@ -56,6 +58,21 @@ enum Sub {
         #[arg(long, value_name = "DIR")]
         root: Option<PathBuf>,
     },
+    /// Prints each sampling mode's (--aa) predicted time, RMS error against the 16×16
+    /// reference and share of pixels wrong on a scene, and what `render --max-error E`
+    /// chooses for E of 0, 1, 4 and 16 (docs/model.md, "Accuracy").
+    Accuracy(Box<costmodel::cli::DepthArgs>),
+    /// Fits the error model to renders of generated scenes (every mode against `zspec
+    /// --samples 16`) and keeps it in ${XDG_CACHE_HOME:-$HOME/.cache}/polypipe/accuracy.toml.
+    AccuracyFit {
+        /// Write the fit here instead (bench/accuracy.toml is the repository's).
+        #[arg(long, value_name = "FILE")]
+        out: Option<PathBuf>,
+    },
+    /// Checks `render --max-error E` (E of 0, 1, 4, 16) on scenes the fit never saw:
+    /// every configuration tried, the choice's measured error and time beside the
+    /// cheapest configuration that met E; a row a case and a summary.
+    MaxErrorCheck(accuracy::CheckArgs),
     /// Says whether this machine is calibrated, and where the calibration is kept.
     Status,
     /// Thesis 5.2's stage timings on its T424-20 from its own constants, beside its
@@ -102,6 +119,9 @@ fn main() -> ExitCode {
                 background,
                 root,
             } => calibrate(quick, background, root),
+            Sub::Accuracy(a) => accuracy::report(&a).and_then(|t| say(&t)),
+            Sub::AccuracyFit { out } => accuracy::fit(out).and_then(|t| say(&t)),
+            Sub::MaxErrorCheck(a) => accuracy::check(&a).and_then(|(_, t)| say(&t)),
             Sub::Status => status(),
             Sub::Thesis => say(&costmodel::thesis::report()),
         };

@@ -13,6 +13,7 @@
 //! SIGTERM. Nothing is left running or on disk on any way out.
 
 pub mod auto;
+pub mod budget;
 pub mod fresh;
 pub mod graph;
 pub mod launch;
@@ -356,6 +357,7 @@ fn run_inner<I: IntoIterator<Item = OsString>>(
             "--first-frame numbers -o's files: it needs -o",
         ));
     }
+    budget::check(&cli)?;
     let o = cli.validate_in(table, hosts, stdin_gives_no_scene().is_some())?;
     options::check_scene(&o.scene)?;
     if !Path::new("/proc/self/stat").exists() {
@@ -365,6 +367,17 @@ fn run_inner<I: IntoIterator<Item = OsString>>(
     check_binaries(&o, &bin, from_env)?;
     tell_example(&o);
     let root = repository();
+    // --max-error: the sampling mode and depth chosen, and said, before anything starts.
+    let o = match cli.max_error {
+        Some(e) => {
+            let chosen = budget::choose(&o, e, &root, &bin);
+            if o.stats {
+                let _ = writeln!(std::io::stderr(), "{ME}: {}", chosen.said);
+            }
+            budget::apply(o, &chosen, table)
+        }
+        None => o,
+    };
     let fixed = match o.depth {
         Some(d) => Some(d),
         None if o.hidden_line || o.subtree.is_some() => Some(0),

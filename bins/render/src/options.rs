@@ -80,6 +80,13 @@ impl std::fmt::Display for Depth {
     }
 }
 
+/// `--max-error E`: stagecli's finite number from 0 to 255, in render's words (the
+/// message follows the option's name and comes before the value).
+fn max_error(s: &str) -> Result<f64, String> {
+    stagecli::numbers::between(0.0, 255.0)(s)
+        .map_err(|_| "must be a number from 0 to 255 (RMS levels)".to_string())
+}
+
 /// `--depth N|auto`. The message follows the option's name and comes before the value
 /// ([`usage_message`]).
 fn tree_depth(s: &str) -> Result<Depth, String> {
@@ -200,6 +207,11 @@ pub struct Cli {
     /// or abuf (Carpenter's a-buffer).
     #[arg(long, value_name = "MODE", default_value = "none")]
     pub aa: String,
+    /// Choose --aa and --depth: the cheapest predicted to keep the RMS error against the
+    /// 16×16 reference (zspec --samples 16) within E levels (0–255; 0: the reference's
+    /// own bytes). --stats says the choice and its predictions (docs/model.md).
+    #[arg(long, value_name = "E", value_parser = max_error)]
+    pub max_error: Option<f64>,
     /// With --merge buffer: one fragment per pixel (the thesis's quadruplets) instead of
     /// spans.
     #[arg(long)]

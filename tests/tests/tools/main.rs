@@ -7,6 +7,7 @@
 mod bench;
 mod chart_cli;
 mod chart_sh;
+mod max_error;
 mod plan;
 mod script_names;
 mod static_pie;
