@@ -23,12 +23,6 @@ pub struct Scene {
     pub name: String,
     pub width: u32,
     pub height: u32,
-    /// Whether its frames are measured against the 16×16 reference too (`rmse`,
-    /// `edge_rmse`). zspec's supersampled reference tests 256 samples in every pixel of
-    /// every polygon's bounding box: minutes on the hard scenes (a stack, crossing
-    /// planes, slivers whose boxes span the screen), which are measured against the
-    /// point-sampled reference alone (`error_fraction`; `rmse` is then NaN).
-    pub supersampled: bool,
 }
 
 impl Scene {
@@ -59,7 +53,6 @@ impl Scene {
             name,
             width,
             height,
-            supersampled: true,
         })
     }
 
@@ -84,17 +77,48 @@ pub struct Row {
     /// Polygons in the scene (all frames).
     pub polygons: u64,
     pub frames: u64,
+    /// The medians of the timed runs: wall seconds of the whole render, start-up
+    /// included, and CPU seconds of its process tree.
     pub wall_s: f64,
     pub cpu_s: f64,
+    /// The time the figures plot: the median CPU seconds (`cpu_s`) less the start-up
+    /// (`startup_s`), at least 0, and the least and the most of the runs less the same
+    /// start-up (the spread bar). CPU, not wall: on a machine shared with other work a
+    /// run's wall time is mostly its wait for a core.
+    #[serde(default)]
+    pub time_s: f64,
+    #[serde(default)]
+    pub time_lo_s: f64,
+    #[serde(default)]
+    pub time_hi_s: f64,
+    /// The start-up: the median CPU seconds of the same render (method, depth, screen,
+    /// input form) of an empty scene, timed between the scene's runs; and its share of
+    /// `cpu_s`.
+    #[serde(default)]
+    pub startup_s: f64,
+    #[serde(default)]
+    pub startup_share: f64,
+    /// Timed runs, interleaved with the other methods' on the scene.
+    #[serde(default)]
+    pub runs: u32,
     /// Peak memory of the whole process tree, KiB: the sum of its processes' own peaks
     /// (`VmHWM`, sampled from /proc), in the first of the timed runs.
     pub max_rss_kib: u64,
-    /// Pixels differing from `zspec`, over all pixels.
-    pub error_fraction: f64,
+    /// Pixels differing from the point-sampled reference (`zspec`), over all pixels;
+    /// empty for a hidden-line method.
+    pub error_fraction: Option<f64>,
     /// RMS error (0–255, three channels) over the edge pixels against `zspec --samples 16`.
     pub edge_rmse: Option<f64>,
-    /// RMS error over all pixels against `zspec --samples 16`: the chart's accuracy axis.
-    pub rmse: f64,
+    /// RMS error over all pixels against `zspec --samples 16` (0–255): the first figure's
+    /// accuracy axis; empty for a hidden-line method (a drawing of lines, not of the
+    /// picture).
+    #[serde(alias = "rmse")]
+    pub rms_16x16: Option<f64>,
+    /// A point-sampling method's visibility error: % of pixels whose visible polygon
+    /// differs from the exact point-sampled reference ([`crate::visibility`]); empty for
+    /// the anti-aliasing and hidden-line methods.
+    #[serde(default)]
+    pub visibility_error: Option<f64>,
     /// The scene's environment statistics, a frame ([`crate::stats`]): edges E_t, depth
     /// complexity Dc, and its visible complexity (polygons owning a pixel, segments on
     /// the scan lines, and those a scan line).
@@ -110,16 +134,26 @@ pub struct Row {
     pub segments_per_line: f64,
     /// A hidden-line method's drawing (empty for the others): the pieces of edges and of
     /// lines of intersection it drew (`<line>`s in its SVGs, all frames), those of them
-    /// lines of intersection, and their length in pixels. The two hidden-line methods
-    /// have no pixels to compare with `zspec`; where they agree, these agree (the
-    /// continuous method's exact pieces against Archuleta's, whose ends fall between
-    /// scan lines).
+    /// lines of intersection, and their length in pixels.
     #[serde(default)]
     pub line_pieces: Option<u64>,
     #[serde(default)]
     pub intersection_pieces: Option<u64>,
     #[serde(default)]
     pub line_length_px: Option<f64>,
+    /// A hidden-line method's line error, pixels, all frames ([`lines::line_error`]): the
+    /// length of the exact drawing (`--hidden-line-method continuous`) that no drawn line
+    /// comes within half a pixel of, plus the length drawn that comes within half a pixel
+    /// of none of it, intersection lines included.
+    #[serde(default)]
+    pub line_error_px: Option<f64>,
+}
+
+impl Row {
+    /// The RMS error against the 16×16 reference, NaN where there is none.
+    pub fn rms(&self) -> f64 {
+        self.rms_16x16.unwrap_or(f64::NAN)
+    }
 }
 
 /// What a hidden-line drawing holds: its pieces, those of them lines of intersection, and
@@ -255,11 +289,11 @@ pub struct Setup {
 }
 
 /// The references of a scene, made once and kept in `DIR/refs` (remade when the scene is
-/// newer).
+/// newer): the point-sampled picture, the 16×16 one and its edge mask.
 struct References {
     point: PathBuf,
-    /// The 16×16 reference and its edge mask, where the scene has them.
-    sixteen: Option<(PathBuf, PathBuf)>,
+    sixteen: PathBuf,
+    mask: PathBuf,
 }
 
 fn newer(a: &Path, b: &Path) -> bool {
@@ -302,12 +336,8 @@ impl Setup {
         let stem = format!("{}-{}", scene.name, scene.size());
         let r = References {
             point: dir.join(format!("{stem}.ref1.ppm")),
-            sixteen: scene.supersampled.then(|| {
-                (
-                    dir.join(format!("{stem}.ref16.ppm")),
-                    dir.join(format!("{stem}.mask.ppm")),
-                )
-            }),
+            sixteen: dir.join(format!("{stem}.ref16.ppm")),
+            mask: dir.join(format!("{stem}.mask.ppm")),
         };
         let err = dir.join("zspec.err");
         if newer(&scene.path, &r.point) {
@@ -319,20 +349,55 @@ impl Setup {
                 &err,
             )?;
         }
-        if let Some((sixteen, mask)) = &r.sixteen {
-            if newer(&scene.path, sixteen) || newer(&scene.path, mask) {
-                quiet(
-                    Command::new(self.bin.join("zspec"))
-                        .args(["--samples", "16", "--edge-mask"])
-                        .arg(mask)
-                        .args(["--size", &scene.size()])
-                        .arg(&scene.path)
-                        .stdout(File::create(sixteen)?),
-                    &err,
-                )?;
-            }
+        if newer(&scene.path, &r.sixteen) || newer(&scene.path, &r.mask) {
+            quiet(
+                Command::new(self.bin.join("zspec"))
+                    .args(["--samples", "16", "--edge-mask"])
+                    .arg(&r.mask)
+                    .args(["--size", &scene.size()])
+                    .arg(&scene.path)
+                    .stdout(File::create(&r.sixteen)?),
+                &err,
+            )?;
         }
         Ok(r)
+    }
+
+    /// The scene in its own colours ([`crate::visibility`]), made once into `DIR/refs`.
+    fn coloured(&self, scene: &Scene) -> Result<Scene> {
+        let dir = self.refs_dir();
+        std::fs::create_dir_all(&dir)?;
+        let path = dir.join(format!("{}.coloured.pp", scene.name));
+        if newer(&scene.path, &path) {
+            crate::visibility::recolour(&scene.path, &path)?;
+        }
+        Ok(Scene {
+            path,
+            ..scene.clone()
+        })
+    }
+
+    /// An empty scene (no polygons, one frame) in the form `input` reads, for the
+    /// start-up runs: text, or binary (the coloured scenes are binary).
+    fn empty(&self, input: Input) -> Result<PathBuf> {
+        let dir = self.refs_dir();
+        let text = dir.join("empty.txt");
+        if !text.exists() {
+            std::fs::write(&text, "polypipe 1 world\nEND\n")?;
+        }
+        if input == Input::Text {
+            return Ok(text);
+        }
+        let binary = dir.join("empty.pp");
+        if !binary.exists() {
+            quiet(
+                Command::new(self.bin.join("frames"))
+                    .arg(&text)
+                    .stdout(File::create(&binary)?),
+                &dir.join("frames.err"),
+            )?;
+        }
+        Ok(binary)
     }
 
     /// The scene in the form a variant reads (rewritten with `frames` into `DIR/refs`).
@@ -355,54 +420,93 @@ impl Setup {
         Ok(path)
     }
 
-    /// Runs one method at one depth, `reps` times, and measures its frames.
-    fn run(
+    /// One render of `input` by `method` at `depth` on the scene's screen, timed: the
+    /// first (`first`) writes its frames to `frames` (or its SVGs to `lines-%d.svg`) and
+    /// sums its stages' peaks (`--times`), the others write nowhere.
+    fn time_once(
+        &self,
+        scene: &Scene,
+        input: &Path,
+        method: &Method,
+        depth: u8,
+        first: bool,
+    ) -> Result<Usage> {
+        let err = self.work.join("render.err");
+        let mut cmd = Command::new(&self.render);
+        cmd.args(["--size", &scene.size(), "--depth", &depth.to_string()])
+            .args(method.options)
+            .arg(input);
+        if method.draws == Draws::Lines {
+            let name = if first {
+                "lines-%d.svg"
+            } else {
+                "scratch-%d.svg"
+            };
+            cmd.arg("-o")
+                .arg(self.work.join(name))
+                .stdout(Stdio::null());
+        } else if first {
+            cmd.stdout(File::create(self.work.join("frames.ppm"))?);
+        } else {
+            cmd.stdout(Stdio::null());
+        }
+        // The first run's memory is the tree's: render's `--times` sums the peaks that
+        // its launcher's wait4 gave each stage (a sampler of /proc misses the stages of a
+        // render of a few milliseconds); the others run without it.
+        if first {
+            cmd.arg("--times");
+        }
+        let mut usage = quiet(&mut cmd, &err)
+            .with_context(|| format!("{} at depth {depth} on {}", method.name, scene.name))?;
+        if first {
+            let said = std::fs::read_to_string(&err).unwrap_or_default();
+            if let Some(kib) = peaks_kib(&said) {
+                usage.max_rss_kib = kib;
+            }
+        }
+        Ok(usage)
+    }
+
+    /// The exact hidden-line drawing of a scene (`--hidden-line-method continuous`), an
+    /// SVG's pieces a frame, for the line error; drawn once a scene, untimed.
+    fn exact_lines(&self, scene: &Scene, frames: u64) -> Result<Vec<Vec<lines::Segment>>> {
+        let err = self.work.join("render.err");
+        quiet(
+            Command::new(&self.render)
+                .args(["--size", &scene.size(), "--hidden-line"])
+                .args(["--hidden-line-method", "continuous", "-o"])
+                .arg(self.work.join("exact-%d.svg"))
+                .arg(&scene.path)
+                .stdout(Stdio::null()),
+            &err,
+        )
+        .with_context(|| format!("the exact hidden-line drawing of {}", scene.name))?;
+        let mut all = Vec::new();
+        for frame in 0..frames.max(1) {
+            let path = self.work.join(format!("exact-{frame}.svg"));
+            let text = std::fs::read_to_string(&path)
+                .with_context(|| format!("{}: {}", scene.name, path.display()))?;
+            all.push(lines::read_svg(&text).map_err(|e| anyhow!(e))?);
+            let _ = std::fs::remove_file(&path);
+        }
+        Ok(all)
+    }
+
+    /// The row of a run whose first render wrote its frames (or drawings): its frames
+    /// measured against the references, or its drawing counted and scored against the
+    /// exact one. The times are filled in by [`finish`].
+    #[allow(clippy::too_many_arguments)]
+    fn measured(
         &self,
         scene: &Scene,
         env: &Environment,
         stats: &Stats,
         refs: &References,
+        exact: &mut Option<Vec<Vec<lines::Segment>>>,
         method: &Method,
         depth: u8,
+        first: Usage,
     ) -> Result<Row> {
-        let input = self.input(scene, method.input)?;
-        let frames = self.work.join("frames.ppm");
-        // A hidden-line method's drawing: an SVG a frame, numbered from 0.
-        let svg = |frame: u64| self.work.join(format!("lines-{frame}.svg"));
-        let err = self.work.join("render.err");
-        let mut runs = Vec::new();
-        for rep in 0..self.reps.max(1) {
-            let mut cmd = Command::new(&self.render);
-            cmd.args(["--size", &scene.size(), "--depth", &depth.to_string()])
-                .args(method.options)
-                .arg(&input);
-            if method.draws == Draws::Lines {
-                cmd.arg("-o")
-                    .arg(self.work.join("lines-%d.svg"))
-                    .stdout(Stdio::null());
-            } else if rep == 0 {
-                cmd.stdout(File::create(&frames)?);
-            } else {
-                cmd.stdout(Stdio::null());
-            }
-            // The first run's memory is the tree's: render's `--times` sums the peaks
-            // that its launcher's wait4 gave each stage (a sampler of /proc misses the
-            // stages of a render of a few milliseconds); the others run without it.
-            if rep == 0 {
-                cmd.arg("--times");
-            }
-            let mut usage = quiet(&mut cmd, &err)
-                .with_context(|| format!("{} at depth {depth} on {}", method.name, scene.name))?;
-            if rep == 0 {
-                let said = std::fs::read_to_string(&err).unwrap_or_default();
-                if let Some(kib) = peaks_kib(&said) {
-                    usage.max_rss_kib = kib;
-                }
-            }
-            runs.push(usage);
-        }
-        let usage = measure::median(&runs);
-        let max_rss_kib = runs[0].max_rss_kib;
         let mut row = Row {
             scene: scene.name.clone(),
             method: method.name.to_string(),
@@ -410,12 +514,19 @@ impl Setup {
             size: scene.size(),
             polygons: env.polygons,
             frames: env.frames,
-            wall_s: usage.wall_s,
-            cpu_s: usage.cpu_s,
-            max_rss_kib,
-            error_fraction: f64::NAN,
+            wall_s: 0.0,
+            cpu_s: 0.0,
+            time_s: 0.0,
+            time_lo_s: 0.0,
+            time_hi_s: 0.0,
+            startup_s: 0.0,
+            startup_share: 0.0,
+            runs: 0,
+            max_rss_kib: first.max_rss_kib,
+            error_fraction: None,
             edge_rmse: None,
-            rmse: f64::NAN,
+            rms_16x16: None,
+            visibility_error: None,
             edges: stats.edges,
             depth_complexity: stats.depth_complexity,
             visible_polygons: stats.visible_polygons,
@@ -424,33 +535,43 @@ impl Setup {
             line_pieces: None,
             intersection_pieces: None,
             line_length_px: None,
+            line_error_px: None,
         };
         if method.draws == Draws::Lines {
-            // No pixels to compare with zspec (the error stays NaN): the drawing's
-            // pieces and length instead.
+            if exact.is_none() {
+                *exact = Some(self.exact_lines(scene, env.frames)?);
+            }
+            let reference = exact.as_ref().map_or(&[][..], |e| &e[..]);
             let mut lines = Lines::default();
+            let mut error_px = 0.0;
             for frame in 0..env.frames.max(1) {
-                let path = svg(frame);
+                let path = self.work.join(format!("lines-{frame}.svg"));
                 let text = std::fs::read_to_string(&path).with_context(|| {
                     format!("{} on {}: {}", method.name, scene.name, path.display())
                 })?;
                 lines.add_svg(&text)?;
+                let pieces = lines::read_svg(&text).map_err(|e| anyhow!(e))?;
+                let exact_frame = reference.get(frame as usize).map_or(&[][..], |p| &p[..]);
+                error_px += lines::line_error(&pieces, exact_frame, 0.5).total_px();
                 let _ = std::fs::remove_file(&path);
             }
             row.line_pieces = Some(lines.pieces);
             row.intersection_pieces = Some(lines.intersections);
             row.line_length_px = Some(lines.length_px);
+            row.line_error_px = Some(error_px);
             return Ok(row);
         }
+        let frames = self.work.join("frames.ppm");
         let point = self.compare(&refs.point, &frames, None)?;
-        let sixteen = match &refs.sixteen {
-            Some((reference, mask)) => Some(self.compare(reference, &frames, Some(mask))?),
-            None => None,
-        };
+        let sixteen = self.compare(&refs.sixteen, &frames, Some(&refs.mask))?;
         let _ = std::fs::remove_file(&frames);
-        row.error_fraction = point.differing as f64 / point.pixels.max(1) as f64;
-        row.edge_rmse = sixteen.and_then(|c| c.edge_rmse);
-        row.rmse = sixteen.map_or(f64::NAN, |c| c.rmse);
+        let fraction = point.differing as f64 / point.pixels.max(1) as f64;
+        row.error_fraction = Some(fraction);
+        row.edge_rmse = sixteen.edge_rmse;
+        row.rms_16x16 = Some(sixteen.rmse);
+        if !matches!(method.selector, ::methods::Selector::Aa(_)) {
+            row.visibility_error = Some(100.0 * fraction);
+        }
         Ok(row)
     }
 
@@ -517,8 +638,49 @@ pub fn parse_overall(csv_text: &str) -> Result<Compared> {
     bail!("zspec compare printed no overall row")
 }
 
+/// The median of `v` (0 for none).
+fn median_of(v: &[f64]) -> f64 {
+    measure::median(
+        &v.iter()
+            .map(|&wall_s| Usage {
+                wall_s,
+                ..Usage::default()
+            })
+            .collect::<Vec<_>>(),
+    )
+    .wall_s
+}
+
+/// A row's times from its timed runs and its start-up runs' CPU seconds: the medians,
+/// the CPU time less start-up and its spread, the start-up's share.
+pub fn finish(row: &mut Row, runs: &[Usage], startups: &[f64]) {
+    let usage = measure::median(runs);
+    let startup = median_of(startups);
+    let (lo, hi) = runs.iter().fold((f64::INFINITY, 0.0f64), |(a, b), u| {
+        (a.min(u.cpu_s), b.max(u.cpu_s))
+    });
+    row.wall_s = usage.wall_s;
+    row.cpu_s = usage.cpu_s;
+    row.startup_s = startup;
+    row.startup_share = if usage.cpu_s > 0.0 {
+        startup / usage.cpu_s
+    } else {
+        0.0
+    };
+    row.time_s = (usage.cpu_s - startup).max(0.0);
+    row.time_lo_s = (lo - startup).max(0.0).min(row.time_s);
+    row.time_hi_s = (hi - startup).max(row.time_s);
+    row.runs = runs.len() as u32;
+}
+
 /// Every run of the chart: the rows of `results.csv` and of `model.csv`. `tick` is told
-/// each run as it starts; `total` is how many there will be.
+/// each run as it starts.
+///
+/// Each scene is first drawn in colours of its own ([`crate::visibility`]). Its runs are
+/// timed `reps` times, interleaved: every (method, depth) once, then every one again, so
+/// that a change in the machine's load falls on all of them alike; after each, the same
+/// render of an empty scene is timed, its start-up. The first round writes the frames
+/// that are measured.
 pub fn chart(
     setup: &Setup,
     scenes: &[Scene],
@@ -529,9 +691,11 @@ pub fn chart(
     let mut model_rows = Vec::new();
     // The extrapolation is drawn for the scene with the most work (pixels drawn).
     let mut heaviest: Option<(f64, Vec<Extrapolation>)> = None;
-    for scene in scenes {
-        tick(&format!("{}: references", scene.name));
-        let refs = setup.references(scene)?;
+    let reps = setup.reps.max(1);
+    for given in scenes {
+        tick(&format!("{}: references", given.name));
+        let scene = setup.coloured(given)?;
+        let refs = setup.references(&scene)?;
         let env = look::look(&scene.path, scene.width, scene.height, &[], None)
             .map_err(stagecli::Error::from)?;
         let stats = stats::stats(&scene.path, scene.width, scene.height)
@@ -542,10 +706,41 @@ pub fn chart(
                 extrapolate(&setup.constants, &env, &scene.name, setup.cores),
             ));
         }
-        for (method, depth) in &runs {
-            tick(&format!("{}: {} depth {depth}", scene.name, method.name));
-            rows.push(setup.run(scene, &env, &stats, &refs, method, *depth)?);
+        let mut exact = None;
+        let mut here: Vec<Row> = Vec::with_capacity(runs.len());
+        let mut timed: Vec<Vec<Usage>> = vec![Vec::new(); runs.len()];
+        let mut startups: Vec<Vec<f64>> = vec![Vec::new(); runs.len()];
+        for rep in 0..reps {
+            for (i, (method, depth)) in runs.iter().enumerate() {
+                tick(&format!(
+                    "{}: {} depth {depth}, run {} of {reps}",
+                    scene.name,
+                    method.name,
+                    rep + 1
+                ));
+                let input = setup.input(&scene, method.input)?;
+                let usage = setup.time_once(&scene, &input, method, *depth, rep == 0)?;
+                if rep == 0 {
+                    here.push(setup.measured(
+                        &scene, &env, &stats, &refs, &mut exact, method, *depth, usage,
+                    )?);
+                }
+                timed[i].push(usage);
+                let empty = setup.empty(if method.input == Input::Text {
+                    Input::Text
+                } else {
+                    Input::Binary
+                })?;
+                let start = setup
+                    .time_once(&scene, &empty, method, *depth, false)
+                    .context("the start-up run, on an empty scene")?;
+                startups[i].push(start.cpu_s);
+            }
         }
+        for (i, row) in here.iter_mut().enumerate() {
+            finish(row, &timed[i], &startups[i]);
+        }
+        rows.extend(here);
         // The machine's load while this scene was measured.
         let load = crate::calibrate::background_load();
         for depth in 0..=4u8 {

@@ -16,5 +16,6 @@ pub mod hidden;
 pub mod methods;
 pub mod plot;
 pub mod stats;
+pub mod visibility;
 
 pub use costmodel::{cache, calibrate, look, measure, model, thesis};

@@ -49,10 +49,9 @@ struct Cli {
     #[arg(long)]
     standard: bool,
     /// Chart the seeds' hard cases as well, made with `scene` into the --work folder's
-    /// scenes/: a stack of 300 squares (200×200), 2,000 slivers, 100 crossing planes
-    /// (250×250), examples/cyclic-bars.txt, two interpenetrating spheres and 2,100
-    /// strips (500×500). The stack, slivers and planes are measured against the
-    /// point-sampled reference only (the 16×16 one would take minutes).
+    /// scenes/: a stack of 300 squares (100×100), 1,000 slivers (250×250), 100 crossing
+    /// planes (160×160), examples/cyclic-bars.txt, two interpenetrating spheres and 2,100
+    /// strips (500×500).
     #[arg(long)]
     hard: bool,
     /// The figures of docs/images, at this commit: --standard (its small scenes, every
@@ -67,7 +66,9 @@ struct Cli {
     /// The screen for scenes without their own `@WxH`.
     #[arg(long, default_value = "500x500", value_parser = parse_size, value_name = "WxH")]
     size: (u32, u32),
-    /// Timed runs of each row; the median is kept (default 3, or 1 with --quick).
+    /// Timed runs of each row, interleaved with the scene's other rows, each followed by
+    /// the same render of an empty scene (its start-up); the median, least and most are
+    /// kept (default 5, or 1 with --quick).
     #[arg(long, value_name = "N", value_parser = clap::value_parser!(u32).range(1..=100))]
     reps: Option<u32>,
     /// The model's constants file (default: the repository's bench/model.toml).
@@ -229,7 +230,6 @@ fn standard_scenes(bin: &Path, root: &Path, dir: &Path, quick: bool) -> Result<V
             name: name.into(),
             width: w,
             height: h,
-            supersampled: true,
         });
     }
     scenes.push(Scene::parse(
@@ -239,19 +239,20 @@ fn standard_scenes(bin: &Path, root: &Path, dir: &Path, quick: bool) -> Result<V
     Ok(scenes)
 }
 
-/// A hard case: name, `scene` arguments, screen, and whether the 16×16 reference is
-/// affordable on it.
-type Hard = (&'static str, &'static [&'static str], (u32, u32), bool);
+/// A hard case: name, `scene` arguments, screen.
+type Hard = (&'static str, &'static [&'static str], (u32, u32));
 
 /// The seeds' hard cases, each scaled so that one render takes at most a few seconds
-/// here and the point-sampled reference and the statistics a few more:
+/// here and the 16×16 reference (zspec tests 256 samples in every pixel of every
+/// polygon's box) less than a minute of CPU: the stack, the slivers and the planes on
+/// small screens.
 ///
-/// - `stack`: 300 screen-filling squares in depth (Dc 300): one window for Warnock
-///   (Newman and Sproull 14.3.4: work follows visible, not scene, complexity), 300
-///   writes a pixel for the z-buffer;
-/// - `slivers`: 2,000 triangles 0.4 px wide across the screen: pixel-sized windows for
-///   Warnock, many short segments for Watkins;
-/// - `planes`: 100 tilted full-screen planes, every pair crossing: no depth order, the
+/// - `stack`: 300 screen-filling squares in depth (Dc 300), 100×100: one window for
+///   Warnock (Newman and Sproull 14.3.4: work follows visible, not scene, complexity),
+///   300 writes a pixel for the z-buffer;
+/// - `slivers`: 1,000 triangles about 0.2 px wide across a 250×250 screen (0.4 px at
+///   500×500): pixel-sized windows for Warnock, many short segments for Watkins;
+/// - `planes`: 100 tilted full-screen planes (160×160), every pair crossing: no depth order, the
 ///   painter's splitting step and the a-buffer's fragment lists at their worst;
 /// - `cyclic-bars`: three bars overlapping in a cycle (examples/cyclic-bars.txt): no
 ///   order of whole polygons draws them right; the painter without `--split` fails;
@@ -262,18 +263,18 @@ type Hard = (&'static str, &'static [&'static str], (u32, u32), bool);
 ///   the tie differently (29,067 pixels at depth 0, 34,774 at depth 1, for every exact
 ///   method alike); at 2,100 no edge meets a centre and the exact methods are exact.
 const HARD: [Hard; 5] = [
-    ("stack", &["stack", "300"], (200, 200), false),
-    ("slivers", &["slivers", "2000"], (500, 500), false),
-    ("planes", &["planes", "100"], (250, 250), false),
-    ("spheres", &["spheres"], (500, 500), true),
-    ("strips", &["strips", "2100"], (500, 500), true),
+    ("stack", &["stack", "300"], (100, 100)),
+    ("slivers", &["slivers", "1000"], (250, 250)),
+    ("planes", &["planes", "100"], (160, 160)),
+    ("spheres", &["spheres"], (500, 500)),
+    ("strips", &["strips", "2100"], (500, 500)),
 ];
 
 /// The hard scenes ([`HARD`], and the cyclic bars), made with `scene` into `dir`.
 fn hard_scenes(bin: &Path, root: &Path, dir: &Path) -> Result<Vec<Scene>> {
     std::fs::create_dir_all(dir)?;
     let mut scenes = Vec::new();
-    for (name, args, (w, h), supersampled) in HARD {
+    for (name, args, (w, h)) in HARD {
         let path = dir.join(format!("{name}.pp"));
         if !path.exists() {
             let status = Command::new(bin.join("scene"))
@@ -290,7 +291,6 @@ fn hard_scenes(bin: &Path, root: &Path, dir: &Path) -> Result<Vec<Scene>> {
             name: name.into(),
             width: w,
             height: h,
-            supersampled,
         });
     }
     scenes.insert(
@@ -392,12 +392,14 @@ fn run(mut cli: Cli) -> Result<()> {
         only: cli.methods.clone(),
         reps: cli
             .reps
-            .map_or(if cli.quick { 1 } else { 3 }, |r| r as usize),
+            .map_or(if cli.quick { 1 } else { 5 }, |r| r as usize),
         cores,
         constants,
     };
     let total = scenes.len() as u64
-        * (chart::methods::runs(cli.quick, cli.methods.as_deref()).len() as u64 + 1);
+        * (chart::methods::runs(cli.quick, cli.methods.as_deref()).len() as u64
+            * setup.reps as u64
+            + 1);
     let progress = bar(total);
     let mut first = true;
     let (rows, model_rows, extra) = chart::chart::chart(&setup, &scenes, |what| {

@@ -138,22 +138,46 @@ fn log_ticks(lo: f64, hi: f64) -> usize {
     10 * ((hi / lo).log10().ceil().max(1.0) as usize + 1)
 }
 
-/// Each method's mark on a scene's panel: its fastest depth. The hidden-line methods
-/// have no pixel error (they draw lines, not pixels) and have no mark here; the cost
-/// figure compares them.
-pub fn marks<'a>(rows: &'a [Row], scene: &str) -> Vec<&'a Row> {
+/// Which error a figure plots.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Measure {
+    /// RMS error against the 16×16 reference (0–255), every method that draws pixels.
+    Rms,
+    /// % of pixels whose visible polygon differs from the exact point-sampled reference,
+    /// the point-sampling methods ([`crate::visibility`]).
+    Visibility,
+}
+
+impl Measure {
+    /// The y axis's title.
+    pub fn axis(self) -> &'static str {
+        match self {
+            Measure::Rms => "RMS error vs 16×16 reference (0–255)",
+            Measure::Visibility => "% pixels whose visible polygon is wrong",
+        }
+    }
+}
+
+/// The least time a mark is drawn at: a run no slower than its start-up (time less
+/// start-up 0) sits on the axis's left, at 0.1 ms.
+pub const TIME_FLOOR: f64 = 1e-4;
+
+/// A run's time on the figures' x axis: CPU seconds less start-up, at least
+/// [`TIME_FLOOR`].
+pub fn time_of(r: &Row) -> f64 {
+    r.time_s.max(TIME_FLOOR)
+}
+
+/// Each method's mark on a scene's panel of `measure`: its fastest depth, of the runs
+/// that have the measure (every method drawing pixels for RMS; the point-sampling ones
+/// for visibility). The hidden-line methods draw lines, not pixels, and have no mark
+/// here; the cost figure and the hidden-line figure compare them.
+pub fn marks<'a>(rows: &'a [Row], scene: &str, measure: Measure) -> Vec<&'a Row> {
     let mut best: Vec<&Row> = Vec::new();
-    // A scene measured against the point-sampled reference alone has no measure of an
-    // anti-aliased method's error (it differs from point sampling on purpose, on every
-    // edge pixel): its panel draws the point-sampled methods only.
-    let point = rows
-        .iter()
-        .filter(|r| r.scene == scene && !draws_lines(&r.method))
-        .all(|r| r.rmse.is_nan());
-    let drawn = |r: &&Row| !(point && anti_aliased(&r.method) || draws_lines(&r.method));
+    let drawn = |r: &&Row| !error_of(r, measure).is_nan() && !draws_lines(&r.method);
     for r in rows.iter().filter(|r| r.scene == scene).filter(drawn) {
         match best.iter_mut().find(|b| b.method == r.method) {
-            Some(b) if r.wall_s < b.wall_s => *b = r,
+            Some(b) if r.time_s < b.time_s => *b = r,
             Some(_) => {}
             None => best.push(r),
         }
@@ -173,34 +197,26 @@ pub fn at_depth_zero<'a>(rows: &'a [Row], scene: &str, method: &str) -> Option<&
         .find(|r| r.scene == scene && r.method == method && r.depth == 0)
 }
 
-/// Whether a scene's panel measures error against the point-sampled reference (the
-/// hard scenes, which have no 16×16 reference: `rmse` NaN) rather than the 16×16 one.
-pub fn pointwise(marks: &[&Row]) -> bool {
-    marks.iter().all(|r| r.rmse.is_nan())
-}
-
-/// A run's error on its panel's axis: RMS error against the 16×16 reference, or on a
-/// pointwise panel the percentage of pixels that differ from the point-sampled one.
-pub fn error_of(r: &Row, pointwise: bool) -> f64 {
-    if pointwise {
-        100.0 * r.error_fraction
-    } else {
-        r.rmse
+/// A run's error on a figure of `measure` (NaN where the run has none).
+pub fn error_of(r: &Row, measure: Measure) -> f64 {
+    match measure {
+        Measure::Rms => r.rms(),
+        Measure::Visibility => r.visibility_error.unwrap_or(f64::NAN),
     }
 }
 
 /// The Pareto front of (time, error) marks: those that no other mark beats on both, in
 /// order of time.
 pub fn pareto<'a>(marks: &[&'a Row]) -> Vec<&'a Row> {
-    pareto_by(marks, &|r: &Row| r.rmse)
+    pareto_by(marks, &|r: &Row| r.rms())
 }
 
 /// [`pareto`] on the error `err` gives each mark.
 pub fn pareto_by<'a>(marks: &[&'a Row], err: &dyn Fn(&Row) -> f64) -> Vec<&'a Row> {
     let mut sorted: Vec<&Row> = marks.to_vec();
     sorted.sort_by(|a, b| {
-        a.wall_s
-            .total_cmp(&b.wall_s)
+        time_of(a)
+            .total_cmp(&time_of(b))
             .then(err(a).total_cmp(&err(b)))
     });
     let mut front = Vec::new();
@@ -234,9 +250,18 @@ fn layout(n: usize) -> (usize, usize) {
 
 const PANEL: (u32, u32) = (760, 560);
 
-const TITLE: &str = "Speed against accuracy: each method at depth 0 (hollow mark) and at its \
-fastest tree depth (filled, named dN), joined by a line in its colour; \
-the grey line is the Pareto front of the filled marks";
+const TITLE: &str = "Speed against accuracy, one measure on every panel: RMS error against \
+the 16×16 reference; each method at depth 0 (hollow mark) and at its fastest tree depth \
+(filled, named dN), joined by a line in its colour; the bar under a mark is the spread of \
+its runs; the grey line is the Pareto front of the filled marks";
+
+const VISIBILITY_TITLE: &str = "Visibility, the same runs: % of pixels whose visible \
+polygon differs from the exact point-sampled reference, for the point-sampling methods; \
+each at depth 0 (hollow mark) and at its fastest tree depth (filled, named dN); the bar \
+under a mark is the spread of its runs";
+
+/// The x axis's title: what the time is.
+pub const TIME_AXIS: &str = "CPU s less start-up (log; median, bar least–most of the runs)";
 
 /// The title's font size and line height, pixels.
 const TITLE_FONT: (u32, u32) = (24, 30);
@@ -244,8 +269,14 @@ const TITLE_FONT: (u32, u32) = (24, 30);
 /// The title broken into lines that fit a picture `width` pixels wide (with 12 px either
 /// side): one panel is narrower than the title, which a single line would clip on both
 /// sides.
-fn title_lines(width: u32) -> Vec<String> {
-    wrap_title(TITLE, width)
+fn title_lines(width: u32, measure: Measure) -> Vec<String> {
+    wrap_title(
+        match measure {
+            Measure::Rms => TITLE,
+            Measure::Visibility => VISIBILITY_TITLE,
+        },
+        width,
+    )
 }
 
 /// A title `text` in lines that fit a picture `width` pixels wide.
@@ -312,6 +343,7 @@ fn speed_accuracy_on<DB: DrawingBackend>(
     root: DrawingArea<DB, Shift>,
     rows: &[Row],
     title_text: &[String],
+    measure: Measure,
 ) -> Drawn
 where
     DB::ErrorType: 'static,
@@ -321,16 +353,17 @@ where
     let (cols, nrows) = layout(scenes.len());
     let (title, rest) = root.split_vertically(title_height(title_text.len()));
     let height = rest.dim_in_pixel().1;
-    let (body, foot) = rest.split_vertically(height - legend_height(rest.dim_in_pixel().0));
+    let (body, foot) =
+        rest.split_vertically(height - legend_height(rest.dim_in_pixel().0, measure));
     draw_title(&title, title_text)?;
     let panels = body.split_evenly((nrows, cols));
     for (scene, panel) in scenes.iter().zip(panels) {
-        let marks = marks(rows, scene);
+        let marks = marks(rows, scene, measure);
         let Some(&first) = marks.first() else {
             continue;
         };
-        let point = pointwise(&marks);
-        let err = |r: &Row| error_of(r, point);
+        let point = measure == Measure::Visibility;
+        let err = |r: &Row| error_of(r, measure);
         // Each method's depth-0 run beside its fastest, where they differ.
         let zeros: Vec<(&Row, &Row)> = marks
             .iter()
@@ -343,7 +376,10 @@ where
             .chain(zeros.iter().map(|(_, z)| *z))
             .collect();
         let (tmin, tmax) = all.iter().fold((f64::INFINITY, 0.0f64), |(a, b), r| {
-            (a.min(r.wall_s), b.max(r.wall_s))
+            (
+                a.min(r.time_lo_s.max(TIME_FLOOR)),
+                b.max(r.time_hi_s.max(time_of(r))),
+            )
         });
         let floor = if point { 0.05 } else { 0.5 };
         let emax = all.iter().map(|r| err(r)).fold(0.0f64, f64::max).max(floor) * 1.3;
@@ -367,12 +403,8 @@ where
             .build_cartesian_2d((xlo..xhi).log_scale(), 0.0..emax * 1.2)?;
         chart
             .configure_mesh()
-            .x_desc("wall time, seconds (log scale)")
-            .y_desc(if point {
-                "% pixels wrong (no AA methods: point reference)"
-            } else {
-                "RMS error vs 16×16 reference (0–255)"
-            })
+            .x_desc(TIME_AXIS)
+            .y_desc(measure.axis())
             .axis_desc_style(("sans-serif", 18))
             .label_style(("sans-serif", 16))
             .x_labels(log_ticks(xlo, xhi))
@@ -390,14 +422,29 @@ where
             .draw()?;
         let front: Vec<(f64, f64)> = pareto_by(&marks, &err)
             .iter()
-            .map(|r| (r.wall_s, err(r)))
+            .map(|r| (time_of(r), err(r)))
             .collect();
-        chart.draw_series(LineSeries::new(front, RGBColor(90, 90, 90).stroke_width(2)))?;
+        if !point {
+            chart.draw_series(LineSeries::new(front, RGBColor(90, 90, 90).stroke_width(2)))?;
+        }
+        // Each mark's spread: its runs' least and most time less start-up, a bar in its
+        // colour through the mark.
+        for r in all.iter() {
+            let (c, _) = style_of(&r.method);
+            let y = err(r);
+            chart.draw_series(LineSeries::new(
+                [
+                    (r.time_lo_s.max(TIME_FLOOR), y),
+                    (r.time_hi_s.max(time_of(r)), y),
+                ],
+                c.mix(0.6).stroke_width(3),
+            ))?;
+        }
         // Depth 0 joined to the fastest depth, in the method's colour.
         for (best, zero) in &zeros {
             let (c, _) = style_of(&best.method);
             chart.draw_series(LineSeries::new(
-                [(zero.wall_s, err(zero)), (best.wall_s, err(best))],
+                [(time_of(zero), err(zero)), (time_of(best), err(best))],
                 c.stroke_width(1),
             ))?;
         }
@@ -407,10 +454,10 @@ where
         // no free slot is named by the legend alone. The fastest depths first, then the
         // depth-0 runs.
         let mut by_time = marks.clone();
-        by_time.sort_by(|a, b| a.wall_s.total_cmp(&b.wall_s));
+        by_time.sort_by(|a, b| time_of(a).total_cmp(&time_of(b)));
         let mut hollow: Vec<&Row> = zeros.iter().map(|(_, z)| *z).collect();
-        hollow.sort_by(|a, b| a.wall_s.total_cmp(&b.wall_s));
-        let px = |r: &Row| chart.backend_coord(&(r.wall_s, err(r)));
+        hollow.sort_by(|a, b| time_of(a).total_cmp(&time_of(b)));
+        let px = |r: &Row| chart.backend_coord(&(time_of(r), err(r)));
         let area = chart.plotting_area().get_pixel_range();
         let mut placed: Vec<LabelBox> = by_time
             .iter()
@@ -423,7 +470,7 @@ where
         for r in &hollow {
             draw_mark_as(
                 chart.plotting_area(),
-                (r.wall_s, err(r)),
+                (time_of(r), err(r)),
                 style_of(&r.method),
                 7,
                 false,
@@ -432,7 +479,7 @@ where
         for r in &by_time {
             draw_mark(
                 chart.plotting_area(),
-                (r.wall_s, err(r)),
+                (time_of(r), err(r)),
                 style_of(&r.method),
                 7,
             )?;
@@ -460,12 +507,12 @@ where
             let b = LabelBox::text(&label, x + dx, y + dy);
             placed.push(b);
             chart.plotting_area().draw(
-                &(EmptyElement::at((r.wall_s, err(r)))
+                &(EmptyElement::at((time_of(r), err(r)))
                     + Text::new(label, (dx, dy), ("sans-serif", 16).into_font().color(&c))),
             )?;
         }
     }
-    legend(&foot)?;
+    legend(&foot, measure)?;
     root.present()?;
     Ok(())
 }
@@ -550,32 +597,35 @@ fn place_label(
     })
 }
 
-/// The methods the speed-accuracy panels draw: all but the hidden-line ones.
-fn surface_methods() -> impl Iterator<Item = &'static Method> {
-    METHODS.iter().filter(|m| m.draws == methods::Draws::Pixels)
+/// The methods a figure of `measure` draws: all but the hidden-line ones, and for
+/// visibility the point-sampling ones.
+fn surface_methods(measure: Measure) -> impl Iterator<Item = &'static Method> {
+    METHODS.iter().filter(move |m| {
+        m.draws == methods::Draws::Pixels && (measure == Measure::Rms || !anti_aliased(m.name))
+    })
 }
 
 /// The legend's height for a picture `width` pixels wide: a row of entries of
 /// [`LEGEND_ENTRY`] px each, as many rows as the methods need.
-fn legend_height(width: u32) -> u32 {
+fn legend_height(width: u32, measure: Measure) -> u32 {
     let per_row = (width.saturating_sub(40) / LEGEND_ENTRY).max(1) as usize;
-    16 + 26 * surface_methods().count().div_ceil(per_row) as u32
+    16 + 26 * surface_methods(measure).count().div_ceil(per_row) as u32
 }
 
 const LEGEND_ENTRY: u32 = 150;
 
 /// Every method's colour and shape, under the panels.
-fn legend<DB: DrawingBackend>(area: &DrawingArea<DB, Shift>) -> Drawn
+fn legend<DB: DrawingBackend>(area: &DrawingArea<DB, Shift>, measure: Measure) -> Drawn
 where
     DB::ErrorType: 'static,
 {
     let width = area.dim_in_pixel().0;
     let per_row = (width.saturating_sub(40) / LEGEND_ENTRY).max(1) as usize;
-    let count = surface_methods().count();
+    let count = surface_methods(measure).count();
     // Centred: the last row's entries line up under the others'.
     let used = (per_row.min(count) as u32 * LEGEND_ENTRY) as i32;
     let left = (width as i32 - used) / 2;
-    for (i, m) in surface_methods().enumerate() {
+    for (i, m) in surface_methods(measure).enumerate() {
         let (row, col) = (i / per_row, i % per_row);
         let x = left + col as i32 * LEGEND_ENTRY as i32;
         let y = 8 + row as i32 * 26 + 10;
@@ -627,21 +677,28 @@ fn svg(
     Ok(())
 }
 
-/// `speed-accuracy.png` and `.svg` in `dir`.
+/// `speed-accuracy.png` and `.svg` (RMS against the 16×16 reference) and
+/// `visibility.png` and `.svg` (% of pixels whose visible polygon differs) in `dir`.
 pub fn speed_accuracy(dir: &Path, rows: &[Row]) -> Result<()> {
-    let (cols, nrows) = layout(scenes_of(rows).len());
-    let width = PANEL.0 * cols as u32;
-    let title = title_lines(width);
-    let size = (
-        width,
-        PANEL.1 * nrows as u32 + title_height(title.len()) + legend_height(width),
-    );
-    png(&dir.join("speed-accuracy.png"), size, |root| {
-        speed_accuracy_on(root, rows, &title)
-    })?;
-    svg(&dir.join("speed-accuracy.svg"), size, |root| {
-        speed_accuracy_on(root, rows, &title)
-    })
+    for (measure, name) in [
+        (Measure::Rms, "speed-accuracy"),
+        (Measure::Visibility, "visibility"),
+    ] {
+        let (cols, nrows) = layout(scenes_of(rows).len());
+        let width = PANEL.0 * cols as u32;
+        let title = title_lines(width, measure);
+        let size = (
+            width,
+            PANEL.1 * nrows as u32 + title_height(title.len()) + legend_height(width, measure),
+        );
+        png(&dir.join(format!("{name}.png")), size, |root| {
+            speed_accuracy_on(root, rows, &title, measure)
+        })?;
+        svg(&dir.join(format!("{name}.svg")), size, |root| {
+            speed_accuracy_on(root, rows, &title, measure)
+        })?;
+    }
+    Ok(())
 }
 
 /// The methods of the cost-against-environment figure: the hidden-surface methods, the
@@ -702,20 +759,22 @@ pub const STATISTICS: [(&str, Statistic); 4] = [
 /// the method's fixed cost) of its depth-0 runs, in order of the statistic.
 ///
 /// Every run pays the pipeline's start (a dozen processes, about 0.01 s of CPU here)
-/// whatever the scene; that fixed cost is the method's least CPU time over the scenes
-/// (on the scenes of two or three polygons), and is taken off each run before its
-/// frames divide it, so that what is left is the work the scene asks of the method.
-/// A run within 0.1 ms of the fixed cost has nothing left to show on a log axis and is
-/// left out; so is a scene without the statistics (a CSV from before them).
+/// whatever the scene: the row's start-up, measured on an empty scene (`startup_s`), is
+/// taken off before its frames divide it, so that what is left is the work the scene
+/// asks of the method. (A CSV from before the start-up was measured, `runs` 0, takes
+/// off the method's least CPU time over the scenes instead.) A run within 0.1 ms of its
+/// start-up has nothing left to show on a log axis and is left out; so is a scene
+/// without the statistics (a CSV from before them).
 pub fn environment_points(rows: &[Row], method: &str, stat: Statistic) -> Vec<(f64, f64)> {
     let runs: Vec<&Row> = rows
         .iter()
         .filter(|r| r.method == method && r.depth == 0)
         .collect();
-    let fixed = runs.iter().map(|r| r.cpu_s).fold(f64::INFINITY, f64::min);
+    let least = runs.iter().map(|r| r.cpu_s).fold(f64::INFINITY, f64::min);
+    let fixed = |r: &Row| if r.runs > 0 { r.startup_s } else { least };
     let mut p: Vec<(f64, f64)> = runs
         .iter()
-        .map(|r| (stat(r), (r.cpu_s - fixed) / r.frames.max(1) as f64))
+        .map(|r| (stat(r), (r.cpu_s - fixed(r)) / r.frames.max(1) as f64))
         .filter(|&(x, y)| x > 0.0 && y >= 1e-4)
         .collect();
     p.sort_by(|a, b| a.0.total_cmp(&b.0));
@@ -723,7 +782,7 @@ pub fn environment_points(rows: &[Row], method: &str, stat: Statistic) -> Vec<(f
 }
 
 const ENV_TITLE: &str = "Cost against the environment statistics: CPU seconds a frame of \
-each method alone (depth 0, the whole pipeline, its fixed start-up cost taken off) on every \
+each method alone (depth 0, the whole pipeline, its start-up measured on an empty scene taken off) on every \
 scene, log-log; the dashed line is slope 1 (time proportional to the statistic)";
 
 fn environment_on<DB: DrawingBackend>(
@@ -764,7 +823,7 @@ where
         chart
             .configure_mesh()
             .x_desc(format!("{name} (log scale)"))
-            .y_desc("CPU s a frame above fixed cost (log)")
+            .y_desc("CPU s a frame less start-up (log)")
             .axis_desc_style(("sans-serif", 18))
             .label_style(("sans-serif", 16))
             .x_labels(log_ticks(xlo, xhi))
@@ -1175,10 +1234,17 @@ mod tests {
             frames: 1,
             wall_s,
             cpu_s: wall_s,
+            time_s: wall_s,
+            time_lo_s: wall_s,
+            time_hi_s: wall_s,
+            startup_s: 0.0,
+            startup_share: 0.0,
+            runs: 0,
             max_rss_kib: 1,
-            error_fraction: 0.0,
+            error_fraction: Some(0.0),
             edge_rmse: None,
-            rmse,
+            rms_16x16: Some(rmse),
+            visibility_error: (!anti_aliased(method)).then_some(0.0),
             edges: 8.0,
             depth_complexity: 1.0,
             visible_polygons: 2.0,
@@ -1187,6 +1253,7 @@ mod tests {
             line_pieces: None,
             intersection_pieces: None,
             line_length_px: None,
+            line_error_px: None,
         }
     }
 
@@ -1198,7 +1265,7 @@ mod tests {
             row("ss4", 0, 0.4, 10.0),
             row("slow", 0, 0.5, 20.0),
         ];
-        let m = marks(&rows, "s");
+        let m = marks(&rows, "s", Measure::Rms);
         assert_eq!(m.len(), 3);
         assert_eq!(m[0].depth, 1);
         let front: Vec<&str> = pareto(&m).iter().map(|r| r.method.as_str()).collect();
@@ -1332,10 +1399,14 @@ mod tests {
 
     #[test]
     fn the_title_is_wrapped_to_fit_one_panel_and_kept_whole_on_three() {
-        for (width, lines) in [(PANEL.0, 3), (3 * PANEL.0, 1)] {
-            let t = title_lines(width);
-            assert_eq!(t.len(), lines, "{width}: {t:?}");
-            assert_eq!(t.join(" "), TITLE);
+        for (width, measure, text) in [
+            (PANEL.0, Measure::Rms, TITLE),
+            (3 * PANEL.0, Measure::Rms, TITLE),
+            (PANEL.0, Measure::Visibility, VISIBILITY_TITLE),
+        ] {
+            let t = title_lines(width, measure);
+            assert!(t.len() > 1, "{width}: {t:?}");
+            assert_eq!(t.join(" "), text);
             let font = ("sans-serif", TITLE_FONT.0).into_font();
             for line in &t {
                 let (w, _) = font.box_size(line).unwrap();
@@ -1368,25 +1439,27 @@ mod tests {
     }
 
     #[test]
-    fn a_point_reference_panel_leaves_the_anti_aliased_methods_out() {
+    fn the_visibility_figure_leaves_the_anti_aliased_methods_out() {
         let mut rows = vec![
-            row("zbuf", 0, 0.2, f64::NAN),
-            row("ss4", 0, 0.3, f64::NAN),
-            row("painter", 0, 0.1, f64::NAN),
-            row("painter", 1, 0.05, f64::NAN),
+            row("zbuf", 0, 0.2, 3.0),
+            row("ss4", 0, 0.3, 1.0),
+            row("painter", 0, 0.1, 9.0),
+            row("painter", 1, 0.05, 3.0),
         ];
-        rows[2].error_fraction = 0.25;
-        let m = marks(&rows, "s");
+        rows[2].visibility_error = Some(25.0);
+        let m = marks(&rows, "s", Measure::Visibility);
         let names: Vec<&str> = m.iter().map(|r| r.method.as_str()).collect();
         assert_eq!(names, ["zbuf", "painter"]);
-        assert!(pointwise(&m));
         // The painter's fastest depth is 1; its depth 0 is the one that is wrong.
         let zero = at_depth_zero(&rows, "s", "painter").unwrap();
-        assert_eq!(error_of(zero, true), 25.0);
+        assert_eq!(error_of(zero, Measure::Visibility), 25.0);
+        assert_eq!(error_of(zero, Measure::Rms), 9.0);
         assert_eq!(m[1].depth, 1);
-        // With a 16×16 reference every method is drawn, on its RMS error.
-        rows.iter_mut().for_each(|r| r.rmse = 2.0);
-        assert_eq!(marks(&rows, "s").len(), 3);
+        // On RMS every method is drawn.
+        assert_eq!(marks(&rows, "s", Measure::Rms).len(), 3);
+        // A run no slower than its start-up sits at the floor.
+        rows[0].time_s = 0.0;
+        assert_eq!(time_of(&rows[0]), TIME_FLOOR);
     }
 
     #[test]
@@ -1416,6 +1489,16 @@ mod tests {
             (p[1].0 - 5000.0).abs() < 1e-9 && (p[1].1 - 0.5).abs() < 1e-9,
             "{p:?}"
         );
+        // With each row's start-up measured, that is what is taken off.
+        for r in rows.iter_mut() {
+            (r.runs, r.startup_s) = (5, 0.005);
+        }
+        let p = environment_points(&rows, "zbuf", STATISTICS[0].1);
+        assert_eq!(p.len(), 3);
+        assert!(
+            (p[0].0 - 2.0).abs() < 1e-9 && (p[0].1 - 0.005).abs() < 1e-9,
+            "{p:?}"
+        );
     }
 
     #[test]
@@ -1434,7 +1517,7 @@ mod tests {
                 r.cpu_s = cpu;
                 r.polygons = p as u64;
                 if method.starts_with("hiddenline") {
-                    (r.rmse, r.error_fraction) = (f64::NAN, f64::NAN);
+                    (r.rms_16x16, r.error_fraction, r.visibility_error) = (None, None, None);
                     r.line_pieces = Some(3 * p as u64);
                 }
                 rows.push(r);
@@ -1451,7 +1534,7 @@ mod tests {
         }
         // No mark on a speed-accuracy panel (their error is NaN), and the panel of a
         // scene with a 16×16 reference still draws its anti-aliased methods.
-        let m = marks(&rows, "b");
+        let m = marks(&rows, "b", Measure::Rms);
         assert_eq!(
             m.iter().map(|r| r.method.as_str()).collect::<Vec<_>>(),
             ["zbuf"]
@@ -1499,16 +1582,25 @@ mod tests {
         let rows = vec![row("zbuf", 0, 0.2, 30.0), row("zbuf-eye-z", 0, 0.3, 31.0)];
         speed_accuracy(dir.path(), &rows).unwrap();
         let png = image::open(dir.path().join("speed-accuracy.png")).unwrap();
-        // One panel is narrower than the title: three lines, the picture taller by two;
-        // the legend below, the table's surface methods four to a row.
+        // One panel is narrower than the title: it is wrapped, the picture taller; the
+        // legend below, the table's surface methods four to a row.
+        let lines = title_lines(PANEL.0, Measure::Rms).len();
         assert_eq!(
             (png.width(), png.height()),
-            (PANEL.0, PANEL.1 + title_height(3) + legend_height(PANEL.0))
+            (
+                PANEL.0,
+                PANEL.1 + title_height(lines) + legend_height(PANEL.0, Measure::Rms)
+            )
         );
-        let rows = surface_methods().count().div_ceil(4) as u32;
-        assert_eq!(legend_height(PANEL.0), 16 + 26 * rows);
+        let rows = surface_methods(Measure::Rms).count().div_ceil(4) as u32;
+        assert_eq!(legend_height(PANEL.0, Measure::Rms), 16 + 26 * rows);
         let svg = std::fs::read_to_string(dir.path().join("speed-accuracy.svg")).unwrap();
         assert!(svg.contains("zbuf-eye-z"), "the label is in the SVG");
-        assert!(svg.contains("wall time, seconds"));
+        assert!(svg.contains(TIME_AXIS) && svg.contains(Measure::Rms.axis()));
+        // The visibility figure beside it, its own measure on the y axis, the
+        // anti-aliasing methods out of its legend.
+        let vis = std::fs::read_to_string(dir.path().join("visibility.svg")).unwrap();
+        assert!(vis.contains(Measure::Visibility.axis()) && vis.contains(TIME_AXIS));
+        assert!(!vis.contains(">ss4<") && svg.contains("ss4"));
     }
 }

@@ -80,7 +80,7 @@ fn quick_chart_of_a_small_scene_makes_its_files_with_real_values() {
     );
     let svg = std::fs::read_to_string(d.join("speed-accuracy.svg")).unwrap();
     assert!(
-        svg.contains("wall time, seconds (log scale)"),
+        svg.contains("CPU s less start-up (log; median, bar least–most of the runs)"),
         "the x axis is titled"
     );
     assert!(svg.contains("penetrating"), "the panel names its scene");
@@ -97,6 +97,10 @@ fn quick_chart_of_a_small_scene_makes_its_files_with_real_values() {
         "max_rss_kib",
         "error_fraction",
         "edge_rmse",
+        "rms_16x16",
+        "visibility_error",
+        "time_s",
+        "startup_share",
     ] {
         assert!(
             header.iter().any(|h| h == c),
@@ -299,6 +303,71 @@ fn the_full_method_table_runs_every_variant() {
         );
     }
     assert!(rows.len() >= 8);
+}
+
+/// What every row of results.csv has (docs/methods.md, "The chart"): its time less
+/// start-up with the start-up's share and the spread of its runs; `rms_16x16` where it
+/// draws pixels; the visibility error where it point-samples; the line error where it
+/// draws lines; none of them NaN. `runs` is the number of timed runs each row must have.
+fn assert_every_measure(rows: &[HashMap<String, String>], runs: u32) {
+    assert!(!rows.is_empty());
+    for r in rows {
+        let finite = |c: &str| {
+            let v = num(r, c);
+            assert!(v.is_finite() && v >= 0.0, "{c} = {v} in {r:?}");
+            v
+        };
+        let (t, lo, hi) = (finite("time_s"), finite("time_lo_s"), finite("time_hi_s"));
+        assert!(lo <= t && t <= hi, "{r:?}");
+        assert!(finite("startup_s") > 0.0, "{r:?}");
+        finite("startup_share");
+        assert_eq!(num(r, "runs"), runs as f64, "{r:?}");
+        let m = r["method"].as_str();
+        let lines = m.starts_with("hiddenline");
+        let aa = m == "abuf" || m.starts_with("ss") || m.starts_with("adaptive");
+        if lines {
+            finite("line_error_px");
+            assert_eq!([&r["rms_16x16"], &r["visibility_error"]], ["", ""], "{r:?}");
+        } else {
+            finite("rms_16x16");
+            assert_eq!(r["line_error_px"], "", "{r:?}");
+            if aa {
+                assert_eq!(r["visibility_error"], "", "{r:?}");
+            } else {
+                // The share of pixels unlike the point-sampled reference, in per cent.
+                let v = finite("visibility_error");
+                assert!((v - 100.0 * num(r, "error_fraction")).abs() < 1e-9, "{r:?}");
+            }
+        }
+    }
+}
+
+/// A tiny chart of five interleaved runs a row: every measure on every row; the painter's
+/// visibility error on the cyclic bars at depth 0, the z-buffer's none; anti-aliasing
+/// nearer the 16×16 reference than point sampling; the exact hidden-line drawing scored
+/// 0 against itself; both figures drawn, each naming its measure.
+#[test]
+fn every_row_has_its_time_its_spread_and_its_errors() {
+    let dir = chart(
+        "--reps 5 --methods zbuf,painter,ss4,hiddenline,hiddenline-archuleta \
+         examples/cyclic-bars.txt@64x64",
+    );
+    let d = dir.path();
+    let (_, rows) = read_csv(&d.join("results.csv"));
+    assert_every_measure(&rows, 5);
+    let row = |m: &str, depth: u8| find(&rows, "cyclic-bars", m, depth).unwrap();
+    assert!(num(row("painter", 0), "visibility_error") > 0.5);
+    for depth in 0..=4 {
+        assert_eq!(num(row("zbuf", depth), "visibility_error"), 0.0);
+    }
+    assert!(num(row("ss4", 0), "rms_16x16") < num(row("zbuf", 0), "rms_16x16"));
+    // Against itself: 0 but for rounding in the measure.
+    assert!(num(row("hiddenline", 0), "line_error_px") < 1e-6);
+    let svg = std::fs::read_to_string(d.join("speed-accuracy.svg")).unwrap();
+    assert!(svg.contains("RMS error vs 16×16 reference (0–255)") && svg.contains("ss4"));
+    let vis = std::fs::read_to_string(d.join("visibility.svg")).unwrap();
+    assert!(vis.contains("% pixels whose visible polygon is wrong"));
+    assert!(vis.contains("painter") && !vis.contains(">ss4<"));
 }
 
 #[test]
@@ -641,10 +710,10 @@ fn hard_scenes_run_every_depth_and_count_their_statistics() {
     // The failure the chart must show: the painter alone on the cyclic bars.
     let p = find(&rows, "cyclic-bars", "painter", 0).unwrap();
     assert!(num(p, "error_fraction") > 0.005, "{p:?}");
-    // The stack, by hand: 300 screen-filling squares on 200×200, so every pixel is
-    // covered 300 times, one square owns them all, one segment on each of 200 rows.
+    // The stack, by hand: 300 screen-filling squares on 100×100, so every pixel is
+    // covered 300 times, one square owns them all, one segment on each of 100 rows.
     let s = find(&rows, "stack", "zbuf", 0).unwrap();
-    assert_eq!(s["size"], "200x200");
+    assert_eq!(s["size"], "100x100");
     assert_eq!(
         [
             "polygons",
@@ -655,14 +724,16 @@ fn hard_scenes_run_every_depth_and_count_their_statistics() {
             "segments_per_line"
         ]
         .map(|c| num(s, c)),
-        [300.0, 1200.0, 300.0, 1.0, 200.0, 1.0]
+        [300.0, 1200.0, 300.0, 1.0, 100.0, 1.0]
     );
     // The cyclic bars: three bars, each visible, none hidden.
     let c = find(&rows, "cyclic-bars", "zbuf", 0).unwrap();
     assert_eq!(num(c, "visible_polygons"), 3.0);
-    // The scenes without a 16×16 reference say so (NaN), and the figures are drawn.
-    assert!(num(s, "rmse").is_nan());
-    assert!(!num(c, "rmse").is_nan());
+    // Every hard scene has its 16×16 reference: an RMS error on every pixel row, and the
+    // figures are drawn.
+    for r in &rows {
+        assert!(num(r, "rms_16x16").is_finite(), "{r:?}");
+    }
     let cost = std::fs::read_to_string(d.join("cost-environment.svg")).unwrap();
     for axis in [
         "polygons P_t, a frame",
@@ -673,12 +744,17 @@ fn hard_scenes_run_every_depth_and_count_their_statistics() {
     }
     let svg = std::fs::read_to_string(d.join("speed-accuracy.svg")).unwrap();
     assert!(
-        svg.contains("stack (300 polygons, 200×200)"),
+        svg.contains("stack (300 polygons, 100×100)"),
         "the stack's panel"
     );
     assert!(
-        svg.contains("% pixels wrong (no AA methods: point reference)"),
-        "the panels without a 16×16 reference say what they measure"
+        svg.contains("RMS error vs 16×16 reference (0–255)"),
+        "every panel of the first figure is RMS"
+    );
+    let vis = std::fs::read_to_string(d.join("visibility.svg")).unwrap();
+    assert!(
+        vis.contains("% pixels whose visible polygon is wrong"),
+        "the second figure says its measure"
     );
 }
 
@@ -829,8 +905,16 @@ fn the_hidden_line_methods_are_charted_on_every_scene() {
             assert_eq!((r["depth"].as_str(), r["size"].as_str()), ("0", size));
             assert_eq!(r["frames"], frames.to_string());
             assert!(num(r, "wall_s") > 0.0 && num(r, "cpu_s") > 0.0, "{r:?}");
-            assert!(num(r, "error_fraction").is_nan() && num(r, "rmse").is_nan());
-            assert_eq!(r["edge_rmse"], "");
+            assert_eq!(
+                [&r["error_fraction"], &r["rms_16x16"], &r["edge_rmse"]],
+                ["", "", ""]
+            );
+            // Scored against the exact drawing: the continuous method is it.
+            let e = num(r, "line_error_px");
+            assert!(e.is_finite() && e >= 0.0, "{r:?}");
+            if method == "hiddenline" {
+                assert!(e < 1e-6, "{r:?}");
+            }
             // The drawing render makes of the scene, frame by frame: as many lines.
             let input = if scene == "movie" {
                 movie.display().to_string()
