@@ -27,9 +27,9 @@
 //! the z-buffer's bytes, and the painter those or worse (cycles), so the modes here are
 //! the z-buffer's, whose leaf the time model knows.
 
+use crate::error::{Context, Result};
 use crate::look::Environment;
 use crate::model::{self, Constants, Target};
-use crate::error::{Context, Result};
 use proto::{Reader, Token};
 use serde::{Deserialize, Serialize};
 use std::io::Read;

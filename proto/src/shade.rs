@@ -787,6 +787,9 @@ mod tests {
             .zip(&colours)
             .map(|(v, c)| DVec3::new(v.x / v.w, v.y / v.w, c[0]))
             .collect();
-        assert_eq!(eye_colour_planes(&small, &colours).unwrap()[0], newell_plane(&direct));
+        assert_eq!(
+            eye_colour_planes(&small, &colours).unwrap()[0],
+            newell_plane(&direct)
+        );
     }
 }

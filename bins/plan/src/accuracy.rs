@@ -3,10 +3,10 @@
 //! coefficients fitted to renders of generated scenes) and `plan max-error-check` (the
 //! choice against every configuration tried, on scenes the fit never saw).
 
-use costmodel::error::Context;
-use costmodel::{Error, Result};
 use costmodel::accuracy::{self, Accuracy, Colours, Measured, Predicted};
 use costmodel::cli::DepthArgs;
+use costmodel::error::Context;
+use costmodel::{Error, Result};
 use std::path::{Path, PathBuf};
 use std::process::{Command, Stdio};
 use std::time::Instant;
