@@ -432,8 +432,13 @@ fn first_passing_test(p: &Item, q: &Item) -> Option<usize> {
     if p.index == q.index {
         return Some(4);
     }
-    // 1. Depth extents: P wholly farther (at a shared extreme, P the later).
-    if p.z_min > q.z_max || (p.z_min == q.z_max && p.index >= q.index) {
+    // 1. Depth extents: P wholly farther, by the tie rule (`proto::depth`): Q's farthest
+    //    point takes a pixel from P's nearest, or, Q the earlier, P's nearest could not
+    //    take it from Q's farthest. Depths within 2⁻³⁰ of each other tie, and the earlier
+    //    polygon must win them: decided by plain order, two constant depths 1e-9 apart
+    //    were painted nearest-first whatever their order in the stream (tests 3 and 4
+    //    then give the tie to the earlier, their plane band being wider than the rule's).
+    if proto::depth::in_front(q.z_max, q.index > p.index, p.z_min) {
         return Some(0);
     }
     // 2. Screen bounding boxes (touching is apart: a shared boundary's pixels go to one).
@@ -1065,10 +1070,9 @@ impl HiddenSurface for Painter {
             let mut obstructing = None;
             for (k, &q) in list.iter().enumerate().skip(1) {
                 let (pi, qi) = (&items[p], &items[q]);
-                if qi.sorted
-                    && (qi.z_max < pi.z_min || (qi.z_max == pi.z_min && qi.index < pi.index))
-                {
-                    // This and every later sorted one are wholly nearer than P reaches.
+                if qi.sorted && proto::depth::takes(qi.z_max, pi.z_min) {
+                    // This and every later sorted one are wholly nearer than P reaches,
+                    // by more than the tie rule's width, whichever comes first.
                     break;
                 }
                 match first_passing_test(pi, qi) {

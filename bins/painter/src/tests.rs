@@ -74,12 +74,13 @@ fn each_test_resolves_the_pairs_it_is_for() {
     );
     assert_eq!((p.stats.resolved_by, p.stats.swaps), ([0; 5], 0));
     // The extents meet at one depth (two flat squares at 0.5), and the farther-sorted
-    // is the later: the search stops at once, and the earlier ends in front.
+    // is the later: test 1 gives the tie to the earlier (proto::depth's rule), which
+    // ends in front. The search goes on past depths within the rule's width of P's.
     let mut p = Painter::new();
     let first = square([1, 1, 1], 0.0, 0.0, 8.0, 8.0, 0.5);
     let second = square([2, 2, 2], 4.0, 4.0, 12.0, 12.0, 0.5);
     let image = paint(&mut p, &[first.clone(), second.clone()], w, h);
-    assert_eq!((p.stats.resolved_by, p.stats.swaps), ([0; 5], 0));
+    assert_eq!((p.stats.resolved_by, p.stats.swaps), ([1, 0, 0, 0, 0], 0));
     assert_eq!(image, zbuffer_image(&[first, second], w, h));
     assert_eq!(image[5 * 20 + 5], Some([1, 1, 1]));
     // Test 2: depth extents overlap (tilted), boxes apart.
@@ -740,4 +741,27 @@ fn a_sliver_a_hair_wide_keeps_its_edge_pixels_when_cut() {
     let (w, h) = (47, 48);
     let (s, _) = split_covering_the_zbuffers_pixels(&scene, w, h);
     assert!(s.stats.splits > 0);
+}
+
+#[test]
+fn constant_depths_within_the_tie_rule_go_to_the_earlier_polygon() {
+    // Found by the differential suite (seed 12, 200103): two flat squares 1e-9 apart in
+    // depth, the earlier one the farther. Within 2⁻³⁰ they tie, and the tie rule gives
+    // the pixels to the earlier; test 1 once took "farther" as plain order and painted
+    // the earlier first, under the later. Either order in the stream, either depth.
+    let (w, h) = (16, 16);
+    for (za, zb) in [
+        (0.5 + 1e-10, 0.5),
+        (0.5, 0.5 + 1e-10),
+        (-0.75 - 1e-10, -0.75),
+    ] {
+        let a = square([1, 1, 1], 0.0, 0.0, 10.0, 10.0, za);
+        let b = square([2, 2, 2], 4.0, 4.0, 14.0, 14.0, zb);
+        for scene in [[a.clone(), b.clone()], [b.clone(), a.clone()]] {
+            let mut p = Painter::new();
+            let image = paint(&mut p, &scene, w, h);
+            assert_eq!(image, zbuffer_image(&scene, w, h), "{za} {zb}");
+            assert_eq!(image[6 * 16 + 6], Some(scene[0].colour), "{za} {zb}");
+        }
+    }
 }
