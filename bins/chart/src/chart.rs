@@ -903,6 +903,7 @@ mod tests {
                 .contains(r#"x2="a" is not a number in the SVG's line"#),
             "{e}"
         );
+        assert_eq!(e.status(), 1, "{e}");
         // The pieces of one edge, joined: each dash a piece.
         let mut l = Lines::default();
         l.add_svg(
@@ -923,6 +924,17 @@ mod tests {
         let none = "frame,pixels,differing,differing_fraction,rmse,max,edge_pixels,edge_rmse\n\
                     overall,4,0,0.000000,0.000000,0,,\n";
         assert_eq!(parse_overall(none).unwrap().edge_rmse, None);
-        assert!(parse_overall("frame,pixels\n").is_err());
+        assert_eq!(
+            parse_overall("frame,pixels\n"),
+            Err(Error::Data(
+                "zspec compare's CSV has no column differing".into()
+            ))
+        );
+        let bad = "frame,pixels,differing,differing_fraction,rmse,max,edge_pixels,edge_rmse\n\
+                   overall,4,x,0,0,0,,\n";
+        assert_eq!(
+            parse_overall(bad),
+            Err(Error::Data("invalid digit found in string".into()))
+        );
     }
 }
