@@ -11,7 +11,7 @@
 //! one core (`taskset -c 0` where there is one), a frame: a small environment is run as
 //! a movie of several frames so that the times are more than the timer's resolution.
 
-use anyhow::{anyhow, bail, Context, Result};
+use crate::error::{Context, Error, Result};
 use proto::{Reader, Token};
 use std::path::Path;
 use std::process::{Command, Stdio};
@@ -103,7 +103,7 @@ fn cpu(bin: &Path, args: &[&str], input: &Path, output: &Path, work: &Path) -> R
         .status()
         .with_context(|| format!("cannot run {}", args[0]))?;
     if !status.success() {
-        bail!("{} failed ({status})", args.join(" "));
+        return Err(Error::Data(format!("{} failed ({status})", args.join(" "))));
     }
     let text = std::fs::read_to_string(&times)?;
     let line = text.lines().last().unwrap_or_default();
@@ -111,7 +111,7 @@ fn cpu(bin: &Path, args: &[&str], input: &Path, output: &Path, work: &Path) -> R
         .split_whitespace()
         .map(|w| w.parse::<f64>())
         .collect::<Result<_, _>>()
-        .map_err(|e| anyhow!("/usr/bin/time wrote `{line}`: {e}"))?;
+        .map_err(|e| Error::Data(format!("/usr/bin/time wrote `{line}`: {e}")))?;
     Ok(parts.iter().sum())
 }
 
@@ -146,7 +146,7 @@ pub fn measure(bin: &Path, work: &Path, scale: f64) -> Result<Vec<Measured>> {
             .status()
             .context("cannot run scene")?;
         if !status.success() {
-            bail!("scene environment failed for {name}");
+            return Err(Error::Data(format!("scene environment failed for {name}")));
         }
         let (eye, clipped, screen, sink) = (
             work.join(format!("{name}.eye")),

@@ -4,12 +4,12 @@
 //! --samples 16` (`edge_rmse` over the edge pixels, `rmse` over all pixels); and the cost
 //! model's prediction beside zbuf's measured time at depths 0 to 4.
 
+use crate::error::{Context, Error, Result};
 use crate::look::{self, Environment};
 use crate::measure::{self, Usage};
 use crate::methods::{self, Draws, Input, Method};
 use crate::model::{self, Constants};
 use crate::stats::{self, Stats};
-use anyhow::{anyhow, bail, Context, Result};
 use serde::{Deserialize, Serialize};
 use std::fs::File;
 use std::path::{Path, PathBuf};
@@ -35,9 +35,8 @@ impl Scene {
     pub fn parse(arg: &str, default_size: (u32, u32)) -> Result<Scene> {
         let (path, size) = match arg.rsplit_once('@') {
             Some((p, s)) if meant_as_size(s) && !Path::new(arg).exists() => {
-                let size = proto::camera::parse_size(s).map_err(|why| {
-                    stagecli::Error::usage(format!("invalid size in scene '{arg}': {why}"))
-                })?;
+                let size = proto::camera::parse_size(s)
+                    .map_err(|why| Error::Usage(format!("invalid size in scene '{arg}': {why}")))?;
                 (p, size)
             }
             _ => (arg, default_size),
@@ -47,7 +46,7 @@ impl Scene {
         let name = path
             .file_stem()
             .map(|s| s.to_string_lossy().into_owned())
-            .ok_or_else(|| stagecli::Error::usage(format!("no scene file in '{arg}'")))?;
+            .ok_or_else(|| Error::Usage(format!("no scene file in '{arg}'")))?;
         Ok(Scene {
             path,
             name,
@@ -169,7 +168,7 @@ impl Lines {
     /// Adds the pieces of one SVG as `hiddenline` writes them (`lines::read_svg`: a
     /// `<line>` a piece, or a dashed `<line>` for the pieces of one edge).
     pub fn add_svg(&mut self, svg: &str) -> Result<()> {
-        for piece in lines::read_svg(svg).map_err(|e| anyhow!(e))? {
+        for piece in lines::read_svg(svg).map_err(Error::Data)? {
             self.pieces += 1;
             self.intersections += u64::from(piece.intersection);
             self.length_px += piece.length();
@@ -321,7 +320,7 @@ fn quiet(cmd: &mut Command, err: &Path) -> Result<Usage> {
     cmd.stderr(File::create(err)?);
     measure::run(cmd).map_err(|e| {
         let said = std::fs::read_to_string(err).unwrap_or_default();
-        anyhow!("{e}: {}", said.trim())
+        Error::new(e.kind(), format!("{e}: {}", said.trim()))
     })
 }
 
@@ -486,7 +485,7 @@ impl Setup {
             let path = self.work.join(format!("exact-{frame}.svg"));
             let text = std::fs::read_to_string(&path)
                 .with_context(|| format!("{}: {}", scene.name, path.display()))?;
-            all.push(lines::read_svg(&text).map_err(|e| anyhow!(e))?);
+            all.push(lines::read_svg(&text).map_err(Error::Data)?);
             let _ = std::fs::remove_file(&path);
         }
         Ok(all)
@@ -550,7 +549,7 @@ impl Setup {
                     format!("{} on {}: {}", method.name, scene.name, path.display())
                 })?;
                 lines.add_svg(&text)?;
-                let pieces = lines::read_svg(&text).map_err(|e| anyhow!(e))?;
+                let pieces = lines::read_svg(&text).map_err(Error::Data)?;
                 let exact_frame = reference.get(frame as usize).map_or(&[][..], |p| &p[..]);
                 error_px += lines::line_error(&pieces, exact_frame, 0.5).total_px();
                 let _ = std::fs::remove_file(&path);
@@ -588,12 +587,12 @@ impl Setup {
             .output()
             .context("zspec compare")?;
         if !out.status.success() {
-            bail!(
+            return Err(Error::Data(format!(
                 "zspec compare {} {}: {}",
                 reference.display(),
                 frames.display(),
                 String::from_utf8_lossy(&out.stderr).trim()
-            );
+            )));
         }
         parse_overall(&String::from_utf8_lossy(&out.stdout))
     }
@@ -615,7 +614,7 @@ pub fn parse_overall(csv_text: &str) -> Result<Compared> {
         headers
             .iter()
             .position(|h| h == name)
-            .ok_or_else(|| anyhow!("zspec compare's CSV has no column {name}"))
+            .ok_or_else(|| Error::Data(format!("zspec compare's CSV has no column {name}")))
     };
     let (pixels, differing, rmse, edge) = (
         col("pixels")?,
@@ -628,14 +627,18 @@ pub fn parse_overall(csv_text: &str) -> Result<Compared> {
         if r.get(0) == Some("overall") {
             let get = |i: usize| r.get(i).unwrap_or("");
             return Ok(Compared {
-                pixels: get(pixels).parse()?,
-                differing: get(differing).parse()?,
-                rmse: get(rmse).parse()?,
+                pixels: get(pixels)
+                    .parse()
+                    .map_err(|e| Error::Data(format!("{e}")))?,
+                differing: get(differing)
+                    .parse()
+                    .map_err(|e| Error::Data(format!("{e}")))?,
+                rmse: get(rmse).parse().map_err(|e| Error::Data(format!("{e}")))?,
                 edge_rmse: get(edge).parse().ok(),
             });
         }
     }
-    bail!("zspec compare printed no overall row")
+    Err(Error::Data("zspec compare printed no overall row".into()))
 }
 
 /// The median of `v` (0 for none).
@@ -696,8 +699,7 @@ pub fn chart(
         tick(&format!("{}: references", given.name));
         let scene = setup.coloured(given)?;
         let refs = setup.references(&scene)?;
-        let env = look::look(&scene.path, scene.width, scene.height, &[], None)
-            .map_err(stagecli::Error::from)?;
+        let env = look::look(&scene.path, scene.width, scene.height, &[], None)?;
         let stats = stats::stats(&scene.path, scene.width, scene.height)
             .with_context(|| format!("the statistics of {}", scene.name))?;
         if heaviest.as_ref().is_none_or(|(area, _)| env.area > *area) {
@@ -822,7 +824,7 @@ pub fn write_csv<T: Serialize>(path: &Path, rows: &[T]) -> Result<()> {
     }
     let bytes = w
         .into_inner()
-        .map_err(|e| anyhow::anyhow!("{}: {}", path.display(), e.error()))?;
+        .map_err(|e| Error::Data(format!("{}: {}", path.display(), e.error())))?;
     // Whole or not at all: a temporary renamed when complete.
     stagecli::whole::write_whole(path, &bytes)?;
     Ok(())
@@ -852,9 +854,11 @@ mod tests {
             ("p.txt@500", "expected WxH, e.g. 500x500, found `500`"),
         ] {
             let e = Scene::parse(arg, (500, 500)).unwrap_err();
-            let s = crate::error::stage_error(&e);
-            assert_eq!(s.kind(), stagecli::Kind::Usage, "{arg}");
-            assert_eq!(s.message(), format!("invalid size in scene '{arg}': {why}"));
+            assert_eq!(
+                e,
+                Error::Usage(format!("invalid size in scene '{arg}': {why}")),
+                "{arg}"
+            );
         }
         // A file named so is taken whole.
         let dir = tempfile::tempdir().unwrap();
@@ -895,9 +899,11 @@ mod tests {
             .add_svg("<line x1=\"0\" y1=\"0\" x2=\"a\" y2=\"1\"/>")
             .unwrap_err();
         assert!(
-            format!("{e:#}").contains(r#"x2="a" is not a number in the SVG's line"#),
-            "{e:#}"
+            e.to_string()
+                .contains(r#"x2="a" is not a number in the SVG's line"#),
+            "{e}"
         );
+        assert_eq!(e.status(), 1, "{e}");
         // The pieces of one edge, joined: each dash a piece.
         let mut l = Lines::default();
         l.add_svg(
@@ -918,6 +924,17 @@ mod tests {
         let none = "frame,pixels,differing,differing_fraction,rmse,max,edge_pixels,edge_rmse\n\
                     overall,4,0,0.000000,0.000000,0,,\n";
         assert_eq!(parse_overall(none).unwrap().edge_rmse, None);
-        assert!(parse_overall("frame,pixels\n").is_err());
+        assert_eq!(
+            parse_overall("frame,pixels\n"),
+            Err(Error::Data(
+                "zspec compare's CSV has no column differing".into()
+            ))
+        );
+        let bad = "frame,pixels,differing,differing_fraction,rmse,max,edge_pixels,edge_rmse\n\
+                   overall,4,x,0,0,0,,\n";
+        assert_eq!(
+            parse_overall(bad),
+            Err(Error::Data("invalid digit found in string".into()))
+        );
     }
 }

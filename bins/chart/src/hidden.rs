@@ -13,7 +13,7 @@
 //! scan lines, the smaller his error, and the longer he takes. That is his trade-off, and
 //! the figure shows it beside the continuous method (error 0).
 
-use anyhow::{bail, Context, Result};
+use crate::error::{Context, Error, Result};
 use std::path::Path;
 use std::process::{Command, Stdio};
 use std::time::Instant;
@@ -62,12 +62,15 @@ fn sh(bin: &Path, root: &Path, script: &str) -> Result<()> {
     let status = Command::new("bash")
         .args(["-c", &format!("set -eo pipefail; {script}")])
         .current_dir(root)
-        .env("PATH", std::env::join_paths(dirs)?)
+        .env(
+            "PATH",
+            std::env::join_paths(dirs).map_err(|e| Error::Data(e.to_string()))?,
+        )
         .stdin(Stdio::null())
         .status()
         .with_context(|| format!("cannot run {script}"))?;
     if !status.success() {
-        bail!("`{script}` failed ({status})");
+        return Err(Error::Data(format!("`{script}` failed ({status})")));
     }
     Ok(())
 }
@@ -109,12 +112,14 @@ pub fn measure(
                         .context("cannot run hiddenline")?;
                     times.push(start.elapsed().as_secs_f64());
                     if !status.success() {
-                        bail!("hiddenline --method {method} failed on {scene} at {size}");
+                        return Err(Error::Data(format!(
+                            "hiddenline --method {method} failed on {scene} at {size}"
+                        )));
                     }
                 }
                 times.sort_by(f64::total_cmp);
                 let text = std::fs::read_to_string(&svg)?;
-                let pieces = lines::read_svg(&text).map_err(|e| anyhow::anyhow!(e))?;
+                let pieces = lines::read_svg(&text).map_err(Error::Data)?;
                 drawings.push((method, times[times.len() / 2], pieces));
             }
             let reference = drawings[0].2.clone();

@@ -1,7 +1,7 @@
 //! chart: the command line of `scripts/chart.sh` and of `render.sh --depth auto`.
 
-use anyhow::{bail, Context, Result};
 use chart::chart::{Scene, Setup};
+use chart::error::{Context, Error, Result};
 use chart::model::Constants;
 use clap::{Parser, Subcommand};
 use indicatif::{ProgressBar, ProgressStyle};
@@ -176,7 +176,7 @@ fn load_constants(model: Option<&Path>, root: &Path, bin: &Path) -> Result<Const
 
 fn calibrate_now(root: &Path, bin: &Path, quick: bool) -> Result<(Constants, PathBuf)> {
     chart::calibrate::calibrate_and_store("chart", bin, &root.join("scripts/render.sh"), quick)
-        .map_err(|e| stagecli::Error::from(e).into())
+        .map_err(Error::from)
 }
 
 fn bar(len: u64) -> ProgressBar {
@@ -222,7 +222,7 @@ fn standard_scenes(bin: &Path, root: &Path, dir: &Path, quick: bool) -> Result<V
                 .status()?;
             if !status.success() {
                 let _ = std::fs::remove_file(&path);
-                bail!("scene environment failed for {name}");
+                return Err(Error::Data(format!("scene environment failed for {name}")));
             }
         }
         scenes.push(Scene {
@@ -283,7 +283,7 @@ fn hard_scenes(bin: &Path, root: &Path, dir: &Path) -> Result<Vec<Scene>> {
                 .status()?;
             if !status.success() {
                 let _ = std::fs::remove_file(&path);
-                bail!("scene {} failed", args.join(" "));
+                return Err(Error::Data(format!("scene {} failed", args.join(" "))));
             }
         }
         scenes.push(Scene {
@@ -312,10 +312,9 @@ fn run(mut cli: Cli) -> Result<()> {
         cli.work.get_or_insert_with(|| root.join("target/chart"));
     }
     let Some(out) = cli.out else {
-        return Err(stagecli::Error::usage(
-            "-o DIR is needed (where the CSV files and pictures go)",
-        )
-        .into());
+        return Err(Error::Usage(
+            "-o DIR is needed (where the CSV files and pictures go)".into(),
+        ));
     };
     // The scene arguments first: a bad `@WxH` is a usage error, said before anything is
     // made or read.
@@ -325,23 +324,22 @@ fn run(mut cli: Cli) -> Result<()> {
         .map(|s| Scene::parse(s, cli.size))
         .collect::<Result<_>>()?;
     if scenes.is_empty() && !(cli.standard || cli.hard || cli.calibrate || cli.replot) {
-        return Err(stagecli::Error::usage("no SCENE given (or --standard)").into());
+        return Err(Error::Usage("no SCENE given (or --standard)".into()));
     }
     // Each scene opened and its first bytes read before anything is made or run, so that
     // one that cannot be read is said at once, in the stages' words (`cannot open PATH: …`).
     for s in &scenes {
-        chart::look::is_text(&s.path).map_err(stagecli::Error::from)?;
+        chart::look::is_text(&s.path)?;
     }
     let bin = bin_dir()?;
     let work = cli.work.clone().unwrap_or_else(|| out.clone());
     let work_dir = work.clone();
     let render = bin.join("render");
     if out.exists() && !out.is_dir() {
-        return Err(stagecli::Error::usage(format!(
+        return Err(Error::Usage(format!(
             "-o {0}: {0} is a file; -o names a folder for the CSV files and pictures (a new one, or one to write into)",
             out.display()
-        ))
-        .into());
+        )));
     }
     for dir in [&out, &work] {
         std::fs::create_dir_all(dir)
@@ -463,8 +461,7 @@ fn remodel(
     let old: Vec<chart::chart::ModelRow> = chart::chart::read_csv(&path)?;
     let mut rows = Vec::with_capacity(old.len());
     for scene in scenes {
-        let env = chart::look::look(&scene.path, scene.width, scene.height, &[], None)
-            .map_err(stagecli::Error::from)?;
+        let env = chart::look::look(&scene.path, scene.width, scene.height, &[], None)?;
         for r in old.iter().filter(|r| r.scene == scene.name) {
             rows.push(chart::chart::model_row(
                 &k,
@@ -478,19 +475,18 @@ fn remodel(
         }
     }
     if rows.len() != old.len() {
-        bail!(
+        return Err(Error::Data(format!(
             "{} has rows of scenes not given ({} of {} matched): give the same scenes as the run that wrote it",
             path.display(),
             rows.len(),
             old.len()
-        );
+        )));
     }
     chart::chart::write_csv(&path, &rows)?;
     let mut extra = Vec::new();
     let mut most = -1.0;
     for scene in scenes {
-        let env = chart::look::look(&scene.path, scene.width, scene.height, &[], None)
-            .map_err(stagecli::Error::from)?;
+        let env = chart::look::look(&scene.path, scene.width, scene.height, &[], None)?;
         if env.area > most {
             most = env.area;
             extra = chart::chart::extrapolate(&k, &env, &scene.name, cores);
@@ -515,9 +511,7 @@ fn read_extrapolation(out: &Path) -> Result<Vec<chart::chart::Extrapolation>> {
 /// away (`| head`) ends chart quietly with 0, a failed write is `stdout: reason`, 3.
 /// (println! would panic on either.)
 fn say(text: &str) -> Result<()> {
-    stagecli::stdout()
-        .write_all(text.as_bytes())
-        .map_err(stagecli::Error::from)?;
+    stagecli::stdout().write_all(text.as_bytes())?;
     Ok(())
 }
 
@@ -589,16 +583,12 @@ fn method_name(s: &str) -> Result<String, String> {
 /// Through stagecli, as every stage: a usage error is one line `chart: …` and 2, and
 /// any other error one line and its kind's status (0 quietly when the reader went away).
 fn main() -> ExitCode {
-    stagecli::main::<Cli>("chart", |cli| {
-        dispatch(cli).map_err(|e| chart::error::stage_error(&e))
-    })
+    stagecli::main::<Cli>("chart", |cli| dispatch(cli).map_err(stagecli::Error::from))
 }
 
 fn dispatch(cli: Cli) -> Result<()> {
     match cli.command {
-        Some(Sub::ChooseDepth(args)) => {
-            costmodel::cli::depth(*args).map_err(|e| stagecli::Error::from(e).into())
-        }
+        Some(Sub::ChooseDepth(args)) => costmodel::cli::depth(*args).map_err(Error::from),
         Some(Sub::Calibrate { quick, model, root }) => {
             let root = root_dir(root)?;
             calibrate(quick, model.as_deref(), &root, &bin_dir()?)
@@ -613,7 +603,7 @@ fn dispatch(cli: Cli) -> Result<()> {
                 return Ok(());
             }
             if !(scale > 0.0 && scale <= 1.0) {
-                return Err(stagecli::Error::usage("--scale is a fraction in (0, 1]").into());
+                return Err(Error::Usage("--scale is a fraction in (0, 1]".into()));
             }
             let work = root_dir(root)?.join("target/chart/thesis");
             let rows = chart::bottleneck::measure(&bin_dir()?, &work, scale)?;

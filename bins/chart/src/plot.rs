@@ -4,16 +4,15 @@
 //! no system font library is needed).
 
 use crate::chart::{Extrapolation, ModelRow, Row};
+use crate::error::{Context, Error, Result};
 use crate::methods::{draws_lines, Method, METHODS};
-use anyhow::{anyhow, Context, Result};
 use plotters::coord::Shift;
 use plotters::prelude::*;
 use plotters::style::text_anchor::{HPos, Pos, VPos};
-use std::error::Error;
 use std::path::Path;
 use std::sync::Once;
 
-type Drawn = std::result::Result<(), Box<dyn Error>>;
+type Drawn = std::result::Result<(), Box<dyn std::error::Error>>;
 
 static FONT: &[u8] = include_bytes!("../fonts/DejaVuSans.ttf");
 
@@ -652,10 +651,10 @@ fn png(
     let mut buf = vec![255u8; size.0 as usize * size.1 as usize * 3];
     {
         let root = BitMapBackend::with_buffer(&mut buf, size).into_drawing_area();
-        draw(root).map_err(|e| anyhow!("drawing {}: {e}", path.display()))?;
+        draw(root).map_err(|e| Error::Data(format!("drawing {}: {e}", path.display())))?;
     }
-    let image =
-        image::RgbImage::from_raw(size.0, size.1, buf).ok_or_else(|| anyhow!("picture buffer"))?;
+    let image = image::RgbImage::from_raw(size.0, size.1, buf)
+        .ok_or_else(|| Error::Data("picture buffer".into()))?;
     let mut bytes = std::io::Cursor::new(Vec::new());
     image
         .write_to(&mut bytes, image::ImageFormat::Png)
@@ -672,7 +671,7 @@ fn svg(
 ) -> Result<()> {
     let mut text = String::new();
     draw(SVGBackend::with_string(&mut text, size).into_drawing_area())
-        .map_err(|e| anyhow!("drawing {}: {e}", path.display()))?;
+        .map_err(|e| Error::Data(format!("drawing {}: {e}", path.display())))?;
     stagecli::whole::write_whole(path, text.as_bytes())?;
     Ok(())
 }

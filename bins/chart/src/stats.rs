@@ -23,7 +23,7 @@
 //!
 //! Each is a mean over the scene's frames.
 
-use anyhow::{Context, Result};
+use crate::error::{Context, Error, Result};
 use proto::{Polygon, Reader, Token};
 use reference::Setup;
 use serde::{Deserialize, Serialize};
@@ -53,11 +53,12 @@ fn colour_id(c: [u8; 3]) -> u32 {
 
 /// One frame's counts: (covering sum over pixels, visible polygons, visible segments).
 pub fn frame_counts(polys: &[Polygon], setup: &Setup) -> Result<(u64, u64, u64)> {
-    anyhow::ensure!(
-        polys.len() < (1 << 24) - 1,
-        "a frame of {} polygons: the statistics count at most 16,777,214",
-        polys.len()
-    );
+    if polys.len() >= (1 << 24) - 1 {
+        return Err(Error::Data(format!(
+            "a frame of {} polygons: the statistics count at most 16,777,214",
+            polys.len()
+        )));
+    }
     let covered: u64 = reference::coverage_counts(polys, setup)
         .iter()
         .map(|&c| c as u64)
@@ -74,7 +75,7 @@ pub fn frame_counts(polys: &[Polygon], setup: &Setup) -> Result<(u64, u64, u64)>
         })
         .collect();
     let ids: Vec<u32> = reference::render_frame(&owners, setup, [0, 0, 0])
-        .map_err(anyhow::Error::msg)?
+        .map_err(Error::Data)?
         .into_iter()
         .map(colour_id)
         .collect();
@@ -103,7 +104,7 @@ pub fn stats(path: &Path, width: u32, height: u32) -> Result<Stats> {
     }
     let size = format!("{width}x{height}");
     let cam = <Camera as clap::Parser>::try_parse_from(["zspec", "--size", &size])
-        .map_err(|e| anyhow::anyhow!("{e}"))?;
+        .map_err(|e| Error::Data(e.to_string()))?;
     let (frame, view) = cam.view.resolve()?;
     // No lighting: every polygon is one flat colour, its number.
     let setup = Setup::new(frame, view, width, height);

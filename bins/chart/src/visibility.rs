@@ -10,7 +10,7 @@
 //! Smooth shading (vertex colours or normals), shade planes and opacity are dropped with
 //! the old colours: the charted scenes are flat and opaque, the geometry untouched.
 
-use anyhow::{Context, Result};
+use crate::error::{Context, Error, Result};
 use proto::{Colour, Form, Reader, Token, Writer, OPAQUE};
 use std::path::Path;
 
@@ -41,11 +41,12 @@ pub fn recolour(from: &Path, to: &Path) -> Result<()> {
             .with_context(|| format!("reading {}", from.display()))?;
         match token {
             Some(Token::Polygon(mut p)) => {
-                anyhow::ensure!(
-                    k < 0xFF_FFFF,
-                    "{}: a frame of more than 16,777,215 polygons has no distinct colours",
-                    from.display()
-                );
+                if k >= 0xFF_FFFF {
+                    return Err(Error::Data(format!(
+                        "{}: a frame of more than 16,777,215 polygons has no distinct colours",
+                        from.display()
+                    )));
+                }
                 p.colour = colour_of(k);
                 p.vertex_attrs.clear();
                 p.shade = None;
