@@ -7,6 +7,7 @@ use proto::Polygon;
 use scan::frame::HiddenSurface;
 use scan::Run;
 use stagecli::TextFlag;
+use std::io::Write;
 use std::process::ExitCode;
 use std::sync::Arc;
 
@@ -67,14 +68,21 @@ struct Args {
     stats: bool,
 }
 
-/// The painter, saying each frame's note on stderr as soon as the frame is resolved.
-struct Loud(Painter);
+/// The painter, saying each frame's note on stderr as soon as the frame is resolved: one
+/// line for people, and, with `--stats`, its record after it for programs (the
+/// differential suite and render read those).
+struct Loud(Painter, bool);
 
 impl HiddenSurface for Loud {
     fn resolve(&mut self, polygons: &[Polygon], width: u32, height: u32, runs: &mut Vec<Run>) {
         self.0.resolve(polygons, width, height, runs);
         if let Some(line) = self.0.take_note() {
-            self.0.note_record().print(&format!("painter: {line}"));
+            let line = format!("painter: {line}");
+            if self.1 {
+                self.0.note_record().print(&line);
+            } else {
+                let _ = writeln!(std::io::stderr(), "{line}");
+            }
         }
     }
     fn stats(&self) -> String {
@@ -98,7 +106,7 @@ fn main() -> ExitCode {
         } else {
             Painter::new()
         };
-        leaf::resolve_frames("painter", args.text.form(), args.stats, &mut Loud(method))?;
+        leaf::resolve_frames("painter", args.text.form(), args.stats, &mut Loud(method, args.stats))?;
         Ok(())
     })
 }
