@@ -27,11 +27,9 @@ const KNOWN_FAILURES: &[(u64, &str)] = &[];
 /// passes fails the test too.
 const FOUND_NOT_YET_FIXED: &[(u64, &str)] = &[
     // Outside the seeds `cargo test` runs (`target/bin/differential --seed S --cases 1`):
-    // the painter and the a-buffer order two constant depths within 2⁻³⁰ of each other
-    // nearest-first where the tie rule gives the earlier.
+    // the a-buffer orders two constant depths within 2⁻³⁰ of each other nearest-first
+    // where the tie rule gives the earlier.
     (12, "leaf-abuf"),
-    (12, "leaf-painter"),
-    (12, "leaf-painter-split"),
     // Phong shading of a triangle at ±1e300 across the screen: every mode at every depth
     // lights it otherwise than zspec (flat and Gouraud agree); listed at depth 0.
     (200000, "buffer-pixels@0"),
