@@ -106,7 +106,12 @@ fn main() -> ExitCode {
         } else {
             Painter::new()
         };
-        leaf::resolve_frames("painter", args.text.form(), args.stats, &mut Loud(method, args.stats))?;
+        leaf::resolve_frames(
+            "painter",
+            args.text.form(),
+            args.stats,
+            &mut Loud(method, args.stats),
+        )?;
         Ok(())
     })
 }

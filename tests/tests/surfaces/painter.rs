@@ -273,7 +273,7 @@ fn render_sh_passes_split_to_the_painter_leaves() {
         );
     }
     let out = sh(
-        "scene planes 50 | scripts/render.sh --size 120x120 --depth 0 --hse painter --split - >/dev/null",
+        "scene planes 50 | scripts/render.sh --size 120x120 --depth 0 --hse painter --split --stats - >/dev/null",
         b"",
     );
     assert!(out.status.success());
