@@ -30,8 +30,8 @@ const FOUND_NOT_YET_FIXED: &[(u64, &str)] = &[
     // the a-buffer orders two constant depths within 2⁻³⁰ of each other nearest-first
     // where the tie rule gives the earlier.
     (12, "leaf-abuf"),
-    // Phong shading of a triangle at ±1e300 across the screen: every mode at every depth
-    // lights it otherwise than zspec (flat and Gouraud agree); listed at depth 0.
+    // A triangle at ±1e300 moved in a movie's later frames: zspec leaves half the screen
+    // empty where every mode at every depth draws it; listed at depth 0.
     (200000, "buffer-pixels@0"),
     (200000, "buffer@0"),
     (200000, "chain@0"),

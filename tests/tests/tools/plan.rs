@@ -508,7 +508,7 @@ fn on_a_terminal_the_first_uncalibrated_depth_auto_says_so_once() {
     std::fs::write(cache.join("polypipe/calibrating"), b"1").unwrap();
     let png = dir.path().join("out.png");
     let line = format!(
-        "{} POLYPIPE_LOAD=0 {} --size 400x400 -o {} {}",
+        "{} POLYPIPE_LOAD=0 {} --no-progress --size 400x400 -o {} {}",
         cached(&cache),
         repo_root().join("scripts/render.sh").display(),
         png.display(),
