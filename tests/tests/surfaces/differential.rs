@@ -47,6 +47,13 @@ const FOUND_NOT_YET_FIXED: &[(u64, &str)] = &[
     (200052, "ss2@0"),
     (200052, "ss4@0"),
     (200052, "ss8@0"),
+    // A coplanar stack on a small screen: warnock's leaf and the splitting painter's give
+    // 11 pixels otherwise than the z-buffer (the painter without saying so).
+    (200470, "leaf-painter-split"),
+    (200470, "leaf-warnock"),
+    // The splitting painter's leaf wrong in 1 pixel and silent.
+    (200236, "leaf-painter-split"),
+    (202017, "leaf-painter-split"),
 ];
 
 /// Runs `only`'s modes on test `k`'s seeds and fails with each broken claim not in [`KNOWN_FAILURES`],
