@@ -46,7 +46,7 @@
 //! time will increase linearly") and in the segments on them; memory is the frame's
 //! polygons, their edges and two rows of the screen.
 
-use super::{collinear_overlap, edge_key, shares_vertex, Face, LineStats, Segment};
+use super::{edge_key, is_pipeline_cut, shares_vertex, Face, LineStats, Segment};
 use proto::{Colour, DVec2, Polygon};
 use std::collections::HashMap;
 
@@ -164,26 +164,15 @@ fn model_edges(
                 continue;
             }
             stats.edges += 1;
-            let on = |u: f64, v: f64, k: f64| (u - k).abs() <= tol && (v - k).abs() <= tol;
-            if on(p0.x, p1.x, 0.0) || on(p0.x, p1.x, w) || on(p0.y, p1.y, 0.0) || on(p0.y, p1.y, h)
-            {
-                stats.border += 1;
+            let same_polygon = || {
+                a.recorded
+                    .and_then(|r| pieces.get(&(r, a.colour)))
+                    .into_iter()
+                    .flatten()
+                    .map(|&j| &faces[j as usize])
+            };
+            if is_pipeline_cut(a, (p0, p1), (w, h), tol, stats, same_polygon) {
                 continue;
-            }
-            let axial = (p0.x - p1.x).abs() <= tol || (p0.y - p1.y).abs() <= tol;
-            if let (Some(r), true) = (a.recorded, axial) {
-                let cut = pieces[&(r, a.colour)].iter().any(|&j| {
-                    let b = &faces[j as usize];
-                    b.index != a.index
-                        && (0..b.points.len()).any(|e| {
-                            let (q0, q1) = b.edge(e);
-                            collinear_overlap(p0, p1, q0, q1, tol)
-                        })
-                });
-                if cut {
-                    stats.cuts += 1;
-                    continue;
-                }
             }
             found.push((edge_key(p0, p1), a.index, k as u32, i));
         }
@@ -386,11 +375,7 @@ pub(crate) fn for_each_segment(
     stats: &mut LineStats,
     mut emit: impl FnMut(Segment),
 ) {
-    let mut faces: Vec<Face> = polygons
-        .iter()
-        .enumerate()
-        .filter_map(|(i, p)| Face::of(i, p))
-        .collect();
+    let mut faces = Face::all(polygons);
     if faces.is_empty() || width == 0 || height == 0 {
         return;
     }

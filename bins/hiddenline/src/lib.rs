@@ -197,6 +197,16 @@ impl Face {
         gx * q.x + gy * q.y + g0
     }
 
+    /// The faces of a frame's polygons, each knowing its index in the stream; polygons
+    /// with no area on the screen have none.
+    fn all(polygons: &[Polygon]) -> Vec<Face> {
+        polygons
+            .iter()
+            .enumerate()
+            .filter_map(|(i, p)| Face::of(i, p))
+            .collect()
+    }
+
     fn edge(&self, i: usize) -> (DVec2, DVec2) {
         (self.points[i], self.points[(i + 1) % self.points.len()])
     }
@@ -584,6 +594,53 @@ fn collinear_overlap(a: DVec2, b: DVec2, c: DVec2, d: DVec2, tol: f64) -> bool {
     hi.min(1.0) - lo.max(0.0) > tol / len
 }
 
+/// Is edge p0→p1 of `a` a cut the pipeline made rather than an edge of the scene's polygon,
+/// and so not drawn? Two kinds, counted in `stats`:
+///
+/// - the clipper's cut, lying on the screen's border (`x = 0`, `x = w`, `y = 0` or `y = h`
+///   within `tol`);
+/// - a splitter's cut: vertical or horizontal on the screen, on a piece of a split polygon
+///   (its recorded plane), and met along a positive length by an edge of another piece of
+///   the same polygon (same recorded plane and colour, another stream index), found among
+///   the faces `near` gives (a grid's cells, or the polygon's pieces). `near` is asked
+///   only for such an axial edge of a split polygon.
+///
+/// Both hidden-line methods leave the same edges out through this one test.
+fn is_pipeline_cut<'f, I>(
+    a: &Face,
+    (p0, p1): (DVec2, DVec2),
+    (w, h): (f64, f64),
+    tol: f64,
+    stats: &mut LineStats,
+    near: impl FnOnce() -> I,
+) -> bool
+where
+    I: IntoIterator<Item = &'f Face>,
+{
+    let on = |u: f64, v: f64, k: f64| (u - k).abs() <= tol && (v - k).abs() <= tol;
+    if on(p0.x, p1.x, 0.0) || on(p0.x, p1.x, w) || on(p0.y, p1.y, 0.0) || on(p0.y, p1.y, h) {
+        stats.border += 1;
+        return true;
+    }
+    let axial = (p0.x - p1.x).abs() <= tol || (p0.y - p1.y).abs() <= tol;
+    if a.recorded.is_none() || !axial {
+        return false;
+    }
+    let cut = near().into_iter().any(|b| {
+        b.index != a.index
+            && b.recorded == a.recorded
+            && b.colour == a.colour
+            && (0..b.points.len()).any(|j| {
+                let (q0, q1) = b.edge(j);
+                collinear_overlap(p0, p1, q0, q1, tol)
+            })
+    });
+    if cut {
+        stats.cuts += 1;
+    }
+    cut
+}
+
 /// The first and last parameters of t0..t1 that the sorted, disjoint intervals `hidden`
 /// leave uncovered; `None` when they cover all of it.
 fn uncovered(hidden: &[(f64, f64)], t0: f64, t1: f64) -> Option<(f64, f64)> {
@@ -905,11 +962,7 @@ pub fn for_each_segment(
     stats: &mut LineStats,
     mut emit: impl FnMut(Segment),
 ) {
-    let mut faces: Vec<Face> = polygons
-        .iter()
-        .enumerate()
-        .filter_map(|(i, p)| Face::of(i, p))
-        .collect();
+    let mut faces = Face::all(polygons);
     if faces.is_empty() {
         return;
     }
@@ -954,37 +1007,21 @@ pub fn for_each_segment(
                 continue;
             }
             stats.edges += 1;
-            // On the screen's border: the clipper's cut.
-            let on = |u: f64, v: f64, k: f64| (u - k).abs() <= tol && (v - k).abs() <= tol;
-            if on(p0.x, p1.x, 0.0) || on(p0.x, p1.x, w) || on(p0.y, p1.y, 0.0) || on(p0.y, p1.y, h)
-            {
-                stats.border += 1;
-                continue;
-            }
-            // A splitter's cut (vertical or horizontal on the screen): another piece of
-            // the same polygon meets this one along it.
-            let axial = (p0.x - p1.x).abs() <= tol || (p0.y - p1.y).abs() <= tol;
-            if a.recorded.is_some() && axial {
-                near.clear();
-                frame.grid.walk(p0, p1, |c, _, _| {
-                    near.extend_from_slice(&frame.grid.cells[c]);
+            // The clipper's and the splitters' cuts are not the scene's edges.
+            let (grid, near) = (&frame.grid, &mut near);
+            let near_cells = move || {
+                let cells = near; // moved out: the closure is FnOnce, and so may lend it
+                cells.clear();
+                grid.walk(p0, p1, |c, _, _| {
+                    cells.extend_from_slice(&grid.cells[c]);
                     true
                 });
-                near.sort_unstable();
-                near.dedup();
-                let cut = near.iter().map(|&j| &faces[j as usize]).any(|b| {
-                    b.index != a.index
-                        && b.recorded == a.recorded
-                        && b.colour == a.colour
-                        && (0..b.points.len()).any(|j| {
-                            let (q0, q1) = b.edge(j);
-                            collinear_overlap(p0, p1, q0, q1, tol)
-                        })
-                });
-                if cut {
-                    stats.cuts += 1;
-                    continue;
-                }
+                cells.sort_unstable();
+                cells.dedup();
+                cells.iter().map(|&j| &faces[j as usize])
+            };
+            if is_pipeline_cut(a, (p0, p1), (w, h), tol, stats, near_cells) {
+                continue;
             }
             // Shared with a polygon before: drawn once.
             let key = edge_key(p0, p1);
