@@ -7,7 +7,7 @@
 //! [`io::Error`] is I/O, or the reader going away when it is a broken pipe. Context
 //! added on the way up ([`Context`]) keeps the kind.
 
-use proto::StreamError;
+pub use proto::StreamError;
 use std::fmt;
 use std::io;
 
@@ -170,9 +170,174 @@ impl<T, E: Into<Error>> Context<T> for std::result::Result<T, E> {
     }
 }
 
+/// A library's own error type, of the stages' kinds: `kinded_error!();` in a module
+/// `error` of a library that is not a stage (the cost model, the chart) defines there
+///
+/// - `enum Error { Data(String), Usage(String), Io(String), ReaderGone(String) }`, whose
+///   variant is the [`Kind`] and so the exit status a command gives it, decided where the
+///   error is made (a library can match on it, as on any enum of its own);
+/// - `kind`, `status`, `message`, `context` (prefixes `context: ` keeping the kind) and
+///   `new(kind, message)`;
+/// - conversions from [`Error`], [`io::Error`] (I/O, or the reader gone for a broken pipe,
+///   said as the stages say it) and [`StreamError`] (grammar data, reading I/O), and into
+///   [`Error`], which a main prints once as `name: message`;
+/// - `Result<T>` and a `Context` trait adding context on the way up, keeping the kind,
+///   from any error that converts into the library's.
+///
+/// One definition, so that every library's errors behave alike; each library adds the
+/// conversions from the errors of the crates it alone uses (TOML, CSV, pictures), which
+/// only it may write (Rust's orphan rule).
+#[macro_export]
+macro_rules! kinded_error {
+    () => {
+        /// An error of this library, by kind (the exit status), with its one-line message
+        /// (`stagecli::kinded_error`).
+        #[derive(Clone, Debug, PartialEq, Eq)]
+        pub enum Error {
+            /// A scene, a file's contents or a measured run that is not what it should
+            /// be. Status 1.
+            Data(String),
+            /// Bad words from the user (an option's value, a scene's `@WxH`). Status 2.
+            Usage(String),
+            /// A file or folder that cannot be made, read or written, a program that
+            /// cannot be started. Status 3.
+            Io(String),
+            /// The reader of the output went away (`… | head`): nothing wrong. Status 0,
+            /// quietly.
+            ReaderGone(String),
+        }
+
+        /// A result of this library's.
+        pub type Result<T, E = Error> = std::result::Result<T, E>;
+
+        impl Error {
+            /// The stages' kind of this error, which gives the exit status.
+            pub fn kind(&self) -> $crate::Kind {
+                match self {
+                    Error::Data(_) => $crate::Kind::Data,
+                    Error::Usage(_) => $crate::Kind::Usage,
+                    Error::Io(_) => $crate::Kind::Io,
+                    Error::ReaderGone(_) => $crate::Kind::ReaderGone,
+                }
+            }
+
+            /// The exit status a command gives this error: 1, 2, 3, or 0 for the reader
+            /// gone.
+            pub fn status(&self) -> u8 {
+                self.kind().status()
+            }
+
+            /// The message, without the kind.
+            pub fn message(&self) -> &str {
+                match self {
+                    Error::Data(m) | Error::Usage(m) | Error::Io(m) | Error::ReaderGone(m) => m,
+                }
+            }
+
+            /// The same error, its message prefixed with `context: `.
+            pub fn context(self, context: impl std::fmt::Display) -> Self {
+                let kind = self.kind();
+                Error::new(kind, format!("{context}: {}", self.message()))
+            }
+
+            /// An error of `kind` saying `message`.
+            pub fn new(kind: $crate::Kind, message: impl Into<String>) -> Self {
+                let m = message.into();
+                match kind {
+                    $crate::Kind::Data => Error::Data(m),
+                    $crate::Kind::Usage => Error::Usage(m),
+                    $crate::Kind::Io => Error::Io(m),
+                    $crate::Kind::ReaderGone => Error::ReaderGone(m),
+                }
+            }
+        }
+
+        impl std::fmt::Display for Error {
+            fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+                f.write_str(self.message())
+            }
+        }
+
+        impl std::error::Error for Error {}
+
+        impl From<$crate::Error> for Error {
+            fn from(e: $crate::Error) -> Self {
+                Error::new(e.kind(), e.message())
+            }
+        }
+
+        impl From<std::io::Error> for Error {
+            fn from(e: std::io::Error) -> Self {
+                $crate::Error::from(e).into()
+            }
+        }
+
+        impl From<$crate::error::StreamError> for Error {
+            fn from(e: $crate::error::StreamError) -> Self {
+                $crate::Error::from(e).into()
+            }
+        }
+
+        impl From<Error> for $crate::Error {
+            fn from(e: Error) -> Self {
+                $crate::Error::new(e.kind(), e.message())
+            }
+        }
+
+        /// Context on the way up, keeping the kind: `.context("reading x")?`.
+        pub trait Context<T> {
+            fn context(self, context: impl std::fmt::Display) -> Result<T>;
+            fn with_context<D: std::fmt::Display>(self, context: impl FnOnce() -> D) -> Result<T>;
+        }
+
+        impl<T, E: Into<Error>> Context<T> for std::result::Result<T, E> {
+            fn context(self, context: impl std::fmt::Display) -> Result<T> {
+                self.map_err(|e| e.into().context(context))
+            }
+
+            fn with_context<D: std::fmt::Display>(self, context: impl FnOnce() -> D) -> Result<T> {
+                self.map_err(|e| e.into().context(context()))
+            }
+        }
+    };
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    mod library {
+        crate::kinded_error!();
+    }
+
+    /// A library's error made by `kinded_error!` keeps its kind through context and
+    /// reaches a main's [`Error`] with it: each kind's status, the broken pipe quiet.
+    #[test]
+    fn a_kinded_error_keeps_its_kind_through_context() {
+        use library::Error as Lib;
+        let cases: [(Lib, u8); 4] = [
+            (Lib::Data("bad row".into()), 1),
+            (Error::usage("bad size").into(), 2),
+            (io::Error::from_raw_os_error(2).into(), 3),
+            (StreamError::Io(io::ErrorKind::BrokenPipe.into()).into(), 0),
+        ];
+        let said = [
+            "bad row",
+            "bad size",
+            "No such file or directory",
+            "broken pipe",
+        ];
+        for ((e, status), said) in cases.into_iter().zip(said) {
+            let e = library::Context::with_context(Err::<(), _>(e), || "x").unwrap_err();
+            let e = library::Context::context(Err::<(), _>(e), "reading").unwrap_err();
+            assert_eq!(
+                (e.status(), e.to_string()),
+                (status, format!("reading: x: {said}"))
+            );
+            let main = Error::from(e.clone());
+            assert_eq!((main.kind(), main.message()), (e.kind(), e.message()));
+        }
+    }
 
     #[test]
     fn kinds_come_from_the_error_type() {
