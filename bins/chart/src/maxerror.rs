@@ -7,8 +7,9 @@
 
 use crate::chart::{Row, Scene, Setup};
 use crate::error::Result;
+use crate::look::Environment;
 use crate::methods::METHODS;
-use crate::model::{Constants, Target};
+use crate::model::{predict_on, Constants, Target};
 use costmodel::accuracy::{self, Accuracy, Seen, BUDGETS};
 use serde::{Deserialize, Serialize};
 use std::path::Path;
@@ -28,6 +29,10 @@ pub struct Choice {
     /// The model's prediction (empty for the safe choice): wall seconds, and RMS.
     pub predicted_time_s: Option<f64>,
     pub predicted_error: Option<f64>,
+    /// The predicted seconds less the model's prediction for an empty scene at the same
+    /// depth on the same screen, at least 0: the prediction on the panels' time axis
+    /// (seconds less start-up).
+    pub predicted_less_startup_s: Option<f64>,
     /// The chart's row of that method and depth, where it ran one: its time (CPU seconds
     /// less start-up) and its RMS against the 16×16 reference.
     pub measured_time_s: Option<f64>,
@@ -93,6 +98,16 @@ pub fn choose_on(
                 depth,
                 predicted_time_s: best.as_ref().map(|p| p.seconds),
                 predicted_error: best.as_ref().map(|p| p.rms),
+                predicted_less_startup_s: best.as_ref().zip(seen.as_ref()).map(|(p, s)| {
+                    let empty = Environment {
+                        frames: 1,
+                        width,
+                        height,
+                        text: s.env.text,
+                        ..Environment::default()
+                    };
+                    (p.seconds - predict_on(k, &empty, p.depth, target).total_s).max(0.0)
+                }),
                 measured_time_s: row.map(|r| r.time_s),
                 measured_rms: row.and_then(|r| r.rms_16x16),
                 rule: rule.to_string(),

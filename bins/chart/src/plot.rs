@@ -531,7 +531,8 @@ where
         }
         // `--max-error`'s choices: a black ring, labelled ≤E, around the run chosen (its
         // mark drawn too where the panel has not drawn that depth), or around a hollow
-        // mark at the model's predicted time and RMS where the chart did not run it.
+        // mark at the model's predicted time (less its start-up) and RMS where the chart did not
+        // run it.
         for c in &chosen {
             let drawn = c
                 .row
@@ -557,9 +558,15 @@ where
                 .is_some_and(|r| by_time.iter().chain(&hollow).any(|m| std::ptr::eq(*m, r)));
             let label = c.label(drawn);
             let (x, y) = chart.backend_coord(&c.at);
-            // Beyond the ring: the label slots start at 10 px from the centre.
+            // Beyond the ring: the label slots beside a mark start 10 px from its centre.
+            let w = LabelBox::text(&label, 0, 0).x1;
+            let beyond = |dx: i32| match dx {
+                d if d > 0 => RING - 8,
+                d if d + w < 0 => 8 - RING,
+                _ => 0,
+            };
             let Some((dx, dy)) = place_label(&label, (x, y), (&area.0, &area.1), &placed)
-                .map(|(dx, dy)| (dx + if dx > 0 { RING - 8 } else { 0 }, dy))
+                .map(|(dx, dy)| (dx + beyond(dx), dy))
             else {
                 continue;
             };
@@ -707,7 +714,7 @@ const RING: i32 = 13;
 pub const RING_LEGEND: &str = "Ringed, labelled ≤E: what render --max-error E chooses \
 for E = 0, 1, 4 and 16 (by the same code; listed in max-error.csv); labelled \
 \"predicted\": a configuration the chart did not run, hollow at the model's predicted \
-wall seconds and RMS";
+seconds (less its prediction for an empty scene) and RMS";
 
 /// [`RING_LEGEND`] in lines that fit `width` pixels beside the ring drawn before it.
 fn ring_legend(width: u32) -> Vec<String> {
@@ -805,7 +812,7 @@ fn chosen_marks<'a>(rows: &'a [Row], scene: &str, choices: &[Choice]) -> Vec<Cho
                 .find(|r| r.scene == scene && r.method == c.method && r.depth == d)
                 .filter(|r| !r.rms().is_nan())
         });
-        let at = match (row, c.predicted_time_s, c.predicted_error) {
+        let at = match (row, c.predicted_less_startup_s, c.predicted_error) {
             (Some(r), _, _) => (time_of(r), r.rms()),
             (None, Some(t), Some(e)) => (t.max(TIME_FLOOR), e),
             _ => continue,
@@ -1778,6 +1785,7 @@ mod tests {
             depth: Some(depth),
             predicted_time_s: Some(predicted.0),
             predicted_error: Some(predicted.1),
+            predicted_less_startup_s: Some(predicted.0),
             measured_time_s: None,
             measured_rms: None,
             rule: "cheapest predicted to meet it".into(),

@@ -248,6 +248,7 @@ fn the_chart_marks_what_render_max_error_chooses() {
             "depth",
             "predicted_time_s",
             "predicted_error",
+            "predicted_less_startup_s",
             "measured_time_s",
             "measured_rms",
             "rule"
@@ -265,6 +266,8 @@ fn the_chart_marks_what_render_max_error_chooses() {
         );
         let e = num(c, "budget");
         assert!(num(c, "predicted_error") <= e, "{c:?}");
+        let less = num(c, "predicted_less_startup_s");
+        assert!(less >= 0.0 && less < num(c, "predicted_time_s"), "{c:?}");
         let out = sh(
             &format!(
                 "{} render --max-error {e} --stats --size 120x90 {} > /dev/null",
