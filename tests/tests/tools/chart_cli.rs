@@ -335,6 +335,20 @@ fn the_chart_marks_what_render_max_error_chooses() {
         "{configurations:?}"
     );
     assert!(svg.contains("Ringed, labelled ≤E: what render --max-error E chooses"));
+    // --replot draws them again from max-error.csv.
+    std::fs::remove_file(d.join("speed-accuracy.svg")).unwrap();
+    let out = sh(
+        &format!("scripts/chart.sh -o {} --replot", d.display()),
+        b"",
+    );
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let again = std::fs::read_to_string(d.join("speed-accuracy.svg")).unwrap();
+    let rings = again.matches(r##"r="13" opacity="1" fill="none" stroke="#000000""##);
+    assert_eq!(rings.count(), configurations.len() + 1);
 }
 
 #[test]
