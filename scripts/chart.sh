@@ -9,9 +9,10 @@
 #        scripts/chart.sh calibrate [--quick]     # fit the cost model to this machine now
 #        scripts/chart.sh thesis                  # thesis 5.2's timings and 6.4's depth
 #        scripts/chart.sh choose-depth [--size WxH] [--cores N] SCENE   # plan depth's alias
-# Writes DIR/results.csv, DIR/speed-accuracy.png and .svg, DIR/cost-environment.png and
-# .svg (each method's cost against the scenes' environment statistics), DIR/model.csv and
-# DIR/model.png;
+# Writes DIR/results.csv, DIR/max-error.csv (what render --max-error E would choose on
+# each scene, ringed on the speed-accuracy panels), DIR/speed-accuracy.png and .svg,
+# DIR/cost-environment.png and .svg (each method's cost against the scenes' environment
+# statistics), DIR/model.csv and DIR/model.png;
 # the first run on a machine calibrates the model (at most 20 s). `chart.sh --help` tells
 # the rest.
 

@@ -33,6 +33,7 @@ use crate::model::{self, Constants, Target};
 use proto::{Reader, Token};
 use serde::{Deserialize, Serialize};
 use std::io::Read;
+use std::path::Path;
 
 /// The sampling modes `--max-error` chooses among, cheapest first by samples a pixel.
 pub const MODES: [&str; 10] = [
@@ -50,6 +51,13 @@ pub const MODES: [&str; 10] = [
 
 /// The safe choice: the reference's own sampling, 0 error on any scene.
 pub const SAFE: &str = "ss16";
+
+/// The budgets `plan accuracy` reports, `plan max-error-check` tries and the chart marks
+/// on its speed-accuracy panels (RMS, 0–255 levels).
+pub const BUDGETS: [f64; 4] = [0.0, 1.0, 4.0, 16.0];
+
+/// The deepest tree `--max-error` considers.
+pub const MAX_DEPTH: u8 = 6;
 
 /// K of `ssK` or `adaptiveK` (1 for none; abuf's 8×8 mask counts as 8).
 pub fn samples(mode: &str) -> u32 {
@@ -116,6 +124,41 @@ impl Colours {
             flat,
         })
     }
+}
+
+/// A scene file as `--max-error` sees it: the look at it on its screen and the scan of
+/// its colours, each over its first [`crate::look::LOOK_BYTES`].
+#[derive(Clone, Debug, PartialEq)]
+pub struct Seen {
+    pub env: Environment,
+    pub colours: Colours,
+}
+
+impl Seen {
+    /// The scene file `path` on a `width`×`height` screen through `camera` (viewxf's
+    /// options, as [`crate::look::look`] takes them); `None` where the look or the colour
+    /// scan cannot read it.
+    pub fn of(path: &Path, width: u32, height: u32, camera: &[String]) -> Option<Seen> {
+        let limit = crate::look::LOOK_BYTES;
+        let env = crate::look::look(path, width, height, camera, Some(limit)).ok()?;
+        let colours = Colours::scan(crate::look::open(path).ok()?, limit).ok()?;
+        Some(Seen { env, colours })
+    }
+}
+
+/// `render --max-error E`'s choice on a seen scene: every allowed configuration
+/// predicted ([`Accuracy::predict_all`], trees to [`MAX_DEPTH`]) and the cheapest of those
+/// predicted to meet `max_error` ([`cheapest`]); `None` where none is. The chart marks the
+/// same choice on its panels.
+pub fn choose(
+    model: &Accuracy,
+    k: &Constants,
+    seen: &Seen,
+    target: &Target,
+    max_error: f64,
+) -> Option<Predicted> {
+    let all = model.predict_all(k, &seen.env, &seen.colours, target, MAX_DEPTH);
+    cheapest(&all, max_error).cloned()
 }
 
 /// The visible edge pixels a screen pixel (0–1), by thesis 5.2's closed form: each of

@@ -363,7 +363,7 @@ impl Setup {
     }
 
     /// The scene in its own colours ([`crate::visibility`]), made once into `DIR/refs`.
-    fn coloured(&self, scene: &Scene) -> Result<Scene> {
+    pub fn coloured(&self, scene: &Scene) -> Result<Scene> {
         let dir = self.refs_dir();
         std::fs::create_dir_all(&dir)?;
         let path = dir.join(format!("{}.coloured.pp", scene.name));

@@ -13,6 +13,7 @@ pub mod bottleneck;
 pub mod chart;
 pub mod error;
 pub mod hidden;
+pub mod maxerror;
 pub mod methods;
 pub mod plot;
 pub mod stats;

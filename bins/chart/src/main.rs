@@ -15,9 +15,10 @@ use std::process::{Command, ExitCode};
 /// Charts speed against accuracy: runs every method and variant on each scene through
 /// scripts/render.sh, measures it (wall and CPU seconds and peak memory of the whole
 /// process tree; the frames' error against zspec and zspec --samples 16), and writes
-/// DIR/results.csv, DIR/speed-accuracy.png and .svg, and DIR/model.csv and model.png: the
-/// thesis's cost model (chapters 5.2 and 6.4) beside the measured times of zbuf at
-/// depths 0-4.
+/// DIR/results.csv, DIR/speed-accuracy.png and .svg (each panel marking what `render
+/// --max-error E` would choose for E of 0, 1, 4 and 16, also in DIR/max-error.csv), and
+/// DIR/model.csv and model.png: the thesis's cost model (chapters 5.2 and 6.4) beside the
+/// measured times of zbuf at depths 0-4.
 #[derive(Parser, Debug)]
 #[command(
     name = "chart",
@@ -350,7 +351,8 @@ fn run(mut cli: Cli) -> Result<()> {
         let model_rows: Vec<chart::chart::ModelRow> =
             chart::chart::read_csv(&out.join("model.csv"))?;
         let extra = read_extrapolation(&out)?;
-        chart::plot::speed_accuracy(&out, &rows)?;
+        let choices = read_choices(&out)?;
+        chart::plot::speed_accuracy_marked(&out, &rows, &choices)?;
         chart::plot::environment(&out, &rows)?;
         return chart::plot::model(&out, &model_rows, &extra);
     }
@@ -414,7 +416,9 @@ fn run(mut cli: Cli) -> Result<()> {
     let model_out = if cli.figures { &work_dir } else { &out };
     chart::chart::write_csv(&model_out.join("model.csv"), &model_rows)?;
     chart::chart::write_csv(&model_out.join("model-extrapolation.csv"), &extra)?;
-    chart::plot::speed_accuracy(&out, &rows)?;
+    let choices = chart::maxerror::choices(&setup, &scenes, &rows)?;
+    chart::chart::write_csv(&out.join("max-error.csv"), &choices)?;
+    chart::plot::speed_accuracy_marked(&out, &rows, &choices)?;
     chart::plot::environment(&out, &rows)?;
     chart::plot::model(model_out, &model_rows, &extra)?;
     if cli.figures {
@@ -422,7 +426,7 @@ fn run(mut cli: Cli) -> Result<()> {
     }
     say(&model_table(&model_rows))?;
     say_err(&format!(
-        "chart: wrote {0}/results.csv, {0}/speed-accuracy.png and .svg, {0}/cost-environment.png and .svg, {1}/model.csv, {1}/model.png",
+        "chart: wrote {0}/results.csv, {0}/max-error.csv, {0}/speed-accuracy.png and .svg, {0}/cost-environment.png and .svg, {1}/model.csv, {1}/model.png",
         out.display(),
         model_out.display()
     ));
@@ -500,6 +504,16 @@ fn remodel(
 /// DIR/model-extrapolation.csv, when there is one (a run before it had none).
 fn read_extrapolation(out: &Path) -> Result<Vec<chart::chart::Extrapolation>> {
     let path = out.join("model-extrapolation.csv");
+    if path.exists() {
+        chart::chart::read_csv(&path)
+    } else {
+        Ok(Vec::new())
+    }
+}
+
+/// DIR/max-error.csv, when there is one (a run before it had none).
+fn read_choices(out: &Path) -> Result<Vec<chart::maxerror::Choice>> {
+    let path = out.join("max-error.csv");
     if path.exists() {
         chart::chart::read_csv(&path)
     } else {

@@ -5,6 +5,7 @@
 
 use crate::chart::{Extrapolation, ModelRow, Row};
 use crate::error::{Context, Error, Result};
+use crate::maxerror::Choice;
 use crate::methods::{draws_lines, Method, METHODS};
 use plotters::coord::Shift;
 use plotters::prelude::*;
@@ -341,6 +342,7 @@ fn wrap(text: &str, fits: impl Fn(&str) -> bool) -> Vec<String> {
 fn speed_accuracy_on<DB: DrawingBackend>(
     root: DrawingArea<DB, Shift>,
     rows: &[Row],
+    choices: &[Choice],
     title_text: &[String],
     measure: Measure,
 ) -> Drawn
@@ -352,8 +354,15 @@ where
     let (cols, nrows) = layout(scenes.len());
     let (title, rest) = root.split_vertically(title_height(title_text.len()));
     let height = rest.dim_in_pixel().1;
+    // `--max-error`'s choices are marked on the RMS panels alone.
+    let choices = if measure == Measure::Rms {
+        choices
+    } else {
+        &[]
+    };
+    let marked = !choices.is_empty();
     let (body, foot) =
-        rest.split_vertically(height - legend_height(rest.dim_in_pixel().0, measure));
+        rest.split_vertically(height - legend_height(rest.dim_in_pixel().0, measure, marked));
     draw_title(&title, title_text)?;
     let panels = body.split_evenly((nrows, cols));
     for (scene, panel) in scenes.iter().zip(panels) {
@@ -374,14 +383,24 @@ where
             .copied()
             .chain(zeros.iter().map(|(_, z)| *z))
             .collect();
+        let chosen = chosen_marks(rows, scene, choices);
         let (tmin, tmax) = all.iter().fold((f64::INFINITY, 0.0f64), |(a, b), r| {
             (
                 a.min(r.time_lo_s.max(TIME_FLOOR)),
                 b.max(r.time_hi_s.max(time_of(r))),
             )
         });
+        let (tmin, tmax) = chosen
+            .iter()
+            .fold((tmin, tmax), |(a, b), c| (a.min(c.at.0), b.max(c.at.0)));
         let floor = if point { 0.05 } else { 0.5 };
-        let emax = all.iter().map(|r| err(r)).fold(0.0f64, f64::max).max(floor) * 1.3;
+        let emax = all
+            .iter()
+            .map(|r| err(r))
+            .chain(chosen.iter().map(|c| c.at.1))
+            .fold(0.0f64, f64::max)
+            .max(floor)
+            * 1.3;
         let (xlo, xhi) = decades(tmin / 1.3, tmax * 1.6);
         let caption = format!(
             "{} ({} polygons{}, {})",
@@ -510,8 +529,70 @@ where
                     + Text::new(label, (dx, dy), ("sans-serif", 16).into_font().color(&c))),
             )?;
         }
+        // `--max-error`'s choices: a black ring, labelled ≤E, around the run chosen (its
+        // mark drawn too where the panel has not drawn that depth), or around a hollow
+        // mark at the model's predicted time (less its start-up) and RMS where the chart did not
+        // run it.
+        for c in &chosen {
+            let drawn = c
+                .row
+                .is_some_and(|r| by_time.iter().chain(&hollow).any(|m| std::ptr::eq(*m, r)));
+            if !drawn {
+                draw_mark_as(
+                    chart.plotting_area(),
+                    c.at,
+                    style_of(&c.method),
+                    7,
+                    c.row.is_some(),
+                )?;
+                let (x, y) = chart.backend_coord(&c.at);
+                placed.push(LabelBox::mark(x, y));
+            }
+        }
+        for c in &chosen {
+            chart.plotting_area().draw(
+                &(EmptyElement::at(c.at) + Circle::new((0, 0), RING, BLACK.stroke_width(2))),
+            )?;
+            let drawn = c
+                .row
+                .is_some_and(|r| by_time.iter().chain(&hollow).any(|m| std::ptr::eq(*m, r)));
+            let label = c.label(drawn);
+            let (x, y) = chart.backend_coord(&c.at);
+            // Beyond the ring: the label slots beside a mark start 10 px from its centre.
+            let w = LabelBox::text(&label, 0, 0).x1;
+            let beyond = |dx: i32| match dx {
+                d if d > 0 => RING - 8,
+                d if d + w < 0 => 8 - RING,
+                _ => 0,
+            };
+            let Some((dx, dy)) = place_label(&label, (x, y), (&area.0, &area.1), &placed)
+                .map(|(dx, dy)| (dx + beyond(dx), dy))
+            else {
+                continue;
+            };
+            placed.push(LabelBox::text(&label, x + dx, y + dy));
+            let font = ("sans-serif", 16).into_font();
+            // A label pushed away from its ring by others is joined to it by a thin line,
+            // from the ring to the nearest point of the text.
+            let w = font.box_size(&label).map_or(0, |(w, _)| w as i32);
+            let near = (0.clamp(dx, dx + w), 0.clamp(dy, dy + 16));
+            let far = f64::from(near.0).hypot(f64::from(near.1));
+            if far > 40.0 {
+                let from = |v: i32| (f64::from(v) * f64::from(RING) / far).round() as i32;
+                chart.plotting_area().draw(
+                    &(EmptyElement::at(c.at)
+                        + PathElement::new(
+                            [(from(near.0), from(near.1)), near],
+                            RGBColor(120, 120, 120).stroke_width(1),
+                        )),
+                )?;
+            }
+            chart
+                .plotting_area()
+                .draw(&(EmptyElement::at(c.at) + Text::new(label, (dx, dy), font.color(&BLACK))))?;
+        }
     }
-    legend(&foot, measure)?;
+    legend(&foot, measure, marked)?;
     root.present()?;
     Ok(())
 }
@@ -568,7 +649,8 @@ impl LabelBox {
 /// The offset (from its mark at `at`, to the label's top left) of the first slot for
 /// `label` that overlaps none of `placed` and stays inside the plotting area `xs`×`ys`
 /// (pixels): right of the mark, above it, below it, left of it, then a little further
-/// out above and below; `None` when every one is taken.
+/// out above and below, and further out again to either side; `None` when every one is
+/// taken.
 fn place_label(
     label: &str,
     at: (i32, i32),
@@ -587,6 +669,12 @@ fn place_label(
         (-w - 6, 11),
         (-w / 2, -45),
         (-w / 2, 29),
+        (-w - 6, -45),
+        (6, -45),
+        (-w - 6, 29),
+        (6, 29),
+        (-w - 6, -63),
+        (6, -63),
     ];
     slots.into_iter().find(|&(dx, dy)| {
         let b = LabelBox::text(label, at.0 + dx, at.1 + dy);
@@ -605,16 +693,47 @@ fn surface_methods(measure: Measure) -> impl Iterator<Item = &'static Method> {
 }
 
 /// The legend's height for a picture `width` pixels wide: a row of entries of
-/// [`LEGEND_ENTRY`] px each, as many rows as the methods need.
-fn legend_height(width: u32, measure: Measure) -> u32 {
+/// [`LEGEND_ENTRY`] px each, as many rows as the methods need, and with `marked` (the
+/// RMS figure with `--max-error`'s choices) the lines that say what the rings are.
+fn legend_height(width: u32, measure: Measure, marked: bool) -> u32 {
     let per_row = (width.saturating_sub(40) / LEGEND_ENTRY).max(1) as usize;
-    16 + 26 * surface_methods(measure).count().div_ceil(per_row) as u32
+    let rings = if marked {
+        26 * ring_legend(width).len() as u32
+    } else {
+        0
+    };
+    16 + 26 * surface_methods(measure).count().div_ceil(per_row) as u32 + rings
 }
 
 const LEGEND_ENTRY: u32 = 150;
 
-/// Every method's colour and shape, under the panels.
-fn legend<DB: DrawingBackend>(area: &DrawingArea<DB, Shift>, measure: Measure) -> Drawn
+/// The radius of the ring that marks `--max-error`'s choice, pixels.
+const RING: i32 = 13;
+
+/// What the rings are, under the legend's methods.
+pub const RING_LEGEND: &str = "Ringed, labelled ≤E: what render --max-error E chooses \
+for E = 0, 1, 4 and 16 (by the same code; listed in max-error.csv); labelled \
+\"predicted\": a configuration the chart did not run, hollow at the model's predicted \
+seconds (less its prediction for an empty scene) and RMS";
+
+/// [`RING_LEGEND`] in lines that fit `width` pixels beside the ring drawn before it.
+fn ring_legend(width: u32) -> Vec<String> {
+    register_font();
+    let font = ("sans-serif", 16).into_font();
+    let wide = |s: &str| {
+        font.box_size(s)
+            .map_or(9 * s.chars().count() as u32, |(w, _)| w)
+    };
+    wrap(RING_LEGEND, |s| wide(s) + 80 <= width)
+}
+
+/// Every method's colour and shape, under the panels; with `marked`, what the rings of
+/// `--max-error`'s choices are.
+fn legend<DB: DrawingBackend>(
+    area: &DrawingArea<DB, Shift>,
+    measure: Measure,
+    marked: bool,
+) -> Drawn
 where
     DB::ErrorType: 'static,
 {
@@ -639,7 +758,80 @@ where
                 .pos(Pos::new(HPos::Left, VPos::Center)),
         ))?;
     }
+    if marked {
+        let top = 8 + count.div_ceil(per_row) as i32 * 26 + 10;
+        let left = 40;
+        area.draw(&Circle::new((left, top), RING, BLACK.stroke_width(2)))?;
+        for (i, line) in ring_legend(width).iter().enumerate() {
+            area.draw(&Text::new(
+                line.clone(),
+                (left + 24, top + 26 * i as i32),
+                ("sans-serif", 16)
+                    .into_font()
+                    .color(&BLACK)
+                    .pos(Pos::new(HPos::Left, VPos::Center)),
+            ))?;
+        }
+    }
     Ok(())
+}
+
+/// A `--max-error` choice as a panel marks it: where, its method, the chart's row when it
+/// ran that configuration, and the budgets that chose it.
+struct ChosenMark<'a> {
+    at: (f64, f64),
+    method: String,
+    depth: Option<u8>,
+    row: Option<&'a Row>,
+    budgets: Vec<f64>,
+}
+
+impl ChosenMark<'_> {
+    /// `≤1, ≤4` beside a mark the panel names already (`drawn`); else with the
+    /// configuration, and `predicted` where the chart did not run it.
+    fn label(&self, drawn: bool) -> String {
+        let budgets: Vec<String> = self.budgets.iter().map(|e| format!("≤{e}")).collect();
+        let budgets = budgets.join(", ");
+        let depth = self.depth.map_or(String::new(), |d| format!(" d{d}"));
+        match (drawn, self.row) {
+            (true, _) => budgets,
+            (false, Some(_)) => format!("{budgets}: {}{depth}", self.method),
+            (false, None) => format!("{budgets}: {}{depth}, predicted", self.method),
+        }
+    }
+}
+
+/// The choices on `scene`'s panel, a mark a configuration (the budgets that chose it
+/// together): at the chart's run of it, or at the model's prediction where there is
+/// none (a safe choice without a prediction or a run is not drawn).
+fn chosen_marks<'a>(rows: &'a [Row], scene: &str, choices: &[Choice]) -> Vec<ChosenMark<'a>> {
+    let mut out: Vec<ChosenMark> = Vec::new();
+    for c in choices.iter().filter(|c| c.scene == scene) {
+        let row = c.depth.and_then(|d| {
+            rows.iter()
+                .find(|r| r.scene == scene && r.method == c.method && r.depth == d)
+                .filter(|r| !r.rms().is_nan())
+        });
+        let at = match (row, c.predicted_less_startup_s, c.predicted_error) {
+            (Some(r), _, _) => (time_of(r), r.rms()),
+            (None, Some(t), Some(e)) => (t.max(TIME_FLOOR), e),
+            _ => continue,
+        };
+        match out
+            .iter_mut()
+            .find(|m| m.method == c.method && m.depth == c.depth)
+        {
+            Some(m) => m.budgets.push(c.budget),
+            None => out.push(ChosenMark {
+                at,
+                method: c.method.clone(),
+                depth: c.depth,
+                row,
+                budgets: vec![c.budget],
+            }),
+        }
+    }
+    out
 }
 
 fn png(
@@ -679,6 +871,12 @@ fn svg(
 /// `speed-accuracy.png` and `.svg` (RMS against the 16×16 reference) and
 /// `visibility.png` and `.svg` (% of pixels whose visible polygon differs) in `dir`.
 pub fn speed_accuracy(dir: &Path, rows: &[Row]) -> Result<()> {
+    speed_accuracy_marked(dir, rows, &[])
+}
+
+/// [`speed_accuracy`], its RMS panels marked with `render --max-error`'s `choices`
+/// (`DIR/max-error.csv`, [`crate::maxerror`]).
+pub fn speed_accuracy_marked(dir: &Path, rows: &[Row], choices: &[Choice]) -> Result<()> {
     for (measure, name) in [
         (Measure::Rms, "speed-accuracy"),
         (Measure::Visibility, "visibility"),
@@ -686,15 +884,18 @@ pub fn speed_accuracy(dir: &Path, rows: &[Row]) -> Result<()> {
         let (cols, nrows) = layout(scenes_of(rows).len());
         let width = PANEL.0 * cols as u32;
         let title = title_lines(width, measure);
+        let marked = measure == Measure::Rms && !choices.is_empty();
         let size = (
             width,
-            PANEL.1 * nrows as u32 + title_height(title.len()) + legend_height(width, measure),
+            PANEL.1 * nrows as u32
+                + title_height(title.len())
+                + legend_height(width, measure, marked),
         );
         png(&dir.join(format!("{name}.png")), size, |root| {
-            speed_accuracy_on(root, rows, &title, measure)
+            speed_accuracy_on(root, rows, choices, &title, measure)
         })?;
         svg(&dir.join(format!("{name}.svg")), size, |root| {
-            speed_accuracy_on(root, rows, &title, measure)
+            speed_accuracy_on(root, rows, choices, &title, measure)
         })?;
     }
     Ok(())
@@ -1575,6 +1776,86 @@ mod tests {
         assert!(svg.contains("zbuf: slope 1.00"));
     }
 
+    fn choice(budget: f64, method: &str, depth: u8, predicted: (f64, f64)) -> Choice {
+        Choice {
+            scene: "s".into(),
+            budget,
+            method: method.into(),
+            aa: if method == "zbuf" { "none" } else { method }.into(),
+            depth: Some(depth),
+            predicted_time_s: Some(predicted.0),
+            predicted_error: Some(predicted.1),
+            predicted_less_startup_s: Some(predicted.0),
+            measured_time_s: None,
+            measured_rms: None,
+            rule: "cheapest predicted to meet it".into(),
+        }
+    }
+
+    #[test]
+    fn max_error_choices_are_ringed_at_their_runs_or_their_predictions() {
+        let rows = vec![
+            row("zbuf", 0, 0.2, 30.0),
+            row("ss4", 0, 0.4, 3.0),
+            row("ss4", 2, 0.5, 3.0),
+        ];
+        let choices = [
+            choice(0.0, "adaptive16", 0, (0.9, 0.0)),
+            choice(1.0, "ss4", 2, (0.3, 0.8)),
+            choice(4.0, "ss4", 2, (0.3, 0.8)),
+            choice(16.0, "zbuf", 0, (0.1, 12.0)),
+        ];
+        let m = chosen_marks(&rows, "s", &choices);
+        let seen: Vec<String> = m
+            .iter()
+            .map(|c| {
+                format!(
+                    "{} at {:?}, run {}: {:?} / {:?}",
+                    c.method,
+                    c.at,
+                    c.row.is_some(),
+                    c.label(true),
+                    c.label(false)
+                )
+            })
+            .collect();
+        assert_eq!(
+            seen,
+            [
+                // Not run: at the prediction, named.
+                r#"adaptive16 at (0.9, 0.0), run false: "≤0" / "≤0: adaptive16 d0, predicted""#,
+                // Run: at the run's time and measured RMS, two budgets on one ring.
+                r#"ss4 at (0.5, 3.0), run true: "≤1, ≤4" / "≤1, ≤4: ss4 d2""#,
+                r#"zbuf at (0.2, 30.0), run true: "≤16" / "≤16: zbuf d0""#,
+            ]
+        );
+        assert!(chosen_marks(&rows, "other", &choices).is_empty());
+        // On the RMS figure, a ring each and one in the legend, which says what they are;
+        // none on the visibility figure.
+        let dir = tempfile::tempdir().unwrap();
+        speed_accuracy_marked(dir.path(), &rows, &choices).unwrap();
+        let svg = std::fs::read_to_string(dir.path().join("speed-accuracy.svg")).unwrap();
+        let rings = svg.matches(r##"r="13" opacity="1" fill="none" stroke="#000000""##);
+        assert_eq!(rings.count(), 4);
+        for line in ring_legend(PANEL.0) {
+            let escaped = line.replace('"', "&quot;").replace('\'', "&apos;");
+            assert!(svg.contains(&escaped), "{line}");
+        }
+        assert!(svg.contains("≤0: adaptive16 d0, predicted"));
+        let vis = std::fs::read_to_string(dir.path().join("visibility.svg")).unwrap();
+        assert!(!vis.contains(r#"r="13""#) && !vis.contains("max-error"));
+        let png = image::open(dir.path().join("speed-accuracy.png")).unwrap();
+        let lines = title_lines(PANEL.0, Measure::Rms).len();
+        assert_eq!(
+            png.height(),
+            PANEL.1 + title_height(lines) + legend_height(PANEL.0, Measure::Rms, true)
+        );
+        assert_eq!(
+            legend_height(PANEL.0, Measure::Rms, true),
+            legend_height(PANEL.0, Measure::Rms, false) + 26 * ring_legend(PANEL.0).len() as u32
+        );
+    }
+
     #[test]
     fn pictures_are_written() {
         let dir = tempfile::tempdir().unwrap();
@@ -1588,11 +1869,11 @@ mod tests {
             (png.width(), png.height()),
             (
                 PANEL.0,
-                PANEL.1 + title_height(lines) + legend_height(PANEL.0, Measure::Rms)
+                PANEL.1 + title_height(lines) + legend_height(PANEL.0, Measure::Rms, false)
             )
         );
         let rows = surface_methods(Measure::Rms).count().div_ceil(4) as u32;
-        assert_eq!(legend_height(PANEL.0, Measure::Rms), 16 + 26 * rows);
+        assert_eq!(legend_height(PANEL.0, Measure::Rms, false), 16 + 26 * rows);
         let svg = std::fs::read_to_string(dir.path().join("speed-accuracy.svg")).unwrap();
         assert!(svg.contains("zbuf-eye-z"), "the label is in the SVG");
         assert!(svg.contains(TIME_AXIS) && svg.contains(Measure::Rms.axis()));

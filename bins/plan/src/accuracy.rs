@@ -11,8 +11,8 @@ use std::path::{Path, PathBuf};
 use std::process::{Command, Stdio};
 use std::time::Instant;
 
-/// The budgets the check and `plan accuracy` report.
-pub const BUDGETS: [f64; 4] = [0.0, 1.0, 4.0, 16.0];
+/// The budgets the check and `plan accuracy` report (the chart marks the same).
+pub use costmodel::accuracy::BUDGETS;
 
 /// The colours of a scene file, scanned as far as the look reads (128 KiB).
 pub fn colours(scene: &Path) -> Result<Colours> {

@@ -10,7 +10,7 @@
 //! safe choice, `ss16` (the reference's own sampling: 0 error on any scene), and says so.
 
 use crate::options::{Cli, Options, Scene};
-use costmodel::accuracy::{self, Accuracy, Colours};
+use costmodel::accuracy::{self, Accuracy};
 use stagecli::Error;
 
 /// `--max-error E` with the other options: a usage error for those it cannot combine with.
@@ -81,28 +81,17 @@ pub fn choose(
         .chunks(2)
         .map(|w| format!("{}={}", w[0], w.get(1).map_or("", String::as_str)))
         .collect();
-    let look = costmodel::look::look(
-        path,
-        o.width,
-        o.height,
-        &camera,
-        Some(costmodel::look::LOOK_BYTES),
-    );
-    let colours = costmodel::look::open(path)
-        .ok()
-        .and_then(|f| Colours::scan(f, costmodel::look::LOOK_BYTES).ok());
-    let (Ok(env), Some(colours)) = (look, colours) else {
+    let Some(seen) = accuracy::Seen::of(path, o.width, o.height, &camera) else {
         return safe("a scene the look cannot read");
     };
     let Ok((k, note, _)) = costmodel::cli::constants(None, root, bin) else {
         return safe("no time model");
     };
     let target = crate::auto::target(o);
-    let model = Accuracy::load();
-    let all = model.predict_all(&k, &env, &colours, &target, 6);
-    let Some(best) = accuracy::cheapest(&all, max_error) else {
+    let Some(best) = accuracy::choose(&Accuracy::load(), &k, &seen, &target, max_error) else {
         return safe("no mode predicted to meet it");
     };
+    let (env, colours) = (&seen.env, &seen.colours);
     let note = note.map_or(String::new(), |n| format!("; {n}"));
     Chosen {
         aa: best.aa.clone(),
@@ -121,7 +110,7 @@ pub fn choose(
             } else {
                 "shaded or transparent (no adaptiveK),"
             },
-            accuracy::edge_fraction(&env),
+            accuracy::edge_fraction(env),
             colours.contrast2,
         ),
     }

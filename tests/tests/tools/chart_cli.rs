@@ -229,6 +229,128 @@ fn quick_chart_of_a_small_scene_makes_its_files_with_real_values() {
     assert!(!out.status.success());
 }
 
+/// The chart's `max-error.csv` is what `render --max-error E` chooses on the scene as the
+/// chart rendered it (in its own colours), with the same cache: the same configuration
+/// and the same predictions, beside the chart's run of it where there is one; and the
+/// speed-accuracy figure rings each, and says what the rings are.
+#[test]
+fn the_chart_marks_what_render_max_error_chooses() {
+    let dir = chart("--quick --reps 1 examples/penetrating.txt@120x90");
+    let d = dir.path();
+    let (header, choices) = read_csv(&d.join("max-error.csv"));
+    assert_eq!(
+        header,
+        [
+            "scene",
+            "budget",
+            "method",
+            "aa",
+            "depth",
+            "predicted_time_s",
+            "predicted_error",
+            "predicted_less_startup_s",
+            "measured_time_s",
+            "measured_rms",
+            "rule"
+        ]
+    );
+    let budgets: Vec<f64> = choices.iter().map(|c| num(c, "budget")).collect();
+    assert_eq!(budgets, [0.0, 1.0, 4.0, 16.0]);
+    let (_, rows) = read_csv(&d.join("results.csv"));
+    let coloured = d.join("refs/penetrating.coloured.pp");
+    for c in &choices {
+        assert_eq!(
+            (c["scene"].as_str(), c["rule"].as_str()),
+            ("penetrating", "cheapest predicted to meet it"),
+            "{c:?}"
+        );
+        let e = num(c, "budget");
+        assert!(num(c, "predicted_error") <= e, "{c:?}");
+        let less = num(c, "predicted_less_startup_s");
+        assert!(less >= 0.0 && less < num(c, "predicted_time_s"), "{c:?}");
+        let out = sh(
+            &format!(
+                "{} render --max-error {e} --stats --size 120x90 {} > /dev/null",
+                cached(&d.join("cache")),
+                coloured.display()
+            ),
+            b"",
+        );
+        let said = String::from_utf8_lossy(&out.stderr);
+        assert!(out.status.success(), "{said}");
+        let chose = format!(
+            "render: max-error {e} chose --aa {} --depth {} (predicted {:.3} s, RMS {:.2}, ",
+            c["aa"],
+            c["depth"],
+            num(c, "predicted_time_s"),
+            num(c, "predicted_error")
+        );
+        assert!(said.contains(&chose), "{chose}\n{said}");
+        // Beside the chart's run of that configuration, where it ran one.
+        match rows
+            .iter()
+            .find(|r| r["method"] == c["method"] && r["depth"] == c["depth"])
+        {
+            Some(r) => assert_eq!(
+                (&c["measured_time_s"], &c["measured_rms"]),
+                (&r["time_s"], &r["rms_16x16"]),
+                "{c:?}"
+            ),
+            None => assert_eq!(
+                (&c["measured_time_s"][..], &c["measured_rms"][..]),
+                ("", "")
+            ),
+        }
+    }
+    // 0 is the reference's own bytes: adaptive16 on this flat scene (ss16's bytes, fewer
+    // samples), which --quick does not run; 16 is point sampling, the chart's zbuf at
+    // depth 0.
+    let fields = |c: &HashMap<String, String>| {
+        ["method", "aa", "depth", "predicted_error", "measured_rms"].map(|f| c[f].clone())
+    };
+    assert_eq!(
+        fields(&choices[0]),
+        ["adaptive16", "adaptive16", "0", "0.0", ""]
+    );
+    let zbuf = rows
+        .iter()
+        .find(|r| r["method"] == "zbuf" && r["depth"] == "0")
+        .unwrap();
+    assert_eq!(
+        fields(&choices[3])[..3],
+        ["zbuf".to_string(), "none".into(), "0".into()]
+    );
+    assert_eq!(choices[3]["measured_rms"], zbuf["rms_16x16"]);
+    // A ring a configuration chosen, and the legend's.
+    let svg = std::fs::read_to_string(d.join("speed-accuracy.svg")).unwrap();
+    let mut configurations: Vec<(&str, &str)> = choices
+        .iter()
+        .map(|c| (c["method"].as_str(), c["depth"].as_str()))
+        .collect();
+    configurations.dedup();
+    let rings = svg.matches(r##"r="13" opacity="1" fill="none" stroke="#000000""##);
+    assert_eq!(
+        rings.count(),
+        configurations.len() + 1,
+        "{configurations:?}"
+    );
+    assert!(svg.contains("Ringed, labelled ≤E: what render --max-error E chooses"));
+    // --replot draws them again from max-error.csv.
+    std::fs::remove_file(d.join("speed-accuracy.svg")).unwrap();
+    let out = sh(
+        &format!("scripts/chart.sh -o {} --replot", d.display()),
+        b"",
+    );
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let again = std::fs::read_to_string(d.join("speed-accuracy.svg")).unwrap();
+    let rings = again.matches(r##"r="13" opacity="1" fill="none" stroke="#000000""##);
+    assert_eq!(rings.count(), configurations.len() + 1);
+}
+
 #[test]
 fn the_full_method_table_runs_every_variant() {
     let dir = chart("--reps 1 examples/triangle-square.txt@64x48");
