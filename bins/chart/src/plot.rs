@@ -428,7 +428,7 @@ where
             .x_labels(log_ticks(xlo, xhi))
             // The 1-9 of every decade are the grid; no lighter lines between them.
             .x_max_light_lines(0)
-            .x_label_formatter(&|v| log_tick(*v))
+            .x_label_formatter(&|v| log_tick_across(*v, xlo, xhi))
             .y_label_formatter(&|v| {
                 if point && emax < 1.0 {
                     format!("{v:.2}")
@@ -608,6 +608,19 @@ fn log_tick(v: f64) -> String {
         format!("{v:.digits$}")
     } else {
         String::new()
+    }
+}
+
+/// [`log_tick`] on an axis from `lo` to `hi`: across more than three decades only the
+/// powers of ten are labelled, as 1, 2 and 5 of every decade would run into each other on
+/// a panel a third of the figure wide.
+fn log_tick_across(v: f64, lo: f64, hi: f64) -> String {
+    let label = log_tick(v);
+    let power = (v / 10f64.powf(v.log10().floor()) - 1.0).abs() < 0.01;
+    if (hi / lo).log10() > 3.0 && !power {
+        String::new()
+    } else {
+        label
     }
 }
 
@@ -1545,6 +1558,18 @@ mod tests {
         // The pairs the old chart confused.
         assert_ne!(style_of("painter"), style_of("zbuf-binary"));
         assert_ne!(style_of("scanline").1, style_of("zbuf-eye-z").1);
+    }
+
+    #[test]
+    fn wide_log_axes_label_only_the_powers_of_ten() {
+        let at = [0.0001, 0.0002, 0.0005, 0.001, 0.002, 0.05, 0.1];
+        let wide: Vec<String> = at.iter().map(|v| log_tick_across(*v, 1e-5, 1.0)).collect();
+        assert_eq!(wide, ["0.0001", "", "", "0.001", "", "", "0.1"]);
+        let narrow: Vec<String> = at.iter().map(|v| log_tick_across(*v, 1e-4, 0.1)).collect();
+        assert_eq!(
+            narrow,
+            ["0.0001", "0.0002", "0.0005", "0.001", "0.002", "0.05", "0.1"]
+        );
     }
 
     #[test]
