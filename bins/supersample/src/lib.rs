@@ -66,22 +66,22 @@ pub struct Supersample {
     row: Vec<Option<Colour>>,
     /// Adaptive sampling: K×K samples only in the pixels that need them.
     adaptive: bool,
+    /// Per fine polygon, its flat colour: the filter reads this, not the polygons.
+    colours: Vec<Colour>,
     /// Adaptively, per pixel of the row, what the test found; the row's spans (polygon,
     /// span) in stream order; and the mixed pixels as runs of pixel indices.
     class: Vec<Class>,
     verdicts: Vec<Verdict>,
     /// Adaptively, per pixel of the row: how many polygons touch it (two for one whose
-    /// depths are not all finite), how many of them cover it wholly, and the last of
-    /// those; the row's touches; and the pixels two or more polygons touch, as runs.
+    /// depths are not all finite) and a polygon that covers it wholly, if any (the one
+    /// that does when one polygon alone touches it); and the row's touches.
     touched: Vec<u32>,
-    wholly: Vec<u32>,
     coverer: Vec<u32>,
     touches: Vec<Touch>,
-    contested: Vec<std::ops::Range<u32>>,
     spans: Vec<(u32, Span)>,
     mixed: Vec<std::ops::Range<u32>>,
-    /// Per pixel of the row, the index of the first mixed run that ends after it.
-    next_mixed: Vec<u32>,
+    /// Adaptively, the pixels two or more polygons touch, as runs.
+    contested: Vec<std::ops::Range<u32>>,
     pub stats: Stats,
 }
 
@@ -109,16 +109,15 @@ impl Supersample {
             owner: Vec::new(),
             row: Vec::new(),
             adaptive: false,
+            colours: Vec::new(),
             class: Vec::new(),
             touched: Vec::new(),
-            wholly: Vec::new(),
             coverer: Vec::new(),
             touches: Vec::new(),
-            contested: Vec::new(),
             verdicts: Vec::new(),
             spans: Vec::new(),
             mixed: Vec::new(),
-            next_mixed: Vec::new(),
+            contested: Vec::new(),
             stats: Stats::default(),
         })
     }
@@ -153,111 +152,176 @@ impl Supersample {
             self.owner.resize(len, NONE);
         }
         if self.adaptive {
-            self.classify(active, cols.clone(), fine_w, band.clone());
-            // Only the mixed pixels' samples are read.
-            for m in &self.mixed {
-                for j in 0..k as usize {
-                    let at = j * n;
-                    self.owner[at + (m.start * k) as usize..at + (m.end * k) as usize].fill(NONE);
-                }
-            }
-            let (depth, owner, stats) = (&mut self.depth, &mut self.owner, &mut self.stats);
-            let (mixed, next) = (&self.mixed, &self.next_mixed);
-            let shift = k.trailing_zeros();
-            for &(i, s) in &self.spans {
-                let (x0, x1) = (s.x0.max(fx0), s.x1.min(fx0 + n as u32));
-                // The mixed runs (pixel indices) the span reaches, each sampled.
-                let p1 = (x1 - fx0 + k - 1) >> shift;
-                let first = next[((x0 - fx0) >> shift) as usize] as usize;
-                for m in mixed[first..].iter().take_while(|m| m.start < p1) {
-                    let (a, b) = (x0.max(fx0 + m.start * k), x1.min(fx0 + m.end * k));
-                    sample(&s, i, a..b, fx0, n, band.start, depth, owner, stats);
-                }
-            }
-        } else {
-            self.owner[..len].fill(NONE);
-            let (depth, owner, stats) = (&mut self.depth, &mut self.owner, &mut self.stats);
-            for &i in active {
-                let p = &self.fine[i as usize];
-                self.walks
-                    .spans(i, p, fine_w, self.fine_h, band.clone(), |s| {
-                        let (x0, x1) = (s.x0.max(fx0), s.x1.min(fx0 + n as u32));
-                        sample(&s, i, x0..x1, fx0, n, band.start, depth, owner, stats);
-                    });
-            }
+            return self.draw_row_adaptive(r, active, cols, fine_w, runs);
+        }
+        self.owner[..len].fill(NONE);
+        let (depth, owner, stats) = (&mut self.depth, &mut self.owner, &mut self.stats);
+        for &i in active {
+            let p = &self.fine[i as usize];
+            self.walks
+                .spans(i, p, fine_w, self.fine_h, band.clone(), |s| {
+                    let (x0, x1) = (s.x0.max(fx0), s.x1.min(fx0 + n as u32));
+                    sample(&s, i, x0..x1, fx0, n, band.start, depth, owner, stats);
+                });
         }
         // The box filter.
-        let count = k * k;
         let pixels = (cols.end - cols.start) as usize;
         self.row.clear();
-        let shaded = self.shaded;
         for c in 0..pixels {
-            if self.adaptive {
-                match self.verdicts[c] {
-                    Verdict::Empty => {
-                        self.row.push(None);
-                        continue;
-                    }
-                    Verdict::Uniform(o) if !shaded => {
-                        self.stats.pixels += 1;
-                        self.row.push(Some(self.fine[o as usize].colour));
-                        continue;
-                    }
-                    Verdict::Uniform(o) => {
-                        self.stats.pixels += 1;
-                        let (fx, fy) = (fx0 + c as u32 * k, band.start);
-                        let colour = match &self.shading[o as usize] {
-                            // Phong: every sample lit, as whole supersampling lights them.
-                            Some(sh) if shaded && self.lighting.is_some() => {
-                                block_mean(sh, fx, fy, 0..k)
-                            }
-                            // Gouraud: the central 2×2 samples.
-                            Some(sh) if shaded => block_mean(sh, fx, fy, k / 2 - 1..k / 2 + 1),
-                            _ => self.fine[o as usize].colour,
-                        };
-                        self.row.push(Some(colour));
-                        continue;
-                    }
-                    Verdict::Mixed => self.stats.sampled += 1,
-                }
-            }
-            let mut sum = [0u32; 3];
-            let mut covered = 0u32;
-            let first = self.owner[c * k as usize];
-            let mut mixed = false;
-            for j in 0..k as usize {
-                let at = j * n + c * k as usize;
-                for (i, &o) in self.owner[at..at + k as usize].iter().enumerate() {
-                    mixed |= o != first;
-                    let colour = if o == NONE {
-                        self.background
-                    } else {
-                        covered += 1;
-                        match &self.shading[o as usize] {
-                            // Sample (i, j) of pixel c is fine pixel (fx0 + cK + i, band + j).
-                            Some(sh) if shaded => {
-                                sh.at(fx0 + (c * k as usize + i) as u32, band.start + j as u32)
-                            }
-                            _ => self.fine[o as usize].colour,
-                        }
-                    };
-                    for (s, v) in sum.iter_mut().zip(colour) {
-                        *s += v as u32;
-                    }
-                }
-            }
-            self.row.push((covered > 0).then(|| {
-                self.stats.pixels += 1;
-                self.stats.mixed += mixed as u64;
-                sum.map(|s| ((s + count / 2) / count) as u8)
-            }));
+            let colour = self.filter(c, fx0, n, band.start);
+            self.row.push(colour);
         }
         push_row_runs_at(r, cols.start, &self.row, runs);
     }
 
+    /// The box filter of pixel c of the row (its first fine column `fx0 + cK`, the band
+    /// `n` fine columns wide from fine row `fy`): each channel `(sum + K²/2) / K²`, an
+    /// uncovered sample counting as the background; `None` when no sample is covered.
+    #[inline]
+    fn filter(&mut self, c: usize, fx0: u32, n: usize, fy: u32) -> Option<Colour> {
+        let k = self.k as usize;
+        let count = (k * k) as u32;
+        let mut sum = [0u32; 3];
+        let mut covered = 0u32;
+        let first = self.owner[c * k];
+        let mut mixed = false;
+        for j in 0..k {
+            let at = j * n + c * k;
+            for (i, &o) in self.owner[at..at + k].iter().enumerate() {
+                mixed |= o != first;
+                let colour = if o == NONE {
+                    self.background
+                } else {
+                    covered += 1;
+                    // A flat frame reads its colours alone.
+                    let shading = match self.shaded {
+                        true => self.shading[o as usize].as_ref(),
+                        false => None,
+                    };
+                    match shading {
+                        // Sample (i, j) of pixel c is fine pixel (fx0 + cK + i, fy + j).
+                        Some(sh) => sh.at(fx0 + (c * k + i) as u32, fy + j as u32),
+                        None => self.colours[o as usize],
+                    }
+                };
+                for (s, v) in sum.iter_mut().zip(colour) {
+                    *s += v as u32;
+                }
+            }
+        }
+        (covered > 0).then(|| {
+            self.stats.pixels += 1;
+            self.stats.mixed += mixed as u64;
+            sum.map(|s| ((s + count / 2) / count) as u8)
+        })
+    }
+
+    /// [`Supersample::draw_row`] adaptively: the row's spans walked and the pixels
+    /// classified ([`Supersample::classify`]), the mixed ones sampled and filtered as
+    /// whole supersampling does, the uniform ones their polygon's colour; the row's runs
+    /// pushed as they are found, maximal runs of one colour as
+    /// [`scan::frame::push_row_runs_at`] makes them.
+    fn draw_row_adaptive(
+        &mut self,
+        r: u32,
+        active: &[u32],
+        cols: std::ops::Range<u32>,
+        fine_w: u32,
+        runs: &mut Vec<Run>,
+    ) {
+        let k = self.k;
+        let band = r * k..r * k + k;
+        let fx0 = cols.start * k;
+        let n = ((cols.end - cols.start) * k) as usize;
+        self.classify(active, cols.clone(), fine_w, band.clone());
+        // Only the mixed pixels' samples are read.
+        for m in &self.mixed {
+            for j in 0..k as usize {
+                let at = j * n;
+                self.owner[at + (m.start * k) as usize..at + (m.end * k) as usize].fill(NONE);
+            }
+        }
+        let (depth, owner, stats) = (&mut self.depth, &mut self.owner, &mut self.stats);
+        let mixed = &self.mixed;
+        let shift = k.trailing_zeros();
+        for touch in &self.touches {
+            // The first mixed run the polygon reaches, found once for its K rows.
+            let from = mixed.partition_point(|m| m.end <= touch.touched.start);
+            if mixed.get(from).is_none_or(|m| m.start >= touch.touched.end) {
+                continue;
+            }
+            let spans = &self.spans[touch.spans.start as usize..touch.spans.end as usize];
+            for &(i, s) in spans {
+                let (x0, x1) = (s.x0.max(fx0), s.x1.min(fx0 + n as u32));
+                // The mixed runs (pixel indices) the span reaches, each sampled.
+                let (p0, p1) = ((x0 - fx0) >> shift, (x1 - fx0 + k - 1) >> shift);
+                for m in mixed[from..]
+                    .iter()
+                    .skip_while(|m| m.end <= p0)
+                    .take_while(|m| m.start < p1)
+                {
+                    let (a, b) = (x0.max(fx0 + m.start * k), x1.min(fx0 + m.end * k));
+                    sample(&s, i, a..b, fx0, n, band.start, depth, owner, stats);
+                }
+            }
+        }
+        // The row's pixels, left to right, as runs.
+        let row_start = runs.len();
+        let push = |runs: &mut Vec<Run>, x0: u32, x1: u32, colour: Colour| match runs[row_start..]
+            .last_mut()
+        {
+            Some(last) if last.x1 == x0 && last.colour == colour => last.x1 = x1,
+            _ => runs.push(Run {
+                y: r,
+                x0,
+                x1,
+                colour,
+            }),
+        };
+        let pixels = (cols.end - cols.start) as usize;
+        let mut c = 0;
+        while c < pixels {
+            let x = cols.start + c as u32;
+            match self.verdicts[c] {
+                Verdict::Empty => c += 1,
+                Verdict::Uniform(o) if !self.shaded => {
+                    // A run of one polygon's pixels at once.
+                    let end = self.verdicts[c..]
+                        .iter()
+                        .position(|&v| v != Verdict::Uniform(o))
+                        .map_or(pixels, |e| c + e);
+                    self.stats.pixels += (end - c) as u64;
+                    push(runs, x, cols.start + end as u32, self.colours[o as usize]);
+                    c = end;
+                }
+                Verdict::Uniform(o) => {
+                    self.stats.pixels += 1;
+                    let (fx, fy) = (fx0 + c as u32 * k, band.start);
+                    let colour = match &self.shading[o as usize] {
+                        // Phong: every sample lit, as whole supersampling lights them.
+                        Some(sh) if self.lighting.is_some() => block_mean(sh, fx, fy, 0..k),
+                        // Gouraud: the central 2×2 samples.
+                        Some(sh) => block_mean(sh, fx, fy, k / 2 - 1..k / 2 + 1),
+                        None => self.colours[o as usize],
+                    };
+                    push(runs, x, x + 1, colour);
+                    c += 1;
+                }
+                Verdict::Mixed => {
+                    self.stats.sampled += 1;
+                    if let Some(colour) = self.filter(c, fx0, n, band.start) {
+                        push(runs, x, x + 1, colour);
+                    }
+                    c += 1;
+                }
+            }
+        }
+    }
+
     /// Adaptive sampling's test, per pixel of the row: which pixels one polygon wins at
     /// every sample ([`Verdict::Uniform`]), which no polygon reaches, and which must be
-    /// sampled; walks the row's spans once, keeping them in `spans` for the sampling.
+    /// sampled, those kept as runs in `mixed`; walks the row's spans once, keeping them
+    /// in `spans` for the sampling.
     ///
     /// A polygon *covers* pixel c wholly when each of the band's K fine rows has exactly
     /// one of its spans and that span holds all K of the pixel's sample columns; every
@@ -284,10 +348,9 @@ impl Supersample {
         let pixels = (cols.end - cols.start) as usize;
         self.spans.clear();
         self.touches.clear();
-        for v in [&mut self.touched, &mut self.wholly] {
-            v.clear();
-            v.resize(pixels, 0);
-        }
+        self.touched.clear();
+        self.touched.resize(pixels, 0);
+        self.coverer.clear();
         self.coverer.resize(pixels, NONE);
         let (fx0, fx1) = (cols.start * k, cols.end * k);
         let shift = k.trailing_zeros();
@@ -333,6 +396,7 @@ impl Supersample {
             }
             let touch = Touch {
                 i,
+                spans: from as u32..self.spans.len() as u32,
                 zmin,
                 zmax,
                 dz,
@@ -352,32 +416,31 @@ impl Supersample {
             for t in &mut self.touched[t0 as usize..t1 as usize] {
                 *t += weight;
             }
-            let whole = touch.whole.start as usize..touch.whole.end as usize;
-            for w in &mut self.wholly[whole.clone()] {
-                *w += 1;
-            }
-            self.coverer[whole].fill(i);
+            // Within the pixels it touches: where it alone touches, it is the coverer.
+            self.coverer[touch.whole.start as usize..touch.whole.end as usize].fill(i);
             self.touches.push(touch);
         }
-        // The pixels one polygon touches are decided; those two or more touch are
-        // contested, the depth test's, kept as runs.
+        // The pixels one polygon touches are decided at once; those two or more touch
+        // are contested, kept as runs for the depth test.
         self.verdicts.clear();
+        self.verdicts.resize(pixels, Verdict::Empty);
+        self.mixed.clear();
         self.contested.clear();
         for c in 0..pixels {
-            let verdict = match self.touched[c] {
-                0 => Verdict::Empty,
-                1 if self.wholly[c] == 1 => Verdict::Uniform(self.coverer[c]),
-                1 => Verdict::Mixed,
-                _ => {
-                    let c = c as u32;
-                    match self.contested.last_mut() {
-                        Some(m) if m.end == c => m.end = c + 1,
-                        _ => self.contested.push(c..c + 1),
-                    }
-                    Verdict::Mixed
+            match self.touched[c] {
+                0 => {}
+                1 if self.coverer[c] != NONE => {
+                    self.verdicts[c] = Verdict::Uniform(self.coverer[c]);
                 }
-            };
-            self.verdicts.push(verdict);
+                1 => {
+                    self.verdicts[c] = Verdict::Mixed;
+                    push_pixels(&mut self.mixed, c..c + 1);
+                }
+                _ => push_pixels(&mut self.contested, c..c + 1),
+            }
+        }
+        if self.contested.is_empty() {
+            return;
         }
         // The depth test of the contested pixels: every polygon that touches one, in
         // stream order, as `Class::touch` takes them.
@@ -400,35 +463,38 @@ impl Supersample {
             }
         }
         for m in &self.contested {
-            for c in m.start..m.end {
-                self.verdicts[c as usize] = self.class[c as usize].verdict();
+            for c in m.start as usize..m.end as usize {
+                self.verdicts[c] = self.class[c].verdict();
             }
         }
-        // The mixed pixels as runs for the sampling.
+        // The mixed pixels, contested or not, as runs for the sampling.
         self.mixed.clear();
-        self.next_mixed.clear();
         for (c, &verdict) in self.verdicts.iter().enumerate() {
             if verdict == Verdict::Mixed {
-                let c = c as u32;
-                match self.mixed.last_mut() {
-                    Some(m) if m.end == c => m.end = c + 1,
-                    _ => self.mixed.push(c..c + 1),
-                }
-                // Pixel c's run is the last one.
-                self.next_mixed.push(self.mixed.len() as u32 - 1);
-            } else {
-                self.next_mixed.push(self.mixed.len() as u32);
+                push_pixels(&mut self.mixed, c..c + 1);
             }
         }
     }
 }
 
-/// One polygon's reach in one pixel row, adaptively: its least and greatest `z_row` over
-/// the band's fine rows and its step, the pixels it touches and those it covers wholly
+/// Adds pixels `px` to the row's runs of pixel indices `runs` (left to right).
+#[inline]
+fn push_pixels(runs: &mut Vec<std::ops::Range<u32>>, px: std::ops::Range<usize>) {
+    let (a, b) = (px.start as u32, px.end as u32);
+    match runs.last_mut() {
+        Some(m) if m.end == a => m.end = b,
+        _ => runs.push(a..b),
+    }
+}
+
+/// One polygon's reach in one pixel row, adaptively: its spans, its least and greatest
+/// `z_row` over the band's fine rows and its step, the pixels it touches and those it covers wholly
 /// (relative to the row's first column).
 #[derive(Clone, Debug)]
 struct Touch {
     i: u32,
+    /// Its spans in the row's `spans`.
+    spans: std::ops::Range<u32>,
     zmin: scan::Depth,
     zmax: scan::Depth,
     dz: scan::Depth,
@@ -539,17 +605,17 @@ fn sample(
     stats: &mut Stats,
 ) {
     let base = (s.y - band_start) as usize * n;
-    for x in xs {
-        let at = base + (x - fx0) as usize;
+    stats.samples_tested += xs.len() as u64;
+    let at = base + (xs.start - fx0) as usize..base + (xs.end - fx0) as usize;
+    for ((x, d), o) in xs.zip(&mut depth[at.clone()]).zip(&mut owner[at]) {
         let z = s.depth(x);
-        stats.samples_tested += 1;
         // Polygons come in stream order, so the holder is the earlier
-        // one: the tie rule (the z-buffer's).
-        if (owner[at] == NONE && !z.is_nan()) || scan::takes(z, depth[at]) {
-            depth[at] = z;
-            owner[at] = i;
-            stats.samples_written += 1;
-        }
+        // one: the tie rule (the z-buffer's). Decided without a branch: where
+        // edges and crossings are, which way it goes is anyone's guess.
+        let take = (*o == NONE) & !z.is_nan() | scan::takes(z, *d);
+        *d = if take { z } else { *d };
+        *o = if take { i } else { *o };
+        stats.samples_written += take as u64;
     }
 }
 
@@ -653,6 +719,8 @@ impl HiddenSurface for Supersample {
         let fine_w = width * k;
         self.fine.clear();
         self.fine.extend(polygons.iter().map(|p| scaled(p, k)));
+        self.colours.clear();
+        self.colours.extend(self.fine.iter().map(|p| p.colour));
         self.fine_h = height * k;
         self.walks.start_frame(self.fine.len());
         self.shading.clear();
