@@ -808,6 +808,64 @@ mod tests {
         assert_eq!(on_30(&exact), vec![(50.0, 90.0)], "{exact:?}");
     }
 
+    /// Archuleta's visibility is Watkins's, not a depth buffer's: on every row the
+    /// polygon his counters read as in front at each column is the one that Watkins's
+    /// visible segments (`scan::watkins`, run here on its own as the scanline stage runs
+    /// it) paint there, the scanline stage's picture, through a crossing, an overlap and
+    /// a triangle; and the segments his drawing reads are as many as Watkins passes on.
+    #[test]
+    fn the_fronts_are_watkins_visible_segments() {
+        let [red, blue] = crossing_pair();
+        let polygons = vec![
+            red,
+            blue,
+            square([0, 200, 0], 50.0, 5.0, 90.0, 45.0, 0.4),
+            Polygon::from_xyz(
+                [200, 200, 0],
+                &[[5.0, 60.0, 0.1], [80.0, 75.5, 0.9], [30.0, 95.0, 0.2]],
+            ),
+        ];
+        let (w, h) = (100u32, 100u32);
+        let mut faces: Vec<Face> = polygons
+            .iter()
+            .enumerate()
+            .filter_map(|(i, p)| Face::of(i, p))
+            .collect();
+        faces.sort_by(|a, b| a.zmin.total_cmp(&b.zmin));
+        let mut scan = Scan::new(&faces, &polygons, w, h);
+        let mut row = Row::blank(w as usize);
+        let mut stats = LineStats::default();
+        let mut fronts = Vec::new();
+        for y in 0..h {
+            scan.resolve(y as i64, &mut row, &mut stats);
+            fronts.extend(
+                row.front
+                    .iter()
+                    .map(|&k| (k != NONE).then(|| polygons[faces[k as usize].index].colour)),
+            );
+        }
+        let mut watkins = scan::watkins::Scanline::new();
+        watkins.begin(&polygons, h);
+        let (mut runs, mut pieces) = (Vec::new(), 0u64);
+        for y in 0..h {
+            let more = watkins.line(&polygons, y, w, h, &mut runs);
+            pieces += watkins.pieces().len() as u64;
+            if !more {
+                break;
+            }
+        }
+        let picture = scan::frame::image_of(&runs, w, h);
+        assert_eq!(fronts, picture);
+        assert!(
+            fronts.iter().filter(|c| c.is_some()).count() > 5000,
+            "a real picture"
+        );
+        assert_eq!(stats.visible_segments, pieces);
+        let mut drawn = LineStats::default();
+        draw(&polygons, &mut drawn);
+        assert_eq!(drawn.visible_segments, pieces);
+    }
+
     /// A square reaching past the screen's right side (as a stream the stage takes may,
     /// within scan's guard band): its right edge, X = 130, is seen on no scan line and is
     /// not drawn (it was, judged by column 99's front, 30 px away); its top and bottom
