@@ -27,6 +27,15 @@
 //! exactly, not sampled: the points of a segment within distance ε of another segment
 //! are the segment's intersection with a capsule (a convex set), one interval of its
 //! parameter, and the intervals' union is measured.
+//!
+//! ## The drawing as a picture
+//!
+//! [`raster::picture`]: the pieces stroked black on white as the SVG strokes them (a
+//! pen with round caps), K×K samples a pixel box-filtered as the 16×16 reference
+//! pictures are, so that a drawing has an RMS error in grey levels against the exact
+//! drawing's picture, as the pictures of the hidden-surface methods have against theirs.
+
+pub mod raster;
 
 use proto::{Colour, DVec2};
 use std::fmt::Write as _;

@@ -109,8 +109,9 @@ pub struct Row {
     /// RMS error (0–255, three channels) over the edge pixels against `zspec --samples 16`.
     pub edge_rmse: Option<f64>,
     /// RMS error over all pixels against `zspec --samples 16` (0–255): the first figure's
-    /// accuracy axis; empty for a hidden-line method (a drawing of lines, not of the
-    /// picture).
+    /// accuracy axis. A hidden-line method's is that of its drawing as a picture against
+    /// the exact drawing's (`--hidden-line-method continuous`), both stroked black on
+    /// white 1 px wide and sampled 16×16 a pixel ([`lines::raster::picture`]).
     #[serde(alias = "rmse")]
     pub rms_16x16: Option<f64>,
     /// A point-sampling method's visibility error: % of pixels whose visible polygon
@@ -175,6 +176,24 @@ impl Lines {
         }
         Ok(())
     }
+}
+
+/// The exact hidden-line drawing of a scene, a frame at a time: its pieces and its
+/// picture ([`line_picture`]).
+pub struct ExactLines {
+    pub pieces: Vec<Vec<lines::Segment>>,
+    pub pictures: Vec<reference::Image>,
+}
+
+/// The pen of the hidden-line drawings' pictures, pixels: `hiddenline`'s default
+/// `--stroke-width`, with which render draws them.
+pub const LINE_PEN_PX: f64 = 1.0;
+
+/// A hidden-line drawing as the picture it is seen as, for its RMS error: black lines
+/// [`LINE_PEN_PX`] wide on white, 16×16 samples a pixel, the 16×16 reference's filter
+/// ([`lines::raster::picture`]).
+pub fn line_picture(pieces: &[lines::Segment], scene: &Scene) -> reference::Image {
+    lines::raster::picture(pieces, scene.width, scene.height, LINE_PEN_PX, 16)
 }
 
 /// One row of `model.csv`.
@@ -467,8 +486,9 @@ impl Setup {
     }
 
     /// The exact hidden-line drawing of a scene (`--hidden-line-method continuous`), an
-    /// SVG's pieces a frame, for the line error; drawn once a scene, untimed.
-    fn exact_lines(&self, scene: &Scene, frames: u64) -> Result<Vec<Vec<lines::Segment>>> {
+    /// SVG's pieces a frame, for the line error, and its pictures, for the RMS error;
+    /// drawn once a scene, untimed.
+    fn exact_lines(&self, scene: &Scene, frames: u64) -> Result<ExactLines> {
         let err = self.work.join("render.err");
         quiet(
             Command::new(&self.render)
@@ -488,7 +508,14 @@ impl Setup {
             all.push(lines::read_svg(&text).map_err(Error::Data)?);
             let _ = std::fs::remove_file(&path);
         }
-        Ok(all)
+        let pictures = all
+            .iter()
+            .map(|pieces| line_picture(pieces, scene))
+            .collect();
+        Ok(ExactLines {
+            pieces: all,
+            pictures,
+        })
     }
 
     /// The row of a run whose first render wrote its frames (or drawings): its frames
@@ -501,7 +528,7 @@ impl Setup {
         env: &Environment,
         stats: &Stats,
         refs: &References,
-        exact: &mut Option<Vec<Vec<lines::Segment>>>,
+        exact: &mut Option<ExactLines>,
         method: &Method,
         depth: u8,
         first: Usage,
@@ -540,9 +567,12 @@ impl Setup {
             if exact.is_none() {
                 *exact = Some(self.exact_lines(scene, env.frames)?);
             }
-            let reference = exact.as_ref().map_or(&[][..], |e| &e[..]);
+            let Some(reference) = exact.as_ref() else {
+                return Err(Error::Data(format!("no exact drawing of {}", scene.name)));
+            };
             let mut lines = Lines::default();
             let mut error_px = 0.0;
+            let mut pixels = reference::Metrics::default();
             for frame in 0..env.frames.max(1) {
                 let path = self.work.join(format!("lines-{frame}.svg"));
                 let text = std::fs::read_to_string(&path).with_context(|| {
@@ -550,14 +580,29 @@ impl Setup {
                 })?;
                 lines.add_svg(&text)?;
                 let pieces = lines::read_svg(&text).map_err(Error::Data)?;
-                let exact_frame = reference.get(frame as usize).map_or(&[][..], |p| &p[..]);
+                let f = frame as usize;
+                let exact_frame = reference.pieces.get(f).map_or(&[][..], |p| &p[..]);
                 error_px += lines::line_error(&pieces, exact_frame, 0.5).total_px();
+                let drawn = line_picture(&pieces, scene);
+                let blank;
+                let exact_picture = match reference.pictures.get(f) {
+                    Some(p) => p,
+                    None => {
+                        blank = line_picture(&[], scene);
+                        &blank
+                    }
+                };
+                pixels.add(
+                    &reference::metrics(exact_picture, &drawn, None)
+                        .map_err(|e| Error::Data(format!("{}: {e}", scene.name)))?,
+                );
                 let _ = std::fs::remove_file(&path);
             }
             row.line_pieces = Some(lines.pieces);
             row.intersection_pieces = Some(lines.intersections);
             row.line_length_px = Some(lines.length_px);
             row.line_error_px = Some(error_px);
+            row.rms_16x16 = Some(pixels.rmse());
             return Ok(row);
         }
         let frames = self.work.join("frames.ppm");

@@ -32,8 +32,9 @@ pub fn runs_in(table: &[Method], quick: bool, only: Option<&[String]>) -> Vec<(M
     runs
 }
 
-/// Whether the method of a name draws lines (a hidden-line method): it has no pixel error,
-/// and the speed-accuracy panels leave it out.
+/// Whether the method of a name draws lines (a hidden-line method): it has no error
+/// against the scene's pictures (its `rms_16x16` is its drawing's, against the exact
+/// drawing's), and the speed-accuracy panels leave it out.
 pub fn draws_lines(name: &str) -> bool {
     by_name(name).is_some_and(|m| m.draws == Draws::Lines)
 }

@@ -221,8 +221,9 @@ pub struct Cli {
     /// buffer or --pixels).
     #[arg(long)]
     pub hidden_line: bool,
-    /// With --hidden-line: continuous (default: exact pieces) or archuleta (Archuleta's
-    /// counters on scan lines, raster resolution), hiddenline's --method.
+    /// With --hidden-line: continuous (default: exact pieces, hiddenline's own) or
+    /// archuleta (Archuleta's counters on Watkins's scan-line segments, raster
+    /// resolution), hiddenline's --method.
     #[arg(long, value_name = "M")]
     pub hidden_line_method: Option<String>,
     /// batch: clipbatch, the six planes in one process (Theoharis & Page's DAP

@@ -67,6 +67,49 @@ colour 128 128 128
 END
 ";
 
+/// A help text as one line: its words joined by single spaces (clap wraps it).
+fn help_of(command: &str) -> String {
+    let out = sh(&format!("{command} --help"), b"");
+    assert!(out.status.success(), "{command} --help: {out:?}");
+    String::from_utf8_lossy(&out.stdout)
+        .split_whitespace()
+        .collect::<Vec<_>>()
+        .join(" ")
+}
+
+/// Each hidden-line method is credited to whom it is due: the default, `continuous`, is
+/// hiddenline's own exact geometry, not Archuleta's; `archuleta` is his counters on the
+/// visible segments of Watkins's scan-line algorithm (the scanline stage's), in
+/// hiddenline's help and in render's.
+#[test]
+fn the_help_credits_each_method_rightly() {
+    let help = help_of("hiddenline");
+    for said in [
+        "By default (`--method continuous`) visibility is exact geometry (f64), not \
+         sampled, this program's own way rather than Archuleta's:",
+        "`--method archuleta` is Archuleta's own output of Watkins's scan-line algorithm.",
+        "`continuous` (this program's own), each edge against the polygons that may hide \
+         it in exact geometry; or `archuleta`, Archuleta's (1972): counters on the visible \
+         segments of Watkins's scan-line algorithm (the scanline stage's),",
+    ] {
+        assert!(
+            help.contains(said),
+            "hiddenline --help lacks {said:?}: {help}"
+        );
+    }
+    // Once the whole stage, the default included, was "Archuleta's output of Watkins's
+    // algorithm".
+    assert!(!help.contains("output of Watkins's algorithm"), "{help}");
+    let render = help_of("render");
+    let said = "With --hidden-line: continuous (default: exact pieces, hiddenline's own) or \
+                archuleta (Archuleta's counters on Watkins's scan-line segments, raster \
+                resolution), hiddenline's --method";
+    assert!(
+        render.contains(said),
+        "render --help lacks {said:?}: {render}"
+    );
+}
+
 /// Equal to the SVG's precision: the ends of a `<line>` exactly, the inner ends of a
 /// dashed one (an edge's pieces joined) to a thousandth of a pixel.
 fn close(a: (f64, f64), b: (f64, f64)) -> bool {
