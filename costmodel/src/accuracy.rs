@@ -77,11 +77,49 @@ pub fn samples(mode: &str) -> u32 {
 pub struct Colours {
     /// Polygons scanned.
     pub polygons: u64,
-    /// The mean square colour difference, 0–1 a channel, between successive polygons,
-    /// or between a polygon and the black background, whichever is larger.
+    /// The mean square colour difference, 0–1 a channel, across an edge pixel of the
+    /// closed form's count ([`edge_fraction`]): what the error of a misjudged edge pixel
+    /// is made of. An edge no other polygon shares (a random environment's) counts the
+    /// contrast between successive polygons, or a quarter of a polygon's against the
+    /// black background, whichever is larger; an edge two polygons of a mesh share is
+    /// one line where the closed form counts two, and shows the colour difference across
+    /// it, except on the mesh's silhouette, where it shows the polygon against what is
+    /// behind it (taken as the background).
     pub contrast2: f64,
     /// Whether every polygon scanned is one flat opaque colour.
     pub flat: bool,
+    /// Polygon edges scanned that no other polygon scanned shares.
+    pub open_edges: u64,
+    /// Edges two polygons share (each counted once).
+    pub shared_edges: u64,
+    /// The mean square colour difference, 0–1 a channel, across the shared edges.
+    pub across2: f64,
+    /// The share of the shared edges' pixels on a silhouette: 1.25·√(meshes/polygons in
+    /// them) (a mesh of n polygons seen as a disc of area A: 2√(πA) pixels of silhouette
+    /// against 2·√(n·A) of shared edge; at most 1).
+    pub silhouette: f64,
+}
+
+/// The scan's key of an edge: its ends' keys ([`vertex_key`]), the lesser first.
+type EdgeKey = ([i64; 3], [i64; 3]);
+
+/// The scan's key of a world vertex: its coordinates to a millionth.
+fn vertex_key(v: &proto::polygon::Vertex) -> [i64; 3] {
+    [v.x, v.y, v.z].map(|c| (c * 1.0e6).round() as i64)
+}
+
+/// The mean square difference, 0–1 a channel, of two colours given 0–255.
+fn square_difference(a: [f64; 3], b: [f64; 3]) -> f64 {
+    (0..3).map(|i| ((a[i] - b[i]) / 255.0).powi(2)).sum::<f64>() / 3.0
+}
+
+/// Union-find's root of `i`, halving the path.
+fn root(parent: &mut [usize], mut i: usize) -> usize {
+    while parent[i] != i {
+        parent[i] = parent[parent[i]];
+        i = parent[i];
+    }
+    i
 }
 
 impl Colours {
@@ -90,10 +128,16 @@ impl Colours {
     pub fn scan<R: Read>(input: R, limit: u64) -> Result<Colours> {
         let mut reader = Reader::<Token, _>::new(std::io::BufReader::new(input.take(limit)))
             .context("reading the scene's colours")?;
+        let gouraud = reader.header().attributes.vertex_colours;
         let mut record = Token::default();
         let (mut n, mut successive, mut background) = (0u64, 0.0, 0.0);
         let mut flat = true;
-        let mut last: Option<[u8; 3]> = None;
+        let mut last: Option<[f64; 3]> = None;
+        // Each edge seen once: (the polygon, its colour there); shared ones are removed.
+        let mut edges: std::collections::HashMap<EdgeKey, (usize, [f64; 3])> =
+            std::collections::HashMap::new();
+        let (mut shared, mut across) = (0u64, 0.0);
+        let mut parent: Vec<usize> = Vec::new();
         loop {
             match reader.next_into(&mut record) {
                 Ok(true) => {}
@@ -103,25 +147,88 @@ impl Colours {
             }
             let Token::Polygon(p) = &record else { continue };
             flat &= p.vertex_attrs.is_empty() && p.opacity == 255;
-            let c = p.colour;
-            let sq = |a: [u8; 3], b: [u8; 3]| {
-                (0..3)
-                    .map(|i| ((f64::from(a[i]) - f64::from(b[i])) / 255.0).powi(2))
-                    .sum::<f64>()
-                    / 3.0
+            // The colour it shows: under Gouraud shading its vertices' mean.
+            let c = match (gouraud, p.vertex_attrs.len()) {
+                (true, k) if k > 0 => {
+                    let sum = p
+                        .vertex_attrs
+                        .iter()
+                        .fold(proto::DVec3::ZERO, |s, a| s + *a);
+                    (sum / k as f64).to_array()
+                }
+                _ => p.colour.map(f64::from),
             };
             if let Some(l) = last {
-                successive += sq(c, l);
+                successive += square_difference(c, l);
             }
-            background += sq(c, [0, 0, 0]);
+            background += square_difference(c, [0.0; 3]);
             last = Some(c);
+            let me = parent.len();
+            parent.push(me);
+            let m = p.vertices.len();
+            for i in 0..m {
+                let j = (i + 1) % m;
+                let (a, b) = (vertex_key(&p.vertices[i]), vertex_key(&p.vertices[j]));
+                if a == b {
+                    continue;
+                }
+                // The colour along the edge: under Gouraud shading its ends' mean.
+                let colour = match (gouraud, p.vertex_attrs.get(i), p.vertex_attrs.get(j)) {
+                    (true, Some(u), Some(v)) => {
+                        [(u.x + v.x) / 2.0, (u.y + v.y) / 2.0, (u.z + v.z) / 2.0]
+                    }
+                    _ => c,
+                };
+                let key = if a < b { (a, b) } else { (b, a) };
+                match edges.remove(&key) {
+                    Some((other, theirs)) => {
+                        shared += 1;
+                        across += square_difference(colour, theirs);
+                        let (r1, r2) = (root(&mut parent, me), root(&mut parent, other));
+                        parent[r1] = r2;
+                    }
+                    None => {
+                        edges.insert(key, (me, colour));
+                    }
+                }
+            }
             n += 1;
         }
+        let open = edges.len() as u64;
+        // The meshes: sets of two or more polygons joined by shared edges.
+        let mut size = vec![0u64; parent.len()];
+        for i in 0..parent.len() {
+            let r = root(&mut parent, i);
+            size[r] += 1;
+        }
+        let (meshes, in_meshes) = size
+            .iter()
+            .filter(|s| **s >= 2)
+            .fold((0u64, 0u64), |(k, t), s| (k + 1, t + s));
         let mean = |s: f64, k: u64| if k == 0 { 0.0 } else { s / k as f64 };
+        let unshared = mean(successive, n.saturating_sub(1)).max(mean(background, n) / 4.0);
+        let across2 = mean(across, shared);
+        let silhouette = if in_meshes == 0 {
+            0.0
+        } else {
+            (1.25 * (meshes as f64 / in_meshes as f64).sqrt()).min(1.0)
+        };
+        let counted = open + 2 * shared;
+        let contrast2 = if counted == 0 {
+            unshared
+        } else {
+            (open as f64 * unshared
+                + shared as f64 * ((1.0 - silhouette) * across2 + silhouette * mean(background, n)))
+                / counted as f64
+        };
         Ok(Colours {
             polygons: n,
-            contrast2: mean(successive, n.saturating_sub(1)).max(mean(background, n) / 4.0),
+            contrast2,
             flat,
+            open_edges: open,
+            shared_edges: shared,
+            across2,
+            silhouette,
         })
     }
 }
@@ -258,9 +365,10 @@ impl Accuracy {
             .filter(move |m| colours.flat || !m.aa.starts_with("adaptive"))
     }
 
-    /// Every allowed configuration's prediction: each mode at the depth the time model
-    /// chooses for it ([`model::choose_depth_on`] on the scene with its covered pixels
-    /// times the mode's samples, the leaf's work that sampling multiplies).
+    /// Every allowed configuration's prediction: each mode at every depth the tree
+    /// allows (from the target's least to `max_depth`), timed by the time model
+    /// ([`model::predict_on`]) on the scene with its covered pixels times the mode's
+    /// samples, the leaf's work that sampling multiplies.
     pub fn predict_all(
         &self,
         k: &Constants,
@@ -270,34 +378,42 @@ impl Accuracy {
         max_depth: u8,
     ) -> Vec<Predicted> {
         let edge = edge_fraction(env);
+        let least = target.min_depth().min(max_depth);
         self.allowed(colours)
-            .map(|m| {
+            .flat_map(|m| {
                 let scaled = Environment {
-                    area: env.area * effective_samples(m, edge),
+                    area: env.area * self.effective_samples(m, edge),
                     ..*env
                 };
-                let (depth, _, _) = model::choose_depth_on(k, &scaled, target, max_depth);
-                let seconds = model::predict_on(k, &scaled, depth, target).total_s;
                 let (rms, wrong) = self.error(&m.aa, edge, colours).unwrap_or((0.0, 0.0));
-                Predicted {
+                (least..=max_depth).map(move |depth| Predicted {
                     aa: m.aa.clone(),
                     depth,
-                    seconds,
+                    seconds: model::predict_on(k, &scaled, depth, target).total_s,
                     rms,
                     wrong,
-                }
+                })
             })
             .collect()
     }
 }
 
-/// A mode's leaf work a covered pixel, in point samples: its fitted samples, and for
-/// `adaptiveK` one sample in the interior and K² in the edge pixels.
-fn effective_samples(m: &ModeFit, edge: f64) -> f64 {
-    if m.aa.starts_with("adaptive") {
-        1.0 + (m.samples - 1.0) * edge
-    } else {
-        m.samples
+impl Accuracy {
+    /// A mode's leaf work a covered pixel, in point samples: its fitted samples, and for
+    /// `adaptiveK` one sample in the interior and its fitted K² in the edge pixels, at
+    /// most `ssK`'s (it samples no pixel more than `ssK` does; the edge pixels the closed
+    /// form counts are not all those an edge touches, so the fit's factor an edge pixel
+    /// is large, and uncapped it ranks `adaptiveK` behind `ssK` on scenes of many edges,
+    /// where `plan max-error-check` measured it several times faster).
+    fn effective_samples(&self, m: &ModeFit, edge: f64) -> f64 {
+        match m.aa.strip_prefix("adaptive") {
+            Some(k) => {
+                let adaptive = 1.0 + (m.samples - 1.0) * edge;
+                self.mode(&format!("ss{k}"))
+                    .map_or(adaptive, |ss| adaptive.min(ss.samples))
+            }
+            None => m.samples,
+        }
     }
 }
 
@@ -379,6 +495,7 @@ mod tests {
             polygons: 10,
             contrast2,
             flat,
+            ..Colours::default()
         }
     }
 
@@ -450,12 +567,102 @@ mod tests {
     #[test]
     fn the_colour_scan_reads_contrast_and_shading() {
         let text = "polypipe 1 world\ncolour 255 0 0\n0 0 0\n1 0 0\n0 1 0\nNEXT.POLYGON\n\
-                    colour 0 0 0\n0 0 0\n1 0 0\n0 1 0\nNEXT.POLYGON\n";
+                    colour 0 0 0\n5 5 0\n6 5 0\n5 6 0\nNEXT.POLYGON\n";
         let c = Colours::scan(text.as_bytes(), 1 << 20).unwrap();
-        assert_eq!(c.polygons, 2);
+        assert_eq!((c.polygons, c.shared_edges, c.open_edges), (2, 0, 6));
         assert!(c.flat);
         // Successive: (1² + 0 + 0)/3 once; background: (1/3 + 0)/2 / 4.
         assert!((c.contrast2 - 1.0 / 3.0).abs() < 1e-9, "{}", c.contrast2);
+    }
+
+    #[test]
+    fn the_colour_scan_finds_shared_edges_and_weighs_them_as_one_line() {
+        // Two triangles of one mesh sharing the edge (1,0,0)–(0,1,0): 1 shared, 4 open.
+        let text = "polypipe 1 world\ncolour 200 0 0\n0 0 0\n1 0 0\n0 1 0\nNEXT.POLYGON\n\
+                    colour 100 0 0\n1 0 0\n1 1 0\n0 1 0\nNEXT.POLYGON\n";
+        let c = Colours::scan(text.as_bytes(), 1 << 20).unwrap();
+        assert_eq!((c.polygons, c.shared_edges, c.open_edges), (2, 1, 4));
+        // Across the shared edge: (100/255)²/3.
+        assert!((c.across2 - 0.051_262_335).abs() < 1e-8, "{}", c.across2);
+        // One mesh of two polygons: 1.25·√(1/2).
+        assert!(
+            (c.silhouette - 0.883_883_476).abs() < 1e-8,
+            "{}",
+            c.silhouette
+        );
+        // (4 open × 0.0513 + 1 shared × (0.116·0.0513 + 0.884·0.1282)) / (4 + 2·1).
+        assert!(
+            (c.contrast2 - 0.054_046_095).abs() < 1e-8,
+            "{}",
+            c.contrast2
+        );
+        // A fine mesh of near colours: its edges count little contrast (its open rim
+        // most of it), against the 0.063 (a quarter of theirs against black) the same
+        // polygons would count as strangers.
+        let mut fine = String::from("polypipe 1 world\n");
+        for i in 0..20 {
+            for j in 0..20 {
+                let g = 128 + (i + j) % 3;
+                fine += &format!(
+                    "colour {g} {g} {g}\n{i} {j} 0\n{} {j} 0\n{} {} 0\n{i} {} 0\nNEXT.POLYGON\n",
+                    i + 1,
+                    i + 1,
+                    j + 1,
+                    j + 1
+                );
+            }
+        }
+        let c = Colours::scan(fine.as_bytes(), 1 << 20).unwrap();
+        assert_eq!((c.polygons, c.shared_edges, c.open_edges), (400, 760, 80));
+        assert!((c.silhouette - 0.0625).abs() < 1e-12, "{}", c.silhouette);
+        assert!((c.contrast2 - 0.0108).abs() < 1e-4, "{}", c.contrast2);
+    }
+
+    #[test]
+    fn every_depth_the_tree_allows_is_a_candidate() {
+        let k = Constants::committed();
+        let env = Environment {
+            frames: 1,
+            polygons: 4096,
+            vertices: 16_384,
+            relevant: 4096,
+            relevant_vertices: 16_384,
+            area: 250_000.0,
+            width: 500,
+            height: 500,
+            text: false,
+        };
+        let a = Accuracy::committed();
+        let all = a.predict_all(&k, &env, &colours(0.1, true), &Target::cores(2), 3);
+        assert_eq!(all.len(), MODES.len() * 4);
+        for m in MODES {
+            let depths: Vec<u8> = all.iter().filter(|p| p.aa == m).map(|p| p.depth).collect();
+            assert_eq!(depths, [0, 1, 2, 3], "{m}");
+        }
+        // Edge pixels a pixel 0.512: adaptiveK's fitted factor there would pass ssK's, and
+        // is held at it, so adaptiveK is never predicted slower than ssK.
+        assert!((edge_fraction(&env) - 0.512).abs() < 1e-9);
+        for k in [2, 4, 8, 16] {
+            let time = |aa: String| {
+                let t: Vec<f64> = all
+                    .iter()
+                    .filter(|p| p.aa == aa)
+                    .map(|p| p.seconds)
+                    .collect();
+                t
+            };
+            let (adaptive, ss) = (time(format!("adaptive{k}")), time(format!("ss{k}")));
+            assert!(
+                adaptive.iter().zip(&ss).all(|(a, s)| a <= s),
+                "{k}: {adaptive:?} {ss:?}"
+            );
+        }
+        // The choice is the fastest of them all that meets the budget.
+        let best = cheapest(&all, 4.0).unwrap();
+        assert!(all
+            .iter()
+            .filter(|p| p.rms <= 4.0)
+            .all(|p| p.seconds >= best.seconds));
     }
 
     #[test]
