@@ -385,7 +385,13 @@ impl Setup {
     pub fn coloured(&self, scene: &Scene) -> Result<Scene> {
         let dir = self.refs_dir();
         std::fs::create_dir_all(&dir)?;
-        let path = dir.join(format!("{}.coloured.pp", scene.name));
+        // Named by the scene's file, not its name: `--quick --hard`'s smaller stack is
+        // another file of the same name.
+        let stem = scene
+            .path
+            .file_stem()
+            .map_or_else(|| scene.name.clone(), |s| s.to_string_lossy().into_owned());
+        let path = dir.join(format!("{stem}.coloured.pp"));
         if newer(&scene.path, &path) {
             crate::visibility::recolour(&scene.path, &path)?;
         }
