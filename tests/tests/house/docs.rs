@@ -218,6 +218,14 @@ fn dated(line: &str) -> Vec<String> {
             found.push(format!("a load average, `{m}{after}`"));
         }
     }
+    // The load a run saw, in other words: `load 4.6`, `(load 3–4: …`, `at a load of 11`.
+    for (i, m) in lower.match_indices("load ") {
+        let after = lower[i + m.len()..].trim_start_matches("of ");
+        if after.starts_with(|c: char| c.is_ascii_digit()) {
+            let figure: String = after.chars().take_while(|c| !c.is_whitespace()).collect();
+            found.push(format!("a load, `load {figure}`"));
+        }
+    }
     found
 }
 
@@ -236,6 +244,12 @@ fn dated_runs_are_found() {
             "load average before: 2.01 2.21",
             vec!["a load average, `load average before: 2.01 2.21`"],
         ),
+        ("15 rounds (load 3.7) gave", vec!["a load, `load 3.7)`"]),
+        (
+            "at a load of 11 it also chose depth 1",
+            vec!["a load, `load 11`"],
+        ),
+        ("`--load L`, or the load L the model takes", vec![]),
         // A description, not a run: the planner reads the load average.
         ("or else the 1-minute load average less one", vec![]),
         (
