@@ -4,7 +4,7 @@
 //! test environment of 5.2, over a grid of polygon counts, screens and depth
 //! complexities), reading a file and writing a file, and its CPU seconds are fitted by
 //! least squares ([`crate::model::fit`]) to its work in the model's terms. The
-//! script's and each process's start-up are then fitted to `render.sh`'s wall time on a
+//! script's and each process's start-up are then fitted to the `render` binary's wall time on a
 //! two-polygon scene at depths 0 to 4, less what the stages predict there.
 
 // The cores are part of what identifies the machine a calibration was made on (the
@@ -243,7 +243,7 @@ pub fn calibrate(
         resolve: resolve.fit([true, true, false, true, true, true]),
         overheads: Overheads::default(),
     };
-    tick("render.sh on two polygons, depths 0-4");
+    tick("render on two polygons, depths 0-4");
     // Late, the start-up is timed once at three depths instead of three times at five.
     let late = start.elapsed() > LATE;
     let depths: &[u8] = if quick {
@@ -258,7 +258,7 @@ pub fn calibrate(
     Ok(k)
 }
 
-/// The script's, the processes' and the pipes' start-up: `render.sh` on two polygons at
+/// The script's, the processes' and the pipes' start-up: `render` on two polygons at
 /// `depths` (wall seconds, median of `reps`) less the stages' predicted time, fitted to
 /// script + process × processes / cores + pipe × pipes / cores ([`fit_overheads`]).
 fn overheads(
@@ -428,7 +428,9 @@ pub fn steps(quick: bool) -> usize {
 /// Calibrates this machine and keeps the result in the cache ([`crate::cache`]), saying
 /// how far it is on one line of stderr (`STAGE: calibrating the cost model for this
 /// machine (at most 20 s): 3/9 …`, rewritten in place on a terminal; elsewhere said at
-/// the start and at the end). `bin`: the binaries; `render`: scripts/render.sh.
+/// the start and at the end). `bin`: the binaries; `render`: the `render` binary, whose
+/// start-up is what the chart measures and what `--depth auto` predicts for itself
+/// (scripts/render.sh's shim adds its own bash start and freshness check, before render).
 pub fn calibrate_and_store(
     stage: &str,
     bin: &Path,

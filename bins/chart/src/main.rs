@@ -165,7 +165,7 @@ enum Sub {
 /// The constants the chart predicts with: `--model FILE`; else this machine's
 /// calibration, made first (at most 20 s, with a progress line) when there is none, or
 /// when it is stale or another machine's.
-fn load_constants(model: Option<&Path>, root: &Path, bin: &Path) -> Result<Constants> {
+fn load_constants(model: Option<&Path>, bin: &Path) -> Result<Constants> {
     if let Some(path) = model {
         let text = std::fs::read_to_string(path)
             .with_context(|| format!("cannot read {}", path.display()))?;
@@ -173,12 +173,12 @@ fn load_constants(model: Option<&Path>, root: &Path, bin: &Path) -> Result<Const
     }
     match chart::cache::load(bin) {
         chart::cache::State::Current(k) => Ok(k),
-        _ => Ok(calibrate_now(root, bin, chart::calibrate::quick_from_env())?.0),
+        _ => Ok(calibrate_now(bin, chart::calibrate::quick_from_env())?.0),
     }
 }
 
-fn calibrate_now(root: &Path, bin: &Path, quick: bool) -> Result<(Constants, PathBuf)> {
-    chart::calibrate::calibrate_and_store("chart", bin, &root.join("scripts/render.sh"), quick)
+fn calibrate_now(bin: &Path, quick: bool) -> Result<(Constants, PathBuf)> {
+    chart::calibrate::calibrate_and_store("chart", bin, &bin.join("render"), quick)
         .map_err(Error::from)
 }
 
@@ -384,19 +384,19 @@ fn run(mut cli: Cli) -> Result<()> {
         scenes.extend(hard_scenes(&bin, &root, &work.join("scenes"), cli.quick)?);
     }
     if cli.remodel {
-        return remodel(&out, &scenes, cli.model.as_deref(), &root, &bin, cores);
+        return remodel(&out, &scenes, cli.model.as_deref(), &bin, cores);
     }
     if cli.calibrate {
-        calibrate(cli.quick, cli.model.as_deref(), &root, &bin)?;
+        calibrate(cli.quick, cli.model.as_deref(), &bin)?;
         if scenes.is_empty() {
             return Ok(());
         }
     }
     let constants = if cli.calibrate {
         // Just fitted: this machine's, whatever --model named for writing.
-        load_constants(None, &root, &bin)?
+        load_constants(None, &bin)?
     } else {
-        load_constants(cli.model.as_deref(), &root, &bin)?
+        load_constants(cli.model.as_deref(), &bin)?
     };
     let setup = Setup {
         bin,
@@ -471,11 +471,10 @@ fn remodel(
     out: &Path,
     scenes: &[Scene],
     model: Option<&Path>,
-    root: &Path,
     bin: &Path,
     cores: usize,
 ) -> Result<()> {
-    let k = load_constants(model, root, bin)?;
+    let k = load_constants(model, bin)?;
     let path = out.join("model.csv");
     let old: Vec<chart::chart::ModelRow> = chart::chart::read_csv(&path)?;
     let mut rows = Vec::with_capacity(old.len());
@@ -576,8 +575,8 @@ fn model_table(rows: &[chart::chart::ModelRow]) -> String {
 
 /// `chart calibrate`: this machine's constants fitted now, kept in the cache (and in
 /// `model` when given), and printed.
-fn calibrate(quick: bool, model: Option<&Path>, root: &Path, bin: &Path) -> Result<()> {
-    let (k, _) = calibrate_now(root, bin, quick || chart::calibrate::quick_from_env())?;
+fn calibrate(quick: bool, model: Option<&Path>, bin: &Path) -> Result<()> {
+    let (k, _) = calibrate_now(bin, quick || chart::calibrate::quick_from_env())?;
     if let Some(path) = model {
         let text = format!(
             "# The cost model's constants (costmodel/src/model.rs), seconds, fitted by\n\
@@ -619,8 +618,10 @@ fn dispatch(cli: Cli) -> Result<()> {
     match cli.command {
         Some(Sub::ChooseDepth(args)) => costmodel::cli::depth(*args).map_err(Error::from),
         Some(Sub::Calibrate { quick, model, root }) => {
-            let root = root_dir(root)?;
-            calibrate(quick, model.as_deref(), &root, &bin_dir()?)
+            // The repository is checked as for every subcommand, though the start-up is
+            // now the render binary's, not scripts/render.sh's.
+            root_dir(root)?;
+            calibrate(quick, model.as_deref(), &bin_dir()?)
         }
         Some(Sub::Thesis {
             measure,

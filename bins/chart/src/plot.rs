@@ -1161,7 +1161,7 @@ where
         .build_cartesian_2d((lo..hi).log_scale(), (lo..hi).log_scale())?;
     chart
         .configure_mesh()
-        .x_desc("measured wall time of render.sh, seconds (log scale)")
+        .x_desc("measured wall time of render (median), seconds (log scale)")
         .y_desc("predicted, seconds (log scale)")
         .axis_desc_style(("sans-serif", 18))
         .label_style(("sans-serif", 16))

@@ -89,7 +89,7 @@ fn calibrate(quick: bool, background_only: bool, root: Option<PathBuf>) -> Resul
     let result = costmodel::calibrate::calibrate_and_store(
         "plan",
         &bin,
-        &root.join("scripts/render.sh"),
+        &bin.join("render"),
         quick || costmodel::calibrate::quick_from_env(),
     );
     if let Some(dir) = cache::dir() {
