@@ -976,10 +976,8 @@ fn the_committed_figures_have_every_method_at_depth_0_and_its_best() {
                 .collect();
             assert_eq!(runs.len(), 1, "{m} on {scene}");
             assert_eq!(runs[0]["depth"], "0");
-            // No error against the scene's pictures: empty, as the chart writes it now
-            // (NaN in figures written before).
-            let e = &runs[0]["error_fraction"];
-            assert!(e.is_empty() || e == "NaN", "{:?}", runs[0]);
+            // No error against the scene's pictures: empty.
+            assert_eq!(runs[0]["error_fraction"], "", "{:?}", runs[0]);
             // The stack's squares fill the screen: every edge lies on its border, and
             // neither method draws one. Every other scene has lines.
             let pieces = num(runs[0], "line_pieces");
@@ -990,11 +988,19 @@ fn the_committed_figures_have_every_method_at_depth_0_and_its_best() {
             }
         }
     }
+    // Every row has its time, start-up share and spread of five runs, and its RMS
+    // against the 16×16 reference; the point-sampling rows their visibility error, the
+    // hidden-line rows their line error. None is NaN.
+    assert_every_measure(&rows, 5);
     for f in [
         "speed-accuracy.png",
         "speed-accuracy.svg",
+        "visibility.png",
+        "visibility.svg",
         "cost-environment.png",
         "cost-environment.svg",
+        "hidden-lines.png",
+        "model.png",
     ] {
         assert!(images.join(f).metadata().unwrap().len() > 0, "{f}");
     }
