@@ -381,17 +381,20 @@ impl Accuracy {
         let least = target.min_depth().min(max_depth);
         self.allowed(colours)
             .flat_map(|m| {
-                let scaled = Environment {
-                    area: env.area * self.effective_samples(m, edge),
-                    ..*env
-                };
+                let samples = self.effective_samples(m, edge);
                 let (rms, wrong) = self.error(&m.aa, edge, colours).unwrap_or((0.0, 0.0));
-                (least..=max_depth).map(move |depth| Predicted {
-                    aa: m.aa.clone(),
-                    depth,
-                    seconds: model::predict_on(k, &scaled, depth, target).total_s,
-                    rms,
-                    wrong,
+                (least..=max_depth).map(move |depth| {
+                    let scaled = Environment {
+                        area: env.area * area_factor(k, samples, depth),
+                        ..*env
+                    };
+                    Predicted {
+                        aa: m.aa.clone(),
+                        depth,
+                        seconds: model::predict_on(k, &scaled, depth, target).total_s,
+                        rms,
+                        wrong,
+                    }
                 })
             })
             .collect()
@@ -414,6 +417,23 @@ impl Accuracy {
             }
             None => m.samples,
         }
+    }
+}
+
+/// The factor on the covered pixels that prices a mode's `samples` at `depth`. The
+/// factors are fitted at depth 0 ([`samples_for_ratio`]), where a covered pixel costs the
+/// one-leaf process's rate (`resolve.pixel`); deeper the model prices a covered pixel at
+/// the leaves' scan converter's (`hse.pixel`), which this machine's calibration may put
+/// several times higher. The sampling leaf is one program at every depth, so its extra
+/// samples, (samples − 1) a covered pixel, keep the depth-0 rate: the factor deeper is
+/// 1 + (samples − 1) · resolve.pixel / hse.pixel. Without that, sampling split over two
+/// leaves on two cores was predicted slower than in one, and `--max-error` chose depth 0
+/// where depth 1 or 2 was 1.4–2.4 times faster.
+pub fn area_factor(k: &Constants, samples: f64, depth: u8) -> f64 {
+    if depth == 0 || k.hse.pixel <= 0.0 {
+        samples
+    } else {
+        1.0 + (samples - 1.0) * k.resolve.pixel / k.hse.pixel
     }
 }
 
@@ -657,6 +677,20 @@ mod tests {
                 "{k}: {adaptive:?} {ss:?}"
             );
         }
+        // Sampling's extra samples cost the depth-0 rate at every depth: with the leaves'
+        // covered pixel priced four times the one leaf's, ss16 over two leaves on two
+        // cores is still predicted faster than in one.
+        let mut dear = k.clone();
+        dear.hse.pixel = 4.0 * dear.resolve.pixel;
+        let fine = a.predict_all(&dear, &env, &colours(0.1, true), &Target::cores(2), 1);
+        let ss16: Vec<f64> = fine
+            .iter()
+            .filter(|p| p.aa == "ss16")
+            .map(|p| p.seconds)
+            .collect();
+        assert!(ss16[1] < ss16[0], "{ss16:?}");
+        assert_eq!(area_factor(&dear, 101.0, 0), 101.0);
+        assert!((area_factor(&dear, 101.0, 1) - 26.0).abs() < 1e-9);
         // The choice is the fastest of them all that meets the budget.
         let best = cheapest(&all, 4.0).unwrap();
         assert!(all
