@@ -1354,8 +1354,10 @@ where
     let tmax = rows.iter().map(|r| r.seconds).fold(0.0, f64::max);
     let emax = rows.iter().map(|r| r.error_px).fold(FLOOR, f64::max);
     let largest = rows.iter().map(|r| r.size).max().unwrap_or(0);
-    let (ylo, yhi) = decades(tmin.max(1e-4), tmax.max(2e-4));
-    let (xlo, xhi) = decades(FLOOR, emax);
+    // Room right of and above the last marks for their size labels (`256²`), which
+    // were cut at the frame when the axes ended at the largest values.
+    let (ylo, yhi) = decades(tmin.max(1e-4), 1.5 * tmax.max(2e-4));
+    let (xlo, xhi) = decades(FLOOR, 3.0 * emax);
     let mut chart = ChartBuilder::on(&root)
         .caption(
             "Hidden lines: time against line error (Archuleta's counters against exact geometry)",
