@@ -220,6 +220,10 @@ fn dated(line: &str) -> Vec<String> {
     }
     // The load a run saw, in other words: `load 4.6`, `(load 3–4: …`, `at a load of 11`.
     for (i, m) in lower.match_indices("load ") {
+        // The word, not the end of another (`download 5 files`).
+        if lower[..i].ends_with(|c: char| c.is_alphanumeric()) {
+            continue;
+        }
         let after = lower[i + m.len()..].trim_start_matches("of ");
         if after.starts_with(|c: char| c.is_ascii_digit()) {
             let figure: String = after.chars().take_while(|c| !c.is_whitespace()).collect();
@@ -250,6 +254,7 @@ fn dated_runs_are_found() {
             vec!["a load, `load 11`"],
         ),
         ("`--load L`, or the load L the model takes", vec![]),
+        ("download 5 files, upload 2", vec![]),
         // A description, not a run: the planner reads the load average.
         ("or else the 1-minute load average less one", vec![]),
         (
