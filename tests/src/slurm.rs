@@ -128,7 +128,7 @@ impl Cluster {
              SlurmctldLogFile={}\nSlurmdLogFile={}\nProctrackType=proctrack/linuxproc\n\
              TaskPlugin=task/none\nJobAcctGatherType=jobacct_gather/none\n\
              SwitchType=switch/none\nMpiDefault=none\nReturnToService=2\n\
-             SchedulerType=sched/builtin\nSelectType=select/cons_tres\n\
+             SchedulerType=sched/builtin\nSchedulerParameters=batch_sched_delay=0,sched_interval=1\nSelectType=select/cons_tres\n\
              SelectTypeParameters=CR_Core\nMinJobAge=600\n\
              NodeName={host} NodeAddr=127.0.0.1 CPUs={cpus} State=UNKNOWN\n\
              PartitionName=debug Nodes={host} Default=YES MaxTime=INFINITE State=UP\n",
