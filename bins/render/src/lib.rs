@@ -367,16 +367,18 @@ fn run_inner<I: IntoIterator<Item = OsString>>(
     check_binaries(&o, &bin, from_env)?;
     tell_example(&o);
     let root = repository();
-    // --max-error: the sampling mode and depth chosen, and said, before anything starts.
+    // --max-error on a stream: the safe choice, said before anything starts (on a scene
+    // file the choice is made while the chain works, below).
+    let file = matches!(o.scene, Scene::Path(_));
     let o = match cli.max_error {
-        Some(e) => {
+        Some(e) if !file => {
             let chosen = budget::choose(&o, e, &root, &bin);
             if o.stats {
                 let _ = writeln!(std::io::stderr(), "{ME}: {}", chosen.said);
             }
             budget::apply(o, &chosen, table)
         }
-        None => o,
+        _ => o,
     };
     let fixed = match o.depth {
         Some(d) => Some(d),
@@ -411,29 +413,58 @@ fn run_inner<I: IntoIterator<Item = OsString>>(
     let graph_error = |e: launch::SpecError| Error::usage(format!("the graph: {e}"));
     // --depth auto's depth 0 without the model: a scene file too small for the tree to pay
     // (decided before the load is read), or a core or less for the render.
-    let tiny = fixed.is_none().then(|| auto::tiny_scene(&o)).flatten();
-    let target = (fixed.is_none() && tiny.is_none()).then(|| auto::target(&o));
+    let deferred = cli.max_error.filter(|_| file);
+    let auto = fixed.is_none() && deferred.is_none();
+    let tiny = auto.then(|| auto::tiny_scene(&o)).flatten();
+    let target = (auto && tiny.is_none()).then(|| auto::target(&o));
     let depth_0_said = tiny.or_else(|| {
         target
             .filter(auto::one_core_at_most)
             .map(|_| auto::ONE_CORE.to_string())
     });
-    let outcome = match fixed {
-        Some(depth) => {
+    let outcome = match (deferred, fixed) {
+        // --max-error on a scene file, in two phases as --depth auto: viewxf and the
+        // clipper, which neither --aa nor the depth changes, start first and work while
+        // the scene is looked at and the sampling mode and depth chosen (the look costs
+        // about a millisecond, a fifth of a small scene's whole render).
+        (Some(e), _) => {
+            let chain = graph::chain(&o, &context(0, false));
+            let early = launch::start(chain, None, ME).map_err(graph_error)?;
+            let chosen = budget::choose(&o, e, &root, &bin);
+            if o.stats {
+                let _ = writeln!(std::io::stderr(), "{ME}: {}", chosen.said);
+            }
+            let chose = budget::apply(o.clone(), &chosen, table);
+            let depth = match chosen.depth {
+                Some(d) => d,
+                None => {
+                    let target = auto::target(&chose);
+                    let tell = std::io::stderr().is_terminal();
+                    let choice = auto::choose(&chose, None, &target, &root, &bin, tell, ME);
+                    if let (true, Some(said)) = (o.stats, &choice.said) {
+                        depth_record(choice.depth).print(&format!("{ME}: {said}"));
+                    }
+                    choice.depth
+                }
+            };
+            let stages = graph::build(&chose, &context(depth, false));
+            early.finish(stages, options(depth)).map_err(graph_error)?
+        }
+        (None, Some(depth)) => {
             let stages = graph::build(&o, &context(depth, false));
             launch::run(stages, options(depth), ME).map_err(graph_error)?
         }
         // Depth 0 without the model, in one phase: a scene file too small for the tree
         // to pay, or a core or less for the render, where the model takes depth 0
         // whatever the scene (costmodel::model::Target::shares).
-        None if depth_0_said.is_some() => {
+        (None, None) if depth_0_said.is_some() => {
             if let (true, Some(said)) = (o.stats, &depth_0_said) {
                 depth_record(0).print(&format!("{ME}: {said}"));
             }
             let stages = graph::build(&o, &context(0, false));
             launch::run(stages, options(0), ME).map_err(graph_error)?
         }
-        None => {
+        (None, None) => {
             // --depth auto, in two phases: viewxf and the clipper, which no depth
             // changes, start first and work while the scene is looked at and the model
             // asked; the tree, the leaves and the merger, which the depth makes, then.
