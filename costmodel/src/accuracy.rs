@@ -98,6 +98,32 @@ pub struct Colours {
     /// them) (a mesh of n polygons seen as a disc of area A: 2√(πA) pixels of silhouette
     /// against 2·√(n·A) of shared edge; at most 1).
     pub silhouette: f64,
+    /// `contrast2`'s two parts: the mean square difference across an open edge's pixel
+    /// (between strangers), and across a shared edge's (the mesh's colours, or its
+    /// silhouette against the background); `contrast2` is their sum weighted by
+    /// [`Colours::open_share`] and [`Colours::shared_share`].
+    pub open2: f64,
+    pub shared2: f64,
+}
+
+impl Colours {
+    /// The share of the closed form's edge pixels on open edges (a shared edge counts
+    /// twice there, as the two polygons' edges it is): 1 where no edge was scanned.
+    pub fn open_share(&self) -> f64 {
+        match self.open_edges + 2 * self.shared_edges {
+            0 => 1.0,
+            counted => self.open_edges as f64 / counted as f64,
+        }
+    }
+
+    /// The share of the closed form's edge pixels that shared edges draw: half those it
+    /// counts for them, a shared edge being one line where it counts two.
+    pub fn shared_share(&self) -> f64 {
+        match self.open_edges + 2 * self.shared_edges {
+            0 => 0.0,
+            counted => self.shared_edges as f64 / counted as f64,
+        }
+    }
 }
 
 /// The scan's key of an edge: its ends' keys ([`vertex_key`]), the lesser first.
@@ -213,23 +239,20 @@ impl Colours {
         } else {
             (1.25 * (meshes as f64 / in_meshes as f64).sqrt()).min(1.0)
         };
-        let counted = open + 2 * shared;
-        let contrast2 = if counted == 0 {
-            unshared
-        } else {
-            (open as f64 * unshared
-                + shared as f64 * ((1.0 - silhouette) * across2 + silhouette * mean(background, n)))
-                / counted as f64
-        };
-        Ok(Colours {
+        let shared2 = (1.0 - silhouette) * across2 + silhouette * mean(background, n);
+        let mut c = Colours {
             polygons: n,
-            contrast2,
+            contrast2: 0.0,
             flat,
             open_edges: open,
             shared_edges: shared,
             across2,
             silhouette,
-        })
+            open2: unshared,
+            shared2,
+        };
+        c.contrast2 = c.open_share() * unshared + c.shared_share() * shared2;
+        Ok(c)
     }
 }
 
@@ -280,7 +303,10 @@ pub fn edge_fraction(env: &Environment) -> f64 {
     (all / env.depth_complexity().max(1.0)).min(1.0)
 }
 
-/// The fitted coefficients, a mode each: RMS_m = a·√(edge·contrast²), wrong_m = b·edge.
+/// The fitted coefficients, a mode each: RMS_m = √(edge·(w_o·a²·open² + w_s·a_s²·shared²))
+/// (w_o and w_s the open and the shared edges' shares of the edge pixels,
+/// [`Colours::open_share`]; with one coefficient for both, a·√(edge·contrast²)),
+/// wrong_m = b·edge.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct Accuracy {
     /// Where they were fitted (the command, the scenes).
@@ -292,8 +318,12 @@ pub struct Accuracy {
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct ModeFit {
     pub aa: String,
-    /// RMS (0–255) per unit of √(edge·contrast²).
+    /// RMS (0–255) per unit of √(edge·contrast²) on open edges (a random
+    /// environment's), and on shared ones (a mesh's); a fit without the second (an
+    /// older accuracy.toml) uses the first for both.
     pub rms: f64,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub rms_shared: Option<f64>,
     /// Pixels wrong per edge pixel.
     pub wrong: f64,
     /// The leaf's work a covered pixel, in point samples' (1 for none, K² for ssK).
@@ -317,7 +347,7 @@ pub struct Predicted {
 pub struct Measured {
     pub aa: String,
     pub edge: f64,
-    pub contrast2: f64,
+    pub colours: Colours,
     pub rms: f64,
     pub wrong: f64,
 }
@@ -355,7 +385,10 @@ impl Accuracy {
     /// the fit has no row for.
     pub fn error(&self, aa: &str, edge: f64, colours: &Colours) -> Option<(f64, f64)> {
         let m = self.mode(aa)?;
-        Some((m.rms * (edge * colours.contrast2).sqrt(), m.wrong * edge))
+        let (a, a_shared) = (m.rms, m.rms_shared.unwrap_or(m.rms));
+        let square = colours.open_share() * a * a * colours.open2
+            + colours.shared_share() * a_shared * a_shared * colours.shared2;
+        Some(((edge * square).sqrt(), m.wrong * edge))
     }
 
     /// The modes that may run on a scene: adaptiveK only on flat opaque ones.
@@ -476,9 +509,21 @@ pub fn cheapest(predicted: &[Predicted], max_error: f64) -> Option<&Predicted> {
 
 /// Fits each mode's coefficients to measured rows: the largest ratio of measured to
 /// feature over the rows (an upper envelope, so that every fitted scene is predicted at
-/// or above its measured error); a mode of 0 error everywhere (ss16) gets 0. `samples_of`
-/// gives each mode's factor on the covered pixels ([`samples_for_ratio`]).
+/// or above its measured error); a mode of 0 error everywhere (ss16) gets 0. The RMS has
+/// two envelopes: over the rows whose edge pixels are mostly on open edges (random
+/// environments) and over the others (meshes), each the other's where a class has no
+/// row, since a mode's error falls with K differently on the two (a mesh's shared edges
+/// show little contrast, its silhouette much). `samples_of` gives each mode's factor on
+/// the covered pixels ([`samples_for_ratio`]).
 pub fn fit(rows: &[Measured], fitted_on: &str, samples_of: impl Fn(&str) -> f64) -> Accuracy {
+    let envelope = |rows: &[&Measured], num: fn(&Measured) -> f64, den: fn(&Measured) -> f64| {
+        rows.iter()
+            .filter(|r| den(r) > 0.0)
+            .map(|r| num(r) / den(r))
+            .fold(0.0, f64::max)
+    };
+    let rms = |r: &Measured| r.rms;
+    let unit = |r: &Measured| (r.edge * r.colours.contrast2).sqrt();
     let modes = MODES
         .iter()
         .filter_map(|aa| {
@@ -486,16 +531,17 @@ pub fn fit(rows: &[Measured], fitted_on: &str, samples_of: impl Fn(&str) -> f64)
             if mine.is_empty() {
                 return None;
             }
-            let ratio = |num: fn(&Measured) -> f64, den: fn(&Measured) -> f64| {
-                mine.iter()
-                    .filter(|r| den(r) > 0.0)
-                    .map(|r| num(r) / den(r))
-                    .fold(0.0, f64::max)
+            let (open, shared): (Vec<&Measured>, Vec<&Measured>) =
+                mine.iter().partition(|r| r.colours.open_share() >= 0.5);
+            let class = |rows: &[&Measured], other: &[&Measured]| match rows.is_empty() {
+                true => envelope(other, rms, unit),
+                false => envelope(rows, rms, unit),
             };
             Some(ModeFit {
                 aa: aa.to_string(),
-                rms: ratio(|r| r.rms, |r| (r.edge * r.contrast2).sqrt()),
-                wrong: ratio(|r| r.wrong, |r| r.edge),
+                rms: class(&open, &shared),
+                rms_shared: Some(class(&shared, &open)),
+                wrong: envelope(&mine, |r| r.wrong, |r| r.edge),
                 samples: samples_of(aa),
             })
         })
@@ -514,6 +560,7 @@ mod tests {
         Colours {
             polygons: 10,
             contrast2,
+            open2: contrast2,
             flat,
             ..Colours::default()
         }
@@ -530,7 +577,7 @@ mod tests {
         let row = |aa: &str, edge: f64, rms: f64, wrong: f64| Measured {
             aa: aa.into(),
             edge,
-            contrast2: 0.25,
+            colours: colours(0.25, true),
             rms,
             wrong,
         };
@@ -556,6 +603,65 @@ mod tests {
         }
         let back = Accuracy::parse(&a.to_toml().unwrap()).unwrap();
         assert_eq!(back, a);
+    }
+
+    #[test]
+    fn open_and_shared_edges_have_envelopes_of_their_own() {
+        // An environment's open edges and a mesh's shared ones: a ss4 error of 0.2 units
+        // on the first and 0.5 on the second.
+        let env = Colours {
+            open_edges: 100,
+            open2: 0.25,
+            contrast2: 0.25,
+            ..colours(0.25, true)
+        };
+        // A shared edge is one line where the closed form counts two: half the weight.
+        let mesh = Colours {
+            shared_edges: 100,
+            open2: 0.0,
+            shared2: 0.08,
+            contrast2: 0.04,
+            ..colours(0.04, true)
+        };
+        assert_eq!((env.open_share(), mesh.open_share()), (1.0, 0.0));
+        let row = |colours: Colours, rms: f64| Measured {
+            aa: "ss4".into(),
+            edge: 0.16,
+            colours,
+            rms,
+            wrong: 0.1,
+        };
+        // √(0.16·0.25) = 0.2, √(0.16·0.04) = 0.08.
+        let rows = [row(env, 0.2 * 10.0), row(mesh, 0.08 * 25.0)];
+        let a = fit(&rows, "test", |_| 16.0);
+        let m = &a.modes[0];
+        assert!((m.rms - 10.0).abs() < 1e-9, "{m:?}");
+        assert!((m.rms_shared.unwrap() - 25.0).abs() < 1e-9, "{m:?}");
+        // Each predicted exactly; half of each kind of edge pixel, the mean square.
+        for r in &rows {
+            let (rms, _) = a.error("ss4", r.edge, &r.colours).unwrap();
+            assert!((rms - r.rms).abs() < 1e-9, "{rms} {}", r.rms);
+        }
+        let half = Colours {
+            open_edges: 100,
+            shared_edges: 50,
+            ..Colours {
+                shared2: 0.08,
+                ..env
+            }
+        };
+        let (rms, _) = a.error("ss4", 0.16, &half).unwrap();
+        let want = (0.16f64 * (0.5 * 100.0 * 0.25 + 0.25 * 625.0 * 0.08)).sqrt();
+        assert!((rms - want).abs() < 1e-9, "{rms} {want}");
+        // One class alone: its envelope serves both; an older fit without the second
+        // coefficient reads as one for both.
+        let only = fit(&rows[..1], "test", |_| 16.0);
+        assert_eq!(only.modes[0].rms_shared, Some(only.modes[0].rms));
+        let old =
+            "fitted_on = \"x\"\n[[modes]]\naa = \"ss4\"\nrms = 10.0\nwrong = 0.5\nsamples = 16.0\n";
+        let old = Accuracy::parse(old).unwrap();
+        let (rms, _) = old.error("ss4", 0.16, &mesh).unwrap();
+        assert!((rms - 10.0 * 0.08).abs() < 1e-9, "{rms}");
     }
 
     #[test]

@@ -289,7 +289,7 @@ pub fn fit(out: Option<PathBuf>) -> Result<String> {
                 rows.push(Measured {
                     aa: aa.into(),
                     edge,
-                    contrast2: c.contrast2,
+                    colours: c,
                     rms,
                     wrong,
                 });
@@ -323,13 +323,17 @@ pub fn fit(out: Option<PathBuf>) -> Result<String> {
     }
     std::fs::write(&path, model.to_toml()?)?;
     let mut t = format!(
-        "{}\n| aa | rms a unit | wrong an edge pixel | samples |\n|---|---|---|---|\n",
+        "{}\n| aa | rms a unit (open edges) | (shared edges) | wrong an edge pixel | samples |\n|---|---|---|---|---|\n",
         path.display()
     );
     for m in &model.modes {
         t += &format!(
-            "| {} | {:.2} | {:.3} | {:.1} |\n",
-            m.aa, m.rms, m.wrong, m.samples
+            "| {} | {:.2} | {:.2} | {:.3} | {:.1} |\n",
+            m.aa,
+            m.rms,
+            m.rms_shared.unwrap_or(m.rms),
+            m.wrong,
+            m.samples
         );
     }
     Ok(t)
