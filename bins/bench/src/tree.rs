@@ -778,8 +778,9 @@ fn plan(k: &Kit, reps: usize, n: Count) -> Result<()> {
     let (pr, pt) = predict
         .lines()
         .find_map(|l| {
+            // "6313 polygons in view of 9982, Dc 6.87, …"
             let (a, rest) = l.split_once(" polygons in view of ")?;
-            let b = rest.split(' ').next()?;
+            let b = rest.split([' ', ',']).next()?;
             Some((a.parse::<u64>().ok()?, b.parse::<u64>().ok()?))
         })
         .unwrap_or((0, 0));

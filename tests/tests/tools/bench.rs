@@ -124,6 +124,14 @@ fn tree_depth_auto_and_plan_print_auto_against_the_fixed_depths() {
     );
     let nodes: Vec<&str> = levels.iter().map(|r| r[1].as_str()).collect();
     assert_eq!(nodes, ["2", "4", "8"]);
+    // Every level read polygons, and the model's share of the polygons in view halves
+    // with each level (read from `plan predict`'s line).
+    let model: Vec<u64> = levels.iter().map(|r| r[4].parse().unwrap()).collect();
+    assert!(
+        levels.iter().all(|r| r[2].parse::<u64>().unwrap() > 0) && model[0] > 0,
+        "{out}"
+    );
+    assert_eq!(model[1], model[0] / 2, "{out}");
     assert!(
         out.contains("live source: the first frame came out "),
         "{out}"
