@@ -224,7 +224,10 @@ fn dated(line: &str) -> Vec<String> {
         if lower[..i].ends_with(|c: char| c.is_alphanumeric()) {
             continue;
         }
-        let after = lower[i + m.len()..].trim_start_matches("of ");
+        let mut after = &lower[i + m.len()..];
+        for word in ["of ", "about ", "around ", "near "] {
+            after = after.trim_start_matches(word);
+        }
         if after.starts_with(|c: char| c.is_ascii_digit()) {
             let figure: String = after.chars().take_while(|c| !c.is_whitespace()).collect();
             found.push(format!("a load, `load {figure}`"));
@@ -249,6 +252,10 @@ fn dated_runs_are_found() {
             vec!["a load average, `load average before: 2.01 2.21`"],
         ),
         ("15 rounds (load 3.7) gave", vec!["a load, `load 3.7)`"]),
+        (
+            "shared with other builds (load about 6), each",
+            vec!["a load, `load 6),`"],
+        ),
         (
             "at a load of 11 it also chose depth 1",
             vec!["a load, `load 11`"],
