@@ -2,6 +2,7 @@
 //! *simple* pixelstruct), or a list of fragments sorted by depth (sampling thesis 6.3.1), with
 //! the sampling thesis's insertion cases (6.3.4, 6.3.5) and the fragment packer (6.3.6).
 
+use proto::depth::takes;
 use proto::Colour;
 
 /// A fragment's coverage: bit `8·j + i` is sub-pixel sample (i, j), at
@@ -46,10 +47,17 @@ impl Fragment {
         self.mask == FULL && self.opacity == proto::OPAQUE
     }
 
-    /// The order of the sorted list: by zmin, then stream order.
+    /// The order of the sorted list: by zmin, then stream order, zmins within the tie
+    /// rule's width of each other ([`proto::depth::takes`]: neither nearer by more than
+    /// 2⁻³⁰ of the depth) counting as equal, so that of two such fragments the earlier
+    /// polygon's comes first, as the z-buffer keeps the earlier at a tie.
     /// Whether this fragment comes before `other` in the sorted list.
     #[inline]
     fn before(&self, other: &Fragment) -> bool {
+        let tied = !takes(self.zmin, other.zmin) && !takes(other.zmin, self.zmin);
+        if tied && self.zmin.is_finite() && other.zmin.is_finite() {
+            return self.order < other.order;
+        }
         self.zmin
             .total_cmp(&other.zmin)
             .then(self.order.cmp(&other.order))
@@ -58,11 +66,17 @@ impl Fragment {
 
     /// Whether the fragment lies wholly behind `front`, a fully covering opaque fragment,
     /// so that no sample of it can show (6.3.5: "throw away all the fragments behind fully
-    /// covered, opaque fragments"). At equal depth the earlier polygon is in front.
+    /// covered, opaque fragments"), by the tie rule ([`proto::depth::takes`]): a later
+    /// polygon's fragment whose nearest depth does not take a sample held at `front`'s
+    /// farthest, or an earlier one's that `front`'s farthest takes from at its nearest.
     #[inline]
     fn behind(&self, front: &Fragment) -> bool {
         front.solid()
-            && (self.zmin > front.zmax || (self.zmin == front.zmax && self.order > front.order))
+            && if self.order > front.order {
+                !takes(self.zmin, front.zmax)
+            } else {
+                takes(front.zmax, self.zmin)
+            }
     }
 
     /// Whether the fragment and `next` (its successor in the sorted list) cover one
@@ -368,7 +382,9 @@ impl Packer {
         self.regions.clear();
         self.regions.push((FULL, 1.0));
         for (i, f) in list.iter().enumerate() {
-            let next = list.get(i + 1).filter(|n| n.zmin < f.zmax);
+            // The next fragment reaches in front of this one's far end by more than the
+            // tie rule's width: their samples in common are shared by depth.
+            let next = list.get(i + 1).filter(|n| takes(n.zmin, f.zmax));
             // f: this fragment's share of the samples both it and the next one cover.
             let share = next.map(|n| {
                 let extent = (f.zmax - f.zmin) + (n.zmax - n.zmin);

@@ -135,6 +135,34 @@ fn a_fully_covered_pixel_needs_no_list() {
     assert_eq!((b.stats.simple, b.stats.hidden, b.rows_culled), (9, 9, 0));
 }
 
+/// Two constant depths within the tie rule's width (2⁻³⁰ of the depth), the later polygon
+/// the nearer: the earlier keeps every sample, as the z-buffer and the K×K reference keep
+/// it, whether the pixel is covered wholly or in part, with and without the cull. The
+/// a-buffer ordered them nearest-first and shared their samples (the differential suite's
+/// seed 12, and 72 of 3,000 seeds from 1000).
+#[test]
+fn depths_within_the_tie_go_to_the_earlier_polygon() {
+    let z = 0.431_761_162_708_381_4;
+    let nearer = z - 5.0e-11;
+    assert!(!proto::depth::takes(nearer, z) && nearer < z);
+    let bg = [0, 200, 0];
+    for (x1, y1) in [(2.0, 2.0), (1.5, 2.0), (2.0, 0.5)] {
+        let early = square(BLUE, 0.0, 0.0, 2.0, 2.0, z);
+        let late = square(RED, 0.0, 0.0, x1, y1, nearer);
+        let polys = [early.clone(), late.clone()];
+        let image = render(&polys, 2, 2, bg);
+        assert_eq!(image, vec![Some(BLUE); 4], "{x1} {y1}");
+        assert_eq!(image, reference(&polys, 2, 2, 8, bg), "{x1} {y1}");
+        let mut b = ABuffer::without_cull(bg);
+        let mut runs = Vec::new();
+        b.resolve(&polys, 2, 2, &mut runs);
+        assert_eq!(image_of(&runs, 2, 2), image, "{x1} {y1}");
+        // The other way round the earlier is the nearer, and wins as before.
+        let polys = [late, early];
+        assert_eq!(render(&polys, 2, 2, bg), reference(&polys, 2, 2, 8, bg));
+    }
+}
+
 #[test]
 fn insertion_cases_keep_the_list_sorted_and_hide_what_is_behind() {
     let frag = |mask, z: i32, order| Fragment {
