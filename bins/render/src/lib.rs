@@ -263,14 +263,21 @@ fn farm_only(cli: &options::Cli) -> Result<(), Error> {
     }
 }
 
-/// Renders as the command line `args` (the program's name first) asks, and returns the
-/// exit status. Messages go to stderr as `render: …`.
 /// `--depth auto`'s choice as render's `--stats` record (`stagecli::stats`), printed
 /// after its readable line: `depth_auto` is the depth the tree was built with.
 pub fn depth_record(depth: u32) -> stagecli::stats::Record {
     stagecli::stats::Record::new(ME).with("depth_auto", depth)
 }
 
+/// `--max-error`'s choice, said on stderr with `--stats`.
+fn say_chosen(stats: bool, chosen: &budget::Chosen) {
+    if stats {
+        let _ = writeln!(std::io::stderr(), "{ME}: {}", chosen.said);
+    }
+}
+
+/// Renders as the command line `args` (the program's name first) asks, and returns the
+/// exit status. Messages go to stderr as `render: …`.
 pub fn run<I: IntoIterator<Item = OsString>>(args: I) -> u8 {
     run_in(methods::METHODS, args)
 }
@@ -373,9 +380,7 @@ fn run_inner<I: IntoIterator<Item = OsString>>(
     let o = match cli.max_error {
         Some(e) if !file => {
             let chosen = budget::choose(&o, e, &root, &bin);
-            if o.stats {
-                let _ = writeln!(std::io::stderr(), "{ME}: {}", chosen.said);
-            }
+            say_chosen(o.stats, &chosen);
             budget::apply(o, &chosen, table)
         }
         _ => o,
@@ -422,6 +427,16 @@ fn run_inner<I: IntoIterator<Item = OsString>>(
             .filter(auto::one_core_at_most)
             .map(|_| auto::ONE_CORE.to_string())
     });
+    // --depth auto's choice for `o` (its scene sampled when a stream), said with --stats.
+    let auto_depth =
+        |o: &Options, sampled: Option<&auto::Sampled>, target: &costmodel::model::Target| {
+            let tell = std::io::stderr().is_terminal();
+            let choice = auto::choose(o, sampled, target, &root, &bin, tell, ME);
+            if let (true, Some(said)) = (o.stats, &choice.said) {
+                depth_record(choice.depth).print(&format!("{ME}: {said}"));
+            }
+            choice.depth
+        };
     let outcome = match (deferred, fixed) {
         // --max-error on a scene file, in two phases as --depth auto: viewxf and the
         // clipper, which neither --aa nor the depth changes, start first and work while
@@ -431,22 +446,11 @@ fn run_inner<I: IntoIterator<Item = OsString>>(
             let chain = graph::chain(&o, &context(0, false));
             let early = launch::start(chain, None, ME).map_err(graph_error)?;
             let chosen = budget::choose(&o, e, &root, &bin);
-            if o.stats {
-                let _ = writeln!(std::io::stderr(), "{ME}: {}", chosen.said);
-            }
+            say_chosen(o.stats, &chosen);
             let chose = budget::apply(o.clone(), &chosen, table);
-            let depth = match chosen.depth {
-                Some(d) => d,
-                None => {
-                    let target = auto::target(&chose);
-                    let tell = std::io::stderr().is_terminal();
-                    let choice = auto::choose(&chose, None, &target, &root, &bin, tell, ME);
-                    if let (true, Some(said)) = (o.stats, &choice.said) {
-                        depth_record(choice.depth).print(&format!("{ME}: {said}"));
-                    }
-                    choice.depth
-                }
-            };
+            let depth = chosen
+                .depth
+                .unwrap_or_else(|| auto_depth(&chose, None, &auto::target(&chose)));
             let stages = graph::build(&chose, &context(depth, false));
             early.finish(stages, options(depth)).map_err(graph_error)?
         }
@@ -473,15 +477,9 @@ fn run_inner<I: IntoIterator<Item = OsString>>(
             let feed = sampled.as_mut().map(auto::Sampled::feed);
             let chain = graph::chain(&o, &context(0, feed.is_some()));
             let early = launch::start(chain, feed, ME).map_err(graph_error)?;
-            let tell = std::io::stderr().is_terminal();
-            let choice = auto::choose(&o, sampled.as_ref(), &target, &root, &bin, tell, ME);
-            if let (true, Some(said)) = (o.stats, &choice.said) {
-                depth_record(choice.depth).print(&format!("{ME}: {said}"));
-            }
-            let stages = graph::build(&o, &context(choice.depth, sampled.is_some()));
-            early
-                .finish(stages, options(choice.depth))
-                .map_err(graph_error)?
+            let depth = auto_depth(&o, sampled.as_ref(), &target);
+            let stages = graph::build(&o, &context(depth, sampled.is_some()));
+            early.finish(stages, options(depth)).map_err(graph_error)?
         }
     };
     launch::tell(&outcome);
