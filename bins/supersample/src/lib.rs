@@ -130,6 +130,17 @@ impl Supersample {
         self
     }
 
+    /// Pixel row `r`'s band over columns `cols` on the fine screen: its K fine rows, its
+    /// first fine column and its width in fine columns.
+    fn band(&self, r: u32, cols: &std::ops::Range<u32>) -> (std::ops::Range<u32>, u32, usize) {
+        let k = self.k;
+        (
+            r * k..r * k + k,
+            cols.start * k,
+            ((cols.end - cols.start) * k) as usize,
+        )
+    }
+
     /// Draws pixel row `r`'s K fine rows over columns `cols` for the `active` polygons
     /// (stream order), filters them and pushes the row's runs. Adaptively, only the
     /// pixels [`Supersample::classify`] finds mixed are sampled, by the same fold and the
@@ -143,9 +154,7 @@ impl Supersample {
         runs: &mut Vec<Run>,
     ) {
         let k = self.k;
-        let band = r * k..r * k + k;
-        let fx0 = cols.start * k;
-        let n = ((cols.end - cols.start) * k) as usize;
+        let (band, fx0, n) = self.band(r, &cols);
         let len = n * k as usize;
         if self.depth.len() < len {
             self.depth.resize(len, 0.0);
@@ -230,9 +239,7 @@ impl Supersample {
         runs: &mut Vec<Run>,
     ) {
         let k = self.k;
-        let band = r * k..r * k + k;
-        let fx0 = cols.start * k;
-        let n = ((cols.end - cols.start) * k) as usize;
+        let (band, fx0, n) = self.band(r, &cols);
         self.classify(active, cols.clone(), fine_w, band.clone());
         // Only the mixed pixels' samples are read.
         for m in &self.mixed {
