@@ -486,18 +486,21 @@ pub fn line_error(drawn: &[Segment], reference: &[Segment], tolerance: f64) -> L
     }
 }
 
+/// A tests' segment from (x0, y0) to (x1, y1), not a line of intersection, for this
+/// crate's tests and [`raster`]'s.
+#[cfg(test)]
+pub(crate) fn seg(x0: f64, y0: f64, x1: f64, y1: f64) -> Segment {
+    Segment {
+        from: DVec2::new(x0, y0),
+        to: DVec2::new(x1, y1),
+        colour: [1, 2, 3],
+        intersection: false,
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    fn seg(x0: f64, y0: f64, x1: f64, y1: f64) -> Segment {
-        Segment {
-            from: DVec2::new(x0, y0),
-            to: DVec2::new(x1, y1),
-            colour: [1, 2, 3],
-            intersection: false,
-        }
-    }
 
     #[test]
     fn pieces_along_one_edge_are_one_dashed_line() {

@@ -154,15 +154,7 @@ pub fn picture(segments: &[Segment], width: u32, height: u32, pen: f64, samples:
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    fn seg(x0: f64, y0: f64, x1: f64, y1: f64) -> Segment {
-        Segment {
-            from: DVec2::new(x0, y0),
-            to: DVec2::new(x1, y1),
-            colour: [200, 10, 10],
-            intersection: false,
-        }
-    }
+    use crate::seg;
 
     fn grey(img: &Image, x: u32, y: u32) -> u8 {
         let [r, g, b] = img.at(x, y);

@@ -365,8 +365,8 @@ fn run(mut cli: Cli) -> Result<()> {
         let rows: Vec<chart::chart::Row> = chart::chart::read_csv(&out.join("results.csv"))?;
         let model_rows: Vec<chart::chart::ModelRow> =
             chart::chart::read_csv(&out.join("model.csv"))?;
-        let extra = read_extrapolation(&out)?;
-        let choices = read_choices(&out)?;
+        let extra = read_if_there(&out, "model-extrapolation.csv")?;
+        let choices = read_if_there(&out, "max-error.csv")?;
         chart::plot::speed_accuracy_marked(&out, &rows, &choices)?;
         chart::plot::environment(&out, &rows)?;
         return chart::plot::model(&out, &model_rows, &extra);
@@ -515,19 +515,10 @@ fn remodel(
     say(&model_table(&rows))
 }
 
-/// DIR/model-extrapolation.csv, when there is one (a run before it had none).
-fn read_extrapolation(out: &Path) -> Result<Vec<chart::chart::Extrapolation>> {
-    let path = out.join("model-extrapolation.csv");
-    if path.exists() {
-        chart::chart::read_csv(&path)
-    } else {
-        Ok(Vec::new())
-    }
-}
-
-/// DIR/max-error.csv, when there is one (a run before it had none).
-fn read_choices(out: &Path) -> Result<Vec<chart::maxerror::Choice>> {
-    let path = out.join("max-error.csv");
+/// The rows of DIR/NAME (model-extrapolation.csv, max-error.csv), none when there is no
+/// such file (a run before the chart wrote it).
+fn read_if_there<T: serde::de::DeserializeOwned>(out: &Path, name: &str) -> Result<Vec<T>> {
+    let path = out.join(name);
     if path.exists() {
         chart::chart::read_csv(&path)
     } else {
