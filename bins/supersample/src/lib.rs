@@ -68,20 +68,18 @@ pub struct Supersample {
     adaptive: bool,
     /// Per fine polygon, its flat colour: the filter reads this, not the polygons.
     colours: Vec<Colour>,
-    /// Adaptively, per pixel of the row, what the test found; the row's spans (polygon,
-    /// span) in stream order; and the mixed pixels as runs of pixel indices.
-    class: Vec<Class>,
-    verdicts: Vec<Verdict>,
-    /// Adaptively, per pixel of the row: how many polygons touch it (two for one whose
-    /// depths are not all finite) and a polygon that covers it wholly, if any (the one
-    /// that does when one polygon alone touches it); and the row's touches.
-    touched: Vec<u32>,
-    coverer: Vec<u32>,
+    /// The same packed for the flat filter, the background last.
+    packed: Vec<Packed>,
+    /// Adaptively, the row's spans (the touches' spans, in stream order), its touches,
+    /// the sweep's events and its set of touches now, and the row's pieces with the
+    /// touch sets of the mixed ones.
+    spans: Vec<Span>,
     touches: Vec<Touch>,
-    spans: Vec<(u32, Span)>,
-    mixed: Vec<std::ops::Range<u32>>,
-    /// Adaptively, the pixels two or more polygons touch, as runs.
-    contested: Vec<std::ops::Range<u32>>,
+    order: Vec<u64>,
+    events: Vec<u64>,
+    set: Vec<u32>,
+    pieces: Vec<Piece>,
+    sets: Vec<u32>,
     pub stats: Stats,
 }
 
@@ -110,14 +108,14 @@ impl Supersample {
             row: Vec::new(),
             adaptive: false,
             colours: Vec::new(),
-            class: Vec::new(),
-            touched: Vec::new(),
-            coverer: Vec::new(),
-            touches: Vec::new(),
-            verdicts: Vec::new(),
+            packed: Vec::new(),
             spans: Vec::new(),
-            mixed: Vec::new(),
-            contested: Vec::new(),
+            touches: Vec::new(),
+            order: Vec::new(),
+            events: Vec::new(),
+            set: Vec::new(),
+            pieces: Vec::new(),
+            sets: Vec::new(),
             stats: Stats::default(),
         })
     }
@@ -186,38 +184,53 @@ impl Supersample {
     /// The box filter of pixel c of the row (its first fine column `fx0 + cK`, the band
     /// `n` fine columns wide from fine row `fy`): each channel `(sum + K²/2) / K²`, an
     /// uncovered sample counting as the background; `None` when no sample is covered.
+    ///
+    /// A flat frame sums packed colours ([`Packed`]): one addition a sample, the
+    /// background at the end of the table, where an uncovered sample's index lands.
     #[inline]
     fn filter(&mut self, c: usize, fx0: u32, n: usize, fy: u32) -> Option<Colour> {
         let k = self.k as usize;
         let count = (k * k) as u32;
-        let mut sum = [0u32; 3];
-        let mut covered = 0u32;
         let first = self.owner[c * k];
         let mut mixed = false;
-        for j in 0..k {
-            let at = j * n + c * k;
-            for (i, &o) in self.owner[at..at + k].iter().enumerate() {
-                mixed |= o != first;
-                let colour = if o == NONE {
-                    self.background
-                } else {
-                    covered += 1;
-                    // A flat frame reads its colours alone.
-                    let shading = match self.shaded {
-                        true => self.shading[o as usize].as_ref(),
-                        false => None,
+        let mut covered = 0u32;
+        let sum = if self.shaded {
+            let mut sum = [0u32; 3];
+            for j in 0..k {
+                let at = j * n + c * k;
+                for (i, &o) in self.owner[at..at + k].iter().enumerate() {
+                    mixed |= o != first;
+                    let colour = match o {
+                        NONE => self.background,
+                        o => {
+                            covered += 1;
+                            match &self.shading[o as usize] {
+                                // Sample (i, j) of pixel c is fine pixel
+                                // (fx0 + cK + i, fy + j).
+                                Some(sh) => sh.at(fx0 + (c * k + i) as u32, fy + j as u32),
+                                None => self.colours[o as usize],
+                            }
+                        }
                     };
-                    match shading {
-                        // Sample (i, j) of pixel c is fine pixel (fx0 + cK + i, fy + j).
-                        Some(sh) => sh.at(fx0 + (c * k + i) as u32, fy + j as u32),
-                        None => self.colours[o as usize],
+                    for (s, v) in sum.iter_mut().zip(colour) {
+                        *s += v as u32;
                     }
-                };
-                for (s, v) in sum.iter_mut().zip(colour) {
-                    *s += v as u32;
                 }
             }
-        }
+            sum
+        } else {
+            let background = self.packed.len() - 1;
+            let mut sum = 0u64;
+            for j in 0..k {
+                let at = j * n + c * k;
+                for &o in &self.owner[at..at + k] {
+                    mixed |= o != first;
+                    covered += (o != NONE) as u32;
+                    sum += self.packed[(o as usize).min(background)].0;
+                }
+            }
+            Packed(sum).channels()
+        };
         (covered > 0).then(|| {
             self.stats.pixels += 1;
             self.stats.mixed += mixed as u64;
@@ -228,7 +241,7 @@ impl Supersample {
     /// [`Supersample::draw_row`] adaptively: the row's spans walked and the pixels
     /// classified ([`Supersample::classify`]), the mixed ones sampled and filtered as
     /// whole supersampling does, the uniform ones their polygon's colour; the row's runs
-    /// pushed as they are found, maximal runs of one colour as
+    /// pushed left to right, maximal runs of one colour as
     /// [`scan::frame::push_row_runs_at`] makes them.
     fn draw_row_adaptive(
         &mut self,
@@ -241,34 +254,25 @@ impl Supersample {
         let k = self.k;
         let (band, fx0, n) = self.band(r, &cols);
         self.classify(active, cols.clone(), fine_w, band.clone());
-        // Only the mixed pixels' samples are read.
-        for m in &self.mixed {
-            for j in 0..k as usize {
-                let at = j * n;
-                self.owner[at + (m.start * k) as usize..at + (m.end * k) as usize].fill(NONE);
-            }
-        }
+        // The mixed pieces sampled: each by the polygons that touch it, in stream order,
+        // over its own fine columns only.
         let (depth, owner, stats) = (&mut self.depth, &mut self.owner, &mut self.stats);
-        let mixed = &self.mixed;
-        let shift = k.trailing_zeros();
-        for touch in &self.touches {
-            // The first mixed run the polygon reaches, found once for its K rows.
-            let from = mixed.partition_point(|m| m.end <= touch.touched.start);
-            if mixed.get(from).is_none_or(|m| m.start >= touch.touched.end) {
+        for piece in &self.pieces {
+            let Fill::Mixed(set) = piece.fill.clone() else {
                 continue;
+            };
+            let (p0, p1) = (fx0 + piece.px.start * k, fx0 + piece.px.end * k);
+            for j in 0..k as usize {
+                let at = j * n + (p0 - fx0) as usize;
+                owner[at..at + (p1 - p0) as usize].fill(NONE);
             }
-            let spans = &self.spans[touch.spans.start as usize..touch.spans.end as usize];
-            for &(i, s) in spans {
-                let (x0, x1) = (s.x0.max(fx0), s.x1.min(fx0 + n as u32));
-                // The mixed runs (pixel indices) the span reaches, each sampled.
-                let (p0, p1) = ((x0 - fx0) >> shift, (x1 - fx0 + k - 1) >> shift);
-                for m in mixed[from..]
-                    .iter()
-                    .skip_while(|m| m.end <= p0)
-                    .take_while(|m| m.start < p1)
-                {
-                    let (a, b) = (x0.max(fx0 + m.start * k), x1.min(fx0 + m.end * k));
-                    sample(&s, i, a..b, fx0, n, band.start, depth, owner, stats);
+            for &t in &self.sets[set.start as usize..set.end as usize] {
+                let touch = &self.touches[t as usize];
+                for s in &self.spans[touch.spans.start as usize..touch.spans.end as usize] {
+                    let (a, b) = (s.x0.max(p0), s.x1.min(p1));
+                    if a < b {
+                        sample(s, touch.i, a..b, fx0, n, band.start, depth, owner, stats);
+                    }
                 }
             }
         }
@@ -285,50 +289,48 @@ impl Supersample {
                 colour,
             }),
         };
-        let pixels = (cols.end - cols.start) as usize;
-        let mut c = 0;
-        while c < pixels {
-            let x = cols.start + c as u32;
-            match self.verdicts[c] {
-                Verdict::Empty => c += 1,
-                Verdict::Uniform(o) if !self.shaded => {
+        for p in 0..self.pieces.len() {
+            let Piece { px, fill } = self.pieces[p].clone();
+            match fill {
+                Fill::Uniform(o) if !self.shaded => {
                     // A run of one polygon's pixels at once.
-                    let end = self.verdicts[c..]
-                        .iter()
-                        .position(|&v| v != Verdict::Uniform(o))
-                        .map_or(pixels, |e| c + e);
-                    self.stats.pixels += (end - c) as u64;
-                    push(runs, x, cols.start + end as u32, self.colours[o as usize]);
-                    c = end;
+                    self.stats.pixels += px.len() as u64;
+                    let colour = self.colours[o as usize];
+                    push(runs, cols.start + px.start, cols.start + px.end, colour);
                 }
-                Verdict::Uniform(o) => {
-                    self.stats.pixels += 1;
-                    let (fx, fy) = (fx0 + c as u32 * k, band.start);
-                    let colour = match &self.shading[o as usize] {
-                        // Phong: every sample lit, as whole supersampling lights them.
-                        Some(sh) if self.lighting.is_some() => block_mean(sh, fx, fy, 0..k),
-                        // Gouraud: the central 2×2 samples.
-                        Some(sh) => block_mean(sh, fx, fy, k / 2 - 1..k / 2 + 1),
-                        None => self.colours[o as usize],
-                    };
-                    push(runs, x, x + 1, colour);
-                    c += 1;
-                }
-                Verdict::Mixed => {
-                    self.stats.sampled += 1;
-                    if let Some(colour) = self.filter(c, fx0, n, band.start) {
+                Fill::Uniform(o) => {
+                    for c in px.clone() {
+                        self.stats.pixels += 1;
+                        let (fx, fy) = (fx0 + c * k, band.start);
+                        let colour = match &self.shading[o as usize] {
+                            // Phong: every sample lit, as whole supersampling lights them.
+                            Some(sh) if self.lighting.is_some() => block_mean(sh, fx, fy, 0..k),
+                            // Gouraud: the central 2×2 samples.
+                            Some(sh) => block_mean(sh, fx, fy, k / 2 - 1..k / 2 + 1),
+                            None => self.colours[o as usize],
+                        };
+                        let x = cols.start + c;
                         push(runs, x, x + 1, colour);
                     }
-                    c += 1;
+                }
+                Fill::Mixed(_) => {
+                    for c in px.clone() {
+                        self.stats.sampled += 1;
+                        if let Some(colour) = self.filter(c as usize, fx0, n, band.start) {
+                            let x = cols.start + c;
+                            push(runs, x, x + 1, colour);
+                        }
+                    }
                 }
             }
         }
     }
 
-    /// Adaptive sampling's test, per pixel of the row: which pixels one polygon wins at
-    /// every sample ([`Verdict::Uniform`]), which no polygon reaches, and which must be
-    /// sampled, those kept as runs in `mixed`; walks the row's spans once, keeping them
-    /// in `spans` for the sampling.
+    /// Adaptive sampling's test: the row cut into pieces, left to right, each either
+    /// uniform (one polygon wins every sample of its pixels: [`Fill::Uniform`]) or mixed
+    /// (to be sampled, with the polygons that touch it: [`Fill::Mixed`]); pixels no
+    /// polygon reaches are in no piece. Walks the row's spans once, keeping them in
+    /// `spans` for the sampling.
     ///
     /// A polygon *covers* pixel c wholly when each of the band's K fine rows has exactly
     /// one of its spans and that span holds all K of the pixel's sample columns; every
@@ -344,6 +346,20 @@ impl Supersample {
     /// fold ends at P everywhere, and K² samples of one flat colour filter to that colour.
     /// Hidden edges under P, and crossings of polygons, leave the pixel mixed unless P is
     /// in front of them by more than the tie at every sample.
+    ///
+    /// The test works on the row's touches, not on every pixel. The touches are taken left
+    /// to right in clusters whose touched pixels overlap. A touch alone is three pieces at
+    /// once: its partly covered pixels at each end mixed, those between uniform. A cluster
+    /// is swept ([`Supersample::sweep`]): the ends of its touches' touched and wholly
+    /// covered pixels cut it into segments over which the same polygons touch and the
+    /// same ones cover. A segment one polygon touches is uniform where it covers and mixed
+    /// where it does not. A segment two or more touch is tested as one pixel, first with
+    /// each touch's depth bounds over all its pixels in the row, then with its bounds over
+    /// the segment (the bounds are monotone along the row, so both are those at the two
+    /// end pixels), and pixel by pixel only when both fail. A segment that passes passes
+    /// at each of its pixels with the same polygon (its bounds hold each pixel's, and
+    /// `bar` is monotone), so the verdicts are those of the pixel-by-pixel test
+    /// everywhere.
     fn classify(
         &mut self,
         active: &[u32],
@@ -352,13 +368,9 @@ impl Supersample {
         band: std::ops::Range<u32>,
     ) {
         let k = self.k;
-        let pixels = (cols.end - cols.start) as usize;
         self.spans.clear();
         self.touches.clear();
-        self.touched.clear();
-        self.touched.resize(pixels, 0);
-        self.coverer.clear();
-        self.coverer.resize(pixels, NONE);
+        self.order.clear();
         let (fx0, fx1) = (cols.start * k, cols.end * k);
         let shift = k.trailing_zeros();
         for &i in active {
@@ -368,11 +380,11 @@ impl Supersample {
             self.walks
                 .spans(i, p, fine_w, self.fine_h, band.clone(), |s| {
                     if s.x0.max(fx0) < s.x1.min(fx1) {
-                        spans.push((i, s));
+                        spans.push(s);
                     }
                 });
             let mine = &self.spans[from..];
-            let Some(&(_, s0)) = mine.first() else {
+            let Some(&s0) = mine.first() else {
                 continue;
             };
             let dz = s0.dz;
@@ -381,10 +393,12 @@ impl Supersample {
             let (mut t0, mut t1) = (u32::MAX, 0);
             let (mut a, mut b) = (0, u32::MAX);
             let one_span_a_row =
-                mine.len() == k as usize && mine.windows(2).all(|w| w[0].1.y < w[1].1.y);
-            for &(_, s) in mine {
+                mine.len() == k as usize && mine.windows(2).all(|w| w[0].y < w[1].y);
+            let mut nan = false;
+            for s in mine {
                 zmin = zmin.min(s.z_row);
                 zmax = zmax.max(s.z_row);
+                nan |= s.z_row.is_nan();
                 let (x0, x1) = (s.x0.max(fx0) - fx0, s.x1.min(fx1) - fx0);
                 // K is a power of two: shifts, not divisions.
                 let (first, end) = (x0 >> shift, (x1 + k - 1) >> shift);
@@ -393,15 +407,15 @@ impl Supersample {
                 a = a.max((x0 + k - 1) >> shift);
                 b = b.min(x1 >> shift);
             }
-            if !one_span_a_row || mine.iter().any(|(_, s)| s.z_row.is_nan()) {
+            if !one_span_a_row || nan {
                 // Some row with no span or several: no pixel wholly covered (safe);
                 // a NaN depth: the row's touches all mixed.
                 (a, b) = (0, 0);
-                if mine.iter().any(|(_, s)| s.z_row.is_nan()) {
+                if nan {
                     (zmin, zmax) = (f64::NAN, f64::NAN);
                 }
             }
-            let touch = Touch {
+            let mut touch = Touch {
                 i,
                 spans: from as u32..self.spans.len() as u32,
                 zmin,
@@ -409,89 +423,262 @@ impl Supersample {
                 dz,
                 touched: t0..t1,
                 whole: a..b.max(a),
+                finite: true,
+                lo: f64::NAN,
+                hi: f64::NAN,
             };
-            // A pixel this polygon alone touches is uniform exactly when the polygon
-            // covers it wholly at depths `Class::touch` can order (finite): its depth
-            // bounds are monotone across the row, so finite at the ends of its pixels
-            // means finite at all of them. Otherwise it counts twice, which sends its
-            // pixels to the depth test.
-            let finite = [t0, t1 - 1].iter().all(|&c| {
-                let (lo, hi) = touch.depths(c, fx0, k);
-                lo.is_finite() && hi.is_finite()
-            });
-            let weight = if finite { 1 } else { 2 };
-            for t in &mut self.touched[t0 as usize..t1 as usize] {
-                *t += weight;
-            }
-            // Within the pixels it touches: where it alone touches, it is the coverer.
-            self.coverer[touch.whole.start as usize..touch.whole.end as usize].fill(i);
+            // Its depth bounds are monotone across the row, so those at the ends of its
+            // pixels hold all of them, and finite there means finite at all of them; a
+            // touch that is not is tested pixel by pixel, where `Class::touch` decides each.
+            let ((lo0, hi0), (lo1, hi1)) = (touch.depths(t0, fx0, k), touch.depths(t1 - 1, fx0, k));
+            touch.finite = [lo0, hi0, lo1, hi1].iter().all(|z| z.is_finite());
+            (touch.lo, touch.hi) = (lo0.min(lo1), hi0.max(hi1));
+            self.order
+                .push((t0 as u64) << 32 | self.touches.len() as u64);
             self.touches.push(touch);
         }
-        // The pixels one polygon touches are decided at once; those two or more touch
-        // are contested, kept as runs for the depth test.
-        self.verdicts.clear();
-        self.verdicts.resize(pixels, Verdict::Empty);
-        self.mixed.clear();
-        self.contested.clear();
-        for c in 0..pixels {
-            match self.touched[c] {
-                0 => {}
-                1 if self.coverer[c] != NONE => {
-                    self.verdicts[c] = Verdict::Uniform(self.coverer[c]);
+        self.pieces.clear();
+        self.sets.clear();
+        // The touches left to right, in clusters whose touched pixels overlap: a touch
+        // alone is three pieces at once, a cluster is swept.
+        self.order.sort_unstable();
+        let mut c = 0;
+        while c < self.order.len() {
+            let first = self.order[c] as u32;
+            let mut end = self.touches[first as usize].touched.end;
+            let mut d = c + 1;
+            while let Some(&o) = self.order.get(d).filter(|&&o| ((o >> 32) as u32) < end) {
+                end = end.max(self.touches[o as u32 as usize].touched.end);
+                d += 1;
+            }
+            if d == c + 1 && self.touches[first as usize].finite {
+                let Touch {
+                    i,
+                    ref touched,
+                    ref whole,
+                    ..
+                } = self.touches[first as usize];
+                let (touched, whole) = (touched.clone(), whole.clone());
+                self.set.clear();
+                self.set.push(first);
+                let mixed = self.mixed_fill();
+                if whole.is_empty() {
+                    self.push_piece(touched, mixed);
+                } else {
+                    self.push_piece(touched.start..whole.start, mixed.clone());
+                    self.push_piece(whole.clone(), Fill::Uniform(i));
+                    self.push_piece(whole.end..touched.end, mixed);
                 }
-                1 => {
-                    self.verdicts[c] = Verdict::Mixed;
-                    push_pixels(&mut self.mixed, c..c + 1);
-                }
-                _ => push_pixels(&mut self.contested, c..c + 1),
+            } else {
+                self.sweep(c..d, fx0);
+            }
+            c = d;
+        }
+    }
+
+    /// [`Supersample::classify`]'s sweep over the touches `order[cluster]`: their ends
+    /// cut the cluster's pixels into segments over which the same polygons touch and the
+    /// same ones cover wholly, each classified by [`Supersample::segment`].
+    fn sweep(&mut self, cluster: std::ops::Range<usize>, fx0: u32) {
+        self.events.clear();
+        for &o in &self.order[cluster] {
+            let t = o as u32 as u64;
+            let touch = &self.touches[t as usize];
+            self.events
+                .push(Event::at(touch.touched.start, Event::ENTER, t));
+            self.events
+                .push(Event::at(touch.touched.end, Event::LEAVE, t));
+            if !touch.whole.is_empty() {
+                self.events
+                    .push(Event::at(touch.whole.start, Event::CUT, t));
+                self.events.push(Event::at(touch.whole.end, Event::CUT, t));
             }
         }
-        if self.contested.is_empty() {
+        self.set.clear();
+        // Few events: an unstable sort of plain integers.
+        self.events.sort_unstable();
+        let mut e = 0;
+        while e < self.events.len() {
+            let x = Event::x(self.events[e]);
+            while let Some(&ev) = self.events.get(e).filter(|&&ev| Event::x(ev) == x) {
+                let t = Event::touch(ev);
+                match Event::kind(ev) {
+                    // The set stays in stream order: touches were made in it.
+                    Event::ENTER => {
+                        let at = self.set.partition_point(|&u| u < t);
+                        self.set.insert(at, t);
+                    }
+                    Event::LEAVE => {
+                        if let Some(at) = self.set.iter().position(|&u| u == t) {
+                            self.set.remove(at);
+                        }
+                    }
+                    _ => {}
+                }
+                e += 1;
+            }
+            let Some(&next) = self.events.get(e) else {
+                break;
+            };
+            if !self.set.is_empty() {
+                self.segment(x..Event::x(next), fx0);
+            }
+        }
+    }
+
+    /// Classifies pixels `px` of the row, over which the polygons of `set` touch and the
+    /// same ones cover wholly (a segment of [`Supersample::classify`]'s sweep), into
+    /// pieces.
+    fn segment(&mut self, px: std::ops::Range<u32>, fx0: u32) {
+        let k = self.k;
+        let touches = &self.touches;
+        if let [t] = self.set[..] {
+            let touch = &touches[t as usize];
+            if touch.finite {
+                let fill = if touch.whole.start <= px.start && px.end <= touch.whole.end {
+                    Fill::Uniform(touch.i)
+                } else {
+                    self.mixed_fill()
+                };
+                return self.push_piece(px, fill);
+            }
+        } else if self.set.iter().all(|&t| touches[t as usize].finite) {
+            // The whole segment as one pixel: first with each touch's bounds over the row,
+            // then with its bounds over the segment, those at its two ends.
+            let mut class = Class::default();
+            for &t in &self.set {
+                let touch = &touches[t as usize];
+                let whole = touch.whole.start <= px.start && px.end <= touch.whole.end;
+                class.touch(touch.i, touch.lo, touch.hi, whole);
+            }
+            if let Verdict::Uniform(o) = class.verdict() {
+                return self.push_piece(px, Fill::Uniform(o));
+            }
+            let mut class = Class::default();
+            let last = px.end - 1;
+            for &t in &self.set {
+                let touch = &touches[t as usize];
+                let ((lo0, hi0), (lo1, hi1)) =
+                    (touch.depths(px.start, fx0, k), touch.depths(last, fx0, k));
+                let whole = touch.whole.start <= px.start && px.end <= touch.whole.end;
+                class.touch(touch.i, lo0.min(lo1), hi0.max(hi1), whole);
+            }
+            match class.verdict() {
+                Verdict::Uniform(o) => return self.push_piece(px, Fill::Uniform(o)),
+                _ if px.len() == 1 => {
+                    let fill = self.mixed_fill();
+                    return self.push_piece(px, fill);
+                }
+                _ => {}
+            }
+        }
+        // Pixel by pixel.
+        for c in px {
+            let mut class = Class::default();
+            for &t in &self.set {
+                let touch = &self.touches[t as usize];
+                let (lo, hi) = touch.depths(c, fx0, k);
+                class.touch(touch.i, lo, hi, touch.whole.contains(&c));
+            }
+            let fill = match class.verdict() {
+                Verdict::Uniform(o) => Fill::Uniform(o),
+                _ => self.mixed_fill(),
+            };
+            self.push_piece(c..c + 1, fill);
+        }
+    }
+
+    /// A mixed fill for the current segment: its set of touches, kept once a segment.
+    fn mixed_fill(&mut self) -> Fill {
+        let end = self.sets.len() as u32;
+        // The segment's set is already the last one kept when a piece of this segment
+        // was mixed before.
+        if let Some(Piece {
+            fill: Fill::Mixed(set),
+            ..
+        }) = self.pieces.last()
+        {
+            if set.end == end && self.sets[set.start as usize..] == self.set[..] {
+                return Fill::Mixed(set.clone());
+            }
+        }
+        self.sets.extend_from_slice(&self.set);
+        Fill::Mixed(end..self.sets.len() as u32)
+    }
+
+    /// Adds a piece (not empty) at the row's right, joined to the last when they continue each other
+    /// with the same fill.
+    fn push_piece(&mut self, px: std::ops::Range<u32>, fill: Fill) {
+        if px.is_empty() {
             return;
         }
-        // The depth test of the contested pixels: every polygon that touches one, in
-        // stream order, as `Class::touch` takes them.
-        self.class.resize(pixels, Class::default());
-        for m in &self.contested {
-            self.class[m.start as usize..m.end as usize].fill(Class::default());
-        }
-        for touch in &self.touches {
-            let r = &touch.touched;
-            let first = self.contested.partition_point(|m| m.end <= r.start);
-            for m in self.contested[first..]
-                .iter()
-                .take_while(|m| m.start < r.end)
-            {
-                for c in m.start.max(r.start)..m.end.min(r.end) {
-                    let (lo, hi) = touch.depths(c, fx0, k);
-                    let whole = touch.whole.contains(&c);
-                    self.class[c as usize].touch(touch.i, lo, hi, whole);
-                }
-            }
-        }
-        for m in &self.contested {
-            for c in m.start as usize..m.end as usize {
-                self.verdicts[c] = self.class[c].verdict();
-            }
-        }
-        // The mixed pixels, contested or not, as runs for the sampling.
-        self.mixed.clear();
-        for (c, &verdict) in self.verdicts.iter().enumerate() {
-            if verdict == Verdict::Mixed {
-                push_pixels(&mut self.mixed, c..c + 1);
-            }
+        match self.pieces.last_mut() {
+            Some(last) if last.px.end == px.start && last.fill == fill => last.px.end = px.end,
+            _ => self.pieces.push(Piece { px, fill }),
         }
     }
 }
 
-/// Adds pixels `px` to the row's runs of pixel indices `runs` (left to right).
-#[inline]
-fn push_pixels(runs: &mut Vec<std::ops::Range<u32>>, px: std::ops::Range<usize>) {
-    let (a, b) = (px.start as u32, px.end as u32);
-    match runs.last_mut() {
-        Some(m) if m.end == a => m.end = b,
-        _ => runs.push(a..b),
+/// A colour's three channels in one integer, 21 bits apart, so that the filter adds all
+/// three at once: K² ≤ 256 samples of at most 255 sum to at most 65,280, within 21 bits.
+#[derive(Clone, Copy, Debug)]
+struct Packed(u64);
+
+impl Packed {
+    const SHIFT: u32 = 21;
+
+    fn of(c: Colour) -> Packed {
+        Packed(c[0] as u64 | (c[1] as u64) << Self::SHIFT | (c[2] as u64) << (2 * Self::SHIFT))
     }
+
+    /// The channels of a sum of packed colours.
+    fn channels(self) -> [u32; 3] {
+        let mask = (1 << Self::SHIFT) - 1;
+        [0, 1, 2].map(|i| ((self.0 >> (i * Self::SHIFT)) & mask) as u32)
+    }
+}
+
+/// One event of [`Supersample::classify`]'s sweep, packed in a `u64` so that a sort
+/// orders them by pixel: the pixel in the high 32 bits, then the kind, then the touch.
+struct Event;
+
+impl Event {
+    const LEAVE: u64 = 0;
+    const CUT: u64 = 1;
+    const ENTER: u64 = 2;
+
+    #[inline]
+    fn at(x: u32, kind: u64, touch: u64) -> u64 {
+        (x as u64) << 32 | kind << 30 | touch
+    }
+    #[inline]
+    fn x(e: u64) -> u32 {
+        (e >> 32) as u32
+    }
+    #[inline]
+    fn kind(e: u64) -> u64 {
+        (e >> 30) & 3
+    }
+    #[inline]
+    fn touch(e: u64) -> u32 {
+        (e & ((1 << 30) - 1)) as u32
+    }
+}
+
+/// A run of pixels of the row that adaptive sampling draws alike.
+#[derive(Clone, Debug, PartialEq)]
+struct Piece {
+    px: std::ops::Range<u32>,
+    fill: Fill,
+}
+
+/// How a piece is drawn.
+#[derive(Clone, Debug, PartialEq)]
+enum Fill {
+    /// This polygon wins every sample of every pixel.
+    Uniform(u32),
+    /// Sampled K×K, by the touches `sets[range]` (stream order).
+    Mixed(std::ops::Range<u32>),
 }
 
 /// One polygon's reach in one pixel row, adaptively: its spans, its least and greatest
@@ -507,6 +694,11 @@ struct Touch {
     dz: scan::Depth,
     touched: std::ops::Range<u32>,
     whole: std::ops::Range<u32>,
+    /// Whether its depth bounds are finite at every pixel it touches, and if they are,
+    /// the least and the greatest over those pixels.
+    finite: bool,
+    lo: scan::Depth,
+    hi: scan::Depth,
 }
 
 impl Touch {
@@ -728,6 +920,10 @@ impl HiddenSurface for Supersample {
         self.fine.extend(polygons.iter().map(|p| scaled(p, k)));
         self.colours.clear();
         self.colours.extend(self.fine.iter().map(|p| p.colour));
+        self.packed.clear();
+        self.packed
+            .extend(self.colours.iter().map(|&c| Packed::of(c)));
+        self.packed.push(Packed::of(self.background));
         self.fine_h = height * k;
         self.walks.start_frame(self.fine.len());
         self.shading.clear();
