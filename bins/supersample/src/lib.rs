@@ -261,6 +261,15 @@ impl Supersample {
             let Fill::Mixed(set) = piece.fill.clone() else {
                 continue;
             };
+            if counted(
+                &self.sets[set.start as usize..set.end as usize],
+                &self.touches,
+                self.shaded,
+            )
+            .is_some()
+            {
+                continue;
+            }
             let (p0, p1) = (fx0 + piece.px.start * k, fx0 + piece.px.end * k);
             for j in 0..k as usize {
                 let at = j * n + (p0 - fx0) as usize;
@@ -313,10 +322,16 @@ impl Supersample {
                         push(runs, x, x + 1, colour);
                     }
                 }
-                Fill::Mixed(_) => {
+                Fill::Mixed(set) => {
+                    let set = &self.sets[set.start as usize..set.end as usize];
+                    let alone = counted(set, &self.touches, self.shaded);
                     for c in px.clone() {
                         self.stats.sampled += 1;
-                        if let Some(colour) = self.filter(c as usize, fx0, n, band.start) {
+                        let colour = match alone {
+                            Some(t) => self.coverage(t, c, fx0),
+                            None => self.filter(c as usize, fx0, n, band.start),
+                        };
+                        if let Some(colour) = colour {
                             let x = cols.start + c;
                             push(runs, x, x + 1, colour);
                         }
@@ -324,6 +339,28 @@ impl Supersample {
                 }
             }
         }
+    }
+
+    /// Pixel c's colour when touch `t` alone reaches it ([`counted`]): the
+    /// samples its spans cover, counted row by row, filtered as [`Supersample::filter`]
+    /// filters them; `None` when it covers none.
+    fn coverage(&mut self, t: u32, c: u32, fx0: u32) -> Option<Colour> {
+        let k = self.k;
+        let touch = &self.touches[t as usize];
+        let (x0, x1) = (fx0 + c * k, fx0 + c * k + k);
+        let covered: u32 = self.spans[touch.spans.start as usize..touch.spans.end as usize]
+            .iter()
+            .map(|s| s.x1.min(x1).saturating_sub(s.x0.max(x0)))
+            .sum();
+        let count = k * k;
+        (covered > 0).then(|| {
+            self.stats.pixels += 1;
+            self.stats.mixed += (covered < count) as u64;
+            let colour = self.packed[touch.i as usize].0;
+            let background = self.packed[self.packed.len() - 1].0;
+            let sum = Packed(covered as u64 * colour + (count - covered) as u64 * background);
+            sum.channels().map(|s| ((s + count / 2) / count) as u8)
+        })
     }
 
     /// Adaptive sampling's test: the row cut into pieces, left to right, each either
@@ -815,6 +852,19 @@ fn sample(
         *d = if take { z } else { *d };
         *o = if take { i } else { *o };
         stats.samples_written += take as u64;
+    }
+}
+
+/// The touch whose samples a mixed piece's colour is counted from, not folded: the
+/// piece's only touch (`set`, indices into `touches`), on a flat frame, at finite depths.
+/// Alone in the pixel, the polygon takes exactly the samples it covers (a finite depth is
+/// never NaN), and the rest show the background, so the filter's sum is covered·colour +
+/// (K² − covered)·background: [`Supersample::coverage`] gives the filter's bytes without
+/// the fold.
+fn counted(set: &[u32], touches: &[Touch], shaded: bool) -> Option<u32> {
+    match *set {
+        [t] if !shaded && touches[t as usize].finite => Some(t),
+        _ => None,
     }
 }
 
