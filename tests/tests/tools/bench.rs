@@ -312,6 +312,15 @@ fn bench_adaptive_prints_render_and_the_leaf() {
     let rows = table(&out, "| what | ss4 CPU s | adaptive4 CPU s | ratio |");
     assert_eq!(firsts(&rows), ["render", "leaf"]);
     assert!(out.contains("adaptive4's frame against ss4's: "), "{out}");
+    // The shell's own start, measured alone, and the leaves' ratio less it.
+    assert!(
+        out.contains("Each figure counts the start of the shell that runs it ("),
+        "{out}"
+    );
+    assert!(
+        out.contains(" ms of CPU alone); the leaves less it: "),
+        "{out}"
+    );
 }
 
 /// Every subcommand prints its usage for --help, and refuses an option it does not know
