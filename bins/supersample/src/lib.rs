@@ -254,22 +254,25 @@ impl Supersample {
         let k = self.k;
         let (band, fx0, n) = self.band(r, &cols);
         self.classify(active, cols.clone(), fine_w, band.clone());
-        // The mixed pieces sampled: each by the polygons that touch it, in stream order,
-        // over its own fine columns only.
+        // The mixed pieces whose touches are in depth order are counted; the others
+        // sampled, each by the polygons that touch it, in stream order, over its own fine
+        // columns only.
+        if !self.shaded {
+            for piece in &mut self.pieces {
+                if let Fill::Mixed(set) = &piece.fill {
+                    let set = set.clone();
+                    let touches = &mut self.sets[set.start as usize..set.end as usize];
+                    if in_depth_order(touches, &self.touches) {
+                        piece.fill = Fill::Counted(set);
+                    }
+                }
+            }
+        }
         let (depth, owner, stats) = (&mut self.depth, &mut self.owner, &mut self.stats);
         for piece in &self.pieces {
             let Fill::Mixed(set) = piece.fill.clone() else {
                 continue;
             };
-            if counted(
-                &self.sets[set.start as usize..set.end as usize],
-                &self.touches,
-                self.shaded,
-            )
-            .is_some()
-            {
-                continue;
-            }
             let (p0, p1) = (fx0 + piece.px.start * k, fx0 + piece.px.end * k);
             for j in 0..k as usize {
                 let at = j * n + (p0 - fx0) as usize;
@@ -322,14 +325,12 @@ impl Supersample {
                         push(runs, x, x + 1, colour);
                     }
                 }
-                Fill::Mixed(set) => {
-                    let set = &self.sets[set.start as usize..set.end as usize];
-                    let alone = counted(set, &self.touches, self.shaded);
+                Fill::Mixed(_) | Fill::Counted(_) => {
                     for c in px.clone() {
                         self.stats.sampled += 1;
-                        let colour = match alone {
-                            Some(t) => self.coverage(t, c, fx0),
-                            None => self.filter(c as usize, fx0, n, band.start),
+                        let colour = match &fill {
+                            Fill::Counted(set) => self.coverage(set.clone(), c, fx0, band.start),
+                            _ => self.filter(c as usize, fx0, n, band.start),
                         };
                         if let Some(colour) = colour {
                             let x = cols.start + c;
@@ -341,24 +342,40 @@ impl Supersample {
         }
     }
 
-    /// Pixel c's colour when touch `t` alone reaches it ([`counted`]): the
-    /// samples its spans cover, counted row by row, filtered as [`Supersample::filter`]
-    /// filters them; `None` when it covers none.
-    fn coverage(&mut self, t: u32, c: u32, fx0: u32) -> Option<Colour> {
+    /// Pixel c's colour when the touches `sets[set]`, front to back, are in depth order
+    /// ([`in_depth_order`]), without the fold: each sample shows the nearest touch that
+    /// covers it, so front to back each touch counts the samples of its spans that no
+    /// touch in front of it covers (a mask of the pixel's K columns a fine row, `fy` the
+    /// band's first), and the sum the filter makes is Σ count·colour + (K² − Σ
+    /// count)·background: [`Supersample::filter`]'s bytes. `None` when none is covered.
+    fn coverage(&mut self, set: std::ops::Range<u32>, c: u32, fx0: u32, fy: u32) -> Option<Colour> {
         let k = self.k;
-        let touch = &self.touches[t as usize];
-        let (x0, x1) = (fx0 + c * k, fx0 + c * k + k);
-        let covered: u32 = self.spans[touch.spans.start as usize..touch.spans.end as usize]
-            .iter()
-            .map(|s| s.x1.min(x1).saturating_sub(s.x0.max(x0)))
-            .sum();
         let count = k * k;
+        let (x0, x1) = (fx0 + c * k, fx0 + c * k + k);
+        let mut rows = [0u32; 16];
+        let (mut sum, mut covered, mut one) = (0u64, 0u32, false);
+        for &t in &self.sets[set.start as usize..set.end as usize] {
+            let touch = &self.touches[t as usize];
+            let mut mine = 0;
+            for s in &self.spans[touch.spans.start as usize..touch.spans.end as usize] {
+                let (a, b) = (s.x0.max(x0), s.x1.min(x1));
+                if a < b {
+                    // Columns a..b of the pixel's K, as bits (K ≤ 16).
+                    let bits = ((1u32 << (b - x0)) - 1) ^ ((1u32 << (a - x0)) - 1);
+                    let row = &mut rows[(s.y - fy) as usize];
+                    mine += (bits & !*row).count_ones();
+                    *row |= bits;
+                }
+            }
+            sum += mine as u64 * self.packed[touch.i as usize].0;
+            covered += mine;
+            one |= mine == count;
+        }
         (covered > 0).then(|| {
             self.stats.pixels += 1;
-            self.stats.mixed += (covered < count) as u64;
-            let colour = self.packed[touch.i as usize].0;
+            self.stats.mixed += !one as u64;
             let background = self.packed[self.packed.len() - 1].0;
-            let sum = Packed(covered as u64 * colour + (count - covered) as u64 * background);
+            let sum = Packed(sum + (count - covered) as u64 * background);
             sum.channels().map(|s| ((s + count / 2) / count) as u8)
         })
     }
@@ -716,6 +733,9 @@ enum Fill {
     Uniform(u32),
     /// Sampled K×K, by the touches `sets[range]` (stream order).
     Mixed(std::ops::Range<u32>),
+    /// Mixed, but counted, not sampled: the touches `sets[range]` are in depth order,
+    /// front to back ([`in_depth_order`]).
+    Counted(std::ops::Range<u32>),
 }
 
 /// One polygon's reach in one pixel row, adaptively: its spans, its least and greatest
@@ -855,17 +875,40 @@ fn sample(
     }
 }
 
-/// The touch whose samples a mixed piece's colour is counted from, not folded: the
-/// piece's only touch (`set`, indices into `touches`), on a flat frame, at finite depths.
-/// Alone in the pixel, the polygon takes exactly the samples it covers (a finite depth is
-/// never NaN), and the rest show the background, so the filter's sum is covered·colour +
-/// (K² − covered)·background: [`Supersample::coverage`] gives the filter's bytes without
-/// the fold.
-fn counted(set: &[u32], touches: &[Touch], shaded: bool) -> Option<u32> {
-    match *set {
-        [t] if !shaded && touches[t as usize].finite => Some(t),
-        _ => None,
+/// Whether the touches `set` (indices into `touches`) are in depth order, sorting them
+/// front to back if they are: each at finite depths, and each one's greatest depth over
+/// its pixels of the row below the tie bar of the next one's least. Then at every sample
+/// the nearest touch that covers it takes it from whoever holds it and nothing takes it
+/// from that touch, whatever the stream order (`bar(z) ≤ z`, and `bar` is monotone): the
+/// fold ends at the nearest covering touch, which [`Supersample::coverage`] counts
+/// without folding. A polygon alone at finite depths is in depth order. Otherwise `set`
+/// keeps its stream order, which the fold needs.
+fn in_depth_order(set: &mut [u32], touches: &[Touch]) -> bool {
+    if set.iter().any(|&t| !touches[t as usize].finite) {
+        return false;
     }
+    if let [a, b] = *set {
+        // Two, the most common: no sort.
+        let (p, q) = (&touches[a as usize], &touches[b as usize]);
+        return if p.hi < proto::depth::bar(q.lo) {
+            true
+        } else if q.hi < proto::depth::bar(p.lo) {
+            set.swap(0, 1);
+            true
+        } else {
+            false
+        };
+    }
+    let mut sorted = set.to_vec();
+    sorted.sort_by(|&a, &b| touches[a as usize].lo.total_cmp(&touches[b as usize].lo));
+    let ordered = sorted.windows(2).all(|w| {
+        let (p, q) = (&touches[w[0] as usize], &touches[w[1] as usize]);
+        p.hi < proto::depth::bar(q.lo)
+    });
+    if ordered {
+        set.copy_from_slice(&sorted);
+    }
+    ordered
 }
 
 /// A shaded polygon's colour over a pixel it wins wholly, adaptively: the mean of its
