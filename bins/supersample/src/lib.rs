@@ -358,14 +358,13 @@ impl Supersample {
             let touch = &self.touches[t as usize];
             let mut mine = 0;
             for s in &self.spans[touch.spans.start as usize..touch.spans.end as usize] {
-                let (a, b) = (s.x0.max(x0), s.x1.min(x1));
-                if a < b {
-                    // Columns a..b of the pixel's K, as bits (K ≤ 16).
-                    let bits = ((1u32 << (b - x0)) - 1) ^ ((1u32 << (a - x0)) - 1);
-                    let row = &mut rows[(s.y - fy) as usize];
-                    mine += (bits & !*row).count_ones();
-                    *row |= bits;
-                }
+                // Columns a..b of the pixel's K, as bits (K ≤ 16); none where the span
+                // misses the pixel (both ends clamp to one side).
+                let (a, b) = (s.x0.clamp(x0, x1) - x0, s.x1.clamp(x0, x1) - x0);
+                let bits = ((1u32 << b) - 1) ^ ((1u32 << a) - 1);
+                let row = &mut rows[(s.y - fy) as usize];
+                mine += (bits & !*row).count_ones();
+                *row |= bits;
             }
             sum += mine as u64 * self.packed[touch.i as usize].0;
             covered += mine;
@@ -596,6 +595,13 @@ impl Supersample {
                 };
                 return self.push_piece(px, fill);
             }
+        } else if !self.set.iter().any(|&t| {
+            let whole = &touches[t as usize].whole;
+            whole.start <= px.start && px.end <= whole.end
+        }) {
+            // None covers it: mixed throughout, whatever the depths.
+            let fill = self.mixed_fill();
+            return self.push_piece(px, fill);
         } else if self.set.iter().all(|&t| touches[t as usize].finite) {
             // The whole segment as one pixel: first with each touch's bounds over the row,
             // then with its bounds over the segment, those at its two ends.
