@@ -38,7 +38,8 @@ pub struct Stats {
     /// Pixels sent, and of those the ones whose samples were not all one polygon's.
     pub pixels: u64,
     pub mixed: u64,
-    /// Adaptively: the pixels sampled K×K (the others took one polygon's colour).
+    /// Adaptively: the pixels the test found mixed, whose K×K samples were decided,
+    /// folded or counted (the others took one polygon's colour).
     pub sampled: u64,
 }
 
