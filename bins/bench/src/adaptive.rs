@@ -97,9 +97,9 @@ pub fn main(a: &Args) -> Result<()> {
     );
     println!();
     println!(
-        "Each figure counts the start of the shell that runs it ({} ms of CPU alone); the \
-         leaves less it: {}.",
-        format!("{:.1}", shell * 1000.0),
+        "Each figure counts the start of the shell that runs it ({:.1} ms of CPU alone); \
+         the leaves less it: {}.",
+        shell * 1000.0,
         ratio(adaptive - shell, ss - shell)
     );
     Ok(())
