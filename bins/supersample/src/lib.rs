@@ -191,7 +191,6 @@ impl Supersample {
     #[inline]
     fn filter(&mut self, c: usize, fx0: u32, n: usize, fy: u32) -> Option<Colour> {
         let k = self.k as usize;
-        let count = (k * k) as u32;
         let first = self.owner[c * k];
         let mut mixed = false;
         let mut covered = 0u32;
@@ -232,6 +231,15 @@ impl Supersample {
             }
             Packed(sum).channels()
         };
+        self.filtered(sum, covered, mixed)
+    }
+
+    /// The box filter's end, whatever made the sums: each channel's sum of K² samples
+    /// `(sum + K²/2) / K²`, counted in the stats; `None` (not sent) when no sample of the
+    /// pixel is `covered`. `mixed`: its samples are not all one polygon's.
+    #[inline]
+    fn filtered(&mut self, sum: [u32; 3], covered: u32, mixed: bool) -> Option<Colour> {
+        let count = self.k * self.k;
         (covered > 0).then(|| {
             self.stats.pixels += 1;
             self.stats.mixed += mixed as u64;
@@ -371,13 +379,9 @@ impl Supersample {
             covered += mine;
             one |= mine == count;
         }
-        (covered > 0).then(|| {
-            self.stats.pixels += 1;
-            self.stats.mixed += !one as u64;
-            let background = self.packed[self.packed.len() - 1].0;
-            let sum = Packed(sum + (count - covered) as u64 * background);
-            sum.channels().map(|s| ((s + count / 2) / count) as u8)
-        })
+        let background = self.packed[self.packed.len() - 1].0;
+        let sum = Packed(sum + (count - covered) as u64 * background).channels();
+        self.filtered(sum, covered, !one)
     }
 
     /// Adaptive sampling's test: the row cut into pieces, left to right, each either
@@ -505,23 +509,20 @@ impl Supersample {
                 end = end.max(self.touches[o as u32 as usize].touched.end);
                 d += 1;
             }
-            if d == c + 1 && self.touches[first as usize].finite {
-                let Touch {
-                    i,
-                    ref touched,
-                    ref whole,
-                    ..
-                } = self.touches[first as usize];
-                let (touched, whole) = (touched.clone(), whole.clone());
+            if d == c + 1 {
+                // Alone: its three segments are known without a sweep (partly covered
+                // pixels, wholly covered ones, partly covered ones; empty ones add
+                // nothing).
+                let touch = &self.touches[first as usize];
+                let (touched, whole) = (touch.touched.clone(), touch.whole.clone());
                 self.set.clear();
                 self.set.push(first);
-                let mixed = self.mixed_fill();
                 if whole.is_empty() {
-                    self.push_piece(touched, mixed);
+                    self.segment(touched, fx0);
                 } else {
-                    self.push_piece(touched.start..whole.start, mixed.clone());
-                    self.push_piece(whole.clone(), Fill::Uniform(i));
-                    self.push_piece(whole.end..touched.end, mixed);
+                    self.segment(touched.start..whole.start, fx0);
+                    self.segment(whole.clone(), fx0);
+                    self.segment(whole.end..touched.end, fx0);
                 }
             } else {
                 self.sweep(c..d, fx0);
@@ -584,22 +585,22 @@ impl Supersample {
     /// same ones cover wholly (a segment of [`Supersample::classify`]'s sweep), into
     /// pieces.
     fn segment(&mut self, px: std::ops::Range<u32>, fx0: u32) {
+        if px.is_empty() {
+            return;
+        }
         let k = self.k;
         let touches = &self.touches;
         if let [t] = self.set[..] {
             let touch = &touches[t as usize];
             if touch.finite {
-                let fill = if touch.whole.start <= px.start && px.end <= touch.whole.end {
+                let fill = if touch.covers(&px) {
                     Fill::Uniform(touch.i)
                 } else {
                     self.mixed_fill()
                 };
                 return self.push_piece(px, fill);
             }
-        } else if !self.set.iter().any(|&t| {
-            let whole = &touches[t as usize].whole;
-            whole.start <= px.start && px.end <= whole.end
-        }) {
+        } else if !self.set.iter().any(|&t| touches[t as usize].covers(&px)) {
             // None covers it: mixed throughout, whatever the depths.
             let fill = self.mixed_fill();
             return self.push_piece(px, fill);
@@ -609,8 +610,7 @@ impl Supersample {
             let mut class = Class::default();
             for &t in &self.set {
                 let touch = &touches[t as usize];
-                let whole = touch.whole.start <= px.start && px.end <= touch.whole.end;
-                class.touch(touch.i, touch.lo, touch.hi, whole);
+                class.touch(touch.i, touch.lo, touch.hi, touch.covers(&px));
             }
             if let Verdict::Uniform(o) = class.verdict() {
                 return self.push_piece(px, Fill::Uniform(o));
@@ -621,8 +621,7 @@ impl Supersample {
                 let touch = &touches[t as usize];
                 let ((lo0, hi0), (lo1, hi1)) =
                     (touch.depths(px.start, fx0, k), touch.depths(last, fx0, k));
-                let whole = touch.whole.start <= px.start && px.end <= touch.whole.end;
-                class.touch(touch.i, lo0.min(lo1), hi0.max(hi1), whole);
+                class.touch(touch.i, lo0.min(lo1), hi0.max(hi1), touch.covers(&px));
             }
             match class.verdict() {
                 Verdict::Uniform(o) => return self.push_piece(px, Fill::Uniform(o)),
@@ -766,6 +765,12 @@ struct Touch {
 }
 
 impl Touch {
+    /// Whether it covers every pixel of `px` wholly.
+    #[inline]
+    fn covers(&self, px: &std::ops::Range<u32>) -> bool {
+        self.whole.start <= px.start && px.end <= self.whole.end
+    }
+
     /// The least and greatest depth the fold can compute at pixel c's samples (`fx0`
     /// the row's first fine column, K samples a side): `z_row + x·dz`, rounded twice, is
     /// monotone in `z_row` and in `x`, so the bounds are the expression at the least and

@@ -126,23 +126,27 @@ proptest! {
     }
 }
 
-/// The frame and stats of adaptive K×K supersampling.
-fn adaptive(polys: &[Polygon], w: u32, h: u32, k: u32, bg: Colour) -> (Vec<Option<Colour>>, Stats) {
-    let mut runs = Vec::new();
-    let mut ss = Supersample::new(k, bg).unwrap().adaptive();
-    ss.resolve(polys, w, h, &mut runs);
-    (image_of(&runs, w, h), ss.stats)
-}
-
-/// The runs whole (`adaptive` false) or adaptive K×K supersampling sends.
-fn runs_of(polys: &[Polygon], w: u32, h: u32, k: u32, bg: Colour, adaptive: bool) -> Vec<Run> {
+/// The runs and stats of whole (`adaptive` false) or adaptive K×K supersampling.
+fn resolved(
+    polys: &[Polygon],
+    (w, h): (u32, u32),
+    k: u32,
+    bg: Colour,
+    adaptive: bool,
+) -> (Vec<Run>, Stats) {
     let mut runs = Vec::new();
     let mut ss = Supersample::new(k, bg).unwrap();
     if adaptive {
         ss = ss.adaptive();
     }
     ss.resolve(polys, w, h, &mut runs);
-    runs
+    (runs, ss.stats)
+}
+
+/// The frame and stats of adaptive K×K supersampling.
+fn adaptive(polys: &[Polygon], w: u32, h: u32, k: u32, bg: Colour) -> (Vec<Option<Colour>>, Stats) {
+    let (runs, stats) = resolved(polys, (w, h), k, bg, true);
+    (image_of(&runs, w, h), stats)
 }
 
 /// A square of one depth plane `z = z0 + zx·X` over x0..x1 × y0..y1.
@@ -221,10 +225,13 @@ fn squares_on_pixel_boundaries_are_never_sampled() {
             vec![near.clone(), far.clone(), beside.clone()],
             vec![far.clone(), beside.clone(), near.clone()],
         ] {
-            let runs = runs_of(&polys, 16, 14, k, [0; 3], true);
-            assert_eq!(runs, runs_of(&polys, 16, 14, k, [0; 3], false), "K = {k}");
+            let (runs, stats) = resolved(&polys, (16, 14), k, [0; 3], true);
+            assert_eq!(
+                runs,
+                resolved(&polys, (16, 14), k, [0; 3], false).0,
+                "K = {k}"
+            );
             assert!(runs.iter().all(|r| r.x0 < r.x1), "K = {k}: {runs:?}");
-            let (_, stats) = adaptive(&polys, 16, 14, k, [0; 3]);
             assert_eq!(stats.sampled, 0, "K = {k}");
         }
     }
@@ -294,7 +301,10 @@ proptest! {
         let polys: Vec<Polygon> = polys.into_iter().chain(small).collect();
         let (w, h) = (24, 16);
         // The same runs, one for one (so the same image).
-        prop_assert_eq!(runs_of(&polys, w, h, k, bg, true), runs_of(&polys, w, h, k, bg, false));
+        prop_assert_eq!(
+            resolved(&polys, (w, h), k, bg, true).0,
+            resolved(&polys, (w, h), k, bg, false).0
+        );
     }
 
     /// Under Gouraud shading a pixel one polygon wins takes the mean of its central 2×2
