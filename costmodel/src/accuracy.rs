@@ -399,9 +399,11 @@ impl Accuracy {
     }
 
     /// Every allowed configuration's prediction: each mode at every depth the tree
-    /// allows (from the target's least to `max_depth`), timed by the time model
-    /// ([`model::predict_on`]) on the scene with its covered pixels times the mode's
-    /// samples, the leaf's work that sampling multiplies.
+    /// allows (from the target's least to `max_depth`), timed by the time model: `none`
+    /// by [`model::predict_on`], an anti-aliasing mode by [`model::predict_sampled`] (its
+    /// leaves are processes of their own at every depth, as render runs them) on the
+    /// scene with its covered pixels times the mode's samples, the leaf's work that
+    /// sampling multiplies.
     pub fn predict_all(
         &self,
         k: &Constants,
@@ -416,18 +418,12 @@ impl Accuracy {
             .flat_map(|m| {
                 let samples = self.effective_samples(m, edge);
                 let (rms, wrong) = self.error(&m.aa, edge, colours).unwrap_or((0.0, 0.0));
-                (least..=max_depth).map(move |depth| {
-                    let scaled = Environment {
-                        area: env.area * area_factor(k, samples, depth),
-                        ..*env
-                    };
-                    Predicted {
-                        aa: m.aa.clone(),
-                        depth,
-                        seconds: model::predict_on(k, &scaled, depth, target).total_s,
-                        rms,
-                        wrong,
-                    }
+                (least..=max_depth).map(move |depth| Predicted {
+                    aa: m.aa.clone(),
+                    depth,
+                    seconds: mode_time(k, env, &m.aa, samples, depth, target),
+                    rms,
+                    wrong,
                 })
             })
             .collect()
@@ -453,37 +449,42 @@ impl Accuracy {
     }
 }
 
-/// The factor on the covered pixels that prices a mode's `samples` at `depth`. The
-/// factors are fitted at depth 0 ([`samples_for_ratio`]), where a covered pixel costs the
-/// one-leaf process's rate (`resolve.pixel`); deeper the model prices a covered pixel at
-/// the leaves' scan converter's (`hse.pixel`), which this machine's calibration may put
-/// several times higher. The sampling leaf is one program at every depth, so its extra
-/// samples, (samples − 1) a covered pixel, keep the depth-0 rate: the factor deeper is
-/// 1 + (samples − 1) · resolve.pixel / hse.pixel. Without that, sampling split over two
-/// leaves on two cores was predicted slower than in one, and `--max-error` chose depth 0
-/// where depth 1 or 2 was 1.4–2.4 times faster.
-pub fn area_factor(k: &Constants, samples: f64, depth: u8) -> f64 {
-    if depth == 0 || k.hse.pixel <= 0.0 {
-        samples
-    } else {
-        1.0 + (samples - 1.0) * k.resolve.pixel / k.hse.pixel
+/// The predicted time of mode `aa` at `depth` on a scene, its covered pixels costing
+/// `samples` point samples each: `none` as the point-sampled z-buffer runs
+/// ([`model::predict_on`]: at depth 0 one `zbuf --project`, deeper zbuf resolving leaf
+/// 0), any other mode with its leaves apart ([`model::predict_sampled`]: at depth 0
+/// persp, the leaf and zbuf, two processes and two pipes more), at the leaves' rate a
+/// sample at every depth. With one layout for both, the sampling modes' two processes
+/// more were priced as samples at depth 0, on screens of every size alike, and
+/// `--max-error` chose depth 0 for them where depth 1 was 1.3–1.5 times faster on
+/// 250×250 and 500×500 frames.
+pub fn mode_time(
+    k: &Constants,
+    env: &Environment,
+    aa: &str,
+    samples: f64,
+    depth: u8,
+    target: &Target,
+) -> f64 {
+    if aa == "none" {
+        return model::predict_on(k, env, depth, target).total_s;
     }
+    let scaled = Environment {
+        area: env.area * samples,
+        ..*env
+    };
+    model::predict_sampled(k, &scaled, depth, target).total_s
 }
 
-/// The factor on a scene's covered pixels that makes the model's depth-0 time `ratio`
-/// times its point-sampled time: a mode's `samples`, from a measured ratio of its time
-/// to `none`'s on the scene (bisection; 1 when the ratio is 1 or less).
+/// The samples a covered pixel that make an anti-aliasing mode's predicted depth-0 time
+/// ([`mode_time`]) `ratio` times the point-sampled one's: a mode's `samples`, from a
+/// measured ratio of its time to `none`'s on the scene (bisection; 1 when its two
+/// processes more alone pass the ratio).
 pub fn samples_for_ratio(k: &Constants, env: &Environment, target: &Target, ratio: f64) -> f64 {
-    let time = |s: f64| {
-        let scaled = Environment {
-            area: env.area * s,
-            ..*env
-        };
-        model::predict_on(k, &scaled, 0, target).total_s
-    };
-    let want = time(1.0) * ratio;
+    let time = |s: f64| mode_time(k, env, "ss", s, 0, target);
+    let want = mode_time(k, env, "none", 1.0, 0, target) * ratio;
     let (mut lo, mut hi) = (1.0f64, 1.0e5f64);
-    if ratio <= 1.0 || env.area <= 0.0 {
+    if time(1.0) >= want || env.area <= 0.0 {
         return 1.0;
     }
     for _ in 0..60 {
@@ -500,11 +501,20 @@ pub fn samples_for_ratio(k: &Constants, env: &Environment, target: &Target, rati
 /// The configuration predicted cheapest among those predicted to meet `max_error`
 /// (`predicted`: [`Accuracy::predict_all`]); with `max_error` 0 only a mode of the
 /// reference's own bytes (rms 0) qualifies. `None` when none is predicted to meet it.
+///
+/// A tie goes to `ssK` over `adaptiveK`: the two tie only where adaptiveK's time is held
+/// at ssK's (the cap of `Accuracy::effective_samples`), that is where the model sees no
+/// saving in it; and there `plan max-error-check` measured adaptive2 at 1.5× ss2's time.
 pub fn cheapest(predicted: &[Predicted], max_error: f64) -> Option<&Predicted> {
+    let adaptive = |p: &Predicted| p.aa.starts_with("adaptive");
     predicted
         .iter()
         .filter(|p| p.rms <= max_error)
-        .min_by(|a, b| a.seconds.total_cmp(&b.seconds))
+        .min_by(|a, b| {
+            a.seconds
+                .total_cmp(&b.seconds)
+                .then(adaptive(a).cmp(&adaptive(b)))
+        })
 }
 
 /// Fits each mode's coefficients to measured rows: the largest ratio of measured to
@@ -745,6 +755,38 @@ mod tests {
     }
 
     #[test]
+    fn a_modes_samples_reproduce_its_measured_ratio_with_its_leaf_apart() {
+        let k = Constants::committed();
+        let env = Environment {
+            frames: 1,
+            polygons: 1024,
+            vertices: 4096,
+            relevant: 1024,
+            relevant_vertices: 4096,
+            area: 160_000.0,
+            width: 400,
+            height: 400,
+            text: true,
+        };
+        let t = Target::cores(2);
+        let none = mode_time(&k, &env, "none", 1.0, 0, &t);
+        // One sample a pixel with the leaf apart already costs more than `none`.
+        let apart = mode_time(&k, &env, "ss4", 1.0, 0, &t);
+        assert!(apart > none, "{apart} {none}");
+        assert_eq!(samples_for_ratio(&k, &env, &t, apart / none * 0.99), 1.0);
+        for ratio in [2.0, 5.0, 20.0] {
+            let s = samples_for_ratio(&k, &env, &t, ratio);
+            let back = mode_time(&k, &env, "ss4", s, 0, &t) / none;
+            assert!(
+                (back - ratio).abs() < 1e-6 * ratio,
+                "{ratio}: {s} gives {back}"
+            );
+        }
+        // `none` is the point-sampled layout whatever its samples.
+        assert_eq!(none, model::predict_on(&k, &env, 0, &t).total_s);
+    }
+
+    #[test]
     fn every_depth_the_tree_allows_is_a_candidate() {
         let k = Constants::committed();
         let env = Environment {
@@ -783,9 +825,9 @@ mod tests {
                 "{k}: {adaptive:?} {ss:?}"
             );
         }
-        // Sampling's extra samples cost the depth-0 rate at every depth: with the leaves'
-        // covered pixel priced four times the one leaf's, ss16 over two leaves on two
-        // cores is still predicted faster than in one.
+        // A sample costs the leaves' rate at every depth, so ss16 over two leaves on two
+        // cores is predicted faster than in one, even with the leaves' covered pixel
+        // priced four times the one-process z-buffer's.
         let mut dear = k.clone();
         dear.hse.pixel = 4.0 * dear.resolve.pixel;
         let fine = a.predict_all(&dear, &env, &colours(0.1, true), &Target::cores(2), 1);
@@ -795,8 +837,6 @@ mod tests {
             .map(|p| p.seconds)
             .collect();
         assert!(ss16[1] < ss16[0], "{ss16:?}");
-        assert_eq!(area_factor(&dear, 101.0, 0), 101.0);
-        assert!((area_factor(&dear, 101.0, 1) - 26.0).abs() < 1e-9);
         // The choice is the fastest of them all that meets the budget.
         let best = cheapest(&all, 4.0).unwrap();
         assert!(all
@@ -824,6 +864,27 @@ mod tests {
         assert_eq!(cheapest(&all, 4.0).unwrap().aa, "adaptive4");
         assert_eq!(cheapest(&all, 0.0).unwrap().aa, "ss16");
         assert!(cheapest(&all[..2], 1.0).is_none());
+    }
+
+    #[test]
+    fn a_tie_at_adaptives_cap_goes_to_whole_supersampling() {
+        let p = |aa: &str, depth: u8, seconds: f64| Predicted {
+            aa: aa.into(),
+            depth,
+            seconds,
+            rms: 1.0,
+            wrong: 0.0,
+        };
+        // adaptive2 first, as MODES lists it, and at ss2's time: ss2 is chosen.
+        let tied = [p("adaptive2", 0, 0.2), p("ss2", 0, 0.2), p("ss2", 1, 0.3)];
+        let chose = cheapest(&tied, 4.0).unwrap();
+        assert_eq!((chose.aa.as_str(), chose.depth), ("ss2", 0));
+        // Below its cap adaptive2 is chosen when it is the faster.
+        let below = [p("adaptive2", 0, 0.19), p("ss2", 0, 0.2)];
+        assert_eq!(cheapest(&below, 4.0).unwrap().aa, "adaptive2");
+        // Among equals of one kind the first is kept.
+        let same = [p("ss2", 1, 0.2), p("ss2", 0, 0.2)];
+        assert_eq!(cheapest(&same, 4.0).unwrap().depth, 1);
     }
 
     #[test]

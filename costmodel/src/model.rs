@@ -429,6 +429,27 @@ pub fn predict(k: &Constants, env: &Environment, depth: u8, cores: usize) -> Pre
 
 /// The predicted time of a render of `env` at tree depth `depth` on `target`.
 pub fn predict_on(k: &Constants, env: &Environment, depth: u8, target: &Target) -> Prediction {
+    predict_layout(k, env, depth, target, false)
+}
+
+/// [`predict_on`] for a render whose leaves are processes of their own at every depth,
+/// as render runs an anti-aliasing leaf (`--aa ssK`, `adaptiveK`, `abuf`): at depth 0
+/// persp, the leaf and zbuf merging its runs, where the point-sampled z-buffer is one
+/// `zbuf --project`; deeper, every leaf a process, where zbuf resolves leaf 0 itself.
+/// The leaf is priced at the leaves' scan converter's rates ([`Constants::hse`]) at
+/// every depth, `env.area` its samples.
+pub fn predict_sampled(k: &Constants, env: &Environment, depth: u8, target: &Target) -> Prediction {
+    predict_layout(k, env, depth, target, true)
+}
+
+/// [`predict_on`], or with `apart` [`predict_sampled`].
+fn predict_layout(
+    k: &Constants,
+    env: &Environment,
+    depth: u8,
+    target: &Target,
+    apart: bool,
+) -> Prediction {
     let StageWork {
         world,
         flowing,
@@ -489,7 +510,12 @@ pub fn predict_on(k: &Constants, env: &Environment, depth: u8, target: &Target) 
     // The leaves' part: persp (unless projected above) and the hidden-surface stage on
     // each.
     let mut leaf_stages = Vec::new();
-    if depth == 0 && host_level.is_none() {
+    if depth == 0 && host_level.is_none() && apart {
+        // persp, the leaf, and zbuf placing its runs and writing the frames.
+        stages.push(one("persp", k.persp.time(&leaf)));
+        stages.push(one("hse", k.hse.time(&leaf)));
+        stages.push(one("merge", k.merge.time(&merge_work)));
+    } else if depth == 0 && host_level.is_none() {
         // One leaf, whose region is the screen: render.sh runs `zbuf --project`, zbuf
         // projecting the clipper's stream (at persp's cost), resolving the leaf and
         // writing the frames in one process; the thesis's figures keep persp's process.
@@ -523,7 +549,7 @@ pub fn predict_on(k: &Constants, env: &Environment, depth: u8, target: &Target) 
         // With the leaves here, the merger resolves leaf 0 itself, on a thread of its own
         // beside the one placing the other leaves' runs (render.sh's merger_is_leaf):
         // one leaf process fewer, and the merger busier.
-        let own = usize::from(projected);
+        let own = usize::from(projected && !apart);
         for &(stage, cost) in leaf_costs {
             let each = cost.time(&leaf);
             leaf_stages.push(StageTime {
@@ -534,7 +560,7 @@ pub fn predict_on(k: &Constants, env: &Environment, depth: u8, target: &Target) 
             });
         }
         let merge_s = k.merge.time(&merge_work);
-        let resolve_s = if projected { k.hse.time(&leaf) } else { 0.0 };
+        let resolve_s = if own == 1 { k.hse.time(&leaf) } else { 0.0 };
         stages.push(StageTime {
             stage: "merge",
             each_s: merge_s.max(resolve_s),
@@ -1137,6 +1163,34 @@ mod tests {
         let gain = p1.total_s - p2.total_s;
         assert!(gain > 0.115 && gain < 0.165, "{p1:?} {p2:?}");
         assert!(p2.total_s > k.overheads.script + 0.115);
+    }
+
+    #[test]
+    fn a_sampling_leaf_is_a_process_of_its_own_at_every_depth() {
+        let k = constants();
+        let e = env(1, 500, 500, 0.01);
+        // render --aa ssK's graph (bins/render/src/graph.rs, `merger_is_leaf`): at depth
+        // 0 viewxf, clipbatch, persp, the leaf and zbuf; deeper the splitters, every leaf
+        // a process, and zbuf merging.
+        let counts: Vec<(usize, usize)> = (0..=3)
+            .map(|d| {
+                let p = predict_sampled(&k, &e, d, &Target::cores(2));
+                (p.processes, p.pipes)
+            })
+            .collect();
+        assert_eq!(counts, [(5, 4), (6, 6), (8, 10), (14, 20)]);
+        let p0 = predict_sampled(&k, &e, 0, &Target::cores(2));
+        let stage = |name: &str| p0.stages.iter().find(|s| s.stage == name).unwrap().each_s;
+        let w = stage_work(&e, false);
+        assert_eq!(stage("persp"), k.persp.time(&w.flowing));
+        assert_eq!(stage("hse"), k.hse.time(&w.flowing));
+        assert_eq!(stage("merge"), k.merge.time(&w.merge));
+        // Deeper, zbuf resolves no leaf: its work is the merge alone.
+        let p2 = predict_sampled(&k, &e, 2, &Target::cores(2));
+        let merge = p2.stages.iter().find(|s| s.stage == "merge").unwrap();
+        assert_eq!(merge.total_s, k.merge.time(&w.merge));
+        // The point-sampled layout is unchanged.
+        assert_eq!(predict(&k, &e, 0, 2).processes, 3);
     }
 
     #[test]
