@@ -758,15 +758,8 @@ mod tests {
     fn a_modes_samples_reproduce_its_measured_ratio_with_its_leaf_apart() {
         let k = Constants::committed();
         let env = Environment {
-            frames: 1,
-            polygons: 1024,
-            vertices: 4096,
-            relevant: 1024,
-            relevant_vertices: 4096,
-            area: 160_000.0,
-            width: 400,
-            height: 400,
             text: true,
+            ..quads(1024, 400)
         };
         let t = Target::cores(2);
         let none = mode_time(&k, &env, "none", 1.0, 0, &t);
@@ -786,20 +779,25 @@ mod tests {
         assert_eq!(none, model::predict_on(&k, &env, 0, &t).total_s);
     }
 
+    /// One binary frame of `n` quads in view covering an `side`×`side` screen once.
+    fn quads(n: u64, side: u32) -> Environment {
+        Environment {
+            frames: 1,
+            polygons: n,
+            vertices: 4 * n,
+            relevant: n,
+            relevant_vertices: 4 * n,
+            area: f64::from(side * side),
+            width: side,
+            height: side,
+            text: false,
+        }
+    }
+
     #[test]
     fn every_depth_the_tree_allows_is_a_candidate() {
         let k = Constants::committed();
-        let env = Environment {
-            frames: 1,
-            polygons: 4096,
-            vertices: 16_384,
-            relevant: 4096,
-            relevant_vertices: 16_384,
-            area: 250_000.0,
-            width: 500,
-            height: 500,
-            text: false,
-        };
+        let env = quads(4096, 500);
         let a = Accuracy::committed();
         let all = a.predict_all(&k, &env, &colours(0.1, true), &Target::cores(2), 3);
         assert_eq!(all.len(), MODES.len() * 4);
