@@ -154,77 +154,117 @@ impl Colours {
     pub fn scan<R: Read>(input: R, limit: u64) -> Result<Colours> {
         let mut reader = Reader::<Token, _>::new(std::io::BufReader::new(input.take(limit)))
             .context("reading the scene's colours")?;
-        let gouraud = reader.header().attributes.vertex_colours;
+        let mut scan = ColourScan::new(reader.header().attributes.vertex_colours);
         let mut record = Token::default();
-        let (mut n, mut successive, mut background) = (0u64, 0.0, 0.0);
-        let mut flat = true;
-        let mut last: Option<[f64; 3]> = None;
-        // Each edge seen once: (the polygon, its colour there); shared ones are removed.
-        let mut edges: std::collections::HashMap<EdgeKey, (usize, [f64; 3])> =
-            std::collections::HashMap::new();
-        let (mut shared, mut across) = (0u64, 0.0);
-        let mut parent: Vec<usize> = Vec::new();
         loop {
             match reader.next_into(&mut record) {
                 Ok(true) => {}
                 Ok(false) => break,
-                Err(_) if n > 0 => break,
+                Err(_) if scan.n > 0 => break,
                 Err(e) => return Err(e).context("reading the scene's colours"),
             }
-            let Token::Polygon(p) = &record else { continue };
-            flat &= p.vertex_attrs.is_empty() && p.opacity == 255;
-            // The colour it shows: under Gouraud shading its vertices' mean.
-            let c = match (gouraud, p.vertex_attrs.len()) {
-                (true, k) if k > 0 => {
-                    let sum = p
-                        .vertex_attrs
-                        .iter()
-                        .fold(proto::DVec3::ZERO, |s, a| s + *a);
-                    (sum / k as f64).to_array()
-                }
-                _ => p.colour.map(f64::from),
-            };
-            if let Some(l) = last {
-                successive += square_difference(c, l);
+            if let Token::Polygon(p) = &record {
+                scan.add(p);
             }
-            background += square_difference(c, [0.0; 3]);
-            last = Some(c);
-            let me = parent.len();
-            parent.push(me);
-            let m = p.vertices.len();
-            for i in 0..m {
-                let j = (i + 1) % m;
-                let (a, b) = (vertex_key(&p.vertices[i]), vertex_key(&p.vertices[j]));
-                if a == b {
-                    continue;
-                }
-                // The colour along the edge: under Gouraud shading its ends' mean.
-                let colour = match (gouraud, p.vertex_attrs.get(i), p.vertex_attrs.get(j)) {
-                    (true, Some(u), Some(v)) => {
-                        [(u.x + v.x) / 2.0, (u.y + v.y) / 2.0, (u.z + v.z) / 2.0]
-                    }
-                    _ => c,
-                };
-                let key = if a < b { (a, b) } else { (b, a) };
-                match edges.remove(&key) {
-                    Some((other, theirs)) => {
-                        shared += 1;
-                        across += square_difference(colour, theirs);
-                        let (r1, r2) = (root(&mut parent, me), root(&mut parent, other));
-                        parent[r1] = r2;
-                    }
-                    None => {
-                        edges.insert(key, (me, colour));
-                    }
-                }
-            }
-            n += 1;
         }
-        let open = edges.len() as u64;
+        Ok(scan.finish())
+    }
+}
+
+/// [`Colours::scan`]'s work a polygon at a time, so that the look can feed it the
+/// polygons it reads ([`Seen::of`]).
+pub struct ColourScan {
+    gouraud: bool,
+    n: u64,
+    successive: f64,
+    background: f64,
+    flat: bool,
+    last: Option<[f64; 3]>,
+    /// Each edge seen once: (the polygon, its colour there); shared ones are removed.
+    edges: std::collections::HashMap<EdgeKey, (usize, [f64; 3])>,
+    shared: u64,
+    across: f64,
+    /// Union-find over the polygons: the meshes their shared edges join.
+    parent: Vec<usize>,
+}
+
+impl ColourScan {
+    /// A scan of a stream whose polygons carry vertex colours when `gouraud`.
+    pub fn new(gouraud: bool) -> ColourScan {
+        ColourScan {
+            gouraud,
+            n: 0,
+            successive: 0.0,
+            background: 0.0,
+            flat: true,
+            last: None,
+            edges: std::collections::HashMap::new(),
+            shared: 0,
+            across: 0.0,
+            parent: Vec::new(),
+        }
+    }
+
+    /// One more polygon of the stream, in its order.
+    pub fn add(&mut self, p: &proto::Polygon) {
+        let gouraud = self.gouraud;
+        self.flat &= p.vertex_attrs.is_empty() && p.opacity == 255;
+        // The colour it shows: under Gouraud shading its vertices' mean.
+        let c = match (gouraud, p.vertex_attrs.len()) {
+            (true, k) if k > 0 => {
+                let sum = p
+                    .vertex_attrs
+                    .iter()
+                    .fold(proto::DVec3::ZERO, |s, a| s + *a);
+                (sum / k as f64).to_array()
+            }
+            _ => p.colour.map(f64::from),
+        };
+        if let Some(l) = self.last {
+            self.successive += square_difference(c, l);
+        }
+        self.background += square_difference(c, [0.0; 3]);
+        self.last = Some(c);
+        let me = self.parent.len();
+        self.parent.push(me);
+        let m = p.vertices.len();
+        for i in 0..m {
+            let j = (i + 1) % m;
+            let (a, b) = (vertex_key(&p.vertices[i]), vertex_key(&p.vertices[j]));
+            if a == b {
+                continue;
+            }
+            // The colour along the edge: under Gouraud shading its ends' mean.
+            let colour = match (gouraud, p.vertex_attrs.get(i), p.vertex_attrs.get(j)) {
+                (true, Some(u), Some(v)) => {
+                    [(u.x + v.x) / 2.0, (u.y + v.y) / 2.0, (u.z + v.z) / 2.0]
+                }
+                _ => c,
+            };
+            let key = if a < b { (a, b) } else { (b, a) };
+            match self.edges.remove(&key) {
+                Some((other, theirs)) => {
+                    self.shared += 1;
+                    self.across += square_difference(colour, theirs);
+                    let (r1, r2) = (root(&mut self.parent, me), root(&mut self.parent, other));
+                    self.parent[r1] = r2;
+                }
+                None => {
+                    self.edges.insert(key, (me, colour));
+                }
+            }
+        }
+        self.n += 1;
+    }
+
+    /// The scan's measures of the polygons added.
+    pub fn finish(mut self) -> Colours {
+        let n = self.n;
+        let open = self.edges.len() as u64;
         // The meshes: sets of two or more polygons joined by shared edges.
-        let mut size = vec![0u64; parent.len()];
-        for i in 0..parent.len() {
-            let r = root(&mut parent, i);
+        let mut size = vec![0u64; self.parent.len()];
+        for i in 0..self.parent.len() {
+            let r = root(&mut self.parent, i);
             size[r] += 1;
         }
         let (meshes, in_meshes) = size
@@ -232,27 +272,28 @@ impl Colours {
             .filter(|s| **s >= 2)
             .fold((0u64, 0u64), |(k, t), s| (k + 1, t + s));
         let mean = |s: f64, k: u64| if k == 0 { 0.0 } else { s / k as f64 };
-        let unshared = mean(successive, n.saturating_sub(1)).max(mean(background, n) / 4.0);
-        let across2 = mean(across, shared);
+        let unshared =
+            mean(self.successive, n.saturating_sub(1)).max(mean(self.background, n) / 4.0);
+        let across2 = mean(self.across, self.shared);
         let silhouette = if in_meshes == 0 {
             0.0
         } else {
             (1.25 * (meshes as f64 / in_meshes as f64).sqrt()).min(1.0)
         };
-        let shared2 = (1.0 - silhouette) * across2 + silhouette * mean(background, n);
+        let shared2 = (1.0 - silhouette) * across2 + silhouette * mean(self.background, n);
         let mut c = Colours {
             polygons: n,
             contrast2: 0.0,
-            flat,
+            flat: self.flat,
             open_edges: open,
-            shared_edges: shared,
+            shared_edges: self.shared,
             across2,
             silhouette,
             open2: unshared,
             shared2,
         };
         c.contrast2 = c.open_share() * unshared + c.shared_share() * shared2;
-        Ok(c)
+        c
     }
 }
 
@@ -268,10 +309,19 @@ impl Seen {
     /// The scene file `path` on a `width`×`height` screen through `camera` (viewxf's
     /// options, as [`crate::look::look`] takes them); `None` where the look or the colour
     /// scan cannot read it.
+    ///
+    /// One pass: the look hands the colour scan each polygon it reads, so the file is
+    /// read and parsed once (the two passes it took before were half of `render
+    /// --max-error`'s look).
     pub fn of(path: &Path, width: u32, height: u32, camera: &[String]) -> Option<Seen> {
         let limit = crate::look::LOOK_BYTES;
-        let env = crate::look::look(path, width, height, camera, Some(limit)).ok()?;
-        let colours = Colours::scan(crate::look::open(path).ok()?, limit).ok()?;
+        let mut scan: Option<ColourScan> = None;
+        let env = crate::look::look_each(path, width, height, camera, Some(limit), &mut |a, p| {
+            scan.get_or_insert_with(|| ColourScan::new(a.vertex_colours))
+                .add(p)
+        })
+        .ok()?;
+        let colours = scan.unwrap_or_else(|| ColourScan::new(false)).finish();
         Some(Seen { env, colours })
     }
 }
@@ -752,6 +802,75 @@ mod tests {
         assert_eq!((c.polygons, c.shared_edges, c.open_edges), (400, 760, 80));
         assert!((c.silhouette - 0.0625).abs() < 1e-12, "{}", c.silhouette);
         assert!((c.contrast2 - 0.0108).abs() < 1e-4, "{}", c.contrast2);
+    }
+
+    #[test]
+    fn the_one_pass_look_sees_what_the_look_and_the_scan_saw_apart() {
+        use std::io::Write;
+        // Generated scenes: meshes of shared edges (flat and Gouraud), strangers, and one
+        // past the look's limit, whose last record is cut there.
+        let mut seed = 0x9E37_79B9_7F4A_7C15u64;
+        let mut next = move || {
+            seed ^= seed << 13;
+            seed ^= seed >> 7;
+            seed ^= seed << 17;
+            seed % 1000
+        };
+        for (polygons, gouraud, mesh) in [
+            (50, false, true),
+            (200, true, true),
+            (300, false, false),
+            (4000, true, false),
+        ] {
+            let mut text = format!(
+                "polypipe 1 world{}\n",
+                if gouraud { " vertex-colours" } else { "" }
+            );
+            for q in 0..polygons {
+                text += &format!(
+                    "colour {} {} {}\n",
+                    next() % 256,
+                    next() % 256,
+                    next() % 256
+                );
+                let (x, y) = if mesh {
+                    ((q % 10) as f64, (q / 10) as f64)
+                } else {
+                    (next() as f64 / 50.0, next() as f64 / 50.0)
+                };
+                // A mesh's quads share their edges: one plane.
+                let z = if mesh {
+                    -6.0
+                } else {
+                    -5.0 - next() as f64 / 100.0
+                };
+                for (dx, dy) in [(0.0, 0.0), (1.0, 0.0), (1.0, 1.0), (0.0, 1.0)] {
+                    text += &format!("{} {} {z}", x + dx - 5.0, y + dy - 5.0);
+                    if gouraud {
+                        text += &format!(" {} {} {}", next() % 256, next() % 256, next() % 256);
+                    }
+                    text += "\n";
+                }
+                text += if q + 1 == polygons {
+                    "END\n"
+                } else {
+                    "NEXT.POLYGON\n"
+                };
+            }
+            let mut f = tempfile::NamedTempFile::new().unwrap();
+            f.write_all(text.as_bytes()).unwrap();
+            let limit = crate::look::LOOK_BYTES;
+            assert_eq!(polygons == 4000, text.len() as u64 > limit);
+            let seen = Seen::of(f.path(), 200, 200, &[]).unwrap();
+            let apart = Seen {
+                env: crate::look::look(f.path(), 200, 200, &[], Some(limit)).unwrap(),
+                colours: Colours::scan(crate::look::open(f.path()).unwrap(), limit).unwrap(),
+            };
+            assert_eq!(seen, apart, "{polygons} polygons");
+            assert_eq!(seen.colours.flat, !gouraud);
+            assert_eq!(seen.colours.shared_edges > 0, mesh);
+            assert!(seen.colours.polygons > 0);
+        }
     }
 
     #[test]

@@ -165,7 +165,21 @@ pub fn look(
     camera: &[String],
     sample: Option<u64>,
 ) -> Result<Environment> {
-    look_with(scene, width, height, camera, sample, false)
+    look_with(scene, width, height, camera, sample, false, &mut |_, _| {})
+}
+
+/// [`look`], handing `each` every polygon it reads, as read (world space), with the
+/// stream's attributes: a second scan of the scene (its colours, for `--max-error`) made
+/// in the same pass, on the same records, rather than by parsing the file again.
+pub fn look_each(
+    scene: &Path,
+    width: u32,
+    height: u32,
+    camera: &[String],
+    sample: Option<u64>,
+    each: &mut dyn FnMut(&proto::Attributes, &proto::Polygon),
+) -> Result<Environment> {
+    look_with(scene, width, height, camera, sample, false, each)
 }
 
 /// How many times its sample a stream on stdin is planned as, when it did not end within
@@ -190,7 +204,7 @@ pub fn look_stream(
     if whole {
         return look(sample, width, height, camera, None);
     }
-    let e = look_with(sample, width, height, camera, None, true)?;
+    let e = look_with(sample, width, height, camera, None, true, &mut |_, _| {})?;
     Ok(scale_stream(e))
 }
 
@@ -214,6 +228,7 @@ pub fn look_sample(
         camera,
         None,
         !whole,
+        &mut |_, _| {},
     )?;
     Ok(if whole { e } else { scale_stream(e) })
 }
@@ -241,6 +256,7 @@ fn look_with(
     camera: &[String],
     sample: Option<u64>,
     cut: bool,
+    each: &mut dyn FnMut(&proto::Attributes, &proto::Polygon),
 ) -> Result<Environment> {
     let text = is_text(scene)?;
     let file = open(scene)?;
@@ -255,6 +271,7 @@ fn look_with(
         camera,
         sample,
         cut,
+        each,
     )?;
     // A sample that ended inside the first frame saw no NEXT.FRAME, and its counts, scaled
     // to the whole file, read as one frame: a movie of 100 frames of 1,024 quads at
@@ -311,7 +328,8 @@ fn first_frame_end(scene: &Path, limit: u64) -> Result<Option<u64>> {
     }
 }
 
-/// The look itself, of `input` (`total` bytes, `text` or binary; `name` for messages).
+/// The look itself, of `input` (`total` bytes, `text` or binary; `name` for messages),
+/// handing `each` every polygon as read.
 #[allow(clippy::too_many_arguments)]
 fn look_reader<R: Read>(
     input: R,
@@ -322,6 +340,7 @@ fn look_reader<R: Read>(
     camera: &[String],
     sample: Option<u64>,
     cut: bool,
+    each: &mut dyn FnMut(&proto::Attributes, &proto::Polygon),
 ) -> Result<Environment> {
     #[derive(clap::Parser)]
     struct Camera {
@@ -384,6 +403,7 @@ fn look_reader<R: Read>(
         }
         match &mut record {
             Token::Polygon(p) => {
+                each(&reader.header().attributes, p);
                 e.polygons += 1;
                 e.vertices += p.vertices.len() as u64;
                 // The reader refills its buffer a block at a time: at a refill, the
