@@ -831,6 +831,21 @@ impl Painter {
         for (k, it) in items.iter().enumerate() {
             item_of[it.index] = k as u32;
         }
+        // Each polygon's box on the screen, for the fold of a pixel to be repainted.
+        let boxes: Vec<[f64; 4]> = polygons
+            .iter()
+            .map(|p| {
+                p.vertices.iter().fold(
+                    [
+                        f64::INFINITY,
+                        f64::INFINITY,
+                        f64::NEG_INFINITY,
+                        f64::NEG_INFINITY,
+                    ],
+                    |[x0, y0, x1, y1], v| [x0.min(v.x), y0.min(v.y), x1.max(v.x), y1.max(v.y)],
+                )
+            })
+            .collect();
         let mut budget = JUDGED_PER_PIXEL * width as u64 * height as u64;
         let pairs = std::mem::take(&mut self.cut_pairs);
         let mut complete = true;
@@ -871,7 +886,18 @@ impl Painter {
                 }
                 budget -= cols.len() as u64;
                 for c in cols {
-                    self.mend_pixel(polygons, items, &item_of, (x, b), (px, pb), c, r, width);
+                    self.mend_pixel(
+                        polygons,
+                        items,
+                        &item_of,
+                        &boxes,
+                        planes,
+                        (x, b),
+                        (px, pb),
+                        c,
+                        r,
+                        width,
+                    );
                 }
             }
         }
@@ -880,13 +906,20 @@ impl Painter {
     }
 
     /// [`Painter::mend_cut_lines`] at pixel (c, r), for the wholes `x` and `b` whose depth
-    /// planes are `px` and `pb`.
+    /// planes are `px` and `pb`. Where one of the two holds the pixel and the other, in
+    /// front there, covers it, the pixel is repainted in what the z-buffer shows there:
+    /// the fold, in stream order by the tie rule, of every polygon covering its centre
+    /// (`boxes` their screen boxes, `planes` their depth planes), not the pair's front
+    /// alone, which a polygon coplanar with it and earlier in the stream takes the pixel
+    /// from (seed 200236 of the differential suite: three copies of one quad).
     #[allow(clippy::too_many_arguments)]
     fn mend_pixel(
         &mut self,
         polygons: &[Polygon],
         items: &[Item],
         item_of: &[u32],
+        boxes: &[[f64; 4]],
+        planes: &mut [Option<DepthPlane>],
         (x, b): (usize, usize),
         (px, pb): (DepthPlane, DepthPlane),
         c: u32,
@@ -915,14 +948,27 @@ impl Painter {
             });
             inside
         };
-        let to = if covers(front) {
-            front
-        } else if held.is_none() && covers(back) {
-            back
-        } else {
+        if !(covers(front) || held.is_none() && covers(back)) {
             return;
-        };
-        if item_of[to] == u32::MAX {
+        }
+        // The z-buffer's fold at the centre, over every polygon covering it.
+        let (cx, cy) = (c as f64 + 0.5, r as f64 + 0.5);
+        let mut winner: Option<(usize, scan::Depth)> = None;
+        for (i, bx) in boxes.iter().enumerate() {
+            if cx < bx[0] || cx > bx[2] || cy < bx[1] || cy > bx[3] {
+                continue;
+            }
+            let z = planes[i]
+                .get_or_insert_with(|| DepthPlane::of(&polygons[i]))
+                .at(c, r);
+            // One that would not take the pixel from the fold so far changes nothing,
+            // covering or not: its coverage is asked only when it would.
+            if winner.is_none_or(|(_, w)| takes(z, w)) && covers(i) {
+                winner = Some((i, z));
+            }
+        }
+        let Some((to, _)) = winner else { return };
+        if held == Some(to) || item_of[to] == u32::MAX {
             return;
         }
         let shading = Shading::of(&polygons[to], self.lighting.as_ref());

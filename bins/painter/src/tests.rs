@@ -765,3 +765,43 @@ fn constant_depths_within_the_tie_rule_go_to_the_earlier_polygon() {
         }
     }
 }
+
+/// A pixel beside a cut line is mended to what the z-buffer shows there, not to the
+/// nearer of the cut pair alone: here the quad is in the stream twice, and the pentagon
+/// crossing it is cut by its plane. At pixel (7, 35), within 1/256 pixel of the line
+/// where the two planes meet, the later copy is nearer than the pentagon, but the
+/// earlier copy, at its very depth, takes the pixel by the tie rule (seed 200236 of the
+/// differential suite, its Gouraud colours dropped; the mend painted the later copy).
+#[test]
+fn a_mended_pixel_goes_to_the_earliest_of_coplanar_copies() {
+    let quad = |colour| {
+        Polygon::from_xyz(
+            colour,
+            &[
+                [5.875, 68.0, 0.8708879042792194],
+                [9.125, 68.0, 0.9561453456011451],
+                [9.125, 0.0, 0.416465522347383],
+                [5.875, 0.0, 0.33120808102545735],
+            ],
+        )
+    };
+    let pentagon = Polygon::from_xyz(
+        [145, 149, 234],
+        &[
+            [7.25, 25.375, 0.568426474172606],
+            [4.625, 35.875, 0.586227460633542],
+            [5.375, 49.25, 0.7110466133464246],
+            [7.875, 50.25, 0.7808295136796359],
+            [8.75, 38.0, 0.7079182036488361],
+        ],
+    );
+    let polygons = [quad([133, 34, 203]), pentagon, quad([31, 143, 225])];
+    let (w, h) = (15, 68);
+    let z = zbuffer_image(&polygons, w, h);
+    assert_eq!(z[35 * 15 + 7], Some([133, 34, 203]));
+    let (mut split, image) = split_covering_the_zbuffers_pixels(&polygons, w, h);
+    assert_eq!(image[35 * 15 + 7], Some([133, 34, 203]));
+    assert_eq!(differing_pixels(&z, &image), 0);
+    assert!(split.stats.mended >= 1, "{}", split.stats());
+    assert!(split.take_note().is_none());
+}

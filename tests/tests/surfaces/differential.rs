@@ -48,9 +48,6 @@ const FOUND_NOT_YET_FIXED: &[(u64, &str)] = &[
     // 11 pixels otherwise than the z-buffer (the painter without saying so).
     (200470, "leaf-painter-split"),
     (200470, "leaf-warnock"),
-    // The splitting painter's leaf wrong in 1 pixel and silent.
-    (200236, "leaf-painter-split"),
-    (202017, "leaf-painter-split"),
 ];
 
 /// Runs `only`'s modes on test `k`'s seeds and fails with each broken claim not in [`KNOWN_FAILURES`],

@@ -224,14 +224,14 @@ fn planes_through_one_point_are_the_zbuffers_or_said() {
         (
             50,
             1,
-            58_341,
+            55_444,
             "painter: frame 0: could not order every polygon: 30 cycles painted out of order, \
              the cut budget spent (2098 cuts: 1 a polygon + 2048)\n",
         ),
         (
             400,
             1,
-            88_771,
+            84_013,
             "painter: frame 0: could not order every polygon: 416 cycles painted out of \
              order, the cut budget spent (2448 cuts: 1 a polygon + 2048)\n",
         ),
