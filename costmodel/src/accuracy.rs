@@ -506,7 +506,7 @@ impl Accuracy {
 /// persp, the leaf and zbuf, two processes and two pipes more), at the leaves' rate a
 /// sample at every depth. With one layout for both, the sampling modes' two processes
 /// more were priced as samples at depth 0, on screens of every size alike, and
-/// `--max-error` chose depth 0 for them where depth 1 was 1.3–1.5 times faster on
+/// `--max-error` chose depth 0 for them where depth 1 was 1.3–1.6 times faster on
 /// 250×250 and 500×500 frames.
 pub fn mode_time(
     k: &Constants,

@@ -893,7 +893,6 @@ impl Painter {
                         &boxes,
                         planes,
                         (x, b),
-                        (px, pb),
                         c,
                         r,
                         width,
@@ -905,11 +904,11 @@ impl Painter {
         complete
     }
 
-    /// [`Painter::mend_cut_lines`] at pixel (c, r), for the wholes `x` and `b` whose depth
-    /// planes are `px` and `pb`. Where one of the two holds the pixel and the other, in
-    /// front there, covers it, the pixel is repainted in what the z-buffer shows there:
-    /// the fold, in stream order by the tie rule, of every polygon covering its centre
-    /// (`boxes` their screen boxes, `planes` their depth planes), not the pair's front
+    /// [`Painter::mend_cut_lines`] at pixel (c, r), for the wholes `x` and `b`. Where one
+    /// of the two holds the pixel and the other, in front there, covers it, the pixel is
+    /// repainted in what the z-buffer shows there: the fold, in stream order by the tie
+    /// rule, of every polygon covering its centre (`boxes` the polygons' screen boxes,
+    /// `planes` their depth planes, made as they are asked for), not the pair's front
     /// alone, which a polygon coplanar with it and earlier in the stream takes the pixel
     /// from (seed 200236 of the differential suite: three copies of one quad).
     #[allow(clippy::too_many_arguments)]
@@ -921,7 +920,6 @@ impl Painter {
         boxes: &[[f64; 4]],
         planes: &mut [Option<DepthPlane>],
         (x, b): (usize, usize),
-        (px, pb): (DepthPlane, DepthPlane),
         c: u32,
         r: u32,
         width: u32,
@@ -934,7 +932,12 @@ impl Painter {
         if held.is_some_and(|h| h != x && h != b) {
             return;
         }
-        let (zx, zb) = (px.at(c, r), pb.at(c, r));
+        let mut depth = |i: usize| {
+            planes[i]
+                .get_or_insert_with(|| DepthPlane::of(&polygons[i]))
+                .at(c, r)
+        };
+        let (zx, zb) = (depth(x), depth(b));
         // x < b: the earlier, x, keeps a tie.
         let (front, back) = if takes(zb, zx) { (b, x) } else { (x, b) };
         if held == Some(front) {
@@ -958,9 +961,7 @@ impl Painter {
             if cx < bx[0] || cx > bx[2] || cy < bx[1] || cy > bx[3] {
                 continue;
             }
-            let z = planes[i]
-                .get_or_insert_with(|| DepthPlane::of(&polygons[i]))
-                .at(c, r);
+            let z = depth(i);
             // One that would not take the pixel from the fold so far changes nothing,
             // covering or not: its coverage is asked only when it would.
             if winner.is_none_or(|(_, w)| takes(z, w)) && covers(i) {
