@@ -61,13 +61,20 @@
 //! (B's plane extended over the window: "sufficient but not necessary", AVI.1.1).
 //!
 //! 1. An empty list: nothing is drawn (the background shows).
-//! 2. A one-pixel window: displayed by default, the z-buffer's rule at its centre: of the
-//!    polygons whose coverage holds the centre, the one [`scan::takes`] leaves in front.
+//! 2. A one-pixel window: displayed by default, the z-buffer's rule at its centre: the
+//!    polygons whose coverage holds the centre folded in stream order by [`scan::takes`],
+//!    as the z-buffer folds them (the tie rule is not transitive: the nearest by pairs is
+//!    not always the fold's).
 //! 3. The **hider** (the listing's critical surrounder): of the surrounders, the one in
 //!    front at the first corner; if another surrounder is not behind it at all four
 //!    corners, the surrounders penetrate: fail.
 //! 4. Polygons the hider is in front of are taken off the list, for this window and its
-//!    descendants ("remove from intersectors list any polygons hidden by the hider").
+//!    descendants ("remove from intersectors list any polygons hidden by the hider"),
+//!    where that cannot change the z-buffer's fold: each one behind every polygon that
+//!    stays by more than the tie width, or one that every other polygon is in front of
+//!    (`Warnock::separable`). A hidden polygon within the tie width of another that
+//!    stays can decide who keeps a pixel the hider takes in the end (differential seed
+//!    200470), and stays on the list.
 //! 5. Every intersector left must be in front of the hider at all four corners, or it
 //!    penetrates it: fail.
 //! 6. No intersector left: the hider fills the window (or, without a hider, the window
@@ -86,8 +93,8 @@
 //! rounds each row's depth to fixed point, so its depths are affine across a window only
 //! to one unit of the last place. Two planes that come within a unit of each other
 //! inside a window, but not at its corners, can be ordered differently there; the ZMIN
-//! early exit compares the vertices' depths with the surrounder's plane in `f64`, with
-//! the same margin. docs/methods.md counts the pixels this changes on the test scenes.
+//! early exit compares the vertices' depths with the planes of the surrounder and of
+//! every polygon kept in `f64`, with the same margin. docs/methods.md counts the pixels this changes on the test scenes.
 //!
 //! Gouraud shading (docs/DESIGN.md, "Shading") changes nothing of the above: a shaded
 //! polygon that fills a window, or is drawn as its one intersector, puts its pieces of rows
@@ -323,6 +330,10 @@ pub struct Warnock {
     pieces: Vec<Vec<(u32, u32, Colour)>>,
     /// Scratch for one intersector's spans.
     spans: Vec<(u32, u32, u32)>,
+    /// Scratch for the polygons covering one pixel's centre, and their depths there.
+    covering: Vec<(Face, Depth)>,
+    /// Scratch for the faces a hider takes off a window's list.
+    hidden: Vec<u32>,
     /// The frame's polygons' Gouraud shading, by stream index, when any is shaded (empty
     /// for a flat frame).
     shadings: Vec<Option<Shading>>,
@@ -504,18 +515,34 @@ impl Warnock {
     /// The Looker over a window: the entries of `lists[start..end]` (its parent's list,
     /// ZMIN order) that are not disjoint from `w`, pushed on top; stops at the ZMIN test.
     fn look(&mut self, start: usize, end: usize, w: Window) {
+        // The nearest farthest depth of a surrounder kept, and the farthest depth of any
+        // polygon kept (+∞ once one may be clamped at a corner).
         let mut zminmax = f64::INFINITY;
+        let mut farthest = f64::NEG_INFINITY;
+        // The kept entries `lists[pushed..folded]` are in `farthest`: it is brought up to
+        // date only when a surrounder is in front of a polygon (most windows never are).
+        let pushed = self.lists.len();
+        let mut folded = pushed;
         for i in start..end {
             let e = self.lists[i];
             let f = self.faces[e.face as usize];
-            if takes(zminmax, f.zmin) {
+            if takes(zminmax, f.zmin) && {
+                for k in folded..self.lists.len() {
+                    farthest = farthest.max(self.planar_farthest(self.lists[k].face, w));
+                }
+                folded = self.lists.len();
+                takes(farthest, f.zmin)
+            } {
                 // `IF POLY!ZMIN[P] > ZMINMAX THEN DONE`: behind a surrounder, and so is
-                // every polygon after it. "Behind" by the tie rule: the surrounder's
-                // farthest depth must take the pixel from the polygon's nearest, so that a
-                // polygon earlier in the stream within the tie width of the surrounder,
-                // which keeps its pixels, is not passed over. (Later polygons would need
-                // only ZMIN > ZMINMAX; the stricter test serves both, and as the list is
-                // in ZMIN order, every polygon after it passes it too.)
+                // every polygon after it. "Behind" by the tie rule, and behind every
+                // polygon kept, not only the surrounder: the tie rule is not transitive,
+                // and a polygon left off that is within the tie width of one kept could
+                // change the z-buffer's fold where it covers (it may hold a pixel that a
+                // later polygon then fails to take, or takes). Behind them all by more
+                // than the tie, it holds a pixel only until the first of them takes it,
+                // and takes it from none of them: the fold over those kept is the fold
+                // over all (`decide_pixel`). As the list is in ZMIN order, every polygon
+                // after it passes the test too.
                 self.stats.zmin_exits += 1;
                 self.stats.zmin_skipped += (end - i) as u64;
                 break;
@@ -533,15 +560,25 @@ impl Warnock {
                 face: e.face,
                 surrounds: class == Class::Surrounder,
             });
-            // A surrounder whose depth may be clamped at a corner sets no bound: the
-            // z-buffer ties what it clamps, and only a pixel can say who wins the tie.
-            if class == Class::Surrounder
-                && w.corners()
-                    .iter()
-                    .all(|&(x, y)| f.planar_depth(x, y).is_some())
-            {
-                zminmax = zminmax.min(f.farthest_at(w));
+            if class == Class::Surrounder {
+                zminmax = zminmax.min(self.planar_farthest(e.face, w));
             }
+        }
+    }
+
+    /// Face `face`'s farthest depth at `w`'s corners ([`Face::farthest_at`]), or +∞
+    /// where its depth may be clamped at a corner: the z-buffer ties what it clamps, and
+    /// only a pixel can say who wins the tie, so such a depth sets no bound.
+    fn planar_farthest(&self, face: u32, w: Window) -> f64 {
+        let f = &self.faces[face as usize];
+        let planar = w
+            .corners()
+            .iter()
+            .all(|&(x, y)| f.planar_depth(x, y).is_some());
+        if planar {
+            f.farthest_at(w)
+        } else {
+            f64::INFINITY
         }
     }
 
@@ -608,11 +645,15 @@ impl Warnock {
             }
             return Resolution::Subdivided;
         };
+        // The polygons the hider is in front of at every corner are taken off the list
+        // only where that cannot change the z-buffer's fold: as a set behind every
+        // polygon that stays by more than the tie width ([`Warnock::separable`]).
+        let hidden = self.separable(hider, start, w);
         let mut kept = start;
         let mut penetrates = false;
         for i in start..self.lists.len() {
             let e = self.lists[i];
-            if e.face != hider && self.in_front(hider, e.face, w) {
+            if hidden.binary_search(&e.face).is_ok() {
                 self.stats.hidden += 1;
                 continue; // completely hidden: off the list
             }
@@ -622,6 +663,7 @@ impl Warnock {
             self.lists[kept] = e;
             kept += 1;
         }
+        self.hidden = hidden;
         self.lists.truncate(kept);
         if penetrates {
             return Resolution::Subdivided;
@@ -646,34 +688,134 @@ impl Warnock {
         }
     }
 
-    /// Display by default: of the list's polygons whose coverage holds the pixel's
-    /// centre, the one in front by the tie rule. The list is in ZMIN order, so the
-    /// search stops at the first polygon whose nearest vertex is farther than the
-    /// winner's plane there.
+    /// The faces of `lists[start..]` that the hider hides and that can be taken off the
+    /// window's list without changing the z-buffer's fold at any of its pixels.
+    ///
+    /// The hider in front of a polygon at every corner is not enough under the tie rule,
+    /// which is not transitive: with depths 1, 1 − ½t and 1 − t (t the tie width), in
+    /// that stream order, the second fails to take the pixel from the first and the
+    /// third takes it; without the first, the third fails to take it from the second.
+    /// Two things are enough, each for its own reason:
+    ///
+    /// * A set B of the hidden polygons that is behind every polygon that stays (the
+    ///   hider, a surrounder, among them) by more than the tie at every corner, and so at
+    ///   every centre: a polygon of B then holds a pixel only until the first of those
+    ///   that stay takes it (as from an empty pixel), and takes it from none of them. B
+    ///   starts as every polygon the hider is in front of; one not behind the farthest
+    ///   that stay by more than the tie stays too, until none is left to move.
+    /// * A hidden polygon that every other polygon of the list is in front of at every
+    ///   corner by the tie rule (the later ones take the pixel from it, it would take it
+    ///   from none of the earlier ones): it takes no pixel from whoever holds one, and
+    ///   when it holds one (the first to cover it), the next to come takes it as from an
+    ///   empty pixel. So a copy of the hider later in the stream goes, where it ties.
+    fn separable(&mut self, hider: u32, start: usize, w: Window) -> Vec<u32> {
+        // A face's nearest and farthest depth at the corners, the depths the z-buffer
+        // computes there, ±∞ where one may be clamped (never separable).
+        let range = |face: u32| {
+            let f = &self.faces[face as usize];
+            let mut near = f64::INFINITY;
+            let mut far = f64::NEG_INFINITY;
+            for (x, y) in w.corners() {
+                match f.planar_depth(x, y) {
+                    Some(d) => (near, far) = (near.min(d), far.max(d)),
+                    None => return (f64::NEG_INFINITY, f64::INFINITY),
+                }
+            }
+            (near, far)
+        };
+        let mut hidden = std::mem::take(&mut self.hidden);
+        hidden.clear();
+        for i in start..self.lists.len() {
+            let face = self.lists[i].face;
+            if face != hider && self.in_front(hider, face, w) {
+                hidden.push(face);
+            }
+        }
+        if hidden.is_empty() {
+            return hidden;
+        }
+        let mut farthest = f64::NEG_INFINITY;
+        for i in start..self.lists.len() {
+            let face = self.lists[i].face;
+            if face == hider || !self.in_front(hider, face, w) {
+                farthest = farthest.max(range(face).1);
+            }
+        }
+        // The set behind all that stay; those it gives up, one by one.
+        let mut given_up = Vec::new();
+        loop {
+            let before = hidden.len();
+            hidden.retain(|&face| {
+                let (near, far) = range(face);
+                let behind = takes(farthest, near);
+                if !behind {
+                    farthest = farthest.max(far);
+                    given_up.push(face);
+                }
+                behind
+            });
+            if hidden.len() == before {
+                break;
+            }
+        }
+        for face in given_up {
+            let list = &self.lists[start..];
+            if list
+                .iter()
+                .all(|e| e.face == face || self.in_front(e.face, face, w))
+            {
+                hidden.push(face);
+            }
+        }
+        hidden.sort_unstable(); // for the Thinker's binary search
+        hidden
+    }
+
+    /// Display by default: the z-buffer's fold at the pixel's centre. The list's polygons
+    /// whose coverage holds the centre are taken in stream order, and each later one
+    /// takes the pixel from the holder when [`takes`] says so: the tie rule is not
+    /// transitive (of three depths each within the tie width of the next, the first and
+    /// the third may be farther apart than it), so only the fold in the z-buffer's own
+    /// order gives its pixel, not the pairwise nearest in ZMIN order.
+    ///
+    /// The list is in ZMIN order, so the search stops at the first polygon whose nearest
+    /// vertex every covering polygon met so far would take the pixel from: such a polygon
+    /// (and every one after it, farther still) can take the pixel from none of them, and
+    /// whichever of them comes later in the stream takes it from it, so the fold over
+    /// the ones met is the fold over all.
     fn decide_pixel(&mut self, polygons: &[Polygon], w: Window, start: usize) {
         let (x, y) = (w.x0, w.y0);
-        // The winner, its depth, and its depth in `f64` where its depth is planar.
-        let mut best: Option<(Face, Depth, Option<f64>)> = None;
+        // The covering polygons met: (face, depth at the centre as the z-buffer has it).
+        let mut covering = std::mem::take(&mut self.covering);
+        covering.clear();
+        // The farthest of their depths in `f64`, while every one of them is planar there
+        // (a depth that may be clamped or be rounding noise sets no bound).
+        let mut farthest = Some(f64::NEG_INFINITY);
         for i in start..self.lists.len() {
             let e = self.lists[i];
             let f = self.faces[e.face as usize];
-            // Behind the winner by the tie rule, as the Looker's ZMIN exit: the winner's
-            // depth must take the pixel from this polygon's nearest, so that one earlier
-            // in the stream within the tie width (which keeps its pixel) is not passed
-            // over; the polygons after it in ZMIN order are farther still.
-            if best.is_some_and(|(_, _, z)| z.is_some_and(|z| takes(z, f.zmin))) {
+            if !covering.is_empty() && farthest.is_some_and(|z| takes(z, f.zmin)) {
                 break;
             }
             if !e.surrounds && !self.covers(polygons, &f, x, y) {
                 continue;
             }
-            let d = f.pixel_depth(x, y);
-            if best.is_none_or(|(g, dg, _)| beats(&f, d, &g, dg)) {
-                let planar = f.planar_depth(x, y).map(|_| f.depth_at_centre(x, y));
-                best = Some((f, d, planar));
-            }
+            let planar = f.planar_depth(x, y).map(|_| f.depth_at_centre(x, y));
+            farthest = farthest.zip(planar).map(|(a, b)| a.max(b));
+            covering.push((f, f.pixel_depth(x, y)));
         }
-        if let Some((f, _, _)) = best {
+        covering.sort_unstable_by_key(|(f, _)| f.poly);
+        let held = covering.iter().copied().reduce(
+            |held, (f, d)| {
+                if takes(d, held.1) {
+                    (f, d)
+                } else {
+                    held
+                }
+            },
+        );
+        self.covering = covering;
+        if let Some((f, _)) = held {
             self.fill(w, (f.poly, f.colour));
         }
     }
@@ -1209,6 +1351,35 @@ mod tests {
         let (runs, _) = resolved(&polygons, 4, 4);
         assert_eq!(image_of(&runs, 4, 4), zbuffer_image(&polygons, 4, 4));
         assert!(runs.iter().all(|r| r.colour == RED), "{runs:?}");
+    }
+
+    #[test]
+    fn three_depths_each_within_the_tie_of_the_next_fold_as_the_z_buffer_folds() {
+        // Differential seed 200470's stack, made plain: at depths z, z(1 − ½t) and
+        // z(1 − 1.2t) (t the tie width), in that stream order, the second fails to take
+        // the pixel from the first and the third takes it: blue. The third is in front
+        // of the first, so a hider that took the first off the list left the second to
+        // keep the pixel from the third: green, 64 pixels wrong.
+        let (z, t) = (0.25, proto::depth::TIE);
+        let polygons = [
+            square(RED, 0.0, 0.0, 8.0, 8.0, z),
+            square(GREEN, 0.0, 0.0, 8.0, 8.0, z * (1.0 - 0.5 * t)),
+            square(BLUE, 0.0, 0.0, 8.0, 8.0, z * (1.0 - 1.2 * t)),
+        ];
+        let want = zbuffer_image(&polygons, 8, 8);
+        assert_eq!(want, vec![Some(BLUE); 64]);
+        let (runs, _) = resolved(&polygons, 8, 8);
+        assert_eq!(image_of(&runs, 8, 8), want);
+        // Whatever the stream order.
+        for order in [[0, 2, 1], [1, 0, 2], [1, 2, 0], [2, 0, 1], [2, 1, 0]] {
+            let polygons = order.map(|i| polygons[i].clone());
+            let (runs, _) = resolved(&polygons, 8, 8);
+            assert_eq!(
+                image_of(&runs, 8, 8),
+                zbuffer_image(&polygons, 8, 8),
+                "{order:?}"
+            );
+        }
     }
 
     #[test]

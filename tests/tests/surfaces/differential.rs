@@ -44,10 +44,11 @@ const FOUND_NOT_YET_FIXED: &[(u64, &str)] = &[
     (200052, "ss2@0"),
     (200052, "ss4@0"),
     (200052, "ss8@0"),
-    // A coplanar stack on a small screen: warnock's leaf and the splitting painter's give
-    // 11 pixels otherwise than the z-buffer (the painter without saying so).
+    // A stack of nearly coplanar quads on a small screen, each within the tie width of
+    // the next: the splitting painter's leaf gives 38 pixels otherwise than the z-buffer,
+    // without saying so (its order of painting cannot give the fold of three depths
+    // each within the tie width of the next, which is not transitive).
     (200470, "leaf-painter-split"),
-    (200470, "leaf-warnock"),
 ];
 
 /// Runs `only`'s modes on test `k`'s seeds and fails with each broken claim not in [`KNOWN_FAILURES`],
