@@ -108,10 +108,12 @@ pub struct PainterStats {
     pub apart: u64,
     /// Frames whose cut budget was spent.
     pub budget_spent: u64,
-    /// Pixels beside a cut line that the pieces' outlines gave to the polygon behind
-    /// there, repainted in the one in front ([`Painter::mend_cut_lines`]).
+    /// Pixels repainted in what the z-buffer shows there ([`Painter::mend_pairs`]):
+    /// beside a cut line, where the pieces' outlines gave them to the polygon behind, and
+    /// where polygons the sort ordered by the tie rule meet.
     pub mended: u64,
-    /// Frames whose cut lines were not all checked (the check's budget spent): said.
+    /// Frames whose cut lines and tied pairs were not all checked (the check's budget
+    /// spent): said.
     pub unchecked: u64,
 }
 
@@ -267,6 +269,11 @@ impl Item {
             }
         }
         !all_on || tie
+    }
+
+    /// Whether every vertex of `self` lies on `other`'s plane (within [`ON_PLANE`]).
+    fn coplanar_with(&self, other: &Item) -> bool {
+        (0..self.polygon.vertices.len()).all(|i| other.side(self.vertex(i)) == Depthwise::On)
     }
 
     /// Whether some vertices lie strictly in front of `other`'s plane and some strictly
@@ -460,6 +467,30 @@ fn first_passing_test(p: &Item, q: &Item) -> Option<usize> {
     None
 }
 
+/// Whether the sort's order of `p` and `q`, test `t` having shown that P may be painted
+/// before Q, rests on the tie rule where their pixels may meet: their screen boxes
+/// overlap, and test 1 passed only because Q, the earlier, keeps a pixel it ties with P
+/// (Q not in front by more than the tie), or test 3 or 4 found every vertex of one on the
+/// other's plane (coplanar by [`ON_PLANE`], a band wider than the tie rule's). The tie
+/// rule is not transitive: with depths z, z(1 − ½t) and z(1 − 1.2t) (t its width), in
+/// that stream order, each pair is ordered as the z-buffer orders it, and no order of
+/// painting gives the z-buffer's pixel, the third's. Such pairs are mended at the end
+/// ([`Painter::mend_pairs`]). Two polygons of one plane (copies, coplanar decals whose
+/// planes came out the same) are not: equal depths tie at every pixel, a relation as
+/// transitive as equality, and a third polygon near them is tied with each of them.
+fn tied(p: &Item, q: &Item, t: usize) -> bool {
+    let boxes_meet =
+        p.x_max > q.x_min && q.x_max > p.x_min && p.y_max > q.y_min && q.y_max > p.y_min;
+    boxes_meet
+        && p.plane != q.plane
+        && match t {
+            0 => !proto::depth::takes(q.z_max, p.z_min),
+            2 => p.coplanar_with(q),
+            3 => q.coplanar_with(p),
+            _ => false,
+        }
+}
+
 /// The most vertices a piece may have. Planes that all pass near one point cut a piece
 /// again and again along lines through it, and the piece's outline, a convex polygon
 /// bounded by every one of them, gains a vertex at each cut (2,000 planes: pieces of
@@ -633,14 +664,22 @@ pub struct Painter {
     walker: SpanWalker,
     /// The colour-only frame, row-major (no depth buffer).
     frame: Vec<Option<Colour>>,
-    /// The item painted last at each pixel, row-major, from the frame's first cut or
-    /// cycle painted out of order on (empty until then): kept only to mend the pixels
-    /// beside the cut lines and to judge, at the end of the frame, whether the pixels such
+    /// The item painted last at each pixel, row-major, from the frame's first cut, tied
+    /// pair ([`tied`]) or cycle painted out of order on (empty until then): kept only to
+    /// mend the pixels beside the cut lines and where tied pairs meet, and to judge, at the end of the frame, whether the pixels such
     /// a cycle painted are wrong (never to decide the order of painting).
     owner: Vec<u32>,
     /// The pairs of whole polygons (indices in the frame) one of which was cut by the
     /// other's plane in this frame, each once.
     cut_pairs: Vec<(usize, usize)>,
+    /// The pairs of whole polygons, overlapping on the screen, that the sort ordered by
+    /// the tie rule ([`tied`]), each once: mended by the z-buffer's fold at the end.
+    tie_pairs: Vec<(usize, usize)>,
+    /// Per pixel, row-major, whether the mend has folded it ([`Painter::mend_pairs`]).
+    folded: Vec<bool>,
+    /// Per polygon of the frame, the row whose spans the mend found last, and those
+    /// spans (`u32::MAX`: none yet).
+    covered_rows: Vec<(u32, Vec<(u32, u32)>)>,
     /// The stream's lighting, for Phong shading.
     lighting: Option<Arc<Lighting>>,
     /// Frames resolved so far: the number of the next one (from 0, as the stream's
@@ -659,7 +698,7 @@ pub struct Painter {
 const JUDGED_PER_PIXEL: u64 = 64;
 
 /// How far from a line of equal depth, in pixels, a pixel centre is checked by
-/// [`Painter::mend_cut_lines`]: the pieces' vertices on a cut are snapped to 1/256 pixel
+/// [`Painter::mend_pairs`]: the pieces' vertices on a cut are snapped to 1/256 pixel
 /// by the scan converter (docs/DESIGN.md, "Coverage"), moving the cut by at most 1/256.
 const CUT_LINE_BAND: f64 = 1.0 / 32.0;
 
@@ -808,17 +847,27 @@ impl Painter {
         wrong
     }
 
-    /// Mends the pixels beside the frame's cut lines. A cut's pieces cover exactly the
-    /// whole's pixels, but their vertices on the cut line are snapped to 1/256 pixel as
-    /// every vertex is, so a pixel centre within 1/256 pixel of the line where two planes
-    /// have equal depth may fall in the piece that is behind there, while the z-buffer
-    /// compares the two depths at the centre. For each pair of polygons one of which was
-    /// cut by the other's plane, every centre within [`CUT_LINE_BAND`] pixel of their line
-    /// of equal depth that is held by one of the two while the other covers it (by the
-    /// sampling rule) and is in front there (on the z-buffer's depth planes, by the tie
-    /// rule) is repainted in the one in front. At most [`JUDGED_PER_PIXEL`] centres a pixel
-    /// of the screen are looked at; false when that ran out before every line was checked.
-    fn mend_cut_lines(
+    /// Mends the pixels beside the frame's cut lines, and those of the pairs the sort
+    /// ordered by the tie rule ([`tied`]).
+    ///
+    /// A cut's pieces cover exactly the whole's pixels, but their vertices on the cut
+    /// line are snapped to 1/256 pixel as every vertex is, so a pixel centre within 1/256
+    /// pixel of the line where two planes have equal depth may fall in the piece that is
+    /// behind there, while the z-buffer compares the two depths at the centre. For each
+    /// pair of polygons one of which was cut by the other's plane, every centre within
+    /// [`CUT_LINE_BAND`] pixel of their line of equal depth that is held by one of the two
+    /// while the other covers it (by the sampling rule) and is in front there (on the
+    /// z-buffer's depth planes, by the tie rule) is repainted in what the z-buffer shows.
+    ///
+    /// A tied pair's pixels are ordered right pair by pair, but the tie rule is not
+    /// transitive, so every centre where the two come within the tie rule's width of
+    /// each other and one of them holds it is repainted in what the z-buffer shows there,
+    /// whichever of the two is in front.
+    ///
+    /// Only the rows and columns of the two polygons' screen boxes are looked at, at most
+    /// [`JUDGED_PER_PIXEL`] centres a pixel of the screen; false when that ran out before
+    /// every pair was checked.
+    fn mend_pairs(
         &mut self,
         polygons: &[Polygon],
         items: &[Item],
@@ -846,10 +895,37 @@ impl Painter {
                 )
             })
             .collect();
+        self.folded.clear();
+        self.folded.resize(width as usize * height as usize, false);
+        for (row, _) in &mut self.covered_rows {
+            *row = u32::MAX;
+        }
+        self.covered_rows
+            .resize_with(polygons.len(), || (u32::MAX, Vec::new()));
         let mut budget = JUDGED_PER_PIXEL * width as u64 * height as u64;
-        let pairs = std::mem::take(&mut self.cut_pairs);
+        // Each pair once: tied (false < true, so a pair both cut and tied is mended as
+        // tied, the stronger).
+        let mut pairs: Vec<((usize, usize), bool)> = self
+            .cut_pairs
+            .iter()
+            .map(|&pair| (pair, false))
+            .chain(self.tie_pairs.iter().map(|&pair| (pair, true)))
+            .collect();
+        pairs.sort_unstable();
+        pairs.reverse();
+        pairs.dedup_by_key(|(pair, _)| *pair);
+        // The centres (c + ½, r + ½) within both boxes.
+        let within = |lo: f64, hi: f64, n: u32| {
+            let (a, b) = ((lo - 0.5).ceil(), (hi - 0.5).floor());
+            if a.is_nan() || b.is_nan() || a > b || b < 0.0 || a >= n as f64 {
+                0..0
+            } else {
+                a.max(0.0) as u32..(b.min(n as f64 - 1.0) as u32) + 1
+            }
+        };
+        let mut near = Vec::new();
         let mut complete = true;
-        'pairs: for &(x, b) in &pairs {
+        'pairs: for &((x, b), tied) in &pairs {
             let px = *planes[x].get_or_insert_with(|| DepthPlane::of(&polygons[x]));
             let pb = *planes[b].get_or_insert_with(|| DepthPlane::of(&polygons[b]));
             // The difference of the depths, A + c·D along row r; its step down a row.
@@ -864,7 +940,18 @@ impl Painter {
             let (a0, d, _) = diff(0);
             let step = diff(1).0 - a0;
             let band = CUT_LINE_BAND * d.hypot(step);
-            for r in 0..height {
+            let (bx, bb) = (boxes[x], boxes[b]);
+            let rows = within(bx[1].max(bb[1]), bx[3].min(bb[3]), height);
+            let columns = within(bx[0].max(bb[0]), bx[2].min(bb[2]), width);
+            // The polygons whose boxes meet the pair's: the only ones a fold here can
+            // meet, in stream order.
+            let (x0, x1) = (columns.start as f64 + 0.5, columns.end as f64 - 0.5);
+            let (y0, y1) = (rows.start as f64 + 0.5, rows.end as f64 - 0.5);
+            near.clear();
+            near.extend((0..boxes.len()).filter(|&i| {
+                !(x1 < boxes[i][0] || x0 > boxes[i][2] || y1 < boxes[i][1] || y0 > boxes[i][3])
+            }));
+            for r in rows {
                 let (a, d, size) = diff(r);
                 // Within the band, or within the tie rule's width of equal depth.
                 let tol = band + 4.0 * proto::depth::TIE * size;
@@ -880,6 +967,7 @@ impl Painter {
                 } else {
                     continue;
                 };
+                let cols = cols.start.max(columns.start)..cols.end.min(columns.end);
                 if budget < cols.len() as u64 {
                     complete = false;
                     break 'pairs;
@@ -891,8 +979,9 @@ impl Painter {
                         items,
                         &item_of,
                         &boxes,
+                        &near,
                         planes,
-                        (x, b),
+                        (x, b, tied),
                         c,
                         r,
                         width,
@@ -900,17 +989,18 @@ impl Painter {
                 }
             }
         }
-        self.cut_pairs = pairs;
         complete
     }
 
-    /// [`Painter::mend_cut_lines`] at pixel (c, r), for the wholes `x` and `b`. Where one
-    /// of the two holds the pixel and the other, in front there, covers it, the pixel is
-    /// repainted in what the z-buffer shows there: the fold, in stream order by the tie
-    /// rule, of every polygon covering its centre (`boxes` the polygons' screen boxes,
-    /// `planes` their depth planes, made as they are asked for), not the pair's front
-    /// alone, which a polygon coplanar with it and earlier in the stream takes the pixel
-    /// from (seed 200236 of the differential suite: three copies of one quad).
+    /// [`Painter::mend_pairs`] at pixel (c, r), for the wholes `x` and `b`. Where one
+    /// of the two holds the pixel and the other, in front there, covers it (or, for a
+    /// `tied` pair, wherever one of the two holds it), the pixel is repainted in what the
+    /// z-buffer shows there: the fold, in stream order by the tie rule, of every polygon
+    /// covering its centre (`boxes` the polygons' screen boxes, `near` those of them that
+    /// meet the pair's, in stream order, `planes` their depth planes, made as they are
+    /// asked for), not the pair's front alone, which a polygon
+    /// coplanar with it and earlier in the stream takes the pixel from (seed 200236 of
+    /// the differential suite: three copies of one quad).
     #[allow(clippy::too_many_arguments)]
     fn mend_pixel(
         &mut self,
@@ -918,8 +1008,9 @@ impl Painter {
         items: &[Item],
         item_of: &[u32],
         boxes: &[[f64; 4]],
+        near: &[usize],
         planes: &mut [Option<DepthPlane>],
-        (x, b): (usize, usize),
+        (x, b, tied): (usize, usize, bool),
         c: u32,
         r: u32,
         width: u32,
@@ -929,7 +1020,7 @@ impl Painter {
             u32::MAX => None,
             o => Some(items[o as usize].index),
         };
-        if held.is_some_and(|h| h != x && h != b) {
+        if held.is_some_and(|h| h != x && h != b) || tied && held.is_none() {
             return;
         }
         let mut depth = |i: usize| {
@@ -937,27 +1028,39 @@ impl Painter {
                 .get_or_insert_with(|| DepthPlane::of(&polygons[i]))
                 .at(c, r)
         };
-        let (zx, zb) = (depth(x), depth(b));
-        // x < b: the earlier, x, keeps a tie.
-        let (front, back) = if takes(zb, zx) { (b, x) } else { (x, b) };
-        if held == Some(front) {
-            return;
-        }
-        let walker = &mut self.walker;
+        // Coverage by the sampling rule, each polygon's spans on row r found once.
+        let (walker, rows) = (&mut self.walker, &mut self.covered_rows);
         let mut covers = |i: usize| {
-            let mut inside = false;
-            walker.for_each_span_in(&polygons[i], width, r..r + 1, |s| {
-                inside |= s.x0 <= c && c < s.x1;
-            });
-            inside
+            let (row, spans) = &mut rows[i];
+            if *row != r {
+                spans.clear();
+                walker.for_each_span_in(&polygons[i], width, r..r + 1, |s| {
+                    spans.push((s.x0, s.x1));
+                });
+                *row = r;
+            }
+            spans.iter().any(|&(x0, x1)| x0 <= c && c < x1)
         };
-        if !(covers(front) || held.is_none() && covers(back)) {
+        if !tied {
+            let (zx, zb) = (depth(x), depth(b));
+            // x < b: the earlier, x, keeps a tie.
+            let (front, back) = if takes(zb, zx) { (b, x) } else { (x, b) };
+            if held == Some(front) {
+                return;
+            }
+            if !(covers(front) || held.is_none() && covers(back)) {
+                return;
+            }
+        }
+        // The z-buffer's fold at the centre, over every polygon covering it: what the
+        // pixel shows, found once (a centre many pairs meet at is folded by the first).
+        if std::mem::replace(&mut self.folded[at], true) {
             return;
         }
-        // The z-buffer's fold at the centre, over every polygon covering it.
         let (cx, cy) = (c as f64 + 0.5, r as f64 + 0.5);
         let mut winner: Option<(usize, scan::Depth)> = None;
-        for (i, bx) in boxes.iter().enumerate() {
+        for &i in near {
+            let bx = &boxes[i];
             if cx < bx[0] || cx > bx[2] || cy < bx[1] || cy > bx[3] {
                 continue;
             }
@@ -1052,6 +1155,20 @@ impl Painter {
         false
     }
 
+    /// Records the whole polygons `a` and `b` as a pair the sort ordered by the tie rule,
+    /// to be mended at the end of the frame ([`Painter::mend_pairs`]); from now on the
+    /// items painted are recorded at their pixels (neither of the two is painted yet).
+    fn note_tie(&mut self, a: usize, b: usize, width: u32, height: u32) {
+        let pair = (a.min(b), a.max(b));
+        if self.tie_pairs.last() != Some(&pair) {
+            self.tie_pairs.push(pair);
+        }
+        if self.owner.is_empty() {
+            self.owner
+                .resize(width as usize * height as usize, u32::MAX);
+        }
+    }
+
     /// Records item `item` as the last painted on `polygon`'s pixels.
     fn claim(&mut self, item: usize, width: u32, height: u32, polygon: &Polygon) {
         let owner = &mut self.owner;
@@ -1096,6 +1213,7 @@ impl HiddenSurface for Painter {
         // painted from then on); a frame without one allocates nothing.
         self.owner.clear();
         self.cut_pairs.clear();
+        self.tie_pairs.clear();
         let mut items = Self::items(polygons);
         self.stats.polygons += items.len() as u64;
         let budget = self.cut_budget(items.len());
@@ -1123,7 +1241,12 @@ impl HiddenSurface for Painter {
                     break;
                 }
                 match first_passing_test(pi, qi) {
-                    Some(t) => self.stats.resolved_by[t] += 1,
+                    Some(t) => {
+                        self.stats.resolved_by[t] += 1;
+                        if pi.index != qi.index && tied(pi, qi, t) {
+                            self.note_tie(pi.index, qi.index, width, height);
+                        }
+                    }
                     None => {
                         self.stats.unresolved += 1;
                         obstructing = Some(k);
@@ -1137,6 +1260,11 @@ impl HiddenSurface for Painter {
                 // The tests the other way round (3' and 4'): may Q be painted before P?
                 let q_first = qi.wholly(pi, Depthwise::Behind, qi.index > pi.index)
                     || pi.wholly(qi, Depthwise::Front, pi.index < qi.index);
+                // Q first by the coplanar tie (tests 3' and 4', [`tied`]'s).
+                if q_first && qi.index != pi.index && (tied(qi, pi, 2) || tied(qi, pi, 3)) {
+                    let pair = (qi.index, pi.index);
+                    self.note_tie(pair.0, pair.1, width, height);
+                }
                 if items[q].moved != generation && (q_first || !self.split) {
                     // Q goes before P, marked.
                     items[q].moved = generation;
@@ -1201,8 +1329,8 @@ impl HiddenSurface for Painter {
             planes.resize(polygons.len(), None);
         }
         let mut checked = true;
-        if !self.cut_pairs.is_empty() {
-            checked = self.mend_cut_lines(polygons, &items, &mut planes, width, height);
+        if !self.cut_pairs.is_empty() || !self.tie_pairs.is_empty() {
+            checked = self.mend_pairs(polygons, &items, &mut planes, width, height);
             self.stats.unchecked += !checked as u64;
         }
         // A cycle painted out of order is a failure where it left a pixel wrong: judged
@@ -1232,8 +1360,8 @@ impl HiddenSurface for Painter {
         self.last = (given_up, checked);
         if !checked {
             let line = format!(
-                "frame {}: the pixels beside the cut lines were not all checked: the picture \
-                 may be wrong beside them",
+                "frame {}: the pixels beside the cut lines and where polygons tie were not all \
+                 checked: the picture may be wrong there",
                 self.frames
             );
             self.note = Some(match self.note.take() {
@@ -1262,7 +1390,7 @@ impl HiddenSurface for Painter {
             .map(|(i, (name, n))| format!("test {} ({name}) {n}", i + 1))
             .collect();
         format!(
-            "{} polygons sorted, {} painted, pairs resolved by {}, {} unresolved, {} swaps, {} cycles, {} splits, {} cycles painted out of order, {} out of order that left no pixel wrong, {} pixels beside cut lines mended",
+            "{} polygons sorted, {} painted, pairs resolved by {}, {} unresolved, {} swaps, {} cycles, {} splits, {} cycles painted out of order, {} out of order that left no pixel wrong, {} pixels mended",
             s.polygons,
             s.painted,
             tests.join(", "),

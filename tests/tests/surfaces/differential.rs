@@ -44,11 +44,6 @@ const FOUND_NOT_YET_FIXED: &[(u64, &str)] = &[
     (200052, "ss2@0"),
     (200052, "ss4@0"),
     (200052, "ss8@0"),
-    // A stack of nearly coplanar quads on a small screen, each within the tie width of
-    // the next: the splitting painter's leaf gives 38 pixels otherwise than the z-buffer,
-    // without saying so (its order of painting cannot give the fold of three depths
-    // each within the tie width of the next, which is not transitive).
-    (200470, "leaf-painter-split"),
 ];
 
 /// Runs `only`'s modes on test `k`'s seeds and fails with each broken claim not in [`KNOWN_FAILURES`],

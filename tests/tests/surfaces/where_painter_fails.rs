@@ -68,7 +68,7 @@ fn five_crossing_planes_are_cut_in_silence_fifty_spend_the_budget_and_say_so() {
     assert!(
         said.lines()
             .next()
-            .is_some_and(|l| l.ends_with(", 1 pixels beside cut lines mended")),
+            .is_some_and(|l| l.ends_with(", 1 pixels mended")),
         "{said}"
     );
     assert_eq!(human_lines(&said), 1, "{said}");
@@ -150,7 +150,7 @@ fn a_cycle_that_leaves_no_pixel_wrong_is_not_said() {
     let (s, said) = frames(stream, "painter --split --stats", b"");
     assert_eq!(z[0].differences(&s[0]).len(), 0);
     assert!(
-        said.contains(", 0 cycles painted out of order, 1 out of order that left no pixel wrong, 0 pixels beside cut lines mended\n"),
+        said.contains(", 0 cycles painted out of order, 1 out of order that left no pixel wrong, 0 pixels mended\n"),
         "{said}"
     );
     assert_eq!(human_lines(&said), 1, "{said}");
@@ -217,21 +217,23 @@ fn planes_through_one_point_are_the_zbuffers_or_said() {
     // inside the other: test 5 called them disjoint, and seed 19 was painted with
     // 19,592 of 90,000 pixels wrong in silence ("0 cycles painted out of order"). Now:
     // five are the z-buffer's picture, fifty
-    // and four hundred spend the cut budget, and say so, once.
+    // and four hundred spend the cut budget, and say so, once. (The pairs the sort
+    // ordered by the tie rule, mended since wave 5, took 2,811 and 1,327 pixels of the
+    // two off the wrong: 55,444 and 84,013 before.)
     let cases: [(u32, u32, usize, &str); 4] = [
         (5, 1, 0, ""),
         (5, 19, 0, ""),
         (
             50,
             1,
-            55_444,
+            52_633,
             "painter: frame 0: could not order every polygon: 30 cycles painted out of order, \
              the cut budget spent (2098 cuts: 1 a polygon + 2048)\n",
         ),
         (
             400,
             1,
-            84_013,
+            82_686,
             "painter: frame 0: could not order every polygon: 416 cycles painted out of \
              order, the cut budget spent (2448 cuts: 1 a polygon + 2048)\n",
         ),
