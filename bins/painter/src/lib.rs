@@ -523,6 +523,9 @@ fn cut(x: &Item, by: &Item) -> Option<(Item, Item)> {
             .unwrap_or([vertices[i], vertices[(i + 1) % n]])
     };
     let mut pieces: [Outline; 2] = Default::default();
+    // Per piece vertex, the edges of `x` it lies on: a vertex of `x` the two that meet
+    // there, a crossing the edge it cuts (twice).
+    let mut on_edges: [Vec<(usize, usize)>; 2] = Default::default();
     // The clipper's own side test (proto's `Plane::classify`: on the plane within 4
     // machine epsilons of the sum of the distance's terms, |a·X| + |b·Y| + |depth| + |d|),
     // the plane's inside (distance > 0) being behind it: depth − the plane's depth > 0.
@@ -538,7 +541,8 @@ fn cut(x: &Item, by: &Item) -> Option<(Item, Item)> {
         for (k, want) in [(0usize, Side::Outside), (1, Side::Inside)] {
             if s_side == want || s_side == Side::On {
                 pieces[k].0.push(vertices[s]);
-                pieces[k].1.push(Some(support(s)));
+                pieces[k].1.push(None);
+                on_edges[k].push(((s + n - 1) % n, s));
             }
         }
         if matches!(
@@ -551,9 +555,10 @@ fn cut(x: &Item, by: &Item) -> Option<(Item, Item)> {
             // the cutting plane (two polygons that share it and cross through it) is
             // moved off it by the hair the plane is moved, and a piece whose corner sits
             // a hair below a row of centres loses that row.
-            for end in [vertices[s], vertices[p]] {
+            let mut edges = (s, s);
+            for (end, at) in [(vertices[s], ((s + n - 1) % n, s)), (vertices[p], (s, p))] {
                 if (c.x - end.x).abs() <= 1e-6 && (c.y - end.y).abs() <= 1e-6 {
-                    c = end;
+                    (c, edges) = (end, at);
                 }
             }
             // A crossing that rounding has put off the edge it cuts (depths of 10³⁰⁰
@@ -563,28 +568,35 @@ fn cut(x: &Item, by: &Item) -> Option<(Item, Item)> {
             if !c.is_finite() || !on_segment_line(c, s0, s1, 1e-9) {
                 return None;
             }
-            for piece in &mut pieces {
+            for (piece, on) in pieces.iter_mut().zip(&mut on_edges) {
                 piece.0.push(c);
-                piece.1.push(Some(support(s)));
+                piece.1.push(None);
+                on.push(edges);
             }
         }
     }
-    // In each piece, the edge that leaves the last vertex on the plane (a crossing or an
-    // On vertex) before one off it runs along the cut: it has no support. An edge's
-    // support is right only if both its ends lie on it; fix the cut edges.
+    // In each piece, an edge lies on an edge of `x`, and keeps its support, exactly when
+    // both its ends lie on that edge: known from where each vertex came from, not
+    // measured (a crossing is on its edge only to the rounding of its coordinates, which
+    // a test of 10⁻¹⁵ of the terms failed at coordinates near 90: a piece's edge then
+    // ran from its own rounded vertices, a centre 0.001 pixel inside the whole's edge fell
+    // outside the piece, and the frame lost a pixel in silence). The edges along the cut
+    // have no support.
     let mut out = Vec::with_capacity(2);
-    for (mut verts, mut supports) in pieces {
+    for ((mut verts, mut supports), mut on) in pieces.into_iter().zip(on_edges) {
         // A vertex equal to the one before it (a crossing that is a vertex) is dropped,
-        // the edge leaving it kept. (Only equal ones: dropping one a hair away changes
-        // the outline of a sliver a hair wide, which the fuzz target `methods` found.)
+        // the edges it lies on kept with the other's. (Only equal ones: dropping one a
+        // hair away changes the outline of a sliver a hair wide, which the fuzz target
+        // `methods` found.)
         let mut j = 0;
         while verts.len() > 3 && j < verts.len() {
             let next = (j + 1) % verts.len();
             let (a, b) = (verts[j], verts[next]);
             if a.x == b.x && a.y == b.y {
-                supports[j] = supports[next];
+                on[j] = both_edges(on[j], on[next]);
                 verts.remove(next);
                 supports.remove(next);
+                on.remove(next);
                 if next < j {
                     j -= 1;
                 }
@@ -597,12 +609,9 @@ fn cut(x: &Item, by: &Item) -> Option<(Item, Item)> {
         }
         let m = verts.len();
         for j in 0..m {
-            let (a, b) = (verts[j], verts[(j + 1) % m]);
-            if let Some([s0, s1]) = supports[j] {
-                if !on_segment_line(a, s0, s1, 1e-15) || !on_segment_line(b, s0, s1, 1e-15) {
-                    supports[j] = None;
-                }
-            }
+            let ((a0, a1), (b0, b1)) = (on[j], on[(j + 1) % m]);
+            let common = [a0, a1].into_iter().find(|&e| e == b0 || e == b1);
+            supports[j] = common.map(support);
         }
         let polygon = Polygon {
             colour: x.polygon.colour,
@@ -618,11 +627,22 @@ fn cut(x: &Item, by: &Item) -> Option<(Item, Item)> {
     Some((front, back))
 }
 
+/// The edges of a polygon a vertex lies on, as [`cut`] keeps them, for two equal
+/// vertices merged into one: those of either (at most two distinct: a vertex lies on the
+/// two edges that meet at it, a crossing on the one it cuts).
+fn both_edges(a: (usize, usize), b: (usize, usize)) -> (usize, usize) {
+    let extra = [b.0, b.1].into_iter().find(|&e| e != a.0 && e != a.1);
+    match extra {
+        Some(e) if a.0 == a.1 => (a.0, e),
+        _ => a,
+    }
+}
+
 /// Whether `v` lies on the line through `s0` and `s1` (in X, Y), to `tolerance` of the
-/// terms: 10⁻⁹ to accept a crossing as on the edge it cuts, 10⁻¹⁵ (crossings are computed
-/// on their edge to about 10⁻¹⁶) to give a piece's edge the support of an edge of the
-/// whole: a sliver's two long edges lie a hair apart, and the looser test gave a piece's
-/// edge the other one's support (the fuzz target `methods` found pixels lost so).
+/// terms: 10⁻⁹ to accept a crossing as on the edge it cuts. (Which edge of the whole a
+/// piece's edge lies on is not measured so: a sliver's two long edges lie a hair apart,
+/// and a loose test gave a piece's edge the other one's support, and a tight one none to
+/// a crossing rounded off its edge; [`cut`] knows it from where each vertex came from.)
 fn on_segment_line(v: Vertex, s0: Vertex, s1: Vertex, tolerance: f64) -> bool {
     let (a, b, p) = (
         s0.truncate().truncate(),
@@ -701,6 +721,11 @@ const JUDGED_PER_PIXEL: u64 = 64;
 /// [`Painter::mend_pairs`]: the pieces' vertices on a cut are snapped to 1/256 pixel
 /// by the scan converter (docs/DESIGN.md, "Coverage"), moving the cut by at most 1/256.
 const CUT_LINE_BAND: f64 = 1.0 / 32.0;
+
+/// How far past the box of a polygon's vertices, in pixels, a centre it covers may lie:
+/// the scan converter snaps each vertex to the nearest 1/256 pixel (docs/DESIGN.md,
+/// "Coverage"), moving an edge by at most 1/512; the margin is four times that.
+const SNAP_MARGIN: f64 = 1.0 / 128.0;
 
 /// The default cut budget: `CUTS_PER_POLYGON·n + CUTS_BASE` cuts for a frame of n
 /// polygons.
@@ -864,7 +889,8 @@ impl Painter {
     /// each other and one of them holds it is repainted in what the z-buffer shows there,
     /// whichever of the two is in front.
     ///
-    /// Only the rows and columns of the two polygons' screen boxes are looked at, at most
+    /// Only the rows and columns of the two polygons' screen boxes are looked at (both
+    /// boxes for a tied pair, either for a cut pair), at most
     /// [`JUDGED_PER_PIXEL`] centres a pixel of the screen; false when that ran out before
     /// every pair was checked.
     fn mend_pairs(
@@ -880,11 +906,13 @@ impl Painter {
         for (k, it) in items.iter().enumerate() {
             item_of[it.index] = k as u32;
         }
-        // Each polygon's box on the screen, for the fold of a pixel to be repainted.
+        // Each polygon's box on the screen, for the fold of a pixel to be repainted,
+        // widened by [`SNAP_MARGIN`]: the scan converter snaps vertices to 1/256 pixel, so
+        // a centre a hair outside the box of the vertices may be covered.
         let boxes: Vec<[f64; 4]> = polygons
             .iter()
             .map(|p| {
-                p.vertices.iter().fold(
+                let [x0, y0, x1, y1] = p.vertices.iter().fold(
                     [
                         f64::INFINITY,
                         f64::INFINITY,
@@ -892,7 +920,9 @@ impl Painter {
                         f64::NEG_INFINITY,
                     ],
                     |[x0, y0, x1, y1], v| [x0.min(v.x), y0.min(v.y), x1.max(v.x), y1.max(v.y)],
-                )
+                );
+                let m = SNAP_MARGIN;
+                [x0 - m, y0 - m, x1 + m, y1 + m]
             })
             .collect();
         self.folded.clear();
@@ -940,11 +970,21 @@ impl Painter {
             let (a0, d, _) = diff(0);
             let step = diff(1).0 - a0;
             let band = CUT_LINE_BAND * d.hypot(step);
+            // A tied pair's centres are those both cover, in both boxes; a cut pair's
+            // pieces may have lost a centre of the one cut where the other's plane
+            // crosses it, outside the other's box: in either box.
             let (bx, bb) = (boxes[x], boxes[b]);
-            let rows = within(bx[1].max(bb[1]), bx[3].min(bb[3]), height);
-            let columns = within(bx[0].max(bb[0]), bx[2].min(bb[2]), width);
-            // The polygons whose boxes meet the pair's: the only ones a fold here can
-            // meet, in stream order.
+            let span = |lo: f64, hi: f64, lo2: f64, hi2: f64, n: u32| {
+                if tied {
+                    within(lo.max(lo2), hi.min(hi2), n)
+                } else {
+                    within(lo.min(lo2), hi.max(hi2), n)
+                }
+            };
+            let rows = span(bx[1], bx[3], bb[1], bb[3], height);
+            let columns = span(bx[0], bx[2], bb[0], bb[2], width);
+            // The polygons whose boxes meet those rows and columns: the only ones a fold
+            // here can meet, in stream order.
             let (x0, x1) = (columns.start as f64 + 0.5, columns.end as f64 - 0.5);
             let (y0, y1) = (rows.start as f64 + 0.5, rows.end as f64 - 0.5);
             near.clear();

@@ -870,3 +870,41 @@ fn a_stack_of_near_ties_is_the_fold_and_copies_are_not_mended() {
     assert_eq!((p.stats.mended, s.stats.mended), (0, 0));
     assert!(p.owner.is_empty(), "no pixel needed recording");
 }
+
+#[test]
+fn a_pieces_edge_keeps_its_support_where_its_crossing_rounds_off_the_edge() {
+    // Two quads of the chart's environment B (10,000 quads, seed 3), with --split: the
+    // blue one is cut by the other's plane, and the crossings the cut computes, at
+    // coordinates near 90, lie off the edges they cut by more than 10⁻¹⁵ of the terms.
+    // The pieces' edges along the whole's lost their supports, ran from the rounded
+    // crossings, and centre (82.5, 4.5), 0.001 pixel inside the blue quad's lower
+    // edge, fell outside both pieces: a pixel of the background, said nowhere.
+    let other = Polygon::from_xyz(
+        [232, 195, 190],
+        &[
+            [81.538898264356, 13.35286647334491, -0.08179784163880725],
+            [88.08038894339407, 20.758319119820733, -0.08381925757176556],
+            [92.7949218853933, 11.6915112248418, -0.08058641384293504],
+            [86.25343120635526, 4.286058578366031, -0.07856499790997674],
+        ],
+    );
+    let blue = Polygon::from_xyz(
+        [40, 145, 254],
+        &[
+            [75.1517799217159, 6.8169587971463885, -0.07957648296667774],
+            [79.65250210322164, 11.924526348737864, -0.07929275400403325],
+            [91.57194286439157, 8.164499083236521, -0.07838004027681818],
+            [87.07122068288584, 3.0569315316449908, -0.0786637692394627],
+        ],
+    );
+    let scene = [other, blue];
+    let (w, h) = (100, 24);
+    let z = zbuffer_image(&scene, w, h);
+    assert_eq!(z[4 * w as usize + 82], Some([40, 145, 254]));
+    let (image, s) = {
+        let mut s = Painter::with_split();
+        (paint(&mut s, &scene, w, h), s)
+    };
+    assert!(s.stats.splits > 0, "the blue quad is cut");
+    assert_eq!(differing_pixels(&z, &image), 0);
+}
