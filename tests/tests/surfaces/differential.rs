@@ -44,6 +44,23 @@ const FOUND_NOT_YET_FIXED: &[(u64, &str)] = &[
     (200052, "ss2@0"),
     (200052, "ss4@0"),
     (200052, "ss8@0"),
+    // A planar bowtie whose lobes cancel in eye space (Newell's normal exactly zero):
+    // every mode at every depth 29 pixels otherwise than zspec, which sees the first
+    // polygon where they draw the bowtie; listed at depth 0.
+    (7285, "buffer-pixels@0"),
+    (7285, "buffer@0"),
+    (7285, "chain@0"),
+    (7285, "projective@0"),
+    (7285, "scanline@0"),
+    (7285, "ss2@0"),
+    (7285, "ss4@0"),
+    (7285, "ss8@0"),
+    (7285, "warnock@0"),
+    (7285, "zbuf@0"),
+    // At depth 4 (16 leaves) one dark edge pixel of 8x8 samples is left empty by ss8 and
+    // abuf: a sample the tree loses at a leaf's edge.
+    (7310, "abuf@4"),
+    (7310, "ss8@4"),
 ];
 
 /// Runs `only`'s modes on test `k`'s seeds and fails with each broken claim not in [`KNOWN_FAILURES`],
