@@ -249,6 +249,51 @@ mod tests {
     }
 
     #[test]
+    fn a_sliver_piece_whose_ends_snap_onto_one_line_keeps_its_sample() {
+        // Differential seed 7310 at depth 4: a sliver 0.0004 pixel wide, cut by the
+        // splitter tree at Y = 3 and X = 20, holds sample (19 + 9/16, 3 + 1/16) of pixel
+        // (19, 3) between its two long edges. The piece's four ends snap to two points,
+        // (19.5, 3) and (20, 3.484375), on one line, and the piece was taken to cover
+        // nothing; its edges cross the rows on their supports, the whole's, which do
+        // hold the sample.
+        let v = |x: f64, y: f64| DVec4::new(x, y, -0.0333, 1.0);
+        let (a0, a1) = (
+            v(22.056121939284367, 5.468882902755973),
+            v(18.53937670391129, 2.0738924824657516),
+        );
+        let (b0, b1) = (
+            v(18.323392409969323, 1.8656028331380485),
+            v(22.064260314741915, 5.477262853685904),
+        );
+        let whole = Polygon {
+            colour: [1, 1, 1],
+            vertices: vec![a0, a1, b0, b1],
+            ..Polygon::default()
+        };
+        let piece = Polygon {
+            colour: [1, 1, 1],
+            vertices: vec![
+                v(20.0, 3.483946883903744),
+                v(19.498697289992162, 3.0),
+                v(19.498372870099985, 3.0),
+                v(20.0, 3.4843011558816817),
+            ],
+            supports: vec![Some([a0, a1]), None, Some([b0, b1]), None],
+            ..Polygon::default()
+        };
+        // Pixel (19, 3)'s 8×8 samples: fine columns 152..160 of fine rows 24..32.
+        let samples = |p: &Polygon| {
+            let mut held = Vec::new();
+            SpanWalker::new().for_each_span_in(&scaled(p, 8), 41 * 8, 24..32, |s| {
+                held.extend((s.x0.max(152)..s.x1.min(160)).map(|x| (x, s.y)));
+            });
+            held
+        };
+        assert_eq!(samples(&whole), vec![(156, 24)]);
+        assert_eq!(samples(&piece), samples(&whole));
+    }
+
+    #[test]
     fn a_fine_screen_samples_at_sub_pixel_centres() {
         // A triangle over the top-left half of pixel (0, 0): of its 2×2 sub-pixel
         // centres (¼, ¼), (¾, ¼), (¼, ¾), (¾, ¾) the triangle X + Y < 1 holds the first;

@@ -373,9 +373,19 @@ impl Warnock {
             // On one line as the walker decides it, on the vertices snapped to 1/256
             // pixel (docs/DESIGN.md, "Coverage"): three points within rounding of a line
             // may snap apart, a sliver that holds the centres it passes over.
+            // A piece whose edges cross rows on their supports covers what lies between
+            // them even where its own ends snap onto one line, as the walker has it
+            // (`scan::edges::Outline::load`).
             self.snapped.clear();
             self.snapped
                 .extend(pts.iter().map(|&v| proto::raster::Point::snap(v)));
+            self.snapped.extend(
+                p.supports
+                    .iter()
+                    .flatten()
+                    .flatten()
+                    .map(|v| proto::raster::Point::snap(DVec2::new(v.x, v.y))),
+            );
             if pts.len() < 3 || proto::raster::snapped_on_one_line(&self.snapped) {
                 self.points.truncate(start);
                 continue;

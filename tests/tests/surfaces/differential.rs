@@ -57,10 +57,6 @@ const FOUND_NOT_YET_FIXED: &[(u64, &str)] = &[
     (7285, "ss8@0"),
     (7285, "warnock@0"),
     (7285, "zbuf@0"),
-    // At depth 4 (16 leaves) one dark edge pixel of 8x8 samples is left empty by ss8 and
-    // abuf: a sample the tree loses at a leaf's edge.
-    (7310, "abuf@4"),
-    (7310, "ss8@4"),
 ];
 
 /// Runs `only`'s modes on test `k`'s seeds and fails with each broken claim not in [`KNOWN_FAILURES`],
