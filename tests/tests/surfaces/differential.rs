@@ -44,19 +44,6 @@ const FOUND_NOT_YET_FIXED: &[(u64, &str)] = &[
     (200052, "ss2@0"),
     (200052, "ss4@0"),
     (200052, "ss8@0"),
-    // A planar bowtie whose lobes cancel in eye space (Newell's normal exactly zero):
-    // every mode at every depth 29 pixels otherwise than zspec, which sees the first
-    // polygon where they draw the bowtie; listed at depth 0.
-    (7285, "buffer-pixels@0"),
-    (7285, "buffer@0"),
-    (7285, "chain@0"),
-    (7285, "projective@0"),
-    (7285, "scanline@0"),
-    (7285, "ss2@0"),
-    (7285, "ss4@0"),
-    (7285, "ss8@0"),
-    (7285, "warnock@0"),
-    (7285, "zbuf@0"),
 ];
 
 /// Runs `only`'s modes on test `k`'s seeds and fails with each broken claim not in [`KNOWN_FAILURES`],
