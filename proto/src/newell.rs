@@ -32,16 +32,25 @@ use glam::{DVec3, DVec4};
 /// of the size of coordinate i's rounding, moves a by up to
 /// Σ (|δy_i| + |δy_j|)(|z'_i| + |z'_j|) + (|y'_i| + |y'_j|)(|δz_i| + |δz_j|), the primed
 /// coordinates taken from the vertices' centroid (b and c alike): the bound also holds
-/// that for [`INPUT_ULPS`] units of each coordinate: differential seed 7285's bowtie, exactly planar in the world
-/// with lobes that cancel, reached eye space with sums of 2·10⁻¹³ against a bound of
-/// 4·10⁻¹⁴ for the arithmetic alone, and took its plane from that noise (29 pixels
-/// otherwise than zspec).
+/// that for [`INPUT_ULPS`] units of each coordinate. Differential seed 7285's bowtie,
+/// exactly planar in the world with lobes that cancel, reached eye space with sums of
+/// 2·10⁻¹³ against a bound of 4·10⁻¹⁴ for the arithmetic alone, and took its plane from
+/// that noise (29 pixels otherwise than zspec).
 pub fn newell_normal(points: &[DVec3]) -> DVec3 {
+    normal_about(points, centroid(points))
+}
+
+/// The mean of the points (zero for none).
+fn centroid(points: &[DVec3]) -> DVec3 {
+    points.iter().copied().sum::<DVec3>() / points.len().max(1) as f64
+}
+
+/// [`newell_normal`], the points' `centroid` given.
+fn normal_about(points: &[DVec3], centroid: DVec3) -> DVec3 {
     let n = points.len();
     let mut normal = DVec3::ZERO;
     let mut magnitude = DVec3::ZERO;
     let mut sensitivity = DVec3::ZERO;
-    let centroid = points.iter().copied().sum::<DVec3>() / n.max(1) as f64;
     for i in 0..n {
         let p = points[i];
         let q = points[(i + 1) % n];
@@ -74,7 +83,7 @@ pub fn newell_normal(points: &[DVec3]) -> DVec3 {
 /// The rounding of a point's coordinates that [`newell_normal`] allows for, in units of
 /// the last place: each stage's few operations on a coordinate (a 4×4 transform, a
 /// product and a quotient), doubled for margin.
-pub const INPUT_ULPS: f64 = 8.0;
+const INPUT_ULPS: f64 = 8.0;
 
 /// Newell's plane `a·x + b·y + c·z + d = 0`, returned as `(a, b, c, d)`. The constant is
 /// found through the centroid of the vertices rather than one vertex, which is the best
@@ -86,7 +95,8 @@ pub const INPUT_ULPS: f64 = 8.0;
 /// every polygon, and two such polygons at the same depth would then not tie: the Z
 /// spec gives a tie to the earlier polygon, so equal depths must come out equal.
 pub fn newell_plane(points: &[DVec3]) -> DVec4 {
-    let normal = newell_normal(points);
+    let centroid = centroid(points);
+    let normal = normal_about(points, centroid);
     if points.is_empty() {
         return DVec4::ZERO;
     }
@@ -94,7 +104,6 @@ pub fn newell_plane(points: &[DVec3]) -> DVec4 {
     if normal != DVec3::ZERO && points.iter().all(|p| p.z == z) {
         return DVec4::new(0.0, 0.0, 1.0, -z);
     }
-    let centroid = points.iter().copied().sum::<DVec3>() / points.len() as f64;
     normal.extend(-normal.dot(centroid))
 }
 

@@ -132,18 +132,9 @@ impl Outline {
                 .iter()
                 .map(|s| s.as_ref().map(|[a, b]| [snap(a), snap(b)])),
         );
-        // Snapped vertices on one line cover nothing, unless the polygon is a piece whose
-        // edges cross rows on their supports: a sliver cut at a pixel boundary can have its
-        // own ends snap onto one line (two crossings a third of 1/256 apart become one
-        // point) while the whole's edges it lies on still hold a sample between them
-        // (differential seed 7310: `--aa ss8` at depth 4 lost it). Only when the supports
-        // lie on that line too is there nothing to cover.
-        if proto::raster::snapped_on_one_line(&self.points) {
-            let mut all = self.points.clone();
-            all.extend(self.supports.iter().flatten().flatten());
-            if proto::raster::snapped_on_one_line(&all) {
-                return false;
-            }
+        let supports = self.supports.iter().flatten().flatten().copied();
+        if proto::raster::snapped_covers_nothing(&self.points, supports) {
+            return false;
         }
         proto::raster::vertex_rows(&self.points, &self.supports, &mut self.rows);
         true

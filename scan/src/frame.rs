@@ -154,6 +154,21 @@ pub fn square(colour: Colour, x0: f64, y0: f64, x1: f64, y1: f64, z: f64) -> Pol
     )
 }
 
+/// Three 8×8 squares red, green and blue, at depths z, z(1 − ½t) and z(1 − 1.2t) (t the
+/// tie width, z = 0.25): each within the tie of the next, the first and the third not.
+/// In that stream order the second fails to take a pixel from the first and the third
+/// takes it, so the z-buffer shows blue, and a method that orders them pair by pair (the
+/// tie rule is not transitive) does not: the methods' tests of the tie rule's fold
+/// (differential seed 200470, made plain).
+pub fn near_ties() -> [Polygon; 3] {
+    let (z, t) = (0.25, proto::depth::TIE);
+    [
+        square([255, 0, 0], 0.0, 0.0, 8.0, 8.0, z),
+        square([0, 255, 0], 0.0, 0.0, 8.0, 8.0, z * (1.0 - 0.5 * t)),
+        square([0, 0, 255], 0.0, 0.0, 8.0, 8.0, z * (1.0 - 1.2 * t)),
+    ]
+}
+
 /// The picture `runs` paint on a `width`×`height` screen, row-major: `None` where no run
 /// reaches. A pixel painted twice is an error of the method that made the runs, and
 /// panics here, in its tests.

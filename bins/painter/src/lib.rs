@@ -498,8 +498,9 @@ fn tied(p: &Item, q: &Item, t: usize) -> bool {
 /// would make a longer piece is not made: the cycle is painted in the order at hand.
 pub const MAX_PIECE_VERTICES: usize = 64;
 
-/// A piece's vertices, and for each the support of the edge that leaves it.
-type Outline = (Vec<Vertex>, Vec<Option<[Vertex; 2]>>);
+/// A piece's vertices, and for each the edges of the whole it lies on: a vertex of the
+/// whole the two that meet there, a crossing the edge it cuts (twice).
+type Outline = (Vec<Vertex>, Vec<(usize, usize)>);
 
 /// The splitting step: `x` cut by `by`'s plane into the piece in front of it and the
 /// piece behind, by Sutherland–Hodgman's walk over the vertices with proto's side test
@@ -523,9 +524,6 @@ fn cut(x: &Item, by: &Item) -> Option<(Item, Item)> {
             .unwrap_or([vertices[i], vertices[(i + 1) % n]])
     };
     let mut pieces: [Outline; 2] = Default::default();
-    // Per piece vertex, the edges of `x` it lies on: a vertex of `x` the two that meet
-    // there, a crossing the edge it cuts (twice).
-    let mut on_edges: [Vec<(usize, usize)>; 2] = Default::default();
     // The clipper's own side test (proto's `Plane::classify`: on the plane within 4
     // machine epsilons of the sum of the distance's terms, |a·X| + |b·Y| + |depth| + |d|),
     // the plane's inside (distance > 0) being behind it: depth − the plane's depth > 0.
@@ -541,8 +539,7 @@ fn cut(x: &Item, by: &Item) -> Option<(Item, Item)> {
         for (k, want) in [(0usize, Side::Outside), (1, Side::Inside)] {
             if s_side == want || s_side == Side::On {
                 pieces[k].0.push(vertices[s]);
-                pieces[k].1.push(None);
-                on_edges[k].push(((s + n - 1) % n, s));
+                pieces[k].1.push(((s + n - 1) % n, s));
             }
         }
         if matches!(
@@ -568,10 +565,9 @@ fn cut(x: &Item, by: &Item) -> Option<(Item, Item)> {
             if !c.is_finite() || !on_segment_line(c, s0, s1, 1e-9) {
                 return None;
             }
-            for (piece, on) in pieces.iter_mut().zip(&mut on_edges) {
+            for piece in &mut pieces {
                 piece.0.push(c);
-                piece.1.push(None);
-                on.push(edges);
+                piece.1.push(edges);
             }
         }
     }
@@ -583,7 +579,7 @@ fn cut(x: &Item, by: &Item) -> Option<(Item, Item)> {
     // outside the piece, and the frame lost a pixel in silence). The edges along the cut
     // have no support.
     let mut out = Vec::with_capacity(2);
-    for ((mut verts, mut supports), mut on) in pieces.into_iter().zip(on_edges) {
+    for (mut verts, mut on) in pieces {
         // A vertex equal to the one before it (a crossing that is a vertex) is dropped,
         // the edges it lies on kept with the other's. (Only equal ones: dropping one a
         // hair away changes the outline of a sliver a hair wide, which the fuzz target
@@ -595,7 +591,6 @@ fn cut(x: &Item, by: &Item) -> Option<(Item, Item)> {
             if a.x == b.x && a.y == b.y {
                 on[j] = both_edges(on[j], on[next]);
                 verts.remove(next);
-                supports.remove(next);
                 on.remove(next);
                 if next < j {
                     j -= 1;
@@ -608,11 +603,13 @@ fn cut(x: &Item, by: &Item) -> Option<(Item, Item)> {
             return None;
         }
         let m = verts.len();
-        for j in 0..m {
-            let ((a0, a1), (b0, b1)) = (on[j], on[(j + 1) % m]);
-            let common = [a0, a1].into_iter().find(|&e| e == b0 || e == b1);
-            supports[j] = common.map(support);
-        }
+        let supports = (0..m)
+            .map(|j| {
+                let ((a0, a1), (b0, b1)) = (on[j], on[(j + 1) % m]);
+                let common = [a0, a1].into_iter().find(|&e| e == b0 || e == b1);
+                common.map(support)
+            })
+            .collect();
         let polygon = Polygon {
             colour: x.polygon.colour,
             vertices: verts,
@@ -686,8 +683,9 @@ pub struct Painter {
     frame: Vec<Option<Colour>>,
     /// The item painted last at each pixel, row-major, from the frame's first cut, tied
     /// pair ([`tied`]) or cycle painted out of order on (empty until then): kept only to
-    /// mend the pixels beside the cut lines and where tied pairs meet, and to judge, at the end of the frame, whether the pixels such
-    /// a cycle painted are wrong (never to decide the order of painting).
+    /// mend the pixels beside the cut lines and where tied pairs meet, and to judge, at
+    /// the end of the frame, whether the pixels such a cycle painted are wrong (never to
+    /// decide the order of painting).
     owner: Vec<u32>,
     /// The pairs of whole polygons (indices in the frame) one of which was cut by the
     /// other's plane in this frame, each once.
@@ -890,9 +888,8 @@ impl Painter {
     /// whichever of the two is in front.
     ///
     /// Only the rows and columns of the two polygons' screen boxes are looked at (both
-    /// boxes for a tied pair, either for a cut pair), at most
-    /// [`JUDGED_PER_PIXEL`] centres a pixel of the screen; false when that ran out before
-    /// every pair was checked.
+    /// boxes for a tied pair, either for a cut pair), at most [`JUDGED_PER_PIXEL`] centres
+    /// a pixel of the screen; false when that ran out before every pair was checked.
     fn mend_pairs(
         &mut self,
         polygons: &[Polygon],
@@ -1038,9 +1035,9 @@ impl Painter {
     /// z-buffer shows there: the fold, in stream order by the tie rule, of every polygon
     /// covering its centre (`boxes` the polygons' screen boxes, `near` those of them that
     /// meet the pair's, in stream order, `planes` their depth planes, made as they are
-    /// asked for), not the pair's front alone, which a polygon
-    /// coplanar with it and earlier in the stream takes the pixel from (seed 200236 of
-    /// the differential suite: three copies of one quad).
+    /// asked for), not the pair's front alone, which a polygon coplanar with it and
+    /// earlier in the stream takes the pixel from (seed 200236 of the differential suite:
+    /// three copies of one quad).
     #[allow(clippy::too_many_arguments)]
     fn mend_pixel(
         &mut self,
@@ -1302,8 +1299,7 @@ impl HiddenSurface for Painter {
                     || pi.wholly(qi, Depthwise::Front, pi.index < qi.index);
                 // Q first by the coplanar tie (tests 3' and 4', [`tied`]'s).
                 if q_first && qi.index != pi.index && (tied(qi, pi, 2) || tied(qi, pi, 3)) {
-                    let pair = (qi.index, pi.index);
-                    self.note_tie(pair.0, pair.1, width, height);
+                    self.note_tie(qi.index, pi.index, width, height);
                 }
                 if items[q].moved != generation && (q_first || !self.split) {
                     // Q goes before P, marked.

@@ -1,5 +1,5 @@
 use super::*;
-use scan::frame::{differing_pixels, image_of, square, zbuffer_image};
+use scan::frame::{differing_pixels, image_of, near_ties, square, zbuffer_image};
 
 fn quad(colour: Colour, corners: [[f64; 2]; 4], z: impl Fn(f64, f64) -> f64) -> Polygon {
     let v: Vec<[f64; 3]> = corners.iter().map(|&[x, y]| [x, y, z(x, y)]).collect();
@@ -813,12 +813,8 @@ fn three_depths_each_within_the_tie_of_the_next_are_mended_to_the_fold() {
     // z-buffer shows the third. Each pair is ordered as the z-buffer orders it, and no
     // order of painting shows the third (it paints over the first, and the second over
     // it): before the tied pairs were mended, every pixel was wrong and nothing said so.
-    let (z, t) = (0.25, proto::depth::TIE);
-    let colours = [[255, 0, 0], [0, 255, 0], [0, 0, 255]];
-    let depths = [z, z * (1.0 - 0.5 * t), z * (1.0 - 1.2 * t)];
-    let whole = |i: usize| square(colours[i], 0.0, 0.0, 8.0, 8.0, depths[i]);
-    let polygons = [whole(0), whole(1), whole(2)];
-    assert_eq!(zbuffer_image(&polygons, 8, 8), vec![Some(colours[2]); 64]);
+    let polygons = near_ties();
+    assert_eq!(zbuffer_image(&polygons, 8, 8), vec![Some([0, 0, 255]); 64]);
     for order in [
         [0, 1, 2],
         [0, 2, 1],
@@ -827,8 +823,8 @@ fn three_depths_each_within_the_tie_of_the_next_are_mended_to_the_fold() {
         [2, 0, 1],
         [2, 1, 0],
     ] {
-        let polygons = order.map(whole);
-        let (plain, split, p, s) = against_zbuffer(&polygons, 8, 8);
+        let ordered = order.map(|i| polygons[i].clone());
+        let (plain, split, p, s) = against_zbuffer(&ordered, 8, 8);
         assert_eq!((plain, split), (0, 0), "{order:?}");
         for painter in [&p, &s] {
             assert_eq!(painter.stats.given_up, 0, "{order:?}");

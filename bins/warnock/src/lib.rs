@@ -94,7 +94,8 @@
 //! to one unit of the last place. Two planes that come within a unit of each other
 //! inside a window, but not at its corners, can be ordered differently there; the ZMIN
 //! early exit compares the vertices' depths with the planes of the surrounder and of
-//! every polygon kept in `f64`, with the same margin. docs/methods.md counts the pixels this changes on the test scenes.
+//! every polygon kept in `f64`, with the same margin. docs/methods.md counts the pixels
+//! this changes on the test scenes.
 //!
 //! Gouraud shading (docs/DESIGN.md, "Shading") changes nothing of the above: a shaded
 //! polygon that fills a window, or is drawn as its one intersector, puts its pieces of rows
@@ -374,19 +375,13 @@ impl Warnock {
             // pixel (docs/DESIGN.md, "Coverage"): three points within rounding of a line
             // may snap apart, a sliver that holds the centres it passes over.
             // A piece whose edges cross rows on their supports covers what lies between
-            // them even where its own ends snap onto one line, as the walker has it
-            // (`scan::edges::Outline::load`).
+            // them even there, as the walker has it.
             self.snapped.clear();
             self.snapped
                 .extend(pts.iter().map(|&v| proto::raster::Point::snap(v)));
-            self.snapped.extend(
-                p.supports
-                    .iter()
-                    .flatten()
-                    .flatten()
-                    .map(|v| proto::raster::Point::snap(DVec2::new(v.x, v.y))),
-            );
-            if pts.len() < 3 || proto::raster::snapped_on_one_line(&self.snapped) {
+            let supports = p.supports.iter().flatten().flatten();
+            let supports = supports.map(|v| proto::raster::Point::snap(DVec2::new(v.x, v.y)));
+            if pts.len() < 3 || proto::raster::snapped_covers_nothing(&self.snapped, supports) {
                 self.points.truncate(start);
                 continue;
             }
@@ -529,33 +524,32 @@ impl Warnock {
         // polygon kept (+∞ once one may be clamped at a corner).
         let mut zminmax = f64::INFINITY;
         let mut farthest = f64::NEG_INFINITY;
-        // The kept entries `lists[pushed..folded]` are in `farthest`: it is brought up to
+        // The entries kept before `lists[folded..]` are in `farthest`: it is brought up to
         // date only when a surrounder is in front of a polygon (most windows never are).
-        let pushed = self.lists.len();
-        let mut folded = pushed;
+        let mut folded = self.lists.len();
         for i in start..end {
             let e = self.lists[i];
             let f = self.faces[e.face as usize];
-            if takes(zminmax, f.zmin) && {
+            if takes(zminmax, f.zmin) {
                 for k in folded..self.lists.len() {
                     farthest = farthest.max(self.planar_farthest(self.lists[k].face, w));
                 }
                 folded = self.lists.len();
-                takes(farthest, f.zmin)
-            } {
-                // `IF POLY!ZMIN[P] > ZMINMAX THEN DONE`: behind a surrounder, and so is
-                // every polygon after it. "Behind" by the tie rule, and behind every
-                // polygon kept, not only the surrounder: the tie rule is not transitive,
-                // and a polygon left off that is within the tie width of one kept could
-                // change the z-buffer's fold where it covers (it may hold a pixel that a
-                // later polygon then fails to take, or takes). Behind them all by more
-                // than the tie, it holds a pixel only until the first of them takes it,
-                // and takes it from none of them: the fold over those kept is the fold
-                // over all (`decide_pixel`). As the list is in ZMIN order, every polygon
-                // after it passes the test too.
-                self.stats.zmin_exits += 1;
-                self.stats.zmin_skipped += (end - i) as u64;
-                break;
+                if takes(farthest, f.zmin) {
+                    // `IF POLY!ZMIN[P] > ZMINMAX THEN DONE`: behind a surrounder, and so
+                    // is every polygon after it. "Behind" by the tie rule, and behind
+                    // every polygon kept, not only the surrounder: the tie rule is not
+                    // transitive, and a polygon left off that is within the tie width of
+                    // one kept could change the z-buffer's fold where it covers (it may
+                    // hold a pixel that a later polygon then fails to take, or takes).
+                    // Behind them all by more than the tie, it holds a pixel only until
+                    // the first of them takes it, and takes it from none of them: the
+                    // fold over those kept is the fold over all (`decide_pixel`). As the
+                    // list is in ZMIN order, every polygon after it passes the test too.
+                    self.stats.zmin_exits += 1;
+                    self.stats.zmin_skipped += (end - i) as u64;
+                    break;
+                }
             }
             let class = if e.surrounds {
                 Class::Surrounder
@@ -744,10 +738,12 @@ impl Warnock {
         if hidden.is_empty() {
             return hidden;
         }
+        // The farthest of those that stay: the list less `hidden`, which is in its order.
         let mut farthest = f64::NEG_INFINITY;
+        let mut next_hidden = hidden.iter().peekable();
         for i in start..self.lists.len() {
             let face = self.lists[i].face;
-            if face == hider || !self.in_front(hider, face, w) {
+            if next_hidden.next_if_eq(&&face).is_none() {
                 farthest = farthest.max(range(face).1);
             }
         }
@@ -1370,12 +1366,7 @@ mod tests {
         // the pixel from the first and the third takes it: blue. The third is in front
         // of the first, so a hider that took the first off the list left the second to
         // keep the pixel from the third: green, 64 pixels wrong.
-        let (z, t) = (0.25, proto::depth::TIE);
-        let polygons = [
-            square(RED, 0.0, 0.0, 8.0, 8.0, z),
-            square(GREEN, 0.0, 0.0, 8.0, 8.0, z * (1.0 - 0.5 * t)),
-            square(BLUE, 0.0, 0.0, 8.0, 8.0, z * (1.0 - 1.2 * t)),
-        ];
+        let polygons = scan::frame::near_ties();
         let want = zbuffer_image(&polygons, 8, 8);
         assert_eq!(want, vec![Some(BLUE); 64]);
         let (runs, _) = resolved(&polygons, 8, 8);
