@@ -1,4 +1,4 @@
-//! The a-buffer's fragment lists (sampling thesis 6.3.4 to 6.3.6; bins/abuf/src/list.rs), and
+//! The a-buffer's fragment lists (sampling thesis 6.3.4 to 6.3.6; scan/src/abuf/list.rs), and
 //! the whole method on arbitrary screen polygons.
 //!
 //! Lists: fragments of arbitrary masks, depths, colours and order inserted one by one.
@@ -9,14 +9,14 @@
 //! box-filtered per-sample answer: each sample shows the covering fragment of least
 //! (depth, order), or the background.
 //!
-//! Lists past [`abuf::list::MAX_LIST`] merge their farthest fragments: never longer.
+//! Lists past [`scan::abuf::list::MAX_LIST`] merge their farthest fragments: never longer.
 //!
 //! Frames: polygons through `ABuffer::resolve` on screens up to 24×24: no panic, each
 //! pixel sent once (image_of checks), exactly the pixels with a covered sample, and the
 //! same runs with the cull as without it.
 #![no_main]
-use abuf::list::{Fragment, ListStats, Packer, PixelStruct};
-use abuf::ABuffer;
+use scan::abuf::list::{Fragment, ListStats, Packer, PixelStruct};
+use scan::abuf::ABuffer;
 use libfuzzer_sys::fuzz_target;
 use polypipe_fuzz::{polygon, Bytes};
 use proto::Vertex;
@@ -122,7 +122,7 @@ fn lists(b: &mut Bytes) {
             "{got:?} out of range, {frags:?}"
         );
     }
-    assert!(stats.max_list <= abuf::list::MAX_LIST as u64);
+    assert!(stats.max_list <= scan::abuf::list::MAX_LIST as u64);
     if flat && stats.merged == 0 {
         let mut sum = [0u32; 3];
         for s in 0..64 {

@@ -6,7 +6,9 @@
 //! it is written once here for every method that plugs in at a leaf of the splitter tree
 //! (docs/DESIGN.md, "Leaves resolve visibility"): `scanconv` sends the spans on as fragments or resolves them in
 //! a [`RegionBuffer`]; the scan-line, area-subdivision, depth-sort and a-buffer methods
-//! take the same spans, so that every method samples every pixel the same way.
+//! take the same spans, so that every method samples every pixel the same way. The
+//! anti-aliasing leaves' methods are here too ([`supersample`], [`abuf`]): zbuf runs them
+//! in the leaf's place at depth 0 (`zbuf --aa`), and no stage crate depends on another.
 //!
 //! For each polygon the [`SpanWalker`]
 //!
@@ -38,6 +40,7 @@
 //! the cut ([`proto::raster::vertex_rows`]), so a split polygon covers exactly the pixels
 //! of the whole.
 
+pub mod abuf;
 mod depth;
 mod edges;
 pub mod fine;
@@ -45,6 +48,7 @@ pub mod frame;
 pub mod pages;
 pub mod precision;
 pub mod region;
+pub mod supersample;
 mod walk;
 pub mod watkins;
 mod ztest;

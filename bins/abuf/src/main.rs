@@ -1,7 +1,7 @@
 //! abuf: a leaf that anti-aliases with Carpenter's a-buffer.
 
-use abuf::ABuffer;
 use clap::Parser;
+use scan::abuf::ABuffer;
 use stagecli::AntialiasArgs;
 use std::process::ExitCode;
 

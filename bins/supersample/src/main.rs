@@ -1,9 +1,9 @@
 //! supersample: a leaf that anti-aliases by K×K samples per pixel.
 
 use clap::Parser;
+use scan::supersample::Supersample;
 use stagecli::{AntialiasArgs, Error};
 use std::process::ExitCode;
-use supersample::Supersample;
 
 /// Anti-aliasing by supersampling (docs/DESIGN.md, "Anti-aliasing"), a leaf of the
 /// splitter tree.

@@ -1,10 +1,10 @@
 use super::list::FULL;
 use super::*;
+/// The exact K×K reference.
+use crate::fine::supersampled_image as reference;
+use crate::frame::{image_of, square};
 use proptest::prelude::*;
 use proto::DVec4;
-/// The exact K×K reference.
-use scan::fine::supersampled_image as reference;
-use scan::frame::{image_of, square};
 
 fn render_with(polys: &[Polygon], w: u32, h: u32, bg: Colour) -> (Vec<Option<Colour>>, ListStats) {
     let mut runs = Vec::new();

@@ -1,11 +1,12 @@
-//! supersample: anti-aliasing by K×K samples per pixel, box-filtered (docs/DESIGN.md,
-//! "Anti-aliasing"), as a leaf of the splitter tree.
+//! Supersampling: anti-aliasing by K×K samples per pixel, box-filtered (docs/DESIGN.md,
+//! "Anti-aliasing"): the method of the `supersample` leaf of the splitter tree, and of
+//! `zbuf --aa ssK` and `adaptiveK`, which runs it in the leaf's place at depth 0.
 //!
 //! Sample (i, j) of pixel (c, r) lies at (c + (i+½)/K, r + (j+½)/K): the pixel centre
 //! (K·c + i + ½, K·r + j + ½) of a screen K times finer. Each polygon is carried onto that
-//! screen exactly ([`scan::fine::scaled`]; K is a power of two) and every sample is decided
-//! there by the z-buffer's own rule: coverage by [`scan::SpanWalker`], depth by the
-//! polygon's depth plane, decided by the tie rule (`scan::takes`).
+//! screen exactly ([`crate::fine::scaled`]; K is a power of two) and every sample is decided
+//! there by the z-buffer's own rule: coverage by [`crate::SpanWalker`], depth by the
+//! polygon's depth plane, decided by the tie rule (`crate::takes`).
 //! The picture is thus the point-sampled K·W × K·H picture box-filtered in K×K blocks,
 //! which is what `zspec --samples K` computes, in its own arithmetic.
 //!
@@ -14,15 +15,15 @@
 //! sent (the merger shows the background there, as for point sampling).
 //!
 //! Memory is bounded: the frame's polygons are gathered (as every frame-resolving method
-//! does), sorted by their top row ([`scan::fine::ActiveRows`]), and the fine screen is
+//! does), sorted by their top row ([`crate::fine::ActiveRows`]), and the fine screen is
 //! drawn one pixel row (K fine rows) at a time, over the columns the row's polygons may
 //! reach: one band of K × K·W samples, never the K·W × K·H screen.
 
+use crate::fine::{scaled, ActiveRows};
+use crate::frame::{push_row_runs_at, HiddenSurface};
+use crate::{BandWalk, Outline, Run, Span};
 use proto::shade::{Lighting, Shading};
 use proto::{Colour, Polygon};
-use scan::fine::{scaled, ActiveRows};
-use scan::frame::{push_row_runs_at, HiddenSurface};
-use scan::{BandWalk, Outline, Run, Span};
 use std::sync::Arc;
 
 /// No polygon has covered the sample yet.
@@ -61,7 +62,7 @@ pub struct Supersample {
     /// Whether any polygon of the frame is shaded: the flat loop asks nothing more.
     shaded: bool,
     /// The band: K fine rows of the columns in use, depth and polygon of each sample.
-    depth: Vec<scan::Depth>,
+    depth: Vec<crate::Depth>,
     owner: Vec<u32>,
     /// One pixel row of finished pixels.
     row: Vec<Option<Colour>>,
@@ -85,10 +86,10 @@ pub struct Supersample {
 }
 
 impl Supersample {
-    /// K×K samples per pixel; K must satisfy [`scan::fine::valid_samples`] (a power of two
+    /// K×K samples per pixel; K must satisfy [`crate::fine::valid_samples`] (a power of two
     /// up to 16), else the message says why.
     pub fn new(k: u32, background: Colour) -> Result<Self, String> {
-        if !scan::fine::valid_samples(k) {
+        if !crate::fine::valid_samples(k) {
             return Err(format!(
                 "{k} samples a side: K must be 1, 2, 4, 8 or 16 (a power of two, so that the \
                  finer screen is exact)"
@@ -251,7 +252,7 @@ impl Supersample {
     /// classified ([`Supersample::classify`]), the mixed ones sampled and filtered as
     /// whole supersampling does, the uniform ones their polygon's colour; the row's runs
     /// pushed left to right, maximal runs of one colour as
-    /// [`scan::frame::push_row_runs_at`] makes them.
+    /// [`crate::frame::push_row_runs_at`] makes them.
     fn draw_row_adaptive(
         &mut self,
         r: u32,
@@ -400,7 +401,7 @@ impl Supersample {
     /// and last sample column, exact and attained. A pixel is uniform when a polygon P
     /// covers it wholly and its greatest depth is below the tie bar ([`proto::depth::bar`])
     /// of every other toucher's least: then at every sample P takes the sample from
-    /// whoever holds it, and no later polygon takes it from P ([`scan::takes`]), so the
+    /// whoever holds it, and no later polygon takes it from P ([`crate::takes`]), so the
     /// fold ends at P everywhere, and K² samples of one flat colour filter to that colour.
     /// Hidden edges under P, and crossings of polygons, leave the pixel mixed unless P is
     /// in front of them by more than the tie at every sample.
@@ -752,16 +753,16 @@ struct Touch {
     i: u32,
     /// Its spans in the row's `spans`.
     spans: std::ops::Range<u32>,
-    zmin: scan::Depth,
-    zmax: scan::Depth,
-    dz: scan::Depth,
+    zmin: crate::Depth,
+    zmax: crate::Depth,
+    dz: crate::Depth,
     touched: std::ops::Range<u32>,
     whole: std::ops::Range<u32>,
     /// Whether its depth bounds are finite at every pixel it touches, and if they are,
     /// the least and the greatest over those pixels.
     finite: bool,
-    lo: scan::Depth,
-    hi: scan::Depth,
+    lo: crate::Depth,
+    hi: crate::Depth,
 }
 
 impl Touch {
@@ -776,7 +777,7 @@ impl Touch {
     /// monotone in `z_row` and in `x`, so the bounds are the expression at the least and
     /// greatest `z_row` and at the pixel's first and last sample column, exact.
     #[inline]
-    fn depths(&self, c: u32, fx0: u32, k: u32) -> (scan::Depth, scan::Depth) {
+    fn depths(&self, c: u32, fx0: u32, k: u32) -> (crate::Depth, crate::Depth) {
         let (x_first, x_last) = (fx0 + c * k, fx0 + c * k + k - 1);
         let (near, far) = if self.dz >= 0.0 {
             (x_first, x_last)
@@ -784,8 +785,8 @@ impl Touch {
             (x_last, x_first)
         };
         (
-            scan::depth_at(self.zmin, self.dz, near),
-            scan::depth_at(self.zmax, self.dz, far),
+            crate::depth_at(self.zmin, self.dz, near),
+            crate::depth_at(self.zmax, self.dz, far),
         )
     }
 }
@@ -868,7 +869,7 @@ fn sample(
     fx0: u32,
     n: usize,
     band_start: u32,
-    depth: &mut [scan::Depth],
+    depth: &mut [crate::Depth],
     owner: &mut [u32],
     stats: &mut Stats,
 ) {
@@ -880,7 +881,7 @@ fn sample(
         // Polygons come in stream order, so the holder is the earlier
         // one: the tie rule (the z-buffer's). Decided without a branch: where
         // edges and crossings are, which way it goes is anyone's guess.
-        let take = (*o == NONE) & !z.is_nan() | scan::takes(z, *d);
+        let take = (*o == NONE) & !z.is_nan() | crate::takes(z, *d);
         *d = if take { z } else { *d };
         *o = if take { i } else { *o };
         stats.samples_written += take as u64;
@@ -948,10 +949,10 @@ fn block_mean(shading: &Shading, fx: u32, fy: u32, block: std::ops::Range<u32>) 
 struct Class {
     /// The wholly covering polygon of least greatest depth, or [`NONE`].
     front: u32,
-    front_lo: scan::Depth,
-    front_hi: scan::Depth,
+    front_lo: crate::Depth,
+    front_hi: crate::Depth,
     /// The least depth of every other polygon that touches the pixel.
-    other_lo: scan::Depth,
+    other_lo: crate::Depth,
     /// Whether any other polygon touches it.
     others: bool,
 }
@@ -982,7 +983,7 @@ enum Verdict {
 impl Class {
     /// Polygon `i` touches the pixel, its depths at the samples within `lo..=hi`,
     /// covering it wholly or not.
-    fn touch(&mut self, i: u32, lo: scan::Depth, hi: scan::Depth, whole: bool) {
+    fn touch(&mut self, i: u32, lo: crate::Depth, hi: crate::Depth, whole: bool) {
         if lo.is_nan() || hi.is_nan() {
             // No order is known: the pixel is sampled.
             self.others = true;

@@ -1,5 +1,6 @@
-//! abuf: Carpenter's a-buffer as the sampling thesis, 6.3, builds it, as a leaf of the splitter
-//! tree (docs/DESIGN.md, "Anti-aliasing").
+//! Carpenter's a-buffer as the sampling thesis, 6.3, builds it (docs/DESIGN.md,
+//! "Anti-aliasing"): the method of the `abuf` leaf of the splitter tree, and of `zbuf --aa
+//! abuf`, which runs it in the leaf's place at depth 0.
 //!
 //! Scan conversion makes, for every pixel a polygon reaches, a *fragment*: its colour, an
 //! 8×8 bit mask of the sub-pixel samples it covers, and its least and greatest depth
@@ -10,8 +11,8 @@
 //!
 //! The masks follow the point rule exactly: sample (i, j) of pixel (c, r) is at
 //! (c + (i+½)/8, r + (j+½)/8), the pixel centre of a screen 8 times finer, and the polygon
-//! is carried onto that screen exactly ([`scan::fine::scaled`]) and walked by
-//! [`scan::SpanWalker`]: a sample on an edge shared by two polygons goes to exactly one
+//! is carried onto that screen exactly ([`crate::fine::scaled`]) and walked by
+//! [`crate::SpanWalker`]: a sample on an edge shared by two polygons goes to exactly one
 //! of them, so two polygons of one colour sharing an edge leave no seam (the sampling thesis's grey
 //! seam, 6.3). The seed computes masks from each edge's crossings of the pixel, and'ed
 //! together; here they are the spans of the pixel row's eight sub-scanlines, or'ed, which
@@ -26,7 +27,7 @@
 //! and the packer are unchanged.
 //!
 //! Memory stays bounded (6.3.2's *mask buffer*): the frame's polygons are gathered and
-//! sorted by their top row ([`scan::fine::ActiveRows`]), and the a-buffer is kept for one
+//! sorted by their top row ([`crate::fine::ActiveRows`]), and the a-buffer is kept for one
 //! pixel row at a time. For each row, each polygon that reaches it is walked over the
 //! row's eight sub-scanlines into the mask buffer (one element per pixel of the row:
 //! mask, zmin, zmax), whose touched elements become fragments; when every polygon of the
@@ -52,12 +53,12 @@
 
 pub mod list;
 
+use crate::fine::{scaled, ActiveRows, Extent};
+use crate::frame::{push_row_runs_at, HiddenSurface};
+use crate::{depth_at, Depth, DepthPlane, Run, SpanWalker};
 use list::{Fragment, ListStats, Mask, Packer, PixelStruct};
 use proto::shade::{Lighting, Shading};
 use proto::{Colour, Polygon};
-use scan::fine::{scaled, ActiveRows, Extent};
-use scan::frame::{push_row_runs_at, HiddenSurface};
-use scan::{depth_at, Depth, DepthPlane, Run, SpanWalker};
 use std::sync::Arc;
 
 /// Sub-pixel samples a side.
@@ -74,8 +75,8 @@ pub const BLOCK: u32 = 8;
 #[derive(Clone, Copy, Debug, Default)]
 struct MaskElement {
     mask: Mask,
-    zmin: scan::Depth,
-    zmax: scan::Depth,
+    zmin: crate::Depth,
+    zmax: crate::Depth,
 }
 
 /// The a-buffer method.

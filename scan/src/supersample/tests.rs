@@ -1,9 +1,9 @@
 use super::*;
+/// The exact K×K reference.
+use crate::fine::supersampled_image as reference;
+use crate::frame::{image_of, square, zbuffer_image};
 use proptest::prelude::*;
 use proto::DVec4;
-/// The exact K×K reference.
-use scan::fine::supersampled_image as reference;
-use scan::frame::{image_of, square, zbuffer_image};
 
 fn render(polys: &[Polygon], w: u32, h: u32, k: u32, bg: Colour) -> Vec<Option<Colour>> {
     let mut runs = Vec::new();

@@ -25,8 +25,8 @@ pub const SAMPLES: u32 = 64;
 pub struct Fragment {
     pub colour: Colour,
     pub mask: Mask,
-    pub zmin: scan::Depth,
-    pub zmax: scan::Depth,
+    pub zmin: crate::Depth,
+    pub zmax: crate::Depth,
     pub order: u32,
     pub opacity: u8,
 }
@@ -301,7 +301,7 @@ impl PixelStruct {
     /// The depth behind which every fragment is thrown away (6.3.5): the farthest depth
     /// of the nearest fully covering fragment; `+∞` when none covers the pixel.
     /// A fragment of a later polygon whose zmin is beyond it never enters the list.
-    pub fn occluding_depth(&self) -> scan::Depth {
+    pub fn occluding_depth(&self) -> crate::Depth {
         match self {
             PixelStruct::Empty => f64::INFINITY,
             PixelStruct::Simple(f) => f.zmax,
