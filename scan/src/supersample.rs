@@ -241,10 +241,12 @@ impl Supersample {
     #[inline]
     fn filtered(&mut self, sum: [u32; 3], covered: u32, mixed: bool) -> Option<Colour> {
         let count = self.k * self.k;
+        // K² is a power of two: a shift, not a division (three a mixed pixel).
+        let shift = count.trailing_zeros();
         (covered > 0).then(|| {
             self.stats.pixels += 1;
             self.stats.mixed += mixed as u64;
-            sum.map(|s| ((s + count / 2) / count) as u8)
+            sum.map(|s| ((s + count / 2) >> shift) as u8)
         })
     }
 
@@ -362,8 +364,29 @@ impl Supersample {
         let k = self.k;
         let count = k * k;
         let (x0, x1) = (fx0 + c * k, fx0 + c * k + k);
-        let mut rows = [0u32; 16];
         let (mut sum, mut covered, mut one) = (0u64, 0u32, false);
+        if k <= 8 {
+            // The pixel's K² samples in one mask, fine row j at bits jK..jK + K: one count
+            // a touch.
+            let mut held = 0u64;
+            for &t in &self.sets[set.start as usize..set.end as usize] {
+                let touch = &self.touches[t as usize];
+                let mut mask = 0u64;
+                for s in &self.spans[touch.spans.start as usize..touch.spans.end as usize] {
+                    let (a, b) = (s.x0.clamp(x0, x1) - x0, s.x1.clamp(x0, x1) - x0);
+                    mask |= (((1u64 << b) - 1) ^ ((1u64 << a) - 1)) << ((s.y - fy) * k);
+                }
+                let mine = (mask & !held).count_ones();
+                held |= mask;
+                sum += mine as u64 * self.packed[touch.i as usize].0;
+                covered += mine;
+                one |= mine == count;
+            }
+            let background = self.packed[self.packed.len() - 1].0;
+            let sum = Packed(sum + (count - covered) as u64 * background).channels();
+            return self.filtered(sum, covered, !one);
+        }
+        let mut rows = [0u32; 16];
         for &t in &self.sets[set.start as usize..set.end as usize] {
             let touch = &self.touches[t as usize];
             let mut mine = 0;
