@@ -2,6 +2,9 @@
 
 use clap::Parser;
 use proto::Colour;
+use scan::abuf::ABuffer;
+use scan::frame::HiddenSurface;
+use scan::supersample::Supersample;
 use stagecli::stats::Record;
 use stagecli::{Error, PpmTextFlag, ProjectArgs};
 use std::io::{self, Write};
@@ -18,12 +21,15 @@ use zbuf::{parse_colour, FramePattern, ImageFormat};
 /// (persp's output): zbuf then scan-converts and depth-tests it itself, as
 /// `scanconv --resolve` would, and places the result; with --project, an eye-space one
 /// (the clipper's output), projected here as persp would (render.sh --depth 0 runs
-/// `clipbatch | zbuf --project --size WxH`).
+/// `clipbatch | zbuf --project --size WxH`). With --aa MODE such an input is resolved by
+/// an anti-aliasing leaf's method instead (supersample's or abuf's, their bytes): render
+/// --aa MODE at depth 0.
 ///
 /// Examples:
 ///   persp --size 500x500 < eye.pp | scanconv | zbuf > frame.ppm
 ///   persp --size 500x500 < eye.pp | zbuf > frame.ppm
 ///   zbuf --project --size 500x500 < eye.pp > frame.ppm
+///   zbuf --project --size 500x500 --aa adaptive4 < eye.pp > frame.ppm
 ///   zbuf --project --zmode eye-z --size 500x500 < eye.pp > frame.ppm
 ///   zbuf --background 20,20,40 -o frame%04d.png left.frag right.frag
 ///   scene spheres --frames 100 | viewxf | clipplane left | ... | clipplane yon \
@@ -68,6 +74,64 @@ struct Args {
     /// when stderr is not a terminal (redirected to a file or a pipe).
     #[arg(long)]
     progress: bool,
+    /// Resolve the one polygon input here with an anti-aliasing leaf's method instead of
+    /// the z-buffer (render's --aa at depth 0: the leaf and the merger in one process):
+    /// ssK (`supersample --samples K`, K = 2, 4, 8 or 16), adaptiveK (`supersample
+    /// --samples K --adaptive`) or abuf (`abuf`), each that leaf's bytes; none (the
+    /// default) is the z-buffer.
+    #[arg(long, value_name = "MODE", value_parser = parse_aa, default_value = "none")]
+    aa: Aa,
+}
+
+/// zbuf's `--aa`: the anti-aliasing leaf whose method resolves a polygon input here.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Aa {
+    None,
+    Supersample { k: u32, adaptive: bool },
+    ABuffer,
+}
+
+fn parse_aa(s: &str) -> Result<Aa, String> {
+    let k = |digits: &str| match digits.parse::<u32>() {
+        Ok(k) if [2, 4, 8, 16].contains(&k) => Ok(k),
+        _ => Err("not none, ssK, adaptiveK (K = 2, 4, 8 or 16) or abuf".to_string()),
+    };
+    match (s, s.strip_prefix("ss"), s.strip_prefix("adaptive")) {
+        ("none", ..) => Ok(Aa::None),
+        ("abuf", ..) => Ok(Aa::ABuffer),
+        (_, Some(d), _) => Ok(Aa::Supersample {
+            k: k(d)?,
+            adaptive: false,
+        }),
+        (_, _, Some(d)) => Ok(Aa::Supersample {
+            k: k(d)?,
+            adaptive: true,
+        }),
+        _ => k("").map(|_| Aa::None),
+    }
+}
+
+impl Aa {
+    /// The leaf stage whose method this is, as messages name it.
+    fn leaf(self) -> &'static str {
+        match self {
+            Aa::None => "zbuf",
+            Aa::Supersample { .. } => "supersample",
+            Aa::ABuffer => "abuf",
+        }
+    }
+
+    /// The leaf's method, with the background its uncovered samples show.
+    fn method(self, background: Colour) -> Option<Box<dyn HiddenSurface + Send>> {
+        match self {
+            Aa::None => None,
+            Aa::Supersample { k, adaptive } => {
+                let m = Supersample::new(k, background).ok()?;
+                Some(Box::new(if adaptive { m.adaptive() } else { m }))
+            }
+            Aa::ABuffer => Some(Box::new(ABuffer::new(background))),
+        }
+    }
 }
 
 /// What the arguments ask, checked before any input is read.
@@ -107,6 +171,11 @@ fn plan(args: &Args) -> Result<Plan, Error> {
             "--text writes plain PPM, but -o {} asks for PNG: name .ppm files or leave out --text",
             args.output.as_deref().unwrap_or_default()
         )));
+    }
+    if args.aa != Aa::None && (args.inputs.len() > 1 || args.runs) {
+        return Err(Error::usage(
+            "--aa resolves one polygon input into pictures: not with several inputs or --runs",
+        ));
     }
     if args.inputs.iter().filter(|i| *i == "-").count() > 1 {
         return Err(Error::usage(
@@ -209,8 +278,16 @@ fn main() -> ExitCode {
         };
         // One input and pictures out: a screen-space input is resolved and painted in
         // this thread, with nothing passed between threads (`one_input`).
+        let mut method = args.aa.method(args.background);
         let stats = if inputs.len() == 1 && !args.runs {
-            zbuf::par_buff::one_input(inputs.remove(0), args.background, on_frame)
+            let m = match &mut method {
+                Some(m) => Some(zbuf::par_buff::Leaf {
+                    name: args.aa.leaf(),
+                    method: &mut **m,
+                }),
+                None => None,
+            };
+            zbuf::par_buff::one_input(inputs.remove(0), args.background, m, on_frame)
         } else {
             par_buff(inputs, args.background, args.runs, on_frame)
         };
@@ -229,7 +306,23 @@ fn main() -> ExitCode {
             for (name, s) in names.iter().zip(stats) {
                 let name = stagecli::input_name(name);
                 let record = Record::new("zbuf").with("input", name);
-                if let Some(r) = s.resolved {
+                if let (Some(r), Some(m)) = (s.resolved, &method) {
+                    // The leaf's line (`leaf::resolve_frames`), under zbuf's name.
+                    let mut record = record
+                        .with("polygons_in", r.polygons)
+                        .with("frames", r.frames)
+                        .with("runs", s.runs);
+                    for (key, value) in m.counters() {
+                        record.set(key, value);
+                    }
+                    record.print(&format!(
+                        "zbuf: {name}: {} polygons in, {} frames, {} runs, {}",
+                        r.polygons,
+                        r.frames,
+                        s.runs,
+                        m.stats()
+                    ));
+                } else if let Some(r) = s.resolved {
                     // Runs only where they were passed between threads.
                     let runs = if s.runs > 0 {
                         format!(", {} runs", s.runs)

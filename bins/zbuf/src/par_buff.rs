@@ -15,6 +15,7 @@
 use crate::FrameBuffer;
 use proto::shade::{Lighting, Shading};
 use proto::{Attributes, Colour, DVec4, DepthForm, Fragment, Reader, SpaceKind, Token};
+use scan::frame::HiddenSurface;
 use scan::precision::QuantumWatch;
 use scan::{check_on_screen, RegionBuffer, SpanWalker};
 use stagecli::memory::Spare;
@@ -125,6 +126,9 @@ pub struct Resolved {
     /// Depth tests that rounding in a coarse depth form, not the tie rule, decided
     /// ([`scan::precision`]).
     pub rounding_decided: u64,
+    /// Frames resolved (counted where a method other than the z-buffer resolved them,
+    /// [`one_input`]'s `method`).
+    pub frames: u64,
 }
 
 /// From a reader thread to the buffer thread.
@@ -646,9 +650,14 @@ fn warn_rounding(watch: &mut Option<QuantumWatch>, frame: u64) -> u64 {
 /// ([`RegionBuffer::finish_into`]): no runs, no reader thread, no batches. Any other
 /// input goes to [`par_buff`]. The header is recognised from the input's first bytes,
 /// which are then read again as the start of the stream.
+///
+/// With `method` (`zbuf --aa MODE`, render's `--aa` at depth 0),
+/// that method resolves each frame of a polygon input instead of the z-buffer
+/// ([`by_method`]); a fragment input is then refused.
 pub fn one_input(
     input: Input,
     background: Colour,
+    method: Option<Leaf<'_>>,
     mut on_frame: impl FnMut(u64, &FrameBuffer) -> Result<()>,
 ) -> Result<Vec<InputStats>> {
     let name = input.name.clone();
@@ -661,27 +670,35 @@ pub fn one_input(
     // pieces), or 64 KiB, or the end; then handed on ahead of the rest.
     let mut head = Vec::new();
     let to_screen = input.to_screen;
+    // Whether the header says a polygon stream to resolve here; None where no header was
+    // read (par_buff says what is wrong with it).
     let screen = loop {
         if let Ok(r) = Reader::<Token, _>::new(&head[..]) {
-            break match SpaceKind::of(&r.header().space) {
+            break Some(match SpaceKind::of(&r.header().space) {
                 SpaceKind::Screen => true,
                 SpaceKind::Eye => to_screen.is_some(),
                 _ => false,
-            };
+            });
         }
         if head.len() >= 1 << 16 {
-            break false;
+            break None;
         }
         let mut chunk = [0u8; 4096];
         match inner.read(&mut chunk) {
-            Ok(0) => break false,
+            Ok(0) => break None,
             Ok(n) => head.extend_from_slice(&chunk[..n]),
             Err(e) if e.kind() == std::io::ErrorKind::Interrupted => {}
             Err(e) => return Err(Error::io(stagecli::error::io_message(&e)).context(name)),
         }
     };
     let buffered = std::io::Cursor::new(head).chain(inner);
-    if !screen {
+    if screen == Some(false) && method.is_some() {
+        return Err(Error::usage(format!(
+            "{name}: --aa resolves a polygon stream here (screen space, or eye space with \
+             --project), and this is a stream of fragments"
+        )));
+    }
+    if screen != Some(true) {
         let rest = Input {
             name: input.name,
             open: Box::new(move || Ok(Box::new(buffered) as Box<dyn Read + Send>)),
@@ -701,6 +718,16 @@ pub fn one_input(
     crate::check_memory(width, height).map_err(|e| e.context(&name))?;
     let mut fb = FrameBuffer::new(width, height, background)
         .map_err(|m| Error::io(format!("{name}: {m}")))?;
+    if let Some(method) = method {
+        let resolved = by_method(reader, &stream, fb, background, method, on_frame)
+            .map_err(|e| e.context(&name))?;
+        return Ok(vec![InputStats {
+            bytes: bytes.load(Ordering::Relaxed),
+            runs: resolved.1,
+            resolved: Some(resolved.0),
+            ..Default::default()
+        }]);
+    }
     // Two region buffers go round between two threads: this one paints frame k from one
     // into the frame buffer and writes it while the reader thread scan-converts frame
     // k + 1 into the other.
@@ -784,6 +811,119 @@ pub fn one_input(
     }])
 }
 
+/// An anti-aliasing leaf's method that zbuf runs in the leaf's place (`zbuf --aa`), and
+/// the leaf's name, which its messages give as the leaf's would.
+pub struct Leaf<'a> {
+    pub name: &'static str,
+    pub method: &'a mut (dyn HiddenSurface + Send),
+}
+
+/// [`one_input`] with a frame-resolving `method` in the leaf's place (the anti-aliasing
+/// leaf's method, `supersample`'s or `abuf`'s, when render runs `--aa` at depth 0):
+/// the leaf's and the merger's work in one process, as the z-buffer's is at depth 0
+/// (docs/performance.md, "Start-up"). A reader thread gathers each frame's polygons,
+/// projected and checked as a leaf checks them (`leaf::resolve`: on the screen's guard
+/// band, opaque unless the method draws transparency, flat unless it shades), has the
+/// method resolve them into runs, and hands the runs to this thread, which paints them
+/// over the background and writes the frame while the next one is read and resolved:
+/// the pixels `supersample` would have sent as runs, neither encoded, piped nor decoded.
+/// Returns the counts and the runs painted.
+fn by_method<R: Read + Send>(
+    mut reader: Reader<Token, R>,
+    stream: &Resolvable,
+    mut fb: FrameBuffer,
+    background: Colour,
+    leaf: Leaf<'_>,
+    mut on_frame: impl FnMut(u64, &FrameBuffer) -> Result<()>,
+) -> Result<(Resolved, u64)> {
+    let Leaf { name: leaf, method } = leaf;
+    let (width, height) = (stream.width, stream.height);
+    if let Some((name, word)) = stream.attributes.smooth_shading() {
+        if !method.shades() {
+            return Err(Error::usage(format!(
+                "{leaf} draws each polygon in one colour, and the stream is {name}-shaded \
+                 (its header says `{word}`)"
+            )));
+        }
+    }
+    method.set_lighting(stream.attributes.phong());
+    // Two run lists go round between the threads, as the region buffers do in
+    // [`one_input`].
+    let (to_paint, painting) = sync_channel::<Vec<scan::Run>>(1);
+    let (to_reuse, reusable) = sync_channel::<Vec<scan::Run>>(2);
+    std::thread::scope(|scope| -> Result<(Resolved, u64)> {
+        let reader_thread = scope.spawn(move || -> Result<Resolved> {
+            let mut counts = Resolved::default();
+            let mut polygons: Vec<proto::Polygon> = Vec::new();
+            let mut runs = Vec::new();
+            let mut spare = Some(Vec::new());
+            let mut record = Token::default();
+            while reader.next_into(&mut record)? {
+                match &mut record {
+                    Token::Polygon(p) => {
+                        stream.project(p, &reader)?;
+                        check_on_screen(p, width, height)
+                            .map_err(|m| Error::data(format!("{}: {m}", reader.position())))?;
+                        if !method.transparency() {
+                            stagecli::refuse_transparent(leaf, p, || reader.position())?;
+                        }
+                        counts.polygons += 1;
+                        polygons.push(std::mem::take(p));
+                    }
+                    Token::Skip(_) => {}
+                    Token::NextFrame | Token::End => {
+                        method.resolve(&polygons, width, height, &mut runs);
+                        polygons.clear();
+                        counts.frames += 1;
+                        let next = match spare.take() {
+                            Some(r) => r,
+                            None => match reusable.recv() {
+                                Ok(r) => r,
+                                Err(_) => break, // the painter stopped; it says why
+                            },
+                        };
+                        if to_paint.send(std::mem::replace(&mut runs, next)).is_err() {
+                            break;
+                        }
+                    }
+                }
+            }
+            Ok(counts)
+        });
+        let mut frame = 0u64;
+        let mut painted_runs = 0u64;
+        let painted = (|| -> Result<()> {
+            for mut runs in painting.iter() {
+                // The first frame over the background the frame buffer was made with;
+                // each later one over the background put back.
+                let raster = fb.raster_mut();
+                if frame > 0 {
+                    raster.fill(background);
+                }
+                for r in &runs {
+                    let row = r.y as usize * width as usize;
+                    raster[row + r.x0 as usize..row + r.x1 as usize].fill(r.colour);
+                }
+                painted_runs += runs.len() as u64;
+                on_frame(frame, &fb)?;
+                frame += 1;
+                runs.clear();
+                let _ = to_reuse.send(runs);
+            }
+            Ok(())
+        })();
+        drop(painting);
+        drop(to_reuse);
+        let read = reader_thread
+            .join()
+            .unwrap_or_else(|_| Err(Error::data("the reader thread panicked")));
+        // A read error first, as in [`one_input`].
+        let counts = read?;
+        painted?;
+        Ok((counts, painted_runs))
+    })
+}
+
 /// A screen-space input (persp's output) is a leaf's and its merger's work at once: the
 /// reader thread scan-converts its polygons into a [`RegionBuffer`], the leaf's z-buffer
 /// (docs/DESIGN.md, "Leaves resolve visibility"). A tree's merger resolves leaf 0 so.
@@ -847,6 +987,7 @@ fn resolve_input<R: Read>(
             pixels_tested: region.stats.pixels_tested,
             pixels_written: region.stats.pixels_written,
             rounding_decided,
+            ..Default::default()
         });
         if end {
             let _ = send(Message::Boundary {

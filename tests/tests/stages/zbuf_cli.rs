@@ -841,3 +841,109 @@ fn runs_are_placed_without_a_depth_test() {
     let counts = ["spans", "runs", "pixels"].map(|k| record.count(k));
     assert_eq!(counts, [Some(0), Some(2), Some(3)], "{said}");
 }
+
+/// `zbuf --project --aa MODE`, what render runs for `--aa MODE` at depth 0, is the
+/// anti-aliasing leaf piped to zbuf byte for byte, and says what the leaf said: on
+/// generated scenes (random environments of two frames at three seeds, where the second
+/// frame is painted over the first's pixels; a shaded sphere; the Gouraud, Phong and
+/// transparent examples), every mode, on screens of two shapes.
+#[test]
+fn zbuf_aa_is_the_anti_aliasing_leaf_piped_to_zbuf() {
+    let leaf = |mode: &str| match mode {
+        "abuf" => "abuf".to_string(),
+        m => match m.strip_prefix("adaptive") {
+            Some(k) => format!("supersample --samples {k} --adaptive"),
+            None => format!("supersample --samples {}", &m[2..]),
+        },
+    };
+    let scenes = [
+        "scene environment --polygons 300 --frames 2 --seed 1",
+        "scene environment --polygons 300 --frames 2 --seed 2 --depth-complexity 3",
+        "scene environment --polygons 60 --frames 2 --seed 3",
+        "scene sphere",
+        "cat examples/gouraud.txt",
+        "cat examples/phong.txt",
+        "cat examples/transparent.txt",
+    ];
+    for scene in scenes {
+        for size in ["97x61", "64x128"] {
+            let eye = format!("{scene} | viewxf --size {size} | clipbatch");
+            for mode in ["ss2", "ss4", "adaptive4", "adaptive8", "ss16", "abuf"] {
+                let apart = pipeline_tests::sh(
+                    &format!(
+                        "{eye} | persp --size {size} | {} --stats | zbuf",
+                        leaf(mode)
+                    ),
+                    b"",
+                );
+                let fused = pipeline_tests::sh(
+                    &format!("{eye} | zbuf --project --size {size} --aa {mode} --stats"),
+                    b"",
+                );
+                let what = format!("{scene} at {size}, {mode}");
+                assert_eq!(apart.status.success(), fused.status.success(), "{what}");
+                if !apart.status.success() {
+                    // The transparent example under supersampling: refused alike (the
+                    // pipe's status is zbuf's, its input cut short).
+                    assert_eq!(fused.status.code(), Some(2), "{what}");
+                    let said = String::from_utf8_lossy(&fused.stderr);
+                    assert!(
+                        said.starts_with("zbuf: stdin: frame 0, polygon 1: a polygon of opacity")
+                            && said.contains("supersample draws opaque polygons only"),
+                        "{what}: {said}"
+                    );
+                    continue;
+                }
+                assert!(!fused.stdout.is_empty(), "{what}");
+                assert!(apart.stdout == fused.stdout, "{what}: the frames differ");
+                // The leaf's counters, under zbuf's name: `supersample: … N runs out,
+                // COUNTS` against `zbuf: stdin: … N runs, COUNTS`.
+                let counts = |stderr: &[u8], after: &str| {
+                    let text = String::from_utf8_lossy(stderr).into_owned();
+                    let line = text.lines().next().unwrap_or_default().to_string();
+                    line.split_once(after).map(|(_, c)| c.to_string())
+                };
+                let (a, f) = (
+                    counts(&apart.stderr, "runs out, "),
+                    counts(&fused.stderr, "runs, "),
+                );
+                assert!(a.is_some() && a == f, "{what}: {a:?} {f:?}");
+            }
+        }
+    }
+}
+
+/// `zbuf --aa` resolves one polygon input into pictures: several inputs, `--runs`, a
+/// fragment stream and a mode that is none of the leaves' are usage errors (status 2).
+#[test]
+fn zbuf_aa_refuses_what_it_cannot_resolve() {
+    for (script, said) in [
+        (
+            "zbuf --aa ss4 a b",
+            "zbuf: --aa resolves one polygon input into pictures: not with several inputs or --runs\n",
+        ),
+        (
+            "zbuf --aa adaptive2 --runs",
+            "zbuf: --aa resolves one polygon input into pictures: not with several inputs or --runs\n",
+        ),
+        (
+            "scene penetrating | viewxf --size 40x30 | clipbatch | persp --size 40x30 | scanconv | zbuf --aa ss2",
+            "zbuf: stdin: --aa resolves a polygon stream here (screen space, or eye space with \
+             --project), and this is a stream of fragments\n",
+        ),
+    ] {
+        let out = pipeline_tests::sh(script, b"");
+        assert_eq!(out.status.code(), Some(2), "{script}");
+        assert_eq!(String::from_utf8_lossy(&out.stderr), said, "{script}");
+        assert!(out.stdout.is_empty(), "{script}");
+    }
+    for mode in ["ss3", "adaptive", "ss", "abuf8", "zbuf"] {
+        let out = pipeline_tests::sh(&format!("zbuf --aa {mode} < /dev/null"), b"");
+        assert_eq!(out.status.code(), Some(2), "{mode}");
+        let said = String::from_utf8_lossy(&out.stderr);
+        assert!(
+            said.starts_with(&format!("zbuf: invalid value '{mode}' for '--aa <MODE>': not none, ssK, adaptiveK (K = 2, 4, 8 or 16) or abuf")),
+            "{mode}: {said}"
+        );
+    }
+}
