@@ -502,12 +502,12 @@ impl Accuracy {
 /// The predicted time of mode `aa` at `depth` on a scene, its covered pixels costing
 /// `samples` point samples each: `none` as the point-sampled z-buffer runs
 /// ([`model::predict_on`]: at depth 0 one `zbuf --project`, deeper zbuf resolving leaf
-/// 0), any other mode with its leaves apart ([`model::predict_sampled`]: at depth 0
-/// persp, the leaf and zbuf, two processes and two pipes more), at the leaves' rate a
-/// sample at every depth. With one layout for both, the sampling modes' two processes
-/// more were priced as samples at depth 0, on screens of every size alike, and
-/// `--max-error` chose depth 0 for them where depth 1 was 1.3–1.6 times faster on
-/// 250×250 and 500×500 frames.
+/// 0); any other mode at depth 0 as `none` plus its leaf's samples beyond one a covered
+/// pixel (render runs it in the same one process, `zbuf --project --aa MODE`), deeper
+/// with its leaves apart ([`model::predict_sampled`]), at the leaves' rate a sample at
+/// every depth. With one layout for all depths, a leaf's processes were priced as
+/// samples, on screens of every size alike, and `--max-error` chose depth 0 for the
+/// sampling modes where depth 1 was 1.3–1.6 times faster on 250×250 and 500×500 frames.
 pub fn mode_time(
     k: &Constants,
     env: &Environment,
@@ -524,6 +524,14 @@ pub fn mode_time(
         area: env.area * samples,
         ..*env
     };
+    if depth == 0 && target.hosts.is_none() {
+        // render runs the leaf's method in `zbuf --project --aa MODE` (its graph's
+        // `merger_samples`): `none`'s one process, its leaf's work `samples` times a
+        // covered pixel's where `none`'s is one, at the leaves' rate.
+        let one = model::predict_sampled(k, env, 0, target).total_s;
+        let many = model::predict_sampled(k, &scaled, 0, target).total_s;
+        return point + (many - one).max(0.0);
+    }
     // A sampling mode does all that `none` does at the same depth and more, so it costs at
     // least that: on a tiny scene the model's two cores otherwise spread the layout's five
     // short stages below `none`'s one `zbuf --project` doing persp's work and the
@@ -918,7 +926,7 @@ mod tests {
     }
 
     #[test]
-    fn a_modes_samples_reproduce_its_measured_ratio_with_its_leaf_apart() {
+    fn a_modes_samples_reproduce_its_measured_ratio_in_the_merger_at_depth_0() {
         let k = Constants::committed();
         let env = Environment {
             text: true,
@@ -926,10 +934,12 @@ mod tests {
         };
         let t = Target::cores(2);
         let none = mode_time(&k, &env, "none", 1.0, 0, &t);
-        // One sample a pixel with the leaf apart already costs more than `none`.
-        let apart = mode_time(&k, &env, "ss4", 1.0, 0, &t);
-        assert!(apart > none, "{apart} {none}");
-        assert_eq!(samples_for_ratio(&k, &env, &t, apart / none * 0.99), 1.0);
+        // At depth 0 the leaf's method runs in none's one process: one sample a pixel
+        // costs what `none` does, and each sample more adds to it.
+        assert_eq!(mode_time(&k, &env, "ss4", 1.0, 0, &t), none);
+        assert!(mode_time(&k, &env, "ss4", 2.0, 0, &t) > none);
+        assert!(mode_time(&k, &env, "ss4", 4.0, 0, &t) > mode_time(&k, &env, "ss4", 2.0, 0, &t));
+        assert_eq!(samples_for_ratio(&k, &env, &t, 0.99), 1.0);
         for ratio in [2.0, 5.0, 20.0] {
             let s = samples_for_ratio(&k, &env, &t, ratio);
             let back = mode_time(&k, &env, "ss4", s, 0, &t) / none;

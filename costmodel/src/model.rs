@@ -432,12 +432,12 @@ pub fn predict_on(k: &Constants, env: &Environment, depth: u8, target: &Target) 
     predict_layout(k, env, depth, target, false)
 }
 
-/// [`predict_on`] for a render whose leaves are processes of their own at every depth,
-/// as render runs an anti-aliasing leaf (`--aa ssK`, `adaptiveK`, `abuf`): at depth 0
-/// persp, the leaf and zbuf merging its runs, where the point-sampled z-buffer is one
-/// `zbuf --project`; deeper, every leaf a process, where zbuf resolves leaf 0 itself.
-/// The leaf is priced at the leaves' scan converter's rates ([`Constants::hse`]) at
-/// every depth, `env.area` its samples.
+/// [`predict_on`] for a render of an anti-aliasing leaf (`--aa ssK`, `adaptiveK`,
+/// `abuf`): at depth 0 one `zbuf --project --samples K` doing persp's, the leaf's and the
+/// merger's work (the a-buffer's leaf is priced so too), as the point-sampled z-buffer
+/// is one `zbuf --project`; deeper, every leaf a process of its own, where zbuf resolves
+/// the z-buffer's leaf 0 itself. The leaf is priced at the leaves' scan converter's rates
+/// ([`Constants::hse`]) at every depth, `env.area` its samples.
 pub fn predict_sampled(k: &Constants, env: &Environment, depth: u8, target: &Target) -> Prediction {
     predict_layout(k, env, depth, target, true)
 }
@@ -511,10 +511,13 @@ fn predict_layout(
     // each.
     let mut leaf_stages = Vec::new();
     if depth == 0 && host_level.is_none() && apart {
-        // persp, the leaf, and zbuf placing its runs and writing the frames.
-        stages.push(one("persp", k.persp.time(&leaf)));
-        stages.push(one("hse", k.hse.time(&leaf)));
-        stages.push(one("merge", k.merge.time(&merge_work)));
+        // One leaf, whose region is the screen: render runs `zbuf --project --samples K`,
+        // zbuf doing persp's work, the leaf's (at the leaves' rates, `env.area` its
+        // samples) and its own, painting the leaf's runs and writing the frames, in one
+        // process: the three stages' work less the two processes' starts.
+        let total = k.persp.time(&leaf) - k.persp.process + k.hse.time(&leaf) - k.hse.process
+            + k.merge.time(&merge_work);
+        stages.push(one("hse", total));
     } else if depth == 0 && host_level.is_none() {
         // One leaf, whose region is the screen: render.sh runs `zbuf --project`, zbuf
         // projecting the clipper's stream (at persp's cost), resolving the leaf and
@@ -1166,25 +1169,31 @@ mod tests {
     }
 
     #[test]
-    fn a_sampling_leaf_is_a_process_of_its_own_at_every_depth() {
+    fn a_sampling_leaf_is_the_merger_at_depth_0_and_a_process_of_its_own_deeper() {
         let k = constants();
         let e = env(1, 500, 500, 0.01);
-        // render --aa ssK's graph (bins/render/src/graph.rs, `merger_is_leaf`): at depth
-        // 0 viewxf, clipbatch, persp, the leaf and zbuf; deeper the splitters, every leaf
-        // a process, and zbuf merging.
+        // render --aa ssK's graph (bins/render/src/graph.rs, `merger_samples`): at depth
+        // 0 viewxf, clipbatch and `zbuf --project --aa ssK`; deeper the splitters, every
+        // leaf a process, and zbuf merging.
         let counts: Vec<(usize, usize)> = (0..=3)
             .map(|d| {
                 let p = predict_sampled(&k, &e, d, &Target::cores(2));
                 (p.processes, p.pipes)
             })
             .collect();
-        assert_eq!(counts, [(5, 4), (6, 6), (8, 10), (14, 20)]);
+        assert_eq!(counts, [(3, 2), (6, 6), (8, 10), (14, 20)]);
         let p0 = predict_sampled(&k, &e, 0, &Target::cores(2));
         let stage = |name: &str| p0.stages.iter().find(|s| s.stage == name).unwrap().each_s;
         let w = stage_work(&e, false);
-        assert_eq!(stage("persp"), k.persp.time(&w.flowing));
-        assert_eq!(stage("hse"), k.hse.time(&w.flowing));
-        assert_eq!(stage("merge"), k.merge.time(&w.merge));
+        // persp's work, the leaf's and the merger's, in one process.
+        let one = k.persp.time(&w.flowing) - k.persp.process + k.hse.time(&w.flowing)
+            - k.hse.process
+            + k.merge.time(&w.merge);
+        assert_eq!(stage("hse"), one);
+        assert!(p0
+            .stages
+            .iter()
+            .all(|s| s.stage != "persp" && s.stage != "merge"));
         // Deeper, zbuf resolves no leaf: its work is the merge alone.
         let p2 = predict_sampled(&k, &e, 2, &Target::cores(2));
         let merge = p2.stages.iter().find(|s| s.stage == "merge").unwrap();

@@ -32,6 +32,11 @@ pub struct Args {
     /// One round: a check that it works.
     #[arg(long)]
     pub quick: bool,
+    /// Also time DIR's render (another build's binaries, as they are) with both modes in
+    /// the same rounds, and print its figures beside these: a change measured before and
+    /// after on the one machine at once.
+    #[arg(long, value_name = "DIR")]
+    pub before: Option<std::path::PathBuf>,
 }
 
 /// Runs `bench adaptive`.
@@ -57,7 +62,7 @@ pub fn main(a: &Args) -> Result<()> {
     let stats = k.out(&format!(
         "{leaf} --adaptive --stats < {screen} 2>&1 >/dev/null"
     ))?;
-    let lines = [
+    let mut lines = vec![
         render(&format!("ss{s}")),
         render(&format!("adaptive{s}")),
         format!("{leaf} < {screen}"),
@@ -65,6 +70,18 @@ pub fn main(a: &Args) -> Result<()> {
         // The shell each line is run by, alone: its start is in every figure.
         "true".to_string(),
     ];
+    let before = a.before.as_ref().map(|dir| {
+        let render = crate::kit::q(&dir.join("render").display().to_string());
+        let line = |aa: &str| format!("{render} --size {size} --depth 0 --aa {aa} {world}");
+        (
+            dir.display().to_string(),
+            line(&format!("ss{s}")),
+            line(&format!("adaptive{s}")),
+        )
+    });
+    if let Some((_, ss, adaptive)) = &before {
+        lines.extend([ss.clone(), adaptive.clone()]);
+    }
     let runs = interleaved(reps, &lines)?;
     println!(
         "{} `scene {args}`; CPU seconds, median of {reps} interleaved rounds.",
@@ -102,5 +119,21 @@ pub fn main(a: &Args) -> Result<()> {
         shell * 1000.0,
         ratio(adaptive - shell, ss - shell)
     );
+    if let Some((dir, ..)) = &before {
+        println!();
+        println!("The render of {dir} in the same rounds:");
+        println!();
+        header(&["render", "before CPU s", "now CPU s", "now / before"]);
+        for (i, what) in [format!("ss{s}"), format!("adaptive{s}")]
+            .iter()
+            .enumerate()
+        {
+            let (was, now) = (
+                median_of(&runs[5 + i], Figure::Cpu),
+                median_of(&runs[i], Figure::Cpu),
+            );
+            row(&[what.clone(), ms(was), ms(now), ratio(now, was)]);
+        }
+    }
     Ok(())
 }

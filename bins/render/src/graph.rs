@@ -178,10 +178,26 @@ impl Builder<'_> {
             && o.hosts.is_empty()
     }
 
+    /// Whether the merger resolves the whole screen with the anti-aliasing leaf's method:
+    /// at depth 0, with --merge tiles, every `--aa` mode runs as `zbuf --project --aa
+    /// MODE`, the leaf's method in the merger's process as the point-sampled z-buffer's
+    /// is ([`Builder::merger_is_leaf`]), so that depth 0 is viewxf | clipbatch | zbuf for
+    /// them too: persp's and the leaf's processes, and the runs encoded, piped and
+    /// decoded, fewer (docs/performance.md, "Start-up"). Deeper, every anti-aliasing
+    /// leaf is a process of its own.
+    fn merger_samples(&self) -> bool {
+        let o = self.o;
+        self.c.depth == 0
+            && o.aa != "none"
+            && o.merge == Merge::Tiles
+            && o.subtree.is_none()
+            && o.hosts.is_empty()
+    }
+
     /// The clipper chain: viewxf and the six planes of the pyramid (chapter 3). Returns
     /// the clipped stream: at depth 0 with the merger the leaf, the merger's `leaf-0`.
     fn clipper_chain(&mut self) -> End {
-        let out = if self.c.depth == 0 && self.merger_is_leaf() {
+        let out = if self.c.depth == 0 && (self.merger_is_leaf() || self.merger_samples()) {
             "leaf-0"
         } else {
             "clipped"
@@ -347,6 +363,9 @@ impl Builder<'_> {
                     self.to_screen = zmode_words(ZStage::Projecting, self.o.zmode);
                     self.to_screen
                         .extend(["--size".into(), self.o.size.clone()]);
+                    if self.merger_samples() {
+                        self.to_screen.extend(["--aa".into(), self.o.aa.clone()]);
+                    }
                 }
             } else {
                 let name = format!("leaf-{leaf}");
@@ -562,6 +581,35 @@ mod tests {
                 "zbuf: /dev/null > -: zbuf --project --zmode reciprocal --size 64x64 leaf-0 [1]",
             ]
         );
+    }
+
+    #[test]
+    fn anti_aliasing_at_depth_0_is_the_merger_and_deeper_a_leaf_of_its_own() {
+        for aa in ["ss4", "adaptive2", "abuf"] {
+            assert_eq!(
+                graph(&["--size", "64x64", "--aa", aa, "--stats", "s.txt"], 0),
+                [
+                    "viewxf: s.txt > |view: viewxf --size 64x64 [0]".to_string(),
+                    "clipbatch: |view > |leaf-0: clipbatch [0]".into(),
+                    format!(
+                        "zbuf: /dev/null > -: zbuf --stats --project --zmode reciprocal --size \
+                         64x64 --aa {aa} leaf-0 [1]"
+                    ),
+                ]
+            );
+        }
+        let g = graph(&["--size", "64x64", "--aa", "adaptive4", "s.txt"], 1);
+        assert_eq!(
+            g[3..],
+            [
+                "supersample (leaf 0): |node-2 > |leaf-0: supersample --samples 4 --adaptive [0]",
+                "supersample (leaf 1): |node-3 > |leaf-1: supersample --samples 4 --adaptive [0]",
+                "zbuf: /dev/null > -: zbuf leaf-0 leaf-1 [2]",
+            ]
+        );
+        // --merge buffer's leaves send fragments: no anti-aliasing there to take in.
+        let g = graph(&["--merge", "buffer", "s"], 0);
+        assert_eq!(g[3], "scanconv: |screen-0 > |leaf-0: scanconv [0]");
     }
 
     #[test]

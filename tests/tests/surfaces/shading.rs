@@ -268,7 +268,7 @@ fn hidden_lines_refuse_a_shaded_stream_and_name_what_shades() {
 #[test]
 fn a_transparent_polygon_is_refused_where_it_would_be_drawn_opaque() {
     // At depth 1 either leaf may be the first to meet the polygon (both get a piece); with
-    // --merge tiles leaf 0 is the merger's own, zbuf.
+    // --merge tiles leaf 0 is the merger's own, zbuf, for the z-buffer.
     for (options, refusers) in [
         ("--depth 0", &[("zbuf: leaf-0: ", "zbuf")][..]),
         (
@@ -283,7 +283,13 @@ fn a_transparent_polygon_is_refused_where_it_would_be_drawn_opaque() {
             ],
         ),
         ("--hse scanline --depth 0", &[("scanline: ", "scanline")]),
-        ("--aa ss2 --depth 0", &[("supersample: ", "supersample")]),
+        // At depth 0 the merger runs the anti-aliasing leaf's method itself, and names
+        // the leaf.
+        ("--aa ss2 --depth 0", &[("zbuf: leaf-0: ", "supersample")]),
+        (
+            "--aa ss2 --depth 1",
+            &[("supersample (leaf ", "supersample")],
+        ),
     ] {
         let out = sh(
             &format!("scripts/render.sh --size 64x64 {options} examples/transparent.txt"),

@@ -321,6 +321,25 @@ fn bench_adaptive_prints_render_and_the_leaf() {
         out.contains(" ms of CPU alone); the leaves less it: "),
         "{out}"
     );
+    assert!(!out.contains("in the same rounds"), "{out}");
+    // --before DIR: that build's render timed in the same rounds (here this build's own).
+    let dir = bin_dir().display().to_string();
+    let out = bench(&[
+        "adaptive",
+        "--quick",
+        "--polygons",
+        "100",
+        "--size",
+        "100x100",
+        "--before",
+        &dir,
+    ]);
+    assert!(
+        out.contains(&format!("The render of {dir} in the same rounds:")),
+        "{out}"
+    );
+    let rows = table(&out, "| render | before CPU s | now CPU s | now / before |");
+    assert_eq!(firsts(&rows), ["ss4", "adaptive4"]);
 }
 
 /// Every subcommand prints its usage for --help, and refuses an option it does not know
