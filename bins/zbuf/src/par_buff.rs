@@ -643,6 +643,30 @@ fn warn_rounding(watch: &mut Option<QuantumWatch>, frame: u64) -> u64 {
     lost
 }
 
+/// The reader thread's side of two buffers going round between it and the thread that
+/// paints and writes the frames ([`one_input`]'s region buffers, [`by_method`]'s runs):
+/// a filled one handed over, an empty one taken back, the spare first.
+struct HandOver<T> {
+    spare: Option<T>,
+    to_paint: SyncSender<T>,
+    reusable: Receiver<T>,
+}
+
+impl<T> HandOver<T> {
+    /// `filled` to the painter, an empty buffer in its place; false when the painter has
+    /// stopped (it says why).
+    fn hand_over(&mut self, filled: &mut T) -> bool {
+        let next = match self.spare.take() {
+            Some(r) => r,
+            None => match self.reusable.recv() {
+                Ok(r) => r,
+                Err(_) => return false,
+            },
+        };
+        self.to_paint.send(std::mem::replace(filled, next)).is_ok()
+    }
+}
+
 /// [`par_buff`] for one input. When the input is a screen-space polygon stream (the
 /// whole screen's one leaf, as render.sh runs `zbuf --project` at depth 0; an eye-space
 /// one with [`Input::to_screen`], projected first) its polygons are
@@ -737,7 +761,11 @@ pub fn one_input(
         let reader_thread = scope.spawn(move || -> Result<Resolved> {
             let mut scan = LeafScan::new(&attributes, width, height);
             let mut region = RegionBuffer::new(width, height);
-            let mut spare = Some(RegionBuffer::new(width, height));
+            let mut hand = HandOver {
+                spare: Some(RegionBuffer::new(width, height)),
+                to_paint,
+                reusable,
+            };
             let mut counts = Resolved::default();
             let mut record = Token::default();
             let mut frame = 0u64;
@@ -757,14 +785,7 @@ pub fn one_input(
                         let stats = std::mem::take(&mut region.stats);
                         counts.pixels_tested += stats.pixels_tested;
                         counts.pixels_written += stats.pixels_written;
-                        let next = match spare.take() {
-                            Some(r) => r,
-                            None => match reusable.recv() {
-                                Ok(r) => r,
-                                Err(_) => break, // the painter stopped; it says why
-                            },
-                        };
-                        if to_paint.send(std::mem::replace(&mut region, next)).is_err() {
+                        if !hand.hand_over(&mut region) {
                             break;
                         }
                     }
@@ -856,7 +877,11 @@ fn by_method<R: Read + Send>(
             let mut counts = Resolved::default();
             let mut polygons: Vec<proto::Polygon> = Vec::new();
             let mut runs = Vec::new();
-            let mut spare = Some(Vec::new());
+            let mut hand = HandOver {
+                spare: Some(Vec::new()),
+                to_paint,
+                reusable,
+            };
             let mut record = Token::default();
             while reader.next_into(&mut record)? {
                 match &mut record {
@@ -875,14 +900,7 @@ fn by_method<R: Read + Send>(
                         method.resolve(&polygons, width, height, &mut runs);
                         polygons.clear();
                         counts.frames += 1;
-                        let next = match spare.take() {
-                            Some(r) => r,
-                            None => match reusable.recv() {
-                                Ok(r) => r,
-                                Err(_) => break, // the painter stopped; it says why
-                            },
-                        };
-                        if to_paint.send(std::mem::replace(&mut runs, next)).is_err() {
+                        if !hand.hand_over(&mut runs) {
                             break;
                         }
                     }
