@@ -450,10 +450,10 @@ impl Accuracy {
 
     /// Every allowed configuration's prediction: each mode at every depth the tree
     /// allows (from the target's least to `max_depth`), timed by the time model: `none`
-    /// by [`model::predict_on`], an anti-aliasing mode by [`model::predict_sampled`] (its
-    /// leaves are processes of their own at every depth, as render runs them) on the
-    /// scene with its covered pixels times the mode's samples, the leaf's work that
-    /// sampling multiplies.
+    /// by [`model::predict_on`], an anti-aliasing mode by [`mode_time`] (at depth 0 in
+    /// the merger's one process, deeper its leaves processes of their own, as render
+    /// runs them) on the scene with its covered pixels times the mode's samples, the
+    /// leaf's work that sampling multiplies.
     pub fn predict_all(
         &self,
         k: &Constants,
