@@ -667,6 +667,49 @@ impl<T> HandOver<T> {
     }
 }
 
+/// The two threads of a polygon input resolved here ([`one_input`], [`by_method`]): `read`
+/// runs on a reader thread, filling a frame's buffer and handing it over ([`HandOver`],
+/// `spare` the second buffer), while this thread gives each filled one to `paint` with
+/// its frame's number, to paint into the frame buffer and write, and sends it back: frame
+/// k is written while frame k + 1 is read. A read error comes first, named `name`: the
+/// painter stops for it too, with nothing of its own. Only the reader's errors are the
+/// input's; the painter's are on_frame's, writing the output (`stdout: …`, `cannot
+/// write a.png: …`), which on_frame labels itself.
+fn read_and_paint<T: Send, C: Send>(
+    name: &str,
+    spare: T,
+    read: impl FnOnce(&mut HandOver<T>) -> Result<C> + Send,
+    mut paint: impl FnMut(u64, &mut T) -> Result<()>,
+) -> Result<C> {
+    let (to_paint, painting) = sync_channel::<T>(1);
+    let (to_reuse, reusable) = sync_channel::<T>(2);
+    std::thread::scope(|scope| {
+        let reader_thread = scope.spawn(move || {
+            let mut hand = HandOver {
+                spare: Some(spare),
+                to_paint,
+                reusable,
+            };
+            read(&mut hand)
+        });
+        let painted = (|| -> Result<()> {
+            for (frame, mut filled) in (0u64..).zip(painting.iter()) {
+                paint(frame, &mut filled)?;
+                let _ = to_reuse.send(filled);
+            }
+            Ok(())
+        })();
+        drop(painting);
+        drop(to_reuse);
+        let read = reader_thread
+            .join()
+            .unwrap_or_else(|_| Err(Error::data("the reader thread panicked")));
+        let counts = read.map_err(|e| e.context(name))?;
+        painted?;
+        Ok(counts)
+    })
+}
+
 /// [`par_buff`] for one input. When the input is a screen-space polygon stream (the
 /// whole screen's one leaf, as render.sh runs `zbuf --project` at depth 0; an eye-space
 /// one with [`Input::to_screen`], projected first) its polygons are
@@ -743,8 +786,7 @@ pub fn one_input(
     let mut fb = FrameBuffer::new(width, height, background)
         .map_err(|m| Error::io(format!("{name}: {m}")))?;
     if let Some(method) = method {
-        let resolved = by_method(reader, &stream, fb, background, method, on_frame)
-            .map_err(|e| e.context(&name))?;
+        let resolved = by_method(&name, reader, &stream, fb, method, on_frame)?;
         return Ok(vec![InputStats {
             bytes: bytes.load(Ordering::Relaxed),
             runs: resolved.1,
@@ -755,76 +797,51 @@ pub fn one_input(
     // Two region buffers go round between two threads: this one paints frame k from one
     // into the frame buffer and writes it while the reader thread scan-converts frame
     // k + 1 into the other.
-    let (to_paint, painting) = sync_channel::<RegionBuffer>(1);
-    let (to_reuse, reusable) = sync_channel::<RegionBuffer>(2);
-    let resolved = std::thread::scope(|scope| -> Result<Resolved> {
-        let reader_thread = scope.spawn(move || -> Result<Resolved> {
-            let mut scan = LeafScan::new(&attributes, width, height);
-            let mut region = RegionBuffer::new(width, height);
-            let mut hand = HandOver {
-                spare: Some(RegionBuffer::new(width, height)),
-                to_paint,
-                reusable,
-            };
-            let mut counts = Resolved::default();
-            let mut record = Token::default();
-            let mut frame = 0u64;
-            while reader.next_into(&mut record)? {
-                if let Token::Polygon(p) = &mut record {
-                    stream.project(p, &reader)?;
-                }
-                match &record {
-                    Token::Polygon(p) => {
-                        scan.resolve(&mut region, p, &reader)?;
-                        counts.polygons += 1;
-                    }
-                    Token::Skip(_) => {}
-                    Token::NextFrame | Token::End => {
-                        counts.rounding_decided += warn_rounding(&mut scan.watch, frame);
-                        frame += 1;
-                        let stats = std::mem::take(&mut region.stats);
-                        counts.pixels_tested += stats.pixels_tested;
-                        counts.pixels_written += stats.pixels_written;
-                        if !hand.hand_over(&mut region) {
-                            break;
-                        }
-                    }
-                }
-            }
-            Ok(counts)
-        });
+    let spare = RegionBuffer::new(width, height);
+    let read = |hand: &mut HandOver<RegionBuffer>| -> Result<Resolved> {
+        let mut scan = LeafScan::new(&attributes, width, height);
+        let mut region = RegionBuffer::new(width, height);
+        let mut counts = Resolved::default();
+        let mut record = Token::default();
         let mut frame = 0u64;
-        let painted = (|| -> Result<()> {
-            for mut region in painting.iter() {
-                // The first frame is painted over the background the frame buffer was
-                // made with; each later one over the frame before, every pixel written
-                // (its colour, or the background put back), with no pass of its own to
-                // clear it first. The frame buffer's depth and polygon buffers are never
-                // made here: the region buffer did the depth tests.
-                if frame == 0 {
-                    region.finish_into(fb.raster_mut());
-                } else {
-                    region.finish_over(fb.raster_mut(), background);
-                }
-                on_frame(frame, &fb)?;
-                frame += 1;
-                let _ = to_reuse.send(region);
+        while reader.next_into(&mut record)? {
+            if let Token::Polygon(p) = &mut record {
+                stream.project(p, &reader)?;
             }
-            Ok(())
-        })();
-        drop(painting);
-        drop(to_reuse);
-        let read = reader_thread
-            .join()
-            .unwrap_or_else(|_| Err(Error::data("the reader thread panicked")));
-        // A read error first: the painter stops for it too, with nothing of its own. Only
-        // the reader's errors are the input's and name it; the painter's are on_frame's,
-        // writing the output (`stdout: …`, `cannot write a.png: …`), which on_frame
-        // labels itself.
-        let counts = read.map_err(|e| e.context(&name))?;
-        painted?;
+            match &record {
+                Token::Polygon(p) => {
+                    scan.resolve(&mut region, p, &reader)?;
+                    counts.polygons += 1;
+                }
+                Token::Skip(_) => {}
+                Token::NextFrame | Token::End => {
+                    counts.rounding_decided += warn_rounding(&mut scan.watch, frame);
+                    frame += 1;
+                    let stats = std::mem::take(&mut region.stats);
+                    counts.pixels_tested += stats.pixels_tested;
+                    counts.pixels_written += stats.pixels_written;
+                    if !hand.hand_over(&mut region) {
+                        break; // the painter stopped; it says why
+                    }
+                }
+            }
+        }
         Ok(counts)
-    })?;
+    };
+    let paint = |frame: u64, region: &mut RegionBuffer| {
+        // The first frame is painted over the background the frame buffer was made
+        // with; each later one over the frame before, every pixel written (its colour, or
+        // the background put back), with no pass of its own to clear it first. The frame
+        // buffer's depth and polygon buffers are never made here: the region buffer did
+        // the depth tests.
+        if frame == 0 {
+            region.finish_into(fb.raster_mut());
+        } else {
+            region.finish_over(fb.raster_mut(), background);
+        }
+        on_frame(frame, &fb)
+    };
+    let resolved = read_and_paint(&name, spare, read, paint)?;
     Ok(vec![InputStats {
         bytes: bytes.load(Ordering::Relaxed),
         resolved: Some(resolved),
@@ -848,12 +865,12 @@ pub struct Leaf<'a> {
 /// method resolve them into runs, and hands the runs to this thread, which paints them
 /// over the background and writes the frame while the next one is read and resolved:
 /// the pixels `supersample` would have sent as runs, neither encoded, piped nor decoded.
-/// Returns the counts and the runs painted.
+/// Returns the counts and the runs painted; the input's errors name it, `input`.
 fn by_method<R: Read + Send>(
+    input: &str,
     mut reader: Reader<Token, R>,
     stream: &Resolvable,
     mut fb: FrameBuffer,
-    background: Colour,
     leaf: Leaf<'_>,
     mut on_frame: impl FnMut(u64, &FrameBuffer) -> Result<()>,
 ) -> Result<(Resolved, u64)> {
@@ -864,82 +881,59 @@ fn by_method<R: Read + Send>(
             return Err(Error::usage(format!(
                 "{leaf} draws each polygon in one colour, and the stream is {name}-shaded \
                  (its header says `{word}`)"
-            )));
+            ))
+            .context(input));
         }
     }
     method.set_lighting(stream.attributes.phong());
     // Two run lists go round between the threads, as the region buffers do in
     // [`one_input`].
-    let (to_paint, painting) = sync_channel::<Vec<scan::Run>>(1);
-    let (to_reuse, reusable) = sync_channel::<Vec<scan::Run>>(2);
-    std::thread::scope(|scope| -> Result<(Resolved, u64)> {
-        let reader_thread = scope.spawn(move || -> Result<Resolved> {
-            let mut counts = Resolved::default();
-            let mut polygons: Vec<proto::Polygon> = Vec::new();
-            let mut runs = Vec::new();
-            let mut hand = HandOver {
-                spare: Some(Vec::new()),
-                to_paint,
-                reusable,
-            };
-            let mut record = Token::default();
-            while reader.next_into(&mut record)? {
-                match &mut record {
-                    Token::Polygon(p) => {
-                        stream.project(p, &reader)?;
-                        check_on_screen(p, width, height)
-                            .map_err(|m| Error::data(format!("{}: {m}", reader.position())))?;
-                        if !method.transparency() {
-                            stagecli::refuse_transparent(leaf, p, || reader.position())?;
-                        }
-                        counts.polygons += 1;
-                        polygons.push(std::mem::take(p));
+    let read = |hand: &mut HandOver<Vec<scan::Run>>| -> Result<Resolved> {
+        let mut counts = Resolved::default();
+        let mut polygons: Vec<proto::Polygon> = Vec::new();
+        let mut runs = Vec::new();
+        let mut record = Token::default();
+        while reader.next_into(&mut record)? {
+            match &mut record {
+                Token::Polygon(p) => {
+                    stream.project(p, &reader)?;
+                    check_on_screen(p, width, height)
+                        .map_err(|m| Error::data(format!("{}: {m}", reader.position())))?;
+                    if !method.transparency() {
+                        stagecli::refuse_transparent(leaf, p, || reader.position())?;
                     }
-                    Token::Skip(_) => {}
-                    Token::NextFrame | Token::End => {
-                        method.resolve(&polygons, width, height, &mut runs);
-                        polygons.clear();
-                        counts.frames += 1;
-                        if !hand.hand_over(&mut runs) {
-                            break;
-                        }
+                    counts.polygons += 1;
+                    polygons.push(std::mem::take(p));
+                }
+                Token::Skip(_) => {}
+                Token::NextFrame | Token::End => {
+                    method.resolve(&polygons, width, height, &mut runs);
+                    polygons.clear();
+                    counts.frames += 1;
+                    if !hand.hand_over(&mut runs) {
+                        break; // the painter stopped; it says why
                     }
                 }
             }
-            Ok(counts)
-        });
-        let mut frame = 0u64;
-        let mut painted_runs = 0u64;
-        let painted = (|| -> Result<()> {
-            for mut runs in painting.iter() {
-                // The first frame over the background the frame buffer was made with;
-                // each later one over the background put back.
-                let raster = fb.raster_mut();
-                if frame > 0 {
-                    raster.fill(background);
-                }
-                for r in &runs {
-                    let row = r.y as usize * width as usize;
-                    raster[row + r.x0 as usize..row + r.x1 as usize].fill(r.colour);
-                }
-                painted_runs += runs.len() as u64;
-                on_frame(frame, &fb)?;
-                frame += 1;
-                runs.clear();
-                let _ = to_reuse.send(runs);
-            }
-            Ok(())
-        })();
-        drop(painting);
-        drop(to_reuse);
-        let read = reader_thread
-            .join()
-            .unwrap_or_else(|_| Err(Error::data("the reader thread panicked")));
-        // A read error first, as in [`one_input`].
-        let counts = read?;
-        painted?;
-        Ok((counts, painted_runs))
-    })
+        }
+        Ok(counts)
+    };
+    let mut painted = 0u64;
+    let paint = |frame: u64, runs: &mut Vec<scan::Run>| {
+        // The first frame over the background the frame buffer was made with; each later
+        // one over the background put back. The leaf's runs are finished pixels, placed
+        // as the merger places any leaf's.
+        if frame > 0 {
+            fb.clear();
+        }
+        for r in runs.drain(..) {
+            fb.paint(r.y, r.x0..r.x1, r.colour);
+            painted += 1;
+        }
+        on_frame(frame, &fb)
+    };
+    let counts = read_and_paint(input, Vec::new(), read, paint)?;
+    Ok((counts, painted))
 }
 
 /// A screen-space input (persp's output) is a leaf's and its merger's work at once: the
