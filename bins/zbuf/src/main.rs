@@ -92,23 +92,20 @@ enum Aa {
 }
 
 fn parse_aa(s: &str) -> Result<Aa, String> {
-    let k = |digits: &str| match digits.parse::<u32>() {
-        Ok(k) if [2, 4, 8, 16].contains(&k) => Ok(k),
-        _ => Err("not none, ssK, adaptiveK (K = 2, 4, 8 or 16) or abuf".to_string()),
+    let sampled = |digits: &str, adaptive| match digits.parse::<u32>() {
+        Ok(k) if [2, 4, 8, 16].contains(&k) => Some(Aa::Supersample { k, adaptive }),
+        _ => None,
     };
-    match (s, s.strip_prefix("ss"), s.strip_prefix("adaptive")) {
-        ("none", ..) => Ok(Aa::None),
-        ("abuf", ..) => Ok(Aa::ABuffer),
-        (_, Some(d), _) => Ok(Aa::Supersample {
-            k: k(d)?,
-            adaptive: false,
-        }),
-        (_, _, Some(d)) => Ok(Aa::Supersample {
-            k: k(d)?,
-            adaptive: true,
-        }),
-        _ => k("").map(|_| Aa::None),
+    match s {
+        "none" => Some(Aa::None),
+        "abuf" => Some(Aa::ABuffer),
+        _ => match (s.strip_prefix("ss"), s.strip_prefix("adaptive")) {
+            (Some(d), _) => sampled(d, false),
+            (_, Some(d)) => sampled(d, true),
+            _ => None,
+        },
     }
+    .ok_or_else(|| "not none, ssK, adaptiveK (K = 2, 4, 8 or 16) or abuf".to_string())
 }
 
 impl Aa {

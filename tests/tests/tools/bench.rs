@@ -301,14 +301,15 @@ fn bench_aa_prints_a_row_per_leaf() {
 
 #[test]
 fn bench_adaptive_prints_render_and_the_leaf() {
-    let out = bench(&[
+    let small = [
         "adaptive",
         "--quick",
         "--polygons",
         "100",
         "--size",
         "100x100",
-    ]);
+    ];
+    let out = bench(&small);
     let rows = table(&out, "| what | ss4 CPU s | adaptive4 CPU s | ratio |");
     assert_eq!(firsts(&rows), ["render", "leaf"]);
     assert!(out.contains("adaptive4's frame against ss4's: "), "{out}");
@@ -324,16 +325,7 @@ fn bench_adaptive_prints_render_and_the_leaf() {
     assert!(!out.contains("in the same rounds"), "{out}");
     // --before DIR: that build's render timed in the same rounds (here this build's own).
     let dir = bin_dir().display().to_string();
-    let out = bench(&[
-        "adaptive",
-        "--quick",
-        "--polygons",
-        "100",
-        "--size",
-        "100x100",
-        "--before",
-        &dir,
-    ]);
+    let out = bench(&[&small[..], &["--before", &dir]].concat());
     assert!(
         out.contains(&format!("The render of {dir} in the same rounds:")),
         "{out}"
