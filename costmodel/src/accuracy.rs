@@ -526,7 +526,7 @@ pub fn mode_time(
     };
     if depth == 0 && target.hosts.is_none() {
         // render runs the leaf's method in `zbuf --project --aa MODE` (its graph's
-        // `merger_samples`): `none`'s one process, its leaf's work `samples` times a
+        // `merger_is_aa_leaf`): `none`'s one process, its leaf's work `samples` times a
         // covered pixel's where `none`'s is one, at the leaves' rate.
         let one = model::predict_sampled(k, env, 0, target).total_s;
         let many = model::predict_sampled(k, &scaled, 0, target).total_s;

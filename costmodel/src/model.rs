@@ -1172,7 +1172,7 @@ mod tests {
     fn a_sampling_leaf_is_the_merger_at_depth_0_and_a_process_of_its_own_deeper() {
         let k = constants();
         let e = env(1, 500, 500, 0.01);
-        // render --aa ssK's graph (bins/render/src/graph.rs, `merger_samples`): at depth
+        // render --aa ssK's graph (bins/render/src/graph.rs, `merger_is_aa_leaf`): at depth
         // 0 viewxf, clipbatch and `zbuf --project --aa ssK`; deeper the splitters, every
         // leaf a process, and zbuf merging.
         let counts: Vec<(usize, usize)> = (0..=3)

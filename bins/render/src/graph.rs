@@ -185,7 +185,7 @@ impl Builder<'_> {
     /// them too: persp's and the leaf's processes, and the runs encoded, piped and
     /// decoded, fewer (docs/performance.md, "Start-up"). Deeper, every anti-aliasing
     /// leaf is a process of its own.
-    fn merger_samples(&self) -> bool {
+    fn merger_is_aa_leaf(&self) -> bool {
         let o = self.o;
         self.c.depth == 0
             && o.aa != "none"
@@ -197,7 +197,7 @@ impl Builder<'_> {
     /// The clipper chain: viewxf and the six planes of the pyramid (chapter 3). Returns
     /// the clipped stream: at depth 0 with the merger the leaf, the merger's `leaf-0`.
     fn clipper_chain(&mut self) -> End {
-        let out = if self.c.depth == 0 && (self.merger_is_leaf() || self.merger_samples()) {
+        let out = if self.c.depth == 0 && (self.merger_is_leaf() || self.merger_is_aa_leaf()) {
             "leaf-0"
         } else {
             "clipped"
@@ -363,7 +363,7 @@ impl Builder<'_> {
                     self.to_screen = zmode_words(ZStage::Projecting, self.o.zmode);
                     self.to_screen
                         .extend(["--size".into(), self.o.size.clone()]);
-                    if self.merger_samples() {
+                    if self.merger_is_aa_leaf() {
                         self.to_screen.extend(["--aa".into(), self.o.aa.clone()]);
                     }
                 }
