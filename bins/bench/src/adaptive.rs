@@ -7,12 +7,18 @@
 //! then the leaf alone on the screen-space stream (`supersample --samples K`, then with
 //! --adaptive), so that a change in load falls on both alike. CPU seconds are the
 //! medians of the rounds (each counts the start of the bash that runs it, which is
-//! measured alone too and said). Run it on one core to compare as CI's machine would:
-//! `taskset -c 0 target/bin/bench adaptive`.
+//! measured alone too and said). Last, the method alone: the frame's polygons resolved
+//! by [`Supersample`] in this process, whole and adaptive in turn, its memory warm: the
+//! sampling's own cost, without a process's start, its reading or its page faults. Run
+//! it on one core to compare as CI's machine would: `taskset -c 0 target/bin/bench
+//! adaptive`.
 
 use crate::kit::{header, row, stat_count, Kit};
-use crate::measure::{interleaved, median_of, ms, ratio, Figure};
-use stagecli::{Error, Result};
+use crate::measure::{interleaved, median, median_of, ms, ratio, Figure};
+use scan::frame::HiddenSurface;
+use scan::supersample::Supersample;
+use stagecli::{Context, Error, Result};
+use std::time::Instant;
 
 /// The options of `bench adaptive`.
 #[derive(clap::Args, Debug)]
@@ -83,6 +89,7 @@ pub fn main(a: &Args) -> Result<()> {
         lines.extend([ss.clone(), adaptive.clone()]);
     }
     let runs = interleaved(reps, &lines)?;
+    let method = in_process(&k.work("screen"), s, size, reps)?;
     println!(
         "{} `scene {args}`; CPU seconds, median of {reps} interleaved rounds.",
         crate::kit::stamp("adaptive")
@@ -107,6 +114,13 @@ pub fn main(a: &Args) -> Result<()> {
         );
         row(&[(*what).into(), ms(x), ms(y), ratio(y, x)]);
     }
+    // The method takes well under a millisecond on small screens: two more places.
+    row(&[
+        "method (in-process)".into(),
+        format!("{:.5}", method.0),
+        format!("{:.5}", method.1),
+        ratio(method.1, method.0),
+    ]);
     let shell = median_of(&runs[4], Figure::Cpu);
     let (ss, adaptive) = (
         median_of(&runs[2], Figure::Cpu),
@@ -115,7 +129,8 @@ pub fn main(a: &Args) -> Result<()> {
     println!();
     println!(
         "Each figure counts the start of the shell that runs it ({:.1} ms of CPU alone); \
-         the leaves less it: {}.",
+         the leaves less it: {}. The method's are wall seconds of `Supersample::resolve` \
+         alone, in this process, its memory warm.",
         shell * 1000.0,
         ratio(adaptive - shell, ss - shell)
     );
@@ -136,4 +151,41 @@ pub fn main(a: &Args) -> Result<()> {
         }
     }
     Ok(())
+}
+
+/// The seconds `Supersample::resolve` takes over the first frame of the screen-space
+/// stream `screen` (a `size` screen), whole and adaptive, K = `k`: the medians of `reps`
+/// interleaved rounds, in this process, after one round unmeasured (the memory warm).
+fn in_process(screen: &std::path::Path, k: u32, size: &str, reps: usize) -> Result<(f64, f64)> {
+    let (width, height) =
+        proto::numbers::parse_size(size).map_err(|e| Error::usage(format!("--size: {e}")))?;
+    let file = std::fs::File::open(screen).context(screen.display())?;
+    let mut reader = proto::Reader::<proto::Token, _>::new(std::io::BufReader::new(file))?;
+    let mut polygons = Vec::new();
+    let mut token = proto::Token::default();
+    while reader.next_into(&mut token)? {
+        match &mut token {
+            proto::Token::Polygon(p) => polygons.push(std::mem::take(p)),
+            proto::Token::NextFrame | proto::Token::End => break,
+            proto::Token::Skip(_) => {}
+        }
+    }
+    let method = |adaptive: bool| -> Result<Supersample> {
+        let m = Supersample::new(k, [0, 0, 0]).map_err(Error::usage)?;
+        Ok(if adaptive { m.adaptive() } else { m })
+    };
+    let mut methods = [method(false)?, method(true)?];
+    let mut out = Vec::new();
+    let mut seconds = [Vec::new(), Vec::new()];
+    for round in 0..=reps {
+        for (m, times) in methods.iter_mut().zip(&mut seconds) {
+            out.clear();
+            let t = Instant::now();
+            m.resolve(&polygons, width, height, &mut out);
+            if round > 0 {
+                times.push(t.elapsed().as_secs_f64());
+            }
+        }
+    }
+    Ok((median(&seconds[0]), median(&seconds[1])))
 }
