@@ -9,6 +9,7 @@
 //! by its coefficients: the thesis's clipping volume "may be any convenient shape
 //! defined by any number of planes".
 
+use crate::exact;
 use crate::header::View;
 // Newell's plane is `newell`'s; named here too, beside the other planes.
 pub use crate::newell::{newell_normal, newell_plane, newell_plane_of};
@@ -210,6 +211,14 @@ impl Plane {
             if !v.is_finite() {
                 // Only a point within rounding of ±f64::MAX can get here.
                 v = v.clamp(DVec4::splat(f64::MIN), DVec4::splat(f64::MAX));
+            }
+        }
+        if exact::interpolation_lost_digits(p, q, v) {
+            // Ends so far out that interpolating kept only rounding in some coordinate
+            // (an edge from 1e100 behind the eye to 1e100 in front, cut near it):
+            // computed exactly instead, each coordinate to its own last places.
+            if let Some(exact) = exact::crossing(p, q, self.n, self.k) {
+                v = exact;
             }
         }
         if let Some(solved) = self.snap(&mut v, along) {

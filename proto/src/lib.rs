@@ -11,6 +11,7 @@ pub mod camera;
 pub mod codec;
 pub mod depth;
 pub mod error;
+pub mod exact;
 pub mod fragment;
 pub mod geometry;
 pub mod header;

@@ -92,12 +92,26 @@ pub fn cut_coloured_at_hither(
             out_colours.push(ca);
         }
         if (a.z >= k1) != (b.z >= k1) {
-            let t = crossing_at(k1, a.z, b.z);
-            let mut p = lerp(a, b, t);
+            // From the inside end, as the clippers interpolate (`Plane::crossing`): the
+            // same point whichever way the edge is walked, and where the outside end is
+            // huge (1e200 behind the eye) and the inside one near, a point within
+            // rounding of the near one's size, not of the huge one's.
+            let ((from, c_from), (to, c_to)) = if a.z >= k1 {
+                ((a, ca), (b, cb))
+            } else {
+                ((b, cb), (a, ca))
+            };
+            let t = crossing_at(k1, from.z, to.z);
+            let mut p = lerp(from, to, t);
+            if crate::exact::interpolation_lost_digits(from, to, p) {
+                // Ends too far out for interpolation (`geometry::exact`).
+                let hither = DVec4::new(0.0, 0.0, 1.0, 0.0);
+                p = crate::exact::crossing(from, to, hither, -k1).unwrap_or(p);
+            }
             p.z = k1;
             p.w = k1 * w_per_z;
             out.push(p);
-            out_colours.push((ca + (cb - ca) * t).clamp(ca.min(cb), ca.max(cb)));
+            out_colours.push((c_from + (c_to - c_from) * t).clamp(ca.min(cb), ca.max(cb)));
         }
     }
     (out, out_colours)

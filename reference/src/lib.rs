@@ -137,6 +137,11 @@ fn cut_at_yon(vertices: &[DVec4], k2: f64, w_per_z: f64) -> Vec<DVec4> {
             let (from, to) = if a.z <= k2 { (a, b) } else { (b, a) };
             let t = crossing_at(k2, from.z, to.z);
             let mut p = lerp(from, to, t);
+            if proto::exact::interpolation_lost_digits(from, to, p) {
+                // Ends too far out for interpolation, as the clippers compute it.
+                let yon = DVec4::new(0.0, 0.0, -1.0, 0.0);
+                p = proto::exact::crossing(from, to, yon, k2).unwrap_or(p);
+            }
             p.z = k2;
             p.w = k2 * w_per_z;
             out.push(p);
