@@ -25,7 +25,7 @@ use glam::DVec4;
 
 /// `a + b` as its rounded value and the rounding error, exactly (Knuth's TwoSum).
 #[inline]
-fn two_sum(a: f64, b: f64) -> (f64, f64) {
+pub fn two_sum(a: f64, b: f64) -> (f64, f64) {
     let s = a + b;
     let bb = s - a;
     (s, (a - (s - bb)) + (b - bb))
@@ -34,7 +34,7 @@ fn two_sum(a: f64, b: f64) -> (f64, f64) {
 /// `a·b` as its rounded value and the rounding error, exactly (a fused multiply-add
 /// gives the error; exact unless the product underflows).
 #[inline]
-fn two_product(a: f64, b: f64) -> (f64, f64) {
+pub fn two_product(a: f64, b: f64) -> (f64, f64) {
     let p = a * b;
     (p, a.mul_add(b, -p))
 }

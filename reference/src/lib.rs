@@ -184,17 +184,7 @@ fn cut_to_guard(vertices: &[DVec4], aspect: f64) -> Vec<DVec4> {
 /// J. Sci. Comput. 26, 2005), each product split exactly by a fused multiply-add and the
 /// sum carried with its rounding errors (TwoSum).
 pub fn dot3(a: DVec3, b: DVec3) -> f64 {
-    #[inline]
-    fn two_sum(a: f64, b: f64) -> (f64, f64) {
-        let s = a + b;
-        let bb = s - a;
-        (s, (a - (s - bb)) + (b - bb))
-    }
-    #[inline]
-    fn two_product(a: f64, b: f64) -> (f64, f64) {
-        let p = a * b;
-        (p, a.mul_add(b, -p))
-    }
+    use proto::exact::{two_product, two_sum};
     let (mut s, mut c) = two_product(a.x, b.x);
     for (x, y) in [(a.y, b.y), (a.z, b.z)] {
         let (p, e) = two_product(x, y);
