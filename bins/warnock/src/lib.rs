@@ -57,8 +57,11 @@
 //! `GETZ (P, WLX, WBY)` …): each polygon's depth there is the z-buffer's own depth of that
 //! pixel ([`scan::DepthPlane`]), compared by [`scan::takes`] with the tie to the polygon
 //! earlier in the stream. Polygon A is *in front of* B over the window when it wins all
-//! four corners; depth is affine on the screen, so A then wins at every centre between
-//! (B's plane extended over the window: "sufficient but not necessary", AVI.1.1).
+//! four corners and the earlier one's depth has one sign at all four; depth is affine on
+//! the screen, and the tie then a fixed fraction of the held depth, so A then wins at
+//! every centre between (B's plane extended over the window: "sufficient but not
+//! necessary", AVI.1.1). Where the held depth changes sign the tie rule can change its
+//! answer twice across the window, so the window is not decided so.
 //!
 //! 1. An empty list: nothing is drawn (the background shows).
 //! 2. A one-pixel window: displayed by default, the z-buffer's rule at its centre: the
@@ -590,9 +593,19 @@ impl Warnock {
     /// centre of it)? Not when a depth there may be clamped.
     fn in_front(&self, a: u32, b: u32, w: Window) -> bool {
         let (fa, fb) = (&self.faces[a as usize], &self.faces[b as usize]);
+        // The tie is relative to the earlier polygon's depth, sign and all: where that
+        // changes sign inside the window the rule can change its answer twice across it
+        // (a polygon 5e-11 nearer wins only near depth 0: differential seed 50385), and
+        // the corners say nothing of the centres between. Its depth is monotone along
+        // rows and columns, so equal signs at the corners hold inside.
+        let a_holds = fa.poly < fb.poly;
+        let mut sign = None;
         w.corners().iter().all(
             |&(x, y)| match (fa.planar_depth(x, y), fb.planar_depth(x, y)) {
-                (Some(da), Some(db)) => beats(fa, da, fb, db),
+                (Some(da), Some(db)) => {
+                    let held = if a_holds { da } else { db }.is_sign_negative();
+                    *sign.get_or_insert(held) == held && beats(fa, da, fb, db)
+                }
                 _ => false,
             },
         )
@@ -1711,6 +1724,36 @@ mod tests {
         let image = image_of(&runs, 36, 45);
         assert_eq!(image, zbuffer_image(&polygons, 36, 45));
         assert_eq!(image[2 * 36 + 18], Some([173, 126, 173]));
+    }
+
+    /// Differential seed 50385: a quad and a copy 5e-11 nearer, their depth through 0;
+    /// the copy wins only in a band near depth 0, so the corner test must not decide a
+    /// window the held depth changes sign in.
+    #[test]
+    fn a_nearer_copy_wins_only_where_depth_nears_zero_as_the_fold_gives() {
+        let first = [
+            [2.0, 65.875, 0.49931175253695725],
+            [66.375, 65.875, -0.09677305106166045],
+            [70.125, -2.125, 0.42284109596243646],
+            [5.75, -2.125, 1.0189258995610544],
+        ];
+        let mut copy = first;
+        for (v, z) in copy.iter_mut().zip([
+            0.49931175248741827,
+            -0.09677305111119938,
+            0.42284109591289754,
+            1.0189258995115154,
+        ]) {
+            v[2] = z;
+        }
+        let polygons = vec![
+            Polygon::from_xyz([131, 155, 120], &first),
+            Polygon::from_xyz([127, 79, 235], &copy),
+        ];
+        let zbuffer = zbuffer_image(&polygons, 68, 68);
+        assert!(zbuffer.contains(&Some([127, 79, 235])));
+        let (runs, _) = resolved(&polygons, 68, 68);
+        assert_eq!(differing_pixels(&image_of(&runs, 68, 68), &zbuffer), 0);
     }
 
     /// Gouraud-shaded polygons among flat ones, on a screen wide enough for windows of
