@@ -213,10 +213,16 @@ impl Plane {
                 v = v.clamp(DVec4::splat(f64::MIN), DVec4::splat(f64::MAX));
             }
         }
-        if exact::interpolation_lost_digits(p, q, v) {
+        if self.k != 0.0 && exact::interpolation_lost_digits(p, q, v) {
             // Ends so far out that interpolating kept only rounding in some coordinate
-            // (an edge from 1e100 behind the eye to 1e100 in front, cut near it):
-            // computed exactly instead, each coordinate to its own last places.
+            // (an edge from 1e100 behind the eye to 1e100 in front, cut by hither near
+            // it): computed exactly instead, each coordinate to its own last places.
+            // Not for a plane through the eye (k = 0, the side planes and the
+            // splitter's): there an edge whose ends lie on another such plane only to
+            // their rounding (1e291 at 1e307) meets it near the eye, where that rounding
+            // is the crossing's whole size, and the exact crossing of those rounded ends
+            // lies as far outside the other plane as it is from the eye (differential
+            // seed 61186); interpolation's point near the eye is the safer one.
             if let Some(exact) = exact::crossing(p, q, self.n, self.k) {
                 v = exact;
             }
@@ -700,6 +706,38 @@ mod tests {
         let both = Plane::new(DVec4::new(0.0, 0.0, 1.0, 1.0), -16.25);
         let k = both.intersect(b, both.distance(b), a, both.distance(a));
         assert_eq!((k.z, k.w), (10.0, 6.25));
+    }
+
+    /// Differential seed 61186: after the left cut, an edge whose ends lie on the left
+    /// plane only to their rounding (1e291 at 1e307) meets the right plane near the eye.
+    /// A side plane keeps the interpolated crossing there, the eye itself, which the
+    /// later cuts remove; the exact crossing of those rounded ends lies 1e291 from the
+    /// eye, as far outside the left plane, and survived to the screen ("far outside
+    /// the 90x31 screen"). Hither, which is not through the eye, takes the exact one.
+    #[test]
+    fn a_side_plane_keeps_interpolation_where_its_edge_meets_the_eye() {
+        let view = View {
+            aspect: 90.0 / 31.0,
+            ..view()
+        };
+        let right = PyramidPlane::Right.plane(&view);
+        let a = DVec4::new(
+            -2.5368663685982835e307,
+            4.605132077428136e307,
+            1.3980952431386095e307,
+            8.738095269616309e306,
+        );
+        let b = DVec4::new(
+            5.317335560455483e307,
+            -9.652472380495508e307,
+            -2.930442708873244e307,
+            -1.8315266930457777e307,
+        );
+        let i = right.intersect(a, right.distance(a), b, right.distance(b));
+        assert_eq!(i.abs(), DVec4::ZERO);
+        let exact = crate::exact::crossing(a, b, right.n, right.k).unwrap();
+        let left = PyramidPlane::Left.plane(&view);
+        assert!(left.distance(exact) < -1e290, "{exact}");
     }
 
     /// Where nothing cancelled, the repair leaves every bit as interpolation gave it; and
