@@ -25,18 +25,63 @@ const KNOWN_FAILURES: &[(u64, &str)] = &[];
 /// Failures this suite found that are none of the three, not yet fixed (seed, mode); each
 /// is described in docs/fuzzing.md, "The differential suite". A case listed here that
 /// passes fails the test too.
-const FOUND_NOT_YET_FIXED: &[(u64, &str)] = &[];
+const FOUND_NOT_YET_FIXED: &[(u64, &str)] = &[
+    // Outside the seeds `cargo test` runs (`target/bin/differential --seed S --cases 1`):
+    // the `huge` kind's triangle lost by the pipeline where it passes near the eye, at
+    // every depth; listed at depth 0.
+    (60159, "buffer-pixels@0"),
+    (60159, "buffer@0"),
+    (60159, "chain@0"),
+    (60159, "projective@0"),
+    (60159, "scanline@0"),
+    (60159, "ss2@0"),
+    (60159, "ss4@0"),
+    (60159, "ss8@0"),
+    (60159, "warnock@0"),
+    (60159, "zbuf@0"),
+    (60835, "buffer-pixels@0"),
+    (60835, "buffer@0"),
+    (60835, "chain@0"),
+    (60835, "projective@0"),
+    (60835, "scanline@0"),
+    (60835, "ss2@0"),
+    (60835, "ss4@0"),
+    (60835, "ss8@0"),
+    (60835, "warnock@0"),
+    (60835, "zbuf@0"),
+    (60874, "buffer-pixels@0"),
+    (60874, "buffer@0"),
+    (60874, "chain@0"),
+    (60874, "projective@0"),
+    (60874, "scanline@0"),
+    (60874, "ss2@0"),
+    (60874, "ss4@0"),
+    (60874, "ss8@0"),
+    (60874, "warnock@0"),
+    (60874, "zbuf@0"),
+    (61069, "buffer-pixels@0"),
+    (61069, "buffer@0"),
+    (61069, "chain@0"),
+    (61069, "projective@0"),
+    (61069, "scanline@0"),
+    (61069, "ss2@0"),
+    (61069, "ss4@0"),
+    (61069, "ss8@0"),
+    (61069, "warnock@0"),
+    (61069, "zbuf@0"),
+];
 
 /// Seeds the suite found failing outside the seeds `holds` runs, since fixed: the `huge`
 /// kind (a triangle at ±1e100 to ±1e308 whose plane passes near the eye: the hither cut
 /// interpolating from the outside end, crossings of far edges keeping only rounding;
 /// 200000 and 200052 were listed in [`FOUND_NOT_YET_FIXED`], the others are from
-/// `differential --seed 41000 --cases 400` and 30116 from an earlier run), and 50385 (a
+/// `differential --seed 41000 --cases 400`, 30116 from an earlier run and 61186 from
+/// `--seed 60000 --cases 1500`, a render that stopped on a vertex far off the screen), and 50385 (a
 /// screen scene whose depth passes through 0, where the tie can change its answer twice
 /// along a line: `differential --seed 50000 --cases 600 --all-depths`). docs/fuzzing.md,
 /// "The differential suite".
 const FOUND_AND_FIXED: &[u64] = &[
-    30116, 41049, 41075, 41088, 41101, 41140, 50385, 200000, 200052,
+    30116, 41049, 41075, 41088, 41101, 41140, 50385, 61186, 200000, 200052,
 ];
 
 /// Runs `only`'s modes on test `k`'s seeds and fails with each broken claim not in [`KNOWN_FAILURES`],
