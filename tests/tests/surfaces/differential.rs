@@ -69,6 +69,9 @@ const FOUND_NOT_YET_FIXED: &[(u64, &str)] = &[
     (61069, "ss8@0"),
     (61069, "warnock@0"),
     (61069, "zbuf@0"),
+    // A Gouraud-shaded screen scene of coplanar copies and crossing polygons: painter
+    // --split one pixel otherwise than the zbuf leaf, and not said (it was so before).
+    (60161, "leaf-painter-split"),
 ];
 
 /// Seeds the suite found failing outside the seeds `holds` runs, since fixed: the `huge`
