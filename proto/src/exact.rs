@@ -1,7 +1,7 @@
 //! An edge's crossing with a plane, each coordinate to within a few units in the last
 //! place of its own size, however far the edge's ends are: for the clippers' crossings
 //! on edges whose ends are so far from the crossing that interpolating from either end
-//! leaves only rounding (docs/degenerate.md, "Huge coordinates").
+//! leaves only rounding (docs/degenerate.md, the `huge` kind's row; docs/fuzzing.md).
 //!
 //! The crossing of the edge from `a` to `b` with the plane `n·v + k = 0`, where `a` is at
 //! distance `d_a = n·a + k` and `b` at `d_b`, is, coordinate by coordinate,

@@ -101,20 +101,29 @@ pub fn cut_coloured_at_hither(
             } else {
                 ((b, cb), (a, ca))
             };
-            let t = crossing_at(k1, from.z, to.z);
-            let mut p = lerp(from, to, t);
-            if crate::exact::interpolation_lost_digits(from, to, p) {
-                // Ends too far out for interpolation (`geometry::exact`).
-                let hither = DVec4::new(0.0, 0.0, 1.0, 0.0);
-                p = crate::exact::crossing(from, to, hither, -k1).unwrap_or(p);
-            }
-            p.z = k1;
-            p.w = k1 * w_per_z;
+            let (p, t) = crossing_at_depth(from, to, k1, w_per_z);
             out.push(p);
             out_colours.push((c_from + (c_to - c_from) * t).clamp(ca.min(cb), ca.max(cb)));
         }
     }
     (out, out_colours)
+}
+
+/// Where the eye-space edge from `from` (its inside end) to `to` meets the plane
+/// z_e = `k`, and the parameter t of that point along it: interpolated from `from`, or,
+/// where the ends are too far out for interpolation to keep the point's digits, computed
+/// exactly ([`crate::exact`]); then put on the plane, z_e = k and w = k·s/d (`w_per_z`)
+/// from the definition of w. The hither cut's crossing here and the reference's yon cut.
+pub fn crossing_at_depth(from: Vertex, to: Vertex, k: f64, w_per_z: f64) -> (Vertex, f64) {
+    let t = crossing_at(k, from.z, to.z);
+    let mut p = lerp(from, to, t);
+    if crate::exact::interpolation_lost_digits(from, to, p) {
+        let plane = DVec4::new(0.0, 0.0, 1.0, 0.0);
+        p = crate::exact::crossing(from, to, plane, -k).unwrap_or(p);
+    }
+    p.z = k;
+    p.w = k * w_per_z;
+    (p, t)
 }
 
 /// The parameter t at which z goes from `a` to `b` through `k`: `(k − a)/(b − a)`, or,

@@ -50,7 +50,7 @@ pub use supersample::{render_supersampled, Supersampled, SupersampledFrame};
 use exact::Outline;
 use proto::camera::{Device, EyeFrame};
 use proto::geometry::newell_plane;
-use proto::shade::{self, crossing_at, cut_coloured_at_hither, lerp, Lighting, Shading};
+use proto::shade::{self, crossing_at_depth, cut_coloured_at_hither, Lighting, Shading};
 use proto::{Colour, DVec2, DVec3, DVec4, Polygon, View};
 use std::ops::Range;
 use std::sync::Arc;
@@ -135,16 +135,7 @@ fn cut_at_yon(vertices: &[DVec4], k2: f64, w_per_z: f64) -> Vec<DVec4> {
         }
         if (a.z <= k2) != (b.z <= k2) {
             let (from, to) = if a.z <= k2 { (a, b) } else { (b, a) };
-            let t = crossing_at(k2, from.z, to.z);
-            let mut p = lerp(from, to, t);
-            if proto::exact::interpolation_lost_digits(from, to, p) {
-                // Ends too far out for interpolation, as the clippers compute it.
-                let yon = DVec4::new(0.0, 0.0, -1.0, 0.0);
-                p = proto::exact::crossing(from, to, yon, k2).unwrap_or(p);
-            }
-            p.z = k2;
-            p.w = k2 * w_per_z;
-            out.push(p);
+            out.push(crossing_at_depth(from, to, k2, w_per_z).0);
         }
     }
     out

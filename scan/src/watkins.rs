@@ -264,7 +264,7 @@ pub fn first_in_front(s: &Segment, front: &Segment, from: u32) -> Option<u32> {
 /// The first column of `cols`, after the first, whose depth (`z_row + x·dz`, as the
 /// z-buffer computes it) has the other sign bit than the first column's, if one does:
 /// depth is monotone along the line, so its sign changes once at most.
-pub fn sign_change(z_row: Depth, dz: Depth, cols: Range<u32>) -> Option<u32> {
+fn sign_change(z_row: Depth, dz: Depth, cols: Range<u32>) -> Option<u32> {
     let last = cols.end.checked_sub(1).filter(|&l| l > cols.start)?;
     let sign = |x: u32| depth_at(z_row, dz, x).is_sign_negative();
     let first = sign(cols.start);
