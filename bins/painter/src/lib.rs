@@ -1029,9 +1029,10 @@ impl Painter {
         complete
     }
 
-    /// [`Painter::mend_pairs`] at pixel (c, r), for the wholes `x` and `b`. Where one
-    /// of the two holds the pixel and the other, in front there, covers it (or, for a
-    /// `tied` pair, wherever one of the two holds it), the pixel is repainted in what the
+    /// [`Painter::mend_pairs`] at pixel (c, r), for the wholes `x` and `b`. Where the
+    /// one of the two in front there covers the pixel and does not hold it (whoever
+    /// does: the other, a third polygon painted over a piece that lost the centre, or
+    /// none), or, for a `tied` pair, wherever one of the two holds it, the pixel is repainted in what the
     /// z-buffer shows there: the fold, in stream order by the tie rule, of every polygon
     /// covering its centre (`boxes` the polygons' screen boxes, `near` those of them that
     /// meet the pair's, in stream order, `planes` their depth planes, made as they are
@@ -1057,7 +1058,12 @@ impl Painter {
             u32::MAX => None,
             o => Some(items[o as usize].index),
         };
-        if held.is_some_and(|h| h != x && h != b) || tied && held.is_none() {
+        // A tied pair is mended where one of the two holds the pixel. A cut pair also
+        // where a third polygon holds it: a piece that lost a centre beside the cut line
+        // (its vertices snapped) leaves the centre to the piece painted before, and
+        // whatever was painted over that piece there (seed 60161: the cut one's back
+        // piece, then a polygon coplanar with the cutter, behind the cut one there).
+        if tied && held.is_none_or(|h| h != x && h != b) {
             return;
         }
         let mut depth = |i: usize| {

@@ -806,6 +806,49 @@ fn a_mended_pixel_goes_to_the_earliest_of_coplanar_copies() {
     assert!(split.take_note().is_none());
 }
 
+/// A quad crossed by two coplanar copies of a pentagon is cut by the later copy's plane;
+/// the line where the planes meet passes 0.00065 pixel above the centre of (37, 33), where
+/// the quad is nearer. The front piece's vertices on the cut, snapped by the scan
+/// converter, leave that centre to the back piece, painted first; the later copy, then
+/// the earlier, are painted over it. The pixel is held by the earlier copy, a polygon of
+/// neither pair, and the mend of the cut pair passed it by (seed 60161 of the
+/// differential suite, its Gouraud colours dropped: one pixel wrong and nothing said).
+#[test]
+fn a_cut_pairs_pixel_held_by_a_third_polygon_is_mended() {
+    let pentagon = |colour| {
+        Polygon::from_xyz(
+            colour,
+            &[
+                [24.125, 38.125, 0.5033445310104291],
+                [42.75, 40.0, 0.636678142416298],
+                [49.625, 31.5, 0.6387257722205747],
+                [37.625, 22.25, 0.5117588000028224],
+                [24.375, 26.375, 0.44495352764811286],
+            ],
+        )
+    };
+    let quad = Polygon::from_xyz(
+        [62, 85, 38],
+        &[
+            [-3.5, 69.75, 0.4802709494992885],
+            [71.75, 69.75, 0.9797389925140871],
+            [77.25, -0.25, 0.6611329239075339],
+            [2.0, -0.25, 0.16166488089273517],
+        ],
+    );
+    let polygons = [quad, pentagon([95, 126, 132]), pentagon([225, 45, 115])];
+    let (w, h) = (75, 70);
+    let at = 33 * 75 + 37;
+    let z = zbuffer_image(&polygons, w, h);
+    assert_eq!(z[at], Some([62, 85, 38]));
+    let (mut split, image) = split_covering_the_zbuffers_pixels(&polygons, w, h);
+    assert_eq!(image[at], Some([62, 85, 38]));
+    assert_eq!(differing_pixels(&z, &image), 0);
+    assert_eq!(split.stats.splits, 1, "{}", split.stats());
+    assert_eq!(split.stats.mended, 1, "{}", split.stats());
+    assert!(split.take_note().is_none());
+}
+
 #[test]
 fn three_depths_each_within_the_tie_of_the_next_are_mended_to_the_fold() {
     // At depths z, z(1 − ½t) and z(1 − 1.2t) (t the tie width), in that stream order,
