@@ -82,6 +82,12 @@ pub struct Supersample {
     set: Vec<u32>,
     pieces: Vec<Piece>,
     sets: Vec<u32>,
+    /// Adaptively, an ordered cluster's pixels as it is counted front to back
+    /// ([`Supersample::count_ordered`]), and its touches' masks at the pixels they cover
+    /// partly.
+    held: Vec<u64>,
+    sums: Vec<u64>,
+    masks: Vec<u64>,
     pub stats: Stats,
 }
 
@@ -118,6 +124,9 @@ impl Supersample {
             set: Vec::new(),
             pieces: Vec::new(),
             sets: Vec::new(),
+            held: Vec::new(),
+            sums: Vec::new(),
+            masks: Vec::new(),
             stats: Stats::default(),
         })
     }
@@ -337,6 +346,34 @@ impl Supersample {
                         push(runs, x, x + 1, colour);
                     }
                 }
+                Fill::Ordered(set) => {
+                    self.count_ordered(px.clone(), set, fx0, band.start);
+                    // Runs of pixels alike (the same samples held, the same sum) at once.
+                    let count = k * k;
+                    let shift = count.trailing_zeros();
+                    let background = self.packed[self.packed.len() - 1].0;
+                    let mut c = 0;
+                    while c < px.len() {
+                        let (held, sum) = (self.held[c], self.sums[c]);
+                        let mut e = c + 1;
+                        while e < px.len() && self.held[e] == held && self.sums[e] == sum {
+                            e += 1;
+                        }
+                        if held != 0 {
+                            let n = (e - c) as u64;
+                            let mixed = sum & ONE == 0;
+                            self.stats.pixels += n;
+                            self.stats.mixed += mixed as u64 * n;
+                            self.stats.sampled += mixed as u64 * n;
+                            let covered = held.count_ones();
+                            let sum = Packed((sum & !ONE) + (count - covered) as u64 * background);
+                            let colour = sum.channels().map(|s| ((s + count / 2) >> shift) as u8);
+                            let x = cols.start + px.start + c as u32;
+                            push(runs, x, x + (e - c) as u32, colour);
+                        }
+                        c = e;
+                    }
+                }
                 Fill::Mixed(_) | Fill::Counted(_) => {
                     for c in px.clone() {
                         self.stats.sampled += 1;
@@ -349,6 +386,107 @@ impl Supersample {
                             push(runs, x, x + 1, colour);
                         }
                     }
+                }
+            }
+        }
+    }
+
+    /// The pixels `px` of an ordered cluster ([`Fill::Ordered`], its touches `sets[set]`
+    /// front to back) counted into `held` and `sums`: each touch, front to back, takes
+    /// the samples of its spans that no touch in front of it holds, each pixel as
+    /// [`Supersample::coverage`] counts it, but a touch at a time over its pixels: those it
+    /// covers wholly all K² samples at once, the others (at its ends) by masks of its
+    /// spans (`fy` the band's first fine row). A pixel's sum is of packed colours, with
+    /// [`ONE`] set where one touch took all K² samples.
+    fn count_ordered(
+        &mut self,
+        px: std::ops::Range<u32>,
+        set: std::ops::Range<u32>,
+        fx0: u32,
+        fy: u32,
+    ) {
+        let k = self.k;
+        let shift = k.trailing_zeros();
+        let count = k * k;
+        let full = u64::MAX >> (64 - count);
+        let n = px.len();
+        self.held.clear();
+        self.held.resize(n, 0);
+        self.sums.clear();
+        self.sums.resize(n, 0);
+        if self.masks.len() < n {
+            self.masks.resize(n, 0);
+        }
+        let (held, sums, masks) = (&mut self.held, &mut self.sums, &mut self.masks);
+        for &t in &self.sets[set.start as usize..set.end as usize] {
+            let touch = &self.touches[t as usize];
+            let colour = self.packed[touch.i as usize].0;
+            let (t0, t1) = (touch.touched.start, touch.touched.end);
+            let whole = if touch.whole.is_empty() {
+                t1..t1
+            } else {
+                touch.whole.clone()
+            };
+            // The partly covered pixels' masks, span by span (the spans reach no pixel
+            // outside the touched ones, which were found from them).
+            for s in &self.spans[touch.spans.start as usize..touch.spans.end as usize] {
+                let (x0, x1) = (s.x0.max(fx0 + t0 * k), s.x1.min(fx0 + t1 * k));
+                if x0 >= x1 {
+                    continue;
+                }
+                let row = (s.y - fy) * k;
+                // The span's first and last pixels, which it may cover partly, and those
+                // between, whose K samples on its fine row it holds all of.
+                let (first, last) = ((x0 - fx0) >> shift, (x1 - 1 - fx0) >> shift);
+                let end = |p: u32| {
+                    let (c0, c1) = (fx0 + p * k, fx0 + p * k + k);
+                    let (a, b) = (x0.clamp(c0, c1) - c0, x1.clamp(c0, c1) - c0);
+                    (((1u64 << b) - 1) ^ ((1u64 << a) - 1)) << row
+                };
+                let bits = ((1u64 << k) - 1) << row;
+                for q in [
+                    first + 1..last.min(whole.start),
+                    (first + 1).max(whole.end)..last,
+                ] {
+                    let q = (q.start - px.start) as usize..(q.end.max(q.start) - px.start) as usize;
+                    for m in &mut masks[q] {
+                        *m |= bits;
+                    }
+                }
+                for p in [first, last] {
+                    if !whole.contains(&p) {
+                        masks[(p - px.start) as usize] |= end(p);
+                    }
+                    if last == first {
+                        break;
+                    }
+                }
+            }
+            let (t0, t1) = ((t0 - px.start) as usize, (t1 - px.start) as usize);
+            let (w0, w1) = (
+                (whole.start - px.start) as usize,
+                (whole.end - px.start) as usize,
+            );
+            let counted = |held: &mut u64, sum: &mut u64, mask: u64| {
+                let new = mask & !*held;
+                *held |= mask;
+                *sum += if new == full {
+                    (count as u64 * colour) | ONE
+                } else {
+                    new.count_ones() as u64 * colour
+                };
+            };
+            for p in (t0..w0).chain(w1..t1) {
+                counted(&mut held[p], &mut sums[p], std::mem::take(&mut masks[p]));
+            }
+            // Wholly covered: all K² samples where none is held (the nearest touch there),
+            // none where all are, else those not held.
+            let all = (count as u64 * colour) | ONE;
+            for (h, sum) in held[w0..w1].iter_mut().zip(&mut sums[w0..w1]) {
+                if *h == 0 {
+                    (*h, *sum) = (full, all);
+                } else if *h != full {
+                    counted(h, sum, full);
                 }
             }
         }
@@ -431,7 +569,9 @@ impl Supersample {
     ///
     /// The test works on the row's touches, not on every pixel. The touches are taken left
     /// to right in clusters whose touched pixels overlap. A touch alone is three pieces at
-    /// once: its partly covered pixels at each end mixed, those between uniform. A cluster
+    /// once: its partly covered pixels at each end mixed, those between uniform. A
+    /// cluster of a flat frame whose touches are in depth order is one piece, counted
+    /// front to back without a test ([`Supersample::ordered`]). Another cluster
     /// is swept ([`Supersample::sweep`]): the ends of its touches' touched and wholly
     /// covered pixels cut it into segments over which the same polygons touch and the
     /// same ones cover. A segment one polygon touches is uniform where it covers and mixed
@@ -548,11 +688,37 @@ impl Supersample {
                     self.segment(whole.clone(), fx0);
                     self.segment(whole.end..touched.end, fx0);
                 }
-            } else {
+            } else if !self.ordered(c..d, end) {
                 self.sweep(c..d, fx0);
             }
             c = d;
         }
+    }
+
+    /// Whether the cluster of touches `order[cluster]` (its pixels up to `end`) is in
+    /// depth order ([`in_depth_order`]) in a flat frame, with K ≤ 8 (a pixel's samples in
+    /// one `u64`): then it is one piece, [`Fill::Ordered`], its touches front to back,
+    /// counted pixel by pixel without a sweep ([`Supersample::count_ordered`]).
+    ///
+    /// Its verdicts are the sweep's: in depth order, the pixels where the nearest touch
+    /// covers wholly are those the sweep finds uniform (that touch is in front of every
+    /// other there, by more than the tie, at the row's bounds and so at the pixel's), and
+    /// there it counts K² samples of that touch, that polygon's colour.
+    fn ordered(&mut self, cluster: std::ops::Range<usize>, end: u32) -> bool {
+        if self.shaded || self.k > 8 {
+            return false;
+        }
+        self.set.clear();
+        self.set
+            .extend(self.order[cluster.clone()].iter().map(|&o| o as u32));
+        if !in_depth_order(&mut self.set, &self.touches) {
+            return false;
+        }
+        let start = self.sets.len() as u32;
+        self.sets.extend_from_slice(&self.set);
+        let first = (self.order[cluster.start] >> 32) as u32;
+        self.push_piece(first..end, Fill::Ordered(start..self.sets.len() as u32));
+        true
     }
 
     /// [`Supersample::classify`]'s sweep over the touches `order[cluster]`: their ends
@@ -766,7 +932,14 @@ enum Fill {
     /// Mixed, but counted, not sampled: the touches `sets[range]` are in depth order,
     /// front to back ([`in_depth_order`]).
     Counted(std::ops::Range<u32>),
+    /// A cluster of touches in depth order, `sets[range]` front to back
+    /// ([`Supersample::ordered`]): counted a touch at a time over its pixels.
+    Ordered(std::ops::Range<u32>),
 }
+
+/// In a sum of packed colours that [`Supersample::count_ordered`] makes, the bit above
+/// the three channels: one touch took all K² samples of the pixel.
+const ONE: u64 = 1 << 63;
 
 /// One polygon's reach in one pixel row, adaptively: its spans, its least and greatest
 /// `z_row` over the band's fine rows and its step, the pixels it touches and those it covers wholly
