@@ -68,6 +68,9 @@ pub struct Supersample {
     row: Vec<Option<Colour>>,
     /// Adaptive sampling: K×K samples only in the pixels that need them.
     adaptive: bool,
+    /// Adaptively, clusters in depth order counted, not swept (off only in tests, to
+    /// compare the two).
+    ordered_clusters: bool,
     /// Per fine polygon, its flat colour: the filter reads this, not the polygons.
     colours: Vec<Colour>,
     /// The same packed for the flat filter, the background last.
@@ -115,6 +118,7 @@ impl Supersample {
             owner: Vec::new(),
             row: Vec::new(),
             adaptive: false,
+            ordered_clusters: true,
             colours: Vec::new(),
             packed: Vec::new(),
             spans: Vec::new(),
@@ -359,14 +363,19 @@ impl Supersample {
                         while e < px.len() && self.held[e] == held && self.sums[e] == sum {
                             e += 1;
                         }
+                        // A pixel no touch won is sampled, as the sweep's mixed pixels
+                        // are, even where no sample is held (between two spans of one
+                        // row of a concave polygon): then it is not sent.
+                        let n = (e - c) as u64;
+                        self.stats.sampled += (sum & WON == 0) as u64 * n;
                         if held != 0 {
-                            let n = (e - c) as u64;
-                            let mixed = sum & ONE == 0;
                             self.stats.pixels += n;
-                            self.stats.mixed += mixed as u64 * n;
-                            self.stats.sampled += mixed as u64 * n;
+                            self.stats.mixed += (sum & ONE == 0) as u64 * n;
                             let covered = held.count_ones();
-                            let sum = Packed((sum & !ONE) + (count - covered) as u64 * background);
+                            let sum = Packed(
+                                (sum & !(ONE | WON | REACHED))
+                                    + (count - covered) as u64 * background,
+                            );
                             let colour = sum.channels().map(|s| ((s + count / 2) >> shift) as u8);
                             let x = cols.start + px.start + c as u32;
                             push(runs, x, x + (e - c) as u32, colour);
@@ -397,7 +406,8 @@ impl Supersample {
     /// [`Supersample::coverage`] counts it, but a touch at a time over its pixels: those it
     /// covers wholly all K² samples at once, the others (at its ends) by masks of its
     /// spans (`fy` the band's first fine row). A pixel's sum is of packed colours, with
-    /// [`ONE`] set where one touch took all K² samples.
+    /// [`ONE`] set where one touch took all K² samples, and [`WON`] where the nearest
+    /// touch covers it wholly.
     fn count_ordered(
         &mut self,
         px: std::ops::Range<u32>,
@@ -478,12 +488,13 @@ impl Supersample {
             };
             for p in (t0..w0).chain(w1..t1) {
                 counted(&mut held[p], &mut sums[p], std::mem::take(&mut masks[p]));
+                sums[p] |= REACHED;
             }
-            // Wholly covered: all K² samples where none is held (the nearest touch there),
-            // none where all are, else those not held.
-            let all = (count as u64 * colour) | ONE;
+            // Wholly covered: all K² samples where none is held (the nearest touch there,
+            // which wins the pixel), none where all are, else those not held.
+            let all = (count as u64 * colour) | ONE | WON;
             for (h, sum) in held[w0..w1].iter_mut().zip(&mut sums[w0..w1]) {
-                if *h == 0 {
+                if *sum == 0 {
                     (*h, *sum) = (full, all);
                 } else if *h != full {
                     counted(h, sum, full);
@@ -705,7 +716,7 @@ impl Supersample {
     /// other there, by more than the tie, at the row's bounds and so at the pixel's), and
     /// there it counts K² samples of that touch, that polygon's colour.
     fn ordered(&mut self, cluster: std::ops::Range<usize>, end: u32) -> bool {
-        if self.shaded || self.k > 8 {
+        if self.shaded || self.k > 8 || !self.ordered_clusters {
             return false;
         }
         self.set.clear();
@@ -937,9 +948,17 @@ enum Fill {
     Ordered(std::ops::Range<u32>),
 }
 
-/// In a sum of packed colours that [`Supersample::count_ordered`] makes, the bit above
-/// the three channels: one touch took all K² samples of the pixel.
+/// In a sum of packed colours that [`Supersample::count_ordered`] makes, bits above the
+/// three channels' sums (each below 2¹⁶, 21 bits apart): one touch took all K² samples
+/// of the pixel, and that touch, the nearest, covers it wholly: the pixel the sweep
+/// finds uniform, not sampled (one touch may take all K² of a pixel it does not cover
+/// wholly, by two spans of a fine row).
 const ONE: u64 = 1 << 63;
+const WON: u64 = 1 << 62;
+/// And: a touch nearer than the one counted reached the pixel, samples or none (between
+/// two spans of a concave polygon's row), so that no touch wins it whole, as none is
+/// uniform in the sweep where another touches it in front.
+const REACHED: u64 = 1 << 61;
 
 /// One polygon's reach in one pixel row, adaptively: its spans, its least and greatest
 /// `z_row` over the band's fine rows and its step, the pixels it touches and those it covers wholly
