@@ -1088,10 +1088,15 @@ impl Painter {
             let (zx, zb) = (depth(x), depth(b));
             // x < b: the earlier, x, keeps a tie.
             let (front, back) = if takes(zb, zx) { (b, x) } else { (x, b) };
-            if held == Some(front) {
+            // A piece may hold a centre its whole does not cover: the two pieces of a
+            // self-intersecting polygon run along the cut line both ways, between the
+            // crossings of its edges, and with their ends snapped the two edges part by a
+            // hair, a sliver that covers a centre on the line (seed 131370).
+            let stray = held.is_some_and(|h| !covers(h));
+            if held == Some(front) && !stray {
                 return;
             }
-            if !(covers(front) || held.is_none() && covers(back)) {
+            if !(stray || covers(front) || held.is_none() && covers(back)) {
                 return;
             }
         }
@@ -1114,7 +1119,15 @@ impl Painter {
                 winner = Some((i, z));
             }
         }
-        let Some((to, _)) = winner else { return };
+        let Some((to, _)) = winner else {
+            // No polygon covers the centre: the z-buffer shows the background there.
+            if held.is_some() {
+                self.frame[at] = None;
+                self.owner[at] = u32::MAX;
+                self.stats.mended += 1;
+            }
+            return;
+        };
         if held == Some(to) || item_of[to] == u32::MAX {
             return;
         }

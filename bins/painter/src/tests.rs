@@ -849,6 +849,65 @@ fn a_cut_pairs_pixel_held_by_a_third_polygon_is_mended() {
     assert!(split.take_note().is_none());
 }
 
+/// A bowtie (its edges AB and CD cross) crossed by a concave polygon is cut by its
+/// plane, along a line through the gap between the bowtie's lobes. Each piece runs along
+/// the cut both ways between the crossings of the bowtie's edges, edges that coincide
+/// but, their ends snapped to 1/256 pixel, part by a hair: the sliver held the centre
+/// of (17, 12), on the line, which neither polygon covers (seed 131370 of the
+/// differential suite, its Phong shading dropped: one pixel painted where the z-buffer
+/// shows the background, and nothing said).
+#[test]
+fn a_pieces_sliver_on_the_cut_where_its_whole_is_not_is_mended() {
+    let star = Polygon::from_xyz(
+        [163, 142, 147],
+        &[
+            [49.066730480737874, 11.730049671482949, -0.06324487557171027],
+            [34.55717568205077, 8.283189940613891, -0.062346333307549885],
+            [35.11669343829427, 0.0, -0.0632189371075505],
+            [31.225172445448653, 0.0, -0.06288589994612767],
+            [
+                27.543261249073034,
+                6.1441333899153765,
+                -0.061959057366502084,
+            ],
+            [
+                14.107428419173981,
+                1.0982969418272237,
+                -0.061311607404252365,
+            ],
+            [23.320940469556245, 12.348516338254443, -0.06097996764544802],
+            [14.640954610989084, 23.617606221082124, -0.05911511983090612],
+            [27.57149892002834, 18.231062656207428, -0.06075803249261648],
+            [35.22074754931194, 30.291086301469832, -0.060211894165446075],
+            [
+                34.489689546499186,
+                15.829537766637804,
+                -0.061589201746219575,
+            ],
+        ],
+    );
+    let bowtie = Polygon::from_xyz(
+        [252, 196, 103],
+        &[
+            [9.285881946970443, 37.377043853939085, -0.054840935373978904],
+            [20.446518624371123, 6.611435124701067, -0.06165454115467675],
+            [21.628346996110402, 37.116578165013635, -0.0531357775327934],
+            [6.007007308980922, 5.773477705065458, -0.06396214240123055],
+        ],
+    );
+    let polygons = [star, bowtie];
+    let (w, h) = (58, 58);
+    let at = 12 * 58 + 17;
+    let z = zbuffer_image(&polygons, w, h);
+    assert_eq!(z[at], None);
+    let (mut split, image) = split_covering_the_zbuffers_pixels(&polygons, w, h);
+    assert_eq!(image[at], None);
+    assert_eq!(differing_pixels(&z, &image), 0);
+    assert_eq!(split.stats.splits, 1, "{}", split.stats());
+    assert_eq!(split.stats.mended, 1, "{}", split.stats());
+    assert!(split.take_note().is_none());
+}
+
 #[test]
 fn three_depths_each_within_the_tie_of_the_next_are_mended_to_the_fold() {
     // At depths z, z(1 − ½t) and z(1 − 1.2t) (t the tie width), in that stream order,

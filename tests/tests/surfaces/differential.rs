@@ -80,9 +80,12 @@ const FOUND_NOT_YET_FIXED: &[(u64, &str)] = &[
 /// screen scene whose depth passes through 0, where the tie can change its answer twice
 /// along a line: `differential --seed 50000 --cases 600 --all-depths`) and 60161 (painter
 /// --split leaving a pixel beside a cut line to a polygon coplanar with the cutter, listed
-/// in [`FOUND_NOT_YET_FIXED`] before). docs/fuzzing.md, "The differential suite".
+/// in [`FOUND_NOT_YET_FIXED`] before) and 131370 (painter --split painting a centre on the
+/// cut line of a bowtie that no polygon covers: `differential --seed 130000 --cases 3000
+/// --only painter --only leaf-painter --all-depths`). docs/fuzzing.md, "The differential
+/// suite".
 const FOUND_AND_FIXED: &[u64] = &[
-    30116, 41049, 41075, 41088, 41101, 41140, 50385, 60161, 61186, 200000, 200052,
+    30116, 41049, 41075, 41088, 41101, 41140, 50385, 60161, 61186, 131370, 200000, 200052,
 ];
 
 /// Runs `only`'s modes on test `k`'s seeds and fails with each broken claim not in [`KNOWN_FAILURES`],
