@@ -257,8 +257,39 @@ impl Perspective {
         } else {
             poly.shade = None;
         }
+        if beyond_the_guard_band(&poly.vertices, self.device.width, self.device.height) {
+            // It covers no pixel: emptied, keeping its place in the stream, so that the
+            // scan converters, which refuse a vertex beyond the band, take it as nothing.
+            // A clipped polygon gets here only where clipping lost it to rounding: an edge
+            // at 1e299 cut by a side plane, then its far crossings by hither and yon, put
+            // a piece 1e283 beyond the left plane, which a render refused (differential
+            // seed 151770; docs/degenerate.md).
+            poly.vertices.clear();
+            poly.vertex_attrs.clear();
+            poly.supports.clear();
+            poly.plane = None;
+            poly.shade = None;
+        }
         Ok(())
     }
+}
+
+/// How far outside the screen, in screen widths and heights, a vertex may lie. A clipped
+/// stream's vertices are on the screen (to rounding); a vertex far outside means the
+/// stream was not clipped, and crossings computed from such coordinates cancel.
+pub const GUARD_BAND: f64 = 16.0;
+
+/// Whether every one of the screen `vertices` lies beyond one side of the guard band
+/// ([`GUARD_BAND`] screens around a `width`×`height` screen): such a polygon covers no
+/// pixel, however far out its vertices are. None: false.
+pub fn beyond_the_guard_band(vertices: &[Vertex], width: u32, height: u32) -> bool {
+    let (w, h) = (width as f64, height as f64);
+    let all =
+        |beyond: &dyn Fn(&Vertex) -> bool| !vertices.is_empty() && vertices.iter().all(beyond);
+    all(&|v| v.x < -GUARD_BAND * w)
+        || all(&|v| v.x > (GUARD_BAND + 1.0) * w)
+        || all(&|v| v.y < -GUARD_BAND * h)
+        || all(&|v| v.y > (GUARD_BAND + 1.0) * h)
 }
 
 #[cfg(test)]
@@ -284,6 +315,55 @@ mod tests {
         let err = p.project_polygon(&mut poly).unwrap_err();
         assert_eq!(err.vertex, 2);
         assert_eq!(poly, before);
+    }
+
+    #[test]
+    fn a_polygon_wholly_beyond_the_guard_band_is_emptied() {
+        // Seed 151770's piece, as clipbatch left it (aspect 61/26, 61x26): every vertex
+        // 7e283 left of the left plane, a rectangle of the hither-to-yon slab.
+        let view = View {
+            aspect: 61.0 / 26.0,
+            ..View::default()
+        };
+        let p = Perspective::new(61, 26, view, DepthMode::Reciprocal).unwrap();
+        let x = -7.435084542388915e283;
+        let mut poly = Polygon::new(
+            [176, 184, 127],
+            vec![
+                DVec4::new(x, -18.75, 30.0, 18.75),
+                DVec4::new(x, -0.625, 1.0, 0.625),
+                DVec4::new(x, 0.625, 1.0, 0.625),
+                DVec4::new(x, 18.75, 30.0, 18.75),
+            ],
+        );
+        p.project_polygon(&mut poly).unwrap();
+        assert_eq!(poly, Polygon::new([176, 184, 127], vec![]));
+        // One vertex far out, the others on the screen: projected as it is (the scan
+        // converters refuse it, naming the vertex), and so is a polygon on the screen.
+        let on = |x: f64| DVec4::new(x, 0.0, 2.0, 1.25);
+        for far in [-1e300, 0.5] {
+            let mut poly = Polygon::new(
+                [1, 2, 3],
+                vec![on(far), on(0.0), DVec4::new(0.0, 1.0, 2.0, 1.25)],
+            );
+            p.project_polygon(&mut poly).unwrap();
+            assert_eq!(poly.vertices.len(), 3);
+            assert_eq!(poly.vertices[0].x < -16.0 * 61.0, far < 0.0);
+        }
+        assert!(!beyond_the_guard_band(&[], 61, 26));
+        let at = |x: f64, y: f64| DVec4::new(x, y, 0.5, 1.0);
+        for (x, y) in [(-977.0, 5.0), (1038.0, 5.0), (5.0, -417.0), (5.0, 443.0)] {
+            assert!(
+                beyond_the_guard_band(&[at(x, y), at(x, y)], 61, 26),
+                "{x} {y}"
+            );
+        }
+        for (x, y) in [(-976.0, 5.0), (1037.0, 5.0), (5.0, -416.0), (5.0, 442.0)] {
+            assert!(
+                !beyond_the_guard_band(&[at(x, y), at(x, y)], 61, 26),
+                "{x} {y}"
+            );
+        }
     }
 
     fn view(aspect: f64, hither: f64, yon: f64) -> View {

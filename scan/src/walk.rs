@@ -247,10 +247,7 @@ impl BandWalk {
     }
 }
 
-/// How far outside the screen, in screen widths and heights, a vertex may lie. A clipped
-/// stream's vertices are on the screen (to rounding); a vertex far outside means the
-/// stream was not clipped, and crossings computed from such coordinates cancel.
-pub const GUARD_BAND: f64 = 16.0;
+pub use proto::perspective::GUARD_BAND;
 
 /// Checks that every vertex lies within [`GUARD_BAND`] screens of the screen.
 pub fn check_on_screen(polygon: &Polygon, width: u32, height: u32) -> Result<(), String> {
