@@ -1096,7 +1096,11 @@ impl Painter {
             if held == Some(front) && !stray {
                 return;
             }
-            if !(stray || covers(front) || held.is_none() && covers(back)) {
+            // Either of the two may have lost the centre to a piece's snapped corner, the
+            // one behind too: it is cut along the whole line where the planes meet, the
+            // one in front there may not reach the centre, and a third polygon, behind
+            // the lost one, may hold it (seed 141913).
+            if !(stray || covers(front) || covers(back)) {
                 return;
             }
         }

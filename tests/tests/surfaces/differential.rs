@@ -82,12 +82,15 @@ const FOUND_NOT_YET_FIXED: &[(u64, &str)] = &[
 /// --split leaving a pixel beside a cut line to a polygon coplanar with the cutter, listed
 /// in [`FOUND_NOT_YET_FIXED`] before) and 131370 (painter --split painting a centre on the
 /// cut line of a bowtie that no polygon covers: `differential --seed 130000 --cases 3000
-/// --only painter --only leaf-painter --all-depths`) and 151770 (a `huge` piece clipping
+/// --only painter --only leaf-painter --all-depths`), 141913 (painter --split leaving a
+/// centre the farther of a cut pair lost to a polygon behind it: `--seed 140000 --cases
+/// 4000 --only painter --only leaf-painter --all-depths`) and 151770 (a `huge` piece clipping
 /// left 1e283 beyond the left plane, which every mode's render stopped on: `differential
 /// --seed 150000 --cases 3000 --only leaf- --only abuf`). docs/fuzzing.md, "The
 /// differential suite".
 const FOUND_AND_FIXED: &[u64] = &[
-    30116, 41049, 41075, 41088, 41101, 41140, 50385, 60161, 61186, 131370, 151770, 200000, 200052,
+    30116, 41049, 41075, 41088, 41101, 41140, 50385, 60161, 61186, 131370, 141913, 151770, 200000,
+    200052,
 ];
 
 /// Runs `only`'s modes on test `k`'s seeds and fails with each broken claim not in [`KNOWN_FAILURES`],
