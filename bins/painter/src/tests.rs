@@ -796,14 +796,26 @@ fn a_mended_pixel_goes_to_the_earliest_of_coplanar_copies() {
         ],
     );
     let polygons = [quad([133, 34, 203]), pentagon, quad([31, 143, 225])];
-    let (w, h) = (15, 68);
-    let z = zbuffer_image(&polygons, w, h);
-    assert_eq!(z[35 * 15 + 7], Some([133, 34, 203]));
-    let (mut split, image) = split_covering_the_zbuffers_pixels(&polygons, w, h);
-    assert_eq!(image[35 * 15 + 7], Some([133, 34, 203]));
+    mended_to_the_zbuffers(&polygons, (15, 68), (7, 35), Some([133, 34, 203]));
+}
+
+/// `painter --split` on `polygons` at `size` draws the z-buffer's picture, `want` at
+/// pixel `at` in both, with at least one pixel mended and nothing said; its stats.
+fn mended_to_the_zbuffers(
+    polygons: &[Polygon],
+    (w, h): (u32, u32),
+    (x, y): (usize, usize),
+    want: Option<Colour>,
+) -> PainterStats {
+    let at = y * w as usize + x;
+    let z = zbuffer_image(polygons, w, h);
+    assert_eq!(z[at], want);
+    let (mut split, image) = split_covering_the_zbuffers_pixels(polygons, w, h);
+    assert_eq!(image[at], want);
     assert_eq!(differing_pixels(&z, &image), 0);
     assert!(split.stats.mended >= 1, "{}", split.stats());
     assert!(split.take_note().is_none());
+    split.stats
 }
 
 /// A quad crossed by two coplanar copies of a pentagon is cut by the later copy's plane;
@@ -837,16 +849,8 @@ fn a_cut_pairs_pixel_held_by_a_third_polygon_is_mended() {
         ],
     );
     let polygons = [quad, pentagon([95, 126, 132]), pentagon([225, 45, 115])];
-    let (w, h) = (75, 70);
-    let at = 33 * 75 + 37;
-    let z = zbuffer_image(&polygons, w, h);
-    assert_eq!(z[at], Some([62, 85, 38]));
-    let (mut split, image) = split_covering_the_zbuffers_pixels(&polygons, w, h);
-    assert_eq!(image[at], Some([62, 85, 38]));
-    assert_eq!(differing_pixels(&z, &image), 0);
-    assert_eq!(split.stats.splits, 1, "{}", split.stats());
-    assert_eq!(split.stats.mended, 1, "{}", split.stats());
-    assert!(split.take_note().is_none());
+    let stats = mended_to_the_zbuffers(&polygons, (75, 70), (37, 33), Some([62, 85, 38]));
+    assert_eq!((stats.splits, stats.mended), (1, 1));
 }
 
 /// A bowtie (its edges AB and CD cross) crossed by a concave polygon is cut by its
@@ -895,17 +899,8 @@ fn a_pieces_sliver_on_the_cut_where_its_whole_is_not_is_mended() {
             [6.007007308980922, 5.773477705065458, -0.06396214240123055],
         ],
     );
-    let polygons = [star, bowtie];
-    let (w, h) = (58, 58);
-    let at = 12 * 58 + 17;
-    let z = zbuffer_image(&polygons, w, h);
-    assert_eq!(z[at], None);
-    let (mut split, image) = split_covering_the_zbuffers_pixels(&polygons, w, h);
-    assert_eq!(image[at], None);
-    assert_eq!(differing_pixels(&z, &image), 0);
-    assert_eq!(split.stats.splits, 1, "{}", split.stats());
-    assert_eq!(split.stats.mended, 1, "{}", split.stats());
-    assert!(split.take_note().is_none());
+    let stats = mended_to_the_zbuffers(&[star, bowtie], (58, 58), (17, 12), None);
+    assert_eq!((stats.splits, stats.mended), (1, 1));
 }
 
 /// A pentagon is cut by a concave polygon's plane along the line where their planes
@@ -951,15 +946,7 @@ fn a_centre_the_farther_of_a_cut_pair_lost_is_mended() {
         ],
     );
     let polygons = [pentagon, behind, cutter];
-    let (w, h) = (43, 43);
-    let at = 29 * 43 + 14;
-    let z = zbuffer_image(&polygons, w, h);
-    assert_eq!(z[at], Some([151, 48, 99]));
-    let (mut split, image) = split_covering_the_zbuffers_pixels(&polygons, w, h);
-    assert_eq!(image[at], Some([151, 48, 99]));
-    assert_eq!(differing_pixels(&z, &image), 0);
-    assert!(split.stats.mended >= 1, "{}", split.stats());
-    assert!(split.take_note().is_none());
+    mended_to_the_zbuffers(&polygons, (43, 43), (14, 29), Some([151, 48, 99]));
 }
 
 #[test]
