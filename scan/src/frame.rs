@@ -169,6 +169,31 @@ pub fn near_ties() -> [Polygon; 3] {
     ]
 }
 
+/// Differential seed 50385, the two quads of it that differ: a screen-filling quad and a
+/// copy 5e-11 nearer at each vertex, later in the stream, their depth through 0 near one
+/// corner (on a 68×68 screen). The tie is relative to the held depth, so the copy takes
+/// the pixels only where the first's depth is within 5e-11·2³⁰ of 0, a band across the
+/// screen with the first quad on both sides of it: the methods' tests of a tie whose
+/// answer changes twice along a line.
+pub fn nearer_copy_through_depth_zero() -> [Polygon; 2] {
+    let first = [
+        [2.0, 65.875, 0.49931175253695725],
+        [66.375, 65.875, -0.09677305106166045],
+        [70.125, -2.125, 0.42284109596243646],
+        [5.75, -2.125, 1.0189258995610544],
+    ];
+    let copy = [
+        [2.0, 65.875, 0.49931175248741827],
+        [66.375, 65.875, -0.09677305111119938],
+        [70.125, -2.125, 0.42284109591289754],
+        [5.75, -2.125, 1.0189258995115154],
+    ];
+    [
+        Polygon::from_xyz([131, 155, 120], &first),
+        Polygon::from_xyz([127, 79, 235], &copy),
+    ]
+}
+
 /// The picture `runs` paint on a `width`×`height` screen, row-major: `None` where no run
 /// reaches. A pixel painted twice is an error of the method that made the runs, and
 /// panics here, in its tests.

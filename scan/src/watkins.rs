@@ -1810,35 +1810,9 @@ mod tests {
         assert!(capacity <= 4096, "{capacity}");
     }
 
-    /// A pseudo-random scene larger than the property tests': many overlapping,
-    /// interpenetrating triangles and quads on a screen wider than a region tile.
-    /// Differential seed 50385, the two quads of it that differ: a screen-filling quad
-    /// and a copy 5e-11 nearer at each vertex, later in the stream, their depth through 0
-    /// near one corner. The tie is relative to the held depth, so the copy takes the
-    /// pixels only where the first's depth is within 5e-11·2³⁰ of 0, a band across the
-    /// screen with the first quad on both sides of it.
-    fn nearer_copy_through_depth_zero() -> Vec<Polygon> {
-        let first = [
-            [2.0, 65.875, 0.49931175253695725],
-            [66.375, 65.875, -0.09677305106166045],
-            [70.125, -2.125, 0.42284109596243646],
-            [5.75, -2.125, 1.0189258995610544],
-        ];
-        let copy = [
-            [2.0, 65.875, 0.49931175248741827],
-            [66.375, 65.875, -0.09677305111119938],
-            [70.125, -2.125, 0.42284109591289754],
-            [5.75, -2.125, 1.0189258995115154],
-        ];
-        vec![
-            Polygon::from_xyz([131, 155, 120], &first),
-            Polygon::from_xyz([127, 79, 235], &copy),
-        ]
-    }
-
     #[test]
     fn a_nearer_copy_wins_only_where_depth_nears_zero_as_the_fold_gives() {
-        let polygons = nearer_copy_through_depth_zero();
+        let polygons = crate::frame::nearer_copy_through_depth_zero();
         let (w, h) = (68, 68);
         let zbuffer = zbuffer_image(&polygons, w, h);
         // The copy shows in a band, the first quad on both sides of it on one row.
@@ -1860,6 +1834,8 @@ mod tests {
         assert_eq!(sign_change(z_row, dz, 0..cut), None);
     }
 
+    /// A pseudo-random scene larger than the property tests': many overlapping,
+    /// interpenetrating triangles and quads on a screen wider than a region tile.
     #[test]
     fn a_larger_random_scene_is_the_zbuffers() {
         let mut next = crate::frame::pseudo_random(0x2545_f491_4f6c_dd1du64);

@@ -1731,25 +1731,7 @@ mod tests {
     /// window the held depth changes sign in.
     #[test]
     fn a_nearer_copy_wins_only_where_depth_nears_zero_as_the_fold_gives() {
-        let first = [
-            [2.0, 65.875, 0.49931175253695725],
-            [66.375, 65.875, -0.09677305106166045],
-            [70.125, -2.125, 0.42284109596243646],
-            [5.75, -2.125, 1.0189258995610544],
-        ];
-        let mut copy = first;
-        for (v, z) in copy.iter_mut().zip([
-            0.49931175248741827,
-            -0.09677305111119938,
-            0.42284109591289754,
-            1.0189258995115154,
-        ]) {
-            v[2] = z;
-        }
-        let polygons = vec![
-            Polygon::from_xyz([131, 155, 120], &first),
-            Polygon::from_xyz([127, 79, 235], &copy),
-        ];
+        let polygons = scan::frame::nearer_copy_through_depth_zero();
         let zbuffer = zbuffer_image(&polygons, 68, 68);
         assert!(zbuffer.contains(&Some([127, 79, 235])));
         let (runs, _) = resolved(&polygons, 68, 68);
