@@ -253,14 +253,28 @@ impl Supersample {
     /// pixel is `covered`. `mixed`: its samples are not all one polygon's.
     #[inline]
     fn filtered(&mut self, sum: [u32; 3], covered: u32, mixed: bool) -> Option<Colour> {
-        let count = self.k * self.k;
-        // K² is a power of two: a shift, not a division (three a mixed pixel).
-        let shift = count.trailing_zeros();
         (covered > 0).then(|| {
             self.stats.pixels += 1;
             self.stats.mixed += mixed as u64;
-            sum.map(|s| ((s + count / 2) >> shift) as u8)
+            self.rounded(sum)
         })
+    }
+
+    /// Each channel's sum of K² samples as the box filter rounds it, `(sum + K²/2) / K²`.
+    #[inline]
+    fn rounded(&self, sum: [u32; 3]) -> Colour {
+        let count = self.k * self.k;
+        // K² is a power of two: a shift, not a division (three a mixed pixel).
+        let shift = count.trailing_zeros();
+        sum.map(|s| ((s + count / 2) >> shift) as u8)
+    }
+
+    /// The channels of `sum`, packed colours of `covered` samples of a pixel, with the
+    /// background counted at each of its other samples.
+    #[inline]
+    fn with_background(&self, sum: u64, covered: u32) -> [u32; 3] {
+        let background = self.packed[self.packed.len() - 1].0;
+        Packed(sum + (self.k * self.k - covered) as u64 * background).channels()
     }
 
     /// [`Supersample::draw_row`] adaptively: the row's spans walked and the pixels
@@ -353,9 +367,6 @@ impl Supersample {
                 Fill::Ordered(set) => {
                     self.count_ordered(px.clone(), set, fx0, band.start);
                     // Runs of pixels alike (the same samples held, the same sum) at once.
-                    let count = k * k;
-                    let shift = count.trailing_zeros();
-                    let background = self.packed[self.packed.len() - 1].0;
                     let mut c = 0;
                     while c < px.len() {
                         let (held, sum) = (self.held[c], self.sums[c]);
@@ -371,12 +382,8 @@ impl Supersample {
                         if held != 0 {
                             self.stats.pixels += n;
                             self.stats.mixed += (sum & ONE == 0) as u64 * n;
-                            let covered = held.count_ones();
-                            let sum = Packed(
-                                (sum & !(ONE | WON | REACHED))
-                                    + (count - covered) as u64 * background,
-                            );
-                            let colour = sum.channels().map(|s| ((s + count / 2) >> shift) as u8);
+                            let sum = sum & !(ONE | WON | REACHED);
+                            let colour = self.rounded(self.with_background(sum, held.count_ones()));
                             let x = cols.start + px.start + c as u32;
                             push(runs, x, x + (e - c) as u32, colour);
                         }
@@ -448,11 +455,6 @@ impl Supersample {
                 // The span's first and last pixels, which it may cover partly, and those
                 // between, whose K samples on its fine row it holds all of.
                 let (first, last) = ((x0 - fx0) >> shift, (x1 - 1 - fx0) >> shift);
-                let end = |p: u32| {
-                    let (c0, c1) = (fx0 + p * k, fx0 + p * k + k);
-                    let (a, b) = (x0.clamp(c0, c1) - c0, x1.clamp(c0, c1) - c0);
-                    (((1u64 << b) - 1) ^ ((1u64 << a) - 1)) << row
-                };
                 let bits = ((1u64 << k) - 1) << row;
                 for q in [
                     first + 1..last.min(whole.start),
@@ -465,7 +467,7 @@ impl Supersample {
                 }
                 for p in [first, last] {
                     if !whole.contains(&p) {
-                        masks[(p - px.start) as usize] |= end(p);
+                        masks[(p - px.start) as usize] |= pixel_bits(x0, x1, fx0 + p * k, k) << row;
                     }
                     if last == first {
                         break;
@@ -512,7 +514,7 @@ impl Supersample {
     fn coverage(&mut self, set: std::ops::Range<u32>, c: u32, fx0: u32, fy: u32) -> Option<Colour> {
         let k = self.k;
         let count = k * k;
-        let (x0, x1) = (fx0 + c * k, fx0 + c * k + k);
+        let x0 = fx0 + c * k;
         let (mut sum, mut covered, mut one) = (0u64, 0u32, false);
         if k <= 8 {
             // The pixel's K² samples in one mask, fine row j at bits jK..jK + K: one count
@@ -522,8 +524,7 @@ impl Supersample {
                 let touch = &self.touches[t as usize];
                 let mut mask = 0u64;
                 for s in &self.spans[touch.spans.start as usize..touch.spans.end as usize] {
-                    let (a, b) = (s.x0.clamp(x0, x1) - x0, s.x1.clamp(x0, x1) - x0);
-                    mask |= (((1u64 << b) - 1) ^ ((1u64 << a) - 1)) << ((s.y - fy) * k);
+                    mask |= pixel_bits(s.x0, s.x1, x0, k) << ((s.y - fy) * k);
                 }
                 let mine = (mask & !held).count_ones();
                 held |= mask;
@@ -531,8 +532,7 @@ impl Supersample {
                 covered += mine;
                 one |= mine == count;
             }
-            let background = self.packed[self.packed.len() - 1].0;
-            let sum = Packed(sum + (count - covered) as u64 * background).channels();
+            let sum = self.with_background(sum, covered);
             return self.filtered(sum, covered, !one);
         }
         let mut rows = [0u32; 16];
@@ -540,10 +540,8 @@ impl Supersample {
             let touch = &self.touches[t as usize];
             let mut mine = 0;
             for s in &self.spans[touch.spans.start as usize..touch.spans.end as usize] {
-                // Columns a..b of the pixel's K, as bits (K ≤ 16); none where the span
-                // misses the pixel (both ends clamp to one side).
-                let (a, b) = (s.x0.clamp(x0, x1) - x0, s.x1.clamp(x0, x1) - x0);
-                let bits = ((1u32 << b) - 1) ^ ((1u32 << a) - 1);
+                // K ≤ 16 columns: a fine row's bits fit a u32.
+                let bits = pixel_bits(s.x0, s.x1, x0, k) as u32;
                 let row = &mut rows[(s.y - fy) as usize];
                 mine += (bits & !*row).count_ones();
                 *row |= bits;
@@ -552,8 +550,7 @@ impl Supersample {
             covered += mine;
             one |= mine == count;
         }
-        let background = self.packed[self.packed.len() - 1].0;
-        let sum = Packed(sum + (count - covered) as u64 * background).channels();
+        let sum = self.with_background(sum, covered);
         self.filtered(sum, covered, !one)
     }
 
@@ -1101,6 +1098,15 @@ fn sample(
         *o = if take { i } else { *o };
         stats.samples_written += take as u64;
     }
+}
+
+/// The columns of the pixel whose first sample column is `c0` (K of them, `k`) that the
+/// span `x0..x1` of one fine row holds, as bits 0..K: none where it misses the pixel (both
+/// ends clamp to one side).
+#[inline]
+fn pixel_bits(x0: u32, x1: u32, c0: u32, k: u32) -> u64 {
+    let (a, b) = (x0.clamp(c0, c0 + k) - c0, x1.clamp(c0, c0 + k) - c0);
+    ((1u64 << b) - 1) ^ ((1u64 << a) - 1)
 }
 
 /// Whether the touches `set` (indices into `touches`) are in depth order, sorting them
