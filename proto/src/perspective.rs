@@ -279,17 +279,21 @@ impl Perspective {
 /// stream was not clipped, and crossings computed from such coordinates cancel.
 pub const GUARD_BAND: f64 = 16.0;
 
+/// The guard band along one axis of `size` pixels: the least and greatest coordinate a
+/// vertex may have, [`GUARD_BAND`] screens either side of the screen.
+pub fn guard_band(size: u32) -> (f64, f64) {
+    let size = size as f64;
+    (-GUARD_BAND * size, (GUARD_BAND + 1.0) * size)
+}
+
 /// Whether every one of the screen `vertices` lies beyond one side of the guard band
-/// ([`GUARD_BAND`] screens around a `width`×`height` screen): such a polygon covers no
-/// pixel, however far out its vertices are. None: false.
+/// ([`guard_band`] around a `width`×`height` screen): such a polygon covers no pixel,
+/// however far out its vertices are. None: false.
 pub fn beyond_the_guard_band(vertices: &[Vertex], width: u32, height: u32) -> bool {
-    let (w, h) = (width as f64, height as f64);
+    let ((x0, x1), (y0, y1)) = (guard_band(width), guard_band(height));
     let all =
         |beyond: &dyn Fn(&Vertex) -> bool| !vertices.is_empty() && vertices.iter().all(beyond);
-    all(&|v| v.x < -GUARD_BAND * w)
-        || all(&|v| v.x > (GUARD_BAND + 1.0) * w)
-        || all(&|v| v.y < -GUARD_BAND * h)
-        || all(&|v| v.y > (GUARD_BAND + 1.0) * h)
+    all(&|v| v.x < x0) || all(&|v| v.x > x1) || all(&|v| v.y < y0) || all(&|v| v.y > y1)
 }
 
 #[cfg(test)]

@@ -249,12 +249,15 @@ impl BandWalk {
 
 pub use proto::perspective::GUARD_BAND;
 
-/// Checks that every vertex lies within [`GUARD_BAND`] screens of the screen.
+/// Checks that every vertex lies within [`GUARD_BAND`] screens of the screen
+/// ([`proto::perspective::guard_band`]).
 pub fn check_on_screen(polygon: &Polygon, width: u32, height: u32) -> Result<(), String> {
-    let (w, h) = (width as f64, height as f64);
+    let ((x0, x1), (y0, y1)) = (
+        proto::perspective::guard_band(width),
+        proto::perspective::guard_band(height),
+    );
     for (i, v) in polygon.vertices.iter().enumerate() {
-        let inside = |c: f64, size: f64| -GUARD_BAND * size <= c && c <= (GUARD_BAND + 1.0) * size;
-        if !(inside(v.x, w) && inside(v.y, h)) {
+        if !((x0..=x1).contains(&v.x) && (y0..=y1).contains(&v.y)) {
             return Err(format!(
                 "vertex {i} at ({:e}, {:e}) lies far outside the {width}x{height} screen; \
                  clip in eye space (clipplane left, right, top, bottom) before persp",
