@@ -1029,11 +1029,13 @@ impl Painter {
         complete
     }
 
-    /// [`Painter::mend_pairs`] at pixel (c, r), for the wholes `x` and `b`. Where the
-    /// one of the two in front there covers the pixel and does not hold it (whoever
-    /// does: the other, a third polygon painted over a piece that lost the centre, or
-    /// none), or, for a `tied` pair, wherever one of the two holds it, the pixel is repainted in what the
-    /// z-buffer shows there: the fold, in stream order by the tie rule, of every polygon
+    /// [`Painter::mend_pairs`] at pixel (c, r), for the wholes `x` and `b`. For a cut
+    /// pair: where either of the two covers the centre and the one in front there does
+    /// not hold it (the other does, or a third polygon painted over a piece that lost the
+    /// centre, or none), or where its holder's whole does not cover it (a piece's
+    /// sliver); for a `tied` pair, wherever one of the two holds it. The pixel is then
+    /// repainted in what the z-buffer shows there, or left to the background where no
+    /// polygon covers its centre: the fold, in stream order by the tie rule, of every polygon
     /// covering its centre (`boxes` the polygons' screen boxes, `near` those of them that
     /// meet the pair's, in stream order, `planes` their depth planes, made as they are
     /// asked for), not the pair's front alone, which a polygon coplanar with it and
